@@ -1,0 +1,17 @@
+"""Exceptions raised by freefloat. Every message names the file, link, joint or key at fault."""
+
+
+class FreefloatError(Exception):
+    """Base class of every error freefloat raises on purpose."""
+
+
+class RobotModelError(FreefloatError):
+    """A URDF or robot description that cannot be a floating-base tree."""
+
+
+class SceneError(FreefloatError):
+    """A scene file with an unknown key, a wrong type or an impossible value."""
+
+
+class SimulationDiverged(FreefloatError):
+    """The state became non-finite or blew up; the message gives the time and the quantity."""

@@ -1,0 +1,78 @@
+"""Telemetry of a simulation run: one row per control period, preallocated, saved as ``.npz``."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, fields
+from pathlib import Path
+
+import numpy as np
+
+
+@dataclass
+class Telemetry:
+    """Recorded run. Row ``k`` is the state at time ``t[k]``; ``tau[k]`` is held over [t_k, t_k+1).
+
+    Attributes:
+        t: time, s (N,).
+        q: Pinocchio configuration (N, nq); free-flyer base as [x, y, z, qx, qy, qz, qw] of the
+            base-link frame, planar base as [x, y, cos yaw, sin yaw].
+        v: Pinocchio velocity (N, nv); base part is the base-link twist in the base-link frame.
+        tau: joint torques/forces, N m or N (N, n_joints), Pinocchio joint order.
+        joint_positions: joint angles/displacements, rad or m (N, n_joints).
+        joint_reference: reference joint positions, rad or m (N, n_joints); NaN without a task.
+        base_position: base CoM position r0, inertial frame, m (N, 3).
+        base_quaternion: base CoM frame orientation [qx, qy, qz, qw], inertial frame (N, 4).
+        base_twist: base twist [v0; w0] of the base CoM, inertial frame, m/s and rad/s (N, 6).
+        ee_position: end-effector frame origins, inertial frame, m (N, k, 3).
+        ee_quaternion: end-effector frame orientations [qx, qy, qz, qw] (N, k, 4).
+        com: system centre of mass, inertial frame, m (N, 3).
+        momentum: [P; L]: linear momentum and angular momentum about the inertial origin,
+            inertial frame, kg m/s and kg m^2/s (N, 6).
+        energy: kinetic plus gravitational potential energy, J (N,).
+        work: cumulative work of the joint torques since t[0], J (N,).
+    """
+
+    t: np.ndarray
+    q: np.ndarray
+    v: np.ndarray
+    tau: np.ndarray
+    joint_positions: np.ndarray
+    joint_reference: np.ndarray
+    base_position: np.ndarray
+    base_quaternion: np.ndarray
+    base_twist: np.ndarray
+    ee_position: np.ndarray
+    ee_quaternion: np.ndarray
+    com: np.ndarray
+    momentum: np.ndarray
+    energy: np.ndarray
+    work: np.ndarray
+
+    @classmethod
+    def allocate(cls, rows: int, nq: int, nv: int, n_joints: int, n_ee: int) -> "Telemetry":
+        """Zero-filled buffers for ``rows`` samples (references NaN)."""
+        z = np.zeros
+        return cls(
+            t=z(rows), q=z((rows, nq)), v=z((rows, nv)), tau=z((rows, n_joints)),
+            joint_positions=z((rows, n_joints)),
+            joint_reference=np.full((rows, n_joints), np.nan),
+            base_position=z((rows, 3)), base_quaternion=z((rows, 4)), base_twist=z((rows, 6)),
+            ee_position=z((rows, n_ee, 3)), ee_quaternion=z((rows, n_ee, 4)),
+            com=z((rows, 3)), momentum=z((rows, 6)), energy=z(rows), work=z(rows),
+        )
+
+    def truncated(self, rows: int) -> "Telemetry":
+        """The first ``rows`` samples (what a run had when it stopped)."""
+        return Telemetry(**{f.name: getattr(self, f.name)[:rows] for f in fields(self)})
+
+    def save(self, path: str | Path, **metadata: object) -> None:
+        """Write all arrays to ``path`` (.npz); ``metadata`` values are stored as arrays too."""
+        arrays = {f.name: getattr(self, f.name) for f in fields(self)}
+        arrays.update({f"meta_{k}": np.asarray(v) for k, v in metadata.items()})
+        np.savez_compressed(path, **arrays)
+
+    @classmethod
+    def load(cls, path: str | Path) -> "Telemetry":
+        """Read a file written by :meth:`save` (metadata is ignored)."""
+        with np.load(path) as data:
+            return cls(**{f.name: data[f.name] for f in fields(cls)})
