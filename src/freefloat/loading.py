@@ -91,7 +91,7 @@ def load_robot(
     model.gravity = pin.Motion(np.asarray(gravity, dtype=float), np.zeros(3))
 
     base_inertial = urdf.link_map[root].inertial
-    com_pose = base_inertial.origin if base_inertial.origin is not None else np.eye(4)
+    com_pose = np.eye(4) if base_inertial is None or base_inertial.origin is None else base_inertial.origin
     model.addFrame(
         pin.Frame(BASE_COM_FRAME, 1, 0, pin.SE3(com_pose[:3, :3], com_pose[:3, 3]), pin.FrameType.OP_FRAME)
     )
@@ -113,6 +113,11 @@ def load_robot(
         base_com_rotation=com_pose[:3, :3].copy(),
         end_effectors=ee_names,
         arms=tuple(_arm(model, name) for name in ee_names),
+        link_coms={
+            link.name: (link.inertial.origin[:3, 3].copy() if link.inertial is not None
+                        and link.inertial.origin is not None else np.zeros(3))
+            for link in urdf.robot.links
+        },
         warnings=tuple(notes),
     )
 

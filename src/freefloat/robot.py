@@ -43,6 +43,7 @@ class Robot:
             SPART is this CoM frame.
         end_effectors: end-effector frame names, in the order used by every stacked quantity.
         arms: one :class:`Arm` per end-effector, same order.
+        link_coms: CoM of every URDF link in its own link frame, m (3,) each.
         warnings: what the loader had to say about the file (also emitted as Python warnings).
     """
 
@@ -55,6 +56,7 @@ class Robot:
     base_com_rotation: np.ndarray
     end_effectors: tuple[str, ...]
     arms: tuple[Arm, ...]
+    link_coms: dict[str, np.ndarray]
     warnings: tuple[str, ...] = field(default=())
 
     @property

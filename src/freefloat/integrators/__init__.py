@@ -1,0 +1,37 @@
+"""Integrators on the configuration Lie group, selectable by name."""
+
+from __future__ import annotations
+
+import pinocchio as pin
+
+from .adaptive import DormandPrince45
+from .base import Acceleration, Integrator
+from .fixed_step import RungeKutta4, SemiImplicitEuler
+
+#: Registry names and one-line descriptions.
+INTEGRATORS = {
+    "euler": "semi-implicit (symplectic) Euler, 1st order: the dissertation's scheme",
+    "rkmk4": "Runge-Kutta-Munthe-Kaas 4, 4th order on the Lie group",
+    "rk4_naive": "RK4 adding body velocities without dexp^-1: only 2nd order on SE(3)",
+    "dopri5": "adaptive Dormand-Prince 5(4) in the Munthe-Kaas chart",
+}
+
+
+def make_integrator(
+    name: str, model: pin.Model, substeps: int = 1, rtol: float = 1e-10, atol: float = 1e-12
+) -> Integrator:
+    """The integrator called ``name`` (see :data:`INTEGRATORS`).
+
+    Raises:
+        ValueError: for an unknown name, listing the valid ones.
+    """
+    if name == "euler":
+        return SemiImplicitEuler(model, substeps)
+    if name in ("rkmk4", "rk4_naive"):
+        return RungeKutta4(model, substeps, lie_correction=name == "rkmk4")
+    if name == "dopri5":
+        return DormandPrince45(model, rtol=rtol, atol=atol)
+    raise ValueError(f"unknown integrator '{name}'; valid: {', '.join(INTEGRATORS)}")
+
+
+__all__ = ["INTEGRATORS", "Acceleration", "Integrator", "make_integrator", "DormandPrince45", "RungeKutta4", "SemiImplicitEuler"]

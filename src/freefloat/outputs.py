@@ -1,0 +1,78 @@
+"""The output folder of a run: telemetry, summary with provenance, figures, animation."""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import platform
+import sys
+from importlib.metadata import PackageNotFoundError, version
+from pathlib import Path
+
+from .runner import Prepared
+from .scenes import Scene
+from .simulation import RunResult
+
+PACKAGES = ("freefloat", "pin", "numpy", "scipy", "meshcat", "example-robot-data", "yourdfpy")
+
+
+def versions() -> dict[str, str]:
+    """Versions of Python and of the packages that shape the numbers."""
+    out = {"python": sys.version.split()[0], "platform": platform.platform()}
+    for name in PACKAGES:
+        try:
+            out[name] = version(name)
+        except PackageNotFoundError:
+            out[name] = "not installed"
+    return out
+
+
+def write_run(
+    out_dir: Path, scene: Scene, prepared: Prepared, result: RunResult, summary: dict[str, object]
+) -> list[Path]:
+    """Write ``telemetry.npz``, ``summary.json``, the scene, figures and ``trajectory.html``.
+
+    Written whatever the run's status, so a diverged or interrupted run keeps what it computed.
+    Returns the paths written.
+    """
+    out_dir.mkdir(parents=True, exist_ok=True)
+    robot, tel = prepared.robot, result.telemetry
+    written = [out_dir / "telemetry.npz"]
+    tel.save(
+        written[0], joint_names=list(robot.joint_names), end_effectors=list(robot.end_effectors),
+        scene=scene.name,
+    )
+    if scene.source is not None:
+        (out_dir / "scene.toml").write_text(scene.source.read_text())
+        written.append(out_dir / "scene.toml")
+    record = dict(summary)
+    record.update(
+        scene=_jsonable(dataclasses.asdict(scene)),
+        robot={"urdf": str(robot.urdf_path), "base": robot.base, "nq": robot.model.nq,
+               "nv": robot.model.nv, "end_effectors": list(robot.end_effectors),
+               "loader_notes": list(robot.warnings)},
+        settings={"integrator": prepared.integrator.name, "model": prepared.model.name,
+                  "control_period": scene.simulation.control_period},
+        versions=versions(),
+    )
+    (out_dir / "summary.json").write_text(json.dumps(record, indent=2))
+    written.append(out_dir / "summary.json")
+    if len(tel.t) >= 2 and scene.output.figures:
+        from .viz.figures import write_figures
+
+        written += write_figures(robot, tel, out_dir)
+    if len(tel.t) >= 2 and scene.output.html:
+        from .viz.meshcat_html import write_trajectory_html
+
+        written.append(write_trajectory_html(robot, tel.t, tel.q, out_dir / "trajectory.html",
+                                             fps=scene.output.html_fps))
+    return written
+
+
+def _jsonable(value: object) -> object:
+    """Paths to strings, tuples to lists, recursively."""
+    if isinstance(value, dict):
+        return {k: _jsonable(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_jsonable(v) for v in value]
+    return str(value) if isinstance(value, Path) else value

@@ -1,0 +1,249 @@
+"""Scene files: TOML validated against a schema, with errors that name the key.
+
+A scene names the robot, initial state, task, controller, integrator, step and duration. Angles
+(joint angles, base attitude, angular rates, task displacements) are in the unit given by the
+top-level ``angle_unit`` ("deg" or "rad"); lengths in m, times in s.
+"""
+
+from __future__ import annotations
+
+import math
+import tomllib
+from dataclasses import MISSING, dataclass, field
+from pathlib import Path
+from typing import Any
+
+from ..errors import SceneError
+from ..integrators import INTEGRATORS
+from ..models import MODELS
+
+
+@dataclass(frozen=True)
+class RobotSection:
+    """``[robot]``: URDF (absolute, relative to the scene file, or a built-in robot file name),
+    floating base kind, end-effector link names (default: leaves), gravity (m/s^2, inertial)."""
+
+    urdf: str
+    base: str = "free"
+    end_effectors: tuple[str, ...] | None = None
+    gravity: tuple[float, float, float] = (0.0, 0.0, 0.0)
+
+
+@dataclass(frozen=True)
+class InitialSection:
+    """``[initial]``: base CoM pose and twist (inertial frame, XYZ Euler angles) and joint state
+    (tables keyed by joint name; joints not named start at zero)."""
+
+    base_position: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    base_rpy: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    base_linear_velocity: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    base_angular_velocity: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    joint_positions: dict[str, float] = field(default_factory=dict)
+    joint_velocities: dict[str, float] = field(default_factory=dict)
+
+
+@dataclass(frozen=True)
+class TaskSection:
+    """``[task]``: ``kind = "none"`` or ``"joint_quintic"``: every joint moves by
+    ``displacement[name]`` (key: a joint, or an end-effector meaning all joints of its arm) in
+    ``duration`` s."""
+
+    kind: str = "none"
+    duration: float = 1.0
+    displacement: dict[str, float] = field(default_factory=dict)
+
+
+@dataclass(frozen=True)
+class ControllerSection:
+    """``[controller]``: ``kind = "none"`` or ``"computed_torque"`` with scalar gains Kp, Kd and
+    the dynamics model it uses."""
+
+    kind: str = "none"
+    model: str = "exact"
+    kp: float = 10.0
+    kd: float = 100.0
+
+
+@dataclass(frozen=True)
+class SimulationSection:
+    """``[simulation]``: duration and control period (s), plant model, integrator and its
+    settings, telemetry stride."""
+
+    duration: float = 1.0
+    control_period: float = 1e-3
+    model: str = "exact"
+    integrator: str = "rkmk4"
+    substeps: int = 1
+    rtol: float = 1e-10
+    atol: float = 1e-12
+    record_every: int = 1
+
+
+@dataclass(frozen=True)
+class OutputSection:
+    """``[output]``: which artefacts a run writes."""
+
+    figures: bool = True
+    html: bool = True
+    html_fps: float = 30.0
+
+
+@dataclass(frozen=True)
+class Scene:
+    """A validated scene. ``source`` is the file it came from (None for one built in code)."""
+
+    name: str
+    robot: RobotSection
+    description: str = ""
+    angle_unit: str = "deg"
+    initial: InitialSection = InitialSection()
+    task: TaskSection = TaskSection()
+    controller: ControllerSection = ControllerSection()
+    simulation: SimulationSection = SimulationSection()
+    output: OutputSection = OutputSection()
+    source: Path | None = None
+
+    @property
+    def angle_scale(self) -> float:
+        """Factor from the scene's angle unit to rad."""
+        return math.pi / 180.0 if self.angle_unit == "deg" else 1.0
+
+
+SECTIONS = {
+    "robot": RobotSection, "initial": InitialSection, "task": TaskSection,
+    "controller": ControllerSection, "simulation": SimulationSection, "output": OutputSection,
+}
+CHOICES = {
+    ("robot", "base"): ("free", "planar"),
+    ("task", "kind"): ("none", "joint_quintic"),
+    ("controller", "kind"): ("none", "computed_torque"),
+    ("controller", "model"): tuple(MODELS),
+    ("simulation", "model"): tuple(MODELS),
+    ("simulation", "integrator"): tuple(INTEGRATORS),
+    ("", "angle_unit"): ("deg", "rad"),
+}
+POSITIVE = {
+    ("task", "duration"), ("simulation", "duration"), ("simulation", "control_period"),
+    ("simulation", "substeps"), ("simulation", "rtol"), ("simulation", "atol"),
+    ("simulation", "record_every"), ("output", "html_fps"),
+}
+NON_NEGATIVE = {("controller", "kp"), ("controller", "kd")}
+
+
+def load_scene(path: str | Path) -> Scene:
+    """Read and validate a scene file.
+
+    Raises:
+        SceneError: naming the file and the key for unknown keys, wrong types, impossible values.
+    """
+    path = Path(path)
+    try:
+        raw = tomllib.loads(path.read_text())
+    except FileNotFoundError as exc:
+        raise SceneError(f"{path}: no such scene file") from exc
+    except tomllib.TOMLDecodeError as exc:
+        raise SceneError(f"{path}: not valid TOML ({exc})") from exc
+    return parse_scene(raw, source=path)
+
+
+def parse_scene(raw: dict[str, Any], source: Path | None = None) -> Scene:
+    """Validate a scene given as a dict (the parsed TOML)."""
+    where = f"{source}: " if source else "scene: "
+    top = {"name", "description", "angle_unit", *SECTIONS}
+    _no_unknown(where, "", raw, top)
+    if "name" not in raw or "robot" not in raw:
+        raise SceneError(f"{where}'name' and [robot] are required")
+    kwargs: dict[str, Any] = {
+        "name": _typed(where, "name", raw["name"], str),
+        "description": _typed(where, "description", raw.get("description", ""), str),
+        "angle_unit": _choice(where, "", "angle_unit", raw.get("angle_unit", "deg")),
+    }
+    for section, cls in SECTIONS.items():
+        if section in raw:
+            kwargs[section] = _section(where, section, cls, raw[section])
+    return Scene(**kwargs, source=source)
+
+
+def _section(where: str, section: str, cls: type, raw: Any) -> Any:
+    if not isinstance(raw, dict):
+        raise SceneError(f"{where}[{section}] must be a table, got {type(raw).__name__}")
+    fields_ = cls.__dataclass_fields__
+    _no_unknown(where, section, raw, set(fields_))
+    missing = [k for k, f in fields_.items() if f.default is MISSING
+               and f.default_factory is MISSING and k not in raw]
+    if missing:
+        raise SceneError(f"{where}[{section}] needs key '{missing[0]}'")
+    values = {}
+    for key, value in raw.items():
+        kind, name = fields_[key].type, f"{section}.{key}"
+        if kind == "str":
+            values[key] = _choice(where, section, key, _typed(where, name, value, str))
+        elif kind == "bool":
+            values[key] = _typed(where, name, value, bool)
+        elif kind in ("int", "float"):
+            values[key] = _number(where, section, key, value, int if kind == "int" else float)
+        elif kind == "tuple[str, ...] | None":
+            values[key] = _names(where, name, value)
+        elif kind == "tuple[float, float, float]":
+            values[key] = _vector(where, name, value, 3)
+        else:
+            values[key] = _table(where, name, value)
+    return cls(**values)
+
+
+def _no_unknown(where: str, section: str, raw: dict, allowed: set[str]) -> None:
+    for key in raw:
+        if key not in allowed:
+            name = f"[{section}] key '{key}'" if section else f"top-level key '{key}'"
+            raise SceneError(f"{where}unknown {name}; allowed: {', '.join(sorted(allowed))}")
+
+
+def _typed(where: str, key: str, value: Any, kind: type) -> Any:
+    if not isinstance(value, kind):
+        raise SceneError(f"{where}'{key}' must be a {kind.__name__}, got {value!r}")
+    return value
+
+
+def _number(where: str, section: str, key: str, value: Any, kind: type) -> float | int:
+    name = f"{section}.{key}"
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or (
+        kind is int and not isinstance(value, int)
+    ):
+        raise SceneError(f"{where}'{name}' must be a{'n integer' if kind is int else ' number'}, got {value!r}")
+    if not math.isfinite(value):
+        raise SceneError(f"{where}'{name}' must be finite, got {value!r}")
+    if (section, key) in POSITIVE and value <= 0:
+        raise SceneError(f"{where}'{name}' must be > 0, got {value!r}")
+    if (section, key) in NON_NEGATIVE and value < 0:
+        raise SceneError(f"{where}'{name}' must be >= 0, got {value!r}")
+    return kind(value)
+
+
+def _choice(where: str, section: str, key: str, value: Any) -> str:
+    options = CHOICES.get((section, key))
+    if options is not None and value not in options:
+        name = f"{section}.{key}" if section else key
+        raise SceneError(f"{where}'{name}' is {value!r}; valid: {', '.join(options)}")
+    return value
+
+
+def _names(where: str, key: str, value: Any) -> tuple[str, ...]:
+    if not isinstance(value, list) or not all(isinstance(x, str) for x in value):
+        raise SceneError(f"{where}'{key}' must be a list of names, got {value!r}")
+    return tuple(value)
+
+
+def _vector(where: str, key: str, value: Any, size: int) -> tuple[float, ...]:
+    if not isinstance(value, list) or len(value) != size or not all(_finite(x) for x in value):
+        raise SceneError(f"{where}'{key}' must be a list of {size} finite numbers, got {value!r}")
+    return tuple(float(x) for x in value)
+
+
+def _finite(x: Any) -> bool:
+    return isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x)
+
+
+def _table(where: str, key: str, value: Any) -> dict[str, float]:
+    if not isinstance(value, dict) or not all(_finite(x) for x in value.values()):
+        raise SceneError(f"{where}'{key}' must be a table of finite numbers keyed by name, got {value!r}")
+    return {k: float(x) for k, x in value.items()}

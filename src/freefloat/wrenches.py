@@ -1,0 +1,71 @@
+"""External wrenches on links, given in the inertial frame and applied at the link's CoM."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import pinocchio as pin
+
+from .errors import FreefloatError
+from .robot import Robot
+
+
+@dataclass(frozen=True)
+class ExternalWrench:
+    """A constant wrench on one link during [start, end).
+
+    Attributes:
+        link: URDF link name.
+        force: force, inertial frame, N (3,).
+        torque: torque, inertial frame, N m (3,), the force acting at the link's CoM.
+        start: time it starts, s.
+        end: time it stops, s.
+    """
+
+    link: str
+    force: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    torque: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    start: float = 0.0
+    end: float = float("inf")
+
+
+class WrenchField:
+    """Joint-local ``pin.Force`` list for the wrenches active at a given time.
+
+    The inertial components are rotated into each joint frame at the current configuration, so an
+    integrator calls :meth:`forces` at every stage.
+
+    Raises:
+        FreefloatError: naming a link that does not exist.
+    """
+
+    def __init__(self, robot: Robot, wrenches: tuple[ExternalWrench, ...] | list[ExternalWrench]):
+        self.model = robot.model
+        self.data = robot.model.createData()
+        self._items = []
+        links = [f.name for f in robot.model.frames if f.type == pin.FrameType.BODY]
+        for w in wrenches:
+            if w.link not in links:
+                raise FreefloatError(f"external wrench: link '{w.link}' does not exist; links: {links}")
+            frame = robot.model.frames[robot.model.getFrameId(w.link, pin.FrameType.BODY)]
+            com_in_joint = frame.placement.act(robot.link_coms[w.link])
+            self._items.append((w, frame.parentJoint, com_in_joint))
+        self._active: list = []
+
+    def activate(self, t: float) -> bool:
+        """Select the wrenches active at time t; return whether any is."""
+        self._active = [item for item in self._items if item[0].start <= t < item[0].end]
+        return bool(self._active)
+
+    def forces(self, q: np.ndarray) -> list[pin.Force]:
+        """Wrenches of the active set, per joint, in joint-local frames (njoints)."""
+        pin.forwardKinematics(self.model, self.data, q)
+        out = [pin.Force.Zero() for _ in range(self.model.njoints)]
+        for wrench, joint, com in self._active:
+            R = self.data.oMi[joint].rotation
+            f_local = R.T @ np.asarray(wrench.force)
+            n_local = R.T @ np.asarray(wrench.torque) + np.cross(com, f_local)
+            out[joint] += pin.Force(f_local, n_local)
+        return out
+

@@ -1,0 +1,94 @@
+"""Shared fixtures and hypothesis strategies: random floating-base robots written as URDF."""
+
+from __future__ import annotations
+
+import warnings
+from pathlib import Path
+
+import numpy as np
+import pytest
+from hypothesis import strategies as st
+
+from freefloat import load_robot
+
+REPO = Path(__file__).resolve().parents[1]
+SPART = REPO.parent / "shared" / "reference" / "spart"  # shared/ sits beside the clone
+
+
+def random_urdf(rng: np.random.Generator, n_links: int, fixed_share: float = 0.2) -> str:
+    """A random tree: each link hangs from a random earlier one by a revolute, prismatic or fixed
+    joint with a random pose and axis; random masses, CoMs (rotated inertial frames) and
+    positive-definite inertias (sums of point-mass-like terms, so the triangle inequality holds)."""
+
+    def inertial(mass: float) -> str:
+        xyz = rng.uniform(-0.2, 0.2, 3)
+        rpy = rng.uniform(-np.pi, np.pi, 3)
+        a = rng.uniform(0.05, 0.5, 3)
+        principal = mass / 12.0 * np.array([a[1]**2 + a[2]**2, a[0]**2 + a[2]**2, a[0]**2 + a[1]**2])
+        return (f'<inertial><origin xyz="{xyz[0]:.17g} {xyz[1]:.17g} {xyz[2]:.17g}" rpy="{rpy[0]:.17g} {rpy[1]:.17g} {rpy[2]:.17g}"/>'
+                f'<mass value="{mass:.17g}"/><inertia ixx="{principal[0]:.17g}" iyy="{principal[1]:.17g}" '
+                f'izz="{principal[2]:.17g}" ixy="0" ixz="0" iyz="0"/></inertial>')
+
+    parts = ['<robot name="random">', f'<link name="base">{inertial(rng.uniform(5.0, 50.0))}</link>']
+    for i in range(1, n_links + 1):
+        parent = "base" if (k := rng.integers(0, i)) == 0 else f"l{k}"
+        kind = "fixed" if rng.random() < fixed_share else ("prismatic" if rng.random() < 0.2 else "revolute")
+        axis = rng.normal(size=3)
+        axis /= np.linalg.norm(axis)
+        xyz = rng.uniform(-0.6, 0.6, 3)
+        rpy = rng.uniform(-np.pi, np.pi, 3)
+        limit = '<limit lower="-3" upper="3" effort="100" velocity="10"/>' if kind != "fixed" else ""
+        parts.append(f'<link name="l{i}">{inertial(rng.uniform(0.2, 5.0))}</link>')
+        parts.append(
+            f'<joint name="j{i}" type="{kind}"><parent link="{parent}"/><child link="l{i}"/>'
+            f'<origin xyz="{xyz[0]:.17g} {xyz[1]:.17g} {xyz[2]:.17g}" rpy="{rpy[0]:.17g} {rpy[1]:.17g} {rpy[2]:.17g}"/>'
+            f'<axis xyz="{axis[0]:.17g} {axis[1]:.17g} {axis[2]:.17g}"/>{limit}</joint>'
+        )
+    parts.append("</robot>")
+    return "\n".join(parts)
+
+
+@st.composite
+def random_robots(draw, min_links: int = 1, max_links: int = 8):
+    """(seed, URDF text) of a random floating-base tree with at least one movable joint."""
+    seed = draw(st.integers(0, 2**32 - 1))
+    n = draw(st.integers(min_links, max_links))
+    rng = np.random.default_rng(seed)
+    text = random_urdf(rng, n)
+    while 'type="revolute"' not in text and 'type="prismatic"' not in text:
+        text = random_urdf(rng, n)
+    return seed, text
+
+
+def load_text(tmp_path: Path, text: str, name: str = "robot.urdf", **kwargs):
+    """Write URDF text to a file and load it, silencing loader notes."""
+    path = tmp_path / name
+    path.write_text(text)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return load_robot(path, **kwargs)
+
+
+def random_state(robot, rng: np.random.Generator, speed: float = 1.0):
+    """A random configuration (unit base quaternion) and velocity for ``robot``."""
+    import pinocchio as pin
+
+    q = pin.neutral(robot.model)
+    nbq = robot.model.nqs[1]
+    q[nbq:] = rng.uniform(-1.0, 1.0, robot.model.nq - nbq)
+    if robot.base == "free":
+        q[:3] = rng.uniform(-1.0, 1.0, 3)
+        quat = rng.normal(size=4)
+        q[3:7] = quat / np.linalg.norm(quat)
+    else:
+        yaw = rng.uniform(-np.pi, np.pi)
+        q[:4] = [*rng.uniform(-1, 1, 2), np.cos(yaw), np.sin(yaw)]
+    return q, speed * rng.uniform(-1.0, 1.0, robot.model.nv)
+
+
+@pytest.fixture(scope="session")
+def spart_dir() -> Path:
+    """SPART reference folder (shared/reference/spart)."""
+    if not SPART.is_dir():
+        pytest.skip("shared/reference/spart is not beside the repository")
+    return SPART

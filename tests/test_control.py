@@ -1,0 +1,58 @@
+"""Quintic references and exact computed torque."""
+
+from __future__ import annotations
+
+import numpy as np
+import pinocchio as pin
+from hypothesis import given, settings
+
+from freefloat.control import ComputedTorque, QuinticTrajectory, joint_space_dynamics
+
+from .conftest import load_text, random_robots, random_state
+
+
+def test_quintic_hits_its_ends_at_rest():
+    """q(0) = start, q(T) = goal, zero velocity and acceleration at both ends."""
+    traj = QuinticTrajectory(np.array([0.0, 1.0]), np.array([0.5, -1.0]), 5.0)
+    for t, pos in ((0.0, [0.0, 1.0]), (5.0, [0.5, -1.0]), (7.0, [0.5, -1.0])):
+        q, qd, qdd = traj(t)
+        np.testing.assert_allclose(q, pos, atol=1e-15)
+        np.testing.assert_allclose(np.concatenate((qd, qdd)), 0.0, atol=1e-15)
+
+
+def test_quintic_derivatives_match_finite_differences():
+    """Velocity and acceleration are the central differences of position and velocity."""
+    traj = QuinticTrajectory(np.zeros(3), np.array([1.0, -2.0, 0.3]), 2.0)
+    h = 1e-6
+    for t in (0.3, 1.0, 1.7):
+        np.testing.assert_allclose(traj(t)[1], (traj(t + h)[0] - traj(t - h)[0]) / (2 * h), atol=1e-8)
+        np.testing.assert_allclose(traj(t)[2], (traj(t + h)[1] - traj(t - h)[1]) / (2 * h), atol=1e-7)
+
+
+@settings(max_examples=25, deadline=None)
+@given(random_robots())
+def test_computed_torque_imposes_the_servo_acceleration(tmp_path_factory, case):
+    """Under the controller's torques, ABA's joint accelerations equal qdd_d + Kp e + Kd edot."""
+    seed, text = case
+    robot = load_text(tmp_path_factory.mktemp("r"), text)
+    rng = np.random.default_rng(seed)
+    q, v = random_state(robot, rng)
+    traj = QuinticTrajectory(rng.normal(size=robot.n_joints), rng.normal(size=robot.n_joints), 3.0)
+    ctrl = ComputedTorque(robot, traj, kp=10.0, kd=100.0)
+    tau = np.concatenate((np.zeros(robot.n_base), ctrl.torque(1.2, q, v)))
+    a = pin.aba(robot.model, robot.model.createData(), q, v, tau)
+    q_d, qd_d, qdd_d = traj(1.2)
+    expected = qdd_d + 10.0 * (q_d - q[7:]) + 100.0 * (qd_d - v[6:])
+    np.testing.assert_allclose(a[6:], expected, rtol=1e-8, atol=1e-8 * np.abs(expected).max())
+
+
+@settings(max_examples=25, deadline=None)
+@given(random_robots())
+def test_generalized_inertia_is_symmetric_positive_definite(tmp_path_factory, case):
+    """H* (the Schur complement of the base block) is symmetric positive definite."""
+    seed, text = case
+    robot = load_text(tmp_path_factory.mktemp("r"), text)
+    q, v = random_state(robot, np.random.default_rng(seed))
+    H, _ = joint_space_dynamics(robot, robot.model.createData(), q, v)
+    np.testing.assert_allclose(H, H.T, atol=1e-10 * np.abs(H).max())
+    assert np.linalg.eigvalsh(H).min() > 0.0

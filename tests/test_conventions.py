@@ -1,0 +1,77 @@
+"""Pinocchio's local base twist vs the dissertation's inertial base-CoM twist, both ways."""
+
+from __future__ import annotations
+
+import numpy as np
+import pinocchio as pin
+import pytest
+from hypothesis import given, settings
+
+from freefloat.conventions import (
+    base_state, inertial_to_local_twist, local_to_inertial_twist, state_from_base, twist_map,
+)
+from freefloat.errors import FreefloatError
+from freefloat.loading import BASE_COM_FRAME
+
+from .conftest import REPO, load_text, random_robots, random_state
+
+
+@settings(max_examples=30, deadline=None)
+@given(random_robots())
+def test_base_state_matches_pinocchio_frame_of_the_base_com(tmp_path_factory, case):
+    """r0, R0 and [v0; w0] equal Pinocchio's placement and LOCAL_WORLD_ALIGNED velocity of the base CoM frame."""
+    seed, text = case
+    robot = load_text(tmp_path_factory.mktemp("r"), text)
+    q, v = random_state(robot, np.random.default_rng(seed))
+    data = robot.model.createData()
+    pin.forwardKinematics(robot.model, data, q, v)
+    fid = robot.model.getFrameId(BASE_COM_FRAME)
+    frame = pin.updateFramePlacement(robot.model, data, fid)
+    r0, R0, x0dot = base_state(robot, q, v)
+    np.testing.assert_allclose(r0, frame.translation, atol=1e-12)
+    np.testing.assert_allclose(R0, frame.rotation, atol=1e-12)
+    np.testing.assert_allclose(x0dot, pin.getFrameVelocity(robot.model, data, fid, pin.LOCAL_WORLD_ALIGNED).vector, atol=1e-12)
+
+
+@settings(max_examples=30, deadline=None)
+@given(random_robots())
+def test_state_from_base_inverts_base_state(tmp_path_factory, case):
+    """(q, v) -> (r0, R0, x0dot) -> (q, v) is the identity (quaternion sign aside)."""
+    seed, text = case
+    robot = load_text(tmp_path_factory.mktemp("r"), text)
+    q, v = random_state(robot, np.random.default_rng(seed))
+    r0, R0, x0dot = base_state(robot, q, v)
+    q2, v2 = state_from_base(robot, r0, R0, x0dot, q[7:], v[6:])
+    np.testing.assert_allclose(pin.difference(robot.model, q, q2), 0.0, atol=1e-12)
+    np.testing.assert_allclose(v2, v, atol=1e-12)
+
+
+def test_twist_map_agrees_with_the_functions():
+    """x0dot = T v_b with T = [[R, -R [c]x], [0, R]], and the inverse function undoes it."""
+    rng = np.random.default_rng(3)
+    R, c, v = pin.exp3(rng.normal(size=3)), rng.normal(size=3), rng.normal(size=6)
+    np.testing.assert_allclose(twist_map(R, c) @ v, local_to_inertial_twist(R, c, v), atol=1e-14)
+    np.testing.assert_allclose(inertial_to_local_twist(R, c, local_to_inertial_twist(R, c, v)), v, atol=1e-14)
+
+
+def test_planar_base_round_trip():
+    """A planar base state converts both ways through the 6-D conventions."""
+    from freefloat import load_robot
+
+    robot = load_robot(REPO / "urdf" / "four_arm_planar.urdf", base="planar")
+    q, v = random_state(robot, np.random.default_rng(0))
+    r0, R0, x0dot = base_state(robot, q, v)
+    assert x0dot[2] == 0.0 and np.all(x0dot[3:5] == 0.0)
+    q2, v2 = state_from_base(robot, r0, R0, x0dot, q[4:], v[3:])
+    np.testing.assert_allclose(q2, q, atol=1e-12)
+    np.testing.assert_allclose(v2, v, atol=1e-12)
+
+
+def test_planar_base_rejects_out_of_plane_state():
+    """A planar base refuses a tilted pose or an out-of-plane twist with a clear message."""
+    from freefloat import load_robot
+
+    robot = load_robot(REPO / "urdf" / "four_arm_planar.urdf", base="planar")
+    tilted = pin.rpy.rpyToMatrix(0.1, 0.0, 0.0)
+    with pytest.raises(FreefloatError, match="planar base"):
+        state_from_base(robot, np.zeros(3), tilted, np.zeros(6), np.zeros(16), np.zeros(16))

@@ -1,0 +1,91 @@
+"""Integrators on the Lie group: orders of accuracy, the chart correction, the registry."""
+
+from __future__ import annotations
+
+import numpy as np
+import pinocchio as pin
+import pytest
+
+from freefloat import load_robot
+from freefloat.integrators import make_integrator
+from freefloat.integrators.lie import _ad_se3, _dexpinv_matrix, _dexpinv_se2
+from freefloat.models import ExactModel
+
+
+@pytest.fixture(scope="module")
+def tumbling(spart_dir):
+    """A torque-free SC_3DoF with a fast-tumbling base, and a tight dopri5 reference after 1 s."""
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        robot = load_robot(spart_dir / "urdf" / "SC_3DoF.urdf")
+    model = ExactModel(robot)
+    rng = np.random.default_rng(0)
+    q0 = robot.neutral()
+    q0[7:] = rng.uniform(-1, 1, robot.n_joints)
+    v0 = rng.uniform(-2, 2, robot.model.nv)
+    tau = np.zeros(robot.model.nv)
+    f = lambda q, v: model.acceleration(q, v, tau)  # noqa: E731
+    reference = make_integrator("dopri5", robot.model, rtol=1e-13, atol=1e-14).advance(f, q0, v0, 1.0)
+    return robot, f, q0, v0, reference
+
+
+def errors(tumbling, name: str, substeps: list[int]) -> np.ndarray:
+    robot, f, q0, v0, (q_ref, v_ref) = tumbling
+    out = []
+    for n in substeps:
+        q, v = make_integrator(name, robot.model, substeps=n).advance(f, q0, v0, 1.0)
+        out.append(np.linalg.norm(np.concatenate((pin.difference(robot.model, q_ref, q), v - v_ref))))
+    return np.array(out)
+
+
+def test_rkmk4_is_fourth_order(tumbling):
+    """Halving the RKMK4 step divides the error by ~16."""
+    e = errors(tumbling, "rkmk4", [100, 200, 400])
+    assert 13.0 < e[1] / e[2] < 19.0
+
+
+def test_naive_rk4_is_only_second_order_on_se3(tumbling):
+    """RK4 adding body velocities without dexp^-1 divides the error by ~4 only."""
+    e = errors(tumbling, "rk4_naive", [100, 200, 400])
+    assert 3.0 < e[1] / e[2] < 5.0
+
+
+def test_euler_is_first_order(tumbling):
+    """Halving the semi-implicit Euler step halves the error."""
+    e = errors(tumbling, "euler", [200, 400, 800])
+    assert 1.7 < e[1] / e[2] < 2.3
+
+
+def test_dopri5_meets_its_tolerance(tumbling):
+    """The adaptive integrator at its default rtol 1e-10 lands within 1e-7 of the tight reference."""
+    e = errors(tumbling, "dopri5", [1])  # substeps ignored; tolerance default 1e-10
+    assert e[0] < 1e-7
+
+
+def test_planar_closed_form_equals_the_matrix_series():
+    """The se(2) closed form of dexp^-1 equals the ad-matrix series."""
+    rng = np.random.default_rng(1)
+
+    def ad2(t):
+        x, y, w = t
+        return np.array([[0, -w, y], [w, 0, -x], [0, 0, 0.0]])
+
+    for _ in range(20):
+        theta, vel = rng.normal(size=3), rng.normal(size=3)
+        np.testing.assert_allclose(_dexpinv_se2(theta, vel), _dexpinv_matrix(ad2)(theta, vel), atol=1e-14)
+
+
+def test_se3_ad_matrix_is_the_motion_cross_product():
+    """ad_theta @ v equals Pinocchio's Motion cross product theta x v."""
+    rng = np.random.default_rng(2)
+    theta, vel = rng.normal(size=6), rng.normal(size=6)
+    np.testing.assert_allclose(_ad_se3(theta) @ vel, pin.Motion(theta).cross(pin.Motion(vel)).vector, atol=1e-14)
+
+
+def test_unknown_integrator_lists_the_valid_names():
+    """An unknown integrator name is rejected with the registry's names."""
+    model = pin.buildSampleModelManipulator()
+    with pytest.raises(ValueError, match="valid: euler, rkmk4, rk4_naive, dopri5"):
+        make_integrator("rk45", model)

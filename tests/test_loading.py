@@ -1,0 +1,172 @@
+"""Loading URDFs as floating-base robots: structure, physics checks, SPART files, errors."""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+import pinocchio as pin
+import pytest
+import yourdfpy
+from hypothesis import given, settings
+
+from freefloat import RobotModelError, load_robot
+from freefloat.loading import BASE_COM_FRAME, FreefloatWarning
+
+from .conftest import REPO, load_text, random_robots
+
+LINK = '<link name="{n}"><inertial><mass value="{m}"/><inertia ixx="{i}" iyy="1" izz="1" ixy="0" ixz="0" iyz="0"/></inertial></link>'
+JOINT = '<joint name="{n}" type="revolute"><parent link="{p}"/><child link="{c}"/><axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>'
+
+
+def urdf(links: list[tuple[str, float, float]], joints: list[tuple[str, str, str]]) -> str:
+    body = [LINK.format(n=n, m=m, i=i) for n, m, i in links] + [JOINT.format(n=n, p=p, c=c) for n, p, c in joints]
+    return '<robot name="t">' + "".join(body) + "</robot>"
+
+
+@pytest.mark.parametrize("name", ["SC_3DoF", "ManiSat_2Arm_2_2", "2_iiwa_base", "kuka_iiwa"])
+def test_spart_files_load_with_one_note_per_problem(spart_dir, name):
+    """SPART's URDFs load; missing limits and missing meshes are each reported once."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        robot = load_robot(spart_dir / "urdf" / f"{name}.urdf")
+    notes = [str(w.message) for w in caught if issubclass(w.category, FreefloatWarning)]
+    assert len([n for n in notes if "<limit>" in n]) == (1 if name in ("SC_3DoF", "ManiSat_2Arm_2_2") else 0)
+    assert len([n for n in notes if "mesh" in n]) == (1 if "iiwa" in name else 0)
+    assert robot.model.joints[1].shortname() == "JointModelFreeFlyer"
+
+
+def test_spart_joint_order_matches_spart(spart_dir):
+    """Pinocchio's joint order on the dual-iiwa satellite equals SPART's q_names."""
+    import json
+
+    ref = json.loads((spart_dir / "out" / "two_iiwa_base.json").read_text())
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        robot = load_robot(spart_dir / "urdf" / "2_iiwa_base.urdf")
+    assert list(robot.joint_names) == ref["q_names"]
+
+
+@settings(max_examples=25, deadline=None)
+@given(random_robots())
+def test_total_mass_equals_urdf_masses(tmp_path_factory, case):
+    """Fixed joints are merged, not dropped: Pinocchio's total mass equals the URDF's sum."""
+    _, text = case
+    robot = load_text(tmp_path_factory.mktemp("r"), text)
+    parsed = yourdfpy.URDF.load(str(robot.urdf_path), build_scene_graph=False, load_meshes=False)
+    assert pin.computeTotalMass(robot.model) == pytest.approx(sum(l.inertial.mass for l in parsed.robot.links), rel=1e-12)
+
+
+@settings(max_examples=25, deadline=None)
+@given(random_robots())
+def test_base_com_frame_is_the_base_link_inertial_origin(tmp_path_factory, case):
+    """The base reference frame is the root link's <inertial> origin, position and rotation."""
+    _, text = case
+    robot = load_text(tmp_path_factory.mktemp("r"), text)
+    parsed = yourdfpy.URDF.load(str(robot.urdf_path), build_scene_graph=False, load_meshes=False)
+    origin = parsed.link_map["base"].inertial.origin
+    frame = robot.model.frames[robot.model.getFrameId(BASE_COM_FRAME)]
+    assert frame.parentJoint == 1
+    np.testing.assert_allclose(frame.placement.homogeneous, origin, atol=1e-12)
+
+
+@settings(max_examples=25, deadline=None)
+@given(random_robots())
+def test_arms_run_from_base_to_each_leaf(tmp_path_factory, case):
+    """Each arm lists exactly the movable joints on the path from the base to its end-effector."""
+    _, text = case
+    robot = load_text(tmp_path_factory.mktemp("r"), text)
+    parsed = yourdfpy.URDF.load(str(robot.urdf_path), build_scene_graph=False, load_meshes=False)
+    by_child = {j.child: j for j in parsed.robot.joints}
+    for arm in robot.arms:
+        path, link = [], arm.end_effector
+        while link in by_child:
+            joint = by_child[link]
+            if joint.type != "fixed":
+                path.append(joint.name)
+            link = joint.parent
+        assert list(arm.joints) == path[::-1]
+        assert len(arm.v_indices) == len(path)
+
+
+def test_four_arm_robot_has_four_arms_of_four_joints():
+    """The dissertation's four-arm robot loads with end-effectors arm1..arm4, 4 joints each."""
+    robot = load_robot(REPO / "urdf" / "four_arm_planar.urdf")
+    assert robot.end_effectors == ("arm1_ee", "arm2_ee", "arm3_ee", "arm4_ee")
+    assert [len(a.joints) for a in robot.arms] == [4, 4, 4, 4]
+
+
+def test_planar_base_has_three_base_coordinates():
+    """A planar base adds x, y, yaw: nv = joints + 3."""
+    robot = load_robot(REPO / "urdf" / "four_arm_planar.urdf", base="planar")
+    assert (robot.model.nv, robot.n_base, robot.model.joints[1].shortname()) == (19, 3, "JointModelPlanar")
+
+
+def test_gravity_is_zero_by_default():
+    """Space scenes: the loaded model has no gravity unless asked for."""
+    robot = load_robot(REPO / "urdf" / "four_arm_planar.urdf")
+    assert np.all(robot.model.gravity.vector == 0.0)
+
+
+def test_named_end_effectors_are_used_in_order():
+    """Named end-effectors replace the leaves, in the caller's order."""
+    robot = load_robot(REPO / "urdf" / "four_arm_planar.urdf", end_effectors=["arm3_link4", "arm1_ee"])
+    assert robot.end_effectors == ("arm3_link4", "arm1_ee")
+    assert robot.arms[0].joints == tuple(f"arm3_joint{i}" for i in range(1, 5))
+
+
+@pytest.mark.parametrize(
+    ("links", "joints", "names"),
+    [
+        ([("a", 1, 1), ("b", 1, 1), ("c", 1, 1)], [("j1", "a", "b")], ["2 roots", "a", "c"]),
+        ([("a", 1, 1), ("b", 1, 1), ("c", 1, 1)], [("j1", "a", "b"), ("j2", "c", "b")], ["loop", "'b'", "j1", "j2"]),
+        ([("a", 1, 1), ("b", 1, 1)], [("j1", "zz", "b")], ["j1", "zz", "does not exist"]),
+        ([("a", 1, 1), ("b", -2, 1)], [("j1", "a", "b")], ["'b'", "mass -2"]),
+        ([("a", 1, 1), ("b", 1, -1)], [("j1", "a", "b")], ["'b'", "not positive definite"]),
+        ([("a", 1, 1), ("b", 1, 1), ("c", 1, 1)], [("j1", "b", "c"), ("j2", "c", "b")], ["loop"]),
+    ],
+    ids=["two-roots", "two-parents", "missing-parent", "negative-mass", "indefinite-inertia", "cycle"],
+)
+def test_bad_trees_are_rejected_naming_the_culprit(tmp_path, links, joints, names):
+    """A file that cannot be a floating-base tree fails with a message naming link or joint."""
+    with pytest.raises(RobotModelError) as err:
+        load_text(tmp_path, urdf(links, joints))
+    for name in names:
+        assert name in str(err.value)
+    assert "robot.urdf" in str(err.value)
+
+
+def test_unknown_end_effector_is_rejected(tmp_path):
+    """Naming an end-effector that is not a link fails with the link list."""
+    with pytest.raises(RobotModelError, match="end-effector 'hand' is not a link"):
+        load_text(tmp_path, urdf([("a", 1, 1), ("b", 1, 1)], [("j1", "a", "b")]), end_effectors=["hand"])
+
+
+def test_missing_file_is_rejected(tmp_path):
+    """A path that does not exist fails with the path."""
+    with pytest.raises(RobotModelError, match="no such URDF"):
+        load_robot(tmp_path / "nothing.urdf")
+
+
+def test_missing_meshes_warn_once_and_keep_dynamics(tmp_path):
+    """Missing meshes give one warning and no visuals, but the dynamics load."""
+    text = urdf([("a", 1, 1), ("b", 1, 1)], [("j1", "a", "b")]).replace(
+        '<link name="b">', '<link name="b"><visual><geometry><mesh filename="gone.stl"/></geometry></visual>')
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        (tmp_path / "robot.urdf").write_text(text)
+        robot = load_robot(tmp_path / "robot.urdf")
+    assert robot.visual_model is None and robot.model.nv == 7
+    assert len([w for w in caught if "gone.stl" in str(w.message)]) == 1
+
+
+def test_example_robot_data_meshes_resolve():
+    """package:// meshes of example-robot-data resolve through the installed data."""
+    from freefloat.loading import example_robot_data_share
+
+    ur5 = example_robot_data_share() / "example-robot-data/robots/ur_description/urdf/ur5_robot.urdf"
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        robot = load_robot(ur5)
+    assert not [w for w in caught if "mesh" in str(w.message)]
+    assert robot.visual_model is not None and robot.visual_model.ngeoms > 0

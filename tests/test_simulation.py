@@ -1,0 +1,103 @@
+"""The simulation loop: conservation laws, telemetry against Pinocchio, wrenches, failures."""
+
+from __future__ import annotations
+
+import numpy as np
+import pinocchio as pin
+import pytest
+from hypothesis import given, settings
+
+from freefloat.conventions import base_state
+from freefloat.integrators import make_integrator
+from freefloat.models import ExactModel
+from freefloat.simulation import run
+from freefloat.wrenches import ExternalWrench
+
+from .conftest import load_text, random_robots, random_state
+
+
+def torque_free(robot, q0, v0, duration=0.5, period=0.01, substeps=4, **kwargs):
+    integrator = make_integrator("rkmk4", robot.model, substeps=substeps)
+    return run(robot, q0, v0, duration, period, integrator, ExactModel(robot), **kwargs)
+
+
+@settings(max_examples=20, deadline=None)
+@given(random_robots(max_links=6))
+def test_torque_free_motion_conserves_momentum_and_energy(tmp_path_factory, case):
+    """Random robots tumbling freely keep their momentum (about the origin) and energy."""
+    seed, text = case
+    robot = load_text(tmp_path_factory.mktemp("r"), text)
+    q0, v0 = random_state(robot, np.random.default_rng(seed), speed=0.5)
+    tel = torque_free(robot, q0, v0).telemetry
+    scale = max(1.0, np.abs(tel.momentum[0]).max())
+    assert np.abs(tel.momentum - tel.momentum[0]).max() < 1e-7 * scale
+    assert np.abs(tel.energy - tel.energy[0]).max() < 1e-5 * max(1.0, tel.energy[0])
+    np.testing.assert_allclose(tel.com, tel.com[0] + np.outer(tel.t, tel.momentum[0, :3]) / pin.computeTotalMass(robot.model), atol=1e-7)
+
+
+@settings(max_examples=15, deadline=None)
+@given(random_robots(max_links=6))
+def test_telemetry_matches_independent_pinocchio_calls(tmp_path_factory, case):
+    """Recorded momentum, base state and end-effector poses equal direct computations (CCRBA, FK)."""
+    seed, text = case
+    robot = load_text(tmp_path_factory.mktemp("r"), text)
+    q0, v0 = random_state(robot, np.random.default_rng(seed), speed=0.5)
+    tel = torque_free(robot, q0, v0, duration=0.05).telemetry
+    data = robot.model.createData()
+    k = len(tel.t) - 1
+    q, v = tel.q[k], tel.v[k]
+    pin.ccrba(robot.model, data, q, v)
+    hg = data.Ag @ v
+    com = data.com[0]
+    np.testing.assert_allclose(tel.momentum[k, :3], hg[:3], atol=1e-10)
+    np.testing.assert_allclose(tel.momentum[k, 3:], hg[3:] + np.cross(com, hg[:3]), atol=1e-10)
+    r0, R0, x0dot = base_state(robot, q, v)
+    np.testing.assert_allclose(tel.base_position[k], r0, atol=1e-12)
+    np.testing.assert_allclose(tel.base_twist[k], x0dot, atol=1e-10)
+    np.testing.assert_allclose(pin.Quaternion(tel.base_quaternion[k]).matrix(), R0, atol=1e-12)
+    pin.framesForwardKinematics(robot.model, data, q)
+    for i, fid in enumerate(robot.end_effector_frame_ids):
+        np.testing.assert_allclose(tel.ee_position[k, i], data.oMf[fid].translation, atol=1e-12)
+
+
+def test_external_force_changes_momentum_by_its_impulse(tmp_path):
+    """A force F on a link during [0.1, 0.3) s changes the linear momentum by F * 0.2 s exactly."""
+    from freefloat import load_robot
+    from .conftest import REPO
+
+    robot = load_robot(REPO / "urdf" / "four_arm_planar.urdf", visuals=False)
+    q0, v0 = random_state(robot, np.random.default_rng(4), speed=0.1)
+    force = np.array([3.0, -2.0, 1.0])
+    wrench = ExternalWrench("arm2_link3", force=tuple(force), torque=(0.0, 0.5, 0.0), start=0.1, end=0.3)
+    tel = torque_free(robot, q0, v0, duration=0.4, period=0.01, wrenches=(wrench,)).telemetry
+    np.testing.assert_allclose(tel.momentum[-1, :3] - tel.momentum[0, :3], force * 0.2, atol=1e-9)
+
+
+def test_unknown_wrench_link_is_rejected(tmp_path):
+    """A wrench on a link that does not exist fails naming it."""
+    from freefloat import FreefloatError, load_robot
+    from .conftest import REPO
+
+    robot = load_robot(REPO / "urdf" / "four_arm_planar.urdf", visuals=False)
+    with pytest.raises(FreefloatError, match="link 'arm9' does not exist"):
+        torque_free(robot, robot.neutral(), np.zeros(robot.model.nv), wrenches=(ExternalWrench("arm9"),))
+
+
+def test_blow_up_stops_with_a_message_and_keeps_the_samples(tmp_path):
+    """An unstable run (Euler, huge step, fast spin) stops as 'diverged' and returns its samples."""
+    from freefloat import load_robot
+    from .conftest import REPO
+
+    robot = load_robot(REPO / "urdf" / "four_arm_planar.urdf", visuals=False)
+    q0, v0 = robot.neutral(), np.full(robot.model.nv, 50.0)
+    result = run(robot, q0, v0, 50.0, 0.5, make_integrator("euler", robot.model), ExactModel(robot))
+    assert result.status == "diverged" and "t = " in result.message
+    assert 0 < len(result.telemetry.t) < 101
+    assert np.isfinite(result.telemetry.q).all()
+
+
+def test_duration_must_be_a_whole_number_of_periods():
+    """A duration that is not a multiple of the control period is refused, not rounded."""
+    model = pin.buildSampleModelManipulator()
+    with pytest.raises(ValueError, match="whole number"):
+        run(None, np.zeros(model.nq), np.zeros(model.nv), 1.0005, 0.001, None, None)

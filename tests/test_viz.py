@@ -1,0 +1,403 @@
+"""Tests of freefloat.viz: the self-contained meshcat page and the run figures."""
+
+from __future__ import annotations
+
+import base64
+import importlib.metadata
+import re
+import warnings
+import xml.etree.ElementTree as ET
+from html.parser import HTMLParser
+from pathlib import Path
+
+import meshcat.geometry as mg
+import numpy as np
+import pinocchio as pin
+import pytest
+import umsgpack
+
+from freefloat.loading import load_robot
+from freefloat.telemetry import Telemetry
+from freefloat.viz import frame_indices, write_figures, write_trajectory_html
+from freefloat.viz.figures import (
+    base_trajectory_figure,
+    com_drift_figure,
+    end_effector_paths_figure,
+    joint_error_figure,
+    torque_figure,
+)
+
+SPART = Path("/work/shared/reference/spart/urdf")
+SHARE = Path(
+    str(importlib.metadata.distribution("example-robot-data").locate_file("cmeel.prefix/share"))
+)
+UR5 = SHARE / "example-robot-data/robots/ur_description/urdf/ur5_robot.urdf"
+ROOT = "/meshcat/freefloat"
+
+
+def _load(path: Path, **kwargs):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return load_robot(path, **kwargs)
+
+
+@pytest.fixture(scope="module")
+def sc3():
+    return _load(SPART / "SC_3DoF.urdf")
+
+
+@pytest.fixture(scope="module")
+def sc3_stick():
+    return _load(SPART / "SC_3DoF.urdf", visuals=False)
+
+
+@pytest.fixture(scope="module")
+def iiwa2():
+    return _load(SPART / "2_iiwa_base.urdf")
+
+
+@pytest.fixture(scope="module")
+def ur5(tmp_path_factory):
+    """UR5 with its meshes, its massless ``world`` root link and joint removed."""
+    tree = ET.parse(UR5)
+    root = tree.getroot()
+    for element in list(root):
+        if (element.tag == "link" and element.get("name") == "world") or (
+            element.tag == "joint" and element.find("parent").get("link") == "world"
+        ):
+            root.remove(element)
+    path = tmp_path_factory.mktemp("ur5") / "ur5_free.urdf"
+    tree.write(path)
+    return _load(path)
+
+
+def _configurations(model: pin.Model, n: int, seed: int = 0) -> np.ndarray:
+    """n configurations: neutral perturbed, base translated and rotated (unit quaternions)."""
+    rng = np.random.default_rng(seed)
+    q = np.tile(pin.neutral(model), (n, 1))
+    q[:, :3] = rng.normal(size=(n, 3))
+    quaternions = rng.normal(size=(n, 4))
+    q[:, 3:7] = quaternions / np.linalg.norm(quaternions, axis=1, keepdims=True)
+    q[:, 7:] += rng.uniform(-2.0, 2.0, size=(n, model.nq - 7))
+    return q
+
+
+def _packets(path: Path) -> list[dict]:
+    """Decode every command packet embedded in a page."""
+    blobs = re.findall(r'freefloat_command\("([A-Za-z0-9+/=]+)"\);', path.read_text())
+    return [umsgpack.unpackb(base64.b64decode(blob)) for blob in blobs]
+
+
+def _animation(packets: list[dict]) -> dict[str, dict[str, list]]:
+    """{node path: {track name: [(time, value), ...]}} of the page's animation."""
+    (animation,) = [p for p in packets if p["type"] == "set_animation"]
+    return {
+        a["path"]: {
+            tr["name"]: [(k["time"], k["value"]) for k in tr["keys"]] for tr in a["clip"]["tracks"]
+        }
+        for a in animation["animations"]
+    }
+
+
+def _objects(packets: list[dict]) -> dict[str, dict]:
+    """{node path: lowered object} of the page's set_object commands."""
+    return {p["path"]: p["object"] for p in packets if p["type"] == "set_object"}
+
+
+def _node_pose(tracks: dict[str, list], frame: int) -> np.ndarray:
+    """Homogeneous pose (4, 4) of an animated node at a key frame."""
+    pose = np.eye(4)
+    pose[:3, 3] = tracks[".position"][frame][1]
+    pose[:3, :3] = pin.Quaternion(np.array(tracks[".quaternion"][frame][1])).matrix()
+    return pose
+
+
+def _intrinsic(lowered: dict) -> np.ndarray:
+    """The object's intrinsic matrix (three.js stores it column-major)."""
+    return np.array(lowered["object"]["matrix"]).reshape(4, 4).T
+
+
+class _Tags(HTMLParser):
+    """Collects (tag, attributes) of every start tag (script contents are not parsed as HTML)."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.seen: list[tuple[str, list]] = []
+
+    def handle_starttag(self, tag: str, attrs: list) -> None:
+        self.seen.append((tag, attrs))
+
+
+def _run(robot, n=201, duration=2.0, seed=0):
+    return np.linspace(0.0, duration, n), _configurations(robot.model, n, seed)
+
+
+def test_page_makes_no_network_reference(sc3, tmp_path):
+    """The page loads no script or resource by URL; its only URL is an XML namespace in the JS."""
+    t, q = _run(sc3)
+    page = write_trajectory_html(sc3, t, q, tmp_path / "run.html").read_text()
+    tags = _Tags()
+    tags.feed(page)
+    assert {tag for tag, _ in tags.seen} == {
+        "html",
+        "head",
+        "meta",
+        "title",
+        "style",
+        "body",
+        "div",
+        "script",
+    }
+    assert not [
+        name for _, attrs in tags.seen for name, _ in attrs if name in ("src", "href", "srcset")
+    ]
+    assert set(re.findall(r"https?://[^\s\"'<>)]*", page)) <= {"http://www.w3.org/1999/xhtml"}
+    assert "new MeshCat.Viewer" in page and len(_packets(tmp_path / "run.html")) > 1
+
+
+def test_animation_frames_follow_fps(sc3, tmp_path):
+    """At 10 fps a 2 s run sampled every 10 ms animates every 10th sample, keyed 0..20 frames."""
+    t, q = _run(sc3)
+    tracks = _animation(_packets(write_trajectory_html(sc3, t, q, tmp_path / "run.html", fps=10.0)))
+    base = tracks[f"{ROOT}/base"]
+    times = np.array([time for time, _ in base[".position"]])
+    np.testing.assert_allclose(times, np.arange(21), atol=1e-9)
+    np.testing.assert_allclose([v for _, v in base[".position"]], q[::10, :3], atol=1e-12)
+
+
+def test_frame_indices_pick_nearest_samples():
+    """Uneven samples are picked nearest to each 1/fps tick, and sparse samples are all kept."""
+    np.testing.assert_array_equal(
+        frame_indices(np.array([0.0, 0.01, 0.3, 0.31, 1.0]), 2.0), [0, 3, 4]
+    )
+    np.testing.assert_array_equal(frame_indices(np.array([0.0, 0.5, 1.0]), 30.0), [0, 1, 2])
+
+
+def test_joint_poses_match_forward_kinematics(sc3, tmp_path):
+    """Each animated joint pose equals Pinocchio's oMi for the shown configuration; the base
+    pose equals the free-flyer coordinates of q."""
+    t, q = _run(sc3)
+    tracks = _animation(_packets(write_trajectory_html(sc3, t, q, tmp_path / "run.html", fps=10.0)))
+    model, data = sc3.model, sc3.model.createData()
+    for frame in (3, 17):
+        sample = 10 * frame
+        base = _node_pose(tracks[f"{ROOT}/base"], frame)
+        np.testing.assert_allclose(base[:3, 3], q[sample, :3], atol=1e-12)
+        np.testing.assert_allclose(
+            base[:3, :3], pin.Quaternion(q[sample, 3:7]).matrix(), atol=1e-12
+        )
+        pin.forwardKinematics(model, data, q[sample])
+        for j in range(2, model.njoints):
+            pose = _node_pose(tracks[f"{ROOT}/{model.names[j]}"], frame)
+            np.testing.assert_allclose(pose, data.oMi[j].homogeneous, atol=1e-12)
+
+
+def test_primitive_geometry_placed_like_pinocchio(sc3, tmp_path):
+    """SC_3DoF's boxes, spheres and cylinders sit where updateGeometryPlacements puts them
+    (cylinders along the geometry's z axis)."""
+    t, q = _run(sc3)
+    packets = _packets(write_trajectory_html(sc3, t, q, tmp_path / "run.html", fps=10.0))
+    tracks, objects = _animation(packets), _objects(packets)
+    model, data = sc3.model, sc3.model.createData()
+    visual, visual_data = sc3.visual_model, pin.GeometryData(sc3.visual_model)
+    pin.forwardKinematics(model, data, q[50])
+    pin.updateGeometryPlacements(model, data, visual, visual_data)
+    assert len(objects) == visual.ngeoms
+    for g, g_id in ((g, visual.getGeometryId(g.name)) for g in visual.geometryObjects):
+        node = f"{ROOT}/{model.names[g.parentJoint]}"
+        world = _node_pose(tracks[node], 5) @ _intrinsic(objects[f"{node}/{g.name}"])
+        expected = visual_data.oMg[g_id].homogeneous
+        np.testing.assert_allclose(world[:3, 3], expected[:3, 3], atol=1e-12)
+        if type(g.geometry).__name__ == "Cylinder":
+            assert abs(world[:3, 1] @ expected[:3, 2]) == pytest.approx(1.0, abs=1e-12)
+        else:
+            np.testing.assert_allclose(world[:3, :3], expected[:3, :3], atol=1e-12)
+
+
+def test_stick_figure_links_join_joints_and_end_effector(sc3_stick, tmp_path):
+    """Without visuals, each link cylinder runs from a joint origin to its child joint or
+    end-effector frame origin as placed by forward kinematics; the base box sits at the base CoM."""
+    assert sc3_stick.visual_model is None
+    t, q = _run(sc3_stick)
+    packets = _packets(write_trajectory_html(sc3_stick, t, q, tmp_path / "run.html", fps=10.0))
+    tracks, objects = _animation(packets), _objects(packets)
+    model, data = sc3_stick.model, sc3_stick.model.createData()
+    pin.framesForwardKinematics(model, data, q[70])
+    ee = model.getFrameId(sc3_stick.end_effectors[0])
+    segments = [
+        (model.parents[j], f"link_to_{model.names[j]}", data.oMi[j].translation)
+        for j in range(2, model.njoints)
+    ]
+    segments.append(
+        (
+            model.frames[ee].parentJoint,
+            f"link_to_{sc3_stick.end_effectors[0]}",
+            data.oMf[ee].translation,
+        )
+    )
+    for parent, name, end in segments:
+        node = f"{ROOT}/{model.names[parent]}"
+        lowered = objects[f"{node}/{name}"]
+        assert lowered["geometries"][0]["type"] == "CylinderGeometry"
+        half = lowered["geometries"][0]["height"] / 2
+        world = _node_pose(tracks[node], 7) @ _intrinsic(lowered)
+        np.testing.assert_allclose(
+            world @ [0.0, -half, 0.0, 1.0], [*data.oMi[parent].translation, 1.0], atol=1e-12
+        )
+        np.testing.assert_allclose(world @ [0.0, half, 0.0, 1.0], [*end, 1.0], atol=1e-12)
+    box = _node_pose(tracks[f"{ROOT}/base"], 7) @ _intrinsic(objects[f"{ROOT}/base/base_box"])
+    np.testing.assert_allclose(box[:3, 3], data.oMi[1].act(model.inertias[1].lever), atol=1e-12)
+
+
+def test_mesh_files_are_embedded(ur5, tmp_path):
+    """UR5's Collada meshes are embedded verbatim in the page, one per visual geometry, with no
+    external texture."""
+    t, q = _run(ur5, n=11, duration=1.0)
+    packets = _packets(write_trajectory_html(ur5, t, q, tmp_path / "ur5.html"))
+    objects = _objects(packets)
+    assert len(objects) == ur5.visual_model.ngeoms
+    for g in ur5.visual_model.geometryObjects:
+        lowered = objects[f"{ROOT}/{ur5.model.names[g.parentJoint]}/{g.name}"]["object"]
+        assert lowered["type"] == "_meshfile_object" and lowered["format"] == "dae"
+        assert lowered["data"] == Path(g.meshPath).read_text()
+        assert all(uri.startswith("data:") for uri in lowered["resources"].values())
+
+
+def test_extra_body_follows_its_poses(sc3, tmp_path):
+    """An extra body is drawn and animated with its own poses at the shown samples."""
+    t, q = _run(sc3)
+    rng = np.random.default_rng(1)
+    poses = np.array(
+        [pin.SE3(pin.exp3(rng.normal(size=3)), rng.normal(size=3)).homogeneous for _ in t]
+    )
+    extra = [("target", mg.Box([0.1, 0.2, 0.3]), poses)]
+    packets = _packets(
+        write_trajectory_html(sc3, t, q, tmp_path / "run.html", fps=10.0, extra=extra)
+    )
+    assert _objects(packets)[f"{ROOT}/extra/target"]["geometries"][0]["type"] == "BoxGeometry"
+    tracks = _animation(packets)[f"{ROOT}/extra/target"]
+    for frame in (0, 9, 20):
+        np.testing.assert_allclose(_node_pose(tracks, frame), poses[10 * frame], atol=1e-12)
+
+
+def test_configurations_of_wrong_size_are_rejected(sc3, tmp_path):
+    """q whose width is not the model's nq raises ValueError naming the expected shape."""
+    t, q = _run(sc3)
+    with pytest.raises(ValueError, match=f"q \\(N, {sc3.model.nq}\\)"):
+        write_trajectory_html(sc3, t, q[:, :-1], tmp_path / "run.html")
+
+
+def _telemetry(robot, n: int = 40, references: bool = True) -> Telemetry:
+    """Synthetic telemetry with smooth base attitude (yaw crossing pi) and random signals."""
+    rng = np.random.default_rng(2)
+    model = robot.model
+    tel = Telemetry.allocate(n, model.nq, model.nv, robot.n_joints, len(robot.end_effectors))
+    tel.t[:] = np.linspace(0.0, 4.0, n)
+    tel.q[:] = _configurations(model, n)
+    tel.joint_positions[:] = tel.q[:, 7:]
+    if references:
+        tel.joint_reference[:] = tel.joint_positions + rng.normal(
+            scale=0.1, size=tel.joint_positions.shape
+        )
+    tel.tau[:] = rng.normal(size=tel.tau.shape)
+    tel.base_position[:] = rng.normal(size=(n, 3))
+    rpy = np.column_stack([0.5 * np.sin(tel.t), 0.3 * np.cos(tel.t), np.linspace(0.0, 5.0, n)])
+    tel.base_quaternion[:] = [pin.Quaternion(pin.rpy.rpyToMatrix(a)).coeffs() for a in rpy]
+    tel.ee_position[:] = rng.normal(size=tel.ee_position.shape)
+    tel.com[:] = rng.normal(size=(n, 3))
+    tel.momentum[:] = rng.normal(size=(n, 6))
+    return tel
+
+
+def _lines(ax) -> dict[str, np.ndarray]:
+    """{label: (N, 2) xy data} of an axes' lines."""
+    return {line.get_label(): np.column_stack(line.get_data()) for line in ax.get_lines()}
+
+
+def test_joint_error_curves_are_reference_minus_position_in_degrees(iiwa2):
+    """Each arm's panel plots, per joint, (reference - position) in degrees against t."""
+    tel = _telemetry(iiwa2)
+    figure = joint_error_figure(iiwa2, tel)
+    assert len(figure.axes) == len(iiwa2.arms) == 2
+    for ax, arm in zip(figure.axes, iiwa2.arms):
+        lines = _lines(ax)
+        assert list(lines) == list(arm.joints)
+        for name in arm.joints:
+            column = iiwa2.joint_names.index(name)
+            expected = np.degrees(tel.joint_reference[:, column] - tel.joint_positions[:, column])
+            np.testing.assert_allclose(lines[name], np.column_stack([tel.t, expected]), rtol=1e-12)
+
+
+def test_torque_curves_are_held_steps_of_tau(iiwa2):
+    """Each arm's panel plots its joints' torques as steps held from each sample."""
+    tel = _telemetry(iiwa2)
+    figure = torque_figure(iiwa2, tel)
+    for ax, arm in zip(figure.axes, iiwa2.arms):
+        for line in ax.get_lines():
+            column = iiwa2.joint_names.index(line.get_label())
+            assert line.get_drawstyle() == "steps-post"
+            np.testing.assert_array_equal(line.get_ydata(), tel.tau[:, column])
+
+
+def test_base_figure_plots_position_unwrapped_attitude_and_path(iiwa2):
+    """The base figure plots r0 components, the generating roll/pitch/yaw in degrees (yaw
+    unwrapped past 180 deg) and the xy path."""
+    tel = _telemetry(iiwa2)
+    position_ax, attitude_ax, path_ax = base_trajectory_figure(tel).axes
+    for i, axis in enumerate("xyz"):
+        np.testing.assert_array_equal(_lines(position_ax)[axis][:, 1], tel.base_position[:, i])
+    rpy = np.column_stack(
+        [0.5 * np.sin(tel.t), 0.3 * np.cos(tel.t), np.linspace(0.0, 5.0, len(tel.t))]
+    )
+    for i, angle in enumerate(("roll", "pitch", "yaw")):
+        np.testing.assert_allclose(
+            _lines(attitude_ax)[angle][:, 1], np.degrees(rpy[:, i]), atol=1e-9
+        )
+    np.testing.assert_array_equal(_lines(path_ax)["base CoM"], tel.base_position[:, :2])
+
+
+def test_end_effector_paths_mark_start_and_end(iiwa2):
+    """Each end-effector's xy path is plotted with markers at its first and last samples."""
+    tel = _telemetry(iiwa2)
+    lines = _lines(end_effector_paths_figure(iiwa2, tel).axes[0])
+    for k, name in enumerate(iiwa2.end_effectors):
+        np.testing.assert_array_equal(lines[name], tel.ee_position[:, k, :2])
+        np.testing.assert_array_equal(lines[f"{name} start"], tel.ee_position[:1, k, :2])
+        np.testing.assert_array_equal(lines[f"{name} end"], tel.ee_position[-1:, k, :2])
+
+
+def test_drift_curves_are_distances_from_the_first_sample(iiwa2):
+    """CoM and momentum drift curves are the norms of the differences from sample 0."""
+    tel = _telemetry(iiwa2)
+    com_ax, momentum_ax = com_drift_figure(tel).axes
+    np.testing.assert_allclose(
+        _lines(com_ax)["|com - com(0)|"][:, 1], np.linalg.norm(tel.com - tel.com[0], axis=1)
+    )
+    linear, angular = (line.get_ydata() for line in momentum_ax.get_lines())
+    np.testing.assert_allclose(
+        linear, np.linalg.norm(tel.momentum[:, :3] - tel.momentum[0, :3], axis=1)
+    )
+    np.testing.assert_allclose(
+        angular, np.linalg.norm(tel.momentum[:, 3:] - tel.momentum[0, 3:], axis=1)
+    )
+
+
+def test_write_figures_writes_five_pngs(iiwa2, tmp_path):
+    """With references, all five figures are written as PNG files."""
+    written = write_figures(iiwa2, _telemetry(iiwa2), tmp_path / "figs")
+    names = [
+        "joint_errors.png",
+        "torques.png",
+        "base_trajectory.png",
+        "end_effector_paths.png",
+        "com_drift.png",
+    ]
+    assert [p.name for p in written] == names
+    assert all(p.read_bytes().startswith(b"\x89PNG\r\n\x1a\n") for p in written)
+
+
+def test_error_figure_skipped_without_references(iiwa2, tmp_path):
+    """A run without joint references (NaN) gets no joint error figure and the four others."""
+    written = write_figures(iiwa2, _telemetry(iiwa2, references=False), tmp_path)
+    assert sorted(p.name for p in tmp_path.iterdir()) == sorted(p.name for p in written)
+    assert "joint_errors.png" not in [p.name for p in written] and len(written) == 4
