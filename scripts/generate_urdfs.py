@@ -1,0 +1,36 @@
+"""Regenerate the committed URDF files in ``urdf/`` from ``freefloat.builders``.
+
+Usage: ``python3 scripts/generate_urdfs.py [output_dir]`` (default: the repository's ``urdf/``).
+``tests/test_builders.py`` checks that the committed files equal what this script writes.
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+from freefloat.builders import (
+    build_urdf,
+    dual_arm_satellite,
+    four_arm_planar,
+    two_arm_planar,
+    write_urdf,
+)
+
+URDF_DIR = Path(__file__).resolve().parents[1] / "urdf"
+
+
+def main(out_dir: Path = URDF_DIR) -> None:
+    """Write the four-arm, two-arm and dual-arm-satellite URDFs into ``out_dir``."""
+    out_dir.mkdir(parents=True, exist_ok=True)
+    robots = {
+        "four_arm_planar.urdf": build_urdf(four_arm_planar()),
+        "two_arm_planar.urdf": build_urdf(two_arm_planar()),
+        "dual_arm_satellite.urdf": dual_arm_satellite(),
+    }
+    for name, urdf in robots.items():
+        print(write_urdf(urdf, out_dir / name))
+
+
+if __name__ == "__main__":
+    main(Path(sys.argv[1]) if len(sys.argv) > 1 else URDF_DIR)

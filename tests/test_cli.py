@@ -1,0 +1,120 @@
+"""The default job end to end: ``freefloat simulate`` on the built-in chapter-4 scene."""
+
+from __future__ import annotations
+
+import json
+import tomllib
+
+import numpy as np
+import pytest
+
+from freefloat.cli import main
+from freefloat.scenes import DEFAULT_SCENE, builtin_scenes
+from freefloat.telemetry import Telemetry
+
+
+@pytest.fixture(scope="module")
+def default_run(tmp_path_factory):
+    """Run ``freefloat simulate`` with no scene, as the README says, into a temporary folder."""
+    out = tmp_path_factory.mktemp("run")
+    status = main(["simulate", "--out", str(out), "--quiet"])
+    return status, out, json.loads((out / "summary.json").read_text())
+
+
+def test_default_job_writes_every_artefact(default_run):
+    """Telemetry, summary, scene, five figures and a self-contained HTML animation are written."""
+    status, out, _ = default_run
+    names = {p.name for p in out.iterdir()}
+    assert status == 0
+    assert {"telemetry.npz", "summary.json", "scene.toml", "trajectory.html", "joint_errors.png",
+            "torques.png", "base_trajectory.png", "end_effector_paths.png", "com_drift.png"} <= names
+
+
+def test_end_effectors_start_on_the_axes(default_run):
+    """End-effectors start at (7.75, 0), (0, 7.75), (-7.75, 0), (0, -7.75) m (dissertation Table 5)."""
+    start = default_run[2]["end_effectors_start"]
+    expected = [[7.75, 0, 0], [0, 7.75, 0], [-7.75, 0, 0], [0, -7.75, 0]]
+    np.testing.assert_allclose([start[f"arm{i}_ee"] for i in range(1, 5)], expected, atol=1e-9)
+
+
+def test_system_com_stays_put(default_run):
+    """The system CoM drifts less than 1e-8 m (no external force; 4th-order integrator)."""
+    assert default_run[2]["com_drift_max"] < 1e-8
+
+
+def test_base_moves_along_the_negative_bisector_without_turning(default_run):
+    """The base translates along (-x, -y) with equal components and negligible rotation."""
+    dx, dy, dz = default_run[2]["base_displacement"]
+    assert dx < -0.1 and abs(dx - dy) < 1e-9 * abs(dx) and dz == 0.0
+    assert default_run[2]["base_rotation_max"] < 1e-10
+
+
+def test_tracking_is_at_least_as_good_as_the_dissertation(default_run):
+    """Nested-RMS tracking error is at or below FM-NIC-A's 4.91e-7 rad (Table 1)."""
+    assert default_run[2]["tracking_rms_overall"] <= 4.91e-7
+
+
+def test_energy_balances_the_joint_work(default_run):
+    """Kinetic energy changes exactly by the work of the held joint torques."""
+    assert default_run[2]["energy_drift_max"] < 1e-9
+
+
+def test_summary_records_provenance(default_run):
+    """The summary holds the scene, versions and settings that made it."""
+    summary = default_run[2]
+    assert summary["scene"]["name"] == DEFAULT_SCENE
+    assert {"pin", "numpy", "freefloat", "python"} <= set(summary["versions"])
+    assert summary["settings"]["integrator"] == "rkmk4" and summary["steps"] == 5000
+
+
+def test_telemetry_has_every_step(default_run):
+    """telemetry.npz has 5001 samples from 0 to 5 s with q, v, tau and references."""
+    tel = Telemetry.load(default_run[1] / "telemetry.npz")
+    assert tel.q.shape[0] == 5001 and tel.t[-1] == pytest.approx(5.0)
+    assert np.isfinite(tel.joint_reference).all()
+
+
+def test_diverging_scene_exits_1_and_keeps_its_samples(tmp_path):
+    """A run that blows up exits with status 1, says so, and still writes its telemetry."""
+    raw = tomllib.loads(builtin_scenes()[DEFAULT_SCENE].read_text())
+    raw["robot"]["urdf"] = str(builtin_scenes()[DEFAULT_SCENE].parents[3] / "urdf" / "four_arm_planar.urdf")
+    raw["controller"] = {"kind": "none"}
+    raw["task"] = {"kind": "none"}
+    raw["initial"]["joint_velocities"] = {"arm1_ee": 3000.0}
+    raw["simulation"].update(integrator="euler", control_period=0.05, duration=50.0)
+    raw["output"] = {"html": False, "figures": False}
+    scene = tmp_path / "bad.toml"
+    scene.write_text(_toml(raw))
+    status = main(["simulate", str(scene), "--out", str(tmp_path / "out"), "--quiet"])
+    summary = json.loads((tmp_path / "out" / "summary.json").read_text())
+    assert status == 1 and summary["status"] == "diverged"
+    assert 0 < Telemetry.load(tmp_path / "out" / "telemetry.npz").t.size < 1001
+
+
+def test_bad_scene_exits_2_naming_the_key(tmp_path, capsys):
+    """A scene with an unknown key exits with status 2 and names the key."""
+    scene = tmp_path / "bad.toml"
+    scene.write_text('name = "x"\nspeed = 3\n[robot]\nurdf = "a.urdf"\n')
+    assert main(["simulate", str(scene), "--out", str(tmp_path / "o")]) == 2
+    assert "unknown top-level key 'speed'" in capsys.readouterr().err
+
+
+def _toml(raw: dict) -> str:
+    """Minimal TOML writer for the nested dicts of a scene."""
+    def value(x):
+        if isinstance(x, str):
+            return f'"{x}"'
+        if isinstance(x, bool):
+            return "true" if x else "false"
+        if isinstance(x, dict):
+            return "{ " + ", ".join(f"{k} = {value(v)}" for k, v in x.items()) + " }"
+        if isinstance(x, list):
+            return "[" + ", ".join(value(v) for v in x) + "]"
+        return repr(x)
+
+    lines = [f"{k} = {value(v)}" for k, v in raw.items() if not isinstance(v, dict)]
+    for section, body in raw.items():
+        if isinstance(body, dict):
+            lines.append(f"[{section}]")
+            lines += [f"{k} = {value(v)}" for k, v in body.items()]
+    return "\n".join(lines) + "\n"

@@ -1,0 +1,30 @@
+"""Nested RMS (eq 140) and rotation angles."""
+
+from __future__ import annotations
+
+import numpy as np
+import pinocchio as pin
+
+from freefloat import load_robot
+from freefloat.metrics import nested_rms, rotation_angle
+
+from .conftest import REPO
+
+
+def test_nested_rms_layers_joint_arm_overall():
+    """Per joint over time, per arm over joints, then over arms: an analytic case."""
+    robot = load_robot(REPO / "urdf" / "four_arm_planar.urdf", visuals=False)
+    errors = np.zeros((4, 16))
+    errors[:, 0] = [1.0, -1.0, 1.0, -1.0]  # arm 1 joint 1: rms 1
+    errors[:, 4:8] = 2.0  # arm 2: every joint rms 2
+    overall, per_arm = nested_rms(errors, robot)
+    assert per_arm == {"arm1_ee": 0.5, "arm2_ee": 2.0, "arm3_ee": 0.0, "arm4_ee": 0.0}
+    assert overall == np.sqrt((0.25 + 4.0) / 4.0)
+
+
+def test_rotation_angle_is_accurate_for_tiny_angles():
+    """A 1e-12 rad rotation is measured as 1e-12 rad (arccos would give 0)."""
+    q0 = pin.Quaternion(pin.exp3(np.array([0.3, -0.2, 0.1])))
+    q1 = q0 * pin.Quaternion(pin.exp3(np.array([0.0, 0.0, 1e-12])))
+    angle = rotation_angle(np.array([q1.coeffs()]), q0.coeffs())
+    np.testing.assert_allclose(angle, [1e-12], rtol=1e-6)

@@ -1,0 +1,79 @@
+"""Scene files: the built-in scenes validate; bad keys, types and values are named."""
+
+from __future__ import annotations
+
+import tomllib
+
+import pytest
+
+from freefloat import SceneError
+from freefloat.runner import prepare
+from freefloat.scenes import DEFAULT_SCENE, builtin_scenes, find_scene, parse_scene
+
+
+def default_raw() -> dict:
+    return tomllib.loads(builtin_scenes()[DEFAULT_SCENE].read_text())
+
+
+def test_default_scene_is_the_dissertation_chapter_4_task():
+    """The default scene is 4 arms, 5 s at 1 ms, Kp = 10, Kd = 100, +-5 deg per arm."""
+    scene = find_scene(DEFAULT_SCENE)
+    assert (scene.simulation.duration, scene.simulation.control_period) == (5.0, 0.001)
+    assert (scene.controller.kp, scene.controller.kd, scene.task.duration) == (10.0, 100.0, 5.0)
+    assert scene.task.displacement == {"arm1_ee": 5.0, "arm2_ee": -5.0, "arm3_ee": -5.0, "arm4_ee": 5.0}
+
+
+@pytest.mark.parametrize("name", sorted(builtin_scenes()))
+def test_builtin_scenes_prepare(name):
+    """Every built-in scene resolves its robot, state, model, integrator and controller."""
+    prepared = prepare(find_scene(name))
+    assert prepared.q0.shape == (prepared.robot.model.nq,)
+
+
+@pytest.mark.parametrize(
+    ("edit", "message"),
+    [
+        (lambda r: r.update(colour="red"), "unknown top-level key 'colour'"),
+        (lambda r: r["simulation"].update(dt=0.001), "unknown [simulation] key 'dt'"),
+        (lambda r: r["simulation"].update(control_period=-0.001), "'simulation.control_period' must be > 0"),
+        (lambda r: r["simulation"].update(duration="5"), "'simulation.duration' must be a number"),
+        (lambda r: r["simulation"].update(substeps=1.5), "'simulation.substeps' must be an integer"),
+        (lambda r: r["simulation"].update(integrator="rk45"), "'simulation.integrator' is 'rk45'; valid: euler"),
+        (lambda r: r["controller"].update(model="magic"), "'controller.model' is 'magic'; valid: exact"),
+        (lambda r: r["controller"].update(kp=-1.0), "'controller.kp' must be >= 0"),
+        (lambda r: r["robot"].update(base="spherical"), "'robot.base' is 'spherical'; valid: free, planar"),
+        (lambda r: r["robot"].pop("urdf"), "[robot] needs key 'urdf'"),
+        (lambda r: r["initial"].update(base_position=[0, 0]), "'initial.base_position' must be a list of 3"),
+        (lambda r: r["task"].update(displacement={"arm1_ee": "five"}), "'task.displacement' must be a table"),
+        (lambda r: r.update(angle_unit="grad"), "'angle_unit' is 'grad'; valid: deg, rad"),
+    ],
+)
+def test_bad_scene_values_are_named(edit, message):
+    """Unknown keys, wrong types and impossible values are rejected with the key in the message."""
+    raw = default_raw()
+    edit(raw)
+    with pytest.raises(SceneError) as err:
+        parse_scene(raw)
+    assert message in str(err.value)
+
+
+def test_unknown_joint_in_a_table_is_named():
+    """A joint table naming a joint that does not exist fails with the key and the valid names."""
+    raw = default_raw()
+    raw["initial"]["joint_positions"]["arm5_joint1"] = 1.0
+    with pytest.raises(SceneError, match="'initial.joint_positions': 'arm5_joint1' is neither a joint"):
+        prepare(parse_scene(raw, source=builtin_scenes()[DEFAULT_SCENE]))
+
+
+def test_missing_robot_file_is_named():
+    """A URDF that cannot be found fails naming robot.urdf."""
+    raw = default_raw()
+    raw["robot"]["urdf"] = "no_such_robot.urdf"
+    with pytest.raises(SceneError, match="robot.urdf 'no_such_robot.urdf' not found"):
+        prepare(parse_scene(raw))
+
+
+def test_unknown_scene_name_lists_the_builtins():
+    """An unknown scene name lists the built-in scenes."""
+    with pytest.raises(SceneError, match=f"built-in: .*{DEFAULT_SCENE}"):
+        find_scene("not_a_scene")
