@@ -145,11 +145,10 @@ def run(
             else:
                 f = lambda qs, vs: model.acceleration(qs, vs, tau_full)  # noqa: E731
             q_next, v_next = integrator.advance(f, q, v, control_period)
-            if not (np.isfinite(v_next).all() and np.isfinite(q_next).all()
-                    and np.abs(v_next).max() < MAX_SPEED):
+            if not np.abs(v_next).max() < MAX_SPEED:  # also false for NaN
                 raise SimulationDiverged(
                     f"state blew up at t = {t + control_period:.6g} s (step {k + 1}): "
-                    f"max |v| = {np.nanmax(np.abs(v_next)):.3g}, finite = {np.isfinite(v_next).all()}"
+                    f"max |v| = {np.abs(v_next).max():.3g} (limit {MAX_SPEED:g})"
                 )
             work += float(tau @ pin.difference(robot.model, q, q_next)[nb:])
             q, v = q_next, v_next

@@ -24,10 +24,11 @@ from ..conventions import skew
 
 def _ad_se3(theta: np.ndarray) -> np.ndarray:
     """``ad`` of a twist [v; w] (6, 6): ``ad(x) y = [w x v' + v x w'; w x w']``."""
-    ad = np.zeros((6, 6))
-    ad[:3, :3] = ad[3:, 3:] = skew(theta[3:])
-    ad[:3, 3:] = skew(theta[:3])
-    return ad
+    a, b, c, x, y, z = theta.tolist()
+    return np.array([
+        [0.0, -z, y, 0.0, -c, b], [z, 0.0, -x, c, 0.0, -a], [-y, x, 0.0, -b, a, 0.0],
+        [0.0, 0.0, 0.0, 0.0, -z, y], [0.0, 0.0, 0.0, z, 0.0, -x], [0.0, 0.0, 0.0, -y, x, 0.0],
+    ])
 
 
 def _dexpinv_se2(theta: np.ndarray, velocity: np.ndarray) -> np.ndarray:

@@ -1,0 +1,211 @@
+"""Benchmark the simulation loop against bare Pinocchio loops, and accuracy against cost.
+
+Writes ``bench_simulation.json`` and ``bench_simulation.png`` to an output folder (default
+``runs/bench-<time>``), with versions and settings. Everything compared is measured side by side
+in one run: quote the ratios, not the absolute times (shared 2-core machines are noisy).
+
+1. Loop overhead, default scene (four-arm robot, computed torque, RKMK4, 1 ms):
+   freefloat's :func:`freefloat.simulation.run` against an inline loop of the same Pinocchio and
+   numpy calls, with telemetry at every step and with telemetry at the ends only.
+2. Work-precision: a torque-free tumbling four-arm robot (free base), 1 s, every integrator over
+   a range of steps (dopri5 over tolerances): final-state error against a tight dopri5 reference
+   versus wall time and dynamics evaluations.
+3. Model no more than the scene needs: the default scene with a planar vs a free-flyer base.
+
+Usage: ``python3 scripts/bench_simulation.py [--out DIR] [--repeats N] [--quick]``
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import json
+import time
+import warnings
+from pathlib import Path
+
+import numpy as np
+import pinocchio as pin
+
+from freefloat import load_robot
+from freefloat.control import joint_space_dynamics
+from freefloat.integrators import make_integrator
+from freefloat.integrators.lie import _dexpinv_se2
+from freefloat.models import ExactModel
+from freefloat.outputs import versions
+from freefloat.paths import URDF_DIR
+from freefloat.runner import prepare
+from freefloat.scenes import DEFAULT_SCENE, find_scene
+from freefloat.simulation import run
+
+
+def bare_loop(prepared, steps: int, dt: float, telemetry: bool) -> float:
+    """The default scene's loop written inline: computed torque + RKMK4 (planar base), seconds."""
+    robot, traj = prepared.robot, prepared.controller.trajectory
+    model, data, data_c, data_r = robot.model, robot.model.createData(), robot.model.createData(), robot.model.createData()
+    q, v = prepared.q0.copy(), prepared.v0.copy()
+    tau = np.zeros(model.nv)
+    ee = robot.end_effector_frame_ids
+    rows = np.zeros((steps + 1, 7 + model.nq + model.nv + 7 * len(ee)))
+    mass = pin.computeTotalMass(model)
+
+    def dexpinv(theta, vel):
+        out = vel.copy()
+        out[:3] = _dexpinv_se2(theta[:3], vel[:3])
+        return out
+
+    start = time.perf_counter()
+    for k in range(steps):
+        t = k * dt
+        q_d, qd_d, qdd_d = traj(t)
+        H, c = joint_space_dynamics(robot, data_c, q, v)
+        tau[3:] = H @ (qdd_d + 10.0 * (q_d - q[4:]) + 100.0 * (qd_d - v[3:])) + c
+        if telemetry:
+            hg = pin.computeCentroidalMomentum(model, data_r, q, v)
+            com = data_r.com[0]
+            rows[k, :3] = com
+            rows[k, 3:6] = hg.linear
+            rows[k, 6] = pin.computeKineticEnergy(model, data_r) - mass * model.gravity.linear @ com
+            for i, fid in enumerate(ee):
+                frame = pin.updateFramePlacement(model, data_r, fid)
+                rows[k, 7 + 7 * i:10 + 7 * i] = frame.translation
+                rows[k, 10 + 7 * i:14 + 7 * i] = pin.Quaternion(frame.rotation).coeffs()
+        h = dt
+        a1 = pin.aba(model, data, q, v, tau)
+        v2 = v + 0.5 * h * a1
+        th2 = 0.5 * h * v
+        a2 = pin.aba(model, data, pin.integrate(model, q, th2), v2, tau)
+        k2 = dexpinv(th2, v2)
+        v3 = v + 0.5 * h * a2
+        th3 = 0.5 * h * k2
+        a3 = pin.aba(model, data, pin.integrate(model, q, th3), v3, tau)
+        k3 = dexpinv(th3, v3)
+        v4 = v + h * a3
+        th4 = h * k3
+        a4 = pin.aba(model, data, pin.integrate(model, q, th4), v4, tau)
+        k4 = dexpinv(th4, v4)
+        q = pin.integrate(model, q, (h / 6.0) * (v + 2.0 * (k2 + k3) + k4))
+        v = v + (h / 6.0) * (a1 + 2.0 * (a2 + a3) + a4)
+    return time.perf_counter() - start
+
+
+def loop_overhead(repeats: int, steps: int) -> dict:
+    """Time per step of freefloat's loop and of the inline loop, with and without telemetry."""
+    scene = find_scene(DEFAULT_SCENE)
+    dt = scene.simulation.control_period
+    results: dict[str, list[float]] = {k: [] for k in ("freefloat_full", "bare_full", "freefloat_ends", "bare_none")}
+    for _ in range(repeats):
+        for label, every, telemetry in (("full", 1, True), ("ends", steps, False)):
+            prepared = prepare(scene)
+            res = run(prepared.robot, prepared.q0, prepared.v0, steps * dt, dt, prepared.integrator,
+                      prepared.model, prepared.controller, record_every=every)
+            results[f"freefloat_{label}"].append(res.wall_time_s / steps)
+            results["bare_full" if telemetry else "bare_none"].append(bare_loop(prepare(scene), steps, dt, telemetry) / steps)
+    best = {k: min(v) for k, v in results.items()}
+    return {
+        "steps": steps, "repeats": repeats, "seconds_per_step_best": best,
+        "ratio_full_telemetry": best["freefloat_full"] / best["bare_full"],
+        "ratio_no_telemetry": best["freefloat_ends"] / best["bare_none"],
+    }
+
+
+def work_precision(quick: bool) -> list[dict]:
+    """Final-state error vs cost for each integrator on a tumbling four-arm robot (free base)."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        robot = load_robot(URDF_DIR / "four_arm_planar.urdf", visuals=False)
+    model = ExactModel(robot)
+    rng = np.random.default_rng(7)
+    q0 = robot.neutral()
+    q0[7:] = rng.uniform(-0.5, 0.5, robot.n_joints)
+    v0 = rng.uniform(-0.3, 0.3, robot.model.nv)
+    v0[3:6] = [0.4, -0.3, 1.0]  # tumbling base
+    tau = np.zeros(robot.model.nv)
+    f = lambda q, v: model.acceleration(q, v, tau)  # noqa: E731
+    q_ref, v_ref = make_integrator("dopri5", robot.model, rtol=1e-13, atol=1e-14).advance(f, q0, v0, 1.0)
+    rows = []
+    substeps = [100, 300, 1000] if quick else [50, 100, 200, 400, 1000, 2000, 4000]
+    settings = [(n, 1e-10, 1e-12) for n in substeps]
+    for name in ("euler", "rk4_naive", "rkmk4", "dopri5"):
+        grid = [(1, r, r * 1e-2) for r in ([1e-6, 1e-9, 1e-12] if quick else [1e-5, 1e-7, 1e-9, 1e-11, 1e-12])] \
+            if name == "dopri5" else settings
+        for n, rtol, atol in grid:
+            integrator = make_integrator(name, robot.model, substeps=n, rtol=rtol, atol=atol)
+            start = time.perf_counter()
+            q, v = integrator.advance(f, q0, v0, 1.0)
+            wall = time.perf_counter() - start
+            err = float(np.linalg.norm(np.concatenate((pin.difference(robot.model, q_ref, q), v - v_ref))))
+            rows.append({"integrator": name, "substeps": n, "rtol": rtol if name == "dopri5" else None,
+                         "error": err, "wall_s": wall, "evaluations": integrator.evaluations()})
+    return rows
+
+
+def base_kind(repeats: int, steps: int) -> dict:
+    """Time per step of the default scene with a planar and with a free-flyer base."""
+    scene = find_scene(DEFAULT_SCENE)
+    out = {}
+    for base in ("planar", "free"):
+        s = dataclasses.replace(scene, robot=dataclasses.replace(scene.robot, base=base),
+                                output=dataclasses.replace(scene.output, html=False))
+        dt = s.simulation.control_period
+        times = []
+        for _ in range(repeats):
+            p = prepare(s)
+            times.append(run(p.robot, p.q0, p.v0, steps * dt, dt, p.integrator, p.model, p.controller).wall_time_s / steps)
+        out[base] = {"seconds_per_step_best": min(times), "nv": p.robot.model.nv}
+    out["ratio_free_over_planar"] = out["free"]["seconds_per_step_best"] / out["planar"]["seconds_per_step_best"]
+    return out
+
+
+def chart(report: dict, path: Path) -> None:
+    """Work-precision chart and loop-overhead bars."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(12, 4.5))
+    for name in ("euler", "rk4_naive", "rkmk4", "dopri5"):
+        rows = [r for r in report["work_precision"] if r["integrator"] == name]
+        ax1.loglog([r["wall_s"] for r in rows], [max(r["error"], 1e-16) for r in rows], "o-", label=name)
+    ax1.set_xlabel("wall time for 1 s simulated [s]")
+    ax1.set_ylabel("final state error vs reference")
+    ax1.set_title("Work-precision, tumbling four-arm robot (free base)")
+    ax1.grid(True, which="both", alpha=0.3)
+    ax1.legend()
+    best = report["loop_overhead"]["seconds_per_step_best"]
+    labels = ["freefloat\nfull telemetry", "bare loop\nsame telemetry", "freefloat\nends only", "bare loop\nno telemetry"]
+    values = [best["freefloat_full"], best["bare_full"], best["freefloat_ends"], best["bare_none"]]
+    ax2.bar(labels, np.array(values) * 1e6, color=["C0", "C7", "C0", "C7"])
+    ax2.set_ylabel("time per control step [us]")
+    ax2.set_title("Default scene loop vs inline Pinocchio loop")
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--out", type=Path, default=Path("runs") / f"bench-{time.strftime('%Y%m%d-%H%M%S')}")
+    parser.add_argument("--repeats", type=int, default=3)
+    parser.add_argument("--quick", action="store_true", help="fewer points (for a smoke run)")
+    args = parser.parse_args()
+    steps = 300 if args.quick else 2000
+    report = {
+        "loop_overhead": loop_overhead(args.repeats, steps),
+        "base_kind": base_kind(args.repeats, steps),
+        "work_precision": work_precision(args.quick),
+        "versions": versions(),
+        "settings": {"repeats": args.repeats, "steps": steps, "quick": args.quick},
+    }
+    args.out.mkdir(parents=True, exist_ok=True)
+    (args.out / "bench_simulation.json").write_text(json.dumps(report, indent=2))
+    chart(report, args.out / "bench_simulation.png")
+    lo, bk = report["loop_overhead"], report["base_kind"]
+    print(f"loop/bare, full telemetry: {lo['ratio_full_telemetry']:.2f}; no telemetry: {lo['ratio_no_telemetry']:.2f}")
+    print(f"free/planar base time per step: {bk['ratio_free_over_planar']:.2f}")
+    print(f"wrote {args.out}")
+
+
+if __name__ == "__main__":
+    main()
