@@ -101,3 +101,27 @@ def test_duration_must_be_a_whole_number_of_periods():
     model = pin.buildSampleModelManipulator()
     with pytest.raises(ValueError, match="whole number"):
         run(None, np.zeros(model.nq), np.zeros(model.nv), 1.0005, 0.001, None, None)
+
+
+def test_interrupted_run_keeps_what_it_computed():
+    """Ctrl-C during a run stops it as 'interrupted' with the samples recorded so far."""
+    from freefloat import load_robot
+    from .conftest import REPO
+
+    class InterruptAt:
+        def __init__(self, t_stop):
+            self.t_stop = t_stop
+
+        def torque(self, t, q, v):
+            if t >= self.t_stop:
+                raise KeyboardInterrupt
+            return np.zeros(robot.n_joints)
+
+        def reference(self, t):
+            return None
+
+    robot = load_robot(REPO / "urdf" / "four_arm_planar.urdf", visuals=False)
+    result = run(robot, robot.neutral(), np.zeros(robot.model.nv), 1.0, 0.01,
+                 make_integrator("rkmk4", robot.model), ExactModel(robot), controller=InterruptAt(0.25))
+    assert result.status == "interrupted" and "t = 0.25" in result.message
+    assert len(result.telemetry.t) == 25 and result.telemetry.t[-1] == pytest.approx(0.24)
