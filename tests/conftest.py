@@ -69,6 +69,12 @@ def load_text(tmp_path: Path, text: str, name: str = "robot.urdf", **kwargs):
         return load_robot(path, **kwargs)
 
 
+def robot_from_case(factory, case, **kwargs):
+    """Load a drawn ``(seed, URDF text)`` case; return the robot and an RNG seeded with the case."""
+    seed, text = case
+    return load_text(factory.mktemp("r"), text, **kwargs), np.random.default_rng(seed)
+
+
 def random_state(robot, rng: np.random.Generator, speed: float = 1.0):
     """A random configuration (unit base quaternion) and velocity for ``robot``."""
     import pinocchio as pin

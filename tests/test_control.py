@@ -8,7 +8,7 @@ from hypothesis import given, settings
 
 from freefloat.control import ComputedTorque, QuinticTrajectory, joint_space_dynamics
 
-from .conftest import load_text, random_robots, random_state
+from .conftest import random_robots, random_state, robot_from_case
 
 
 def test_quintic_hits_its_ends_at_rest():
@@ -33,9 +33,7 @@ def test_quintic_derivatives_match_finite_differences():
 @given(random_robots())
 def test_computed_torque_imposes_the_servo_acceleration(tmp_path_factory, case):
     """Under the controller's torques, ABA's joint accelerations equal qdd_d + Kp e + Kd edot."""
-    seed, text = case
-    robot = load_text(tmp_path_factory.mktemp("r"), text)
-    rng = np.random.default_rng(seed)
+    robot, rng = robot_from_case(tmp_path_factory, case)
     q, v = random_state(robot, rng)
     traj = QuinticTrajectory(rng.normal(size=robot.n_joints), rng.normal(size=robot.n_joints), 3.0)
     ctrl = ComputedTorque(robot, traj, kp=10.0, kd=100.0)
@@ -50,9 +48,8 @@ def test_computed_torque_imposes_the_servo_acceleration(tmp_path_factory, case):
 @given(random_robots())
 def test_generalized_inertia_is_symmetric_positive_definite(tmp_path_factory, case):
     """H* (the Schur complement of the base block) is symmetric positive definite."""
-    seed, text = case
-    robot = load_text(tmp_path_factory.mktemp("r"), text)
-    q, v = random_state(robot, np.random.default_rng(seed))
+    robot, rng = robot_from_case(tmp_path_factory, case)
+    q, v = random_state(robot, rng)
     H, _ = joint_space_dynamics(robot, robot.model.createData(), q, v)
     np.testing.assert_allclose(H, H.T, atol=1e-10 * np.abs(H).max())
     assert np.linalg.eigvalsh(H).min() > 0.0

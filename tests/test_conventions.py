@@ -13,16 +13,15 @@ from freefloat.conventions import (
 from freefloat.errors import FreefloatError
 from freefloat.loading import BASE_COM_FRAME
 
-from .conftest import REPO, load_text, random_robots, random_state
+from .conftest import REPO, random_robots, random_state, robot_from_case
 
 
 @settings(max_examples=30, deadline=None)
 @given(random_robots())
 def test_base_state_matches_pinocchio_frame_of_the_base_com(tmp_path_factory, case):
     """r0, R0 and [v0; w0] equal Pinocchio's placement and LOCAL_WORLD_ALIGNED velocity of the base CoM frame."""
-    seed, text = case
-    robot = load_text(tmp_path_factory.mktemp("r"), text)
-    q, v = random_state(robot, np.random.default_rng(seed))
+    robot, rng = robot_from_case(tmp_path_factory, case)
+    q, v = random_state(robot, rng)
     data = robot.model.createData()
     pin.forwardKinematics(robot.model, data, q, v)
     fid = robot.model.getFrameId(BASE_COM_FRAME)
@@ -37,9 +36,8 @@ def test_base_state_matches_pinocchio_frame_of_the_base_com(tmp_path_factory, ca
 @given(random_robots())
 def test_state_from_base_inverts_base_state(tmp_path_factory, case):
     """(q, v) -> (r0, R0, x0dot) -> (q, v) is the identity (quaternion sign aside)."""
-    seed, text = case
-    robot = load_text(tmp_path_factory.mktemp("r"), text)
-    q, v = random_state(robot, np.random.default_rng(seed))
+    robot, rng = robot_from_case(tmp_path_factory, case)
+    q, v = random_state(robot, rng)
     r0, R0, x0dot = base_state(robot, q, v)
     q2, v2 = state_from_base(robot, r0, R0, x0dot, q[7:], v[6:])
     np.testing.assert_allclose(pin.difference(robot.model, q, q2), 0.0, atol=1e-12)

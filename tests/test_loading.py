@@ -13,7 +13,7 @@ from hypothesis import given, settings
 from freefloat import RobotModelError, load_robot
 from freefloat.loading import BASE_COM_FRAME, FreefloatWarning
 
-from .conftest import REPO, load_text, random_robots
+from .conftest import REPO, load_text, random_robots, robot_from_case
 
 LINK = '<link name="{n}"><inertial><mass value="{m}"/><inertia ixx="{i}" iyy="1" izz="1" ixy="0" ixz="0" iyz="0"/></inertial></link>'
 JOINT = '<joint name="{n}" type="revolute"><parent link="{p}"/><child link="{c}"/><axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>'
@@ -22,6 +22,12 @@ JOINT = '<joint name="{n}" type="revolute"><parent link="{p}"/><child link="{c}"
 def urdf(links: list[tuple[str, float, float]], joints: list[tuple[str, str, str]]) -> str:
     body = [LINK.format(n=n, m=m, i=i) for n, m, i in links] + [JOINT.format(n=n, p=p, c=c) for n, p, c in joints]
     return '<robot name="t">' + "".join(body) + "</robot>"
+
+
+def parsed_case(factory, case):
+    """The robot of a drawn case and yourdfpy's independent parse of the same file."""
+    robot, _ = robot_from_case(factory, case)
+    return robot, yourdfpy.URDF.load(str(robot.urdf_path), build_scene_graph=False, load_meshes=False)
 
 
 @pytest.mark.parametrize("name", ["SC_3DoF", "ManiSat_2Arm_2_2", "2_iiwa_base", "kuka_iiwa"])
@@ -51,9 +57,7 @@ def test_spart_joint_order_matches_spart(spart_dir):
 @given(random_robots())
 def test_total_mass_equals_urdf_masses(tmp_path_factory, case):
     """Fixed joints are merged, not dropped: Pinocchio's total mass equals the URDF's sum."""
-    _, text = case
-    robot = load_text(tmp_path_factory.mktemp("r"), text)
-    parsed = yourdfpy.URDF.load(str(robot.urdf_path), build_scene_graph=False, load_meshes=False)
+    robot, parsed = parsed_case(tmp_path_factory, case)
     assert pin.computeTotalMass(robot.model) == pytest.approx(sum(l.inertial.mass for l in parsed.robot.links), rel=1e-12)
 
 
@@ -61,9 +65,7 @@ def test_total_mass_equals_urdf_masses(tmp_path_factory, case):
 @given(random_robots())
 def test_base_com_frame_is_the_base_link_inertial_origin(tmp_path_factory, case):
     """The base reference frame is the root link's <inertial> origin, position and rotation."""
-    _, text = case
-    robot = load_text(tmp_path_factory.mktemp("r"), text)
-    parsed = yourdfpy.URDF.load(str(robot.urdf_path), build_scene_graph=False, load_meshes=False)
+    robot, parsed = parsed_case(tmp_path_factory, case)
     origin = parsed.link_map["base"].inertial.origin
     frame = robot.model.frames[robot.model.getFrameId(BASE_COM_FRAME)]
     assert frame.parentJoint == 1
@@ -74,9 +76,7 @@ def test_base_com_frame_is_the_base_link_inertial_origin(tmp_path_factory, case)
 @given(random_robots())
 def test_arms_run_from_base_to_each_leaf(tmp_path_factory, case):
     """Each arm lists exactly the movable joints on the path from the base to its end-effector."""
-    _, text = case
-    robot = load_text(tmp_path_factory.mktemp("r"), text)
-    parsed = yourdfpy.URDF.load(str(robot.urdf_path), build_scene_graph=False, load_meshes=False)
+    robot, parsed = parsed_case(tmp_path_factory, case)
     by_child = {j.child: j for j in parsed.robot.joints}
     for arm in robot.arms:
         path, link = [], arm.end_effector

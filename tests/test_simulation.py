@@ -13,7 +13,7 @@ from freefloat.models import ExactModel
 from freefloat.simulation import run
 from freefloat.wrenches import ExternalWrench
 
-from .conftest import load_text, random_robots, random_state
+from .conftest import random_robots, random_state, robot_from_case
 
 
 def torque_free(robot, q0, v0, duration=0.5, period=0.01, substeps=4, **kwargs):
@@ -25,9 +25,8 @@ def torque_free(robot, q0, v0, duration=0.5, period=0.01, substeps=4, **kwargs):
 @given(random_robots(max_links=6))
 def test_torque_free_motion_conserves_momentum_and_energy(tmp_path_factory, case):
     """Random robots tumbling freely keep their momentum (about the origin) and energy."""
-    seed, text = case
-    robot = load_text(tmp_path_factory.mktemp("r"), text)
-    q0, v0 = random_state(robot, np.random.default_rng(seed), speed=0.5)
+    robot, rng = robot_from_case(tmp_path_factory, case)
+    q0, v0 = random_state(robot, rng, speed=0.5)
     tel = torque_free(robot, q0, v0).telemetry
     scale = max(1.0, np.abs(tel.momentum[0]).max())
     assert np.abs(tel.momentum - tel.momentum[0]).max() < 1e-7 * scale
@@ -39,9 +38,8 @@ def test_torque_free_motion_conserves_momentum_and_energy(tmp_path_factory, case
 @given(random_robots(max_links=6))
 def test_telemetry_matches_independent_pinocchio_calls(tmp_path_factory, case):
     """Recorded momentum, base state and end-effector poses equal direct computations (CCRBA, FK)."""
-    seed, text = case
-    robot = load_text(tmp_path_factory.mktemp("r"), text)
-    q0, v0 = random_state(robot, np.random.default_rng(seed), speed=0.5)
+    robot, rng = robot_from_case(tmp_path_factory, case)
+    q0, v0 = random_state(robot, rng, speed=0.5)
     tel = torque_free(robot, q0, v0, duration=0.05).telemetry
     data = robot.model.createData()
     k = len(tel.t) - 1
