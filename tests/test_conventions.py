@@ -73,3 +73,20 @@ def test_planar_base_rejects_out_of_plane_state():
     tilted = pin.rpy.rpyToMatrix(0.1, 0.0, 0.0)
     with pytest.raises(FreefloatError, match="planar base"):
         state_from_base(robot, np.zeros(3), tilted, np.zeros(6), np.zeros(16), np.zeros(16))
+
+
+@settings(max_examples=30, deadline=None)
+@given(random_robots())
+def test_base_acceleration_is_the_classical_acceleration_of_the_base_com(tmp_path_factory, case):
+    """x0ddot equals Pinocchio's classical LOCAL_WORLD_ALIGNED acceleration of the base CoM frame."""
+    from freefloat.conventions import base_acceleration
+
+    robot, rng = robot_from_case(tmp_path_factory, case)
+    q, v = random_state(robot, rng)
+    a = rng.normal(size=robot.model.nv)
+    data = robot.model.createData()
+    pin.forwardKinematics(robot.model, data, q, v, a)
+    fid = robot.model.getFrameId(BASE_COM_FRAME)
+    pin.updateFramePlacement(robot.model, data, fid)
+    expected = pin.getFrameClassicalAcceleration(robot.model, data, fid, pin.LOCAL_WORLD_ALIGNED).vector
+    np.testing.assert_allclose(base_acceleration(robot, q, v, a), expected, atol=1e-11)

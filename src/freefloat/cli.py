@@ -24,9 +24,15 @@ def main(argv: list[str] | None = None) -> int:
     sim.add_argument("--no-html", action="store_true", help="skip the meshcat animation")
     sim.add_argument("--quiet", action="store_true", help="no progress bar")
     commands.add_parser("scenes", help="list the built-in scenes")
+    ver = commands.add_parser("verify", help="cross-check the hand-built GJM matrices against Pinocchio")
+    ver.add_argument("urdf", type=Path, help="URDF file (loaded with a free-flyer base)")
+    ver.add_argument("--samples", type=int, default=10, help="random states to check (default 10)")
+    ver.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
+    ver.add_argument("--json", type=Path, default=None, help="also write the report as JSON here")
     args = parser.parse_args(argv)
+    commands_run = {"simulate": _simulate, "scenes": lambda _: _scenes(), "verify": _verify}
     try:
-        return _simulate(args) if args.command == "simulate" else _scenes()
+        return commands_run[args.command](args)
     except FreefloatError as exc:
         print(f"freefloat: error: {exc}", file=sys.stderr)
         return 2
@@ -39,6 +45,22 @@ def _scenes() -> int:
         mark = " (default)" if name == DEFAULT_SCENE else ""
         print(f"{name}{mark}: {load_scene(path).description}")
     return 0
+
+
+def _verify(args: argparse.Namespace) -> int:
+    from .loading import load_robot
+    from .verify import check_robot, write_report
+
+    if args.samples < 1:
+        raise FreefloatError(f"--samples must be >= 1, got {args.samples}")
+    with warnings.catch_warnings():
+        warnings.simplefilter("default")
+        robot = load_robot(args.urdf, visuals=False)
+    report = check_robot(robot, samples=args.samples, seed=args.seed)
+    print(report.table())
+    if args.json is not None:
+        write_report(report, args.json)
+    return 0 if report.passed else 1
 
 
 def _simulate(args: argparse.Namespace) -> int:

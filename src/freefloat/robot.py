@@ -27,9 +27,9 @@ class Arm:
     v_indices: np.ndarray
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class Robot:
-    """A free-floating robot loaded from a URDF.
+    """A free-floating robot loaded from a URDF (hashed and compared by identity).
 
     Attributes:
         model: Pinocchio model; joint 1 is the floating root joint (free-flyer or planar).
