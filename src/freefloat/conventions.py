@@ -86,7 +86,7 @@ def base_acceleration(robot: Robot, q: np.ndarray, v: np.ndarray, a: np.ndarray)
     From Pinocchio's ``a`` (nv,), whose base part is the time derivative of the local base-link
     twist components: with ``u = v + w x c``,
 
-    .. math:: \dot v_0 = R (\dot v + \dot w \times c + w \times u), \qquad \dot w_0 = R \dot w.
+    .. math:: \\dot v_0 = R (\\dot v + \\dot w \\times c + w \\times u), \\qquad \\dot w_0 = R \\dot w.
     """
     R = base_link_placement(robot, q).rotation
     vel, acc = base_local_twist(robot, v), base_local_twist(robot, a)
