@@ -90,3 +90,15 @@ def test_base_acceleration_is_the_classical_acceleration_of_the_base_com(tmp_pat
     pin.updateFramePlacement(robot.model, data, fid)
     expected = pin.getFrameClassicalAcceleration(robot.model, data, fid, pin.LOCAL_WORLD_ALIGNED).vector
     np.testing.assert_allclose(base_acceleration(robot, q, v, a), expected, atol=1e-11)
+
+
+@settings(max_examples=30, deadline=None)
+@given(random_robots())
+def test_local_base_acceleration_inverts_base_acceleration(tmp_path_factory, case):
+    """Pinocchio base acceleration -> x0ddot -> Pinocchio base acceleration is the identity."""
+    from freefloat.conventions import base_acceleration, local_base_acceleration
+
+    robot, rng = robot_from_case(tmp_path_factory, case)
+    q, v = random_state(robot, rng)
+    a = rng.normal(size=robot.model.nv)
+    np.testing.assert_allclose(local_base_acceleration(robot, q, v, base_acceleration(robot, q, v, a)), a[:6], atol=1e-12)

@@ -95,6 +95,17 @@ def base_acceleration(robot: Robot, q: np.ndarray, v: np.ndarray, a: np.ndarray)
     return np.concatenate((R @ (acc[:3] + cross3(acc[3:], c) + cross3(w, u)), R @ acc[3:]))
 
 
+def local_base_acceleration(robot: Robot, q: np.ndarray, v: np.ndarray, x0ddot: np.ndarray) -> np.ndarray:
+    """Pinocchio's base acceleration (n_base,) from ``x0ddot`` (6,): the inverse of
+    :func:`base_acceleration` (``dw = R^T dw0``, ``dv = R^T dv0 - dw x c - w x u``)."""
+    R = base_link_placement(robot, q).rotation
+    vel = base_local_twist(robot, v)
+    w, c = vel[3:], robot.base_com
+    dw = R.T @ x0ddot[3:]
+    local = np.concatenate((R.T @ x0ddot[:3] - cross3(dw, c) - cross3(w, vel[:3] + cross3(w, c)), dw))
+    return local if robot.base == "free" else local[PLANAR_ROWS]
+
+
 def base_state(robot: Robot, q: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The dissertation's base state from Pinocchio's.
 

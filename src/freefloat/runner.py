@@ -114,7 +114,7 @@ def prepare(scene: Scene) -> Prepared:
             raise SceneError(f"scene '{scene.name}': controller 'computed_torque' needs task.kind = 'joint_quintic'")
         goal = joint_q0 + joint_table(robot, scene.task.displacement, s, "task.displacement")
         trajectory = QuinticTrajectory(joint_q0, goal, scene.task.duration)
-        controller = ComputedTorque(robot, trajectory, scene.controller.kp, scene.controller.kd)
+        controller = ComputedTorque(robot, trajectory, scene.controller.kp, scene.controller.kd, scene.controller.model)
     return Prepared(
         robot=robot, q0=q0, v0=v0,
         model=make_model(sim.model, robot),

@@ -127,6 +127,7 @@ def run(
     reference = controller.reference if controller is not None else (lambda t: None)
     report_every = max(1, steps // 200)
 
+    end_period = getattr(model, "end_period", None)
     q, v, work, row, k = np.array(q0, dtype=float), np.array(v0, dtype=float), 0.0, 0, 0
     status, message = "completed", ""
     tau = np.zeros(robot.n_joints)
@@ -151,6 +152,8 @@ def run(
                     f"max |v| = {np.abs(v_next).max():.3g} (limit {MAX_SPEED:g})"
                 )
             work += float(tau @ pin.difference(robot.model, q, q_next)[nb:])
+            if end_period is not None:
+                end_period(q, v, control_period)
             q, v = q_next, v_next
             if progress is not None and (k + 1) % report_every == 0:
                 progress(k + 1)

@@ -33,22 +33,27 @@ def joint_space_dynamics(robot: Robot, data: pin.Data, q: np.ndarray, v: np.ndar
 
 
 class ComputedTorque:
-    """Computed torque ``tau = H*(q) tau' + c*(q, v)``, ``tau' = qddot_d + Kp e + Kd edot``,
-    ``e = q_d - q`` (eqs 136-137), on the exact model.
+    """Computed torque ``tau = H(q) tau' + c(q, v)``, ``tau' = qddot_d + Kp e + Kd edot``,
+    ``e = q_d - q`` (eqs 136-137), with ``(H, c)`` from a dynamics model's joint-space form.
 
     Args:
         robot: the robot.
         trajectory: joint reference.
         kp: proportional gain (scalar: Kp = kp I), 1/s^2. The dissertation uses 10.
         kd: derivative gain (scalar: Kd = kd I), 1/s. The dissertation uses 100.
+        model: name of the dynamics model the controller uses (see :data:`freefloat.models.MODELS`).
     """
 
-    def __init__(self, robot: Robot, trajectory: QuinticTrajectory, kp: float, kd: float):
+    def __init__(self, robot: Robot, trajectory: QuinticTrajectory, kp: float, kd: float, model: str = "exact"):
+        from ..models import make_model
+
         if kp < 0.0 or kd < 0.0:
             raise ValueError(f"gains must be >= 0, got kp={kp}, kd={kd}")
         self.robot, self.trajectory, self.kp, self.kd = robot, trajectory, kp, kd
-        self.data = robot.model.createData()
+        self.model = make_model(model, robot)
         self.joints = JointCoordinates(robot)
+        self._end_period = getattr(self.model, "end_period", None)
+        self._last: tuple[float, np.ndarray, np.ndarray] | None = None
 
     def reference(self, t: float) -> np.ndarray:
         """Reference joint positions q_d(t) (n,)."""
@@ -60,5 +65,9 @@ class ComputedTorque:
         nb = self.robot.n_base
         e = q_d - self.joints.get(q)
         edot = qdot_d - v[nb:]
-        H_star, c_star = joint_space_dynamics(self.robot, self.data, q, v)
-        return H_star @ (qddot_d + self.kp * e + self.kd * edot) + c_star
+        if self._end_period is not None:
+            if self._last is not None:
+                self._end_period(self._last[1], self._last[2], t - self._last[0])
+            self._last = (t, q.copy(), v.copy())
+        H, c = self.model.joint_space_at(q, v)
+        return H @ (qddot_d + self.kp * e + self.kd * edot) + c

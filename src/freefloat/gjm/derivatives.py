@@ -24,7 +24,7 @@ import numpy as np
 from ..robot import Robot
 from .kinematics import BodyKinematics, TreeStructure
 from .matrices import body_jacobians, skew_batch
-from .model import model_of
+from .model import GJMState, model_of
 
 
 class GJMDerivatives(NamedTuple):
@@ -78,18 +78,22 @@ def joint_derivatives(tree: TreeStructure, kin: BodyKinematics):
     dJT = (dJT * A[None, :, :, None]).transpose(0, 1, 3, 2)               # (n, nb, 3, n)
     dJR = (np.where(rev, dk[:, None], 0.0) * A[None, :, :, None]).transpose(0, 1, 3, 2)
 
-    half = np.einsum("kbxj,bxy,bym->kjm", dJR, inertia, JR, optimize=True) + np.einsum("b,kbxj,bxm->kjm", m, dJT, JT, optimize=True)
-    dHm = half + half.transpose(0, 2, 1) + np.einsum("bxj,kbxy,bym->kjm", JR, dI, JR, optimize=True)
+    n, nb = len(tree.parent), len(m)
+    flat = lambda x: x.reshape(n, 3 * nb, n)  # noqa: E731  (n, nb, 3, n) -> (n, 3 nb, n)
+    IJR = inertia @ JR                                                    # (nb, 3, n)
+    half = flat(dJR).transpose(0, 2, 1) @ IJR.reshape(3 * nb, n) \
+        + flat(dJT).transpose(0, 2, 1) @ (m[:, None, None] * JT).reshape(3 * nb, n)
+    dHm = half + half.transpose(0, 2, 1) + JR.reshape(3 * nb, n).T @ flat(dI @ JR[None])
 
     r0i = kin.com - kin.r0
-    dJ_TS = np.einsum("b,kbxj->kxj", m, dJT, optimize=True)
-    dH_Sq = (np.einsum("kbxy,byj->kxj", dI, JR, optimize=True) + np.einsum("bxy,kbyj->kxj", inertia, dJR, optimize=True)
-             + np.einsum("b,kbxy,byj->kxj", m, skew_batch(dcom), JT, optimize=True)
-             + np.einsum("b,bxy,kbyj->kxj", m, skew_batch(r0i), dJT, optimize=True))
+    dJ_TS = (m @ dJT.transpose(1, 0, 2, 3).reshape(nb, -1)).reshape(n, 3, n)
+    mR = m[:, None, None] * skew_batch(r0i)                               # (nb, 3, 3)
+    dH_Sq = (dI @ JR[None] + inertia[None] @ dJR + m[None, :, None, None] * (skew_batch(dcom) @ JT[None])
+             + mR[None] @ dJT).sum(axis=1)
     total = m.sum()
-    dr0C = np.einsum("b,kbi->ki", m, dcom, optimize=True) / total
-    cross_terms = np.einsum("b,kbi,bj->kij", m, dcom, r0i, optimize=True)
-    dH_S = (dI.sum(axis=1) + 2.0 * np.einsum("b,kbi,bi->k", m, dcom, r0i, optimize=True)[:, None, None] * np.eye(3)
+    dr0C = (m @ dcom.transpose(1, 0, 2).reshape(nb, -1)).reshape(n, 3) / total
+    cross_terms = (m[None, :, None] * dcom).transpose(0, 2, 1) @ r0i      # sum_b m_b dcom_b r0i_b^T
+    dH_S = (dI.sum(axis=1) + 2.0 * (cross_terms.trace(axis1=1, axis2=2))[:, None, None] * np.eye(3)
             - cross_terms - cross_terms.transpose(0, 2, 1))
     n = len(tree.parent)
     dH0 = np.zeros((n, 6, 6))
@@ -99,15 +103,9 @@ def joint_derivatives(tree: TreeStructure, kin: BodyKinematics):
     return dH0, np.concatenate((dJ_TS, dH_Sq), axis=1), dHm
 
 
-def derivatives(robot: Robot, q: np.ndarray, v: np.ndarray) -> GJMDerivatives:
-    """Joint and time derivatives of the GJM inertia matrices at Pinocchio state (q, v).
-
-    Derivative k is with respect to joint k (Pinocchio order) at fixed base pose and twist; the
-    time derivatives follow the motion given by v (base twist and joint rates).
-    """
-    gjm = model_of(robot)
-    state = gjm.compute(np.asarray(q, dtype=float), np.asarray(v, dtype=float))
-    dH0, dH0m, dHm = joint_derivatives(gjm.tree, state.kinematics)
+def time_derivatives(tree: TreeStructure, state: GJMState) -> GJMDerivatives:
+    """Joint and time derivatives at a state already computed by :meth:`GJM.compute`."""
+    dH0, dH0m, dHm = joint_derivatives(tree, state.kinematics)
     Omega = np.zeros((6, 6))
     Omega[:3, :3] = Omega[3:, 3:] = skew_batch(state.x0dot[3:])
     qdot = state.qdot
@@ -117,3 +115,13 @@ def derivatives(robot: Robot, q: np.ndarray, v: np.ndarray) -> GJMDerivatives:
         H0mdot=np.tensordot(qdot, dH0m, 1) + Omega @ state.H0m,
         Hmdot=np.tensordot(qdot, dHm, 1),
     )
+
+
+def derivatives(robot: Robot, q: np.ndarray, v: np.ndarray) -> GJMDerivatives:
+    """Joint and time derivatives of the GJM inertia matrices at Pinocchio state (q, v).
+
+    Derivative k is with respect to joint k (Pinocchio order) at fixed base pose and twist; the
+    time derivatives follow the motion given by v (base twist and joint rates).
+    """
+    gjm = model_of(robot)
+    return time_derivatives(gjm.tree, gjm.compute(np.asarray(q, dtype=float), np.asarray(v, dtype=float)))

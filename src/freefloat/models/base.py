@@ -34,3 +34,10 @@ class DynamicsModel(Protocol):
             fext: one wrench per Pinocchio joint (njoints), in that joint's local frame, or None.
         """
         ...
+
+    def joint_space_at(self, q: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """``(H, c)`` with ``tau = H qddot + c`` for the actuated joints (n, n), (n,): the model
+        as a computed-torque controller sees it. Models with an internal state (``nidc``) also
+        have ``end_period(q, v, dt)``, called once per control period with the period's start
+        state."""
+        ...

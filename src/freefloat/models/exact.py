@@ -20,8 +20,15 @@ class ExactModel:
     name = "exact"
 
     def __init__(self, robot: Robot):
+        self.robot = robot
         self.model = robot.model
         self.data = robot.model.createData()
+
+    def joint_space_at(self, q: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """``(H*, c*)`` with ``tau = H* qddot + c*``: the exact joint-space dynamics (n, n), (n,)."""
+        from ..control.computed_torque import joint_space_dynamics
+
+        return joint_space_dynamics(self.robot, self.data, q, v)
 
     def acceleration(
         self,

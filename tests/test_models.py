@@ -1,0 +1,146 @@
+"""The dynamics-model variants against the exact dynamics (ABA), each on both sides of the
+boundary of the regime in which it is valid."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+
+from freefloat import gjm, load_robot
+from freefloat.conventions import base_state, state_from_base
+from freefloat.joints import JointCoordinates
+from freefloat.models import MODELS, make_model
+
+from .conftest import REPO, random_robots, robot_from_case
+
+EXACT_AT_ZERO_MOMENTUM = ("standard_full_hdot", "standard_corrected", "reduced", "momentum_mono",
+                          "momentum_multi", "momentum_routh")
+
+
+def state_with_momentum(robot, rng, P=None, L=None):
+    """A random state whose momentum about the base CoM is [P; L] (default zero)."""
+    q = robot.neutral()
+    q[:3] = rng.uniform(-1, 1, 3)
+    quat = rng.normal(size=4)
+    q[3:7] = quat / np.linalg.norm(quat)
+    JointCoordinates(robot).set(q, rng.uniform(-1.5, 1.5, robot.n_joints))
+    qdot = rng.normal(size=robot.n_joints)
+    s = gjm.compute(robot, q, np.concatenate((np.zeros(6), qdot)))
+    M = np.concatenate((np.zeros(3) if P is None else P, np.zeros(3) if L is None else L))
+    x0dot = np.linalg.solve(s.H0, M - s.H0m @ qdot)
+    r0, R0, _ = base_state(robot, q, np.zeros(robot.model.nv))
+    return state_from_base(robot, r0, R0, x0dot, q[7:], qdot)
+
+
+def errors(robot, q, v, rng, names):
+    """Relative acceleration error of each named model against ABA at (q, v) under random torques."""
+    tau = np.concatenate((np.zeros(6), rng.normal(size=robot.n_joints)))
+    exact = make_model("exact", robot).acceleration(q, v, tau)
+    return {n: np.abs(make_model(n, robot).acceleration(q, v, tau) - exact).max() / np.abs(exact).max() for n in names}
+
+
+@pytest.fixture(scope="module")
+def four_arm():
+    return load_robot(REPO / "urdf" / "four_arm_planar.urdf", visuals=False)
+
+
+@settings(max_examples=15, deadline=None)
+@given(random_robots(max_links=6))
+def test_zero_momentum_variants_match_exact_on_random_robots(tmp_path_factory, case):
+    """At zero momentum the corrected, reduced and momentum models give ABA's accelerations to 1e-8."""
+    robot, rng = robot_from_case(tmp_path_factory, case)
+    q, v = state_with_momentum(robot, rng)
+    for name, err in errors(robot, q, v, rng, EXACT_AT_ZERO_MOMENTUM).items():
+        assert err < 1e-8, name
+
+
+def test_printed_standard_model_fails_when_the_base_turns(four_arm):
+    """FM-ST-A as printed (Hdot over the joints only) misses the base rotation: wrong at zero momentum."""
+    q, v = state_with_momentum(four_arm, np.random.default_rng(1))
+    assert np.linalg.norm(base_state(four_arm, q, v)[2][3:]) > 1e-3
+    assert errors(four_arm, q, v, np.random.default_rng(2), ["standard"])["standard"] > 1e-4
+
+
+def test_printed_standard_model_is_exact_while_the_base_does_not_turn(four_arm):
+    """With zero momentum and joint rates that leave w0 = 0, FM-ST-A as printed is exact."""
+    rng = np.random.default_rng(3)
+    q, v = state_with_momentum(four_arm, rng)
+    s = gjm.compute(four_arm, q, v)
+    null = np.linalg.svd(s.J0[3:])[2][3:].T  # joint rates with no base rotation
+    qdot = null @ rng.normal(size=null.shape[1])
+    r0, R0, _ = base_state(four_arm, q, v)
+    q, v = state_from_base(four_arm, r0, R0, s.J0 @ qdot, q[7:], qdot)
+    assert np.abs(base_state(four_arm, q, v)[2][3:]).max() < 1e-12
+    assert errors(four_arm, q, v, rng, ["standard"])["standard"] < 1e-8
+
+
+def test_angular_momentum_only_separates_the_momentum_models(four_arm):
+    """With P = 0, L != 0: the Routhian and the c0-free model stay exact, eqs 127/128 and H* do not."""
+    rng = np.random.default_rng(4)
+    q, v = state_with_momentum(four_arm, rng, L=np.array([3.0, -2.0, 5.0]))
+    err = errors(four_arm, q, v, rng, ["standard_corrected", "standard_full_hdot", "momentum_routh",
+                                       "momentum_mono", "momentum_multi", "reduced"])
+    assert max(err["standard_corrected"], err["standard_full_hdot"], err["momentum_routh"]) < 1e-8
+    assert min(err["momentum_mono"], err["momentum_multi"], err["reduced"]) > 1e-4
+
+
+def test_linear_momentum_breaks_the_c0_claim(four_arm):
+    """With P != 0, c0 = 0 (sec 3.5) is wrong; only c0 = [0; v0 x P] stays exact."""
+    rng = np.random.default_rng(5)
+    q, v = state_with_momentum(four_arm, rng, P=np.array([20.0, -10.0, 5.0]), L=np.array([1.0, 0.0, 2.0]))
+    err = errors(four_arm, q, v, rng, ["standard_corrected", "standard_full_hdot", "momentum_routh"])
+    assert err["standard_corrected"] < 1e-8
+    assert err["standard_full_hdot"] > 1e-4 and err["momentum_routh"] > 1e-4
+
+
+def test_nidc_starts_as_the_standard_model_and_departs_as_D_grows(four_arm):
+    """FM-NIC-A equals FM-ST-A while D = 0; one eq-67 step makes D = dt dxdot0/dq and changes it."""
+    rng = np.random.default_rng(6)
+    q, v = state_with_momentum(four_arm, rng)
+    tau = np.concatenate((np.zeros(6), rng.normal(size=16)))
+    nidc, standard = make_model("nidc", four_arm), make_model("standard", four_arm)
+    np.testing.assert_allclose(nidc.acceleration(q, v, tau), standard.acceleration(q, v, tau), rtol=1e-12, atol=1e-12)
+    sensitivity = nidc.xdot0_sensitivity(nidc.terms(q, v))
+    nidc.end_period(q, v, 0.01)
+    np.testing.assert_allclose(nidc.D, 0.01 * sensitivity, rtol=1e-12)
+    assert np.abs(nidc.acceleration(q, v, tau) - standard.acceleration(q, v, tau)).max() > 1e-8
+
+
+def test_nidc_sensitivity_is_eq_64():
+    """dxdot0/dq_k (eq 64) at D = 0 equals the derivative of J0 qdot along joint k by differences."""
+    robot = load_robot(REPO / "urdf" / "two_arm_planar.urdf", visuals=False)
+    rng = np.random.default_rng(7)
+    q, v = state_with_momentum(robot, rng)
+    nidc = make_model("nidc", robot)
+    sens = nidc.xdot0_sensitivity(nidc.terms(q, v))
+    coords, h = JointCoordinates(robot), 1e-6
+    theta, qdot = coords.get(q), v[6:]
+    for k in range(robot.n_joints):
+        plus, minus = q.copy(), q.copy()
+        coords.set(plus, theta + h * np.eye(robot.n_joints)[k])
+        coords.set(minus, theta - h * np.eye(robot.n_joints)[k])
+        fd = (gjm.compute(robot, plus, v).J0 @ qdot - gjm.compute(robot, minus, v).J0 @ qdot) / (2 * h)
+        np.testing.assert_allclose(sens[k], fd, atol=1e-6 * max(1.0, np.abs(fd).max()))
+
+
+def test_computed_torque_on_a_matching_model_imposes_the_servo_acceleration(four_arm):
+    """A controller built on standard_corrected drives the exact plant to qddot = qddot_d + Kp e + Kd edot."""
+    from freefloat.control import ComputedTorque, QuinticTrajectory
+
+    rng = np.random.default_rng(8)
+    q, v = state_with_momentum(four_arm, rng)
+    traj = QuinticTrajectory(rng.normal(size=16), rng.normal(size=16), 2.0)
+    ctrl = ComputedTorque(four_arm, traj, 10.0, 100.0, model="standard_corrected")
+    a = make_model("exact", four_arm).acceleration(q, v, np.concatenate((np.zeros(6), ctrl.torque(0.7, q, v))))
+    q_d, qd_d, qdd_d = traj(0.7)
+    expected = qdd_d + 10.0 * (q_d - q[7:]) + 100.0 * (qd_d - v[6:])
+    np.testing.assert_allclose(a[6:], expected, atol=1e-8 * np.abs(expected).max())
+
+
+def test_every_registered_model_is_constructible_and_unknown_names_list_them(four_arm):
+    """Each registry name builds its model; an unknown one is refused with the list."""
+    for name in MODELS:
+        assert make_model(name, four_arm).name == name
+    with pytest.raises(ValueError, match="valid: exact, standard"):
+        make_model("fm-st-a", four_arm)
