@@ -11,26 +11,12 @@ from freefloat import gjm, load_robot
 from freefloat.conventions import base_state, state_from_base
 from freefloat.joints import JointCoordinates
 from freefloat.models import MODELS, make_model
+from freefloat.reproduce.states import state_with_momentum
 
 from .conftest import REPO, random_robots, robot_from_case
 
 EXACT_AT_ZERO_MOMENTUM = ("standard_full_hdot", "standard_corrected", "reduced", "momentum_mono",
                           "momentum_multi", "momentum_routh")
-
-
-def state_with_momentum(robot, rng, P=None, L=None):
-    """A random state whose momentum about the base CoM is [P; L] (default zero)."""
-    q = robot.neutral()
-    q[:3] = rng.uniform(-1, 1, 3)
-    quat = rng.normal(size=4)
-    q[3:7] = quat / np.linalg.norm(quat)
-    JointCoordinates(robot).set(q, rng.uniform(-1.5, 1.5, robot.n_joints))
-    qdot = rng.normal(size=robot.n_joints)
-    s = gjm.compute(robot, q, np.concatenate((np.zeros(6), qdot)))
-    M = np.concatenate((np.zeros(3) if P is None else P, np.zeros(3) if L is None else L))
-    x0dot = np.linalg.solve(s.H0, M - s.H0m @ qdot)
-    r0, R0, _ = base_state(robot, q, np.zeros(robot.model.nv))
-    return state_from_base(robot, r0, R0, x0dot, q[7:], qdot)
 
 
 def errors(robot, q, v, rng, names):
@@ -144,3 +130,15 @@ def test_every_registered_model_is_constructible_and_unknown_names_list_them(fou
         assert make_model(name, four_arm).name == name
     with pytest.raises(ValueError, match="valid: exact, standard"):
         make_model("fm-st-a", four_arm)
+
+
+def test_nidc_readings_differ_only_through_the_base_translation(four_arm):
+    """The two readings of eqs 55-58 agree while D has no translation and differ once it has."""
+    rng = np.random.default_rng(9)
+    q, v = state_with_momentum(four_arm, rng, L=np.array([1.0, 2.0, -1.0]))
+    tau = np.concatenate((np.zeros(6), rng.normal(size=16)))
+    plain, shifted = make_model("nidc", four_arm), make_model("nidc_translation", four_arm)
+    plain.D[:, 3:] = shifted.D[:, 3:] = rng.normal(size=(16, 3)) * 1e-2
+    np.testing.assert_allclose(shifted.acceleration(q, v, tau), plain.acceleration(q, v, tau), rtol=1e-12, atol=1e-12)
+    shifted.D[:, :3] = rng.normal(size=(16, 3)) * 1e-2
+    assert np.abs(shifted.acceleration(q, v, tau) - plain.acceleration(q, v, tau)).max() > 1e-8

@@ -29,8 +29,13 @@ def main(argv: list[str] | None = None) -> int:
     ver.add_argument("--samples", type=int, default=10, help="random states to check (default 10)")
     ver.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
     ver.add_argument("--json", type=Path, default=None, help="also write the report as JSON here")
+    rep = commands.add_parser("reproduce", help="reproduce a study of the documents against the exact reference")
+    rep.add_argument("study", choices=["models"], help="models: which dynamics model matches the exact one, where")
+    rep.add_argument("--out", type=Path, default=None, help="output folder (default: runs/reproduce-<study>-<time>)")
+    rep.add_argument("--quick", action="store_true", help="short runs and few samples (a smoke test)")
+    rep.add_argument("--workers", type=int, default=2, help="parallel processes (default 2)")
     args = parser.parse_args(argv)
-    commands_run = {"simulate": _simulate, "scenes": lambda _: _scenes(), "verify": _verify}
+    commands_run = {"simulate": _simulate, "scenes": lambda _: _scenes(), "verify": _verify, "reproduce": _reproduce}
     try:
         return commands_run[args.command](args)
     except FreefloatError as exc:
@@ -44,6 +49,18 @@ def _scenes() -> int:
     for name, path in builtin_scenes().items():
         mark = " (default)" if name == DEFAULT_SCENE else ""
         print(f"{name}{mark}: {load_scene(path).description}")
+    return 0
+
+
+def _reproduce(args: argparse.Namespace) -> int:
+    from .reproduce.models_report import reproduce
+
+    out = args.out or Path("runs") / f"reproduce-{args.study}-{time.strftime('%Y%m%d-%H%M%S')}"
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        report = reproduce(out, quick=args.quick, workers=max(1, args.workers))
+    print((out / "report.md").read_text())
+    print(f"wrote {out} in {report['wall_time_s']:.0f} s")
     return 0
 
 

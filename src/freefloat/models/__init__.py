@@ -13,7 +13,8 @@ MODELS = {
     "standard": "FM-ST-A as printed: dx0/dq = 0, Hdot over the joints only, c0 = 0 (eqs 97-115)",
     "standard_full_hdot": "FM-ST-A with the full Hdot but c0 = 0 (sec 3.5): zero linear momentum",
     "standard_corrected": "FM-ST-A with the full Hdot and c0 = [0; v0 x P]: exact",
-    "nidc": "FM-NIC-A: FM-ST-A plus the integrated non-inertial dynamic coupling (eqs 59-67)",
+    "nidc": "FM-NIC-A: FM-ST-A plus the integrated non-inertial dynamic coupling (eqs 59-67, 122)",
+    "nidc_translation": "FM-NIC-A read with the base translation kept in dr0i/dq (eqs 55-58)",
     "reduced": "stand-alone model on H* (eqs 92-94): zero momentum",
     "momentum_mono": "conserved non-zero momentum, mono-state Lagrangian (eq 127)",
     "momentum_multi": "conserved non-zero momentum, multi-state Lagrangian (eq 128)",
@@ -34,8 +35,8 @@ def make_model(name: str, robot: Robot) -> DynamicsModel:
         return ExactModel(robot)
     if name in ("standard", "standard_full_hdot", "standard_corrected"):
         return UnderactuatedGJM(robot, full_hdot=name != "standard", corrected_c0=name == "standard_corrected")
-    if name == "nidc":
-        return NIDCModel(robot)
+    if name in ("nidc", "nidc_translation"):
+        return NIDCModel(robot, translation=name == "nidc_translation")
     if name in VARIANTS:
         return GeneralizedInertiaModel(robot, name)
     raise ValueError(f"unknown dynamics model '{name}'; valid: {', '.join(MODELS)}")

@@ -84,13 +84,19 @@ class NIDCModel(UnderactuatedGJM):
 
     State: ``D`` (n, 6), the sensitivities dx0/dq_k, zero at the start, advanced by
     :meth:`end_period` once per control period (eq 67).
+
+    Args:
+        robot: the robot.
+        translation: the second reading of eqs 55-58 (``nidc_translation``): ``dr0i/dq_k`` also
+            gets ``-dr0/dq_k`` while the links' own positions do not move with the base, so the
+            base translation does not cancel in ``r0i = r_i - r0``. With eq 122 (the default) the
+            base moves the links too and only its rotation remains.
     """
 
-    name = "nidc"
-
-    def __init__(self, robot: Robot):
+    def __init__(self, robot: Robot, translation: bool = False):
         super().__init__(robot)
-        self.name = "nidc"
+        self.translation = translation
+        self.name = "nidc_translation" if translation else "nidc"
         self.D = np.zeros((robot.n_joints, 6))
 
     def reset(self) -> None:
@@ -102,7 +108,27 @@ class NIDCModel(UnderactuatedGJM):
         s = t.s
         Delta = np.zeros((len(self.D), 6, 6))
         Delta[:, :3, :3] = Delta[:, 3:, 3:] = skew_batch(self.D[:, 3:])
-        return t.d.dH0 + Delta @ s.H0 - s.H0 @ Delta, t.d.dH0m + Delta @ s.H0m, t.d.dHm
+        dH0, dH0m = t.d.dH0 + Delta @ s.H0 - s.H0 @ Delta, t.d.dH0m + Delta @ s.H0m
+        if self.translation:
+            extra_H0, extra_H0m = self._translation_terms(t)
+            dH0, dH0m = dH0 + extra_H0, dH0m + extra_H0m
+        return dH0, dH0m, t.d.dHm
+
+    def _translation_terms(self, t: Terms) -> tuple[np.ndarray, np.ndarray]:
+        """Changes of dH0, dH0m when every link's r0i moves by ``-delta_k = -D_k[:3]`` (eqs 55-58)."""
+        tree, kin = self.gjm.tree, t.s.kinematics
+        m = tree.mass[1:]
+        S = m @ (kin.com[1:] - kin.r0)                        # sum over links of m_i r0i
+        J_TS = t.s.H0m[:3]                                    # the base body has no joint columns
+        delta = skew_batch(self.D[:, :3])                     # (n, 3, 3)
+        SX = skew_batch(S)
+        dH0 = np.zeros((len(self.D), 6, 6))
+        dH0[:, :3, 3:] = m.sum() * delta
+        dH0[:, 3:, :3] = -m.sum() * delta
+        dH0[:, 3:, 3:] = delta @ SX + SX @ delta
+        dH0m = np.zeros((len(self.D), 6, J_TS.shape[1]))
+        dH0m[:, 3:] = -delta @ J_TS
+        return dH0, dH0m
 
     def xdot0_sensitivity(self, t: Terms) -> np.ndarray:
         """``dxdot0/dq_k = H0^-1 (dH0_k H0^-1 H0m - dH0m_k) qdot`` of eq 64 (n, 6), augmented partials."""

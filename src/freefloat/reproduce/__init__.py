@@ -1,0 +1,1 @@
+"""Reproductions of the documents' experiments against the exact reference."""
