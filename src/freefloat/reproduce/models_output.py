@@ -49,6 +49,16 @@ def markdown(report: dict) -> str:
     return "\n".join(lines)
 
 
+def _save(fig, path: Path) -> Path:
+    """Lay out, write at 120 dpi and close a figure."""
+    import matplotlib.pyplot as plt
+
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return path
+
+
 def figures(report: dict, out: Path) -> list[Path]:
     """accuracy.png (errors per regime), grid.png (tracking error heat map), attitude.png."""
     import matplotlib
@@ -69,10 +79,7 @@ def figures(report: dict, out: Path) -> list[Path]:
     ax.set_xticks(np.arange(len(names)) + width, names, rotation=30, ha="right")
     ax.set_ylabel("max relative acceleration error vs exact")
     ax.legend()
-    fig.tight_layout()
-    written.append(out / "accuracy.png")
-    fig.savefig(written[-1], dpi=120)
-    plt.close(fig)
+    written.append(_save(fig, out / "accuracy.png"))
 
     cells = [c for c in report["grid"] if c["integrator"] == "euler"]
     table = np.full((len(GRID_MODELS), len(GRID_MODELS)), np.nan)
@@ -88,10 +95,7 @@ def figures(report: dict, out: Path) -> list[Path]:
     ax.set_xlabel("controller model")
     ax.set_ylabel("plant (semi-implicit Euler, 1 ms)")
     fig.colorbar(image, label="log10 nested RMS tracking error (rad)")
-    fig.tight_layout()
-    written.append(out / "grid.png")
-    fig.savefig(written[-1], dpi=120)
-    plt.close(fig)
+    written.append(_save(fig, out / "grid.png"))
 
     rows = report["attitude"]["spins"]
     fig, ax = plt.subplots(figsize=(6, 4))
@@ -101,8 +105,5 @@ def figures(report: dict, out: Path) -> list[Path]:
     ax.set_xlabel("closest approach: min |cos theta|")
     ax.set_ylabel("max orientation error (rad)")
     ax.legend()
-    fig.tight_layout()
-    written.append(out / "attitude.png")
-    fig.savefig(written[-1], dpi=120)
-    plt.close(fig)
+    written.append(_save(fig, out / "attitude.png"))
     return written
