@@ -78,7 +78,7 @@ def figures(report: dict, out: Path) -> list[Path]:
     ax.set_yscale("log")
     ax.set_xticks(np.arange(len(names)) + width, names, rotation=30, ha="right")
     ax.set_ylabel("max relative acceleration error vs exact")
-    ax.legend()
+    ax.legend(loc="upper left", bbox_to_anchor=(1.0, 1.0))
     written.append(_save(fig, out / "accuracy.png"))
 
     cells = [c for c in report["grid"] if c["integrator"] == "euler"]
