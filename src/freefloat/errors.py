@@ -15,3 +15,8 @@ class SceneError(FreefloatError):
 
 class SimulationDiverged(FreefloatError):
     """The state became non-finite or blew up; the message gives the time and the quantity."""
+
+
+class SingularityError(FreefloatError):
+    """A Jacobian inversion too ill-conditioned to trust; the message gives the condition number
+    and the configuration."""
