@@ -70,3 +70,25 @@ def summarize(telemetry: Telemetry, robot: Robot) -> dict[str, object]:
         out["tracking_rms_per_arm"] = per_arm
         out["tracking_error_max"] = float(np.abs(errors).max())
     return out
+
+
+def kinematic_consistency(telemetry: Telemetry, robot: Robot) -> tuple[float, np.ndarray]:
+    """KJC (dissertation Table 3): the E-GJM end-effector rates ``J* qdot + J0E H0^-1 M``
+    against the end-effector motion actually simulated (central differences of the recorded
+    positions), linear rows; nested RMS over time per end-effector, then overall.
+
+    Returns:
+        ``(overall, per_end_effector)``: m/s, (k,).
+    """
+    from . import gjm
+
+    tel = telemetry
+    rows = len(tel.t)
+    dt = np.diff(tel.t)
+    fd = (tel.ee_position[2:] - tel.ee_position[:-2]) / (dt[1:] + dt[:-1])[:, None, None]
+    errors = np.empty((rows - 2, len(robot.end_effectors), 3))
+    for k in range(1, rows - 1):
+        rates = gjm.compute(robot, tel.q[k], tel.v[k]).end_effector_velocity().reshape(-1, 6)[:, :3]
+        errors[k - 1] = rates - fd[k - 1]
+    per_ee = rms(rms(errors, axis=0), axis=1)
+    return float(rms(per_ee)), per_ee

@@ -1,0 +1,65 @@
+"""Task-space computed torque through the inverse E-GJM, and the E-GJM kinematic consistency."""
+
+from __future__ import annotations
+
+import numpy as np
+import pinocchio as pin
+import pytest
+
+from freefloat import load_robot
+from freefloat.control import ComputedTorque, QuinticTrajectory
+from freefloat.control.inverse_egjm import InverseEGJM
+from freefloat.control.task_space import TaskSpaceComputedTorque
+from freefloat.detumbling import task_rows
+from freefloat.integrators import make_integrator
+from freefloat.joints import JointCoordinates
+from freefloat.metrics import kinematic_consistency
+from freefloat.models import ExactModel
+from freefloat.simulation import run
+
+from .conftest import REPO
+
+ROWS = [(f"arm{i}_ee", c) for i in range(1, 5) for c in ("vx", "vy", "wz")]
+
+
+@pytest.fixture(scope="module")
+def joint_space_run():
+    """The chapter-4 joint-space task from Table 4 + 0.5 deg, 0.5 s at 1 ms, exact plant, RKMK4."""
+    robot = load_robot(REPO / "urdf" / "four_arm_planar.urdf", visuals=False)
+    start = np.full(16, np.radians(0.5))
+    start[[4, 12]] += np.pi / 2
+    goal = start + np.radians(5.0) * np.repeat([1, -1, -1, 1], 4)
+    q0 = robot.neutral()
+    JointCoordinates(robot).set(q0, start)
+    ctrl = ComputedTorque(robot, QuinticTrajectory(start, goal, 5.0), 10.0, 100.0)
+    result = run(robot, q0, np.zeros(robot.model.nv), 0.5, 1e-3, make_integrator("rkmk4", robot.model), ExactModel(robot), ctrl)
+    return robot, result.telemetry
+
+
+def test_egjm_rates_match_the_simulated_end_effector_motion(joint_space_run):
+    """KJC: E-GJM end-effector rates equal central differences of the simulated positions (O(h^2))."""
+    robot, tel = joint_space_run
+    overall, per_ee = kinematic_consistency(tel, robot)
+    speed = np.abs(np.diff(tel.ee_position, axis=0)).max() / 1e-3
+    assert overall < 1e-5 * speed and len(per_ee) == 4
+
+
+def test_task_space_controller_tracks_end_effector_rates(joint_space_run):
+    """Tracking the joint-space run's end-effector rates, the task-space law stays on its path."""
+    robot, tel = joint_space_run
+    data = robot.model.createData()
+    rows = task_rows(robot, ROWS)
+    rates = []
+    for q, v in zip(tel.q, tel.v):
+        pin.forwardKinematics(robot.model, data, q, v)
+        pin.updateFramePlacements(robot.model, data)
+        twists = [pin.getFrameVelocity(robot.model, data, fid, pin.LOCAL_WORLD_ALIGNED).vector for fid in robot.end_effector_frame_ids]
+        rates.append(np.concatenate(twists)[rows])
+    rates = np.array(rates)
+    reference = lambda t: np.array([np.interp(t, tel.t, rates[:, i]) for i in range(len(rows))])  # noqa: E731
+    ctrl = TaskSpaceComputedTorque(robot, InverseEGJM(rows), reference, tel.joint_positions[0], 1e-3)
+    result = run(robot, tel.q[0], tel.v[0], 0.5, 1e-3, make_integrator("rkmk4", robot.model), ExactModel(robot), ctrl)
+    error = np.linalg.norm(result.telemetry.ee_position - tel.ee_position, axis=2).max()
+    travel = np.linalg.norm(tel.ee_position[-1] - tel.ee_position[0], axis=1).max()
+    assert result.status == "completed" and error < 1e-2 * travel
+    assert max(ctrl.condition_numbers) < 1e4
