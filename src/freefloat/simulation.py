@@ -29,7 +29,8 @@ class RunResult:
 
     Attributes:
         telemetry: recorded samples (truncated to what was computed if the run stopped early).
-        status: ``"completed"``, ``"diverged"`` or ``"interrupted"``.
+        status: ``"completed"``, ``"stopped"`` (by the ``stop`` callback), ``"diverged"`` or
+            ``"interrupted"``.
         message: why the run stopped early (empty when completed).
         steps: control periods simulated.
         wall_time_s: wall-clock time of the loop, s.
@@ -93,6 +94,7 @@ def run(
     wrenches: tuple[ExternalWrench, ...] = (),
     record_every: int = 1,
     progress: Callable[[int], None] | None = None,
+    stop: Callable[[float, np.ndarray, np.ndarray], bool] | None = None,
 ) -> RunResult:
     """Simulate ``duration`` s in control periods of ``control_period`` s.
 
@@ -112,6 +114,8 @@ def run(
         wrenches: external wrenches on links.
         record_every: record one telemetry row every this many periods (and the last one).
         progress: called with the number of periods done, about 200 times per run.
+        stop: ``stop(t, q, v)`` after each period; True ends the run there with status
+            ``"stopped"`` (an event such as a contact, not a failure).
     """
     steps = int(round(duration / control_period))
     if steps < 1 or abs(steps * control_period - duration) > 1e-9 * duration:
@@ -157,7 +161,12 @@ def run(
             q, v = q_next, v_next
             if progress is not None and (k + 1) % report_every == 0:
                 progress(k + 1)
-        k = steps
+            if stop is not None and stop((k + 1) * control_period, q, v):
+                status = "stopped"
+                k += 1
+                break
+        else:
+            k = steps
     except SimulationDiverged as exc:
         status, message = "diverged", str(exc)
     except KeyboardInterrupt:
@@ -165,7 +174,7 @@ def run(
     except (RuntimeError, ValueError) as exc:  # Pinocchio rejects non-finite or degenerate states
         status, message = "diverged", f"at t = {k * control_period:.6g} s: {exc}"
     else:
-        t = steps * control_period
+        t = k * control_period
         recorder.record(row, t, q, v, tau, reference(t), work)
         row += 1
     wall = time.perf_counter() - start

@@ -13,7 +13,8 @@ from .robot import Robot
 
 @dataclass(frozen=True)
 class ExternalWrench:
-    """A constant wrench on one link during [start, end).
+    """A wrench on one link during [start, end), rising linearly over ``rise`` s, then constant
+    (sampled at the start of each control period: zero-order hold).
 
     Attributes:
         link: URDF link name.
@@ -28,6 +29,13 @@ class ExternalWrench:
     torque: tuple[float, float, float] = (0.0, 0.0, 0.0)
     start: float = 0.0
     end: float = float("inf")
+    rise: float = 0.0
+
+    def scale(self, t: float) -> float:
+        """Profile at time t: 0 outside [start, end), a linear rise over ``rise`` s, then 1."""
+        if not self.start <= t < self.end:
+            return 0.0
+        return 1.0 if self.rise <= 0.0 else min(1.0, (t - self.start) / self.rise)
 
 
 class WrenchField:
@@ -54,18 +62,18 @@ class WrenchField:
         self._active: list = []
 
     def activate(self, t: float) -> bool:
-        """Select the wrenches active at time t; return whether any is."""
-        self._active = [item for item in self._items if item[0].start <= t < item[0].end]
+        """Select the wrenches active at time t, with their profile value; return whether any is."""
+        self._active = [(item, item[0].scale(t)) for item in self._items if item[0].scale(t) > 0.0]
         return bool(self._active)
 
     def forces(self, q: np.ndarray) -> list[pin.Force]:
         """Wrenches of the active set, per joint, in joint-local frames (njoints)."""
         pin.forwardKinematics(self.model, self.data, q)
         out = [pin.Force.Zero() for _ in range(self.model.njoints)]
-        for wrench, joint, com in self._active:
+        for (wrench, joint, com), scale in self._active:
             R = self.data.oMi[joint].rotation
-            f_local = R.T @ np.asarray(wrench.force)
-            n_local = R.T @ np.asarray(wrench.torque) + np.cross(com, f_local)
+            f_local = scale * (R.T @ np.asarray(wrench.force))
+            n_local = scale * (R.T @ np.asarray(wrench.torque)) + np.cross(com, f_local)
             out[joint] += pin.Force(f_local, n_local)
         return out
 

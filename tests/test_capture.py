@@ -1,0 +1,111 @@
+"""Capture of a tumbling target: exact impulse, momentum balance, the merged robot."""
+
+from __future__ import annotations
+
+import numpy as np
+import pinocchio as pin
+import pytest
+
+from freefloat import load_robot
+from freefloat.capture import Target, TargetBody, attach, impact, robot_momentum
+
+from .conftest import REPO
+
+
+@pytest.fixture(scope="module")
+def setup():
+    """Two-arm robot (free base) moving, and a spinning target whose grasp point is at arm 1's end-effector."""
+    robot = load_robot(REPO / "urdf" / "two_arm_planar.urdf", visuals=False)
+    rng = np.random.default_rng(0)
+    q = robot.neutral()
+    q[7:] = rng.uniform(-0.3, 0.3, robot.n_joints)
+    v = rng.normal(size=robot.model.nv) * 0.1
+    data = robot.model.createData()
+    pin.framesForwardKinematics(robot.model, data, q)
+    ee = data.oMf[robot.model.getFrameId("arm1_ee")].translation
+    target = Target(mass=20.0, inertia=(1.0, 1.5, 2.0), grasp=(-0.3, 0.0, 0.0), position=tuple(ee + [0.3, 0.0, 0.0]),
+                    rpy=(0.0, 0.0, 0.0), velocity=(-0.05, 0.02, 0.0), angular_velocity=(0.0, 0.0, 0.5))
+    body = TargetBody(target)
+    q_t, v_t = body.initial_state()
+    return robot, q, v, body, q_t, v_t
+
+
+def test_grasp_point_starts_on_the_end_effector(setup):
+    """The fixture's target grasp point coincides with the end-effector origin."""
+    robot, q, _, body, q_t, _ = setup
+    data = robot.model.createData()
+    pin.framesForwardKinematics(robot.model, data, q)
+    np.testing.assert_allclose(body.grasp_point(q_t), data.oMf[robot.model.getFrameId("arm1_ee")].translation, atol=1e-12)
+
+
+def test_impact_conserves_total_momentum_exactly(setup):
+    """The grasp impulse is internal: robot + target momentum about the origin is unchanged."""
+    robot, q, v, body, q_t, v_t = setup
+    hit = impact(robot, "arm1_ee", q, v, body, q_t, v_t)
+    np.testing.assert_allclose(hit.momentum_after, hit.momentum_before, atol=1e-11 * np.abs(hit.momentum_before).max())
+    assert np.abs(hit.impulse).max() > 1e-3  # something happened
+
+
+def test_after_impact_grasp_point_moves_with_the_end_effector(setup):
+    """The weld holds: end-effector and grasp point have the same twist after the impact."""
+    robot, q, v, body, q_t, v_t = setup
+    hit = impact(robot, "arm1_ee", q, v, body, q_t, v_t)
+    data = robot.model.createData()
+    pin.forwardKinematics(robot.model, data, q, hit.v_robot)
+    ee = pin.getFrameVelocity(robot.model, data, robot.model.getFrameId("arm1_ee"), pin.LOCAL_WORLD_ALIGNED).vector
+    pin.forwardKinematics(body.model, body.data, q_t, hit.v_target)
+    grasp = pin.getFrameVelocity(body.model, body.data, body.grasp_id, pin.LOCAL_WORLD_ALIGNED).vector
+    np.testing.assert_allclose(ee, grasp, atol=1e-12)
+
+
+def test_merged_robot_carries_the_post_impact_momentum(setup):
+    """The robot with the target appended has exactly the robot + target momentum after the impact."""
+    robot, q, v, body, q_t, v_t = setup
+    hit = impact(robot, "arm1_ee", q, v, body, q_t, v_t)
+    merged = attach(robot, "arm1_ee", q, body, q_t)
+    assert pin.computeTotalMass(merged.model) == pytest.approx(pin.computeTotalMass(robot.model) + 20.0)
+    np.testing.assert_allclose(robot_momentum(merged, q, hit.v_robot), hit.momentum_after, atol=1e-10)
+
+
+def planar_capture_setup():
+    """Two-arm planar robot at rest; a spinning target that meets arm 1's end-effector at 0.5 s."""
+    from freefloat.capture import Target
+
+    robot = load_robot(REPO / "urdf" / "two_arm_planar.urdf", base="planar", visuals=False)
+    target = Target.meeting((7.75, 0.0, 0.0), 0.5, mass=50.0, inertia=(2.0, 2.5, 3.0), grasp=(-0.25, 0.0, 0.0),
+                            velocity=(-0.4, 0.0, 0.0), angular_velocity=(0.0, 0.0, 0.3))
+    return robot, target
+
+
+def test_capture_then_detumbling_stops_the_target():
+    """After the grasp the target's angular velocity falls below 1e-6 rad/s; momentum balances exactly."""
+    from freefloat.capture import capture_and_detumble
+
+    robot, target = planar_capture_setup()
+    res = capture_and_detumble(robot, target, "arm1_ee", [("arm1_ee", "wz")], None, detumble_time=0.5)
+    s = res.summary
+    assert abs(s["impact_time"] - 0.5) < 5e-3
+    assert s["momentum_balance_error"] < 1e-10 and s["momentum_drift_after_impact"] < 1e-8
+    assert s["target_angular_velocity_at_impact"] > 0.1 and s["target_angular_velocity_final"] < 1e-6
+    assert s["settling_time"] is not None and s["settling_time"] < 0.5
+
+
+def test_a_target_that_never_arrives_is_reported():
+    """A target flying away fails with the closest approach and its time."""
+    from freefloat import FreefloatError
+    from freefloat.capture import Target, capture_and_detumble
+
+    robot, _ = planar_capture_setup()
+    away = Target(mass=50.0, inertia=(2.0, 2.5, 3.0), grasp=(-0.25, 0.0, 0.0), position=(9.0, 0.0, 0.0), velocity=(0.5, 0.0, 0.0))
+    with pytest.raises(FreefloatError, match=r"never reaches 'arm1_ee'.*closest approach 1\.0\d* m at t = 0\.001"):
+        capture_and_detumble(robot, away, "arm1_ee", [("arm1_ee", "wz")], None, approach_time=0.2)
+
+
+def test_meeting_refuses_a_precessing_spin():
+    """Back-propagation needs the spin along a principal axis; otherwise it says so."""
+    from freefloat import FreefloatError
+    from freefloat.capture import Target
+
+    with pytest.raises(FreefloatError, match="principal axis"):
+        Target.meeting((0, 0, 0), 1.0, mass=1.0, inertia=(1.0, 2.0, 3.0), grasp=(0, 0, 0), velocity=(0, 0, 0),
+                       angular_velocity=(0.3, 0.4, 0.0))
