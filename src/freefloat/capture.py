@@ -194,6 +194,7 @@ class CaptureResult:
         hit: the impact.
         target_angular_velocity: |w| of the captured target after the impact, rad/s (rows of post).
         summary: figures of merit (see :func:`capture_and_detumble`).
+        target_poses: target CoM frame poses, inertial (rows of pre then post, 4, 4).
     """
 
     pre: object
@@ -203,12 +204,14 @@ class CaptureResult:
     hit: Impact
     target_angular_velocity: np.ndarray
     summary: dict
+    target_poses: np.ndarray
 
 
 def capture_and_detumble(robot: Robot, target: Target, end_effector: str, rows_spec, joints: list[str] | None,
                          method: str = "min_norm", control_period: float = 1e-3, approach_time: float = 1.0,
                          detumble_time: float = 1.0, tolerance: float = 1e-3, settle_below: float = 1e-6,
-                         integrator: str = "rkmk4") -> CaptureResult:
+                         integrator: str = "rkmk4", q0: np.ndarray | None = None, v0: np.ndarray | None = None,
+                         kp: float = 10.0, kd: float = 100.0, model: str = "exact") -> CaptureResult:
     """Hold until the target's grasp point reaches ``end_effector``, grasp it (exact impulse),
     then detumble the merged robot by stopping the end-effector rows ``rows_spec``.
 
@@ -228,11 +231,12 @@ def capture_and_detumble(robot: Robot, target: Target, end_effector: str, rows_s
     zero = np.zeros(6)
     fid = robot.model.getFrameId(end_effector)
     data = robot.model.createData()
-    state = {"q_t": q_t, "v_t": v_t, "closest": (np.inf, 0.0)}
+    state = {"q_t": q_t, "v_t": v_t, "closest": (np.inf, 0.0), "poses": [pin.XYZQUATToSE3(q_t).homogeneous]}
 
     def reached(t: float, q: np.ndarray, v: np.ndarray) -> bool:
         state["q_t"], state["v_t"] = target_step.advance(
             lambda qs, vs: pin.aba(body.model, body.data, qs, vs, zero), state["q_t"], state["v_t"], control_period)
+        state["poses"].append(pin.XYZQUATToSE3(state["q_t"]).homogeneous)
         pin.framesForwardKinematics(robot.model, data, q)
         gap = float(np.linalg.norm(body.grasp_point(state["q_t"]) - data.oMf[fid].translation))
         if gap < state["closest"][0]:
@@ -240,8 +244,10 @@ def capture_and_detumble(robot: Robot, target: Target, end_effector: str, rows_s
         return gap < tolerance
 
     all_joints = joint_indices(robot, None)
-    hold = DetumblingController(robot, task_rows(robot, rows_spec), all_joints, start=np.inf, control_period=control_period)
-    q0, v0 = robot.neutral(), np.zeros(robot.model.nv)
+    hold = DetumblingController(robot, task_rows(robot, rows_spec), all_joints, start=np.inf, control_period=control_period,
+                                kp=kp, kd=kd, model=model)
+    q0 = robot.neutral() if q0 is None else q0
+    v0 = np.zeros(robot.model.nv) if v0 is None else v0
     pre = run(robot, q0, v0, approach_time, control_period, make_integrator(integrator, robot.model), ExactModel(robot),
               hold, stop=reached)
     if pre.status != "stopped":
@@ -253,7 +259,7 @@ def capture_and_detumble(robot: Robot, target: Target, end_effector: str, rows_s
     hit = impact(robot, end_effector, q, v, body, state["q_t"], state["v_t"])
     merged = attach(robot, end_effector, q, body, state["q_t"])
     controller = DetumblingController(merged, task_rows(merged, rows_spec), joint_indices(merged, joints), start=0.0,
-                                      control_period=control_period, method=method)
+                                      control_period=control_period, method=method, kp=kp, kd=kd, model=model)
     post = run(merged, q, hit.v_robot, detumble_time, control_period, make_integrator(integrator, merged.model),
                ExactModel(merged), controller)
     tel = post.telemetry
@@ -276,7 +282,20 @@ def capture_and_detumble(robot: Robot, target: Target, end_effector: str, rows_s
         "solver_residual_max": float(max(controller.residuals)) if controller.residuals else 0.0,
         "status": post.status,
     }
-    return CaptureResult(pre.telemetry, tel, merged, float(t_hit), hit, w, summary)
+    post_poses = attached_poses(merged, tel.q)
+    poses = np.concatenate((np.array(state["poses"][: len(pre.telemetry.t)]), post_poses))
+    return CaptureResult(pre.telemetry, tel, merged, float(t_hit), hit, w, summary, poses)
+
+
+def attached_poses(merged: Robot, qs: np.ndarray) -> np.ndarray:
+    """Poses of the captured target frame over the samples (N, 4, 4), inertial frame."""
+    model, data = merged.model, merged.model.createData()
+    fid = model.getFrameId(TARGET_FRAME)
+    out = np.empty((len(qs), 4, 4))
+    for k, q in enumerate(qs):
+        pin.framesForwardKinematics(model, data, q)
+        out[k] = data.oMf[fid].homogeneous
+    return out
 
 
 def target_angular_speed(merged: Robot, qs: np.ndarray, vs: np.ndarray) -> np.ndarray:

@@ -42,6 +42,9 @@ def write_run(
         written[0], joint_names=list(robot.joint_names), end_effectors=list(robot.end_effectors),
         scene=scene.name,
     )
+    for name, extra in prepared.extra_telemetry.items():
+        extra.save(out_dir / f"telemetry_{name}.npz")
+        written.append(out_dir / f"telemetry_{name}.npz")
     if scene.source is not None:
         (out_dir / "scene.toml").write_text(scene.source.read_text())
         written.append(out_dir / "scene.toml")
@@ -64,8 +67,9 @@ def write_run(
     if len(tel.t) >= 2 and scene.output.html:
         from .viz.meshcat_html import write_trajectory_html
 
-        written.append(write_trajectory_html(robot, tel.t, tel.q, out_dir / "trajectory.html",
-                                             fps=scene.output.html_fps))
+        t, q = prepared.animation or (tel.t, tel.q)
+        written.append(write_trajectory_html(robot, t, q, out_dir / "trajectory.html", fps=scene.output.html_fps,
+                                             extra=prepared.extra_bodies or None))
     return written
 
 

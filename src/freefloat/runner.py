@@ -2,7 +2,8 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import dataclasses
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable
 
@@ -10,6 +11,7 @@ import numpy as np
 import pinocchio as pin
 
 from .control import ComputedTorque, Controller, QuinticTrajectory
+from .control.detumbling_control import DetumblingController
 from .conventions import state_from_base
 from .errors import SceneError
 from .integrators import Integrator, make_integrator
@@ -21,11 +23,14 @@ from .paths import URDF_DIR
 from .robot import Robot
 from .scenes import Scene
 from .simulation import RunResult, run
+from .wrenches import ExternalWrench
 
 
 @dataclass
 class Prepared:
-    """Everything a scene resolves to before the loop starts."""
+    """Everything a scene resolves to before the loop starts (and, for a capture, what the
+    output needs beyond the main telemetry: the target's poses, the whole animation, the
+    pre-capture telemetry)."""
 
     robot: Robot
     q0: np.ndarray
@@ -33,6 +38,10 @@ class Prepared:
     model: DynamicsModel
     integrator: Integrator
     controller: Controller | None
+    wrenches: tuple[ExternalWrench, ...] = ()
+    extra_bodies: list = field(default_factory=list)
+    animation: tuple[np.ndarray, np.ndarray] | None = None
+    extra_telemetry: dict = field(default_factory=dict)
 
 
 def resolve_urdf(scene: Scene) -> Path:
@@ -107,20 +116,55 @@ def prepare(scene: Scene) -> Prepared:
         )
     except Exception as exc:
         raise SceneError(f"scene '{scene.name}': [initial] {exc}") from exc
-    sim = scene.simulation
+    sim, ctrl = scene.simulation, scene.controller
     controller = None
-    if scene.controller.kind == "computed_torque":
-        if scene.task.kind != "joint_quintic":
-            raise SceneError(f"scene '{scene.name}': controller 'computed_torque' needs task.kind = 'joint_quintic'")
+    if ctrl.kind == "computed_torque" and scene.task.kind == "joint_quintic":
         goal = joint_q0 + joint_table(robot, scene.task.displacement, s, "task.displacement")
         trajectory = QuinticTrajectory(joint_q0, goal, scene.task.duration)
-        controller = ComputedTorque(robot, trajectory, scene.controller.kp, scene.controller.kd, scene.controller.model)
+        controller = ComputedTorque(robot, trajectory, ctrl.kp, ctrl.kd, ctrl.model)
+    elif ctrl.kind == "computed_torque" and scene.task.kind == "detumble":
+        rows, joints = detumble_task(robot, scene)
+        controller = DetumblingController(robot, rows, joints, scene.task.start, sim.control_period,
+                                          scene.task.method, ctrl.kp, ctrl.kd, ctrl.model)
+    elif ctrl.kind == "computed_torque":
+        raise SceneError(f"scene '{scene.name}': controller 'computed_torque' needs task.kind 'joint_quintic' or 'detumble'")
+    wrenches = tuple(ExternalWrench(w.link, w.force, w.torque, w.start, w.end, w.rise) for w in scene.wrenches)
     return Prepared(
         robot=robot, q0=q0, v0=v0,
         model=make_model(sim.model, robot),
         integrator=make_integrator(sim.integrator, robot.model, sim.substeps, sim.rtol, sim.atol),
         controller=controller,
+        wrenches=wrenches,
     )
+
+
+def detumble_rows_spec(scene: Scene) -> list[tuple[str, str]]:
+    """``[task] rows`` as (end-effector, component) pairs.
+
+    Raises:
+        SceneError: naming ``task.rows`` when missing or not ``"end_effector:component"``.
+    """
+    if not scene.task.rows:
+        raise SceneError(f"scene '{scene.name}': task.kind 'detumble' needs 'task.rows', e.g. [\"arm1_ee:wz\"]")
+    spec = []
+    for item in scene.task.rows:
+        ee, sep, component = item.partition(":")
+        if not sep:
+            raise SceneError(f"scene '{scene.name}': 'task.rows' item '{item}' must be 'end_effector:component'")
+        spec.append((ee, component))
+    return spec
+
+
+def detumble_task(robot: Robot, scene: Scene) -> tuple[np.ndarray, np.ndarray]:
+    """Row and mission-joint indices of a detumble task, errors naming the scene key."""
+    from .detumbling import joint_indices, task_rows
+
+    try:
+        rows = task_rows(robot, detumble_rows_spec(scene))
+        joints = joint_indices(robot, None if scene.task.mission_joints is None else list(scene.task.mission_joints))
+    except ValueError as exc:
+        raise SceneError(f"scene '{scene.name}': [task] {exc}") from exc
+    return rows, joints
 
 
 def simulate_scene(
@@ -128,13 +172,73 @@ def simulate_scene(
 ) -> tuple[Prepared, RunResult, dict[str, object]]:
     """Run a scene; return its setup, the raw result and the summary metrics."""
     prepared = prepare(scene)
+    if scene.target is not None:
+        return simulate_capture(scene, prepared)
     sim = scene.simulation
     result = run(
         prepared.robot, prepared.q0, prepared.v0, sim.duration, sim.control_period,
-        prepared.integrator, prepared.model, prepared.controller,
+        prepared.integrator, prepared.model, prepared.controller, wrenches=prepared.wrenches,
         record_every=sim.record_every, progress=progress,
     )
     summary = summarize(result.telemetry, prepared.robot) if len(result.telemetry.t) else {}
+    if scene.task.kind == "detumble" and len(result.telemetry.t):
+        summary.update(detumble_summary(prepared.robot, result.telemetry, *detumble_task(prepared.robot, scene)))
     summary.update(status=result.status, message=result.message, steps=result.steps,
                    sim_wall_time_s=result.wall_time_s, model_evaluations=result.evaluations)
+    return prepared, result, summary
+
+
+def detumble_summary(robot: Robot, telemetry, rows: np.ndarray, joints: np.ndarray, threshold: float = 1e-6) -> dict:
+    """Speed of the detumbled rows over the run: final, settling time below ``threshold``."""
+    from . import gjm
+
+    speed = np.array([np.abs(gjm.compute(robot, q, v).end_effector_velocity()[rows]).max()
+                      for q, v in zip(telemetry.q, telemetry.v)])
+    above = np.flatnonzero(speed >= threshold)
+    settled = None if len(above) and above[-1] == len(speed) - 1 else float(telemetry.t[above[-1] + 1] if len(above) else telemetry.t[0])
+    return {"detumbled_rows_speed_final": float(speed[-1]), "detumbled_rows_speed_max": float(speed.max()),
+            "settling_time": settled, "settle_threshold": threshold,
+            "base_angular_velocity_final": float(np.linalg.norm(telemetry.base_twist[-1, 3:]))}
+
+
+def simulate_capture(scene: Scene, prepared: Prepared) -> tuple[Prepared, RunResult, dict[str, object]]:
+    """A capture scene: approach, exact grasp, detumbling of the merged robot."""
+    import time as _time
+
+    import pinocchio as pin
+
+    from .capture import Target, capture_and_detumble
+
+    tg, sim, ctrl, s = scene.target, scene.simulation, scene.controller, scene.angle_scale
+    robot = prepared.robot
+    if tg.end_effector not in robot.end_effectors:
+        raise SceneError(f"scene '{scene.name}': target.end_effector '{tg.end_effector}' is not an end-effector; "
+                         f"end-effectors: {', '.join(robot.end_effectors)}")
+    data = robot.model.createData()
+    pin.framesForwardKinematics(robot.model, data, prepared.q0)
+    point = data.oMf[robot.model.getFrameId(tg.end_effector)].translation
+    try:
+        target = Target.meeting(point, tg.contact_time, tg.mass, tg.inertia, tg.grasp, tg.velocity,
+                                np.multiply(tg.angular_velocity, s), np.multiply(tg.rpy_at_contact, s), tg.size)
+    except Exception as exc:
+        raise SceneError(f"scene '{scene.name}': [target] {exc}") from exc
+    start = _time.perf_counter()
+    res = capture_and_detumble(robot, target, tg.end_effector, detumble_rows_spec(scene),
+                               None if scene.task.mission_joints is None else list(scene.task.mission_joints),
+                               scene.task.method, sim.control_period, tg.contact_time + 0.5, sim.duration,
+                               tg.tolerance, integrator=sim.integrator, q0=prepared.q0, v0=prepared.v0,
+                               kp=ctrl.kp, kd=ctrl.kd, model=ctrl.model)
+    wall = _time.perf_counter() - start
+    merged = dataclasses.replace(res.merged, visual_model=robot.visual_model)
+    tel = res.post
+    result = RunResult(tel, res.summary["status"], "", len(tel.t) - 1, wall, 0)
+    summary = summarize(tel, merged)
+    summary.update(res.summary, sim_wall_time_s=wall, steps=len(res.pre.t) + len(tel.t) - 2)
+    import meshcat.geometry as mg
+
+    both_t = np.concatenate((res.pre.t, res.impact_time + tel.t[1:]))
+    both_q = np.concatenate((res.pre.q, tel.q[1:]))
+    poses = np.concatenate((res.target_poses[: len(res.pre.t)], res.target_poses[len(res.pre.t) + 1:]))
+    prepared = dataclasses.replace(prepared, robot=merged, extra_bodies=[("target", mg.Box(list(tg.size)), poses)],
+                                   animation=(both_t, both_q), extra_telemetry={"pre_capture": res.pre})
     return prepared, result, summary

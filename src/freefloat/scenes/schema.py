@@ -44,13 +44,51 @@ class InitialSection:
 
 @dataclass(frozen=True)
 class TaskSection:
-    """``[task]``: ``kind = "none"`` or ``"joint_quintic"``: every joint moves by
+    """``[task]``: ``kind = "none"``; ``"joint_quintic"``: every joint moves by
     ``displacement[name]`` (key: a joint, or an end-effector meaning all joints of its arm) in
-    ``duration`` s."""
+    ``duration`` s; ``"detumble"``: from ``start`` s, stop the end-effector velocity ``rows``
+    (``"arm1_ee:wz"``, components vx..wz, angular, linear, all) with ``mission_joints`` (default
+    all) by ``method`` (min_norm, single, null_space, least_squares)."""
 
     kind: str = "none"
     duration: float = 1.0
     displacement: dict[str, float] = field(default_factory=dict)
+    rows: tuple[str, ...] | None = None
+    mission_joints: tuple[str, ...] | None = None
+    method: str = "min_norm"
+    start: float = 0.0
+
+
+@dataclass(frozen=True)
+class WrenchSection:
+    """``[[wrenches]]``: a wrench on ``link`` at its CoM (inertial frame, N and N m), from
+    ``start`` to ``end`` s, rising linearly over ``rise`` s (the dissertation's capture model)."""
+
+    link: str
+    force: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    torque: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    start: float = 0.0
+    end: float = 1e9
+    rise: float = 0.0
+
+
+@dataclass(frozen=True)
+class TargetSection:
+    """``[target]``: a rigid target that reaches ``end_effector`` at ``contact_time`` s flying
+    freely (velocity, inertial, m/s; spin along a principal axis, in angle_unit per s), is grasped
+    by an exact inelastic impulse, then detumbled by the ``[task]``. Mass kg, inertia (principal,
+    kg m^2), grasp point in the target frame from its CoM (m), display size (m)."""
+
+    end_effector: str
+    mass: float = 10.0
+    inertia: tuple[float, float, float] = (1.0, 1.0, 1.0)
+    grasp: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    velocity: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    angular_velocity: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    rpy_at_contact: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    contact_time: float = 0.5
+    tolerance: float = 1e-3
+    size: tuple[float, float, float] = (0.3, 0.3, 0.3)
 
 
 @dataclass(frozen=True)
@@ -101,6 +139,8 @@ class Scene:
     controller: ControllerSection = ControllerSection()
     simulation: SimulationSection = SimulationSection()
     output: OutputSection = OutputSection()
+    wrenches: tuple[WrenchSection, ...] = ()
+    target: TargetSection | None = None
     source: Path | None = None
 
     @property
@@ -112,10 +152,12 @@ class Scene:
 SECTIONS = {
     "robot": RobotSection, "initial": InitialSection, "task": TaskSection,
     "controller": ControllerSection, "simulation": SimulationSection, "output": OutputSection,
+    "target": TargetSection,
 }
 CHOICES = {
     ("robot", "base"): ("free", "planar"),
-    ("task", "kind"): ("none", "joint_quintic"),
+    ("task", "kind"): ("none", "joint_quintic", "detumble"),
+    ("task", "method"): ("min_norm", "single", "null_space", "least_squares"),
     ("controller", "kind"): ("none", "computed_torque"),
     ("controller", "model"): tuple(MODELS),
     ("simulation", "model"): tuple(MODELS),
@@ -125,9 +167,11 @@ CHOICES = {
 POSITIVE = {
     ("task", "duration"), ("simulation", "duration"), ("simulation", "control_period"),
     ("simulation", "substeps"), ("simulation", "rtol"), ("simulation", "atol"),
-    ("simulation", "record_every"), ("output", "html_fps"),
+    ("simulation", "record_every"), ("output", "html_fps"), ("target", "mass"), ("target", "contact_time"),
+    ("target", "tolerance"),
 }
-NON_NEGATIVE = {("controller", "kp"), ("controller", "kd")}
+NON_NEGATIVE = {("controller", "kp"), ("controller", "kd"), ("task", "start"), ("wrenches", "start"),
+                ("wrenches", "rise")}
 
 
 def load_scene(path: str | Path) -> Scene:
@@ -149,7 +193,7 @@ def load_scene(path: str | Path) -> Scene:
 def parse_scene(raw: dict[str, Any], source: Path | None = None) -> Scene:
     """Validate a scene given as a dict (the parsed TOML)."""
     where = f"{source}: " if source else "scene: "
-    top = {"name", "description", "angle_unit", *SECTIONS}
+    top = {"name", "description", "angle_unit", "wrenches", *SECTIONS}
     _no_unknown(where, "", raw, top)
     if "name" not in raw or "robot" not in raw:
         raise SceneError(f"{where}'name' and [robot] are required")
@@ -161,6 +205,10 @@ def parse_scene(raw: dict[str, Any], source: Path | None = None) -> Scene:
     for section, cls in SECTIONS.items():
         if section in raw:
             kwargs[section] = _section(where, section, cls, raw[section])
+    wrenches = raw.get("wrenches", [])
+    if not isinstance(wrenches, list):
+        raise SceneError(f"{where}'wrenches' must be an array of tables ([[wrenches]]), got {wrenches!r}")
+    kwargs["wrenches"] = tuple(_section(where, "wrenches", WrenchSection, w) for w in wrenches)
     return Scene(**kwargs, source=source)
 
 
