@@ -95,6 +95,7 @@ def run(
     record_every: int = 1,
     progress: Callable[[int], None] | None = None,
     stop: Callable[[float, np.ndarray, np.ndarray], bool] | None = None,
+    start_time: float = 0.0,
 ) -> RunResult:
     """Simulate ``duration`` s in control periods of ``control_period`` s.
 
@@ -116,6 +117,7 @@ def run(
         progress: called with the number of periods done, about 200 times per run.
         stop: ``stop(t, q, v)`` after each period; True ends the run there with status
             ``"stopped"`` (an event such as a contact, not a failure).
+        start_time: time of the first sample, s (to chain runs, e.g. one per model phase).
     """
     steps = int(round(duration / control_period))
     if steps < 1 or abs(steps * control_period - duration) > 1e-9 * duration:
@@ -138,7 +140,7 @@ def run(
     start = time.perf_counter()
     try:
         for k in range(steps):
-            t = k * control_period
+            t = start_time + k * control_period
             if controller is not None:
                 tau = controller.torque(t, q, v)
                 tau_full[nb:] = tau
@@ -161,7 +163,7 @@ def run(
             q, v = q_next, v_next
             if progress is not None and (k + 1) % report_every == 0:
                 progress(k + 1)
-            if stop is not None and stop((k + 1) * control_period, q, v):
+            if stop is not None and stop(start_time + (k + 1) * control_period, q, v):
                 status = "stopped"
                 k += 1
                 break
@@ -170,11 +172,11 @@ def run(
     except SimulationDiverged as exc:
         status, message = "diverged", str(exc)
     except KeyboardInterrupt:
-        status, message = "interrupted", f"interrupted by the user at t = {k * control_period:.6g} s"
+        status, message = "interrupted", f"interrupted by the user at t = {start_time + k * control_period:.6g} s"
     except (RuntimeError, ValueError) as exc:  # Pinocchio rejects non-finite or degenerate states
-        status, message = "diverged", f"at t = {k * control_period:.6g} s: {exc}"
+        status, message = "diverged", f"at t = {start_time + k * control_period:.6g} s: {exc}"
     else:
-        t = k * control_period
+        t = start_time + k * control_period
         recorder.record(row, t, q, v, tau, reference(t), work)
         row += 1
     wall = time.perf_counter() - start
