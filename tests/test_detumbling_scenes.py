@@ -13,6 +13,8 @@ from freefloat.runner import prepare
 from freefloat.scenes import builtin_scenes, find_scene, parse_scene
 from freefloat.telemetry import Telemetry
 
+from .test_viz import _animation, _packets
+
 
 def run_scene(name, tmp_path):
     out = tmp_path / name
@@ -27,7 +29,12 @@ def test_capture_scene_grasps_and_stops_the_target(tmp_path):
     assert s["settling_time"] < 1.0 and s["peak_joint_torque"] > 0 and "base_angular_velocity_final" in s
     assert (out / "telemetry_pre_capture.npz").exists()
     assert Telemetry.load(out / "telemetry_pre_capture.npz").t[-1] == pytest.approx(s["impact_time"])
-    assert "extra/target" in (out / "trajectory.html").read_text() or "target" in (out / "trajectory.html").read_text()
+    tracks = [tracks for path, tracks in _animation(_packets(out / "trajectory.html")).items() if path.endswith("extra/target")]
+    assert len(tracks) == 1
+    first, last = np.array(tracks[0][".position"][0][1]), np.array(tracks[0][".position"][-1][1])
+    np.testing.assert_allclose(first, [7.75 + 0.25 + 0.4 * 0.5, 0.0, 0.0], atol=1e-6)  # back-propagated start
+    tel = Telemetry.load(out / "telemetry.npz")
+    assert abs(np.linalg.norm(last - tel.ee_position[-1, 0]) - 0.25) <= 1e-3  # grasp offset, within the contact tolerance
 
 
 def test_impulse_scene_stops_the_chosen_end_effector(tmp_path):
