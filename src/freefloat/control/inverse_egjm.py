@@ -29,14 +29,14 @@ class InverseEGJM:
     Attributes:
         rows: stacked task rows (see :func:`freefloat.detumbling.task_rows`).
         damping: lambda of damped least squares (0: plain pseudo-inverse).
-        warn_cond: warn when cond(J*{k}) exceeds this.
-        max_cond: refuse (SingularityError) when it exceeds this and damping is 0.
+        warn_cond: warn when cond(J*{k}) exceeds this (1e6: about 6 of 16 digits lost).
+        max_cond: refuse (SingularityError) when it exceeds this and damping is 0 (1e10).
     """
 
     rows: np.ndarray
     damping: float = 0.0
-    warn_cond: float = 1e4
-    max_cond: float = 1e8
+    warn_cond: float = 1e6
+    max_cond: float = 1e10
 
     def condition(self, state: GJMState) -> float:
         """Condition number of ``J*{k}`` (ratio of extreme singular values; inf when rank-deficient)."""
