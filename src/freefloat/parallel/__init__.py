@@ -1,0 +1,1 @@
+"""Parallel mechanisms by Orsino's subsystem coupling (thesis proposal secs 5.3-5.4)."""
