@@ -1,0 +1,80 @@
+"""The planar five-bar 5R of the thesis proposal (sec 5.6, eqs 171-190).
+
+Two RR chains (DH a = l_i, alpha = 0, d = 0, theta = q_i), base joints at x = +l0 (chain 1) and
+x = -l0 (chain 2, its base frame mirrored by diag(-1, 1, -1), eq 178); the platform is the
+massless end-effector point (x, y), which both chain tips must reach; gravity 9.8 m/s^2 along -y
+of the plane. l0 = 0.05 m is not printed in the text; it is the author's own code's value.
+The base joints are actuated.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import FreefloatError
+from .mechanism import ParallelMechanism
+from .serial import SerialChain
+
+
+@dataclass(frozen=True)
+class FiveBarParameters:
+    """5R data (sec 5.6): lengths l1, l2, CoM distances lg1, lg2 from each link's joint, masses,
+    inertias about z at the CoM, base half-distance l0 (m, kg, kg m^2)."""
+
+    l1: float = 0.12
+    l2: float = 0.15
+    lg1: float = 0.06
+    lg2: float = 0.075
+    m1: float = 0.143
+    m2: float = 0.171
+    Jz1: float = 171.6e-6
+    Jz2: float = 320.6e-6
+    l0: float = 0.05
+    gravity: float = 9.8
+
+
+#: The 15 % errors of the simulations of sec 5.6 (the "true" plant against the nominal model).
+TRUE_PARAMETERS = FiveBarParameters(lg1=0.051, lg2=0.086, m1=0.1645, m2=0.1967, Jz1=197.3e-6, Jz2=368.7e-6)
+
+
+def chain(p: FiveBarParameters, side: int) -> SerialChain:
+    """Chain 1 (side +1, base at +l0) or chain 2 (side -1, base at -l0, mirrored)."""
+    base = np.eye(4)
+    base[0, 3] = side * p.l0
+    if side < 0:
+        base[:3, :3] = np.diag([-1.0, 1.0, -1.0])
+    inertia = np.array([np.diag([0.0, 0.0, p.Jz1]), np.diag([0.0, 0.0, p.Jz2])])
+    # DH frame B_i sits at the far end of link i with x along it: the CoM is at lg - l on x.
+    com = np.array([[p.lg1 - p.l1, 0.0, 0.0], [p.lg2 - p.l2, 0.0, 0.0]])
+    return SerialChain(a=np.array([p.l1, p.l2]), alpha=np.zeros(2), d=np.zeros(2), theta=np.zeros(2),
+                       prismatic=np.zeros(2, dtype=bool), mass=np.array([p.m1, p.m2]), com=com, inertia=inertia,
+                       base=base, gravity=np.array([0.0, -p.gravity, 0.0]))
+
+
+def five_bar(p: FiveBarParameters = FiveBarParameters()) -> ParallelMechanism:
+    """The 5R as a :class:`ParallelMechanism`: q = [x, y, q11, q12, q21, q22]."""
+    E = np.zeros((4, 6))
+    E[0, 0] = E[1, 1] = E[2, 3] = E[3, 4] = 1.0   # x, y of each tip
+    return ParallelMechanism(chains=(chain(p, +1), chain(p, -1)), platform_mass=np.zeros((2, 2)),
+                             platform_gravity=np.zeros(2), D=np.vstack((np.eye(2), np.eye(2))), d=np.zeros(4), E=E,
+                             F=np.zeros((4, 4)), actuated=np.array([2, 4]))
+
+
+def elbow_guess(p: FiveBarParameters, point: np.ndarray) -> np.ndarray:
+    """Joint angles of both chains reaching ``point`` (x, y) with the elbows outward (4,).
+
+    Raises:
+        FreefloatError: when the point is out of either chain's reach.
+    """
+    out = []
+    for side, c in ((+1, chain(p, +1)), (-1, chain(p, -1))):
+        local = np.linalg.solve(c.base, np.array([point[0], point[1], 0.0, 1.0]))[:2]
+        cos2 = (local @ local - p.l1**2 - p.l2**2) / (2 * p.l1 * p.l2)
+        if abs(cos2) > 1.0:
+            raise FreefloatError(f"5R: point {np.round(point, 4).tolist()} m is out of reach of chain {1 if side > 0 else 2}")
+        q2 = np.arccos(cos2)
+        q1 = np.arctan2(local[1], local[0]) - np.arctan2(p.l2 * np.sin(q2), p.l1 + p.l2 * np.cos(q2))
+        out += [q1, q2]
+    return np.array(out)

@@ -1,0 +1,154 @@
+"""Parallel mechanisms by coupling serial subsystems (thesis proposal sec 5.4, eqs 90-140).
+
+Coordinates ``q = [q#; q°]``: the platform's ``q#`` (the independent coordinates, e.g. the
+end-effector point of the 5R) and the chains' joints ``q° = [q_1; ...; q_n]``. Position
+constraints ``qbar(q) = D q# - d - E x(q°) - F q° = 0`` (eqs 90-96) with ``x`` the stacked chain
+tips in N; differentiated, ``A qdot = 0`` with ``A = [A#, A°] = [D, -(E J_v + F)]`` (eqs 105-108)
+and ``A qddot = b = E o°`` (eqs 109-113, ``o°`` the tips' acceleration bias). The orthogonal
+complement ``C = [I; -A°^+ A#]`` (eq 120) gives ``qdot = C qdot#`` and the coupled dynamics
+``C^T (M' qddot + v' + g') = C^T u'`` (eq 124), simulated with Baumgarte stabilisation (eq 129):
+
+.. math::
+    \\begin{bmatrix} C^T M' \\\\ A \\end{bmatrix} \\ddot q =
+    \\begin{bmatrix} C^T (u' - v' - g') \\\\ b - 2\\lambda A \\dot q - \\lambda^2 \\bar q \\end{bmatrix}.
+
+Inverse dynamics (eqs 130-140): ``q`` by solving ``qbar = 0``, ``qdot = C qdot#``,
+``qddot = C qddot# + [0; A°^+ b]``, then the actuator efforts
+``tau = (C^T U)^-1 C^T (M' qddot + v' + g')`` with ``U`` the actuated coordinates.
+Only the linear-velocity constraints (D, d, E, F) are implemented here.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.linalg import block_diag
+
+from ..errors import FreefloatError
+from .serial import SerialChain
+
+
+@dataclass(frozen=True)
+class ParallelMechanism:
+    """Serial chains joined through a platform.
+
+    Attributes:
+        chains: the serial subsystems B_1..B_n.
+        platform_mass: ``M_B0`` of the platform coordinates q# (p, p); zero for a massless point.
+        platform_gravity: ``g_B0`` (p,), the platform's generalized gravity.
+        D, d, E, F: constant constraint matrices of eq 96 ((m, p), (m,), (m, 3n), (m, n°)).
+        actuated: indices of the actuated coordinates in ``q`` (k,).
+    """
+
+    chains: tuple[SerialChain, ...]
+    platform_mass: np.ndarray
+    platform_gravity: np.ndarray
+    D: np.ndarray
+    d: np.ndarray
+    E: np.ndarray
+    F: np.ndarray
+    actuated: np.ndarray
+
+    @property
+    def p(self) -> int:
+        """Number of platform coordinates q#."""
+        return self.D.shape[1]
+
+    def split(self, q: np.ndarray) -> list[np.ndarray]:
+        """The chains' joint coordinates from ``q = [q#; q°]``."""
+        out, start = [], self.p
+        for chain in self.chains:
+            out.append(q[start:start + chain.dof])
+            start += chain.dof
+        return out
+
+    def constraint(self, q: np.ndarray) -> np.ndarray:
+        """``qbar(q) = D q# - d - E x(q°) - F q°`` (m,)."""
+        x = np.concatenate([c.tip(qi) for c, qi in zip(self.chains, self.split(q))])
+        return self.D @ q[: self.p] - self.d - self.E @ x - self.F @ q[self.p:]
+
+    def terms(self, q: np.ndarray, qd: np.ndarray):
+        """``(A, b, C, M', v', g')`` at (q, qd)."""
+        kins = [c.kinematics(qi, qdi) for c, qi, qdi in zip(self.chains, self.split(q), self.split(qd))]
+        Jv = block_diag(*[k["tip_Jv"] for k in kins])
+        A = np.hstack((self.D, -(self.E @ Jv + self.F)))
+        b = self.E @ np.concatenate([k["tip_c"] for k in kins])
+        A_sharp, A_circ = A[:, : self.p], A[:, self.p:]
+        C = np.vstack((np.eye(self.p), -np.linalg.pinv(A_circ) @ A_sharp))
+        dyn = [c.dynamics(qi, qdi) for c, qi, qdi in zip(self.chains, self.split(q), self.split(qd))]
+        M = block_diag(self.platform_mass, *[m for m, _, _ in dyn])
+        v = np.concatenate([np.zeros(self.p)] + [v for _, v, _ in dyn])
+        g = np.concatenate([self.platform_gravity] + [g for _, _, g in dyn])
+        return A, b, C, M, v, g
+
+    def selection(self) -> np.ndarray:
+        """``U`` (n_q, k): actuator efforts into the generalized forces u'."""
+        U = np.zeros((self.p + sum(c.dof for c in self.chains), len(self.actuated)))
+        U[self.actuated, np.arange(len(self.actuated))] = 1.0
+        return U
+
+    def forward(self, q: np.ndarray, qd: np.ndarray, tau: np.ndarray, baumgarte: float = 0.0) -> np.ndarray:
+        """``qddot`` (n_q,) under actuator efforts ``tau`` (k,), eq 129 with lambda = ``baumgarte``."""
+        A, b, C, M, v, g = self.terms(q, qd)
+        u = self.selection() @ tau
+        rhs_c = b - 2.0 * baumgarte * (A @ qd) - baumgarte**2 * self.constraint(q)
+        return np.linalg.solve(np.vstack((C.T @ M, A)), np.concatenate((C.T @ (u - v - g), rhs_c)))
+
+    def inverse(self, q: np.ndarray, qd_sharp: np.ndarray, qdd_sharp: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Actuator efforts for platform motion (eqs 130-140) at an assembled ``q``.
+
+        Returns:
+            ``(tau, qd, qdd)``: efforts (k,) and the full velocity and acceleration (n_q,).
+        """
+        A0, _, C0, *_ = self.terms(q, np.zeros_like(q))
+        qd = C0 @ qd_sharp
+        A, b, C, M, v, g = self.terms(q, qd)
+        qdd = C @ qdd_sharp + np.concatenate((np.zeros(self.p), np.linalg.pinv(A[:, self.p:]) @ b))
+        tau = np.linalg.solve(C.T @ self.selection(), C.T @ (M @ qdd + v + g))
+        return tau, qd, qdd
+
+    def assemble(self, q_sharp: np.ndarray, guess: np.ndarray, tol: float = 1e-12, iterations: int = 50) -> np.ndarray:
+        """Solve ``qbar = 0`` for the chains' joints at platform coordinates ``q_sharp`` (Newton).
+
+        Raises:
+            FreefloatError: when it does not converge (pose out of reach or singular), with the
+                residual and the platform coordinates.
+        """
+        q = np.concatenate((q_sharp, guess))
+        for _ in range(iterations):
+            residual = self.constraint(q)
+            if np.abs(residual).max() < tol:
+                return q
+            A, *_ = self.terms(q, np.zeros_like(q))
+            q[self.p:] -= np.linalg.lstsq(A[:, self.p:], residual, rcond=None)[0]
+        raise FreefloatError(f"cannot assemble the mechanism at platform coordinates {np.round(q_sharp, 6).tolist()}: "
+                             f"loop-closure residual {np.abs(self.constraint(q)).max():.3g} m after {iterations} Newton steps")
+
+
+def simulate(mechanism: ParallelMechanism, q0: np.ndarray, qd0: np.ndarray, tau, duration: float, step: float,
+             baumgarte: float = 0.0) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Classical RK4 on the coupled coordinates (all Euclidean), Baumgarte-stabilised.
+
+    Args:
+        tau: ``tau(t, q, qd) -> efforts`` (k,), held over each step.
+
+    Returns:
+        ``(t, q, drift)``: times (N,), coordinates (N, n_q), loop-closure residual max |qbar| (N,).
+    """
+    steps = int(round(duration / step))
+    t = np.arange(steps + 1) * step
+    qs, drift = np.empty((steps + 1, len(q0))), np.empty(steps + 1)
+    q, qd = np.array(q0, float), np.array(qd0, float)
+    qs[0], drift[0] = q, np.abs(mechanism.constraint(q)).max()
+    for k in range(steps):
+        u = tau(t[k], q, qd)
+        f = lambda qq, vv: mechanism.forward(qq, vv, u, baumgarte)  # noqa: E731
+        k1q, k1v = qd, f(q, qd)
+        k2q, k2v = qd + step / 2 * k1v, f(q + step / 2 * k1q, qd + step / 2 * k1v)
+        k3q, k3v = qd + step / 2 * k2v, f(q + step / 2 * k2q, qd + step / 2 * k2v)
+        k4q, k4v = qd + step * k3v, f(q + step * k3q, qd + step * k3v)
+        q = q + step / 6 * (k1q + 2 * k2q + 2 * k3q + k4q)
+        qd = qd + step / 6 * (k1v + 2 * k2v + 2 * k3v + k4v)
+        qs[k + 1], drift[k + 1] = q, np.abs(mechanism.constraint(q)).max()
+    return t, qs, drift
