@@ -1,0 +1,177 @@
+"""Sliding-mode control of a parallel platform and its worst-case gain design (thesis proposal
+sec 5.5, eqs 141-170), and the computed-torque law it is compared with (eq 190).
+
+``e = q#_d - q#`` (eq 142 as printed reads ``qddot_d - q``: a typo), ``s = -(edot + lambda e)``,
+``sigma = qddot_d + lambda edot``, and the law ``u* = h^ + H^ (sigma - k f(s))`` (eq 153) with
+``f = sign`` or its smooth ``tanh(100 s)``. The gain ``diag(k) = n + T |sigma| +
+sum_{i >= j} n_ij |qdot#_i| |qdot#_j|`` (eq 167) comes from the worst case, over a grid of the
+workspace and all extreme parameter combinations, of ``Delta = H^-1 H^ - 1``,
+``delta_0 = H^-1 (g^ - g)`` and ``delta_ij = H^-1 (delta^_ij - delta_ij)`` (eqs 155-170).
+"""
+
+from __future__ import annotations
+
+import itertools
+from dataclasses import dataclass, replace
+from typing import Callable
+
+import numpy as np
+
+from .five_bar import FiveBarParameters, elbow_guess, five_bar
+from .platform import platform_dynamics, quadratic_coefficients
+
+#: The six uncertain 5R parameters and their stated uncertainties (sec 5.6, iv).
+UNCERTAINTY = {"lg1": 0.009, "lg2": 0.011, "m1": 0.0215, "m2": 0.0257, "Jz1": 25.7e-6, "Jz2": 48.1e-6}
+
+
+@dataclass(frozen=True)
+class SlidingModeGains:
+    """eq 167: ``diag(k) = n + T |sigma| + sum n_ij |qd_i| |qd_j|``.
+
+    Attributes:
+        n: (p,). T: (p, p). n_ij: {(i, j): (p,)} for i >= j. eta: the reaching rate used.
+        Delta_max, delta0_max, deltaij_max: the worst cases found (element-wise absolute values).
+        points: workspace points used.
+    """
+
+    n: np.ndarray
+    T: np.ndarray
+    n_ij: dict
+    eta: float
+    Delta_max: np.ndarray
+    delta0_max: np.ndarray
+    deltaij_max: dict
+    points: np.ndarray
+
+    def k(self, sigma: np.ndarray, qd_sharp: np.ndarray) -> np.ndarray:
+        """``diag(k)`` at (sigma, qdot#) (p,)."""
+        out = self.n + self.T @ np.abs(sigma)
+        for (i, j), nij in self.n_ij.items():
+            out = out + nij * abs(qd_sharp[i]) * abs(qd_sharp[j])
+        return out
+
+
+def workspace_grid(p: FiveBarParameters, spacing: float = 0.01, max_condition: float = 20.0) -> np.ndarray:
+    """Points (N, 2) of a ``spacing`` grid where the 5R assembles with outward elbows and both the
+    passive-joint matrix A° and the actuation map C^T U have condition numbers below
+    ``max_condition`` (the document draws its non-singular region without stating a threshold;
+    this is freefloat's stated choice)."""
+    mech = five_bar(p)
+    reach = p.l1 + p.l2 + p.l0
+    points = []
+    for x in np.arange(-reach, reach + 1e-9, spacing):
+        for y in np.arange(spacing, reach + 1e-9, spacing):
+            try:
+                q = mech.assemble(np.array([x, y]), elbow_guess(p, np.array([x, y])))
+            except Exception:
+                continue
+            A, _, C, *_ = mech.terms(q, np.zeros(6))
+            if np.linalg.cond(A[:, 2:]) < max_condition and np.linalg.cond(C.T @ mech.selection()) < max_condition:
+                points.append((x, y))
+    return np.array(points)
+
+
+def extreme_parameters(nominal: FiveBarParameters, uncertainty: dict[str, float] = UNCERTAINTY):
+    """The 2^6 parameter sets at the ends of the uncertainty intervals."""
+    names = list(uncertainty)
+    for signs in itertools.product((-1.0, 1.0), repeat=len(names)):
+        yield replace(nominal, **{n: getattr(nominal, n) + s * uncertainty[n] for n, s in zip(names, signs)})
+
+
+def design_gains(nominal: FiveBarParameters, points: np.ndarray, eta: float = 20.0,
+                 uncertainty: dict[str, float] = UNCERTAINTY) -> SlidingModeGains:
+    """Worst-case gains (eqs 155-170) over ``points`` and all extreme parameter sets.
+
+    Raises:
+        ValueError: when ``1 - |Delta|_max`` is not invertible with a positive inverse (eq 161).
+    """
+    est = five_bar(nominal)
+    models = [five_bar(pp) for pp in extreme_parameters(nominal, uncertainty)]
+    p = est.p
+    Dmax, d0max = np.zeros((p, p)), np.zeros(p)
+    dijmax: dict = {}
+    for point in points:
+        q = est.assemble(point, elbow_guess(nominal, point))
+        H_hat, _, g_hat, _ = platform_dynamics(est, q, np.zeros(p))
+        qc_hat = quadratic_coefficients(est, q)
+        for mech in models:
+            H, _, g, _ = platform_dynamics(mech, q, np.zeros(p))
+            Hinv = np.linalg.inv(H)
+            Dmax = np.maximum(Dmax, np.abs(Hinv @ H_hat - np.eye(p)))
+            d0max = np.maximum(d0max, np.abs(Hinv @ (g_hat - g)))
+            for key, coef in quadratic_coefficients(mech, q).items():
+                dijmax[key] = np.maximum(dijmax.get(key, np.zeros(p)), np.abs(Hinv @ (qc_hat[key] - coef)))
+    inv = np.linalg.inv(np.eye(p) - Dmax)
+    if (inv < 0).any():
+        raise ValueError(f"(1 - |Delta|_max)^-1 has negative entries (|Delta|_max = {Dmax.tolist()}): eq 161 has no solution")
+    return SlidingModeGains(n=inv @ (d0max + eta), T=inv @ Dmax, n_ij={k: inv @ v for k, v in dijmax.items()}, eta=eta,
+                            Delta_max=Dmax, delta0_max=d0max, deltaij_max=dijmax, points=points)
+
+
+Reference = Callable[[float], tuple[np.ndarray, np.ndarray, np.ndarray]]
+
+
+@dataclass
+class PlatformController:
+    """Sliding mode (eq 153) or computed torque (eq 190) on the estimated model.
+
+    Attributes:
+        estimate: the nominal parameters the controller believes.
+        reference: ``t -> (q#_d, qdot#_d, qddot#_d)``.
+        lam: lambda (1/s).
+        gains: sliding-mode gains; None means computed torque ``u* = h^ + H^ (qddot_d + 2 lam edot + lam^2 e)``.
+        saturation: ``"sign"`` or ``"tanh"`` (``tanh(100 s)``).
+    """
+
+    estimate: FiveBarParameters
+    reference: Reference
+    lam: float
+    gains: SlidingModeGains | None = None
+    saturation: str = "tanh"
+
+    def __post_init__(self):
+        self.model = five_bar(self.estimate)
+        self.log: list[tuple[float, np.ndarray, np.ndarray]] = []
+
+    def efforts(self, t: float, q: np.ndarray, qd: np.ndarray) -> np.ndarray:
+        """Actuator torques (k,) for the measured full state (q, qd)."""
+        q_d, qd_d, qdd_d = self.reference(t)
+        e, edot = q_d - q[:2], qd_d - qd[:2]
+        H, v, g, B = platform_dynamics(self.model, q, qd[:2])
+        if self.gains is None:
+            u = v + g + H @ (qdd_d + 2.0 * self.lam * edot + self.lam**2 * e)
+            s = -(edot + self.lam * e)
+        else:
+            s = -(edot + self.lam * e)
+            sigma = qdd_d + self.lam * edot
+            f = np.sign(s) if self.saturation == "sign" else np.tanh(100.0 * s)
+            u = v + g + H @ (sigma - self.gains.k(sigma, qd[:2]) * f)
+        self.log.append((t, e.copy(), s.copy()))
+        return np.linalg.solve(B, u)
+
+
+def circle_reference(t: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Sec 5.6's reference (eq 189): x = 0.07 cos(28.57 t), y = 0.17 + 0.07 sin(28.57 t), m."""
+    w, r = 28.57, 0.07
+    c, s = np.cos(w * t), np.sin(w * t)
+    return np.array([r * c, 0.17 + r * s]), np.array([-r * w * s, r * w * c]), np.array([-r * w * w * c, -r * w * w * s])
+
+
+def track(plant: FiveBarParameters, controller: PlatformController, duration: float, step: float,
+          baumgarte: float = 100.0, start=(0.07, 0.17)):
+    """Closed loop from rest at ``start``: RK4 on the plant's coupled coordinates, efforts held over
+    each step. Returns ``(t, q, efforts, log)`` with the controller's (t, e, s) log."""
+    from .mechanism import simulate
+
+    mech = five_bar(plant)
+    point = np.array(start, float)
+    q0 = mech.assemble(point, elbow_guess(plant, point))
+    efforts = []
+
+    def tau(t, q, qd):
+        u = controller.efforts(t, q, qd)
+        efforts.append(u)
+        return u
+
+    t, qs, _ = simulate(mech, q0, np.zeros(len(q0)), tau, duration, step, baumgarte)
+    return t, qs, np.array(efforts), controller.log
