@@ -57,3 +57,18 @@ def test_sliding_mode_tracks_better_than_computed_torque(gains):
     smc = late_error(PlatformController(NOMINAL, circle_reference, 40.0, gains))
     ct = late_error(PlatformController(NOMINAL, circle_reference, 40.0, None))
     assert np.all(smc < 0.3 * ct)
+
+
+def test_dynamics_are_linear_in_the_six_base_parameters():
+    """H, g_M and delta_ij at a point, rebuilt from the six base parameters, match a direct evaluation."""
+    from freefloat.parallel.platform import quadratic_coefficients
+    from freefloat.parallel.sliding_mode import base_parameters, point_coefficients
+
+    q = five_bar(NOMINAL).assemble(POINTS[0], elbow_guess(NOMINAL, POINTS[0]))
+    H_c, g_c, quad_c = point_coefficients(NOMINAL, q)
+    pi = base_parameters(TRUE_PARAMETERS)
+    H, _, g, _ = platform_dynamics(five_bar(TRUE_PARAMETERS), q, np.zeros(2))
+    np.testing.assert_allclose(np.tensordot(pi, H_c, 1), H, rtol=1e-9)
+    np.testing.assert_allclose(pi @ g_c, g, rtol=1e-9)
+    for key, coef in quadratic_coefficients(five_bar(TRUE_PARAMETERS), q).items():
+        np.testing.assert_allclose(pi @ quad_c[key], coef, rtol=1e-8, atol=1e-12)

@@ -37,6 +37,8 @@ class FiveBarParameters:
 
 #: The 15 % errors of the simulations of sec 5.6 (the "true" plant against the nominal model).
 TRUE_PARAMETERS = FiveBarParameters(lg1=0.051, lg2=0.086, m1=0.1645, m2=0.1967, Jz1=197.3e-6, Jz2=368.7e-6)
+#: The same errors grown to 50 % (sec 5.6, last paragraph), with the signs of the 15 % case.
+TRUE_PARAMETERS_50 = FiveBarParameters(lg1=0.03, lg2=0.1125, m1=0.2145, m2=0.2565, Jz1=257.4e-6, Jz2=480.9e-6)
 
 
 def chain(p: FiveBarParameters, side: int) -> SerialChain:

@@ -127,11 +127,13 @@ class ParallelMechanism:
 
 
 def simulate(mechanism: ParallelMechanism, q0: np.ndarray, qd0: np.ndarray, tau, duration: float, step: float,
-             baumgarte: float = 0.0) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Classical RK4 on the coupled coordinates (all Euclidean), Baumgarte-stabilised.
+             baumgarte: float = 0.0, method: str = "rk4") -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Classical RK4 (or semi-implicit Euler) on the coupled coordinates (all Euclidean),
+    Baumgarte-stabilised. A run that blows up stops there (the arrays end early).
 
     Args:
         tau: ``tau(t, q, qd) -> efforts`` (k,), held over each step.
+        method: ``"rk4"`` or ``"euler"`` (semi-implicit).
 
     Returns:
         ``(t, q, drift)``: times (N,), coordinates (N, n_q), loop-closure residual max |qbar| (N,).
@@ -144,6 +146,13 @@ def simulate(mechanism: ParallelMechanism, q0: np.ndarray, qd0: np.ndarray, tau,
     for k in range(steps):
         u = tau(t[k], q, qd)
         f = lambda qq, vv: mechanism.forward(qq, vv, u, baumgarte)  # noqa: E731
+        if method == "euler":
+            qd = qd + step * f(q, qd)
+            q = q + step * qd
+            qs[k + 1], drift[k + 1] = q, np.abs(mechanism.constraint(q)).max()
+            if not np.isfinite(drift[k + 1]) or drift[k + 1] > 1.0:
+                return t[: k + 2], qs[: k + 2], drift[: k + 2]
+            continue
         k1q, k1v = qd, f(q, qd)
         k2q, k2v = qd + step / 2 * k1v, f(q + step / 2 * k1q, qd + step / 2 * k1v)
         k3q, k3v = qd + step / 2 * k2v, f(q + step / 2 * k2q, qd + step / 2 * k2v)
@@ -151,4 +160,6 @@ def simulate(mechanism: ParallelMechanism, q0: np.ndarray, qd0: np.ndarray, tau,
         q = q + step / 6 * (k1q + 2 * k2q + 2 * k3q + k4q)
         qd = qd + step / 6 * (k1v + 2 * k2v + 2 * k3v + k4v)
         qs[k + 1], drift[k + 1] = q, np.abs(mechanism.constraint(q)).max()
+        if not np.isfinite(drift[k + 1]) or drift[k + 1] > 1.0:
+            return t[: k + 2], qs[: k + 2], drift[: k + 2]
     return t, qs, drift

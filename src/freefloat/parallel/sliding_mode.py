@@ -78,29 +78,56 @@ def extreme_parameters(nominal: FiveBarParameters, uncertainty: dict[str, float]
         yield replace(nominal, **{n: getattr(nominal, n) + s * uncertainty[n] for n, s in zip(names, signs)})
 
 
+def base_parameters(p: FiveBarParameters) -> np.ndarray:
+    """``(m1, m1 lg1, m1 lg1^2 + Jz1, m2, m2 lg2, m2 lg2^2 + Jz2)``: the 5R's dynamics (H, v_M,
+    g_M) are linear in these six numbers (each link's mass, first and second moments about its
+    joint), which makes every parameter set a linear combination of six evaluations."""
+    return np.array([p.m1, p.m1 * p.lg1, p.m1 * p.lg1**2 + p.Jz1, p.m2, p.m2 * p.lg2, p.m2 * p.lg2**2 + p.Jz2])
+
+
+def point_coefficients(nominal: FiveBarParameters, q: np.ndarray) -> tuple[np.ndarray, np.ndarray, dict]:
+    """Per-base-parameter coefficients of H (6, p, p), g_M (6, p) and each delta_ij (6, p) at q."""
+    rng = np.random.default_rng(0)
+    names = ("lg1", "lg2", "m1", "m2", "Jz1", "Jz2")
+    sets = [replace(nominal, **{n: getattr(nominal, n) * (1.0 + 0.3 * rng.normal()) for n in names}) for _ in range(6)]
+    X = np.array([base_parameters(pp) for pp in sets])
+    rows = []
+    for pp in sets:
+        mech = five_bar(pp)
+        H, _, g, _ = platform_dynamics(mech, q, np.zeros(2))
+        quad = quadratic_coefficients(mech, q)
+        rows.append(np.concatenate([H.ravel(), g] + [quad[k] for k in sorted(quad)]))
+    coef = np.linalg.solve(X, np.array(rows))
+    keys = sorted(quadratic_coefficients(five_bar(nominal), q))
+    p = 2
+    H_c, g_c = coef[:, : p * p].reshape(6, p, p), coef[:, p * p: p * p + p]
+    quad_c = {k: coef[:, p * p + p + 2 * i: p * p + p + 2 * i + 2] for i, k in enumerate(keys)}
+    return H_c, g_c, quad_c
+
+
 def design_gains(nominal: FiveBarParameters, points: np.ndarray, eta: float = 20.0,
                  uncertainty: dict[str, float] = UNCERTAINTY) -> SlidingModeGains:
-    """Worst-case gains (eqs 155-170) over ``points`` and all extreme parameter sets.
+    """Worst-case gains (eqs 155-170) over ``points`` and all 2^6 extreme parameter sets.
 
     Raises:
         ValueError: when ``1 - |Delta|_max`` is not invertible with a positive inverse (eq 161).
     """
     est = five_bar(nominal)
-    models = [five_bar(pp) for pp in extreme_parameters(nominal, uncertainty)]
+    extremes = np.array([base_parameters(pp) for pp in extreme_parameters(nominal, uncertainty)])
+    pi_hat = base_parameters(nominal)
     p = est.p
     Dmax, d0max = np.zeros((p, p)), np.zeros(p)
     dijmax: dict = {}
     for point in points:
         q = est.assemble(point, elbow_guess(nominal, point))
-        H_hat, _, g_hat, _ = platform_dynamics(est, q, np.zeros(p))
-        qc_hat = quadratic_coefficients(est, q)
-        for mech in models:
-            H, _, g, _ = platform_dynamics(mech, q, np.zeros(p))
-            Hinv = np.linalg.inv(H)
+        H_c, g_c, quad_c = point_coefficients(nominal, q)
+        H_hat, g_hat = np.tensordot(pi_hat, H_c, 1), pi_hat @ g_c
+        for pi in extremes:
+            Hinv = np.linalg.inv(np.tensordot(pi, H_c, 1))
             Dmax = np.maximum(Dmax, np.abs(Hinv @ H_hat - np.eye(p)))
-            d0max = np.maximum(d0max, np.abs(Hinv @ (g_hat - g)))
-            for key, coef in quadratic_coefficients(mech, q).items():
-                dijmax[key] = np.maximum(dijmax.get(key, np.zeros(p)), np.abs(Hinv @ (qc_hat[key] - coef)))
+            d0max = np.maximum(d0max, np.abs(Hinv @ (g_hat - pi @ g_c)))
+            for key, c in quad_c.items():
+                dijmax[key] = np.maximum(dijmax.get(key, np.zeros(p)), np.abs(Hinv @ ((pi_hat - pi) @ c)))
     inv = np.linalg.inv(np.eye(p) - Dmax)
     if (inv < 0).any():
         raise ValueError(f"(1 - |Delta|_max)^-1 has negative entries (|Delta|_max = {Dmax.tolist()}): eq 161 has no solution")
