@@ -9,8 +9,6 @@ import pytest
 from freefloat import FreefloatError
 from freefloat.parallel.five_bar import FiveBarParameters, elbow_guess, five_bar
 
-from freefloat.parallel.serial import dh_matrix
-
 from .test_serial import pinocchio_chain
 
 P = FiveBarParameters()
@@ -32,7 +30,8 @@ def pinocchio_five_bar(mech):
     tips = []
     for chain in mech.chains:
         model = _append(model, pinocchio_chain(chain))
-        tip = dh_matrix(chain.theta[-1], chain.d[-1], chain.a[-1], chain.alpha[-1])  # B_nu in the last joint's frame
+        tip = chain.link[-1].copy()  # B_nu in the last joint's frame, then the tip point in B_nu
+        tip[:3, 3] = tip[:3, :3] @ chain.tip_point + tip[:3, 3]
         tips.append((model.njoints - 1, pin.SE3(tip)))
     cm = pin.RigidConstraintModel(pin.ContactType.CONTACT_3D, model, tips[0][0], tips[0][1], tips[1][0], tips[1][1],
                                   pin.ReferenceFrame.LOCAL)

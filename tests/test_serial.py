@@ -20,24 +20,24 @@ def random_chain(seed: int, n: int) -> SerialChain:
     base = np.eye(4)
     base[:3, :3] = pin.exp3(rng.normal(size=3))
     base[:3, 3] = rng.normal(size=3)
-    return SerialChain(a=rng.uniform(-0.5, 0.5, n), alpha=rng.uniform(-np.pi, np.pi, n), d=rng.uniform(-0.3, 0.3, n),
-                       theta=rng.uniform(-np.pi, np.pi, n), prismatic=rng.random(n) < 0.3, mass=rng.uniform(0.2, 3.0, n),
-                       com=rng.uniform(-0.2, 0.2, (n, 3)), inertia=np.array(inertia), base=base,
-                       gravity=np.array([0.0, -9.8, 0.0]))
+    return SerialChain.from_dh(a=rng.uniform(-0.5, 0.5, n), alpha=rng.uniform(-np.pi, np.pi, n), d=rng.uniform(-0.3, 0.3, n),
+                               theta=rng.uniform(-np.pi, np.pi, n), prismatic=rng.random(n) < 0.3, mass=rng.uniform(0.2, 3.0, n),
+                               com=rng.uniform(-0.2, 0.2, (n, 3)), inertia=np.array(inertia), base=base,
+                               gravity=np.array([0.0, -9.8, 0.0]))
 
 
 def pinocchio_chain(chain: SerialChain) -> pin.Model:
     """The same chain as a fixed-base Pinocchio model: joint i about z of B_{i-1}."""
     model = pin.Model()
     model.gravity = pin.Motion(chain.gravity, np.zeros(3))
-    parent, placement = 0, pin.SE3(chain.base)
+    parent, previous_link = 0, pin.SE3(chain.base)
     for i in range(chain.dof):
         joint_model = pin.JointModelPZ() if chain.prismatic[i] else pin.JointModelRZ()
-        jid = model.addJoint(parent, joint_model, placement, f"j{i + 1}")
-        # B_i = joint frame * Rz(theta0) Tz(d0) Tx(a) Rx(alpha) (the joint motion itself sits in the joint)
-        X = pin.SE3(dh_matrix(chain.theta[i], chain.d[i], chain.a[i], chain.alpha[i]))
-        model.appendBodyToJoint(jid, X.act(pin.Inertia(chain.mass[i], chain.com[i], chain.inertia[i])), pin.SE3.Identity())
-        parent, placement = jid, X
+        jid = model.addJoint(parent, joint_model, previous_link * pin.SE3(chain.placement[i]), f"j{i + 1}")
+        # B_i = joint frame * (joint motion) * L_i: the inertia, given in B_i, goes to the joint frame through L_i
+        L = pin.SE3(chain.link[i])
+        model.appendBodyToJoint(jid, L.act(pin.Inertia(chain.mass[i], chain.com[i], chain.inertia[i])), pin.SE3.Identity())
+        parent, previous_link = jid, L
     return model
 
 

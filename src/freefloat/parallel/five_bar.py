@@ -50,9 +50,8 @@ def chain(p: FiveBarParameters, side: int) -> SerialChain:
     inertia = np.array([np.diag([0.0, 0.0, p.Jz1]), np.diag([0.0, 0.0, p.Jz2])])
     # DH frame B_i sits at the far end of link i with x along it: the CoM is at lg - l on x.
     com = np.array([[p.lg1 - p.l1, 0.0, 0.0], [p.lg2 - p.l2, 0.0, 0.0]])
-    return SerialChain(a=np.array([p.l1, p.l2]), alpha=np.zeros(2), d=np.zeros(2), theta=np.zeros(2),
-                       prismatic=np.zeros(2, dtype=bool), mass=np.array([p.m1, p.m2]), com=com, inertia=inertia,
-                       base=base, gravity=np.array([0.0, -p.gravity, 0.0]))
+    return SerialChain.from_dh(a=[p.l1, p.l2], alpha=[0.0, 0.0], d=[0.0, 0.0], theta=[0.0, 0.0], prismatic=[False, False],
+                               mass=[p.m1, p.m2], com=com, inertia=inertia, base=base, gravity=[0.0, -p.gravity, 0.0])
 
 
 def five_bar(p: FiveBarParameters = FiveBarParameters()) -> ParallelMechanism:

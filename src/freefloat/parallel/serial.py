@@ -36,46 +36,63 @@ def dh_matrix(theta: float, d: float, a: float, alpha: float) -> np.ndarray:
 
 @dataclass(frozen=True)
 class SerialChain:
-    """A serial chain from DH rows.
+    """A serial chain: joint frames ``J_i = B_{i-1} P_i``, link frames ``B_i = J_i Rz(q_i) L_i``
+    (revolute about z of J_i) or ``J_i Tz(q_i) L_i`` (prismatic along it), ``B_0`` = ``base``.
+
+    DH rows (:meth:`from_dh`) give ``P_i = I``, ``L_i = Rz(theta_i) Tz(d_i) Tx(a_i) Rx(alpha_i)``;
+    a URDF chain gives ``P_i`` = the joint origins and ``L_i = I``.
 
     Attributes:
-        a, alpha, d, theta: DH parameters (nu,); ``theta`` (revolute) or ``d`` (prismatic) is the
-            offset added to the joint coordinate.
+        placement: P_i (nu, 4, 4).
+        link: L_i (nu, 4, 4).
         prismatic: joint kinds (nu,), False for revolute.
         mass: link masses, kg (nu,).
         com: link CoMs in their frames B_i, m (nu, 3).
         inertia: link inertias about their CoMs in B_i, kg m^2 (nu, 3, 3).
-        base: pose of the chain's base frame B_0 in the inertial frame N (4, 4).
+        base: pose of B_0 in the inertial frame N (4, 4).
+        tip: the end-effector point in B_nu, m (3,).
         gravity: gravity in N, m/s^2 (3,).
     """
 
-    a: np.ndarray
-    alpha: np.ndarray
-    d: np.ndarray
-    theta: np.ndarray
+    placement: np.ndarray
+    link: np.ndarray
     prismatic: np.ndarray
     mass: np.ndarray
     com: np.ndarray
     inertia: np.ndarray
     base: np.ndarray = field(default_factory=lambda: np.eye(4))
+    tip_point: np.ndarray = field(default_factory=lambda: np.zeros(3))
     gravity: np.ndarray = field(default_factory=lambda: np.zeros(3))
+
+    @classmethod
+    def from_dh(cls, a, alpha, d, theta, prismatic, mass, com, inertia, base=None, gravity=None) -> "SerialChain":
+        """A chain from standard DH rows (theta or d is the offset added to the joint coordinate)."""
+        n = len(a)
+        return cls(placement=np.tile(np.eye(4), (n, 1, 1)),
+                   link=np.array([dh_matrix(theta[i], d[i], a[i], alpha[i]) for i in range(n)]),
+                   prismatic=np.asarray(prismatic, dtype=bool), mass=np.asarray(mass, float), com=np.asarray(com, float),
+                   inertia=np.asarray(inertia, float), base=np.eye(4) if base is None else np.asarray(base, float),
+                   gravity=np.zeros(3) if gravity is None else np.asarray(gravity, float))
 
     @property
     def dof(self) -> int:
-        return len(self.a)
+        return len(self.mass)
 
-    def frames(self, q: np.ndarray) -> np.ndarray:
-        """``[1]^H_{N|B_i}`` for i = 0..nu (nu + 1, 4, 4), eq 23."""
-        out = [self.base]
+    def frames(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Link frames ``[1]^H_{N|B_i}`` for i = 0..nu (nu + 1, 4, 4) (eq 23) and joint frames
+        J_i (nu, 4, 4), all in N."""
+        links, joints = [self.base], []
         for i in range(self.dof):
-            theta = self.theta[i] + (0.0 if self.prismatic[i] else q[i])
-            d = self.d[i] + (q[i] if self.prismatic[i] else 0.0)
-            out.append(out[-1] @ dh_matrix(theta, d, self.a[i], self.alpha[i]))
-        return np.array(out)
+            J = links[-1] @ self.placement[i]
+            motion = dh_matrix(0.0, q[i], 0.0, 0.0) if self.prismatic[i] else dh_matrix(q[i], 0.0, 0.0, 0.0)
+            joints.append(J)
+            links.append(J @ motion @ self.link[i])
+        return np.array(links), np.array(joints)
 
     def tip(self, q: np.ndarray) -> np.ndarray:
-        """End-effector point ``x = o_nu`` in N (3,), eq 25."""
-        return self.frames(q)[-1][:3, 3]
+        """End-effector point in N (3,), eq 25 (``o_nu`` for DH chains)."""
+        B = self.frames(q)[0][-1]
+        return B[:3, :3] @ self.tip_point + B[:3, 3]
 
     def kinematics(self, q: np.ndarray, qd: np.ndarray):
         """Everything eqs 26-60 give at (q, qd).
@@ -88,11 +105,11 @@ class SerialChain:
             angular velocities in B_i (nu, 3).
         """
         n = self.dof
-        H = self.frames(q)
-        k = H[:-1, :3, 2]                                   # k_{j-1} in N (n, 3)
-        o = H[:-1, :3, 3]                                   # o_{j-1} in N (n, 3)
+        H, J = self.frames(q)
+        k = J[:, :3, 2]                                     # joint axes in N (n, 3): k_{j-1} of DH
+        o = J[:, :3, 3]                                     # points on them (n, 3): o_{j-1} of DH
         g = np.einsum("nij,nj->ni", H[1:, :3, :3], self.com) + H[1:, :3, 3]
-        x = H[-1, :3, 3]
+        x = H[-1, :3, :3] @ self.tip_point + H[-1, :3, 3]
         rev = ~np.asarray(self.prismatic, dtype=bool)
         lower = np.tril(np.ones((n, n), dtype=bool))        # joint j moves link i iff j <= i
 
