@@ -9,6 +9,7 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
+from freefloat.parallel.five_bar import five_bar_spec
 from freefloat.builders import (
     build_urdf,
     dual_arm_satellite,
@@ -21,12 +22,13 @@ URDF_DIR = Path(__file__).resolve().parents[1] / "urdf"
 
 
 def main(out_dir: Path = URDF_DIR) -> None:
-    """Write the four-arm, two-arm and dual-arm-satellite URDFs into ``out_dir``."""
+    """Write the four-arm, two-arm, dual-arm-satellite and 5R spanning-tree URDFs into ``out_dir``."""
     out_dir.mkdir(parents=True, exist_ok=True)
     robots = {
         "four_arm_planar.urdf": build_urdf(four_arm_planar()),
         "two_arm_planar.urdf": build_urdf(two_arm_planar()),
         "dual_arm_satellite.urdf": dual_arm_satellite(),
+        "five_bar.urdf": build_urdf(five_bar_spec()),
     }
     for name, urdf in robots.items():
         print(write_urdf(urdf, out_dir / name))

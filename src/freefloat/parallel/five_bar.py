@@ -79,3 +79,20 @@ def elbow_guess(p: FiveBarParameters, point: np.ndarray) -> np.ndarray:
         q1 = np.arctan2(local[1], local[0]) - np.arctan2(p.l2 * np.sin(q2), p.l1 + p.l2 * np.cos(q2))
         out += [q1, q2]
     return np.array(out)
+
+
+def five_bar_spec(p: FiveBarParameters = FiveBarParameters()):
+    """The 5R's spanning tree as a :class:`freefloat.builders.RobotSpec`: two RR arms ``c1``
+    (pivot at +l0) and ``c2`` (pivot at -l0, turned by pi about y: eq 178's mirror), links with
+    their CoM at lg along x and inertia Jz about z; the tips ``c1_ee``, ``c2_ee`` close the loop.
+    The base is fixed (its mass plays no part)."""
+    from ..builders import ArmSpec, LinkSpec, RobotSpec
+
+    def links():
+        return (LinkSpec(p.l1, p.m1, (0.0, 0.0, p.Jz1), com=(p.lg1, 0.0, 0.0)),
+                LinkSpec(p.l2, p.m2, (0.0, 0.0, p.Jz2), com=(p.lg2, 0.0, 0.0)))
+
+    return RobotSpec(name="five_bar", base_mass=1.0, base_inertia=(0.01, 0.01, 0.01), base_com=(0.0, 0.0, 0.0),
+                     base_size=(2.2 * p.l0, 0.02, 0.02),
+                     arms=(ArmSpec("c1", (p.l0, 0.0, 0.0), (0.0, 0.0, 0.0), links()),
+                           ArmSpec("c2", (-p.l0, 0.0, 0.0), (0.0, np.pi, 0.0), links())))

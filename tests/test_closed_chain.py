@@ -1,0 +1,75 @@
+"""Mechanisms as data: the 5R's URDF spanning tree plus its closure file, loaded into both models."""
+
+from __future__ import annotations
+
+import numpy as np
+import pinocchio as pin
+import pytest
+
+from freefloat import FreefloatError
+from freefloat.builders import build_urdf, urdf_xml
+from freefloat.parallel.closed_chain import load_closed_chain
+from freefloat.parallel.five_bar import FiveBarParameters, elbow_guess, five_bar, five_bar_spec
+
+from .conftest import REPO
+
+CLOSURE = REPO / "urdf" / "five_bar.closure.toml"
+P = FiveBarParameters()
+
+
+@pytest.fixture(scope="module")
+def loaded():
+    return load_closed_chain(CLOSURE)
+
+
+def state(mech, point=(0.07, 0.17), rates=(0.3, -0.2)):
+    point = np.array(point)
+    q = mech.assemble(point, elbow_guess(P, point))
+    _, _, C, *_ = mech.terms(q, np.zeros(len(q)))
+    return q, C @ np.array(rates)
+
+
+def test_committed_urdf_is_what_the_data_generates():
+    """urdf/five_bar.urdf is exactly the spanning tree freefloat.parallel.five_bar describes."""
+    assert urdf_xml(build_urdf(five_bar_spec(P))) == (REPO / "urdf" / "five_bar.urdf").read_text()
+
+
+def test_urdf_model_matches_the_model_built_from_data(loaded):
+    """Orsino's model read from the URDF and the closure file gives the data-built 5R's accelerations."""
+    q, qd = state(five_bar(P))
+    tau = np.array([0.02, -0.01])
+    a_ref = five_bar(P).forward(q, qd, tau)
+    np.testing.assert_allclose(loaded.mechanism.forward(q, qd, tau), a_ref, atol=1e-12 * np.abs(a_ref).max())
+
+
+def test_pinocchio_with_the_closure_file_matches_orsino(loaded):
+    """Pinocchio's constraintDynamics on the URDF with the file's loop closure equals Orsino's model."""
+    rng = np.random.default_rng(0)
+    model, cms = loaded.model, loaded.constraints
+    data, cds = model.createData(), [c.createData() for c in cms]
+    pin.initConstraintDynamics(model, data, cms, cds)
+    for point in ([0.07, 0.17], [-0.03, 0.2], [0.02, 0.13]):
+        q, qd = state(loaded.mechanism, point, rng.normal(size=2))
+        tau = rng.normal(size=2) * 0.05
+        ours = loaded.mechanism.forward(q, qd, tau)
+        tau_pin = np.zeros(model.nv)
+        for j, t in zip(loaded.actuated, tau):
+            tau_pin[model.idx_vs[j]] = t
+        ddq = pin.constraintDynamics(model, data, loaded.pinocchio_q(q), loaded.pinocchio_q(qd), tau_pin, cms, cds,
+                                     pin.ProximalSettings(1e-14, 1e-12, 50))
+        np.testing.assert_allclose(loaded.pinocchio_q(ours), ddq, atol=1e-10 * np.abs(ddq).max())
+
+
+@pytest.mark.parametrize(("edit", "message"), [
+    (lambda s: s.replace('frames = ["c1_ee", "c2_ee"]', 'frames = ["c1_ee", "c3_ee"]'), "'closures\\[0\\].frames' names frame 'c3_ee'"),
+    (lambda s: s.replace('actuated = ["c1_joint1", "c2_joint1"]', 'actuated = ["c1_joint9"]'), "'actuated' names joint 'c1_joint9'"),
+    (lambda s: s.replace('coordinates = ["x", "y"]', 'coordinates = ["x", "w"]'), "'platform.coordinates' must be a list of x, y, z"),
+    (lambda s: s.replace('urdf = "five_bar.urdf"', 'urdf = "six_bar.urdf"'), "'urdf' file .*six_bar.urdf does not exist"),
+    (lambda s: s.replace('frames = ["c1_ee", "c2_ee"]', 'frames = ["c1_ee"]'), "must name two frames"),
+])
+def test_bad_closure_files_name_the_key(tmp_path, edit, message):
+    """Unknown frames or joints, bad coordinates, a missing URDF, a one-frame closure: named errors."""
+    (tmp_path / "five_bar.urdf").write_text((REPO / "urdf" / "five_bar.urdf").read_text())
+    (tmp_path / "m.toml").write_text(edit(CLOSURE.read_text()))
+    with pytest.raises(FreefloatError, match=message):
+        load_closed_chain(tmp_path / "m.toml")
