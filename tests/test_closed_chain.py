@@ -73,3 +73,19 @@ def test_bad_closure_files_name_the_key(tmp_path, edit, message):
     (tmp_path / "m.toml").write_text(edit(CLOSURE.read_text()))
     with pytest.raises(FreefloatError, match=message):
         load_closed_chain(tmp_path / "m.toml")
+
+
+def test_five_bar_animation_places_the_joints_where_orsino_does(tmp_path):
+    """The meshcat page of a 5R run animates chain 1's second joint at Orsino's joint frame."""
+    from freefloat.parallel.sliding_mode import PlatformController, circle_reference, track
+    from freefloat.reproduce.five_bar_report import animate
+
+    from .test_viz import _animation, _packets
+
+    t, qs, _, _ = track(P, PlatformController(P, circle_reference, 40.0, None), 0.01, 1e-3)
+    page = animate(t, qs, tmp_path / "five_bar.html")
+    tracks = {path: tr for path, tr in _animation(_packets(page)).items() if path.endswith("c1_joint2")}
+    assert len(tracks) == 1
+    (tr,) = tracks.values()
+    _, joints = five_bar(P).chains[0].frames(qs[-1, 2:4])
+    np.testing.assert_allclose(tr[".position"][-1][1], joints[1][:3, 3], atol=1e-9)

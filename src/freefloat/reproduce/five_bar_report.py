@@ -24,10 +24,12 @@ EQ_187 = {"n": [75.3, 108.0], "xdot2": [37.0, 54.1], "xdot_ydot": [22.7, 35.5], 
           "T": [[1.25, 0.92], [1.68, 1.65]]}
 
 
-def run_case(gains, plant: FiveBarParameters, duration: float, step: float) -> dict:
-    """One closed-loop run; summary numbers."""
+def run_case(gains, plant: FiveBarParameters, duration: float, step: float, html: Path | None = None) -> dict:
+    """One closed-loop run; summary numbers; optionally its meshcat animation."""
     controller = PlatformController(FiveBarParameters(), circle_reference, 40.0, gains)
-    _, _, efforts, log = track(plant, controller, duration, step)
+    t_sim, qs, efforts, log = track(plant, controller, duration, step)
+    if html is not None:
+        animate(t_sim, qs, html)
     t = np.array([row[0] for row in log])
     e = np.array([row[1] for row in log])
     s = np.array([row[2] for row in log])
@@ -63,6 +65,23 @@ def reproduce(out: Path, quick: bool = False) -> dict:
     (out / "report.md").write_text(markdown(report))
     figure(report, out / "errors.png")
     return report
+
+
+def animate(t: np.ndarray, qs: np.ndarray, path: Path) -> Path:
+    """Self-contained meshcat page of a 5R run: the spanning-tree URDF with its base held still,
+    the chains' joints from Orsino's coordinates ``[x, y, q11, q12, q21, q22]``."""
+    import warnings
+
+    from ..loading import load_robot
+    from ..paths import URDF_DIR
+    from ..viz import write_trajectory_html
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        robot = load_robot(URDF_DIR / "five_bar.urdf")
+    q = np.tile(robot.neutral(), (len(t), 1))
+    q[:, 7:] = qs[:, 2:]
+    return write_trajectory_html(robot, t, q, path, fps=200.0)
 
 
 def markdown(report: dict) -> str:
