@@ -30,14 +30,18 @@ def main(argv: list[str] | None = None) -> int:
     ver.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
     ver.add_argument("--json", type=Path, default=None, help="also write the report as JSON here")
     rep = commands.add_parser("reproduce", help="reproduce a study of the documents against the exact reference")
-    rep.add_argument("study", choices=["models", "task_space", "phases", "five_bar", "closure_stability"],
+    rep.add_argument("study", choices=["models", "task_space", "phases", "five_bar", "closure_stability", "robustness"],
                      help="models: which dynamics model matches the exact one, where; task_space: sec 5.2 "
                           "(Tables 2-5, figs 38-40); phases: one model per capture phase vs exact; "
                           "five_bar: the 5R's sliding-mode gains and tracking (thesis sec 5.6); "
-                          "closure_stability: loop-closure drift over step and Baumgarte lambda")
+                          "closure_stability: loop-closure drift over step and Baumgarte lambda; "
+                          "robustness: Monte-Carlo of the 5R controller through Dask")
     rep.add_argument("--out", type=Path, default=None, help="output folder (default: runs/reproduce-<study>-<time>)")
     rep.add_argument("--quick", action="store_true", help="short runs and few samples (a smoke test)")
     rep.add_argument("--workers", type=int, default=2, help="parallel processes (default 2)")
+    rep.add_argument("--runs", type=int, default=20, help="robustness: Monte-Carlo runs (default 20)")
+    rep.add_argument("--error", type=float, default=0.5, help="robustness: parameter error band (default 0.5 = 50 %%)")
+    rep.add_argument("--scheduler", default=None, help="robustness: Dask scheduler address (default: a local cluster)")
     args = parser.parse_args(argv)
     commands_run = {"simulate": _simulate, "scenes": lambda _: _scenes(), "verify": _verify, "reproduce": _reproduce}
     try:
@@ -70,8 +74,10 @@ def _reproduce(args: argparse.Namespace) -> int:
             report = phases_report.reproduce(out, quick=args.quick)
         elif args.study == "five_bar":
             report = five_bar_report.reproduce(out, quick=args.quick)
-        else:
+        elif args.study == "closure_stability":
             report = five_bar_report.reproduce_stability(out, quick=args.quick)
+        else:
+            report = five_bar_report.reproduce_robustness(out, args.quick, args.runs, args.error, args.scheduler)
     print((out / "report.md").read_text())
     print(f"wrote {out} in {report['wall_time_s']:.0f} s")
     return 0

@@ -105,12 +105,11 @@ def point_coefficients(nominal: FiveBarParameters, q: np.ndarray) -> tuple[np.nd
     return H_c, g_c, quad_c
 
 
-def design_gains(nominal: FiveBarParameters, points: np.ndarray, eta: float = 20.0,
-                 uncertainty: dict[str, float] = UNCERTAINTY) -> SlidingModeGains:
-    """Worst-case gains (eqs 155-170) over ``points`` and all 2^6 extreme parameter sets.
+def worst_case(nominal: FiveBarParameters, points: np.ndarray, uncertainty: dict[str, float] = UNCERTAINTY):
+    """``(|Delta|_max, |delta_0|_max, {ij: |delta_ij|_max})`` over ``points`` and the 2^6 extremes.
 
-    Raises:
-        ValueError: when ``1 - |Delta|_max`` is not invertible with a positive inverse (eq 161).
+    Worst cases of disjoint point sets combine by element-wise maximum, so the grid can be split
+    across workers (:mod:`freefloat.parallel.sweeps`).
     """
     est = five_bar(nominal)
     extremes = np.array([base_parameters(pp) for pp in extreme_parameters(nominal, uncertainty)])
@@ -128,11 +127,26 @@ def design_gains(nominal: FiveBarParameters, points: np.ndarray, eta: float = 20
             d0max = np.maximum(d0max, np.abs(Hinv @ (g_hat - pi @ g_c)))
             for key, c in quad_c.items():
                 dijmax[key] = np.maximum(dijmax.get(key, np.zeros(p)), np.abs(Hinv @ ((pi_hat - pi) @ c)))
-    inv = np.linalg.inv(np.eye(p) - Dmax)
+    return Dmax, d0max, dijmax
+
+
+def gains_from_worst_case(Dmax: np.ndarray, d0max: np.ndarray, dijmax: dict, eta: float, points: np.ndarray) -> SlidingModeGains:
+    """Eqs 168-170 from the worst cases.
+
+    Raises:
+        ValueError: when ``1 - |Delta|_max`` is not invertible with a positive inverse (eq 161).
+    """
+    inv = np.linalg.inv(np.eye(len(d0max)) - Dmax)
     if (inv < 0).any():
         raise ValueError(f"(1 - |Delta|_max)^-1 has negative entries (|Delta|_max = {Dmax.tolist()}): eq 161 has no solution")
     return SlidingModeGains(n=inv @ (d0max + eta), T=inv @ Dmax, n_ij={k: inv @ v for k, v in dijmax.items()}, eta=eta,
                             Delta_max=Dmax, delta0_max=d0max, deltaij_max=dijmax, points=points)
+
+
+def design_gains(nominal: FiveBarParameters, points: np.ndarray, eta: float = 20.0,
+                 uncertainty: dict[str, float] = UNCERTAINTY) -> SlidingModeGains:
+    """Worst-case gains (eqs 155-170) over ``points`` and all 2^6 extreme parameter sets."""
+    return gains_from_worst_case(*worst_case(nominal, points, uncertainty), eta=eta, points=points)
 
 
 Reference = Callable[[float], tuple[np.ndarray, np.ndarray, np.ndarray]]
