@@ -8,7 +8,7 @@ import pytest
 from hypothesis import given, settings
 
 from freefloat.conventions import (
-    base_state, inertial_to_local_twist, local_to_inertial_twist, state_from_base, twist_map,
+    base_state, cross_rows, inertial_to_local_twist, local_to_inertial_twist, state_from_base, twist_map,
 )
 from freefloat.errors import FreefloatError
 from freefloat.loading import BASE_COM_FRAME
@@ -102,3 +102,9 @@ def test_local_base_acceleration_inverts_base_acceleration(tmp_path_factory, cas
     q, v = random_state(robot, rng)
     a = rng.normal(size=robot.model.nv)
     np.testing.assert_allclose(local_base_acceleration(robot, q, v, base_acceleration(robot, q, v, a)), a[:6], atol=1e-12)
+
+
+def test_cross_rows_matches_numpy_cross_under_broadcasting():
+    rng = np.random.default_rng(7)
+    a, b = rng.normal(size=(4, 1, 3)), rng.normal(size=(1, 5, 3))
+    np.testing.assert_allclose(cross_rows(a, b), np.cross(a, b), atol=1e-15)

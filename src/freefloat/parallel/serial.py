@@ -23,6 +23,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from freefloat.conventions import cross_rows
+
 
 
 def dh_matrix(theta: float, d: float, a: float, alpha: float) -> np.ndarray:
@@ -115,7 +117,7 @@ class SerialChain:
 
         def point_jacobian(points: np.ndarray, mask: np.ndarray) -> np.ndarray:
             lever = points[:, None, :] - o[None, :, :]
-            cols = np.where(rev[None, :, None], np.cross(k[None], lever), k[None])
+            cols = np.where(rev[None, :, None], cross_rows(k[None], lever), k[None])
             return (cols * mask[:, :, None]).transpose(0, 2, 1)
 
         Jv = point_jacobian(g, lower)
@@ -130,14 +132,14 @@ class SerialChain:
         def bias(points: np.ndarray, jac: np.ndarray, mask: np.ndarray) -> np.ndarray:
             # eq 50: sum_j k x (k x (p - o_{j-1})) qd_j^2 (revolute) + 2 w_{j-1} x j_v,j qd_j
             lever = points[:, None, :] - o[None, :, :]
-            centripetal = np.where(rev[None, :, None], np.cross(k[None], np.cross(k[None], lever)), 0.0) * (qd**2)[None, :, None]
-            coriolis = 2.0 * np.cross(w_prev[None], jac.transpose(0, 2, 1)) * qd[None, :, None]
+            centripetal = np.where(rev[None, :, None], cross_rows(k[None], cross_rows(k[None], lever)), 0.0) * (qd**2)[None, :, None]
+            coriolis = 2.0 * cross_rows(w_prev[None], jac.transpose(0, 2, 1)) * qd[None, :, None]
             return ((centripetal + coriolis) * mask[:, :, None]).sum(axis=1)
 
         c = bias(g, Jv, lower)
         tip_c = bias(x[None], tip_Jv[None], np.ones((1, n), dtype=bool))[0]
         # eq 56: dw_i^0 = sum_{j <= i} w_{j-1} x k_{j-1} qd_j (revolute), then to B_i (eq 60)
-        terms = np.where(rev[:, None], np.cross(w_prev, k) * qd[:, None], 0.0)
+        terms = np.where(rev[:, None], cross_rows(w_prev, k) * qd[:, None], 0.0)
         dw0_N = np.cumsum(terms, axis=0)
         dw0 = np.einsum("nji,nj->ni", R, dw0_N)
         w = np.einsum("nji,nj->ni", R, w_N)
@@ -150,7 +152,7 @@ class SerialChain:
         Jv, Jw, m, inertia = kin["Jv"], kin["Jw"], self.mass, self.inertia
         M = np.einsum("n,nki,nkj->ij", m, Jv, Jv) + np.einsum("nki,nkl,nlj->ij", Jw, inertia, Jw)
         Iw = np.einsum("nkl,nl->nk", inertia, kin["w"])
-        torque = np.einsum("nkl,nl->nk", inertia, kin["dw0"]) + np.cross(kin["w"], Iw)
+        torque = np.einsum("nkl,nl->nk", inertia, kin["dw0"]) + cross_rows(kin["w"], Iw)
         v = np.einsum("n,nki,nk->i", m, Jv, kin["c"]) + np.einsum("nki,nk->i", Jw, torque)
         gvec = -np.einsum("n,nki,k->i", m, Jv, self.gravity)
         return 0.5 * (M + M.T), v, gvec
