@@ -12,7 +12,7 @@ from hypothesis import strategies as st
 from freefloat import load_robot
 
 REPO = Path(__file__).resolve().parents[1]
-SPART = REPO.parent / "shared" / "reference" / "spart"  # shared/ sits beside the clone
+SPART = REPO / "tests" / "data" / "spart"  # SPART reference values, copied from shared/reference/spart
 
 
 def random_urdf(rng: np.random.Generator, n_links: int, fixed_share: float = 0.2) -> str:
@@ -94,7 +94,5 @@ def random_state(robot, rng: np.random.Generator, speed: float = 1.0):
 
 @pytest.fixture(scope="session")
 def spart_dir() -> Path:
-    """SPART reference folder (shared/reference/spart)."""
-    if not SPART.is_dir():
-        pytest.skip("shared/reference/spart is not beside the repository")
+    """SPART reference folder (tests/data/spart): its URDFs and its values at one state each."""
     return SPART

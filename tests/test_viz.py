@@ -27,7 +27,10 @@ from freefloat.viz.figures import (
     torque_figure,
 )
 
-SPART = Path("/work/shared/reference/spart/urdf")
+from .conftest import SPART
+
+SPART_URDF = SPART / "urdf"
+
 SHARE = Path(
     str(importlib.metadata.distribution("example-robot-data").locate_file("cmeel.prefix/share"))
 )
@@ -43,17 +46,17 @@ def _load(path: Path, **kwargs):
 
 @pytest.fixture(scope="module")
 def sc3():
-    return _load(SPART / "SC_3DoF.urdf")
+    return _load(SPART_URDF / "SC_3DoF.urdf")
 
 
 @pytest.fixture(scope="module")
 def sc3_stick():
-    return _load(SPART / "SC_3DoF.urdf", visuals=False)
+    return _load(SPART_URDF / "SC_3DoF.urdf", visuals=False)
 
 
 @pytest.fixture(scope="module")
 def iiwa2():
-    return _load(SPART / "2_iiwa_base.urdf")
+    return _load(SPART_URDF / "2_iiwa_base.urdf")
 
 
 @pytest.fixture(scope="module")
