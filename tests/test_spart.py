@@ -19,6 +19,7 @@ import pytest
 from freefloat import gjm, load_robot
 from freefloat.conventions import base_acceleration, state_from_base
 from freefloat.models import ExactModel
+from freefloat.verify import relative_error
 
 CASES = ["SC_3DoF", "ManiSat_2Arm_2_2", "two_iiwa_base", "kuka_iiwa"]
 SWAP = np.block([[np.zeros((3, 3)), np.eye(3)], [np.eye(3), np.zeros((3, 3))]])  # [v; w] <-> [w; v]
@@ -48,10 +49,9 @@ def with_end_effector_at_com(robot, link: str):
     return dataclasses.replace(robot, end_effectors=("spart_rp",))
 
 
-def spart_error(ours, theirs) -> float:
-    """Largest entry-wise difference from SPART's value, relative to its largest entry (or 1)."""
-    theirs = np.array(theirs, dtype=float).reshape(np.shape(ours))
-    return float(np.abs(np.asarray(ours) - theirs).max() / max(1.0, np.abs(theirs).max()))
+def spart_error(ours: np.ndarray, theirs: list) -> float:
+    """Relative error of our value from SPART's JSON value, reshaped to ours."""
+    return relative_error(np.asarray(ours), np.array(theirs, dtype=float).reshape(np.shape(ours)))
 
 
 TOL = 1e-10  # SPART agrees with Pinocchio to about 1e-14 (shared/reference/spart/README.md)
