@@ -134,6 +134,10 @@ def run(
     report_every = max(1, steps // 200)
 
     end_period = getattr(model, "end_period", None)
+
+    def free_dynamics(qs: np.ndarray, vs: np.ndarray) -> np.ndarray:
+        return model.acceleration(qs, vs, tau_full)  # tau_full is updated in place each period
+
     q, v, work, row, k = np.array(q0, dtype=float), np.array(v0, dtype=float), 0.0, 0, 0
     status, message = "completed", ""
     tau = np.zeros(robot.n_joints)
@@ -150,7 +154,7 @@ def run(
             if field is not None and field.activate(t):
                 f = lambda qs, vs: model.acceleration(qs, vs, tau_full, field.forces(qs))  # noqa: E731
             else:
-                f = lambda qs, vs: model.acceleration(qs, vs, tau_full)  # noqa: E731
+                f = free_dynamics
             q_next, v_next = integrator.advance(f, q, v, control_period)
             if not np.abs(v_next).max() < MAX_SPEED:  # also false for NaN
                 raise SimulationDiverged(
