@@ -4,11 +4,19 @@ from __future__ import annotations
 
 import numpy as np
 import pinocchio as pin
+import pytest
 from hypothesis import given, settings
 
+from freefloat import load_robot
 from freefloat.control import ComputedTorque, QuinticTrajectory, joint_space_dynamics
+from freefloat.control.detumbling_control import DetumblingController
+from freefloat.control.inverse_egjm import InverseEGJM
+from freefloat.control.task_space import TaskSpaceComputedTorque
+from freefloat.detumbling import task_rows
+from freefloat.models import make_model
+from freefloat.reproduce.states import state_with_momentum
 
-from .conftest import random_robots, random_state, robot_from_case
+from .conftest import REPO, random_robots, random_state, robot_from_case
 
 
 def test_quintic_hits_its_ends_at_rest():
@@ -53,3 +61,30 @@ def test_generalized_inertia_is_symmetric_positive_definite(tmp_path_factory, ca
     H, _ = joint_space_dynamics(robot, robot.model.createData(), q, v)
     np.testing.assert_allclose(H, H.T, atol=1e-10 * np.abs(H).max())
     assert np.linalg.eigvalsh(H).min() > 0.0
+
+
+def nidc_controllers(robot, q):
+    """The three computed-torque controllers, each on the ``nidc`` model (name -> controller)."""
+    n, rows = robot.n_joints, task_rows(robot, [("arm1_ee", "wz")])
+    theta = q[7:]
+    return {
+        "joint_space": ComputedTorque(robot, QuinticTrajectory(theta, theta + 0.1, 5.0), 10.0, 100.0, "nidc"),
+        "task_space": TaskSpaceComputedTorque(robot, InverseEGJM(rows), lambda t: np.zeros(1), theta, 0.01,
+                                              model="nidc"),
+        "detumbling": DetumblingController(robot, rows, np.arange(n), 0.0, 0.01, model="nidc"),
+    }
+
+
+@pytest.mark.parametrize("name", ["joint_space", "task_space", "detumbling"])
+def test_controllers_advance_the_nidc_integral_once_per_period(name):
+    """Two periods of a controller on ``nidc`` leave D = dt dxdot0/dq at the first state (eq 67),
+    as a model advanced by hand does."""
+    robot = load_robot(REPO / "urdf" / "four_arm_planar.urdf", visuals=False)
+    q, v = state_with_momentum(robot, np.random.default_rng(11))
+    controller = nidc_controllers(robot, q)[name]
+    controller.torque(0.0, q, v)
+    controller.torque(0.01, q, v)
+    by_hand = make_model("nidc", robot)
+    by_hand.end_period(q, v, 0.01)
+    assert np.abs(by_hand.D).max() > 1e-6
+    np.testing.assert_allclose(controller.dynamics.model.D, by_hand.D, rtol=1e-12, atol=1e-15)

@@ -17,8 +17,8 @@ import numpy as np
 from .. import gjm
 from ..detumbling import solve
 from ..joints import JointCoordinates
-from ..models import make_model
 from ..robot import Robot
+from .computed_torque import ControllerDynamics
 
 
 class DetumblingController:
@@ -39,7 +39,7 @@ class DetumblingController:
                  method: str = "min_norm", kp: float = 10.0, kd: float = 100.0, model: str = "exact"):
         self.robot, self.rows, self.joints, self.start, self.T = robot, rows, joints, start, control_period
         self.method, self.kp, self.kd = method, kp, kd
-        self.model = make_model(model, robot)
+        self.dynamics = ControllerDynamics(robot, model)
         self.coords = JointCoordinates(robot)
         self.hold: np.ndarray | None = None
         self._qdot_prev: np.ndarray | None = None
@@ -54,7 +54,7 @@ class DetumblingController:
         nb = self.robot.n_base
         if self.hold is None:
             self.hold = self.coords.get(q)
-        H, c = self.model.joint_space_at(q, v)
+        H, c = self.dynamics.at(t, q, v)
         if t < self.start:
             return H @ (self.kp * (self.hold - self.coords.get(q)) - self.kd * v[nb:]) + c
         sol = solve(gjm.compute(self.robot, q, v), self.rows, self.joints, self.method)

@@ -15,8 +15,8 @@ import numpy as np
 
 from .. import gjm
 from ..joints import JointCoordinates
-from ..models import make_model
 from ..robot import Robot
+from .computed_torque import ControllerDynamics
 from .inverse_egjm import InverseEGJM
 
 #: ``reference(t) -> xdot_d``: end-effector rates of the task rows (len(rows),), inertial frame.
@@ -40,7 +40,7 @@ class TaskSpaceComputedTorque:
                  control_period: float, kp: float = 10.0, kd: float = 100.0, model: str = "exact"):
         self.robot, self.inverse, self.rate_reference = robot, inverse, reference
         self.T, self.kp, self.kd = control_period, kp, kd
-        self.model = make_model(model, robot)
+        self.dynamics = ControllerDynamics(robot, model)
         self.joints = JointCoordinates(robot)
         self.q_d = np.array(q_d0, dtype=float)
         self._qdot_prev: np.ndarray | None = None
@@ -65,5 +65,5 @@ class TaskSpaceComputedTorque:
         """Joint torques (n,) for the measured state (q, v) at time t."""
         q_d, qdot_d, qddot_d = self.reference_joint(t, q, v)
         nb = self.robot.n_base
-        H, c = self.model.joint_space_at(q, v)
+        H, c = self.dynamics.at(t, q, v)
         return H @ (qddot_d + self.kp * (q_d - self.joints.get(q)) + self.kd * (qdot_d - v[nb:])) + c
