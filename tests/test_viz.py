@@ -17,6 +17,7 @@ import pytest
 import umsgpack
 
 from freefloat.loading import load_robot
+from freefloat.metrics import free_com_motion, summarize
 from freefloat.telemetry import Telemetry
 from freefloat.viz import frame_indices, write_figures, write_trajectory_html
 from freefloat.viz.figures import (
@@ -369,13 +370,14 @@ def test_end_effector_paths_mark_start_and_end(iiwa2):
         np.testing.assert_array_equal(lines[f"{name} end"], tel.ee_position[-1:, k, :2])
 
 
-def test_drift_curves_are_distances_from_the_first_sample(iiwa2):
-    """CoM and momentum drift curves are the norms of the differences from sample 0."""
+def test_drift_curves_are_the_summary_drifts(iiwa2):
+    """The CoM curve is the distance from the free CoM motion (its maximum is the summary's
+    com_drift_max); the momentum curves are the norms of the differences from sample 0."""
     tel = _telemetry(iiwa2)
-    com_ax, momentum_ax = com_drift_figure(tel).axes
-    np.testing.assert_allclose(
-        _lines(com_ax)["|com - com(0)|"][:, 1], np.linalg.norm(tel.com - tel.com[0], axis=1)
-    )
+    com_ax, momentum_ax = com_drift_figure(iiwa2, tel).axes
+    com_curve = _lines(com_ax)["|com - free motion|"][:, 1]
+    np.testing.assert_allclose(com_curve, np.linalg.norm(tel.com - free_com_motion(tel, iiwa2), axis=1))
+    assert com_curve.max() == summarize(tel, iiwa2)["com_drift_max"]
     linear, angular = (line.get_ydata() for line in momentum_ax.get_lines())
     np.testing.assert_allclose(
         linear, np.linalg.norm(tel.momentum[:, :3] - tel.momentum[0, :3], axis=1)

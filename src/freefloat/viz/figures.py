@@ -16,6 +16,7 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 from scipy.spatial.transform import Rotation
 
+from ..metrics import free_com_motion
 from ..robot import Robot
 from ..telemetry import Telemetry
 
@@ -39,7 +40,7 @@ def write_figures(robot: Robot, telemetry: Telemetry, out_dir: str | Path) -> li
         "torques.png": torque_figure(robot, telemetry),
         "base_trajectory.png": base_trajectory_figure(telemetry),
         "end_effector_paths.png": end_effector_paths_figure(robot, telemetry),
-        "com_drift.png": com_drift_figure(telemetry),
+        "com_drift.png": com_drift_figure(robot, telemetry),
     }
     written = []
     for name, figure in figures.items():
@@ -103,12 +104,14 @@ def end_effector_paths_figure(robot: Robot, telemetry: Telemetry) -> Figure:
     return figure
 
 
-def com_drift_figure(telemetry: Telemetry) -> Figure:
-    """Drift of the system CoM ``|com(t) - com(0)|`` (m) and of the momenta ``|P(t) - P(0)|``
-    (kg m/s) and ``|L(t) - L(0)|`` (kg m^2/s, about the inertial origin) vs t."""
+def com_drift_figure(robot: Robot, telemetry: Telemetry) -> Figure:
+    """Drift of the system CoM from its free motion (m; the curve whose maximum is the summary's
+    ``com_drift_max``, see :func:`freefloat.metrics.free_com_motion`) and of the momenta
+    ``|P(t) - P(0)|`` (kg m/s) and ``|L(t) - L(0)|`` (kg m^2/s, about the inertial origin) vs t."""
     figure, (com_ax, momentum_ax) = _figure(2, 1, (8.0, 6.0))
     t, momentum = telemetry.t, telemetry.momentum
-    com_ax.plot(t, np.linalg.norm(telemetry.com - telemetry.com[0], axis=1), label="|com - com(0)|")
+    drift = np.linalg.norm(telemetry.com - free_com_motion(telemetry, robot), axis=1)
+    com_ax.plot(t, drift, label="|com - free motion|")
     _finish(com_ax, "t (s)", "CoM drift (m)")
     momentum_ax.plot(
         t, np.linalg.norm(momentum[:, :3] - momentum[0, :3], axis=1), label="|P - P(0)| (kg m/s)"
