@@ -69,18 +69,31 @@ class ParallelMechanism:
         return self.D @ q[: self.p] - self.d - self.E @ x - self.F @ q[self.p:]
 
     def terms(self, q: np.ndarray, qd: np.ndarray):
-        """``(A, b, C, M', v', g')`` at (q, qd)."""
-        kins = [c.kinematics(qi, qdi) for c, qi, qdi in zip(self.chains, self.split(q), self.split(qd))]
-        Jv = block_diag(*[k["tip_Jv"] for k in kins])
-        A = np.hstack((self.D, -(self.E @ Jv + self.F)))
+        """``(A, b, C, M', v', g')`` at (q, qd): constraint Jacobian (m, n_q) and bias (m,) with
+        ``A qdd = b``; velocity map (n_q, p) with ``qd = C qd#``; mass matrix (n_q, n_q), velocity
+        and gravity terms (n_q,). Coordinates ordered [q#; chain 1; chain 2; ...]."""
+        kins = self._kinematics(q, qd)
+        A = self._constraint_jacobian(kins)
         b = self.E @ np.concatenate([k["tip_c"] for k in kins])
-        A_sharp, A_circ = A[:, : self.p], A[:, self.p:]
-        C = np.vstack((np.eye(self.p), -np.linalg.pinv(A_circ) @ A_sharp))
-        dyn = [c.dynamics(qi, qdi) for c, qi, qdi in zip(self.chains, self.split(q), self.split(qd))]
+        dyn = [c.dynamics_from(k) for c, k in zip(self.chains, kins)]
         M = block_diag(self.platform_mass, *[m for m, _, _ in dyn])
         v = np.concatenate([np.zeros(self.p)] + [v for _, v, _ in dyn])
         g = np.concatenate([self.platform_gravity] + [g for _, _, g in dyn])
-        return A, b, C, M, v, g
+        return A, b, self._velocity_map(A), M, v, g
+
+    def velocity_map(self, q: np.ndarray) -> np.ndarray:
+        """``C`` (n_q, p) with ``qd = C qd#`` on the constraint manifold at ``q``; depends on q only."""
+        return self._velocity_map(self._constraint_jacobian(self._kinematics(q, np.zeros_like(q))))
+
+    def _kinematics(self, q: np.ndarray, qd: np.ndarray) -> list[dict]:
+        return [c.kinematics(qi, qdi) for c, qi, qdi in zip(self.chains, self.split(q), self.split(qd))]
+
+    def _constraint_jacobian(self, kins: list[dict]) -> np.ndarray:
+        Jv = block_diag(*[k["tip_Jv"] for k in kins])
+        return np.hstack((self.D, -(self.E @ Jv + self.F)))
+
+    def _velocity_map(self, A: np.ndarray) -> np.ndarray:
+        return np.vstack((np.eye(self.p), -np.linalg.pinv(A[:, self.p:]) @ A[:, : self.p]))
 
     def selection(self) -> np.ndarray:
         """``U`` (n_q, k): actuator efforts into the generalized forces u'."""
@@ -101,8 +114,7 @@ class ParallelMechanism:
         Returns:
             ``(tau, qd, qdd)``: efforts (k,) and the full velocity and acceleration (n_q,).
         """
-        A0, _, C0, *_ = self.terms(q, np.zeros_like(q))
-        qd = C0 @ qd_sharp
+        qd = self.velocity_map(q) @ qd_sharp
         A, b, C, M, v, g = self.terms(q, qd)
         qdd = C @ qdd_sharp + np.concatenate((np.zeros(self.p), np.linalg.pinv(A[:, self.p:]) @ b))
         tau = np.linalg.solve(C.T @ self.selection(), C.T @ (M @ qdd + v + g))

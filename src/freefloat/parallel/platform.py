@@ -19,8 +19,7 @@ from .mechanism import ParallelMechanism
 def platform_dynamics(mech: ParallelMechanism, q: np.ndarray, qd_sharp: np.ndarray):
     """``(H, v_M, g_M, B)`` at an assembled q and platform rates: (p, p), (p,), (p,) and
     ``B = C^T U`` (p, k), which maps actuator efforts to u*."""
-    A0, _, C0, *_ = mech.terms(q, np.zeros_like(q))
-    qd = C0 @ qd_sharp
+    qd = mech.velocity_map(q) @ qd_sharp
     A, b, C, M, v, g = mech.terms(q, qd)
     c = np.concatenate((np.zeros(mech.p), np.linalg.pinv(A[:, mech.p:]) @ b))
     return C.T @ M @ C, C.T @ (M @ c + v), C.T @ g, C.T @ mech.selection()

@@ -148,7 +148,10 @@ class SerialChain:
 
     def dynamics(self, q: np.ndarray, qd: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """``(M, v, g)`` of eqs 61-64: (nu, nu), (nu,), (nu,)."""
-        kin = self.kinematics(q, qd)
+        return self.dynamics_from(self.kinematics(q, qd))
+
+    def dynamics_from(self, kin: dict) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """``(M, v, g)`` of eqs 61-64 from :meth:`kinematics` already evaluated at (q, qd)."""
         Jv, Jw, m, inertia = kin["Jv"], kin["Jw"], self.mass, self.inertia
         M = np.einsum("n,nki,nkj->ij", m, Jv, Jv) + np.einsum("nki,nkl,nlj->ij", Jw, inertia, Jw)
         Iw = np.einsum("nkl,nl->nk", inertia, kin["w"])
