@@ -7,7 +7,7 @@ import pinocchio as pin
 import pytest
 
 from freefloat import load_robot
-from freefloat.metrics import nested_rms, rotation_angle
+from freefloat.metrics import momentum_drift, nested_rms, rotation_angle
 
 from .conftest import REPO
 
@@ -44,3 +44,11 @@ def test_com_drift_discounts_the_motion_momentum_demands():
     np.testing.assert_allclose(free_com_motion(tel, robot), tel.com, atol=1e-14)
     tel.com[5:, 1] += 1e-3
     assert np.abs(tel.com - free_com_motion(tel, robot)).max() == pytest.approx(1e-3)
+
+
+def test_momentum_drift_is_the_larger_vector_norm_change():
+    """An analytic case: P changes by (3, 4, 0) (norm 5) at sample 1, L by (0, 0, 2) at sample 2."""
+    momentum = np.zeros((3, 6))
+    momentum[1, :3] = [3.0, 4.0, 0.0]
+    momentum[2, 5] = 2.0
+    assert momentum_drift(momentum + 7.0) == 5.0

@@ -142,3 +142,11 @@ def test_nidc_readings_differ_only_through_the_base_translation(four_arm):
     np.testing.assert_allclose(shifted.acceleration(q, v, tau), plain.acceleration(q, v, tau), rtol=1e-12, atol=1e-12)
     shifted.D[:, :3] = rng.normal(size=(16, 3)) * 1e-2
     assert np.abs(shifted.acceleration(q, v, tau) - plain.acceleration(q, v, tau)).max() > 1e-8
+
+
+def test_corrected_c0_without_the_full_hdot_is_refused(four_arm):
+    """The corrected base term is only defined with the full Hdot; the half combination is named."""
+    from freefloat.models.underactuated import UnderactuatedGJM
+
+    with pytest.raises(ValueError, match="corrected_c0 implies full_hdot"):
+        UnderactuatedGJM(four_arm, full_hdot=False, corrected_c0=True)

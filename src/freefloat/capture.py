@@ -25,6 +25,7 @@ import pinocchio as pin
 
 from .conventions import skew
 from .errors import FreefloatError
+from .metrics import momentum_drift
 from .robot import Robot
 
 TARGET_FRAME = "captured_target"
@@ -271,7 +272,7 @@ def capture_and_detumble(robot: Robot, target: Target, end_effector: str, rows_s
         "momentum_before_impact": hit.momentum_before.tolist(),
         "momentum_after_impact": hit.momentum_after.tolist(),
         "momentum_balance_error": float(np.abs(hit.momentum_after - hit.momentum_before).max()),
-        "momentum_drift_after_impact": float(np.abs(tel.momentum - tel.momentum[0]).max()),
+        "momentum_drift_after_impact": momentum_drift(tel.momentum),
         "target_angular_velocity_at_impact": float(w[0]),
         "target_angular_velocity_final": float(w[-1]),
         "settling_time": settled,

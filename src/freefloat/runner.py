@@ -182,13 +182,13 @@ def simulate_scene(
     )
     summary = summarize(result.telemetry, prepared.robot) if len(result.telemetry.t) else {}
     if scene.task.kind == "detumble" and len(result.telemetry.t):
-        summary.update(detumble_summary(prepared.robot, result.telemetry, *detumble_task(prepared.robot, scene)))
+        summary.update(detumble_summary(prepared.robot, result.telemetry, detumble_task(prepared.robot, scene)[0]))
     summary.update(status=result.status, message=result.message, steps=result.steps,
                    sim_wall_time_s=result.wall_time_s, model_evaluations=result.evaluations)
     return prepared, result, summary
 
 
-def detumble_summary(robot: Robot, telemetry, rows: np.ndarray, joints: np.ndarray, threshold: float = 1e-6) -> dict:
+def detumble_summary(robot: Robot, telemetry, rows: np.ndarray, threshold: float = 1e-6) -> dict:
     """Speed of the detumbled rows over the run: final, settling time below ``threshold``."""
     from . import gjm
 

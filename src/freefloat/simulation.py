@@ -49,7 +49,7 @@ class Recorder:
     """Fills telemetry rows from (q, v): kinematics, momentum, energy. One Pinocchio Data of its own."""
 
     def __init__(self, robot: Robot, telemetry: Telemetry):
-        self.robot, self.tel = robot, telemetry
+        self.tel = telemetry
         self.model = robot.model
         self.data = robot.model.createData()
         self.joints = JointCoordinates(robot)
@@ -61,7 +61,7 @@ class Recorder:
     def record(self, row: int, t: float, q: np.ndarray, v: np.ndarray, tau: np.ndarray,
                reference: np.ndarray | None, work: float) -> None:
         """Write row ``row`` of the telemetry."""
-        model, data, tel, robot = self.model, self.data, self.tel, self.robot
+        model, data, tel = self.model, self.data, self.tel
         hg = pin.computeCentroidalMomentum(model, data, q, v)  # also forward kinematics and CoM
         com = data.com[0]
         tel.t[row], tel.q[row], tel.v[row], tel.tau[row] = t, q, v, tau

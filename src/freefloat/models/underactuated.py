@@ -45,8 +45,10 @@ class UnderactuatedGJM(GJMModelBase):
     def __init__(self, robot: Robot, full_hdot: bool = False, corrected_c0: bool = False):
         super().__init__(robot)
         self.full_hdot, self.corrected = full_hdot, corrected_c0
-        self.name = {(False, False): "standard", (True, False): "standard_full_hdot",
-                     (True, True): "standard_corrected"}.get((full_hdot, corrected_c0), "standard_c0_only")
+        names = {(False, False): "standard", (True, False): "standard_full_hdot", (True, True): "standard_corrected"}
+        if (full_hdot, corrected_c0) not in names:
+            raise ValueError("the corrected c0 needs the full Hdot (corrected_c0 implies full_hdot)")
+        self.name = names[(full_hdot, corrected_c0)]
 
     def rates(self, t: Terms) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """``(H0dot, H0mdot, Hmdot)`` of this variant."""
@@ -98,10 +100,6 @@ class NIDCModel(UnderactuatedGJM):
         self.translation = translation
         self.name = "nidc_translation" if translation else "nidc"
         self.D = np.zeros((robot.n_joints, 6))
-
-    def reset(self) -> None:
-        """Back to ``D = 0`` (start of a run)."""
-        self.D[:] = 0.0
 
     def augmented(self, t: Terms) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Partials with the base turned by the rotational part of D: ``dH0, dH0m, dHm``."""
