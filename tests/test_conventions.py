@@ -8,7 +8,8 @@ import pytest
 from hypothesis import given, settings
 
 from freefloat.conventions import (
-    base_state, cross_rows, inertial_to_local_twist, local_to_inertial_twist, state_from_base, twist_map,
+    base_state, cross_rows, inertial_to_local_twist, local_to_inertial_twist, momentum_about_origin, state_from_base,
+    twist_map,
 )
 from freefloat.errors import FreefloatError
 from freefloat.loading import BASE_COM_FRAME
@@ -108,3 +109,18 @@ def test_cross_rows_matches_numpy_cross_under_broadcasting():
     rng = np.random.default_rng(7)
     a, b = rng.normal(size=(4, 1, 3)), rng.normal(size=(1, 5, 3))
     np.testing.assert_allclose(cross_rows(a, b), np.cross(a, b), atol=1e-15)
+
+
+@settings(max_examples=15, deadline=None)
+@given(random_robots())
+def test_momentum_about_origin_is_the_sum_of_body_momenta(tmp_path_factory, case):
+    """[P; L about the origin] equals the sum over bodies of their spatial momenta mapped to the
+    inertial frame (oMi . (I_i v_i)), without the centroidal algorithm."""
+    robot, rng = robot_from_case(tmp_path_factory, case)
+    q, v = random_state(robot, rng)
+    model, data = robot.model, robot.model.createData()
+    pin.forwardKinematics(model, data, q, v)
+    total = sum((data.oMi[i].act(model.inertias[i] * data.v[i]).vector for i in range(1, model.njoints)),
+                np.zeros(6))
+    np.testing.assert_allclose(momentum_about_origin(model, model.createData(), q, v), total,
+                               atol=1e-10 * max(1.0, np.abs(total).max()))

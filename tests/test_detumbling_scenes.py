@@ -10,7 +10,7 @@ import pytest
 from freefloat import SceneError
 from freefloat.cli import main
 from freefloat.runner import prepare
-from freefloat.scenes import builtin_scenes, find_scene, parse_scene
+from freefloat.scenes import builtin_scenes, parse_scene
 from freefloat.telemetry import Telemetry
 
 from .test_viz import _animation, _packets

@@ -23,7 +23,7 @@ from dataclasses import dataclass
 import numpy as np
 import pinocchio as pin
 
-from .conventions import skew
+from .conventions import momentum_about_origin, skew
 from .errors import FreefloatError
 from .metrics import momentum_drift
 from .robot import Robot
@@ -109,8 +109,7 @@ class TargetBody:
 
     def momentum(self, q: np.ndarray, v: np.ndarray) -> np.ndarray:
         """[P; L about the inertial origin] of the target (6,)."""
-        hg = pin.computeCentroidalMomentum(self.model, self.data, q, v)
-        return pin.SE3(np.eye(3), self.data.com[0]).act(hg).vector
+        return momentum_about_origin(self.model, self.data, q, v)
 
 
 @dataclass(frozen=True)
@@ -134,9 +133,7 @@ class Impact:
 
 def robot_momentum(robot: Robot, q: np.ndarray, v: np.ndarray) -> np.ndarray:
     """[P; L about the inertial origin] of a robot (6,)."""
-    data = robot.model.createData()
-    hg = pin.computeCentroidalMomentum(robot.model, data, q, v)
-    return pin.SE3(np.eye(3), data.com[0]).act(hg).vector
+    return momentum_about_origin(robot.model, robot.model.createData(), q, v)
 
 
 def impact(robot: Robot, end_effector: str, q: np.ndarray, v: np.ndarray, body: TargetBody,

@@ -74,6 +74,16 @@ def inertial_to_local_twist(rotation: np.ndarray, com: np.ndarray, x0dot: np.nda
     return np.concatenate((rotation.T @ x0dot[:3] - cross3(w, com), w))
 
 
+def momentum_about_origin(model: pin.Model, data: pin.Data, q: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """``[P; L about the inertial origin]`` (6,), inertial frame, kg m/s and kg m^2/s.
+
+    From Pinocchio's centroidal momentum; leaves the forward kinematics and ``data.com[0]`` (the
+    system CoM, inertial frame) at (q, v) in ``data``.
+    """
+    hg = pin.computeCentroidalMomentum(model, data, q, v)
+    return pin.SE3(np.eye(3), data.com[0]).act(hg).vector
+
+
 def base_link_placement(robot: Robot, q: np.ndarray) -> pin.SE3:
     """Pose of the base-link frame in the inertial frame."""
     if robot.base == "free":

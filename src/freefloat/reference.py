@@ -17,7 +17,7 @@ from typing import NamedTuple
 import numpy as np
 import pinocchio as pin
 
-from .conventions import base_link_placement, base_state, twist_map
+from .conventions import base_link_placement, base_state, momentum_about_origin, twist_map
 from .errors import FreefloatError
 from .robot import Robot
 
@@ -67,10 +67,7 @@ def reference(robot: Robot, q: np.ndarray, v: np.ndarray, data: pin.Data | None 
     Jm = J[:, nb:]
     J0E = J[:, :nb] @ Tinv
     Jstar = Jm - J[:, :nb] @ coupling
-    hg = pin.computeCentroidalMomentum(model, data, q, v)
-    com = data.com[0]
-    r0 = base_state(robot, q, v)[0]
-    P, LG = hg.linear.copy(), hg.angular.copy()
-    momentum_base = np.concatenate((P, LG + np.cross(com - r0, P)))
-    momentum_origin = np.concatenate((P, LG + np.cross(com, P)))
+    momentum_origin = momentum_about_origin(model, data, q, v)
+    P, r0 = momentum_origin[:3], base_state(robot, q, v)[0]
+    momentum_base = np.concatenate((P, momentum_origin[3:] - np.cross(r0, P)))
     return ReferenceState(H0, H0m, Hm, Hstar, J0, Jm, J0E, Jstar, momentum_base, momentum_origin, J @ v)

@@ -10,6 +10,7 @@ import numpy as np
 import pinocchio as pin
 
 from .control import Controller
+from .conventions import momentum_about_origin
 from .errors import SimulationDiverged
 from .integrators import Integrator
 from .joints import JointCoordinates
@@ -62,14 +63,13 @@ class Recorder:
                reference: np.ndarray | None, work: float) -> None:
         """Write row ``row`` of the telemetry."""
         model, data, tel = self.model, self.data, self.tel
-        hg = pin.computeCentroidalMomentum(model, data, q, v)  # also forward kinematics and CoM
+        tel.momentum[row] = momentum_about_origin(model, data, q, v)  # also kinematics and CoM
         com = data.com[0]
         tel.t[row], tel.q[row], tel.v[row], tel.tau[row] = t, q, v, tau
         tel.joint_positions[row] = self.joints.get(q)
         if reference is not None:
             tel.joint_reference[row] = reference
         tel.com[row] = com
-        tel.momentum[row] = pin.SE3(np.eye(3), com).act(hg).vector  # [P; L about the origin]
         tel.energy[row] = pin.computeKineticEnergy(model, data) - self.mass * self.gravity @ com
         tel.work[row] = work
         base = pin.updateFramePlacement(model, data, self.base_id)
