@@ -7,7 +7,7 @@ import pinocchio as pin
 import pytest
 
 from freefloat import load_robot
-from freefloat.metrics import momentum_drift, nested_rms, rotation_angle
+from freefloat.metrics import momentum_drift, nested_rms, rotation_angle, settling_time
 
 from .conftest import REPO
 
@@ -52,3 +52,14 @@ def test_momentum_drift_is_the_larger_vector_norm_change():
     momentum[1, :3] = [3.0, 4.0, 0.0]
     momentum[2, 5] = 2.0
     assert momentum_drift(momentum + 7.0) == 5.0
+
+
+@pytest.mark.parametrize("signal, expected", [
+    ([5.0, 2.0, 0.5, 0.2, 0.1], 2.0),    # below 1 from t = 2 on
+    ([5.0, 0.5, 3.0, 0.2, 0.1], 3.0),    # dips below, rises again: settles at the last crossing
+    ([0.5, 0.2, 0.1, 0.1, 0.1], 0.0),    # below from the start
+    ([5.0, 0.5, 0.2, 0.1, 4.0], None),   # above at the end: not settled
+])
+def test_settling_time_is_the_last_crossing_below_the_threshold(signal, expected):
+    """Analytic cases on t = 0..4 s with threshold 1."""
+    assert settling_time(np.arange(5.0), np.array(signal), 1.0) == expected

@@ -25,7 +25,7 @@ import pinocchio as pin
 
 from .conventions import momentum_about_origin, skew
 from .errors import FreefloatError
-from .metrics import momentum_drift
+from .metrics import momentum_drift, settling_time
 from .robot import Robot
 
 TARGET_FRAME = "captured_target"
@@ -262,8 +262,7 @@ def capture_and_detumble(robot: Robot, target: Target, end_effector: str, rows_s
                ExactModel(merged), controller)
     tel = post.telemetry
     w = target_angular_speed(merged, tel.q, tel.v)
-    above = np.flatnonzero(w >= settle_below)
-    settled = None if len(above) and above[-1] == len(w) - 1 else float(tel.t[above[-1] + 1] if len(above) else tel.t[0])
+    settled = settling_time(tel.t, w, settle_below)
     summary = {
         "impact_time": float(t_hit),
         "momentum_before_impact": hit.momentum_before.tolist(),

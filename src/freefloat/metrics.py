@@ -58,6 +58,15 @@ def momentum_drift(momentum: np.ndarray) -> float:
     return float(max(np.linalg.norm(change[:, :3], axis=1).max(), np.linalg.norm(change[:, 3:], axis=1).max()))
 
 
+def settling_time(t: np.ndarray, signal: np.ndarray, threshold: float) -> float | None:
+    """First sample time (s) after which ``signal`` (N,) stays below ``threshold``; None if its
+    last sample is not below it."""
+    above = np.flatnonzero(signal >= threshold)
+    if not len(above):
+        return float(t[0])
+    return None if above[-1] == len(signal) - 1 else float(t[above[-1] + 1])
+
+
 def summarize(telemetry: Telemetry, robot: Robot) -> dict[str, object]:
     """Figures of merit of a run (SI units; see the README's output table)."""
     tel = telemetry

@@ -17,7 +17,7 @@ from .errors import SceneError
 from .integrators import Integrator, make_integrator
 from .joints import JointCoordinates
 from .loading import load_robot
-from .metrics import summarize
+from .metrics import settling_time, summarize
 from .models import DynamicsModel, make_model
 from .paths import URDF_DIR
 from .robot import Robot
@@ -194,8 +194,7 @@ def detumble_summary(robot: Robot, telemetry, rows: np.ndarray, threshold: float
 
     speed = np.array([np.abs(gjm.compute(robot, q, v).end_effector_velocity()[rows]).max()
                       for q, v in zip(telemetry.q, telemetry.v)])
-    above = np.flatnonzero(speed >= threshold)
-    settled = None if len(above) and above[-1] == len(speed) - 1 else float(telemetry.t[above[-1] + 1] if len(above) else telemetry.t[0])
+    settled = settling_time(telemetry.t, speed, threshold)
     return {"detumbled_rows_speed_final": float(speed[-1]), "detumbled_rows_speed_max": float(speed.max()),
             "settling_time": settled, "settle_threshold": threshold,
             "base_angular_velocity_final": float(np.linalg.norm(telemetry.base_twist[-1, 3:]))}
