@@ -31,6 +31,7 @@ from freefloat.joints import JointCoordinates
 from freefloat.outputs import versions
 from freefloat.paths import URDF_DIR
 from freefloat.reference import reference
+from freefloat.verify import random_configuration
 
 
 def per_call(fn, calls: int, repeats: int = 5) -> float:
@@ -50,9 +51,7 @@ def bench_robot(path: Path, calls: int) -> dict:
         robot = load_robot(path, visuals=False)
     rng = np.random.default_rng(0)
     coords = JointCoordinates(robot)
-    q = robot.neutral()
-    q[:3] = rng.normal(size=3)
-    coords.set(q, rng.uniform(-1, 1, robot.n_joints))
+    q = random_configuration(robot, rng, coords, joint_range=1.0)
     v = rng.normal(size=robot.model.nv)
     model, data = robot.model, robot.model.createData()
     ee = robot.end_effector_frame_ids

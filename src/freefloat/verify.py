@@ -79,14 +79,22 @@ def relative_error(value: np.ndarray, ref: np.ndarray) -> float:
     return float(np.abs(value - ref).max() / scale) if scale > 0 else float(np.abs(value - ref).max(initial=0.0))
 
 
-def random_state(robot: Robot, rng: np.random.Generator, coords: JointCoordinates) -> tuple[np.ndarray, np.ndarray]:
-    """A random state: base pose in a 2 m box, any attitude, joints in [-pi, pi], speeds ~ N(0, 1)."""
+def random_configuration(robot: Robot, rng: np.random.Generator, coords: JointCoordinates,
+                         box: float = 2.0, joint_range: float = np.pi) -> np.ndarray:
+    """A random Pinocchio configuration (nq,) of a free-flyer robot: base-link origin uniform in
+    ``[-box, box]^3`` m (inertial frame), uniformly random attitude, joints uniform in
+    ``[-joint_range, joint_range]``."""
     q = pin.neutral(robot.model)
-    q[:3] = rng.uniform(-2.0, 2.0, 3)
+    q[:3] = rng.uniform(-box, box, 3)
     quat = rng.normal(size=4)
     q[3:7] = quat / np.linalg.norm(quat)
-    coords.set(q, rng.uniform(-np.pi, np.pi, robot.n_joints))
-    return q, rng.normal(size=robot.model.nv)
+    coords.set(q, rng.uniform(-joint_range, joint_range, robot.n_joints))
+    return q
+
+
+def random_state(robot: Robot, rng: np.random.Generator, coords: JointCoordinates) -> tuple[np.ndarray, np.ndarray]:
+    """A random state: base pose in a 2 m box, any attitude, joints in [-pi, pi], speeds ~ N(0, 1)."""
+    return random_configuration(robot, rng, coords), rng.normal(size=robot.model.nv)
 
 
 def central_differences(robot: Robot, q: np.ndarray, v: np.ndarray, joint: int | None,

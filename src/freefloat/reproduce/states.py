@@ -8,6 +8,7 @@ from .. import gjm
 from ..conventions import base_state, state_from_base
 from ..joints import JointCoordinates
 from ..robot import Robot
+from ..verify import random_configuration
 
 
 def state_with_momentum(robot: Robot, rng: np.random.Generator, P: np.ndarray | None = None,
@@ -17,11 +18,7 @@ def state_with_momentum(robot: Robot, rng: np.random.Generator, P: np.ndarray | 
     Base pose random in a unit box, joints uniform in ``[-joint_range, joint_range]``, joint rates
     N(0, 1); the base twist is then solved from ``H0 x0dot + H0m qdot = [P; L]`` (default zero).
     """
-    q = robot.neutral()
-    q[:3] = rng.uniform(-1, 1, 3)
-    quat = rng.normal(size=4)
-    q[3:7] = quat / np.linalg.norm(quat)
-    JointCoordinates(robot).set(q, rng.uniform(-joint_range, joint_range, robot.n_joints))
+    q = random_configuration(robot, rng, JointCoordinates(robot), box=1.0, joint_range=joint_range)
     qdot = rng.normal(size=robot.n_joints)
     s = gjm.compute(robot, q, np.concatenate((np.zeros(6), qdot)))
     M = np.concatenate((np.zeros(3) if P is None else P, np.zeros(3) if L is None else L))
