@@ -7,6 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 import pinocchio as pin
 
+from .conventions import cross3
 from .errors import FreefloatError
 from .robot import Robot
 
@@ -22,6 +23,7 @@ class ExternalWrench:
         torque: torque, inertial frame, N m (3,), the force acting at the link's CoM.
         start: time it starts, s.
         end: time it stops, s.
+        rise: duration of the linear ramp from 0 to the full wrench, s (0: a step).
     """
 
     link: str
@@ -58,22 +60,24 @@ class WrenchField:
                 raise FreefloatError(f"external wrench: link '{w.link}' does not exist; links: {links}")
             frame = robot.model.frames[robot.model.getFrameId(w.link, pin.FrameType.BODY)]
             com_in_joint = frame.placement.act(robot.link_coms[w.link])
-            self._items.append((w, frame.parentJoint, com_in_joint))
+            self._items.append((w, frame.parentJoint, com_in_joint, np.asarray(w.force, float), np.asarray(w.torque, float)))
         self._active: list = []
 
     def activate(self, t: float) -> bool:
         """Select the wrenches active at time t, with their profile value; return whether any is."""
-        self._active = [(item, item[0].scale(t)) for item in self._items if item[0].scale(t) > 0.0]
+        scaled = ((item, item[0].scale(t)) for item in self._items)
+        self._active = [(item, scale) for item, scale in scaled if scale > 0.0]
         return bool(self._active)
 
     def forces(self, q: np.ndarray) -> list[pin.Force]:
-        """Wrenches of the active set, per joint, in joint-local frames (njoints)."""
+        """Wrenches of the active set, one ``pin.Force`` [f; n] per joint (njoints): joint-frame
+        axes, moment about the joint-frame origin."""
         pin.forwardKinematics(self.model, self.data, q)
         out = [pin.Force.Zero() for _ in range(self.model.njoints)]
-        for (wrench, joint, com), scale in self._active:
+        for (_, joint, com, force, torque), scale in self._active:
             R = self.data.oMi[joint].rotation
-            f_local = scale * (R.T @ np.asarray(wrench.force))
-            n_local = scale * (R.T @ np.asarray(wrench.torque)) + np.cross(com, f_local)
+            f_local = scale * (R.T @ force)
+            n_local = scale * (R.T @ torque) + cross3(com, f_local)
             out[joint] += pin.Force(f_local, n_local)
         return out
 
