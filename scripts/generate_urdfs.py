@@ -9,7 +9,6 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-from freefloat.parallel.five_bar import five_bar_spec
 from freefloat.builders import (
     build_urdf,
     dual_arm_satellite,
@@ -17,8 +16,8 @@ from freefloat.builders import (
     two_arm_planar,
     write_urdf,
 )
-
-URDF_DIR = Path(__file__).resolve().parents[1] / "urdf"
+from freefloat.parallel.five_bar import five_bar_spec
+from freefloat.paths import URDF_DIR
 
 
 def main(out_dir: Path = URDF_DIR) -> None:

@@ -26,7 +26,7 @@ import pinocchio as pin
 def rotation_zyx(angles: np.ndarray) -> np.ndarray:
     """``Rz(phi) Ry(theta) Rx(psi)`` for ``angles = [phi, theta, psi]`` (3, 3)."""
     phi, theta, psi = angles
-    return pin.exp3(np.array([0.0, 0.0, phi])) @ pin.exp3(np.array([0.0, theta, 0.0])) @ pin.exp3(np.array([psi, 0.0, 0.0]))
+    return pin.rpy.rpyToMatrix(psi, theta, phi)
 
 
 def euler_rate_matrix(angles: np.ndarray, printed: bool = False) -> np.ndarray:

@@ -37,6 +37,7 @@ from ..models import ExactModel
 from ..outputs import versions
 from ..paths import URDF_DIR
 from ..simulation import run
+from ..viz.figures import base_attitude
 
 ROWS = [(f"arm{i}_ee", c) for i in range(1, 5) for c in ("vx", "vy", "wz")]
 DIRECTION = np.repeat([1.0, -1.0, -1.0, 1.0], 4)  # arms 1, 4 move +5 deg, arms 2, 3 -5 deg
@@ -77,8 +78,7 @@ def end_effector_rates(robot, tel, rows: np.ndarray) -> np.ndarray:
 
 def planar_pose(tel) -> np.ndarray:
     """End-effector (x, y, yaw in deg) over time (N, k, 3), yaw unwrapped."""
-    q = tel.ee_quaternion
-    yaw = np.unwrap(np.arctan2(2 * (q[..., 3] * q[..., 2] + q[..., 0] * q[..., 1]), 1 - 2 * (q[..., 1] ** 2 + q[..., 2] ** 2)), axis=0)
+    yaw = np.stack([base_attitude(tel.ee_quaternion[:, k])[:, 2] for k in range(tel.ee_quaternion.shape[1])], axis=1)
     return np.concatenate((tel.ee_position[..., :2], np.degrees(yaw)[..., None]), axis=2)
 
 
