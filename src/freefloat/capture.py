@@ -119,8 +119,9 @@ class Impact:
     Attributes:
         v_robot: robot velocity after the impact (nv,).
         v_target: target local twist after the impact (6,).
-        impulse: the weld impulse on the robot at the grasp point, [linear; angular], N s, N m s,
-            inertial frame (6,).
+        impulse: the weld impulse on the robot, [linear; angular] about the end-effector frame
+            origin (the grasp point to within the contact tolerance), N s and N m s, inertial
+            axes (6,).
         momentum_before, momentum_after: total [P; L about the origin] of robot and target (6,).
     """
 

@@ -35,9 +35,10 @@ class DetumblingSolution:
     Attributes:
         qdot: joint rates (n,), zero outside the mission joints, rad/s or m/s.
         residual: ``J*{k} qdot + J0E{k} H0^-1 M`` (len(k),): the remaining velocity of the rows.
-        base_twist: the base twist ``[v0; w0]`` these rates give with momentum M (6,).
-        rows: the stacked row indices k.
-        joints: the mission joint indices S.
+        base_twist: the base twist ``[v0; w0]`` of the base CoM, inertial frame, that these rates
+            give with momentum M (6,).
+        rows: the stacked row indices k into the 6k rows [v_E; w_E] per end-effector (r,).
+        joints: the mission joint indices S into the actuated joints (s,).
     """
 
     qdot: np.ndarray

@@ -6,8 +6,10 @@ import dataclasses
 import json
 import platform
 import sys
+import time
 from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
+from typing import Callable
 
 from .runner import Prepared
 from .scenes import Scene
@@ -25,6 +27,18 @@ def versions() -> dict[str, str]:
         except PackageNotFoundError:
             out[name] = "not installed"
     return out
+
+
+def write_report(out: Path, report: dict, markdown: Callable[[dict], str], start: float) -> dict:
+    """Stamp ``versions`` and ``wall_time_s`` (seconds since ``start``, a ``time.perf_counter()``
+    reading) on a reproduce report, then write ``report.json`` and ``report.md`` (the text of
+    ``markdown(report)``) into ``out``. Returns the report."""
+    report["versions"] = versions()
+    report["wall_time_s"] = time.perf_counter() - start
+    out.mkdir(parents=True, exist_ok=True)
+    (out / "report.json").write_text(json.dumps(report, indent=2))
+    (out / "report.md").write_text(markdown(report))
+    return report
 
 
 def write_run(

@@ -46,6 +46,9 @@ class InverseEGJM:
     def joint_rates(self, state: GJMState, xdot: np.ndarray) -> np.ndarray:
         """``qdot`` (n,) giving end-effector rates ``xdot`` (len(rows),) under the state's momentum.
 
+        ``xdot`` holds the selected rows of the stacked [v_E; w_E] of the end-effector frame
+        origins, inertial frame, in ``robot.end_effectors`` order.
+
         Raises:
             SingularityError: cond(J*{k}) above ``max_cond`` with no damping; the message gives
                 the condition number and the joint configuration.

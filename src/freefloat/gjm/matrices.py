@@ -40,9 +40,10 @@ def skew_batch(x: np.ndarray) -> np.ndarray:
 
 
 def point_jacobians(tree: TreeStructure, kin: BodyKinematics, points: np.ndarray, moved: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Linear and angular Jacobians of points (m, 3): ``J_T, J_R`` (m, 3, n), eqs 20-21.
+    """Linear and angular Jacobians of points (m, 3), inertial frame: ``J_T, J_R`` (m, 3, n),
+    eqs 20-21, for a fixed base.
 
-    ``moved[i, j]`` says whether joint j moves point i. Column j of ``J_T`` is
+    ``moved`` (m, n) bool: ``moved[i, j]`` says whether joint j moves point i. Column j of ``J_T`` is
     ``k_j x (x_i - p_j) = [k_j]x x_i - k_j x p_j`` (revolute, one GEMM for all pairs) or ``k_j``.
     """
     n = len(tree.parent)
@@ -61,7 +62,8 @@ def body_jacobians(tree: TreeStructure, kin: BodyKinematics) -> tuple[np.ndarray
 
 
 def inertia_matrices(tree: TreeStructure, kin: BodyKinematics, JT: np.ndarray, JR: np.ndarray):
-    """``(H0, H0m, Hm)``: (6, 6), (6, n), (n, n), eqs 19, 22, 23."""
+    """``(H0, H0m, Hm)``: (6, 6), (6, n), (n, n), eqs 19, 22, 23, for the base twist [v0; w0] of
+    the base CoM (inertial frame), from the body CoM Jacobians ``JT, JR`` (n + 1, 3, n), base first."""
     m, inertia = tree.mass, kin.inertia
     n = JT.shape[2]
     r0i = kin.com - kin.r0
@@ -83,13 +85,16 @@ def inertia_matrices(tree: TreeStructure, kin: BodyKinematics, JT: np.ndarray, J
 
 
 def end_effector_points(kin: BodyKinematics, ee_body: np.ndarray, ee_offset: np.ndarray) -> np.ndarray:
-    """End-effector frame origins (k, 3), inertial frame, from their bodies and offsets (k,), (k, 3)."""
+    """End-effector frame origins (k, 3), inertial frame, from their body indices (k,) and their
+    offsets in the body (parent-joint) frames (k, 3), m."""
     return kin.origin[ee_body] + (kin.rotation[ee_body] @ ee_offset[:, :, None])[:, :, 0]
 
 
 def end_effector_jacobians(r0: np.ndarray, r_E: np.ndarray, JT: np.ndarray, JR: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """``Jm`` (6k, n) from the point Jacobians of the end-effectors (k, 3, n), eq 76, and
-    ``J0E`` (6k, 6), eq 78: one 6-row block [v_E; w_E] per end-effector, inertial frame."""
+    ``J0E`` (6k, 6), eq 78: one 6-row block [v_E; w_E] per end-effector, inertial frame.
+
+    ``r0`` (3,) is the base CoM and ``r_E`` (k, 3) the end-effector frame origins, inertial frame."""
     Jm = np.concatenate((JT, JR), axis=1).reshape(-1, JT.shape[2])
     J0E = np.tile(np.eye(6), (len(r_E), 1, 1))
     J0E[:, :3, 3:] = -skew_batch(r_E - r0)

@@ -25,7 +25,8 @@ class GJMState(NamedTuple):
         J0: base Jacobian ``-H0^-1 H0m`` (6, n), eq 71: ``x0dot = J0 qdot`` at zero momentum.
         Jm: end-effector Jacobians for a fixed base (6k, n), eq 76; one block [v_E; w_E] per
             end-effector in ``robot.end_effectors`` order, at the frame origin, inertial frame.
-        J0E: base-to-end-effector maps (6k, 6), eq 78.
+        J0E: base-to-end-effector maps (6k, 6), eq 78: ``[v_E; w_E] = J0E x0dot`` for each
+            end-effector frame origin, from the base twist [v0; w0] of the base CoM, inertial frame.
         Jstar: generalized Jacobian ``Jm - J0E H0^-1 H0m`` (6k, n), eqs 82 and 89 (E-GJM).
         momentum_base: ``M = H0 x0dot + H0m qdot = [P; L about the base CoM]`` (6,), eq 69.
         momentum_origin: ``[P; L about the inertial origin] = [P; L_base + r0 x P]`` (6,).
@@ -60,6 +61,12 @@ class GJM:
 
     Args:
         robot: a robot with a free-flyer or planar base and 1-DOF joints.
+
+    Attributes:
+        ee_body: index of each end-effector's body, 0 = first body after the base (k,).
+        ee_offset: each end-effector frame origin in its body's (parent-joint) frame, m (k, 3).
+        moved: ``moved[i, j]`` whether joint j moves point i (n + 1 + k, n) bool; points ordered
+            [base CoM; body CoMs; end-effector origins].
     """
 
     def __init__(self, robot: Robot):

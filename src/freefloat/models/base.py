@@ -31,7 +31,8 @@ class DynamicsModel(Protocol):
             q: configuration (nq,).
             v: velocity (nv,).
             tau: generalized forces (nv,); zero on the base rows of a free-floating robot.
-            fext: one wrench per Pinocchio joint (njoints), in that joint's local frame, or None.
+            fext: one wrench ``pin.Force`` [f; n] per Pinocchio joint (njoints): joint-frame axes,
+                moment about the joint-frame origin; or None.
         """
         ...
 

@@ -84,7 +84,8 @@ class UnderactuatedGJM(GJMModelBase):
 class NIDCModel(UnderactuatedGJM):
     """FM-NIC-A: the standard model with the integrated non-inertial dynamic coupling.
 
-    State: ``D`` (n, 6), the sensitivities dx0/dq_k, zero at the start, advanced by
+    State: ``D`` (n, 6), row k the sensitivity dx0/dq_k = [d r0 (translation); d theta0
+    (rotation)] of the base CoM pose, inertial frame; zero at the start, advanced by
     :meth:`end_period` once per control period (eq 67).
 
     Args:

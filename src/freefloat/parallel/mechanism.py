@@ -109,7 +109,8 @@ class ParallelMechanism:
         return np.linalg.solve(np.vstack((C.T @ M, A)), np.concatenate((C.T @ (u - v - g), rhs_c)))
 
     def inverse(self, q: np.ndarray, qd_sharp: np.ndarray, qdd_sharp: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Actuator efforts for platform motion (eqs 130-140) at an assembled ``q``.
+        """Actuator efforts for platform motion (eqs 130-140) at an assembled ``q`` (n_q,), from
+        the platform rates ``qd_sharp`` and accelerations ``qdd_sharp`` (p,).
 
         Returns:
             ``(tau, qd, qdd)``: efforts (k,) and the full velocity and acceleration (n_q,).
@@ -121,7 +122,8 @@ class ParallelMechanism:
         return tau, qd, qdd
 
     def assemble(self, q_sharp: np.ndarray, guess: np.ndarray, tol: float = 1e-12, iterations: int = 50) -> np.ndarray:
-        """Solve ``qbar = 0`` for the chains' joints at platform coordinates ``q_sharp`` (Newton).
+        """Solve ``qbar = 0`` for the chains' joints at platform coordinates ``q_sharp`` (p,)
+        (Newton from ``guess`` (n_q - p,)); returns the assembled ``q`` (n_q,).
 
         Raises:
             FreefloatError: when it does not converge (pose out of reach or singular), with the

@@ -52,7 +52,7 @@ class SerialChain:
         com: link CoMs in their frames B_i, m (nu, 3).
         inertia: link inertias about their CoMs in B_i, kg m^2 (nu, 3, 3).
         base: pose of B_0 in the inertial frame N (4, 4).
-        tip: the end-effector point in B_nu, m (3,).
+        tip_point: the end-effector point in B_nu, m (3,).
         gravity: gravity in N, m/s^2 (3,).
     """
 

@@ -30,8 +30,9 @@ class SlidingModeGains:
 
     Attributes:
         n: (p,). T: (p, p). n_ij: {(i, j): (p,)} for i >= j. eta: the reaching rate used.
-        Delta_max, delta0_max, deltaij_max: the worst cases found (element-wise absolute values).
-        points: workspace points used.
+        Delta_max, delta0_max, deltaij_max: the worst cases found (element-wise absolute
+            values): (p, p), (p,), {(i, j): (p,)}.
+        points: workspace points used (N, p), m.
     """
 
     n: np.ndarray

@@ -10,13 +10,12 @@
 
 from __future__ import annotations
 
-import json
 import time
 from pathlib import Path
 
 import numpy as np
 
-from ..outputs import versions
+from ..outputs import write_report
 from ..parallel.five_bar import TRUE_PARAMETERS, TRUE_PARAMETERS_50, FiveBarParameters
 from ..parallel.sliding_mode import PlatformController, circle_reference, design_gains, track, workspace_grid
 
@@ -54,15 +53,12 @@ def reproduce(out: Path, quick: bool = False) -> dict:
     report = {
         "settings": {"quick": quick, "duration": duration, "step": step, "lambda": 40.0, "eta": 20.0,
                      "grid_points": len(points), "max_condition": 6.0},
-        "versions": versions(),
         "gains": {"n": gains.n.tolist(), "T": gains.T.tolist(), "xdot2": gains.n_ij[(0, 0)].tolist(),
                   "xdot_ydot": gains.n_ij[(1, 0)].tolist(), "ydot2": gains.n_ij[(1, 1)].tolist()},
         "eq_187": EQ_187,
         "cases": {name: run_case(g, plant, duration, step) for name, (g, plant) in cases.items()},
     }
-    report["wall_time_s"] = time.perf_counter() - start
-    (out / "report.json").write_text(json.dumps(report, indent=2))
-    (out / "report.md").write_text(markdown(report))
+    write_report(out, report, markdown, start)
     figure(report, out / "errors.png")
     return report
 
@@ -151,9 +147,8 @@ def reproduce_stability(out: Path, quick: bool = False) -> dict:
     steps = (2e-4, 1e-3, 2e-3) if quick else (1e-4, 2e-4, 5e-4, 1e-3, 2e-3)
     lambdas = (0.0, 100.0, "1/h") if quick else (0.0, 10.0, 100.0, "1/h", 1000.0)
     rows = stability_map(duration=0.2 if quick else 0.5, steps=steps, lambdas=lambdas)
-    report = {"rows": rows, "versions": versions(), "wall_time_s": time.perf_counter() - start,
+    report = {"rows": rows,
               "settings": {"quick": quick, "mechanism": "5R falling freely from (0.07, 0.17) at rest, zero torques"}}
-    (out / "report.json").write_text(json.dumps(report, indent=2))
     lines = ["# Loop-closure drift of the 5R over step and Baumgarte lambda", "",
              f"{report['settings']['mechanism']}; max |qbar| (m) over the run; 'diverged' when it exceeds 1 m.", "",
              "| method | h (s) | " + " | ".join(f"lambda = {lam}" for lam in lambdas) + " |",
@@ -162,8 +157,7 @@ def reproduce_stability(out: Path, quick: bool = False) -> dict:
         for h in steps:
             cells = [r for r in rows if r["method"] == method and r["h"] == h]
             lines.append(f"| {method} | {h:g} | " + " | ".join("diverged" if r["diverged"] else f"{r['max_drift_m']:.1e}" for r in cells) + " |")
-    (out / "report.md").write_text("\n".join(lines) + "\n")
-    return report
+    return write_report(out, report, lambda _: "\n".join(lines) + "\n", start)
 
 
 def reproduce_robustness(out: Path, quick: bool = False, runs: int = 20, relative_error: float = 0.5,
@@ -184,14 +178,12 @@ def reproduce_robustness(out: Path, quick: bool = False, runs: int = 20, relativ
     errors = np.array([r["error_mm"] for r in results])
     report = {"settings": {"quick": quick, "runs": len(results), "relative_error": relative_error, "duration": duration,
                            "grid_points": len(points), "scheduler": scheduler or "local cluster"},
-              "versions": versions(), "gains": {"n": gains.n.tolist(), "T": gains.T.tolist()},
+              "gains": {"n": gains.n.tolist(), "T": gains.T.tolist()},
               "runs": results, "error_after_0.2s_mm_max": errors.max(axis=0).tolist(),
-              "error_after_0.2s_mm_median": np.median(errors, axis=0).tolist(), "wall_time_s": time.perf_counter() - start}
-    (out / "report.json").write_text(json.dumps(report, indent=2))
-    (out / "report.md").write_text(
+              "error_after_0.2s_mm_median": np.median(errors, axis=0).tolist()}
+    return write_report(out, report, lambda r: (
         f"# Monte-Carlo robustness of the 5R sliding-mode controller\n\n{len(results)} plants with the six uncertain "
         f"parameters drawn uniformly within {relative_error:.0%} of nominal (seed 0); gains over {len(points)} grid points; "
         f"circle of eq 189 for {duration} s.\n\nTracking error after 0.2 s, x / y (mm): median "
-        f"{report['error_after_0.2s_mm_median'][0]:.4f} / {report['error_after_0.2s_mm_median'][1]:.4f}, worst "
-        f"{report['error_after_0.2s_mm_max'][0]:.4f} / {report['error_after_0.2s_mm_max'][1]:.4f}.\n")
-    return report
+        f"{r['error_after_0.2s_mm_median'][0]:.4f} / {r['error_after_0.2s_mm_median'][1]:.4f}, worst "
+        f"{r['error_after_0.2s_mm_max'][0]:.4f} / {r['error_after_0.2s_mm_max'][1]:.4f}.\n"), start)

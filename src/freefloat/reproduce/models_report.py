@@ -16,7 +16,6 @@ Four parts, all against Pinocchio's ABA (``exact``), written as JSON, Markdown a
 from __future__ import annotations
 
 import dataclasses
-import json
 import time
 from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
@@ -29,7 +28,7 @@ from ..integrators import make_integrator
 from ..loading import load_robot
 from ..metrics import momentum_drift, summarize
 from ..models import MODELS, make_model
-from ..outputs import versions
+from ..outputs import write_report
 from ..paths import URDF_DIR
 from ..runner import prepare
 from ..scenes import DEFAULT_SCENE, find_scene
@@ -146,8 +145,7 @@ def reproduce(out: Path, quick: bool = False, workers: int = 2, seed: int = 0) -
     out.mkdir(parents=True, exist_ok=True)
     duration = 0.5 if quick else 5.0
     start = time.perf_counter()
-    report: dict = {"settings": {"quick": quick, "seed": seed, "grid_duration_s": duration, "workers": workers},
-                    "versions": versions()}
+    report: dict = {"settings": {"quick": quick, "seed": seed, "grid_duration_s": duration, "workers": workers}}
     report["accuracy"] = accuracy(3 if quick else 20, seed)
     cells = [(p, c, "euler") for p in GRID_MODELS for c in GRID_MODELS] + [("exact", c, "rkmk4") for c in EXACT_PLANT_CONTROLLERS]
     cases = [(m, case) for case in list(REGIMES)[1:] for m in TUMBLING_MODELS]
@@ -157,8 +155,6 @@ def reproduce(out: Path, quick: bool = False, workers: int = 2, seed: int = 0) -
         report["grid"] = [f.result() for f in grid]
         report["tumbling"] = [f.result() for f in tumbling]
     report["attitude"] = attitude_study()
-    report["wall_time_s"] = time.perf_counter() - start
-    (out / "report.json").write_text(json.dumps(report, indent=2))
-    (out / "report.md").write_text(markdown(report))
+    write_report(out, report, markdown, start)
     figures(report, out)
     return report

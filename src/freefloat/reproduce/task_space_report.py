@@ -15,7 +15,6 @@
 
 from __future__ import annotations
 
-import json
 import time
 import warnings
 from pathlib import Path
@@ -34,7 +33,7 @@ from ..joints import JointCoordinates
 from ..loading import load_robot
 from ..metrics import rms
 from ..models import ExactModel
-from ..outputs import versions
+from ..outputs import write_report
 from ..paths import URDF_DIR
 from ..simulation import run
 from ..viz.figures import base_attitude
@@ -136,7 +135,6 @@ def reproduce(out: Path, quick: bool = False) -> dict:
     per_axis = rms(error, axis=0)
     report = {
         "settings": {"dt": dt, "duration": duration, "record_every": record_every, "quick": quick},
-        "versions": versions(),
         "table2": {"x": per_axis[:, 0].tolist(), "y": per_axis[:, 1].tolist(), "z_deg": per_axis[:, 2].tolist(),
                    "overall": rms(per_axis, axis=1).tolist()},
         "table3": kjc_table(robot, tsc),
@@ -147,9 +145,7 @@ def reproduce(out: Path, quick: bool = False) -> dict:
         "tsc_condition_range": [float(min(ctrl.condition_numbers)), float(max(ctrl.condition_numbers))],
         "condition_study": condition_study(robot, duration=0.2 if quick else 1.0),
     }
-    report["wall_time_s"] = time.perf_counter() - start
-    (out / "report.json").write_text(json.dumps(report, indent=2))
-    (out / "report.md").write_text(markdown(report))
+    write_report(out, report, markdown, start)
     figure(report, out / "condition.png")
     return report
 
