@@ -17,32 +17,18 @@ Usage: ``python3 scripts/bench_gjm.py [--out DIR] [--calls N]``. Quote the ratio
 
 from __future__ import annotations
 
-import argparse
-import json
-import time
 import warnings
 from pathlib import Path
 
 import numpy as np
 import pinocchio as pin
 
+from bench_common import parser, per_call, write_json
 from freefloat import gjm, load_robot
 from freefloat.joints import JointCoordinates
-from freefloat.outputs import versions
 from freefloat.paths import URDF_DIR
 from freefloat.reference import reference
 from freefloat.verify import random_configuration
-
-
-def per_call(fn, calls: int, repeats: int = 5) -> float:
-    """Best-of-``repeats`` mean time of ``fn()`` over ``calls`` calls, s."""
-    best = np.inf
-    for _ in range(repeats):
-        start = time.perf_counter()
-        for _ in range(calls):
-            fn()
-        best = min(best, (time.perf_counter() - start) / calls)
-    return best
 
 
 def bench_robot(path: Path, calls: int) -> dict:
@@ -112,14 +98,11 @@ def chart(rows: list[dict], path: Path) -> None:
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--out", type=Path, default=Path("runs") / f"bench-gjm-{time.strftime('%Y%m%d-%H%M%S')}")
-    parser.add_argument("--calls", type=int, default=500)
-    args = parser.parse_args()
+    cli = parser(__doc__, "gjm")
+    cli.add_argument("--calls", type=int, default=500)
+    args = cli.parse_args()
     rows = [bench_robot(URDF_DIR / name, args.calls) for name in ("four_arm_planar.urdf", "dual_arm_satellite.urdf")]
-    args.out.mkdir(parents=True, exist_ok=True)
-    report = {"robots": rows, "versions": versions(), "settings": {"calls": args.calls, "repeats": 5}}
-    (args.out / "bench_gjm.json").write_text(json.dumps(report, indent=2))
+    write_json(args.out, "gjm", {"robots": rows, "settings": {"calls": args.calls, "repeats": 5}})
     chart(rows, args.out / "bench_gjm.png")
     for row in rows:
         t = row["seconds_per_call"]

@@ -14,15 +14,12 @@ the issue asks for 50 000. Quote the ratios measured here.
 
 from __future__ import annotations
 
-import argparse
-import json
 import time
-from pathlib import Path
 
 import numpy as np
 import pinocchio as pin
 
-from freefloat.outputs import versions
+from bench_common import parser, per_call, write_json
 from freefloat.parallel.closed_chain import load_closed_chain
 from freefloat.parallel.five_bar import FiveBarParameters, elbow_guess, five_bar
 from freefloat.parallel.sliding_mode import circle_reference
@@ -59,31 +56,21 @@ def forward_costs(calls: int) -> dict:
     for j, t in zip(cc.actuated, tau):
         tau_pin[model.idx_vs[j]] = t
 
-    def best(fn) -> float:
-        out = np.inf
-        for _ in range(3):
-            start = time.perf_counter()
-            for _ in range(calls):
-                fn()
-            out = min(out, (time.perf_counter() - start) / calls)
-        return out
-
-    orsino = best(lambda: mech.forward(q, qd, tau, 100.0))
-    pinocchio = best(lambda: pin.constraintDynamics(model, data, q_pin, v_pin, tau_pin, cc.constraints, cds, settings))
+    orsino = per_call(lambda: mech.forward(q, qd, tau, 100.0), calls, repeats=3)
+    pinocchio = per_call(lambda: pin.constraintDynamics(model, data, q_pin, v_pin, tau_pin, cc.constraints, cds, settings),
+                         calls, repeats=3)
     return {"orsino_s": orsino, "pinocchio_s": pinocchio, "ratio": orsino / pinocchio}
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--out", type=Path, default=Path("runs") / f"bench-parallel-{time.strftime('%Y%m%d-%H%M%S')}")
-    parser.add_argument("--points", type=int, default=500)
-    parser.add_argument("--calls", type=int, default=300)
-    args = parser.parse_args()
+    cli = parser(__doc__, "parallel")
+    cli.add_argument("--points", type=int, default=500)
+    cli.add_argument("--calls", type=int, default=300)
+    args = cli.parse_args()
     report = {"inverse_dynamics_points_per_s": inverse_dynamics_rate(args.points), "forward": forward_costs(args.calls),
               "targets": {"thesis_cpp_points_per_s": 10000, "issue_points_per_s": 50000},
-              "settings": {"points": args.points, "calls": args.calls}, "versions": versions()}
-    args.out.mkdir(parents=True, exist_ok=True)
-    (args.out / "bench_parallel.json").write_text(json.dumps(report, indent=2))
+              "settings": {"points": args.points, "calls": args.calls}}
+    write_json(args.out, "parallel", report)
     import matplotlib
 
     matplotlib.use("Agg")

@@ -1,7 +1,7 @@
 """Benchmark the simulation loop against bare Pinocchio loops, and accuracy against cost.
 
 Writes ``bench_simulation.json`` and ``bench_simulation.png`` to an output folder (default
-``runs/bench-<time>``), with versions and settings. Everything compared is measured side by side
+``runs/bench-simulation-<time>``), with versions and settings. Everything compared is measured side by side
 in one run: quote the ratios, not the absolute times (shared 2-core machines are noisy).
 
 1. Loop overhead, default scene (four-arm robot, computed torque, RKMK4, 1 ms):
@@ -17,9 +17,7 @@ Usage: ``python3 scripts/bench_simulation.py [--out DIR] [--repeats N] [--quick]
 
 from __future__ import annotations
 
-import argparse
 import dataclasses
-import json
 import time
 import warnings
 from pathlib import Path
@@ -27,12 +25,12 @@ from pathlib import Path
 import numpy as np
 import pinocchio as pin
 
+from bench_common import parser, write_json
 from freefloat import load_robot
 from freefloat.control import joint_space_dynamics
 from freefloat.integrators import make_integrator
 from freefloat.integrators.lie import _dexpinv_se2
 from freefloat.models import ExactModel
-from freefloat.outputs import versions
 from freefloat.paths import URDF_DIR
 from freefloat.runner import prepare
 from freefloat.scenes import DEFAULT_SCENE, find_scene
@@ -185,21 +183,18 @@ def chart(report: dict, path: Path) -> None:
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--out", type=Path, default=Path("runs") / f"bench-{time.strftime('%Y%m%d-%H%M%S')}")
-    parser.add_argument("--repeats", type=int, default=3)
-    parser.add_argument("--quick", action="store_true", help="fewer points (for a smoke run)")
-    args = parser.parse_args()
+    cli = parser(__doc__, "simulation")
+    cli.add_argument("--repeats", type=int, default=3)
+    cli.add_argument("--quick", action="store_true", help="fewer points (for a smoke run)")
+    args = cli.parse_args()
     steps = 300 if args.quick else 2000
     report = {
         "loop_overhead": loop_overhead(args.repeats, steps),
         "base_kind": base_kind(args.repeats, steps),
         "work_precision": work_precision(args.quick),
-        "versions": versions(),
         "settings": {"repeats": args.repeats, "steps": steps, "quick": args.quick},
     }
-    args.out.mkdir(parents=True, exist_ok=True)
-    (args.out / "bench_simulation.json").write_text(json.dumps(report, indent=2))
+    write_json(args.out, "simulation", report)
     chart(report, args.out / "bench_simulation.png")
     lo, bk = report["loop_overhead"], report["base_kind"]
     print(f"loop/bare, full telemetry: {lo['ratio_full_telemetry']:.2f}; no telemetry: {lo['ratio_no_telemetry']:.2f}")
