@@ -7,9 +7,10 @@ import pinocchio as pin
 import pytest
 from hypothesis import given, settings
 
+from freefloat import load_robot
 from freefloat.conventions import (
-    base_state, cross_rows, inertial_to_local_twist, local_to_inertial_twist, momentum_about_origin, state_from_base,
-    twist_map,
+    base_acceleration, base_state, cross_rows, inertial_to_local_twist, local_base_acceleration,
+    local_to_inertial_twist, momentum_about_origin, state_from_base, twist_map,
 )
 from freefloat.errors import FreefloatError
 from freefloat.loading import BASE_COM_FRAME
@@ -55,8 +56,6 @@ def test_twist_map_agrees_with_the_functions():
 
 def test_planar_base_round_trip():
     """A planar base state converts both ways through the 6-D conventions."""
-    from freefloat import load_robot
-
     robot = load_robot(REPO / "urdf" / "four_arm_planar.urdf", base="planar")
     q, v = random_state(robot, np.random.default_rng(0))
     r0, R0, x0dot = base_state(robot, q, v)
@@ -68,8 +67,6 @@ def test_planar_base_round_trip():
 
 def test_planar_base_rejects_out_of_plane_state():
     """A planar base refuses a tilted pose or an out-of-plane twist with a clear message."""
-    from freefloat import load_robot
-
     robot = load_robot(REPO / "urdf" / "four_arm_planar.urdf", base="planar")
     tilted = pin.rpy.rpyToMatrix(0.1, 0.0, 0.0)
     with pytest.raises(FreefloatError, match="planar base"):
@@ -80,8 +77,6 @@ def test_planar_base_rejects_out_of_plane_state():
 @given(random_robots())
 def test_base_acceleration_is_the_classical_acceleration_of_the_base_com(tmp_path_factory, case):
     """x0ddot equals Pinocchio's classical LOCAL_WORLD_ALIGNED acceleration of the base CoM frame."""
-    from freefloat.conventions import base_acceleration
-
     robot, rng = robot_from_case(tmp_path_factory, case)
     q, v = random_state(robot, rng)
     a = rng.normal(size=robot.model.nv)
@@ -97,8 +92,6 @@ def test_base_acceleration_is_the_classical_acceleration_of_the_base_com(tmp_pat
 @given(random_robots())
 def test_local_base_acceleration_inverts_base_acceleration(tmp_path_factory, case):
     """Pinocchio base acceleration -> x0ddot -> Pinocchio base acceleration is the identity."""
-    from freefloat.conventions import base_acceleration, local_base_acceleration
-
     robot, rng = robot_from_case(tmp_path_factory, case)
     q, v = random_state(robot, rng)
     a = rng.normal(size=robot.model.nv)
