@@ -72,6 +72,22 @@ def test_tip_acceleration_bias_is_the_second_derivative(seed, n):
     np.testing.assert_allclose(kin["tip_Jv"] @ qdd + kin["tip_c"], fd, atol=1e-5 * max(1.0, np.abs(fd).max()))
 
 
+@settings(max_examples=30, deadline=None)
+@given(st.integers(0, 2**31), st.integers(1, 6))
+def test_last_link_angular_jacobian_and_bias_match_pinocchio(seed, n):
+    """``tip_Jw qdd + tip_dw`` is the last link's angular acceleration in N (Pinocchio's
+    LOCAL_WORLD_ALIGNED joint acceleration at (q, qd, qdd))."""
+    chain = random_chain(seed, n)
+    model = pinocchio_chain(chain)
+    data = model.createData()
+    rng = np.random.default_rng(seed + 3)
+    q, qd, qdd = rng.uniform(-1, 1, n), rng.normal(size=n), rng.normal(size=n)
+    pin.forwardKinematics(model, data, q, qd, qdd)
+    reference = data.oMi[n].rotation @ data.a[n].angular
+    kin = chain.kinematics(q, qd)
+    np.testing.assert_allclose(kin["tip_Jw"] @ qdd + kin["tip_dw"], reference, atol=1e-10 * max(1.0, np.abs(reference).max()))
+
+
 def test_dh_matrix_is_a_rigid_transform():
     """The standard DH matrix (eq 22 with the sin(theta) sin(alpha) entry) is a proper rotation."""
     T = dh_matrix(0.7, 0.1, 0.3, -1.1)

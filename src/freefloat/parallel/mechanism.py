@@ -15,7 +15,11 @@ complement ``C = [I; -A°^+ A#]`` (eq 120) gives ``qdot = C qdot#`` and the coup
 Inverse dynamics (eqs 130-140): ``q`` by solving ``qbar = 0``, ``qdot = C qdot#``,
 ``qddot = C qddot# + [0; A°^+ b]``, then the actuator efforts
 ``tau = (C^T U)^-1 C^T (M' qddot + v' + g')`` with ``U`` the actuated coordinates.
-Only the linear-velocity constraints (D, d, E, F) are implemented here.
+
+Angular-velocity constraints (eq 101, optional): ``P qdot# - Q w(q°) - R qdot° = 0`` with ``w``
+the chain tips' (last links') angular velocities in N, stacked (3n,); they add the rows
+``[P, -(Q J_w + R)]`` to A and ``Q dw°`` to b (eqs 104-113) and, in eq 129, the velocity-level
+term ``lambda A_w qdot`` only (the document gives them no position-level term).
 """
 
 from __future__ import annotations
@@ -23,10 +27,35 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+import pinocchio as pin
 from scipy.linalg import block_diag
 
 from ..errors import FreefloatError
 from .serial import SerialChain
+
+
+@dataclass(frozen=True)
+class AngularConstraints:
+    """Angular-velocity constraints ``P qdot# - Q w(q°) - R qdot° = 0`` (eq 101).
+
+    Their position form, used to assemble the mechanism and to report orientation drift, needs
+    ``P = 0``: ``Q phi(q°) + R q° = offset`` with ``phi`` the tips' rotation vectors
+    ``log(R_tip R_ref^T)`` (3n,) in N against the reference orientations ``reference``
+    (it differentiates to ``Q w + R qdot°`` where the tips sit at their references).
+
+    Attributes:
+        P: (m_w, p); must be zero (a platform that rotates would need orientation coordinates).
+        Q: (m_w, 3n) on the stacked tip angular velocities in N.
+        R: (m_w, n°) on the chains' joint rates.
+        reference: tip reference orientations in N (n, 3, 3).
+        offset: ``Q phi + R q°`` on the constraint manifold (m_w,).
+    """
+
+    P: np.ndarray
+    Q: np.ndarray
+    R: np.ndarray
+    reference: np.ndarray
+    offset: np.ndarray
 
 
 @dataclass(frozen=True)
@@ -39,6 +68,7 @@ class ParallelMechanism:
         platform_gravity: ``g_B0`` (p,), the platform's generalized gravity.
         D, d, E, F: constant constraint matrices of eq 96 ((m, p), (m,), (m, 3n), (m, n°)).
         actuated: indices of the actuated coordinates in ``q`` (k,).
+        angular: the angular-velocity constraints, if any.
     """
 
     chains: tuple[SerialChain, ...]
@@ -49,6 +79,7 @@ class ParallelMechanism:
     E: np.ndarray
     F: np.ndarray
     actuated: np.ndarray
+    angular: AngularConstraints | None = None
 
     @property
     def p(self) -> int:
@@ -68,13 +99,26 @@ class ParallelMechanism:
         x = np.concatenate([c.tip(qi) for c, qi in zip(self.chains, self.split(q))])
         return self.D @ q[: self.p] - self.d - self.E @ x - self.F @ q[self.p:]
 
+    def orientation_residual(self, q: np.ndarray) -> np.ndarray:
+        """Position form of the angular constraints, ``offset - Q phi - R q°`` (m_w,), rad; empty
+        without angular constraints."""
+        if self.angular is None:
+            return np.zeros(0)
+        ang = self.angular
+        tips = [c.frames(qi)[0][-1, :3, :3] for c, qi in zip(self.chains, self.split(q))]
+        phi = np.concatenate([pin.log3(R @ ref.T) for R, ref in zip(tips, ang.reference)])
+        return ang.offset - ang.Q @ phi - ang.R @ q[self.p:]
+
     def terms(self, q: np.ndarray, qd: np.ndarray):
         """``(A, b, C, M', v', g')`` at (q, qd): constraint Jacobian (m, n_q) and bias (m,) with
-        ``A qdd = b``; velocity map (n_q, p) with ``qd = C qd#``; mass matrix (n_q, n_q), velocity
-        and gravity terms (n_q,). Coordinates ordered [q#; chain 1; chain 2; ...]."""
+        ``A qdd = b`` (linear rows first, then angular); velocity map (n_q, p) with
+        ``qd = C qd#``; mass matrix (n_q, n_q), velocity and gravity terms (n_q,). Coordinates
+        ordered [q#; chain 1; chain 2; ...]."""
         kins = self._kinematics(q, qd)
         A = self._constraint_jacobian(kins)
         b = self.E @ np.concatenate([k["tip_c"] for k in kins])
+        if self.angular is not None:
+            b = np.concatenate((b, self.angular.Q @ np.concatenate([k["tip_dw"] for k in kins])))
         dyn = [c.dynamics_from(k) for c, k in zip(self.chains, kins)]
         M = block_diag(self.platform_mass, *[m for m, _, _ in dyn])
         v = np.concatenate([np.zeros(self.p)] + [v for _, v, _ in dyn])
@@ -90,7 +134,12 @@ class ParallelMechanism:
 
     def _constraint_jacobian(self, kins: list[dict]) -> np.ndarray:
         Jv = block_diag(*[k["tip_Jv"] for k in kins])
-        return np.hstack((self.D, -(self.E @ Jv + self.F)))
+        A = np.hstack((self.D, -(self.E @ Jv + self.F)))
+        if self.angular is None:
+            return A
+        ang = self.angular
+        Jw = block_diag(*[k["tip_Jw"] for k in kins])
+        return np.vstack((A, np.hstack((ang.P, -(ang.Q @ Jw + ang.R)))))
 
     def _velocity_map(self, A: np.ndarray) -> np.ndarray:
         return np.vstack((np.eye(self.p), -np.linalg.pinv(A[:, self.p:]) @ A[:, : self.p]))
@@ -105,7 +154,11 @@ class ParallelMechanism:
         """``qddot`` (n_q,) under actuator efforts ``tau`` (k,), eq 129 with lambda = ``baumgarte``."""
         A, b, C, M, v, g = self.terms(q, qd)
         u = self.selection() @ tau
-        rhs_c = b - 2.0 * baumgarte * (A @ qd) - baumgarte**2 * self.constraint(q)
+        m = len(self.d)
+        rates = A @ qd
+        rates[:m] *= 2.0
+        rhs_c = b - baumgarte * rates
+        rhs_c[:m] -= baumgarte**2 * self.constraint(q)
         return np.linalg.solve(np.vstack((C.T @ M, A)), np.concatenate((C.T @ (u - v - g), rhs_c)))
 
     def inverse(self, q: np.ndarray, qd_sharp: np.ndarray, qdd_sharp: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -122,8 +175,9 @@ class ParallelMechanism:
         return tau, qd, qdd
 
     def assemble(self, q_sharp: np.ndarray, guess: np.ndarray, tol: float = 1e-12, iterations: int = 50) -> np.ndarray:
-        """Solve ``qbar = 0`` for the chains' joints at platform coordinates ``q_sharp`` (p,)
-        (Newton from ``guess`` (n_q - p,)); returns the assembled ``q`` (n_q,).
+        """Solve ``qbar = 0`` (and the angular constraints' position form) for the chains' joints
+        at platform coordinates ``q_sharp`` (p,) (Newton from ``guess`` (n_q - p,)); returns the
+        assembled ``q`` (n_q,).
 
         Raises:
             FreefloatError: when it does not converge (pose out of reach or singular), with the
@@ -131,13 +185,14 @@ class ParallelMechanism:
         """
         q = np.concatenate((q_sharp, guess))
         for _ in range(iterations):
-            residual = self.constraint(q)
+            residual = np.concatenate((self.constraint(q), self.orientation_residual(q)))
             if np.abs(residual).max() < tol:
                 return q
-            A, *_ = self.terms(q, np.zeros_like(q))
+            A = self._constraint_jacobian(self._kinematics(q, np.zeros_like(q)))
             q[self.p:] -= np.linalg.lstsq(A[:, self.p:], residual, rcond=None)[0]
         raise FreefloatError(f"cannot assemble the mechanism at platform coordinates {np.round(q_sharp, 6).tolist()}: "
-                             f"loop-closure residual {np.abs(self.constraint(q)).max():.3g} m after {iterations} Newton steps")
+                             f"loop-closure residual {np.abs(self.constraint(q)).max():.3g} m, orientation "
+                             f"{np.abs(self.orientation_residual(q)).max(initial=0.0):.3g} rad after {iterations} Newton steps")
 
 
 def simulate(mechanism: ParallelMechanism, q0: np.ndarray, qd0: np.ndarray, tau, duration: float, step: float,

@@ -26,7 +26,6 @@ import numpy as np
 from freefloat.conventions import cross_rows
 
 
-
 def dh_matrix(theta: float, d: float, a: float, alpha: float) -> np.ndarray:
     """Standard DH homogeneous transform ``Rz(theta) Tz(d) Tx(a) Rx(alpha)`` (4, 4)."""
     ct, st, ca, sa = np.cos(theta), np.sin(theta), np.cos(alpha), np.sin(alpha)
@@ -103,8 +102,9 @@ class SerialChain:
             dict with ``frames`` (nu+1, 4, 4); ``g`` CoMs in N (nu, 3); ``Jv`` CoM Jacobians in N
             (nu, 3, nu); ``Jw_N`` angular Jacobians in N (nu, 3, nu); ``Jw`` in B_i (nu, 3, nu);
             ``c`` CoM acceleration bias in N (nu, 3); ``dw0`` angular acceleration bias in B_i
-            (nu, 3); ``tip_Jv`` (3, nu) and ``tip_c`` (3,) of the end-effector point; ``w`` link
-            angular velocities in B_i (nu, 3).
+            (nu, 3); ``tip_Jv`` (3, nu) and ``tip_c`` (3,) of the end-effector point; ``tip_Jw``
+            (3, nu) and ``tip_dw`` (3,), angular Jacobian and acceleration bias of the last link
+            in N; ``w`` link angular velocities in B_i (nu, 3).
         """
         n = self.dof
         H, J = self.frames(q)
@@ -144,7 +144,7 @@ class SerialChain:
         dw0 = np.einsum("nji,nj->ni", R, dw0_N)
         w = np.einsum("nji,nj->ni", R, w_N)
         return {"frames": H, "g": g, "Jv": Jv, "Jw_N": Jw_N, "Jw": Jw, "c": c, "dw0": dw0,
-                "tip_Jv": tip_Jv, "tip_c": tip_c, "w": w}
+                "tip_Jv": tip_Jv, "tip_c": tip_c, "tip_Jw": Jw_N[-1], "tip_dw": dw0_N[-1], "w": w}
 
     def dynamics(self, q: np.ndarray, qd: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """``(M, v, g)`` of eqs 61-64: (nu, nu), (nu,), (nu,)."""
