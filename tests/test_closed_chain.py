@@ -66,9 +66,12 @@ def test_pinocchio_with_the_closure_file_matches_orsino(loaded):
     (lambda s: s.replace('coordinates = ["x", "y"]', 'coordinates = ["x", "w"]'), "'platform.coordinates' must be a list of x, y, z"),
     (lambda s: s.replace('urdf = "five_bar.urdf"', 'urdf = "six_bar.urdf"'), "'urdf' file .*six_bar.urdf does not exist"),
     (lambda s: s.replace('frames = ["c1_ee", "c2_ee"]', 'frames = ["c1_ee"]'), "must name two frames"),
+    (lambda s: s + 'kind = "hinge"\n', "'closures\\[0\\].kind' must be one of \\['point', 'frame'\\]"),
+    (lambda s: s + 'kind = "frame"\n', "'closures\\[0\\].kind' is 'frame'"),
 ])
 def test_bad_closure_files_name_the_key(tmp_path, edit, message):
-    """Unknown frames or joints, bad coordinates, a missing URDF, a one-frame closure: named errors."""
+    """Unknown frames or joints, bad coordinates, a missing URDF, a one-frame closure, an unknown
+    closure kind, a frame closure given to the tip-to-tip loader: named errors."""
     (tmp_path / "five_bar.urdf").write_text((REPO / "urdf" / "five_bar.urdf").read_text())
     (tmp_path / "m.toml").write_text(edit(CLOSURE.read_text()))
     with pytest.raises(FreefloatError, match=message):

@@ -86,7 +86,7 @@ class LinkSpec:
     @property
     def tip(self) -> np.ndarray:
         """Pose of the next joint (or end-effector) in this link's frame, 4x4."""
-        return _pose((self.length, 0.0, self.d), (self.alpha, 0.0, 0.0))
+        return pose((self.length, 0.0, self.d), (self.alpha, 0.0, 0.0))
 
 
 @dataclasses.dataclass(frozen=True)
@@ -259,23 +259,25 @@ def _check_link(where: str, link: LinkSpec) -> None:
         )
 
 
-def _pose(xyz: Sequence[float], rpy: Sequence[float]) -> np.ndarray:
+def pose(xyz: Sequence[float], rpy: Sequence[float]) -> np.ndarray:
     """Homogeneous 4x4 transform from a URDF ``xyz``/``rpy`` pair."""
-    pose = tra.euler_matrix(*rpy, axes="sxyz")
-    pose[:3, 3] = xyz
-    return pose
+    out = tra.euler_matrix(*rpy, axes="sxyz")
+    out[:3, 3] = xyz
+    return out
 
 
-def _body(
+def body_link(
     name: str, mass: float, inertia: Sequence[float], com: Sequence[float], visual: yourdfpy.Visual
 ) -> yourdfpy.Link:
+    """A link of ``mass`` (kg) with principal inertia (3,) about its CoM ``com`` (m, link frame)."""
     inertial = yourdfpy.Inertial(
-        origin=_pose(com, (0.0, 0.0, 0.0)), mass=float(mass), inertia=np.diag(inertia)
+        origin=pose(com, (0.0, 0.0, 0.0)), mass=float(mass), inertia=np.diag(inertia)
     )
     return yourdfpy.Link(name=name, inertial=inertial, visuals=[visual])
 
 
-def _box_visual(size: Sequence[float]) -> yourdfpy.Visual:
+def box_visual(size: Sequence[float]) -> yourdfpy.Visual:
+    """A grey box of edges ``size`` (3,), m, centred on the link frame."""
     geometry = yourdfpy.Geometry(box=yourdfpy.Box(np.array(size, dtype=float)))
     return yourdfpy.Visual(origin=np.eye(4), geometry=geometry, material=_BASE_MATERIAL)
 
@@ -283,7 +285,7 @@ def _box_visual(size: Sequence[float]) -> yourdfpy.Visual:
 def _rod_visual(link: LinkSpec) -> yourdfpy.Visual:
     """A cylinder from the joint to the link's tip (URDF cylinders lie along their z axis)."""
     pitch = math.atan2(link.length, link.d)
-    origin = _pose((0.5 * link.length, 0.0, 0.5 * link.d), (0.0, pitch, 0.0))
+    origin = pose((0.5 * link.length, 0.0, 0.5 * link.d), (0.0, pitch, 0.0))
     geometry = yourdfpy.Geometry(
         cylinder=yourdfpy.Cylinder(ROD_RADIUS, math.hypot(link.length, link.d))
     )
@@ -295,7 +297,7 @@ def _ee_visual() -> yourdfpy.Visual:
     return yourdfpy.Visual(origin=np.eye(4), geometry=geometry, material=_EE_MATERIAL)
 
 
-def _urdf(robot: yourdfpy.Robot) -> yourdfpy.URDF:
+def wrap_robot(robot: yourdfpy.Robot) -> yourdfpy.URDF:
     """Wrap a robot without building a scene; mesh filenames are written as given."""
     return yourdfpy.URDF(
         robot=robot,
@@ -315,16 +317,16 @@ def build_urdf(spec: RobotSpec) -> yourdfpy.URDF:
         A ``yourdfpy.URDF`` rooted at ``base_link``.
     """
     links = [
-        _body(
-            BASE_LINK, spec.base_mass, spec.base_inertia, spec.base_com, _box_visual(spec.base_size)
+        body_link(
+            BASE_LINK, spec.base_mass, spec.base_inertia, spec.base_com, box_visual(spec.base_size)
         )
     ]
     joints = []
     for arm in spec.arms:
-        parent, origin = BASE_LINK, _pose(arm.pivot_xyz, arm.pivot_rpy)
+        parent, origin = BASE_LINK, pose(arm.pivot_xyz, arm.pivot_rpy)
         for i, (link, axis) in enumerate(zip(arm.links, arm.axes, strict=True), start=1):
             name = f"{arm.name}_link{i}"
-            links.append(_body(name, link.mass, link.inertia, link.com, _rod_visual(link)))
+            links.append(body_link(name, link.mass, link.inertia, link.com, _rod_visual(link)))
             joints.append(
                 yourdfpy.Joint(
                     name=f"{arm.name}_joint{i}",
@@ -347,7 +349,7 @@ def build_urdf(spec: RobotSpec) -> yourdfpy.URDF:
                 origin=origin,
             )
         )
-    return _urdf(yourdfpy.Robot(name=spec.name, links=links, joints=joints))
+    return wrap_robot(yourdfpy.Robot(name=spec.name, links=links, joints=joints))
 
 
 def urdf_xml(urdf: yourdfpy.URDF) -> str:
@@ -479,7 +481,7 @@ def dual_arm_satellite(
     ).robot
     arm_links, arm_joints = _chain_to(ur5, "base_link", "tool0")
     inertia = (bus_mass * bus_edge**2 / 6.0,) * 3
-    links = [_body("bus", bus_mass, inertia, (0.0, 0.0, 0.0), _box_visual((bus_edge,) * 3))]
+    links = [body_link("bus", bus_mass, inertia, (0.0, 0.0, 0.0), box_visual((bus_edge,) * 3))]
     joints = []
     for side, y in (("left", mount_offset), ("right", -mount_offset)):
         links += [dataclasses.replace(link, name=f"{side}_{link.name}") for link in arm_links]
@@ -489,7 +491,7 @@ def dual_arm_satellite(
                 type="fixed",
                 parent="bus",
                 child=f"{side}_base_link",
-                origin=_pose((0.5 * bus_edge, y, 0.0), (0.0, 0.5 * math.pi, 0.0)),
+                origin=pose((0.5 * bus_edge, y, 0.0), (0.0, 0.5 * math.pi, 0.0)),
             )
         )
         joints += [
@@ -498,7 +500,7 @@ def dual_arm_satellite(
             )
             for j in arm_joints
         ]
-    return _urdf(yourdfpy.Robot(name="dual_arm_satellite", links=links, joints=joints))
+    return wrap_robot(yourdfpy.Robot(name="dual_arm_satellite", links=links, joints=joints))
 
 
 def _chain_to(

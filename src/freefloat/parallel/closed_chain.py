@@ -14,11 +14,15 @@ what the tree leaves out:
     coordinates = ["x", "y"]                  # which of its inertial coordinates
     [[closures]]
     frames = ["c1_ee", "c2_ee"]               # these two points coincide (3-D point contact)
+    kind = "point"                            # or "frame": the two frames coincide (6-D)
 
-:func:`load_closed_chain` turns it into both models: Orsino's :class:`ParallelMechanism`
-(chains read from the tree, one per closure frame, the platform a massless point whose listed
-coordinates both chain tips must match) and Pinocchio's fixed-base model with one
-``RigidConstraintModel`` (CONTACT_3D) per closure, the independent reference.
+:func:`read_closures` turns it into Pinocchio's fixed-base model with one
+``RigidConstraintModel`` per closure (CONTACT_3D for a point, CONTACT_6D for a frame), the
+independent reference. :func:`load_closed_chain` also builds Orsino's :class:`ParallelMechanism`
+for mechanisms whose closures are points joining chain tips (the 5R): chains read from the tree,
+one per closure frame, the platform a massless point whose listed coordinates every tip must
+match. Mechanisms with frame closures build theirs from the same tree
+(:mod:`freefloat.parallel.rsu_ppap`).
 """
 
 from __future__ import annotations
@@ -37,6 +41,45 @@ from .serial import SerialChain
 AXES = {"x": 0, "y": 1, "z": 2}
 
 
+KINDS = {"point": pin.ContactType.CONTACT_3D, "frame": pin.ContactType.CONTACT_6D}
+#: Joint types a chain takes, with the axis they turn about or slide along (in the joint frame).
+AXIS_JOINTS = {"JointModelRX": (False, 0), "JointModelRY": (False, 1), "JointModelRZ": (False, 2),
+               "JointModelPX": (True, 0), "JointModelPY": (True, 1), "JointModelPZ": (True, 2)}
+#: Rotations taking z onto x, y, z: a joint about axis a is ``T Rz(q) T^-1``.
+Z_TO_AXIS = (pin.rpy.rpyToMatrix(0.0, np.pi / 2, 0.0), pin.rpy.rpyToMatrix(-np.pi / 2, 0.0, 0.0), np.eye(3))
+
+
+@dataclass
+class Closures:
+    """Pinocchio's side of a closure file.
+
+    Attributes:
+        path: the closure file.
+        spec: its parsed content.
+        model: Pinocchio's fixed-base model of the spanning tree, gravity set.
+        constraints: one ``RigidConstraintModel`` per closure (LOCAL frame).
+        frames: the two frame names of each closure.
+        actuated: Pinocchio joint ids of the actuated joints.
+    """
+
+    path: Path
+    spec: dict
+    model: pin.Model
+    constraints: list
+    frames: list[tuple[str, str]]
+    actuated: list[int]
+
+    def frame_id(self, name: str, key: str) -> int:
+        """Frame id of ``name``, which the file's ``key`` gave.
+
+        Raises:
+            FreefloatError: naming the file, the key and the URDF when there is no such frame.
+        """
+        if not self.model.existFrame(name):
+            raise FreefloatError(f"{self.path}: '{key}' names frame '{name}', which is not in {self.spec['urdf']}")
+        return self.model.getFrameId(name)
+
+
 @dataclass
 class ClosedChain:
     """Both models of one mechanism.
@@ -44,34 +87,32 @@ class ClosedChain:
     Attributes:
         mechanism: Orsino's model, coordinates ``[q#; chain joints in closure order]``.
         model: Pinocchio's fixed-base model of the spanning tree.
-        constraints: one CONTACT_3D ``RigidConstraintModel`` per closure.
-        chain_joints: Pinocchio joint ids of each chain, base outwards.
+        constraints: one ``RigidConstraintModel`` per closure.
+        joint_coordinates: Pinocchio joint id -> index of its coordinate in Orsino's ``q``.
         actuated: Pinocchio joint ids of the actuated joints.
     """
 
     mechanism: ParallelMechanism
     model: pin.Model
     constraints: list
-    chain_joints: list[list[int]]
+    joint_coordinates: dict[int, int]
     actuated: list[int]
 
     def pinocchio_q(self, q: np.ndarray) -> np.ndarray:
-        """Pinocchio configuration (nq,) from Orsino's ``q`` (the platform coordinates dropped)."""
+        """Pinocchio configuration (nq,) from Orsino's ``q`` (the platform coordinates dropped);
+        also maps rates and accelerations (every joint has one coordinate)."""
         out = np.zeros(self.model.nq)
-        start = self.mechanism.p
-        for joints in self.chain_joints:
-            for j in joints:
-                out[self.model.idx_qs[j]] = q[start]
-                start += 1
+        for j, i in self.joint_coordinates.items():
+            out[self.model.idx_qs[j]] = q[i]
         return out
 
 
-def load_closed_chain(path: str | Path) -> ClosedChain:
-    """Read a closure file and its URDF.
+def read_closures(path: str | Path) -> Closures:
+    """Read a closure file and its URDF into Pinocchio's constrained model.
 
     Raises:
         FreefloatError: naming the file and the key for a missing URDF, an unknown frame or
-            joint, a closure that is not a pair of points, or a platform coordinate not x/y/z.
+            joint, a closure that is not a pair of frames, or an unknown closure kind.
     """
     path = Path(path)
     try:
@@ -86,34 +127,48 @@ def load_closed_chain(path: str | Path) -> ClosedChain:
         raise FreefloatError(f"{path}: 'urdf' file {urdf} does not exist")
     model = pin.buildModelFromUrdf(str(urdf))
     model.gravity = pin.Motion(np.asarray(spec.get("gravity", [0.0, 0.0, 0.0]), float), np.zeros(3))
-
-    def frame_id(name: str, key: str) -> int:
-        if not model.existFrame(name):
-            raise FreefloatError(f"{path}: '{key}' names frame '{name}', which is not in {urdf.name}")
-        return model.getFrameId(name)
-
-    def joint_id(name: str) -> int:
+    out = Closures(path, spec, model, [], [], [])
+    for name in spec["actuated"]:
         if not model.existJointName(name):
             raise FreefloatError(f"{path}: 'actuated' names joint '{name}', which is not in {urdf.name}")
-        return model.getJointId(name)
-
-    coords = spec["platform"].get("coordinates", ["x", "y", "z"])
-    if not coords or any(c not in AXES for c in coords):
-        raise FreefloatError(f"{path}: 'platform.coordinates' must be a list of x, y, z; got {coords}")
-    frame_id(spec["platform"].get("frame", ""), "platform.frame")
-    chains, chain_joints, constraints, tips = [], [], [], []
+        out.actuated.append(model.getJointId(name))
+    out.frame_id(spec["platform"].get("frame", ""), "platform.frame")
     for i, closure in enumerate(spec["closures"]):
-        frames = closure.get("frames", [])
+        frames, kind = closure.get("frames", []), closure.get("kind", "point")
         if len(frames) != 2:
             raise FreefloatError(f"{path}: 'closures[{i}].frames' must name two frames, got {frames}")
-        ids = [frame_id(name, f"closures[{i}].frames") for name in frames]
-        placements = [(model.frames[f].parentJoint, model.frames[f].placement) for f in ids]
-        constraints.append(pin.RigidConstraintModel(pin.ContactType.CONTACT_3D, model, placements[0][0], placements[0][1],
-                                                    placements[1][0], placements[1][1], pin.ReferenceFrame.LOCAL))
-        for f in ids:
-            if model.frames[f].name not in tips:
-                tips.append(model.frames[f].name)
-                chain, joints = chain_from_tree(model, f)
+        if kind not in KINDS:
+            raise FreefloatError(f"{path}: 'closures[{i}].kind' must be one of {list(KINDS)}, got '{kind}'")
+        placements = [model.frames[out.frame_id(name, f"closures[{i}].frames")] for name in frames]
+        out.constraints.append(pin.RigidConstraintModel(KINDS[kind], model, placements[0].parentJoint, placements[0].placement,
+                                                        placements[1].parentJoint, placements[1].placement,
+                                                        pin.ReferenceFrame.LOCAL))
+        out.frames.append(tuple(frames))
+    return out
+
+
+def load_closed_chain(path: str | Path) -> ClosedChain:
+    """Both models of a mechanism whose closures join chain tips at the platform point (the 5R).
+
+    Raises:
+        FreefloatError: as :func:`read_closures`, and for a frame closure or a platform
+            coordinate not x/y/z.
+    """
+    closures = read_closures(path)
+    model, spec = closures.model, closures.spec
+    coords = spec["platform"].get("coordinates", ["x", "y", "z"])
+    if not coords or any(c not in AXES for c in coords):
+        raise FreefloatError(f"{closures.path}: 'platform.coordinates' must be a list of x, y, z; got {coords}")
+    for i, closure in enumerate(spec["closures"]):
+        if closure.get("kind", "point") != "point":
+            raise FreefloatError(f"{closures.path}: 'closures[{i}].kind' is '{closure['kind']}'; tip-to-tip mechanisms "
+                                 "take point closures (frame closures need their own builder, see rsu_ppap)")
+    chains, chain_joints, tips = [], [], []
+    for pair in closures.frames:
+        for name in pair:
+            if name not in tips:
+                tips.append(name)
+                chain, joints = chain_from_tree(model, model.getFrameId(name))
                 chains.append(chain)
                 chain_joints.append(joints)
     axes = [AXES[c] for c in coords]
@@ -123,34 +178,41 @@ def load_closed_chain(path: str | Path) -> ClosedChain:
     for t in range(n_tips):
         for r, axis in enumerate(axes):
             E[p * t + r, 3 * t + axis] = 1.0
-    n_joints = sum(c.dof for c in chains)
     order = [j for joints in chain_joints for j in joints]
-    actuated = [joint_id(name) for name in spec["actuated"]]
     mech = ParallelMechanism(chains=tuple(chains), platform_mass=np.zeros((p, p)), platform_gravity=np.zeros(p),
-                             D=D, d=np.zeros(p * n_tips), E=E, F=np.zeros((p * n_tips, n_joints)),
-                             actuated=np.array([p + order.index(j) for j in actuated]))
-    return ClosedChain(mech, model, constraints, chain_joints, actuated)
+                             D=D, d=np.zeros(p * n_tips), E=E, F=np.zeros((p * n_tips, len(order))),
+                             actuated=np.array([p + order.index(j) for j in closures.actuated]))
+    return ClosedChain(mech, model, closures.constraints, {j: p + i for i, j in enumerate(order)}, closures.actuated)
 
 
 def chain_from_tree(model: pin.Model, frame: int) -> tuple[SerialChain, list[int]]:
-    """The serial chain from the root to ``frame``'s joint: placements from the tree, ``L = I``,
-    inertias in the joint frames, the tip at the frame's origin. Revolute-z and prismatic-z
-    joints only (what a DH-style URDF gives)."""
+    """The serial chain from the root to ``frame``'s joint: placements from the tree, inertias
+    in the joint frames, the tip at the frame's origin. Revolute and prismatic joints along x,
+    y or z of their frames; an x or y axis is turned onto Orsino's z by ``P_i = placement T``,
+    ``L_i = T^-1`` (``T`` in :data:`Z_TO_AXIS`).
+
+    Raises:
+        FreefloatError: naming a joint of another type.
+    """
     joints = []
     j = model.frames[frame].parentJoint
     while j > 0:
         joints.append(j)
         j = model.parents[j]
     joints.reverse()
-    prismatic = []
+    placement, link, prismatic = [], [], []
     for j in joints:
         kind = model.joints[j].shortname()
-        if kind not in ("JointModelRZ", "JointModelPZ"):
-            raise FreefloatError(f"joint '{model.names[j]}' is {kind}: closed-chain models take joints about/along z")
-        prismatic.append(kind == "JointModelPZ")
+        if kind not in AXIS_JOINTS:
+            raise FreefloatError(f"joint '{model.names[j]}' is {kind}: closed-chain models take revolute or prismatic "
+                                 f"joints along x, y or z of their frames")
+        slides, axis = AXIS_JOINTS[kind]
+        turn = pin.SE3(Z_TO_AXIS[axis], np.zeros(3))
+        placement.append((model.jointPlacements[j] * turn).homogeneous)
+        link.append(turn.inverse().homogeneous)
+        prismatic.append(slides)
     inertias = [model.inertias[j] for j in joints]
-    chain = SerialChain(placement=np.array([model.jointPlacements[j].homogeneous for j in joints]),
-                        link=np.tile(np.eye(4), (len(joints), 1, 1)), prismatic=np.array(prismatic),
+    chain = SerialChain(placement=np.array(placement), link=np.array(link), prismatic=np.array(prismatic),
                         mass=np.array([I.mass for I in inertias]), com=np.array([I.lever for I in inertias]),
                         inertia=np.array([I.inertia for I in inertias]), base=np.eye(4),
                         tip_point=model.frames[frame].placement.translation.copy(),
