@@ -17,17 +17,20 @@ from freefloat.builders import (
     write_urdf,
 )
 from freefloat.parallel.five_bar import five_bar_spec
+from freefloat.parallel.rsu_ppap import load_data, rsu_ppap_urdf
 from freefloat.paths import URDF_DIR
 
 
 def main(out_dir: Path = URDF_DIR) -> None:
-    """Write the four-arm, two-arm, dual-arm-satellite and 5R spanning-tree URDFs into ``out_dir``."""
+    """Write the four-arm, two-arm, dual-arm-satellite, 5R and 2RSU+PPaP spanning-tree URDFs into
+    ``out_dir``."""
     out_dir.mkdir(parents=True, exist_ok=True)
     robots = {
         "four_arm_planar.urdf": build_urdf(four_arm_planar()),
         "two_arm_planar.urdf": build_urdf(two_arm_planar()),
         "dual_arm_satellite.urdf": dual_arm_satellite(),
         "five_bar.urdf": build_urdf(five_bar_spec()),
+        "rsu_ppap.urdf": rsu_ppap_urdf(load_data()),
     }
     for name, urdf in robots.items():
         print(write_urdf(urdf, out_dir / name))
