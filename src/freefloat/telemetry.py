@@ -1,15 +1,39 @@
-"""Telemetry of a simulation run: one row per control period, preallocated, saved as ``.npz``."""
+"""Telemetry of a simulation run: one row per control period (robots) or step (mechanisms),
+saved as ``.npz``."""
 
 from __future__ import annotations
 
 from dataclasses import dataclass, fields
 from pathlib import Path
+from typing import TypeVar
 
 import numpy as np
 
+A = TypeVar("A", bound="Arrays")
+
+
+class Arrays:
+    """Dataclass of equally long arrays (one row per sample): truncation and ``.npz`` I/O."""
+
+    def truncated(self: A, rows: int) -> A:
+        """The first ``rows`` samples (what a run had when it stopped)."""
+        return type(self)(**{f.name: getattr(self, f.name)[:rows] for f in fields(self)})
+
+    def save(self, path: str | Path, **metadata: object) -> None:
+        """Write all arrays to ``path`` (.npz); ``metadata`` values are stored as arrays too."""
+        arrays = {f.name: getattr(self, f.name) for f in fields(self)}
+        arrays.update({f"meta_{k}": np.asarray(v) for k, v in metadata.items()})
+        np.savez_compressed(path, **arrays)
+
+    @classmethod
+    def load(cls: type[A], path: str | Path) -> A:
+        """Read a file written by :meth:`save` (metadata is ignored)."""
+        with np.load(path) as data:
+            return cls(**{f.name: data[f.name] for f in fields(cls)})
+
 
 @dataclass
-class Telemetry:
+class Telemetry(Arrays):
     """Recorded run. Row ``k`` is the state at time ``t[k]``; ``tau[k]`` is held over [t_k, t_k+1).
 
     Attributes:
@@ -61,18 +85,25 @@ class Telemetry:
             com=z((rows, 3)), momentum=z((rows, 6)), energy=z(rows), work=z(rows),
         )
 
-    def truncated(self, rows: int) -> "Telemetry":
-        """The first ``rows`` samples (what a run had when it stopped)."""
-        return Telemetry(**{f.name: getattr(self, f.name)[:rows] for f in fields(self)})
 
-    def save(self, path: str | Path, **metadata: object) -> None:
-        """Write all arrays to ``path`` (.npz); ``metadata`` values are stored as arrays too."""
-        arrays = {f.name: getattr(self, f.name) for f in fields(self)}
-        arrays.update({f"meta_{k}": np.asarray(v) for k, v in metadata.items()})
-        np.savez_compressed(path, **arrays)
+@dataclass
+class MechanismTelemetry(Arrays):
+    """Recorded closed-chain mechanism run, one row per integration step. Coordinates
+    ``q = [q#; q°]`` as in :class:`~freefloat.parallel.mechanism.ParallelMechanism`.
 
-    @classmethod
-    def load(cls, path: str | Path) -> "Telemetry":
-        """Read a file written by :meth:`save` (metadata is ignored)."""
-        with np.load(path) as data:
-            return cls(**{f.name: data[f.name] for f in fields(cls)})
+    Attributes:
+        t: time, s (N,).
+        platform: platform coordinates q#, m or rad (N, p).
+        platform_reference: the reference q#_d (N, p).
+        joints: the chains' joint coordinates q°, rad or m, chains in closure order (N, n_q - p).
+        efforts: actuator efforts held over [t_k, t_k+1), N m or N (N, k); the last row, which
+            starts no step, is NaN.
+        drift: loop-closure residual max |qbar(q)|, m (N,).
+    """
+
+    t: np.ndarray
+    platform: np.ndarray
+    platform_reference: np.ndarray
+    joints: np.ndarray
+    efforts: np.ndarray
+    drift: np.ndarray
