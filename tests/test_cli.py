@@ -12,6 +12,8 @@ from freefloat.cli import main
 from freefloat.scenes import DEFAULT_SCENE, builtin_scenes
 from freefloat.telemetry import Telemetry
 
+from .conftest import scene_variant, toml_text
+
 
 @pytest.fixture(scope="module")
 def default_run(tmp_path_factory):
@@ -84,7 +86,7 @@ def test_diverging_scene_exits_1_and_keeps_its_samples(tmp_path):
     raw["simulation"].update(integrator="euler", control_period=0.05, duration=50.0)
     raw["output"] = {"html": False, "figures": False}
     scene = tmp_path / "bad.toml"
-    scene.write_text(_toml(raw))
+    scene.write_text(toml_text(raw))
     status = main(["simulate", str(scene), "--out", str(tmp_path / "out"), "--quiet"])
     summary = json.loads((tmp_path / "out" / "summary.json").read_text())
     assert status == 1 and summary["status"] == "diverged"
@@ -99,22 +101,72 @@ def test_bad_scene_exits_2_naming_the_key(tmp_path, capsys):
     assert "unknown top-level key 'speed'" in capsys.readouterr().err
 
 
-def _toml(raw: dict) -> str:
-    """Minimal TOML writer for the nested dicts of a scene."""
-    def value(x):
-        if isinstance(x, str):
-            return f'"{x}"'
-        if isinstance(x, bool):
-            return "true" if x else "false"
-        if isinstance(x, dict):
-            return "{ " + ", ".join(f"{k} = {value(v)}" for k, v in x.items()) + " }"
-        if isinstance(x, list):
-            return "[" + ", ".join(value(v) for v in x) + "]"
-        return repr(x)
+@pytest.fixture(scope="module")
+def mechanism_run(tmp_path_factory):
+    """``freefloat simulate`` on the sliding-mode 5R scene shortened to 0.01 s (error after 5 ms)."""
+    folder = tmp_path_factory.mktemp("mechanism")
+    scene = scene_variant(folder / "five_bar.toml", "five_bar_sliding_mode", simulation={"duration": 0.01},
+                          metrics={"reaching_phase": 0.005})
+    status = main(["simulate", str(scene), "--out", str(folder / "out"), "--quiet"])
+    return status, folder / "out", json.loads((folder / "out" / "summary.json").read_text())
 
-    lines = [f"{k} = {value(v)}" for k, v in raw.items() if not isinstance(v, dict)]
-    for section, body in raw.items():
-        if isinstance(body, dict):
-            lines.append(f"[{section}]")
-            lines += [f"{k} = {value(v)}" for k, v in body.items()]
-    return "\n".join(lines) + "\n"
+
+def test_mechanism_scene_writes_every_artefact(mechanism_run):
+    """A mechanism scene writes telemetry, summary, scene, three figures and the HTML page; exit 0."""
+    status, out, _ = mechanism_run
+    assert status == 0
+    assert {p.name for p in out.iterdir()} == {"telemetry.npz", "summary.json", "scene.toml", "trajectory.html",
+                                                "platform_tracking.png", "efforts.png", "loop_closure_drift.png"}
+
+
+def test_mechanism_summary_records_provenance(mechanism_run):
+    """The summary holds the metrics, the mechanism, the scene, the settings and the versions."""
+    summary = mechanism_run[2]
+    assert summary["steps"] == 100 and summary["status"] == "completed"
+    assert summary["mechanism"]["plant"] == "true_15" and summary["mechanism"]["joints"] == [
+        "c1_joint1", "c1_joint2", "c2_joint1", "c2_joint2"]
+    assert summary["scene"]["controller"]["kind"] == "sliding_mode" and summary["settings"]["integrator"] == "rk4"
+    assert {"pin", "numpy", "freefloat"} <= set(summary["versions"])
+    assert len(summary["tracking_error_max"]) == 2 and len(summary["peak_efforts"]) == 2
+
+
+def test_mechanism_page_animates_the_5r_joints_where_orsino_puts_them(mechanism_run):
+    """The page has a node per 5R joint; chain 1's elbow ends where Orsino's kinematics put it."""
+    from freefloat.parallel.five_bar import TRUE_PARAMETERS, chain
+    from freefloat.telemetry import MechanismTelemetry
+
+    from .test_viz import _animation, _packets
+
+    out = mechanism_run[1]
+    tracks = _animation(_packets(out / "trajectory.html"))
+    joints = {path.rsplit("/", 1)[-1]: tr for path, tr in tracks.items()}
+    assert {"c1_joint1", "c1_joint2", "c2_joint1", "c2_joint2"} <= set(joints)
+    tel = MechanismTelemetry.load(out / "telemetry.npz")
+    _, frames = chain(TRUE_PARAMETERS, +1).frames(tel.joints[-1, :2])
+    np.testing.assert_allclose(joints["c1_joint2"][".position"][-1][1], frames[1][:3, 3], atol=1e-9)
+
+
+def test_no_html_skips_the_mechanism_page(tmp_path):
+    """--no-html writes no trajectory.html for a mechanism scene."""
+    scene = scene_variant(tmp_path / "s.toml", "five_bar_computed_torque", simulation={"duration": 0.001},
+                          output={"figures": False})
+    assert main(["simulate", str(scene), "--out", str(tmp_path / "out"), "--quiet", "--no-html"]) == 0
+    assert not (tmp_path / "out" / "trajectory.html").exists() and (tmp_path / "out" / "summary.json").exists()
+
+
+def test_diverging_mechanism_exits_1_and_keeps_its_samples(tmp_path, capsys):
+    """A mechanism that comes apart exits with status 1, says so, and writes its telemetry."""
+    scene = scene_variant(tmp_path / "s.toml", "five_bar_computed_torque",
+                          simulation={"integrator": "euler", "step": 1e-3, "baumgarte": 1000.0},
+                          output={"figures": False, "html": False})
+    status = main(["simulate", str(scene), "--out", str(tmp_path / "out"), "--quiet"])
+    assert status == 1 and "run stopped early: loop-closure residual" in capsys.readouterr().err
+    assert json.loads((tmp_path / "out" / "summary.json").read_text())["status"] == "diverged"
+
+
+def test_scenes_lists_the_mechanism_scenes(capsys):
+    """`freefloat scenes` lists the 5R scenes beside the default robot scene."""
+    assert main(["scenes"]) == 0
+    listed = capsys.readouterr().out
+    assert "five_bar_sliding_mode: 5R" in listed and "five_bar_computed_torque: 5R" in listed
+    assert f"{DEFAULT_SCENE} (default)" in listed

@@ -1,4 +1,5 @@
-"""Command line: ``freefloat simulate [SCENE] [--out DIR]``, ``freefloat scenes``."""
+"""Command line: ``freefloat simulate [SCENE] [--out DIR]`` (robot and mechanism scenes),
+``freefloat scenes``, ``freefloat verify``, ``freefloat reproduce``."""
 
 from __future__ import annotations
 
@@ -7,10 +8,18 @@ import sys
 import time
 import warnings
 from pathlib import Path
+from typing import TYPE_CHECKING, Callable, TypeVar
 
 from tqdm import tqdm
 
 from .errors import FreefloatError
+
+if TYPE_CHECKING:
+    from .mechanism_runner import MechanismRun
+    from .scenes import MechanismScene
+    from .simulation import RunResult
+
+T = TypeVar("T")
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -104,7 +113,7 @@ def _simulate(args: argparse.Namespace) -> int:
 
     from .outputs import write_run
     from .runner import simulate_scene
-    from .scenes import DEFAULT_SCENE, find_scene
+    from .scenes import DEFAULT_SCENE, MechanismScene, find_scene
 
     scene = find_scene(args.scene or DEFAULT_SCENE)
     if args.no_figures or args.no_html:
@@ -112,14 +121,42 @@ def _simulate(args: argparse.Namespace) -> int:
                                      html=scene.output.html and not args.no_html)
         scene = dataclasses.replace(scene, output=output)
     out = args.out or Path("runs") / f"{scene.name}-{time.strftime('%Y%m%d-%H%M%S')}"
+    if isinstance(scene, MechanismScene):
+        return _simulate_mechanism(scene, out, args.quiet)
     steps = round(scene.simulation.duration / scene.simulation.control_period)
+    prepared, result, summary = _with_progress(scene.name, steps, args.quiet,
+                                               lambda progress: simulate_scene(scene, progress=progress))
+    written = write_run(out, scene, prepared, result, summary)
+    return _report(out, written, result, summary, ("tracking_rms_overall", "com_drift_max", "momentum_drift_max",
+                                           "energy_drift_max", "base_displacement"))
+
+
+def _simulate_mechanism(scene: MechanismScene, out: Path, quiet: bool) -> int:
+    """``freefloat simulate`` on a mechanism scene."""
+    from .mechanism_runner import simulate_mechanism_scene
+    from .outputs import write_mechanism_run
+
+    steps = round(scene.simulation.duration / scene.simulation.step)
+    prepared, run, summary = _with_progress(scene.name, steps, quiet,
+                                            lambda progress: simulate_mechanism_scene(scene, progress=progress))
+    written = write_mechanism_run(out, scene, prepared, run, summary)
+    return _report(out, written, run, summary, ("tracking_error_max", "tracking_error_rms", "loop_closure_drift_max",
+                                                "orientation_drift_max", "peak_efforts"))
+
+
+def _with_progress(name: str, steps: int, quiet: bool, run: Callable[[Callable[[int], None]], T]) -> T:
+    """``run(progress)`` under a progress bar of ``steps`` steps, warnings shown once each."""
     with warnings.catch_warnings():
         warnings.simplefilter("default")
-        with tqdm(total=steps, desc=scene.name, unit="step", disable=args.quiet) as bar:
-            prepared, result, summary = simulate_scene(scene, progress=lambda k: bar.update(k - bar.n))
-    written = write_run(out, scene, prepared, result, summary)
+        with tqdm(total=steps, desc=name, unit="step", disable=quiet) as bar:
+            return run(lambda k: bar.update(k - bar.n))
+
+
+def _report(out: Path, written: list[Path], result: RunResult | MechanismRun, summary: dict,
+            keys: tuple[str, ...]) -> int:
+    """Print a run's outcome and the summary's ``keys``; the exit status (1 when it stopped early)."""
     print(f"{result.status}: {result.steps} steps in {result.wall_time_s:.2f} s -> {out}")
-    for key in ("tracking_rms_overall", "com_drift_max", "momentum_drift_max", "energy_drift_max", "base_displacement"):
+    for key in keys:
         if key in summary:
             print(f"  {key}: {summary[key]}")
     print(f"  wrote: {', '.join(p.name for p in written)}")

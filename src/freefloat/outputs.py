@@ -11,8 +11,12 @@ from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
 from typing import Callable
 
+import numpy as np
+
+from .mechanism_runner import MechanismRun, PreparedMechanism
+from .parallel.closed_chain import ClosedChain
 from .runner import Prepared
-from .scenes import Scene
+from .scenes import MechanismScene, Scene
 from .simulation import RunResult
 
 PACKAGES = ("freefloat", "pin", "numpy", "scipy", "meshcat", "example-robot-data", "yourdfpy")
@@ -59,21 +63,11 @@ def write_run(
     for name, extra in prepared.extra_telemetry.items():
         extra.save(out_dir / f"telemetry_{name}.npz")
         written.append(out_dir / f"telemetry_{name}.npz")
-    if scene.source is not None:
-        (out_dir / "scene.toml").write_text(scene.source.read_text())
-        written.append(out_dir / "scene.toml")
-    record = dict(summary)
-    record.update(
-        scene=_jsonable(dataclasses.asdict(scene)),
-        robot={"urdf": str(robot.urdf_path), "base": robot.base, "nq": robot.model.nq,
-               "nv": robot.model.nv, "end_effectors": list(robot.end_effectors),
-               "loader_notes": list(robot.warnings)},
+    written += _write_provenance(out_dir, scene, summary, robot={
+        "urdf": str(robot.urdf_path), "base": robot.base, "nq": robot.model.nq, "nv": robot.model.nv,
+        "end_effectors": list(robot.end_effectors), "loader_notes": list(robot.warnings)},
         settings={"integrator": prepared.integrator.name, "model": prepared.model.name,
-                  "control_period": scene.simulation.control_period},
-        versions=versions(),
-    )
-    (out_dir / "summary.json").write_text(json.dumps(record, indent=2))
-    written.append(out_dir / "summary.json")
+                  "control_period": scene.simulation.control_period})
     if len(tel.t) >= 2 and scene.output.figures:
         from .viz.figures import write_figures
 
@@ -85,6 +79,57 @@ def write_run(
         written.append(write_trajectory_html(robot, t, q, out_dir / "trajectory.html", fps=scene.output.html_fps,
                                              extra=prepared.extra_bodies or None))
     return written
+
+
+def write_mechanism_run(out_dir: Path, scene: MechanismScene, prepared: PreparedMechanism, run: MechanismRun,
+                        summary: dict[str, object]) -> list[Path]:
+    """Write a mechanism run: ``telemetry.npz`` (:class:`~freefloat.telemetry.MechanismTelemetry`,
+    with the joint and actuator names), ``summary.json``, the scene, figures and
+    ``trajectory.html``, whatever the run's status. Returns the paths written."""
+    from .viz.mechanism import write_mechanism_figures, write_mechanism_html
+
+    out_dir.mkdir(parents=True, exist_ok=True)
+    chain, tel = prepared.setup.display, run.telemetry
+    joints = _joint_names(chain, len(prepared.q0))
+    actuated = [chain.model.names[j] for j in chain.actuated]
+    written = [out_dir / "telemetry.npz"]
+    tel.save(written[0], joint_names=joints, actuated=actuated, scene=scene.name)
+    written += _write_provenance(out_dir, scene, summary, mechanism={
+        "name": scene.mechanism.name, "closure": str(prepared.closure), "plant": scene.mechanism.plant,
+        "platform_coordinates": prepared.setup.nominal.p, "joints": joints, "actuated": actuated},
+        settings={"integrator": scene.simulation.integrator, "step": scene.simulation.step,
+                  "baumgarte": scene.simulation.baumgarte, "controller": scene.controller.kind})
+    if len(tel.t) >= 2 and scene.output.figures:
+        written += write_mechanism_figures(tel, out_dir)
+    if len(tel.t) >= 2 and scene.output.html:
+        q = np.hstack((tel.platform, tel.joints))
+        written.append(write_mechanism_html(prepared.closure, chain, tel.t, q, out_dir / "trajectory.html",
+                                            scene.output.html_fps))
+    return written
+
+
+def _joint_names(chain: ClosedChain, n_q: int) -> list[str]:
+    """Name of the tree joint behind each of Orsino's joint coordinates ``q°`` (n_q - p): the
+    tree coordinates :meth:`ClosedChain.pinocchio_q` fills from each index (the first joint where
+    several share one coordinate)."""
+    model, p = chain.model, chain.mechanism.p
+    source = chain.pinocchio_q(np.arange(n_q, dtype=float))  # each tree coordinate: its index in q
+    owner = {int(source[model.idx_qs[j]]): model.names[j] for j in range(model.njoints - 1, 0, -1)}
+    return [owner.get(i, "?") for i in range(p, n_q)]
+
+
+def _write_provenance(out_dir: Path, scene: Scene | MechanismScene, summary: dict[str, object],
+                      **described: dict) -> list[Path]:
+    """``scene.toml`` (the file as run, when there is one) and ``summary.json``: the summary plus
+    the scene, the ``described`` parts (robot or mechanism, settings) and the package versions."""
+    written = []
+    if scene.source is not None:
+        (out_dir / "scene.toml").write_text(scene.source.read_text())
+        written.append(out_dir / "scene.toml")
+    record = dict(summary)
+    record.update(scene=_jsonable(dataclasses.asdict(scene)), **described, versions=versions())
+    (out_dir / "summary.json").write_text(json.dumps(record, indent=2))
+    return written + [out_dir / "summary.json"]
 
 
 def _jsonable(value: object) -> object:

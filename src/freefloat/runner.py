@@ -21,7 +21,7 @@ from .metrics import settling_time, summarize
 from .models import DynamicsModel, make_model
 from .paths import URDF_DIR
 from .robot import Robot
-from .scenes import Scene
+from .scenes import MechanismScene, Scene
 from .simulation import RunResult, run
 from .wrenches import ExternalWrench
 
@@ -44,20 +44,26 @@ class Prepared:
     extra_telemetry: dict = field(default_factory=dict)
 
 
-def resolve_urdf(scene: Scene) -> Path:
-    """The scene's URDF: absolute, relative to the scene file, or a built-in robot in ``urdf/``.
+def resolve_file(scene: Scene | MechanismScene, value: str, key: str) -> Path:
+    """A file a scene names under ``key``: absolute, relative to the scene file, to the working
+    directory, or a built-in file in ``urdf/``.
 
     Raises:
-        SceneError: naming ``robot.urdf`` and the places searched.
+        SceneError: naming the key and the places searched.
     """
-    name = Path(scene.robot.urdf)
+    name = Path(value)
     candidates = [name] if name.is_absolute() else [
         *([scene.source.parent / name] if scene.source else []), Path.cwd() / name, URDF_DIR / name
     ]
     for path in candidates:
         if path.is_file():
             return path
-    raise SceneError(f"scene '{scene.name}': robot.urdf '{name}' not found in {[str(c.parent) for c in candidates]}")
+    raise SceneError(f"scene '{scene.name}': {key} '{name}' not found in {[str(c.parent) for c in candidates]}")
+
+
+def resolve_urdf(scene: Scene) -> Path:
+    """The scene's URDF (``robot.urdf``), found as :func:`resolve_file` says."""
+    return resolve_file(scene, scene.robot.urdf, "robot.urdf")
 
 
 def joint_table(robot: Robot, table: dict[str, float], angle_scale: float, key: str) -> np.ndarray:

@@ -99,6 +99,8 @@ class MechanismTelemetry(Arrays):
         efforts: actuator efforts held over [t_k, t_k+1), N m or N (N, k); the last row, which
             starts no step, is NaN.
         drift: loop-closure residual max |qbar(q)|, m (N,).
+        orientation_drift: residual of the angular constraints' position form, max over rows, rad
+            (N,); 0 for a mechanism without angular constraints.
     """
 
     t: np.ndarray
@@ -107,3 +109,4 @@ class MechanismTelemetry(Arrays):
     joints: np.ndarray
     efforts: np.ndarray
     drift: np.ndarray
+    orientation_drift: np.ndarray

@@ -6,6 +6,7 @@ from pathlib import Path
 
 from ..errors import SceneError
 from ..paths import SCENES_DIR
+from .mechanism_schema import MechanismScene
 from .schema import Scene, load_scene, parse_scene
 
 #: The scene ``freefloat simulate`` runs without an argument.
@@ -17,8 +18,8 @@ def builtin_scenes() -> dict[str, Path]:
     return {p.stem: p for p in sorted(SCENES_DIR.glob("*.toml"))}
 
 
-def find_scene(name_or_path: str | Path) -> Scene:
-    """A built-in scene by name, or a scene file by path.
+def find_scene(name_or_path: str | Path) -> Scene | MechanismScene:
+    """A built-in scene by name, or a scene file by path (a robot or a mechanism scene).
 
     Raises:
         SceneError: when it is neither, listing the built-in names.
@@ -34,4 +35,4 @@ def find_scene(name_or_path: str | Path) -> Scene:
     )
 
 
-__all__ = ["DEFAULT_SCENE", "Scene", "builtin_scenes", "find_scene", "load_scene", "parse_scene"]
+__all__ = ["DEFAULT_SCENE", "MechanismScene", "Scene", "builtin_scenes", "find_scene", "load_scene", "parse_scene"]

@@ -11,11 +11,14 @@ import math
 import tomllib
 from dataclasses import MISSING, dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any, NamedTuple
 
 from ..errors import SceneError
 from ..integrators import INTEGRATORS
 from ..models import MODELS
+
+if TYPE_CHECKING:
+    from .mechanism_schema import MechanismScene
 
 
 @dataclass(frozen=True)
@@ -149,6 +152,15 @@ class Scene:
         return math.pi / 180.0 if self.angle_unit == "deg" else 1.0
 
 
+class Rules(NamedTuple):
+    """Value rules of one scene kind, keyed by ``(section, key)`` (section ``""``: top level):
+    the allowed strings, and the numbers that must be > 0 or >= 0."""
+
+    choices: dict[tuple[str, str], tuple[str, ...]]
+    positive: set[tuple[str, str]]
+    non_negative: set[tuple[str, str]]
+
+
 SECTIONS = {
     "robot": RobotSection, "initial": InitialSection, "task": TaskSection,
     "controller": ControllerSection, "simulation": SimulationSection, "output": OutputSection,
@@ -172,10 +184,12 @@ POSITIVE = {
 }
 NON_NEGATIVE = {("controller", "kp"), ("controller", "kd"), ("task", "start"), ("wrenches", "start"),
                 ("wrenches", "rise")}
+RULES = Rules(CHOICES, POSITIVE, NON_NEGATIVE)
 
 
-def load_scene(path: str | Path) -> Scene:
-    """Read and validate a scene file.
+def load_scene(path: str | Path) -> Scene | MechanismScene:
+    """Read and validate a scene file: a robot scene, or a mechanism scene when it has a
+    ``[mechanism]`` section.
 
     Raises:
         SceneError: naming the file and the key for unknown keys, wrong types, impossible values.
@@ -190,8 +204,12 @@ def load_scene(path: str | Path) -> Scene:
     return parse_scene(raw, source=path)
 
 
-def parse_scene(raw: dict[str, Any], source: Path | None = None) -> Scene:
+def parse_scene(raw: dict[str, Any], source: Path | None = None) -> Scene | MechanismScene:
     """Validate a scene given as a dict (the parsed TOML)."""
+    if "mechanism" in raw:
+        from .mechanism_schema import parse_mechanism_scene
+
+        return parse_mechanism_scene(raw, source)
     where = f"{source}: " if source else "scene: "
     top = {"name", "description", "angle_unit", "wrenches", *SECTIONS}
     _no_unknown(where, "", raw, top)
@@ -212,7 +230,9 @@ def parse_scene(raw: dict[str, Any], source: Path | None = None) -> Scene:
     return Scene(**kwargs, source=source)
 
 
-def _section(where: str, section: str, cls: type, raw: Any) -> Any:
+def _section(where: str, section: str, cls: type, raw: Any, rules: Rules = RULES) -> Any:
+    """A section's dataclass from its table; how each value is checked follows the field's type
+    annotation (and ``rules``)."""
     if not isinstance(raw, dict):
         raise SceneError(f"{where}[{section}] must be a table, got {type(raw).__name__}")
     fields_ = cls.__dataclass_fields__
@@ -225,15 +245,24 @@ def _section(where: str, section: str, cls: type, raw: Any) -> Any:
     for key, value in raw.items():
         kind, name = fields_[key].type, f"{section}.{key}"
         if kind == "str":
-            values[key] = _choice(where, section, key, _typed(where, name, value, str))
+            values[key] = _choice(where, section, key, _typed(where, name, value, str), rules)
         elif kind == "bool":
             values[key] = _typed(where, name, value, bool)
         elif kind in ("int", "float"):
-            values[key] = _number(where, section, key, value, int if kind == "int" else float)
+            values[key] = _number(where, section, key, value, int if kind == "int" else float, rules)
         elif kind == "tuple[str, ...] | None":
             values[key] = _names(where, name, value)
         elif kind == "tuple[float, float, float]":
             values[key] = _vector(where, name, value, 3)
+        elif kind in ("tuple[float, ...]", "tuple[float, ...] | None"):
+            values[key] = _vector(where, name, value, None)
+        elif kind == "tuple[int, int]":
+            values[key] = _indices(where, name, value, 2)
+        elif kind == "tuple[tuple[float, ...], ...] | None":
+            values[key] = _matrix(where, name, value)
+        elif kind == "dict[str, tuple[float, ...]]":
+            values[key] = {k: _vector(where, f"{name}.{k}", v, None)
+                           for k, v in _typed(where, name, value, dict).items()}
         else:
             values[key] = _table(where, name, value)
     return cls(**values)
@@ -252,7 +281,7 @@ def _typed(where: str, key: str, value: Any, kind: type) -> Any:
     return value
 
 
-def _number(where: str, section: str, key: str, value: Any, kind: type) -> float | int:
+def _number(where: str, section: str, key: str, value: Any, kind: type, rules: Rules = RULES) -> float | int:
     name = f"{section}.{key}"
     if isinstance(value, bool) or not isinstance(value, (int, float)) or (
         kind is int and not isinstance(value, int)
@@ -260,15 +289,15 @@ def _number(where: str, section: str, key: str, value: Any, kind: type) -> float
         raise SceneError(f"{where}'{name}' must be a{'n integer' if kind is int else ' number'}, got {value!r}")
     if not math.isfinite(value):
         raise SceneError(f"{where}'{name}' must be finite, got {value!r}")
-    if (section, key) in POSITIVE and value <= 0:
+    if (section, key) in rules.positive and value <= 0:
         raise SceneError(f"{where}'{name}' must be > 0, got {value!r}")
-    if (section, key) in NON_NEGATIVE and value < 0:
+    if (section, key) in rules.non_negative and value < 0:
         raise SceneError(f"{where}'{name}' must be >= 0, got {value!r}")
     return kind(value)
 
 
-def _choice(where: str, section: str, key: str, value: Any) -> str:
-    options = CHOICES.get((section, key))
+def _choice(where: str, section: str, key: str, value: Any, rules: Rules = RULES) -> str:
+    options = rules.choices.get((section, key))
     if options is not None and value not in options:
         name = f"{section}.{key}" if section else key
         raise SceneError(f"{where}'{name}' is {value!r}; valid: {', '.join(options)}")
@@ -281,10 +310,28 @@ def _names(where: str, key: str, value: Any) -> tuple[str, ...]:
     return tuple(value)
 
 
-def _vector(where: str, key: str, value: Any, size: int) -> tuple[float, ...]:
-    if not isinstance(value, list) or len(value) != size or not all(_finite(x) for x in value):
-        raise SceneError(f"{where}'{key}' must be a list of {size} finite numbers, got {value!r}")
+def _vector(where: str, key: str, value: Any, size: int | None) -> tuple[float, ...]:
+    """A list of finite numbers, of length ``size`` (None: any length but empty)."""
+    if (not isinstance(value, list) or len(value) != (size or len(value)) or not value
+            or not all(_finite(x) for x in value)):
+        raise SceneError(f"{where}'{key}' must be a list of {size or 'one or more'} finite numbers, got {value!r}")
     return tuple(float(x) for x in value)
+
+
+def _matrix(where: str, key: str, value: Any) -> tuple[tuple[float, ...], ...]:
+    """A list of equally long rows of finite numbers."""
+    rows = [_vector(where, key, row, None) for row in _typed(where, key, value, list)]
+    if not rows or len({len(r) for r in rows}) != 1:
+        raise SceneError(f"{where}'{key}' must be a list of equally long rows of numbers, got {value!r}")
+    return tuple(rows)
+
+
+def _indices(where: str, key: str, value: Any, size: int) -> tuple[int, ...]:
+    """A list of ``size`` distinct non-negative integers."""
+    if (not isinstance(value, list) or len(value) != size or len(set(value)) != size
+            or not all(isinstance(x, int) and not isinstance(x, bool) and x >= 0 for x in value)):
+        raise SceneError(f"{where}'{key}' must be a list of {size} distinct integers >= 0, got {value!r}")
+    return tuple(value)
 
 
 def _finite(x: Any) -> bool:
