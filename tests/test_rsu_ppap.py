@@ -9,7 +9,7 @@ import pytest
 from freefloat import FreefloatError
 from freefloat.builders import urdf_xml
 from freefloat.parallel.mechanism import simulate
-from freefloat.parallel.rsu_ppap import CLOSURE, assembly_guess, load_data, load_rsu_ppap, rsu_ppap_urdf
+from freefloat.parallel.rsu_ppap import CLOSURE, assembly_guess, load_data, load_rsu_ppap, reference_path, rsu_ppap_urdf
 
 DATA = load_data()
 HOME = np.array(DATA["home"])
@@ -158,3 +158,16 @@ def test_missing_data_key_is_named(tmp_path):
     (tmp_path / "d.toml").write_text(text)
     with pytest.raises(FreefloatError, match=r"d\.toml.*rsu\.rod_length"):
         load_data(tmp_path / "d.toml")
+
+
+def test_batched_inverse_dynamics_drive_the_path(loaded):
+    """Efforts for a whole path at once (inverse_trajectory), fed to the forward dynamics point
+    by point, give back the path's platform accelerations; the assembled poses close the loops."""
+    t = np.linspace(0.0, 1.0, 40)
+    x, xd, xdd = reference_path(t, DATA)
+    mech = loaded.mechanism
+    tau, q = mech.inverse_trajectory(x, xd, xdd, assembly_guess(DATA, x[0]), block=16)
+    assert np.abs(mech.constraint(q)).max() < 1e-12
+    for i in range(0, len(t), 7):
+        qd = mech.velocity_map(q[i]) @ xd[i]
+        np.testing.assert_allclose(mech.forward(q[i], qd, tau[i])[:3], xdd[i], atol=1e-9 * np.abs(xdd).max())

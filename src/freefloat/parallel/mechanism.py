@@ -27,8 +27,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-import pinocchio as pin
-from scipy.linalg import block_diag
 
 from ..errors import FreefloatError
 from .serial import SerialChain
@@ -87,62 +85,84 @@ class ParallelMechanism:
         return self.D.shape[1]
 
     def split(self, q: np.ndarray) -> list[np.ndarray]:
-        """The chains' joint coordinates from ``q = [q#; q°]``."""
+        """The chains' joint coordinates (..., nu_i) from ``q = [q#; q°]`` (..., n_q)."""
         out, start = [], self.p
         for chain in self.chains:
-            out.append(q[start:start + chain.dof])
+            out.append(q[..., start:start + chain.dof])
             start += chain.dof
         return out
 
     def constraint(self, q: np.ndarray) -> np.ndarray:
-        """``qbar(q) = D q# - d - E x(q°) - F q°`` (m,)."""
-        x = np.concatenate([c.tip(qi) for c, qi in zip(self.chains, self.split(q))])
-        return self.D @ q[: self.p] - self.d - self.E @ x - self.F @ q[self.p:]
+        """``qbar(q) = D q# - d - E x(q°) - F q°`` (..., m) for ``q`` (..., n_q), m."""
+        return self._closure(q)[0][..., : len(self.d)]
 
     def orientation_residual(self, q: np.ndarray) -> np.ndarray:
-        """Position form of the angular constraints, ``offset - Q phi - R q°`` (m_w,), rad; empty
-        without angular constraints."""
-        if self.angular is None:
-            return np.zeros(0)
-        ang = self.angular
-        tips = [c.frames(qi)[0][-1, :3, :3] for c, qi in zip(self.chains, self.split(q))]
-        phi = np.concatenate([pin.log3(R @ ref.T) for R, ref in zip(tips, ang.reference)])
-        return ang.offset - ang.Q @ phi - ang.R @ q[self.p:]
+        """Position form of the angular constraints, ``offset - Q phi - R q°`` (..., m_w), rad;
+        empty without angular constraints."""
+        return self._closure(q)[0][..., len(self.d):]
 
     def terms(self, q: np.ndarray, qd: np.ndarray):
-        """``(A, b, C, M', v', g')`` at (q, qd): constraint Jacobian (m, n_q) and bias (m,) with
-        ``A qdd = b`` (linear rows first, then angular); velocity map (n_q, p) with
-        ``qd = C qd#``; mass matrix (n_q, n_q), velocity and gravity terms (n_q,). Coordinates
-        ordered [q#; chain 1; chain 2; ...]."""
+        """``(A, b, C, M', v', g')`` at (q, qd) (..., n_q): constraint Jacobian (..., m, n_q) and
+        bias (..., m) with ``A qdd = b`` (linear rows first, then angular); velocity map
+        (..., n_q, p) with ``qd = C qd#``; mass matrix (..., n_q, n_q), velocity and gravity
+        terms (..., n_q). Coordinates ordered [q#; chain 1; chain 2; ...]; any leading batch axes."""
         kins = self._kinematics(q, qd)
         A = self._constraint_jacobian(kins)
-        b = self.E @ np.concatenate([k["tip_c"] for k in kins])
+        b = np.concatenate([k["tip_c"] for k in kins], axis=-1) @ self.E.T
         if self.angular is not None:
-            b = np.concatenate((b, self.angular.Q @ np.concatenate([k["tip_dw"] for k in kins])))
+            b = np.concatenate((b, np.concatenate([k["tip_dw"] for k in kins], axis=-1) @ self.angular.Q.T), axis=-1)
         dyn = [c.dynamics_from(k) for c, k in zip(self.chains, kins)]
-        M = block_diag(self.platform_mass, *[m for m, _, _ in dyn])
-        v = np.concatenate([np.zeros(self.p)] + [v for _, v, _ in dyn])
-        g = np.concatenate([self.platform_gravity] + [g for _, _, g in dyn])
+        batch = np.shape(q)[:-1]
+        M = _block_diag([np.broadcast_to(self.platform_mass, batch + self.platform_mass.shape)] + [m for m, _, _ in dyn])
+        v = np.concatenate([np.zeros(batch + (self.p,))] + [v for _, v, _ in dyn], axis=-1)
+        g = np.concatenate([np.broadcast_to(self.platform_gravity, batch + (self.p,))] + [g for _, _, g in dyn], axis=-1)
         return A, b, self._velocity_map(A), M, v, g
 
     def velocity_map(self, q: np.ndarray) -> np.ndarray:
-        """``C`` (n_q, p) with ``qd = C qd#`` on the constraint manifold at ``q``; depends on q only."""
+        """``C`` (..., n_q, p) with ``qd = C qd#`` on the constraint manifold at ``q``; depends on q only."""
         return self._velocity_map(self._constraint_jacobian(self._kinematics(q, np.zeros_like(q))))
 
     def _kinematics(self, q: np.ndarray, qd: np.ndarray) -> list[dict]:
         return [c.kinematics(qi, qdi) for c, qi, qdi in zip(self.chains, self.split(q), self.split(qd))]
 
     def _constraint_jacobian(self, kins: list[dict]) -> np.ndarray:
-        Jv = block_diag(*[k["tip_Jv"] for k in kins])
-        A = np.hstack((self.D, -(self.E @ Jv + self.F)))
+        Jv = _block_diag([k["tip_Jv"] for k in kins])
+        D = np.broadcast_to(self.D, Jv.shape[:-2] + self.D.shape)
+        A = np.concatenate((D, -(self.E @ Jv + self.F)), axis=-1)
         if self.angular is None:
             return A
         ang = self.angular
-        Jw = block_diag(*[k["tip_Jw"] for k in kins])
-        return np.vstack((A, np.hstack((ang.P, -(ang.Q @ Jw + ang.R)))))
+        Jw = _block_diag([k["tip_Jw"] for k in kins])
+        P = np.broadcast_to(ang.P, Jw.shape[:-2] + ang.P.shape)
+        return np.concatenate((A, np.concatenate((P, -(ang.Q @ Jw + ang.R)), axis=-1)), axis=-2)
+
+    def _closure(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """``[qbar; orientation residual]`` (..., m) and the constraint Jacobian A (..., m, n_q)
+        at ``q``, from one pass over each chain's frames (what a Newton step needs)."""
+        tips = [c.tip_jacobians(qi) for c, qi in zip(self.chains, self.split(q))]
+        kins = [{"tip_Jv": Jv, "tip_Jw": Jw} for _, _, Jv, Jw in tips]
+        x = np.concatenate([t[0] for t in tips], axis=-1)
+        residual = q[..., : self.p] @ self.D.T - self.d - x @ self.E.T - q[..., self.p:] @ self.F.T
+        if self.angular is not None:
+            ang = self.angular
+            phi = np.concatenate([log3(t[1] @ ref.T) for t, ref in zip(tips, ang.reference)], axis=-1)
+            residual = np.concatenate((residual, ang.offset - phi @ ang.Q.T - q[..., self.p:] @ ang.R.T), axis=-1)
+        return residual, self._constraint_jacobian(kins)
+
+    def _passive_solve(self, A: np.ndarray, rhs: np.ndarray) -> np.ndarray:
+        """``A°^+ rhs`` (..., n°, r) for the constraint Jacobian A (..., m, n_q) and rhs (..., m, r):
+        an LU solve when A° is square and regular, the pseudo-inverse otherwise."""
+        A_passive = A[..., self.p:]
+        if A_passive.shape[-1] == A_passive.shape[-2]:
+            try:
+                return np.linalg.solve(A_passive, rhs)
+            except np.linalg.LinAlgError:
+                pass
+        return np.linalg.pinv(A_passive) @ rhs
 
     def _velocity_map(self, A: np.ndarray) -> np.ndarray:
-        return np.vstack((np.eye(self.p), -np.linalg.pinv(A[:, self.p:]) @ A[:, : self.p]))
+        top = np.broadcast_to(np.eye(self.p), A.shape[:-2] + (self.p, self.p))
+        return np.concatenate((top, -self._passive_solve(A, A[..., : self.p])), axis=-2)
 
     def selection(self) -> np.ndarray:
         """``U`` (n_q, k): actuator efforts into the generalized forces u'."""
@@ -162,37 +182,88 @@ class ParallelMechanism:
         return np.linalg.solve(np.vstack((C.T @ M, A)), np.concatenate((C.T @ (u - v - g), rhs_c)))
 
     def inverse(self, q: np.ndarray, qd_sharp: np.ndarray, qdd_sharp: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Actuator efforts for platform motion (eqs 130-140) at an assembled ``q`` (n_q,), from
-        the platform rates ``qd_sharp`` and accelerations ``qdd_sharp`` (p,).
+        """Actuator efforts for platform motion (eqs 130-140) at assembled ``q`` (..., n_q), from
+        the platform rates ``qd_sharp`` and accelerations ``qdd_sharp`` (..., p); any leading
+        batch axes (a whole trajectory at once).
 
         Returns:
-            ``(tau, qd, qdd)``: efforts (k,) and the full velocity and acceleration (n_q,).
+            ``(tau, qd, qdd)``: efforts (..., k) and the full velocity and acceleration (..., n_q).
         """
-        qd = self.velocity_map(q) @ qd_sharp
+        qd = _matvec(self.velocity_map(q), qd_sharp)
         A, b, C, M, v, g = self.terms(q, qd)
-        qdd = C @ qdd_sharp + np.concatenate((np.zeros(self.p), np.linalg.pinv(A[:, self.p:]) @ b))
-        tau = np.linalg.solve(C.T @ self.selection(), C.T @ (M @ qdd + v + g))
+        passive = self._passive_solve(A, b[..., None])[..., 0]
+        qdd = _matvec(C, qdd_sharp) + np.concatenate((np.zeros(passive.shape[:-1] + (self.p,)), passive), axis=-1)
+        CT = C.swapaxes(-1, -2)
+        tau = np.linalg.solve(CT @ self.selection(), _matvec(CT, _matvec(M, qdd) + v + g)[..., None])[..., 0]
         return tau, qd, qdd
 
     def assemble(self, q_sharp: np.ndarray, guess: np.ndarray, tol: float = 1e-12, iterations: int = 50) -> np.ndarray:
         """Solve ``qbar = 0`` (and the angular constraints' position form) for the chains' joints
-        at platform coordinates ``q_sharp`` (p,) (Newton from ``guess`` (n_q - p,)); returns the
-        assembled ``q`` (n_q,).
+        at platform coordinates ``q_sharp`` (..., p) (Newton from ``guess`` (..., n_q - p),
+        all points at once); returns the assembled ``q`` (..., n_q).
 
         Raises:
             FreefloatError: when it does not converge (pose out of reach or singular), with the
-                residual and the platform coordinates.
+                residual and the (first failing) platform coordinates.
         """
-        q = np.concatenate((q_sharp, guess))
+        q_sharp, guess = np.asarray(q_sharp, float), np.asarray(guess, float)
+        q = np.concatenate((q_sharp, np.broadcast_to(guess, q_sharp.shape[:-1] + guess.shape[-1:])), axis=-1)
         for _ in range(iterations):
-            residual = np.concatenate((self.constraint(q), self.orientation_residual(q)))
-            if np.abs(residual).max() < tol:
+            residual, A = self._closure(q)
+            if np.abs(residual).max(initial=0.0) < tol:
                 return q
-            A = self._constraint_jacobian(self._kinematics(q, np.zeros_like(q)))
-            q[self.p:] -= np.linalg.lstsq(A[:, self.p:], residual, rcond=None)[0]
-        raise FreefloatError(f"cannot assemble the mechanism at platform coordinates {np.round(q_sharp, 6).tolist()}: "
-                             f"loop-closure residual {np.abs(self.constraint(q)).max():.3g} m, orientation "
-                             f"{np.abs(self.orientation_residual(q)).max(initial=0.0):.3g} rad after {iterations} Newton steps")
+            q[..., self.p:] -= self._passive_solve(A, residual[..., None])[..., 0]
+        worst = np.unravel_index(np.argmax(np.abs(residual).max(axis=-1)), residual.shape[:-1])
+        raise FreefloatError(f"cannot assemble the mechanism at platform coordinates {np.round(q_sharp[worst], 6).tolist()}: "
+                             f"loop-closure residual {np.abs(self.constraint(q[worst])).max():.3g} m, orientation "
+                             f"{np.abs(self.orientation_residual(q[worst])).max(initial=0.0):.3g} rad after {iterations} Newton steps")
+
+    def inverse_trajectory(self, q_sharp: np.ndarray, qd_sharp: np.ndarray, qdd_sharp: np.ndarray, guess: np.ndarray,
+                           block: int = 64) -> tuple[np.ndarray, np.ndarray]:
+        """Inverse dynamics along a platform trajectory (N, p) (positions, rates, accelerations):
+        assembled block by block (each block's Newton starts from the previous block's last
+        pose, ``guess`` (n_q - p,) for the first), then eqs 130-140 for all points at once.
+
+        Returns:
+            ``(tau, q)``: efforts (N, k) and assembled coordinates (N, n_q).
+
+        Raises:
+            FreefloatError: from :meth:`assemble`, naming the pose that does not assemble.
+        """
+        q = np.empty((len(q_sharp), self.p + len(guess)))
+        start = np.asarray(guess, float)
+        for first in range(0, len(q_sharp), block):
+            q[first:first + block] = self.assemble(q_sharp[first:first + block], start)
+            start = q[min(first + block, len(q_sharp)) - 1, self.p:]
+        tau, _, _ = self.inverse(q, qd_sharp, qdd_sharp)
+        return tau, q
+
+
+def _matvec(A: np.ndarray, x: np.ndarray) -> np.ndarray:
+    """``A x`` over leading batch axes: (..., m, n) and (..., n) -> (..., m)."""
+    return (A @ x[..., None])[..., 0]
+
+
+def _block_diag(blocks: list[np.ndarray]) -> np.ndarray:
+    """Block-diagonal matrices (..., sum r_i, sum c_i) from blocks (..., r_i, c_i) sharing batch axes."""
+    batch = np.broadcast_shapes(*[b.shape[:-2] for b in blocks])
+    out = np.zeros(batch + (sum(b.shape[-2] for b in blocks), sum(b.shape[-1] for b in blocks)))
+    r = c = 0
+    for b in blocks:
+        out[..., r:r + b.shape[-2], c:c + b.shape[-1]] = b
+        r, c = r + b.shape[-2], c + b.shape[-1]
+    return out
+
+
+def log3(R: np.ndarray) -> np.ndarray:
+    """Rotation vectors (..., 3) of rotation matrices (..., 3, 3), for angles below pi (a
+    series below 1e-6 rad)."""
+    cos = np.clip((np.trace(R, axis1=-2, axis2=-1) - 1.0) / 2.0, -1.0, 1.0)
+    angle = np.arccos(cos)
+    vee = 0.5 * np.stack((R[..., 2, 1] - R[..., 1, 2], R[..., 0, 2] - R[..., 2, 0], R[..., 1, 0] - R[..., 0, 1]), axis=-1)
+    small = angle < 1e-6
+    scale = np.where(small, 1.0 + angle**2 / 6.0, angle / np.where(small, 1.0, np.sin(angle)))
+    return scale[..., None] * vee
 
 
 def simulate(mechanism: ParallelMechanism, q0: np.ndarray, qd0: np.ndarray, tau, duration: float, step: float,

@@ -225,3 +225,22 @@ def assembly_guess(data: dict, q_sharp: np.ndarray) -> np.ndarray:
     bar = -np.arccos(cos_bar)
     out += [q_sharp[1] - rail[1], bar, -bar, q_sharp[2] - rail[2] + ppap["bar_length"] * np.sin(bar)]
     return np.array(out)
+
+
+def reference_path(t: np.ndarray, data: dict, radius: float = 0.03, period: float = 1.0):
+    """A closed 3-D platform path about the home pose (a tilted figure of eight), with its first
+    two time derivatives: ``q#(t) = home + radius (sin wt, sin 2wt / 2, (1 - cos wt) / 2)``,
+    ``w = 2 pi / period``.
+
+    Args:
+        t: times (N,), s.
+
+    Returns:
+        ``(x, xd, xdd)``: platform centre (N, 3), m, and its rates (N, 3), m/s, m/s^2.
+    """
+    w = 2.0 * np.pi / period
+    s1, c1, s2, c2 = np.sin(w * t), np.cos(w * t), np.sin(2 * w * t), np.cos(2 * w * t)
+    x = np.asarray(data["home"]) + radius * np.stack((s1, 0.5 * s2, 0.5 * (1.0 - c1)), axis=-1)
+    xd = radius * w * np.stack((c1, c2, 0.5 * s1), axis=-1)
+    xdd = radius * w**2 * np.stack((-s1, -2.0 * s2, 0.5 * c1), axis=-1)
+    return x, xd, xdd

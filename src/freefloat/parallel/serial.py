@@ -80,23 +80,25 @@ class SerialChain:
         return len(self.mass)
 
     def frames(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Link frames ``[1]^H_{N|B_i}`` for i = 0..nu (nu + 1, 4, 4) (eq 23) and joint frames
-        J_i (nu, 4, 4), all in N."""
-        links, joints = [self.base], []
+        """Link frames ``[1]^H_{N|B_i}`` for i = 0..nu (..., nu + 1, 4, 4) (eq 23) and joint frames
+        J_i (..., nu, 4, 4), all in N, for joint coordinates ``q`` (..., nu) (any leading batch
+        axes)."""
+        q = np.asarray(q, float)
+        links, joints = [np.broadcast_to(self.base, q.shape[:-1] + (4, 4))], []
         for i in range(self.dof):
             J = links[-1] @ self.placement[i]
-            motion = dh_matrix(0.0, q[i], 0.0, 0.0) if self.prismatic[i] else dh_matrix(q[i], 0.0, 0.0, 0.0)
             joints.append(J)
-            links.append(J @ motion @ self.link[i])
-        return np.array(links), np.array(joints)
+            links.append(J @ _joint_motion(q[..., i], self.prismatic[i]) @ self.link[i])
+        return np.stack(links, axis=-3), np.stack(joints, axis=-3)
 
     def tip(self, q: np.ndarray) -> np.ndarray:
-        """End-effector point in N (3,), eq 25 (``o_nu`` for DH chains)."""
-        B = self.frames(q)[0][-1]
-        return B[:3, :3] @ self.tip_point + B[:3, 3]
+        """End-effector point in N (..., 3), eq 25 (``o_nu`` for DH chains)."""
+        B = self.frames(q)[0][..., -1, :, :]
+        return B[..., :3, :3] @ self.tip_point + B[..., :3, 3]
 
     def kinematics(self, q: np.ndarray, qd: np.ndarray):
-        """Everything eqs 26-60 give at (q, qd).
+        """Everything eqs 26-60 give at (q, qd) (..., nu), any leading batch axes (written ``...``
+        below, omitted for one point).
 
         Returns:
             dict with ``frames`` (nu+1, 4, 4); ``g`` CoMs in N (nu, 3); ``Jv`` CoM Jacobians in N
@@ -107,56 +109,95 @@ class SerialChain:
             in N; ``w`` link angular velocities in B_i (nu, 3).
         """
         n = self.dof
+        qd = np.asarray(qd, float)
         H, J = self.frames(q)
-        k = J[:, :3, 2]                                     # joint axes in N (n, 3): k_{j-1} of DH
-        o = J[:, :3, 3]                                     # points on them (n, 3): o_{j-1} of DH
-        g = np.einsum("nij,nj->ni", H[1:, :3, :3], self.com) + H[1:, :3, 3]
-        x = H[-1, :3, :3] @ self.tip_point + H[-1, :3, 3]
+        k = J[..., :3, 2]                                   # joint axes in N (..., n, 3): k_{j-1} of DH
+        o = J[..., :3, 3]                                   # points on them (..., n, 3): o_{j-1} of DH
+        R = H[..., 1:, :3, :3]
+        g = (R @ self.com[:, :, None])[..., 0] + H[..., 1:, :3, 3]
+        x = H[..., -1, :3, :3] @ self.tip_point + H[..., -1, :3, 3]
         rev = ~np.asarray(self.prismatic, dtype=bool)
         lower = np.tril(np.ones((n, n), dtype=bool))        # joint j moves link i iff j <= i
+        k_rev = np.where(rev[:, None], k, 0.0)              # angular part of each joint's axis
 
         def point_jacobian(points: np.ndarray, mask: np.ndarray) -> np.ndarray:
-            lever = points[:, None, :] - o[None, :, :]
-            cols = np.where(rev[None, :, None], cross_rows(k[None], lever), k[None])
-            return (cols * mask[:, :, None]).transpose(0, 2, 1)
+            return _point_jacobian(points, k, o, rev, mask)
 
         Jv = point_jacobian(g, lower)
-        Jw_N = (np.where(rev[None, :, None], k[None], 0.0) * lower[:, :, None]).transpose(0, 2, 1)
-        R = H[1:, :3, :3]
-        Jw = np.einsum("nji,njk->nik", R, Jw_N)
+        Jw_N = (k_rev[..., None, :, :] * lower[:, :, None]).swapaxes(-1, -2)
+        Rt = R.swapaxes(-1, -2)
+        Jw = Rt @ Jw_N
         # angular velocity of link j-1 (frame B_{j-1}) in N: w_{j-1} = sum_{l < j} k_{l-1} qd_l (revolute)
-        w_N = np.cumsum(np.where(rev[:, None], k * qd[:, None], 0.0), axis=0)        # w_j for j = 1..n
-        w_prev = np.vstack((np.zeros(3), w_N[:-1]))                                   # w_{j-1}
-        tip_Jv = point_jacobian(x[None], np.ones((1, n), dtype=bool))[0]
+        w_N = np.cumsum(k_rev * qd[..., :, None], axis=-2)                           # w_j for j = 1..n
+        w_prev = np.concatenate((np.zeros_like(w_N[..., :1, :]), w_N[..., :-1, :]), axis=-2)
+        tip_Jv = point_jacobian(x[..., None, :], np.ones((1, n), dtype=bool))[..., 0, :, :]
 
         def bias(points: np.ndarray, jac: np.ndarray, mask: np.ndarray) -> np.ndarray:
             # eq 50: sum_j k x (k x (p - o_{j-1})) qd_j^2 (revolute) + 2 w_{j-1} x j_v,j qd_j
-            lever = points[:, None, :] - o[None, :, :]
-            centripetal = np.where(rev[None, :, None], cross_rows(k[None], cross_rows(k[None], lever)), 0.0) * (qd**2)[None, :, None]
-            coriolis = 2.0 * cross_rows(w_prev[None], jac.transpose(0, 2, 1)) * qd[None, :, None]
-            return ((centripetal + coriolis) * mask[:, :, None]).sum(axis=1)
+            lever = points[..., :, None, :] - o[..., None, :, :]
+            kk = k_rev[..., None, :, :]
+            centripetal = cross_rows(kk, cross_rows(kk, lever)) * (qd**2)[..., None, :, None]
+            coriolis = 2.0 * cross_rows(w_prev[..., None, :, :], jac.swapaxes(-1, -2)) * qd[..., None, :, None]
+            return ((centripetal + coriolis) * mask[:, :, None]).sum(axis=-2)
 
         c = bias(g, Jv, lower)
-        tip_c = bias(x[None], tip_Jv[None], np.ones((1, n), dtype=bool))[0]
+        tip_c = bias(x[..., None, :], tip_Jv[..., None, :, :], np.ones((1, n), dtype=bool))[..., 0, :]
         # eq 56: dw_i^0 = sum_{j <= i} w_{j-1} x k_{j-1} qd_j (revolute), then to B_i (eq 60)
-        terms = np.where(rev[:, None], cross_rows(w_prev, k) * qd[:, None], 0.0)
-        dw0_N = np.cumsum(terms, axis=0)
-        dw0 = np.einsum("nji,nj->ni", R, dw0_N)
-        w = np.einsum("nji,nj->ni", R, w_N)
+        dw0_N = np.cumsum(cross_rows(w_prev, k_rev) * qd[..., :, None], axis=-2)
+        dw0 = (Rt @ dw0_N[..., None])[..., 0]
+        w = (Rt @ w_N[..., None])[..., 0]
         return {"frames": H, "g": g, "Jv": Jv, "Jw_N": Jw_N, "Jw": Jw, "c": c, "dw0": dw0,
-                "tip_Jv": tip_Jv, "tip_c": tip_c, "tip_Jw": Jw_N[-1], "tip_dw": dw0_N[-1], "w": w}
+                "tip_Jv": tip_Jv, "tip_c": tip_c, "tip_Jw": Jw_N[..., -1, :, :], "tip_dw": dw0_N[..., -1, :], "w": w}
+
+    def tip_jacobians(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """What assembly needs, from one pass over the frames at ``q`` (..., nu): the tip point
+        (..., 3) and the last link's rotation (..., 3, 3) in N, the tip's linear Jacobian and the
+        last link's angular Jacobian (..., 3, nu), in N."""
+        H, J = self.frames(q)
+        k, o = J[..., :3, 2], J[..., :3, 3]
+        rev = ~np.asarray(self.prismatic, dtype=bool)
+        x = H[..., -1, :3, :3] @ self.tip_point + H[..., -1, :3, 3]
+        Jv = _point_jacobian(x[..., None, :], k, o, rev, np.ones((1, self.dof), dtype=bool))[..., 0, :, :]
+        return x, H[..., -1, :3, :3], Jv, np.where(rev[:, None], k, 0.0).swapaxes(-1, -2)
 
     def dynamics(self, q: np.ndarray, qd: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """``(M, v, g)`` of eqs 61-64: (nu, nu), (nu,), (nu,)."""
+        """``(M, v, g)`` of eqs 61-64: (..., nu, nu), (..., nu), (..., nu)."""
         return self.dynamics_from(self.kinematics(q, qd))
 
     def dynamics_from(self, kin: dict) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """``(M, v, g)`` of eqs 61-64 from :meth:`kinematics` already evaluated at (q, qd)."""
-        Jv, Jw, m, inertia = kin["Jv"], kin["Jw"], self.mass, self.inertia
-        M = np.einsum("n,nki,nkj->ij", m, Jv, Jv) + np.einsum("nki,nkl,nlj->ij", Jw, inertia, Jw)
-        Iw = np.einsum("nkl,nl->nk", inertia, kin["w"])
-        torque = np.einsum("nkl,nl->nk", inertia, kin["dw0"]) + cross_rows(kin["w"], Iw)
-        v = np.einsum("n,nki,nk->i", m, Jv, kin["c"]) + np.einsum("nki,nk->i", Jw, torque)
-        gvec = -np.einsum("n,nki,k->i", m, Jv, self.gravity)
-        return 0.5 * (M + M.T), v, gvec
+        m, inertia, nu = self.mass, self.inertia, self.dof
+        # stack the links' rows: (..., nu, 3, nu) -> (..., 3 nu, nu), so each sum over links is one matmul
+        Jv = kin["Jv"].reshape(kin["Jv"].shape[:-3] + (3 * nu, nu))
+        Jw = kin["Jw"].reshape(Jv.shape)
+        JvT, JwT = Jv.swapaxes(-1, -2), Jw.swapaxes(-1, -2)
+        mass_rows = np.repeat(m, 3)
+        IJw = (inertia @ kin["Jw"]).reshape(Jv.shape)
+        M = JvT @ (mass_rows[:, None] * Jv) + JwT @ IJw
+        w = kin["w"]
+        torque = (inertia @ kin["dw0"][..., None])[..., 0] + cross_rows(w, (inertia @ w[..., None])[..., 0])
+        force = m[:, None] * kin["c"]
+        v = (JvT @ force.reshape(force.shape[:-2] + (3 * nu, 1)) + JwT @ torque.reshape(force.shape[:-2] + (3 * nu, 1)))[..., 0]
+        gvec = -(JvT @ (mass_rows * np.tile(self.gravity, nu)))
+        return 0.5 * (M + M.swapaxes(-1, -2)), v, gvec
 
+
+def _point_jacobian(points: np.ndarray, k: np.ndarray, o: np.ndarray, rev: np.ndarray, mask: np.ndarray) -> np.ndarray:
+    """Linear Jacobians (..., P, 3, n) in N of points (..., P, 3) on a chain with joint axes ``k``
+    through ``o`` (..., n, 3), revolute where ``rev`` (n,); ``mask`` (P, n) says which joints move
+    which point."""
+    lever = points[..., :, None, :] - o[..., None, :, :]
+    cols = np.where(rev[:, None], cross_rows(k[..., None, :, :], lever), k[..., None, :, :])
+    return (cols * mask[:, :, None]).swapaxes(-1, -2)
+
+
+def _joint_motion(q: np.ndarray, prismatic: bool) -> np.ndarray:
+    """``Tz(q)`` or ``Rz(q)`` (..., 4, 4) for joint coordinates ``q`` (...)."""
+    out = np.zeros(np.shape(q) + (4, 4))
+    out[..., 0, 0] = out[..., 1, 1] = out[..., 2, 2] = out[..., 3, 3] = 1.0
+    if prismatic:
+        out[..., 2, 3] = q
+    else:
+        c, s = np.cos(q), np.sin(q)
+        out[..., 0, 0], out[..., 0, 1], out[..., 1, 0], out[..., 1, 1] = c, -s, s, c
+    return out
