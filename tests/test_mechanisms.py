@@ -60,3 +60,14 @@ def test_display_is_the_closure_files_spanning_tree(true_15):
 def test_entry_lists_the_plants_it_builds():
     """The 5R entry offers the nominal, 15 % and 50 % plants of sec 5.6."""
     assert REGISTRY["five_bar"].plants == tuple(FIVE_BAR_PLANTS) == ("nominal", "true_15", "true_50")
+
+
+def test_rsu_ppap_entry_assembles_and_actuates_the_cranks_and_rail():
+    """The 2RSU+PPaP entry: its guess lets the plant close all loops at the home pose, and the
+    display actuates the two cranks and the rail."""
+    setup = REGISTRY["rsu_ppap"].build(REPO / "urdf" / "rsu_ppap.closure.toml", "nominal")
+    home = np.array([0.0, 0.0, 0.4])
+    q = setup.plant.assemble(home, setup.guess(home))
+    assert np.abs(setup.plant.constraint(q)).max() < 1e-12
+    assert np.abs(setup.plant.orientation_residual(q)).max() < 1e-12
+    assert [setup.display.model.names[j] for j in setup.display.actuated] == ["rsu1_crank", "rsu2_crank", "ppap_rail"]

@@ -5,7 +5,7 @@ An entry turns a closure file (the URDF spanning tree plus its loop closures, se
 nominal model the controller believes, the "true" plant that is simulated, the loaded closed
 chain that draws the animation, and an assembly guess.
 
-To add a mechanism (e.g. the 2RSU+PPaP):
+To add a mechanism:
 
 1. write ``<name>_setup(closure: Path, plant: str) -> MechanismSetup``. ``nominal`` and
    ``plant`` must share the coordinates ``q = [q#; chain joints in the closure file's order]``
@@ -29,6 +29,7 @@ import numpy as np
 from .parallel.closed_chain import ClosedChain, load_closed_chain
 from .parallel.five_bar import TRUE_PARAMETERS, TRUE_PARAMETERS_50, FiveBarParameters, elbow_guess, five_bar
 from .parallel.mechanism import ParallelMechanism
+from .parallel.rsu_ppap import assembly_guess, load_data, load_rsu_ppap
 
 
 class MechanismSetup(NamedTuple):
@@ -71,7 +72,17 @@ def five_bar_setup(closure: Path, plant: str) -> MechanismSetup:
     return MechanismSetup(nominal=chain.mechanism, plant=true, display=chain, guess=partial(elbow_guess, params))
 
 
+def rsu_ppap_setup(closure: Path, plant: str) -> MechanismSetup:
+    """The 2RSU+PPaP (assumed numbers in ``urdf/rsu_ppap.data.toml``): the closure file's model is
+    both the nominal model and the plant (``"nominal"`` is its only plant); assembly guesses from
+    :func:`~freefloat.parallel.rsu_ppap.assembly_guess`."""
+    chain = load_rsu_ppap(closure)
+    return MechanismSetup(nominal=chain.mechanism, plant=chain.mechanism, display=chain,
+                          guess=partial(assembly_guess, load_data()))
+
+
 #: Mechanism name -> entry.
 REGISTRY: dict[str, MechanismEntry] = {
     "five_bar": MechanismEntry(plants=tuple(FIVE_BAR_PLANTS), build=five_bar_setup),
+    "rsu_ppap": MechanismEntry(plants=("nominal",), build=rsu_ppap_setup),
 }
