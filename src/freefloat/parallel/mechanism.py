@@ -108,19 +108,24 @@ class ParallelMechanism:
         terms (..., n_q). Coordinates ordered [q#; chain 1; chain 2; ...]; any leading batch axes."""
         kins = self._kinematics(q, qd)
         A = self._constraint_jacobian(kins)
+        b, C, blocks, v, g = self._dynamics_terms(kins, np.shape(q)[:-1], A)
+        return A, b, C, _block_diag(blocks), v, g
+
+    def _dynamics_terms(self, kins: list[dict], batch: tuple, A: np.ndarray):
+        """``(b, C, blocks of M', v', g')`` from the chains' kinematics and the constraint
+        Jacobian A; ``blocks``: M''s diagonal blocks, platform first."""
         b = np.concatenate([k["tip_c"] for k in kins], axis=-1) @ self.E.T
         if self.angular is not None:
             b = np.concatenate((b, np.concatenate([k["tip_dw"] for k in kins], axis=-1) @ self.angular.Q.T), axis=-1)
         dyn = [c.dynamics_from(k) for c, k in zip(self.chains, kins)]
-        batch = np.shape(q)[:-1]
-        M = _block_diag([np.broadcast_to(self.platform_mass, batch + self.platform_mass.shape)] + [m for m, _, _ in dyn])
+        blocks = [np.broadcast_to(self.platform_mass, batch + self.platform_mass.shape)] + [m for m, _, _ in dyn]
         v = np.concatenate([np.zeros(batch + (self.p,))] + [v for _, v, _ in dyn], axis=-1)
         g = np.concatenate([np.broadcast_to(self.platform_gravity, batch + (self.p,))] + [g for _, _, g in dyn], axis=-1)
-        return A, b, self._velocity_map(A), M, v, g
+        return b, self._velocity_map(A), blocks, v, g
 
     def velocity_map(self, q: np.ndarray) -> np.ndarray:
         """``C`` (..., n_q, p) with ``qd = C qd#`` on the constraint manifold at ``q``; depends on q only."""
-        return self._velocity_map(self._constraint_jacobian(self._kinematics(q, np.zeros_like(q))))
+        return self._velocity_map(self._closure(q)[1])
 
     def _kinematics(self, q: np.ndarray, qd: np.ndarray) -> list[dict]:
         return [c.kinematics(qi, qdi) for c, qi, qdi in zip(self.chains, self.split(q), self.split(qd))]
@@ -136,10 +141,12 @@ class ParallelMechanism:
         P = np.broadcast_to(ang.P, Jw.shape[:-2] + ang.P.shape)
         return np.concatenate((A, np.concatenate((P, -(ang.Q @ Jw + ang.R)), axis=-1)), axis=-2)
 
-    def _closure(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    def _closure(self, q: np.ndarray, frames: list | None = None) -> tuple[np.ndarray, np.ndarray]:
         """``[qbar; orientation residual]`` (..., m) and the constraint Jacobian A (..., m, n_q)
-        at ``q``, from one pass over each chain's frames (what a Newton step needs)."""
-        tips = [c.tip_jacobians(qi) for c, qi in zip(self.chains, self.split(q))]
+        at ``q``, from one pass over each chain's frames (what a Newton step needs; ``frames``:
+        each chain's :meth:`SerialChain.frames` at q, if already evaluated)."""
+        frames = frames or [None] * len(self.chains)
+        tips = [c.tip_jacobians(qi, f) for c, qi, f in zip(self.chains, self.split(q), frames)]
         kins = [{"tip_Jv": Jv, "tip_Jw": Jw} for _, _, Jv, Jw in tips]
         x = np.concatenate([t[0] for t in tips], axis=-1)
         residual = q[..., : self.p] @ self.D.T - self.d - x @ self.E.T - q[..., self.p:] @ self.F.T
@@ -189,12 +196,16 @@ class ParallelMechanism:
         Returns:
             ``(tau, qd, qdd)``: efforts (..., k) and the full velocity and acceleration (..., n_q).
         """
-        qd = _matvec(self.velocity_map(q), qd_sharp)
-        A, b, C, M, v, g = self.terms(q, qd)
+        frames = [c.frames(qi) for c, qi in zip(self.chains, self.split(q))]
+        A = self._closure(q, frames)[1]
+        qd = _matvec(self._velocity_map(A), qd_sharp)
+        kins = [c.kinematics(qi, qdi, f) for c, qi, qdi, f in zip(self.chains, self.split(q), self.split(qd), frames)]
+        b, C, blocks, v, g = self._dynamics_terms(kins, np.shape(q)[:-1], A)
         passive = self._passive_solve(A, b[..., None])[..., 0]
         qdd = _matvec(C, qdd_sharp) + np.concatenate((np.zeros(passive.shape[:-1] + (self.p,)), passive), axis=-1)
+        Mqdd = np.concatenate([_matvec(M, x) for M, x in zip(blocks, [qdd[..., : self.p]] + self.split(qdd))], axis=-1)
         CT = C.swapaxes(-1, -2)
-        tau = np.linalg.solve(CT @ self.selection(), _matvec(CT, _matvec(M, qdd) + v + g)[..., None])[..., 0]
+        tau = np.linalg.solve(CT @ self.selection(), _matvec(CT, Mqdd + v + g)[..., None])[..., 0]
         return tau, qd, qdd
 
     def assemble(self, q_sharp: np.ndarray, guess: np.ndarray, tol: float = 1e-12, iterations: int = 50) -> np.ndarray:
@@ -219,10 +230,12 @@ class ParallelMechanism:
                              f"{np.abs(self.orientation_residual(q[worst])).max(initial=0.0):.3g} rad after {iterations} Newton steps")
 
     def inverse_trajectory(self, q_sharp: np.ndarray, qd_sharp: np.ndarray, qdd_sharp: np.ndarray, guess: np.ndarray,
-                           block: int = 64) -> tuple[np.ndarray, np.ndarray]:
-        """Inverse dynamics along a platform trajectory (N, p) (positions, rates, accelerations):
-        assembled block by block (each block's Newton starts from the previous block's last
-        pose, ``guess`` (n_q - p,) for the first), then eqs 130-140 for all points at once.
+                           block: int = 512) -> tuple[np.ndarray, np.ndarray]:
+        """Inverse dynamics along a platform trajectory (N, p) (positions, rates, accelerations),
+        block by block (``block`` points at once): each block's Newton starts from the
+        first-order prediction ``q°_0 + C°(q_0) (q#_i - q#_0)`` off the previous block's last pose
+        ``q_0`` (the first block: off ``guess`` (n_q - p,) assembled at the first point), then
+        eqs 130-140 for the whole block.
 
         Returns:
             ``(tau, q)``: efforts (N, k) and assembled coordinates (N, n_q).
@@ -231,11 +244,15 @@ class ParallelMechanism:
             FreefloatError: from :meth:`assemble`, naming the pose that does not assemble.
         """
         q = np.empty((len(q_sharp), self.p + len(guess)))
-        start = np.asarray(guess, float)
+        tau = np.empty((len(q_sharp), len(self.actuated)))
+        anchor = self.assemble(q_sharp[0], guess)
         for first in range(0, len(q_sharp), block):
-            q[first:first + block] = self.assemble(q_sharp[first:first + block], start)
-            start = q[min(first + block, len(q_sharp)) - 1, self.p:]
-        tau, _, _ = self.inverse(q, qd_sharp, qdd_sharp)
+            rows = slice(first, first + block)
+            x = q_sharp[rows]
+            predicted = anchor[self.p:] + (x - anchor[: self.p]) @ self.velocity_map(anchor)[self.p:].T
+            q[rows] = self.assemble(x, predicted)
+            tau[rows] = self.inverse(q[rows], qd_sharp[rows], qdd_sharp[rows])[0]
+            anchor = q[first + len(x) - 1]
         return tau, q
 
 

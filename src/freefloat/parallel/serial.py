@@ -96,9 +96,9 @@ class SerialChain:
         B = self.frames(q)[0][..., -1, :, :]
         return B[..., :3, :3] @ self.tip_point + B[..., :3, 3]
 
-    def kinematics(self, q: np.ndarray, qd: np.ndarray):
+    def kinematics(self, q: np.ndarray, qd: np.ndarray, frames: tuple[np.ndarray, np.ndarray] | None = None):
         """Everything eqs 26-60 give at (q, qd) (..., nu), any leading batch axes (written ``...``
-        below, omitted for one point).
+        below, omitted for one point); ``frames``: :meth:`frames` at q, if already evaluated.
 
         Returns:
             dict with ``frames`` (nu+1, 4, 4); ``g`` CoMs in N (nu, 3); ``Jv`` CoM Jacobians in N
@@ -110,7 +110,7 @@ class SerialChain:
         """
         n = self.dof
         qd = np.asarray(qd, float)
-        H, J = self.frames(q)
+        H, J = self.frames(q) if frames is None else frames
         k = J[..., :3, 2]                                   # joint axes in N (..., n, 3): k_{j-1} of DH
         o = J[..., :3, 3]                                   # points on them (..., n, 3): o_{j-1} of DH
         R = H[..., 1:, :3, :3]
@@ -149,11 +149,12 @@ class SerialChain:
         return {"frames": H, "g": g, "Jv": Jv, "Jw_N": Jw_N, "Jw": Jw, "c": c, "dw0": dw0,
                 "tip_Jv": tip_Jv, "tip_c": tip_c, "tip_Jw": Jw_N[..., -1, :, :], "tip_dw": dw0_N[..., -1, :], "w": w}
 
-    def tip_jacobians(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-        """What assembly needs, from one pass over the frames at ``q`` (..., nu): the tip point
-        (..., 3) and the last link's rotation (..., 3, 3) in N, the tip's linear Jacobian and the
-        last link's angular Jacobian (..., 3, nu), in N."""
-        H, J = self.frames(q)
+    def tip_jacobians(self, q: np.ndarray, frames: tuple[np.ndarray, np.ndarray] | None = None):
+        """What assembly needs, from one pass over the frames at ``q`` (..., nu) (``frames``:
+        :meth:`frames` at q, if already evaluated): the tip point (..., 3) and the last link's
+        rotation (..., 3, 3) in N, the tip's linear Jacobian and the last link's angular Jacobian
+        (..., 3, nu), in N."""
+        H, J = self.frames(q) if frames is None else frames
         k, o = J[..., :3, 2], J[..., :3, 3]
         rev = ~np.asarray(self.prismatic, dtype=bool)
         x = H[..., -1, :3, :3] @ self.tip_point + H[..., -1, :3, 3]
