@@ -6,9 +6,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from freefloat.control.platform_control import CircleReference, PlatformControl, printed_gains
+from freefloat.control.platform_control import CircleReference, printed_gains
 from freefloat.parallel.five_bar import FiveBarParameters, elbow_guess, five_bar
-from freefloat.parallel.sliding_mode import PlatformController, circle_reference
+from freefloat.parallel.sliding_mode import PlatformControl, PlatformController, circle_reference
 
 P = FiveBarParameters()
 CIRCLE = CircleReference(np.array([0.0, 0.17]), 0.07, 28.57)
@@ -41,8 +41,8 @@ def test_circle_holds_the_other_coordinates():
 
 @pytest.mark.parametrize("gains", [None, GAINS], ids=["computed_torque", "sliding_mode"])
 def test_laws_equal_the_5r_controller(gains):
-    """On the 5R, computed torque (eq 190) and sliding mode (eq 153) give the 5R-specific
-    PlatformController's efforts."""
+    """The general law on the 5R with a CircleReference gives the efforts of the 5R wrapper
+    (model from the estimated parameters, eq 189's circle), for computed torque and sliding mode."""
     ours = PlatformControl(five_bar(P), CIRCLE, 40.0, gains)
     theirs = PlatformController(P, circle_reference, 40.0, gains)
     for q, qd, t in _states(five_bar(P)):

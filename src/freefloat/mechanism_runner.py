@@ -13,11 +13,12 @@ from typing import Callable
 
 import numpy as np
 
-from .control.platform_control import CircleReference, PlatformControl, printed_gains
+from .control.platform_control import CircleReference, printed_gains
 from .errors import FreefloatError, SceneError
 from .mechanisms import REGISTRY, MechanismSetup
 from .metrics import rms
 from .parallel.mechanism import ParallelMechanism, simulate
+from .parallel.sliding_mode import PlatformControl
 from .runner import resolve_file
 from .scenes import MechanismScene
 from .telemetry import MechanismTelemetry

@@ -1,18 +1,7 @@
-"""Control of a closed-chain mechanism in its platform coordinates q# (thesis proposal secs 5.5-5.6),
-for any :class:`~freefloat.parallel.mechanism.ParallelMechanism` with as many actuators as
-platform coordinates.
-
-On the nominal model's ``H qddot# + v_M + g_M = B tau`` (eq 137, ``B = C^T U``, from
-:func:`~freefloat.parallel.platform.platform_dynamics` at the measured state), with
-``e = q#_d - q#`` and ``s = -(edot + lambda e)``:
-
-.. math::
-    \\text{computed torque (eq 190):}\\quad B\\tau = v_M + g_M + H(\\ddot q_d + 2\\lambda\\dot e + \\lambda^2 e)
-
-    \\text{sliding mode (eq 153):}\\quad B\\tau = v_M + g_M + H(\\sigma - k(\\sigma, \\dot q^\\#) f(s)),
-    \\quad \\sigma = \\ddot q_d + \\lambda \\dot e,
-
-``f = tanh(100 s)`` or ``sign(s)``, ``k`` eq 167's gain.
+"""What a mechanism scene's platform control needs besides the law itself
+(:class:`freefloat.parallel.sliding_mode.PlatformControl`: computed torque, eq 190, or sliding
+mode, eq 153, for any mechanism with as many actuators as platform coordinates): a circle
+reference in chosen platform coordinates and eq 167's gain from printed numbers (eq 187).
 """
 
 from __future__ import annotations
@@ -21,9 +10,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..parallel.mechanism import ParallelMechanism
-from ..parallel.platform import platform_dynamics
-from ..parallel.sliding_mode import Reference, SlidingModeGains
+from ..parallel.sliding_mode import SlidingModeGains
 
 
 @dataclass(frozen=True)
@@ -56,37 +43,3 @@ def printed_gains(n: np.ndarray, T: np.ndarray, n_ij: dict[tuple[int, int], np.n
                             n_ij={k: np.asarray(v, float) for k, v in n_ij.items()}, eta=float("nan"),
                             Delta_max=np.full((p, p), np.nan), delta0_max=np.full(p, np.nan),
                             deltaij_max={}, points=np.empty((0, p)))
-
-
-@dataclass(frozen=True)
-class PlatformControl:
-    """Computed torque (``gains`` None) or sliding mode on a nominal model.
-
-    Attributes:
-        model: the mechanism the controller believes (its p platform coordinates lead q).
-        reference: ``t -> (q#_d, qdot#_d, qddot#_d)``, each (p,).
-        lam: lambda, 1/s.
-        gains: eq 167's gains; None means computed torque (eq 190).
-        saturation: ``"tanh"`` (``tanh(100 s)``) or ``"sign"``.
-    """
-
-    model: ParallelMechanism
-    reference: Reference
-    lam: float
-    gains: SlidingModeGains | None = None
-    saturation: str = "tanh"
-
-    def efforts(self, t: float, q: np.ndarray, qd: np.ndarray) -> np.ndarray:
-        """Actuator efforts (k,), N m or N, for the measured coordinates q and rates qd (n_q,)."""
-        p, lam = self.model.p, self.lam
-        q_d, qd_d, qdd_d = self.reference(t)
-        e, edot = q_d - q[:p], qd_d - qd[:p]
-        H, v, g, B = platform_dynamics(self.model, q, qd[:p])
-        if self.gains is None:
-            acceleration = qdd_d + 2.0 * lam * edot + lam**2 * e
-        else:
-            s = -(edot + lam * e)
-            sigma = qdd_d + lam * edot
-            switch = np.sign(s) if self.saturation == "sign" else np.tanh(100.0 * s)
-            acceleration = sigma - self.gains.k(sigma, qd[:p]) * switch
-        return np.linalg.solve(B, v + g + H @ acceleration)

@@ -18,6 +18,7 @@ from typing import Callable
 import numpy as np
 
 from .five_bar import FiveBarParameters, elbow_guess, five_bar
+from .mechanism import ParallelMechanism
 from .platform import platform_dynamics, quadratic_coefficients
 
 #: The six uncertain 5R parameters and their stated uncertainties (sec 5.6, iv).
@@ -153,15 +154,55 @@ def design_gains(nominal: FiveBarParameters, points: np.ndarray, eta: float = 20
 Reference = Callable[[float], tuple[np.ndarray, np.ndarray, np.ndarray]]
 
 
+@dataclass(frozen=True)
+class PlatformControl:
+    """Computed torque (eq 190, ``gains`` None) or sliding mode (eq 153) on a nominal model, for
+    any mechanism with as many actuators as platform coordinates.
+
+    Attributes:
+        model: the mechanism the controller believes (its p platform coordinates lead q).
+        reference: ``t -> (q#_d, qdot#_d, qddot#_d)``, each (p,).
+        lam: lambda, 1/s.
+        gains: eq 167's gains; None means computed torque ``u* = h^ + H^ (qddot_d + 2 lam edot + lam^2 e)``.
+        saturation: ``"tanh"`` (``tanh(100 s)``) or ``"sign"``.
+    """
+
+    model: ParallelMechanism
+    reference: Reference
+    lam: float
+    gains: SlidingModeGains | None = None
+    saturation: str = "tanh"
+
+    def law(self, t: float, q: np.ndarray, qd: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """``(tau, e, s)``: actuator efforts (k,), N m or N, the error ``e = q#_d - q#`` and the
+        sliding variable ``s = -(edot + lam e)`` (p,), for the measured q and qd (n_q,)."""
+        p, lam = self.model.p, self.lam
+        q_d, qd_d, qdd_d = self.reference(t)
+        e, edot = q_d - q[:p], qd_d - qd[:p]
+        H, v, g, B = platform_dynamics(self.model, q, qd[:p])
+        s = -(edot + lam * e)
+        if self.gains is None:
+            acceleration = qdd_d + 2.0 * lam * edot + lam**2 * e
+        else:
+            sigma = qdd_d + lam * edot
+            switch = np.sign(s) if self.saturation == "sign" else np.tanh(100.0 * s)
+            acceleration = sigma - self.gains.k(sigma, qd[:p]) * switch
+        return np.linalg.solve(B, v + g + H @ acceleration), e, s
+
+    def efforts(self, t: float, q: np.ndarray, qd: np.ndarray) -> np.ndarray:
+        """Actuator efforts (k,) of :meth:`law`."""
+        return self.law(t, q, qd)[0]
+
+
 @dataclass
 class PlatformController:
-    """Sliding mode (eq 153) or computed torque (eq 190) on the estimated model.
+    """:class:`PlatformControl` on the 5R built from estimated parameters, logging ``(t, e, s)``.
 
     Attributes:
         estimate: the nominal parameters the controller believes.
         reference: ``t -> (q#_d, qdot#_d, qddot#_d)``.
         lam: lambda (1/s).
-        gains: sliding-mode gains; None means computed torque ``u* = h^ + H^ (qddot_d + 2 lam edot + lam^2 e)``.
+        gains: sliding-mode gains; None means computed torque (eq 190).
         saturation: ``"sign"`` or ``"tanh"`` (``tanh(100 s)``).
     """
 
@@ -173,23 +214,14 @@ class PlatformController:
 
     def __post_init__(self):
         self.model = five_bar(self.estimate)
+        self.control = PlatformControl(self.model, self.reference, self.lam, self.gains, self.saturation)
         self.log: list[tuple[float, np.ndarray, np.ndarray]] = []
 
     def efforts(self, t: float, q: np.ndarray, qd: np.ndarray) -> np.ndarray:
         """Actuator torques (k,) for the measured full state (q, qd)."""
-        q_d, qd_d, qdd_d = self.reference(t)
-        e, edot = q_d - q[:2], qd_d - qd[:2]
-        H, v, g, B = platform_dynamics(self.model, q, qd[:2])
-        if self.gains is None:
-            u = v + g + H @ (qdd_d + 2.0 * self.lam * edot + self.lam**2 * e)
-            s = -(edot + self.lam * e)
-        else:
-            s = -(edot + self.lam * e)
-            sigma = qdd_d + self.lam * edot
-            f = np.sign(s) if self.saturation == "sign" else np.tanh(100.0 * s)
-            u = v + g + H @ (sigma - self.gains.k(sigma, qd[:2]) * f)
+        tau, e, s = self.control.law(t, q, qd)
         self.log.append((t, e.copy(), s.copy()))
-        return np.linalg.solve(B, u)
+        return tau
 
 
 def circle_reference(t: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
