@@ -9,7 +9,7 @@ import pytest
 from freefloat.parallel.five_bar import TRUE_PARAMETERS, FiveBarParameters, elbow_guess, five_bar
 from freefloat.parallel.platform import platform_dynamics
 from freefloat.parallel.sliding_mode import (
-    PlatformController, circle_reference, design_gains, extreme_parameters, track,
+    PlatformController, chattering, circle_reference, design_gains, extreme_parameters, track,
 )
 
 NOMINAL = FiveBarParameters()
@@ -72,3 +72,16 @@ def test_dynamics_are_linear_in_the_six_base_parameters():
     np.testing.assert_allclose(pi @ g_c, g, rtol=1e-9)
     for key, coef in quadratic_coefficients(five_bar(TRUE_PARAMETERS), q).items():
         np.testing.assert_allclose(pi @ quad_c[key], coef, rtol=1e-8, atol=1e-12)
+
+
+def test_chattering_measures_effort_jumps_and_sign_changes():
+    """On efforts alternating +-1 every period and s = sin(2 pi 5 t) sampled at 1 kHz, the
+    chattering measures give a median jump of 2 and the zeros of s in the window (t = 1.1 ... 1.9,
+    nine) over its length (0.999 s)."""
+    t = np.arange(0.0, 2.0, 1e-3) + 5e-4        # offset: no sample falls on a zero of s
+    efforts = np.where(np.arange(len(t)) % 2 == 0, 1.0, -1.0)[:, None] * np.array([1.0, 3.0])
+    s = np.sin(2 * np.pi * 5 * t)[:, None]
+    out = chattering(t, efforts, s, after=1.0)
+    np.testing.assert_allclose(out["effort_jump_median"], [2.0, 6.0])
+    assert out["s_sign_changes_per_s"][0] == pytest.approx(9 / 0.999)
+    assert out["s_max"][0] == pytest.approx(1.0, abs=1e-3)

@@ -39,11 +39,13 @@ def main(argv: list[str] | None = None) -> int:
     ver.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
     ver.add_argument("--json", type=Path, default=None, help="also write the report as JSON here")
     rep = commands.add_parser("reproduce", help="reproduce a study of the documents against the exact reference")
-    rep.add_argument("study", choices=["models", "task_space", "phases", "five_bar", "closure_stability", "robustness"],
+    rep.add_argument("study", choices=["models", "task_space", "phases", "five_bar", "closure_stability", "chattering",
+                     "robustness"],
                      help="models: which dynamics model matches the exact one, where; task_space: sec 5.2 "
                           "(Tables 2-5, figs 38-40); phases: one model per capture phase vs exact; "
                           "five_bar: the 5R's sliding-mode gains and tracking (thesis sec 5.6); "
                           "closure_stability: loop-closure drift over step and Baumgarte lambda; "
+                          "chattering: sign(s) against tanh(100 s) with eq 187's gains; "
                           "robustness: Monte-Carlo of the 5R controller through Dask")
     rep.add_argument("--out", type=Path, default=None, help="output folder (default: runs/reproduce-<study>-<time>)")
     rep.add_argument("--quick", action="store_true", help="short runs and few samples (a smoke test)")
@@ -85,6 +87,8 @@ def _reproduce(args: argparse.Namespace) -> int:
             report = five_bar_report.reproduce(out, quick=args.quick)
         elif args.study == "closure_stability":
             report = five_bar_report.reproduce_stability(out, quick=args.quick)
+        elif args.study == "chattering":
+            report = five_bar_report.reproduce_chattering(out, quick=args.quick)
         else:
             report = five_bar_report.reproduce_robustness(out, args.quick, args.runs, args.error, args.scheduler)
     print((out / "report.md").read_text())

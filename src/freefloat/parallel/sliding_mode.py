@@ -224,6 +224,21 @@ class PlatformController:
         return tau
 
 
+def chattering(t: np.ndarray, efforts: np.ndarray, s: np.ndarray, after: float) -> dict:
+    """How much a closed loop chatters after time ``after`` (s), from the control periods' times
+    (N,), efforts (N, k) and sliding variables (N, p).
+
+    Returns:
+        ``effort_jump_median`` (k,): median |tau_{i+1} - tau_i| between periods, N m;
+        ``s_sign_changes_per_s`` (p,): sign changes of s per second; ``s_max`` (p,): max |s|.
+    """
+    late = t > after
+    span = t[late][-1] - t[late][0]
+    return {"effort_jump_median": np.median(np.abs(np.diff(efforts[late], axis=0)), axis=0).tolist(),
+            "s_sign_changes_per_s": ((np.diff(np.sign(s[late]), axis=0) != 0).sum(axis=0) / span).tolist(),
+            "s_max": np.abs(s[late]).max(axis=0).tolist()}
+
+
 def circle_reference(t: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Sec 5.6's reference (eq 189): x = 0.07 cos(28.57 t), y = 0.17 + 0.07 sin(28.57 t), m."""
     w, r = 28.57, 0.07
