@@ -171,3 +171,12 @@ def test_batched_inverse_dynamics_drive_the_path(loaded):
     for i in range(0, len(t), 7):
         qd = mech.velocity_map(q[i]) @ xd[i]
         np.testing.assert_allclose(mech.forward(q[i], qd, tau[i])[:3], xdd[i], atol=1e-9 * np.abs(xdd).max())
+
+
+def test_rotating_platform_constraints_are_refused():
+    """Angular constraints with P != 0 (a platform that turns) fail with a message naming P."""
+    from freefloat.parallel.mechanism import AngularConstraints
+
+    with pytest.raises(FreefloatError, match="P must be zero"):
+        AngularConstraints(P=np.ones((1, 3)), Q=np.zeros((1, 9)), R=np.zeros((1, 16)), reference=np.tile(np.eye(3), (3, 1, 1)),
+                           offset=np.zeros(1))

@@ -55,6 +55,11 @@ class AngularConstraints:
     reference: np.ndarray
     offset: np.ndarray
 
+    def __post_init__(self) -> None:
+        if np.any(self.P != 0.0):
+            raise FreefloatError("angular constraints: P must be zero (the platform coordinates q# are translations; "
+                                 "a rotating platform would need orientation coordinates)")
+
 
 @dataclass(frozen=True)
 class ParallelMechanism:
