@@ -138,13 +138,13 @@ class ParallelMechanism:
     def _constraint_jacobian(self, kins: list[dict]) -> np.ndarray:
         Jv = _block_diag([k["tip_Jv"] for k in kins])
         D = np.broadcast_to(self.D, Jv.shape[:-2] + self.D.shape)
-        A = np.concatenate((D, -(self.E @ Jv + self.F)), axis=-1)
+        A = np.concatenate((D, -(_constant_times(self.E, Jv) + self.F)), axis=-1)
         if self.angular is None:
             return A
         ang = self.angular
         Jw = _block_diag([k["tip_Jw"] for k in kins])
         P = np.broadcast_to(ang.P, Jw.shape[:-2] + ang.P.shape)
-        return np.concatenate((A, np.concatenate((P, -(ang.Q @ Jw + ang.R)), axis=-1)), axis=-2)
+        return np.concatenate((A, np.concatenate((P, -(_constant_times(ang.Q, Jw) + ang.R)), axis=-1)), axis=-2)
 
     def _closure(self, q: np.ndarray, frames: list | None = None) -> tuple[np.ndarray, np.ndarray]:
         """``[qbar; orientation residual]`` (..., m) and the constraint Jacobian A (..., m, n_q)
@@ -264,6 +264,12 @@ class ParallelMechanism:
 def _matvec(A: np.ndarray, x: np.ndarray) -> np.ndarray:
     """``A x`` over leading batch axes: (..., m, n) and (..., n) -> (..., m)."""
     return (A @ x[..., None])[..., 0]
+
+
+def _constant_times(C: np.ndarray, X: np.ndarray) -> np.ndarray:
+    """``C X`` for one constant matrix C (r, m) and matrices X (..., m, c), as a single BLAS product."""
+    Xt = np.swapaxes(X, -1, -2)
+    return np.swapaxes((Xt.reshape(-1, X.shape[-2]) @ C.T).reshape(Xt.shape[:-1] + (C.shape[0],)), -1, -2)
 
 
 def _block_diag(blocks: list[np.ndarray]) -> np.ndarray:

@@ -82,13 +82,18 @@ class SerialChain:
     def frames(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Link frames ``[1]^H_{N|B_i}`` for i = 0..nu (..., nu + 1, 4, 4) (eq 23) and joint frames
         J_i (..., nu, 4, 4), all in N, for joint coordinates ``q`` (..., nu) (any leading batch
-        axes)."""
+        axes). ``J_{i+1} = J_i M(q_i) (L_i P_{i+1})`` with the joint motion ``M`` applied to J's
+        columns and the constant products on the right as one matrix product over the batch."""
         q = np.asarray(q, float)
-        links, joints = [np.broadcast_to(self.base, q.shape[:-1] + (4, 4))], []
+        batch = q.shape[:-1]
+        links, joints = [np.broadcast_to(self.base, batch + (4, 4))], []
+        J = np.broadcast_to(self.base @ self.placement[0], batch + (4, 4))
         for i in range(self.dof):
-            J = links[-1] @ self.placement[i]
             joints.append(J)
-            links.append(J @ _joint_motion(q[..., i], self.prismatic[i]) @ self.link[i])
+            moved = _joint_motion(J, q[..., i], self.prismatic[i])
+            links.append(_times_constant(moved, self.link[i]))
+            if i + 1 < self.dof:
+                J = _times_constant(moved, self.link[i] @ self.placement[i + 1])
         return np.stack(links, axis=-3), np.stack(joints, axis=-3)
 
     def tip(self, q: np.ndarray) -> np.ndarray:
@@ -192,13 +197,18 @@ def _point_jacobian(points: np.ndarray, k: np.ndarray, o: np.ndarray, rev: np.nd
     return (cols * mask[:, :, None]).swapaxes(-1, -2)
 
 
-def _joint_motion(q: np.ndarray, prismatic: bool) -> np.ndarray:
-    """``Tz(q)`` or ``Rz(q)`` (..., 4, 4) for joint coordinates ``q`` (...)."""
-    out = np.zeros(np.shape(q) + (4, 4))
-    out[..., 0, 0] = out[..., 1, 1] = out[..., 2, 2] = out[..., 3, 3] = 1.0
+def _joint_motion(J: np.ndarray, q: np.ndarray, prismatic: bool) -> np.ndarray:
+    """``J Tz(q)`` or ``J Rz(q)`` (..., 4, 4) for frames J (..., 4, 4) and coordinates q (...)."""
+    out = J.copy()
     if prismatic:
-        out[..., 2, 3] = q
+        out[..., :3, 3] += J[..., :3, 2] * q[..., None]
     else:
-        c, s = np.cos(q), np.sin(q)
-        out[..., 0, 0], out[..., 0, 1], out[..., 1, 0], out[..., 1, 1] = c, -s, s, c
+        c, s = np.cos(q)[..., None], np.sin(q)[..., None]
+        out[..., :, 0] = J[..., :, 0] * c + J[..., :, 1] * s
+        out[..., :, 1] = J[..., :, 1] * c - J[..., :, 0] * s
     return out
+
+
+def _times_constant(A: np.ndarray, C: np.ndarray) -> np.ndarray:
+    """``A C`` for matrices A (..., 4, 4) and one constant C (4, 4), as a single BLAS product."""
+    return (A.reshape(-1, 4) @ C).reshape(A.shape)
