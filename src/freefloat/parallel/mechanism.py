@@ -184,14 +184,17 @@ class ParallelMechanism:
 
     def forward(self, q: np.ndarray, qd: np.ndarray, tau: np.ndarray, baumgarte: float = 0.0) -> np.ndarray:
         """``qddot`` (n_q,) under actuator efforts ``tau`` (k,), eq 129 with lambda = ``baumgarte``."""
-        A, b, C, M, v, g = self.terms(q, qd)
+        frames = [c.frames(qi) for c, qi in zip(self.chains, self.split(q))]
+        residual, A = self._closure(q, frames)
+        kins = [c.kinematics(qi, qdi, f) for c, qi, qdi, f in zip(self.chains, self.split(q), self.split(qd), frames)]
+        b, C, blocks, v, g = self._dynamics_terms(kins, (), A)
         u = self.selection() @ tau
         m = len(self.d)
         rates = A @ qd
         rates[:m] *= 2.0
         rhs_c = b - baumgarte * rates
-        rhs_c[:m] -= baumgarte**2 * self.constraint(q)
-        return np.linalg.solve(np.vstack((C.T @ M, A)), np.concatenate((C.T @ (u - v - g), rhs_c)))
+        rhs_c[:m] -= baumgarte**2 * residual[:m]
+        return np.linalg.solve(np.vstack((C.T @ _block_diag(blocks), A)), np.concatenate((C.T @ (u - v - g), rhs_c)))
 
     def inverse(self, q: np.ndarray, qd_sharp: np.ndarray, qdd_sharp: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Actuator efforts for platform motion (eqs 130-140) at assembled ``q`` (..., n_q), from
