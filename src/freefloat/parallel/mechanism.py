@@ -161,20 +161,29 @@ class ParallelMechanism:
             residual = np.concatenate((residual, ang.offset - phi @ ang.Q.T - q[..., self.p:] @ ang.R.T), axis=-1)
         return residual, self._constraint_jacobian(kins)
 
-    def _passive_solve(self, A: np.ndarray, rhs: np.ndarray) -> np.ndarray:
-        """``A°^+ rhs`` (..., n°, r) for the constraint Jacobian A (..., m, n_q) and rhs (..., m, r):
-        an LU solve when A° is square and regular, the pseudo-inverse otherwise."""
+    def passive_solve(self, A: np.ndarray, rhs: np.ndarray, least_squares: bool = False) -> np.ndarray:
+        """``A°^+ rhs`` (..., n°, r) for the constraint Jacobian A (..., m, n_q) and rhs (..., m, r)
+        (eqs 120, 130): an LU solve when A° is square, the pseudo-inverse when it is not.
+
+        Raises:
+            FreefloatError: when a square A° is singular (a singular pose), unless
+                ``least_squares`` (Newton's steps in :meth:`assemble`), which then takes the
+                minimum-norm least-squares solution.
+        """
         A_passive = A[..., self.p:]
-        if A_passive.shape[-1] == A_passive.shape[-2]:
-            try:
-                return np.linalg.solve(A_passive, rhs)
-            except np.linalg.LinAlgError:
-                pass
-        return np.linalg.pinv(A_passive) @ rhs
+        if A_passive.shape[-1] != A_passive.shape[-2]:
+            return np.linalg.pinv(A_passive) @ rhs
+        try:
+            return np.linalg.solve(A_passive, rhs)
+        except np.linalg.LinAlgError:
+            if not least_squares:
+                raise FreefloatError("the passive joints' constraint Jacobian A° is singular: the mechanism is at a "
+                                     "singular pose (C and the inverse dynamics are undefined there)") from None
+            return np.linalg.pinv(A_passive) @ rhs
 
     def _velocity_map(self, A: np.ndarray) -> np.ndarray:
         top = np.broadcast_to(np.eye(self.p), A.shape[:-2] + (self.p, self.p))
-        return np.concatenate((top, -self._passive_solve(A, A[..., : self.p])), axis=-2)
+        return np.concatenate((top, -self.passive_solve(A, A[..., : self.p])), axis=-2)
 
     def selection(self) -> np.ndarray:
         """``U`` (n_q, k): actuator efforts into the generalized forces u'."""
@@ -209,7 +218,7 @@ class ParallelMechanism:
         qd = _matvec(self._velocity_map(A), qd_sharp)
         kins = [c.kinematics(qi, qdi, f) for c, qi, qdi, f in zip(self.chains, self.split(q), self.split(qd), frames)]
         b, C, blocks, v, g = self._dynamics_terms(kins, np.shape(q)[:-1], A)
-        passive = self._passive_solve(A, b[..., None])[..., 0]
+        passive = self.passive_solve(A, b[..., None])[..., 0]
         qdd = _matvec(C, qdd_sharp) + np.concatenate((np.zeros(passive.shape[:-1] + (self.p,)), passive), axis=-1)
         Mqdd = np.concatenate([_matvec(M, x) for M, x in zip(blocks, [qdd[..., : self.p]] + self.split(qdd))], axis=-1)
         CT = C.swapaxes(-1, -2)
@@ -226,41 +235,68 @@ class ParallelMechanism:
                 residual and the (first failing) platform coordinates.
         """
         q_sharp, guess = np.asarray(q_sharp, float), np.asarray(guess, float)
+        n_passive = sum(c.dof for c in self.chains)
+        if q_sharp.shape[-1:] != (self.p,) or guess.shape[-1:] != (n_passive,):
+            raise FreefloatError(f"assemble: platform coordinates need {self.p} entries and the guess {n_passive} "
+                                 f"(got shapes {q_sharp.shape} and {guess.shape})")
+        if not (np.isfinite(q_sharp).all() and np.isfinite(guess).all()):
+            raise FreefloatError("assemble: the platform coordinates or the guess are not finite")
         q = np.concatenate((q_sharp, np.broadcast_to(guess, q_sharp.shape[:-1] + guess.shape[-1:])), axis=-1)
         for _ in range(iterations):
             residual, A = self._closure(q)
             if np.abs(residual).max(initial=0.0) < tol:
                 return q
-            q[..., self.p:] -= self._passive_solve(A, residual[..., None])[..., 0]
+            q[..., self.p:] -= self.passive_solve(A, residual[..., None], least_squares=True)[..., 0]
         worst = np.unravel_index(np.argmax(np.abs(residual).max(axis=-1)), residual.shape[:-1])
         raise FreefloatError(f"cannot assemble the mechanism at platform coordinates {np.round(q_sharp[worst], 6).tolist()}: "
                              f"loop-closure residual {np.abs(self.constraint(q[worst])).max():.3g} m, orientation "
                              f"{np.abs(self.orientation_residual(q[worst])).max(initial=0.0):.3g} rad after {iterations} Newton steps")
 
     def inverse_trajectory(self, q_sharp: np.ndarray, qd_sharp: np.ndarray, qdd_sharp: np.ndarray, guess: np.ndarray,
-                           block: int = 512) -> tuple[np.ndarray, np.ndarray]:
+                           block: int = 512, jump: float = 0.05) -> tuple[np.ndarray, np.ndarray]:
         """Inverse dynamics along a platform trajectory (N, p) (positions, rates, accelerations),
-        block by block (``block`` points at once): each block's Newton starts from the
+        block by block (up to ``block`` points at once): each block's Newton starts from the
         first-order prediction ``q°_0 + C°(q_0) (q#_i - q#_0)`` off the previous block's last pose
         ``q_0`` (the first block: off ``guess`` (n_q - p,) assembled at the first point), then
-        eqs 130-140 for the whole block.
+        eqs 130-140 for the whole block. A block whose solution strays more than ``jump`` (rad
+        or m) from its prediction (another assembly mode, or a singular pose crossed) is halved
+        and redone; a single point that still strays is an error.
 
         Returns:
             ``(tau, q)``: efforts (N, k) and assembled coordinates (N, n_q).
 
         Raises:
-            FreefloatError: from :meth:`assemble`, naming the pose that does not assemble.
+            FreefloatError: for mismatched or empty inputs, a pose that does not assemble, or a
+                change of assembly mode along the path, naming the platform coordinates.
         """
+        q_sharp, qd_sharp, qdd_sharp = (np.asarray(a, float) for a in (q_sharp, qd_sharp, qdd_sharp))
+        if not len(q_sharp) or not q_sharp.shape == qd_sharp.shape == qdd_sharp.shape == (len(q_sharp), self.p):
+            raise FreefloatError(f"inverse_trajectory: positions, rates and accelerations must be non-empty arrays of shape "
+                                 f"(N, {self.p}); got {q_sharp.shape}, {qd_sharp.shape}, {qdd_sharp.shape}")
         q = np.empty((len(q_sharp), self.p + len(guess)))
         tau = np.empty((len(q_sharp), len(self.actuated)))
-        anchor = self.assemble(q_sharp[0], guess)
-        for first in range(0, len(q_sharp), block):
-            rows = slice(first, first + block)
+        anchor, first = self.assemble(q_sharp[0], guess), 0
+        size = block
+        while first < len(q_sharp):
+            rows = slice(first, first + size)
             x = q_sharp[rows]
             predicted = anchor[self.p:] + (x - anchor[: self.p]) @ self.velocity_map(anchor)[self.p:].T
-            q[rows] = self.assemble(x, predicted)
+            try:
+                q[rows] = self.assemble(x, predicted)
+                strays = np.abs(q[rows, self.p:] - predicted).max() > jump
+            except FreefloatError:
+                if size == 1:
+                    raise
+                strays = True
+            if strays:
+                if size == 1:
+                    raise FreefloatError(f"inverse_trajectory: at platform coordinates {np.round(x[0], 6).tolist()} the "
+                                         f"mechanism leaves its assembly mode (a singular pose is crossed): the joints "
+                                         f"move more than {jump} from the prediction in one step")
+                size = max(1, size // 2)
+                continue
             tau[rows] = self.inverse(q[rows], qd_sharp[rows], qdd_sharp[rows])[0]
-            anchor = q[first + len(x) - 1]
+            anchor, first, size = q[first + len(x) - 1], first + len(x), block
         return tau, q
 
 
@@ -287,13 +323,13 @@ def _block_diag(blocks: list[np.ndarray]) -> np.ndarray:
 
 
 def log3(R: np.ndarray) -> np.ndarray:
-    """Rotation vectors (..., 3) of rotation matrices (..., 3, 3), for angles below pi (a
-    series below 1e-6 rad)."""
-    cos = np.clip((np.trace(R, axis1=-2, axis2=-1) - 1.0) / 2.0, -1.0, 1.0)
-    angle = np.arccos(cos)
+    """Rotation vectors (..., 3) of rotation matrices (..., 3, 3), for angles below pi (the axis
+    is lost at pi itself); the angle from ``atan2(|vee|, (tr - 1) / 2)``, a series below 1e-6 rad."""
     vee = 0.5 * np.stack((R[..., 2, 1] - R[..., 1, 2], R[..., 0, 2] - R[..., 2, 0], R[..., 1, 0] - R[..., 0, 1]), axis=-1)
+    sin = np.linalg.norm(vee, axis=-1)
+    angle = np.arctan2(sin, 0.5 * (np.trace(R, axis1=-2, axis2=-1) - 1.0))
     small = angle < 1e-6
-    scale = np.where(small, 1.0 + angle**2 / 6.0, angle / np.where(small, 1.0, np.sin(angle)))
+    scale = np.where(small, 1.0 + angle**2 / 6.0, angle / np.where(small, 1.0, sin))
     return scale[..., None] * vee
 
 

@@ -21,7 +21,7 @@ def platform_dynamics(mech: ParallelMechanism, q: np.ndarray, qd_sharp: np.ndarr
     ``B = C^T U`` (p, k), which maps actuator efforts to u*."""
     qd = mech.velocity_map(q) @ qd_sharp
     A, b, C, M, v, g = mech.terms(q, qd)
-    c = np.concatenate((np.zeros(mech.p), np.linalg.pinv(A[:, mech.p:]) @ b))
+    c = np.concatenate((np.zeros(mech.p), mech.passive_solve(A, b[:, None])[:, 0]))
     return C.T @ M @ C, C.T @ (M @ c + v), C.T @ g, C.T @ mech.selection()
 
 

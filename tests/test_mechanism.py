@@ -1,0 +1,88 @@
+"""ParallelMechanism's numerics beside the mechanisms: batches, rotation logs, singular and bad input."""
+
+from __future__ import annotations
+
+import numpy as np
+import pinocchio as pin
+import pytest
+
+from freefloat import FreefloatError
+from freefloat.parallel.five_bar import FiveBarParameters, elbow_guess, five_bar
+from freefloat.parallel.mechanism import log3
+from freefloat.parallel.rsu_ppap import assembly_guess, load_data, load_rsu_ppap, reference_path
+
+P = FiveBarParameters()
+DATA = load_data()
+
+
+@pytest.fixture(scope="module")
+def rsu_ppap():
+    return load_rsu_ppap().mechanism
+
+
+def test_rotation_log_matches_pinocchio_up_to_pi():
+    """log3 equals Pinocchio's log3 at random rotations, tiny ones and ones 1e-9 rad short of pi."""
+    rng = np.random.default_rng(0)
+    axes = rng.normal(size=(20, 3))
+    axes /= np.linalg.norm(axes, axis=1)[:, None]
+    vectors = np.vstack((rng.normal(size=(20, 3)), 1e-9 * axes, (np.pi - 1e-9) * axes))
+    R = np.array([pin.exp3(v) for v in vectors])
+    np.testing.assert_allclose(log3(R), [pin.log3(r) for r in R], atol=1e-6)
+    np.testing.assert_allclose(log3(R[:40]), vectors[:40], atol=1e-12)
+
+
+def test_batched_terms_and_inverse_equal_point_by_point(rsu_ppap):
+    """terms() and inverse() on a (2, 2) batch of states equal the same calls point by point."""
+    rng = np.random.default_rng(1)
+    x = np.array(DATA["home"]) + rng.uniform(-0.04, 0.04, (2, 2, 3))
+    q = rsu_ppap.assemble(x, assembly_guess(DATA, DATA["home"]))
+    qd = np.einsum("...ij,...j->...i", rsu_ppap.velocity_map(q), rng.normal(size=(2, 2, 3)))
+    qdd_sharp = rng.normal(size=(2, 2, 3))
+    batched = rsu_ppap.terms(q, qd)
+    tau, *_ = rsu_ppap.inverse(q, qd[..., :3], qdd_sharp)
+    for i in range(2):
+        for j in range(2):
+            for ours, single in zip(batched, rsu_ppap.terms(q[i, j], qd[i, j])):
+                np.testing.assert_allclose(ours[i, j], single, rtol=1e-12, atol=1e-12)
+            np.testing.assert_allclose(tau[i, j], rsu_ppap.inverse(q[i, j], qd[i, j, :3], qdd_sharp[i, j])[0], rtol=1e-12)
+
+
+def test_path_through_a_stretched_pose_follows_point_by_point_continuation(rsu_ppap):
+    """A path that touches the parallelogram's stretched pose (radius 8 cm, 2000 points, blocks of
+    512): inverse_trajectory's blocks (halved where the prediction fails) give the poses and
+    efforts of assembling point by point from the previous pose, not another assembly mode."""
+    x, xd, xdd = reference_path(np.linspace(0.0, 1.0, 2000), DATA, radius=0.08)
+    tau, q = rsu_ppap.inverse_trajectory(x, xd, xdd, assembly_guess(DATA, x[0]))
+    pose = q[0]
+    for i in range(0, len(x)):
+        pose = rsu_ppap.assemble(x[i], pose[3:])
+        if i % 100 == 0:
+            np.testing.assert_allclose(q[i], pose, atol=1e-8)
+            np.testing.assert_allclose(tau[i], rsu_ppap.inverse(q[i], xd[i], xdd[i])[0], rtol=1e-9)
+    np.testing.assert_allclose(q[-1], pose, atol=1e-8)
+
+
+def test_singular_passive_jacobian_is_an_error():
+    """C and the inverse dynamics are refused, not least-squared, where A° is singular."""
+    mech = five_bar(P)
+    A = np.zeros((4, 6))
+    A[:, :2] = 1.0
+    with pytest.raises(FreefloatError, match="singular"):
+        mech.passive_solve(A, A[:, :2])
+
+
+@pytest.mark.parametrize(("q_sharp", "guess", "message"), [
+    (np.array([0.07, 0.17, 0.0]), np.zeros(4), "need 2 entries and the guess 4"),
+    (np.array([0.07, np.nan]), np.zeros(4), "not finite"),
+])
+def test_assemble_names_bad_input(q_sharp, guess, message):
+    """Wrong sizes or NaN platform coordinates fail with a message, not an IndexError or NaN."""
+    with pytest.raises(FreefloatError, match=message):
+        five_bar(P).assemble(q_sharp, guess)
+
+
+def test_path_arrays_must_match():
+    """inverse_trajectory refuses rates of another length than the positions."""
+    x = np.array([[0.07, 0.17], [0.07, 0.171]])
+    with pytest.raises(FreefloatError, match=r"shape \(N, 2\)"):
+        five_bar(P).inverse_trajectory(x, x[:1], x, elbow_guess(P, x[0]))
