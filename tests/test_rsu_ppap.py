@@ -9,7 +9,14 @@ import pytest
 from freefloat import FreefloatError
 from freefloat.builders import urdf_xml
 from freefloat.parallel.mechanism import simulate
-from freefloat.parallel.rsu_ppap import CLOSURE, assembly_guess, load_data, load_rsu_ppap, reference_path, rsu_ppap_urdf
+from freefloat.parallel.rsu_ppap import (
+    CLOSURE,
+    assembly_guess,
+    load_data,
+    load_rsu_ppap,
+    reference_path,
+    rsu_ppap_urdf,
+)
 
 DATA = load_data()
 HOME = np.array(DATA["home"])
@@ -152,11 +159,17 @@ def test_unreachable_pose_is_refused_naming_the_leg():
         assembly_guess(DATA, HOME + np.array([0.0, 0.0, 0.4]))
 
 
-def test_missing_data_key_is_named(tmp_path):
-    """A data file without rsu.rod_length fails naming that key and the file."""
-    text = (CLOSURE.parent / "rsu_ppap.data.toml").read_text().replace("rod_length", "rod_len")
-    (tmp_path / "d.toml").write_text(text)
-    with pytest.raises(FreefloatError, match=r"d\.toml.*rsu\.rod_length"):
+@pytest.mark.parametrize(("edit", "message"), [
+    (lambda s: s.replace("rod_length", "rod_len"), r"missing key 'rsu\.rod_length'"),
+    (lambda s: s.replace("rod_length = 0.36", 'rod_length = "0.36"'), r"'rsu\.rod_length' must be numeric"),
+    (lambda s: s.replace("rod_length = 0.36", "rod_length = -0.36"), r"'rsu\.rod_length' must be a positive number"),
+    (lambda s: s.replace("rail = [-0.30, 0.0, 0.05]", "rail = [-0.30, 0.0]"), r"'ppap\.rail' must be finite numbers of shape \(3,\)"),
+    (lambda s: s.replace("crank = [[1.0, 0.0, 0.0]", "crank = [[2.0, 0.0, 0.0]"), r"'rsu\.crank' \[0\] must be a unit vector"),
+])
+def test_bad_data_is_named(tmp_path, edit, message):
+    """A missing, non-numeric, non-positive, misshapen or unusable value fails naming the file and key."""
+    (tmp_path / "d.toml").write_text(edit((CLOSURE.parent / "rsu_ppap.data.toml").read_text()))
+    with pytest.raises(FreefloatError, match=r"d\.toml.*" + message):
         load_data(tmp_path / "d.toml")
 
 

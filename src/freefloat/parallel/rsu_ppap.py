@@ -30,11 +30,11 @@ model needs no fourth chain for it.
 
 from __future__ import annotations
 
-import tomllib
 from pathlib import Path
 
 import numpy as np
 import pinocchio as pin
+import tomllib
 import yourdfpy
 
 from ..builders import JOINT_LIMIT, body_link, box_visual, pose, wrap_robot
@@ -50,19 +50,21 @@ LEGS = ("rsu1", "rsu2")
 CHAIN_JOINTS = tuple(tuple(f"{leg}_{j}" for j in ("crank", "s1", "s2", "s3", "u1", "u2")) for leg in LEGS) + (
     ("ppap_rail", "ppap_bar1", "ppap_coupler", "ppap_lift"),)
 SLIDE_LIMIT = yourdfpy.Limit(effort=1000.0, velocity=10.0, lower=-1.0, upper=1.0)
-_KEYS = {"": ("gravity", "home", "actuated", "platform", "rsu", "ppap"),
-         "platform": ("mass", "size", "attach"),
-         "rsu": ("pivot", "crank", "crank_length", "crank_mass", "rod_length", "rod_mass", "rod_radius", "joint_mass",
-                 "joint_radius"),
-         "ppap": ("rail", "slider_mass", "slider_size", "bar_length", "bar_spacing", "bar_mass", "bar_radius",
-                  "coupler_mass", "coupler_size", "lift_offset")}
+#: Every key of the data file with its shape (``()``: a positive number).
+_KEYS = {"": {"home": (3,)},
+         "platform": {"mass": (), "size": (3,), "attach": (2, 3)},
+         "rsu": {"pivot": (2, 3), "crank": (2, 3), "crank_length": (), "crank_mass": (), "rod_length": (), "rod_mass": (),
+                 "rod_radius": (), "joint_mass": (), "joint_radius": ()},
+         "ppap": {"rail": (3,), "slider_mass": (), "slider_size": (3,), "bar_length": (), "bar_spacing": (), "bar_mass": (),
+                  "bar_radius": (), "coupler_mass": (), "coupler_size": (3,), "lift_offset": ()}}
 
 
 def load_data(path: str | Path = DATA) -> dict:
     """The assumed numbers of the 2RSU+PPaP (see the file's comments).
 
     Raises:
-        FreefloatError: naming the file and the missing key.
+        FreefloatError: naming the file and the key that is missing, not numeric, of the wrong
+            shape, not positive (masses, lengths), or a crank direction that is not +-x or +-z.
     """
     path = Path(path)
     try:
@@ -71,10 +73,28 @@ def load_data(path: str | Path = DATA) -> dict:
         raise FreefloatError(f"{path}: cannot read the 2RSU+PPaP data ({exc})") from exc
     for section, keys in _KEYS.items():
         table = data.get(section, {}) if section else data
-        for key in keys:
+        for key, shape in keys.items():
+            name = f"{section}.{key}" if section else key
             if key not in table:
-                raise FreefloatError(f"{path}: missing key '{f'{section}.' if section else ''}{key}'")
+                raise FreefloatError(f"{path}: missing key '{name}'")
+            if not _numeric(table[key]):
+                raise FreefloatError(f"{path}: '{name}' must be numeric, got {table[key]!r}")
+            value = np.asarray(table[key], dtype=float)
+            if value.shape != shape or not np.isfinite(value).all() or (shape == () and value <= 0.0):
+                what = "a positive number" if shape == () else f"finite numbers of shape {shape}"
+                raise FreefloatError(f"{path}: '{name}' must be {what}, got {table[key]!r}")
+    for i, crank in enumerate(np.asarray(data["rsu"]["crank"], float)):
+        if sorted(np.abs(crank)) != [0.0, 0.0, 1.0] or crank[1] != 0.0:
+            raise FreefloatError(f"{path}: 'rsu.crank' [{i}] must be a unit vector along x or z (perpendicular to the "
+                                 f"crank axis y), got {crank.tolist()}")
     return data
+
+
+def _numeric(value) -> bool:
+    """Whether a TOML value is a number or (nested) lists of numbers (not strings or booleans)."""
+    if isinstance(value, list):
+        return all(_numeric(v) for v in value)
+    return isinstance(value, (int, float)) and not isinstance(value, bool)
 
 
 def _rod_inertia(mass: float, length: float, radius: float, axis: int) -> list[float]:
@@ -155,18 +175,21 @@ def rsu_ppap_urdf(data: dict) -> yourdfpy.URDF:
     return wrap_robot(yourdfpy.Robot(name="rsu_ppap", links=links, joints=joints))
 
 
-def load_rsu_ppap(closure: str | Path = CLOSURE, data: str | Path = DATA) -> ClosedChain:
-    """Orsino's model and Pinocchio's constrained model of the 2RSU+PPaP (module docstring).
+def load_rsu_ppap(closure: str | Path = CLOSURE) -> ClosedChain:
+    """Orsino's model and Pinocchio's constrained model of the 2RSU+PPaP (module docstring), both
+    from the closure file and its URDF (the attachment points are read from the platform's
+    frames ``platform_a<i>``).
 
     Raises:
-        FreefloatError: as :func:`read_closures` and :func:`load_data`.
+        FreefloatError: as :func:`read_closures`; naming the chain or frame when the tree is not
+            the 2RSU+PPaP's (joints, or a platform not parallel to the inertial frame).
     """
-    closures, numbers = read_closures(closure), load_data(data)
+    closures = read_closures(closure)
     model = pin.Model(closures.model)
     bar1, bar2 = model.getJointId("ppap_bar1"), model.getJointId("ppap_bar2")
     model.inertias[bar1] = model.inertias[bar1] + model.inertias[bar2]
-    tips = [closures.frame_id(f"{leg}_tip", "closures") for leg in LEGS] + [
-        closures.frame_id(closures.spec["platform"]["frame"], "platform.frame")]
+    platform = closures.frame_id(closures.spec["platform"]["frame"], "platform.frame")
+    tips = [closures.frame_id(f"{leg}_tip", "closures") for leg in LEGS] + [platform]
     chains, order = [], []
     for tip, names in zip(tips, CHAIN_JOINTS):
         chain, joints = chain_from_tree(model, tip)
@@ -175,8 +198,14 @@ def load_rsu_ppap(closure: str | Path = CLOSURE, data: str | Path = DATA) -> Clo
                                  f"{[model.names[j] for j in joints]}, expected {list(names)}")
         chains.append(chain)
         order += joints
+    data = model.createData()
+    pin.framesForwardKinematics(model, data, pin.neutral(model))
+    if not np.allclose(data.oMf[platform].rotation, np.eye(3), atol=1e-12):
+        raise FreefloatError(f"{closures.path}: frame '{model.frames[platform].name}' must be parallel to the inertial "
+                             "frame when the parallelogram is closed (zero joint angles)")
+    attach = np.array([(data.oMf[platform].inverse() * data.oMf[closures.frame_id(f"platform_a{i}", "closures")]).translation
+                       for i in (1, 2)])
     p, n = 3, len(order)
-    attach = np.asarray(numbers["platform"]["attach"], float)
     Q = np.zeros((7, 9))
     Q[:6, :6] = np.eye(6)
     R = np.zeros((7, n))
@@ -194,7 +223,8 @@ def assembly_guess(data: dict, q_sharp: np.ndarray) -> np.ndarray:
     """Joint coordinates (16,) near the assembled pose at platform centre ``q_sharp`` (3,), m:
     the PPaP leg exact (bars tilted up), each crank angle exact (its rod reaches the universal
     joint; of the two solutions, the one nearer the zero angle), the spherical joint pointing
-    the rod there, the universal joint left for Newton.
+    the rod there, the universal joint undoing the spherical joint's two tilts (Newton corrects
+    the rest of the orientation).
 
     Raises:
         FreefloatError: when a leg cannot reach ``q_sharp``, naming the leg.
