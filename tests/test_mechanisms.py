@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from freefloat.mechanisms import FIVE_BAR_PLANTS, REGISTRY
+from freefloat.mechanisms import REGISTRY
 from freefloat.parallel.five_bar import TRUE_PARAMETERS, FiveBarParameters, elbow_guess, five_bar
 
 from .conftest import REPO
@@ -55,11 +55,6 @@ def test_display_is_the_closure_files_spanning_tree(true_15):
     names = set(true_15.display.model.names[1:])
     assert names == {"c1_joint1", "c1_joint2", "c2_joint1", "c2_joint2"}
     assert [true_15.display.model.names[j] for j in true_15.display.actuated] == ["c1_joint1", "c2_joint1"]
-
-
-def test_entry_lists_the_plants_it_builds():
-    """The 5R entry offers the nominal, 15 % and 50 % plants of sec 5.6."""
-    assert REGISTRY["five_bar"].plants == tuple(FIVE_BAR_PLANTS) == ("nominal", "true_15", "true_50")
 
 
 def test_rsu_ppap_entry_assembles_and_actuates_the_cranks_and_rail():

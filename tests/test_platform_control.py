@@ -6,9 +6,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from freefloat import FreefloatError
 from freefloat.control.platform_control import CircleReference, printed_gains
 from freefloat.parallel.five_bar import FiveBarParameters, elbow_guess, five_bar
-from freefloat.parallel.sliding_mode import PlatformControl, PlatformController, circle_reference
+from freefloat.parallel.sliding_mode import PlatformControl, circle_reference
 
 P = FiveBarParameters()
 CIRCLE = CircleReference(np.array([0.0, 0.17]), 0.07, 28.57)
@@ -39,14 +40,10 @@ def test_circle_holds_the_other_coordinates():
     np.testing.assert_allclose(q[[0, 2]], [0.1 + 0.05 * np.cos(0.8), 0.3 + 0.05 * np.sin(0.8)])
 
 
-@pytest.mark.parametrize("gains", [None, GAINS], ids=["computed_torque", "sliding_mode"])
-def test_laws_equal_the_5r_controller(gains):
-    """The general law on the 5R with a CircleReference gives the efforts of the 5R wrapper
-    (model from the estimated parameters, eq 189's circle), for computed torque and sliding mode."""
-    ours = PlatformControl(five_bar(P), CIRCLE, 40.0, gains)
-    theirs = PlatformController(P, circle_reference, 40.0, gains)
-    for q, qd, t in _states(five_bar(P)):
-        np.testing.assert_allclose(ours.efforts(t, q, qd), theirs.efforts(t, q, qd), rtol=1e-12)
+def test_unknown_switch_is_refused():
+    """A saturation other than tanh or sign fails naming the choices instead of falling back to tanh."""
+    with pytest.raises(FreefloatError, match="saturation must be one of"):
+        PlatformControl(five_bar(P), CIRCLE, 40.0, GAINS, "Sign")
 
 
 def test_computed_torque_on_the_exact_model_gives_the_commanded_acceleration():

@@ -27,7 +27,13 @@ from typing import Callable, NamedTuple
 import numpy as np
 
 from .parallel.closed_chain import ClosedChain, load_closed_chain
-from .parallel.five_bar import TRUE_PARAMETERS, TRUE_PARAMETERS_50, FiveBarParameters, elbow_guess, five_bar
+from .parallel.five_bar import (
+    TRUE_PARAMETERS,
+    TRUE_PARAMETERS_50,
+    FiveBarParameters,
+    elbow_guess,
+    five_bar,
+)
 from .parallel.mechanism import ParallelMechanism
 from .parallel.rsu_ppap import assembly_guess, load_data, load_rsu_ppap
 

@@ -17,10 +17,13 @@ from typing import Callable
 
 import numpy as np
 
+from ..errors import FreefloatError
 from .five_bar import FiveBarParameters, elbow_guess, five_bar
 from .mechanism import ParallelMechanism
 from .platform import platform_dynamics, quadratic_coefficients
 
+#: The switching functions of eq 153: ``tanh(100 s)`` or ``sign(s)``.
+SWITCHES = ("tanh", "sign")
 #: The six uncertain 5R parameters and their stated uncertainties (sec 5.6, iv).
 UNCERTAINTY = {"lg1": 0.009, "lg2": 0.011, "m1": 0.0215, "m2": 0.0257, "Jz1": 25.7e-6, "Jz2": 48.1e-6}
 
@@ -173,6 +176,10 @@ class PlatformControl:
     gains: SlidingModeGains | None = None
     saturation: str = "tanh"
 
+    def __post_init__(self) -> None:
+        if self.saturation not in SWITCHES:
+            raise FreefloatError(f"sliding mode: saturation must be one of {SWITCHES}, got '{self.saturation}'")
+
     def law(self, t: float, q: np.ndarray, qd: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """``(tau, e, s)``: actuator efforts (k,), N m or N, the error ``e = q#_d - q#`` and the
         sliding variable ``s = -(edot + lam e)`` (p,), for the measured q and qd (n_q,)."""
@@ -233,6 +240,8 @@ def chattering(t: np.ndarray, efforts: np.ndarray, s: np.ndarray, after: float) 
         ``s_sign_changes_per_s`` (p,): sign changes of s per second; ``s_max`` (p,): max |s|.
     """
     late = t > after
+    if late.sum() < 2:
+        raise FreefloatError(f"chattering: fewer than two control periods after t = {after} s (the run ends at {t[-1]} s)")
     span = t[late][-1] - t[late][0]
     return {"effort_jump_median": np.median(np.abs(np.diff(efforts[late], axis=0)), axis=0).tolist(),
             "s_sign_changes_per_s": ((np.diff(np.sign(s[late]), axis=0) != 0).sum(axis=0) / span).tolist(),

@@ -15,7 +15,13 @@ from tqdm import tqdm
 
 from .five_bar import FiveBarParameters
 from .sliding_mode import (
-    UNCERTAINTY, PlatformController, SlidingModeGains, circle_reference, gains_from_worst_case, track, worst_case,
+    UNCERTAINTY,
+    PlatformController,
+    SlidingModeGains,
+    circle_reference,
+    gains_from_worst_case,
+    track,
+    worst_case,
 )
 
 
