@@ -8,7 +8,7 @@ import pytest
 
 from freefloat import FreefloatError
 from freefloat.parallel.five_bar import FiveBarParameters, elbow_guess, five_bar
-from freefloat.parallel.mechanism import log3
+from freefloat.parallel.mechanism import AngularConstraints, log3, simulate
 from freefloat.parallel.rsu_ppap import assembly_guess, load_data, load_rsu_ppap, reference_path
 
 P = FiveBarParameters()
@@ -86,3 +86,19 @@ def test_path_arrays_must_match():
     x = np.array([[0.07, 0.17], [0.07, 0.171]])
     with pytest.raises(FreefloatError, match=r"shape \(N, 2\)"):
         five_bar(P).inverse_trajectory(x, x[:1], x, elbow_guess(P, x[0]))
+
+
+def test_simulation_stops_when_an_angular_constraint_comes_apart(rsu_ppap):
+    """A start with the parallelogram's coupler turned 1.5 rad (an angular constraint off by more
+    than 1 rad) stops after the first step instead of running on."""
+    q0 = rsu_ppap.assemble(np.array(DATA["home"]), assembly_guess(DATA, DATA["home"]))
+    q0[3 + 12 + 2] += 1.5                       # ppap_coupler
+    t, qs, _ = simulate(rsu_ppap, q0, np.zeros_like(q0), lambda *_: np.zeros(3), 0.01, 1e-3)
+    assert len(t) == len(qs) == 2
+
+
+def test_angular_constraints_check_their_shapes():
+    """Q with a column count that does not fit the tip references fails naming the shapes."""
+    with pytest.raises(FreefloatError, match="shapes do not agree"):
+        AngularConstraints(P=np.zeros((1, 3)), Q=np.zeros((1, 6)), R=np.zeros((1, 16)), reference=np.tile(np.eye(3), (3, 1, 1)),
+                           offset=np.zeros(1))

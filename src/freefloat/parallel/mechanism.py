@@ -59,6 +59,13 @@ class AngularConstraints:
         if np.any(self.P != 0.0):
             raise FreefloatError("angular constraints: P must be zero (the platform coordinates q# are translations; "
                                  "a rotating platform would need orientation coordinates)")
+        rows = len(self.offset)
+        n_tips = len(self.reference)
+        if self.P.shape[0] != rows or self.Q.shape != (rows, 3 * n_tips) or self.R.shape[0] != rows \
+                or self.reference.shape != (n_tips, 3, 3):
+            raise FreefloatError(f"angular constraints: shapes do not agree: P {self.P.shape}, Q {self.Q.shape}, "
+                                 f"R {self.R.shape}, reference {self.reference.shape}, offset {self.offset.shape} "
+                                 f"(Q needs 3 columns per tip reference, every matrix one row per offset)")
 
 
 @dataclass(frozen=True)
@@ -336,7 +343,8 @@ def log3(R: np.ndarray) -> np.ndarray:
 def simulate(mechanism: ParallelMechanism, q0: np.ndarray, qd0: np.ndarray, tau, duration: float, step: float,
              baumgarte: float = 0.0, method: str = "rk4") -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Classical RK4 (or semi-implicit Euler) on the coupled coordinates (all Euclidean),
-    Baumgarte-stabilised. A run that blows up stops there (the arrays end early).
+    Baumgarte-stabilised. A run that blows up (a non-finite state, a loop open by more than 1 m or
+    an angular constraint off by more than 1 rad) stops there: the arrays end early.
 
     Args:
         tau: ``tau(t, q, qd) -> efforts`` (k,), held over each step.
@@ -349,6 +357,7 @@ def simulate(mechanism: ParallelMechanism, q0: np.ndarray, qd0: np.ndarray, tau,
     t = np.arange(steps + 1) * step
     qs, drift = np.empty((steps + 1, len(q0))), np.empty(steps + 1)
     q, qd = np.array(q0, float), np.array(qd0, float)
+    m = len(mechanism.d)
     qs[0], drift[0] = q, np.abs(mechanism.constraint(q)).max()
     for k in range(steps):
         u = tau(t[k], q, qd)
@@ -356,17 +365,16 @@ def simulate(mechanism: ParallelMechanism, q0: np.ndarray, qd0: np.ndarray, tau,
         if method == "euler":
             qd = qd + step * f(q, qd)
             q = q + step * qd
-            qs[k + 1], drift[k + 1] = q, np.abs(mechanism.constraint(q)).max()
-            if not np.isfinite(drift[k + 1]) or drift[k + 1] > 1.0:
-                return t[: k + 2], qs[: k + 2], drift[: k + 2]
-            continue
-        k1q, k1v = qd, f(q, qd)
-        k2q, k2v = qd + step / 2 * k1v, f(q + step / 2 * k1q, qd + step / 2 * k1v)
-        k3q, k3v = qd + step / 2 * k2v, f(q + step / 2 * k2q, qd + step / 2 * k2v)
-        k4q, k4v = qd + step * k3v, f(q + step * k3q, qd + step * k3v)
-        q = q + step / 6 * (k1q + 2 * k2q + 2 * k3q + k4q)
-        qd = qd + step / 6 * (k1v + 2 * k2v + 2 * k3v + k4v)
-        qs[k + 1], drift[k + 1] = q, np.abs(mechanism.constraint(q)).max()
-        if not np.isfinite(drift[k + 1]) or drift[k + 1] > 1.0:
+        else:
+            k1q, k1v = qd, f(q, qd)
+            k2q, k2v = qd + step / 2 * k1v, f(q + step / 2 * k1q, qd + step / 2 * k1v)
+            k3q, k3v = qd + step / 2 * k2v, f(q + step / 2 * k2q, qd + step / 2 * k2v)
+            k4q, k4v = qd + step * k3v, f(q + step * k3q, qd + step * k3v)
+            q = q + step / 6 * (k1q + 2 * k2q + 2 * k3q + k4q)
+            qd = qd + step / 6 * (k1v + 2 * k2v + 2 * k3v + k4v)
+        residual = mechanism._closure(q)[0]
+        qs[k + 1], drift[k + 1] = q, np.abs(residual[:m]).max()
+        if not (np.isfinite(residual).all() and np.isfinite(qd).all() and drift[k + 1] <= 1.0
+                and np.abs(residual[m:]).max(initial=0.0) <= 1.0):
             return t[: k + 2], qs[: k + 2], drift[: k + 2]
     return t, qs, drift
