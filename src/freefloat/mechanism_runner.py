@@ -167,7 +167,7 @@ def record(controller: PlatformControl, plant: ParallelMechanism, t: np.ndarray,
     held = np.full((len(t), efforts.shape[1]), np.nan)
     held[: len(efforts)] = efforts[: len(t)]
     reference = np.array([controller.reference(tk)[0] for tk in t]).reshape(-1, p)
-    orientation = np.array([np.abs(plant.orientation_residual(qk)).max(initial=0.0) for qk in q])
+    orientation = np.abs(plant.orientation_residual(q)).max(axis=-1, initial=0.0)
     return MechanismTelemetry(t=t, platform=q[:, :p], platform_reference=reference, joints=q[:, p:],
                               efforts=held, drift=drift, orientation_drift=orientation)
 

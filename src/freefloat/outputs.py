@@ -109,13 +109,10 @@ def write_mechanism_run(out_dir: Path, scene: MechanismScene, prepared: Prepared
 
 
 def _joint_names(chain: ClosedChain, n_q: int) -> list[str]:
-    """Name of the tree joint behind each of Orsino's joint coordinates ``q°`` (n_q - p): the
-    tree coordinates :meth:`ClosedChain.pinocchio_q` fills from each index (the first joint where
-    several share one coordinate)."""
-    model, p = chain.model, chain.mechanism.p
-    source = chain.pinocchio_q(np.arange(n_q, dtype=float))  # each tree coordinate: its index in q
-    owner = {int(source[model.idx_qs[j]]): model.names[j] for j in range(model.njoints - 1, 0, -1)}
-    return [owner.get(i, "?") for i in range(p, n_q)]
+    """Name of the tree joint behind each of Orsino's joint coordinates ``q°`` (n_q - p), from
+    :attr:`ClosedChain.joint_coordinates` (the first joint where several share one coordinate)."""
+    owner = {i: chain.model.names[j] for j, i in sorted(chain.joint_coordinates.items(), reverse=True)}
+    return [owner.get(i, "?") for i in range(chain.mechanism.p, n_q)]
 
 
 def _write_provenance(out_dir: Path, scene: Scene | MechanismScene, summary: dict[str, object],
