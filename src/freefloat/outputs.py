@@ -103,8 +103,7 @@ def write_mechanism_run(out_dir: Path, scene: MechanismScene, prepared: Prepared
         written += write_mechanism_figures(tel, out_dir)
     if len(tel.t) >= 2 and scene.output.html:
         q = np.hstack((tel.platform, tel.joints))
-        written.append(write_mechanism_html(prepared.closure, chain, tel.t, q, out_dir / "trajectory.html",
-                                            scene.output.html_fps))
+        written.append(write_mechanism_html(chain, tel.t, q, out_dir / "trajectory.html", scene.output.html_fps))
     return written
 
 

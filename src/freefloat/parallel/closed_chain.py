@@ -69,6 +69,11 @@ class Closures:
     frames: list[tuple[str, str]]
     actuated: list[int]
 
+    @property
+    def urdf(self) -> Path:
+        """The spanning tree's URDF file (the ``urdf`` key, beside the closure file)."""
+        return self.path.parent / self.spec["urdf"]
+
     def frame_id(self, name: str, key: str) -> int:
         """Frame id of ``name``, which the file's ``key`` gave.
 
@@ -90,6 +95,7 @@ class ClosedChain:
         constraints: one ``RigidConstraintModel`` per closure.
         joint_coordinates: Pinocchio joint id -> index of its coordinate in Orsino's ``q``.
         actuated: Pinocchio joint ids of the actuated joints.
+        urdf: the spanning tree's URDF file.
     """
 
     mechanism: ParallelMechanism
@@ -97,6 +103,7 @@ class ClosedChain:
     constraints: list
     joint_coordinates: dict[int, int]
     actuated: list[int]
+    urdf: Path
 
     def pinocchio_q(self, q: np.ndarray) -> np.ndarray:
         """Pinocchio configuration (nq,) from Orsino's ``q`` (the platform coordinates dropped);
@@ -182,7 +189,8 @@ def load_closed_chain(path: str | Path) -> ClosedChain:
     mech = ParallelMechanism(chains=tuple(chains), platform_mass=np.zeros((p, p)), platform_gravity=np.zeros(p),
                              D=D, d=np.zeros(p * n_tips), E=E, F=np.zeros((p * n_tips, len(order))),
                              actuated=np.array([p + order.index(j) for j in closures.actuated]))
-    return ClosedChain(mech, model, closures.constraints, {j: p + i for i, j in enumerate(order)}, closures.actuated)
+    return ClosedChain(mech, model, closures.constraints, {j: p + i for i, j in enumerate(order)}, closures.actuated,
+                       closures.urdf)
 
 
 def chain_from_tree(model: pin.Model, frame: int) -> tuple[SerialChain, list[int]]:

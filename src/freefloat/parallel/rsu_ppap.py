@@ -216,7 +216,7 @@ def load_rsu_ppap(closure: str | Path = CLOSURE) -> ClosedChain:
                              E=np.eye(9), F=np.zeros((9, n)),
                              actuated=np.array([p + order.index(j) for j in closures.actuated]), angular=angular)
     coordinates = {j: p + i for i, j in enumerate(order)} | {bar2: p + order.index(bar1)}
-    return ClosedChain(mech, closures.model, closures.constraints, coordinates, closures.actuated)
+    return ClosedChain(mech, closures.model, closures.constraints, coordinates, closures.actuated, closures.urdf)
 
 
 def assembly_guess(data: dict, q_sharp: np.ndarray) -> np.ndarray:

@@ -7,7 +7,6 @@ joints satisfy the closure.
 
 from __future__ import annotations
 
-import tomllib
 import warnings
 from pathlib import Path
 
@@ -68,22 +67,20 @@ def drift_figure(telemetry: MechanismTelemetry) -> Figure:
     return figure
 
 
-def write_mechanism_html(closure: Path, chain: ClosedChain, t: np.ndarray, q: np.ndarray, path: str | Path,
-                         fps: float) -> Path:
+def write_mechanism_html(chain: ClosedChain, t: np.ndarray, q: np.ndarray, path: str | Path, fps: float) -> Path:
     """Self-contained meshcat page of a mechanism run.
 
     Args:
-        closure: the closure file (its ``urdf`` is drawn).
-        chain: that file loaded; maps Orsino's coordinates to the spanning tree's joints.
+        chain: the mechanism loaded from its closure file; its URDF is drawn, and it maps
+            Orsino's coordinates to the spanning tree's joints.
         t: sample times, s (N,).
         q: Orsino's coordinates ``[q#; q°]`` (N, n_q).
         path: output ``.html`` file.
         fps: animation frames per second of simulated time.
     """
-    urdf = closure.parent / tomllib.loads(closure.read_text())["urdf"]
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        robot = load_robot(urdf, base="free")
+        robot = load_robot(chain.urdf, base="free")
     tree, model = chain.model, robot.model
     tree_q = np.array([chain.pinocchio_q(qk) for qk in q]).reshape(len(t), tree.nq)
     configurations = np.tile(robot.neutral(), (len(t), 1))
