@@ -5,10 +5,12 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from freefloat import FreefloatError
 from freefloat.builders import build_urdf, urdf_xml
-from freefloat.parallel.closed_chain import load_closed_chain
+from freefloat.parallel.closed_chain import chain_from_tree, load_closed_chain
 from freefloat.parallel.five_bar import FiveBarParameters, elbow_guess, five_bar, five_bar_spec
 
 from .conftest import REPO
@@ -116,3 +118,36 @@ def test_one_second_trajectories_agree_with_pinocchio(loaded):
         q, v = q + h / 6 * (k1q + 2 * k2q + 2 * k3q + k4q), v + h / 6 * (k1v + 2 * k2v + 2 * k3v + k4v)
         worst = max(worst, np.abs(q - loaded.pinocchio_q(qs[k + 1])).max())
     assert worst < 1e-9
+
+
+JOINT_TYPES = (pin.JointModelRX, pin.JointModelRY, pin.JointModelRZ, pin.JointModelPX, pin.JointModelPY, pin.JointModelPZ)
+
+
+@settings(max_examples=25, deadline=None)
+@given(st.integers(0, 2**31), st.integers(1, 6))
+def test_chains_read_from_a_tree_match_pinocchio(seed, n):
+    """chain_from_tree on random chains of revolute and prismatic joints along x, y or z, random
+    placements, inertias and gravity: M equals CRBA and v + g equals RNEA(q, qd, 0)."""
+    rng = np.random.default_rng(seed)
+    model = pin.Model()
+    model.gravity = pin.Motion(rng.normal(size=3), np.zeros(3))
+    parent = 0
+    for i in range(n):
+        placement = pin.SE3(pin.exp3(rng.normal(size=3)), rng.normal(size=3) * 0.3)
+        parent = model.addJoint(parent, JOINT_TYPES[rng.integers(6)](), placement, f"j{i}")
+        A = rng.normal(size=(3, 3))
+        model.appendBodyToJoint(parent, pin.Inertia(rng.uniform(0.2, 2.0), rng.normal(size=3) * 0.2, A @ A.T + 0.05 * np.eye(3)),
+                                pin.SE3.Identity())
+    model.addFrame(pin.Frame("tip", parent, 0, pin.SE3(np.eye(3), rng.normal(size=3) * 0.1), pin.FrameType.OP_FRAME))
+    chain, joints = chain_from_tree(model, model.getFrameId("tip"))
+    data = model.createData()
+    q, qd = rng.uniform(-1, 1, n), rng.normal(size=n)
+    M, v, g = chain.dynamics(q, qd)
+    M_ref = pin.crba(model, data, q)
+    M_ref = np.triu(M_ref) + np.triu(M_ref, 1).T
+    assert joints == list(range(1, n + 1))
+    np.testing.assert_allclose(M, M_ref, atol=1e-10 * max(1.0, np.abs(M_ref).max()))
+    rnea = pin.rnea(model, data, q, qd, np.zeros(n))
+    np.testing.assert_allclose(v + g, rnea, atol=1e-9 * max(1.0, np.abs(rnea).max()))
+    pin.framesForwardKinematics(model, data, q)
+    np.testing.assert_allclose(chain.tip(q), data.oMf[model.getFrameId("tip")].translation, atol=1e-12)
