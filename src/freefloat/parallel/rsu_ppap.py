@@ -205,12 +205,14 @@ def load_rsu_ppap(closure: str | Path = CLOSURE) -> ClosedChain:
                              "frame when the parallelogram is closed (zero joint angles)")
     attach = np.array([(data.oMf[platform].inverse() * data.oMf[closures.frame_id(f"platform_a{i}", "closures")]).translation
                        for i in (1, 2)])
-    p, n = 3, len(order)
-    Q = np.zeros((7, 9))
-    Q[:6, :6] = np.eye(6)
-    R = np.zeros((7, n))
-    R[6, [order.index(bar1), order.index(model.getJointId("ppap_coupler"))]] = 1.0
-    angular = AngularConstraints(P=np.zeros((7, p)), Q=Q, R=R, reference=np.tile(np.eye(3), (3, 1, 1)), offset=np.zeros(7))
+    p, n, legs = 3, len(order), 3 * len(LEGS)
+    # rows: the RSU tips do not turn (Q, 3 per leg), the coupler stays parallel to the slider (R)
+    Q = np.zeros((legs + 1, 3 * len(chains)))
+    Q[:legs, :legs] = np.eye(legs)
+    R = np.zeros((legs + 1, n))
+    R[legs, [order.index(bar1), order.index(model.getJointId("ppap_coupler"))]] = 1.0
+    angular = AngularConstraints(P=np.zeros((legs + 1, p)), Q=Q, R=R, reference=np.tile(np.eye(3), (len(chains), 1, 1)),
+                                 offset=np.zeros(legs + 1))
     mech = ParallelMechanism(chains=tuple(chains), platform_mass=np.zeros((p, p)), platform_gravity=np.zeros(p),
                              D=np.vstack([np.eye(3)] * 3), d=-np.concatenate((attach[0], attach[1], np.zeros(3))),
                              E=np.eye(9), F=np.zeros((9, n)),
