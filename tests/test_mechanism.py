@@ -102,3 +102,23 @@ def test_angular_constraints_check_their_shapes():
     with pytest.raises(FreefloatError, match="shapes do not agree"):
         AngularConstraints(P=np.zeros((1, 3)), Q=np.zeros((1, 6)), R=np.zeros((1, 16)), reference=np.tile(np.eye(3), (3, 1, 1)),
                            offset=np.zeros(1))
+
+
+def test_simulation_keeps_its_samples_when_a_singular_pose_stops_it(monkeypatch):
+    """When the forward dynamics fail on the 4th step (a singular pose), simulate returns the
+    three steps it finished instead of raising and losing them."""
+    mech = five_bar(P)
+    q0 = mech.assemble(np.array([0.07, 0.17]), elbow_guess(P, np.array([0.07, 0.17])))
+    calls = {"n": 0}
+    forward = type(mech).forward
+
+    def failing(self, q, qd, tau, baumgarte=0.0):
+        calls["n"] += 1
+        if calls["n"] > 12:   # RK4: 4 evaluations per step
+            raise FreefloatError("singular")
+        return forward(self, q, qd, tau, baumgarte)
+
+    monkeypatch.setattr(type(mech), "forward", failing)
+    t, qs, drift = simulate(mech, q0, np.zeros(6), lambda *_: np.zeros(2), 0.01, 1e-3)
+    assert len(t) == len(qs) == len(drift) == 4
+    assert np.isfinite(qs).all()

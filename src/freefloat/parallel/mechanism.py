@@ -343,8 +343,9 @@ def log3(R: np.ndarray) -> np.ndarray:
 def simulate(mechanism: ParallelMechanism, q0: np.ndarray, qd0: np.ndarray, tau, duration: float, step: float,
              baumgarte: float = 0.0, method: str = "rk4") -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Classical RK4 (or semi-implicit Euler) on the coupled coordinates (all Euclidean),
-    Baumgarte-stabilised. A run that blows up (a non-finite state, a loop open by more than 1 m or
-    an angular constraint off by more than 1 rad) stops there: the arrays end early.
+    Baumgarte-stabilised. A run that blows up (a non-finite state, a loop open by more than 1 m,
+    an angular constraint off by more than 1 rad, or a singular pose where eq 129 has no
+    solution) stops there: the arrays end early, with every sample computed.
 
     Args:
         tau: ``tau(t, q, qd) -> efforts`` (k,), held over each step.
@@ -362,16 +363,19 @@ def simulate(mechanism: ParallelMechanism, q0: np.ndarray, qd0: np.ndarray, tau,
     for k in range(steps):
         u = tau(t[k], q, qd)
         f = lambda qq, vv: mechanism.forward(qq, vv, u, baumgarte)  # noqa: E731
-        if method == "euler":
-            qd = qd + step * f(q, qd)
-            q = q + step * qd
-        else:
-            k1q, k1v = qd, f(q, qd)
-            k2q, k2v = qd + step / 2 * k1v, f(q + step / 2 * k1q, qd + step / 2 * k1v)
-            k3q, k3v = qd + step / 2 * k2v, f(q + step / 2 * k2q, qd + step / 2 * k2v)
-            k4q, k4v = qd + step * k3v, f(q + step * k3q, qd + step * k3v)
-            q = q + step / 6 * (k1q + 2 * k2q + 2 * k3q + k4q)
-            qd = qd + step / 6 * (k1v + 2 * k2v + 2 * k3v + k4v)
+        try:
+            if method == "euler":
+                qd = qd + step * f(q, qd)
+                q = q + step * qd
+            else:
+                k1q, k1v = qd, f(q, qd)
+                k2q, k2v = qd + step / 2 * k1v, f(q + step / 2 * k1q, qd + step / 2 * k1v)
+                k3q, k3v = qd + step / 2 * k2v, f(q + step / 2 * k2q, qd + step / 2 * k2v)
+                k4q, k4v = qd + step * k3v, f(q + step * k3q, qd + step * k3v)
+                q = q + step / 6 * (k1q + 2 * k2q + 2 * k3q + k4q)
+                qd = qd + step / 6 * (k1v + 2 * k2v + 2 * k3v + k4v)
+        except (FreefloatError, np.linalg.LinAlgError):   # a singular pose reached: keep what was computed
+            return t[: k + 1], qs[: k + 1], drift[: k + 1]
         residual = mechanism._closure(q)[0]
         qs[k + 1], drift[k + 1] = q, np.abs(residual[:m]).max()
         if not (np.isfinite(residual).all() and np.isfinite(qd).all() and drift[k + 1] <= 1.0
