@@ -266,15 +266,16 @@ class ParallelMechanism:
         first-order prediction ``q°_0 + C°(q_0) (q#_i - q#_0)`` off the previous block's last pose
         ``q_0`` (the first block: off ``guess`` (n_q - p,) assembled at the first point), then
         eqs 130-140 for the whole block. A block whose solution strays more than ``jump`` (rad
-        or m) from its prediction (another assembly mode, or a singular pose crossed) is halved
-        and redone; a single point that still strays is an error.
+        or m) from its prediction (a jump in the joint path: another assembly mode, or joints wound
+        by a turn near a singular pose) is halved and redone; a single point that still strays is
+        an error.
 
         Returns:
             ``(tau, q)``: efforts (N, k) and assembled coordinates (N, n_q).
 
         Raises:
             FreefloatError: for mismatched or empty inputs, a pose that does not assemble, or a
-                change of assembly mode along the path, naming the platform coordinates.
+                jump in the joint path, naming the platform coordinates.
         """
         q_sharp, qd_sharp, qdd_sharp = (np.asarray(a, float) for a in (q_sharp, qd_sharp, qdd_sharp))
         if not len(q_sharp) or not q_sharp.shape == qd_sharp.shape == qdd_sharp.shape == (len(q_sharp), self.p):
@@ -298,8 +299,8 @@ class ParallelMechanism:
             if strays:
                 if size == 1:
                     raise FreefloatError(f"inverse_trajectory: at platform coordinates {np.round(x[0], 6).tolist()} the "
-                                         f"mechanism leaves its assembly mode (a singular pose is crossed): the joints "
-                                         f"move more than {jump} from the prediction in one step")
+                                         f"joint path jumps (another assembly mode, or a turn near a singular pose): "
+                                         f"the joints move more than {jump} from the prediction in one step")
                 size = max(1, size // 2)
                 continue
             tau[rows] = self.inverse(q[rows], qd_sharp[rows], qdd_sharp[rows])[0]
