@@ -12,6 +12,7 @@ from freefloat import FreefloatError
 from freefloat.builders import build_urdf, urdf_xml
 from freefloat.parallel.closed_chain import chain_from_tree, load_closed_chain
 from freefloat.parallel.five_bar import FiveBarParameters, elbow_guess, five_bar, five_bar_spec
+from freefloat.parallel.mechanism import rk4_step, simulate
 
 from .conftest import REPO
 
@@ -99,8 +100,6 @@ def test_five_bar_animation_places_the_joints_where_orsino_does(tmp_path):
 def test_one_second_trajectories_agree_with_pinocchio(loaded):
     """Falling for 1 s from rest (RK4, 1 ms, no stabilisation in either), Orsino's 5R and Pinocchio's
     constrained dynamics follow the same joint trajectory to 1e-9 rad."""
-    from freefloat.parallel.mechanism import simulate
-
     mech, model, cms = loaded.mechanism, loaded.model, loaded.constraints
     q0, _ = state(mech, rates=(0.0, 0.0))
     _, qs, _ = simulate(mech, q0, np.zeros(6), lambda *_: np.zeros(2), 1.0, 1e-3)
@@ -111,11 +110,7 @@ def test_one_second_trajectories_agree_with_pinocchio(loaded):
     q, v, h = loaded.pinocchio_q(q0), np.zeros(model.nv), 1e-3
     worst = 0.0
     for k in range(1000):
-        k1q, k1v = v, f(q, v)
-        k2q, k2v = v + h / 2 * k1v, f(q + h / 2 * k1q, v + h / 2 * k1v)
-        k3q, k3v = v + h / 2 * k2v, f(q + h / 2 * k2q, v + h / 2 * k2v)
-        k4q, k4v = v + h * k3v, f(q + h * k3q, v + h * k3v)
-        q, v = q + h / 6 * (k1q + 2 * k2q + 2 * k3q + k4q), v + h / 6 * (k1v + 2 * k2v + 2 * k3v + k4v)
+        q, v = rk4_step(f, q, v, h)
         worst = max(worst, np.abs(q - loaded.pinocchio_q(qs[k + 1])).max())
     assert worst < 1e-9
 

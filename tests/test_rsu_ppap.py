@@ -8,7 +8,7 @@ import pytest
 
 from freefloat import FreefloatError
 from freefloat.builders import urdf_xml
-from freefloat.parallel.mechanism import simulate
+from freefloat.parallel.mechanism import rk4_step, simulate
 from freefloat.parallel.rsu_ppap import (
     CLOSURE,
     assembly_guess,
@@ -124,12 +124,7 @@ def test_motion_follows_pinocchio_for_one_second(loaded, pinocchio_side):
     worst = 0.0
     for k in range(len(qs) - 1):
         tau = efforts(q[a_pin], v[a_pin])   # held over the step, as simulate() does
-        f = lambda q, v: pinocchio_side(q, v, tau)  # noqa: E731
-        k1q, k1v = v, f(q, v)
-        k2q, k2v = v + h / 2 * k1v, f(q + h / 2 * k1q, v + h / 2 * k1v)
-        k3q, k3v = v + h / 2 * k2v, f(q + h / 2 * k2q, v + h / 2 * k2v)
-        k4q, k4v = v + h * k3v, f(q + h * k3q, v + h * k3v)
-        q, v = q + h / 6 * (k1q + 2 * k2q + 2 * k3q + k4q), v + h / 6 * (k1v + 2 * k2v + 2 * k3v + k4v)
+        q, v = rk4_step(lambda q, v: pinocchio_side(q, v, tau), q, v, h)  # noqa: B023 (used in this step only)
         worst = max(worst, np.abs(q - loaded.pinocchio_q(qs[k + 1])).max())
     assert len(qs) == 501
     assert np.ptp(qs[:, :3], axis=0).max() > 0.01   # it really moved

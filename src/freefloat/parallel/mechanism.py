@@ -341,6 +341,16 @@ def log3(R: np.ndarray) -> np.ndarray:
     return scale[..., None] * vee
 
 
+def rk4_step(f, q: np.ndarray, qd: np.ndarray, h: float) -> tuple[np.ndarray, np.ndarray]:
+    """One classical Runge-Kutta 4 step of ``qddot = f(q, qdot)`` in Euclidean coordinates (n,),
+    step ``h`` s; returns ``(q, qdot)`` after the step."""
+    k1q, k1v = qd, f(q, qd)
+    k2q, k2v = qd + h / 2 * k1v, f(q + h / 2 * k1q, qd + h / 2 * k1v)
+    k3q, k3v = qd + h / 2 * k2v, f(q + h / 2 * k2q, qd + h / 2 * k2v)
+    k4q, k4v = qd + h * k3v, f(q + h * k3q, qd + h * k3v)
+    return q + h / 6 * (k1q + 2 * k2q + 2 * k3q + k4q), qd + h / 6 * (k1v + 2 * k2v + 2 * k3v + k4v)
+
+
 def simulate(mechanism: ParallelMechanism, q0: np.ndarray, qd0: np.ndarray, tau, duration: float, step: float,
              baumgarte: float = 0.0, method: str = "rk4") -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Classical RK4 (or semi-implicit Euler) on the coupled coordinates (all Euclidean),
@@ -369,12 +379,7 @@ def simulate(mechanism: ParallelMechanism, q0: np.ndarray, qd0: np.ndarray, tau,
                 qd = qd + step * f(q, qd)
                 q = q + step * qd
             else:
-                k1q, k1v = qd, f(q, qd)
-                k2q, k2v = qd + step / 2 * k1v, f(q + step / 2 * k1q, qd + step / 2 * k1v)
-                k3q, k3v = qd + step / 2 * k2v, f(q + step / 2 * k2q, qd + step / 2 * k2v)
-                k4q, k4v = qd + step * k3v, f(q + step * k3q, qd + step * k3v)
-                q = q + step / 6 * (k1q + 2 * k2q + 2 * k3q + k4q)
-                qd = qd + step / 6 * (k1v + 2 * k2v + 2 * k3v + k4v)
+                q, qd = rk4_step(f, q, qd, step)
         except (FreefloatError, np.linalg.LinAlgError):   # a singular pose reached: keep what was computed
             return t[: k + 1], qs[: k + 1], drift[: k + 1]
         residual = mechanism._closure(q)[0]

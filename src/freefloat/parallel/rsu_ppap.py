@@ -222,7 +222,8 @@ def load_rsu_ppap(closure: str | Path = CLOSURE) -> ClosedChain:
 
 
 def assembly_guess(data: dict, q_sharp: np.ndarray) -> np.ndarray:
-    """Joint coordinates (16,) near the assembled pose at platform centre ``q_sharp`` (3,), m:
+    """Joint coordinates q° (16,), ordered as :data:`CHAIN_JOINTS` (RSU 1, RSU 2, PPaP; rad or m),
+    near the assembled pose at platform centre ``q_sharp`` (3,), m, inertial frame:
     the PPaP leg exact (bars tilted up), each crank angle exact (its rod reaches the universal
     joint; of the two solutions, the one nearer the zero angle), the spherical joint pointing
     the rod there, the universal joint undoing the spherical joint's two tilts (Newton corrects
