@@ -120,12 +120,12 @@ class ParallelMechanism:
         terms (..., n_q). Coordinates ordered [q#; chain 1; chain 2; ...]; any leading batch axes."""
         kins = self._kinematics(q, qd)
         A = self._constraint_jacobian(kins)
-        b, C, blocks, v, g = self._dynamics_terms(kins, np.shape(q)[:-1], A)
-        return A, b, C, _block_diag(blocks), v, g
+        b, blocks, v, g = self._dynamics_terms(kins, np.shape(q)[:-1])
+        return A, b, self._velocity_map(A), _block_diag(blocks), v, g
 
-    def _dynamics_terms(self, kins: list[dict], batch: tuple, A: np.ndarray):
-        """``(b, C, blocks of M', v', g')`` from the chains' kinematics and the constraint
-        Jacobian A; ``blocks``: M''s diagonal blocks, platform first."""
+    def _dynamics_terms(self, kins: list[dict], batch: tuple):
+        """``(b, blocks of M', v', g')`` from the chains' kinematics (leading batch axes
+        ``batch``); ``blocks``: M''s diagonal blocks, platform first."""
         b = np.concatenate([k["tip_c"] for k in kins], axis=-1) @ self.E.T
         if self.angular is not None:
             b = np.concatenate((b, np.concatenate([k["tip_dw"] for k in kins], axis=-1) @ self.angular.Q.T), axis=-1)
@@ -133,14 +133,18 @@ class ParallelMechanism:
         blocks = [np.broadcast_to(self.platform_mass, batch + self.platform_mass.shape)] + [m for m, _, _ in dyn]
         v = np.concatenate([np.zeros(batch + (self.p,))] + [v for _, v, _ in dyn], axis=-1)
         g = np.concatenate([np.broadcast_to(self.platform_gravity, batch + (self.p,))] + [g for _, _, g in dyn], axis=-1)
-        return b, self._velocity_map(A), blocks, v, g
+        return b, blocks, v, g
 
     def velocity_map(self, q: np.ndarray) -> np.ndarray:
         """``C`` (..., n_q, p) with ``qd = C qd#`` on the constraint manifold at ``q``; depends on q only."""
         return self._velocity_map(self._closure(q)[1])
 
-    def _kinematics(self, q: np.ndarray, qd: np.ndarray) -> list[dict]:
-        return [c.kinematics(qi, qdi) for c, qi, qdi in zip(self.chains, self.split(q), self.split(qd))]
+    def _frames(self, q: np.ndarray) -> list[tuple[np.ndarray, np.ndarray]]:
+        return [c.frames(qi) for c, qi in zip(self.chains, self.split(q))]
+
+    def _kinematics(self, q: np.ndarray, qd: np.ndarray, frames: list | None = None) -> list[dict]:
+        frames = frames or [None] * len(self.chains)
+        return [c.kinematics(qi, qdi, f) for c, qi, qdi, f in zip(self.chains, self.split(q), self.split(qd), frames)]
 
     def _constraint_jacobian(self, kins: list[dict]) -> np.ndarray:
         Jv = _block_diag([k["tip_Jv"] for k in kins])
@@ -200,10 +204,10 @@ class ParallelMechanism:
 
     def forward(self, q: np.ndarray, qd: np.ndarray, tau: np.ndarray, baumgarte: float = 0.0) -> np.ndarray:
         """``qddot`` (n_q,) under actuator efforts ``tau`` (k,), eq 129 with lambda = ``baumgarte``."""
-        frames = [c.frames(qi) for c, qi in zip(self.chains, self.split(q))]
+        frames = self._frames(q)
         residual, A = self._closure(q, frames)
-        kins = [c.kinematics(qi, qdi, f) for c, qi, qdi, f in zip(self.chains, self.split(q), self.split(qd), frames)]
-        b, C, blocks, v, g = self._dynamics_terms(kins, (), A)
+        b, blocks, v, g = self._dynamics_terms(self._kinematics(q, qd, frames), ())
+        C = self._velocity_map(A)
         u = self.selection() @ tau
         m = len(self.d)
         rates = A @ qd
@@ -220,11 +224,11 @@ class ParallelMechanism:
         Returns:
             ``(tau, qd, qdd)``: efforts (..., k) and the full velocity and acceleration (..., n_q).
         """
-        frames = [c.frames(qi) for c, qi in zip(self.chains, self.split(q))]
+        frames = self._frames(q)
         A = self._closure(q, frames)[1]
-        qd = _matvec(self._velocity_map(A), qd_sharp)
-        kins = [c.kinematics(qi, qdi, f) for c, qi, qdi, f in zip(self.chains, self.split(q), self.split(qd), frames)]
-        b, C, blocks, v, g = self._dynamics_terms(kins, np.shape(q)[:-1], A)
+        C = self._velocity_map(A)
+        qd = _matvec(C, qd_sharp)
+        b, blocks, v, g = self._dynamics_terms(self._kinematics(q, qd, frames), np.shape(q)[:-1])
         passive = self.passive_solve(A, b[..., None])[..., 0]
         qdd = _matvec(C, qdd_sharp) + np.concatenate((np.zeros(passive.shape[:-1] + (self.p,)), passive), axis=-1)
         Mqdd = np.concatenate([_matvec(M, x) for M, x in zip(blocks, [qdd[..., : self.p]] + self.split(qdd))], axis=-1)
