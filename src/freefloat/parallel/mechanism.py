@@ -264,7 +264,7 @@ class ParallelMechanism:
                              f"{np.abs(self.orientation_residual(q[worst])).max(initial=0.0):.3g} rad after {iterations} Newton steps")
 
     def inverse_trajectory(self, q_sharp: np.ndarray, qd_sharp: np.ndarray, qdd_sharp: np.ndarray, guess: np.ndarray,
-                           block: int = 512, jump: float = 0.05) -> tuple[np.ndarray, np.ndarray]:
+                           block: int = 512, jump: float = 0.5) -> tuple[np.ndarray, np.ndarray]:
         """Inverse dynamics along a platform trajectory (N, p) (positions, rates, accelerations),
         block by block (up to ``block`` points at once): each block's Newton starts from the
         first-order prediction ``q°_0 + C°(q_0) (q#_i - q#_0)`` off the previous block's last pose
