@@ -10,7 +10,7 @@ from typing import Callable
 
 import numpy as np
 
-from freefloat.outputs import versions
+from freefloat.app.outputs import versions
 
 
 def per_call(fn: Callable[[], object], calls: int, repeats: int = 5) -> float:

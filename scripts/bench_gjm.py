@@ -7,7 +7,7 @@ both with a free-flyer base. Rows:
 - ``hand_built``: :func:`freefloat.gjm.compute` (H0, H0m, Hm, H*, J0, Jm, J0E, J*, momenta).
 - ``pinocchio_calls``: CRBA + centroidal momentum + joint Jacobians + one frame Jacobian per
   end-effector, no post-processing (the floor).
-- ``pinocchio_same_outputs``: :func:`freefloat.reference.reference`, the same quantities from
+- ``pinocchio_same_outputs``: :func:`freefloat.dynamics.reference.reference`, the same quantities from
   Pinocchio mapped to the GJM convention.
 - ``hand_built_derivatives``: :func:`freefloat.gjm.derivatives` (all dH/dq_k and time derivatives);
   ``pinocchio_fd_derivatives``: central differences of the reference (2 n reference calls).
@@ -22,13 +22,13 @@ from pathlib import Path
 
 import numpy as np
 import pinocchio as pin
-
 from bench_common import parser, per_call, write_json
+
 from freefloat import gjm, load_robot
-from freefloat.joints import JointCoordinates
+from freefloat.dynamics.reference import reference
+from freefloat.dynamics.verify import random_configuration
 from freefloat.paths import URDF_DIR
-from freefloat.reference import reference
-from freefloat.verify import random_configuration
+from freefloat.robot.joints import JointCoordinates
 
 
 def bench_robot(path: Path, calls: int) -> dict:

@@ -20,8 +20,8 @@ import time
 
 import numpy as np
 import pinocchio as pin
-
 from bench_common import parser, per_call, write_json
+
 from freefloat.parallel import rsu_ppap
 from freefloat.parallel.closed_chain import load_closed_chain
 from freefloat.parallel.five_bar import FiveBarParameters, elbow_guess

@@ -24,17 +24,17 @@ from pathlib import Path
 
 import numpy as np
 import pinocchio as pin
-
 from bench_common import parser, write_json
+
 from freefloat import load_robot
-from freefloat.control import joint_space_dynamics
-from freefloat.integrators import make_integrator
-from freefloat.integrators.lie import _dexpinv_se2
-from freefloat.models import ExactModel
+from freefloat.app.runner import prepare
+from freefloat.app.scenes import DEFAULT_SCENE, find_scene
+from freefloat.dynamics.integrators import make_integrator
+from freefloat.dynamics.integrators.lie import _dexpinv_se2
+from freefloat.dynamics.models import ExactModel
+from freefloat.dynamics.simulation import run
 from freefloat.paths import URDF_DIR
-from freefloat.runner import prepare
-from freefloat.scenes import DEFAULT_SCENE, find_scene
-from freefloat.simulation import run
+from freefloat.space.control import joint_space_dynamics
 
 
 def bare_loop(prepared, steps: int, dt: float, telemetry: bool) -> float:

@@ -1,4 +1,4 @@
-"""Regenerate the committed URDF files in ``urdf/`` from ``freefloat.builders``.
+"""Regenerate the committed URDF files in ``urdf/`` from ``freefloat.robot.builders``.
 
 Usage: ``python3 scripts/generate_urdfs.py [output_dir]`` (default: the repository's ``urdf/``).
 ``tests/test_builders.py`` checks that the committed files equal what this script writes.
@@ -9,16 +9,16 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-from freefloat.builders import (
+from freefloat.parallel.five_bar import five_bar_spec
+from freefloat.parallel.rsu_ppap import load_data, rsu_ppap_urdf
+from freefloat.paths import URDF_DIR
+from freefloat.robot.builders import (
     build_urdf,
     dual_arm_satellite,
     four_arm_planar,
     two_arm_planar,
     write_urdf,
 )
-from freefloat.parallel.five_bar import five_bar_spec
-from freefloat.parallel.rsu_ppap import load_data, rsu_ppap_urdf
-from freefloat.paths import URDF_DIR
 
 
 def main(out_dir: Path = URDF_DIR) -> None:

@@ -124,7 +124,7 @@ def scene_variant(path: Path, builtin: str, **sections: dict) -> Path:
     section replaced (``simulation={"duration": 0.01}``); returns the path."""
     import tomllib
 
-    from freefloat.scenes import builtin_scenes
+    from freefloat.app.scenes import builtin_scenes
 
     raw = tomllib.loads(builtin_scenes()[builtin].read_text())
     for section, values in sections.items():

@@ -5,8 +5,12 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 
-from freefloat.attitude import (
-    euler_rate_matrix, integrate_euler_angles, integrate_rotation, rotation_error, rotation_zyx,
+from freefloat.robot.attitude import (
+    euler_rate_matrix,
+    integrate_euler_angles,
+    integrate_rotation,
+    rotation_error,
+    rotation_zyx,
 )
 
 

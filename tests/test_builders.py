@@ -1,4 +1,4 @@
-"""freefloat.builders against the committed files, the dissertation's numbers and DH algebra."""
+"""freefloat.robot.builders against the committed files, the dissertation's numbers and DH algebra."""
 
 from __future__ import annotations
 
@@ -11,7 +11,8 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
-from freefloat.builders import (
+from freefloat.errors import RobotModelError
+from freefloat.robot.builders import (
     ArmSpec,
     LinkSpec,
     RobotSpec,
@@ -22,8 +23,7 @@ from freefloat.builders import (
     urdf_xml,
     write_urdf,
 )
-from freefloat.errors import RobotModelError
-from freefloat.loading import load_robot
+from freefloat.robot.loading import load_robot
 
 URDF_DIR = Path(__file__).resolve().parents[1] / "urdf"
 

@@ -7,7 +7,7 @@ import pinocchio as pin
 import pytest
 
 from freefloat import load_robot
-from freefloat.capture import Target, TargetBody, attach, impact, robot_momentum
+from freefloat.space.capture import Target, TargetBody, attach, impact, robot_momentum
 
 from .conftest import REPO
 
@@ -69,7 +69,7 @@ def test_merged_robot_carries_the_post_impact_momentum(setup):
 
 def planar_capture_setup():
     """Two-arm planar robot at rest; a spinning target that meets arm 1's end-effector at 0.5 s."""
-    from freefloat.capture import Target
+    from freefloat.space.capture import Target
 
     robot = load_robot(REPO / "urdf" / "two_arm_planar.urdf", base="planar", visuals=False)
     target = Target.meeting((7.75, 0.0, 0.0), 0.5, mass=50.0, inertia=(2.0, 2.5, 3.0), grasp=(-0.25, 0.0, 0.0),
@@ -79,7 +79,7 @@ def planar_capture_setup():
 
 def test_capture_then_detumbling_stops_the_target():
     """After the grasp the target's angular velocity falls below 1e-6 rad/s; momentum balances exactly."""
-    from freefloat.capture import capture_and_detumble
+    from freefloat.space.capture import capture_and_detumble
 
     robot, target = planar_capture_setup()
     res = capture_and_detumble(robot, target, "arm1_ee", [("arm1_ee", "wz")], None, detumble_time=0.5)
@@ -93,7 +93,7 @@ def test_capture_then_detumbling_stops_the_target():
 def test_a_target_that_never_arrives_is_reported():
     """A target flying away fails with the closest approach and its time."""
     from freefloat import FreefloatError
-    from freefloat.capture import Target, capture_and_detumble
+    from freefloat.space.capture import Target, capture_and_detumble
 
     robot, _ = planar_capture_setup()
     away = Target(mass=50.0, inertia=(2.0, 2.5, 3.0), grasp=(-0.25, 0.0, 0.0), position=(9.0, 0.0, 0.0), velocity=(0.5, 0.0, 0.0))
@@ -104,7 +104,7 @@ def test_a_target_that_never_arrives_is_reported():
 def test_meeting_refuses_a_precessing_spin():
     """Back-propagation needs the spin along a principal axis; otherwise it says so."""
     from freefloat import FreefloatError
-    from freefloat.capture import Target
+    from freefloat.space.capture import Target
 
     with pytest.raises(FreefloatError, match="principal axis"):
         Target.meeting((0, 0, 0), 1.0, mass=1.0, inertia=(1.0, 2.0, 3.0), grasp=(0, 0, 0), velocity=(0, 0, 0),

@@ -3,14 +3,15 @@
 from __future__ import annotations
 
 import json
-import tomllib
 
 import numpy as np
 import pytest
+import tomllib
 
-from freefloat.cli import main
-from freefloat.scenes import DEFAULT_SCENE, builtin_scenes
-from freefloat.telemetry import Telemetry
+from freefloat.app.cli import main
+from freefloat.app.scenes import DEFAULT_SCENE, builtin_scenes
+from freefloat.dynamics.telemetry import Telemetry
+from freefloat.paths import URDF_DIR
 
 from .conftest import scene_variant, toml_text
 
@@ -79,7 +80,7 @@ def test_telemetry_has_every_step(default_run):
 def test_diverging_scene_exits_1_and_keeps_its_samples(tmp_path):
     """A run that blows up exits with status 1, says so, and still writes its telemetry."""
     raw = tomllib.loads(builtin_scenes()[DEFAULT_SCENE].read_text())
-    raw["robot"]["urdf"] = str(builtin_scenes()[DEFAULT_SCENE].parents[3] / "urdf" / "four_arm_planar.urdf")
+    raw["robot"]["urdf"] = str(URDF_DIR / "four_arm_planar.urdf")
     raw["controller"] = {"kind": "none"}
     raw["task"] = {"kind": "none"}
     raw["initial"]["joint_velocities"] = {"arm1_ee": 3000.0}
@@ -132,8 +133,8 @@ def test_mechanism_summary_records_provenance(mechanism_run):
 
 def test_mechanism_page_animates_the_5r_joints_where_orsino_puts_them(mechanism_run):
     """The page has a node per 5R joint; chain 1's elbow ends where Orsino's kinematics put it."""
+    from freefloat.dynamics.telemetry import MechanismTelemetry
     from freefloat.parallel.five_bar import TRUE_PARAMETERS, chain
-    from freefloat.telemetry import MechanismTelemetry
 
     from .test_viz import _animation, _packets
 

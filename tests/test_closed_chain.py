@@ -9,10 +9,10 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from freefloat import FreefloatError
-from freefloat.builders import build_urdf, urdf_xml
 from freefloat.parallel.closed_chain import chain_from_tree, load_closed_chain
 from freefloat.parallel.five_bar import FiveBarParameters, elbow_guess, five_bar, five_bar_spec
 from freefloat.parallel.mechanism import rk4_step, simulate
+from freefloat.robot.builders import build_urdf, urdf_xml
 
 from .conftest import REPO
 
@@ -83,8 +83,8 @@ def test_bad_closure_files_name_the_key(tmp_path, edit, message):
 
 def test_five_bar_animation_places_the_joints_where_orsino_does(tmp_path):
     """The meshcat page of a 5R run animates chain 1's second joint at Orsino's joint frame."""
+    from freefloat.app.reproduce.five_bar_report import animate
     from freefloat.parallel.sliding_mode import PlatformController, circle_reference, track
-    from freefloat.reproduce.five_bar_report import animate
 
     from .test_viz import _animation, _packets
 

@@ -8,13 +8,13 @@ import pytest
 from hypothesis import given, settings
 
 from freefloat import load_robot
-from freefloat.control import ComputedTorque, QuinticTrajectory, joint_space_dynamics
-from freefloat.control.detumbling_control import DetumblingController
-from freefloat.control.inverse_egjm import InverseEGJM
-from freefloat.control.task_space import TaskSpaceComputedTorque
-from freefloat.detumbling import task_rows
-from freefloat.models import make_model
-from freefloat.reproduce.states import state_with_momentum
+from freefloat.app.reproduce.states import state_with_momentum
+from freefloat.dynamics.models import make_model
+from freefloat.space.control import ComputedTorque, QuinticTrajectory, joint_space_dynamics
+from freefloat.space.control.detumbling_control import DetumblingController
+from freefloat.space.control.inverse_egjm import InverseEGJM
+from freefloat.space.control.task_space import TaskSpaceComputedTorque
+from freefloat.space.detumbling import task_rows
 
 from .conftest import REPO, random_robots, random_state, robot_from_case
 

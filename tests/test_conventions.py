@@ -8,12 +8,19 @@ import pytest
 from hypothesis import given, settings
 
 from freefloat import load_robot
-from freefloat.conventions import (
-    base_acceleration, base_state, cross_rows, inertial_to_local_twist, local_base_acceleration,
-    local_to_inertial_twist, momentum_about_origin, state_from_base, twist_map,
-)
 from freefloat.errors import FreefloatError
-from freefloat.loading import BASE_COM_FRAME
+from freefloat.robot.conventions import (
+    base_acceleration,
+    base_state,
+    cross_rows,
+    inertial_to_local_twist,
+    local_base_acceleration,
+    local_to_inertial_twist,
+    momentum_about_origin,
+    state_from_base,
+    twist_map,
+)
+from freefloat.robot.loading import BASE_COM_FRAME
 
 from .conftest import REPO, random_robots, random_state, robot_from_case
 

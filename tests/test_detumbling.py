@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 from freefloat import gjm, load_robot
-from freefloat.detumbling import joint_indices, solve, task_rows
-from freefloat.reproduce.states import state_with_momentum
+from freefloat.app.reproduce.states import state_with_momentum
+from freefloat.space.detumbling import joint_indices, solve, task_rows
 
 from .conftest import REPO
 

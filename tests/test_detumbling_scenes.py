@@ -8,10 +8,10 @@ import numpy as np
 import pytest
 
 from freefloat import SceneError
-from freefloat.cli import main
-from freefloat.runner import prepare
-from freefloat.scenes import builtin_scenes, parse_scene
-from freefloat.telemetry import Telemetry
+from freefloat.app.cli import main
+from freefloat.app.runner import prepare
+from freefloat.app.scenes import builtin_scenes, parse_scene
+from freefloat.dynamics.telemetry import Telemetry
 
 from .test_viz import _animation, _packets
 
@@ -71,9 +71,9 @@ def test_bad_detumble_tasks_are_named(edit, message):
 
 def test_capture_with_an_unknown_end_effector_is_named(tmp_path):
     """A target aimed at an end-effector that does not exist fails naming target.end_effector."""
-    from freefloat.runner import simulate_scene
+    from freefloat.app.runner import simulate
 
     raw = scene_raw("capture_planar")
     raw["target"]["end_effector"] = "arm5_ee"
     with pytest.raises(SceneError, match="target.end_effector 'arm5_ee'"):
-        simulate_scene(parse_scene(raw, source=builtin_scenes()["capture_planar"]))
+        simulate(parse_scene(raw, source=builtin_scenes()["capture_planar"]))

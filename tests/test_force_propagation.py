@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 from freefloat import load_robot
-from freefloat.force_propagation import equivalent_torques, stacked_wrench
-from freefloat.reproduce.states import state_with_momentum
+from freefloat.app.reproduce.states import state_with_momentum
+from freefloat.space.force_propagation import equivalent_torques, stacked_wrench
 
 from .conftest import REPO
 

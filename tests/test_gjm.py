@@ -7,9 +7,9 @@ import pytest
 from hypothesis import given, settings
 
 from freefloat import gjm, load_robot
-from freefloat.joints import JointCoordinates
-from freefloat.reference import reference
-from freefloat.verify import central_differences, relative_error
+from freefloat.dynamics.reference import reference
+from freefloat.dynamics.verify import central_differences, relative_error
+from freefloat.robot.joints import JointCoordinates
 
 from .conftest import REPO, random_robots, robot_from_case
 

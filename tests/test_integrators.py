@@ -7,9 +7,9 @@ import pinocchio as pin
 import pytest
 
 from freefloat import load_robot
-from freefloat.integrators import make_integrator
-from freefloat.integrators.lie import _ad_se3, _dexpinv_matrix, _dexpinv_se2
-from freefloat.models import ExactModel
+from freefloat.dynamics.integrators import make_integrator
+from freefloat.dynamics.integrators.lie import _ad_se3, _dexpinv_matrix, _dexpinv_se2
+from freefloat.dynamics.models import ExactModel
 
 
 @pytest.fixture(scope="module")

@@ -8,10 +8,10 @@ import numpy as np
 import pytest
 
 from freefloat import gjm, load_robot
-from freefloat.control.inverse_egjm import IllConditionedWarning, InverseEGJM
-from freefloat.detumbling import task_rows
 from freefloat.errors import SingularityError
-from freefloat.joints import JointCoordinates
+from freefloat.robot.joints import JointCoordinates
+from freefloat.space.control.inverse_egjm import IllConditionedWarning, InverseEGJM
+from freefloat.space.detumbling import task_rows
 
 from .conftest import REPO
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 
-from freefloat.joints import JointCoordinates
+from freefloat.robot.joints import JointCoordinates
 
 from .conftest import load_text
 

@@ -11,7 +11,7 @@ import yourdfpy
 from hypothesis import given, settings
 
 from freefloat import RobotModelError, load_robot
-from freefloat.loading import BASE_COM_FRAME, FreefloatWarning
+from freefloat.robot.loading import BASE_COM_FRAME, FreefloatWarning
 
 from .conftest import REPO, load_text, random_robots, robot_from_case
 
@@ -162,7 +162,7 @@ def test_missing_meshes_warn_once_and_keep_dynamics(tmp_path):
 
 def test_example_robot_data_meshes_resolve():
     """package:// meshes of example-robot-data resolve through the installed data."""
-    from freefloat.loading import example_robot_data_share
+    from freefloat.robot.loading import example_robot_data_share
 
     ur5 = example_robot_data_share() / "example-robot-data/robots/ur_description/urdf/ur5_robot.urdf"
     with warnings.catch_warnings(record=True) as caught:

@@ -8,12 +8,13 @@ import numpy as np
 import pytest
 
 from freefloat import SceneError
-from freefloat.control.platform_control import printed_gains
-from freefloat.mechanism_runner import prepare, simulate_mechanism_scene
+from freefloat.app import runner
+from freefloat.app.experiments.mechanism import prepare
+from freefloat.app.scenes import MechanismScene, builtin_scenes, load_scene
 from freefloat.parallel.five_bar import TRUE_PARAMETERS, FiveBarParameters, elbow_guess, five_bar
 from freefloat.parallel.mechanism import simulate
+from freefloat.parallel.platform_control import printed_gains
 from freefloat.parallel.sliding_mode import PlatformController, circle_reference
-from freefloat.scenes import MechanismScene, builtin_scenes, load_scene
 
 from .conftest import scene_variant
 
@@ -36,13 +37,13 @@ def on_circle(tmp_path_factory):
     (0, r w) = (0, 1.9999) m/s, so the reaching phase is short."""
     scene = _scene(tmp_path_factory.mktemp("s"), initial={"platform_velocity": [0.0, 1.9999]},
                    simulation={"duration": 0.05}, metrics={"reaching_phase": 0.01})
-    return simulate_mechanism_scene(scene)
+    return runner.simulate(scene)
 
 
 def test_run_is_the_direct_simulation_with_the_5r_controller(tmp_path):
     """The scene's trajectory and efforts equal parallel.mechanism.simulate on the 15 % 5R driven
     by the 5R module's own sliding-mode controller with eq 187's gains."""
-    _, run, _ = simulate_mechanism_scene(_scene(tmp_path, simulation={"duration": 0.005}))
+    run = runner.simulate(_scene(tmp_path, simulation={"duration": 0.005}))
     controller = PlatformController(FiveBarParameters(), circle_reference, 40.0, EQ_187)
     plant = five_bar(TRUE_PARAMETERS)
     q0 = plant.assemble(np.array([0.07, 0.17]), elbow_guess(TRUE_PARAMETERS, np.array([0.07, 0.17])))
@@ -62,7 +63,7 @@ def test_run_is_the_direct_simulation_with_the_5r_controller(tmp_path):
 
 def test_stabilised_loop_stays_closed(on_circle):
     """With Baumgarte lambda = 100 and RK4 at 0.1 ms, the loop-closure residual stays below 1e-9 m."""
-    _, run, summary = on_circle
+    run, summary = on_circle, on_circle.summary
     assert run.status == "completed" and summary["loop_closure_drift_max"] < 1e-9
     assert summary["loop_closure_drift_max"] == run.telemetry.drift.max()
 
@@ -70,7 +71,7 @@ def test_stabilised_loop_stays_closed(on_circle):
 def test_sliding_mode_tracks_to_hundredths_of_a_millimetre(on_circle):
     """With 15 % parameter errors, sliding mode keeps each platform coordinate within 0.05 mm of
     the circle after the reaching phase (sec 5.6: errors in the hundredths of a millimetre)."""
-    _, run, summary = on_circle
+    run, summary = on_circle, on_circle.summary
     tel = run.telemetry
     late = tel.t >= 0.01
     error = np.abs(tel.platform_reference[late] - tel.platform[late]).max(axis=0)
@@ -83,7 +84,8 @@ def test_diverging_run_keeps_its_samples(tmp_path):
     residual, and every computed row kept (fewer than the run's 500 steps)."""
     scene = _scene(tmp_path, "five_bar_computed_torque",
                    simulation={"integrator": "euler", "step": 1e-3, "baumgarte": 1000.0})
-    _, run, summary = simulate_mechanism_scene(scene)
+    run = runner.simulate(scene)
+    summary = run.summary
     assert run.status == summary["status"] == "diverged" and "loop-closure residual" in run.message
     assert 2 < len(run.telemetry.t) < 501 and run.steps == len(run.telemetry.t) - 1
 
@@ -94,7 +96,9 @@ def test_interrupted_run_keeps_its_samples(tmp_path):
         if k == 10:
             raise KeyboardInterrupt
 
-    _, run, summary = simulate_mechanism_scene(_scene(tmp_path, simulation={"duration": 0.005}), progress=interrupt)
+    run = runner.simulate(_scene(tmp_path, simulation={"duration": 0.005}), progress=interrupt)
+
+    summary = run.summary
     assert run.status == summary["status"] == "interrupted" and "interrupted by the user" in run.message
     assert len(run.telemetry.t) == 10 and np.isfinite(run.telemetry.efforts).all()
 

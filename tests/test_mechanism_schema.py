@@ -3,13 +3,20 @@ rejected naming the scene file and the key."""
 
 from __future__ import annotations
 
-import tomllib
 from pathlib import Path
 
 import pytest
+import tomllib
 
 from freefloat import SceneError
-from freefloat.scenes import MechanismScene, Scene, builtin_scenes, find_scene, load_scene, parse_scene
+from freefloat.app.scenes import (
+    MechanismScene,
+    Scene,
+    builtin_scenes,
+    find_scene,
+    load_scene,
+    parse_scene,
+)
 
 SOURCE = Path("/scenes/bad_mechanism.toml")
 

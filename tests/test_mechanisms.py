@@ -6,8 +6,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from freefloat.mechanisms import REGISTRY
 from freefloat.parallel.five_bar import TRUE_PARAMETERS, FiveBarParameters, elbow_guess, five_bar
+from freefloat.parallel.registry import REGISTRY
 
 from .conftest import REPO
 

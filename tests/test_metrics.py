@@ -7,7 +7,7 @@ import pinocchio as pin
 import pytest
 
 from freefloat import load_robot
-from freefloat.metrics import momentum_drift, nested_rms, rotation_angle, settling_time
+from freefloat.dynamics.metrics import momentum_drift, nested_rms, rotation_angle, settling_time
 
 from .conftest import REPO
 
@@ -33,8 +33,8 @@ def test_rotation_angle_is_accurate_for_tiny_angles():
 
 def test_com_drift_discounts_the_motion_momentum_demands():
     """A CoM moving uniformly with the initial momentum has zero drift; a kink shows up."""
-    from freefloat.metrics import free_com_motion
-    from freefloat.telemetry import Telemetry
+    from freefloat.dynamics.metrics import free_com_motion
+    from freefloat.dynamics.telemetry import Telemetry
 
     robot = load_robot(REPO / "urdf" / "four_arm_planar.urdf", visuals=False)
     tel = Telemetry.allocate(11, robot.model.nq, robot.model.nv, robot.n_joints, 4)

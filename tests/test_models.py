@@ -8,10 +8,10 @@ import pytest
 from hypothesis import given, settings
 
 from freefloat import gjm, load_robot
-from freefloat.conventions import base_state, state_from_base
-from freefloat.joints import JointCoordinates
-from freefloat.models import MODELS, make_model
-from freefloat.reproduce.states import state_with_momentum
+from freefloat.app.reproduce.states import state_with_momentum
+from freefloat.dynamics.models import MODELS, make_model
+from freefloat.robot.conventions import base_state, state_from_base
+from freefloat.robot.joints import JointCoordinates
 
 from .conftest import REPO, random_robots, robot_from_case
 
@@ -112,7 +112,7 @@ def test_nidc_sensitivity_is_eq_64():
 
 def test_computed_torque_on_a_matching_model_imposes_the_servo_acceleration(four_arm):
     """A controller built on standard_corrected drives the exact plant to qddot = qddot_d + Kp e + Kd edot."""
-    from freefloat.control import ComputedTorque, QuinticTrajectory
+    from freefloat.space.control import ComputedTorque, QuinticTrajectory
 
     rng = np.random.default_rng(8)
     q, v = state_with_momentum(four_arm, rng)
@@ -146,7 +146,7 @@ def test_nidc_readings_differ_only_through_the_base_translation(four_arm):
 
 def test_corrected_c0_without_the_full_hdot_is_refused(four_arm):
     """The corrected base term is only defined with the full Hdot; the half combination is named."""
-    from freefloat.models.underactuated import UnderactuatedGJM
+    from freefloat.dynamics.models.underactuated import UnderactuatedGJM
 
     with pytest.raises(ValueError, match="corrected_c0 implies full_hdot"):
         UnderactuatedGJM(four_arm, full_hdot=False, corrected_c0=True)

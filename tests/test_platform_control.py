@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 
 from freefloat import FreefloatError
-from freefloat.control.platform_control import CircleReference, printed_gains
 from freefloat.parallel.five_bar import FiveBarParameters, elbow_guess, five_bar
+from freefloat.parallel.platform_control import CircleReference, printed_gains
 from freefloat.parallel.sliding_mode import PlatformControl, circle_reference
 
 P = FiveBarParameters()

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from freefloat.reproduce.models_report import REGIMES, attitude_study, tumbling_run
+from freefloat.app.reproduce.models_report import REGIMES, attitude_study, tumbling_run
 
 ANGULAR_ONLY = list(REGIMES)[1]
 
@@ -28,7 +28,7 @@ def test_attitude_study_shows_the_singularity_and_the_printed_eq_11():
 
 def test_task_space_run_follows_the_joint_space_path(tmp_path):
     """Sec 5.2 (short run): the task-space run tracks the joint-space path and KJC is tiny."""
-    from freefloat.reproduce.task_space_report import reproduce
+    from freefloat.app.reproduce.task_space_report import reproduce
 
     report = reproduce(tmp_path, quick=True)
     assert max(report["table2"]["overall"]) < 1e-4          # deg-dominated pose error
@@ -40,7 +40,7 @@ def test_task_space_run_follows_the_joint_space_path(tmp_path):
 
 def test_corrected_phase_schedule_matches_exact_and_the_printed_one_does_not(tmp_path):
     """One model per capture phase: the corrected schedule stays on the exact path, the printed one leaves it."""
-    from freefloat.reproduce.phases_report import reproduce
+    from freefloat.app.reproduce.phases_report import reproduce
 
     report = reproduce(tmp_path, quick=True)
     corrected, printed = report["schedules"]["corrected"], report["schedules"]["as printed"]

@@ -7,7 +7,6 @@ import pinocchio as pin
 import pytest
 
 from freefloat import FreefloatError
-from freefloat.builders import urdf_xml
 from freefloat.parallel.mechanism import rk4_step, simulate
 from freefloat.parallel.rsu_ppap import (
     CLOSURE,
@@ -17,6 +16,7 @@ from freefloat.parallel.rsu_ppap import (
     reference_path,
     rsu_ppap_urdf,
 )
+from freefloat.robot.builders import urdf_xml
 
 DATA = load_data()
 HOME = np.array(DATA["home"])

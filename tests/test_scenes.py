@@ -2,13 +2,19 @@
 
 from __future__ import annotations
 
+import pytest
 import tomllib
 
-import pytest
-
 from freefloat import SceneError
-from freefloat.runner import prepare
-from freefloat.scenes import DEFAULT_SCENE, Scene, builtin_scenes, find_scene, load_scene, parse_scene
+from freefloat.app.runner import prepare
+from freefloat.app.scenes import (
+    DEFAULT_SCENE,
+    Scene,
+    builtin_scenes,
+    find_scene,
+    load_scene,
+    parse_scene,
+)
 
 
 def default_raw() -> dict:

@@ -7,11 +7,11 @@ import pinocchio as pin
 import pytest
 from hypothesis import given, settings
 
-from freefloat.conventions import base_state
-from freefloat.integrators import make_integrator
-from freefloat.models import ExactModel
-from freefloat.simulation import run
-from freefloat.wrenches import ExternalWrench
+from freefloat.dynamics.integrators import make_integrator
+from freefloat.dynamics.models import ExactModel
+from freefloat.dynamics.simulation import run
+from freefloat.dynamics.wrenches import ExternalWrench
+from freefloat.robot.conventions import base_state
 
 from .conftest import random_robots, random_state, robot_from_case
 
@@ -61,6 +61,7 @@ def test_telemetry_matches_independent_pinocchio_calls(tmp_path_factory, case):
 def test_external_force_changes_momentum_by_its_impulse(tmp_path):
     """A force F on a link during [0.1, 0.3) s changes the linear momentum by F * 0.2 s exactly."""
     from freefloat import load_robot
+
     from .conftest import REPO
 
     robot = load_robot(REPO / "urdf" / "four_arm_planar.urdf", visuals=False)
@@ -74,6 +75,7 @@ def test_external_force_changes_momentum_by_its_impulse(tmp_path):
 def test_unknown_wrench_link_is_rejected(tmp_path):
     """A wrench on a link that does not exist fails naming it."""
     from freefloat import FreefloatError, load_robot
+
     from .conftest import REPO
 
     robot = load_robot(REPO / "urdf" / "four_arm_planar.urdf", visuals=False)
@@ -84,6 +86,7 @@ def test_unknown_wrench_link_is_rejected(tmp_path):
 def test_blow_up_stops_with_a_message_and_keeps_the_samples(tmp_path):
     """An unstable run (Euler, huge step, fast spin) stops as 'diverged' and returns its samples."""
     from freefloat import load_robot
+
     from .conftest import REPO
 
     robot = load_robot(REPO / "urdf" / "four_arm_planar.urdf", visuals=False)
@@ -104,6 +107,7 @@ def test_duration_must_be_a_whole_number_of_periods():
 def test_interrupted_run_keeps_what_it_computed():
     """Ctrl-C during a run stops it as 'interrupted' with the samples recorded so far."""
     from freefloat import load_robot
+
     from .conftest import REPO
 
     class InterruptAt:

@@ -9,7 +9,12 @@ import pytest
 from freefloat.parallel.five_bar import TRUE_PARAMETERS, FiveBarParameters, elbow_guess, five_bar
 from freefloat.parallel.platform import platform_dynamics
 from freefloat.parallel.sliding_mode import (
-    PlatformController, chattering, circle_reference, design_gains, extreme_parameters, track,
+    PlatformController,
+    chattering,
+    circle_reference,
+    design_gains,
+    extreme_parameters,
+    track,
 )
 
 NOMINAL = FiveBarParameters()

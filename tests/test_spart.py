@@ -17,9 +17,9 @@ import pinocchio as pin
 import pytest
 
 from freefloat import gjm, load_robot
-from freefloat.conventions import base_acceleration, state_from_base
-from freefloat.models import ExactModel
-from freefloat.verify import relative_error
+from freefloat.dynamics.models import ExactModel
+from freefloat.dynamics.verify import relative_error
+from freefloat.robot.conventions import base_acceleration, state_from_base
 
 CASES = ["SC_3DoF", "ManiSat_2Arm_2_2", "two_iiwa_base", "kuka_iiwa"]
 SWAP = np.block([[np.zeros((3, 3)), np.eye(3)], [np.eye(3), np.zeros((3, 3))]])  # [v; w] <-> [w; v]

@@ -7,15 +7,15 @@ import pinocchio as pin
 import pytest
 
 from freefloat import load_robot
-from freefloat.control import ComputedTorque, QuinticTrajectory
-from freefloat.control.inverse_egjm import InverseEGJM
-from freefloat.control.task_space import TaskSpaceComputedTorque
-from freefloat.detumbling import task_rows
-from freefloat.integrators import make_integrator
-from freefloat.joints import JointCoordinates
-from freefloat.metrics import kinematic_consistency
-from freefloat.models import ExactModel
-from freefloat.simulation import run
+from freefloat.dynamics.integrators import make_integrator
+from freefloat.dynamics.metrics import kinematic_consistency
+from freefloat.dynamics.models import ExactModel
+from freefloat.dynamics.simulation import run
+from freefloat.robot.joints import JointCoordinates
+from freefloat.space.control import ComputedTorque, QuinticTrajectory
+from freefloat.space.control.inverse_egjm import InverseEGJM
+from freefloat.space.control.task_space import TaskSpaceComputedTorque
+from freefloat.space.detumbling import task_rows
 
 from .conftest import REPO
 

@@ -4,11 +4,10 @@ from __future__ import annotations
 
 import json
 
-
 from freefloat import load_robot
-from freefloat.cli import main
-from freefloat.gjm import model as gjm_model
-from freefloat.verify import check_robot
+from freefloat.app.cli import main
+from freefloat.dynamics.gjm import model as gjm_model
+from freefloat.dynamics.verify import check_robot
 
 from .conftest import REPO
 

@@ -1,4 +1,4 @@
-"""Tests of freefloat.viz: the self-contained meshcat page and the run figures."""
+"""Tests of freefloat.app.viz: the self-contained meshcat page and the run figures."""
 
 from __future__ import annotations
 
@@ -16,17 +16,17 @@ import pinocchio as pin
 import pytest
 import umsgpack
 
-from freefloat.loading import load_robot
-from freefloat.metrics import free_com_motion, summarize
-from freefloat.telemetry import Telemetry
-from freefloat.viz import frame_indices, write_figures, write_trajectory_html
-from freefloat.viz.figures import (
+from freefloat.app.viz import frame_indices, write_figures, write_trajectory_html
+from freefloat.app.viz.figures import (
     base_trajectory_figure,
     com_drift_figure,
     end_effector_paths_figure,
     joint_error_figure,
     torque_figure,
 )
+from freefloat.dynamics.metrics import free_com_motion, summarize
+from freefloat.dynamics.telemetry import Telemetry
+from freefloat.robot.loading import load_robot
 
 from .conftest import SPART
 

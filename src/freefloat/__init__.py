@@ -1,8 +1,8 @@
 """freefloat: dynamics, simulation and control of free-floating multi-arm space robots, on Pinocchio."""
 
 from .errors import FreefloatError, RobotModelError, SceneError, SimulationDiverged
-from .loading import load_robot
-from .robot import Arm, Robot
+from .robot.loading import load_robot
+from .robot.robot import Arm, Robot
 
 __version__ = "0.1.0"
 

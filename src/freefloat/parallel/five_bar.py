@@ -82,11 +82,11 @@ def elbow_guess(p: FiveBarParameters, point: np.ndarray) -> np.ndarray:
 
 
 def five_bar_spec(p: FiveBarParameters = FiveBarParameters()):
-    """The 5R's spanning tree as a :class:`freefloat.builders.RobotSpec`: two RR arms ``c1``
+    """The 5R's spanning tree as a :class:`freefloat.robot.builders.RobotSpec`: two RR arms ``c1``
     (pivot at +l0) and ``c2`` (pivot at -l0, turned by pi about y: eq 178's mirror), links with
     their CoM at lg along x and inertia Jz about z; the tips ``c1_ee``, ``c2_ee`` close the loop.
     The base is fixed (its mass plays no part)."""
-    from ..builders import ArmSpec, LinkSpec, RobotSpec
+    from ..robot.builders import ArmSpec, LinkSpec, RobotSpec
 
     def links():
         return (LinkSpec(p.l1, p.m1, (0.0, 0.0, p.Jz1), com=(p.lg1, 0.0, 0.0)),

@@ -37,9 +37,9 @@ import pinocchio as pin
 import tomllib
 import yourdfpy
 
-from ..builders import JOINT_LIMIT, body_link, box_visual, pose, wrap_robot
 from ..errors import FreefloatError
 from ..paths import URDF_DIR
+from ..robot.builders import JOINT_LIMIT, body_link, box_visual, pose, wrap_robot
 from .closed_chain import ClosedChain, chain_from_tree, read_closures
 from .mechanism import AngularConstraints, ParallelMechanism
 

@@ -23,7 +23,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from freefloat.conventions import cross_rows
+from ..robot.conventions import cross_rows
 
 
 def dh_matrix(theta: float, d: float, a: float, alpha: float) -> np.ndarray:

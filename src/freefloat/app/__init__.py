@@ -1,0 +1,10 @@
+"""The application layer: from a scene file to a run folder, and the command line.
+
+``scenes`` (TOML schema, built-in scenes), ``experiments`` (one module per experiment kind and
+their registry), ``runner`` (the one loop life cycle: start, progress, interruption, partial
+results), ``outputs`` (the one run-folder writer), ``viz`` (meshcat pages, figures),
+``reproduce`` (the documents' studies) and ``cli`` (the ``freefloat`` command).
+
+May import every layer below: :mod:`freefloat.space`, :mod:`freefloat.parallel`,
+:mod:`freefloat.dynamics`, :mod:`freefloat.robot`. Nothing imports it but the command line.
+"""

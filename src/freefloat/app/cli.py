@@ -1,0 +1,145 @@
+"""Command line: ``freefloat simulate [SCENE] [--out DIR]`` (robot and mechanism scenes),
+``freefloat scenes``, ``freefloat verify``, ``freefloat reproduce``."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+import warnings
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from tqdm import tqdm
+
+from ..errors import FreefloatError
+
+if TYPE_CHECKING:
+    from .runner import SceneRun
+
+def main(argv: list[str] | None = None) -> int:
+    """Entry point; returns the exit status (0 ok, 1 run stopped early, 2 bad input)."""
+    parser = argparse.ArgumentParser(prog="freefloat", description=__doc__)
+    commands = parser.add_subparsers(dest="command", required=True)
+    sim = commands.add_parser("simulate", help="run a scene and write its output folder")
+    sim.add_argument("scene", nargs="?", default=None, help="built-in scene name or TOML file (default: the dissertation's ch. 4 task)")
+    sim.add_argument("--out", type=Path, default=None, help="output folder (default: runs/<scene>-<time>)")
+    sim.add_argument("--no-figures", action="store_true", help="skip the PNG figures")
+    sim.add_argument("--no-html", action="store_true", help="skip the meshcat animation")
+    sim.add_argument("--quiet", action="store_true", help="no progress bar")
+    commands.add_parser("scenes", help="list the built-in scenes")
+    ver = commands.add_parser("verify", help="cross-check the hand-built GJM matrices against Pinocchio")
+    ver.add_argument("urdf", type=Path, help="URDF file (loaded with a free-flyer base)")
+    ver.add_argument("--samples", type=int, default=10, help="random states to check (default 10)")
+    ver.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
+    ver.add_argument("--json", type=Path, default=None, help="also write the report as JSON here")
+    rep = commands.add_parser("reproduce", help="reproduce a study of the documents against the exact reference")
+    rep.add_argument("study", choices=["models", "task_space", "phases", "five_bar", "closure_stability", "chattering",
+                     "robustness"],
+                     help="models: which dynamics model matches the exact one, where; task_space: sec 5.2 "
+                          "(Tables 2-5, figs 38-40); phases: one model per capture phase vs exact; "
+                          "five_bar: the 5R's sliding-mode gains and tracking (thesis sec 5.6); "
+                          "closure_stability: loop-closure drift over step and Baumgarte lambda; "
+                          "chattering: sign(s) against tanh(100 s) with eq 187's gains; "
+                          "robustness: Monte-Carlo of the 5R controller through Dask")
+    rep.add_argument("--out", type=Path, default=None, help="output folder (default: runs/reproduce-<study>-<time>)")
+    rep.add_argument("--quick", action="store_true", help="short runs and few samples (a smoke test)")
+    rep.add_argument("--workers", type=int, default=2, help="parallel processes (default 2)")
+    rep.add_argument("--runs", type=int, default=20, help="robustness: Monte-Carlo runs (default 20)")
+    rep.add_argument("--error", type=float, default=0.5, help="robustness: parameter error band (default 0.5 = 50 %%)")
+    rep.add_argument("--scheduler", default=None, help="robustness: Dask scheduler address (default: a local cluster)")
+    args = parser.parse_args(argv)
+    commands_run = {"simulate": _simulate, "scenes": lambda _: _scenes(), "verify": _verify, "reproduce": _reproduce}
+    try:
+        return commands_run[args.command](args)
+    except FreefloatError as exc:
+        print(f"freefloat: error: {exc}", file=sys.stderr)
+        return 2
+
+
+def _scenes() -> int:
+    from .scenes import DEFAULT_SCENE, builtin_scenes, load_scene
+
+    for name, path in builtin_scenes().items():
+        mark = " (default)" if name == DEFAULT_SCENE else ""
+        print(f"{name}{mark}: {load_scene(path).description}")
+    return 0
+
+
+def _reproduce(args: argparse.Namespace) -> int:
+    from .reproduce import five_bar_report, models_report, phases_report, task_space_report
+
+    out = args.out or Path("runs") / f"reproduce-{args.study}-{time.strftime('%Y%m%d-%H%M%S')}"
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        if args.study == "models":
+            report = models_report.reproduce(out, quick=args.quick, workers=max(1, args.workers))
+        elif args.study == "task_space":
+            report = task_space_report.reproduce(out, quick=args.quick)
+        elif args.study == "phases":
+            report = phases_report.reproduce(out, quick=args.quick)
+        elif args.study == "five_bar":
+            report = five_bar_report.reproduce(out, quick=args.quick)
+        elif args.study == "closure_stability":
+            report = five_bar_report.reproduce_stability(out, quick=args.quick)
+        elif args.study == "chattering":
+            report = five_bar_report.reproduce_chattering(out, quick=args.quick)
+        else:
+            report = five_bar_report.reproduce_robustness(out, args.quick, args.runs, args.error, args.scheduler)
+    print((out / "report.md").read_text())
+    print(f"wrote {out} in {report['wall_time_s']:.0f} s")
+    return 0
+
+
+def _verify(args: argparse.Namespace) -> int:
+    from ..dynamics.verify import check_robot, write_report
+    from ..robot.loading import load_robot
+
+    if args.samples < 1:
+        raise FreefloatError(f"--samples must be >= 1, got {args.samples}")
+    with warnings.catch_warnings():
+        warnings.simplefilter("default")
+        robot = load_robot(args.urdf, visuals=False)
+    report = check_robot(robot, samples=args.samples, seed=args.seed)
+    print(report.table())
+    if args.json is not None:
+        write_report(report, args.json)
+    return 0 if report.passed else 1
+
+
+def _simulate(args: argparse.Namespace) -> int:
+    import dataclasses
+
+    from .runner import run_scene, total_steps
+    from .scenes import DEFAULT_SCENE, find_scene
+
+    scene = find_scene(args.scene or DEFAULT_SCENE)
+    if args.no_figures or args.no_html:
+        output = dataclasses.replace(scene.output, figures=scene.output.figures and not args.no_figures,
+                                     html=scene.output.html and not args.no_html)
+        scene = dataclasses.replace(scene, output=output)
+    out = args.out or Path("runs") / f"{scene.name}-{time.strftime('%Y%m%d-%H%M%S')}"
+    with warnings.catch_warnings():
+        warnings.simplefilter("default")
+        with tqdm(total=total_steps(scene), desc=scene.name, unit="step", disable=args.quiet) as bar:
+            done = run_scene(scene, out, progress=lambda k: bar.update(k - bar.n))
+    return _report(done)
+
+
+def _report(done: SceneRun) -> int:
+    """Print a run's outcome and its headline summary keys; the exit status (1 when it stopped
+    early)."""
+    outcome, out = done.outcome, done.folder
+    print(f"{outcome.status}: {outcome.steps} steps in {outcome.wall_time_s:.2f} s -> {out}")
+    for key in outcome.headline:
+        if key in outcome.summary:
+            print(f"  {key}: {outcome.summary[key]}")
+    print(f"  wrote: {', '.join(p.name for p in done.written)}")
+    if not outcome.completed:
+        print(f"freefloat: run stopped early: {outcome.message} (partial results kept in {out})", file=sys.stderr)
+        return 1
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,34 @@
+"""Experiment kinds, one module each, chosen by a scene's ``kind``.
+
+An experiment module knows how to prepare a scene of its kind, run its loop, summarise it and
+draw it (:class:`~freefloat.app.experiments.base.Experiment`); :mod:`freefloat.app.runner` runs
+any of them the same way and :mod:`freefloat.app.outputs` writes any outcome. A new kind is one
+new module and one line in :data:`EXPERIMENTS`.
+"""
+
+from __future__ import annotations
+
+from ...errors import SceneError
+from . import capture, detumbling, joint_space, mechanism
+from .base import Experiment, Outcome, Progress
+
+#: Experiment kinds by the scene kind they run.
+EXPERIMENTS: dict[str, Experiment] = {
+    e.kind: e for e in (joint_space.EXPERIMENT, detumbling.EXPERIMENT, capture.EXPERIMENT, mechanism.EXPERIMENT)
+}
+
+
+def experiment_for(scene) -> Experiment:
+    """The experiment that runs ``scene`` (by ``scene.kind``).
+
+    Raises:
+        SceneError: for a kind no experiment runs, listing the kinds.
+    """
+    try:
+        return EXPERIMENTS[scene.kind]
+    except KeyError:
+        raise SceneError(f"scene '{scene.name}': no experiment runs kind '{scene.kind}'; "
+                         f"kinds: {', '.join(EXPERIMENTS)}") from None
+
+
+__all__ = ["EXPERIMENTS", "Experiment", "Outcome", "Progress", "experiment_for"]

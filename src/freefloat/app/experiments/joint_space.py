@@ -1,0 +1,49 @@
+"""Joint-space experiments: every joint follows a quintic from its start to a displaced goal
+under computed torque (dissertation eqs 136-137, any controller model), or the robot moves
+torque-free (``task.kind = "none"``, ``controller.kind = "none"``)."""
+
+from __future__ import annotations
+
+from ...errors import SceneError
+from ...space.control import ComputedTorque, QuinticTrajectory
+from ..scenes import Scene
+from .base import Experiment, Outcome, Progress
+from .robot_run import (
+    RobotSetup,
+    control_steps,
+    joint_table,
+    prepare_robot,
+    robot_outcome,
+    simulate,
+    summary_of,
+)
+
+
+def prepare(scene: Scene) -> RobotSetup:
+    """The robot, its start, and the computed-torque controller on the quintic reference.
+
+    Raises:
+        SceneError: naming the key for a bad start or displacement, or computed torque without a
+            joint task.
+    """
+    setup = prepare_robot(scene)
+    ctrl, task = scene.controller, scene.task
+    if ctrl.kind == "computed_torque":
+        if task.kind != "joint_quintic":
+            raise SceneError(f"scene '{scene.name}': controller 'computed_torque' needs task.kind "
+                             "'joint_quintic' or 'detumble'")
+        robot, s = setup.robot, scene.angle_scale
+        start = joint_table(robot, scene.initial.joint_positions, s, "initial.joint_positions")
+        goal = start + joint_table(robot, task.displacement, s, "task.displacement")
+        setup.controller = ComputedTorque(robot, QuinticTrajectory(start, goal, task.duration), ctrl.kp, ctrl.kd,
+                                          ctrl.model)
+    return setup
+
+
+def run(setup: RobotSetup, progress: Progress | None = None) -> Outcome:
+    """The loop, the summary (tracking, drifts, base motion) and the run's drawings."""
+    result = simulate(setup, progress)
+    return robot_outcome(setup, setup.robot, result.telemetry, result, summary_of(setup, result))
+
+
+EXPERIMENT = Experiment("joint_space", "joint-space task or torque-free motion of a robot", prepare, control_steps, run)

@@ -1,0 +1,167 @@
+"""What every robot experiment shares: the scene's robot and initial state, its plant model and
+integrator, the simulation loop, and the outcome with its figures and page."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+import pinocchio as pin
+
+from ...dynamics.integrators import Integrator, make_integrator
+from ...dynamics.metrics import summarize
+from ...dynamics.models import DynamicsModel, make_model
+from ...dynamics.simulation import Controller, RunResult, run
+from ...dynamics.telemetry import Telemetry
+from ...dynamics.wrenches import ExternalWrench
+from ...errors import SceneError
+from ...robot.conventions import state_from_base
+from ...robot.joints import JointCoordinates
+from ...robot.loading import load_robot
+from ...robot.robot import Robot
+from ..scenes import Scene, resolve_file
+from .base import Outcome, Progress
+
+#: Summary keys the command line prints for a robot run.
+HEADLINE = ("tracking_rms_overall", "com_drift_max", "momentum_drift_max", "energy_drift_max", "base_displacement")
+
+
+@dataclass
+class RobotSetup:
+    """A robot scene resolved before the loop: the robot, the initial Pinocchio state ``q0``
+    (nq,), ``v0`` (nv,), the plant model and integrator, the controller (None: torque-free) and
+    the external wrenches."""
+
+    scene: Scene
+    robot: Robot
+    q0: np.ndarray
+    v0: np.ndarray
+    model: DynamicsModel
+    integrator: Integrator
+    controller: Controller | None = None
+    wrenches: tuple[ExternalWrench, ...] = ()
+
+
+def prepare_robot(scene: Scene) -> RobotSetup:
+    """Load the scene's robot and build its initial state, plant model, integrator and wrenches
+    (no controller).
+
+    Raises:
+        SceneError: naming the key for an unknown file, joint or end-effector, or a bad start.
+    """
+    robot = load_robot(
+        resolve_file(scene, scene.robot.urdf, "robot.urdf"), base=scene.robot.base,
+        end_effectors=scene.robot.end_effectors, gravity=scene.robot.gravity, visuals=scene.output.html,
+    )
+    s, ini = scene.angle_scale, scene.initial
+    joint_q0 = joint_table(robot, ini.joint_positions, s, "initial.joint_positions")
+    joint_v0 = joint_table(robot, ini.joint_velocities, s, "initial.joint_velocities")
+    q_joints = pin.neutral(robot.model)
+    JointCoordinates(robot).set(q_joints, joint_q0)
+    x0dot = np.concatenate((ini.base_linear_velocity, np.multiply(ini.base_angular_velocity, s)))
+    rotation0 = pin.rpy.rpyToMatrix(*(np.multiply(ini.base_rpy, s)))
+    try:
+        q0, v0 = state_from_base(
+            robot, np.array(ini.base_position), rotation0, x0dot,
+            q_joints[robot.model.nqs[1]:], joint_v0,
+        )
+    except Exception as exc:
+        raise SceneError(f"scene '{scene.name}': [initial] {exc}") from exc
+    sim = scene.simulation
+    return RobotSetup(
+        scene=scene, robot=robot, q0=q0, v0=v0,
+        model=make_model(sim.model, robot),
+        integrator=make_integrator(sim.integrator, robot.model, sim.substeps, sim.rtol, sim.atol),
+        wrenches=tuple(ExternalWrench(w.link, w.force, w.torque, w.start, w.end, w.rise) for w in scene.wrenches),
+    )
+
+
+def joint_table(robot: Robot, table: dict[str, float], angle_scale: float, key: str) -> np.ndarray:
+    """Per-joint values (n_joints,) from a table keyed by joint or end-effector (= its whole arm).
+
+    Revolute values are scaled by ``angle_scale`` (the scene's angle unit), prismatic ones are m.
+
+    Raises:
+        SceneError: naming ``key`` and the unknown name, with the valid names.
+    """
+    out = np.zeros(robot.n_joints)
+    model, nb = robot.model, robot.n_base
+    arms = {arm.end_effector: arm for arm in robot.arms}
+    for name, value in table.items():
+        if name in arms:
+            indices = arms[name].v_indices - nb
+        elif model.existJointName(name) and model.getJointId(name) > 1:
+            j = model.getJointId(name)
+            indices = np.arange(model.idx_vs[j], model.idx_vs[j] + model.nvs[j]) - nb
+        else:
+            raise SceneError(
+                f"'{key}': '{name}' is neither a joint nor an end-effector; joints: "
+                f"{', '.join(robot.joint_names)}; end-effectors: {', '.join(robot.end_effectors)}"
+            )
+        out[indices] = value
+    return out * _angle_scales(robot, angle_scale)
+
+
+def _angle_scales(robot: Robot, angle_scale: float) -> np.ndarray:
+    """``angle_scale`` for revolute coordinates, 1 for prismatic ones (n_joints,)."""
+    scales = np.full(robot.n_joints, angle_scale)
+    for j in range(2, robot.model.njoints):
+        if "Prismatic" in robot.model.joints[j].shortname():
+            start = robot.model.idx_vs[j] - robot.n_base
+            scales[start:start + robot.model.nvs[j]] = 1.0
+    return scales
+
+
+def control_steps(scene: Scene) -> int:
+    """Control periods in the scene's duration."""
+    return round(scene.simulation.duration / scene.simulation.control_period)
+
+
+def simulate(setup: RobotSetup, progress: Progress | None) -> RunResult:
+    """The scene's loop: :func:`freefloat.dynamics.simulation.run` over its duration."""
+    sim = setup.scene.simulation
+    return run(setup.robot, setup.q0, setup.v0, sim.duration, sim.control_period, setup.integrator, setup.model,
+               setup.controller, wrenches=setup.wrenches, record_every=sim.record_every, progress=progress)
+
+
+def summary_of(setup: RobotSetup, result: RunResult, **task: Any) -> dict[str, Any]:
+    """The run's figures of merit (:func:`freefloat.dynamics.metrics.summarize`), then the task's
+    own, then status, steps, wall time and model evaluations."""
+    summary = summarize(result.telemetry, setup.robot) if len(result.telemetry.t) else {}
+    summary.update(task)
+    summary.update(status=result.status, message=result.message, steps=result.steps,
+                   sim_wall_time_s=result.wall_time_s, model_evaluations=result.evaluations)
+    return summary
+
+
+def robot_outcome(setup: RobotSetup, robot: Robot, telemetry: Telemetry, result: RunResult,
+                  summary: dict[str, Any], animation: tuple[np.ndarray, np.ndarray] | None = None,
+                  extra_bodies: list | None = None, extra_telemetry: dict[str, Telemetry] | None = None) -> Outcome:
+    """The outcome of a robot run on ``robot`` (the scene's, or the merged one after a capture):
+    telemetry named by its joints and end-effectors, provenance, joint-space figures and the
+    animation of ``animation = (t, q)`` (default: the telemetry) with ``extra_bodies``."""
+    from ..viz.figures import write_figures
+    from ..viz.meshcat_html import write_trajectory_html
+
+    t, q = animation or (telemetry.t, telemetry.q)
+    sim = setup.scene.simulation
+    return Outcome(
+        telemetry=telemetry, status=result.status, message=result.message, steps=result.steps,
+        wall_time_s=result.wall_time_s, summary=summary,
+        names={"joint_names": list(robot.joint_names), "end_effectors": list(robot.end_effectors)},
+        provenance={
+            "robot": {"urdf": str(robot.urdf_path), "base": robot.base, "nq": robot.model.nq, "nv": robot.model.nv,
+                      "end_effectors": list(robot.end_effectors), "loader_notes": list(robot.warnings)},
+            "settings": {"integrator": setup.integrator.name, "model": setup.model.name,
+                         "control_period": sim.control_period},
+        },
+        headline=HEADLINE,
+        extra_telemetry=extra_telemetry or {},
+        figures=lambda folder: write_figures(robot, telemetry, folder),
+        page=lambda path, fps: write_trajectory_html(robot, t, q, path, fps=fps, extra=extra_bodies or None),
+    )
+
+
+__all__ = ["HEADLINE", "RobotSetup", "control_steps", "joint_table", "prepare_robot", "robot_outcome", "simulate",
+           "summary_of"]

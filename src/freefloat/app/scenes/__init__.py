@@ -1,0 +1,89 @@
+"""Scenes as data: the schemas, the built-in scenes shipped with the package, and the files a
+scene names.
+
+A scene file is a robot scene (:class:`Scene`, ``[robot]``) or a mechanism scene
+(:class:`MechanismScene`, ``[mechanism]``); its ``kind`` names the experiment that runs it
+(:mod:`freefloat.app.experiments`).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import tomllib
+
+from ...errors import SceneError
+from ...paths import SCENES_DIR, URDF_DIR
+from .mechanism_schema import MechanismScene, parse_mechanism_scene
+from .schema import Scene, parse_robot_scene
+
+#: The scene ``freefloat simulate`` runs without an argument.
+DEFAULT_SCENE = "four_arm_joint_space"
+
+
+def load_scene(path: str | Path) -> Scene | MechanismScene:
+    """Read and validate a scene file: a robot scene, or a mechanism scene when it has a
+    ``[mechanism]`` section.
+
+    Raises:
+        SceneError: naming the file and the key for unknown keys, wrong types, impossible values.
+    """
+    path = Path(path)
+    try:
+        raw = tomllib.loads(path.read_text())
+    except FileNotFoundError as exc:
+        raise SceneError(f"{path}: no such scene file") from exc
+    except tomllib.TOMLDecodeError as exc:
+        raise SceneError(f"{path}: not valid TOML ({exc})") from exc
+    return parse_scene(raw, source=path)
+
+
+def parse_scene(raw: dict[str, Any], source: Path | None = None) -> Scene | MechanismScene:
+    """Validate a scene given as a dict (the parsed TOML), robot or mechanism."""
+    if "mechanism" in raw:
+        return parse_mechanism_scene(raw, source)
+    return parse_robot_scene(raw, source)
+
+
+def builtin_scenes() -> dict[str, Path]:
+    """Built-in scene names and their files."""
+    return {p.stem: p for p in sorted(SCENES_DIR.glob("*.toml"))}
+
+
+def find_scene(name_or_path: str | Path) -> Scene | MechanismScene:
+    """A built-in scene by name, or a scene file by path (a robot or a mechanism scene).
+
+    Raises:
+        SceneError: when it is neither, listing the built-in names.
+    """
+    builtins = builtin_scenes()
+    if str(name_or_path) in builtins:
+        return load_scene(builtins[str(name_or_path)])
+    path = Path(name_or_path)
+    if path.is_file():
+        return load_scene(path)
+    raise SceneError(
+        f"'{name_or_path}' is neither a scene file nor a built-in scene; built-in: {', '.join(builtins)}"
+    )
+
+
+def resolve_file(scene: Scene | MechanismScene, value: str, key: str) -> Path:
+    """A file a scene names under ``key``: absolute, relative to the scene file, to the working
+    directory, or a built-in file in ``urdf/``.
+
+    Raises:
+        SceneError: naming the key and the places searched.
+    """
+    name = Path(value)
+    candidates = [name] if name.is_absolute() else [
+        *([scene.source.parent / name] if scene.source else []), Path.cwd() / name, URDF_DIR / name
+    ]
+    for path in candidates:
+        if path.is_file():
+            return path
+    raise SceneError(f"scene '{scene.name}': {key} '{name}' not found in {[str(c.parent) for c in candidates]}")
+
+
+__all__ = ["DEFAULT_SCENE", "MechanismScene", "Scene", "builtin_scenes", "find_scene", "load_scene", "parse_scene",
+           "resolve_file"]

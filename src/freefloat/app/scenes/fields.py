@@ -1,0 +1,142 @@
+"""Checks shared by every scene schema: each value's type, range and choices, with errors that
+name the scene file and the key."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import MISSING, dataclass
+from typing import Any, NamedTuple
+
+from ...errors import SceneError
+
+
+@dataclass(frozen=True)
+class OutputSection:
+    """``[output]``: which artefacts a run writes."""
+
+    figures: bool = True
+    html: bool = True
+    html_fps: float = 30.0
+
+
+class Rules(NamedTuple):
+    """Value rules of one scene kind, keyed by ``(section, key)`` (section ``""``: top level):
+    the allowed strings, and the numbers that must be > 0 or >= 0."""
+
+    choices: dict[tuple[str, str], tuple[str, ...]]
+    positive: set[tuple[str, str]]
+    non_negative: set[tuple[str, str]]
+
+
+def parse_section(where: str, section: str, cls: type, raw: Any, rules: Rules) -> Any:
+    """A section's dataclass from its table; how each value is checked follows the field's type
+    annotation (and ``rules``)."""
+    if not isinstance(raw, dict):
+        raise SceneError(f"{where}[{section}] must be a table, got {type(raw).__name__}")
+    fields_ = cls.__dataclass_fields__
+    reject_unknown(where, section, raw, set(fields_))
+    missing = [k for k, f in fields_.items() if f.default is MISSING
+               and f.default_factory is MISSING and k not in raw]
+    if missing:
+        raise SceneError(f"{where}[{section}] needs key '{missing[0]}'")
+    values = {}
+    for key, value in raw.items():
+        kind, name = fields_[key].type, f"{section}.{key}"
+        if kind == "str":
+            values[key] = choice(where, section, key, typed(where, name, value, str), rules)
+        elif kind == "bool":
+            values[key] = typed(where, name, value, bool)
+        elif kind in ("int", "float"):
+            values[key] = number(where, section, key, value, int if kind == "int" else float, rules)
+        elif kind == "tuple[str, ...] | None":
+            values[key] = names(where, name, value)
+        elif kind == "tuple[float, float, float]":
+            values[key] = vector(where, name, value, 3)
+        elif kind in ("tuple[float, ...]", "tuple[float, ...] | None"):
+            values[key] = vector(where, name, value, None)
+        elif kind == "tuple[int, int]":
+            values[key] = indices(where, name, value, 2)
+        elif kind == "tuple[tuple[float, ...], ...] | None":
+            values[key] = matrix(where, name, value)
+        elif kind == "dict[str, tuple[float, ...]]":
+            values[key] = {k: vector(where, f"{name}.{k}", v, None)
+                           for k, v in typed(where, name, value, dict).items()}
+        else:
+            values[key] = table(where, name, value)
+    return cls(**values)
+
+
+def reject_unknown(where: str, section: str, raw: dict, allowed: set[str]) -> None:
+    for key in raw:
+        if key not in allowed:
+            name = f"[{section}] key '{key}'" if section else f"top-level key '{key}'"
+            raise SceneError(f"{where}unknown {name}; allowed: {', '.join(sorted(allowed))}")
+
+
+def typed(where: str, key: str, value: Any, kind: type) -> Any:
+    if not isinstance(value, kind):
+        raise SceneError(f"{where}'{key}' must be a {kind.__name__}, got {value!r}")
+    return value
+
+
+def number(where: str, section: str, key: str, value: Any, kind: type, rules: Rules) -> float | int:
+    name = f"{section}.{key}"
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or (
+        kind is int and not isinstance(value, int)
+    ):
+        raise SceneError(f"{where}'{name}' must be a{'n integer' if kind is int else ' number'}, got {value!r}")
+    if not math.isfinite(value):
+        raise SceneError(f"{where}'{name}' must be finite, got {value!r}")
+    if (section, key) in rules.positive and value <= 0:
+        raise SceneError(f"{where}'{name}' must be > 0, got {value!r}")
+    if (section, key) in rules.non_negative and value < 0:
+        raise SceneError(f"{where}'{name}' must be >= 0, got {value!r}")
+    return kind(value)
+
+
+def choice(where: str, section: str, key: str, value: Any, rules: Rules) -> str:
+    options = rules.choices.get((section, key))
+    if options is not None and value not in options:
+        name = f"{section}.{key}" if section else key
+        raise SceneError(f"{where}'{name}' is {value!r}; valid: {', '.join(options)}")
+    return value
+
+
+def names(where: str, key: str, value: Any) -> tuple[str, ...]:
+    if not isinstance(value, list) or not all(isinstance(x, str) for x in value):
+        raise SceneError(f"{where}'{key}' must be a list of names, got {value!r}")
+    return tuple(value)
+
+
+def vector(where: str, key: str, value: Any, size: int | None) -> tuple[float, ...]:
+    """A list of finite numbers, of length ``size`` (None: any length but empty)."""
+    if (not isinstance(value, list) or len(value) != (size or len(value)) or not value
+            or not all(is_finite(x) for x in value)):
+        raise SceneError(f"{where}'{key}' must be a list of {size or 'one or more'} finite numbers, got {value!r}")
+    return tuple(float(x) for x in value)
+
+
+def matrix(where: str, key: str, value: Any) -> tuple[tuple[float, ...], ...]:
+    """A list of equally long rows of finite numbers."""
+    rows = [vector(where, key, row, None) for row in typed(where, key, value, list)]
+    if not rows or len({len(r) for r in rows}) != 1:
+        raise SceneError(f"{where}'{key}' must be a list of equally long rows of numbers, got {value!r}")
+    return tuple(rows)
+
+
+def indices(where: str, key: str, value: Any, size: int) -> tuple[int, ...]:
+    """A list of ``size`` distinct non-negative integers."""
+    if (not isinstance(value, list) or len(value) != size or len(set(value)) != size
+            or not all(isinstance(x, int) and not isinstance(x, bool) and x >= 0 for x in value)):
+        raise SceneError(f"{where}'{key}' must be a list of {size} distinct integers >= 0, got {value!r}")
+    return tuple(value)
+
+
+def is_finite(x: Any) -> bool:
+    return isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x)
+
+
+def table(where: str, key: str, value: Any) -> dict[str, float]:
+    if not isinstance(value, dict) or not all(is_finite(x) for x in value.values()):
+        raise SceneError(f"{where}'{key}' must be a table of finite numbers keyed by name, got {value!r}")
+    return {k: float(x) for k, x in value.items()}

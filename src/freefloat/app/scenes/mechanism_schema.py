@@ -1,0 +1,145 @@
+"""Mechanism scenes: a closed-chain mechanism from :mod:`freefloat.parallel.registry`, a platform
+trajectory, a controller in platform coordinates, simulation settings.
+
+A scene file with a ``[mechanism]`` section is one of these (see
+:func:`freefloat.app.scenes.parse_scene`). Platform coordinates ``q#`` are in SI units (m, or
+rad for angles), times in s. Values whose sizes depend on the mechanism (p platform
+coordinates) are checked when the mechanism is loaded (:func:`freefloat.app.experiments.mechanism.prepare`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from ...errors import SceneError
+from ...parallel.registry import REGISTRY
+from .fields import OutputSection, Rules, parse_section, reject_unknown, typed
+
+
+@dataclass(frozen=True)
+class MechanismSection:
+    """``[mechanism]``: registry ``name``, ``closure`` file (absolute, relative to the scene file,
+    or a file in ``urdf/``) and the ``plant``'s parameter set (one of the entry's plants)."""
+
+    name: str
+    closure: str
+    plant: str = "nominal"
+
+
+@dataclass(frozen=True)
+class PlatformStart:
+    """``[initial]``: platform coordinates q# (p,) and rates (p,) at t = 0; default: the
+    reference's position at t = 0, at rest. The chains assemble from the registry's guess."""
+
+    platform: tuple[float, ...] | None = None
+    platform_velocity: tuple[float, ...] | None = None
+
+
+@dataclass(frozen=True)
+class TrajectorySection:
+    """``[trajectory]``: ``kind = "circle"``: ``q#_d(t) = center + radius (cos(rate t) e_a +
+    sin(rate t) e_b)`` with ``(a, b) = axes`` (0-based platform coordinates), center (p,)."""
+
+    center: tuple[float, ...]
+    radius: float
+    rate: float
+    kind: str = "circle"
+    axes: tuple[int, int] = (0, 1)
+
+
+@dataclass(frozen=True)
+class PlatformControllerSection:
+    """``[controller]``: ``kind = "computed_torque"`` (eq 190) or ``"sliding_mode"`` (eq 153 with
+    eq 167's gain: ``n`` (p,), ``T`` (p, p), ``n_ij`` keyed ``"i,j"`` (i >= j, 0-based) (p,)),
+    lambda ``lam`` (1/s), switching function ``saturation`` (``tanh(100 s)`` or ``sign``)."""
+
+    kind: str
+    lam: float
+    saturation: str = "tanh"
+    n: tuple[float, ...] | None = None
+    T: tuple[tuple[float, ...], ...] | None = None
+    n_ij: dict[str, tuple[float, ...]] = field(default_factory=dict)
+
+
+@dataclass(frozen=True)
+class MechanismSimulation:
+    """``[simulation]``: duration and step (s; efforts held over each step), Baumgarte lambda
+    (1/s, eq 129), integrator (``rk4`` or semi-implicit ``euler``)."""
+
+    duration: float
+    step: float
+    baumgarte: float = 100.0
+    integrator: str = "rk4"
+
+
+@dataclass(frozen=True)
+class MetricsSection:
+    """``[metrics]``: the tracking error is reported after ``reaching_phase`` s."""
+
+    reaching_phase: float = 0.0
+
+
+@dataclass(frozen=True)
+class MechanismScene:
+    """A validated mechanism scene. ``source`` is the file it came from."""
+
+    name: str
+    mechanism: MechanismSection
+    trajectory: TrajectorySection
+    controller: PlatformControllerSection
+    simulation: MechanismSimulation
+    description: str = ""
+    initial: PlatformStart = PlatformStart()
+    metrics: MetricsSection = MetricsSection()
+    output: OutputSection = OutputSection()
+    source: Path | None = None
+
+    #: The experiment kind that runs this scene.
+    kind = "mechanism"
+
+
+SECTIONS = {"mechanism": MechanismSection, "initial": PlatformStart, "trajectory": TrajectorySection,
+            "controller": PlatformControllerSection, "simulation": MechanismSimulation,
+            "metrics": MetricsSection, "output": OutputSection}
+RULES = Rules(
+    choices={("mechanism", "name"): tuple(REGISTRY), ("trajectory", "kind"): ("circle",),
+             ("controller", "kind"): ("computed_torque", "sliding_mode"),
+             ("controller", "saturation"): ("tanh", "sign"), ("simulation", "integrator"): ("rk4", "euler")},
+    positive={("simulation", "duration"), ("simulation", "step"), ("controller", "lam"), ("output", "html_fps")},
+    non_negative={("simulation", "baumgarte"), ("metrics", "reaching_phase"), ("trajectory", "radius")},
+)
+
+
+def parse_mechanism_scene(raw: dict[str, Any], source: Path | None = None) -> MechanismScene:
+    """Validate a mechanism scene given as a dict (the parsed TOML).
+
+    Raises:
+        SceneError: naming the file and the key for unknown keys, wrong types, impossible values,
+            a plant the mechanism does not list, gains missing for sliding mode or given to
+            computed torque, and a step longer than the duration.
+    """
+    where = f"{source}: " if source else "scene: "
+    reject_unknown(where, "", raw, {"name", "description", *SECTIONS})
+    missing = [s for s in ("name", "trajectory", "controller", "simulation") if s not in raw]
+    if missing:
+        raise SceneError(f"{where}a mechanism scene needs '{missing[0]}'")
+    sections = {s: parse_section(where, s, cls, raw[s], RULES) for s, cls in SECTIONS.items() if s in raw}
+    scene = MechanismScene(name=typed(where, "name", raw["name"], str),
+                           description=typed(where, "description", raw.get("description", ""), str),
+                           source=source, **sections)
+    plants = REGISTRY[scene.mechanism.name].plants
+    if scene.mechanism.plant not in plants:
+        raise SceneError(f"{where}'mechanism.plant' is {scene.mechanism.plant!r}; valid for "
+                         f"'{scene.mechanism.name}': {', '.join(plants)}")
+    ctrl = scene.controller
+    if ctrl.kind == "sliding_mode" and (ctrl.n is None or ctrl.T is None):
+        raise SceneError(f"{where}controller.kind 'sliding_mode' needs 'controller.n' and 'controller.T'")
+    if ctrl.kind == "computed_torque" and (ctrl.n is not None or ctrl.T is not None or ctrl.n_ij):
+        raise SceneError(f"{where}'controller.n', 'T' and 'n_ij' are sliding-mode gains; "
+                         "controller.kind 'computed_torque' does not use them")
+    if scene.simulation.step > scene.simulation.duration:
+        raise SceneError(f"{where}'simulation.step' ({scene.simulation.step} s) is longer than "
+                         f"'simulation.duration' ({scene.simulation.duration} s)")
+    return scene

@@ -1,0 +1,198 @@
+"""Scene files: TOML validated against a schema, with errors that name the key.
+
+A scene names the robot, initial state, task, controller, integrator, step and duration. Angles
+(joint angles, base attitude, angular rates, task displacements) are in the unit given by the
+top-level ``angle_unit`` ("deg" or "rad"); lengths in m, times in s.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from ...dynamics.integrators import INTEGRATORS
+from ...dynamics.models import MODELS
+from ...errors import SceneError
+from .fields import OutputSection, Rules, choice, parse_section, reject_unknown, typed
+
+
+@dataclass(frozen=True)
+class RobotSection:
+    """``[robot]``: URDF (absolute, relative to the scene file, or a built-in robot file name),
+    floating base kind, end-effector link names (default: leaves), gravity (m/s^2, inertial)."""
+
+    urdf: str
+    base: str = "free"
+    end_effectors: tuple[str, ...] | None = None
+    gravity: tuple[float, float, float] = (0.0, 0.0, 0.0)
+
+
+@dataclass(frozen=True)
+class InitialSection:
+    """``[initial]``: base CoM pose and twist (inertial frame, XYZ Euler angles) and joint state
+    (tables keyed by joint name; joints not named start at zero)."""
+
+    base_position: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    base_rpy: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    base_linear_velocity: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    base_angular_velocity: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    joint_positions: dict[str, float] = field(default_factory=dict)
+    joint_velocities: dict[str, float] = field(default_factory=dict)
+
+
+@dataclass(frozen=True)
+class TaskSection:
+    """``[task]``: ``kind = "none"``; ``"joint_quintic"``: every joint moves by
+    ``displacement[name]`` (key: a joint, or an end-effector meaning all joints of its arm) in
+    ``duration`` s; ``"detumble"``: from ``start`` s, stop the end-effector velocity ``rows``
+    (``"arm1_ee:wz"``, components vx..wz, angular, linear, all) with ``mission_joints`` (default
+    all) by ``method`` (min_norm, single, null_space, least_squares)."""
+
+    kind: str = "none"
+    duration: float = 1.0
+    displacement: dict[str, float] = field(default_factory=dict)
+    rows: tuple[str, ...] | None = None
+    mission_joints: tuple[str, ...] | None = None
+    method: str = "min_norm"
+    start: float = 0.0
+
+
+@dataclass(frozen=True)
+class WrenchSection:
+    """``[[wrenches]]``: a wrench on ``link`` at its CoM (inertial frame, N and N m), from
+    ``start`` to ``end`` s, rising linearly over ``rise`` s (the dissertation's capture model)."""
+
+    link: str
+    force: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    torque: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    start: float = 0.0
+    end: float = 1e9
+    rise: float = 0.0
+
+
+@dataclass(frozen=True)
+class TargetSection:
+    """``[target]``: a rigid target that reaches ``end_effector`` at ``contact_time`` s flying
+    freely (velocity, inertial, m/s; spin along a principal axis, in angle_unit per s), is grasped
+    by an exact inelastic impulse, then detumbled by the ``[task]``. Mass kg, inertia (principal,
+    kg m^2), grasp point in the target frame from its CoM (m), display size (m)."""
+
+    end_effector: str
+    mass: float = 10.0
+    inertia: tuple[float, float, float] = (1.0, 1.0, 1.0)
+    grasp: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    velocity: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    angular_velocity: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    rpy_at_contact: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    contact_time: float = 0.5
+    tolerance: float = 1e-3
+    size: tuple[float, float, float] = (0.3, 0.3, 0.3)
+
+
+@dataclass(frozen=True)
+class ControllerSection:
+    """``[controller]``: ``kind = "none"`` or ``"computed_torque"`` with scalar gains Kp, Kd and
+    the dynamics model it uses."""
+
+    kind: str = "none"
+    model: str = "exact"
+    kp: float = 10.0
+    kd: float = 100.0
+
+
+@dataclass(frozen=True)
+class SimulationSection:
+    """``[simulation]``: duration and control period (s), plant model, integrator and its
+    settings, telemetry stride."""
+
+    duration: float = 1.0
+    control_period: float = 1e-3
+    model: str = "exact"
+    integrator: str = "rkmk4"
+    substeps: int = 1
+    rtol: float = 1e-10
+    atol: float = 1e-12
+    record_every: int = 1
+
+
+@dataclass(frozen=True)
+class Scene:
+    """A validated scene. ``source`` is the file it came from (None for one built in code)."""
+
+    name: str
+    robot: RobotSection
+    description: str = ""
+    angle_unit: str = "deg"
+    initial: InitialSection = InitialSection()
+    task: TaskSection = TaskSection()
+    controller: ControllerSection = ControllerSection()
+    simulation: SimulationSection = SimulationSection()
+    output: OutputSection = OutputSection()
+    wrenches: tuple[WrenchSection, ...] = ()
+    target: TargetSection | None = None
+    source: Path | None = None
+
+    @property
+    def kind(self) -> str:
+        """The experiment kind that runs this scene: ``"capture"`` (a ``[target]``),
+        ``"detumbling"`` (``task.kind = "detumble"``) or ``"joint_space"``."""
+        if self.target is not None:
+            return "capture"
+        return "detumbling" if self.task.kind == "detumble" else "joint_space"
+
+    @property
+    def angle_scale(self) -> float:
+        """Factor from the scene's angle unit to rad."""
+        return math.pi / 180.0 if self.angle_unit == "deg" else 1.0
+
+
+SECTIONS = {
+    "robot": RobotSection, "initial": InitialSection, "task": TaskSection,
+    "controller": ControllerSection, "simulation": SimulationSection, "output": OutputSection,
+    "target": TargetSection,
+}
+CHOICES = {
+    ("robot", "base"): ("free", "planar"),
+    ("task", "kind"): ("none", "joint_quintic", "detumble"),
+    ("task", "method"): ("min_norm", "single", "null_space", "least_squares"),
+    ("controller", "kind"): ("none", "computed_torque"),
+    ("controller", "model"): tuple(MODELS),
+    ("simulation", "model"): tuple(MODELS),
+    ("simulation", "integrator"): tuple(INTEGRATORS),
+    ("", "angle_unit"): ("deg", "rad"),
+}
+POSITIVE = {
+    ("task", "duration"), ("simulation", "duration"), ("simulation", "control_period"),
+    ("simulation", "substeps"), ("simulation", "rtol"), ("simulation", "atol"),
+    ("simulation", "record_every"), ("output", "html_fps"), ("target", "mass"), ("target", "contact_time"),
+    ("target", "tolerance"),
+}
+NON_NEGATIVE = {("controller", "kp"), ("controller", "kd"), ("task", "start"), ("wrenches", "start"),
+                ("wrenches", "rise")}
+RULES = Rules(CHOICES, POSITIVE, NON_NEGATIVE)
+
+
+def parse_robot_scene(raw: dict[str, Any], source: Path | None = None) -> Scene:
+    """Validate a robot scene given as a dict (the parsed TOML)."""
+    where = f"{source}: " if source else "scene: "
+    top = {"name", "description", "angle_unit", "wrenches", *SECTIONS}
+    reject_unknown(where, "", raw, top)
+    if "name" not in raw or "robot" not in raw:
+        raise SceneError(f"{where}'name' and [robot] are required")
+    kwargs: dict[str, Any] = {
+        "name": typed(where, "name", raw["name"], str),
+        "description": typed(where, "description", raw.get("description", ""), str),
+        "angle_unit": choice(where, "", "angle_unit", raw.get("angle_unit", "deg"), RULES),
+    }
+    for section, cls in SECTIONS.items():
+        if section in raw:
+            kwargs[section] = parse_section(where, section, cls, raw[section], RULES)
+    wrenches = raw.get("wrenches", [])
+    if not isinstance(wrenches, list):
+        raise SceneError(f"{where}'wrenches' must be an array of tables ([[wrenches]]), got {wrenches!r}")
+    kwargs["wrenches"] = tuple(parse_section(where, "wrenches", WrenchSection, w, RULES) for w in wrenches)
+    return Scene(**kwargs, source=source)
+
+

@@ -1,0 +1,10 @@
+"""The dynamics layer: what a free-floating robot does, exactly and by the dissertation's models.
+
+``gjm`` (the hand-built GJM: H0, H0m, Hm, H*, E-GJM, derivatives, momenta), ``reference``
+(Pinocchio's counterparts), ``verify`` (the cross-check of the two), ``models`` (dynamics models
+selectable by name, Pinocchio's ABA the exact one), ``integrators`` (on the configuration Lie
+group), ``wrenches`` (external wrenches on links), ``simulation`` (the zero-order-hold loop and
+its :class:`~freefloat.dynamics.simulation.Controller` interface), ``telemetry`` and ``metrics``.
+
+May import: :mod:`freefloat.robot`, :mod:`freefloat.errors`, :mod:`freefloat.paths`.
+"""

@@ -1,0 +1,198 @@
+"""The simulation loop: zero-order-hold control periods, a dynamics model, an integrator."""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+from typing import Callable, Protocol
+
+import numpy as np
+import pinocchio as pin
+
+from ..errors import SimulationDiverged
+from ..robot.conventions import momentum_about_origin
+from ..robot.joints import JointCoordinates
+from ..robot.loading import BASE_COM_FRAME
+from ..robot.robot import Robot
+from .integrators import Integrator
+from .models import DynamicsModel
+from .telemetry import Telemetry
+from .wrenches import ExternalWrench, WrenchField
+
+__all__ = ["MAX_SPEED", "Controller", "Recorder", "RunResult", "run"]
+
+#: A generalized velocity component above this (m/s or rad/s) counts as a blow-up.
+MAX_SPEED = 1e6
+
+
+class Controller(Protocol):
+    """Gives joint torques (n_joints,) at the start of each control period (zero-order hold)."""
+
+    def torque(self, t: float, q: np.ndarray, v: np.ndarray) -> np.ndarray: ...
+
+    def reference(self, t: float) -> np.ndarray | None:
+        """Reference joint positions (n_joints,) or None."""
+        ...
+
+
+@dataclass
+class RunResult:
+    """Outcome of :func:`run`.
+
+    Attributes:
+        telemetry: recorded samples (truncated to what was computed if the run stopped early).
+        status: ``"completed"``, ``"stopped"`` (by the ``stop`` callback), ``"diverged"`` or
+            ``"interrupted"``.
+        message: why the run stopped early (empty when completed).
+        steps: control periods simulated.
+        wall_time_s: wall-clock time of the loop, s.
+        evaluations: dynamics-model calls made by the integrator.
+    """
+
+    telemetry: Telemetry
+    status: str
+    message: str
+    steps: int
+    wall_time_s: float
+    evaluations: int
+
+
+class Recorder:
+    """Fills telemetry rows from (q, v): kinematics, momentum, energy. One Pinocchio Data of its own."""
+
+    def __init__(self, robot: Robot, telemetry: Telemetry):
+        self.tel = telemetry
+        self.model = robot.model
+        self.data = robot.model.createData()
+        self.joints = JointCoordinates(robot)
+        self.ee_ids = robot.end_effector_frame_ids
+        self.base_id = robot.model.getFrameId(BASE_COM_FRAME)
+        self.mass = pin.computeTotalMass(robot.model)
+        self.gravity = robot.model.gravity.linear.copy()
+
+    def record(self, row: int, t: float, q: np.ndarray, v: np.ndarray, tau: np.ndarray,
+               reference: np.ndarray | None, work: float) -> None:
+        """Write row ``row`` of the telemetry."""
+        model, data, tel = self.model, self.data, self.tel
+        tel.momentum[row] = momentum_about_origin(model, data, q, v)  # also kinematics and CoM
+        com = data.com[0]
+        tel.t[row], tel.q[row], tel.v[row], tel.tau[row] = t, q, v, tau
+        tel.joint_positions[row] = self.joints.get(q)
+        if reference is not None:
+            tel.joint_reference[row] = reference
+        tel.com[row] = com
+        tel.energy[row] = pin.computeKineticEnergy(model, data) - self.mass * self.gravity @ com
+        tel.work[row] = work
+        base = pin.updateFramePlacement(model, data, self.base_id)
+        tel.base_position[row] = base.translation
+        tel.base_quaternion[row] = pin.Quaternion(base.rotation).coeffs()
+        tel.base_twist[row] = pin.getFrameVelocity(model, data, self.base_id, pin.LOCAL_WORLD_ALIGNED).vector
+        for i, fid in enumerate(self.ee_ids):
+            frame = pin.updateFramePlacement(model, data, fid)
+            tel.ee_position[row, i] = frame.translation
+            tel.ee_quaternion[row, i] = pin.Quaternion(frame.rotation).coeffs()
+
+
+def run(
+    robot: Robot,
+    q0: np.ndarray,
+    v0: np.ndarray,
+    duration: float,
+    control_period: float,
+    integrator: Integrator,
+    model: DynamicsModel,
+    controller: Controller | None = None,
+    wrenches: tuple[ExternalWrench, ...] = (),
+    record_every: int = 1,
+    progress: Callable[[int], None] | None = None,
+    stop: Callable[[float, np.ndarray, np.ndarray], bool] | None = None,
+    start_time: float = 0.0,
+) -> RunResult:
+    """Simulate ``duration`` s in control periods of ``control_period`` s.
+
+    At the start of each period the controller's torques are computed and held (zero-order hold),
+    active external wrenches selected, and the integrator advances the state with ``model``.
+    A run that diverges (non-finite or > MAX_SPEED state) or is interrupted (Ctrl-C) stops and
+    returns what it recorded, with the status and a message.
+
+    Args:
+        robot: the robot.
+        q0, v0: initial Pinocchio state (nq,), (nv,).
+        duration: simulated time, s.
+        control_period: zero-order-hold period, s.
+        integrator: advances the state over each period.
+        model: gives the accelerations.
+        controller: joint torques, or None for a torque-free run.
+        wrenches: external wrenches on links.
+        record_every: record one telemetry row every this many periods (and the last one).
+        progress: called with the number of periods done, about 200 times per run.
+        stop: ``stop(t, q, v)`` after each period; True ends the run there with status
+            ``"stopped"`` (an event such as a contact, not a failure).
+        start_time: time of the first sample, s (to chain runs, e.g. one per model phase).
+    """
+    steps = int(round(duration / control_period))
+    if steps < 1 or abs(steps * control_period - duration) > 1e-9 * duration:
+        raise ValueError(
+            f"duration {duration} s must be a positive whole number of control periods ({control_period} s)"
+        )
+    rows = steps // record_every + 1 + (steps % record_every != 0)
+    tel = Telemetry.allocate(rows, robot.model.nq, robot.model.nv, robot.n_joints, len(robot.end_effectors))
+    recorder = Recorder(robot, tel)
+    nb = robot.n_base
+    tau_full = np.zeros(robot.model.nv)
+    field = WrenchField(robot, wrenches) if wrenches else None
+    reference = controller.reference if controller is not None else (lambda t: None)
+    report_every = max(1, steps // 200)
+
+    end_period = getattr(model, "end_period", None)
+
+    def free_dynamics(qs: np.ndarray, vs: np.ndarray) -> np.ndarray:
+        return model.acceleration(qs, vs, tau_full)  # tau_full is updated in place each period
+
+    q, v, work, row, k = np.array(q0, dtype=float), np.array(v0, dtype=float), 0.0, 0, 0
+    status, message = "completed", ""
+    tau = np.zeros(robot.n_joints)
+    start = time.perf_counter()
+    try:
+        for k in range(steps):
+            t = start_time + k * control_period
+            if controller is not None:
+                tau = controller.torque(t, q, v)
+                tau_full[nb:] = tau
+            if k % record_every == 0:
+                recorder.record(row, t, q, v, tau, reference(t), work)
+                row += 1
+            if field is not None and field.activate(t):
+                f = lambda qs, vs: model.acceleration(qs, vs, tau_full, field.forces(qs))  # noqa: E731
+            else:
+                f = free_dynamics
+            q_next, v_next = integrator.advance(f, q, v, control_period)
+            if not np.abs(v_next).max() < MAX_SPEED:  # also false for NaN
+                raise SimulationDiverged(
+                    f"state blew up at t = {t + control_period:.6g} s (step {k + 1}): "
+                    f"max |v| = {np.abs(v_next).max():.3g} (limit {MAX_SPEED:g})"
+                )
+            work += float(tau @ pin.difference(robot.model, q, q_next)[nb:])
+            if end_period is not None:
+                end_period(q, v, control_period)
+            q, v = q_next, v_next
+            if progress is not None and (k + 1) % report_every == 0:
+                progress(k + 1)
+            if stop is not None and stop(start_time + (k + 1) * control_period, q, v):
+                status = "stopped"
+                k += 1
+                break
+        else:
+            k = steps
+    except SimulationDiverged as exc:
+        status, message = "diverged", str(exc)
+    except KeyboardInterrupt:
+        status, message = "interrupted", f"interrupted by the user at t = {start_time + k * control_period:.6g} s"
+    except (RuntimeError, ValueError) as exc:  # Pinocchio rejects non-finite or degenerate states
+        status, message = "diverged", f"at t = {start_time + k * control_period:.6g} s: {exc}"
+    else:
+        t = start_time + k * control_period
+        recorder.record(row, t, q, v, tau, reference(t), work)
+        row += 1
+    wall = time.perf_counter() - start
+    return RunResult(tel.truncated(row), status, message, k, wall, integrator.evaluations())

@@ -1,0 +1,59 @@
+"""Actuated joint positions as plain numbers (angles in rad, displacements in m).
+
+Pinocchio stores a continuous (unbounded revolute) joint as ``[cos, sin]`` in ``q``; everything
+user-facing in freefloat (references, errors, telemetry) uses one number per actuated velocity
+coordinate instead, in Pinocchio's joint order.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..errors import FreefloatError
+from .robot import Robot
+
+
+class JointCoordinates:
+    """Reads and writes actuated joint positions in a Pinocchio configuration.
+
+    Args:
+        robot: the robot whose joints (Pinocchio joints 2..) are mapped.
+    """
+
+    def __init__(self, robot: Robot):
+        model = robot.model
+        scalar_q, scalar_pos, circle_q, circle_pos = [], [], [], []
+        for j in range(2, model.njoints):
+            iq, iv = model.idx_qs[j] , model.idx_vs[j] - robot.n_base
+            nq, nv = model.nqs[j], model.nvs[j]
+            if nq == nv:
+                scalar_q.extend(range(iq, iq + nq))
+                scalar_pos.extend(range(iv, iv + nv))
+            elif (nq, nv) == (2, 1):
+                circle_q.append(iq)
+                circle_pos.append(iv)
+            else:
+                raise FreefloatError(f"joint '{model.names[j]}': nq={nq}, nv={nv} is not supported")
+        self.n = robot.n_joints
+        nbq = model.nqs[1]
+        self._plain = not circle_q and scalar_q == list(range(nbq, model.nq))
+        self._slice = slice(nbq, model.nq)
+        self._scalar_q = np.array(scalar_q, dtype=int)
+        self._scalar_pos = np.array(scalar_pos, dtype=int)
+        self._circle_q = np.array(circle_q, dtype=int)
+        self._circle_pos = np.array(circle_pos, dtype=int)
+
+    def get(self, q: np.ndarray) -> np.ndarray:
+        """Actuated joint positions (n_joints,) from a configuration q (nq,)."""
+        if self._plain:
+            return q[self._slice].copy()
+        out = np.empty(self.n)
+        out[self._scalar_pos] = q[self._scalar_q]
+        out[self._circle_pos] = np.arctan2(q[self._circle_q + 1], q[self._circle_q])
+        return out
+
+    def set(self, q: np.ndarray, positions: np.ndarray) -> None:
+        """Write actuated joint positions (n_joints,) into q (nq,) in place."""
+        q[self._scalar_q] = positions[self._scalar_pos]
+        q[self._circle_q] = np.cos(positions[self._circle_pos])
+        q[self._circle_q + 1] = np.sin(positions[self._circle_pos])

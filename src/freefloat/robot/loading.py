@@ -1,0 +1,279 @@
+"""Load any URDF as a free-floating robot.
+
+The URDF is parsed with yourdfpy and checked here (yourdfpy and urdfdom accept files that cannot
+be a floating-base tree); Pinocchio then builds the model with a floating root joint on the root
+link. The base reference point is the root link's centre of mass, as in the dissertation (sec
+3.1.2) and in SPART.
+"""
+
+from __future__ import annotations
+
+import functools
+import importlib.metadata
+import warnings
+import xml.etree.ElementTree as ET
+from pathlib import Path
+
+import numpy as np
+import pinocchio as pin
+import yourdfpy
+
+from ..errors import RobotModelError
+from .robot import BASE_DOFS, Arm, Robot
+
+MOVABLE = {"revolute", "continuous", "prismatic"}
+SUPPORTED = MOVABLE | {"fixed"}
+ROOT_JOINT_NAME = "base"
+BASE_COM_FRAME = "base_com"
+
+
+class FreefloatWarning(UserWarning):
+    """Something in a URDF was loaded with a stated assumption (missing limits, meshes...)."""
+
+
+@functools.cache
+def example_robot_data_share() -> Path | None:
+    """The ``share`` folder of the installed example-robot-data, for ``package://`` paths."""
+    try:
+        share = importlib.metadata.distribution("example-robot-data").locate_file("cmeel.prefix/share")
+    except importlib.metadata.PackageNotFoundError:
+        return None
+    return Path(str(share)) if Path(str(share)).is_dir() else None
+
+
+def load_robot(
+    path: str | Path,
+    base: str = "free",
+    end_effectors: list[str] | tuple[str, ...] | None = None,
+    gravity: tuple[float, float, float] | np.ndarray = (0.0, 0.0, 0.0),
+    visuals: bool = True,
+) -> Robot:
+    """Load a URDF as a free-floating robot.
+
+    Args:
+        path: URDF file.
+        base: floating root joint, ``"free"`` (6 DOF) or ``"planar"`` (x, y, yaw in the inertial
+            xy-plane: model no more than a planar scene needs).
+        end_effectors: link names to use as end-effectors; by default every leaf link reached
+            through at least one movable joint, in Pinocchio's depth-first order.
+        gravity: gravity vector in the inertial frame, m/s^2 (space: zero, the default).
+        visuals: build the visual geometry (meshes through ``package://`` or relative paths).
+
+    Returns:
+        The :class:`~freefloat.robot.Robot`.
+
+    Raises:
+        RobotModelError: naming the file and the link or joint, when the file cannot be a
+            floating-base tree (missing parent, two roots, a loop, negative mass, an inertia that is
+            not positive definite, an unsupported joint type) or an end-effector does not exist.
+    """
+    path = Path(path)
+    if base not in BASE_DOFS:
+        raise RobotModelError(f"base must be one of {sorted(BASE_DOFS)}, got {base!r}")
+    if not path.is_file():
+        raise RobotModelError(f"{path}: no such URDF file")
+    try:
+        urdf = yourdfpy.URDF.load(str(path), build_scene_graph=False, load_meshes=False)
+    except Exception as exc:  # yourdfpy raises many types on malformed XML
+        raise RobotModelError(f"{path}: not a readable URDF ({exc})") from exc
+
+    notes: list[str] = []
+    root = _check_tree(path, urdf.robot)
+    _check_inertias(path, urdf.robot, root, notes)
+    xml, unlimited = _pinocchio_xml(path)
+    if unlimited:
+        notes.append(
+            f"{path.name}: joints {', '.join(unlimited)} have no <limit>; loaded as unbounded"
+        )
+
+    root_joint = pin.JointModelFreeFlyer() if base == "free" else pin.JointModelPlanar()
+    model = pin.buildModelFromXML(xml, root_joint, ROOT_JOINT_NAME)
+    model.gravity = pin.Motion(np.asarray(gravity, dtype=float), np.zeros(3))
+
+    base_inertial = urdf.link_map[root].inertial
+    com_pose = np.eye(4) if base_inertial is None or base_inertial.origin is None else base_inertial.origin
+    model.addFrame(
+        pin.Frame(BASE_COM_FRAME, 1, 0, pin.SE3(com_pose[:3, :3], com_pose[:3, 3]), pin.FrameType.OP_FRAME)
+    )
+
+    visual_model = None
+    if visuals:
+        visual_model = _visual_model(path, model, xml, notes)
+    for note in notes:
+        warnings.warn(note, FreefloatWarning, stacklevel=2)
+
+    ee_names = _end_effectors(path, model, urdf.robot, end_effectors)
+    return Robot(
+        model=model,
+        visual_model=visual_model,
+        urdf_path=path,
+        base_link=root,
+        base=base,
+        base_com=com_pose[:3, 3].copy(),
+        base_com_rotation=com_pose[:3, :3].copy(),
+        end_effectors=ee_names,
+        arms=tuple(_arm(model, name) for name in ee_names),
+        link_coms={
+            link.name: (link.inertial.origin[:3, 3].copy() if link.inertial is not None
+                        and link.inertial.origin is not None else np.zeros(3))
+            for link in urdf.robot.links
+        },
+        warnings=tuple(notes),
+    )
+
+
+def _check_tree(path: Path, robot: yourdfpy.Robot) -> str:
+    """Check that links and joints form one tree; return the root link name."""
+    links = [link.name for link in robot.links]
+    if not links:
+        raise RobotModelError(f"{path}: no <link>")
+    for name in {n for n in links if links.count(n) > 1}:
+        raise RobotModelError(f"{path}: link '{name}' is defined more than once")
+    parent_of: dict[str, str] = {}
+    for joint in robot.joints:
+        if joint.type not in SUPPORTED:
+            raise RobotModelError(
+                f"{path}: joint '{joint.name}' has type '{joint.type}'; supported inside the tree: "
+                f"{', '.join(sorted(SUPPORTED))} (the floating base is added by freefloat)"
+            )
+        for role, link in (("parent", joint.parent), ("child", joint.child)):
+            if link not in links:
+                raise RobotModelError(
+                    f"{path}: joint '{joint.name}' names {role} link '{link}', which does not exist"
+                )
+        if joint.child in parent_of:
+            raise RobotModelError(
+                f"{path}: link '{joint.child}' is the child of joints '{parent_of[joint.child]}' and "
+                f"'{joint.name}': a loop. A URDF must be a tree; describe loop closures beside it"
+            )
+        if joint.type in MOVABLE and np.linalg.norm(_axis(joint)) < 1e-12:
+            raise RobotModelError(f"{path}: joint '{joint.name}' has a zero axis")
+        parent_of[joint.child] = joint.name
+    roots = [name for name in links if name not in parent_of]
+    if len(roots) != 1:
+        what = "no root (the joints form a loop)" if not roots else f"{len(roots)} roots: {roots}"
+        raise RobotModelError(f"{path}: {what}; a floating-base robot needs exactly one root link")
+    children: dict[str, list[str]] = {name: [] for name in links}
+    for joint in robot.joints:
+        children[joint.parent].append(joint.child)
+    reached, stack = set(), [roots[0]]
+    while stack:
+        link = stack.pop()
+        reached.add(link)
+        stack.extend(children[link])
+    if len(reached) != len(links):
+        cut_off = sorted(set(links) - reached)
+        raise RobotModelError(f"{path}: links {cut_off} form a loop not attached to root '{roots[0]}'")
+    return roots[0]
+
+
+def _axis(joint: yourdfpy.Joint) -> np.ndarray:
+    return np.array([1.0, 0.0, 0.0]) if joint.axis is None else np.asarray(joint.axis, dtype=float)
+
+
+def _check_inertias(path: Path, robot: yourdfpy.Robot, root: str, notes: list[str]) -> None:
+    """Reject negative masses and impossible inertias; note idealised (singular) ones.
+
+    An inertia with a negative eigenvalue is rejected. A massive link whose inertia is only
+    positive semi-definite (a planar ``izz``-only or rod idealisation, as in SPART's ManiSat) is
+    loaded with a note: the free-floating mass matrix may then be singular in some postures.
+    """
+    singular = []
+    for link in robot.links:
+        inertial = link.inertial
+        mass = 0.0 if inertial is None or inertial.mass is None else float(inertial.mass)
+        inertia = np.zeros((3, 3)) if inertial is None or inertial.inertia is None else inertial.inertia
+        if not np.isfinite(mass) or mass < 0.0:
+            raise RobotModelError(f"{path}: link '{link.name}' has mass {mass}; a mass must be >= 0")
+        eig = np.linalg.eigvalsh(0.5 * (inertia + inertia.T))
+        if not np.all(np.isfinite(eig)) or eig.min() < -1e-12 * max(1.0, eig.max()):
+            raise RobotModelError(
+                f"{path}: link '{link.name}' has an inertia that is not positive definite "
+                f"(eigenvalues {np.array2string(eig, precision=4)})"
+            )
+        if mass > 0.0 and eig.min() <= 0.0:
+            singular.append(link.name)
+        if link.name == root and mass <= 0.0:
+            notes.append(
+                f"{path.name}: root link '{root}' has no mass; the base reference point is its "
+                "<inertial> origin and the free-floating mass matrix is singular"
+            )
+    if singular:
+        notes.append(
+            f"{path.name}: links {', '.join(singular)} have singular (semi-definite) inertias; "
+            "loaded as idealised bodies"
+        )
+
+
+def _pinocchio_xml(path: Path) -> tuple[str, list[str]]:
+    """URDF text for Pinocchio, with a wide ``<limit>`` added where urdfdom requires one."""
+    tree = ET.parse(path)
+    unlimited = []
+    for joint in tree.getroot().iter("joint"):
+        if joint.get("type") in ("revolute", "prismatic") and joint.find("limit") is None:
+            ET.SubElement(
+                joint, "limit", lower="-1e9", upper="1e9", effort="1e9", velocity="1e9"
+            )
+            unlimited.append(joint.get("name"))
+    return ET.tostring(tree.getroot(), encoding="unicode"), unlimited
+
+
+def _visual_model(path: Path, model: pin.Model, xml: str, notes: list[str]) -> pin.GeometryModel | None:
+    """Visual geometry, or None with a note when meshes cannot be resolved."""
+    package_dirs = [str(path.parent.resolve())]
+    if (share := example_robot_data_share()) is not None:
+        package_dirs.append(str(share))
+    tree = ET.fromstring(xml)
+    for mesh in tree.iter("mesh"):
+        if _resolve_mesh(mesh.get("filename", ""), path.parent, package_dirs) is None:
+            notes.append(
+                f"{path.name}: mesh '{mesh.get('filename')}' not found; loaded for dynamics without visuals"
+            )
+            return None
+    return pin.buildGeomFromUrdfString(model, xml, pin.GeometryType.VISUAL, package_dirs=package_dirs)
+
+
+def _resolve_mesh(filename: str, urdf_dir: Path, package_dirs: list[str]) -> Path | None:
+    """The mesh file a URDF filename points to, or None."""
+    if filename.startswith("package://"):
+        candidates = [Path(d) / filename[len("package://"):] for d in package_dirs]
+    elif filename.startswith("file://"):
+        candidates = [Path(filename[len("file://"):])]
+    else:
+        candidates = [urdf_dir / filename]
+    return next((c for c in candidates if c.is_file()), None)
+
+
+def _end_effectors(
+    path: Path, model: pin.Model, robot: yourdfpy.Robot, names: list[str] | tuple[str, ...] | None
+) -> tuple[str, ...]:
+    """End-effector link names, checked or found as leaves behind a movable joint."""
+    links = [link.name for link in robot.links]
+    if names is not None:
+        for name in names:
+            if name not in links:
+                raise RobotModelError(f"{path}: end-effector '{name}' is not a link; links: {links}")
+        return tuple(names)
+    parents = {joint.parent for joint in robot.joints}
+    leaves = [
+        frame.name
+        for frame in model.frames
+        if frame.type == pin.FrameType.BODY and frame.name not in parents and frame.parentJoint > 1
+    ]
+    if not leaves:
+        raise RobotModelError(f"{path}: no leaf link behind a movable joint: no end-effector found")
+    return tuple(leaves)
+
+
+def _arm(model: pin.Model, end_effector: str) -> Arm:
+    """The movable joints from the base to ``end_effector``, base outwards."""
+    joint_id = model.frames[model.getFrameId(end_effector)].parentJoint
+    chain = []
+    while joint_id > 1:
+        chain.append(joint_id)
+        joint_id = model.parents[joint_id]
+    chain.reverse()
+    v_indices = np.concatenate(
+        [np.arange(model.idx_vs[j], model.idx_vs[j] + model.nvs[j]) for j in chain]
+    ) if chain else np.zeros(0, dtype=int)
+    return Arm(end_effector, tuple(model.names[j] for j in chain), v_indices.astype(int))

@@ -1,0 +1,10 @@
+"""The space-robot task layer: control, capture and detumbling of free-floating robots.
+
+``control`` (quintic references, joint-space and task-space computed torque on any dynamics model,
+the guarded inverse E-GJM, the detumbling controller), ``detumbling`` (the post-capture solver,
+eqs 115-120, 134), ``capture`` (exact grasp of a tumbling target, the merged robot) and
+``force_propagation`` (end-effector wrenches -> joint torques).
+
+May import: :mod:`freefloat.dynamics`, :mod:`freefloat.robot`, :mod:`freefloat.errors`,
+:mod:`freefloat.paths`. Not :mod:`freefloat.parallel` (a sibling) nor :mod:`freefloat.app`.
+"""

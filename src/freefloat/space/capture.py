@@ -1,0 +1,307 @@
+"""Capture of a tumbling rigid target by an end-effector (dissertation sec 3.8, done exactly).
+
+Before contact the target is a free rigid body (its own Pinocchio free-flyer model, integrated
+like the robot) and the robot holds its posture. Contact is declared when the target's grasp
+point comes within ``tolerance`` of the end-effector frame origin. The impact is perfectly
+inelastic and grasping: a 6-D weld at the grasp point, solved as an exact impulse,
+
+.. math::
+    (J_r M_r^{-1} J_r^T + J_t M_t^{-1} J_t^T)\\,\\Lambda = -(J_r v_r^- - J_t v_t^-), \\quad
+    v_r^+ = v_r^- + M_r^{-1} J_r^T \\Lambda, \\quad v_t^+ = v_t^- - M_t^{-1} J_t^T \\Lambda,
+
+with ``J_r``, ``J_t`` the frame Jacobians (LOCAL_WORLD_ALIGNED) of the end-effector and of the
+grasp point; the impulse is internal, so the total momentum is conserved exactly. Afterwards the
+target's inertia is appended to the end-effector's body at its pose relative to it, and the
+merged robot continues with the robot part of ``v+``.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass
+
+import numpy as np
+import pinocchio as pin
+
+from ..dynamics.metrics import momentum_drift, settling_time
+from ..errors import FreefloatError
+from ..robot.conventions import momentum_about_origin, skew
+from ..robot.robot import Robot
+
+TARGET_FRAME = "captured_target"
+
+
+@dataclass(frozen=True)
+class Target:
+    """A rigid target body.
+
+    Attributes:
+        mass: kg.
+        inertia: principal moments about its CoM, body frame, kg m^2 (3,).
+        grasp: grasp point in the body frame (from the CoM), m (3,).
+        position: CoM position, inertial frame, m (3,).
+        rpy: orientation, R = Rz(yaw) Ry(pitch) Rx(roll), rad (3,).
+        velocity: CoM velocity, inertial frame, m/s (3,).
+        angular_velocity: inertial frame, rad/s (3,).
+        size: box edges for display, m (3,).
+    """
+
+    mass: float
+    inertia: tuple[float, float, float]
+    grasp: tuple[float, float, float]
+    position: tuple[float, float, float]
+    rpy: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    velocity: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    angular_velocity: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    size: tuple[float, float, float] = (0.3, 0.3, 0.3)
+
+    def __post_init__(self):
+        if not self.mass > 0.0 or min(self.inertia) <= 0.0:
+            raise FreefloatError(f"target: mass {self.mass} and inertia {self.inertia} must be positive")
+
+    @classmethod
+    def meeting(cls, point, time: float, mass: float, inertia, grasp, velocity, angular_velocity,
+                rpy_at_contact=(0.0, 0.0, 0.0), size=(0.3, 0.3, 0.3)) -> "Target":
+        """The target whose grasp point is at ``point`` (inertial) at ``time`` s, moving freely.
+
+        Back-propagates torque-free motion, exact when the spin lies along a principal axis
+        (then it is constant): CoM ``c(t) = c_c + v (t - time)``, ``R(t) = exp(w (t - time)) R_c``.
+
+        Raises:
+            FreefloatError: when the spin is not along a principal axis at contact.
+        """
+        R_c = pin.rpy.rpyToMatrix(*rpy_at_contact)
+        w = np.asarray(angular_velocity, float)
+        w_body = R_c.T @ w
+        if np.linalg.norm(w_body) > 0 and np.linalg.norm(np.cross(w_body, np.diag(inertia) @ w_body)) > 1e-9 * np.linalg.norm(w_body) ** 2 * max(inertia):
+            raise FreefloatError("Target.meeting: the spin must lie along a principal axis of the target (it precesses otherwise)")
+        com_c = np.asarray(point, float) - R_c @ np.asarray(grasp, float)
+        R0 = pin.exp3(-w * time) @ R_c
+        return cls(mass=mass, inertia=tuple(inertia), grasp=tuple(grasp), position=tuple(com_c - np.asarray(velocity, float) * time),
+                   rpy=tuple(pin.rpy.matrixToRpy(R0)), velocity=tuple(velocity), angular_velocity=tuple(w), size=tuple(size))
+
+
+class TargetBody:
+    """The target as a one-body free-flyer Pinocchio model, with a frame at the grasp point."""
+
+    def __init__(self, target: Target):
+        self.target = target
+        model = pin.Model()
+        joint = model.addJoint(0, pin.JointModelFreeFlyer(), pin.SE3.Identity(), "target")
+        model.appendBodyToJoint(joint, pin.Inertia(target.mass, np.zeros(3), np.diag(target.inertia)), pin.SE3.Identity())
+        model.addFrame(pin.Frame("grasp", joint, pin.SE3(np.eye(3), np.asarray(target.grasp, float)), pin.FrameType.OP_FRAME))
+        model.gravity = pin.Motion.Zero()
+        self.model, self.data = model, model.createData()
+        self.grasp_id = model.getFrameId("grasp")
+
+    def initial_state(self) -> tuple[np.ndarray, np.ndarray]:
+        """``(q, v)`` of the target: pose and local twist from the inertial data."""
+        t = self.target
+        R = pin.rpy.rpyToMatrix(*t.rpy)
+        q = pin.SE3ToXYZQUAT(pin.SE3(R, np.asarray(t.position, float)))
+        v = np.concatenate((R.T @ np.asarray(t.velocity, float), R.T @ np.asarray(t.angular_velocity, float)))
+        return q, v
+
+    def grasp_point(self, q: np.ndarray) -> np.ndarray:
+        """Grasp point, inertial frame (3,)."""
+        pin.framesForwardKinematics(self.model, self.data, q)
+        return self.data.oMf[self.grasp_id].translation.copy()
+
+    def momentum(self, q: np.ndarray, v: np.ndarray) -> np.ndarray:
+        """[P; L about the inertial origin] of the target (6,)."""
+        return momentum_about_origin(self.model, self.data, q, v)
+
+
+@dataclass(frozen=True)
+class Impact:
+    """The exact inelastic grasp.
+
+    Attributes:
+        v_robot: robot velocity after the impact (nv,).
+        v_target: target local twist after the impact (6,).
+        impulse: the weld impulse on the robot, [linear; angular] about the end-effector frame
+            origin (the grasp point to within the contact tolerance), N s and N m s, inertial
+            axes (6,).
+        momentum_before, momentum_after: total [P; L about the origin] of robot and target (6,).
+    """
+
+    v_robot: np.ndarray
+    v_target: np.ndarray
+    impulse: np.ndarray
+    momentum_before: np.ndarray
+    momentum_after: np.ndarray
+
+
+def robot_momentum(robot: Robot, q: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """[P; L about the inertial origin] of a robot (6,)."""
+    return momentum_about_origin(robot.model, robot.model.createData(), q, v)
+
+
+def impact(robot: Robot, end_effector: str, q: np.ndarray, v: np.ndarray, body: TargetBody,
+           q_t: np.ndarray, v_t: np.ndarray) -> Impact:
+    """Solve the grasp impulse (see the module docstring)."""
+    model, data = robot.model, robot.model.createData()
+    fid = model.getFrameId(end_effector)
+    M_r = pin.crba(model, data, q)
+    M_r = np.triu(M_r) + np.triu(M_r, 1).T
+    pin.computeJointJacobians(model, data, q)
+    pin.updateFramePlacements(model, data)
+    J_r = pin.getFrameJacobian(model, data, fid, pin.LOCAL_WORLD_ALIGNED)
+    tm, td = body.model, body.data
+    M_t = pin.crba(tm, td, q_t)
+    M_t = np.triu(M_t) + np.triu(M_t, 1).T
+    pin.computeJointJacobians(tm, td, q_t)
+    pin.updateFramePlacements(tm, td)
+    J_t = pin.getFrameJacobian(tm, td, body.grasp_id, pin.LOCAL_WORLD_ALIGNED)
+    # Evaluate the target's twist at the end-effector point, so both halves of the impulse act at
+    # one point (contact is declared within a tolerance): v_p = v_g + w x (p - g).
+    lever = data.oMf[fid].translation - td.oMf[body.grasp_id].translation
+    J_t = np.vstack((J_t[:3] - skew(lever) @ J_t[3:], J_t[3:]))
+    Wr, Wt = np.linalg.solve(M_r, J_r.T), np.linalg.solve(M_t, J_t.T)
+    impulse = np.linalg.solve(J_r @ Wr + J_t @ Wt, -(J_r @ v - J_t @ v_t))
+    v_r_plus, v_t_plus = v + Wr @ impulse, v_t - Wt @ impulse
+    before = robot_momentum(robot, q, v) + body.momentum(q_t, v_t)
+    after = robot_momentum(robot, q, v_r_plus) + body.momentum(q_t, v_t_plus)
+    return Impact(v_r_plus, v_t_plus, impulse, before, after)
+
+
+def attach(robot: Robot, end_effector: str, q: np.ndarray, body: TargetBody, q_t: np.ndarray) -> Robot:
+    """The robot with the target's inertia appended to the end-effector's body (rigid grasp),
+    and a frame ``captured_target`` at the target's CoM."""
+    model = pin.Model(robot.model)
+    data = model.createData()
+    pin.framesForwardKinematics(model, data, q)
+    frame = model.frames[model.getFrameId(end_effector)]
+    joint = frame.parentJoint
+    oM_target = pin.XYZQUATToSE3(q_t)
+    placement = data.oMi[joint].actInv(oM_target)
+    t = body.target
+    model.appendBodyToJoint(joint, pin.Inertia(t.mass, np.zeros(3), np.diag(t.inertia)), placement)
+    model.addFrame(pin.Frame(TARGET_FRAME, joint, placement, pin.FrameType.OP_FRAME))
+    return dataclasses.replace(robot, model=model, visual_model=None)
+
+
+@dataclass
+class CaptureResult:
+    """A capture and detumbling run.
+
+    Attributes:
+        pre: telemetry before contact (robot holding its posture).
+        post: telemetry after the impact (the merged robot detumbling).
+        merged: the robot with the target attached.
+        impact_time: s.
+        hit: the impact.
+        target_angular_velocity: |w| of the captured target after the impact, rad/s (rows of post).
+        summary: figures of merit (see :func:`capture_and_detumble`).
+        target_poses: target CoM frame poses, inertial (rows of pre then post, 4, 4).
+    """
+
+    pre: object
+    post: object
+    merged: Robot
+    impact_time: float
+    hit: Impact
+    target_angular_velocity: np.ndarray
+    summary: dict
+    target_poses: np.ndarray
+
+
+def capture_and_detumble(robot: Robot, target: Target, end_effector: str, rows_spec, joints: list[str] | None,
+                         method: str = "min_norm", control_period: float = 1e-3, approach_time: float = 1.0,
+                         detumble_time: float = 1.0, tolerance: float = 1e-3, settle_below: float = 1e-6,
+                         integrator: str = "rkmk4", q0: np.ndarray | None = None, v0: np.ndarray | None = None,
+                         kp: float = 10.0, kd: float = 100.0, model: str = "exact") -> CaptureResult:
+    """Hold until the target's grasp point reaches ``end_effector``, grasp it (exact impulse),
+    then detumble the merged robot by stopping the end-effector rows ``rows_spec``.
+
+    Raises:
+        FreefloatError: when the target does not come within ``tolerance`` of the end-effector
+            in ``approach_time`` (the message gives the closest approach and when).
+    """
+    from ..dynamics.integrators import make_integrator
+    from ..dynamics.models import ExactModel
+    from ..dynamics.simulation import run
+    from .control.detumbling_control import DetumblingController
+    from .detumbling import joint_indices, task_rows
+
+    body = TargetBody(target)
+    q_t, v_t = body.initial_state()
+    target_step = make_integrator(integrator, body.model)
+    zero = np.zeros(6)
+    fid = robot.model.getFrameId(end_effector)
+    data = robot.model.createData()
+    state = {"q_t": q_t, "v_t": v_t, "closest": (np.inf, 0.0), "poses": [pin.XYZQUATToSE3(q_t).homogeneous]}
+
+    def reached(t: float, q: np.ndarray, v: np.ndarray) -> bool:
+        state["q_t"], state["v_t"] = target_step.advance(
+            lambda qs, vs: pin.aba(body.model, body.data, qs, vs, zero), state["q_t"], state["v_t"], control_period)
+        state["poses"].append(pin.XYZQUATToSE3(state["q_t"]).homogeneous)
+        pin.framesForwardKinematics(robot.model, data, q)
+        gap = float(np.linalg.norm(body.grasp_point(state["q_t"]) - data.oMf[fid].translation))
+        if gap < state["closest"][0]:
+            state["closest"] = (gap, t)
+        return gap < tolerance
+
+    all_joints = joint_indices(robot, None)
+    hold = DetumblingController(robot, task_rows(robot, rows_spec), all_joints, start=np.inf, control_period=control_period,
+                                kp=kp, kd=kd, model=model)
+    q0 = robot.neutral() if q0 is None else q0
+    v0 = np.zeros(robot.model.nv) if v0 is None else v0
+    pre = run(robot, q0, v0, approach_time, control_period, make_integrator(integrator, robot.model), ExactModel(robot),
+              hold, stop=reached)
+    if pre.status != "stopped":
+        gap, when = state["closest"]
+        raise FreefloatError(f"target never reaches '{end_effector}' within {tolerance} m in {approach_time} s "
+                             f"(closest approach {gap:.4g} m at t = {when:.4g} s)")
+    t_hit = pre.telemetry.t[-1]
+    q, v = pre.telemetry.q[-1], pre.telemetry.v[-1]
+    hit = impact(robot, end_effector, q, v, body, state["q_t"], state["v_t"])
+    merged = attach(robot, end_effector, q, body, state["q_t"])
+    controller = DetumblingController(merged, task_rows(merged, rows_spec), joint_indices(merged, joints), start=0.0,
+                                      control_period=control_period, method=method, kp=kp, kd=kd, model=model)
+    post = run(merged, q, hit.v_robot, detumble_time, control_period, make_integrator(integrator, merged.model),
+               ExactModel(merged), controller)
+    tel = post.telemetry
+    w = target_angular_speed(merged, tel.q, tel.v)
+    settled = settling_time(tel.t, w, settle_below)
+    summary = {
+        "impact_time": float(t_hit),
+        "momentum_before_impact": hit.momentum_before.tolist(),
+        "momentum_after_impact": hit.momentum_after.tolist(),
+        "momentum_balance_error": float(np.abs(hit.momentum_after - hit.momentum_before).max()),
+        "momentum_drift_after_impact": momentum_drift(tel.momentum),
+        "target_angular_velocity_at_impact": float(w[0]),
+        "target_angular_velocity_final": float(w[-1]),
+        "settling_time": settled,
+        "settle_threshold": settle_below,
+        "peak_joint_torque": float(max(np.abs(pre.telemetry.tau).max(), np.abs(tel.tau).max())),
+        "base_angular_velocity_final": float(np.linalg.norm(tel.base_twist[-1, 3:])),
+        "base_angular_velocity_max": float(np.linalg.norm(tel.base_twist[:, 3:], axis=1).max()),
+        "solver_residual_max": float(max(controller.residuals)) if controller.residuals else 0.0,
+        "status": post.status,
+    }
+    post_poses = attached_poses(merged, tel.q)
+    poses = np.concatenate((np.array(state["poses"][: len(pre.telemetry.t)]), post_poses))
+    return CaptureResult(pre.telemetry, tel, merged, float(t_hit), hit, w, summary, poses)
+
+
+def attached_poses(merged: Robot, qs: np.ndarray) -> np.ndarray:
+    """Poses of the captured target frame over the samples (N, 4, 4), inertial frame."""
+    model, data = merged.model, merged.model.createData()
+    fid = model.getFrameId(TARGET_FRAME)
+    out = np.empty((len(qs), 4, 4))
+    for k, q in enumerate(qs):
+        pin.framesForwardKinematics(model, data, q)
+        out[k] = data.oMf[fid].homogeneous
+    return out
+
+
+def target_angular_speed(merged: Robot, qs: np.ndarray, vs: np.ndarray) -> np.ndarray:
+    """|w| of the captured target frame over the samples (N,), rad/s."""
+    model, data = merged.model, merged.model.createData()
+    fid = model.getFrameId(TARGET_FRAME)
+    out = np.empty(len(qs))
+    for k, (q, v) in enumerate(zip(qs, vs)):
+        pin.forwardKinematics(model, data, q, v)
+        out[k] = np.linalg.norm(pin.getFrameVelocity(model, data, fid, pin.LOCAL_WORLD_ALIGNED).angular)
+    return out

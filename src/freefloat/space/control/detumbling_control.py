@@ -1,0 +1,64 @@
+"""Tracking the detumbling solution (dissertation sec 3.8, eq 134) with computed torque.
+
+Before ``start`` the joints hold their initial posture (computed torque, Kp, Kd). From ``start``
+on, each control period solves :func:`freefloat.space.detumbling.solve` at the measured state for the
+joint rates ``qdot_d`` that stop the task rows, and drives the joints onto them:
+
+.. math:: \\tau = H (\\ddot q_d + K_d (\\dot q_d - \\dot q)) + c,
+
+with ``qddot_d`` the backward difference of ``qdot_d`` over the period and ``(H, c)`` the chosen
+model's joint-space form.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ...dynamics import gjm
+from ...robot.joints import JointCoordinates
+from ...robot.robot import Robot
+from ..detumbling import solve
+from .computed_torque import ControllerDynamics
+
+
+class DetumblingController:
+    """Hold, then detumble.
+
+    Args:
+        robot: the robot (with the captured target merged in, for a real capture).
+        rows: stacked end-effector rows to stop (``freefloat.space.detumbling.task_rows``).
+        joints: mission joint indices (``freefloat.space.detumbling.joint_indices``).
+        start: time the detumbling starts, s (before it: hold the posture).
+        control_period: T, s.
+        method: solver method (``min_norm``, ``single``, ``null_space``, ``least_squares``).
+        kp, kd: gains, 1/s^2 and 1/s.
+        model: dynamics model of the computed-torque law.
+    """
+
+    def __init__(self, robot: Robot, rows: np.ndarray, joints: np.ndarray, start: float, control_period: float,
+                 method: str = "min_norm", kp: float = 10.0, kd: float = 100.0, model: str = "exact"):
+        self.robot, self.rows, self.joints, self.start, self.T = robot, rows, joints, start, control_period
+        self.method, self.kp, self.kd = method, kp, kd
+        self.dynamics = ControllerDynamics(robot, model)
+        self.coords = JointCoordinates(robot)
+        self.hold: np.ndarray | None = None
+        self._qdot_prev: np.ndarray | None = None
+        self.residuals: list[float] = []
+
+    def reference(self, t: float) -> np.ndarray | None:
+        """The held posture before the start (n,), None afterwards."""
+        return self.hold if t < self.start else None
+
+    def torque(self, t: float, q: np.ndarray, v: np.ndarray) -> np.ndarray:
+        """Joint torques (n,) at time t for the measured state."""
+        nb = self.robot.n_base
+        if self.hold is None:
+            self.hold = self.coords.get(q)
+        H, c = self.dynamics.at(t, q, v)
+        if t < self.start:
+            return H @ (self.kp * (self.hold - self.coords.get(q)) - self.kd * v[nb:]) + c
+        sol = solve(gjm.compute(self.robot, q, v), self.rows, self.joints, self.method)
+        self.residuals.append(float(np.abs(sol.residual).max()))
+        qddot_d = np.zeros_like(sol.qdot) if self._qdot_prev is None else (sol.qdot - self._qdot_prev) / self.T
+        self._qdot_prev = sol.qdot
+        return H @ (qddot_d + self.kd * (sol.qdot - v[nb:])) + c

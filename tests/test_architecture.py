@@ -1,0 +1,144 @@
+"""The package layout is the architecture: lower layers never import higher ones, the two task
+families never import each other, and no module imports itself back through others.
+
+Imports are read from the source (module level and inside functions alike), so a deferred import
+cannot hide an upward dependency or a circle.
+"""
+
+from __future__ import annotations
+
+import ast
+from pathlib import Path
+
+import pytest
+
+import freefloat
+
+SRC = Path(freefloat.__file__).resolve().parent
+
+#: Layer of each family of modules, lowest first; the facade (``freefloat`` itself, its public
+#: aliases and ``__main__``) sits above everything.
+LAYERS = {
+    "freefloat.errors": 0, "freefloat.paths": 0,
+    "freefloat.robot": 1,
+    "freefloat.dynamics": 2,
+    "freefloat.space": 3, "freefloat.parallel": 3,
+    "freefloat.app": 4,
+}
+FACADE = 5
+
+
+def module_files() -> dict[str, Path]:
+    """Every module of the package by dotted name."""
+    out = {}
+    for path in sorted(SRC.rglob("*.py")):
+        parts = ["freefloat", *path.relative_to(SRC).with_suffix("").parts]
+        if parts[-1] == "__init__":
+            parts = parts[:-1]
+        out[".".join(parts)] = path
+    return out
+
+
+MODULES = module_files()
+
+
+def family(module: str) -> str | None:
+    """The layer family (a key of LAYERS) ``module`` belongs to, or None for the facade."""
+    return next((f for f in LAYERS if module == f or module.startswith(f + ".")), None)
+
+
+def layer(module: str) -> int:
+    found = family(module)
+    return FACADE if found is None else LAYERS[found]
+
+
+def imports(module: str) -> set[str]:
+    """freefloat modules ``module`` imports (``from pkg import submodule`` counts as the submodule)."""
+    path = MODULES[module]
+    package = module if path.name == "__init__.py" else module.rsplit(".", 1)[0]
+    found = set()
+    for node in ast.walk(ast.parse(path.read_text())):
+        if isinstance(node, ast.ImportFrom):
+            if node.level:
+                base = package.split(".")[: len(package.split(".")) - node.level + 1]
+                target = ".".join(base + ([node.module] if node.module else []))
+            else:
+                target = node.module or ""
+            if not target.startswith("freefloat"):
+                continue
+            subs = [f"{target}.{a.name}" for a in node.names if f"{target}.{a.name}" in MODULES]
+            found.update(subs if len(subs) == len(node.names) else [target, *subs])
+        elif isinstance(node, ast.Import):
+            found.update(a.name for a in node.names if a.name.startswith("freefloat"))
+    return {m for m in found if m in MODULES and m != module}
+
+
+GRAPH = {m: imports(m) for m in MODULES}
+
+
+def violations(graph: dict[str, set[str]], module: str) -> list[str]:
+    """Modules ``module`` imports from a higher layer or from a sibling family."""
+    return sorted(t for t in graph[module] if layer(t) > layer(module)
+                  or (layer(t) == layer(module) and family(t) != family(module)))
+
+
+def circles(graph: dict[str, set[str]]) -> list[list[str]]:
+    """Groups of modules that import each other, directly or through others (Tarjan's strongly
+    connected components of more than one module)."""
+    index: dict[str, int] = {}
+    low: dict[str, int] = {}
+    on_stack: set[str] = set()
+    stack: list[str] = []
+    found: list[list[str]] = []
+
+    def visit(m: str) -> None:
+        index[m] = low[m] = len(index)
+        stack.append(m)
+        on_stack.add(m)
+        for t in graph[m]:
+            if t not in index:
+                visit(t)
+                low[m] = min(low[m], low[t])
+            elif t in on_stack:
+                low[m] = min(low[m], index[t])
+        if low[m] == index[m]:
+            component = []
+            while True:
+                x = stack.pop()
+                on_stack.discard(x)
+                component.append(x)
+                if x == m:
+                    break
+            if len(component) > 1:
+                found.append(sorted(component))
+
+    for m in graph:
+        if m not in index:
+            visit(m)
+    return found
+
+
+def test_every_module_belongs_to_a_layer():
+    """Every module but the facade (freefloat, its public aliases, __main__) is in a layer."""
+    facade = sorted(m for m in MODULES if family(m) is None)
+    assert facade == ["freefloat", "freefloat.__main__", "freefloat.gjm", "freefloat.models", "freefloat.simulation"]
+
+
+@pytest.mark.parametrize("module", sorted(m for m in MODULES if family(m) is not None))
+def test_no_module_imports_a_higher_layer_or_a_sibling_family(module):
+    """A module imports only its own family and lower layers."""
+    assert not violations(GRAPH, module), f"{module} (layer {layer(module)}) imports {violations(GRAPH, module)}"
+
+
+def test_no_import_circles():
+    """No module reaches itself through the imports of others."""
+    assert not circles(GRAPH), f"import circles: {circles(GRAPH)}"
+
+
+def test_the_checks_catch_a_planted_upward_import_and_circle():
+    """The old upward import models.exact -> control.computed_torque, which also closed a circle
+    back to models, is caught by both checks (so they can fail)."""
+    exact, torque = "freefloat.dynamics.models.exact", "freefloat.space.control.computed_torque"
+    planted = {**GRAPH, exact: GRAPH[exact] | {torque}}
+    assert violations(planted, exact) == [torque]
+    assert any(exact in c and torque in c for c in circles(planted))
