@@ -142,3 +142,18 @@ def test_the_checks_catch_a_planted_upward_import_and_circle():
     planted = {**GRAPH, exact: GRAPH[exact] | {torque}}
     assert violations(planted, exact) == [torque]
     assert any(exact in c and torque in c for c in circles(planted))
+
+
+def test_the_public_names_stay():
+    """freefloat.load_robot, freefloat.gjm.compute, freefloat.models.make_model and
+    freefloat.simulation.run are the layered modules' own functions."""
+    import freefloat.gjm
+    import freefloat.models
+    import freefloat.simulation
+    from freefloat.dynamics import gjm, models, simulation
+    from freefloat.robot import loading
+
+    assert freefloat.load_robot is loading.load_robot
+    assert freefloat.gjm.compute is gjm.compute and freefloat.gjm.derivatives is gjm.derivatives
+    assert freefloat.models.make_model is models.make_model and freefloat.models.MODELS is models.MODELS
+    assert freefloat.simulation.run is simulation.run and freefloat.simulation.RunResult is simulation.RunResult

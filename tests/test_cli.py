@@ -171,3 +171,14 @@ def test_scenes_lists_the_mechanism_scenes(capsys):
     listed = capsys.readouterr().out
     assert "five_bar_sliding_mode: 5R" in listed and "five_bar_computed_torque: 5R" in listed
     assert f"{DEFAULT_SCENE} (default)" in listed
+
+
+def test_version_and_module_entry_point():
+    """``python -m freefloat --version`` prints the package version."""
+    import subprocess
+    import sys
+
+    import freefloat
+
+    out = subprocess.run([sys.executable, "-m", "freefloat", "--version"], capture_output=True, text=True, timeout=60)
+    assert out.returncode == 0 and out.stdout.strip() == f"freefloat {freefloat.__version__}"

@@ -7,6 +7,7 @@ import argparse
 import sys
 import time
 import warnings
+from importlib.metadata import version
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -20,6 +21,7 @@ if TYPE_CHECKING:
 def main(argv: list[str] | None = None) -> int:
     """Entry point; returns the exit status (0 ok, 1 run stopped early, 2 bad input)."""
     parser = argparse.ArgumentParser(prog="freefloat", description=__doc__)
+    parser.add_argument("--version", action="version", version=f"freefloat {version('freefloat')}")
     commands = parser.add_subparsers(dest="command", required=True)
     sim = commands.add_parser("simulate", help="run a scene and write its output folder")
     sim.add_argument("scene", nargs="?", default=None, help="built-in scene name or TOML file (default: the dissertation's ch. 4 task)")
