@@ -3,10 +3,10 @@
 from __future__ import annotations
 
 import json
+import tomllib
 
 import numpy as np
 import pytest
-import tomllib
 
 from freefloat.app.cli import main
 from freefloat.app.scenes import DEFAULT_SCENE, builtin_scenes

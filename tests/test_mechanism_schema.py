@@ -3,10 +3,10 @@ rejected naming the scene file and the key."""
 
 from __future__ import annotations
 
+import tomllib
 from pathlib import Path
 
 import pytest
-import tomllib
 
 from freefloat import SceneError
 from freefloat.app.scenes import (

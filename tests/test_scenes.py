@@ -2,8 +2,9 @@
 
 from __future__ import annotations
 
-import pytest
 import tomllib
+
+import pytest
 
 from freefloat import SceneError
 from freefloat.app.runner import prepare

@@ -27,12 +27,12 @@ match. Mechanisms with frame closures build theirs from the same tree
 
 from __future__ import annotations
 
+import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 import pinocchio as pin
-import tomllib
 
 from ..errors import FreefloatError
 from .mechanism import ParallelMechanism

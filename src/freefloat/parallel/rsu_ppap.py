@@ -30,11 +30,11 @@ model needs no fourth chain for it.
 
 from __future__ import annotations
 
+import tomllib
 from pathlib import Path
 
 import numpy as np
 import pinocchio as pin
-import tomllib
 import yourdfpy
 
 from ..errors import FreefloatError

@@ -8,10 +8,9 @@ A scene file is a robot scene (:class:`Scene`, ``[robot]``) or a mechanism scene
 
 from __future__ import annotations
 
+import tomllib
 from pathlib import Path
 from typing import Any
-
-import tomllib
 
 from ...errors import SceneError
 from ...paths import SCENES_DIR, URDF_DIR
