@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import tomllib
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -182,3 +183,25 @@ def test_version_and_module_entry_point():
 
     out = subprocess.run([sys.executable, "-m", "freefloat", "--version"], capture_output=True, text=True, timeout=60)
     assert out.returncode == 0 and out.stdout.strip() == f"freefloat {freefloat.__version__}"
+
+
+@pytest.mark.parametrize(("name", "expected"), [("../../x", "x"), ("/abs/dir", "abs_dir"), ("a b", "a_b"), ("..", "scene")])
+def test_scene_names_become_one_folder_under_runs(name, expected, tmp_path, monkeypatch):
+    """A scene name cannot steer the default output folder out of runs/."""
+    from freefloat.app.cli import default_folder
+
+    monkeypatch.chdir(tmp_path)
+    folder = default_folder(name)
+    assert folder.parent == Path("runs") and folder.name.startswith(f"{expected}-") and "/" not in folder.name
+
+
+def test_a_second_run_into_the_same_out_needs_overwrite(tmp_path, capsys):
+    """Running twice into one --out exits 2 naming --overwrite; with it the folder is replaced."""
+    scene = scene_variant(tmp_path / "s.toml", DEFAULT_SCENE, simulation={"duration": 0.01},
+                          output={"figures": False, "html": False})
+    args = ["simulate", str(scene), "--out", str(tmp_path / "out"), "--quiet"]
+    assert main(args) == 0
+    (tmp_path / "out" / "stale.png").write_text("from an older run")
+    assert main(args) == 2 and "--overwrite" in capsys.readouterr().err
+    assert main([*args, "--overwrite"]) == 0
+    assert not (tmp_path / "out" / "stale.png").exists() and (tmp_path / "out" / "telemetry.npz").is_file()

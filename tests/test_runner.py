@@ -50,17 +50,67 @@ def test_an_unwritable_folder_is_refused_before_the_run(tmp_path):
 @pytest.mark.parametrize("signum", [signal.SIGTERM, signal.SIGHUP])
 def test_sigterm_and_sighup_keep_what_was_computed(tmp_path, signum):
     """A run stopped by SIGTERM or SIGHUP exits 1 and writes its samples, as Ctrl-C does."""
-    scene = scene_variant(tmp_path / "s.toml", "four_arm_joint_space", simulation={"duration": 500.0},
-                          output={"figures": False, "html": False})
-    out = tmp_path / "out"
-    proc = subprocess.Popen([sys.executable, "-m", "freefloat", "simulate", str(scene), "--out", str(out)],
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env={**os.environ, "COLUMNS": "80"})
-    deadline = time.monotonic() + 60
-    while "step" not in proc.stderr.readline():  # the progress bar (text mode reads up to each \r)
-        assert time.monotonic() < deadline and proc.poll() is None, "the run never started"
+    proc, out = _start(tmp_path, 500.0)
     time.sleep(0.5)
     proc.send_signal(signum)
     _, err = proc.communicate(timeout=60)
     summary = json.loads((out / "summary.json").read_text())
     assert proc.returncode == 1 and summary["status"] == "interrupted", err
     assert 1 < len(Telemetry.load(out / "telemetry.npz").t) < 500_001
+
+
+def _start(tmp_path, duration: float) -> tuple[subprocess.Popen, "os.PathLike"]:
+    """``python -m freefloat simulate`` on a long default-scene variant, once its loop runs."""
+    scene = scene_variant(tmp_path / "s.toml", "four_arm_joint_space", simulation={"duration": duration},
+                          output={"figures": False, "html": False})
+    out = tmp_path / "out"
+    proc = subprocess.Popen([sys.executable, "-m", "freefloat", "simulate", str(scene), "--out", str(out)],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    deadline = time.monotonic() + 60
+    while "step" not in proc.stderr.readline():  # the progress bar (text mode reads up to each \r)
+        assert time.monotonic() < deadline and proc.poll() is None, "the run never started"
+    return proc, out
+
+
+def test_a_killed_run_leaves_loadable_checkpoints(tmp_path):
+    """SIGKILL mid-run leaves the telemetry checkpointed so far, readable and in order."""
+    from freefloat.app.run_folder import PARTS
+    from freefloat.dynamics.simulation import CHUNK_ROWS
+
+    proc, out = _start(tmp_path, 500.0)
+    deadline = time.monotonic() + 120
+    while not list((out / PARTS).glob("part-00001.npz")):
+        assert time.monotonic() < deadline, "no checkpoint written"
+        time.sleep(0.1)
+    proc.kill()
+    proc.communicate(timeout=60)
+    kept = Telemetry.load_parts(out / PARTS)
+    assert len(kept.t) >= 2 * CHUNK_ROWS and np.all(np.diff(kept.t) > 0)
+    assert not (out / "telemetry.npz").exists()
+
+
+def test_non_finite_results_are_a_failure_with_strict_json(tmp_path):
+    """A base at 1e308 m makes the CoM infinite: the run is 'diverged', summary.json is strict
+    JSON (null, never NaN)."""
+    scene = load_scene(scene_variant(tmp_path / "s.toml", "four_arm_joint_space", simulation={"duration": 0.01},
+                                     initial={"base_position": [1e308, 0.0, 0.0]},
+                                     output={"figures": False, "html": False}))
+    done = runner.run_scene(scene, tmp_path / "out")
+    text = (tmp_path / "out" / "summary.json").read_text()
+    summary = json.loads(text, parse_constant=lambda c: pytest.fail(f"non-strict JSON constant {c}"))
+    assert done.outcome.status == summary["status"] == "diverged"
+    assert "non-finite" in summary["message"] or "finite range" in summary["message"]
+
+
+def test_an_interrupt_while_writing_skips_the_drawings_but_keeps_the_data(tmp_path):
+    """A second interrupt while the folder is written skips figures and page, never the
+    telemetry and summary."""
+    from freefloat.app.outputs import write_run
+    from freefloat.app.run_folder import RunFolder
+
+    scene = load_scene(scene_variant(tmp_path / "s.toml", "four_arm_joint_space", simulation={"duration": 0.01}))
+    outcome = runner.simulate(scene)
+    with RunFolder(tmp_path / "out") as folder:
+        written, skipped = write_run(folder, scene, outcome, interrupted=lambda: True)
+    assert skipped == ["figures", "trajectory.html"]
+    assert {p.name for p in written} == {"telemetry.npz", "scene.toml", "summary.json"}

@@ -20,3 +20,8 @@ class SimulationDiverged(FreefloatError):
 class SingularityError(FreefloatError):
     """A Jacobian inversion too ill-conditioned to trust; the message gives the condition number
     and the configuration."""
+
+
+class InvalidArgument(FreefloatError, ValueError):
+    """A function argument of the wrong shape, not finite, or out of its domain; the message names
+    the argument."""

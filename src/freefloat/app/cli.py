@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 import argparse
+import re
 import sys
 import time
 import warnings
@@ -29,6 +30,8 @@ def main(argv: list[str] | None = None) -> int:
     sim.add_argument("--no-figures", action="store_true", help="skip the PNG figures")
     sim.add_argument("--no-html", action="store_true", help="skip the meshcat animation")
     sim.add_argument("--quiet", action="store_true", help="no progress bar")
+    sim.add_argument("--overwrite", action="store_true",
+                     help="replace the previous run in --out (default: refuse a folder that is not empty)")
     commands.add_parser("scenes", help="list the built-in scenes")
     ver = commands.add_parser("verify", help="cross-check the hand-built GJM matrices against Pinocchio")
     ver.add_argument("urdf", type=Path, help="URDF file (loaded with a free-flyer base)")
@@ -120,12 +123,24 @@ def _simulate(args: argparse.Namespace) -> int:
         output = dataclasses.replace(scene.output, figures=scene.output.figures and not args.no_figures,
                                      html=scene.output.html and not args.no_html)
         scene = dataclasses.replace(scene, output=output)
-    out = args.out or Path("runs") / f"{scene.name}-{time.strftime('%Y%m%d-%H%M%S')}"
+    out = args.out or default_folder(scene.name)
     with warnings.catch_warnings():
         warnings.simplefilter("default")
         with tqdm(total=total_steps(scene), desc=scene.name, unit="step", disable=args.quiet) as bar:
-            done = run_scene(scene, out, progress=lambda k: bar.update(k - bar.n))
+            done = run_scene(scene, out, progress=lambda k: bar.update(k - bar.n), overwrite=args.overwrite)
     return _report(done)
+
+
+def default_folder(scene_name: str) -> Path:
+    """``runs/<scene name>-<time>``, the name reduced to one safe path component (a scene name
+    such as ``../../x`` or ``/abs`` cannot write elsewhere), numbered on a clash."""
+    safe = re.sub(r"[^A-Za-z0-9._-]+", "_", scene_name).strip("._") or "scene"
+    base = Path("runs") / f"{safe}-{time.strftime('%Y%m%d-%H%M%S')}"
+    folder, n = base, 1
+    while folder.exists():
+        n += 1
+        folder = base.with_name(f"{base.name}-{n}")
+    return folder
 
 
 def _report(done: SceneRun) -> int:
@@ -137,6 +152,8 @@ def _report(done: SceneRun) -> int:
         if key in outcome.summary:
             print(f"  {key}: {outcome.summary[key]}")
     print(f"  wrote: {', '.join(p.name for p in done.written)}")
+    if done.skipped:
+        print(f"  skipped (interrupted while writing): {', '.join(done.skipped)}")
     if not outcome.completed:
         print(f"freefloat: run stopped early: {outcome.message} (partial results kept in {out})", file=sys.stderr)
         return 1

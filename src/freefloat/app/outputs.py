@@ -5,8 +5,12 @@ from __future__ import annotations
 
 import dataclasses
 import json
+import math
+import os
 import platform
+import shutil
 import sys
+import tempfile
 import time
 from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
@@ -14,6 +18,7 @@ from typing import Callable
 
 from ..errors import FreefloatError
 from .experiments.base import Outcome
+from .run_folder import RunFolder
 from .scenes import MechanismScene, Scene
 
 PACKAGES = ("freefloat", "pin", "numpy", "scipy", "meshcat", "example-robot-data", "yourdfpy")
@@ -37,61 +42,75 @@ def write_report(out: Path, report: dict, markdown: Callable[[dict], str], start
     report["versions"] = versions()
     report["wall_time_s"] = time.perf_counter() - start
     out.mkdir(parents=True, exist_ok=True)
-    (out / "report.json").write_text(json.dumps(report, indent=2))
+    (out / "report.json").write_text(strict_json(report))
     (out / "report.md").write_text(markdown(report))
     return report
 
 
-def prepare_folder(folder: Path) -> None:
-    """Create the output folder before a run and check that files can be written there.
-
-    Raises:
-        FreefloatError: naming the folder when it is a file, sits under one, or is not writable.
-    """
-    try:
-        folder.mkdir(parents=True, exist_ok=True)
-        probe = folder / ".freefloat-write-check"
-        probe.write_bytes(b"")
-        probe.unlink()
-    except OSError as exc:
-        raise FreefloatError(f"output folder '{folder}' cannot be written: {exc.strerror or exc}") from exc
-
-
-def write_run(out_dir: Path, scene: Scene | MechanismScene, outcome: Outcome) -> list[Path]:
+def write_run(folder: RunFolder, scene: Scene | MechanismScene, outcome: Outcome,
+              interrupted: Callable[[], bool] = lambda: False) -> tuple[list[Path], list[str]]:
     """Write ``telemetry.npz`` (with the outcome's names), any further telemetry,
-    ``summary.json`` (summary, scene, provenance, versions), the scene file as run, the figures
-    and ``trajectory.html``.
+    ``summary.json`` (summary, scene, provenance, versions; strict JSON), the scene file as run,
+    the figures and ``trajectory.html``, each file atomically.
 
     Written whatever the run's status, so a diverged or interrupted run keeps what it computed;
-    figures and page need two samples or more. Returns the paths written.
+    figures and page need two samples or more, and are skipped once ``interrupted()`` is true
+    (a second Ctrl-C while writing). Returns the paths written and what was skipped.
     """
-    out_dir.mkdir(parents=True, exist_ok=True)
     tel = outcome.telemetry
-    written = [out_dir / "telemetry.npz"]
-    tel.save(written[0], **outcome.names, scene=scene.name)
+    written = [folder.save("telemetry.npz", tel, **outcome.names, scene=scene.name)]
+    folder.drop_checkpoints()
     for name, extra in outcome.extra_telemetry.items():
-        extra.save(out_dir / f"telemetry_{name}.npz")
-        written.append(out_dir / f"telemetry_{name}.npz")
-    written += _write_provenance(out_dir, scene, outcome.summary, **outcome.provenance)
-    if len(tel.t) >= 2 and scene.output.figures and outcome.figures is not None:
-        written += outcome.figures(out_dir)
-    if len(tel.t) >= 2 and scene.output.html and outcome.page is not None:
-        written.append(outcome.page(out_dir / "trajectory.html", scene.output.html_fps))
-    return written
-
-
-def _write_provenance(out_dir: Path, scene: Scene | MechanismScene, summary: dict[str, object],
-                      **described: dict) -> list[Path]:
-    """``scene.toml`` (the file as run, when there is one) and ``summary.json``: the summary plus
-    the scene, the ``described`` parts (robot or mechanism, settings) and the package versions."""
-    written = []
+        written.append(folder.save(f"telemetry_{name}.npz", extra))
     if scene.source is not None:
-        (out_dir / "scene.toml").write_text(scene.source.read_text())
-        written.append(out_dir / "scene.toml")
-    record = dict(summary)
-    record.update(scene=_jsonable(dataclasses.asdict(scene)), **described, versions=versions())
-    (out_dir / "summary.json").write_text(json.dumps(record, indent=2))
-    return written + [out_dir / "summary.json"]
+        written.append(folder.write_text("scene.toml", scene.source.read_text(errors="replace")))
+    record = dict(outcome.summary)
+    record.update(scene=_jsonable(dataclasses.asdict(scene)), **outcome.provenance, versions=versions())
+    written.append(folder.write_text("summary.json", strict_json(record)))
+    drawings = []
+    if len(tel.t) >= 2 and scene.output.figures and outcome.figures is not None:
+        drawings.append(("figures", lambda into: outcome.figures(into)))
+    if len(tel.t) >= 2 and scene.output.html and outcome.page is not None:
+        drawings.append(("trajectory.html", lambda into: [outcome.page(into / "trajectory.html", scene.output.html_fps)]))
+    skipped = []
+    for what, draw in drawings:
+        if interrupted():
+            skipped.append(what)
+            continue
+        written += _draw(folder, draw)
+    return written, skipped
+
+
+def _draw(folder: RunFolder, draw: Callable[[Path], list[Path]]) -> list[Path]:
+    """Files ``draw(into)`` makes in a private subfolder, each renamed into ``folder`` when all
+    are done (a drawing stopped half-way leaves nothing)."""
+    into = Path(tempfile.mkdtemp(prefix=".drawing-", dir=folder.path))
+    try:
+        made = draw(into)
+        moved = []
+        for path in made:
+            os.replace(path, folder.path / path.name)
+            moved.append(folder.path / path.name)
+        return moved
+    except OSError as exc:
+        raise FreefloatError(f"could not write into '{folder.path}': {exc.strerror or exc}") from exc
+    finally:
+        shutil.rmtree(into, ignore_errors=True)
+
+
+def strict_json(record: dict) -> str:
+    """``record`` as strict JSON (indented): NaN and infinities become null."""
+    return json.dumps(_finite_or_none(record), indent=2, allow_nan=False)
+
+
+def _finite_or_none(value: object) -> object:
+    if isinstance(value, dict):
+        return {k: _finite_or_none(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_finite_or_none(v) for v in value]
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    return value
 
 
 def _jsonable(value: object) -> object:

@@ -1,33 +1,45 @@
 """The one way from a scene to a run folder: pick the scene's experiment, prepare it, run its
 loop under a progress report, write whatever it computed.
 
-The runner owns a run's life cycle. Before anything is simulated the output folder is created
-and checked; a run that diverges, or is interrupted by Ctrl-C, SIGTERM or SIGHUP (what
-``timeout``, batch schedulers and container stops send), ends with the status and message its
-loop gives and keeps every computed sample in the folder.
+The runner owns a run's life cycle:
+
+- before anything is simulated, the scene is prepared (errors name the key) and the output
+  folder is created, locked and checked (:class:`~freefloat.app.run_folder.RunFolder`);
+- while the loop runs, telemetry is checkpointed into the folder chunk by chunk, and SIGTERM and
+  SIGHUP (what ``timeout``, batch schedulers and container stops send) interrupt it as Ctrl-C
+  does: the loop ends with the status and message it gives and keeps every computed sample;
+- a run whose summary is not finite is a failure, whatever its loop said;
+- while the folder is written, a further interrupt skips the drawings still to come instead of
+  losing the telemetry and summary.
 """
 
 from __future__ import annotations
 
 import contextlib
+import math
 import signal
 import threading
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Iterator
+from typing import Any, Callable, Iterator
 
 from .experiments import Outcome, Progress, experiment_for
-from .outputs import prepare_folder, write_run
+from .outputs import write_run
+from .run_folder import RunFolder
 from .scenes import MechanismScene, Scene
+
+#: Signals that stop a run as Ctrl-C (SIGINT) does.
+STOP_SIGNALS = tuple(getattr(signal, name) for name in ("SIGTERM", "SIGHUP") if hasattr(signal, name))
 
 
 @dataclass
 class SceneRun:
-    """A finished run: its outcome and the files written to ``folder``."""
+    """A finished run: its outcome, the files written to ``folder`` and the drawings skipped."""
 
     outcome: Outcome
     folder: Path
     written: list[Path]
+    skipped: list[str]
 
 
 def prepare(scene: Scene | MechanismScene) -> Any:
@@ -44,42 +56,86 @@ def total_steps(scene: Scene | MechanismScene) -> int:
     return experiment_for(scene).steps(scene)
 
 
-def simulate(scene: Scene | MechanismScene, progress: Progress | None = None) -> Outcome:
-    """Prepare and run ``scene``; its outcome, nothing written."""
+def simulate(scene: Scene | MechanismScene, progress: Progress | None = None,
+             checkpoint: Callable[[Any], None] | None = None) -> Outcome:
+    """Prepare and run ``scene``: its outcome, nothing written (``checkpoint`` gets the telemetry
+    chunk by chunk)."""
     experiment = experiment_for(scene)
     setup = experiment.prepare(scene)
-    with interrupts_as_keyboard_interrupt():
-        return experiment.run(setup, progress)
+    with signals_raise_keyboard_interrupt():
+        outcome = experiment.run(setup, progress, checkpoint)
+    return fail_if_not_finite(outcome)
 
 
-def run_scene(scene: Scene | MechanismScene, folder: Path, progress: Progress | None = None) -> SceneRun:
-    """Run ``scene`` and write its folder (telemetry, summary, scene, figures, page) whatever the
+def run_scene(scene: Scene | MechanismScene, folder: Path, progress: Progress | None = None,
+              overwrite: bool = False) -> SceneRun:
+    """Run ``scene`` into ``folder`` (telemetry, summary, scene, figures, page), whatever the
     run's status.
 
     Raises:
         FreefloatError: before anything is simulated, when the scene is wrong (``SceneError``) or
-            the folder cannot be written.
+            the folder cannot be used; after the run, when the disk refuses a file.
     """
-    prepare_folder(folder)
-    outcome = simulate(scene, progress)
-    return SceneRun(outcome, folder, write_run(folder, scene, outcome))
+    experiment = experiment_for(scene)
+    setup = experiment.prepare(scene)
+    with RunFolder(folder, overwrite) as out:
+        with signals_raise_keyboard_interrupt():
+            outcome = fail_if_not_finite(experiment.run(setup, progress, out.checkpoint))
+        with signals_deferred() as interrupted:
+            written, skipped = write_run(out, scene, outcome, interrupted.is_set)
+    return SceneRun(outcome, folder, written, skipped)
+
+
+def fail_if_not_finite(outcome: Outcome) -> Outcome:
+    """``outcome``, marked ``"diverged"`` when a number of its summary is NaN or infinite (the
+    state left the range where its numbers mean anything)."""
+    bad = [key for key, value in outcome.summary.items() if not _finite(value)]
+    if bad and outcome.status in ("completed", "stopped"):
+        outcome.status = "diverged"
+        outcome.message = f"non-finite results: {', '.join(bad)}"
+        outcome.summary.update(status=outcome.status, message=outcome.message)
+    return outcome
+
+
+def _finite(value: object) -> bool:
+    if isinstance(value, float):
+        return math.isfinite(value)
+    if isinstance(value, (list, tuple)):
+        return all(_finite(v) for v in value)
+    if isinstance(value, dict):
+        return all(_finite(v) for v in value.values())
+    return True
 
 
 @contextlib.contextmanager
-def interrupts_as_keyboard_interrupt() -> Iterator[None]:
-    """SIGTERM and SIGHUP raise ``KeyboardInterrupt`` inside the block, as Ctrl-C does, so that a
-    loop stopped by either keeps what it computed (main thread only; elsewhere a no-op)."""
-    if threading.current_thread() is not threading.main_thread():
-        yield
-        return
+def signals_raise_keyboard_interrupt() -> Iterator[None]:
+    """SIGTERM and SIGHUP raise ``KeyboardInterrupt`` inside the block, as Ctrl-C does."""
 
     def interrupt(signum: int, frame: object) -> None:
         raise KeyboardInterrupt(signal.Signals(signum).name)
 
-    names = [name for name in ("SIGTERM", "SIGHUP") if hasattr(signal, name)]
-    previous = {name: signal.signal(getattr(signal, name), interrupt) for name in names}
+    with _handling(interrupt, STOP_SIGNALS):
+        yield
+
+
+@contextlib.contextmanager
+def signals_deferred() -> Iterator[threading.Event]:
+    """Ctrl-C, SIGTERM and SIGHUP set the yielded event inside the block instead of stopping
+    the process there."""
+    received = threading.Event()
+    with _handling(lambda signum, frame: received.set(), (signal.SIGINT, *STOP_SIGNALS)):
+        yield received
+
+
+@contextlib.contextmanager
+def _handling(handler: Callable[[int, object], None], signums: tuple[int, ...]) -> Iterator[None]:
+    """``handler`` for ``signums`` inside the block (main thread only; elsewhere a no-op)."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous = {signum: signal.signal(signum, handler) for signum in signums}
     try:
         yield
     finally:
-        for name, handler in previous.items():
-            signal.signal(getattr(signal, name), handler)
+        for signum, old in previous.items():
+            signal.signal(signum, old)

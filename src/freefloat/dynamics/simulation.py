@@ -9,20 +9,25 @@ from typing import Callable, Protocol
 import numpy as np
 import pinocchio as pin
 
-from ..errors import SimulationDiverged
+from ..errors import InvalidArgument, SimulationDiverged
 from ..robot.conventions import momentum_about_origin
 from ..robot.joints import JointCoordinates
 from ..robot.loading import BASE_COM_FRAME
 from ..robot.robot import Robot
+from ..robot.state import check_state
 from .integrators import Integrator
 from .models import DynamicsModel
-from .telemetry import Telemetry
+from .telemetry import Chunks, Telemetry
 from .wrenches import ExternalWrench, WrenchField
 
-__all__ = ["MAX_SPEED", "Controller", "Recorder", "RunResult", "run"]
+__all__ = ["CHUNK_ROWS", "MAX_POSITION", "MAX_SPEED", "Controller", "Recorder", "RunResult", "control_periods", "run"]
 
 #: A generalized velocity component above this (m/s or rad/s) counts as a blow-up.
 MAX_SPEED = 1e6
+#: A configuration coordinate above this (m) counts as a blow-up.
+MAX_POSITION = 1e12
+#: Telemetry rows per chunk (what ``checkpoint`` receives at a time).
+CHUNK_ROWS = 1024
 
 
 class Controller(Protocol):
@@ -107,6 +112,7 @@ def run(
     progress: Callable[[int], None] | None = None,
     stop: Callable[[float, np.ndarray, np.ndarray], bool] | None = None,
     start_time: float = 0.0,
+    checkpoint: Callable[[Telemetry], None] | None = None,
 ) -> RunResult:
     """Simulate ``duration`` s in control periods of ``control_period`` s.
 
@@ -129,15 +135,20 @@ def run(
         stop: ``stop(t, q, v)`` after each period; True ends the run there with status
             ``"stopped"`` (an event such as a contact, not a failure).
         start_time: time of the first sample, s (to chain runs, e.g. one per model phase).
+        checkpoint: called with every chunk of :data:`CHUNK_ROWS` telemetry rows as it fills
+            and with the last rows when the run ends (e.g. to save them as the run goes).
+
+    Raises:
+        InvalidArgument: for a state of the wrong size or not finite, a non-unit base quaternion,
+            or a duration that is not a positive whole number of control periods.
     """
-    steps = int(round(duration / control_period))
-    if steps < 1 or abs(steps * control_period - duration) > 1e-9 * duration:
-        raise ValueError(
-            f"duration {duration} s must be a positive whole number of control periods ({control_period} s)"
-        )
-    rows = steps // record_every + 1 + (steps % record_every != 0)
-    tel = Telemetry.allocate(rows, robot.model.nq, robot.model.nv, robot.n_joints, len(robot.end_effectors))
-    recorder = Recorder(robot, tel)
+    steps = control_periods(duration, control_period)
+    check_state(robot, q0, v0)
+    if not (isinstance(record_every, int) and record_every >= 1):
+        raise InvalidArgument(f"record_every must be an integer >= 1, got {record_every!r}")
+    shape = (robot.model.nq, robot.model.nv, robot.n_joints, len(robot.end_effectors))
+    rows = Chunks(lambda n: Telemetry.allocate(n, *shape), CHUNK_ROWS, checkpoint)
+    recorder = Recorder(robot, rows.current)
     nb = robot.n_base
     tau_full = np.zeros(robot.model.nv)
     field = WrenchField(robot, wrenches) if wrenches else None
@@ -149,7 +160,7 @@ def run(
     def free_dynamics(qs: np.ndarray, vs: np.ndarray) -> np.ndarray:
         return model.acceleration(qs, vs, tau_full)  # tau_full is updated in place each period
 
-    q, v, work, row, k = np.array(q0, dtype=float), np.array(v0, dtype=float), 0.0, 0, 0
+    q, v, work, k = np.array(q0, dtype=float), np.array(v0, dtype=float), 0.0, 0
     status, message = "completed", ""
     tau = np.zeros(robot.n_joints)
     start = time.perf_counter()
@@ -160,8 +171,8 @@ def run(
                 tau = controller.torque(t, q, v)
                 tau_full[nb:] = tau
             if k % record_every == 0:
+                recorder.tel, row = rows.next_row()
                 recorder.record(row, t, q, v, tau, reference(t), work)
-                row += 1
             if field is not None and field.activate(t):
                 f = lambda qs, vs: model.acceleration(qs, vs, tau_full, field.forces(qs))  # noqa: E731
             else:
@@ -171,6 +182,11 @@ def run(
                 raise SimulationDiverged(
                     f"state blew up at t = {t + control_period:.6g} s (step {k + 1}): "
                     f"max |v| = {np.abs(v_next).max():.3g} (limit {MAX_SPEED:g})"
+                )
+            if not np.abs(q_next).max() < MAX_POSITION:
+                raise SimulationDiverged(
+                    f"configuration left the finite range at t = {t + control_period:.6g} s (step {k + 1}): "
+                    f"max |q| = {np.abs(q_next).max():.3g} (limit {MAX_POSITION:g})"
                 )
             work += float(tau @ pin.difference(robot.model, q, q_next)[nb:])
             if end_period is not None:
@@ -192,7 +208,25 @@ def run(
         status, message = "diverged", f"at t = {start_time + k * control_period:.6g} s: {exc}"
     else:
         t = start_time + k * control_period
+        recorder.tel, row = rows.next_row()
         recorder.record(row, t, q, v, tau, reference(t), work)
-        row += 1
     wall = time.perf_counter() - start
-    return RunResult(tel.truncated(row), status, message, k, wall, integrator.evaluations())
+    return RunResult(rows.collect(), status, message, k, wall, integrator.evaluations())
+
+
+def control_periods(duration: float, control_period: float) -> int:
+    """Control periods in ``duration`` s.
+
+    Raises:
+        InvalidArgument: unless both are positive and finite and ``duration`` is a whole number of
+            periods.
+    """
+    if not (np.isfinite(duration) and np.isfinite(control_period) and duration > 0 and control_period > 0):
+        raise InvalidArgument(f"duration ({duration} s) and control_period ({control_period} s) must be positive "
+                             "and finite")
+    steps = int(round(duration / control_period))
+    if steps < 1 or abs(steps * control_period - duration) > 1e-9 * duration:
+        raise InvalidArgument(
+            f"duration {duration} s must be a positive whole number of control periods ({control_period} s)"
+        )
+    return steps

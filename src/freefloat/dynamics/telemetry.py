@@ -3,9 +3,10 @@ saved as ``.npz``."""
 
 from __future__ import annotations
 
+import os
 from dataclasses import dataclass, fields
 from pathlib import Path
-from typing import TypeVar
+from typing import Callable, Generic, TypeVar
 
 import numpy as np
 
@@ -20,16 +21,78 @@ class Arrays:
         return type(self)(**{f.name: getattr(self, f.name)[:rows] for f in fields(self)})
 
     def save(self, path: str | Path, **metadata: object) -> None:
-        """Write all arrays to ``path`` (.npz); ``metadata`` values are stored as arrays too."""
+        """Write all arrays to ``path`` (.npz); ``metadata`` values are stored as arrays too.
+
+        The file is written under a temporary name and renamed into place, so ``path`` is never
+        a half-written file, whatever stops the process."""
+        path = Path(path)
         arrays = {f.name: getattr(self, f.name) for f in fields(self)}
         arrays.update({f"meta_{k}": np.asarray(v) for k, v in metadata.items()})
-        np.savez_compressed(path, **arrays)
+        partial = path.with_name(f".{path.name}.partial")
+        with open(partial, "wb") as file:
+            np.savez_compressed(file, **arrays)
+        os.replace(partial, path)
 
     @classmethod
     def load(cls: type[A], path: str | Path) -> A:
         """Read a file written by :meth:`save` (metadata is ignored)."""
         with np.load(path) as data:
             return cls(**{f.name: data[f.name] for f in fields(cls)})
+
+    @classmethod
+    def concatenate(cls: type[A], parts: list[A]) -> A:
+        """The samples of ``parts``, in order, as one (parts must not be empty)."""
+        return cls(**{f.name: np.concatenate([getattr(p, f.name) for p in parts]) for f in fields(cls)})
+
+    @classmethod
+    def load_parts(cls: type[A], folder: str | Path) -> A:
+        """Every sample saved part by part in ``folder`` (``part-00000.npz``, ...; see
+        :class:`Chunks`): what a run that was killed had checkpointed.
+
+        Raises:
+            FileNotFoundError: when ``folder`` holds no part.
+        """
+        parts = sorted(Path(folder).glob("part-*.npz"))
+        if not parts:
+            raise FileNotFoundError(f"{folder}: no telemetry part (part-*.npz)")
+        return cls.concatenate([cls.load(p) for p in parts])
+
+
+class Chunks(Generic[A]):
+    """Samples recorded chunk by chunk instead of in one whole-run allocation: memory grows with
+    what was recorded, and every full chunk is handed to ``on_chunk`` (e.g. saved to disk) as the
+    run goes.
+
+    Args:
+        allocate: ``allocate(rows)``: an empty chunk of ``rows`` samples.
+        rows: samples per chunk.
+        on_chunk: called with each full chunk, in order.
+    """
+
+    def __init__(self, allocate: Callable[[int], A], rows: int = 1024,
+                 on_chunk: Callable[[A], None] | None = None):
+        self.allocate, self.rows, self.on_chunk = allocate, rows, on_chunk
+        self.done: list[A] = []
+        self.current = allocate(rows)
+        self.used = 0
+
+    def next_row(self) -> tuple[A, int]:
+        """The chunk and row index to write the next sample into."""
+        if self.used == self.rows:
+            self.done.append(self.current)
+            if self.on_chunk is not None:
+                self.on_chunk(self.current)
+            self.current, self.used = self.allocate(self.rows), 0
+        self.used += 1
+        return self.current, self.used - 1
+
+    def collect(self) -> A:
+        """All samples recorded, in order; the last chunk (possibly partial) goes to
+        ``on_chunk`` too."""
+        last = self.current.truncated(self.used)
+        if self.on_chunk is not None and self.used:
+            self.on_chunk(last)
+        return type(last).concatenate([*self.done, last])
 
 
 @dataclass

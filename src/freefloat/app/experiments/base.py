@@ -10,6 +10,8 @@ from ...dynamics.telemetry import Arrays
 
 #: ``progress(k)``: called with the number of steps done, about 200 times per run.
 Progress = Callable[[int], None]
+#: ``checkpoint(chunk)``: called with the telemetry, chunk by chunk, as the run goes.
+Checkpoint = Callable[[Arrays], None]
 
 
 @dataclass
@@ -63,12 +65,12 @@ class Experiment:
         prepare: ``prepare(scene) -> setup``: everything resolved before the loop (files,
             robot or mechanism, initial state, controller); raises ``SceneError`` naming the key.
         steps: ``steps(scene) -> int``: how many steps ``progress`` counts to.
-        run: ``run(setup, progress) -> Outcome``: the loop, its summary and its drawings; a run
-            that diverges or is interrupted returns what it computed.
+        run: ``run(setup, progress, checkpoint) -> Outcome``: the loop, its summary and its
+            drawings; a run that diverges or is interrupted returns what it computed.
     """
 
     kind: str
     description: str
     prepare: Callable[[Any], Any]
     steps: Callable[[Any], int]
-    run: Callable[[Any, Progress | None], Outcome]
+    run: Callable[[Any, Progress | None, Checkpoint | None], Outcome]

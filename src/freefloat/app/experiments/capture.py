@@ -17,7 +17,7 @@ from ...dynamics.simulation import RunResult
 from ...errors import SceneError
 from ...space.capture import Target, capture_and_detumble
 from ..scenes import Scene
-from .base import Experiment, Outcome, Progress
+from .base import Checkpoint, Experiment, Outcome, Progress
 from .detumbling import detumble_task, mission_joints, rows_spec
 from .robot_run import RobotSetup, control_steps, prepare_robot, robot_outcome
 
@@ -54,9 +54,10 @@ def prepare(scene: Scene) -> CaptureSetup:
     return CaptureSetup(**vars(setup), target=target)
 
 
-def run(setup: CaptureSetup, progress: Progress | None = None) -> Outcome:
+def run(setup: CaptureSetup, progress: Progress | None = None, checkpoint: Checkpoint | None = None) -> Outcome:
     """Approach, grasp and detumbling; the summary of the post-capture run with the grasp's
-    momentum balance; the animation of both phases with the target."""
+    momentum balance; the animation of both phases with the target. (The capture runs as one
+    call: no progress report nor checkpoints.)"""
     scene, robot = setup.scene, setup.robot
     tg, sim, ctrl = scene.target, scene.simulation, scene.controller
     start = time.perf_counter()

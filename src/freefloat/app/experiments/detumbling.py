@@ -16,7 +16,7 @@ from ...robot.robot import Robot
 from ...space.control.detumbling_control import DetumblingController
 from ...space.detumbling import joint_indices, task_rows
 from ..scenes import Scene
-from .base import Experiment, Outcome, Progress
+from .base import Checkpoint, Experiment, Outcome, Progress
 from .robot_run import RobotSetup, control_steps, prepare_robot, robot_outcome, simulate, summary_of
 
 
@@ -36,9 +36,9 @@ def prepare(scene: Scene) -> RobotSetup:
     return setup
 
 
-def run(setup: RobotSetup, progress: Progress | None = None) -> Outcome:
+def run(setup: RobotSetup, progress: Progress | None = None, checkpoint: Checkpoint | None = None) -> Outcome:
     """The loop, the summary with the detumbled rows' speed and settling time, the drawings."""
-    result = simulate(setup, progress)
+    result = simulate(setup, progress, checkpoint)
     task: dict[str, Any] = {}
     if len(result.telemetry.t):
         task = detumble_summary(setup.robot, result.telemetry, detumble_task(setup.robot, setup.scene)[0])

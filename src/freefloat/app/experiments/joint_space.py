@@ -7,7 +7,7 @@ from __future__ import annotations
 from ...errors import SceneError
 from ...space.control import ComputedTorque, QuinticTrajectory
 from ..scenes import Scene
-from .base import Experiment, Outcome, Progress
+from .base import Checkpoint, Experiment, Outcome, Progress
 from .robot_run import (
     RobotSetup,
     control_steps,
@@ -40,9 +40,9 @@ def prepare(scene: Scene) -> RobotSetup:
     return setup
 
 
-def run(setup: RobotSetup, progress: Progress | None = None) -> Outcome:
+def run(setup: RobotSetup, progress: Progress | None = None, checkpoint: Checkpoint | None = None) -> Outcome:
     """The loop, the summary (tracking, drifts, base motion) and the run's drawings."""
-    result = simulate(setup, progress)
+    result = simulate(setup, progress, checkpoint)
     return robot_outcome(setup, setup.robot, result.telemetry, result, summary_of(setup, result))
 
 

@@ -22,7 +22,7 @@ from ...parallel.platform_control import CircleReference, printed_gains
 from ...parallel.registry import REGISTRY, MechanismSetup
 from ...parallel.sliding_mode import PlatformControl
 from ..scenes import MechanismScene, resolve_file
-from .base import Experiment, Outcome, Progress
+from .base import Checkpoint, Experiment, Outcome, Progress
 
 
 @dataclass
@@ -95,7 +95,8 @@ def _pair(where: str, key: str, p: int) -> tuple[int, int]:
     return i, j
 
 
-def run(prepared: PreparedMechanism, progress: Progress | None = None) -> Outcome:
+def run(prepared: PreparedMechanism, progress: Progress | None = None,
+        checkpoint: Checkpoint | None = None) -> Outcome:
     """The mechanism's loop, its summary and its drawings.
 
     A run that blows up (loop-closure residual above 1 m or not finite, or a singular solve) or
@@ -103,6 +104,7 @@ def run(prepared: PreparedMechanism, progress: Progress | None = None) -> Outcom
 
     Args:
         progress: called with the number of steps started, about 200 times per run.
+        checkpoint: called with the telemetry of every :data:`CHUNK_STEPS` steps started.
     """
     scene = prepared.scene
     sim, plant, controller = scene.simulation, prepared.setup.plant, prepared.controller
@@ -115,6 +117,8 @@ def run(prepared: PreparedMechanism, progress: Progress | None = None) -> Outcom
         log.append((t, q.copy(), u))
         if progress is not None and len(log) % report_every == 0:
             progress(len(log))
+        if checkpoint is not None and len(log) % CHUNK_STEPS == 0:
+            checkpoint(_recorded(controller, plant, log[-CHUNK_STEPS:]))
         return u
 
     status, message = "completed", ""
@@ -122,22 +126,21 @@ def run(prepared: PreparedMechanism, progress: Progress | None = None) -> Outcom
     try:
         t, q, drift = simulate(plant, prepared.q0, prepared.qd0, efforts, sim.duration, sim.step, sim.baumgarte,
                                sim.integrator)
+        wall = time.perf_counter() - start
+        efforts_held = np.array([row[2] for row in log]).reshape(-1, len(plant.actuated))
+        telemetry = record(controller, plant, t, q, efforts_held, drift)
         if len(t) < steps + 1:
             status = "diverged"
             message = (f"loop-closure residual {drift[-1]:.3g} m at t = {t[-1]:.6g} s (step {len(t) - 1}): "
                        "the mechanism came apart")
     except (KeyboardInterrupt, np.linalg.LinAlgError) as exc:
+        wall = time.perf_counter() - start
         at = log[-1][0] if log else 0.0
         status, message = (("interrupted", f"interrupted by the user at t = {at:.6g} s")
                            if isinstance(exc, KeyboardInterrupt) else ("diverged", f"at t = {at:.6g} s: {exc}"))
-        t = np.array([row[0] for row in log])
-        q = np.array([row[1] for row in log]).reshape(-1, len(prepared.q0))
-        drift = np.array([np.abs(plant.constraint(qk)).max() for qk in q])
-    wall = time.perf_counter() - start
-    efforts_held = np.array([row[2] for row in log]).reshape(-1, len(plant.actuated))
-    telemetry = record(controller, plant, t, q, efforts_held, drift)
+        telemetry = _recorded(controller, plant, log, len(prepared.q0))
     summary = summarize_mechanism(telemetry, scene.metrics.reaching_phase)
-    steps_done = max(len(t) - 1, 0)
+    steps_done = max(len(telemetry.t) - 1, 0)
     summary.update(status=status, message=message, steps=steps_done, sim_wall_time_s=wall)
     return outcome(prepared, telemetry, status, message, steps_done, wall, summary)
 
@@ -179,6 +182,15 @@ def integration_steps(scene: MechanismScene) -> int:
     return round(scene.simulation.duration / scene.simulation.step)
 
 
+def _recorded(controller: PlatformControl, plant: ParallelMechanism,
+              rows: list[tuple[float, np.ndarray, np.ndarray]], n_q: int | None = None) -> MechanismTelemetry:
+    """Telemetry of logged ``(t_k, q_k, efforts held from t_k)`` rows, drift recomputed."""
+    q = np.array([row[1] for row in rows]).reshape(-1, n_q or len(rows[0][1]))
+    drift = np.array([np.abs(plant.constraint(qk)).max() for qk in q])
+    efforts = np.array([row[2] for row in rows]).reshape(-1, len(plant.actuated))
+    return record(controller, plant, np.array([row[0] for row in rows]), q, efforts, drift)
+
+
 def record(controller: PlatformControl, plant: ParallelMechanism, t: np.ndarray, q: np.ndarray,
            efforts: np.ndarray, drift: np.ndarray) -> MechanismTelemetry:
     """Telemetry rows from times (N,), the plant's coordinates (N, n_q), the efforts of the steps
@@ -212,6 +224,9 @@ def summarize_mechanism(telemetry: MechanismTelemetry, reaching_phase: float) ->
         "peak_efforts": np.abs(finite_efforts).max(axis=0).tolist() if len(finite_efforts) else None,
     }
 
+
+#: Steps of telemetry per checkpoint.
+CHUNK_STEPS = 1024
 
 #: Summary keys the command line prints for a mechanism run.
 HEADLINE = ("tracking_error_max", "tracking_error_rms", "loop_closure_drift_max", "orientation_drift_max",

@@ -21,7 +21,7 @@ from ...robot.joints import JointCoordinates
 from ...robot.loading import load_robot
 from ...robot.robot import Robot
 from ..scenes import Scene, resolve_file
-from .base import Outcome, Progress
+from .base import Checkpoint, Outcome, Progress
 
 #: Summary keys the command line prints for a robot run.
 HEADLINE = ("tracking_rms_overall", "com_drift_max", "momentum_drift_max", "energy_drift_max", "base_displacement")
@@ -118,11 +118,12 @@ def control_steps(scene: Scene) -> int:
     return round(scene.simulation.duration / scene.simulation.control_period)
 
 
-def simulate(setup: RobotSetup, progress: Progress | None) -> RunResult:
+def simulate(setup: RobotSetup, progress: Progress | None, checkpoint: Checkpoint | None) -> RunResult:
     """The scene's loop: :func:`freefloat.dynamics.simulation.run` over its duration."""
     sim = setup.scene.simulation
     return run(setup.robot, setup.q0, setup.v0, sim.duration, sim.control_period, setup.integrator, setup.model,
-               setup.controller, wrenches=setup.wrenches, record_every=sim.record_every, progress=progress)
+               setup.controller, wrenches=setup.wrenches, record_every=sim.record_every, progress=progress,
+               checkpoint=checkpoint)
 
 
 def summary_of(setup: RobotSetup, result: RunResult, **task: Any) -> dict[str, Any]:

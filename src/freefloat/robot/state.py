@@ -1,0 +1,42 @@
+"""Checks of a robot state (Pinocchio q, v) handed to freefloat's public functions."""
+
+from __future__ import annotations
+
+import numpy as np
+import pinocchio as pin
+
+from ..errors import InvalidArgument
+from .robot import Robot
+
+#: How far the unit-norm blocks of q (base quaternion, planar and continuous-joint (cos, sin))
+#: may be from norm 1.
+UNIT_TOLERANCE = 1e-6
+
+
+def check_state(robot: Robot, q: np.ndarray, v: np.ndarray | None = None) -> None:
+    """Check a configuration ``q`` (nq,) and velocity ``v`` (nv,) in Pinocchio's convention.
+
+    Raises:
+        InvalidArgument: naming ``q`` or ``v`` when the size is wrong, a value is not finite, or
+            a unit-norm block (the free-flyer quaternion [qx, qy, qz, qw], the planar base's and
+            continuous joints' (cos, sin)) is not of norm 1.
+    """
+    model = robot.model
+    q = np.asarray(q, dtype=float)
+    if q.shape != (model.nq,):
+        raise InvalidArgument(f"q must have shape ({model.nq},) for '{robot.urdf_path.name}', got {q.shape}")
+    if not np.isfinite(q).all():
+        raise InvalidArgument(f"q has non-finite entries at {np.flatnonzero(~np.isfinite(q)).tolist()}")
+    error = np.abs(pin.normalize(model, q) - q).max() if model.nq else 0.0
+    if error > UNIT_TOLERANCE:
+        raise InvalidArgument(
+            f"q's unit-norm blocks (base quaternion or (cos, sin) pairs) are off norm 1 by up to {error:.3g}; "
+            "normalise them (pinocchio.normalize) or build q with freefloat.robot.conventions.state_from_base"
+        )
+    if v is None:
+        return
+    v = np.asarray(v, dtype=float)
+    if v.shape != (model.nv,):
+        raise InvalidArgument(f"v must have shape ({model.nv},) for '{robot.urdf_path.name}', got {v.shape}")
+    if not np.isfinite(v).all():
+        raise InvalidArgument(f"v has non-finite entries at {np.flatnonzero(~np.isfinite(v)).tolist()}")
