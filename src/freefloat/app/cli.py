@@ -4,13 +4,14 @@
 from __future__ import annotations
 
 import argparse
+import contextlib
 import re
 import sys
 import time
 import warnings
 from importlib.metadata import version
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Iterator
 
 from tqdm import tqdm
 
@@ -102,8 +103,7 @@ def _verify(args: argparse.Namespace) -> int:
 
     if args.samples < 1:
         raise FreefloatError(f"--samples must be >= 1, got {args.samples}")
-    with warnings.catch_warnings():
-        warnings.simplefilter("default")
+    with one_line_warnings():
         robot = load_robot(args.urdf, visuals=False)
     report = check_robot(robot, samples=args.samples, seed=args.seed)
     print(report.table())
@@ -124,8 +124,7 @@ def _simulate(args: argparse.Namespace) -> int:
                                      html=scene.output.html and not args.no_html)
         scene = dataclasses.replace(scene, output=output)
     out = args.out or default_folder(scene.name)
-    with warnings.catch_warnings():
-        warnings.simplefilter("default")
+    with one_line_warnings():
         with tqdm(total=total_steps(scene), desc=scene.name, unit="step", disable=args.quiet) as bar:
             done = run_scene(scene, out, progress=lambda k: bar.update(k - bar.n), overwrite=args.overwrite)
     return _report(done)
@@ -141,6 +140,20 @@ def default_folder(scene_name: str) -> Path:
         n += 1
         folder = base.with_name(f"{base.name}-{n}")
     return folder
+
+
+@contextlib.contextmanager
+def one_line_warnings() -> Iterator[None]:
+    """Each warning shown once, as one line ``freefloat: warning: ...`` (no source line)."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("default")
+        shown = warnings.showwarning
+        warnings.showwarning = lambda message, *args, **kwargs: print(f"freefloat: warning: {message}",
+                                                                      file=sys.stderr)
+        try:
+            yield
+        finally:
+            warnings.showwarning = shown
 
 
 def _report(done: SceneRun) -> int:

@@ -20,6 +20,14 @@ import yourdfpy
 
 from ..errors import RobotModelError
 from .robot import BASE_DOFS, Arm, Robot
+from .urdf_checks import (
+    check_joints,
+    check_mass_matrix,
+    check_numbers,
+    compare_parses,
+    physics_notes,
+    read_urdf,
+)
 
 MOVABLE = {"revolute", "continuous", "prismatic"}
 SUPPORTED = MOVABLE | {"fixed"}
@@ -70,24 +78,36 @@ def load_robot(
     path = Path(path)
     if base not in BASE_DOFS:
         raise RobotModelError(f"base must be one of {sorted(BASE_DOFS)}, got {base!r}")
+    if isinstance(end_effectors, str):
+        raise RobotModelError(f"end_effectors must be a list of link names, got the string {end_effectors!r}; "
+                              f"write [{end_effectors!r}]")
     if not path.is_file():
         raise RobotModelError(f"{path}: no such URDF file")
+    tree = read_urdf(path)
+    check_numbers(path, tree)
+    check_joints(path, tree)
     try:
         urdf = yourdfpy.URDF.load(str(path), build_scene_graph=False, load_meshes=False)
-    except Exception as exc:  # yourdfpy raises many types on malformed XML
-        raise RobotModelError(f"{path}: not a readable URDF ({exc})") from exc
+    except (Exception, RecursionError) as exc:  # yourdfpy raises many types on malformed URDFs
+        raise RobotModelError(f"{path}: not a readable URDF ({type(exc).__name__}: {exc})") from exc
 
     notes: list[str] = []
     root = _check_tree(path, urdf.robot)
     _check_inertias(path, urdf.robot, root, notes)
-    xml, unlimited = _pinocchio_xml(path)
+    notes += physics_notes(path, urdf.robot)
+    xml, unlimited = _pinocchio_xml(tree)
     if unlimited:
         notes.append(
             f"{path.name}: joints {', '.join(unlimited)} have no <limit>; loaded as unbounded"
         )
 
     root_joint = pin.JointModelFreeFlyer() if base == "free" else pin.JointModelPlanar()
-    model = pin.buildModelFromXML(xml, root_joint, ROOT_JOINT_NAME)
+    try:
+        model = pin.buildModelFromXML(xml, root_joint, ROOT_JOINT_NAME)
+    except (RuntimeError, ValueError) as exc:
+        raise RobotModelError(f"{path}: Pinocchio's URDF parser refuses it ({exc})") from exc
+    compare_parses(path, model, urdf.robot)
+    notes += check_mass_matrix(path, model)
     model.gravity = pin.Motion(np.asarray(gravity, dtype=float), np.zeros(3))
 
     base_inertial = urdf.link_map[root].inertial
@@ -196,7 +216,7 @@ def _check_inertias(path: Path, robot: yourdfpy.Robot, root: str, notes: list[st
         if link.name == root and mass <= 0.0:
             notes.append(
                 f"{path.name}: root link '{root}' has no mass; the base reference point is its "
-                "<inertial> origin and the free-floating mass matrix is singular"
+                "<inertial> origin"
             )
     if singular:
         notes.append(
@@ -205,17 +225,16 @@ def _check_inertias(path: Path, robot: yourdfpy.Robot, root: str, notes: list[st
         )
 
 
-def _pinocchio_xml(path: Path) -> tuple[str, list[str]]:
+def _pinocchio_xml(root: ET.Element) -> tuple[str, list[str]]:
     """URDF text for Pinocchio, with a wide ``<limit>`` added where urdfdom requires one."""
-    tree = ET.parse(path)
     unlimited = []
-    for joint in tree.getroot().iter("joint"):
+    for joint in root.iter("joint"):
         if joint.get("type") in ("revolute", "prismatic") and joint.find("limit") is None:
             ET.SubElement(
                 joint, "limit", lower="-1e9", upper="1e9", effort="1e9", velocity="1e9"
             )
             unlimited.append(joint.get("name"))
-    return ET.tostring(tree.getroot(), encoding="unicode"), unlimited
+    return ET.tostring(root, encoding="unicode"), unlimited
 
 
 def _visual_model(path: Path, model: pin.Model, xml: str, notes: list[str]) -> pin.GeometryModel | None:
