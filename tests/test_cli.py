@@ -205,3 +205,47 @@ def test_a_second_run_into_the_same_out_needs_overwrite(tmp_path, capsys):
     assert main(args) == 2 and "--overwrite" in capsys.readouterr().err
     assert main([*args, "--overwrite"]) == 0
     assert not (tmp_path / "out" / "stale.png").exists() and (tmp_path / "out" / "telemetry.npz").is_file()
+
+
+@pytest.mark.parametrize(("extra", "message"), [(["--seed", "-1"], "--seed must be >= 0"),
+                                                 (["--json", "."], "must be a file in an existing folder"),
+                                                 (["--json", "no/such/dir/v.json"], "must be a file in an existing folder")])
+def test_verify_arguments_are_checked_before_it_runs(extra, message, capsys):
+    """Bad verify arguments exit 2 naming the option, not a traceback after the checks."""
+    assert main(["verify", str(URDF_DIR / "two_arm_planar.urdf"), *extra]) == 2
+    assert message in capsys.readouterr().err
+
+
+@pytest.mark.parametrize(("section", "values", "message"), [
+    ("simulation", {"duration": 1.0005}, "'simulation.duration' \\(1.0005 s\\) must be a whole number of 'simulation.control_period'"),
+    ("output", {"html_fps": 1e12}, "'output.html_fps' is 1000000000000.0; at most 1000"),
+    ("simulation", {"duration": 1e9}, "needs about .* GB of telemetry"),
+    ("simulation", {"duration": 100.0, "substeps": 1_000_000_000}, "estimated at .* h"),
+])
+def test_runs_too_big_or_impossible_are_refused_before_they_start(tmp_path, capsys, section, values, message):
+    """Durations off the period grid, absurd frame rates, runs that would not fit in memory or
+    would take more than a day exit 2 at once, naming the keys and the estimate."""
+    import re
+    import time
+
+    scene = scene_variant(tmp_path / "s.toml", DEFAULT_SCENE, **{section: values})
+    start = time.perf_counter()
+    assert main(["simulate", str(scene), "--out", str(tmp_path / "out"), "--quiet"]) == 2
+    assert re.search(message, capsys.readouterr().err)
+    assert time.perf_counter() - start < 30 and not (tmp_path / "out").exists()
+
+
+def test_a_scene_with_robot_and_mechanism_is_refused(tmp_path, capsys):
+    """Both [robot] and [mechanism] in one file: the message says a scene has one or the other."""
+    scene = tmp_path / "s.toml"
+    scene.write_text('name = "x"\n[robot]\nurdf = "a.urdf"\n[mechanism]\nname = "five_bar"\n')
+    assert main(["simulate", str(scene)]) == 2
+    assert "either [robot]" in capsys.readouterr().err
+
+
+def test_a_scene_file_that_is_not_utf8_is_named(tmp_path, capsys):
+    """A scene in another encoding exits 2 naming the file."""
+    scene = tmp_path / "s.toml"
+    scene.write_bytes('name = "é"\n'.encode("latin-1"))
+    assert main(["simulate", str(scene)]) == 2
+    assert "not UTF-8" in capsys.readouterr().err

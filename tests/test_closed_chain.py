@@ -146,3 +146,29 @@ def test_chains_read_from_a_tree_match_pinocchio(seed, n):
     np.testing.assert_allclose(v + g, rnea, atol=1e-9 * max(1.0, np.abs(rnea).max()))
     pin.framesForwardKinematics(model, data, q)
     np.testing.assert_allclose(chain.tip(q), data.oMf[model.getFrameId("tip")].translation, atol=1e-12)
+
+
+@pytest.mark.parametrize(("edit", "message"), [
+    (lambda s: s.update(actuated="crank_left"), "'actuated' must be a list of joint names"),
+    (lambda s: s.update(platform=3), "'platform' must be a table"),
+    (lambda s: s["closures"].__setitem__(0, "oops"), r"'closures\[0\]' must be a table"),
+    (lambda s: s.update(gravity=[0.0, "down", 0.0]), "'gravity' must be three finite numbers"),
+])
+def test_closure_files_of_the_wrong_types_are_named(tmp_path, edit, message):
+    """A closure file whose keys have the wrong types is refused naming the key, not an
+    AttributeError."""
+    import shutil
+    import tomllib
+
+    from freefloat import FreefloatError
+    from freefloat.parallel.closed_chain import read_closures
+    from freefloat.paths import URDF_DIR
+
+    from .conftest import toml_text
+
+    spec = tomllib.loads((URDF_DIR / "five_bar.closure.toml").read_text())
+    edit(spec)
+    shutil.copy(URDF_DIR / "five_bar.urdf", tmp_path / "five_bar.urdf")
+    (tmp_path / "c.toml").write_text(toml_text(spec))
+    with pytest.raises(FreefloatError, match=message):
+        read_closures(tmp_path / "c.toml")

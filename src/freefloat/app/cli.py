@@ -103,12 +103,19 @@ def _verify(args: argparse.Namespace) -> int:
 
     if args.samples < 1:
         raise FreefloatError(f"--samples must be >= 1, got {args.samples}")
+    if args.seed < 0:
+        raise FreefloatError(f"--seed must be >= 0, got {args.seed}")
+    if args.json is not None and (args.json.is_dir() or not args.json.parent.is_dir()):
+        raise FreefloatError(f"--json {args.json}: must be a file in an existing folder")
     with one_line_warnings():
         robot = load_robot(args.urdf, visuals=False)
     report = check_robot(robot, samples=args.samples, seed=args.seed)
     print(report.table())
     if args.json is not None:
-        write_report(report, args.json)
+        try:
+            write_report(report, args.json)
+        except OSError as exc:
+            raise FreefloatError(f"--json {args.json}: cannot write ({exc.strerror or exc})") from exc
     return 0 if report.passed else 1
 
 

@@ -35,6 +35,7 @@ import numpy as np
 import pinocchio as pin
 
 from ..errors import FreefloatError
+from ..robot.urdf_checks import check_numbers, read_urdf
 from .mechanism import ParallelMechanism
 from .serial import SerialChain
 
@@ -123,16 +124,18 @@ def read_closures(path: str | Path) -> Closures:
     """
     path = Path(path)
     try:
-        spec = tomllib.loads(path.read_text())
-    except (OSError, tomllib.TOMLDecodeError) as exc:
+        spec = tomllib.loads(path.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:
         raise FreefloatError(f"{path}: cannot read the closure file ({exc})") from exc
-    for key in ("urdf", "actuated", "platform", "closures"):
-        if key not in spec:
-            raise FreefloatError(f"{path}: missing key '{key}'")
+    _check_types(path, spec)
     urdf = path.parent / spec["urdf"]
     if not urdf.is_file():
         raise FreefloatError(f"{path}: 'urdf' file {urdf} does not exist")
-    model = pin.buildModelFromUrdf(str(urdf))
+    check_numbers(urdf, read_urdf(urdf))
+    try:
+        model = pin.buildModelFromUrdf(str(urdf))
+    except (RuntimeError, ValueError) as exc:
+        raise FreefloatError(f"{urdf}: Pinocchio's URDF parser refuses it ({exc})") from exc
     model.gravity = pin.Motion(np.asarray(spec.get("gravity", [0.0, 0.0, 0.0]), float), np.zeros(3))
     out = Closures(path, spec, model, [], [], [])
     for name in spec["actuated"]:
@@ -152,6 +155,34 @@ def read_closures(path: str | Path) -> Closures:
                                                         pin.ReferenceFrame.LOCAL))
         out.frames.append(tuple(frames))
     return out
+
+
+def _check_types(path: Path, spec: dict) -> None:
+    """The closure file's keys have the types :func:`read_closures` reads.
+
+    Raises:
+        FreefloatError: naming the file and the key.
+    """
+    for key in ("urdf", "actuated", "platform", "closures"):
+        if key not in spec:
+            raise FreefloatError(f"{path}: missing key '{key}'")
+    expected = {"urdf": (str, "a file name"), "platform": (dict, "a table"), "closures": (list, "an array of tables")}
+    for key, (kind, what) in expected.items():
+        if not isinstance(spec[key], kind):
+            raise FreefloatError(f"{path}: '{key}' must be {what}, got {spec[key]!r}")
+    if not isinstance(spec["actuated"], list) or not all(isinstance(n, str) for n in spec["actuated"]):
+        raise FreefloatError(f"{path}: 'actuated' must be a list of joint names, got {spec['actuated']!r}")
+    if not isinstance(spec["platform"].get("frame", ""), str):
+        raise FreefloatError(f"{path}: 'platform.frame' must be a frame name, got {spec['platform']['frame']!r}")
+    for i, closure in enumerate(spec["closures"]):
+        if not isinstance(closure, dict) or not isinstance(closure.get("kind", "point"), str) or not (
+                isinstance(closure.get("frames", []), list) and all(isinstance(f, str) for f in closure.get("frames", []))):
+            raise FreefloatError(f"{path}: 'closures[{i}]' must be a table with 'frames' (two frame names) and "
+                                 f"'kind' (a name), got {closure!r}")
+    gravity = spec.get("gravity", [0.0, 0.0, 0.0])
+    if not (isinstance(gravity, list) and len(gravity) == 3 and all(
+            isinstance(g, (int, float)) and not isinstance(g, bool) and np.isfinite(g) for g in gravity)):
+        raise FreefloatError(f"{path}: 'gravity' must be three finite numbers (m/s^2), got {gravity!r}")
 
 
 def load_closed_chain(path: str | Path) -> ClosedChain:

@@ -68,8 +68,8 @@ def load_data(path: str | Path = DATA) -> dict:
     """
     path = Path(path)
     try:
-        data = tomllib.loads(path.read_text())
-    except (OSError, tomllib.TOMLDecodeError) as exc:
+        data = tomllib.loads(path.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:
         raise FreefloatError(f"{path}: cannot read the 2RSU+PPaP data ({exc})") from exc
     for section, keys in _KEYS.items():
         table = data.get(section, {}) if section else data

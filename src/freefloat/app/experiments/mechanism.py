@@ -23,6 +23,7 @@ from ...parallel.registry import REGISTRY, MechanismSetup
 from ...parallel.sliding_mode import PlatformControl
 from ..scenes import MechanismScene, resolve_file
 from .base import Checkpoint, Experiment, Outcome, Progress
+from .budget import check_budget, seconds_per_call
 
 
 @dataclass
@@ -77,7 +78,29 @@ def prepare(scene: MechanismScene) -> PreparedMechanism:
         q0 = setup.plant.assemble(q_sharp, setup.guess(q_sharp))
     except FreefloatError as exc:
         raise SceneError(f"{where}'initial.platform': {exc}") from exc
-    return PreparedMechanism(scene, setup, closure, controller, q0, setup.plant.velocity_map(q0) @ rates)
+    prepared = PreparedMechanism(scene, setup, closure, controller, q0, setup.plant.velocity_map(q0) @ rates)
+    check_run_size(prepared)
+    return prepared
+
+
+def check_run_size(prepared: PreparedMechanism) -> None:
+    """Refuse a run whose samples would not fit in memory or that would take more than a day
+    (plant evaluations x the measured cost of one, plus the controller's).
+
+    Raises:
+        SceneError: naming ``simulation.duration`` and ``simulation.step`` with the estimate.
+    """
+    scene, plant = prepared.scene, prepared.setup.plant
+    sim = scene.simulation
+    steps = integration_steps(scene)
+    n_q, k = len(prepared.q0), len(plant.actuated)
+    memory = steps * (8 * (3 * n_q + 2 * k + 8) + 200)  # plant samples, the control log, telemetry
+    u = np.zeros(k)
+    forward = seconds_per_call(lambda: plant.forward(prepared.q0, prepared.qd0, u, sim.baumgarte))
+    control = seconds_per_call(lambda: prepared.controller.efforts(0.0, prepared.q0, prepared.qd0))
+    calls = 4 if sim.integrator == "rk4" else 1
+    check_budget(scene.name, memory, 1.5 * steps * (calls * forward + control),
+                 "'simulation.duration' and 'simulation.step'")
 
 
 def _pair(where: str, key: str, p: int) -> tuple[int, int]:

@@ -22,6 +22,10 @@ from ...robot.loading import load_robot
 from ...robot.robot import Robot
 from ..scenes import Scene, resolve_file
 from .base import Checkpoint, Outcome, Progress
+from .budget import check_budget, seconds_per_call
+
+#: Model evaluations per integration step (dopri5: per attempted step).
+STAGES = {"euler": 1, "rkmk4": 4, "rk4_naive": 4, "dopri5": 6}
 
 #: Summary keys the command line prints for a robot run.
 HEADLINE = ("tracking_rms_overall", "com_drift_max", "momentum_drift_max", "energy_drift_max", "base_displacement")
@@ -69,12 +73,34 @@ def prepare_robot(scene: Scene) -> RobotSetup:
     except Exception as exc:
         raise SceneError(f"scene '{scene.name}': [initial] {exc}") from exc
     sim = scene.simulation
-    return RobotSetup(
+    setup = RobotSetup(
         scene=scene, robot=robot, q0=q0, v0=v0,
         model=make_model(sim.model, robot),
         integrator=make_integrator(sim.integrator, robot.model, sim.substeps, sim.rtol, sim.atol),
         wrenches=tuple(ExternalWrench(w.link, w.force, w.torque, w.start, w.end, w.rise) for w in scene.wrenches),
     )
+    check_run_size(setup)
+    return setup
+
+
+def check_run_size(setup: RobotSetup) -> None:
+    """Refuse a run whose telemetry would not fit in memory or that would take more than a day
+    (model evaluations x the measured cost of one).
+
+    Raises:
+        SceneError: naming ``simulation.duration``, ``control_period``, ``substeps`` and
+            ``record_every`` with the estimate.
+    """
+    scene, robot = setup.scene, setup.robot
+    sim, model = scene.simulation, robot.model
+    steps = control_steps(scene)
+    row = 8 * (1 + model.nq + model.nv + 3 * robot.n_joints + 13 + 7 * len(robot.end_effectors) + 11)
+    memory = 2 * (steps // sim.record_every + 2) * row  # the chunks, then their concatenation
+    tau = np.zeros(model.nv)
+    per_call = seconds_per_call(lambda: setup.model.acceleration(setup.q0, setup.v0, tau))
+    calls = steps * sim.substeps * STAGES.get(sim.integrator, 6)
+    check_budget(scene.name, memory, 1.5 * calls * per_call,
+                 "'simulation.duration', 'control_period', 'substeps' and 'record_every'")
 
 
 def joint_table(robot: Robot, table: dict[str, float], angle_scale: float, key: str) -> np.ndarray:

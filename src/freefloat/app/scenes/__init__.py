@@ -30,9 +30,13 @@ def load_scene(path: str | Path) -> Scene | MechanismScene:
     """
     path = Path(path)
     try:
-        raw = tomllib.loads(path.read_text())
+        raw = tomllib.loads(path.read_text(encoding="utf-8"))
     except FileNotFoundError as exc:
         raise SceneError(f"{path}: no such scene file") from exc
+    except (IsADirectoryError, PermissionError) as exc:
+        raise SceneError(f"{path}: cannot read the scene file ({exc.strerror})") from exc
+    except UnicodeDecodeError as exc:
+        raise SceneError(f"{path}: not UTF-8 text (byte {exc.start})") from exc
     except tomllib.TOMLDecodeError as exc:
         raise SceneError(f"{path}: not valid TOML ({exc})") from exc
     return parse_scene(raw, source=path)
@@ -40,6 +44,10 @@ def load_scene(path: str | Path) -> Scene | MechanismScene:
 
 def parse_scene(raw: dict[str, Any], source: Path | None = None) -> Scene | MechanismScene:
     """Validate a scene given as a dict (the parsed TOML), robot or mechanism."""
+    if "mechanism" in raw and "robot" in raw:
+        where = f"{source}: " if source else "scene: "
+        raise SceneError(f"{where}a scene has either [robot] (a robot scene) or [mechanism] (a mechanism scene), "
+                         "not both")
     if "mechanism" in raw:
         return parse_mechanism_scene(raw, source)
     return parse_robot_scene(raw, source)

@@ -9,6 +9,9 @@ from typing import Any, NamedTuple
 
 from ...errors import SceneError
 
+#: Frames per second of simulated time a page may show (a page holds duration * fps frames).
+MAX_HTML_FPS = 1000.0
+
 
 @dataclass(frozen=True)
 class OutputSection:
@@ -140,3 +143,25 @@ def table(where: str, key: str, value: Any) -> dict[str, float]:
     if not isinstance(value, dict) or not all(is_finite(x) for x in value.values()):
         raise SceneError(f"{where}'{key}' must be a table of finite numbers keyed by name, got {value!r}")
     return {k: float(x) for k, x in value.items()}
+
+
+def whole_number_of(where: str, duration: float, period: float, duration_key: str, period_key: str) -> None:
+    """``duration`` is a whole number of ``period`` s.
+
+    Raises:
+        SceneError: naming both keys, with the nearest whole numbers.
+    """
+    steps = duration / period
+    if abs(steps - round(steps)) > 1e-9 * max(1.0, steps) or round(steps) < 1:
+        raise SceneError(f"{where}'{duration_key}' ({duration} s) must be a whole number of '{period_key}' "
+                         f"({period} s); e.g. {max(1, round(steps)) * period:.12g} s")
+
+
+def at_most(where: str, value: float, limit: float, key: str) -> None:
+    """``value`` <= ``limit``.
+
+    Raises:
+        SceneError: naming the key and the limit.
+    """
+    if value > limit:
+        raise SceneError(f"{where}'{key}' is {value!r}; at most {limit:g}")

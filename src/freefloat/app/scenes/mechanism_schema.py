@@ -15,7 +15,16 @@ from typing import Any
 
 from ...errors import SceneError
 from ...parallel.registry import REGISTRY
-from .fields import OutputSection, Rules, parse_section, reject_unknown, typed
+from .fields import (
+    MAX_HTML_FPS,
+    OutputSection,
+    Rules,
+    at_most,
+    parse_section,
+    reject_unknown,
+    typed,
+    whole_number_of,
+)
 
 
 @dataclass(frozen=True)
@@ -142,4 +151,6 @@ def parse_mechanism_scene(raw: dict[str, Any], source: Path | None = None) -> Me
     if scene.simulation.step > scene.simulation.duration:
         raise SceneError(f"{where}'simulation.step' ({scene.simulation.step} s) is longer than "
                          f"'simulation.duration' ({scene.simulation.duration} s)")
+    whole_number_of(where, scene.simulation.duration, scene.simulation.step, "simulation.duration", "simulation.step")
+    at_most(where, scene.output.html_fps, MAX_HTML_FPS, "output.html_fps")
     return scene

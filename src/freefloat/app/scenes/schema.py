@@ -15,7 +15,17 @@ from typing import Any
 from ...dynamics.integrators import INTEGRATORS
 from ...dynamics.models import MODELS
 from ...errors import SceneError
-from .fields import OutputSection, Rules, choice, parse_section, reject_unknown, typed
+from .fields import (
+    MAX_HTML_FPS,
+    OutputSection,
+    Rules,
+    at_most,
+    choice,
+    parse_section,
+    reject_unknown,
+    typed,
+    whole_number_of,
+)
 
 
 @dataclass(frozen=True)
@@ -193,6 +203,10 @@ def parse_robot_scene(raw: dict[str, Any], source: Path | None = None) -> Scene:
     if not isinstance(wrenches, list):
         raise SceneError(f"{where}'wrenches' must be an array of tables ([[wrenches]]), got {wrenches!r}")
     kwargs["wrenches"] = tuple(parse_section(where, "wrenches", WrenchSection, w, RULES) for w in wrenches)
-    return Scene(**kwargs, source=source)
+    scene = Scene(**kwargs, source=source)
+    sim = scene.simulation
+    whole_number_of(where, sim.duration, sim.control_period, "simulation.duration", "simulation.control_period")
+    at_most(where, scene.output.html_fps, MAX_HTML_FPS, "output.html_fps")
+    return scene
 
 

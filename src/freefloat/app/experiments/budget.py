@@ -1,0 +1,43 @@
+"""What a run will cost, estimated before it starts: a run that would not fit in memory or would
+take more than a day is refused with the estimate and the scene keys that set it."""
+
+from __future__ import annotations
+
+import os
+import time
+from typing import Callable
+
+from ...errors import SceneError
+
+#: Share of the machine's memory a run may fill.
+MEMORY_SHARE = 0.5
+#: Longest run accepted, s of wall-clock time.
+MAX_SECONDS = 24 * 3600.0
+
+
+def seconds_per_call(call: Callable[[], object], repeats: int = 5) -> float:
+    """Median wall-clock time of ``call()``, s (one warm-up call first)."""
+    call()
+    times = []
+    for _ in range(repeats):
+        start = time.perf_counter()
+        call()
+        times.append(time.perf_counter() - start)
+    return sorted(times)[len(times) // 2]
+
+
+def check_budget(scene_name: str, memory_bytes: float, seconds: float, keys: str) -> None:
+    """Refuse a run estimated to need more than :data:`MEMORY_SHARE` of this machine's memory or
+    more than :data:`MAX_SECONDS`.
+
+    Raises:
+        SceneError: naming the scene, the keys that set the size (``keys``) and the estimate.
+    """
+    available = MEMORY_SHARE * os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
+    if memory_bytes > available:
+        raise SceneError(f"scene '{scene_name}': {keys} ask for a run that needs about {memory_bytes / 1e9:.3g} GB "
+                         f"of telemetry, more than {available / 1e9:.3g} GB ({MEMORY_SHARE:.0%} of this machine's "
+                         "memory); shorten it or record fewer samples")
+    if seconds > MAX_SECONDS:
+        raise SceneError(f"scene '{scene_name}': {keys} ask for a run estimated at {seconds / 3600:.3g} h "
+                         f"(more than {MAX_SECONDS / 3600:.0f} h); shorten it or use fewer evaluations")
