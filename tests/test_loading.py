@@ -170,3 +170,28 @@ def test_example_robot_data_meshes_resolve():
         robot = load_robot(ur5)
     assert not [w for w in caught if "mesh" in str(w.message)]
     assert robot.visual_model is not None and robot.visual_model.ngeoms > 0
+
+
+def test_package_paths_with_three_slashes_resolve():
+    """talos' 'package:///talos_data/...' meshes resolve (Pinocchio's own loader finds all 53)."""
+    from freefloat.robot.loading import example_robot_data_share
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        robot = load_robot(example_robot_data_share() / "example-robot-data" / "robots" / "talos_data" / "robots"
+                           / "talos_full_v2.urdf")
+    assert robot.visual_model is not None and robot.visual_model.ngeoms == 53
+
+
+def test_an_unreadable_mesh_loads_the_robot_without_visuals(tmp_path):
+    """A mesh file the mesh library cannot read gives a note and a robot without visuals."""
+    (tmp_path / "broken.stl").write_bytes(b"solid x\nthis is not an STL file\n" * 3)
+    text = (REPO / "urdf" / "two_arm_planar.urdf").read_text()
+    text = text.replace("</link>", '<visual><geometry><mesh filename="broken.stl"/></geometry></visual></link>', 1)
+    path = tmp_path / "r.urdf"
+    path.write_text(text)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        robot = load_robot(path)
+    assert robot.model.nv > 0 and robot.visual_model is None
+    assert any("meshes could not be read" in str(w.message) and "\n" not in str(w.message) for w in caught)

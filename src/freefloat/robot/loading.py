@@ -249,13 +249,19 @@ def _visual_model(path: Path, model: pin.Model, xml: str, notes: list[str]) -> p
                 f"{path.name}: mesh '{mesh.get('filename')}' not found; loaded for dynamics without visuals"
             )
             return None
-    return pin.buildGeomFromUrdfString(model, xml, pin.GeometryType.VISUAL, package_dirs=package_dirs)
+    try:
+        return pin.buildGeomFromUrdfString(model, xml, pin.GeometryType.VISUAL, package_dirs=package_dirs)
+    except (RuntimeError, ValueError) as exc:  # coal cannot read a mesh file
+        reason = str(exc).strip().splitlines()[-1] if str(exc).strip() else type(exc).__name__
+        notes.append(f"{path.name}: meshes could not be read ({reason}); loaded for dynamics without visuals")
+        return None
 
 
 def _resolve_mesh(filename: str, urdf_dir: Path, package_dirs: list[str]) -> Path | None:
     """The mesh file a URDF filename points to, or None."""
     if filename.startswith("package://"):
-        candidates = [Path(d) / filename[len("package://"):] for d in package_dirs]
+        relative = filename[len("package://"):].lstrip("/")  # package:///a/b names package 'a' too
+        candidates = [Path(d) / relative for d in package_dirs]
     elif filename.startswith("file://"):
         candidates = [Path(filename[len("file://"):])]
     else:
