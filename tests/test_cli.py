@@ -249,3 +249,19 @@ def test_a_scene_file_that_is_not_utf8_is_named(tmp_path, capsys):
     scene.write_bytes('name = "é"\n'.encode("latin-1"))
     assert main(["simulate", str(scene)]) == 2
     assert "not UTF-8" in capsys.readouterr().err
+
+
+def test_info_lists_joints_links_and_end_effectors(capsys):
+    """freefloat info names every movable joint with its limits, link masses and the end-effectors."""
+    assert main(["info", "panda"]) == 0
+    out = capsys.readouterr().out
+    assert "panda_joint4                 revolute   axis (0, 0, 1)  [-3.0718, -0.0698] rad" in out
+    assert "panda_link1                  4.97068 kg" in out and "panda_hand_tcp               arm: panda_joint1" in out
+
+
+def test_simulate_any_known_robot_by_name(tmp_path):
+    """--robot runs the tumbling scene with that robot; its momentum is conserved."""
+    assert main(["simulate", "--robot", "solo12", "--out", str(tmp_path / "out"), "--quiet", "--no-html",
+                 "--no-figures"]) == 0
+    summary = json.loads((tmp_path / "out" / "summary.json").read_text())
+    assert summary["robot"]["urdf"].endswith("solo12.urdf") and summary["momentum_drift_max"] < 1e-12

@@ -195,3 +195,26 @@ def test_an_unreadable_mesh_loads_the_robot_without_visuals(tmp_path):
         robot = load_robot(path)
     assert robot.model.nv > 0 and robot.visual_model is None
     assert any("meshes could not be read" in str(w.message) and "\n" not in str(w.message) for w in caught)
+
+
+def test_a_gripper_counts_as_one_end_effector():
+    """Panda's two fingers and its TCP give one end-effector, the TCP, and a well-conditioned GJM
+    (all three leaves gave a condition number of 6e16)."""
+    import numpy as np
+
+    from freefloat import gjm
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        panda = load_robot("panda", visuals=False)
+    assert panda.end_effectors == ("panda_hand_tcp",)
+    q = panda.neutral()
+    q[7:14] = [0.0, -0.5, 0.0, -2.0, 0.0, 1.5, 0.5]
+    state = gjm.compute(panda, q, np.zeros(panda.model.nv))
+    assert np.linalg.cond(state.Jstar[:, :7]) < 1e3
+
+
+def test_arms_branching_at_the_base_stay_separate_end_effectors():
+    """Leaves that branch at the base (the four-arm robot's arms) are not merged."""
+    robot = load_robot(REPO / "urdf" / "four_arm_planar.urdf", visuals=False)
+    assert robot.end_effectors == ("arm1_ee", "arm2_ee", "arm3_ee", "arm4_ee")

@@ -27,6 +27,9 @@ def main(argv: list[str] | None = None) -> int:
     commands = parser.add_subparsers(dest="command", required=True)
     sim = commands.add_parser("simulate", help="run a scene and write its output folder")
     sim.add_argument("scene", nargs="?", default=None, help="built-in scene name or TOML file (default: the dissertation's ch. 4 task)")
+    sim.add_argument("--robot", default=None,
+                     help="run this robot instead (URDF file or a known name such as ur5 or solo12); without "
+                          "a scene: the torque-free 'tumbling' scene")
     sim.add_argument("--out", type=Path, default=None, help="output folder (default: runs/<scene>-<time>)")
     sim.add_argument("--no-figures", action="store_true", help="skip the PNG figures")
     sim.add_argument("--no-html", action="store_true", help="skip the meshcat animation")
@@ -34,6 +37,9 @@ def main(argv: list[str] | None = None) -> int:
     sim.add_argument("--overwrite", action="store_true",
                      help="replace the previous run in --out (default: refuse a folder that is not empty)")
     commands.add_parser("scenes", help="list the built-in scenes")
+    info = commands.add_parser("info", help="joints, links, masses, end-effectors and warnings of a robot")
+    info.add_argument("robot", help="URDF file, or the name of a known robot (ur5, solo12, panda, ...)")
+    info.add_argument("--base", choices=["free", "planar"], default="free", help="floating base (default free)")
     ver = commands.add_parser("verify", help="cross-check the hand-built GJM matrices against Pinocchio")
     ver.add_argument("urdf", type=Path, help="URDF file (loaded with a free-flyer base)")
     ver.add_argument("--samples", type=int, default=10, help="random states to check (default 10)")
@@ -55,7 +61,8 @@ def main(argv: list[str] | None = None) -> int:
     rep.add_argument("--error", type=float, default=0.5, help="robustness: parameter error band (default 0.5 = 50 %%)")
     rep.add_argument("--scheduler", default=None, help="robustness: Dask scheduler address (default: a local cluster)")
     args = parser.parse_args(argv)
-    commands_run = {"simulate": _simulate, "scenes": lambda _: _scenes(), "verify": _verify, "reproduce": _reproduce}
+    commands_run = {"simulate": _simulate, "scenes": lambda _: _scenes(), "verify": _verify, "reproduce": _reproduce,
+                    "info": _info}
     try:
         return commands_run[args.command](args)
     except FreefloatError as exc:
@@ -69,6 +76,17 @@ def _scenes() -> int:
     for name, path in builtin_scenes().items():
         mark = " (default)" if name == DEFAULT_SCENE else ""
         print(f"{name}{mark}: {load_scene(path).description}")
+    return 0
+
+
+def _info(args: argparse.Namespace) -> int:
+    from ..robot.describe import describe
+    from ..robot.loading import load_robot
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # describe() lists them
+        robot = load_robot(args.robot, base=args.base, visuals=False)
+    print(describe(robot))
     return 0
 
 
@@ -123,16 +141,18 @@ def _simulate(args: argparse.Namespace) -> int:
     import dataclasses
 
     from .runner import run_scene, total_steps
-    from .scenes import DEFAULT_SCENE, find_scene
+    from .scenes import DEFAULT_SCENE, ROBOT_SCENE, find_scene, with_robot
 
-    scene = find_scene(args.scene or DEFAULT_SCENE)
+    scene = find_scene(args.scene or (ROBOT_SCENE if args.robot else DEFAULT_SCENE))
+    if args.robot is not None:
+        scene = with_robot(scene, args.robot)
     if args.no_figures or args.no_html:
         output = dataclasses.replace(scene.output, figures=scene.output.figures and not args.no_figures,
                                      html=scene.output.html and not args.no_html)
         scene = dataclasses.replace(scene, output=output)
     out = args.out or default_folder(scene.name)
     with one_line_warnings():
-        with tqdm(total=total_steps(scene), desc=scene.name, unit="step", disable=args.quiet) as bar:
+        with tqdm(total=total_steps(scene), desc=scene.name, unit="step", disable=args.quiet, delay=0.5) as bar:
             done = run_scene(scene, out, progress=lambda k: bar.update(k - bar.n), overwrite=args.overwrite)
     return _report(done)
 

@@ -8,8 +8,7 @@ link. The base reference point is the root link's centre of mass, as in the diss
 
 from __future__ import annotations
 
-import functools
-import importlib.metadata
+import re
 import warnings
 import xml.etree.ElementTree as ET
 from pathlib import Path
@@ -19,6 +18,7 @@ import pinocchio as pin
 import yourdfpy
 
 from ..errors import RobotModelError
+from .catalog import example_robot_data_share, find_robot, is_name
 from .robot import BASE_DOFS, Arm, Robot
 from .urdf_checks import (
     check_joints,
@@ -32,21 +32,15 @@ from .urdf_checks import (
 MOVABLE = {"revolute", "continuous", "prismatic"}
 SUPPORTED = MOVABLE | {"fixed"}
 ROOT_JOINT_NAME = "base"
+#: A gripper part is at most this many movable joints below its hand.
+GRIPPER_JOINTS = 2
+#: Names of gripper parts.
+GRIPPER_WORDS = re.compile(r"finger|gripper|thumb|jaw|claw", re.IGNORECASE)
 BASE_COM_FRAME = "base_com"
 
 
 class FreefloatWarning(UserWarning):
     """Something in a URDF was loaded with a stated assumption (missing limits, meshes...)."""
-
-
-@functools.cache
-def example_robot_data_share() -> Path | None:
-    """The ``share`` folder of the installed example-robot-data, for ``package://`` paths."""
-    try:
-        share = importlib.metadata.distribution("example-robot-data").locate_file("cmeel.prefix/share")
-    except importlib.metadata.PackageNotFoundError:
-        return None
-    return Path(str(share)) if Path(str(share)).is_dir() else None
 
 
 def load_robot(
@@ -59,11 +53,14 @@ def load_robot(
     """Load a URDF as a free-floating robot.
 
     Args:
-        path: URDF file.
+        path: URDF file, or the name of a robot freefloat knows (``"ur5"``, ``"solo12"``, see
+            :mod:`freefloat.robot.catalog`).
         base: floating root joint, ``"free"`` (6 DOF) or ``"planar"`` (x, y, yaw in the inertial
             xy-plane: model no more than a planar scene needs).
         end_effectors: link names to use as end-effectors; by default every leaf link reached
-            through at least one movable joint, in Pinocchio's depth-first order.
+            through at least one movable joint, in Pinocchio's depth-first order, a gripper's
+            fingers and a wrist's tool and sensor frames counting as one (see
+            :func:`_merge_grippers`).
         gravity: gravity vector in the inertial frame, m/s^2 (space: zero, the default).
         visuals: build the visual geometry (meshes through ``package://`` or relative paths).
 
@@ -81,6 +78,8 @@ def load_robot(
     if isinstance(end_effectors, str):
         raise RobotModelError(f"end_effectors must be a list of link names, got the string {end_effectors!r}; "
                               f"write [{end_effectors!r}]")
+    if not path.is_file() and is_name(path):
+        path = find_robot(str(path))
     if not path.is_file():
         raise RobotModelError(f"{path}: no such URDF file")
     tree = read_urdf(path)
@@ -287,7 +286,50 @@ def _end_effectors(
     ]
     if not leaves:
         raise RobotModelError(f"{path}: no leaf link behind a movable joint: no end-effector found")
-    return tuple(leaves)
+    return _merge_grippers(model, robot, leaves)
+
+
+def _merge_grippers(model: pin.Model, robot: yourdfpy.Robot, leaves: list[str]) -> tuple[str, ...]:
+    """Leaves that hang below a common branching link behind a movable joint and look like a
+    gripper's parts count as one end-effector: the only one of them fixed to that link when there
+    is exactly one (a tool centre point), otherwise the link itself. A leaf looks like a gripper
+    part when it is fixed to that link (tool and sensor frames) or is at most
+    :data:`GRIPPER_JOINTS` prismatic joints below it, or joints or links named like fingers
+    (:data:`GRIPPER_WORDS`). Two fingers as two end-effectors make the GJM singular (Panda:
+    condition number 6e16); a Y-shaped arm with revolute branches keeps both ends."""
+    joint_to = {joint.child: joint for joint in robot.joints}
+    children: dict[str, int] = {}
+    for joint in robot.joints:
+        children[joint.parent] = children.get(joint.parent, 0) + 1
+
+    def branch(leaf: str) -> tuple[str, bool]:
+        """The nearest ancestor with several children, and whether ``leaf`` is a gripper part."""
+        link, movable, named = leaf, [], bool(GRIPPER_WORDS.search(leaf))
+        while link in joint_to:
+            joint = joint_to[link]
+            if joint.type in MOVABLE:
+                movable.append(joint.type)
+                named = named or bool(GRIPPER_WORDS.search(joint.name))
+            link = joint.parent
+            if children[link] > 1:
+                break
+        part = not movable or (len(movable) <= GRIPPER_JOINTS and (named or set(movable) == {"prismatic"}))
+        return link, part
+
+    hubs = {leaf: branch(leaf) for leaf in leaves}
+    chosen = []
+    for leaf in leaves:
+        hub, _ = hubs[leaf]
+        group = [(name, part) for name, (h, part) in hubs.items() if h == hub]
+        behind_movable = model.existBodyName(hub) and model.frames[model.getBodyId(hub)].parentJoint > 1
+        if len(group) < 2 or not behind_movable or not all(part for _, part in group):
+            chosen.append(leaf)
+            continue
+        fixed = [name for name in (n for n, _ in group) if joint_to[name].parent == hub and joint_to[name].type == "fixed"]
+        pick = fixed[0] if len(fixed) == 1 else hub
+        if pick not in chosen:
+            chosen.append(pick)
+    return tuple(chosen)
 
 
 def _arm(model: pin.Model, end_effector: str) -> Arm:

@@ -4,6 +4,7 @@ integrator, the simulation loop, and the outcome with its figures and page."""
 from __future__ import annotations
 
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -15,7 +16,8 @@ from ...dynamics.models import DynamicsModel, make_model
 from ...dynamics.simulation import Controller, RunResult, run
 from ...dynamics.telemetry import Telemetry
 from ...dynamics.wrenches import ExternalWrench
-from ...errors import SceneError
+from ...errors import RobotModelError, SceneError
+from ...robot.catalog import find_robot, is_name
 from ...robot.conventions import state_from_base
 from ...robot.joints import JointCoordinates
 from ...robot.loading import load_robot
@@ -55,7 +57,7 @@ def prepare_robot(scene: Scene) -> RobotSetup:
         SceneError: naming the key for an unknown file, joint or end-effector, or a bad start.
     """
     robot = load_robot(
-        resolve_file(scene, scene.robot.urdf, "robot.urdf"), base=scene.robot.base,
+        _urdf_of(scene), base=scene.robot.base,
         end_effectors=scene.robot.end_effectors, gravity=scene.robot.gravity, visuals=scene.output.html,
     )
     s, ini = scene.angle_scale, scene.initial
@@ -101,6 +103,24 @@ def check_run_size(setup: RobotSetup) -> None:
     calls = steps * sim.substeps * STAGES.get(sim.integrator, 6)
     check_budget(scene.name, memory, 1.5 * calls * per_call,
                  "'simulation.duration', 'control_period', 'substeps' and 'record_every'")
+
+
+def _urdf_of(scene: Scene) -> Path:
+    """The file ``robot.urdf`` names: a file (see :func:`resolve_file`) or a known robot's name.
+
+    Raises:
+        SceneError: naming the key, the places searched and the known robots like it.
+    """
+    urdf = scene.robot.urdf
+    try:
+        return resolve_file(scene, urdf, "robot.urdf")
+    except SceneError:
+        if not is_name(urdf):
+            raise
+    try:
+        return find_robot(urdf)
+    except RobotModelError as exc:
+        raise SceneError(f"scene '{scene.name}': robot.urdf {exc}") from exc
 
 
 def joint_table(robot: Robot, table: dict[str, float], angle_scale: float, key: str) -> np.ndarray:

@@ -8,6 +8,7 @@ A scene file is a robot scene (:class:`Scene`, ``[robot]``) or a mechanism scene
 
 from __future__ import annotations
 
+import dataclasses
 import tomllib
 from pathlib import Path
 from typing import Any
@@ -19,6 +20,8 @@ from .schema import Scene, parse_robot_scene
 
 #: The scene ``freefloat simulate`` runs without an argument.
 DEFAULT_SCENE = "four_arm_joint_space"
+#: The scene ``freefloat simulate --robot NAME`` runs without a scene argument.
+ROBOT_SCENE = "tumbling"
 
 
 def load_scene(path: str | Path) -> Scene | MechanismScene:
@@ -75,6 +78,19 @@ def find_scene(name_or_path: str | Path) -> Scene | MechanismScene:
     )
 
 
+def with_robot(scene: Scene | MechanismScene, robot: str) -> Scene:
+    """``scene`` with ``robot`` (a URDF path or a known robot name) in place of its own; the
+    end-effectors are then the robot's defaults.
+
+    Raises:
+        SceneError: for a mechanism scene.
+    """
+    if not isinstance(scene, Scene):
+        raise SceneError(f"scene '{scene.name}' is a mechanism scene; --robot applies to robot scenes")
+    section = dataclasses.replace(scene.robot, urdf=str(robot), end_effectors=None)
+    return dataclasses.replace(scene, robot=section)
+
+
 def resolve_file(scene: Scene | MechanismScene, value: str, key: str) -> Path:
     """A file a scene names under ``key``: absolute, relative to the scene file, to the working
     directory, or a built-in file in ``urdf/``.
@@ -92,5 +108,5 @@ def resolve_file(scene: Scene | MechanismScene, value: str, key: str) -> Path:
     raise SceneError(f"scene '{scene.name}': {key} '{name}' not found in {[str(c.parent) for c in candidates]}")
 
 
-__all__ = ["DEFAULT_SCENE", "MechanismScene", "Scene", "builtin_scenes", "find_scene", "load_scene", "parse_scene",
-           "resolve_file"]
+__all__ = ["DEFAULT_SCENE", "ROBOT_SCENE", "MechanismScene", "Scene", "builtin_scenes", "find_scene", "load_scene",
+           "parse_scene", "resolve_file", "with_robot"]

@@ -30,7 +30,8 @@ from .fields import (
 
 @dataclass(frozen=True)
 class RobotSection:
-    """``[robot]``: URDF (absolute, relative to the scene file, or a built-in robot file name),
+    """``[robot]``: URDF (absolute, relative to the scene file, a built-in robot file name, or the
+    name of a robot of :mod:`freefloat.robot.catalog` such as ``"ur5"``),
     floating base kind, end-effector link names (default: leaves), gravity (m/s^2, inertial)."""
 
     urdf: str
