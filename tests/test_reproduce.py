@@ -46,3 +46,17 @@ def test_corrected_phase_schedule_matches_exact_and_the_printed_one_does_not(tmp
     corrected, printed = report["schedules"]["corrected"], report["schedules"]["as printed"]
     assert max(corrected["state_error_at_phase_ends"]) < 1e-9
     assert printed["state_error_at_phase_ends"][1] > 1e-6
+
+
+def test_robustness_study_keeps_its_samples_and_resumes(tmp_path):
+    """Each finished sample is journaled; a rerun into the same folder resumes instead of
+    recomputing (issue 13 item 15)."""
+    import json
+
+    from freefloat.app.reproduce.five_bar_report import reproduce_robustness
+
+    first = reproduce_robustness(tmp_path, quick=True)
+    lines = (tmp_path / "samples.jsonl").read_text().splitlines()
+    assert len(lines) == 2 and first["settings"]["resumed"] == 0 and first["failed"] == 0
+    again = reproduce_robustness(tmp_path, quick=True)
+    assert again["settings"]["resumed"] == 2 and again["runs"] == json.loads(json.dumps(first["runs"]))

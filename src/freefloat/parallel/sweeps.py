@@ -4,15 +4,23 @@ grid, and a Monte-Carlo robustness study of the sliding-mode controller (issue 6
 Both take a ``dask.distributed.Client``: :func:`client` starts a local cluster by default or
 connects to a scheduler address to scale out. Dask is an optional dependency
 (``pip install -e ".[dask]"``); a progress bar shows the tasks as they finish.
+
+A sweep survives its workers: a sample that raises is recorded as failed (with the reason)
+instead of aborting the others, no result within ``timeout`` s (every worker lost) ends the
+sweep with the samples finished so far, and ``on_result`` lets the caller save each finished
+sample so that a rerun resumes (``done``).
 """
 
 from __future__ import annotations
 
+import socket
 from dataclasses import replace
+from typing import Callable
 
 import numpy as np
 from tqdm import tqdm
 
+from ..errors import FreefloatError
 from .five_bar import FiveBarParameters
 from .sliding_mode import (
     UNCERTAINTY,
@@ -25,34 +33,90 @@ from .sliding_mode import (
 )
 
 
-def client(address: str | None = None, workers: int = 2, processes: bool = True):
+def client(address: str | None = None, workers: int = 2, processes: bool = True, connect_timeout: float = 5.0):
     """A Dask client: connected to ``address`` (e.g. ``tcp://host:8786``) or to a new local cluster
-    of ``workers`` workers on this machine (loopback only)."""
+    of ``workers`` workers on this machine (loopback only).
+
+    Raises:
+        FreefloatError: naming the address when it is malformed or nothing answers there within
+            ``connect_timeout`` s.
+    """
     from dask.distributed import Client, LocalCluster
 
     if address:
-        return Client(address)
+        _reachable(address, connect_timeout)
+        return Client(address, timeout=connect_timeout)
     network = {"host": "127.0.0.1"} if processes else {}  # in-process clusters have no sockets
     return Client(LocalCluster(n_workers=workers, threads_per_worker=1, processes=processes,
                                dashboard_address=None, **network))
 
 
-def _gather(dask_client, futures, label: str, quiet: bool) -> list:
-    """Results of ``futures`` in submission order, with a progress bar as they complete."""
+def _reachable(address: str, timeout: float) -> None:
+    """Check that a scheduler listens at ``address`` before Dask tries (its own failure takes
+    its whole timeout and leaves a half-made client behind).
+
+    Raises:
+        FreefloatError: naming the address and what is wrong with it.
+    """
+    from distributed.comm.addressing import parse_address, parse_host_port
+
+    try:
+        scheme, location = parse_address(address, strict=True)
+        host, port = parse_host_port(location)
+    except (ValueError, TypeError) as exc:
+        raise FreefloatError(f"--scheduler '{address}' is not a Dask address such as tcp://host:8786 ({exc})") from exc
+    if scheme not in ("tcp", "tls"):
+        raise FreefloatError(f"--scheduler '{address}': scheme '{scheme}' is not supported here; use tcp://host:port")
+    try:
+        socket.create_connection((host, port), timeout=timeout).close()
+    except OSError as exc:
+        raise FreefloatError(f"--scheduler '{address}': no Dask scheduler answers ({exc.strerror or exc})") from exc
+
+
+def _settle(futures: dict, label: str, quiet: bool, timeout: float,
+            on_result: Callable[[int, object], None] | None = None) -> dict[int, object]:
+    """Results of ``futures`` ({index: future}) as they complete, each a value or the exception
+    it raised; stops waiting when none completes within ``timeout`` s (the rest are missing)."""
+    from dask.distributed import TimeoutError as DaskTimeout
     from dask.distributed import as_completed
 
+    index_of = {future.key: i for i, future in futures.items()}
+    results: dict[int, object] = {}
     with tqdm(total=len(futures), desc=label, disable=quiet) as bar:
-        for _ in as_completed(futures):
-            bar.update(1)
-    return dask_client.gather(futures)
+        completed = as_completed(list(futures.values()), timeout=timeout)
+        try:
+            for future in completed:
+                i = index_of[future.key]
+                try:
+                    results[i] = future.result()
+                except Exception as exc:  # the sample's own failure, recorded, not fatal
+                    results[i] = exc
+                if on_result is not None:
+                    on_result(i, results[i])
+                bar.update(1)
+        except (DaskTimeout, TimeoutError):
+            pass
+    for future in futures.values():
+        future.cancel()
+    return results
 
 
 def design_gains_distributed(dask_client, nominal: FiveBarParameters, points: np.ndarray, eta: float = 20.0,
-                             chunks: int = 16, quiet: bool = True) -> SlidingModeGains:
-    """The gain design with the grid split into ``chunks`` tasks, worst cases reduced by maximum."""
+                             chunks: int = 16, quiet: bool = True, timeout: float = 600.0) -> SlidingModeGains:
+    """The gain design with the grid split into ``chunks`` tasks, worst cases reduced by maximum.
+
+    Raises:
+        FreefloatError: when a chunk fails or none finishes within ``timeout`` s (the design
+            needs every point).
+    """
     parts = [chunk for chunk in np.array_split(points, chunks) if len(chunk)]
-    futures = [dask_client.submit(worst_case, nominal, chunk, UNCERTAINTY, pure=False) for chunk in parts]
-    results = _gather(dask_client, futures, "gain design", quiet)
+    futures = {i: dask_client.submit(worst_case, nominal, chunk, UNCERTAINTY, pure=False) for i, chunk in enumerate(parts)}
+    settled = _settle(futures, "gain design", quiet, timeout)
+    failed = [i for i in range(len(parts)) if not isinstance(settled.get(i), tuple)]
+    if failed:
+        reasons = {str(settled.get(i, f"no result within {timeout:g} s")) for i in failed}
+        raise FreefloatError(f"gain design: {len(failed)} of {len(parts)} chunks failed ({'; '.join(sorted(reasons))})")
+    results = [settled[i] for i in range(len(parts))]
     Dmax = np.max([r[0] for r in results], axis=0)
     d0max = np.max([r[1] for r in results], axis=0)
     dijmax = {k: np.max([r[2][k] for r in results], axis=0) for k in results[0][2]}
@@ -70,13 +134,44 @@ def _robustness_run(gains: SlidingModeGains | None, plant: FiveBarParameters, du
 
 
 def monte_carlo(dask_client, gains: SlidingModeGains | None, runs: int, relative_error: float, seed: int = 0,
-                duration: float = 0.3, step: float = 2e-4, settle: float = 0.2, quiet: bool = True) -> list[dict]:
+                duration: float = 0.3, step: float = 2e-4, settle: float = 0.2, quiet: bool = True,
+                timeout: float = 600.0, done: dict[int, dict] | None = None,
+                on_result: Callable[[int, dict], None] | None = None) -> list[dict]:
     """Closed loops on plants whose six uncertain parameters are drawn uniformly within
-    ``relative_error`` of the nominal ones (seeded); each result gives the drawn parameters."""
+    ``relative_error`` of the nominal ones (seeded). Each result gives its ``sample`` index, the
+    drawn parameters and ``status``: ``"ok"`` with the errors, ``"failed"`` with the reason (the
+    sample raised, or no worker finished it within ``timeout`` s). Samples in ``done`` (by index,
+    from an earlier run with the same seed) are not run again; ``on_result(index, result)`` is
+    called as each new one finishes.
+
+    Raises:
+        FreefloatError: for ``runs`` < 1 or ``relative_error`` outside [0, 1).
+    """
+    if runs < 1:
+        raise FreefloatError(f"runs must be >= 1, got {runs}")
+    if not 0.0 <= relative_error < 1.0:
+        raise FreefloatError(f"relative_error must be in [0, 1) (parameters stay positive), got {relative_error}")
     rng = np.random.default_rng(seed)
     nominal = FiveBarParameters()
     plants = [replace(nominal, **{n: getattr(nominal, n) * (1 + rng.uniform(-relative_error, relative_error)) for n in UNCERTAINTY})
               for _ in range(runs)]
-    futures = [dask_client.submit(_robustness_run, gains, plant, duration, step, settle, pure=False) for plant in plants]
-    results = _gather(dask_client, futures, "Monte Carlo", quiet)
-    return [dict(r, parameters={n: getattr(p, n) for n in UNCERTAINTY}) for r, p in zip(results, plants)]
+    done = dict(done or {})
+    todo = {i: dask_client.submit(_robustness_run, gains, plant, duration, step, settle, pure=False)
+            for i, plant in enumerate(plants) if i not in done}
+
+    def described(i: int, outcome: object) -> dict:
+        parameters = {n: getattr(plants[i], n) for n in UNCERTAINTY}
+        if isinstance(outcome, dict):
+            return dict(outcome, sample=i, status="ok", parameters=parameters)
+        return {"sample": i, "status": "failed", "reason": f"{type(outcome).__name__}: {outcome}", "parameters": parameters}
+
+    def finished(i: int, outcome: object) -> None:
+        done[i] = described(i, outcome)
+        if on_result is not None:
+            on_result(i, done[i])
+
+    settled = _settle(todo, "Monte Carlo", quiet, timeout, finished)
+    for i in todo:
+        if i not in settled:
+            done[i] = described(i, TimeoutError(f"no worker finished it within {timeout:g} s"))
+    return [done[i] for i in range(runs)]

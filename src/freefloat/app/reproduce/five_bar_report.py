@@ -10,11 +10,13 @@
 
 from __future__ import annotations
 
+import json
 import time
 from pathlib import Path
 
 import numpy as np
 
+from ...errors import FreefloatError
 from ...parallel.five_bar import TRUE_PARAMETERS, TRUE_PARAMETERS_50, FiveBarParameters
 from ...parallel.platform_control import printed_gains
 from ...parallel.sliding_mode import (
@@ -205,30 +207,71 @@ def reproduce_chattering(out: Path, quick: bool = False) -> dict:
     return write_report(out, report, lambda _: "\n".join(lines) + "\n", start)
 
 
+def _resumable(journal: Path, settings: dict) -> dict[int, dict]:
+    """Samples of an earlier run into the same folder with the same settings, by index."""
+    if not journal.is_file():
+        return {}
+    done = {}
+    for line in journal.read_text().splitlines():
+        try:
+            record = json.loads(line)
+        except json.JSONDecodeError:
+            continue  # a line cut by a kill
+        if record.pop("settings", None) == settings:
+            done[record["sample"]] = record
+    return done
+
+
 def reproduce_robustness(out: Path, quick: bool = False, runs: int = 20, relative_error: float = 0.5,
                          scheduler: str | None = None) -> dict:
     """``freefloat reproduce robustness``: gains designed across Dask workers over the grid, then
-    ``runs`` closed loops on plants drawn within ``relative_error`` of the nominal parameters."""
+    ``runs`` closed loops on plants drawn within ``relative_error`` of the nominal parameters.
+
+    Each finished sample is appended to ``samples.jsonl`` in ``out`` as it comes in; rerun into the
+    same folder with the same settings, the study resumes from them. Failed samples are kept as
+    failures with their reason; the statistics are over the samples that ran.
+
+    Raises:
+        FreefloatError: for ``runs`` < 1, ``relative_error`` outside [0, 1), a scheduler that
+            does not answer, or a gain design that fails.
+    """
     from ...parallel.sweeps import client, design_gains_distributed, monte_carlo
 
+    runs = 2 if quick else runs
+    if runs < 1:
+        raise FreefloatError(f"--runs must be >= 1, got {runs}")
+    if not 0.0 <= relative_error < 1.0:
+        raise FreefloatError(f"--error must be in [0, 1) (the parameters must stay positive), got {relative_error}")
     out.mkdir(parents=True, exist_ok=True)
     start = time.perf_counter()
     nominal = FiveBarParameters()
     points = workspace_grid(nominal, spacing=0.03 if quick else 0.01, max_condition=6.0)
     duration = 0.25 if quick else 0.3
+    settings = {"quick": quick, "runs": runs, "relative_error": relative_error, "duration": duration,
+                "grid_points": len(points), "seed": 0}
+    journal = out / "samples.jsonl"
+    done = _resumable(journal, settings)
     with client(scheduler) as dask_client:
         gains = design_gains_distributed(dask_client, nominal, points, quiet=False)
-        results = monte_carlo(dask_client, gains, runs=2 if quick else runs, relative_error=relative_error,
-                              duration=duration, quiet=False)
-    errors = np.array([r["error_mm"] for r in results])
-    report = {"settings": {"quick": quick, "runs": len(results), "relative_error": relative_error, "duration": duration,
-                           "grid_points": len(points), "scheduler": scheduler or "local cluster"},
+        with journal.open("a") as log:
+            def keep(i: int, result: dict) -> None:
+                log.write(json.dumps({"settings": settings, **result}) + "\n")
+                log.flush()
+
+            results = monte_carlo(dask_client, gains, runs=runs, relative_error=relative_error, duration=duration,
+                                  quiet=False, done=done, on_result=keep)
+    ran = [r for r in results if r["status"] == "ok"]
+    if not ran:
+        raise FreefloatError(f"robustness: every one of the {runs} samples failed, e.g. {results[0]['reason']}")
+    errors = np.array([r["error_mm"] for r in ran])
+    report = {"settings": {**settings, "scheduler": scheduler or "local cluster", "resumed": len(done)},
               "gains": {"n": gains.n.tolist(), "T": gains.T.tolist()},
-              "runs": results, "error_after_0.2s_mm_max": errors.max(axis=0).tolist(),
+              "runs": results, "failed": len(results) - len(ran), "error_after_0.2s_mm_max": errors.max(axis=0).tolist(),
               "error_after_0.2s_mm_median": np.median(errors, axis=0).tolist()}
     return write_report(out, report, lambda r: (
         f"# Monte-Carlo robustness of the 5R sliding-mode controller\n\n{len(results)} plants with the six uncertain "
         f"parameters drawn uniformly within {relative_error:.0%} of nominal (seed 0); gains over {len(points)} grid points; "
         f"circle of eq 189 for {duration} s.\n\nTracking error after 0.2 s, x / y (mm): median "
         f"{r['error_after_0.2s_mm_median'][0]:.4f} / {r['error_after_0.2s_mm_median'][1]:.4f}, worst "
-        f"{r['error_after_0.2s_mm_max'][0]:.4f} / {r['error_after_0.2s_mm_max'][1]:.4f}.\n"), start)
+        f"{r['error_after_0.2s_mm_max'][0]:.4f} / {r['error_after_0.2s_mm_max'][1]:.4f}; "
+        f"{r['failed']} failed samples.\n"), start)
