@@ -174,6 +174,9 @@ def _check_types(path: Path, spec: dict) -> None:
         raise FreefloatError(f"{path}: 'actuated' must be a list of joint names, got {spec['actuated']!r}")
     if not isinstance(spec["platform"].get("frame", ""), str):
         raise FreefloatError(f"{path}: 'platform.frame' must be a frame name, got {spec['platform']['frame']!r}")
+    coordinates = spec["platform"].get("coordinates", ["x", "y", "z"])
+    if not isinstance(coordinates, list) or not all(isinstance(c, str) for c in coordinates):
+        raise FreefloatError(f"{path}: 'platform.coordinates' must be a list of axis names, got {coordinates!r}")
     for i, closure in enumerate(spec["closures"]):
         if not isinstance(closure, dict) or not isinstance(closure.get("kind", "point"), str) or not (
                 isinstance(closure.get("frames", []), list) and all(isinstance(f, str) for f in closure.get("frames", []))):

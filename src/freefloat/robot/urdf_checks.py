@@ -24,6 +24,8 @@ from ..errors import RobotModelError
 DATA_BYTES_PER_NV3 = 65.0
 #: ``Data`` objects a simulation holds at once (plant, recorder, controller, models).
 DATA_PER_RUN = 6
+#: Largest size of any number in a URDF (SI units; beyond it products of them overflow).
+MAX_MAGNITUDE = 1e15
 #: Deepest XML nesting accepted (a URDF needs about 5 levels).
 MAX_DEPTH = 64
 #: Share of the machine's memory a robot may take.
@@ -77,10 +79,10 @@ def check_numbers(path: Path, root: ET.Element) -> None:
                             number = float(token)
                         except ValueError:
                             continue
-                        if not math.isfinite(number):
+                        if not math.isfinite(number) or abs(number) > MAX_MAGNITUDE:
                             raise RobotModelError(
                                 f"{path}: {kind} '{owner.get('name')}' <{element.tag} {attribute}=\"{value}\">: "
-                                f"'{token}' is not a finite number")
+                                f"'{token}' is not a finite number of at most {MAX_MAGNITUDE:g} in size")
 
 
 def check_joints(path: Path, root: ET.Element) -> None:

@@ -8,6 +8,7 @@ A scene file is a robot scene (:class:`Scene`, ``[robot]``) or a mechanism scene
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import tomllib
 from pathlib import Path
@@ -103,8 +104,9 @@ def resolve_file(scene: Scene | MechanismScene, value: str, key: str) -> Path:
         *([scene.source.parent / name] if scene.source else []), Path.cwd() / name, URDF_DIR / name
     ]
     for path in candidates:
-        if path.is_file():
-            return path
+        with contextlib.suppress(OSError):  # a name too long for the file system is just not there
+            if path.is_file():
+                return path
     raise SceneError(f"scene '{scene.name}': {key} '{name}' not found in {[str(c.parent) for c in candidates]}")
 
 

@@ -9,6 +9,9 @@ from typing import Any, NamedTuple
 
 from ...errors import SceneError
 
+#: Largest size of any number in a scene (SI units: nothing physical a scene sets comes near it;
+#: beyond it float arithmetic overflows).
+MAX_MAGNITUDE = 1e15
 #: Frames per second of simulated time a page may show (a page holds duration * fps frames).
 MAX_HTML_FPS = 1000.0
 
@@ -88,8 +91,8 @@ def number(where: str, section: str, key: str, value: Any, kind: type, rules: Ru
         kind is int and not isinstance(value, int)
     ):
         raise SceneError(f"{where}'{name}' must be a{'n integer' if kind is int else ' number'}, got {value!r}")
-    if not math.isfinite(value):
-        raise SceneError(f"{where}'{name}' must be finite, got {value!r}")
+    if not math.isfinite(value) or abs(value) > MAX_MAGNITUDE:
+        raise SceneError(f"{where}'{name}' must be finite and at most {MAX_MAGNITUDE:g} in size, got {value!r}")
     if (section, key) in rules.positive and value <= 0:
         raise SceneError(f"{where}'{name}' must be > 0, got {value!r}")
     if (section, key) in rules.non_negative and value < 0:
@@ -136,7 +139,8 @@ def indices(where: str, key: str, value: Any, size: int) -> tuple[int, ...]:
 
 
 def is_finite(x: Any) -> bool:
-    return isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x)
+    """A number (not a bool), finite and at most :data:`MAX_MAGNITUDE` in size."""
+    return isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x) and abs(x) <= MAX_MAGNITUDE
 
 
 def table(where: str, key: str, value: Any) -> dict[str, float]:
