@@ -90,16 +90,24 @@ def test_a_killed_run_leaves_loadable_checkpoints(tmp_path):
 
 
 def test_non_finite_results_are_a_failure_with_strict_json(tmp_path):
-    """A base at 1e308 m makes the CoM infinite: the run is 'diverged', summary.json is strict
-    JSON (null, never NaN)."""
+    """A run whose summary holds inf or NaN is 'diverged', and its summary.json is strict JSON
+    (null, never NaN). (A base at 1e308 m, which made the CoM infinite, is now refused by the
+    scene schema; the check stays for whatever else overflows.)"""
+    from freefloat.app.outputs import write_run
+    from freefloat.app.run_folder import RunFolder
+
     scene = load_scene(scene_variant(tmp_path / "s.toml", "four_arm_joint_space", simulation={"duration": 0.01},
-                                     initial={"base_position": [1e308, 0.0, 0.0]},
                                      output={"figures": False, "html": False}))
-    done = runner.run_scene(scene, tmp_path / "out")
-    text = (tmp_path / "out" / "summary.json").read_text()
-    summary = json.loads(text, parse_constant=lambda c: pytest.fail(f"non-strict JSON constant {c}"))
-    assert done.outcome.status == summary["status"] == "diverged"
-    assert "non-finite" in summary["message"] or "finite range" in summary["message"]
+    outcome = runner.simulate(scene)
+    outcome.summary["com_drift_max"] = float("inf")
+    outcome.summary["energy_drift_max"] = float("nan")
+    runner.fail_if_not_finite(outcome)
+    assert outcome.status == "diverged" and outcome.message == "non-finite results: com_drift_max, energy_drift_max"
+    with RunFolder(tmp_path / "out") as folder:
+        write_run(folder, scene, outcome)
+    summary = json.loads((tmp_path / "out" / "summary.json").read_text(),
+                         parse_constant=lambda c: pytest.fail(f"non-strict JSON constant {c}"))
+    assert summary["status"] == "diverged" and summary["com_drift_max"] is None
 
 
 def test_an_interrupt_while_writing_skips_the_drawings_but_keeps_the_data(tmp_path):
