@@ -1,0 +1,170 @@
+// freefloat.dynamics._core: the compiled GJM (gjm.hpp) behind a small pybind11 interface. The tree
+// is handed over as arrays (no C++ object is shared with pin's bindings); outputs are new C-order
+// numpy arrays with the shapes of the numpy reference.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+
+#include <cstring>
+#include <stdexcept>
+#include <string>
+
+#include "gjm.hpp"
+
+namespace py = pybind11;
+using namespace freefloat;
+using Array = py::array_t<double, py::array::c_style | py::array::forcecast>;
+using IntArray = py::array_t<long long, py::array::c_style | py::array::forcecast>;
+
+namespace {
+
+const double* checked(const Array& a, py::ssize_t size, const char* name) {
+  if (a.size() != size)
+    throw std::invalid_argument(std::string(name) + ": expected " + std::to_string(size) + " numbers, got " +
+                                std::to_string(a.size()));
+  return a.data();
+}
+
+py::array_t<double> copy_out(std::vector<py::ssize_t> shape, const double* data) {
+  py::array_t<double> out(shape);
+  std::memcpy(out.mutable_data(), data, sizeof(double) * out.size());
+  return out;
+}
+
+template <typename M>
+py::array_t<double> matrix_out(const M& m) {  // row-major copy of any Eigen matrix
+  py::array_t<double> out({static_cast<py::ssize_t>(m.rows()), static_cast<py::ssize_t>(m.cols())});
+  Eigen::Map<MatX>(out.mutable_data(), m.rows(), m.cols()) = m;
+  return out;
+}
+
+template <typename V>
+py::array_t<double> vector_out(const V& x) {
+  return copy_out({static_cast<py::ssize_t>(x.size())}, x.data());
+}
+
+py::array_t<double> stack3(const std::vector<Vec3>& xs, size_t first = 0) {
+  py::array_t<double> out({static_cast<py::ssize_t>(xs.size() - first), py::ssize_t{3}});
+  double* p = out.mutable_data();
+  for (size_t i = first; i < xs.size(); ++i, p += 3) Eigen::Map<Vec3>{p} = xs[i];
+  return out;
+}
+
+py::array_t<double> stack33(const std::vector<Mat3>& xs) {
+  py::array_t<double> out({static_cast<py::ssize_t>(xs.size()), py::ssize_t{3}, py::ssize_t{3}});
+  double* p = out.mutable_data();
+  for (size_t i = 0; i < xs.size(); ++i, p += 9) Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>{p} = xs[i];
+  return out;
+}
+
+Tree make_tree(const IntArray& parent, const Array& placement, const Array& axis, py::array_t<bool> revolute,
+               const Array& mass, const Array& com, const Array& inertia, const IntArray& q_index,
+               py::array_t<bool> circle, bool free_base, const Array& base_com, const Array& base_com_rotation,
+               const IntArray& ee_body, const Array& ee_offset) {
+  Tree t;
+  t.n = static_cast<int>(parent.size());
+  const int n = t.n, nb = n + 1;
+  const double* pl = checked(placement, 16 * n, "placement");
+  const double* ax = checked(axis, 3 * n, "axis");
+  const double* ms = checked(mass, nb, "mass");
+  const double* cm = checked(com, 3 * nb, "com");
+  const double* in = checked(inertia, 9 * nb, "inertia");
+  if (revolute.size() != n || q_index.size() != n || circle.size() != n)
+    throw std::invalid_argument("revolute, q_index, circle: expected one entry per joint");
+  for (int j = 0; j < n; ++j) {
+    const int a = static_cast<int>(parent.data()[j]);
+    if (a < 0 || a > j) throw std::invalid_argument("parent[" + std::to_string(j) + "]: a parent must come before its child");
+    t.parent.push_back(a);
+    Eigen::Map<const Eigen::Matrix<double, 4, 4, Eigen::RowMajor>> H(pl + 16 * j);
+    t.place_R.push_back(H.topLeftCorner<3, 3>());
+    t.place_t.push_back(H.topRightCorner<3, 1>());
+    t.axis.emplace_back(ax[3 * j], ax[3 * j + 1], ax[3 * j + 2]);
+    t.revolute.push_back(revolute.data()[j]);
+    t.q_index.push_back(static_cast<int>(q_index.data()[j]));
+    t.circle.push_back(circle.data()[j]);
+  }
+  for (int b = 0; b < nb; ++b) {
+    t.mass.push_back(ms[b]);
+    t.com.emplace_back(cm[3 * b], cm[3 * b + 1], cm[3 * b + 2]);
+    t.inertia.push_back(Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(in + 9 * b));
+  }
+  t.moves.assign(static_cast<size_t>(nb) * n, 0);
+  for (int b = 1; b < nb; ++b) {
+    const int a = t.parent[b - 1];
+    for (int j = 0; j < n; ++j) t.moves[b * n + j] = t.moves[a * n + j];
+    t.moves[b * n + b - 1] = 1;
+  }
+  t.free_base = free_base;
+  const double* bc = checked(base_com, 3, "base_com");
+  t.base_com = Vec3(bc[0], bc[1], bc[2]);
+  t.base_com_rotation = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(
+      checked(base_com_rotation, 9, "base_com_rotation"));
+  const py::ssize_t k = ee_body.size();
+  const double* eo = checked(ee_offset, 3 * k, "ee_offset");
+  for (py::ssize_t e = 0; e < k; ++e) {
+    const int b = static_cast<int>(ee_body.data()[e]);
+    if (b < 0 || b > n) throw std::invalid_argument("ee_body[" + std::to_string(e) + "]: no such body");
+    t.ee_body.push_back(b);
+    t.ee_offset.emplace_back(eo[3 * e], eo[3 * e + 1], eo[3 * e + 2]);
+  }
+  return t;
+}
+
+// (H0, H0m, Hm, Hstar, J0, Jm, J0E, Jstar, momentum_base, momentum_origin, x0dot, qdot,
+//  ee_position, (r0, R0, rotation, origin, joint_position, joint_axis, com, inertia))
+py::tuple state_out(const State& s) {
+  const Kinematics& k = s.kin;
+  py::tuple kin = py::make_tuple(vector_out(k.r0), matrix_out(k.R0), stack33(k.rotation), stack3(k.origin),
+                                 stack3(k.origin, 1), stack3(k.joint_axis), stack3(k.com), stack33(k.inertia));
+  return py::make_tuple(matrix_out(s.H0), matrix_out(s.H0m), matrix_out(s.Hm), matrix_out(s.Hstar),
+                        matrix_out(s.J0), matrix_out(s.Jm), matrix_out(s.J0E), matrix_out(s.Jstar),
+                        vector_out(s.momentum_base), vector_out(s.momentum_origin), vector_out(s.x0dot),
+                        vector_out(s.qdot), matrix_out(s.ee_position), kin);
+}
+
+// (dH0, dH0m, dHm, H0dot, H0mdot, Hmdot)
+py::tuple derivatives_out(const Tree& t, const Derivatives& d) {
+  const py::ssize_t n = t.n;
+  return py::make_tuple(copy_out({n, 6, 6}, d.dH0.data()), copy_out({n, 6, n}, d.dH0m.data()),
+                        copy_out({n, n, n}, d.dHm.data()), matrix_out(d.H0dot), matrix_out(d.H0mdot),
+                        matrix_out(d.Hmdot));
+}
+
+struct Core {
+  Tree tree;
+  int nq, nv;
+  State state;
+  Derivatives deriv;
+
+  void run(const Array& q, const Array& v) {
+    compute(tree, checked(q, nq, "q"), checked(v, nv, "v"), state);
+  }
+};
+
+}  // namespace
+
+PYBIND11_MODULE(_core, m) {
+  m.doc() = "Compiled GJM quantities and derivatives; the numpy modules of freefloat.dynamics.gjm are the reference.";
+  py::class_<Core>(m, "GJMCore")
+      .def(py::init([](const IntArray& parent, const Array& placement, const Array& axis, py::array_t<bool> revolute,
+                       const Array& mass, const Array& com, const Array& inertia, const IntArray& q_index,
+                       py::array_t<bool> circle, bool free_base, const Array& base_com,
+                       const Array& base_com_rotation, const IntArray& ee_body, const Array& ee_offset, int nq,
+                       int nv) {
+             return Core{make_tree(parent, placement, axis, revolute, mass, com, inertia, q_index, circle, free_base,
+                                   base_com, base_com_rotation, ee_body, ee_offset),
+                         nq, nv, State{}, Derivatives{}};
+           }),
+           py::arg("parent"), py::arg("placement"), py::arg("axis"), py::arg("revolute"), py::arg("mass"),
+           py::arg("com"), py::arg("inertia"), py::arg("q_index"), py::arg("circle"), py::arg("free_base"),
+           py::arg("base_com"), py::arg("base_com_rotation"), py::arg("ee_body"), py::arg("ee_offset"),
+           py::arg("nq"), py::arg("nv"))
+      .def("compute", [](Core& c, const Array& q, const Array& v) {
+             c.run(q, v);
+             return state_out(c.state);
+           }, "GJM quantities at (q, v): a tuple in GJMState field order, kinematics as a tuple.")
+      .def("compute_with_derivatives", [](Core& c, const Array& q, const Array& v) {
+             c.run(q, v);
+             derivatives(c.tree, c.state, c.deriv);
+             return py::make_tuple(state_out(c.state), derivatives_out(c.tree, c.deriv));
+           }, "(state tuple, derivative tuple in GJMDerivatives field order) at (q, v).");
+}
