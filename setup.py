@@ -22,6 +22,7 @@ setup(
         Pybind11Extension(
             "freefloat.dynamics._core",
             ["cpp/core.cpp"],
+            depends=[str(path) for path in sorted(Path("cpp").glob("*.hpp"))],
             include_dirs=[eigen_include(), "cpp"],
             cxx_std=17,
             extra_compile_args=["-O3", "-DEIGEN_NO_DEBUG"],

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "gjm.hpp"
+#include "models.hpp"
 
 namespace py = pybind11;
 using namespace freefloat;
@@ -138,6 +139,48 @@ struct Core {
   void run(const Array& q, const Array& v) {
     compute(tree, checked(q, nq, "q"), checked(v, nv, "v"), state);
   }
+
+  MatX sensitivity_rows(const Array& D) const {  // NIDC's D (n, 6), or zeros when empty
+    if (D.size() == 0) return MatX::Zero(tree.n, 6);
+    return Eigen::Map<const MatX>(checked(D, 6 * tree.n, "D"), tree.n, 6);
+  }
+
+  // Forward dynamics of one model: Pinocchio's a (nv,).
+  py::array_t<double> acceleration(const std::string& name, const Array& q, const Array& v, const Array& tau,
+                                   const Array& F, const Array& Q_q, const Array& D) {
+    const Variant variant = variant_of(name);
+    run(q, v);
+    derivatives(tree, state, deriv);
+    const int n = tree.n, n_base = nv - n;
+    const Vec6 force = Eigen::Map<const Vec6>(checked(F, 6, "F"));
+    const ModelResult r = model_terms(tree, state, deriv, variant, force, sensitivity_rows(D));
+    const VecX rhs = Eigen::Map<const VecX>(checked(tau, nv, "tau") + n_base, n) +
+                     Eigen::Map<const VecX>(checked(Q_q, n, "Q_q"), n) - r.c;
+    py::array_t<double> a(nv);
+    Eigen::Map<VecX> qddot(a.mutable_data() + n_base, n);
+    qddot = state.Hstar.ldlt().solve(rhs);
+    const Vec6 xddot0 = -state.H0_ldlt.solve(state.H0m * qddot + r.base_bias);
+    local_base_acceleration(tree, q.data(), v.data(), xddot0, a.mutable_data());
+    return a;
+  }
+
+  // (H, c) with tau + Q_q = H qddot + c, F the base rows' generalized force (gravity).
+  py::tuple joint_space(const std::string& name, const Array& q, const Array& v, const Array& F, const Array& D) {
+    const Variant variant = variant_of(name);
+    run(q, v);
+    derivatives(tree, state, deriv);
+    const Vec6 force = Eigen::Map<const Vec6>(checked(F, 6, "F"));
+    const ModelResult r = model_terms(tree, state, deriv, variant, force, sensitivity_rows(D));
+    return py::make_tuple(matrix_out(state.Hstar), vector_out(r.c));
+  }
+
+  // NIDC's dxdot0/dq_k (n, 6) at (q, v) with the augmented partials of D.
+  py::array_t<double> sensitivity(const Array& q, const Array& v, bool translation, const Array& D) {
+    run(q, v);
+    derivatives(tree, state, deriv);
+    const Partials p = nidc_partials(tree, state, deriv, sensitivity_rows(D), translation);
+    return matrix_out(freefloat::sensitivity(state, p, tree.n));
+  }
 };
 
 }  // namespace
@@ -166,5 +209,12 @@ PYBIND11_MODULE(_core, m) {
              c.run(q, v);
              derivatives(c.tree, c.state, c.deriv);
              return py::make_tuple(state_out(c.state), derivatives_out(c.tree, c.deriv));
-           }, "(state tuple, derivative tuple in GJMDerivatives field order) at (q, v).");
+           }, "(state tuple, derivative tuple in GJMDerivatives field order) at (q, v).")
+      .def("acceleration", &Core::acceleration, py::arg("name"), py::arg("q"), py::arg("v"), py::arg("tau"),
+           py::arg("F"), py::arg("Q_q"), py::arg("D"),
+           "Forward dynamics (nv,) of the named GJM model; F (6,) and Q_q (n,) generalized forces, D NIDC's (n, 6) or empty.")
+      .def("joint_space", &Core::joint_space, py::arg("name"), py::arg("q"), py::arg("v"), py::arg("F"), py::arg("D"),
+           "(H, c) with tau = H qddot + c of the named GJM model.")
+      .def("sensitivity", &Core::sensitivity, py::arg("q"), py::arg("v"), py::arg("translation"), py::arg("D"),
+           "NIDC's dxdot0/dq_k (n, 6), eq 64.");
 }
