@@ -124,3 +124,30 @@ def test_simulation_keeps_its_samples_when_a_singular_pose_stops_it(monkeypatch)
     t, qs, drift = simulate(mech, q0, np.zeros(6), lambda *_: np.zeros(2), 0.01, 1e-3)
     assert len(t) == len(qs) == len(drift) == 4
     assert np.isfinite(qs).all()
+
+
+def test_blocks_grow_back_after_successes_on_a_coarse_path(monkeypatch):
+    """On eq 189's circle wound 8 times in 4000 points, inverse_trajectory assembles fewer than
+    twice the points asked (resetting to 512 after each block assembled 7.7 times as many), and
+    its efforts equal point-by-point continuation."""
+    from freefloat.parallel.mechanism import ParallelMechanism
+    from freefloat.parallel.sliding_mode import circle_reference
+
+    mech = five_bar(P)
+    x, xd, xdd = (np.array(v) for v in zip(*(circle_reference(t) for t in np.linspace(0.0, 8 * 2 * np.pi / 28.57, 4000))))
+    assembled, assemble = [0], ParallelMechanism.assemble
+
+    def counting(self, q_sharp, guess, *args, **kwargs):
+        assembled[0] += len(np.atleast_2d(q_sharp))
+        return assemble(self, q_sharp, guess, *args, **kwargs)
+
+    monkeypatch.setattr(ParallelMechanism, "assemble", counting)
+    tau, _ = mech.inverse_trajectory(x, xd, xdd, elbow_guess(P, x[0]))
+    assert assembled[0] < 2 * len(x)
+    monkeypatch.setattr(ParallelMechanism, "assemble", assemble)
+    looped = []
+    q = np.concatenate((x[0], elbow_guess(P, x[0])))
+    for i in range(len(x)):
+        q = mech.assemble(x[i], q[mech.p:])
+        looped.append(mech.inverse(q, xd[i], xdd[i])[0])
+    assert np.abs(np.array(looped) - tau).max() < 1e-9 * max(1.0, np.abs(tau).max())

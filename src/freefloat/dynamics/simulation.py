@@ -17,6 +17,7 @@ from ..robot.robot import Robot
 from .integrators import Integrator
 from .models import DynamicsModel
 from .telemetry import Telemetry
+from .threads import single_blas_thread
 from .wrenches import ExternalWrench, WrenchField
 
 __all__ = ["MAX_SPEED", "Controller", "Recorder", "RunResult", "run"]
@@ -93,6 +94,7 @@ class Recorder:
             tel.ee_quaternion[row, i] = pin.Quaternion(frame.rotation).coeffs()
 
 
+@single_blas_thread
 def run(
     robot: Robot,
     q0: np.ndarray,

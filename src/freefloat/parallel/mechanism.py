@@ -28,6 +28,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..dynamics.threads import single_blas_thread
 from ..errors import FreefloatError
 from .serial import SerialChain
 
@@ -272,7 +273,9 @@ class ParallelMechanism:
         eqs 130-140 for the whole block. A block whose solution strays more than ``jump`` (rad
         or m) from its prediction (a jump in the joint path: another assembly mode, or joints wound
         by a turn near a singular pose) is halved and redone; a single point that still strays is
-        an error.
+        an error. After an accepted block the size doubles again (up to ``block``), so a coarse
+        path settles near the largest block it allows instead of falling back to ``block`` and
+        halving anew every time.
 
         Returns:
             ``(tau, q)``: efforts (N, k) and assembled coordinates (N, n_q).
@@ -308,7 +311,7 @@ class ParallelMechanism:
                 size = max(1, size // 2)
                 continue
             tau[rows] = self.inverse(q[rows], qd_sharp[rows], qdd_sharp[rows])[0]
-            anchor, first, size = q[first + len(x) - 1], first + len(x), block
+            anchor, first, size = q[first + len(x) - 1], first + len(x), min(block, size + size // 4 + 1)
         return tau, q
 
 
@@ -355,6 +358,7 @@ def rk4_step(f, q: np.ndarray, qd: np.ndarray, h: float) -> tuple[np.ndarray, np
     return q + h / 6 * (k1q + 2 * k2q + 2 * k3q + k4q), qd + h / 6 * (k1v + 2 * k2v + 2 * k3v + k4v)
 
 
+@single_blas_thread
 def simulate(mechanism: ParallelMechanism, q0: np.ndarray, qd0: np.ndarray, tau, duration: float, step: float,
              baumgarte: float = 0.0, method: str = "rk4") -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Classical RK4 (or semi-implicit Euler) on the coupled coordinates (all Euclidean),
