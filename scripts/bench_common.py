@@ -38,3 +38,26 @@ def write_json(out: Path, name: str, report: dict) -> Path:
     path = out / f"bench_{name}.json"
     path.write_text(json.dumps(report, indent=2))
     return path
+
+
+#: Arm counts of the size sweeps (4 joints per arm: 8 to 64 joints).
+ARM_COUNTS = (2, 4, 8, 16)
+
+
+def multi_arm_robot(arms: int, folder: Path):
+    """A free-floating robot with ``arms`` spatial 4-link arms evenly around a 10 kg base (links
+    0.5 m, 2 kg, DH twists 90, 0, 90, 0 deg), written as URDF to ``folder`` and loaded."""
+    import math
+    import warnings
+
+    from freefloat import load_robot
+    from freefloat.robot.builders import ArmSpec, LinkSpec, RobotSpec, write_urdf
+
+    links = tuple(LinkSpec(0.5, 2.0, (0.01, 0.05, 0.05), alpha=alpha) for alpha in (math.pi / 2, 0.0, math.pi / 2, 0.0))
+    yaws = [2 * math.pi * i / arms for i in range(arms)]
+    spec = RobotSpec(f"arms{arms}", 10.0, (0.6, 0.6, 0.6), (0.0, 0.0, 0.0), (1.0, 1.0, 1.0), tuple(
+        ArmSpec(f"arm{i}", (0.5 * math.cos(y), 0.5 * math.sin(y), 0.0), (0.0, 0.0, y), links) for i, y in enumerate(yaws)))
+    path = write_urdf(spec, folder / f"arms{arms}.urdf")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return load_robot(path, visuals=False)
