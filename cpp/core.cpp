@@ -210,6 +210,11 @@ PYBIND11_MODULE(_core, m) {
              derivatives(c.tree, c.state, c.deriv);
              return py::make_tuple(state_out(c.state), derivatives_out(c.tree, c.deriv));
            }, "(state tuple, derivative tuple in GJMDerivatives field order) at (q, v).")
+      .def("derivatives", [](Core& c, const Array& q, const Array& v) {
+             c.run(q, v);
+             derivatives(c.tree, c.state, c.deriv);
+             return derivatives_out(c.tree, c.deriv);
+           }, "Derivative tuple in GJMDerivatives field order at (q, v).")
       .def("acceleration", &Core::acceleration, py::arg("name"), py::arg("q"), py::arg("v"), py::arg("tau"),
            py::arg("F"), py::arg("Q_q"), py::arg("D"),
            "Forward dynamics (nv,) of the named GJM model; F (6,) and Q_q (n,) generalized forces, D NIDC's (n, 6) or empty.")

@@ -250,13 +250,13 @@ inline void derivatives(const Tree& t, const State& s, Derivatives& d) {
   for (int k = 0; k < n; ++k)
     for (int j = 0; j < n; ++j)
       if (j != k && t.carries(j, k)) IcS[k * n + j] = s.Ic[k + 1] * s.S[j];
+  std::vector<Vec6> SxSk(n);  // S_i x S_k for the joints i strictly above k
   for (int k = 0; k < n; ++k) {
     const Vec6& Sk = s.S[k];
     Eigen::Map<Eigen::Matrix<double, 6, 6, Eigen::RowMajor>> dH0(d.dH0.data() + 36 * k);
     dH0 = inertia_rate(Sk, s.Ic[k + 1]);
     Eigen::Map<MatX> dH0m(d.dH0m.data() + static_cast<size_t>(6) * n * k, 6, n);
     Eigen::Map<MatX> dHm(d.dHm.data() + static_cast<size_t>(n) * n * k, n, n);
-    std::vector<Vec6> SxSk(n);  // S_i x S_k for the joints i strictly above k
     for (int j = 0; j < n; ++j) {
       if (t.carries(k, j)) {
         dH0m.col(j) = cross_force(Sk, s.H0m.col(j));

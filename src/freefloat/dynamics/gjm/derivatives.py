@@ -137,4 +137,7 @@ def derivatives(robot: Robot, q: np.ndarray, v: np.ndarray, backend: str = "comp
     ``"compiled"`` (default) or ``"numpy"``, the reference.
     """
     q, v = np.asarray(q, dtype=float), np.asarray(v, dtype=float)
-    return state_and_derivatives(model_of(robot), q, v, backend)[1]
+    gjm = model_of(robot)
+    if backend == "compiled":
+        return GJMDerivatives(*gjm.core.derivatives(q, v))
+    return state_and_derivatives(gjm, q, v, backend)[1]
