@@ -10,6 +10,7 @@
 
 #include "gjm.hpp"
 #include "models.hpp"
+#include "parallel.hpp"
 
 namespace py = pybind11;
 using namespace freefloat;
@@ -183,6 +184,79 @@ struct Core {
   }
 };
 
+DMat dmat(const Array& a, py::ssize_t rows, py::ssize_t cols, const std::string& name) {
+  return Eigen::Map<const MatX>(checked(a, rows * cols, name.c_str()), rows, cols);
+}
+
+Chain make_chain(const py::dict& c) {
+  Chain out;
+  const Array placement = c["placement"].cast<Array>();
+  out.nu = static_cast<int>(placement.shape(0));
+  const int nu = out.nu;
+  const Array link = c["link"].cast<Array>(), com = c["com"].cast<Array>(), inertia = c["inertia"].cast<Array>();
+  const Array mass = c["mass"].cast<Array>();
+  const py::array_t<bool> prismatic = c["prismatic"].cast<py::array_t<bool>>();
+  const double* pl = checked(placement, 16 * nu, "placement");
+  const double* li = checked(link, 16 * nu, "link");
+  const double* cm = checked(com, 3 * nu, "com");
+  const double* in = checked(inertia, 9 * nu, "inertia");
+  const double* ms = checked(mass, nu, "mass");
+  using Row4 = Eigen::Matrix<double, 4, 4, Eigen::RowMajor>;
+  using Row3 = Eigen::Matrix<double, 3, 3, Eigen::RowMajor>;
+  for (int i = 0; i < nu; ++i) {
+    out.placement.push_back(Eigen::Map<const Row4>(pl + 16 * i));
+    out.link.push_back(Eigen::Map<const Row4>(li + 16 * i));
+    out.prismatic.push_back(prismatic.data()[i]);
+    out.mass.push_back(ms[i]);
+    out.com.emplace_back(cm[3 * i], cm[3 * i + 1], cm[3 * i + 2]);
+    out.inertia.push_back(Eigen::Map<const Row3>(in + 9 * i));
+  }
+  for (int i = 0; i + 1 < nu; ++i) out.link_next.push_back(out.link[i] * out.placement[i + 1]);
+  out.base = Eigen::Map<const Row4>(checked(c["base"].cast<Array>(), 16, "base"));
+  const double* tp = checked(c["tip_point"].cast<Array>(), 3, "tip_point");
+  const double* gv = checked(c["gravity"].cast<Array>(), 3, "gravity");
+  out.tip_point = V3(tp[0], tp[1], tp[2]);
+  out.gravity = V3(gv[0], gv[1], gv[2]);
+  return out;
+}
+
+Mechanism make_mechanism(const py::list& chains, const py::dict& m) {
+  Mechanism out;
+  for (const auto& c : chains) out.chains.push_back(make_chain(c.cast<py::dict>()));
+  const Array D = m["D"].cast<Array>(), E = m["E"].cast<Array>(), F = m["F"].cast<Array>();
+  out.m_lin = static_cast<int>(D.shape(0));
+  out.p = static_cast<int>(D.shape(1));
+  int n_passive = 0;
+  for (const Chain& c : out.chains) n_passive += c.nu;
+  out.n_q = out.p + n_passive;
+  const int nc = static_cast<int>(out.chains.size());
+  out.D = dmat(D, out.m_lin, out.p, "D");
+  out.d = dmat(m["d"].cast<Array>(), out.m_lin, 1, "d");
+  out.E = dmat(E, out.m_lin, 3 * nc, "E");
+  out.F = dmat(F, out.m_lin, n_passive, "F");
+  out.platform_mass = dmat(m["platform_mass"].cast<Array>(), out.p, out.p, "platform_mass");
+  out.platform_gravity = dmat(m["platform_gravity"].cast<Array>(), out.p, 1, "platform_gravity");
+  const IntArray actuated = m["actuated"].cast<IntArray>();
+  out.U = DMat::Zero(out.n_q, actuated.size());
+  for (py::ssize_t i = 0; i < actuated.size(); ++i) out.U(actuated.data()[i], i) = 1.0;
+  if (!m["offset"].is_none()) {
+    out.angular = true;
+    const Array offset = m["offset"].cast<Array>();
+    out.m_ang = static_cast<int>(offset.size());
+    out.offset = dmat(offset, out.m_ang, 1, "offset");
+    out.P = dmat(m["P"].cast<Array>(), out.m_ang, out.p, "P");
+    out.Q = dmat(m["Q"].cast<Array>(), out.m_ang, 3 * nc, "Q");
+    out.R = dmat(m["R"].cast<Array>(), out.m_ang, n_passive, "R");
+    const double* ref = checked(m["reference"].cast<Array>(), 9 * nc, "reference");
+    for (int c = 0; c < nc; ++c)
+      out.reference.push_back(Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(ref + 9 * c));
+  }
+  if (out.m() != n_passive)
+    throw std::invalid_argument("the compiled core needs a square passive constraint Jacobian A° (" + std::to_string(out.m()) +
+                                " constraints, " + std::to_string(n_passive) + " passive joints)");
+  return out;
+}
+
 }  // namespace
 
 PYBIND11_MODULE(_core, m) {
@@ -222,4 +296,66 @@ PYBIND11_MODULE(_core, m) {
            "(H, c) with tau = H qddot + c of the named GJM model.")
       .def("sensitivity", &Core::sensitivity, py::arg("q"), py::arg("v"), py::arg("translation"), py::arg("D"),
            "NIDC's dxdot0/dq_k (n, 6), eq 64.");
+
+  py::register_exception<MechanismError>(m, "MechanismError", py::module_::import("freefloat.errors").attr("FreefloatError"));
+  py::class_<Mechanism>(m, "MechanismCore")
+      .def(py::init(&make_mechanism), py::arg("chains"), py::arg("mechanism"),
+           "From one dict of arrays per serial chain and one for the coupling (ParallelMechanism's fields).")
+      .def("forward", [](Mechanism& me, const Array& q, const Array& qd, const Array& tau, double baumgarte) {
+             const DVec out = me.forward(checked(q, me.n_q, "q"), checked(qd, me.n_q, "qd"),
+                                         checked(tau, me.U.cols(), "tau"), baumgarte);
+             return vector_out(out);
+           }, py::arg("q"), py::arg("qd"), py::arg("tau"), py::arg("baumgarte"), "qddot (n_q,), eq 129.")
+      .def("inverse", [](Mechanism& me, const Array& q, const Array& qd_sharp, const Array& qdd_sharp) {
+             DVec tau, qd, qdd;
+             DMat C;
+             me.inverse(checked(q, me.n_q, "q"), checked(qd_sharp, me.p, "qd_sharp"), checked(qdd_sharp, me.p, "qdd_sharp"),
+                        tau, qd, qdd, C);
+             return py::make_tuple(vector_out(tau), vector_out(qd), vector_out(qdd));
+           }, "(tau, qd, qdd) at an assembled q, eqs 130-140.")
+      .def("assemble", [](Mechanism& me, const Array& q_sharp, const Array& guess, double tol, int iterations) {
+             DVec q(me.n_q);
+             q << Eigen::Map<const DVec>(checked(q_sharp, me.p, "q_sharp"), me.p),
+                 Eigen::Map<const DVec>(checked(guess, me.n_q - me.p, "guess"), me.n_q - me.p);
+             const bool ok = me.assemble(q, tol, iterations);
+             return py::make_tuple(vector_out(q), ok);
+           }, "(q, converged): Newton on the closure from [q_sharp; guess].")
+      .def("trajectory", [](Mechanism& me, const Array& x, const Array& xd, const Array& xdd, const Array& guess,
+                            double jump, double tol, int iterations) -> py::tuple {
+             const py::ssize_t N = x.size() / me.p, nq = me.n_q, p = me.p;
+             const double* xs = checked(x, N * p, "positions");
+             const double* xds = checked(xd, N * p, "rates");
+             const double* xdds = checked(xdd, N * p, "accelerations");
+             py::array_t<double> q_out({N, nq}), tau_out({N, static_cast<py::ssize_t>(me.U.cols())});
+             Eigen::Map<MatX> Q(q_out.mutable_data(), N, nq), T(tau_out.mutable_data(), N, me.U.cols());
+             DVec anchor(nq), q(nq), tau, qd, qdd, residual;
+             DMat C, A;
+             anchor << Eigen::Map<const DVec>(xs, p), Eigen::Map<const DVec>(checked(guess, nq - p, "guess"), nq - p);
+             int status = 0;
+             py::ssize_t i = 0;
+             if (!me.assemble(anchor, tol, iterations)) {
+               Q.row(0) = anchor.transpose();
+               return py::make_tuple(tau_out, q_out, 1, py::ssize_t{0});
+             }
+             me.closure(anchor.data(), residual, A);
+             C = me.velocity_map(A, me.passive_lu(A));
+             for (; i < N; ++i) {
+               const Eigen::Map<const DVec> xi(xs + i * p, p);
+               q << xi, anchor.tail(nq - p) + C.bottomRows(nq - p) * (xi - anchor.head(p));
+               const DVec predicted = q.tail(nq - p);
+               if (!me.assemble(q, tol, iterations)) {
+                 q.tail(nq - p) = predicted;
+                 status = 1;
+               } else if ((q.tail(nq - p) - predicted).cwiseAbs().maxCoeff() > jump) {
+                 status = 2;
+               }
+               Q.row(i) = q.transpose();
+               if (status) break;
+               me.inverse(q.data(), xds + i * p, xdds + i * p, tau, qd, qdd, C);
+               T.row(i) = tau.transpose();
+               anchor = q;
+             }
+             return py::make_tuple(tau_out, q_out, status, i);
+           }, "(tau (N, k), q (N, n_q), status, index): inverse dynamics along a path by continuation; status 1 = no "
+              "assembly at index (q holds the prediction), 2 = a jump larger than `jump` at index.");
 }
