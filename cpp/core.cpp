@@ -317,7 +317,8 @@ PYBIND11_MODULE(_core, m) {
              DVec q(me.n_q);
              q << Eigen::Map<const DVec>(checked(q_sharp, me.p, "q_sharp"), me.p),
                  Eigen::Map<const DVec>(checked(guess, me.n_q - me.p, "guess"), me.n_q - me.p);
-             const bool ok = me.assemble(q, tol, iterations);
+             DMat A;
+             const bool ok = me.assemble(q, tol, iterations, A);
              return py::make_tuple(vector_out(q), ok);
            }, "(q, converged): Newton on the closure from [q_sharp; guess].")
       .def("trajectory", [](Mechanism& me, const Array& x, const Array& xd, const Array& xdd, const Array& guess,
@@ -328,22 +329,21 @@ PYBIND11_MODULE(_core, m) {
              const double* xdds = checked(xdd, N * p, "accelerations");
              py::array_t<double> q_out({N, nq}), tau_out({N, static_cast<py::ssize_t>(me.U.cols())});
              Eigen::Map<MatX> Q(q_out.mutable_data(), N, nq), T(tau_out.mutable_data(), N, me.U.cols());
-             DVec anchor(nq), q(nq), tau, qd, qdd, residual;
+             DVec anchor(nq), q(nq), tau, qd, qdd;
              DMat C, A;
              anchor << Eigen::Map<const DVec>(xs, p), Eigen::Map<const DVec>(checked(guess, nq - p, "guess"), nq - p);
              int status = 0;
              py::ssize_t i = 0;
-             if (!me.assemble(anchor, tol, iterations)) {
+             if (!me.assemble(anchor, tol, iterations, A)) {
                Q.row(0) = anchor.transpose();
                return py::make_tuple(tau_out, q_out, 1, py::ssize_t{0});
              }
-             me.closure(anchor.data(), residual, A);
              C = me.velocity_map(A, me.passive_lu(A));
              for (; i < N; ++i) {
                const Eigen::Map<const DVec> xi(xs + i * p, p);
                q << xi, anchor.tail(nq - p) + C.bottomRows(nq - p) * (xi - anchor.head(p));
                const DVec predicted = q.tail(nq - p);
-               if (!me.assemble(q, tol, iterations)) {
+               if (!me.assemble(q, tol, iterations, A)) {
                  q.tail(nq - p) = predicted;
                  status = 1;
                } else if ((q.tail(nq - p) - predicted).cwiseAbs().maxCoeff() > jump) {
@@ -351,7 +351,7 @@ PYBIND11_MODULE(_core, m) {
                }
                Q.row(i) = q.transpose();
                if (status) break;
-               me.inverse(q.data(), xds + i * p, xdds + i * p, tau, qd, qdd, C);
+               me.inverse_at(A, xds + i * p, xdds + i * p, tau, qd, qdd, C);
                T.row(i) = tau.transpose();
                anchor = q;
              }

@@ -152,6 +152,8 @@ struct Mechanism {
   std::vector<M3> reference;
   DVec offset;
   std::vector<ChainState> states;
+  DVec x_buf, phi_buf, tip_c_buf, tip_dw_buf;  // reused between calls
+  DMat Jv_buf, Jw_buf;
 
   int m() const { return m_lin + m_ang; }
 
@@ -159,9 +161,14 @@ struct Mechanism {
   void closure(const double* q, DVec& residual, DMat& A) {
     states.resize(chains.size());
     const int nc = static_cast<int>(chains.size());
-    DVec x(3 * nc);
-    DVec phi(3 * nc);
-    DMat Jv = DMat::Zero(3 * nc, n_q - p), Jw = DMat::Zero(3 * nc, n_q - p);
+    DVec& x = x_buf;
+    DVec& phi = phi_buf;
+    DMat& Jv = Jv_buf;
+    DMat& Jw = Jw_buf;
+    x.resize(3 * nc);
+    phi.resize(3 * nc);
+    Jv.setZero(3 * nc, n_q - p);
+    Jw.setZero(3 * nc, n_q - p);
     int col = 0;
     for (int c = 0; c < nc; ++c) {
       chain_frames(chains[c], q + p + col, states[c]);
@@ -187,7 +194,10 @@ struct Mechanism {
   // _dynamics_terms at qd after closure(q): b (m), M' (n_q, n_q), v' + g' (n_q).
   void dynamics(const double* qd, DVec& b, DMat& M, DVec& vg) {
     const int nc = static_cast<int>(chains.size());
-    DVec tip_c(3 * nc), tip_dw(3 * nc);
+    DVec& tip_c = tip_c_buf;
+    DVec& tip_dw = tip_dw_buf;
+    tip_c.resize(3 * nc);
+    tip_dw.resize(3 * nc);
     M.setZero(n_q, n_q);
     vg.resize(n_q);
     M.topLeftCorner(p, p) = platform_mass;
@@ -248,9 +258,17 @@ struct Mechanism {
   // inverse at an assembled q: efforts tau (k), qd, qdd (n_q) and C (n_q, p) at q (eqs 130-140).
   void inverse(const double* q, const double* qd_sharp, const double* qdd_sharp, DVec& tau, DVec& qd, DVec& qdd,
                DMat& C) {
-    DVec residual, b, vg;
-    DMat A, M;
+    DVec residual;
+    DMat A;
     closure(q, residual, A);
+    inverse_at(A, qd_sharp, qdd_sharp, tau, qd, qdd, C);
+  }
+
+  // inverse with the closure (A and the chains' frames) already evaluated at q.
+  void inverse_at(const DMat& A, const double* qd_sharp, const double* qdd_sharp, DVec& tau, DVec& qd, DVec& qdd,
+                  DMat& C) {
+    DVec b, vg;
+    DMat M;
     const Eigen::PartialPivLU<DMat> lu = passive_lu(A);
     C = velocity_map(A, lu);
     qd = C * Eigen::Map<const DVec>(qd_sharp, p);
@@ -263,9 +281,9 @@ struct Mechanism {
 
   // assemble: Newton on qbar = 0 for the chains' joints from q's passive part; false when it
   // does not converge in `iterations` steps. A singular A° takes the least-squares step.
-  bool assemble(DVec& q, double tol, int iterations) {
+  // On success A (and the chains' frames) are those at the returned q.
+  bool assemble(DVec& q, double tol, int iterations, DMat& A) {
     DVec residual;
-    DMat A;
     for (int it = 0; it < iterations; ++it) {
       closure(q.data(), residual, A);
       if (residual.cwiseAbs().maxCoeff() < tol) return true;

@@ -24,13 +24,18 @@ def close(a: np.ndarray, b: np.ndarray) -> bool:
     return np.abs(a - b).max(initial=0.0) <= 1e-12 * max(1.0, np.abs(b).max(initial=0.0))
 
 
+def both_backends(factory, case, base, fn):
+    """``fn(robot, q, v, backend)`` for the compiled and the numpy backend at a random state of the drawn robot."""
+    robot, rng = robot_from_case(factory, case, base=base)
+    q, v = random_state(robot, rng)
+    return fn(robot, q, v, "compiled"), fn(robot, q, v, "numpy")
+
+
 @settings(max_examples=40, deadline=None)
 @given(random_robots(), st.sampled_from(["free", "planar"]))
 def test_compiled_state_equals_numpy_reference(tmp_path_factory, case, base):
     """Every GJMState field and every body kinematics array agrees between the backends to 1e-12."""
-    robot, rng = robot_from_case(tmp_path_factory, case, base=base)
-    q, v = random_state(robot, rng)
-    compiled, numpy = gjm.compute(robot, q, v), gjm.compute(robot, q, v, backend="numpy")
+    compiled, numpy = both_backends(tmp_path_factory, case, base, gjm.compute)
     for name in gjm.GJMState._fields[:-1]:
         assert close(getattr(compiled, name), getattr(numpy, name)), name
     for name in KINEMATICS:
@@ -41,9 +46,7 @@ def test_compiled_state_equals_numpy_reference(tmp_path_factory, case, base):
 @given(random_robots(), st.sampled_from(["free", "planar"]))
 def test_compiled_derivatives_equal_numpy_reference(tmp_path_factory, case, base):
     """dH0, dH0m, dHm and the time derivatives agree between the backends to 1e-12."""
-    robot, rng = robot_from_case(tmp_path_factory, case, base=base)
-    q, v = random_state(robot, rng)
-    compiled, numpy = gjm.derivatives(robot, q, v), gjm.derivatives(robot, q, v, backend="numpy")
+    compiled, numpy = both_backends(tmp_path_factory, case, base, gjm.derivatives)
     for name in gjm.GJMDerivatives._fields:
         assert close(getattr(compiled, name), getattr(numpy, name)), name
 

@@ -284,6 +284,14 @@ class ParallelMechanism:
             FreefloatError: when it does not converge (pose out of reach or singular), with the
                 residual and the (first failing) platform coordinates.
         """
+        if (core := self._point_core(q_sharp)) is not None and np.ndim(guess) == 1:
+            try:
+                q, converged = core.assemble(q_sharp, guess, tol, iterations)
+            except ValueError:  # wrong sizes: the reference names them
+                converged = False
+            if converged:
+                return q
+            return self.reference().assemble(q_sharp, guess, tol, iterations)  # raises, naming the problem
         q_sharp, guess = np.asarray(q_sharp, float), np.asarray(guess, float)
         n_passive = sum(c.dof for c in self.chains)
         if q_sharp.shape[-1:] != (self.p,) or guess.shape[-1:] != (n_passive,):
@@ -291,11 +299,6 @@ class ParallelMechanism:
                                  f"(got shapes {q_sharp.shape} and {guess.shape})")
         if not (np.isfinite(q_sharp).all() and np.isfinite(guess).all()):
             raise FreefloatError("assemble: the platform coordinates or the guess are not finite")
-        if (core := self._point_core(q_sharp)) is not None and guess.ndim == 1:
-            q, converged = core.assemble(q_sharp, guess, tol, iterations)
-            if converged:
-                return q
-            return self.reference().assemble(q_sharp, guess, tol, iterations)  # raises, naming the pose
         q = np.concatenate((q_sharp, np.broadcast_to(guess, q_sharp.shape[:-1] + guess.shape[-1:])), axis=-1)
         for _ in range(iterations):
             residual, A = self._closure(q)
