@@ -95,6 +95,7 @@ Tree make_tree(const IntArray& parent, const Array& placement, const Array& axis
     for (int j = 0; j < n; ++j) t.moves[b * n + j] = t.moves[a * n + j];
     t.moves[b * n + b - 1] = 1;
   }
+  t.index_paths();
   t.free_base = free_base;
   const double* bc = checked(base_com, 3, "base_com");
   t.base_com = Vec3(bc[0], bc[1], bc[2]);

@@ -78,9 +78,23 @@ struct Tree {
   std::vector<int> ee_body;        // (k) body of each end-effector, 0 = base
   std::vector<Vec3> ee_offset;     // (k) end-effector origin in that body frame
 
+  std::vector<std::vector<int>> above;   // (n) the joints strictly on the path to joint k
+  std::vector<std::vector<int>> carried;  // (n) the joints joint k carries, itself included
+
   int bodies() const { return n + 1; }
   // joint k carries joint j's frame (k == j included): k is on the path to j.
   bool carries(int k, int j) const { return moves[(j + 1) * n + k] != 0; }
+
+  // Fill `above` and `carried` from `moves`.
+  void index_paths() {
+    above.assign(n, {});
+    carried.assign(n, {});
+    for (int k = 0; k < n; ++k)
+      for (int j = 0; j < n; ++j) {
+        if (carries(k, j)) carried[k].push_back(j);
+        if (j != k && carries(j, k)) above[k].push_back(j);
+      }
+  }
 };
 
 // Body kinematics at one configuration (numpy: BodyKinematics), inertial frame.
@@ -245,39 +259,26 @@ inline void derivatives(const Tree& t, const State& s, Derivatives& d) {
   d.dH0.assign(static_cast<size_t>(n) * 36, 0.0);
   d.dH0m.assign(static_cast<size_t>(n) * 6 * n, 0.0);
   d.dHm.assign(static_cast<size_t>(n) * n * n, 0.0);
-  // IcS[k * n + j] = Ic_{k+1} S_j, needed for j strictly above k
-  std::vector<Vec6> IcS(static_cast<size_t>(n) * n);
-  for (int k = 0; k < n; ++k)
-    for (int j = 0; j < n; ++j)
-      if (j != k && t.carries(j, k)) IcS[k * n + j] = s.Ic[k + 1] * s.S[j];
-  std::vector<Vec6> SxSk(n);  // S_i x S_k for the joints i strictly above k
+  // Joint k moves the joints it carries rigidly; it changes only the entries that pair a joint
+  // strictly above it with a joint it carries or with another joint above it.
+  std::vector<Vec6> SxSk(n), IcS(n);  // S_i x S_k and Ic_{k+1} S_i for the joints i above k
   for (int k = 0; k < n; ++k) {
     const Vec6& Sk = s.S[k];
+    const Mat6& Ick = s.Ic[k + 1];
     Eigen::Map<Eigen::Matrix<double, 6, 6, Eigen::RowMajor>> dH0(d.dH0.data() + 36 * k);
-    dH0 = inertia_rate(Sk, s.Ic[k + 1]);
+    dH0 = inertia_rate(Sk, Ick);
     Eigen::Map<MatX> dH0m(d.dH0m.data() + static_cast<size_t>(6) * n * k, 6, n);
     Eigen::Map<MatX> dHm(d.dHm.data() + static_cast<size_t>(n) * n * k, n, n);
-    for (int j = 0; j < n; ++j) {
-      if (t.carries(k, j)) {
-        dH0m.col(j) = cross_force(Sk, s.H0m.col(j));
-      } else if (t.carries(j, k)) {  // j strictly above k
-        dH0m.col(j) = cross_force(Sk, IcS[k * n + j]) - s.Ic[k + 1] * cross_motion(Sk, s.S[j]);
-        SxSk[j] = cross_motion(s.S[j], Sk);
-      }
+    for (int j : t.carried[k]) dH0m.col(j) = cross_force(Sk, s.H0m.col(j));
+    for (int i : t.above[k]) {
+      SxSk[i] = cross_motion(s.S[i], Sk);
+      IcS[i] = Ick * s.S[i];
+      dH0m.col(i) = cross_force(Sk, IcS[i]) - Ick * cross_motion(Sk, s.S[i]);
     }
-    for (int j = 0; j < n; ++j) {
-      for (int i = 0; i <= j; ++i) {
-        if (!t.carries(i, j) || t.carries(k, i)) continue;  // unrelated, or moved rigidly together
-        double value;
-        if (t.carries(k, j)) {  // i above k, k on the path to j
-          value = SxSk[i].dot(s.H0m.col(j));
-        } else if (t.carries(j, k)) {  // k below j
-          value = SxSk[i].dot(IcS[k * n + j]) + SxSk[j].dot(IcS[k * n + i]);
-        } else {
-          continue;
-        }
-        dHm(i, j) = dHm(j, i) = value;
-      }
+    for (int i : t.above[k]) {
+      for (int j : t.carried[k]) dHm(i, j) = dHm(j, i) = SxSk[i].dot(s.H0m.col(j));  // i above k, k on the path to j
+      for (int j : t.above[k])  // k below both; the joints above k are ordered by index
+        if (i <= j) dHm(i, j) = dHm(j, i) = SxSk[i].dot(IcS[j]) + SxSk[j].dot(IcS[i]);
     }
   }
   Mat6 Omega = Mat6::Zero();
