@@ -24,6 +24,19 @@ def per_call(fn: Callable[[], object], calls: int, repeats: int = 5) -> float:
     return best
 
 
+def side_by_side(fns: dict[str, tuple[Callable[[], object], int]], repeats: int = 7) -> dict[str, float]:
+    """Best-of-``repeats`` mean time per call, s, of each ``name: (fn, calls)``, the functions
+    taking turns within each repeat so that load from other processes falls on all of them alike."""
+    best = {name: np.inf for name in fns}
+    for _ in range(repeats):
+        for name, (fn, calls) in fns.items():
+            start = time.perf_counter()
+            for _ in range(calls):
+                fn()
+            best[name] = min(best[name], (time.perf_counter() - start) / calls)
+    return best
+
+
 def parser(description: str, name: str) -> argparse.ArgumentParser:
     """A parser with ``--out`` (default ``runs/bench-<name>-<time>``)."""
     out = argparse.ArgumentParser(description=description.splitlines()[0])

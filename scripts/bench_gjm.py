@@ -3,8 +3,9 @@
 Writes ``bench_gjm.json`` and ``bench_gjm.png`` to an output folder (default ``runs/bench-gjm-<time>``)
 with versions and settings. Robots: the four-arm planar robot, the UR5 dual-arm satellite, and
 2, 4, 8, 16 spatial 4-link arms (``bench_common.multi_arm_robot``), all with a free-flyer base.
-Every time is per call, best of 5, measured side by side in this process; every figure is also
-given as a ratio to its Pinocchio floor:
+Every time is per call, best of 7 repeats in which the compiled rows and their floors take turns
+(the numpy rows: best of 5 or 3), in this process; every figure is also given as a ratio to its
+Pinocchio floor:
 
 - ``compiled``: :func:`freefloat.gjm.compute` (H0, H0m, Hm, H*, J0, Jm, J0E, J*, momenta, body
   kinematics), the compiled core; ``numpy``: the same with ``backend="numpy"`` (the reference, and
@@ -28,7 +29,7 @@ from pathlib import Path
 
 import numpy as np
 import pinocchio as pin
-from bench_common import ARM_COUNTS, multi_arm_robot, parser, per_call, write_json
+from bench_common import ARM_COUNTS, multi_arm_robot, parser, per_call, side_by_side, write_json
 from threadpoolctl import threadpool_limits
 
 from freefloat import gjm, load_robot
@@ -60,15 +61,15 @@ def bench_robot(name: str, robot, calls: int) -> dict:
     gjm.compute(robot, q, v)  # build and cache the structure outside the timing
     times = {"numpy_blas_default": per_call(lambda: gjm.compute(robot, q, v, "numpy"), slow)}
     with threadpool_limits(limits=1, user_api="blas"):
-        times.update({
-            "compiled": per_call(lambda: gjm.compute(robot, q, v), calls),
-            "numpy": per_call(lambda: gjm.compute(robot, q, v, "numpy"), slow),
-            "pinocchio_calls": per_call(pinocchio_calls, calls),
-            "pinocchio_same_outputs": per_call(lambda: reference(robot, q, v, data), calls),
-            "compiled_derivatives": per_call(lambda: gjm.derivatives(robot, q, v), calls),
-            "numpy_derivatives": per_call(lambda: gjm.derivatives(robot, q, v, "numpy"), max(1, calls // 50)),
-            "crba": per_call(lambda: pin.crba(model, data, q), calls),
-        })
+        times["numpy"] = per_call(lambda: gjm.compute(robot, q, v, "numpy"), slow)
+        times["numpy_derivatives"] = per_call(lambda: gjm.derivatives(robot, q, v, "numpy"), max(1, calls // 50), repeats=3)
+        times.update(side_by_side({
+            "compiled": (lambda: gjm.compute(robot, q, v), calls),
+            "pinocchio_calls": (pinocchio_calls, calls),
+            "pinocchio_same_outputs": (lambda: reference(robot, q, v, data), calls),
+            "compiled_derivatives": (lambda: gjm.derivatives(robot, q, v), calls),
+            "crba": (lambda: pin.crba(model, data, q), calls),
+        }))
     floor, crba = times["pinocchio_calls"], times["crba"]
     return {
         "robot": name, "n_joints": robot.n_joints, "end_effectors": len(ee), "seconds_per_call": times,
@@ -129,7 +130,7 @@ def main() -> None:
     args = cli.parse_args()
     with tempfile.TemporaryDirectory() as folder:
         rows = [bench_robot(name, robot, args.calls) for name, robot in robots(Path(folder))]
-    write_json(args.out, "gjm", {"robots": rows, "settings": {"calls": args.calls, "repeats": 5}})
+    write_json(args.out, "gjm", {"robots": rows, "settings": {"calls": args.calls, "repeats": 7}})
     chart(rows, args.out / "bench_gjm.png")
     for row in rows:
         t, r = row["seconds_per_call"], row["ratios"]

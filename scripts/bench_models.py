@@ -5,20 +5,21 @@ versions and settings. For the four-arm planar robot, the UR5 dual-arm satellite
 spatial 4-link arms (``bench_common.multi_arm_robot``), free-flyer base, zero gravity, one random
 state and random joint torques: the time of one ``acceleration(q, v, tau)`` of each model with the
 compiled core (the default) and with ``backend="numpy"`` (the reference, and what every model cost
-before the core), each as a ratio to ``pin.aba`` measured side by side in this process (best of 5,
-one BLAS thread).
+before the core), each as a ratio to ``pin.aba`` measured side by side in this process (best of 7 repeats in which
+``pin.aba`` and the compiled models take turns; the numpy rows best of 3; one BLAS thread).
 
 Usage: ``python3 scripts/bench_models.py [--out DIR] [--calls N]``. Quote the ratios.
 """
 
 from __future__ import annotations
 
+import functools
 import tempfile
 import warnings
 from pathlib import Path
 
 import numpy as np
-from bench_common import ARM_COUNTS, multi_arm_robot, parser, per_call, write_json
+from bench_common import ARM_COUNTS, multi_arm_robot, parser, per_call, side_by_side, write_json
 from threadpoolctl import threadpool_limits
 
 from freefloat import load_robot
@@ -36,12 +37,10 @@ def bench_robot(name: str, robot, calls: int, numpy_models: list[str]) -> dict:
     q = random_configuration(robot, rng, JointCoordinates(robot), joint_range=1.0)
     v = rng.normal(size=robot.model.nv)
     tau = np.concatenate((np.zeros(robot.n_base), rng.normal(size=robot.n_joints)))
-    aba = make_model("exact", robot)
-    floor = per_call(lambda: aba.acceleration(q, v, tau), calls)
-    compiled, numpy = {}, {}
+    models = {name: make_model(name, robot) for name in ("exact", *GJM_MODELS)}
+    compiled = side_by_side({name: (functools.partial(m.acceleration, q, v, tau), calls) for name, m in models.items()})
+    floor, numpy = compiled.pop("exact"), {}
     for model_name in GJM_MODELS:
-        model = make_model(model_name, robot)
-        compiled[model_name] = per_call(lambda: model.acceleration(q, v, tau), calls)
         if model_name in numpy_models:
             reference = make_model(model_name, robot, backend="numpy")
             numpy[model_name] = per_call(lambda: reference.acceleration(q, v, tau), max(1, calls // 100), repeats=3)
@@ -97,7 +96,7 @@ def main() -> None:
         for arms in ARM_COUNTS:  # the numpy reference only where it takes seconds, not minutes
             rows.append(bench_robot(f"arms{arms}", multi_arm_robot(arms, Path(folder)), args.calls,
                                     ["standard", "momentum_routh"] if arms <= 8 else []))
-    write_json(args.out, "models", {"robots": rows, "settings": {"calls": args.calls, "repeats": 5, "blas_threads": 1}})
+    write_json(args.out, "models", {"robots": rows, "settings": {"calls": args.calls, "repeats": 7, "blas_threads": 1}})
     chart(rows, args.out / "bench_models.png")
     for row in rows:
         ratios = row["compiled_over_aba"]
