@@ -28,32 +28,33 @@ inline Variant variant_of(const std::string& name) {
 
 using RowMat6 = Eigen::Matrix<double, 6, 6, Eigen::RowMajor>;
 
-// The joint partials dH0/dq_k, dH0m/dq_k, dHm/dq_k a model uses (GJM's, or NIDC's augmented ones).
+// The joint partials dH0/dq_k, dH0m/dq_k, dHm/dq_k a model uses: GJM's, read in place, or NIDC's
+// augmented dH0, dH0m, held here.
 struct Partials {
-  std::vector<Mat6> dH0;
-  std::vector<MatX> dH0m;
   const Derivatives* d;
-  const MatX& dHm(int k, MatX& buffer, int n) const {
-    buffer = Eigen::Map<const MatX>(d->dHm.data() + static_cast<size_t>(n) * n * k, n, n);
-    return buffer;
+  int n;
+  std::vector<Mat6> dH0_aug;
+  std::vector<MatX> dH0m_aug;
+
+  Mat6 dH0(int k) const {
+    return dH0_aug.empty() ? Mat6(Eigen::Map<const RowMat6>(d->dH0.data() + 36 * k)) : dH0_aug[k];
+  }
+  Eigen::Ref<const MatX> dH0m(int k) const {
+    if (!dH0m_aug.empty()) return dH0m_aug[k];
+    return Eigen::Map<const MatX>(d->dH0m.data() + static_cast<size_t>(6) * n * k, 6, n);
+  }
+  Eigen::Map<const MatX> dHm(int k) const {
+    return Eigen::Map<const MatX>(d->dHm.data() + static_cast<size_t>(n) * n * k, n, n);
   }
 };
 
-inline Partials gjm_partials(const Tree& t, const Derivatives& d) {
-  const int n = t.n;
-  Partials p{std::vector<Mat6>(n), std::vector<MatX>(n), &d};
-  for (int k = 0; k < n; ++k) {
-    p.dH0[k] = Eigen::Map<const RowMat6>(d.dH0.data() + 36 * k);
-    p.dH0m[k] = Eigen::Map<const MatX>(d.dH0m.data() + static_cast<size_t>(6) * n * k, 6, n);
-  }
-  return p;
-}
+inline Partials gjm_partials(const Tree& t, const Derivatives& d) { return Partials{&d, t.n, {}, {}}; }
 
 // NIDCModel.augmented: the partials with the base turned by D's rotation (and moved by its
 // translation for nidc_translation, NIDCModel._translation_terms). D is (n, 6), row k = dx0/dq_k.
 inline Partials nidc_partials(const Tree& t, const State& s, const Derivatives& d, const MatX& D, bool translation) {
-  Partials p = gjm_partials(t, d);
   const int n = t.n;
+  Partials p{&d, n, std::vector<Mat6>(n), std::vector<MatX>(n)};
   double links = 0.0;
   Vec3 S = Vec3::Zero();
   for (int b = 1; b <= n; ++b) {
@@ -64,14 +65,14 @@ inline Partials nidc_partials(const Tree& t, const State& s, const Derivatives& 
   for (int k = 0; k < n; ++k) {
     Mat6 Delta = Mat6::Zero();
     Delta.topLeftCorner<3, 3>() = Delta.bottomRightCorner<3, 3>() = skew(D.row(k).tail<3>().transpose());
-    p.dH0[k] += Delta * s.H0 - s.H0 * Delta;
-    p.dH0m[k] += Delta * s.H0m;
+    p.dH0_aug[k] = Eigen::Map<const RowMat6>(d.dH0.data() + 36 * k) + Delta * s.H0 - s.H0 * Delta;
+    p.dH0m_aug[k] = Eigen::Map<const MatX>(d.dH0m.data() + static_cast<size_t>(6) * n * k, 6, n) + Delta * s.H0m;
     if (translation) {
       const Mat3 delta = skew(D.row(k).head<3>().transpose());
-      p.dH0[k].topRightCorner<3, 3>() += links * delta;
-      p.dH0[k].bottomLeftCorner<3, 3>() -= links * delta;
-      p.dH0[k].bottomRightCorner<3, 3>() += delta * SX + SX * delta;
-      p.dH0m[k].bottomRows<3>() -= delta * s.H0m.topRows<3>();
+      p.dH0_aug[k].topRightCorner<3, 3>() += links * delta;
+      p.dH0_aug[k].bottomLeftCorner<3, 3>() -= links * delta;
+      p.dH0_aug[k].bottomRightCorner<3, 3>() += delta * SX + SX * delta;
+      p.dH0m_aug[k].bottomRows<3>() -= delta * s.H0m.topRows<3>();
     }
   }
   return p;
@@ -80,10 +81,8 @@ inline Partials nidc_partials(const Tree& t, const State& s, const Derivatives& 
 // gjm_base.quadratic_form: z^T dH_k z for each k, z = [x0dot; qdot].
 inline VecX quadratic_form(const State& s, const Partials& p, int n) {
   VecX out(n);
-  MatX buffer;
   for (int k = 0; k < n; ++k)
-    out[k] = s.x0dot.dot(p.dH0[k] * s.x0dot) + 2.0 * s.x0dot.dot(p.dH0m[k] * s.qdot) +
-             s.qdot.dot(p.dHm(k, buffer, n) * s.qdot);
+    out[k] = s.x0dot.dot(p.dH0(k) * s.x0dot) + 2.0 * s.x0dot.dot(p.dH0m(k) * s.qdot) + s.qdot.dot(p.dHm(k) * s.qdot);
   return out;
 }
 
@@ -92,7 +91,7 @@ inline MatX sensitivity(const State& s, const Partials& p, int n) {
   const Vec6 base_rate = s.H0_ldlt.solve(s.H0m * s.qdot);
   MatX out(n, 6);
   for (int k = 0; k < n; ++k)
-    out.row(k) = s.H0_ldlt.solve(p.dH0[k] * base_rate - p.dH0m[k] * s.qdot).transpose();
+    out.row(k) = s.H0_ldlt.solve(p.dH0(k) * base_rate - p.dH0m(k) * s.qdot).transpose();
   return out;
 }
 
@@ -117,11 +116,10 @@ inline ModelResult underactuated(const Tree& t, const State& s, const Derivative
     H0dot.setZero();
     H0mdot.setZero(6, n);
     Hmdot.setZero(n, n);
-    MatX buffer;
     for (int k = 0; k < n; ++k) {
-      H0dot += s.qdot[k] * p.dH0[k];
-      H0mdot += s.qdot[k] * p.dH0m[k];
-      Hmdot += s.qdot[k] * p.dHm(k, buffer, n);
+      H0dot += s.qdot[k] * p.dH0(k);
+      H0mdot += s.qdot[k] * p.dH0m(k);
+      Hmdot += s.qdot[k] * p.dHm(k);
     }
   }
   Vec6 c0 = Vec6::Zero();
