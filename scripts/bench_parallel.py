@@ -10,6 +10,7 @@ path), side by side in one process, with the compiled core (default) and the num
 - inverse dynamics along the path, points per second: point by point from Python (Newton from the
   previous pose, then eqs 130-140) and ``inverse_trajectory`` (compiled: the same continuation in
   C++, the per-point floor; numpy: the path assembled in blocks, eqs 130-140 for all points at once);
+  compiled: best of 7 runs, the two taking turns; numpy: one run;
 - coarse paths: eq 189's circle wound 1, 2, 4, 8 times in 4000 points, ``inverse_trajectory``'s
   rate and, for the numpy blocks, how many points Newton assembled per point asked.
 
@@ -18,11 +19,9 @@ Quote the ratios measured here.
 
 from __future__ import annotations
 
-import time
-
 import numpy as np
 import pinocchio as pin
-from bench_common import parser, per_call, write_json
+from bench_common import parser, per_call, side_by_side, write_json
 from threadpoolctl import threadpool_limits
 
 from freefloat.parallel import rsu_ppap
@@ -46,20 +45,23 @@ def rsu_ppap_case(points: int):
     return rsu_ppap.load_rsu_ppap(), path, rsu_ppap.assembly_guess(data, path[0][0])
 
 
-def inverse_rates(mech, path, guess) -> dict:
-    """Inverse-dynamics points per second, point by point from Python and by inverse_trajectory."""
+def inverse_rates(mech, path, guess, repeats: int) -> dict:
+    """Inverse-dynamics points per second, point by point from Python and by inverse_trajectory
+    (best of ``repeats``, the two taking turns)."""
     x, xd, xdd = path
-    start = time.perf_counter()
-    q, looped = np.concatenate((x[0], guess)), []
-    for i in range(len(x)):
-        q = mech.assemble(x[i], q[mech.p:])
-        looped.append(mech.inverse(q, xd[i], xdd[i])[0])
-    loop_s = time.perf_counter() - start
-    start = time.perf_counter()
-    batched, _ = mech.inverse_trajectory(x, xd, xdd, guess)
-    batch_s = time.perf_counter() - start
-    return {"points": len(x), "loop_points_per_s": len(x) / loop_s, "trajectory_points_per_s": len(x) / batch_s,
-            "max_effort_difference": float(np.abs(np.array(looped) - batched).max())}
+
+    def loop():
+        q, out = np.concatenate((x[0], guess)), []
+        for i in range(len(x)):
+            q = mech.assemble(x[i], q[mech.p:])
+            out.append(mech.inverse(q, xd[i], xdd[i])[0])
+        return np.array(out)
+
+    looped, batched = loop(), mech.inverse_trajectory(x, xd, xdd, guess)[0]
+    best = side_by_side({"loop": (loop, 1), "trajectory": (lambda: mech.inverse_trajectory(x, xd, xdd, guess), 1)}, repeats)
+    return {"points": len(x), "loop_points_per_s": len(x) / best["loop"],
+            "trajectory_points_per_s": len(x) / best["trajectory"],
+            "max_effort_difference": float(np.abs(looped - batched).max())}
 
 
 def forward_costs(cc, path, guess, calls: int) -> dict:
@@ -75,10 +77,10 @@ def forward_costs(cc, path, guess, calls: int) -> dict:
     for j, t in zip(cc.actuated, tau):
         tau_pin[model.idx_vs[j]] = t
     reference = mech.reference()
-    out = {"compiled_s": per_call(lambda: mech.forward(q, qd, tau, 100.0), calls, repeats=3),
-           "numpy_s": per_call(lambda: reference.forward(q, qd, tau, 100.0), max(1, calls // 10), repeats=3),
-           "pinocchio_s": per_call(lambda: pin.constraintDynamics(model, data, q_pin, v_pin, tau_pin, cc.constraints, cds,
-                                                                   settings), calls, repeats=3)}
+    out = side_by_side({
+        "compiled_s": (lambda: mech.forward(q, qd, tau, 100.0), calls),
+        "pinocchio_s": (lambda: pin.constraintDynamics(model, data, q_pin, v_pin, tau_pin, cc.constraints, cds, settings), calls)})
+    out["numpy_s"] = per_call(lambda: reference.forward(q, qd, tau, 100.0), max(1, calls // 10), repeats=3)
     out["compiled_over_pinocchio"] = out["compiled_s"] / out["pinocchio_s"]
     out["numpy_over_pinocchio"] = out["numpy_s"] / out["pinocchio_s"]
     return out
@@ -103,12 +105,12 @@ def coarse_paths(points: int = 4000) -> list[dict]:
 
             ParallelMechanism.assemble = counting
             try:
-                start = time.perf_counter()
-                mech.inverse_trajectory(x, xd, xdd, guess)
-                row[f"{name}_points_per_s"] = points / (time.perf_counter() - start)
+                seconds = side_by_side({name: (lambda: mech.inverse_trajectory(x, xd, xdd, guess), 1)},
+                                       5 if name == "compiled" else 1)[name]
+                row[f"{name}_points_per_s"] = points / seconds
             finally:
                 ParallelMechanism.assemble = assemble
-            if name == "numpy":
+            if name == "numpy":  # one run
                 row["numpy_assembled_per_point"] = assembled[0] / points
         rows.append(row)
     return rows
@@ -127,8 +129,8 @@ def main() -> None:
         for name, case in zip(names, (five_bar_case, rsu_ppap_case)):
             cc, path, guess = case(args.points)
             report[name] = {"forward": forward_costs(cc, path, guess, args.calls),
-                            "inverse_compiled": inverse_rates(cc.mechanism, path, guess),
-                            "inverse_numpy": inverse_rates(cc.mechanism.reference(), path, guess)}
+                            "inverse_compiled": inverse_rates(cc.mechanism, path, guess, 7),
+                            "inverse_numpy": inverse_rates(cc.mechanism.reference(), path, guess, 1)}
             inv = report[name]["inverse_compiled"]
             inv["loop_over_trajectory"] = inv["trajectory_points_per_s"] / inv["loop_points_per_s"]
         report["coarse_paths"] = coarse_paths()

@@ -10,7 +10,8 @@ Parallel work uses processes instead (``freefloat.app`` runs, dask).
 from __future__ import annotations
 
 import functools
-from typing import Callable, TypeVar
+from collections.abc import Callable
+from typing import TypeVar
 
 from threadpoolctl import threadpool_limits
 

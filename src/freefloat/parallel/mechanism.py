@@ -118,7 +118,7 @@ class ParallelMechanism:
             coupling.update({name: getattr(self.angular, name) for name in ("P", "Q", "R", "reference", "offset")})
         return MechanismCore(chains, coupling)
 
-    def reference(self) -> "ParallelMechanism":
+    def reference(self) -> ParallelMechanism:
         """The same mechanism on the numpy backend (the reference)."""
         return replace(self, backend="numpy")
 

@@ -11,6 +11,16 @@ from .model import BACKENDS, GJM, GJMState, compute, egjm_blocks, model_of
 from .momentum import H0C_VARIANTS, base_momentum_matrices, momentum_about_origin
 
 __all__ = [
-    "BACKENDS", "GJM", "GJMDerivatives", "GJMState", "H0C_VARIANTS", "base_momentum_matrices", "compute", "derivatives",
-    "egjm_blocks", "model_of", "momentum_about_origin", "state_and_derivatives",
+    "BACKENDS",
+    "GJM",
+    "H0C_VARIANTS",
+    "GJMDerivatives",
+    "GJMState",
+    "base_momentum_matrices",
+    "compute",
+    "derivatives",
+    "egjm_blocks",
+    "model_of",
+    "momentum_about_origin",
+    "state_and_derivatives",
 ]
