@@ -72,3 +72,31 @@ def test_wrong_state_size_is_named():
     robot = load_robot(REPO / "urdf" / "four_arm_planar.urdf", visuals=False)
     with pytest.raises(ValueError, match=r"q: expected 23 numbers, got 22"):
         gjm.compute(robot, robot.neutral()[:-1], np.zeros(robot.model.nv))
+
+
+def test_a_used_model_pickles_and_gives_the_same_accelerations():
+    """A GJM model whose compiled core has run survives pickling (for worker processes) unchanged."""
+    import pickle
+
+    from freefloat.dynamics.models import make_model
+
+    robot = load_robot(REPO / "urdf" / "four_arm_planar.urdf", visuals=False)
+    q, v = random_state(robot, np.random.default_rng(3))
+    tau = np.concatenate((np.zeros(6), np.ones(robot.n_joints)))
+    model = make_model("standard_corrected", robot)
+    before = model.acceleration(q, v, tau)
+    np.testing.assert_array_equal(pickle.loads(pickle.dumps(model)).acceleration(q, v, tau), before)
+
+
+def test_continuous_joints_read_their_angle_from_cos_and_sin(tmp_path):
+    """A tree of continuous joints (q holds cos, sin) gives the same GJM in both backends."""
+    from .conftest import load_text, random_urdf
+
+    text = random_urdf(np.random.default_rng(7), 5, fixed_share=0.0).replace('type="revolute"', 'type="continuous"')
+    text = text.replace('type="prismatic"', 'type="continuous"')
+    robot = load_text(tmp_path, text)
+    assert robot.model.nq == robot.model.nv + 1 + robot.n_joints
+    q, v = random_state(robot, np.random.default_rng(8))
+    compiled, numpy = gjm.compute(robot, q, v), gjm.compute(robot, q, v, backend="numpy")
+    for name in gjm.GJMState._fields[:-1]:
+        assert close(getattr(compiled, name), getattr(numpy, name)), name

@@ -216,3 +216,15 @@ def test_unknown_mechanism_backend_is_refused():
     """A mechanism with an unknown backend raises FreefloatError listing the valid ones."""
     with pytest.raises(FreefloatError, match="compiled, numpy"):
         replace(five_bar(P), backend="cuda")
+
+
+def test_a_used_mechanism_pickles_and_gives_the_same_dynamics():
+    """A mechanism whose compiled core has run survives pickling (for Dask workers) unchanged."""
+    import pickle
+
+    mech = five_bar(P)
+    x = np.array([0.07, 0.17])
+    q = mech.assemble(x, elbow_guess(P, x))
+    qd = mech.velocity_map(q) @ np.array([0.1, -0.2])
+    before = mech.forward(q, qd, np.array([0.3, -0.1]), 100.0)
+    np.testing.assert_array_equal(pickle.loads(pickle.dumps(mech)).forward(q, qd, np.array([0.3, -0.1]), 100.0), before)

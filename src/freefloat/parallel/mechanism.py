@@ -118,6 +118,13 @@ class ParallelMechanism:
             coupling.update({name: getattr(self.angular, name) for name in ("P", "Q", "R", "reference", "offset")})
         return MechanismCore(chains, coupling)
 
+    def __getstate__(self) -> dict:
+        """Pickled without the compiled core (rebuilt on first use), so mechanisms travel to
+        worker processes."""
+        state = self.__dict__.copy()
+        state.pop("core", None)
+        return state
+
     def reference(self) -> ParallelMechanism:
         """The same mechanism on the numpy backend (the reference)."""
         return replace(self, backend="numpy")

@@ -87,6 +87,17 @@ class GJM:
         self.moved = np.vstack((self.tree.ancestor, self.tree.ancestor[self.ee_body]))
         self.core = compiled_core(robot, self.tree, self.ee_body, self.ee_offset)
 
+    def __getstate__(self) -> dict:
+        """Pickled without the compiled core (rebuilt from the tree on unpickling), so models
+        travel to worker processes."""
+        state = self.__dict__.copy()
+        del state["core"]
+        return state
+
+    def __setstate__(self, state: dict) -> None:
+        self.__dict__.update(state)
+        self.core = compiled_core(self.robot, self.tree, self.ee_body, self.ee_offset)
+
     def kinematics(self, q: np.ndarray) -> BodyKinematics:
         """Body kinematics at configuration q (nq,)."""
         return forward_kinematics(self.robot, self.tree, self.coords, q)
