@@ -152,7 +152,7 @@ struct Core {
                                    const Array& F, const Array& Q_q, const Array& D) {
     const Variant variant = variant_of(name);
     run(q, v);
-    derivatives(tree, state, deriv);
+    derivatives(tree, state, deriv, false);
     const int n = tree.n, n_base = nv - n;
     const Vec6 force = Eigen::Map<const Vec6>(checked(F, 6, "F"));
     const ModelResult r = model_terms(tree, state, deriv, variant, force, sensitivity_rows(D));
@@ -170,7 +170,7 @@ struct Core {
   py::tuple joint_space(const std::string& name, const Array& q, const Array& v, const Array& F, const Array& D) {
     const Variant variant = variant_of(name);
     run(q, v);
-    derivatives(tree, state, deriv);
+    derivatives(tree, state, deriv, false);
     const Vec6 force = Eigen::Map<const Vec6>(checked(F, 6, "F"));
     const ModelResult r = model_terms(tree, state, deriv, variant, force, sensitivity_rows(D));
     return py::make_tuple(matrix_out(state.Hstar), vector_out(r.c));
@@ -179,7 +179,7 @@ struct Core {
   // NIDC's dxdot0/dq_k (n, 6) at (q, v) with the augmented partials of D.
   py::array_t<double> sensitivity(const Array& q, const Array& v, bool translation, const Array& D) {
     run(q, v);
-    derivatives(tree, state, deriv);
+    derivatives(tree, state, deriv, false);
     const Partials p = nidc_partials(tree, state, deriv, sensitivity_rows(D), translation);
     return matrix_out(freefloat::sensitivity(state, p, tree.n));
   }

@@ -122,7 +122,19 @@ struct State {
 struct Derivatives {
   std::vector<double> dH0;      // (n, 6, 6) C order
   std::vector<double> dH0m;     // (n, 6, n)
-  std::vector<double> dHm;      // (n, n, n)
+  std::vector<double> dHm;      // (n, n, n), filled only when asked for the dense tensor
+  struct Entry {
+    int i, j;
+    double value;
+  };
+  std::vector<std::vector<Entry>> dHm_entries;  // (n) the nonzero (i <= j) entries of each dHm/dq_k
+
+  // x^T dHm/dq_k x from the nonzero entries.
+  double dHm_form(int k, const VecX& x) const {
+    double out = 0.0;
+    for (const Entry& e : dHm_entries[k]) out += (e.i == e.j ? 1.0 : 2.0) * e.value * x[e.i] * x[e.j];
+    return out;
+  }
   Mat6 H0dot;
   MatX H0mdot, Hmdot;
 };
@@ -253,12 +265,14 @@ inline void compute(const Tree& t, const double* q, const double* v, State& s) {
 }
 
 // Joint derivatives at fixed base pose and twist, and time derivatives along the motion
-// (numpy: derivatives.time_derivatives), from a state computed by compute().
-inline void derivatives(const Tree& t, const State& s, Derivatives& d) {
+// (numpy: derivatives.time_derivatives), from a state computed by compute(). dHm is always kept as
+// its nonzero entries; the dense (n, n, n) tensor only when `dense`.
+inline void derivatives(const Tree& t, const State& s, Derivatives& d, bool dense = true) {
   const int n = t.n;
   d.dH0.assign(static_cast<size_t>(n) * 36, 0.0);
   d.dH0m.assign(static_cast<size_t>(n) * 6 * n, 0.0);
-  d.dHm.assign(static_cast<size_t>(n) * n * n, 0.0);
+  if (dense) d.dHm.assign(static_cast<size_t>(n) * n * n, 0.0);
+  d.dHm_entries.resize(n);
   // Joint k moves the joints it carries rigidly; it changes only the entries that pair a joint
   // strictly above it with a joint it carries or with another joint above it.
   std::vector<Vec6> SxSk(n), IcS(n);  // S_i x S_k and Ic_{k+1} S_i for the joints i above k
@@ -268,7 +282,8 @@ inline void derivatives(const Tree& t, const State& s, Derivatives& d) {
     Eigen::Map<Eigen::Matrix<double, 6, 6, Eigen::RowMajor>> dH0(d.dH0.data() + 36 * k);
     dH0 = inertia_rate(Sk, Ick);
     Eigen::Map<MatX> dH0m(d.dH0m.data() + static_cast<size_t>(6) * n * k, 6, n);
-    Eigen::Map<MatX> dHm(d.dHm.data() + static_cast<size_t>(n) * n * k, n, n);
+    auto& entries = d.dHm_entries[k];
+    entries.clear();
     for (int j : t.carried[k]) dH0m.col(j) = cross_force(Sk, s.H0m.col(j));
     for (int i : t.above[k]) {
       SxSk[i] = cross_motion(s.S[i], Sk);
@@ -276,9 +291,9 @@ inline void derivatives(const Tree& t, const State& s, Derivatives& d) {
       dH0m.col(i) = cross_force(Sk, IcS[i]) - Ick * cross_motion(Sk, s.S[i]);
     }
     for (int i : t.above[k]) {
-      for (int j : t.carried[k]) dHm(i, j) = dHm(j, i) = SxSk[i].dot(s.H0m.col(j));  // i above k, k on the path to j
+      for (int j : t.carried[k]) entries.push_back({i, j, SxSk[i].dot(s.H0m.col(j))});  // i above k, k on the path to j
       for (int j : t.above[k])  // k below both; the joints above k are ordered by index
-        if (i <= j) dHm(i, j) = dHm(j, i) = SxSk[i].dot(IcS[j]) + SxSk[j].dot(IcS[i]);
+        if (i <= j) entries.push_back({i, j, SxSk[i].dot(IcS[j]) + SxSk[j].dot(IcS[i])});
     }
   }
   Mat6 Omega = Mat6::Zero();
@@ -290,7 +305,14 @@ inline void derivatives(const Tree& t, const State& s, Derivatives& d) {
     const double qk = s.qdot[k];
     d.H0dot += qk * Eigen::Map<const Eigen::Matrix<double, 6, 6, Eigen::RowMajor>>(d.dH0.data() + 36 * k);
     d.H0mdot += qk * Eigen::Map<const MatX>(d.dH0m.data() + static_cast<size_t>(6) * n * k, 6, n);
-    d.Hmdot += qk * Eigen::Map<const MatX>(d.dHm.data() + static_cast<size_t>(n) * n * k, n, n);
+    for (const Derivatives::Entry& e : d.dHm_entries[k]) {
+      d.Hmdot(e.i, e.j) += qk * e.value;
+      if (e.i != e.j) d.Hmdot(e.j, e.i) += qk * e.value;
+      if (dense) {
+        double* dHm = d.dHm.data() + static_cast<size_t>(n) * n * k;
+        dHm[e.i * n + e.j] = dHm[e.j * n + e.i] = e.value;
+      }
+    }
   }
 }
 

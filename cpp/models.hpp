@@ -43,9 +43,6 @@ struct Partials {
     if (!dH0m_aug.empty()) return dH0m_aug[k];
     return Eigen::Map<const MatX>(d->dH0m.data() + static_cast<size_t>(6) * n * k, 6, n);
   }
-  Eigen::Map<const MatX> dHm(int k) const {
-    return Eigen::Map<const MatX>(d->dHm.data() + static_cast<size_t>(n) * n * k, n, n);
-  }
 };
 
 inline Partials gjm_partials(const Tree& t, const Derivatives& d) { return Partials{&d, t.n, {}, {}}; }
@@ -82,7 +79,7 @@ inline Partials nidc_partials(const Tree& t, const State& s, const Derivatives& 
 inline VecX quadratic_form(const State& s, const Partials& p, int n) {
   VecX out(n);
   for (int k = 0; k < n; ++k)
-    out[k] = s.x0dot.dot(p.dH0(k) * s.x0dot) + 2.0 * s.x0dot.dot(p.dH0m(k) * s.qdot) + s.qdot.dot(p.dHm(k) * s.qdot);
+    out[k] = s.x0dot.dot(p.dH0(k) * s.x0dot) + 2.0 * s.x0dot.dot(p.dH0m(k) * s.qdot) + p.d->dHm_form(k, s.qdot);
   return out;
 }
 
@@ -119,8 +116,8 @@ inline ModelResult underactuated(const Tree& t, const State& s, const Derivative
     for (int k = 0; k < n; ++k) {
       H0dot += s.qdot[k] * p.dH0(k);
       H0mdot += s.qdot[k] * p.dH0m(k);
-      Hmdot += s.qdot[k] * p.dHm(k);
     }
+    Hmdot = d.Hmdot;  // dHm does not depend on the base rotation
   }
   Vec6 c0 = Vec6::Zero();
   if (variant == Variant::standard_corrected) c0.tail<3>() = s.x0dot.head<3>().cross(s.momentum_base.head<3>());
@@ -141,19 +138,17 @@ inline ModelResult generalized(const Tree& t, const State& s, const Derivatives&
   const VecX& qd = s.qdot;
   const Vec6 Aqd = A * qd;
   Mat6 H0dot_joints = Mat6::Zero();
-  MatX H0mdot_joints = MatX::Zero(6, n), Hmdot_joints = MatX::Zero(n, n);
+  MatX H0mdot_joints = MatX::Zero(6, n);
   VecX quad(n), amended(n), gyro(n);
   const bool momentum = variant != Variant::reduced;
   const Vec6 invM = momentum ? Vec6(s.H0_ldlt.solve(s.momentum_base)) : Vec6::Zero();
   for (int k = 0; k < n; ++k) {
-    const Eigen::Map<const MatX> dHm(d.dHm.data() + static_cast<size_t>(n) * n * k, n, n);
     const Eigen::Map<const MatX> dH0m(d.dH0m.data() + static_cast<size_t>(6) * n * k, 6, n);
     const Eigen::Map<const RowMat6> dH0(d.dH0.data() + 36 * k);
     const Vec6 dH0m_qd = dH0m * qd;
-    quad[k] = qd.dot(dHm * qd) - 2.0 * Aqd.dot(dH0m_qd) + Aqd.dot(dH0 * Aqd);
+    quad[k] = d.dHm_form(k, qd) - 2.0 * Aqd.dot(dH0m_qd) + Aqd.dot(dH0 * Aqd);
     H0dot_joints += qd[k] * dH0;
     H0mdot_joints += qd[k] * dH0m;
-    Hmdot_joints += qd[k] * dHm;
     if (momentum) {
       const Vec6 dH0invM = dH0 * invM;
       amended[k] = -dH0invM.dot(invM);
@@ -161,7 +156,7 @@ inline ModelResult generalized(const Tree& t, const State& s, const Derivatives&
     }
   }
   ModelResult out;
-  out.c = Hmdot_joints * qd - H0mdot_joints.transpose() * Aqd - A.transpose() * (H0mdot_joints * qd) +
+  out.c = d.Hmdot * qd - H0mdot_joints.transpose() * Aqd - A.transpose() * (H0mdot_joints * qd) +
           A.transpose() * (H0dot_joints * Aqd) - 0.5 * quad;
   if (momentum) {
     const VecX rate = d.H0mdot.transpose() * invM - s.H0m.transpose() * s.H0_ldlt.solve(d.H0dot * invM);
