@@ -16,7 +16,7 @@ from .conftest import REPO, random_robots, robot_from_case
 QUANTITIES = ("H0", "H0m", "Hm", "Hstar", "J0", "Jm", "J0E", "Jstar", "momentum_base", "momentum_origin")
 
 
-def gjm_state(robot, rng):
+def gjm_state(robot, rng, backend="compiled"):
     """A random state with the base away from the origin, and the hand-built and reference values."""
     q = robot.neutral()
     q[:3] = rng.uniform(-2, 2, 3)
@@ -24,26 +24,29 @@ def gjm_state(robot, rng):
     q[3:7] = quat / np.linalg.norm(quat)
     JointCoordinates(robot).set(q, rng.uniform(-np.pi, np.pi, robot.n_joints))
     v = rng.normal(size=robot.model.nv)
-    return q, v, gjm.compute(robot, q, v), reference(robot, q, v)
+    return q, v, gjm.compute(robot, q, v, backend), reference(robot, q, v)
 
 
+@pytest.mark.parametrize("backend", gjm.BACKENDS)
 @settings(max_examples=40, deadline=None)
 @given(random_robots())
-def test_matrices_jacobians_and_momenta_match_pinocchio(tmp_path_factory, case):
-    """On random trees (prismatic, fixed, branching, offset base CoM) every quantity agrees to 1e-9."""
+def test_matrices_jacobians_and_momenta_match_pinocchio(tmp_path_factory, backend, case):
+    """On random trees (prismatic, fixed, branching, offset base CoM) every quantity of either
+    backend agrees with Pinocchio to 1e-9."""
     robot, rng = robot_from_case(tmp_path_factory, case)
-    _, _, state, ref = gjm_state(robot, rng)
+    _, _, state, ref = gjm_state(robot, rng, backend)
     for name in QUANTITIES:
         assert relative_error(getattr(state, name), getattr(ref, name)) < 1e-9, name
 
 
+@pytest.mark.parametrize("backend", gjm.BACKENDS)
 @settings(max_examples=25, deadline=None)
 @given(random_robots(max_links=6))
-def test_joint_derivatives_match_central_differences(tmp_path_factory, case):
+def test_joint_derivatives_match_central_differences(tmp_path_factory, backend, case):
     """dH0/dq_k, dH0m/dq_k, dHm/dq_k at fixed base pose equal central differences of CRBA's."""
     robot, rng = robot_from_case(tmp_path_factory, case)
     q, v, _, _ = gjm_state(robot, rng)
-    der = gjm.derivatives(robot, q, v)
+    der = gjm.derivatives(robot, q, v, backend)
     coords = JointCoordinates(robot)
     for k in range(robot.n_joints):
         fd = central_differences(robot, q, v, k, coords)
@@ -51,13 +54,14 @@ def test_joint_derivatives_match_central_differences(tmp_path_factory, case):
             assert np.abs(getattr(der, name)[k] - fd[base]).max() < 1e-6 * max(1.0, np.abs(fd[base]).max()), (name, k)
 
 
+@pytest.mark.parametrize("backend", gjm.BACKENDS)
 @settings(max_examples=25, deadline=None)
 @given(random_robots(max_links=6))
-def test_time_derivatives_match_differences_along_the_motion(tmp_path_factory, case):
+def test_time_derivatives_match_differences_along_the_motion(tmp_path_factory, backend, case):
     """H0dot, H0mdot, Hmdot (base turning, joints moving) equal central differences along (q, v)."""
     robot, rng = robot_from_case(tmp_path_factory, case)
     q, v, _, _ = gjm_state(robot, rng)
-    der = gjm.derivatives(robot, q, v)
+    der = gjm.derivatives(robot, q, v, backend)
     fd = central_differences(robot, q, v, None, JointCoordinates(robot))
     for name, base in (("H0dot", "H0"), ("H0mdot", "H0m"), ("Hmdot", "Hm")):
         assert np.abs(getattr(der, name) - fd[base]).max() < 1e-6 * max(1.0, np.abs(fd[base]).max()), name

@@ -2,13 +2,15 @@
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 import pinocchio as pin
 import pytest
 
 from freefloat import FreefloatError
 from freefloat.parallel.five_bar import FiveBarParameters, elbow_guess, five_bar
-from freefloat.parallel.mechanism import AngularConstraints, log3, simulate
+from freefloat.parallel.mechanism import BACKENDS, AngularConstraints, log3, simulate
 from freefloat.parallel.rsu_ppap import assembly_guess, load_data, load_rsu_ppap, reference_path
 
 P = FiveBarParameters()
@@ -47,20 +49,22 @@ def test_batched_terms_and_inverse_equal_point_by_point(rsu_ppap):
             np.testing.assert_allclose(tau[i, j], rsu_ppap.inverse(q[i, j], qd[i, j, :3], qdd_sharp[i, j])[0], rtol=1e-12)
 
 
-def test_path_through_a_stretched_pose_follows_point_by_point_continuation(rsu_ppap):
-    """A path that touches the parallelogram's stretched pose (radius 8 cm, 2000 points, blocks of
-    512): inverse_trajectory's blocks (halved where the prediction fails) give the poses of
-    assembling point by point from the previous pose (no jump in the joint path), and at each
-    pose the point-by-point efforts (near the stretched pose they reach 1.5 kN m and turn 1e-9
-    pose differences into 1 %, so they are compared at the same pose)."""
+@pytest.mark.parametrize("backend", BACKENDS)
+def test_path_through_a_stretched_pose_follows_point_by_point_continuation(rsu_ppap, backend):
+    """A path that touches the parallelogram's stretched pose (radius 8 cm, 2000 points; numpy:
+    blocks of 512 halved where the prediction fails, compiled: continuation point by point) gives
+    the poses of assembling point by point from the previous pose (no jump in the joint path), and
+    at each pose the point-by-point efforts (near the stretched pose they reach 1.5 kN m and turn
+    1e-9 pose differences into 1 %, so they are compared at the same pose)."""
     x, xd, xdd = reference_path(np.linspace(0.0, 1.0, 2000), DATA, radius=0.08)
-    tau, q = rsu_ppap.inverse_trajectory(x, xd, xdd, assembly_guess(DATA, x[0]))
+    tau, q = replace(rsu_ppap, backend=backend).inverse_trajectory(x, xd, xdd, assembly_guess(DATA, x[0]))
     pose = q[0]
     for i in range(0, len(x)):
         pose = rsu_ppap.assemble(x[i], pose[3:])
         if i % 100 == 0:
             np.testing.assert_allclose(q[i], pose, atol=1e-8)
-            np.testing.assert_allclose(tau[i], rsu_ppap.inverse(q[i], xd[i], xdd[i])[0], rtol=1e-9)
+            np.testing.assert_allclose(tau[i], rsu_ppap.inverse(q[i], xd[i], xdd[i])[0], rtol=1e-9,
+                                       atol=1e-9 * np.abs(tau[i]).max())
     np.testing.assert_allclose(q[-1], pose, atol=1e-8)
 
 
@@ -124,3 +128,103 @@ def test_simulation_keeps_its_samples_when_a_singular_pose_stops_it(monkeypatch)
     t, qs, drift = simulate(mech, q0, np.zeros(6), lambda *_: np.zeros(2), 0.01, 1e-3)
     assert len(t) == len(qs) == len(drift) == 4
     assert np.isfinite(qs).all()
+
+
+def test_blocks_grow_back_after_successes_on_a_coarse_path(monkeypatch):
+    """On eq 189's circle wound 8 times in 4000 points, inverse_trajectory assembles fewer than
+    twice the points asked (resetting to 512 after each block assembled 7.7 times as many), and
+    its efforts equal point-by-point continuation."""
+    from freefloat.parallel.mechanism import ParallelMechanism
+    from freefloat.parallel.sliding_mode import circle_reference
+
+    mech = five_bar(P).reference()  # the numpy blocks; the compiled path goes point by point
+    x, xd, xdd = (np.array(v) for v in zip(*(circle_reference(t) for t in np.linspace(0.0, 8 * 2 * np.pi / 28.57, 4000))))
+    assembled, assemble = [0], ParallelMechanism.assemble
+
+    def counting(self, q_sharp, guess, *args, **kwargs):
+        assembled[0] += len(np.atleast_2d(q_sharp))
+        return assemble(self, q_sharp, guess, *args, **kwargs)
+
+    monkeypatch.setattr(ParallelMechanism, "assemble", counting)
+    tau, _ = mech.inverse_trajectory(x, xd, xdd, elbow_guess(P, x[0]))
+    assert assembled[0] < 2 * len(x)
+    monkeypatch.setattr(ParallelMechanism, "assemble", assemble)
+    looped = []
+    q = np.concatenate((x[0], elbow_guess(P, x[0])))
+    for i in range(len(x)):
+        q = mech.assemble(x[i], q[mech.p:])
+        looped.append(mech.inverse(q, xd[i], xdd[i])[0])
+    assert np.abs(np.array(looped) - tau).max() < 1e-9 * max(1.0, np.abs(tau).max())
+
+
+def mechanisms_on_their_paths():
+    """(name, mechanism, (x, xd, xdd), guess) for the 5R on eq 189's circle and the 2RSU+PPaP on its path."""
+    from freefloat.parallel.sliding_mode import circle_reference
+
+    five = five_bar(P)
+    x5 = [np.array(v) for v in zip(*(circle_reference(t) for t in np.linspace(0.0, 0.22, 300)))]
+    xr = reference_path(np.linspace(0.0, 1.0, 300), DATA)
+    return [("5R", five, x5, elbow_guess(P, x5[0][0])),
+            ("2RSU+PPaP", load_rsu_ppap().mechanism, xr, assembly_guess(DATA, xr[0][0]))]
+
+
+@pytest.mark.parametrize(("name", "mech", "path", "guess"), mechanisms_on_their_paths())
+def test_compiled_points_equal_the_numpy_reference(name, mech, path, guess):
+    """At poses along each path, the compiled assembly, forward dynamics (eq 129, Baumgarte 100)
+    and inverse dynamics (eqs 130-140) equal the numpy reference to 1e-12 relative."""
+    assert mech.core is not None and mech.reference().core is None
+    ref, rng = mech.reference(), np.random.default_rng(5)
+    x, xd, xdd = path
+    for i in range(0, len(x), 37):
+        q = mech.assemble(x[i], guess)
+        np.testing.assert_allclose(q, ref.assemble(x[i], guess), atol=1e-12)
+        qd = ref.velocity_map(q) @ xd[i]
+        tau = rng.normal(size=len(mech.actuated))
+        expected = ref.forward(q, qd, tau, 100.0)
+        assert np.abs(mech.forward(q, qd, tau, 100.0) - expected).max() <= 1e-12 * np.abs(expected).max(), name
+        for ours, theirs in zip(mech.inverse(q, xd[i], xdd[i]), ref.inverse(q, xd[i], xdd[i])):
+            assert np.abs(ours - theirs).max() <= 1e-12 * max(1.0, np.abs(theirs).max()), name
+
+
+@pytest.mark.parametrize(("name", "mech", "path", "guess"), mechanisms_on_their_paths())
+def test_compiled_trajectory_equals_the_numpy_blocks(name, mech, path, guess):
+    """inverse_trajectory by compiled continuation equals the numpy blocks: poses to 1e-10 and
+    efforts to 1e-9 relative (both Newton solutions stop at a 1e-12 residual)."""
+    tau, q = mech.inverse_trajectory(*path, guess)
+    tau_ref, q_ref = mech.reference().inverse_trajectory(*path, guess)
+    assert np.abs(q - q_ref).max() < 1e-10, name
+    assert np.abs(tau - tau_ref).max() < 1e-9 * np.abs(tau_ref).max(), name
+
+
+def test_compiled_forward_refuses_a_singular_pose():
+    """The compiled forward dynamics raises FreefloatError naming the singular A°, not a NaN."""
+    mech = five_bar(P)
+    q = np.zeros(6)  # all links folded on the x axis: A° singular
+    with pytest.raises(FreefloatError, match="singular"):
+        mech.forward(q, np.zeros(6), np.zeros(2), 0.0)
+
+
+def test_compiled_trajectory_names_an_unreachable_pose():
+    """A path leaving the workspace fails with the numpy reference's message, naming the pose."""
+    mech = five_bar(P)
+    x = np.array([[0.07, 0.17], [0.07, 0.5]])
+    with pytest.raises(FreefloatError, match=r"cannot assemble the mechanism at platform coordinates \[0.07, 0.5\]"):
+        mech.inverse_trajectory(x, np.zeros_like(x), np.zeros_like(x), elbow_guess(P, x[0]))
+
+
+def test_unknown_mechanism_backend_is_refused():
+    """A mechanism with an unknown backend raises FreefloatError listing the valid ones."""
+    with pytest.raises(FreefloatError, match="compiled, numpy"):
+        replace(five_bar(P), backend="cuda")
+
+
+def test_a_used_mechanism_pickles_and_gives_the_same_dynamics():
+    """A mechanism whose compiled core has run survives pickling (for Dask workers) unchanged."""
+    import pickle
+
+    mech = five_bar(P)
+    x = np.array([0.07, 0.17])
+    q = mech.assemble(x, elbow_guess(P, x))
+    qd = mech.velocity_map(q) @ np.array([0.1, -0.2])
+    before = mech.forward(q, qd, np.array([0.3, -0.1]), 100.0)
+    np.testing.assert_array_equal(pickle.loads(pickle.dumps(mech)).forward(q, qd, np.array([0.3, -0.1]), 100.0), before)

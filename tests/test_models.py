@@ -13,7 +13,7 @@ from freefloat.dynamics.models import MODELS, make_model
 from freefloat.robot.conventions import base_state, state_from_base
 from freefloat.robot.joints import JointCoordinates
 
-from .conftest import REPO, random_robots, robot_from_case
+from .conftest import REPO, random_robots, random_state, robot_from_case
 
 EXACT_AT_ZERO_MOMENTUM = ("standard_full_hdot", "standard_corrected", "reduced", "momentum_mono",
                           "momentum_multi", "momentum_routh")
@@ -150,3 +150,45 @@ def test_corrected_c0_without_the_full_hdot_is_refused(four_arm):
 
     with pytest.raises(ValueError, match="corrected_c0 implies full_hdot"):
         UnderactuatedGJM(four_arm, full_hdot=False, corrected_c0=True)
+
+
+GJM_MODELS = tuple(name for name in MODELS if name != "exact")
+
+
+def with_gravity_and_wrenches(robot, rng):
+    """Gravity on (a copy of the model's setting is restored by the caller) and one random wrench per joint."""
+    import pinocchio as pin
+
+    robot.model.gravity.linear[:] = rng.normal(size=3)
+    return [pin.Force(rng.normal(size=6)) for _ in range(robot.model.njoints)]
+
+
+@settings(max_examples=15, deadline=None)
+@given(random_robots(max_links=6))
+def test_compiled_models_equal_the_numpy_reference(tmp_path_factory, case):
+    """Every GJM model's acceleration (gravity and wrenches on), joint-space form and NIDC update
+    agree between the compiled core and the numpy reference to 1e-12 relative, free and planar bases."""
+    for base in ("free", "planar"):
+        robot, rng = robot_from_case(tmp_path_factory, case, base=base)
+        q, v = random_state(robot, rng)
+        tau = np.concatenate((np.zeros(robot.n_base), rng.normal(size=robot.n_joints)))
+        fext = with_gravity_and_wrenches(robot, rng)
+        D = 0.1 * rng.normal(size=(robot.n_joints, 6))
+        for name in GJM_MODELS:
+            compiled, numpy = make_model(name, robot), make_model(name, robot, backend="numpy")
+            if name.startswith("nidc"):
+                compiled.D[:], numpy.D[:] = D, D
+                compiled.end_period(q, v, 0.01)
+                numpy.end_period(q, v, 0.01)
+                assert np.abs(compiled.D - numpy.D).max() < 1e-12 * max(1.0, np.abs(numpy.D).max()), name
+            a, b = compiled.acceleration(q, v, tau, fext), numpy.acceleration(q, v, tau, fext)
+            assert np.abs(a - b).max() < 1e-12 * max(1.0, np.abs(b).max()), (base, name)
+            (H1, c1), (H2, c2) = compiled.joint_space_at(q, v), numpy.joint_space_at(q, v)
+            assert np.abs(H1 - H2).max() < 1e-12 * max(1.0, np.abs(H2).max()), (base, name)
+            assert np.abs(c1 - c2).max() < 1e-12 * max(1.0, np.abs(c2).max()), (base, name)
+
+
+def test_unknown_model_backend_is_refused(four_arm):
+    """A GJM model with an unknown backend raises ValueError listing the valid ones."""
+    with pytest.raises(ValueError, match="compiled, numpy"):
+        make_model("standard", four_arm, backend="julia")

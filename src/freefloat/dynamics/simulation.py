@@ -18,6 +18,7 @@ from ..robot.state import check_state
 from .integrators import Integrator
 from .models import DynamicsModel
 from .telemetry import Chunks, Telemetry
+from .threads import single_blas_thread
 from .wrenches import ExternalWrench, WrenchField
 
 __all__ = ["CHUNK_ROWS", "MAX_POSITION", "MAX_SPEED", "Controller", "Recorder", "RunResult", "control_periods", "run"]
@@ -98,6 +99,7 @@ class Recorder:
             tel.ee_quaternion[row, i] = pin.Quaternion(frame.rotation).coeffs()
 
 
+@single_blas_thread
 def run(
     robot: Robot,
     q0: np.ndarray,

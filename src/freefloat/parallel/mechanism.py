@@ -24,10 +24,13 @@ term ``lambda A_w qdot`` only (the document gives them no position-level term).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import functools
+from dataclasses import dataclass, replace
 
 import numpy as np
 
+from ..dynamics._core import MechanismCore
+from ..dynamics.threads import single_blas_thread
 from ..errors import FreefloatError
 from .serial import SerialChain
 
@@ -79,6 +82,10 @@ class ParallelMechanism:
         D, d, E, F: constant constraint matrices of eq 96 ((m, p), (m,), (m, 3n), (m, n°)).
         actuated: indices of the actuated coordinates in ``q`` (k,).
         angular: the angular-velocity constraints, if any.
+        backend: ``"compiled"`` (default): one point at a time (:meth:`forward`, :meth:`inverse`
+            and :meth:`assemble` at one q, :meth:`inverse_trajectory`) runs in the compiled core
+            (``cpp/parallel.hpp``) when A° is square; ``"numpy"``: everything in this module and
+            serial.py, the reference. Batched calls always use numpy.
     """
 
     chains: tuple[SerialChain, ...]
@@ -90,6 +97,41 @@ class ParallelMechanism:
     F: np.ndarray
     actuated: np.ndarray
     angular: AngularConstraints | None = None
+    backend: str = "compiled"
+
+    def __post_init__(self) -> None:
+        if self.backend not in BACKENDS:
+            raise FreefloatError(f"unknown mechanism backend '{self.backend}'; valid: {', '.join(BACKENDS)}")
+
+    @functools.cached_property
+    def core(self) -> MechanismCore | None:
+        """The compiled core of this mechanism, or None (numpy backend, or a non-square A°)."""
+        if self.backend != "compiled" or len(self.d) + (0 if self.angular is None else len(self.angular.offset)) \
+                != sum(c.dof for c in self.chains):
+            return None
+        chains = [{name: getattr(c, name) for name in ("placement", "link", "prismatic", "mass", "com", "inertia", "base",
+                                                         "tip_point", "gravity")} for c in self.chains]
+        coupling = {"D": self.D, "d": self.d, "E": self.E, "F": self.F, "platform_mass": self.platform_mass,
+                    "platform_gravity": self.platform_gravity, "actuated": np.asarray(self.actuated, dtype=np.int64),
+                    "offset": None}
+        if self.angular is not None:
+            coupling.update({name: getattr(self.angular, name) for name in ("P", "Q", "R", "reference", "offset")})
+        return MechanismCore(chains, coupling)
+
+    def __getstate__(self) -> dict:
+        """Pickled without the compiled core (rebuilt on first use), so mechanisms travel to
+        worker processes."""
+        state = self.__dict__.copy()
+        state.pop("core", None)
+        return state
+
+    def reference(self) -> ParallelMechanism:
+        """The same mechanism on the numpy backend (the reference)."""
+        return replace(self, backend="numpy")
+
+    def _point_core(self, q: np.ndarray) -> MechanismCore | None:
+        """The compiled core when ``q`` is one point, else None."""
+        return self.core if np.ndim(q) == 1 else None
 
     @property
     def p(self) -> int:
@@ -204,6 +246,8 @@ class ParallelMechanism:
 
     def forward(self, q: np.ndarray, qd: np.ndarray, tau: np.ndarray, baumgarte: float = 0.0) -> np.ndarray:
         """``qddot`` (n_q,) under actuator efforts ``tau`` (k,), eq 129 with lambda = ``baumgarte``."""
+        if (core := self._point_core(q)) is not None:
+            return core.forward(q, qd, tau, baumgarte)
         frames = self._frames(q)
         residual, A = self._closure(q, frames)
         b, blocks, v, g = self._dynamics_terms(self._kinematics(q, qd, frames), ())
@@ -224,6 +268,8 @@ class ParallelMechanism:
         Returns:
             ``(tau, qd, qdd)``: efforts (..., k) and the full velocity and acceleration (..., n_q).
         """
+        if (core := self._point_core(q)) is not None:
+            return core.inverse(q, qd_sharp, qdd_sharp)
         frames = self._frames(q)
         A = self._closure(q, frames)[1]
         C = self._velocity_map(A)
@@ -245,6 +291,14 @@ class ParallelMechanism:
             FreefloatError: when it does not converge (pose out of reach or singular), with the
                 residual and the (first failing) platform coordinates.
         """
+        if (core := self._point_core(q_sharp)) is not None and np.ndim(guess) == 1:
+            try:
+                q, converged = core.assemble(q_sharp, guess, tol, iterations)
+            except ValueError:  # wrong sizes: the reference names them
+                converged = False
+            if converged:
+                return q
+            return self.reference().assemble(q_sharp, guess, tol, iterations)  # raises, naming the problem
         q_sharp, guess = np.asarray(q_sharp, float), np.asarray(guess, float)
         n_passive = sum(c.dof for c in self.chains)
         if q_sharp.shape[-1:] != (self.p,) or guess.shape[-1:] != (n_passive,):
@@ -272,7 +326,10 @@ class ParallelMechanism:
         eqs 130-140 for the whole block. A block whose solution strays more than ``jump`` (rad
         or m) from its prediction (a jump in the joint path: another assembly mode, or joints wound
         by a turn near a singular pose) is halved and redone; a single point that still strays is
-        an error.
+        an error. After an accepted block the size doubles again (up to ``block``), so a coarse
+        path settles near the largest block it allows instead of falling back to ``block`` and
+        halving anew every time. The compiled backend walks the path one point at a time (each
+        point's Newton from the prediction off the previous point), with the same jump guard.
 
         Returns:
             ``(tau, q)``: efforts (N, k) and assembled coordinates (N, n_q).
@@ -285,6 +342,8 @@ class ParallelMechanism:
         if not len(q_sharp) or not q_sharp.shape == qd_sharp.shape == qdd_sharp.shape == (len(q_sharp), self.p):
             raise FreefloatError(f"inverse_trajectory: positions, rates and accelerations must be non-empty arrays of shape "
                                  f"(N, {self.p}); got {q_sharp.shape}, {qd_sharp.shape}, {qdd_sharp.shape}")
+        if self.core is not None:
+            return self._compiled_trajectory(q_sharp, qd_sharp, qdd_sharp, np.asarray(guess, float), jump)
         q = np.empty((len(q_sharp), self.p + len(guess)))
         tau = np.empty((len(q_sharp), len(self.actuated)))
         anchor, first = self.assemble(q_sharp[0], guess), 0
@@ -308,8 +367,24 @@ class ParallelMechanism:
                 size = max(1, size // 2)
                 continue
             tau[rows] = self.inverse(q[rows], qd_sharp[rows], qdd_sharp[rows])[0]
-            anchor, first, size = q[first + len(x) - 1], first + len(x), block
+            anchor, first, size = q[first + len(x) - 1], first + len(x), min(block, size + size // 4 + 1)
         return tau, q
+
+    def _compiled_trajectory(self, x: np.ndarray, xd: np.ndarray, xdd: np.ndarray, guess: np.ndarray,
+                             jump: float) -> tuple[np.ndarray, np.ndarray]:
+        """:meth:`inverse_trajectory` by the compiled core's continuation, point by point."""
+        tau, q, status, index = self.core.trajectory(x, xd, xdd, guess, jump, 1e-12, 50)
+        if status == 1:  # the numpy Newton from the same start raises, naming the pose
+            self.reference().assemble(x[index], q[index, self.p:])
+        if status:
+            raise FreefloatError(f"inverse_trajectory: at platform coordinates {np.round(x[index], 6).tolist()} the "
+                                 f"joint path jumps (another assembly mode, or a turn near a singular pose): "
+                                 f"the joints move more than {jump} from the prediction in one step")
+        return tau, q
+
+
+#: Implementations of the one-point paths: the compiled core (default) and the numpy reference.
+BACKENDS = ("compiled", "numpy")
 
 
 def _matvec(A: np.ndarray, x: np.ndarray) -> np.ndarray:
@@ -355,6 +430,7 @@ def rk4_step(f, q: np.ndarray, qd: np.ndarray, h: float) -> tuple[np.ndarray, np
     return q + h / 6 * (k1q + 2 * k2q + 2 * k3q + k4q), qd + h / 6 * (k1v + 2 * k2v + 2 * k3v + k4v)
 
 
+@single_blas_thread
 def simulate(mechanism: ParallelMechanism, q0: np.ndarray, qd0: np.ndarray, tau, duration: float, step: float,
              baumgarte: float = 0.0, method: str = "rk4") -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Classical RK4 (or semi-implicit Euler) on the coupled coordinates (all Euclidean),

@@ -1,14 +1,26 @@
 """The Generalized Jacobian Matrix (GJM) framework, hand-built (dissertation ch. 3).
 
 ``compute(robot, q, v)`` gives H0, H0m, Hm, H*, the GJM/E-GJM and the momenta; every formula is
-cross-checked against Pinocchio in :mod:`freefloat.dynamics.verify` and the tests.
+cross-checked against Pinocchio in :mod:`freefloat.dynamics.verify` and the tests. Two backends
+give the same numbers: the compiled core (``backend="compiled"``, the default; C++ in ``cpp/``)
+and the numpy modules here (``backend="numpy"``), which are the equation-by-equation reference.
 """
 
-from .derivatives import GJMDerivatives, derivatives
-from .model import GJM, GJMState, compute, egjm_blocks, model_of
+from .derivatives import GJMDerivatives, derivatives, state_and_derivatives
+from .model import BACKENDS, GJM, GJMState, compute, egjm_blocks, model_of
 from .momentum import H0C_VARIANTS, base_momentum_matrices, momentum_about_origin
 
 __all__ = [
-    "GJM", "GJMDerivatives", "GJMState", "H0C_VARIANTS", "base_momentum_matrices", "compute", "derivatives",
-    "egjm_blocks", "model_of", "momentum_about_origin",
+    "BACKENDS",
+    "GJM",
+    "H0C_VARIANTS",
+    "GJMDerivatives",
+    "GJMState",
+    "base_momentum_matrices",
+    "compute",
+    "derivatives",
+    "egjm_blocks",
+    "model_of",
+    "momentum_about_origin",
+    "state_and_derivatives",
 ]

@@ -24,7 +24,7 @@ import numpy as np
 from ...robot.robot import Robot
 from .kinematics import BodyKinematics, TreeStructure
 from .matrices import body_jacobians, skew_batch
-from .model import GJMState, model_of
+from .model import BACKENDS, GJM, GJMState, model_of, state_of
 
 
 class GJMDerivatives(NamedTuple):
@@ -117,11 +117,27 @@ def time_derivatives(tree: TreeStructure, state: GJMState) -> GJMDerivatives:
     )
 
 
-def derivatives(robot: Robot, q: np.ndarray, v: np.ndarray) -> GJMDerivatives:
+def state_and_derivatives(gjm: GJM, q: np.ndarray, v: np.ndarray, backend: str = "compiled") -> tuple[GJMState, GJMDerivatives]:
+    """The GJM state and its derivatives at (q, v), from one call to the compiled core or from
+    the numpy reference (``backend`` as in :meth:`GJM.compute`)."""
+    if backend == "compiled":
+        state, deriv = gjm.core.compute_with_derivatives(q, v)
+        return state_of(state), GJMDerivatives(*deriv)
+    if backend not in BACKENDS:
+        raise ValueError(f"unknown GJM backend '{backend}'; valid: {', '.join(BACKENDS)}")
+    state = gjm.compute(q, v, backend)
+    return state, time_derivatives(gjm.tree, state)
+
+
+def derivatives(robot: Robot, q: np.ndarray, v: np.ndarray, backend: str = "compiled") -> GJMDerivatives:
     """Joint and time derivatives of the GJM inertia matrices at Pinocchio state (q, v).
 
     Derivative k is with respect to joint k (Pinocchio order) at fixed base pose and twist; the
-    time derivatives follow the motion given by v (base twist and joint rates).
+    time derivatives follow the motion given by v (base twist and joint rates). ``backend``:
+    ``"compiled"`` (default) or ``"numpy"``, the reference.
     """
+    q, v = np.asarray(q, dtype=float), np.asarray(v, dtype=float)
     gjm = model_of(robot)
-    return time_derivatives(gjm.tree, gjm.compute(np.asarray(q, dtype=float), np.asarray(v, dtype=float)))
+    if backend == "compiled":
+        return GJMDerivatives(*gjm.core.derivatives(q, v))
+    return state_and_derivatives(gjm, q, v, backend)[1]

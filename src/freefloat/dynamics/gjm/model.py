@@ -10,8 +10,12 @@ import numpy as np
 from ...robot.conventions import base_state, cross3
 from ...robot.joints import JointCoordinates
 from ...robot.robot import Robot
+from .._core import GJMCore
 from .kinematics import BodyKinematics, TreeStructure, forward_kinematics
 from .matrices import end_effector_jacobians, end_effector_points, inertia_matrices, point_jacobians
+
+#: Implementations of :meth:`GJM.compute`: the compiled core (default) and the numpy reference.
+BACKENDS = ("compiled", "numpy")
 
 
 class GJMState(NamedTuple):
@@ -59,6 +63,10 @@ class GJMState(NamedTuple):
 class GJM:
     """Hand-built GJM model of a robot; the structure is read once.
 
+    Two implementations give the same numbers: the numpy code of this package (``"numpy"``, the
+    equation-by-equation reference) and the compiled core ``freefloat.dynamics._core``
+    (``"compiled"``, the default), which receives the tree as arrays.
+
     Args:
         robot: a robot with a free-flyer or planar base and 1-DOF joints.
 
@@ -77,13 +85,29 @@ class GJM:
         self.ee_body = np.array([f.parentJoint - 1 for f in frames], dtype=int)
         self.ee_offset = np.array([f.placement.translation for f in frames]).reshape(-1, 3)
         self.moved = np.vstack((self.tree.ancestor, self.tree.ancestor[self.ee_body]))
+        self.core = compiled_core(robot, self.tree, self.ee_body, self.ee_offset)
+
+    def __getstate__(self) -> dict:
+        """Pickled without the compiled core (rebuilt from the tree on unpickling), so models
+        travel to worker processes."""
+        state = self.__dict__.copy()
+        del state["core"]
+        return state
+
+    def __setstate__(self, state: dict) -> None:
+        self.__dict__.update(state)
+        self.core = compiled_core(self.robot, self.tree, self.ee_body, self.ee_offset)
 
     def kinematics(self, q: np.ndarray) -> BodyKinematics:
         """Body kinematics at configuration q (nq,)."""
         return forward_kinematics(self.robot, self.tree, self.coords, q)
 
-    def compute(self, q: np.ndarray, v: np.ndarray) -> GJMState:
+    def compute(self, q: np.ndarray, v: np.ndarray, backend: str = "compiled") -> GJMState:
         """All GJM quantities at state (q, v) in Pinocchio's convention (see :func:`compute`)."""
+        if backend == "compiled":
+            return state_of(self.core.compute(q, v))
+        if backend != "numpy":
+            raise ValueError(f"unknown GJM backend '{backend}'; valid: {', '.join(BACKENDS)}")
         kin = self.kinematics(q)
         r_E = end_effector_points(kin, self.ee_body, self.ee_offset)
         nb = len(self.tree.mass)
@@ -104,6 +128,25 @@ class GJM:
         )
 
 
+def compiled_core(robot: Robot, tree: TreeStructure, ee_body: np.ndarray, ee_offset: np.ndarray) -> GJMCore:
+    """The compiled core of a robot, handed the tree as arrays (Pinocchio joint order)."""
+    model = robot.model
+    joints = range(2, model.njoints)
+    return GJMCore(
+        parent=tree.parent, placement=tree.placement, axis=tree.axis, revolute=tree.revolute,
+        mass=tree.mass, com=tree.com, inertia=tree.inertia,
+        q_index=np.array([model.idx_qs[j] for j in joints], dtype=np.int64),
+        circle=np.array([model.nqs[j] == 2 for j in joints], dtype=bool),
+        free_base=robot.base == "free", base_com=robot.base_com, base_com_rotation=robot.base_com_rotation,
+        ee_body=ee_body, ee_offset=ee_offset, nq=model.nq, nv=model.nv,
+    )
+
+
+def state_of(out: tuple) -> GJMState:
+    """A :class:`GJMState` from the compiled core's tuple (fields in order, kinematics last)."""
+    return GJMState(*out[:-1], kinematics=BodyKinematics(*out[-1]))
+
+
 def egjm_blocks(state: GJMState, robot: Robot) -> dict[tuple[int, int], np.ndarray]:
     """E-GJM blocks (eqs 89-91): ``(i, i)`` is J_S^i, ``(i, j)`` with i != j is J_C^{i,j}.
 
@@ -121,12 +164,13 @@ def model_of(robot: Robot) -> GJM:
     return GJM(robot)
 
 
-def compute(robot: Robot, q: np.ndarray, v: np.ndarray) -> GJMState:
+def compute(robot: Robot, q: np.ndarray, v: np.ndarray, backend: str = "compiled") -> GJMState:
     """GJM quantities of ``robot`` at Pinocchio state (q, v).
 
     Args:
         robot: the robot (free-flyer or planar base; planar states are embedded in 3-D).
         q: configuration (nq,), free-flyer base quaternion.
         v: velocity (nv,), Pinocchio's local base velocity; converted to ``x0dot = [v0; w0]``.
+        backend: ``"compiled"`` (default) or ``"numpy"``, the reference; see :data:`BACKENDS`.
     """
-    return model_of(robot).compute(np.asarray(q, dtype=float), np.asarray(v, dtype=float))
+    return model_of(robot).compute(np.asarray(q, dtype=float), np.asarray(v, dtype=float), backend)

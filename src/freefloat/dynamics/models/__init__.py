@@ -22,8 +22,12 @@ MODELS = {
 }
 
 
-def make_model(name: str, robot: Robot) -> DynamicsModel:
+def make_model(name: str, robot: Robot, backend: str = "compiled") -> DynamicsModel:
     """The dynamics model called ``name`` for ``robot``.
+
+    ``backend`` picks the implementation of the GJM variants: ``"compiled"`` (default, the
+    compiled core) or ``"numpy"`` (the reference in this package); ``exact`` is Pinocchio's ABA
+    either way.
 
     Raises:
         ValueError: for an unknown name, listing the valid ones.
@@ -34,11 +38,12 @@ def make_model(name: str, robot: Robot) -> DynamicsModel:
     if name == "exact":
         return ExactModel(robot)
     if name in ("standard", "standard_full_hdot", "standard_corrected"):
-        return UnderactuatedGJM(robot, full_hdot=name != "standard", corrected_c0=name == "standard_corrected")
+        return UnderactuatedGJM(robot, full_hdot=name != "standard", corrected_c0=name == "standard_corrected",
+                                backend=backend)
     if name in ("nidc", "nidc_translation"):
-        return NIDCModel(robot, translation=name == "nidc_translation")
+        return NIDCModel(robot, translation=name == "nidc_translation", backend=backend)
     if name in VARIANTS:
-        return GeneralizedInertiaModel(robot, name)
+        return GeneralizedInertiaModel(robot, name, backend)
     raise ValueError(f"unknown dynamics model '{name}'; valid: {', '.join(MODELS)}")
 
 

@@ -31,12 +31,13 @@ class GeneralizedInertiaModel(GJMModelBase):
     Args:
         robot: the robot.
         variant: one of :data:`VARIANTS`.
+        backend: ``"compiled"`` or ``"numpy"``, the reference.
     """
 
-    def __init__(self, robot: Robot, variant: str):
+    def __init__(self, robot: Robot, variant: str, backend: str = "compiled"):
         if variant not in VARIANTS:
             raise ValueError(f"unknown H* model '{variant}'; valid: {', '.join(VARIANTS)}")
-        super().__init__(robot)
+        super().__init__(robot, backend)
         self.name = variant
 
     def joint_space(self, t: Terms) -> tuple[np.ndarray, np.ndarray]:

@@ -23,8 +23,7 @@ from ...robot.conventions import (
     twist_map,
 )
 from ...robot.robot import Robot
-from ..gjm import GJMDerivatives, GJMState, model_of
-from ..gjm.derivatives import time_derivatives
+from ..gjm import BACKENDS, GJMDerivatives, GJMState, model_of, state_and_derivatives
 
 
 @dataclass
@@ -61,32 +60,51 @@ class GJMModelBase:
     """Base class: builds :class:`Terms`, solves the joint-space form, returns ``a`` (nv,).
 
     Subclasses implement :meth:`joint_space` (``H, c`` with ``tau = H qddot + c``) and
-    :meth:`base_acceleration` (xddot0 given qddot).
+    :meth:`base_acceleration` (xddot0 given qddot): the numpy reference. With
+    ``backend="compiled"`` (the default) the same equations run in the compiled core
+    (``cpp/models.hpp``), one call per acceleration; ``backend="numpy"`` runs this reference on the
+    numpy GJM.
+
+    Args:
+        robot: the robot.
+        backend: ``"compiled"`` or ``"numpy"`` (see :data:`freefloat.gjm.BACKENDS`).
     """
 
     name = ""
 
-    def __init__(self, robot: Robot):
+    def __init__(self, robot: Robot, backend: str = "compiled"):
+        if backend not in BACKENDS:
+            raise ValueError(f"unknown model backend '{backend}'; valid: {', '.join(BACKENDS)}")
         self.robot = robot
+        self.backend = backend
         self.gjm = model_of(robot)
         self.data = robot.model.createData()
         self._zeros = np.zeros(robot.model.nv)
+        self._no_force = (np.zeros(6), np.zeros(robot.n_joints))
         self._gravity = bool(np.any(robot.model.gravity.linear != 0.0))
+
+    def generalized_forces(self, q: np.ndarray, fext: Sequence[pin.Force] | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """``(F, Q_q)`` (6,), (n,): generalized forces of ``fext`` and gravity on the GJM base rows
+        (conjugate to x0dot) and on the joints."""
+        if fext is None and not self._gravity:
+            return self._no_force
+        model = self.robot.model
+        Q = -(pin.rnea(model, self.data, q, self._zeros, self._zeros, fext) if fext is not None
+              else pin.rnea(model, self.data, q, self._zeros, self._zeros))
+        nb = self.robot.n_base
+        T = twist_map(base_link_placement(self.robot, q).rotation, self.robot.base_com)
+        TE = T if self.robot.base == "free" else T[:, PLANAR_ROWS]
+        return np.linalg.pinv(TE).T @ Q[:nb], Q[nb:]
 
     def terms(self, q: np.ndarray, v: np.ndarray, fext: Sequence[pin.Force] | None = None) -> Terms:
         """All GJM quantities at (q, v), with the generalized forces of ``fext`` and gravity."""
-        s = self.gjm.compute(q, v)
-        d = time_derivatives(self.gjm.tree, s)
-        nb = self.robot.n_base
-        F, Q_q = np.zeros(6), np.zeros(self.robot.n_joints)
-        if fext is not None or self._gravity:
-            model = self.robot.model
-            Q = -(pin.rnea(model, self.data, q, self._zeros, self._zeros, fext) if fext is not None
-                  else pin.rnea(model, self.data, q, self._zeros, self._zeros))
-            T = twist_map(base_link_placement(self.robot, q).rotation, self.robot.base_com)
-            TE = T if self.robot.base == "free" else T[:, PLANAR_ROWS]
-            F, Q_q = np.linalg.pinv(TE).T @ Q[:nb], Q[nb:]
+        s, d = state_and_derivatives(self.gjm, q, v, self.backend)
+        F, Q_q = self.generalized_forces(q, fext)
         return Terms(s=s, d=d, c_m=-0.5 * quadratic_form(s, d.dH0, d.dH0m, d.dHm), F=F, Q_q=Q_q)
+
+    def sensitivities(self) -> np.ndarray:
+        """The model's integrated sensitivities handed to the compiled core: none here (0, 6)."""
+        return np.zeros((0, 6))
 
     def joint_space(self, t: Terms) -> tuple[np.ndarray, np.ndarray]:
         """``(H, c)`` with ``tau + Q_q = H qddot + c`` (n, n), (n,)."""
@@ -97,11 +115,17 @@ class GJMModelBase:
         raise NotImplementedError
 
     def joint_space_at(self, q: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """``(H, c)`` at (q, v) without external forces: what a computed-torque law uses."""
+        """``(H, c)`` at (q, v) without external forces: what a computed-torque law uses. Gravity,
+        when on, enters c through the base rows only."""
+        if self.backend == "compiled":
+            return self.gjm.core.joint_space(self.name, q, v, self.generalized_forces(q)[0], self.sensitivities())
         return self.joint_space(self.terms(q, v))
 
     def acceleration(self, q, v, tau, fext=None) -> np.ndarray:
         """Forward dynamics (nv,), Pinocchio convention (see :class:`~freefloat.models.DynamicsModel`)."""
+        if self.backend == "compiled":
+            F, Q_q = self.generalized_forces(q, fext)
+            return self.gjm.core.acceleration(self.name, q, v, tau, F, Q_q, self.sensitivities())
         t = self.terms(q, v, fext)
         H, c = self.joint_space(t)
         nb = self.robot.n_base

@@ -40,10 +40,11 @@ class UnderactuatedGJM(GJMModelBase):
         robot: the robot.
         full_hdot: use the full time derivative of H (base rotation included).
         corrected_c0: use ``c0 = [0; v0 x P]`` instead of the printed ``c0 = 0``.
+        backend: ``"compiled"`` or ``"numpy"``, the reference.
     """
 
-    def __init__(self, robot: Robot, full_hdot: bool = False, corrected_c0: bool = False):
-        super().__init__(robot)
+    def __init__(self, robot: Robot, full_hdot: bool = False, corrected_c0: bool = False, backend: str = "compiled"):
+        super().__init__(robot, backend)
         self.full_hdot, self.corrected = full_hdot, corrected_c0
         names = {(False, False): "standard", (True, False): "standard_full_hdot", (True, True): "standard_corrected"}
         if (full_hdot, corrected_c0) not in names:
@@ -94,13 +95,18 @@ class NIDCModel(UnderactuatedGJM):
             gets ``-dr0/dq_k`` while the links' own positions do not move with the base, so the
             base translation does not cancel in ``r0i = r_i - r0``. With eq 122 (the default) the
             base moves the links too and only its rotation remains.
+        backend: ``"compiled"`` or ``"numpy"``, the reference.
     """
 
-    def __init__(self, robot: Robot, translation: bool = False):
-        super().__init__(robot)
+    def __init__(self, robot: Robot, translation: bool = False, backend: str = "compiled"):
+        super().__init__(robot, backend=backend)
         self.translation = translation
         self.name = "nidc_translation" if translation else "nidc"
         self.D = np.zeros((robot.n_joints, 6))
+
+    def sensitivities(self) -> np.ndarray:
+        """``D`` (n, 6), handed to the compiled core."""
+        return self.D
 
     def augmented(self, t: Terms) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Partials with the base turned by the rotational part of D: ``dH0, dH0m, dHm``."""
@@ -148,4 +154,7 @@ class NIDCModel(UnderactuatedGJM):
 
     def end_period(self, q: np.ndarray, v: np.ndarray, dt: float) -> None:
         """Eq 67: ``D <- D + dt dxdot0/dq`` evaluated at the period's start state."""
-        self.D += dt * self.xdot0_sensitivity(self.terms(q, v))
+        if self.backend == "compiled":
+            self.D += dt * self.gjm.core.sensitivity(q, v, self.translation, self.D)
+        else:
+            self.D += dt * self.xdot0_sensitivity(self.terms(q, v))

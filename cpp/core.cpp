@@ -1,0 +1,362 @@
+// freefloat.dynamics._core: the compiled GJM (gjm.hpp) behind a small pybind11 interface. The tree
+// is handed over as arrays (no C++ object is shared with pin's bindings); outputs are new C-order
+// numpy arrays with the shapes of the numpy reference.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+
+#include <cstring>
+#include <stdexcept>
+#include <string>
+
+#include "gjm.hpp"
+#include "models.hpp"
+#include "parallel.hpp"
+
+namespace py = pybind11;
+using namespace freefloat;
+using Array = py::array_t<double, py::array::c_style | py::array::forcecast>;
+using IntArray = py::array_t<long long, py::array::c_style | py::array::forcecast>;
+
+namespace {
+
+const double* checked(const Array& a, py::ssize_t size, const char* name) {
+  if (a.size() != size)
+    throw std::invalid_argument(std::string(name) + ": expected " + std::to_string(size) + " numbers, got " +
+                                std::to_string(a.size()));
+  return a.data();
+}
+
+py::array_t<double> copy_out(std::vector<py::ssize_t> shape, const double* data) {
+  py::array_t<double> out(shape);
+  std::memcpy(out.mutable_data(), data, sizeof(double) * out.size());
+  return out;
+}
+
+template <typename M>
+py::array_t<double> matrix_out(const M& m) {  // row-major copy of any Eigen matrix
+  py::array_t<double> out({static_cast<py::ssize_t>(m.rows()), static_cast<py::ssize_t>(m.cols())});
+  Eigen::Map<MatX>(out.mutable_data(), m.rows(), m.cols()) = m;
+  return out;
+}
+
+template <typename V>
+py::array_t<double> vector_out(const V& x) {
+  return copy_out({static_cast<py::ssize_t>(x.size())}, x.data());
+}
+
+py::array_t<double> stack3(const std::vector<Vec3>& xs, size_t first = 0) {
+  py::array_t<double> out({static_cast<py::ssize_t>(xs.size() - first), py::ssize_t{3}});
+  double* p = out.mutable_data();
+  for (size_t i = first; i < xs.size(); ++i, p += 3) Eigen::Map<Vec3>{p} = xs[i];
+  return out;
+}
+
+py::array_t<double> stack33(const std::vector<Mat3>& xs) {
+  py::array_t<double> out({static_cast<py::ssize_t>(xs.size()), py::ssize_t{3}, py::ssize_t{3}});
+  double* p = out.mutable_data();
+  for (size_t i = 0; i < xs.size(); ++i, p += 9) Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>{p} = xs[i];
+  return out;
+}
+
+Tree make_tree(const IntArray& parent, const Array& placement, const Array& axis, py::array_t<bool> revolute,
+               const Array& mass, const Array& com, const Array& inertia, const IntArray& q_index,
+               py::array_t<bool> circle, bool free_base, const Array& base_com, const Array& base_com_rotation,
+               const IntArray& ee_body, const Array& ee_offset) {
+  Tree t;
+  t.n = static_cast<int>(parent.size());
+  const int n = t.n, nb = n + 1;
+  const double* pl = checked(placement, 16 * n, "placement");
+  const double* ax = checked(axis, 3 * n, "axis");
+  const double* ms = checked(mass, nb, "mass");
+  const double* cm = checked(com, 3 * nb, "com");
+  const double* in = checked(inertia, 9 * nb, "inertia");
+  if (revolute.size() != n || q_index.size() != n || circle.size() != n)
+    throw std::invalid_argument("revolute, q_index, circle: expected one entry per joint");
+  for (int j = 0; j < n; ++j) {
+    const int a = static_cast<int>(parent.data()[j]);
+    if (a < 0 || a > j) throw std::invalid_argument("parent[" + std::to_string(j) + "]: a parent must come before its child");
+    t.parent.push_back(a);
+    Eigen::Map<const Eigen::Matrix<double, 4, 4, Eigen::RowMajor>> H(pl + 16 * j);
+    t.place_R.push_back(H.topLeftCorner<3, 3>());
+    t.place_t.push_back(H.topRightCorner<3, 1>());
+    t.axis.emplace_back(ax[3 * j], ax[3 * j + 1], ax[3 * j + 2]);
+    t.revolute.push_back(revolute.data()[j]);
+    t.q_index.push_back(static_cast<int>(q_index.data()[j]));
+    t.circle.push_back(circle.data()[j]);
+  }
+  for (int b = 0; b < nb; ++b) {
+    t.mass.push_back(ms[b]);
+    t.com.emplace_back(cm[3 * b], cm[3 * b + 1], cm[3 * b + 2]);
+    t.inertia.push_back(Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(in + 9 * b));
+  }
+  t.moves.assign(static_cast<size_t>(nb) * n, 0);
+  for (int b = 1; b < nb; ++b) {
+    const int a = t.parent[b - 1];
+    for (int j = 0; j < n; ++j) t.moves[b * n + j] = t.moves[a * n + j];
+    t.moves[b * n + b - 1] = 1;
+  }
+  t.index_paths();
+  t.free_base = free_base;
+  const double* bc = checked(base_com, 3, "base_com");
+  t.base_com = Vec3(bc[0], bc[1], bc[2]);
+  t.base_com_rotation = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(
+      checked(base_com_rotation, 9, "base_com_rotation"));
+  const py::ssize_t k = ee_body.size();
+  const double* eo = checked(ee_offset, 3 * k, "ee_offset");
+  for (py::ssize_t e = 0; e < k; ++e) {
+    const int b = static_cast<int>(ee_body.data()[e]);
+    if (b < 0 || b > n) throw std::invalid_argument("ee_body[" + std::to_string(e) + "]: no such body");
+    t.ee_body.push_back(b);
+    t.ee_offset.emplace_back(eo[3 * e], eo[3 * e + 1], eo[3 * e + 2]);
+  }
+  return t;
+}
+
+// (H0, H0m, Hm, Hstar, J0, Jm, J0E, Jstar, momentum_base, momentum_origin, x0dot, qdot,
+//  ee_position, (r0, R0, rotation, origin, joint_position, joint_axis, com, inertia))
+py::tuple state_out(const State& s) {
+  const Kinematics& k = s.kin;
+  py::tuple kin = py::make_tuple(vector_out(k.r0), matrix_out(k.R0), stack33(k.rotation), stack3(k.origin),
+                                 stack3(k.origin, 1), stack3(k.joint_axis), stack3(k.com), stack33(k.inertia));
+  return py::make_tuple(matrix_out(s.H0), matrix_out(s.H0m), matrix_out(s.Hm), matrix_out(s.Hstar),
+                        matrix_out(s.J0), matrix_out(s.Jm), matrix_out(s.J0E), matrix_out(s.Jstar),
+                        vector_out(s.momentum_base), vector_out(s.momentum_origin), vector_out(s.x0dot),
+                        vector_out(s.qdot), matrix_out(s.ee_position), kin);
+}
+
+// (dH0, dH0m, dHm, H0dot, H0mdot, Hmdot)
+py::tuple derivatives_out(const Tree& t, const Derivatives& d) {
+  const py::ssize_t n = t.n;
+  return py::make_tuple(copy_out({n, 6, 6}, d.dH0.data()), copy_out({n, 6, n}, d.dH0m.data()),
+                        copy_out({n, n, n}, d.dHm.data()), matrix_out(d.H0dot), matrix_out(d.H0mdot),
+                        matrix_out(d.Hmdot));
+}
+
+struct Core {
+  Tree tree;
+  int nq, nv;
+  State state;
+  Derivatives deriv;
+
+  void run(const Array& q, const Array& v) {
+    compute(tree, checked(q, nq, "q"), checked(v, nv, "v"), state);
+  }
+
+  MatX sensitivity_rows(const Array& D) const {  // NIDC's D (n, 6), or zeros when empty
+    if (D.size() == 0) return MatX::Zero(tree.n, 6);
+    return Eigen::Map<const MatX>(checked(D, 6 * tree.n, "D"), tree.n, 6);
+  }
+
+  // Forward dynamics of one model: Pinocchio's a (nv,).
+  py::array_t<double> acceleration(const std::string& name, const Array& q, const Array& v, const Array& tau,
+                                   const Array& F, const Array& Q_q, const Array& D) {
+    const Variant variant = variant_of(name);
+    run(q, v);
+    derivatives(tree, state, deriv, false);
+    const int n = tree.n, n_base = nv - n;
+    const Vec6 force = Eigen::Map<const Vec6>(checked(F, 6, "F"));
+    const ModelResult r = model_terms(tree, state, deriv, variant, force, sensitivity_rows(D));
+    const VecX rhs = Eigen::Map<const VecX>(checked(tau, nv, "tau") + n_base, n) +
+                     Eigen::Map<const VecX>(checked(Q_q, n, "Q_q"), n) - r.c;
+    py::array_t<double> a(nv);
+    Eigen::Map<VecX> qddot(a.mutable_data() + n_base, n);
+    qddot = state.Hstar.ldlt().solve(rhs);
+    const Vec6 xddot0 = -state.H0_ldlt.solve(state.H0m * qddot + r.base_bias);
+    local_base_acceleration(tree, q.data(), v.data(), xddot0, a.mutable_data());
+    return a;
+  }
+
+  // (H, c) with tau + Q_q = H qddot + c, F the base rows' generalized force (gravity).
+  py::tuple joint_space(const std::string& name, const Array& q, const Array& v, const Array& F, const Array& D) {
+    const Variant variant = variant_of(name);
+    run(q, v);
+    derivatives(tree, state, deriv, false);
+    const Vec6 force = Eigen::Map<const Vec6>(checked(F, 6, "F"));
+    const ModelResult r = model_terms(tree, state, deriv, variant, force, sensitivity_rows(D));
+    return py::make_tuple(matrix_out(state.Hstar), vector_out(r.c));
+  }
+
+  // NIDC's dxdot0/dq_k (n, 6) at (q, v) with the augmented partials of D.
+  py::array_t<double> sensitivity(const Array& q, const Array& v, bool translation, const Array& D) {
+    run(q, v);
+    derivatives(tree, state, deriv, false);
+    const Partials p = nidc_partials(tree, state, deriv, sensitivity_rows(D), translation);
+    return matrix_out(freefloat::sensitivity(state, p, tree.n));
+  }
+};
+
+DMat dmat(const Array& a, py::ssize_t rows, py::ssize_t cols, const std::string& name) {
+  return Eigen::Map<const MatX>(checked(a, rows * cols, name.c_str()), rows, cols);
+}
+
+Chain make_chain(const py::dict& c) {
+  Chain out;
+  const Array placement = c["placement"].cast<Array>();
+  out.nu = static_cast<int>(placement.shape(0));
+  const int nu = out.nu;
+  const Array link = c["link"].cast<Array>(), com = c["com"].cast<Array>(), inertia = c["inertia"].cast<Array>();
+  const Array mass = c["mass"].cast<Array>();
+  const py::array_t<bool> prismatic = c["prismatic"].cast<py::array_t<bool>>();
+  const double* pl = checked(placement, 16 * nu, "placement");
+  const double* li = checked(link, 16 * nu, "link");
+  const double* cm = checked(com, 3 * nu, "com");
+  const double* in = checked(inertia, 9 * nu, "inertia");
+  const double* ms = checked(mass, nu, "mass");
+  using Row4 = Eigen::Matrix<double, 4, 4, Eigen::RowMajor>;
+  using Row3 = Eigen::Matrix<double, 3, 3, Eigen::RowMajor>;
+  for (int i = 0; i < nu; ++i) {
+    out.placement.push_back(Eigen::Map<const Row4>(pl + 16 * i));
+    out.link.push_back(Eigen::Map<const Row4>(li + 16 * i));
+    out.prismatic.push_back(prismatic.data()[i]);
+    out.mass.push_back(ms[i]);
+    out.com.emplace_back(cm[3 * i], cm[3 * i + 1], cm[3 * i + 2]);
+    out.inertia.push_back(Eigen::Map<const Row3>(in + 9 * i));
+  }
+  for (int i = 0; i + 1 < nu; ++i) out.link_next.push_back(out.link[i] * out.placement[i + 1]);
+  out.base = Eigen::Map<const Row4>(checked(c["base"].cast<Array>(), 16, "base"));
+  const double* tp = checked(c["tip_point"].cast<Array>(), 3, "tip_point");
+  const double* gv = checked(c["gravity"].cast<Array>(), 3, "gravity");
+  out.tip_point = V3(tp[0], tp[1], tp[2]);
+  out.gravity = V3(gv[0], gv[1], gv[2]);
+  return out;
+}
+
+Mechanism make_mechanism(const py::list& chains, const py::dict& m) {
+  Mechanism out;
+  for (const auto& c : chains) out.chains.push_back(make_chain(c.cast<py::dict>()));
+  const Array D = m["D"].cast<Array>(), E = m["E"].cast<Array>(), F = m["F"].cast<Array>();
+  out.m_lin = static_cast<int>(D.shape(0));
+  out.p = static_cast<int>(D.shape(1));
+  int n_passive = 0;
+  for (const Chain& c : out.chains) n_passive += c.nu;
+  out.n_q = out.p + n_passive;
+  const int nc = static_cast<int>(out.chains.size());
+  out.D = dmat(D, out.m_lin, out.p, "D");
+  out.d = dmat(m["d"].cast<Array>(), out.m_lin, 1, "d");
+  out.E = dmat(E, out.m_lin, 3 * nc, "E");
+  out.F = dmat(F, out.m_lin, n_passive, "F");
+  out.platform_mass = dmat(m["platform_mass"].cast<Array>(), out.p, out.p, "platform_mass");
+  out.platform_gravity = dmat(m["platform_gravity"].cast<Array>(), out.p, 1, "platform_gravity");
+  const IntArray actuated = m["actuated"].cast<IntArray>();
+  out.U = DMat::Zero(out.n_q, actuated.size());
+  for (py::ssize_t i = 0; i < actuated.size(); ++i) out.U(actuated.data()[i], i) = 1.0;
+  if (!m["offset"].is_none()) {
+    out.angular = true;
+    const Array offset = m["offset"].cast<Array>();
+    out.m_ang = static_cast<int>(offset.size());
+    out.offset = dmat(offset, out.m_ang, 1, "offset");
+    out.P = dmat(m["P"].cast<Array>(), out.m_ang, out.p, "P");
+    out.Q = dmat(m["Q"].cast<Array>(), out.m_ang, 3 * nc, "Q");
+    out.R = dmat(m["R"].cast<Array>(), out.m_ang, n_passive, "R");
+    const double* ref = checked(m["reference"].cast<Array>(), 9 * nc, "reference");
+    for (int c = 0; c < nc; ++c)
+      out.reference.push_back(Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(ref + 9 * c));
+  }
+  if (out.m() != n_passive)
+    throw std::invalid_argument("the compiled core needs a square passive constraint Jacobian A° (" + std::to_string(out.m()) +
+                                " constraints, " + std::to_string(n_passive) + " passive joints)");
+  return out;
+}
+
+}  // namespace
+
+PYBIND11_MODULE(_core, m) {
+  m.doc() = "Compiled GJM quantities and derivatives; the numpy modules of freefloat.dynamics.gjm are the reference.";
+  py::class_<Core>(m, "GJMCore")
+      .def(py::init([](const IntArray& parent, const Array& placement, const Array& axis, py::array_t<bool> revolute,
+                       const Array& mass, const Array& com, const Array& inertia, const IntArray& q_index,
+                       py::array_t<bool> circle, bool free_base, const Array& base_com,
+                       const Array& base_com_rotation, const IntArray& ee_body, const Array& ee_offset, int nq,
+                       int nv) {
+             return Core{make_tree(parent, placement, axis, revolute, mass, com, inertia, q_index, circle, free_base,
+                                   base_com, base_com_rotation, ee_body, ee_offset),
+                         nq, nv, State{}, Derivatives{}};
+           }),
+           py::arg("parent"), py::arg("placement"), py::arg("axis"), py::arg("revolute"), py::arg("mass"),
+           py::arg("com"), py::arg("inertia"), py::arg("q_index"), py::arg("circle"), py::arg("free_base"),
+           py::arg("base_com"), py::arg("base_com_rotation"), py::arg("ee_body"), py::arg("ee_offset"),
+           py::arg("nq"), py::arg("nv"))
+      .def("compute", [](Core& c, const Array& q, const Array& v) {
+             c.run(q, v);
+             return state_out(c.state);
+           }, "GJM quantities at (q, v): a tuple in GJMState field order, kinematics as a tuple.")
+      .def("compute_with_derivatives", [](Core& c, const Array& q, const Array& v) {
+             c.run(q, v);
+             derivatives(c.tree, c.state, c.deriv);
+             return py::make_tuple(state_out(c.state), derivatives_out(c.tree, c.deriv));
+           }, "(state tuple, derivative tuple in GJMDerivatives field order) at (q, v).")
+      .def("derivatives", [](Core& c, const Array& q, const Array& v) {
+             c.run(q, v);
+             derivatives(c.tree, c.state, c.deriv);
+             return derivatives_out(c.tree, c.deriv);
+           }, "Derivative tuple in GJMDerivatives field order at (q, v).")
+      .def("acceleration", &Core::acceleration, py::arg("name"), py::arg("q"), py::arg("v"), py::arg("tau"),
+           py::arg("F"), py::arg("Q_q"), py::arg("D"),
+           "Forward dynamics (nv,) of the named GJM model; F (6,) and Q_q (n,) generalized forces, D NIDC's (n, 6) or empty.")
+      .def("joint_space", &Core::joint_space, py::arg("name"), py::arg("q"), py::arg("v"), py::arg("F"), py::arg("D"),
+           "(H, c) with tau = H qddot + c of the named GJM model.")
+      .def("sensitivity", &Core::sensitivity, py::arg("q"), py::arg("v"), py::arg("translation"), py::arg("D"),
+           "NIDC's dxdot0/dq_k (n, 6), eq 64.");
+
+  py::register_exception<MechanismError>(m, "MechanismError", py::module_::import("freefloat.errors").attr("FreefloatError"));
+  py::class_<Mechanism>(m, "MechanismCore")
+      .def(py::init(&make_mechanism), py::arg("chains"), py::arg("mechanism"),
+           "From one dict of arrays per serial chain and one for the coupling (ParallelMechanism's fields).")
+      .def("forward", [](Mechanism& me, const Array& q, const Array& qd, const Array& tau, double baumgarte) {
+             const DVec out = me.forward(checked(q, me.n_q, "q"), checked(qd, me.n_q, "qd"),
+                                         checked(tau, me.U.cols(), "tau"), baumgarte);
+             return vector_out(out);
+           }, py::arg("q"), py::arg("qd"), py::arg("tau"), py::arg("baumgarte"), "qddot (n_q,), eq 129.")
+      .def("inverse", [](Mechanism& me, const Array& q, const Array& qd_sharp, const Array& qdd_sharp) {
+             DVec tau, qd, qdd;
+             DMat C;
+             me.inverse(checked(q, me.n_q, "q"), checked(qd_sharp, me.p, "qd_sharp"), checked(qdd_sharp, me.p, "qdd_sharp"),
+                        tau, qd, qdd, C);
+             return py::make_tuple(vector_out(tau), vector_out(qd), vector_out(qdd));
+           }, "(tau, qd, qdd) at an assembled q, eqs 130-140.")
+      .def("assemble", [](Mechanism& me, const Array& q_sharp, const Array& guess, double tol, int iterations) {
+             DVec q(me.n_q);
+             q << Eigen::Map<const DVec>(checked(q_sharp, me.p, "q_sharp"), me.p),
+                 Eigen::Map<const DVec>(checked(guess, me.n_q - me.p, "guess"), me.n_q - me.p);
+             DMat A;
+             const bool ok = me.assemble(q, tol, iterations, A);
+             return py::make_tuple(vector_out(q), ok);
+           }, "(q, converged): Newton on the closure from [q_sharp; guess].")
+      .def("trajectory", [](Mechanism& me, const Array& x, const Array& xd, const Array& xdd, const Array& guess,
+                            double jump, double tol, int iterations) -> py::tuple {
+             const py::ssize_t N = x.size() / me.p, nq = me.n_q, p = me.p;
+             const double* xs = checked(x, N * p, "positions");
+             const double* xds = checked(xd, N * p, "rates");
+             const double* xdds = checked(xdd, N * p, "accelerations");
+             py::array_t<double> q_out({N, nq}), tau_out({N, static_cast<py::ssize_t>(me.U.cols())});
+             Eigen::Map<MatX> Q(q_out.mutable_data(), N, nq), T(tau_out.mutable_data(), N, me.U.cols());
+             DVec anchor(nq), q(nq), tau, qd, qdd;
+             DMat C, A;
+             anchor << Eigen::Map<const DVec>(xs, p), Eigen::Map<const DVec>(checked(guess, nq - p, "guess"), nq - p);
+             int status = 0;
+             py::ssize_t i = 0;
+             if (!me.assemble(anchor, tol, iterations, A)) {
+               Q.row(0) = anchor.transpose();
+               return py::make_tuple(tau_out, q_out, 1, py::ssize_t{0});
+             }
+             C = me.velocity_map(A, me.passive_lu(A));
+             for (; i < N; ++i) {
+               const Eigen::Map<const DVec> xi(xs + i * p, p);
+               q << xi, anchor.tail(nq - p) + C.bottomRows(nq - p) * (xi - anchor.head(p));
+               const DVec predicted = q.tail(nq - p);
+               if (!me.assemble(q, tol, iterations, A)) {
+                 q.tail(nq - p) = predicted;
+                 status = 1;
+               } else if ((q.tail(nq - p) - predicted).cwiseAbs().maxCoeff() > jump) {
+                 status = 2;
+               }
+               Q.row(i) = q.transpose();
+               if (status) break;
+               me.inverse_at(A, xds + i * p, xdds + i * p, tau, qd, qdd, C);
+               T.row(i) = tau.transpose();
+               anchor = q;
+             }
+             return py::make_tuple(tau_out, q_out, status, i);
+           }, "(tau (N, k), q (N, n_q), status, index): inverse dynamics along a path by continuation; status 1 = no "
+              "assembly at index (q holds the prediction), 2 = a jump larger than `jump` at index.");
+}

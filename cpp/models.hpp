@@ -1,0 +1,198 @@
+// The GJM dynamics models of freefloat.models (docs/models.md), compiled. The numpy classes in
+// freefloat/dynamics/models/{gjm_base,underactuated,generalized}.py are the reference, with the
+// equations; each function here names the method it mirrors. tests/test_models.py pins the two.
+//
+// Every model writes the joints as tau + Q_q = H qddot + c and the base row as xddot0 = f(qddot),
+// xddot0 the acceleration of the base CoM twist [v0; w0] (inertial frame).
+#pragma once
+
+#include <stdexcept>
+#include <string>
+
+#include "gjm.hpp"
+
+namespace freefloat {
+
+enum class Variant {
+  standard, standard_full_hdot, standard_corrected, nidc, nidc_translation,
+  reduced, momentum_mono, momentum_multi, momentum_routh
+};
+
+inline Variant variant_of(const std::string& name) {
+  static const char* names[] = {"standard", "standard_full_hdot", "standard_corrected", "nidc", "nidc_translation",
+                                "reduced", "momentum_mono", "momentum_multi", "momentum_routh"};
+  for (int i = 0; i < 9; ++i)
+    if (name == names[i]) return static_cast<Variant>(i);
+  throw std::invalid_argument("unknown compiled dynamics model '" + name + "'");
+}
+
+using RowMat6 = Eigen::Matrix<double, 6, 6, Eigen::RowMajor>;
+
+// The joint partials dH0/dq_k, dH0m/dq_k, dHm/dq_k a model uses: GJM's, read in place, or NIDC's
+// augmented dH0, dH0m, held here.
+struct Partials {
+  const Derivatives* d;
+  int n;
+  std::vector<Mat6> dH0_aug;
+  std::vector<MatX> dH0m_aug;
+
+  Mat6 dH0(int k) const {
+    return dH0_aug.empty() ? Mat6(Eigen::Map<const RowMat6>(d->dH0.data() + 36 * k)) : dH0_aug[k];
+  }
+  Eigen::Ref<const MatX> dH0m(int k) const {
+    if (!dH0m_aug.empty()) return dH0m_aug[k];
+    return Eigen::Map<const MatX>(d->dH0m.data() + static_cast<size_t>(6) * n * k, 6, n);
+  }
+};
+
+inline Partials gjm_partials(const Tree& t, const Derivatives& d) { return Partials{&d, t.n, {}, {}}; }
+
+// NIDCModel.augmented: the partials with the base turned by D's rotation (and moved by its
+// translation for nidc_translation, NIDCModel._translation_terms). D is (n, 6), row k = dx0/dq_k.
+inline Partials nidc_partials(const Tree& t, const State& s, const Derivatives& d, const MatX& D, bool translation) {
+  const int n = t.n;
+  Partials p{&d, n, std::vector<Mat6>(n), std::vector<MatX>(n)};
+  double links = 0.0;
+  Vec3 S = Vec3::Zero();
+  for (int b = 1; b <= n; ++b) {
+    links += t.mass[b];
+    S += t.mass[b] * (s.kin.com[b] - s.kin.r0);
+  }
+  const Mat3 SX = skew(S);
+  for (int k = 0; k < n; ++k) {
+    Mat6 Delta = Mat6::Zero();
+    Delta.topLeftCorner<3, 3>() = Delta.bottomRightCorner<3, 3>() = skew(D.row(k).tail<3>().transpose());
+    p.dH0_aug[k] = Eigen::Map<const RowMat6>(d.dH0.data() + 36 * k) + Delta * s.H0 - s.H0 * Delta;
+    p.dH0m_aug[k] = Eigen::Map<const MatX>(d.dH0m.data() + static_cast<size_t>(6) * n * k, 6, n) + Delta * s.H0m;
+    if (translation) {
+      const Mat3 delta = skew(D.row(k).head<3>().transpose());
+      p.dH0_aug[k].topRightCorner<3, 3>() += links * delta;
+      p.dH0_aug[k].bottomLeftCorner<3, 3>() -= links * delta;
+      p.dH0_aug[k].bottomRightCorner<3, 3>() += delta * SX + SX * delta;
+      p.dH0m_aug[k].bottomRows<3>() -= delta * s.H0m.topRows<3>();
+    }
+  }
+  return p;
+}
+
+// gjm_base.quadratic_form: z^T dH_k z for each k, z = [x0dot; qdot].
+inline VecX quadratic_form(const State& s, const Partials& p, int n) {
+  VecX out(n);
+  for (int k = 0; k < n; ++k)
+    out[k] = s.x0dot.dot(p.dH0(k) * s.x0dot) + 2.0 * s.x0dot.dot(p.dH0m(k) * s.qdot) + p.d->dHm_form(k, s.qdot);
+  return out;
+}
+
+// NIDCModel.xdot0_sensitivity: dxdot0/dq_k = H0^-1 (dH0_k H0^-1 H0m - dH0m_k) qdot, rows k (n, 6).
+inline MatX sensitivity(const State& s, const Partials& p, int n) {
+  const Vec6 base_rate = s.H0_ldlt.solve(s.H0m * s.qdot);
+  MatX out(n, 6);
+  for (int k = 0; k < n; ++k)
+    out.row(k) = s.H0_ldlt.solve(p.dH0(k) * base_rate - p.dH0m(k) * s.qdot).transpose();
+  return out;
+}
+
+// One model's joint-space form and base row at the state of (s, d).
+struct ModelResult {
+  VecX c;            // tau + Q_q = H* qddot + c (all variants use H = H*)
+  Vec6 base_bias;    // xddot0 = -H0^-1 (H0m qddot + base_bias)
+};
+
+// UnderactuatedGJM / NIDCModel.joint_space and base_bias.
+inline ModelResult underactuated(const Tree& t, const State& s, const Derivatives& d, Variant variant, const Vec6& F,
+                                 const MatX& D) {
+  const int n = t.n;
+  const bool nidc = variant == Variant::nidc || variant == Variant::nidc_translation;
+  const bool full = variant == Variant::standard_full_hdot || variant == Variant::standard_corrected;
+  const Partials p = nidc ? nidc_partials(t, s, d, D, variant == Variant::nidc_translation) : gjm_partials(t, d);
+  Mat6 H0dot;
+  MatX H0mdot, Hmdot;
+  if (full) {
+    H0dot = d.H0dot, H0mdot = d.H0mdot, Hmdot = d.Hmdot;
+  } else {  // sum_k dH/dq_k qdot_k: the base's rotation left out
+    H0dot.setZero();
+    H0mdot.setZero(6, n);
+    Hmdot.setZero(n, n);
+    for (int k = 0; k < n; ++k) {
+      H0dot += s.qdot[k] * p.dH0(k);
+      H0mdot += s.qdot[k] * p.dH0m(k);
+    }
+    Hmdot = d.Hmdot;  // dHm does not depend on the base rotation
+  }
+  Vec6 c0 = Vec6::Zero();
+  if (variant == Variant::standard_corrected) c0.tail<3>() = s.x0dot.head<3>().cross(s.momentum_base.head<3>());
+  VecX c_m = -0.5 * quadratic_form(s, p, n);
+  if (nidc) c_m -= sensitivity(s, p, n) * s.momentum_base;
+  ModelResult out;
+  out.base_bias = H0dot * s.x0dot + H0mdot * s.qdot + c0 - F;
+  out.c = H0mdot.transpose() * s.x0dot + Hmdot * s.qdot + c_m - s.H0m.transpose() * s.H0_ldlt.solve(out.base_bias);
+  return out;
+}
+
+// GeneralizedInertiaModel.joint_space and base_acceleration. With A = H0^-1 H0m,
+// dH*/dq_k = dHm_k - dH0m_k^T A - A^T dH0m_k + A^T dH0_k A is only ever contracted with qdot:
+// sum_k qdot_k dH*/dq_k uses the joint-only rates, and qdot^T dH*/dq_k qdot needs A qdot only.
+inline ModelResult generalized(const Tree& t, const State& s, const Derivatives& d, Variant variant) {
+  const int n = t.n;
+  const MatX A = s.H0_ldlt.solve(s.H0m);  // (6, n)
+  const VecX& qd = s.qdot;
+  const Vec6 Aqd = A * qd;
+  Mat6 H0dot_joints = Mat6::Zero();
+  MatX H0mdot_joints = MatX::Zero(6, n);
+  VecX quad(n), amended(n), gyro(n);
+  const bool momentum = variant != Variant::reduced;
+  const Vec6 invM = momentum ? Vec6(s.H0_ldlt.solve(s.momentum_base)) : Vec6::Zero();
+  for (int k = 0; k < n; ++k) {
+    const Eigen::Map<const MatX> dH0m(d.dH0m.data() + static_cast<size_t>(6) * n * k, 6, n);
+    const Eigen::Map<const RowMat6> dH0(d.dH0.data() + 36 * k);
+    const Vec6 dH0m_qd = dH0m * qd;
+    quad[k] = d.dHm_form(k, qd) - 2.0 * Aqd.dot(dH0m_qd) + Aqd.dot(dH0 * Aqd);
+    H0dot_joints += qd[k] * dH0;
+    H0mdot_joints += qd[k] * dH0m;
+    if (momentum) {
+      const Vec6 dH0invM = dH0 * invM;
+      amended[k] = -dH0invM.dot(invM);
+      gyro[k] = dH0m_qd.dot(invM) - dH0invM.dot(Aqd);
+    }
+  }
+  ModelResult out;
+  out.c = d.Hmdot * qd - H0mdot_joints.transpose() * Aqd - A.transpose() * (H0mdot_joints * qd) +
+          A.transpose() * (H0dot_joints * Aqd) - 0.5 * quad;
+  if (momentum) {
+    const VecX rate = d.H0mdot.transpose() * invM - s.H0m.transpose() * s.H0_ldlt.solve(d.H0dot * invM);
+    if (variant == Variant::momentum_mono) out.c -= 0.5 * amended;
+    else if (variant == Variant::momentum_multi) out.c += rate;
+    else out.c += rate - gyro + 0.5 * amended;
+  }
+  const Vec6 x0dot = momentum ? s.x0dot : Vec6(-Aqd);
+  out.base_bias = d.H0dot * x0dot + d.H0mdot * qd;
+  return out;
+}
+
+inline ModelResult model_terms(const Tree& t, const State& s, const Derivatives& d, Variant variant, const Vec6& F,
+                               const MatX& D) {
+  if (variant >= Variant::reduced) return generalized(t, s, d, variant);
+  return underactuated(t, s, d, variant, F, D);
+}
+
+// conventions.local_base_acceleration: Pinocchio's base acceleration (6, free; first 3 rows of
+// the embedding [0, 1, 5] for planar) from xddot0.
+inline void local_base_acceleration(const Tree& t, const double* q, const double* v, const Vec6& xddot0, double* out) {
+  Mat3 R;
+  Vec3 p;
+  Vec6 x0dot;
+  base_state(t, q, v, R, p, x0dot);
+  const Vec3 lin = t.free_base ? Vec3(v[0], v[1], v[2]) : Vec3(v[0], v[1], 0.0);
+  const Vec3 w = t.free_base ? Vec3(v[3], v[4], v[5]) : Vec3(0.0, 0.0, v[2]);
+  const Vec3& c = t.base_com;
+  const Vec3 dw = R.transpose() * xddot0.tail<3>();
+  const Vec3 dv = R.transpose() * xddot0.head<3>() - dw.cross(c) - w.cross(lin + w.cross(c));
+  if (t.free_base) {
+    Eigen::Map<Vec3>{out} = dv;
+    Eigen::Map<Vec3>{out + 3} = dw;
+  } else {
+    out[0] = dv.x(), out[1] = dv.y(), out[2] = dw.z();
+  }
+}
+
+}  // namespace freefloat

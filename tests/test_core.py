@@ -1,0 +1,102 @@
+"""The compiled core (freefloat.dynamics._core) against the numpy reference of freefloat.gjm.
+
+test_gjm.py pins both backends to Pinocchio and the derivatives to central differences; here the
+two implementations are pinned to each other to 1e-12 on random trees (branches, fixed and prismatic
+joints, offset base CoM), free and planar bases.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from freefloat import gjm, load_robot
+
+from .conftest import REPO, random_robots, random_state, robot_from_case
+
+KINEMATICS = ("r0", "R0", "rotation", "origin", "joint_position", "joint_axis", "com", "inertia")
+
+
+def close(a: np.ndarray, b: np.ndarray) -> bool:
+    """Equal to 1e-12 relative to the larger magnitude (at least 1)."""
+    return np.abs(a - b).max(initial=0.0) <= 1e-12 * max(1.0, np.abs(b).max(initial=0.0))
+
+
+def both_backends(factory, case, base, fn):
+    """``fn(robot, q, v, backend)`` for the compiled and the numpy backend at a random state of the drawn robot."""
+    robot, rng = robot_from_case(factory, case, base=base)
+    q, v = random_state(robot, rng)
+    return fn(robot, q, v, "compiled"), fn(robot, q, v, "numpy")
+
+
+@settings(max_examples=40, deadline=None)
+@given(random_robots(), st.sampled_from(["free", "planar"]))
+def test_compiled_state_equals_numpy_reference(tmp_path_factory, case, base):
+    """Every GJMState field and every body kinematics array agrees between the backends to 1e-12."""
+    compiled, numpy = both_backends(tmp_path_factory, case, base, gjm.compute)
+    for name in gjm.GJMState._fields[:-1]:
+        assert close(getattr(compiled, name), getattr(numpy, name)), name
+    for name in KINEMATICS:
+        assert close(getattr(compiled.kinematics, name), getattr(numpy.kinematics, name)), name
+
+
+@settings(max_examples=40, deadline=None)
+@given(random_robots(), st.sampled_from(["free", "planar"]))
+def test_compiled_derivatives_equal_numpy_reference(tmp_path_factory, case, base):
+    """dH0, dH0m, dHm and the time derivatives agree between the backends to 1e-12."""
+    compiled, numpy = both_backends(tmp_path_factory, case, base, gjm.derivatives)
+    for name in gjm.GJMDerivatives._fields:
+        assert close(getattr(compiled, name), getattr(numpy, name)), name
+
+
+def test_state_and_derivatives_come_from_one_state():
+    """state_and_derivatives returns the state compute() gives and the derivatives derivatives() gives."""
+    robot = load_robot(REPO / "urdf" / "four_arm_planar.urdf", visuals=False)
+    q, v = random_state(robot, np.random.default_rng(2))
+    state, deriv = gjm.state_and_derivatives(gjm.model_of(robot), q, v)
+    np.testing.assert_array_equal(state.Hstar, gjm.compute(robot, q, v).Hstar)
+    np.testing.assert_array_equal(deriv.dHm, gjm.derivatives(robot, q, v).dHm)
+
+
+def test_unknown_backend_is_refused():
+    """An unknown backend name raises ValueError listing the valid ones."""
+    robot = load_robot(REPO / "urdf" / "four_arm_planar.urdf", visuals=False)
+    with pytest.raises(ValueError, match="compiled, numpy"):
+        gjm.compute(robot, robot.neutral(), np.zeros(robot.model.nv), backend="fortran")
+
+
+def test_wrong_state_size_is_named():
+    """A configuration of the wrong size raises ValueError naming q and both sizes, not a crash."""
+    robot = load_robot(REPO / "urdf" / "four_arm_planar.urdf", visuals=False)
+    with pytest.raises(ValueError, match=r"q: expected 23 numbers, got 22"):
+        gjm.compute(robot, robot.neutral()[:-1], np.zeros(robot.model.nv))
+
+
+def test_a_used_model_pickles_and_gives_the_same_accelerations():
+    """A GJM model whose compiled core has run survives pickling (for worker processes) unchanged."""
+    import pickle
+
+    from freefloat.dynamics.models import make_model
+
+    robot = load_robot(REPO / "urdf" / "four_arm_planar.urdf", visuals=False)
+    q, v = random_state(robot, np.random.default_rng(3))
+    tau = np.concatenate((np.zeros(6), np.ones(robot.n_joints)))
+    model = make_model("standard_corrected", robot)
+    before = model.acceleration(q, v, tau)
+    np.testing.assert_array_equal(pickle.loads(pickle.dumps(model)).acceleration(q, v, tau), before)
+
+
+def test_continuous_joints_read_their_angle_from_cos_and_sin(tmp_path):
+    """A tree of continuous joints (q holds cos, sin) gives the same GJM in both backends."""
+    from .conftest import load_text, random_urdf
+
+    text = random_urdf(np.random.default_rng(7), 5, fixed_share=0.0).replace('type="revolute"', 'type="continuous"')
+    text = text.replace('type="prismatic"', 'type="continuous"')
+    robot = load_text(tmp_path, text)
+    assert robot.model.nq == robot.model.nv + 1 + robot.n_joints
+    q, v = random_state(robot, np.random.default_rng(8))
+    compiled, numpy = gjm.compute(robot, q, v), gjm.compute(robot, q, v, backend="numpy")
+    for name in gjm.GJMState._fields[:-1]:
+        assert close(getattr(compiled, name), getattr(numpy, name)), name
