@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import base64
 import importlib.metadata
 import re
 import warnings
@@ -14,7 +13,6 @@ import meshcat.geometry as mg
 import numpy as np
 import pinocchio as pin
 import pytest
-import umsgpack
 
 from freefloat.app.viz import frame_indices, write_figures, write_trajectory_html
 from freefloat.app.viz.figures import (
@@ -24,11 +22,15 @@ from freefloat.app.viz.figures import (
     joint_error_figure,
     torque_figure,
 )
+from freefloat.app.viz.meshcat_html import read_settings as _settings
 from freefloat.dynamics.metrics import free_com_motion, summarize
 from freefloat.dynamics.telemetry import Telemetry
 from freefloat.robot.loading import load_robot
 
 from .conftest import SPART
+from .pages import assets as _assets
+from .pages import objects as _objects
+from .pages import packets as _packets
 
 SPART_URDF = SPART / "urdf"
 
@@ -86,12 +88,6 @@ def _configurations(model: pin.Model, n: int, seed: int = 0) -> np.ndarray:
     return q
 
 
-def _packets(path: Path) -> list[dict]:
-    """Decode every command packet embedded in a page."""
-    blobs = re.findall(r'freefloat_command\("([A-Za-z0-9+/=]+)"\);', path.read_text())
-    return [umsgpack.unpackb(base64.b64decode(blob)) for blob in blobs]
-
-
 def _animation(packets: list[dict]) -> dict[str, dict[str, list]]:
     """{node path: {track name: [(time, value), ...]}} of the page's animation."""
     (animation,) = [p for p in packets if p["type"] == "set_animation"]
@@ -101,11 +97,6 @@ def _animation(packets: list[dict]) -> dict[str, dict[str, list]]:
         }
         for a in animation["animations"]
     }
-
-
-def _objects(packets: list[dict]) -> dict[str, dict]:
-    """{node path: lowered object} of the page's set_object commands."""
-    return {p["path"]: p["object"] for p in packets if p["type"] == "set_object"}
 
 
 def _node_pose(tracks: dict[str, list], frame: int) -> np.ndarray:
@@ -143,14 +134,7 @@ def test_page_makes_no_network_reference(sc3, tmp_path):
     tags = _Tags()
     tags.feed(page)
     assert {tag for tag, _ in tags.seen} == {
-        "html",
-        "head",
-        "meta",
-        "title",
-        "style",
-        "body",
-        "div",
-        "script",
+        "html", "head", "meta", "title", "style", "body", "div", "script", "button", "input", "datalist", "span",
     }
     assert not [
         name for _, attrs in tags.seen for name, _ in attrs if name in ("src", "href", "srcset")
@@ -206,7 +190,7 @@ def test_primitive_geometry_placed_like_pinocchio(sc3, tmp_path):
     visual, visual_data = sc3.visual_model, pin.GeometryData(sc3.visual_model)
     pin.forwardKinematics(model, data, q[50])
     pin.updateGeometryPlacements(model, data, visual, visual_data)
-    assert len(objects) == visual.ngeoms
+    assert len([n for n in objects if n.split("/")[3] not in ("markers", "paths")]) == visual.ngeoms
     for g, g_id in ((g, visual.getGeometryId(g.name)) for g in visual.geometryObjects):
         node = f"{ROOT}/{model.names[g.parentJoint]}"
         world = _node_pose(tracks[node], 5) @ _intrinsic(objects[f"{node}/{g.name}"])
@@ -254,17 +238,73 @@ def test_stick_figure_links_join_joints_and_end_effector(sc3_stick, tmp_path):
 
 
 def test_mesh_files_are_embedded(ur5, tmp_path):
-    """UR5's Collada meshes are embedded verbatim in the page, one per visual geometry, with no
-    external texture."""
+    """UR5's Collada meshes are embedded verbatim, one object per visual geometry naming its
+    file's entry, with no external texture."""
     t, q = _run(ur5, n=11, duration=1.0)
-    packets = _packets(write_trajectory_html(ur5, t, q, tmp_path / "ur5.html"))
-    objects = _objects(packets)
-    assert len(objects) == ur5.visual_model.ngeoms
+    page = write_trajectory_html(ur5, t, q, tmp_path / "ur5.html")
+    files, objects = _assets(page), _objects(page)
+    assert len(objects) >= ur5.visual_model.ngeoms
     for g in ur5.visual_model.geometryObjects:
         lowered = objects[f"{ROOT}/{ur5.model.names[g.parentJoint]}/{g.name}"]["object"]
         assert lowered["type"] == "_meshfile_object" and lowered["format"] == "dae"
-        assert lowered["data"] == Path(g.meshPath).read_text()
-        assert all(uri.startswith("data:") for uri in lowered["resources"].values())
+        assert files[int(lowered["data"].removeprefix("freefloat-asset:"))] == Path(g.meshPath).read_bytes()
+        assert lowered["resources"] == {}
+
+
+def test_each_mesh_file_is_embedded_once(tmp_path):
+    """The dual-arm satellite uses each UR5 mesh twice but embeds it once; its page stays under 5 MB."""
+    robot = _load(Path(__file__).resolve().parents[1] / "urdf" / "dual_arm_satellite.urdf")
+    meshes = [g.meshPath for g in robot.visual_model.geometryObjects if g.meshPath.endswith(".dae")]
+    assert len(meshes) > len(set(meshes))
+    t, q = _run(robot, n=11, duration=1.0)
+    page = write_trajectory_html(robot, t, q, tmp_path / "satellite.html")
+    assert sorted(_assets(page)) == sorted(Path(m).read_bytes() for m in set(meshes))
+    assert page.stat().st_size < 5e6
+
+
+def test_animation_loops(sc3, tmp_path):
+    """The animation starts playing and repeats without end."""
+    t, q = _run(sc3)
+    (animation,) = [p for p in _packets(write_trajectory_html(sc3, t, q, tmp_path / "run.html"))
+                    if p["type"] == "set_animation"]
+    assert animation["options"]["play"] is True and animation["options"]["repetitions"] == float("inf")
+
+
+def test_events_and_clock_reach_the_page(sc3, tmp_path):
+    """Named events, the start time and the duration are the page's settings."""
+    t, q = _run(sc3)
+    page = write_trajectory_html(sc3, t + 3.0, q, tmp_path / "run.html", events=[(4.25, "grasp")])
+    assert _settings(page)["events"] == [[4.25, "grasp"]]
+    assert _settings(page)["t0"] == 3.0 and _settings(page)["duration"] == pytest.approx(2.0)
+
+
+def test_camera_sees_every_joint_at_every_frame(sc3, tmp_path):
+    """Every joint origin of every shown frame lies inside the camera's view cone, in front of it."""
+    t, q = _run(sc3)
+    page = write_trajectory_html(sc3, t, q, tmp_path / "run.html", fps=10.0)
+    camera = _settings(page)["camera"]
+    position, target = np.array(camera["position"]), np.array(camera["target"])
+    axis = (target - position) / np.linalg.norm(target - position)
+    data = sc3.model.createData()
+    for k in range(0, len(t), 10):
+        pin.forwardKinematics(sc3.model, data, q[k])
+        for m in data.oMi[1:]:
+            ray = m.translation - position
+            assert np.arccos(ray @ axis / np.linalg.norm(ray)) < np.radians(75.0) / 2
+
+
+def test_markers_follow_robot_com_and_end_effectors(sc3, tmp_path):
+    """By default the base CoM, the system CoM and each end-effector get an animated sphere at
+    their positions and a drawn path."""
+    t, q = _run(sc3)
+    packets = _packets(write_trajectory_html(sc3, t, q, tmp_path / "run.html", fps=10.0))
+    tracks, objects = _animation(packets), _objects(packets)
+    data = sc3.model.createData()
+    names = ["base_com", "system_com"] + [f"end_effector_{e}" for e in sc3.end_effectors]
+    for name in names:
+        assert objects[f"{ROOT}/paths/{name}"]["object"]["type"] == "Line"
+    com = pin.centerOfMass(sc3.model, data, q[40])
+    np.testing.assert_allclose(_node_pose(tracks[f"{ROOT}/markers/system_com"], 4)[:3, 3], com, atol=1e-12)
 
 
 def test_extra_body_follows_its_poses(sc3, tmp_path):

@@ -56,7 +56,8 @@ def prepare(scene: Scene) -> CaptureSetup:
 
 def run(setup: CaptureSetup, progress: Progress | None = None) -> Outcome:
     """Approach, grasp and detumbling; the summary of the post-capture run with the grasp's
-    momentum balance; the animation of both phases with the target."""
+    momentum balance (merged robot after against robot + target before); the animation of both
+    phases with the target and the grasp instant."""
     scene, robot = setup.scene, setup.robot
     tg, sim, ctrl = scene.target, scene.simulation, scene.controller
     start = time.perf_counter()
@@ -75,7 +76,7 @@ def run(setup: CaptureSetup, progress: Progress | None = None) -> Outcome:
     poses = np.concatenate((res.target_poses[: len(res.pre.t)], res.target_poses[len(res.pre.t) + 1:]))
     return robot_outcome(setup, merged, tel, result, summary, animation=(both_t, both_q),
                          extra_bodies=[("target", mg.Box(list(tg.size)), poses)],
-                         extra_telemetry={"pre_capture": res.pre})
+                         extra_telemetry={"pre_capture": res.pre}, events=[(res.impact_time, "grasp")])
 
 
 EXPERIMENT = Experiment("capture", "a robot grasps a tumbling target and detumbles it",

@@ -2,7 +2,8 @@
 
 The page draws the mechanism's URDF spanning tree (loaded as a robot whose free-flyer base stays
 at the origin) with the chains' joints of each sample; the loop closes because the simulated
-joints satisfy the closure.
+joints satisfy the closure. Each closure's two points are followed (sphere and path): where they
+part, the loop has come apart.
 """
 
 from __future__ import annotations
@@ -11,12 +12,14 @@ import warnings
 from pathlib import Path
 
 import numpy as np
+import pinocchio as pin
 from matplotlib.figure import Figure
 
 from ...dynamics.telemetry import MechanismTelemetry
 from ...parallel.closed_chain import ClosedChain
 from ...robot.loading import load_robot
 from .figures import _figure, _finish, _path
+from .markers import PALETTE, Marker
 from .meshcat_html import write_trajectory_html
 
 
@@ -87,4 +90,19 @@ def write_mechanism_html(chain: ClosedChain, t: np.ndarray, q: np.ndarray, path:
     for j in range(1, tree.njoints):  # same URDF, so the same joint names; the robot adds its base
         start, size = model.idx_qs[model.getJointId(tree.names[j])], tree.nqs[j]
         configurations[:, start:start + size] = tree_q[:, tree.idx_qs[j]:tree.idx_qs[j] + size]
-    return write_trajectory_html(robot, t, configurations, path, fps=fps)
+    return write_trajectory_html(robot, t, configurations, path, fps=fps, markers=closure_markers(chain, tree_q))
+
+
+def closure_markers(chain: ClosedChain, tree_q: np.ndarray) -> list[Marker]:
+    """Both points of every closure (the constraint frames' origins, inertial frame, m (N, 3)) at
+    the spanning tree's configurations ``tree_q`` (N, nq)."""
+    model, data = chain.model, chain.model.createData()
+    sides = [(i, side, getattr(c, f"joint{side}_id"), getattr(c, f"joint{side}_placement"))
+             for i, c in enumerate(chain.constraints) for side in (1, 2)]
+    points = np.empty((len(sides), len(tree_q), 3))
+    for k, qk in enumerate(tree_q):
+        pin.forwardKinematics(model, data, qk)
+        for s, (_, _, joint, placement) in enumerate(sides):
+            points[s, k] = data.oMi[joint].act(placement.translation)
+    return [Marker(f"closure{i}_{model.names[joint]}", PALETTE[s % len(PALETTE)], points[s])
+            for s, (i, _, joint, _) in enumerate(sides)]
