@@ -6,7 +6,12 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from freefloat.app.viz.mechanism import closure_markers, drift_figure, efforts_figure, tracking_figure
+from freefloat.app.viz.mechanism import (
+    closure_markers,
+    drift_figure,
+    efforts_figure,
+    tracking_figure,
+)
 from freefloat.dynamics.telemetry import MechanismTelemetry
 from freefloat.parallel.closed_chain import load_closed_chain
 from freefloat.parallel.five_bar import elbow_guess
@@ -37,7 +42,7 @@ def test_efforts_are_named_by_actuated_joint_with_their_units():
     fig = efforts_figure(_telemetry(3, 3), chain)
     panels = {ax.get_ylabel(): [line.get_label() for line in ax.get_lines()] for ax in fig.axes}
     names = [chain.model.names[j] for j in chain.actuated]
-    assert set(panels) == {"effort (N m)", "effort (N)"} and sorted(sum(panels.values(), [])) == sorted(names)
+    assert set(panels) == {"effort (N m)", "effort (N)"} and sorted(name for labels in panels.values() for name in labels) == sorted(names)
 
 
 def test_tracking_names_coordinates_and_draws_three_in_3d():
