@@ -30,6 +30,9 @@ def main(argv: list[str] | None = None) -> int:
     sim.add_argument("--no-html", action="store_true", help="skip the meshcat animation")
     sim.add_argument("--quiet", action="store_true", help="no progress bar")
     commands.add_parser("scenes", help="list the built-in scenes")
+    view = commands.add_parser("view", help="reopen a saved run's meshcat page (rebuilt if the run has none)")
+    view.add_argument("run_dir", type=Path, help="a run folder written by freefloat simulate")
+    view.add_argument("--no-browser", action="store_true", help="only print the page's path")
     ver = commands.add_parser("verify", help="cross-check the hand-built GJM matrices against Pinocchio")
     ver.add_argument("urdf", type=Path, help="URDF file (loaded with a free-flyer base)")
     ver.add_argument("--samples", type=int, default=10, help="random states to check (default 10)")
@@ -51,12 +54,25 @@ def main(argv: list[str] | None = None) -> int:
     rep.add_argument("--error", type=float, default=0.5, help="robustness: parameter error band (default 0.5 = 50 %%)")
     rep.add_argument("--scheduler", default=None, help="robustness: Dask scheduler address (default: a local cluster)")
     args = parser.parse_args(argv)
-    commands_run = {"simulate": _simulate, "scenes": lambda _: _scenes(), "verify": _verify, "reproduce": _reproduce}
+    commands_run = {"simulate": _simulate, "scenes": lambda _: _scenes(), "verify": _verify, "reproduce": _reproduce,
+                    "view": _view}
     try:
         return commands_run[args.command](args)
     except FreefloatError as exc:
         print(f"freefloat: error: {exc}", file=sys.stderr)
         return 2
+
+
+def _view(args: argparse.Namespace) -> int:
+    import webbrowser
+
+    from .view import run_page
+
+    page = run_page(args.run_dir)
+    print(page)
+    if not args.no_browser:
+        webbrowser.open(page.resolve().as_uri())
+    return 0
 
 
 def _scenes() -> int:
