@@ -11,7 +11,13 @@ import pytest
 from freefloat import load_robot
 from freefloat.app.cli import main
 from freefloat.dynamics.gjm import model as gjm_model
-from freefloat.dynamics.verify import DERIVATIVE_TOLERANCE, FD_STEP, ROUNDING_ULPS, check_robot, column_error
+from freefloat.dynamics.verify import (
+    DERIVATIVE_TOLERANCE,
+    FD_STEP,
+    ROUNDING_ULPS,
+    check_robot,
+    column_error,
+)
 from freefloat.robot.loading import example_robot_data_share
 
 from .conftest import REPO
