@@ -22,6 +22,10 @@ from .detumbling import detumble_task, mission_joints, rows_spec
 from .robot_run import RobotSetup, control_steps, prepare_robot, robot_outcome
 
 
+#: How the page draws the target: orange, apart from the robot's greys and blues.
+TARGET_MATERIAL = mg.MeshPhongMaterial(color=0xE07000)
+
+
 @dataclass(kw_only=True)
 class CaptureSetup(RobotSetup):
     """A capture scene resolved before the loop: the robot's setup and the target, which meets
@@ -75,7 +79,7 @@ def run(setup: CaptureSetup, progress: Progress | None = None) -> Outcome:
     both_q = np.concatenate((res.pre.q, tel.q[1:]))
     poses = np.concatenate((res.target_poses[: len(res.pre.t)], res.target_poses[len(res.pre.t) + 1:]))
     return robot_outcome(setup, merged, tel, result, summary, animation=(both_t, both_q),
-                         extra_bodies=[("target", mg.Box(list(tg.size)), poses)],
+                         extra_bodies=[("target", mg.Mesh(mg.Box(list(tg.size)), TARGET_MATERIAL), poses)],
                          extra_telemetry={"pre_capture": res.pre}, events=[(res.impact_time, "grasp")])
 
 
