@@ -1,5 +1,6 @@
-"""Look at run pages headlessly: coverage, extent and motion of each run's trajectory.html,
-plus its first and last pictures, into runs/look-<time>/ (needs Chromium).
+"""Look at run pages headlessly: coverage, extent and motion (start against halfway: a periodic
+motion is back at its start at the end) of each run's trajectory.html, plus its pictures at the
+start and halfway, into runs/look-<time>/ (needs Chromium).
 
     python3 scripts/look_at_pages.py runs/four_arm_joint_space-... runs/satellite_dual_arm-...
 """
@@ -23,9 +24,9 @@ def main() -> None:
     for run in options.runs:
         page = run / "trajectory.html"
         settings = read_settings(page)
-        start, end = settings["t0"], settings["t0"] + settings["duration"]
-        report[run.name] = {"page_bytes": page.stat().st_size, **look(page, start, end)}
-        for label, time in (("start", start), ("end", end)):
+        start, halfway = settings["t0"], settings["t0"] + settings["duration"] / 2
+        report[run.name] = {"page_bytes": page.stat().st_size, **look(page, start, halfway)}
+        for label, time in (("start", start), ("halfway", halfway)):
             options.out.mkdir(parents=True, exist_ok=True)
             matplotlib.image.imsave(options.out / f"{run.name}_{label}.png", render(page, f"t={time}"))
         print(run.name, report[run.name])
