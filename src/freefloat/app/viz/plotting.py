@@ -33,23 +33,30 @@ def figure(rows: int, cols: int, size: tuple[float, float], title: str, right: f
            projections: list[str | None] | None = None) -> tuple[Figure, list[Axes]]:
     """A titled figure on an Agg canvas with a flat list of its axes (row-major); ``right`` is
     the axes' right edge as a fraction of the width (less leaves room for outside legends);
-    ``projections`` gives each axes' projection (``"3d"`` or None)."""
+    ``projections`` gives each axes' projection (``"3d"`` or None). Panels stacked in one column
+    share their time axis, labelled once at the bottom (fewer tick labels to draw)."""
     fig = Figure(figsize=size)
     FigureCanvasAgg(fig)
     kinds = projections or [None] * (rows * cols)
-    axes = [fig.add_subplot(rows, cols, i + 1, projection=kind) for i, kind in enumerate(kinds)]
+    axes: list[Axes] = []
+    for i, kind in enumerate(kinds):
+        shared = axes[0] if cols == 1 and axes and kind is None else None
+        axes.append(fig.add_subplot(rows, cols, i + 1, projection=kind, sharex=shared))
     for ax in axes:
         ax.set_prop_cycle(STYLES)
+        if cols == 1 and ax is not axes[-1]:
+            ax.tick_params(labelbottom=False)
     fig.suptitle(title)
     fig.subplots_adjust(left=0.07 if cols > 1 else 0.1, right=right, bottom=0.5 / size[1] + 0.04,
-                        top=1.0 - 0.75 / size[1], hspace=0.55, wspace=0.3)
+                        top=1.0 - 0.75 / size[1], hspace=0.35 if cols == 1 else 0.55, wspace=0.3)
     return fig, axes
 
 
 def finish(ax: Axes, xlabel: str, ylabel: str, title: str | None = None, legend: str | None = "inside") -> None:
     """Axis labels (with units), optional title, grid and legend (``"inside"`` upper right,
     ``"outside"`` right of the axes, or None)."""
-    ax.set_xlabel(xlabel)
+    if ax.xaxis.get_tick_params().get("labelbottom", True):  # hidden on the upper stacked panels
+        ax.set_xlabel(xlabel)
     ax.set_ylabel(ylabel)
     if title is not None:
         ax.set_title(title, fontsize="medium")
