@@ -67,3 +67,16 @@ def test_view_command_prints_the_page(tmp_path, capsys):
     folder = _run(tmp_path / "run", html=False)
     assert main(["view", str(folder), "--no-browser"]) == 0
     assert capsys.readouterr().out.strip() == str(folder / "trajectory.html")
+
+
+def test_simulate_view_opens_the_written_page(tmp_path, monkeypatch):
+    """``freefloat simulate --view`` opens the run's page, by its file URI, once it is written."""
+    import webbrowser
+
+    opened = []
+    monkeypatch.setattr(webbrowser, "open", opened.append)
+    scene = tmp_path / "short.toml"
+    scene.write_text((find_scene("four_arm_joint_space").source.read_text())
+                     .replace("duration = 5.0\ncontrol_period", "duration = 0.05\ncontrol_period"))
+    assert main(["simulate", str(scene), "--out", str(tmp_path / "run"), "--quiet", "--no-figures", "--view"]) == 0
+    assert opened == [(tmp_path / "run" / "trajectory.html").resolve().as_uri()]

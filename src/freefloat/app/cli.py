@@ -29,6 +29,7 @@ def main(argv: list[str] | None = None) -> int:
     sim.add_argument("--no-figures", action="store_true", help="skip the PNG figures")
     sim.add_argument("--no-html", action="store_true", help="skip the meshcat animation")
     sim.add_argument("--quiet", action="store_true", help="no progress bar")
+    sim.add_argument("--view", action="store_true", help="open the run's page in the browser when it is written")
     commands.add_parser("scenes", help="list the built-in scenes")
     view = commands.add_parser("view", help="reopen a saved run's meshcat page (rebuilt if the run has none)")
     view.add_argument("run_dir", type=Path, help="a run folder written by freefloat simulate")
@@ -141,7 +142,12 @@ def _simulate(args: argparse.Namespace) -> int:
         warnings.simplefilter("default")
         with tqdm(total=total_steps(scene), desc=scene.name, unit="step", disable=args.quiet) as bar:
             done = run_scene(scene, out, progress=lambda k: bar.update(k - bar.n))
-    return _report(done)
+    status = _report(done)
+    if args.view and (out / "trajectory.html").is_file():
+        import webbrowser
+
+        webbrowser.open((out / "trajectory.html").resolve().as_uri())
+    return status
 
 
 def _report(done: SceneRun) -> int:
