@@ -14,6 +14,7 @@ from cycler import cycler
 from matplotlib.axes import Axes
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
+from matplotlib.ticker import LogLocator, NullLocator
 
 #: Formats every figure is written in: PNG to look at, PDF to print.
 FORMATS = ("png", "pdf")
@@ -100,6 +101,8 @@ def log_curve(ax: Axes, t: np.ndarray, values: np.ndarray, label: str) -> None:
     shown = shown[np.isfinite(shown) & (shown > 0)]
     if len(shown):
         ax.set_ylim(shown.min() / 2, shown.max() * 2)
+    ax.yaxis.set_major_locator(LogLocator(numticks=8))  # at most 8 labelled decades,
+    ax.yaxis.set_minor_locator(NullLocator())  # no minor ticks: each tick is an artist to draw
 
 
 def save(fig: Figure, out_dir: Path, stem: str) -> list[Path]:
