@@ -67,6 +67,30 @@ def test_merged_robot_carries_the_post_impact_momentum(setup):
     np.testing.assert_allclose(robot_momentum(merged, q, hit.v_robot), hit.momentum_after, atol=1e-10)
 
 
+def test_grasp_balance_holds_for_the_exact_impulse(setup):
+    """The merged robot's momentum after the exact grasp equals robot + target before (1e-10)."""
+    from freefloat.space.capture import grasp_balance_error
+
+    robot, q, v, body, q_t, v_t = setup
+    hit = impact(robot, "arm1_ee", q, v, body, q_t, v_t)
+    merged = attach(robot, "arm1_ee", q, body, q_t)
+    assert grasp_balance_error(merged, q, hit.v_robot, hit.momentum_before) < 1e-10
+
+
+def test_grasp_balance_fails_for_a_halved_impulse(setup):
+    """With the impulse halved the merged-robot balance is off by far more than rounding, while
+    the two-free-bodies sum (momentum_after) still balances."""
+    from freefloat.space.capture import grasp_balance_error
+
+    robot, q, v, body, q_t, v_t = setup
+    hit = impact(robot, "arm1_ee", q, v, body, q_t, v_t)
+    merged = attach(robot, "arm1_ee", q, body, q_t)
+    half = v + (hit.v_robot - v) / 2  # v+ is linear in the impulse
+    scale = np.abs(hit.momentum_before).max()
+    assert grasp_balance_error(merged, q, half, hit.momentum_before) > 1e-3 * scale
+    np.testing.assert_allclose(hit.momentum_after, hit.momentum_before, atol=1e-10 * max(scale, 1.0))
+
+
 def planar_capture_setup():
     """Two-arm planar robot at rest; a spinning target that meets arm 1's end-effector at 0.5 s."""
     from freefloat.space.capture import Target

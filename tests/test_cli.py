@@ -118,7 +118,8 @@ def test_mechanism_scene_writes_every_artefact(mechanism_run):
     status, out, _ = mechanism_run
     assert status == 0
     assert {p.name for p in out.iterdir()} == {"telemetry.npz", "summary.json", "scene.toml", "trajectory.html",
-                                                "platform_tracking.png", "efforts.png", "loop_closure_drift.png"}
+                                                "platform_tracking.png", "efforts.png", "loop_closure_drift.png",
+                                                "platform_tracking.pdf", "efforts.pdf", "loop_closure_drift.pdf"}
 
 
 def test_mechanism_summary_records_provenance(mechanism_run):

@@ -127,3 +127,15 @@ def test_rk4_at_0_2_ms_keeps_the_loop_closed_below_1e_9_m(mech):
 
     _, _, drift = simulate(mech, assembled(mech, [0.07, 0.17]), np.zeros(6), lambda *_: np.zeros(2), 0.1, 2e-4, baumgarte=100.0)
     assert drift.max() < 1e-9
+
+
+def test_lambda_one_over_h_is_best_with_explicit_euler(mech):
+    """With explicit Euler (the old rate moves q) lambda = 1/h holds the loop tighter than 100 or 0:
+    the document's rule fails only for the semi-implicit method."""
+    from freefloat.parallel.mechanism import simulate
+
+    q0 = assembled(mech, [0.07, 0.17])
+    zero = lambda t, q, qd: np.zeros(2)  # noqa: E731
+    drift = {lam: simulate(mech, q0, np.zeros(6), zero, 0.1, 1e-3, baumgarte=lam, method="explicit_euler")[2].max()
+             for lam in (0.0, 100.0, 1e3)}
+    assert drift[1e3] < 0.5 * drift[100.0] < 0.5 * drift[0.0]

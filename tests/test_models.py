@@ -93,6 +93,56 @@ def test_nidc_starts_as_the_standard_model_and_departs_as_D_grows(four_arm):
     assert np.abs(nidc.acceleration(q, v, tau) - standard.acceleration(q, v, tau)).max() > 1e-8
 
 
+def still_base_state(robot, rng, zero_momentum: bool):
+    """A state whose base does not turn (w0 = 0) and whose linear momentum is zero: with zero
+    momentum (joint rates in the null space of J0's angular rows), or with angular momentum only
+    (any joint rates, v0 = -H0m[:3] qdot / m so that P = 0)."""
+    q, v = state_with_momentum(robot, rng)
+    s = gjm.compute(robot, q, v)
+    if zero_momentum:
+        null = np.linalg.svd(s.J0[3:])[2][3:].T
+        qdot = null @ rng.normal(size=null.shape[1])
+        x0dot = s.J0 @ qdot
+    else:
+        qdot = rng.normal(size=robot.n_joints)
+        x0dot = np.concatenate((-s.H0m[:3] @ qdot / s.H0[0, 0], np.zeros(3)))
+    r0, R0, _ = base_state(robot, q, v)
+    q, v = state_from_base(robot, r0, R0, x0dot, q[7:], qdot)
+    M = gjm.compute(robot, q, v).momentum_base
+    assert np.abs(base_state(robot, q, v)[2][3:]).max() < 1e-12 and np.abs(M[:3]).max() < 1e-9
+    assert (np.abs(M[3:]).max() < 1e-9) == zero_momentum
+    return q, v
+
+
+@pytest.mark.parametrize("name", ["nidc", "nidc_translation"])
+def test_fresh_nidc_is_exact_at_zero_momentum_with_the_base_still(four_arm, name):
+    """Inside its row (zero momentum, w0 = 0, D = 0) FM-NIC-A gives ABA's accelerations."""
+    rng = np.random.default_rng(10)
+    q, v = still_base_state(four_arm, rng, zero_momentum=True)
+    assert errors(four_arm, q, v, rng, [name])[name] < 1e-8
+
+
+@pytest.mark.parametrize("name", ["nidc", "nidc_translation"])
+def test_fresh_nidc_fails_with_angular_momentum_where_standard_is_exact(four_arm, name):
+    """With w0 = 0, P = 0, L != 0 and D = 0, FM-ST-A is exact but FM-NIC-A is not: its extra
+    c_m term 2 (dxdot0/dq_k) . M needs M = 0."""
+    rng = np.random.default_rng(11)
+    q, v = still_base_state(four_arm, rng, zero_momentum=False)
+    err = errors(four_arm, q, v, rng, ["standard", name])
+    assert err["standard"] < 1e-8 and err[name] > 1e-3
+
+
+def test_printed_standard_model_fails_with_linear_momentum_while_the_base_is_still(four_arm):
+    """With w0 = 0 but P != 0 (so v0 x P != 0), FM-ST-A as printed is wrong."""
+    rng = np.random.default_rng(12)
+    q, v = still_base_state(four_arm, rng, zero_momentum=False)
+    r0, R0, x0dot = base_state(four_arm, q, v)
+    x0dot[:3] += np.array([0.3, -0.2, 0.1])  # adds P = m dv0, keeps w0 = 0
+    q, v = state_from_base(four_arm, r0, R0, x0dot, q[7:], v[6:])
+    assert np.linalg.norm(np.cross(x0dot[:3], gjm.compute(four_arm, q, v).momentum_base[:3])) > 1e-3
+    assert errors(four_arm, q, v, rng, ["standard"])["standard"] > 1e-4
+
+
 def test_nidc_sensitivity_is_eq_64():
     """dxdot0/dq_k (eq 64) at D = 0 equals the derivative of J0 qdot along joint k by differences."""
     robot = load_robot(REPO / "urdf" / "two_arm_planar.urdf", visuals=False)

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import base64
 import importlib.metadata
 import re
 import warnings
@@ -14,21 +13,27 @@ import meshcat.geometry as mg
 import numpy as np
 import pinocchio as pin
 import pytest
-import umsgpack
 
 from freefloat.app.viz import frame_indices, write_figures, write_trajectory_html
 from freefloat.app.viz.figures import (
+    END_COLOR,
+    arm_name,
     base_trajectory_figure,
     com_drift_figure,
     end_effector_paths_figure,
     joint_error_figure,
+    skeleton,
     torque_figure,
 )
+from freefloat.app.viz.meshcat_html import read_settings as _settings
 from freefloat.dynamics.metrics import free_com_motion, summarize
 from freefloat.dynamics.telemetry import Telemetry
 from freefloat.robot.loading import load_robot
 
 from .conftest import SPART
+from .pages import assets as _assets
+from .pages import objects as _objects
+from .pages import packets as _packets
 
 SPART_URDF = SPART / "urdf"
 
@@ -86,12 +91,6 @@ def _configurations(model: pin.Model, n: int, seed: int = 0) -> np.ndarray:
     return q
 
 
-def _packets(path: Path) -> list[dict]:
-    """Decode every command packet embedded in a page."""
-    blobs = re.findall(r'freefloat_command\("([A-Za-z0-9+/=]+)"\);', path.read_text())
-    return [umsgpack.unpackb(base64.b64decode(blob)) for blob in blobs]
-
-
 def _animation(packets: list[dict]) -> dict[str, dict[str, list]]:
     """{node path: {track name: [(time, value), ...]}} of the page's animation."""
     (animation,) = [p for p in packets if p["type"] == "set_animation"]
@@ -101,11 +100,6 @@ def _animation(packets: list[dict]) -> dict[str, dict[str, list]]:
         }
         for a in animation["animations"]
     }
-
-
-def _objects(packets: list[dict]) -> dict[str, dict]:
-    """{node path: lowered object} of the page's set_object commands."""
-    return {p["path"]: p["object"] for p in packets if p["type"] == "set_object"}
 
 
 def _node_pose(tracks: dict[str, list], frame: int) -> np.ndarray:
@@ -143,14 +137,7 @@ def test_page_makes_no_network_reference(sc3, tmp_path):
     tags = _Tags()
     tags.feed(page)
     assert {tag for tag, _ in tags.seen} == {
-        "html",
-        "head",
-        "meta",
-        "title",
-        "style",
-        "body",
-        "div",
-        "script",
+        "html", "head", "meta", "title", "style", "body", "div", "script", "button", "input", "datalist", "span",
     }
     assert not [
         name for _, attrs in tags.seen for name, _ in attrs if name in ("src", "href", "srcset")
@@ -206,7 +193,7 @@ def test_primitive_geometry_placed_like_pinocchio(sc3, tmp_path):
     visual, visual_data = sc3.visual_model, pin.GeometryData(sc3.visual_model)
     pin.forwardKinematics(model, data, q[50])
     pin.updateGeometryPlacements(model, data, visual, visual_data)
-    assert len(objects) == visual.ngeoms
+    assert len([n for n in objects if n.split("/")[3] not in ("markers", "paths")]) == visual.ngeoms
     for g, g_id in ((g, visual.getGeometryId(g.name)) for g in visual.geometryObjects):
         node = f"{ROOT}/{model.names[g.parentJoint]}"
         world = _node_pose(tracks[node], 5) @ _intrinsic(objects[f"{node}/{g.name}"])
@@ -254,17 +241,73 @@ def test_stick_figure_links_join_joints_and_end_effector(sc3_stick, tmp_path):
 
 
 def test_mesh_files_are_embedded(ur5, tmp_path):
-    """UR5's Collada meshes are embedded verbatim in the page, one per visual geometry, with no
-    external texture."""
+    """UR5's Collada meshes are embedded verbatim, one object per visual geometry naming its
+    file's entry, with no external texture."""
     t, q = _run(ur5, n=11, duration=1.0)
-    packets = _packets(write_trajectory_html(ur5, t, q, tmp_path / "ur5.html"))
-    objects = _objects(packets)
-    assert len(objects) == ur5.visual_model.ngeoms
+    page = write_trajectory_html(ur5, t, q, tmp_path / "ur5.html")
+    files, objects = _assets(page), _objects(page)
+    assert len(objects) >= ur5.visual_model.ngeoms
     for g in ur5.visual_model.geometryObjects:
         lowered = objects[f"{ROOT}/{ur5.model.names[g.parentJoint]}/{g.name}"]["object"]
         assert lowered["type"] == "_meshfile_object" and lowered["format"] == "dae"
-        assert lowered["data"] == Path(g.meshPath).read_text()
-        assert all(uri.startswith("data:") for uri in lowered["resources"].values())
+        assert files[int(lowered["data"].removeprefix("freefloat-asset:"))] == Path(g.meshPath).read_bytes()
+        assert lowered["resources"] == {}
+
+
+def test_each_mesh_file_is_embedded_once(tmp_path):
+    """The dual-arm satellite uses each UR5 mesh twice but embeds it once; its page stays under 5 MB."""
+    robot = _load(Path(__file__).resolve().parents[1] / "urdf" / "dual_arm_satellite.urdf")
+    meshes = [g.meshPath for g in robot.visual_model.geometryObjects if g.meshPath.endswith(".dae")]
+    assert len(meshes) > len(set(meshes))
+    t, q = _run(robot, n=11, duration=1.0)
+    page = write_trajectory_html(robot, t, q, tmp_path / "satellite.html")
+    assert sorted(_assets(page)) == sorted(Path(m).read_bytes() for m in set(meshes))
+    assert page.stat().st_size < 5e6
+
+
+def test_animation_loops(sc3, tmp_path):
+    """The animation starts playing and repeats without end."""
+    t, q = _run(sc3)
+    (animation,) = [p for p in _packets(write_trajectory_html(sc3, t, q, tmp_path / "run.html"))
+                    if p["type"] == "set_animation"]
+    assert animation["options"]["play"] is True and animation["options"]["repetitions"] == float("inf")
+
+
+def test_events_and_clock_reach_the_page(sc3, tmp_path):
+    """Named events, the start time and the duration are the page's settings."""
+    t, q = _run(sc3)
+    page = write_trajectory_html(sc3, t + 3.0, q, tmp_path / "run.html", events=[(4.25, "grasp")])
+    assert _settings(page)["events"] == [[4.25, "grasp"]]
+    assert _settings(page)["t0"] == 3.0 and _settings(page)["duration"] == pytest.approx(2.0)
+
+
+def test_camera_sees_every_joint_at_every_frame(sc3, tmp_path):
+    """Every joint origin of every shown frame lies inside the camera's view cone, in front of it."""
+    t, q = _run(sc3)
+    page = write_trajectory_html(sc3, t, q, tmp_path / "run.html", fps=10.0)
+    camera = _settings(page)["camera"]
+    position, target = np.array(camera["position"]), np.array(camera["target"])
+    axis = (target - position) / np.linalg.norm(target - position)
+    data = sc3.model.createData()
+    for k in range(0, len(t), 10):
+        pin.forwardKinematics(sc3.model, data, q[k])
+        for m in data.oMi[1:]:
+            ray = m.translation - position
+            assert np.arccos(ray @ axis / np.linalg.norm(ray)) < np.radians(75.0) / 2
+
+
+def test_markers_follow_robot_com_and_end_effectors(sc3, tmp_path):
+    """By default the base CoM, the system CoM and each end-effector get an animated sphere at
+    their positions and a drawn path."""
+    t, q = _run(sc3)
+    packets = _packets(write_trajectory_html(sc3, t, q, tmp_path / "run.html", fps=10.0))
+    tracks, objects = _animation(packets), _objects(packets)
+    data = sc3.model.createData()
+    names = ["base_com", "system_com"] + [f"end_effector_{e}" for e in sc3.end_effectors]
+    for name in names:
+        assert objects[f"{ROOT}/paths/{name}"]["object"]["type"] == "Line"
+    com = pin.centerOfMass(sc3.model, data, q[40])
+    np.testing.assert_allclose(_node_pose(tracks[f"{ROOT}/markers/system_com"], 4)[:3, 3], com, atol=1e-12)
 
 
 def test_extra_body_follows_its_poses(sc3, tmp_path):
@@ -318,18 +361,37 @@ def _lines(ax) -> dict[str, np.ndarray]:
     return {line.get_label(): np.column_stack(line.get_data()) for line in ax.get_lines()}
 
 
-def test_joint_error_curves_are_reference_minus_position_in_degrees(iiwa2):
-    """Each arm's panel plots, per joint, (reference - position) in degrees against t."""
+def test_joint_error_curves_are_reference_minus_position_in_radians(iiwa2):
+    """Each arm's panel plots, per joint, (reference - position) in rad against t, and names the arm."""
     tel = _telemetry(iiwa2)
     figure = joint_error_figure(iiwa2, tel)
     assert len(figure.axes) == len(iiwa2.arms) == 2
-    for ax, arm in zip(figure.axes, iiwa2.arms):
+    for k, (ax, arm) in enumerate(zip(figure.axes, iiwa2.arms)):
         lines = _lines(ax)
-        assert list(lines) == list(arm.joints)
+        assert list(lines) == list(arm.joints) and ax.get_title().startswith(arm_name(arm, k))
+        assert ax.get_ylabel() == "error (rad)"
         for name in arm.joints:
             column = iiwa2.joint_names.index(name)
-            expected = np.degrees(tel.joint_reference[:, column] - tel.joint_positions[:, column])
+            expected = tel.joint_reference[:, column] - tel.joint_positions[:, column]
             np.testing.assert_allclose(lines[name], np.column_stack([tel.t, expected]), rtol=1e-12)
+
+
+def test_curves_of_a_panel_are_distinguishable(iiwa2):
+    """No two curves of a panel share both colour and dash pattern."""
+    figure = joint_error_figure(iiwa2, _telemetry(iiwa2))
+    for ax in figure.axes:
+        styles = [(line.get_color(), line.get_linestyle()) for line in ax.get_lines()]
+        assert len(set(styles)) == len(styles)
+
+
+def test_arm_names_come_from_joint_names():
+    """An arm is named by its joints' common prefix, or numbered when they share none."""
+    from freefloat.robot.robot import Arm
+
+    joints = np.arange(3)
+    assert arm_name(Arm("arm1_ee", ("arm1_joint1", "arm1_joint2"), joints), 0) == "arm1"
+    assert arm_name(Arm("left_tool0", ("left_shoulder_pan_joint", "left_elbow_joint"), joints), 0) == "left"
+    assert arm_name(Arm("ee", ("Joint_1", "Joint_2"), joints), 2) == "arm 3"
 
 
 def test_torque_curves_are_held_steps_of_tau(iiwa2):
@@ -343,9 +405,9 @@ def test_torque_curves_are_held_steps_of_tau(iiwa2):
             np.testing.assert_array_equal(line.get_ydata(), tel.tau[:, column])
 
 
-def test_base_figure_plots_position_unwrapped_attitude_and_path(iiwa2):
+def test_base_figure_plots_position_unwrapped_attitude_and_3d_path(iiwa2):
     """The base figure plots r0 components, the generating roll/pitch/yaw in degrees (yaw
-    unwrapped past 180 deg) and the xy path."""
+    unwrapped past 180 deg) and, for a motion out of the xy-plane, the path in 3-D."""
     tel = _telemetry(iiwa2)
     position_ax, attitude_ax, path_ax = base_trajectory_figure(tel).axes
     for i, axis in enumerate("xyz"):
@@ -357,52 +419,88 @@ def test_base_figure_plots_position_unwrapped_attitude_and_path(iiwa2):
         np.testing.assert_allclose(
             _lines(attitude_ax)[angle][:, 1], np.degrees(rpy[:, i]), atol=1e-9
         )
+    assert path_ax.name == "3d" and "3-D" in path_ax.get_title()
+    (path,) = [line for line in path_ax.get_lines() if line.get_label() == "base CoM"]
+    np.testing.assert_array_equal(np.column_stack(path.get_data_3d()), tel.base_position)
+
+
+def test_planar_motion_is_drawn_in_the_xy_plane_and_says_so(iiwa2):
+    """When the base stays at one height its path is an xy panel titled as such."""
+    tel = _telemetry(iiwa2)
+    tel.base_position[:, 2] = 0.3
+    path_ax = base_trajectory_figure(tel).axes[2]
+    assert path_ax.name == "rectilinear" and "xy-plane" in path_ax.get_title()
     np.testing.assert_array_equal(_lines(path_ax)["base CoM"], tel.base_position[:, :2])
 
 
-def test_end_effector_paths_mark_start_and_end(iiwa2):
-    """Each end-effector's xy path is plotted with markers at its first and last samples."""
+def test_end_effector_paths_mark_start_and_end_and_draw_the_robot(iiwa2):
+    """Each end-effector's path is drawn, marked at its first and last samples in its colour,
+    and the robot is drawn at the first and last configurations (forward kinematics)."""
     tel = _telemetry(iiwa2)
-    lines = _lines(end_effector_paths_figure(iiwa2, tel).axes[0])
-    for k, name in enumerate(iiwa2.end_effectors):
-        np.testing.assert_array_equal(lines[name], tel.ee_position[:, k, :2])
-        np.testing.assert_array_equal(lines[f"{name} start"], tel.ee_position[:1, k, :2])
-        np.testing.assert_array_equal(lines[f"{name} end"], tel.ee_position[-1:, k, :2])
+    ax = end_effector_paths_figure(iiwa2, tel).axes[0]
+    lines = ax.get_lines()
+    for k, (arm, name) in enumerate(zip(iiwa2.arms, iiwa2.end_effectors)):
+        (path,) = [line for line in lines if line.get_label() == f"{arm_name(arm, k)} ({name})"]
+        np.testing.assert_array_equal(np.column_stack(path.get_data_3d()), tel.ee_position[:, k])
+        marks = {line.get_marker(): np.column_stack(line.get_data_3d()) for line in lines
+                 if line.get_color() == path.get_color() and line.get_marker() in ("o", "s")}
+        np.testing.assert_array_equal(marks["o"], tel.ee_position[:1, k])
+        np.testing.assert_array_equal(marks["s"], tel.ee_position[-1:, k])
+    drawn = [np.column_stack(line.get_data_3d()) for line in lines if line.get_color() == END_COLOR]
+    np.testing.assert_allclose(np.concatenate(drawn), np.concatenate(skeleton(iiwa2, tel.q[-1])), atol=1e-12)
+
+
+def test_skeleton_joins_joint_origins_to_their_parents(iiwa2):
+    """The drawn robot's segments run between Pinocchio's joint origins (and to the end-effectors)."""
+    q = _configurations(iiwa2.model, 1)[0]
+    data = iiwa2.model.createData()
+    pin.framesForwardKinematics(iiwa2.model, data, q)
+    segments = skeleton(iiwa2, q)
+    assert len(segments) == iiwa2.model.njoints - 2 + len(iiwa2.end_effectors)
+    np.testing.assert_allclose(segments[0], [data.oMi[1].translation, data.oMi[2].translation], atol=1e-12)
 
 
 def test_drift_curves_are_the_summary_drifts(iiwa2):
     """The CoM curve is the distance from the free CoM motion (its maximum is the summary's
-    com_drift_max); the momentum curves are the norms of the differences from sample 0."""
+    com_drift_max); the momentum curves are the norms of the differences from sample 0 (the
+    zero at sample 0 left out of the log axis)."""
     tel = _telemetry(iiwa2)
     com_ax, momentum_ax = com_drift_figure(iiwa2, tel).axes
     com_curve = _lines(com_ax)["|com - free motion|"][:, 1]
-    np.testing.assert_allclose(com_curve, np.linalg.norm(tel.com - free_com_motion(tel, iiwa2), axis=1))
-    assert com_curve.max() == summarize(tel, iiwa2)["com_drift_max"]
+    np.testing.assert_allclose(com_curve[1:], np.linalg.norm(tel.com - free_com_motion(tel, iiwa2), axis=1)[1:])
+    assert np.nanmax(com_curve) == summarize(tel, iiwa2)["com_drift_max"]
     linear, angular = (line.get_ydata() for line in momentum_ax.get_lines())
     np.testing.assert_allclose(
-        linear, np.linalg.norm(tel.momentum[:, :3] - tel.momentum[0, :3], axis=1)
+        linear[1:], np.linalg.norm(tel.momentum[1:, :3] - tel.momentum[0, :3], axis=1)
     )
     np.testing.assert_allclose(
-        angular, np.linalg.norm(tel.momentum[:, 3:] - tel.momentum[0, 3:], axis=1)
+        angular[1:], np.linalg.norm(tel.momentum[1:, 3:] - tel.momentum[0, 3:], axis=1)
     )
+    assert np.isnan(linear[0]) and np.isnan(angular[0])
 
 
-def test_write_figures_writes_five_pngs(iiwa2, tmp_path):
-    """With references, all five figures are written as PNG files."""
+def test_log_axes_are_clipped_to_the_data():
+    """A denormal at t = 0 is left out of a log axis instead of stretching it to 1e-312."""
+    from freefloat.app.viz.plotting import figure, log_curve
+
+    _, (ax,) = figure(1, 1, (4.0, 3.0), "test")
+    log_curve(ax, np.arange(4.0), np.array([1e-312, 1e-11, 3e-11, 2e-11]), "drift")
+    low, high = ax.get_ylim()
+    assert 1e-12 < low < 1e-11 and 3e-11 < high < 1e-10
+
+
+def test_write_figures_writes_png_and_pdf(iiwa2, tmp_path):
+    """With references, all six figures are written as PNG and PDF files."""
     written = write_figures(iiwa2, _telemetry(iiwa2), tmp_path / "figs")
-    names = [
-        "joint_errors.png",
-        "torques.png",
-        "base_trajectory.png",
-        "end_effector_paths.png",
-        "com_drift.png",
-    ]
-    assert [p.name for p in written] == names
-    assert all(p.read_bytes().startswith(b"\x89PNG\r\n\x1a\n") for p in written)
+    stems = ["joint_errors", "torques", "base_trajectory", "end_effector_paths", "end_effector_displacement",
+             "com_drift"]
+    assert [p.name for p in written] == [f"{stem}.{fmt}" for stem in stems for fmt in ("png", "pdf")]
+    assert all(p.read_bytes().startswith(b"\x89PNG\r\n\x1a\n") for p in written if p.suffix == ".png")
+    assert all(p.read_bytes().startswith(b"%PDF") for p in written if p.suffix == ".pdf")
 
 
 def test_error_figure_skipped_without_references(iiwa2, tmp_path):
-    """A run without joint references (NaN) gets no joint error figure and the four others."""
+    """A run without joint references (NaN) gets no joint error figure and the five others."""
     written = write_figures(iiwa2, _telemetry(iiwa2, references=False), tmp_path)
     assert sorted(p.name for p in tmp_path.iterdir()) == sorted(p.name for p in written)
-    assert "joint_errors.png" not in [p.name for p in written] and len(written) == 4
+    assert "joint_errors.png" not in [p.name for p in written] and len(written) == 10

@@ -36,10 +36,14 @@ def main(argv: list[str] | None = None) -> int:
     sim.add_argument("--quiet", action="store_true", help="no progress bar")
     sim.add_argument("--overwrite", action="store_true",
                      help="replace the previous run in --out (default: refuse a folder that is not empty)")
+    sim.add_argument("--view", action="store_true", help="open the run's page in the browser when it is written")
     commands.add_parser("scenes", help="list the built-in scenes")
     info = commands.add_parser("info", help="joints, links, masses, end-effectors and warnings of a robot")
     info.add_argument("robot", help="URDF file, or the name of a known robot (ur5, solo12, panda, ...)")
     info.add_argument("--base", choices=["free", "planar"], default="free", help="floating base (default free)")
+    view = commands.add_parser("view", help="reopen a saved run's meshcat page (rebuilt if the run has none)")
+    view.add_argument("run_dir", type=Path, help="a run folder written by freefloat simulate")
+    view.add_argument("--no-browser", action="store_true", help="only print the page's path")
     ver = commands.add_parser("verify", help="cross-check the hand-built GJM matrices against Pinocchio")
     ver.add_argument("urdf", type=Path, help="URDF file (loaded with a free-flyer base)")
     ver.add_argument("--samples", type=int, default=10, help="random states to check (default 10)")
@@ -62,12 +66,24 @@ def main(argv: list[str] | None = None) -> int:
     rep.add_argument("--scheduler", default=None, help="robustness: Dask scheduler address (default: a local cluster)")
     args = parser.parse_args(argv)
     commands_run = {"simulate": _simulate, "scenes": lambda _: _scenes(), "verify": _verify, "reproduce": _reproduce,
-                    "info": _info}
+                    "info": _info, "view": _view}
     try:
         return commands_run[args.command](args)
     except FreefloatError as exc:
         print(f"freefloat: error: {exc}", file=sys.stderr)
         return 2
+
+
+def _view(args: argparse.Namespace) -> int:
+    import webbrowser
+
+    from .view import run_page
+
+    page = run_page(args.run_dir)
+    print(page)
+    if not args.no_browser:
+        webbrowser.open(page.resolve().as_uri())
+    return 0
 
 
 def _scenes() -> int:
@@ -154,7 +170,12 @@ def _simulate(args: argparse.Namespace) -> int:
     with one_line_warnings():
         with tqdm(total=total_steps(scene), desc=scene.name, unit="step", disable=args.quiet, delay=0.5) as bar:
             done = run_scene(scene, out, progress=lambda k: bar.update(k - bar.n), overwrite=args.overwrite)
-    return _report(done)
+    status = _report(done)
+    if args.view and (out / "trajectory.html").is_file():
+        import webbrowser
+
+        webbrowser.open((out / "trajectory.html").resolve().as_uri())
+    return status
 
 
 def default_folder(scene_name: str) -> Path:

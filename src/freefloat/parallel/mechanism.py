@@ -433,14 +433,15 @@ def rk4_step(f, q: np.ndarray, qd: np.ndarray, h: float) -> tuple[np.ndarray, np
 @single_blas_thread
 def simulate(mechanism: ParallelMechanism, q0: np.ndarray, qd0: np.ndarray, tau, duration: float, step: float,
              baumgarte: float = 0.0, method: str = "rk4") -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Classical RK4 (or semi-implicit Euler) on the coupled coordinates (all Euclidean),
+    """Classical RK4 (or semi-implicit or explicit Euler) on the coupled coordinates (all Euclidean),
     Baumgarte-stabilised. A run that blows up (a non-finite state, a loop open by more than 1 m,
     an angular constraint off by more than 1 rad, or a singular pose where eq 129 has no
     solution) stops there: the arrays end early, with every sample computed.
 
     Args:
         tau: ``tau(t, q, qd) -> efforts`` (k,), held over each step.
-        method: ``"rk4"`` or ``"euler"`` (semi-implicit).
+        method: ``"rk4"``, ``"euler"`` (semi-implicit: the new rate moves q) or
+            ``"explicit_euler"`` (the old rate moves q).
 
     Returns:
         ``(t, q, drift)``: times (N,), coordinates (N, n_q), loop-closure residual max |qbar| (N,).
@@ -458,6 +459,8 @@ def simulate(mechanism: ParallelMechanism, q0: np.ndarray, qd0: np.ndarray, tau,
             if method == "euler":
                 qd = qd + step * f(q, qd)
                 q = q + step * qd
+            elif method == "explicit_euler":
+                q, qd = q + step * qd, qd + step * f(q, qd)
             else:
                 q, qd = rk4_step(f, q, qd, step)
         except (FreefloatError, np.linalg.LinAlgError):   # a singular pose reached: keep what was computed

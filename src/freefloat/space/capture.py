@@ -122,7 +122,9 @@ class Impact:
         impulse: the weld impulse on the robot, [linear; angular] about the end-effector frame
             origin (the grasp point to within the contact tolerance), N s and N m s, inertial
             axes (6,).
-        momentum_before, momentum_after: total [P; L about the origin] of robot and target (6,).
+        momentum_before, momentum_after: total [P; L about the origin] of robot and target, the
+            two as separate bodies (6,); after the impact they balance for any internal impulse,
+            so the check that can fail is :func:`grasp_balance_error` on the merged robot.
     """
 
     v_robot: np.ndarray
@@ -257,6 +259,7 @@ def capture_and_detumble(robot: Robot, target: Target, end_effector: str, rows_s
     q, v = pre.telemetry.q[-1], pre.telemetry.v[-1]
     hit = impact(robot, end_effector, q, v, body, state["q_t"], state["v_t"])
     merged = attach(robot, end_effector, q, body, state["q_t"])
+    merged_after = robot_momentum(merged, q, hit.v_robot)
     controller = DetumblingController(merged, task_rows(merged, rows_spec), joint_indices(merged, joints), start=0.0,
                                       control_period=control_period, method=method, kp=kp, kd=kd, model=model)
     post = run(merged, q, hit.v_robot, detumble_time, control_period, make_integrator(integrator, merged.model),
@@ -267,8 +270,8 @@ def capture_and_detumble(robot: Robot, target: Target, end_effector: str, rows_s
     summary = {
         "impact_time": float(t_hit),
         "momentum_before_impact": hit.momentum_before.tolist(),
-        "momentum_after_impact": hit.momentum_after.tolist(),
-        "momentum_balance_error": float(np.abs(hit.momentum_after - hit.momentum_before).max()),
+        "momentum_after_impact": merged_after.tolist(),
+        "momentum_balance_error": grasp_balance_error(merged, q, hit.v_robot, hit.momentum_before),
         "momentum_drift_after_impact": momentum_drift(tel.momentum),
         "target_angular_velocity_at_impact": float(w[0]),
         "target_angular_velocity_final": float(w[-1]),
@@ -283,6 +286,23 @@ def capture_and_detumble(robot: Robot, target: Target, end_effector: str, rows_s
     post_poses = attached_poses(merged, tel.q)
     poses = np.concatenate((np.array(state["poses"][: len(pre.telemetry.t)]), post_poses))
     return CaptureResult(pre.telemetry, tel, merged, float(t_hit), hit, w, summary, poses)
+
+
+def grasp_balance_error(merged: Robot, q: np.ndarray, v_after: np.ndarray, before: np.ndarray) -> float:
+    """Max-norm of the merged robot's momentum just after the grasp minus robot + target just
+    before, ``max |h_merged(q, v+) - (h_robot^- + h_target^-)|`` ([P; L about the origin]).
+
+    The merged robot carries the target rigidly with the end-effector, so this balance holds only
+    when ``v+`` really welds the two: an impulse of the wrong size breaks it (the sum of the robot
+    and the target as two free bodies after the impact balances for any internal impulse).
+
+    Args:
+        merged: the robot with the target attached (:func:`attach`).
+        q: configuration at the impact (nq,).
+        v_after: the robot's velocity after the impact (nv,).
+        before: total momentum before the impact (6,).
+    """
+    return float(np.abs(robot_momentum(merged, q, v_after) - before).max())
 
 
 def attached_poses(merged: Robot, qs: np.ndarray) -> np.ndarray:

@@ -21,6 +21,9 @@ from .base import Checkpoint, Experiment, Outcome, Progress
 from .detumbling import detumble_task, mission_joints, rows_spec
 from .robot_run import RobotSetup, control_steps, prepare_robot, robot_outcome
 
+#: How the page draws the target: orange, apart from the robot's greys and blues.
+TARGET_MATERIAL = mg.MeshPhongMaterial(color=0xE07000)
+
 
 @dataclass(kw_only=True)
 class CaptureSetup(RobotSetup):
@@ -56,8 +59,9 @@ def prepare(scene: Scene) -> CaptureSetup:
 
 def run(setup: CaptureSetup, progress: Progress | None = None, checkpoint: Checkpoint | None = None) -> Outcome:
     """Approach, grasp and detumbling; the summary of the post-capture run with the grasp's
-    momentum balance; the animation of both phases with the target. (The capture runs as one
-    call: no progress report nor checkpoints.)"""
+    momentum balance (merged robot after against robot + target before); the animation of both
+    phases with the target and the grasp instant. (The capture runs as one call: no progress
+    report nor checkpoints.)"""
     scene, robot = setup.scene, setup.robot
     tg, sim, ctrl = scene.target, scene.simulation, scene.controller
     start = time.perf_counter()
@@ -75,8 +79,8 @@ def run(setup: CaptureSetup, progress: Progress | None = None, checkpoint: Check
     both_q = np.concatenate((res.pre.q, tel.q[1:]))
     poses = np.concatenate((res.target_poses[: len(res.pre.t)], res.target_poses[len(res.pre.t) + 1:]))
     return robot_outcome(setup, merged, tel, result, summary, animation=(both_t, both_q),
-                         extra_bodies=[("target", mg.Box(list(tg.size)), poses)],
-                         extra_telemetry={"pre_capture": res.pre})
+                         extra_bodies=[("target", mg.Mesh(mg.Box(list(tg.size)), TARGET_MATERIAL), poses)],
+                         extra_telemetry={"pre_capture": res.pre}, events=[(res.impact_time, "grasp")])
 
 
 EXPERIMENT = Experiment("capture", "a robot grasps a tumbling target and detumbles it",

@@ -188,7 +188,7 @@ def outcome(prepared: PreparedMechanism, telemetry: MechanismTelemetry, status: 
                          "baumgarte": scene.simulation.baumgarte, "controller": scene.controller.kind},
         },
         headline=HEADLINE,
-        figures=lambda folder: write_mechanism_figures(telemetry, folder),
+        figures=lambda folder: write_mechanism_figures(telemetry, folder, chain),
         page=lambda path, fps: write_mechanism_html(chain, telemetry.t, q, path, fps),
     )
 

@@ -184,10 +184,12 @@ def summary_of(setup: RobotSetup, result: RunResult, **task: Any) -> dict[str, A
 
 def robot_outcome(setup: RobotSetup, robot: Robot, telemetry: Telemetry, result: RunResult,
                   summary: dict[str, Any], animation: tuple[np.ndarray, np.ndarray] | None = None,
-                  extra_bodies: list | None = None, extra_telemetry: dict[str, Telemetry] | None = None) -> Outcome:
+                  extra_bodies: list | None = None, extra_telemetry: dict[str, Telemetry] | None = None,
+                  events: list[tuple[float, str]] | None = None) -> Outcome:
     """The outcome of a robot run on ``robot`` (the scene's, or the merged one after a capture):
     telemetry named by its joints and end-effectors, provenance, joint-space figures and the
-    animation of ``animation = (t, q)`` (default: the telemetry) with ``extra_bodies``."""
+    animation of ``animation = (t, q)`` (default: the telemetry) with ``extra_bodies`` and the
+    named moments ``events`` ((time s, label))."""
     from ..viz.figures import write_figures
     from ..viz.meshcat_html import write_trajectory_html
 
@@ -206,7 +208,8 @@ def robot_outcome(setup: RobotSetup, robot: Robot, telemetry: Telemetry, result:
         headline=HEADLINE,
         extra_telemetry=extra_telemetry or {},
         figures=lambda folder: write_figures(robot, telemetry, folder),
-        page=lambda path, fps: write_trajectory_html(robot, t, q, path, fps=fps, extra=extra_bodies or None),
+        page=lambda path, fps: write_trajectory_html(robot, t, q, path, fps=fps, extra=extra_bodies or None,
+                                                          events=events),
     )
 
 

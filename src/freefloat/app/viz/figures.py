@@ -1,28 +1,35 @@
-"""Dissertation-style figures of a run, drawn on matplotlib's Agg canvas (no display).
+"""Figures of a robot run, fit to print: titled, units on every axis, arms named, curves that
+lie on each other still distinguishable, paths in 3-D (or in the xy-plane when the motion stays
+in it, said so) with the robot drawn at start and end, log axes clipped to the data.
 
-Each ``*_figure`` function returns a :class:`matplotlib.figure.Figure` that is not registered
-with pyplot (nothing stays open; it is freed with its last reference), so tests can read the
-plotted data; :func:`write_figures` saves them as PNG. All positions and momenta are in the
-inertial frame, as recorded in :class:`~freefloat.dynamics.telemetry.Telemetry`.
+Each ``*_figure`` function returns a :class:`matplotlib.figure.Figure` on the Agg canvas (see
+:mod:`.plotting`), so tests can read the plotted data; :func:`write_figures` saves each as PNG
+and PDF. Positions and momenta are in the inertial frame, as recorded in
+:class:`~freefloat.dynamics.telemetry.Telemetry`; joint errors in rad (m for prismatic
+joints), as in the summary.
 """
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 import numpy as np
-from matplotlib.axes import Axes
-from matplotlib.backends.backend_agg import FigureCanvasAgg
+import pinocchio as pin
 from matplotlib.figure import Figure
 from scipy.spatial.transform import Rotation
 
 from ...dynamics.metrics import free_com_motion
 from ...dynamics.telemetry import Telemetry
-from ...robot.robot import Robot
+from ...robot.robot import Arm, Robot
+from .plotting import STYLES, curve, figure, finish, finish_path, in_plane, log_curve, path, save
+
+#: Colours of the robot drawn at the start and at the end of a run.
+START_COLOR, END_COLOR = "#b0b0b0", "#303030"
 
 
 def write_figures(robot: Robot, telemetry: Telemetry, out_dir: str | Path) -> list[Path]:
-    """Write the figures of a run as PNG files.
+    """Write the figures of a run as PNG and PDF files.
 
     Args:
         robot: the robot the run was simulated with.
@@ -30,61 +37,69 @@ def write_figures(robot: Robot, telemetry: Telemetry, out_dir: str | Path) -> li
         out_dir: folder to write into (created if missing).
 
     Returns:
-        The written files: ``joint_errors.png`` (only when the run has joint references),
-        ``torques.png``, ``base_trajectory.png``, ``end_effector_paths.png``, ``com_drift.png``.
+        The written files: ``joint_errors`` (only when the run has joint references),
+        ``torques``, ``base_trajectory``, ``end_effector_paths``, ``end_effector_displacement``
+        and ``com_drift``, each ``.png`` then ``.pdf``.
     """
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     figures = {
-        "joint_errors.png": joint_error_figure(robot, telemetry),
-        "torques.png": torque_figure(robot, telemetry),
-        "base_trajectory.png": base_trajectory_figure(telemetry),
-        "end_effector_paths.png": end_effector_paths_figure(robot, telemetry),
-        "com_drift.png": com_drift_figure(robot, telemetry),
+        "joint_errors": joint_error_figure(robot, telemetry),
+        "torques": torque_figure(robot, telemetry),
+        "base_trajectory": base_trajectory_figure(telemetry),
+        "end_effector_paths": end_effector_paths_figure(robot, telemetry),
+        "end_effector_displacement": end_effector_displacement_figure(robot, telemetry),
+        "com_drift": com_drift_figure(robot, telemetry),
     }
-    written = []
-    for name, figure in figures.items():
-        if figure is not None:
-            figure.savefig(out_dir / name, dpi=120)
-            written.append(out_dir / name)
-    return written
+    return [path for stem, fig in figures.items() if fig is not None for path in save(fig, out_dir, stem)]
+
+
+def arm_name(arm: Arm, index: int) -> str:
+    """An arm's name: the common prefix of its joint names (``arm1_joint1``, ``arm1_joint2`` ->
+    ``arm1``; ``left_shoulder_pan_joint``, ... -> ``left``), else ``arm <index + 1>``."""
+    prefix = os.path.commonprefix(list(arm.joints)) if len(arm.joints) > 1 else ""
+    prefix = prefix.rstrip("_- ")
+    if prefix.lower().endswith("joint"):
+        prefix = prefix[: -len("joint")].rstrip("_- ")
+    return prefix or f"arm {index + 1}"
 
 
 def joint_error_figure(robot: Robot, telemetry: Telemetry) -> Figure | None:
-    """Joint tracking error ``joint_reference - joint_positions`` vs t, one panel per arm.
-
-    Revolute joints in deg, prismatic joints in m. Returns None when the run has no reference
-    (all NaN).
-    """
+    """Joint tracking error ``joint_reference - joint_positions`` (rad; m for prismatic joints)
+    vs t, one panel per arm. Returns None when the run has no reference (all NaN)."""
     error = telemetry.joint_reference - telemetry.joint_positions
     if np.all(np.isnan(error)):
         return None
-    return _per_arm_figure(
-        robot, telemetry.t, error * _joint_scale(robot), "error", "deg", "m", steps=False
-    )
+    return _per_arm_figure(robot, telemetry.t, error, "Joint tracking error, reference - actual",
+                           "error (rad)", "m", steps=False)
 
 
 def torque_figure(robot: Robot, telemetry: Telemetry) -> Figure:
-    """Joint torques (N m; forces in N for prismatic joints) vs t, one panel per arm, drawn as
-    steps since ``tau[k]`` is held over [t_k, t_k+1)."""
-    return _per_arm_figure(robot, telemetry.t, telemetry.tau, "torque", "N m", "N", steps=True)
+    """Joint torques (N m; N for prismatic joints) vs t, one panel per arm, drawn as steps since
+    ``tau[k]`` is held over [t_k, t_k+1)."""
+    return _per_arm_figure(robot, telemetry.t, telemetry.tau, "Joint torques, held over each control period",
+                           "torque (N m)", "N", steps=True)
 
 
 def base_trajectory_figure(telemetry: Telemetry) -> Figure:
     """Base CoM position x, y, z (m) and attitude roll, pitch, yaw (deg; R = Rz(yaw) Ry(pitch)
-    Rx(roll), unwrapped) vs t, and the base CoM path in the inertial xy-plane."""
-    figure, (position_ax, attitude_ax, path_ax) = _figure(1, 3, (15.0, 4.0))
+    Rx(roll), unwrapped) vs t, and the base CoM path: in 3-D, or in the xy-plane when the motion
+    stays in it (the panel says which)."""
+    flat = in_plane(telemetry.base_position)
+    fig, (position_ax, attitude_ax, path_ax) = figure(
+        1, 3, (15.0, 4.5), "Base CoM trajectory and attitude (inertial frame)",
+        projections=[None, None, None if flat else "3d"])
     t, r0 = telemetry.t, telemetry.base_position
     for i, axis in enumerate("xyz"):
-        position_ax.plot(t, r0[:, i], label=axis)
-    _finish(position_ax, "t (s)", "base CoM position (m)")
+        curve(position_ax, t, r0[:, i], axis)
+    finish(position_ax, "t (s)", "base CoM position (m)", "position")
     attitude = np.degrees(base_attitude(telemetry.base_quaternion))
     for i, angle in enumerate(("roll", "pitch", "yaw")):
-        attitude_ax.plot(t, attitude[:, i], label=angle)
-    _finish(attitude_ax, "t (s)", "base attitude (deg)")
-    _path(path_ax, r0[:, :2], "base CoM")
-    _finish(path_ax, "x (m)", "y (m)", equal=True)
-    return figure
+        curve(attitude_ax, t, attitude[:, i], angle)
+    finish(attitude_ax, "t (s)", "attitude (deg)", "attitude, R = Rz(yaw) Ry(pitch) Rx(roll)")
+    path(path_ax, r0, "base CoM", flat)
+    finish_path(path_ax, flat, "base CoM path")
+    return fig
 
 
 def base_attitude(quaternions: np.ndarray) -> np.ndarray:
@@ -95,101 +110,88 @@ def base_attitude(quaternions: np.ndarray) -> np.ndarray:
 
 
 def end_effector_paths_figure(robot: Robot, telemetry: Telemetry) -> Figure:
-    """Paths of the end-effector frame origins in the inertial xy-plane, start (o) and end (s)
-    marked."""
-    figure, (ax,) = _figure(1, 1, (6.0, 6.0))
-    for k, name in enumerate(robot.end_effectors):
-        _path(ax, telemetry.ee_position[:, k, :2], name)
-    _finish(ax, "x (m)", "y (m)", equal=True)
-    return figure
+    """The robot drawn at the start (light) and at the end (dark) of the run, the end-effector
+    paths and the base CoM path: in 3-D, or in the xy-plane when the motion stays in it."""
+    points = np.concatenate([telemetry.ee_position.reshape(-1, 3), telemetry.base_position])
+    flat = in_plane(points)
+    fig, (ax,) = figure(1, 1, (7.5, 6.5), "Robot at start and end, end-effector and base CoM paths",
+                        right=0.72, projections=[None if flat else "3d"])
+    for q, color, label in ((telemetry.q[0], START_COLOR, "robot at start"), (telemetry.q[-1], END_COLOR, "robot at end")):
+        for k, segment in enumerate(skeleton(robot, q)):
+            coords = segment[:, :2].T if flat else segment.T
+            ax.plot(*coords, color=color, linestyle="-", linewidth=2.0, label=label if k == 0 else "_")
+    ax.set_prop_cycle(STYLES)
+    for k, (arm, name) in enumerate(zip(robot.arms, robot.end_effectors)):
+        path(ax, telemetry.ee_position[:, k], f"{arm_name(arm, k)} ({name})", flat)
+    path(ax, telemetry.base_position, "base CoM", flat)
+    finish_path(ax, flat, "o start, s end", legend="outside")
+    return fig
+
+
+def end_effector_displacement_figure(robot: Robot, telemetry: Telemetry) -> Figure:
+    """Each end-effector's displacement from its start, x, y, z (m, inertial frame) vs t, one
+    panel per arm: the motion at its own scale, which the whole robot's span hides."""
+    n = max(1, len(robot.end_effectors))
+    fig, axes = figure(n, 1, (9.0, 2.6 * n + 0.8), "End-effector displacement from the start (inertial frame)",
+                       right=0.85)
+    for k, (ax, arm) in enumerate(zip(axes, robot.arms)):
+        moved = telemetry.ee_position[:, k] - telemetry.ee_position[0, k]
+        for i, axis in enumerate("xyz"):
+            curve(ax, telemetry.t, moved[:, i], axis)
+        finish(ax, "t (s)", "displacement (m)", f"{arm_name(arm, k)} ({arm.end_effector})", legend="outside")
+    return fig
 
 
 def com_drift_figure(robot: Robot, telemetry: Telemetry) -> Figure:
     """Drift of the system CoM from its free motion (m; the curve whose maximum is the summary's
     ``com_drift_max``, see :func:`freefloat.dynamics.metrics.free_com_motion`) and of the momenta
-    ``|P(t) - P(0)|`` (kg m/s) and ``|L(t) - L(0)|`` (kg m^2/s, about the inertial origin) vs t."""
-    figure, (com_ax, momentum_ax) = _figure(2, 1, (8.0, 6.0))
+    ``|P(t) - P(0)|`` (kg m/s) and ``|L(t) - L(0)|`` (kg m^2/s, about the inertial origin) vs t,
+    on log axes clipped to the data."""
+    fig, (com_ax, momentum_ax) = figure(2, 1, (8.0, 6.5), "Conservation: CoM and momentum drift", right=0.97)
     t, momentum = telemetry.t, telemetry.momentum
-    drift = np.linalg.norm(telemetry.com - free_com_motion(telemetry, robot), axis=1)
-    com_ax.plot(t, drift, label="|com - free motion|")
-    _finish(com_ax, "t (s)", "CoM drift (m)")
-    momentum_ax.plot(
-        t, np.linalg.norm(momentum[:, :3] - momentum[0, :3], axis=1), label="|P - P(0)| (kg m/s)"
-    )
-    momentum_ax.plot(
-        t, np.linalg.norm(momentum[:, 3:] - momentum[0, 3:], axis=1), label="|L - L(0)| (kg m^2/s)"
-    )
-    _finish(momentum_ax, "t (s)", "momentum drift")
-    return figure
+    log_curve(com_ax, t, np.linalg.norm(telemetry.com - free_com_motion(telemetry, robot), axis=1),
+              "|com - free motion|")
+    finish(com_ax, "t (s)", "CoM drift (m)", "system CoM against com(0) + t P(0)/m + g t^2/2")
+    log_curve(momentum_ax, t, np.linalg.norm(momentum[:, :3] - momentum[0, :3], axis=1), "|P - P(0)| (kg m/s)")
+    log_curve(momentum_ax, t, np.linalg.norm(momentum[:, 3:] - momentum[0, 3:], axis=1), "|L - L(0)| (kg m^2/s)")
+    finish(momentum_ax, "t (s)", "momentum drift", "linear and angular momentum (about the origin)")
+    return fig
 
 
-def _per_arm_figure(
-    robot: Robot,
-    t: np.ndarray,
-    values: np.ndarray,
-    what: str,
-    unit: str,
-    prismatic_unit: str,
-    steps: bool,
-) -> Figure:
+def skeleton(robot: Robot, q: np.ndarray) -> list[np.ndarray]:
+    """Segments (2, 3) joining each joint origin to its parent's, and each end-effector frame to
+    its joint, at configuration ``q``; inertial frame, m."""
+    model, data = robot.model, robot.model.createData()
+    pin.framesForwardKinematics(model, data, q)
+    segments = [np.array([data.oMi[model.parents[j]].translation, data.oMi[j].translation])
+                for j in range(2, model.njoints)]
+    for frame_id in robot.end_effector_frame_ids:
+        joint = model.frames[frame_id].parentJoint
+        segments.append(np.array([data.oMi[joint].translation, data.oMf[frame_id].translation]))
+    return segments
+
+
+def _per_arm_figure(robot: Robot, t: np.ndarray, values: np.ndarray, title: str, ylabel: str,
+                    prismatic_unit: str, steps: bool) -> Figure:
     """One panel per arm plotting the columns of ``values`` (N, n_joints) of the arm's joints."""
-    figure, axes = _figure(max(1, len(robot.arms)), 1, (10.0, 3.0 * max(1, len(robot.arms))))
-    prismatic = _joint_scale(robot) == 1.0
-    for ax, arm in zip(axes, robot.arms):
+    n = max(1, len(robot.arms))
+    fig, axes = figure(n, 1, (10.0, 2.6 * n + 0.8), title, right=0.78)
+    prismatic = _prismatic(robot)
+    for k, (ax, arm) in enumerate(zip(axes, robot.arms)):
         columns = arm.v_indices - robot.n_base
         for name, column in zip(arm.joints, columns):
-            ax.plot(
-                t, values[:, column], label=name, drawstyle="steps-post" if steps else "default"
-            )
-        units = unit + (f"; {prismatic_unit} prismatic" if prismatic[columns].any() else "")
-        _finish(ax, "t (s)", f"{what} ({units})", title=arm.end_effector, legend_outside=True)
-    return figure
+            curve(ax, t, values[:, column], name, drawstyle="steps-post" if steps else "default")
+        label = ylabel[:-1] + f"; {prismatic_unit} prismatic)" if prismatic[columns].any() else ylabel
+        finish(ax, "t (s)", label, f"{arm_name(arm, k)} (end-effector {arm.end_effector})", legend="outside")
+    return fig
 
 
-def _joint_scale(robot: Robot) -> np.ndarray:
-    """Per joint column (n_joints,): 180/pi for revolute joints (rad to deg), 1 for prismatic."""
+def _prismatic(robot: Robot) -> np.ndarray:
+    """Per joint column (n_joints,): whether the joint is prismatic."""
     model = robot.model
-    scale = np.empty(robot.n_joints)
+    out = np.zeros(robot.n_joints, dtype=bool)
     for j in range(2, model.njoints):
         kind = model.joints[j].shortname()
-        is_prismatic = "Prismatic" in kind or kind.startswith("JointModelP")
         start = model.idx_vs[j] - robot.n_base
-        scale[start : start + model.nvs[j]] = 1.0 if is_prismatic else 180.0 / np.pi
-    return scale
-
-
-def _path(ax: Axes, xy: np.ndarray, label: str) -> None:
-    """A planar path (N, 2) with its start (o) and end (s) marked in the path's colour."""
-    (line,) = ax.plot(xy[:, 0], xy[:, 1], label=label)
-    ax.plot(xy[:1, 0], xy[:1, 1], "o", color=line.get_color(), label=f"{label} start")
-    ax.plot(xy[-1:, 0], xy[-1:, 1], "s", color=line.get_color(), label=f"{label} end")
-
-
-def _figure(rows: int, cols: int, size: tuple[float, float]) -> tuple[Figure, list[Axes]]:
-    """A figure on an Agg canvas with a flat list of its axes."""
-    figure = Figure(figsize=size, layout="constrained")
-    FigureCanvasAgg(figure)
-    return figure, list(np.atleast_1d(figure.subplots(rows, cols)).ravel())
-
-
-def _finish(
-    ax: Axes,
-    xlabel: str,
-    ylabel: str,
-    title: str | None = None,
-    equal: bool = False,
-    legend_outside: bool = False,
-) -> None:
-    """Labels, grid, legend (right of the axes if ``legend_outside``) and (for paths) equal
-    axis scales."""
-    ax.set_xlabel(xlabel)
-    ax.set_ylabel(ylabel)
-    if title is not None:
-        ax.set_title(title)
-    if equal:
-        ax.set_aspect("equal", adjustable="datalim")
-    ax.grid(True, alpha=0.3)
-    if legend_outside:
-        ax.legend(fontsize="small", loc="center left", bbox_to_anchor=(1.0, 0.5))
-    else:
-        ax.legend(fontsize="small")
+        out[start:start + model.nvs[j]] = "Prismatic" in kind or kind.startswith("JointModelP")
+    return out

@@ -1,21 +1,28 @@
 """Self-contained meshcat animation pages of a run, written without a meshcat server.
 
 A page is meshcat's bundled viewer (``meshcat/viewer/dist/main.min.js``) followed by meshcat
-command packets (msgpack, base64), the content of ``Visualizer.static_html()``, but the packets
-are lowered here from ``meshcat.commands`` objects and no server is started. The page decodes
-them synchronously, in order, so it needs neither network nor server.
+command packets (msgpack, base64) lowered here from ``meshcat.commands`` objects, and the
+embedded mesh files (:mod:`.assets`: each once, gzipped, only from allowed folders). The page
+(:mod:`.page_template`) replays them in order, so it needs neither network nor server, frames
+the camera on the motion (:mod:`.camera`), loops the animation and shows play/pause, a time
+slider and the run's events.
 
 Scene layout: one meshcat node per Pinocchio joint, ``/meshcat/freefloat/<joint name>``, whose
 animated pose is the joint frame in the inertial frame (``data.oMi``). Geometry hangs below it,
 ``/meshcat/freefloat/<joint name>/<geometry name>``, with its constant placement in that joint
 frame (and mesh scale) as the object's intrinsic matrix. Extra bodies are animated nodes
-``/meshcat/freefloat/extra/<name>``. Animation key times are in frames of ``fps``, so the clip
+``/meshcat/freefloat/extra/<name>``; followed points (:mod:`.markers`) are animated spheres
+``/meshcat/freefloat/markers/<name>`` with their whole path drawn at
+``/meshcat/freefloat/paths/<name>``. Animation key times are in frames of ``fps``, so the clip
 plays in simulated time.
 """
 
 from __future__ import annotations
 
 import base64
+import json
+import re
+import uuid
 import warnings
 from pathlib import Path
 
@@ -27,9 +34,13 @@ import umsgpack
 from meshcat.animation import Animation, AnimationClip, AnimationTrack
 from meshcat.commands import SetAnimation, SetObject
 from meshcat.path import Path as MeshcatPath
-from pinocchio.visualize.meshcat_visualizer import DaeMeshGeometry, loadPrimitive
+from pinocchio.visualize.meshcat_visualizer import loadPrimitive
 
 from ...robot.robot import Robot
+from .assets import AssetTable, allowed_folders
+from .camera import frame_motion
+from .markers import Marker, robot_markers
+from .page_template import PAGE
 
 #: The viewer bundled with the installed meshcat package.
 VIEWER_JS = Path(meshcat.__file__).parent / "viewer" / "dist" / "main.min.js"
@@ -39,29 +50,12 @@ ROOT = MeshcatPath(("meshcat", "freefloat"))
 #: An extra animated body: (name, meshcat geometry or object, poses in the inertial frame
 #: (N, 4, 4) at the same samples as ``q``).
 ExtraBody = tuple[str, mg.Geometry | mg.Object, np.ndarray]
+#: A moment of the run named on the page: (time, s, same clock as ``t``; label).
+Event = tuple[float, str]
 
 _COLORS = {"base": 0x9A9A9A, "link": 0x4F7FC0, "joint": 0xF0A030, "end_effector": 0xD02020}
-
-_PAGE = """<!DOCTYPE html>
-<html>
-<head><meta charset="utf-8"><title>{title}</title>
-<style>body {{margin: 0;}} #meshcat-pane {{width: 100vw; height: 100vh; overflow: hidden;}}</style>
-</head>
-<body>
-<div id="meshcat-pane"></div>
-<script>
-{viewer_js}
-</script>
-<script>
-var viewer = new MeshCat.Viewer(document.getElementById("meshcat-pane"));
-function freefloat_command(b64) {{
-  viewer.handle_command_bytearray(Uint8Array.from(atob(b64), (c) => c.charCodeAt(0)));
-}}
-{commands}
-</script>
-</body>
-</html>
-"""
+#: Radius of a marker sphere, as a fraction of the framed radius.
+_MARKER_SIZE = 0.015
 
 
 def frame_indices(t: np.ndarray, fps: float) -> np.ndarray:
@@ -94,6 +88,8 @@ def write_trajectory_html(
     path: str | Path,
     fps: float = 30.0,
     extra: list[ExtraBody] | None = None,
+    markers: list[Marker] | None = None,
+    events: list[Event] | None = None,
 ) -> Path:
     """Write a self-contained meshcat page animating a run.
 
@@ -107,6 +103,9 @@ def write_trajectory_html(
             :func:`frame_indices`).
         extra: further bodies to animate, each (name, meshcat geometry or object, poses
             (N, 4, 4) in the inertial frame).
+        markers: points to follow, positions (N, 3) at the samples; default the robot's base
+            CoM, system CoM and end-effectors (:func:`.markers.robot_markers`).
+        events: moments named under the time slider, e.g. ``[(2.0, "grasp")]``.
 
     Returns:
         The written path.
@@ -118,42 +117,110 @@ def write_trajectory_html(
         raise ValueError(f"need t (N,) and q (N, {model.nq}); got {t.shape} and {q.shape}")
     shown = frame_indices(t, fps)
     keys = (t[shown] - t[0]) * fps
+    bodies = [(name, obj, _checked_poses(name, poses, len(t))[shown]) for name, obj, poses in extra or []]
+    if markers is None:
+        markers = robot_markers(robot, q[shown])
+    else:
+        markers = [m._replace(positions=_checked_points(m, len(t))[shown]) for m in markers]
 
+    table = AssetTable(allowed_folders(robot.urdf_path), robot.urdf_path)
     packets = [
         _object_packet(ROOT.append(f"{model.names[j]}/{name}"), obj, placement)
-        for j, name, obj, placement in _robot_objects(robot)
+        for j, name, obj, placement in _robot_objects(robot, table)
     ]
     data = model.createData()
     poses = np.empty((len(shown), model.njoints, 4, 4))
     for k, i in enumerate(shown):
         pin.forwardKinematics(model, data, q[i])
         poses[k] = [m.homogeneous for m in data.oMi]
+    framing = frame_motion(np.concatenate(
+        [poses[:, 1:, :3, 3].reshape(-1, 3), _geometry_points(robot, poses)]
+        + [b[2][:, :3, 3] for b in bodies] + [m.positions for m in markers]))
+
     animation = Animation(default_framerate=fps)
     for j in range(1, model.njoints):
         animation.clips[ROOT.append(model.names[j])] = _clip(keys, poses[:, j], fps)
-    for name, obj, body_poses in extra or []:
-        body_poses = np.asarray(body_poses, dtype=float)
-        if body_poses.shape != (len(t), 4, 4):
-            raise ValueError(
-                f"extra body '{name}': poses must be ({len(t)}, 4, 4), got {body_poses.shape}"
-            )
+    for name, obj, body_poses in bodies:
         node = ROOT.append(f"extra/{name}")
         packets.append(SetObject(obj, path=node).lower())
-        animation.clips[node] = _clip(keys, body_poses[shown], fps)
-    packets.append(SetAnimation(animation, play=True, repetitions=1).lower())
+        animation.clips[node] = _clip(keys, body_poses, fps)
+    for marker in markers:
+        packets += _marker_packets(marker, _MARKER_SIZE * framing.radius)
+        marker_poses = np.tile(np.eye(4), (len(shown), 1, 1))
+        marker_poses[:, :3, 3] = marker.positions
+        animation.clips[ROOT.append(f"markers/{marker.name}")] = _clip(keys, marker_poses, fps)
+    packets.append(SetAnimation(animation, play=True).lower())
+    packets[-1]["options"]["repetitions"] = float("inf")  # loop until paused
 
-    commands = "\n".join(
-        f'freefloat_command("{base64.b64encode(umsgpack.packb(p)).decode("ascii")}");'
-        for p in packets
-    )
-    html = _PAGE.format(
+    settings = {
+        "duration": float(t[-1] - t[0]),
+        "t0": float(t[0]),
+        "events": [[float(time), label] for time, label in events or []],
+        "camera": {"position": framing.position.tolist(), "target": framing.target.tolist(),
+                   "radius": framing.radius},
+    }
+    html = PAGE.format(
         title=f"freefloat: {robot.urdf_path.name}",
         viewer_js=VIEWER_JS.read_text(),
-        commands=commands,
+        settings=json.dumps(settings),
+        commands="\n".join(
+            [f'freefloat_asset("{kind}", "{b64}");' for kind, b64 in table.entries]
+            + [f'freefloat_command("{base64.b64encode(umsgpack.packb(p)).decode("ascii")}");' for p in packets]
+        ),
     )
     path = Path(path)
     path.write_text(html, encoding="utf-8")
     return path
+
+
+def read_settings(page: str | Path) -> dict:
+    """The settings a page was written with: ``duration`` and ``t0`` (s), ``events``
+    ([time s, label]) and ``camera`` (``position``, ``target`` in m, inertial frame; ``radius``)."""
+    found = re.search(r"const FREEFLOAT = (\{.*?\});\n", Path(page).read_text())
+    if found is None:
+        raise ValueError(f"{page} is not a freefloat page")
+    return json.loads(found.group(1))
+
+
+def _geometry_points(robot: Robot, poses: np.ndarray) -> np.ndarray:
+    """Corners of every visual geometry's bounding box at every shown frame, inertial frame, m
+    (K, 3); ``poses`` are the joint poses (M, njoints, 4, 4)."""
+    if robot.visual_model is None:
+        return np.empty((0, 3))
+    points = []
+    for g in robot.visual_model.geometryObjects:
+        g.geometry.computeLocalAABB()
+        low, high = g.geometry.aabb_local.min_, g.geometry.aabb_local.max_
+        corners = np.array([[x, y, z, 1.0] for x in (low[0], high[0]) for y in (low[1], high[1])
+                            for z in (low[2], high[2])])
+        in_joint = corners @ g.placement.homogeneous.T
+        points.append(np.einsum("mij,kj->mki", poses[:, g.parentJoint], in_joint)[..., :3].reshape(-1, 3))
+    return np.concatenate(points) if points else np.empty((0, 3))
+
+
+def _checked_poses(name: str, poses: np.ndarray, n: int) -> np.ndarray:
+    """An extra body's poses as (n, 4, 4) floats, or ValueError naming the body."""
+    poses = np.asarray(poses, dtype=float)
+    if poses.shape != (n, 4, 4):
+        raise ValueError(f"extra body '{name}': poses must be ({n}, 4, 4), got {poses.shape}")
+    return poses
+
+
+def _checked_points(marker: Marker, n: int) -> np.ndarray:
+    """A marker's positions as (n, 3) floats, or ValueError naming the marker."""
+    points = np.asarray(marker.positions, dtype=float)
+    if points.shape != (n, 3):
+        raise ValueError(f"marker '{marker.name}': positions must be ({n}, 3), got {points.shape}")
+    return points
+
+
+def _marker_packets(marker: Marker, radius: float) -> list[dict]:
+    """The marker's sphere (animated node) and its whole path as a line (static node)."""
+    sphere = mg.Mesh(mg.Sphere(radius), _material(marker.color))
+    line = mg.Line(mg.PointsGeometry(marker.positions.T.astype(np.float32)),
+                   mg.LineBasicMaterial(color=marker.color, linewidth=2))
+    return [SetObject(sphere, path=ROOT.append(f"markers/{marker.name}")).lower(),
+            SetObject(line, path=ROOT.append(f"paths/{marker.name}")).lower()]
 
 
 def _clip(keys: np.ndarray, poses: np.ndarray, fps: float) -> AnimationClip:
@@ -169,40 +236,45 @@ def _clip(keys: np.ndarray, poses: np.ndarray, fps: float) -> AnimationClip:
     )
 
 
-def _object_packet(
-    node: MeshcatPath, obj: mg.Object | DaeMeshGeometry, placement: np.ndarray
-) -> dict:
-    """A lowered ``set_object`` command at ``node`` with intrinsic matrix ``placement`` (4, 4)."""
-    if isinstance(obj, DaeMeshGeometry):
-        obj.path = node
-        packet = obj.lower()
+def _object_packet(node: MeshcatPath, obj: mg.Object | dict, placement: np.ndarray) -> dict:
+    """A lowered ``set_object`` command at ``node`` with intrinsic matrix ``placement`` (4, 4);
+    ``obj`` is a meshcat object or an already lowered Collada object."""
+    if isinstance(obj, dict):
+        packet = {"type": "set_object", "path": node.lower(),
+                  "object": {"metadata": {"version": 4.5, "type": "Object"}, "geometries": [], "materials": [],
+                             "object": obj}}
     else:
         packet = SetObject(obj, path=node).lower()
     packet["object"]["object"]["matrix"] = placement.T.flatten().tolist()  # three.js: column-major
     return packet
 
 
-def _robot_objects(robot: Robot) -> list[tuple[int, str, mg.Object | DaeMeshGeometry, np.ndarray]]:
+def _robot_objects(robot: Robot, table: AssetTable) -> list[tuple[int, str, mg.Object | dict, np.ndarray]]:
     """(joint id, name, meshcat object, placement in the joint frame incl. scale (4, 4))."""
     visual = robot.visual_model
-    objects = [] if visual is None else [_visual_object(g) for g in visual.geometryObjects]
+    objects = [] if visual is None else [_visual_object(g, table) for g in visual.geometryObjects]
     objects = [o for o in objects if o is not None]
     return objects or _stick_figure(robot)
 
 
 def _visual_object(
-    geometry: pin.GeometryObject,
-) -> tuple[int, str, mg.Object | DaeMeshGeometry, np.ndarray] | None:
-    """Meshcat object of one Pinocchio geometry (mesh file or primitive), or None if unsupported."""
-    suffix = Path(geometry.meshPath).suffix.lower()
+    geometry: pin.GeometryObject, table: AssetTable
+) -> tuple[int, str, mg.Object | dict, np.ndarray] | None:
+    """Meshcat object of one Pinocchio geometry (mesh file or primitive), or None if it cannot
+    or may not be drawn (a mesh outside the allowed folders, see :mod:`.assets`)."""
+    mesh = Path(geometry.meshPath) if geometry.meshPath else None
+    suffix = mesh.suffix.lower() if mesh else ""
     intrinsic = np.eye(4)
-    if suffix == ".dae":  # keeps the Collada materials, textures embedded as data URIs
-        obj = DaeMeshGeometry(geometry.meshPath)
+    if suffix and not table.allowed_mesh(mesh, geometry.name):  # any mesh file, not a primitive
+        return None
+    if suffix == ".dae":  # keeps the Collada materials; allowed textures embedded as data URIs
+        obj: mg.Object | dict = {"uuid": str(uuid.uuid4()), "type": "_meshfile_object", "format": "dae",
+                                 "data": table.placeholder(mesh, "text"), "resources": table.collada_textures(mesh)}
     else:
         if suffix == ".stl":
-            shape = mg.StlMeshGeometry.from_file(geometry.meshPath)
+            shape = mg.MeshGeometry(table.placeholder(mesh, "binary"), "stl")
         elif suffix == ".obj":
-            shape = mg.ObjMeshGeometry.from_file(geometry.meshPath)
+            shape = mg.MeshGeometry(table.placeholder(mesh, "text"), "obj")
         else:
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")
