@@ -27,11 +27,11 @@ def check_state(robot: Robot, q: np.ndarray, v: np.ndarray | None = None) -> Non
         raise InvalidArgument(f"q must have shape ({model.nq},) for '{robot.urdf_path.name}', got {q.shape}")
     if not np.isfinite(q).all():
         raise InvalidArgument(f"q has non-finite entries at {np.flatnonzero(~np.isfinite(q)).tolist()}")
-    error = np.abs(pin.normalize(model, q) - q).max() if model.nq else 0.0
-    if error > UNIT_TOLERANCE:
+    if not pin.isNormalized(model, q, UNIT_TOLERANCE):
         raise InvalidArgument(
-            f"q's unit-norm blocks (base quaternion or (cos, sin) pairs) are off norm 1 by up to {error:.3g}; "
-            "normalise them (pinocchio.normalize) or build q with freefloat.robot.conventions.state_from_base"
+            "q's unit-norm blocks (base quaternion [qx, qy, qz, qw] or (cos, sin) pairs) are off norm 1 "
+            f"(a zero quaternion is no rotation); q[:7] = {np.array2string(q[:7], precision=4)}; normalise them "
+            "(pinocchio.normalize) or build q with freefloat.robot.conventions.state_from_base"
         )
     if v is None:
         return

@@ -22,6 +22,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ...robot.robot import Robot
+from ...robot.state import check_state
 from .kinematics import BodyKinematics, TreeStructure
 from .matrices import body_jacobians, skew_batch
 from .model import BACKENDS, GJM, GJMState, model_of, state_of
@@ -135,8 +136,12 @@ def derivatives(robot: Robot, q: np.ndarray, v: np.ndarray, backend: str = "comp
     Derivative k is with respect to joint k (Pinocchio order) at fixed base pose and twist; the
     time derivatives follow the motion given by v (base twist and joint rates). ``backend``:
     ``"compiled"`` (default) or ``"numpy"``, the reference.
+
+    Raises:
+        InvalidArgument: for q or v of the wrong size, not finite, or a non-unit quaternion.
     """
     q, v = np.asarray(q, dtype=float), np.asarray(v, dtype=float)
+    check_state(robot, q, v)
     gjm = model_of(robot)
     if backend == "compiled":
         return GJMDerivatives(*gjm.core.derivatives(q, v))

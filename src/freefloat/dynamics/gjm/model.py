@@ -10,6 +10,7 @@ import numpy as np
 from ...robot.conventions import base_state, cross3
 from ...robot.joints import JointCoordinates
 from ...robot.robot import Robot
+from ...robot.state import check_state
 from .._core import GJMCore
 from .kinematics import BodyKinematics, TreeStructure, forward_kinematics
 from .matrices import end_effector_jacobians, end_effector_points, inertia_matrices, point_jacobians
@@ -172,5 +173,11 @@ def compute(robot: Robot, q: np.ndarray, v: np.ndarray, backend: str = "compiled
         q: configuration (nq,), free-flyer base quaternion.
         v: velocity (nv,), Pinocchio's local base velocity; converted to ``x0dot = [v0; w0]``.
         backend: ``"compiled"`` (default) or ``"numpy"``, the reference; see :data:`BACKENDS`.
+
+    Raises:
+        InvalidArgument: for q or v of the wrong size, not finite, or a non-unit quaternion (a
+            zero quaternion used to be read as the identity).
     """
-    return model_of(robot).compute(np.asarray(q, dtype=float), np.asarray(v, dtype=float), backend)
+    q, v = np.asarray(q, dtype=float), np.asarray(v, dtype=float)
+    check_state(robot, q, v)
+    return model_of(robot).compute(q, v, backend)
