@@ -76,7 +76,8 @@ def robot_from_case(factory, case, **kwargs):
 
 
 def random_state(robot, rng: np.random.Generator, speed: float = 1.0):
-    """A random configuration (unit base quaternion) and velocity for ``robot``."""
+    """A random configuration (unit base quaternion, unit (cos, sin) of continuous joints) and
+    velocity for ``robot``."""
     import pinocchio as pin
 
     q = pin.neutral(robot.model)
@@ -89,7 +90,7 @@ def random_state(robot, rng: np.random.Generator, speed: float = 1.0):
     else:
         yaw = rng.uniform(-np.pi, np.pi)
         q[:4] = [*rng.uniform(-1, 1, 2), np.cos(yaw), np.sin(yaw)]
-    return q, speed * rng.uniform(-1.0, 1.0, robot.model.nv)
+    return pin.normalize(robot.model, q), speed * rng.uniform(-1.0, 1.0, robot.model.nv)  # continuous joints: (cos, sin)
 
 
 @pytest.fixture(scope="session")

@@ -68,10 +68,11 @@ def test_unknown_backend_is_refused():
 
 
 def test_wrong_state_size_is_named():
-    """A configuration of the wrong size raises ValueError naming q and both sizes, not a crash."""
+    """A configuration of the wrong size raises ValueError naming q and both sizes, not a crash,
+    in the core itself (internal callers skip gjm.compute's own check, test_state.py)."""
     robot = load_robot(REPO / "urdf" / "four_arm_planar.urdf", visuals=False)
     with pytest.raises(ValueError, match=r"q: expected 23 numbers, got 22"):
-        gjm.compute(robot, robot.neutral()[:-1], np.zeros(robot.model.nv))
+        gjm.model_of(robot).core.compute(robot.neutral()[:-1], np.zeros(robot.model.nv))
 
 
 def test_a_used_model_pickles_and_gives_the_same_accelerations():
