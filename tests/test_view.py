@@ -70,13 +70,14 @@ def test_view_command_prints_the_page(tmp_path, capsys):
 
 
 def test_simulate_view_opens_the_written_page(tmp_path, monkeypatch):
-    """``freefloat simulate --view`` opens the run's page, by its file URI, once it is written."""
+    """``freefloat simulate --view`` on a run the live viewer does not show (a mechanism) opens
+    the run's page, by its file URI, once it is written (robot runs: tests/test_live.py)."""
     import webbrowser
 
     opened = []
     monkeypatch.setattr(webbrowser, "open", opened.append)
     scene = tmp_path / "short.toml"
-    scene.write_text((find_scene("four_arm_joint_space").source.read_text())
-                     .replace("duration = 5.0\ncontrol_period", "duration = 0.05\ncontrol_period"))
+    scene.write_text((find_scene("five_bar_computed_torque").source.read_text())
+                     .replace("duration = 0.5", "duration = 0.002"))
     assert main(["simulate", str(scene), "--out", str(tmp_path / "run"), "--quiet", "--no-figures", "--view"]) == 0
     assert opened == [(tmp_path / "run" / "trajectory.html").resolve().as_uri()]

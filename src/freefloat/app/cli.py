@@ -19,6 +19,7 @@ from ..errors import FreefloatError
 
 if TYPE_CHECKING:
     from .runner import SceneRun
+    from .viz.live import LiveView
 
 def main(argv: list[str] | None = None) -> int:
     """Entry point; returns the exit status (0 ok, 1 run stopped early, 2 bad input)."""
@@ -36,7 +37,9 @@ def main(argv: list[str] | None = None) -> int:
     sim.add_argument("--quiet", action="store_true", help="no progress bar")
     sim.add_argument("--overwrite", action="store_true",
                      help="replace the previous run in --out (default: refuse a folder that is not empty)")
-    sim.add_argument("--view", action="store_true", help="open the run's page in the browser when it is written")
+    sim.add_argument("--view", action="store_true",
+                     help="show the run live in a meshcat viewer as it is computed, then replay it (robot runs); "
+                          "other runs open their page when it is written")
     commands.add_parser("scenes", help="list the built-in scenes")
     info = commands.add_parser("info", help="joints, links, masses, end-effectors and warnings of a robot")
     info.add_argument("robot", help="URDF file, or the name of a known robot (ur5, solo12, panda, ...)")
@@ -156,7 +159,7 @@ def _verify(args: argparse.Namespace) -> int:
 def _simulate(args: argparse.Namespace) -> int:
     import dataclasses
 
-    from .runner import run_scene, total_steps
+    from .runner import prepare, run_scene, total_steps
     from .scenes import DEFAULT_SCENE, ROBOT_SCENE, find_scene, with_robot
 
     scene = find_scene(args.scene or (ROBOT_SCENE if args.robot else DEFAULT_SCENE))
@@ -168,14 +171,44 @@ def _simulate(args: argparse.Namespace) -> int:
         scene = dataclasses.replace(scene, output=output)
     out = args.out or default_folder(scene.name)
     with one_line_warnings():
-        with tqdm(total=total_steps(scene), desc=scene.name, unit="step", disable=args.quiet, delay=0.5) as bar:
-            done = run_scene(scene, out, progress=lambda k: bar.update(k - bar.n), overwrite=args.overwrite)
-    status = _report(done)
-    if args.view and (out / "trajectory.html").is_file():
-        import webbrowser
+        setup = prepare(scene)
+        live = _live_view(scene, setup) if args.view else None
+        try:
+            with tqdm(total=total_steps(scene), desc=scene.name, unit="step", disable=args.quiet, delay=0.5) as bar:
+                done = run_scene(scene, out, progress=lambda k: bar.update(k - bar.n), overwrite=args.overwrite,
+                                 setup=setup, watch=live.show if live else None)
+            status = _report(done)
+            if live is not None:
+                tel = done.outcome.telemetry
+                print(f"replaying the run in the live viewer at {live.url}")
+                live.replay(tel.t, tel.q)
+                if sys.stdin.isatty():
+                    input("press Enter to close the viewer ")
+            elif args.view and (out / "trajectory.html").is_file():
+                import webbrowser
 
-        webbrowser.open((out / "trajectory.html").resolve().as_uri())
+                webbrowser.open((out / "trajectory.html").resolve().as_uri())
+        finally:
+            if live is not None:
+                live.close()
     return status
+
+
+def _live_view(scene, setup) -> LiveView | None:
+    """A live viewer of the scene's robot (joint-space and detumbling runs; a capture changes the
+    robot mid-run and a mechanism is no tree, so those open their page after the run)."""
+    if scene.kind not in ("joint_space", "detumbling"):
+        print(f"freefloat: the live viewer shows joint-space and detumbling runs; this {scene.kind} run's page "
+              "opens when it is written", file=sys.stderr)
+        return None
+    import webbrowser
+
+    from .viz.live import LiveView
+
+    live = LiveView(setup.robot)
+    print(f"live viewer: {live.url}")
+    webbrowser.open(live.url)
+    return live
 
 
 def default_folder(scene_name: str) -> Path:

@@ -68,19 +68,24 @@ def simulate(scene: Scene | MechanismScene, progress: Progress | None = None,
 
 
 def run_scene(scene: Scene | MechanismScene, folder: Path, progress: Progress | None = None,
-              overwrite: bool = False) -> SceneRun:
+              overwrite: bool = False, setup: Any = None, watch: Callable[[Any], None] | None = None) -> SceneRun:
     """Run ``scene`` into ``folder`` (telemetry, summary, scene, figures, page), whatever the
     run's status.
+
+    Args:
+        setup: the scene already prepared (:func:`prepare`), or None to prepare it here.
+        watch: also given each telemetry chunk as it is checkpointed (a live viewer).
 
     Raises:
         FreefloatError: before anything is simulated, when the scene is wrong (``SceneError``) or
             the folder cannot be used; after the run, when the disk refuses a file.
     """
     experiment = experiment_for(scene)
-    setup = experiment.prepare(scene)
+    setup = experiment.prepare(scene) if setup is None else setup
     with RunFolder(folder, overwrite) as out:
+        checkpoint = out.checkpoint if watch is None else lambda chunk: (out.checkpoint(chunk), watch(chunk))
         with signals_raise_keyboard_interrupt():
-            outcome = fail_if_not_finite(experiment.run(setup, progress, out.checkpoint))
+            outcome = fail_if_not_finite(experiment.run(setup, progress, checkpoint))
         with signals_deferred() as interrupted:
             written, skipped = write_run(out, scene, outcome, interrupted.is_set)
     return SceneRun(outcome, folder, written, skipped)
