@@ -47,9 +47,9 @@ def test_an_unwritable_folder_is_refused_before_the_run(tmp_path):
     assert time.perf_counter() - started < 5.0
 
 
-@pytest.mark.parametrize("signum", [signal.SIGTERM, signal.SIGHUP])
-def test_sigterm_and_sighup_keep_what_was_computed(tmp_path, signum):
-    """A run stopped by SIGTERM or SIGHUP exits 1 and writes its samples, as Ctrl-C does."""
+@pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM, signal.SIGHUP])
+def test_sigint_sigterm_and_sighup_keep_what_was_computed(tmp_path, signum):
+    """A run stopped by Ctrl-C (SIGINT), SIGTERM or SIGHUP exits 1 and writes its samples."""
     proc, out = _start(tmp_path, 500.0)
     time.sleep(0.5)
     proc.send_signal(signum)
