@@ -22,7 +22,17 @@ from scipy.spatial.transform import Rotation
 from ...dynamics.metrics import free_com_motion
 from ...dynamics.telemetry import Telemetry
 from ...robot.robot import Arm, Robot
-from .plotting import STYLES, curve, figure, finish, finish_path, in_plane, log_curve, path, save
+from .plotting import (
+    STYLES,
+    curve,
+    figure,
+    finish,
+    finish_path,
+    in_plane,
+    log_curve,
+    path,
+    save_all,
+)
 
 #: Colours of the robot drawn at the start and at the end of a run.
 START_COLOR, END_COLOR = "#b0b0b0", "#303030"
@@ -51,7 +61,7 @@ def write_figures(robot: Robot, telemetry: Telemetry, out_dir: str | Path) -> li
         "end_effector_displacement": end_effector_displacement_figure(robot, telemetry),
         "com_drift": com_drift_figure(robot, telemetry),
     }
-    return [path for stem, fig in figures.items() if fig is not None for path in save(fig, out_dir, stem)]
+    return save_all(figures, out_dir)
 
 
 def arm_name(arm: Arm, index: int) -> str:

@@ -20,7 +20,7 @@ from ...parallel.closed_chain import ClosedChain
 from ...robot.loading import load_robot
 from .markers import PALETTE, Marker
 from .meshcat_html import write_trajectory_html
-from .plotting import curve, figure, finish, finish_path, log_curve, path, save
+from .plotting import curve, figure, finish, finish_path, log_curve, path, save_all
 
 #: Names of the platform coordinates q#: the platform point's inertial x, y (, z), m.
 COORDINATES = ("x", "y", "z")
@@ -33,7 +33,7 @@ def write_mechanism_figures(telemetry: MechanismTelemetry, out_dir: str | Path,
     out_dir = Path(out_dir)
     figures = {"platform_tracking": tracking_figure(telemetry), "efforts": efforts_figure(telemetry, chain),
                "loop_closure_drift": drift_figure(telemetry)}
-    return [file for stem, fig in figures.items() for file in save(fig, out_dir, stem)]
+    return save_all(figures, out_dir)
 
 
 def tracking_figure(telemetry: MechanismTelemetry) -> Figure:

@@ -7,6 +7,7 @@ Figures are not registered with pyplot (nothing stays open). Layout is fixed fra
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 import numpy as np
@@ -60,7 +61,7 @@ def finish(ax: Axes, xlabel: str, ylabel: str, title: str | None = None, legend:
         ax.set_xlabel(xlabel)
     ax.set_ylabel(ylabel)
     if title is not None:
-        ax.set_title(title, fontsize="medium")
+        ax.set_title(title, fontsize="medium", y=1.0)  # a fixed place: no layout pass over the tick labels
     ax.grid(True, alpha=0.3)
     if legend == "outside":
         ax.legend(fontsize="small", loc="center left", bbox_to_anchor=(1.0, 0.5))
@@ -103,6 +104,29 @@ def log_curve(ax: Axes, t: np.ndarray, values: np.ndarray, label: str) -> None:
         ax.set_ylim(shown.min() / 2, shown.max() * 2)
     ax.yaxis.set_major_locator(LogLocator(numticks=8))  # at most 8 labelled decades,
     ax.yaxis.set_minor_locator(NullLocator())  # no minor ticks: each tick is an artist to draw
+
+
+def save_all(figures: dict[str, Figure | None], out_dir: Path) -> list[Path]:
+    """Write each figure with :func:`save` (None: skipped); returns the paths, in order.
+
+    Rendering is most of the cost (text layout, rasterising, PDF), so where the system can fork,
+    a child process renders every other figure while this one renders the rest: about half the
+    wall time on two cores. A child that fails leaves its figures to this process."""
+    named = [(stem, fig) for stem, fig in figures.items() if fig is not None]
+    theirs = named[1::2] if len(named) > 1 and hasattr(os, "fork") else []
+    pid = os.fork() if theirs else 0
+    if theirs and pid == 0:  # the child: render its share, report by the exit status only
+        try:
+            for stem, fig in theirs:
+                save(fig, out_dir, stem)
+        finally:
+            os._exit(0 if all((out_dir / f"{stem}.{fmt}").is_file() for stem, _ in theirs for fmt in FORMATS) else 1)
+    for stem, fig in named[0::2] if theirs else named:
+        save(fig, out_dir, stem)
+    if theirs and os.waitstatus_to_exitcode(os.waitpid(pid, 0)[1]) != 0:
+        for stem, fig in theirs:
+            save(fig, out_dir, stem)
+    return [out_dir / f"{stem}.{fmt}" for stem, _ in named for fmt in FORMATS]
 
 
 def save(fig: Figure, out_dir: Path, stem: str) -> list[Path]:
