@@ -307,6 +307,20 @@ PYBIND11_MODULE(_core, m) {
                                          checked(tau, me.U.cols(), "tau"), baumgarte);
              return vector_out(out);
            }, py::arg("q"), py::arg("qd"), py::arg("tau"), py::arg("baumgarte"), "qddot (n_q,), eq 129.")
+      .def("closure", [](Mechanism& me, const Array& q) {
+             DVec residual;
+             DMat A;
+             me.closure(checked(q, me.n_q, "q"), residual, A);
+             return py::make_tuple(vector_out(residual), matrix_out(A));
+           }, "([qbar; orientation residual] (m,), A (m, n_q)) at q.")
+      .def("terms", [](Mechanism& me, const Array& q, const Array& qd) {
+             DVec residual, b, v, g;
+             DMat A, M;
+             me.closure(checked(q, me.n_q, "q"), residual, A);
+             me.dynamics(checked(qd, me.n_q, "qd"), b, M, v, g);
+             const DMat C = me.velocity_map(A, me.passive_lu(A));
+             return py::make_tuple(matrix_out(A), vector_out(b), matrix_out(C), matrix_out(M), vector_out(v), vector_out(g));
+           }, "(A, b, C, M', v', g') at (q, qd), as ParallelMechanism.terms.")
       .def("inverse", [](Mechanism& me, const Array& q, const Array& qd_sharp, const Array& qdd_sharp) {
              DVec tau, qd, qdd;
              DMat C;
