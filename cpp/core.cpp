@@ -124,12 +124,16 @@ py::tuple state_out(const State& s) {
                         vector_out(s.qdot), matrix_out(s.ee_position), kin);
 }
 
-// (dH0, dH0m, dHm, H0dot, H0mdot, Hmdot)
+// (dH0, dH0m, dHm, H0dot, H0mdot, Hmdot); dHm dense from its nonzero entries, on numpy's zeroed
+// (calloc) memory so that the zeros cost nothing.
 py::tuple derivatives_out(const Tree& t, const Derivatives& d) {
   const py::ssize_t n = t.n;
-  return py::make_tuple(copy_out({n, 6, 6}, d.dH0.data()), copy_out({n, 6, n}, d.dH0m.data()),
-                        copy_out({n, n, n}, d.dHm.data()), matrix_out(d.H0dot), matrix_out(d.H0mdot),
-                        matrix_out(d.Hmdot));
+  py::array_t<double> dHm = py::module_::import("numpy").attr("zeros")(py::make_tuple(n, n, n));
+  double* out = dHm.mutable_data();
+  for (py::ssize_t k = 0; k < n; ++k)
+    for (const Derivatives::Entry& e : d.dHm_entries[k]) out[(k * n + e.i) * n + e.j] = out[(k * n + e.j) * n + e.i] = e.value;
+  return py::make_tuple(copy_out({n, 6, 6}, d.dH0.data()), copy_out({n, 6, n}, d.dH0m.data()), dHm,
+                        matrix_out(d.H0dot), matrix_out(d.H0mdot), matrix_out(d.Hmdot));
 }
 
 struct Core {
@@ -152,7 +156,7 @@ struct Core {
                                    const Array& F, const Array& Q_q, const Array& D) {
     const Variant variant = variant_of(name);
     run(q, v);
-    derivatives(tree, state, deriv, false);
+    derivatives(tree, state, deriv);
     const int n = tree.n, n_base = nv - n;
     const Vec6 force = Eigen::Map<const Vec6>(checked(F, 6, "F"));
     const ModelResult r = model_terms(tree, state, deriv, variant, force, sensitivity_rows(D));
@@ -170,7 +174,7 @@ struct Core {
   py::tuple joint_space(const std::string& name, const Array& q, const Array& v, const Array& F, const Array& D) {
     const Variant variant = variant_of(name);
     run(q, v);
-    derivatives(tree, state, deriv, false);
+    derivatives(tree, state, deriv);
     const Vec6 force = Eigen::Map<const Vec6>(checked(F, 6, "F"));
     const ModelResult r = model_terms(tree, state, deriv, variant, force, sensitivity_rows(D));
     return py::make_tuple(matrix_out(state.Hstar), vector_out(r.c));
@@ -179,7 +183,7 @@ struct Core {
   // NIDC's dxdot0/dq_k (n, 6) at (q, v) with the augmented partials of D.
   py::array_t<double> sensitivity(const Array& q, const Array& v, bool translation, const Array& D) {
     run(q, v);
-    derivatives(tree, state, deriv, false);
+    derivatives(tree, state, deriv);
     const Partials p = nidc_partials(tree, state, deriv, sensitivity_rows(D), translation);
     return matrix_out(freefloat::sensitivity(state, p, tree.n));
   }
@@ -307,6 +311,20 @@ PYBIND11_MODULE(_core, m) {
                                          checked(tau, me.U.cols(), "tau"), baumgarte);
              return vector_out(out);
            }, py::arg("q"), py::arg("qd"), py::arg("tau"), py::arg("baumgarte"), "qddot (n_q,), eq 129.")
+      .def("closure", [](Mechanism& me, const Array& q) {
+             DVec residual;
+             DMat A;
+             me.closure(checked(q, me.n_q, "q"), residual, A);
+             return py::make_tuple(vector_out(residual), matrix_out(A));
+           }, "([qbar; orientation residual] (m,), A (m, n_q)) at q.")
+      .def("terms", [](Mechanism& me, const Array& q, const Array& qd) {
+             DVec residual, b, v, g;
+             DMat A, M;
+             me.closure(checked(q, me.n_q, "q"), residual, A);
+             me.dynamics(checked(qd, me.n_q, "qd"), b, M, v, g);
+             const DMat C = me.velocity_map(A, me.passive_lu(A));
+             return py::make_tuple(matrix_out(A), vector_out(b), matrix_out(C), matrix_out(M), vector_out(v), vector_out(g));
+           }, "(A, b, C, M', v', g') at (q, qd), as ParallelMechanism.terms.")
       .def("inverse", [](Mechanism& me, const Array& q, const Array& qd_sharp, const Array& qdd_sharp) {
              DVec tau, qd, qdd;
              DMat C;

@@ -122,12 +122,11 @@ struct State {
 struct Derivatives {
   std::vector<double> dH0;      // (n, 6, 6) C order
   std::vector<double> dH0m;     // (n, 6, n)
-  std::vector<double> dHm;      // (n, n, n), filled only when asked for the dense tensor
   struct Entry {
     int i, j;
     double value;
   };
-  std::vector<std::vector<Entry>> dHm_entries;  // (n) the nonzero (i <= j) entries of each dHm/dq_k
+  std::vector<std::vector<Entry>> dHm_entries;  // (n) dHm/dq_k (n, n): its nonzero entries, i <= j
 
   // x^T dHm/dq_k x from the nonzero entries.
   double dHm_form(int k, const VecX& x) const {
@@ -265,13 +264,12 @@ inline void compute(const Tree& t, const double* q, const double* v, State& s) {
 }
 
 // Joint derivatives at fixed base pose and twist, and time derivatives along the motion
-// (numpy: derivatives.time_derivatives), from a state computed by compute(). dHm is always kept as
-// its nonzero entries; the dense (n, n, n) tensor only when `dense`.
-inline void derivatives(const Tree& t, const State& s, Derivatives& d, bool dense = true) {
+// (numpy: derivatives.time_derivatives), from a state computed by compute(). dHm/dq_k is kept as
+// its nonzero entries.
+inline void derivatives(const Tree& t, const State& s, Derivatives& d) {
   const int n = t.n;
   d.dH0.assign(static_cast<size_t>(n) * 36, 0.0);
   d.dH0m.assign(static_cast<size_t>(n) * 6 * n, 0.0);
-  if (dense) d.dHm.assign(static_cast<size_t>(n) * n * n, 0.0);
   d.dHm_entries.resize(n);
   // Joint k moves the joints it carries rigidly; it changes only the entries that pair a joint
   // strictly above it with a joint it carries or with another joint above it.
@@ -308,10 +306,6 @@ inline void derivatives(const Tree& t, const State& s, Derivatives& d, bool dens
     for (const Derivatives::Entry& e : d.dHm_entries[k]) {
       d.Hmdot(e.i, e.j) += qk * e.value;
       if (e.i != e.j) d.Hmdot(e.j, e.i) += qk * e.value;
-      if (dense) {
-        double* dHm = d.dHm.data() + static_cast<size_t>(n) * n * k;
-        dHm[e.i * n + e.j] = dHm[e.j * n + e.i] = e.value;
-      }
     }
   }
 }

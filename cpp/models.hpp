@@ -28,30 +28,61 @@ inline Variant variant_of(const std::string& name) {
 
 using RowMat6 = Eigen::Matrix<double, 6, 6, Eigen::RowMajor>;
 
-// The joint partials dH0/dq_k, dH0m/dq_k, dHm/dq_k a model uses: GJM's, read in place, or NIDC's
-// augmented dH0, dH0m, held here.
+// The joint partials dH0/dq_k and dH0m/dq_k a model uses: GJM's, read in place, or NIDC's
+// augmented ones. dH0m/dq_k is only ever needed times qdot or summed with weights, so NIDC's
+// augmentation of it (linear in D) is applied to those contractions, never stored per joint.
 struct Partials {
   const Derivatives* d;
+  const State* s;
   int n;
-  std::vector<Mat6> dH0_aug;
-  std::vector<MatX> dH0m_aug;
+  std::vector<Mat6> dH0_aug;   // NIDC: the augmented dH0/dq_k; empty otherwise
+  std::vector<Vec3> turn;      // NIDC: D's rotation rows (base turned by them); empty otherwise
+  std::vector<Vec3> shift;     // nidc_translation: D's translation rows; empty otherwise
+  Vec6 H0m_qdot = Vec6::Zero();
 
   Mat6 dH0(int k) const {
     return dH0_aug.empty() ? Mat6(Eigen::Map<const RowMat6>(d->dH0.data() + 36 * k)) : dH0_aug[k];
   }
-  Eigen::Ref<const MatX> dH0m(int k) const {
-    if (!dH0m_aug.empty()) return dH0m_aug[k];
+  Eigen::Map<const MatX> gjm_dH0m(int k) const {
     return Eigen::Map<const MatX>(d->dH0m.data() + static_cast<size_t>(6) * n * k, 6, n);
+  }
+  // dH0m/dq_k qdot (6,); NIDC adds Delta_k H0m qdot (and -[0; delta_k J_TS qdot]).
+  Vec6 dH0m_qdot(int k) const {
+    Vec6 out = gjm_dH0m(k) * s->qdot;
+    if (!turn.empty()) {
+      out.head<3>() += turn[k].cross(H0m_qdot.head<3>());
+      out.tail<3>() += turn[k].cross(H0m_qdot.tail<3>());
+    }
+    if (!shift.empty()) out.tail<3>() -= shift[k].cross(H0m_qdot.head<3>());
+    return out;
+  }
+  // sum_k w_k dH0m/dq_k (6, n).
+  MatX dH0m_sum(const VecX& w) const {
+    MatX out = MatX::Zero(6, n);
+    for (int k = 0; k < n; ++k) out += w[k] * gjm_dH0m(k);
+    if (!turn.empty()) {
+      Vec3 r = Vec3::Zero();
+      for (int k = 0; k < n; ++k) r += w[k] * turn[k];
+      out.topRows<3>() += skew(r) * s->H0m.topRows<3>();
+      out.bottomRows<3>() += skew(r) * s->H0m.bottomRows<3>();
+    }
+    if (!shift.empty()) {
+      Vec3 r = Vec3::Zero();
+      for (int k = 0; k < n; ++k) r += w[k] * shift[k];
+      out.bottomRows<3>() -= skew(r) * s->H0m.topRows<3>();
+    }
+    return out;
   }
 };
 
-inline Partials gjm_partials(const Tree& t, const Derivatives& d) { return Partials{&d, t.n, {}, {}}; }
+inline Partials gjm_partials(const Tree& t, const State& s, const Derivatives& d) { return Partials{&d, &s, t.n}; }
 
 // NIDCModel.augmented: the partials with the base turned by D's rotation (and moved by its
 // translation for nidc_translation, NIDCModel._translation_terms). D is (n, 6), row k = dx0/dq_k.
 inline Partials nidc_partials(const Tree& t, const State& s, const Derivatives& d, const MatX& D, bool translation) {
   const int n = t.n;
-  Partials p{&d, n, std::vector<Mat6>(n), std::vector<MatX>(n)};
+  Partials p{&d, &s, n, std::vector<Mat6>(n)};
+  p.H0m_qdot = s.H0m * s.qdot;
   double links = 0.0;
   Vec3 S = Vec3::Zero();
   for (int b = 1; b <= n; ++b) {
@@ -60,16 +91,16 @@ inline Partials nidc_partials(const Tree& t, const State& s, const Derivatives& 
   }
   const Mat3 SX = skew(S);
   for (int k = 0; k < n; ++k) {
+    p.turn.push_back(D.row(k).tail<3>().transpose());
     Mat6 Delta = Mat6::Zero();
-    Delta.topLeftCorner<3, 3>() = Delta.bottomRightCorner<3, 3>() = skew(D.row(k).tail<3>().transpose());
+    Delta.topLeftCorner<3, 3>() = Delta.bottomRightCorner<3, 3>() = skew(p.turn[k]);
     p.dH0_aug[k] = Eigen::Map<const RowMat6>(d.dH0.data() + 36 * k) + Delta * s.H0 - s.H0 * Delta;
-    p.dH0m_aug[k] = Eigen::Map<const MatX>(d.dH0m.data() + static_cast<size_t>(6) * n * k, 6, n) + Delta * s.H0m;
     if (translation) {
-      const Mat3 delta = skew(D.row(k).head<3>().transpose());
+      p.shift.push_back(D.row(k).head<3>().transpose());
+      const Mat3 delta = skew(p.shift[k]);
       p.dH0_aug[k].topRightCorner<3, 3>() += links * delta;
       p.dH0_aug[k].bottomLeftCorner<3, 3>() -= links * delta;
       p.dH0_aug[k].bottomRightCorner<3, 3>() += delta * SX + SX * delta;
-      p.dH0m_aug[k].bottomRows<3>() -= delta * s.H0m.topRows<3>();
     }
   }
   return p;
@@ -79,7 +110,7 @@ inline Partials nidc_partials(const Tree& t, const State& s, const Derivatives& 
 inline VecX quadratic_form(const State& s, const Partials& p, int n) {
   VecX out(n);
   for (int k = 0; k < n; ++k)
-    out[k] = s.x0dot.dot(p.dH0(k) * s.x0dot) + 2.0 * s.x0dot.dot(p.dH0m(k) * s.qdot) + p.d->dHm_form(k, s.qdot);
+    out[k] = s.x0dot.dot(p.dH0(k) * s.x0dot) + 2.0 * s.x0dot.dot(p.dH0m_qdot(k)) + p.d->dHm_form(k, s.qdot);
   return out;
 }
 
@@ -88,7 +119,7 @@ inline MatX sensitivity(const State& s, const Partials& p, int n) {
   const Vec6 base_rate = s.H0_ldlt.solve(s.H0m * s.qdot);
   MatX out(n, 6);
   for (int k = 0; k < n; ++k)
-    out.row(k) = s.H0_ldlt.solve(p.dH0(k) * base_rate - p.dH0m(k) * s.qdot).transpose();
+    out.row(k) = s.H0_ldlt.solve(p.dH0(k) * base_rate - p.dH0m_qdot(k)).transpose();
   return out;
 }
 
@@ -104,19 +135,15 @@ inline ModelResult underactuated(const Tree& t, const State& s, const Derivative
   const int n = t.n;
   const bool nidc = variant == Variant::nidc || variant == Variant::nidc_translation;
   const bool full = variant == Variant::standard_full_hdot || variant == Variant::standard_corrected;
-  const Partials p = nidc ? nidc_partials(t, s, d, D, variant == Variant::nidc_translation) : gjm_partials(t, d);
+  const Partials p = nidc ? nidc_partials(t, s, d, D, variant == Variant::nidc_translation) : gjm_partials(t, s, d);
   Mat6 H0dot;
   MatX H0mdot, Hmdot;
   if (full) {
     H0dot = d.H0dot, H0mdot = d.H0mdot, Hmdot = d.Hmdot;
   } else {  // sum_k dH/dq_k qdot_k: the base's rotation left out
     H0dot.setZero();
-    H0mdot.setZero(6, n);
-    Hmdot.setZero(n, n);
-    for (int k = 0; k < n; ++k) {
-      H0dot += s.qdot[k] * p.dH0(k);
-      H0mdot += s.qdot[k] * p.dH0m(k);
-    }
+    for (int k = 0; k < n; ++k) H0dot += s.qdot[k] * p.dH0(k);
+    H0mdot = p.dH0m_sum(s.qdot);
     Hmdot = d.Hmdot;  // dHm does not depend on the base rotation
   }
   Vec6 c0 = Vec6::Zero();

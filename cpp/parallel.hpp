@@ -191,17 +191,18 @@ struct Mechanism {
     }
   }
 
-  // _dynamics_terms at qd after closure(q): b (m), M' (n_q, n_q), v' + g' (n_q).
-  void dynamics(const double* qd, DVec& b, DMat& M, DVec& vg) {
+  // _dynamics_terms at qd after closure(q): b (m), M' (n_q, n_q), v' (n_q), g' (n_q).
+  void dynamics(const double* qd, DVec& b, DMat& M, DVec& v, DVec& g) {
     const int nc = static_cast<int>(chains.size());
     DVec& tip_c = tip_c_buf;
     DVec& tip_dw = tip_dw_buf;
     tip_c.resize(3 * nc);
     tip_dw.resize(3 * nc);
     M.setZero(n_q, n_q);
-    vg.resize(n_q);
+    v.setZero(n_q);
+    g.resize(n_q);
     M.topLeftCorner(p, p) = platform_mass;
-    vg.head(p) = platform_gravity;
+    g.head(p) = platform_gravity;
     int col = p;
     for (int c = 0; c < nc; ++c) {
       chain_dynamics(chains[c], qd + col, states[c]);
@@ -209,7 +210,8 @@ struct Mechanism {
       tip_dw.segment<3>(3 * c) = states[c].tip_dw;
       const int nu = chains[c].nu;
       M.block(col, col, nu, nu) = states[c].M;
-      vg.segment(col, nu) = states[c].v + states[c].g;
+      v.segment(col, nu) = states[c].v;
+      g.segment(col, nu) = states[c].g;
       col += nu;
     }
     b.resize(m());
@@ -238,10 +240,11 @@ struct Mechanism {
 
   // forward: qddot (n_q) under efforts tau (k), eq 129 with lambda = baumgarte.
   DVec forward(const double* q, const double* qd, const double* tau, double baumgarte) {
-    DVec residual, b, vg;
+    DVec residual, b, v, g;
     DMat A, M;
     closure(q, residual, A);
-    dynamics(qd, b, M, vg);
+    dynamics(qd, b, M, v, g);
+    const DVec vg = v + g;
     const DMat C = velocity_map(A, passive_lu(A));
     const DVec u = U * Eigen::Map<const DVec>(tau, U.cols());
     DVec rates = A * Eigen::Map<const DVec>(qd, n_q);
@@ -267,12 +270,13 @@ struct Mechanism {
   // inverse with the closure (A and the chains' frames) already evaluated at q.
   void inverse_at(const DMat& A, const double* qd_sharp, const double* qdd_sharp, DVec& tau, DVec& qd, DVec& qdd,
                   DMat& C) {
-    DVec b, vg;
+    DVec b, v, g;
     DMat M;
     const Eigen::PartialPivLU<DMat> lu = passive_lu(A);
     C = velocity_map(A, lu);
     qd = C * Eigen::Map<const DVec>(qd_sharp, p);
-    dynamics(qd.data(), b, M, vg);
+    dynamics(qd.data(), b, M, v, g);
+    const DVec vg = v + g;
     qdd = C * Eigen::Map<const DVec>(qdd_sharp, p);
     qdd.tail(n_q - p) += lu.solve(b);
     const DMat CT = C.transpose();

@@ -74,3 +74,21 @@ def multi_arm_robot(arms: int, folder: Path):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         return load_robot(path, visuals=False)
+
+
+def growth_axes(ax, ylabel: str) -> None:
+    """Finish an axis of a size sweep: joints on a log2 scale, ``ylabel``, title and legend."""
+    ax.set_xscale("log", base=2)
+    ax.set_xlabel("joints (4 per arm: 2, 4, 8, 16 arms)")
+    ax.set_ylabel(ylabel)
+    ax.set_title("growth with robot size")
+    ax.legend(fontsize=8)
+
+
+def save_chart(fig, path: Path) -> None:
+    """Lay out, write (120 dpi) and close a matplotlib figure."""
+    import matplotlib.pyplot as plt
+
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)

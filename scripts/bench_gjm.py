@@ -29,7 +29,7 @@ from pathlib import Path
 
 import numpy as np
 import pinocchio as pin
-from bench_common import ARM_COUNTS, multi_arm_robot, parser, per_call, side_by_side, write_json
+from bench_common import ARM_COUNTS, growth_axes, multi_arm_robot, parser, per_call, save_chart, side_by_side, write_json
 from threadpoolctl import threadpool_limits
 
 from freefloat import gjm, load_robot
@@ -96,12 +96,8 @@ def chart(rows: list[dict], path: Path) -> None:
     for key, style in (("compiled", "o-"), ("numpy", "s--"), ("pinocchio_calls", "k^-"), ("compiled_derivatives", "o-"),
                        ("numpy_derivatives", "s--"), ("crba", "kv:")):
         left.plot(joints, [r["seconds_per_call"][key] * 1e6 for r in growth], style, label=key)
-    left.set_xscale("log", base=2)
     left.set_yscale("log")
-    left.set_xlabel("joints (4 per arm: 2, 4, 8, 16 arms)")
-    left.set_ylabel("time per call [us]")
-    left.set_title("growth with robot size")
-    left.legend(fontsize=8)
+    growth_axes(left, "time per call [us]")
     for i, key in enumerate(("compiled_over_pinocchio_calls", "numpy_over_pinocchio_calls", "compiled_derivatives_over_crba",
                              "numpy_derivatives_over_crba")):
         right.bar(np.arange(len(rows)) + 0.2 * i, [r["ratios"][key] for r in rows], 0.2, label=key)
@@ -109,9 +105,7 @@ def chart(rows: list[dict], path: Path) -> None:
     right.set_yscale("log")
     right.set_ylabel("ratio to the Pinocchio floor")
     right.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    save_chart(fig, path)
 
 
 def robots(folder: Path):

@@ -19,7 +19,7 @@ import warnings
 from pathlib import Path
 
 import numpy as np
-from bench_common import ARM_COUNTS, multi_arm_robot, parser, per_call, side_by_side, write_json
+from bench_common import ARM_COUNTS, growth_axes, multi_arm_robot, parser, per_call, save_chart, side_by_side, write_json
 from threadpoolctl import threadpool_limits
 
 from freefloat import load_robot
@@ -72,14 +72,8 @@ def chart(rows: list[dict], path: Path) -> None:
     joints = [r["n_joints"] for r in growth]
     for model_name in ("standard", "standard_corrected", "nidc", "momentum_routh"):
         right.plot(joints, [r["compiled_over_aba"][model_name] for r in growth], "o-", label=model_name)
-    right.set_xscale("log", base=2)
-    right.set_xlabel("joints (4 per arm: 2, 4, 8, 16 arms)")
-    right.set_ylabel("compiled time / pin.aba")
-    right.set_title("growth with robot size")
-    right.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    growth_axes(right, "compiled time / pin.aba")
+    save_chart(fig, path)
 
 
 def main() -> None:

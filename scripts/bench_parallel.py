@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import numpy as np
 import pinocchio as pin
-from bench_common import parser, per_call, side_by_side, write_json
+from bench_common import parser, per_call, save_chart, side_by_side, write_json
 from threadpoolctl import threadpool_limits
 
 from freefloat.parallel import rsu_ppap
@@ -167,9 +167,7 @@ def main() -> None:
     a3.set_xlabel("turns of eq 189's circle in 4000 points")
     a3.set_ylabel("inverse_trajectory points per second (5R)")
     a3.legend(fontsize=7)
-    fig.tight_layout()
-    fig.savefig(args.out / "bench_parallel.png", dpi=120)
-    plt.close(fig)
+    save_chart(fig, args.out / "bench_parallel.png")
     for n in names:
         f, c, r = report[n]["forward"], report[n]["inverse_compiled"], report[n]["inverse_numpy"]
         print(f"{n}: forward compiled {f['compiled_s'] * 1e6:.1f} us, numpy {f['numpy_s'] * 1e6:.0f} us, Pinocchio "

@@ -20,8 +20,9 @@ KINEMATICS = ("r0", "R0", "rotation", "origin", "joint_position", "joint_axis", 
 
 
 def close(a: np.ndarray, b: np.ndarray) -> bool:
-    """Equal to 1e-12 relative to the larger magnitude (at least 1)."""
-    return np.abs(a - b).max(initial=0.0) <= 1e-12 * max(1.0, np.abs(b).max(initial=0.0))
+    """Same shape, and equal to 1e-12 relative to the larger magnitude (at least 1)."""
+    a, b = np.asarray(a), np.asarray(b)
+    return a.shape == b.shape and np.abs(a - b).max(initial=0.0) <= 1e-12 * max(1.0, np.abs(b).max(initial=0.0))
 
 
 def both_backends(factory, case, base, fn):

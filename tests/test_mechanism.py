@@ -170,8 +170,9 @@ def mechanisms_on_their_paths():
 
 @pytest.mark.parametrize(("name", "mech", "path", "guess"), mechanisms_on_their_paths())
 def test_compiled_points_equal_the_numpy_reference(name, mech, path, guess):
-    """At poses along each path, the compiled assembly, forward dynamics (eq 129, Baumgarte 100)
-    and inverse dynamics (eqs 130-140) equal the numpy reference to 1e-12 relative."""
+    """At poses along each path, the compiled assembly, closure (residual and A), terms
+    (A, b, C, M', v', g'), forward dynamics (eq 129, Baumgarte 100) and inverse dynamics
+    (eqs 130-140) equal the numpy reference to 1e-12 relative."""
     assert mech.core is not None and mech.reference().core is None
     ref, rng = mech.reference(), np.random.default_rng(5)
     x, xd, xdd = path
@@ -179,6 +180,9 @@ def test_compiled_points_equal_the_numpy_reference(name, mech, path, guess):
         q = mech.assemble(x[i], guess)
         np.testing.assert_allclose(q, ref.assemble(x[i], guess), atol=1e-12)
         qd = ref.velocity_map(q) @ xd[i]
+        perturbed = q + 1e-3 * rng.normal(size=len(q))  # off the manifold: a nonzero residual
+        for ours, theirs in [*zip(mech._closure(perturbed), ref._closure(perturbed)), *zip(mech.terms(q, qd), ref.terms(q, qd))]:
+            assert np.abs(ours - theirs).max() <= 1e-12 * max(1.0, np.abs(theirs).max()), name
         tau = rng.normal(size=len(mech.actuated))
         expected = ref.forward(q, qd, tau, 100.0)
         assert np.abs(mech.forward(q, qd, tau, 100.0) - expected).max() <= 1e-12 * np.abs(expected).max(), name

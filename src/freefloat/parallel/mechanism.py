@@ -160,6 +160,8 @@ class ParallelMechanism:
         bias (..., m) with ``A qdd = b`` (linear rows first, then angular); velocity map
         (..., n_q, p) with ``qd = C qd#``; mass matrix (..., n_q, n_q), velocity and gravity
         terms (..., n_q). Coordinates ordered [q#; chain 1; chain 2; ...]; any leading batch axes."""
+        if (core := self._point_core(q)) is not None:
+            return core.terms(q, qd)
         kins = self._kinematics(q, qd)
         A = self._constraint_jacobian(kins)
         b, blocks, v, g = self._dynamics_terms(kins, np.shape(q)[:-1])
@@ -203,6 +205,8 @@ class ParallelMechanism:
         """``[qbar; orientation residual]`` (..., m) and the constraint Jacobian A (..., m, n_q)
         at ``q``, from one pass over each chain's frames (what a Newton step needs; ``frames``:
         each chain's :meth:`SerialChain.frames` at q, if already evaluated)."""
+        if frames is None and (core := self._point_core(q)) is not None:
+            return core.closure(q)
         frames = frames or [None] * len(self.chains)
         tips = [c.tip_jacobians(qi, f) for c, qi, f in zip(self.chains, self.split(q), frames)]
         kins = [{"tip_Jv": Jv, "tip_Jw": Jw} for _, _, Jv, Jw in tips]
