@@ -29,7 +29,16 @@ from pathlib import Path
 
 import numpy as np
 import pinocchio as pin
-from bench_common import ARM_COUNTS, growth_axes, multi_arm_robot, parser, per_call, save_chart, side_by_side, write_json
+from bench_common import (
+    ARM_COUNTS,
+    growth_axes,
+    multi_arm_robot,
+    parser,
+    per_call,
+    save_chart,
+    side_by_side,
+    write_json,
+)
 from threadpoolctl import threadpool_limits
 
 from freefloat import gjm, load_robot

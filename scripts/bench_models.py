@@ -19,7 +19,16 @@ import warnings
 from pathlib import Path
 
 import numpy as np
-from bench_common import ARM_COUNTS, growth_axes, multi_arm_robot, parser, per_call, save_chart, side_by_side, write_json
+from bench_common import (
+    ARM_COUNTS,
+    growth_axes,
+    multi_arm_robot,
+    parser,
+    per_call,
+    save_chart,
+    side_by_side,
+    write_json,
+)
 from threadpoolctl import threadpool_limits
 
 from freefloat import load_robot
