@@ -504,3 +504,37 @@ def test_error_figure_skipped_without_references(iiwa2, tmp_path):
     written = write_figures(iiwa2, _telemetry(iiwa2, references=False), tmp_path)
     assert sorted(p.name for p in tmp_path.iterdir()) == sorted(p.name for p in written)
     assert "joint_errors.png" not in [p.name for p in written] and len(written) == 10
+
+
+def test_figures_rendered_in_two_processes_are_all_written(tmp_path, monkeypatch):
+    """save_all writes every figure, half of them from a forked child; when the child fails, this
+    process writes the child's share itself."""
+    import os
+
+    from matplotlib.figure import Figure
+
+    from freefloat.app.viz import plotting
+
+    def figures():
+        out = {}
+        for i in range(5):
+            fig = Figure()
+            fig.add_subplot().plot([0, 1], [0, i])
+            out[f"f{i}"] = fig
+        return out
+
+    expected = {f"f{i}.{fmt}" for i in range(5) for fmt in plotting.FORMATS}
+    (tmp_path / "a").mkdir()
+    written = plotting.save_all(figures(), tmp_path / "a")
+    assert {p.name for p in written} == expected == {p.name for p in (tmp_path / "a").iterdir()}
+    parent, real = os.getpid(), plotting.save
+
+    def child_fails(fig, out_dir, stem):
+        if os.getpid() != parent:
+            raise RuntimeError("planted failure in the child")
+        return real(fig, out_dir, stem)
+
+    monkeypatch.setattr(plotting, "save", child_fails)
+    (tmp_path / "b").mkdir()
+    plotting.save_all(figures(), tmp_path / "b")
+    assert {p.name for p in (tmp_path / "b").iterdir()} == expected
