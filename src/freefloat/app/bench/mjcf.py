@@ -71,7 +71,7 @@ def balanced_model(model: pin.Model) -> pin.Model:
     CoM are kept. This changes the robot: the warning gives the largest relative change.
     """
     copy = model.copy()
-    changes = []
+    changes = {}
     for name, _ in triangle_violations(model):
         j = model.getJointId(name)
         inertia = model.inertias[j]
@@ -79,10 +79,11 @@ def balanced_model(model: pin.Model) -> pin.Model:
         deficit = moments[2] - moments[0] - moments[1]
         raised = moments + np.array([0.5, 0.5, 0.0]) * deficit * (1.0 + 1e-9)
         copy.inertias[j] = pin.Inertia(inertia.mass, inertia.lever, axes @ np.diag(raised) @ axes.T)
-        changes.append(f"{name} (+{0.5 * deficit / moments[0]:.0%} on its least moment)")
+        changes[name] = 0.5 * deficit / moments[0]
     if changes:
-        warnings.warn("inertias break the triangle inequality (MuJoCo refuses them); compared on a balanced "
-                      f"copy, on both sides (bodies moved by joints): {', '.join(changes)}", InertiaBalanceWarning, stacklevel=2)
+        warnings.warn(f"the inertias of {len(changes)} bodies (moved by {', '.join(changes)}) break the triangle "
+                      "inequality and MuJoCo refuses them; both sides use a balanced copy whose least principal "
+                      f"moments are raised by up to {max(changes.values()):.1%}", InertiaBalanceWarning, stacklevel=2)
     return copy
 
 

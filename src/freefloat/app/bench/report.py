@@ -17,7 +17,7 @@ from .summary import band_rows, summary_lines
 from .sweep import Point, sweep
 
 #: Steps (s) and dopri5 tolerances of a full sweep and of ``--quick``.
-STEPS = (1e-2, 5e-3, 2e-3, 1e-3, 5e-4, 2e-4)
+STEPS = (5e-2, 2e-2, 1e-2, 5e-3, 2e-3, 1e-3, 5e-4, 2e-4, 1e-4)
 RTOLS = (1e-4, 1e-6, 1e-8, 1e-10, 1e-12)
 QUICK_STEPS = (2e-2, 1e-2, 5e-3)
 QUICK_RTOLS = (1e-6, 1e-9)
@@ -69,7 +69,7 @@ def bench(out: Path, scenes: list[str] | None = None, quick: bool = False, durat
         scenes: names from :data:`.scenes.SCENES` (default: all).
         quick: three steps, two tolerances, 0.1 s, one repeat (a smoke test).
         duration: simulated time per run, s (default 1 s, 0.1 s with ``quick``).
-        repeats: runs per point; the median time counts (default 3, 1 with ``quick``).
+        repeats: runs per point; the median time counts (default 5, 1 with ``quick``).
         seed: initial-state seed.
         progress: called with one line per finished scene.
 
@@ -79,7 +79,7 @@ def bench(out: Path, scenes: list[str] | None = None, quick: bool = False, durat
     names = list(scenes or SCENES)
     steps, rtols = (QUICK_STEPS, QUICK_RTOLS) if quick else (STEPS, RTOLS)
     duration = duration if duration is not None else (0.1 if quick else 1.0)
-    repeats = repeats if repeats is not None else (1 if quick else 3)
+    repeats = repeats if repeats is not None else (1 if quick else 5)
     scenes_built = [tumbling_scene(name, duration, seed) for name in names]  # bad names fail before any run
     if out.exists() and (not out.is_dir() or any(out.iterdir())):
         raise InvalidArgument(f"{out}: output folder exists and is not empty")

@@ -40,12 +40,12 @@ SCENES = {
 
 
 def random_state(model: pin.Model, seed: int) -> tuple[np.ndarray, np.ndarray]:
-    """Seeded state: joints uniform in +-0.5 rad, base rate ~0.3 rad/s, joint rates ~0.3 rad/s,
-    base linear velocity ~0.05 m/s (all normal, so the momentum is non-zero)."""
+    """Seeded state: joints uniform in +-0.5 rad; base rates and joint rates normal with 0.5 rad/s
+    standard deviation, base linear velocity with 0.05 m/s (so the momentum is non-zero)."""
     rng = np.random.default_rng(seed)
     q = pin.neutral(model)
     q[7:] = rng.uniform(-0.5, 0.5, model.nq - 7)
-    v = np.concatenate([rng.normal(0.0, 0.05, 3), rng.normal(0.0, 0.3, 3), rng.normal(0.0, 0.3, model.nv - 6)])
+    v = np.concatenate([rng.normal(0.0, 0.05, 3), rng.normal(0.0, 0.5, 3), rng.normal(0.0, 0.5, model.nv - 6)])
     return q, v
 
 

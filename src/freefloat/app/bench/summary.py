@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import asdict, dataclass
 
 from .sweep import Point
 
@@ -20,10 +20,13 @@ class Cheapest:
         wall_time: wall time at which the error reaches the band, s, interpolated in log-log
             between the two measured points of that method that bracket it (the measured time
             when its cheapest point is already under the band).
+        upper_bound: True when the method's cheapest measured point is already under the band, so
+            a coarser setting (outside the sweep) could reach it for less.
     """
 
     label: str
     wall_time: float
+    upper_bound: bool
 
 
 def time_to_reach(points: list[Point], band: float) -> float:
@@ -55,7 +58,8 @@ def cheapest(points: list[Point], package: str, band: float) -> Cheapest | None:
     if not finite:
         return None
     label = min(finite, key=finite.__getitem__)
-    return Cheapest(label, finite[label])
+    first = min(curves[label], key=lambda p: p.wall_time)
+    return Cheapest(label, finite[label], first.state_error <= band)
 
 
 def band_rows(points: list[Point], bands: tuple[float, ...] = BANDS) -> list[dict]:
@@ -66,20 +70,23 @@ def band_rows(points: list[Point], bands: tuple[float, ...] = BANDS) -> list[dic
         ff, mj = cheapest(points, "freefloat", band), cheapest(points, "mujoco", band)
         rows.append({
             "band": band,
-            "freefloat": None if ff is None else {"method": ff.label, "wall_time": ff.wall_time},
-            "mujoco": None if mj is None else {"method": mj.label, "wall_time": mj.wall_time},
+            "freefloat": None if ff is None else asdict(ff),
+            "mujoco": None if mj is None else asdict(mj),
             "mujoco_speedup": None if ff is None or mj is None else ff.wall_time / mj.wall_time,
         })
     return rows
 
 
 def summary_lines(scene: str, rows: list[dict]) -> list[str]:
-    """One readable line per band."""
+    """One readable line per band ("at most": reached by the method's coarsest measured setting)."""
     lines = []
     for row in rows:
         ff, mj, ratio = row["freefloat"], row["mujoco"], row["mujoco_speedup"]
         def say(side, package):
-            return f"{package} not reached" if side is None else f"{side['method']} {side['wall_time'] * 1e3:.3g} ms"
+            if side is None:
+                return f"{package} not reached"
+            bound = "at most " if side["upper_bound"] else ""
+            return f"{side['label']} {bound}{side['wall_time'] * 1e3:.3g} ms"
         verdict = "" if ratio is None else (f": MuJoCo {ratio:.2f}x faster" if ratio >= 1.0
                                             else f": freefloat {1.0 / ratio:.2f}x faster")
         lines.append(f"{scene} error <= {row['band']:.0e}: {say(ff, 'freefloat')}, {say(mj, 'mujoco')}{verdict}")
