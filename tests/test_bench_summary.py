@@ -46,7 +46,7 @@ def test_band_ratio_says_which_package_is_faster():
 
 
 def test_band_met_by_the_coarsest_point_is_an_upper_bound():
-    """A band the cheapest measured point already meets is flagged and said "at most"."""
+    """A band the coarsest measured setting already meets is flagged and said "at most"."""
     rows = band_rows(_curve("freefloat", "rkmk4", 1e-3, 4.0) + _curve("mujoco", "RK4", 1e-3, 4.0), (1e-1,))
     assert rows[0]["freefloat"]["upper_bound"] and rows[0]["mujoco"]["upper_bound"]
     assert "rkmk4 at most" in summary_lines("s", rows)[0]

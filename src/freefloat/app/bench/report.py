@@ -35,7 +35,8 @@ def _row(scene: str, p: Point) -> dict:
 
 
 def chart(scene: str, points: list[Point], path: Path) -> None:
-    """Log-log work-precision chart: wall time against final-state error, one curve per method."""
+    """Log-log work-precision chart: wall time against final-state error, one curve per method
+    (points joined from the coarsest step or tolerance to the finest)."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -46,7 +47,7 @@ def chart(scene: str, points: list[Point], path: Path) -> None:
     for p in points:
         curves.setdefault(p.method.label, []).append(p)
     for label, curve in curves.items():
-        curve = sorted(curve, key=lambda p: p.wall_time)
+        curve = sorted(curve, key=lambda p: -p.method.setting)
         style = "-o" if label.startswith("freefloat") else "--s"
         ax.loglog([p.state_error for p in curve], [p.wall_time * 1e3 for p in curve], style, label=label, ms=4)
     ax.set_xlabel("final-state error against dopri5 at rtol 1e-13")

@@ -20,7 +20,7 @@ class Cheapest:
         wall_time: wall time at which the error reaches the band, s, interpolated in log-log
             between the two measured points of that method that bracket it (the measured time
             when its cheapest point is already under the band).
-        upper_bound: True when the method's cheapest measured point is already under the band, so
+        upper_bound: True when the method's coarsest measured setting is already under the band, so
             a coarser setting (outside the sweep) could reach it for less.
     """
 
@@ -32,10 +32,11 @@ class Cheapest:
 def time_to_reach(points: list[Point], band: float) -> float:
     """Least wall time (s) at which one method's curve has a state error <= ``band`` (inf if never).
 
-    ``points`` are one method's measurements; consecutive points in time order that bracket the
-    band are interpolated linearly in (log time, log error).
+    ``points`` are one method's measurements; consecutive points from the coarsest setting (largest
+    step or tolerance) to the finest that bracket the band are interpolated linearly in
+    (log time, log error).
     """
-    curve = sorted((p.wall_time, p.state_error) for p in points)
+    curve = [(p.wall_time, p.state_error) for p in sorted(points, key=lambda p: -p.method.setting)]
     best = math.inf
     for i, (t, e) in enumerate(curve):
         if e <= band:
@@ -58,7 +59,7 @@ def cheapest(points: list[Point], package: str, band: float) -> Cheapest | None:
     if not finite:
         return None
     label = min(finite, key=finite.__getitem__)
-    first = min(curves[label], key=lambda p: p.wall_time)
+    first = max(curves[label], key=lambda p: p.method.setting)
     return Cheapest(label, finite[label], first.state_error <= band)
 
 
@@ -78,7 +79,7 @@ def band_rows(points: list[Point], bands: tuple[float, ...] = BANDS) -> list[dic
 
 
 def summary_lines(scene: str, rows: list[dict]) -> list[str]:
-    """One readable line per band ("at most": reached by the method's coarsest measured setting)."""
+    """One readable line per band ("at most": met by the method's coarsest measured setting)."""
     lines = []
     for row in rows:
         ff, mj, ratio = row["freefloat"], row["mujoco"], row["mujoco_speedup"]
