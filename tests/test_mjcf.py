@@ -21,7 +21,7 @@ from freefloat.app.bench.mjcf import (
 )
 from freefloat.app.bench.mujoco_state import to_mujoco, velocity_map
 
-from .conftest import random_robots, random_state, robot_from_case
+from .conftest import load_text, random_robots, random_state, robot_from_case
 
 
 def _robot(name: str, base: str = "free"):
@@ -109,3 +109,14 @@ def test_planar_base_is_refused_naming_the_file():
     """A planar-base robot has no MuJoCo free joint: the error names the URDF and the base."""
     with pytest.raises(RobotModelError, match="two_arm_planar.urdf.*base='free'"):
         mjcf(_robot("two_arm_planar", base="planar"))
+
+
+def test_continuous_joint_is_refused_naming_it(tmp_path):
+    """A continuous joint ((cos, sin) in Pinocchio) has no MuJoCo hinge here: the error names it."""
+    inertial = '<inertial><mass value="1"/><inertia ixx="1" iyy="1" izz="1" ixy="0" ixz="0" iyz="0"/></inertial>'
+    text = (f'<robot name="r"><link name="base">{inertial}</link><link name="l1">{inertial}</link>'
+            '<joint name="spin &amp; roll" type="continuous"><parent link="base"/><child link="l1"/>'
+            '<axis xyz="0 0 1"/></joint></robot>')
+    robot = load_text(tmp_path, text)
+    with pytest.raises(RobotModelError, match="joint 'spin & roll'"):
+        mjcf(robot)

@@ -55,7 +55,8 @@ def _steps(scene: TumblingScene, h: float) -> int:
 
 
 def freefloat_run(scene: TumblingScene, integrator: str, setting: float) -> Run:
-    """Run of freefloat's ``integrator`` (fresh each call, so dopri5 carries no step size over)."""
+    """Run of freefloat's ``integrator`` at step ``setting`` (s), or for dopri5 at rtol ``setting``
+    and atol ``setting / 100``; built fresh each call, so dopri5 carries no step size over."""
     f = _torque_free(scene.model)
 
     def run():
@@ -101,10 +102,9 @@ def reference(scene: TumblingScene) -> tuple[np.ndarray, np.ndarray]:
     return stepper.advance(_torque_free(scene.model), scene.q0, scene.v0, scene.duration)
 
 
-def methods(steps: tuple[float, ...], rtols: tuple[float, ...], with_mujoco: bool = True) -> list[Method]:
-    """Every method of a sweep: each fixed-step integrator at each step, dopri5 at each rtol."""
+def methods(steps: tuple[float, ...], rtols: tuple[float, ...]) -> list[Method]:
+    """Every method of a sweep: each fixed-step integrator of both packages at each step, dopri5 at
+    each rtol."""
     points = [Method("freefloat", name, h) for name in FREEFLOAT_FIXED for h in steps]
     points += [Method("freefloat", name, rtol) for name in FREEFLOAT_ADAPTIVE for rtol in rtols]
-    if with_mujoco:
-        points += [Method("mujoco", name, h) for name in MUJOCO for h in steps]
-    return points
+    return points + [Method("mujoco", name, h) for name in MUJOCO for h in steps]

@@ -15,6 +15,7 @@ runs on that copy on both sides.
 from __future__ import annotations
 
 import warnings
+from xml.sax.saxutils import quoteattr
 
 import numpy as np
 import pinocchio as pin
@@ -49,7 +50,7 @@ def joint_axis(model: pin.Model, joint_id: int) -> tuple[str, np.ndarray]:
     if kind in ("RevoluteUnaligned", "PrismaticUnaligned"):
         return ("hinge" if kind[0] == "R" else "slide"), np.asarray(joint.extract().axis, dtype=float)
     raise RobotModelError(f"joint '{name}' ({kind}): no MuJoCo equivalent in the MJCF export "
-                          "(revolute and prismatic joints with bounded angles only)")
+                          "(revolute and prismatic joints only; a continuous joint's (cos, sin) has none)")
 
 
 def triangle_violations(model: pin.Model, tol: float = 0.0) -> list[tuple[str, np.ndarray]]:
@@ -94,13 +95,14 @@ def _body(model: pin.Model, joint_id: int, children: dict[int, list[int]], inden
         raise RobotModelError(f"joint '{model.names[joint_id]}' moves a body of zero mass: MuJoCo refuses it")
     quat = pin.Quaternion(placement.rotation)
     body_i = inertia.inertia
-    lines = [f'{indent}<body name="{model.names[joint_id]}" pos="{_num(placement.translation)}" '
+    name = quoteattr(model.names[joint_id])
+    lines = [f'{indent}<body name={name} pos="{_num(placement.translation)}" '
              f'quat="{_num([quat.w, quat.x, quat.y, quat.z])}">']
     if joint_id == 1:
-        lines.append(f'{indent}  <freejoint name="{model.names[1]}"/>')
+        lines.append(f'{indent}  <freejoint name={name}/>')
     else:
         kind, axis = joint_axis(model, joint_id)
-        lines.append(f'{indent}  <joint name="{model.names[joint_id]}" type="{kind}" axis="{_num(axis)}" '
+        lines.append(f'{indent}  <joint name={name} type="{kind}" axis="{_num(axis)}" '
                      'limited="false"/>')
     lines.append(f'{indent}  <inertial pos="{_num(inertia.lever)}" mass="{inertia.mass:.17g}" fullinertia="'
                  f'{_num([body_i[0, 0], body_i[1, 1], body_i[2, 2], body_i[0, 1], body_i[0, 2], body_i[1, 2]])}"/>')
@@ -130,7 +132,7 @@ def mjcf_from_model(model: pin.Model, name: str = "robot", timestep: float = 1e-
     for j in range(2, model.njoints):
         children.setdefault(model.parents[j], []).append(j)
     return "\n".join([
-        f'<mujoco model="{name}">',
+        f"<mujoco model={quoteattr(name)}>",
         '  <compiler angle="radian" autolimits="false"/>',
         f'  <option gravity="0 0 0" timestep="{timestep:.17g}" integrator="{integrator}">',
         '    <flag contact="disable" constraint="disable" energy="enable"/>',
