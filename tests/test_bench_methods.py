@@ -3,6 +3,7 @@ final state, and the Runge-Kutta methods' errors fall with the step at their ord
 
 from __future__ import annotations
 
+import dataclasses
 import warnings
 
 import numpy as np
@@ -59,3 +60,11 @@ def test_reference_is_reproducible(scene, ref):
     """A second reference run gives the same final state to the last bit (no hidden state)."""
     again = reference(scene)
     assert np.array_equal(again[0], ref[0]) and np.array_equal(again[1], ref[1])
+
+
+def test_unstable_mujoco_run_counts_as_diverged(scene, ref):
+    """MuJoCo's Euler at 50 ms on a 300x faster start blows up: the point gets infinite errors,
+    not the error of the rest state MuJoCo silently resets to."""
+    fast = dataclasses.replace(scene, v0=300.0 * scene.v0)
+    point = measure(fast, Method("mujoco", "Euler", 0.05), ref, 1)
+    assert np.isinf(point.state_error) and point.wall_time > 0.0

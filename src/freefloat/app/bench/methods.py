@@ -71,7 +71,11 @@ def freefloat_run(scene: TumblingScene, integrator: str, setting: float) -> Run:
 
 def mujoco_run(scene: TumblingScene, integrator: str, h: float) -> Run:
     """Run of MuJoCo's ``integrator`` at step ``h`` on the scene's model (a Python loop of
-    ``mj_step``), from the scene's initial state mapped to MuJoCo's convention."""
+    ``mj_step``), from the scene's initial state mapped to MuJoCo's convention.
+
+    The run raises ``FloatingPointError`` when MuJoCo met a non-finite or huge acceleration (it
+    then silently resets the state to the model's rest state and goes on).
+    """
     import mujoco
 
     model = mujoco.MjModel.from_xml_string(mjcf_from_model(scene.model, scene.name, h, integrator))
@@ -84,6 +88,8 @@ def mujoco_run(scene: TumblingScene, integrator: str, h: float) -> Run:
         data.qpos[:], data.qvel[:] = qpos, qvel
         for _ in range(n):
             mujoco.mj_step(model, data)
+        if data.warning[mujoco.mjtWarning.mjWARN_BADQACC].number:  # MuJoCo reset the state and went on
+            raise FloatingPointError(f"MuJoCo {integrator} at h = {h} s went unstable (bad qacc) on {scene.name}")
         return from_mujoco(data.qpos.copy(), data.qvel.copy())
 
     return run
