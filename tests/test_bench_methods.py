@@ -62,9 +62,11 @@ def test_reference_is_reproducible(scene, ref):
     assert np.array_equal(again[0], ref[0]) and np.array_equal(again[1], ref[1])
 
 
-def test_unstable_mujoco_run_counts_as_diverged(scene, ref):
+def test_unstable_mujoco_run_counts_as_diverged(scene, ref, tmp_path, monkeypatch):
     """MuJoCo's Euler at 50 ms on a 300x faster start blows up: the point gets infinite errors,
-    not the error of the rest state MuJoCo silently resets to."""
+    not the error of the rest state MuJoCo silently resets to, and no MUJOCO_LOG.TXT is left."""
+    monkeypatch.chdir(tmp_path)
     fast = dataclasses.replace(scene, v0=300.0 * scene.v0)
     point = measure(fast, Method("mujoco", "Euler", 0.05), ref, 1)
     assert np.isinf(point.state_error) and point.wall_time > 0.0
+    assert not any(tmp_path.iterdir())

@@ -86,8 +86,13 @@ def mujoco_run(scene: TumblingScene, integrator: str, h: float) -> Run:
     def run():
         mujoco.mj_resetData(model, data)
         data.qpos[:], data.qvel[:] = qpos, qvel
-        for _ in range(n):
-            mujoco.mj_step(model, data)
+        handler = mujoco.get_mju_user_warning()
+        mujoco.set_mju_user_warning(lambda message: None)  # read from data.warning below, no MUJOCO_LOG.TXT
+        try:
+            for _ in range(n):
+                mujoco.mj_step(model, data)
+        finally:
+            mujoco.set_mju_user_warning(handler)
         if data.warning[mujoco.mjtWarning.mjWARN_BADQACC].number:  # MuJoCo reset the state and went on
             raise FloatingPointError(f"MuJoCo {integrator} at h = {h} s went unstable (bad qacc) on {scene.name}")
         return from_mujoco(data.qpos.copy(), data.qvel.copy())
