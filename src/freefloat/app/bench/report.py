@@ -35,27 +35,30 @@ def _row(scene: str, p: Point) -> dict:
 
 
 def chart(scene: str, points: list[Point], path: Path) -> None:
-    """Log-log work-precision chart: wall time against final-state error, one curve per method
-    (points joined from the coarsest step or tolerance to the finest)."""
+    """Log-log work-precision chart: wall time against final-state error (left) and against
+    momentum error (right), one curve per method (points joined from the coarsest step or
+    tolerance to the finest)."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, ax = plt.subplots(figsize=(7, 5))
+    fig, axes = plt.subplots(1, 2, figsize=(12, 5), sharey=True)
     curves: dict[str, list[Point]] = {}
     for p in points:
         curves.setdefault(p.method.label, []).append(p)
-    for label, curve in curves.items():
-        curve = sorted(curve, key=lambda p: -p.method.setting)
-        style = "-o" if label.startswith("freefloat") else "--s"
-        ax.loglog([p.state_error for p in curve], [p.wall_time * 1e3 for p in curve], style, label=label, ms=4)
-    ax.set_xlabel("final-state error against dopri5 at rtol 1e-13")
-    ax.set_ylabel("wall time per run, ms (median)")
-    ax.set_title(f"{scene}: work against precision")
-    ax.invert_xaxis()
-    ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=8)
+    for ax, field, what in ((axes[0], "state_error", "final-state error"),
+                            (axes[1], "momentum_error", "momentum error, kg m/s and kg m^2/s")):
+        for label, curve in curves.items():
+            curve = sorted(curve, key=lambda p: -p.method.setting)
+            style = "-o" if label.startswith("freefloat") else "--s"
+            ax.loglog([getattr(p, field) for p in curve], [p.wall_time * 1e3 for p in curve], style, label=label, ms=4)
+        ax.set_xlabel(f"{what} against dopri5 at rtol 1e-13")
+        ax.invert_xaxis()
+        ax.grid(True, which="both", alpha=0.3)
+    axes[0].set_ylabel("wall time per run, ms (median)")
+    axes[0].legend(fontsize=8)
+    fig.suptitle(f"{scene}: work against precision (freefloat and MuJoCo in one process)")
     fig.tight_layout()
     fig.savefig(path, dpi=120)
     plt.close(fig)
