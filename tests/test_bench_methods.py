@@ -70,3 +70,11 @@ def test_unstable_mujoco_run_counts_as_diverged(scene, ref, tmp_path, monkeypatc
     point = measure(fast, Method("mujoco", "Euler", 0.05), ref, 1)
     assert np.isinf(point.state_error) and point.wall_time > 0.0
     assert not any(tmp_path.iterdir())
+
+
+def test_both_packages_end_at_the_same_time_when_the_step_does_not_divide(scene, ref):
+    """At a step that does not divide the duration (30 ms into 0.2 s) both RK4s take 7 equal
+    steps and end with the same error to 1 %."""
+    ff = measure(scene, Method("freefloat", "rkmk4", 0.03), ref, 1).state_error
+    mj = measure(scene, Method("mujoco", "RK4", 0.03), ref, 1).state_error
+    assert ff == pytest.approx(mj, rel=0.01)

@@ -51,6 +51,7 @@ def _torque_free(model: pin.Model) -> Callable[[np.ndarray, np.ndarray], np.ndar
 
 
 def _steps(scene: TumblingScene, h: float) -> int:
+    """Number of equal steps of about ``h`` that fill the scene's duration."""
     return max(1, round(scene.duration / h))
 
 
@@ -78,10 +79,10 @@ def mujoco_run(scene: TumblingScene, integrator: str, h: float) -> Run:
     """
     import mujoco
 
-    model = mujoco.MjModel.from_xml_string(mjcf_from_model(scene.model, scene.name, h, integrator))
+    n = _steps(scene, h)  # timestep duration / n, as freefloat's substeps: both end at the same time
+    model = mujoco.MjModel.from_xml_string(mjcf_from_model(scene.model, scene.name, scene.duration / n, integrator))
     data = mujoco.MjData(model)
     qpos, qvel = to_mujoco(scene.q0, scene.v0)
-    n = _steps(scene, h)
 
     def run():
         mujoco.mj_resetData(model, data)
