@@ -3,7 +3,8 @@
 ``scenes`` (TOML schema, built-in scenes), ``experiments`` (one module per experiment kind and
 their registry), ``runner`` (the one loop life cycle: start, progress, interruption, partial
 results), ``outputs`` (the one run-folder writer), ``viz`` (meshcat pages, figures),
-``reproduce`` (the documents' studies) and ``cli`` (the ``freefloat`` command).
+``reproduce`` (the documents' studies), ``bench`` (side by side with MuJoCo) and ``cli`` (the
+``freefloat`` command).
 
 May import every layer below: :mod:`freefloat.space`, :mod:`freefloat.parallel`,
 :mod:`freefloat.dynamics`, :mod:`freefloat.robot`. Nothing imports it but the command line.

@@ -1,5 +1,5 @@
 """Command line: ``freefloat simulate [SCENE] [--out DIR]`` (robot and mechanism scenes),
-``freefloat scenes``, ``freefloat verify``, ``freefloat reproduce``."""
+``freefloat scenes``, ``freefloat verify``, ``freefloat reproduce``, ``freefloat bench``."""
 
 from __future__ import annotations
 
@@ -67,14 +67,34 @@ def main(argv: list[str] | None = None) -> int:
     rep.add_argument("--runs", type=int, default=20, help="robustness: Monte-Carlo runs (default 20)")
     rep.add_argument("--error", type=float, default=0.5, help="robustness: parameter error band (default 0.5 = 50 %%)")
     rep.add_argument("--scheduler", default=None, help="robustness: Dask scheduler address (default: a local cluster)")
+    ben = commands.add_parser("bench", help="freefloat's integrators against MuJoCo's: work-precision per scene")
+    ben.add_argument("scenes", nargs="*", metavar="SCENE", help="four_arm, dual_arm (default: both)")
+    ben.add_argument("--quick", action="store_true", help="three steps, 0.1 s, one repeat (a smoke test)")
+    ben.add_argument("--out", type=Path, default=None, help="output folder (default: runs/bench-<time>)")
     args = parser.parse_args(argv)
-    commands_run = {"simulate": _simulate, "scenes": lambda _: _scenes(), "verify": _verify, "reproduce": _reproduce,
+    commands_run = {"simulate": _simulate, "bench": _bench, "scenes": lambda _: _scenes(), "verify": _verify, "reproduce": _reproduce,
                     "info": _info, "view": _view}
     try:
         return commands_run[args.command](args)
     except FreefloatError as exc:
         print(f"freefloat: error: {exc}", file=sys.stderr)
         return 2
+
+
+def _bench(args: argparse.Namespace) -> int:
+    try:
+        import mujoco  # noqa: F401
+    except ImportError:
+        print('freefloat: error: freefloat bench needs MuJoCo: python3 -m pip install -e ".[bench]"', file=sys.stderr)
+        return 2
+    from .bench.report import bench
+
+    out = args.out or default_folder("bench")
+    with one_line_warnings():
+        report = bench(out, args.scenes, quick=args.quick)
+    print("\n".join(report["summary"]))
+    print(f"written to {out}")
+    return 0
 
 
 def _view(args: argparse.Namespace) -> int:

@@ -1,0 +1,114 @@
+"""``freefloat bench``: sweep the scenes and write ``bench.json``, ``bench.csv``,
+``<scene>.png`` (log-log work-precision chart) and ``summary.txt`` into one folder."""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+import platform
+from importlib.metadata import version
+from pathlib import Path
+
+from ...errors import InvalidArgument
+from .methods import REFERENCE_ATOL, REFERENCE_RTOL, methods
+from .scenes import SCENES, tumbling_scene
+from .summary import band_rows, summary_lines
+from .sweep import Point, sweep
+
+#: Steps (s) and dopri5 tolerances of a full sweep and of ``--quick``.
+STEPS = (5e-2, 2e-2, 1e-2, 5e-3, 2e-3, 1e-3, 5e-4, 2e-4, 1e-4)
+RTOLS = (1e-4, 1e-6, 1e-8, 1e-10, 1e-12)
+QUICK_STEPS = (2e-2, 1e-2, 5e-3)
+QUICK_RTOLS = (1e-6, 1e-9)
+CSV_FIELDS = ("scene", "package", "integrator", "setting", "wall_time_s", "state_error", "momentum_error",
+              "energy_error")
+
+
+def _row(scene: str, p: Point) -> dict:
+    """One point as a flat record; a diverged run's errors are None."""
+    def finite(x: float) -> float | None:
+        return x if math.isfinite(x) else None
+    return {"scene": scene, "package": p.method.package, "integrator": p.method.integrator,
+            "setting": p.method.setting, "wall_time_s": p.wall_time, "state_error": finite(p.state_error),
+            "momentum_error": finite(p.momentum_error), "energy_error": finite(p.energy_error)}
+
+
+def chart(scene: str, points: list[Point], path: Path) -> None:
+    """Log-log work-precision chart: wall time against final-state error (left) and against
+    momentum error (right), one curve per method (points joined from the coarsest step or
+    tolerance to the finest)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(1, 2, figsize=(12, 5), sharey=True)
+    curves: dict[str, list[Point]] = {}
+    for p in points:
+        curves.setdefault(p.method.label, []).append(p)
+    for ax, field, what in ((axes[0], "state_error", "final-state error"),
+                            (axes[1], "momentum_error", "momentum error, kg m/s and kg m^2/s")):
+        for label, curve in curves.items():
+            curve = sorted(curve, key=lambda p: -p.method.setting)
+            style = "-o" if label.startswith("freefloat") else "--s"
+            ax.loglog([getattr(p, field) for p in curve], [p.wall_time * 1e3 for p in curve], style, label=label, ms=4)
+        ax.set_xlabel(f"{what} against dopri5 at rtol 1e-13")
+        ax.invert_xaxis()
+        ax.grid(True, which="both", alpha=0.3)
+    axes[0].set_ylabel("wall time per run, ms (median)")
+    axes[0].legend(fontsize=8)
+    fig.suptitle(f"{scene}: work against precision (freefloat and MuJoCo in one process)")
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
+def bench(out: Path, scenes: list[str] | None = None, quick: bool = False, duration: float | None = None,
+          repeats: int | None = None, seed: int = 0, progress=print) -> dict:
+    """Run the sweep for each scene in this process and write the folder ``out``.
+
+    Args:
+        out: output folder (created; must be new or empty).
+        scenes: names from :data:`.scenes.SCENES` (default: all).
+        quick: three steps, two tolerances, 0.1 s, one repeat (a smoke test).
+        duration: simulated time per run, s (default 1 s, 0.1 s with ``quick``).
+        repeats: runs per point; the median time counts (default 5, 1 with ``quick``).
+        seed: initial-state seed.
+        progress: called with one line per finished scene.
+
+    Returns:
+        The report written to ``bench.json``.
+    """
+    names = list(scenes or SCENES)
+    steps, rtols = (QUICK_STEPS, QUICK_RTOLS) if quick else (STEPS, RTOLS)
+    duration = duration if duration is not None else (0.1 if quick else 1.0)
+    repeats = repeats if repeats is not None else (1 if quick else 5)
+    scenes_built = [tumbling_scene(name, duration, seed) for name in names]  # bad names fail before any run
+    if out.exists() and (not out.is_dir() or any(out.iterdir())):
+        raise InvalidArgument(f"{out}: output folder exists and is not empty")
+    out.mkdir(parents=True, exist_ok=True)
+    report = {"settings": {"duration_s": duration, "repeats": repeats, "seed": seed, "steps_s": steps,
+                           "dopri5_rtols": rtols, "reference": {"integrator": "dopri5", "rtol": REFERENCE_RTOL,
+                                                                "atol": REFERENCE_ATOL}},
+              "versions": {"freefloat": version("freefloat"), "pin": version("pin"), "mujoco": version("mujoco"),
+                           "python": platform.python_version()},
+              "scenes": {}}
+    rows, lines = [], []
+    for scene in scenes_built:
+        points, reference_time = sweep(scene, methods(steps, rtols), repeats)
+        bands = band_rows(points)
+        report["scenes"][scene.name] = {"note": SCENES[scene.name][1], "reference_wall_time_s": reference_time,
+                                        "points": [_row(scene.name, p) for p in points], "bands": bands}
+        rows += [_row(scene.name, p) for p in points]
+        lines += summary_lines(scene.name, bands)
+        chart(scene.name, points, out / f"{scene.name}.png")
+        progress(f"{scene.name}: {len(points)} points")
+    report["summary"] = lines
+    (out / "bench.json").write_text(json.dumps(report, indent=2))
+    with open(out / "bench.csv", "w", newline="") as f:
+        writer = csv.DictWriter(f, fieldnames=CSV_FIELDS)
+        writer.writeheader()
+        writer.writerows(rows)
+    (out / "summary.txt").write_text("\n".join(lines) + "\n")
+    return report

@@ -1,0 +1,80 @@
+"""Each bench method runs the scene from its initial state: MuJoCo and freefloat reach the same
+final state, and the Runge-Kutta methods' errors fall with the step at their order."""
+
+from __future__ import annotations
+
+import dataclasses
+import warnings
+
+import numpy as np
+import pytest
+
+from freefloat.app.bench.methods import Method, methods, reference
+from freefloat.app.bench.scenes import tumbling_scene
+from freefloat.app.bench.sweep import measure
+
+
+@pytest.fixture(scope="module")
+def scene():
+    """The balanced four-arm robot tumbling for 0.2 s (fast enough that errors sit above round-off)."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return tumbling_scene("four_arm", duration=0.2, seed=1)
+
+
+@pytest.fixture(scope="module")
+def ref(scene):
+    """The scene's dopri5 reference at rtol 1e-13."""
+    return reference(scene)
+
+
+@pytest.mark.parametrize(("package", "integrator"), [("freefloat", "rkmk4"), ("mujoco", "RK4")])
+def test_rk4_errors_fall_at_fourth_order(scene, ref, package, integrator):
+    """Halving the step divides the final-state error of an RK4 by more than 10 (2^4 = 16)."""
+    coarse, fine = (measure(scene, Method(package, integrator, h), ref, 1).state_error for h in (0.02, 0.01))
+    assert 1e-13 < fine < coarse / 10.0
+
+
+def test_mujoco_rk4_reaches_the_freefloat_reference(scene, ref):
+    """MuJoCo's RK4 at 1 ms ends within 1e-9 of freefloat's reference: same model, same start."""
+    point = measure(scene, Method("mujoco", "RK4", 1e-3), ref, 1)
+    assert point.state_error < 1e-9 and point.momentum_error < 1e-9
+
+
+def test_euler_at_equal_steps_agrees_between_packages(scene, ref):
+    """Both semi-implicit Eulers are first order with the same error to 5 % at equal step."""
+    ff = measure(scene, Method("freefloat", "euler", 1e-3), ref, 1).state_error
+    mj = measure(scene, Method("mujoco", "Euler", 1e-3), ref, 1).state_error
+    assert ff == pytest.approx(mj, rel=0.05)
+
+
+def test_sweep_covers_every_integrator_and_step():
+    """The sweep holds each fixed-step method at each step and dopri5 at each tolerance."""
+    points = methods((1e-2, 1e-3), (1e-6,))
+    assert len(points) == 3 * 2 + 1 + 3 * 2
+    assert {p.label for p in points} == {"freefloat euler", "freefloat rkmk4", "freefloat rk4_naive",
+                                         "freefloat dopri5", "mujoco Euler", "mujoco implicitfast", "mujoco RK4"}
+
+
+def test_reference_is_reproducible(scene, ref):
+    """A second reference run gives the same final state to the last bit (no hidden state)."""
+    again = reference(scene)
+    assert np.array_equal(again[0], ref[0]) and np.array_equal(again[1], ref[1])
+
+
+def test_unstable_mujoco_run_counts_as_diverged(scene, ref, tmp_path, monkeypatch):
+    """MuJoCo's Euler at 50 ms on a 300x faster start blows up: the point gets infinite errors,
+    not the error of the rest state MuJoCo silently resets to, and no MUJOCO_LOG.TXT is left."""
+    monkeypatch.chdir(tmp_path)
+    fast = dataclasses.replace(scene, v0=300.0 * scene.v0)
+    point = measure(fast, Method("mujoco", "Euler", 0.05), ref, 1)
+    assert np.isinf(point.state_error) and point.wall_time > 0.0
+    assert not any(tmp_path.iterdir())
+
+
+def test_both_packages_end_at_the_same_time_when_the_step_does_not_divide(scene, ref):
+    """At a step that does not divide the duration (30 ms into 0.2 s) both RK4s take 7 equal
+    steps and end with the same error to 1 %."""
+    ff = measure(scene, Method("freefloat", "rkmk4", 0.03), ref, 1).state_error
+    mj = measure(scene, Method("mujoco", "RK4", 0.03), ref, 1).state_error
+    assert ff == pytest.approx(mj, rel=0.01)

@@ -1,0 +1,57 @@
+"""``freefloat bench --quick`` writes its folder: JSON, CSV, one chart per scene and a summary."""
+
+from __future__ import annotations
+
+import csv
+import json
+
+import pytest
+
+from freefloat.app.bench.summary import BANDS
+from freefloat.app.cli import main
+
+
+@pytest.fixture(scope="module")
+def quick_run(tmp_path_factory):
+    """``freefloat bench dual_arm --quick`` into a temporary folder."""
+    out = tmp_path_factory.mktemp("bench") / "out"
+    return main(["bench", "dual_arm", "--quick", "--out", str(out)]), out
+
+
+def test_quick_bench_writes_every_file(quick_run):
+    """Exit 0 and bench.json, bench.csv, dual_arm.png and summary.txt are written."""
+    status, out = quick_run
+    assert status == 0
+    assert {p.name for p in out.iterdir()} == {"bench.json", "bench.csv", "dual_arm.png", "summary.txt"}
+
+
+def test_csv_and_json_hold_the_same_points(quick_run):
+    """Every JSON point is a CSV row, with a positive time and a finite error."""
+    _, out = quick_run
+    report = json.loads((out / "bench.json").read_text())
+    rows = list(csv.DictReader((out / "bench.csv").open()))
+    points = report["scenes"]["dual_arm"]["points"]
+    assert len(rows) == len(points) == 3 * 3 + 2 + 3 * 3
+    assert all(float(r["wall_time_s"]) > 0.0 and float(r["state_error"]) >= 0.0 for r in rows)
+
+
+def test_summary_has_one_line_per_band(quick_run):
+    """The summary names, per accuracy band, the cheapest method of each package."""
+    _, out = quick_run
+    lines = (out / "summary.txt").read_text().splitlines()
+    assert len(lines) == len(BANDS) and all(line.startswith("dual_arm error <= ") for line in lines)
+
+
+def test_unknown_scene_exits_2_naming_it(tmp_path, capsys):
+    """An unknown scene is refused before anything runs, the message listing the valid ones."""
+    assert main(["bench", "nope", "--quick", "--out", str(tmp_path / "o")]) == 2
+    assert "unknown bench scene 'nope'; valid: four_arm, dual_arm" in capsys.readouterr().err
+    assert not (tmp_path / "o").exists()
+
+
+def test_non_empty_folder_is_refused(tmp_path, capsys):
+    """A folder that already holds files is refused (exit 2), its files left alone."""
+    (tmp_path / "keep.txt").write_text("x")
+    assert main(["bench", "dual_arm", "--quick", "--out", str(tmp_path)]) == 2
+    assert "not empty" in capsys.readouterr().err
+    assert {p.name for p in tmp_path.iterdir()} == {"keep.txt"}
