@@ -127,3 +127,33 @@ def test_interrupted_run_keeps_what_it_computed():
                  make_integrator("rkmk4", robot.model), ExactModel(robot), controller=InterruptAt(0.25))
     assert result.status == "interrupted" and "t = 0.25" in result.message
     assert len(result.telemetry.t) == 25 and result.telemetry.t[-1] == pytest.approx(0.24)
+
+
+def test_a_sample_interrupted_half_way_is_not_kept(monkeypatch):
+    """Ctrl-C while a telemetry row is being written leaves that row out: every kept row is a
+    whole sample (a zero quaternion from a half-written row crashed the figures)."""
+    import warnings
+
+    from freefloat import load_robot
+    from freefloat.dynamics import simulation
+    from freefloat.dynamics.integrators import make_integrator
+    from freefloat.dynamics.models import make_model
+    from freefloat.paths import URDF_DIR
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        robot = load_robot(URDF_DIR / "two_arm_planar.urdf", visuals=False)
+    real, calls = simulation.Recorder.record, []
+
+    def record(self, row, t, *args):
+        calls.append(row)
+        if len(calls) == 7:
+            self.tel.t[row] = t  # half a row, then Ctrl-C
+            raise KeyboardInterrupt
+        return real(self, row, t, *args)
+
+    monkeypatch.setattr(simulation.Recorder, "record", record)
+    result = run(robot, robot.neutral(), np.zeros(robot.model.nv), 0.05, 1e-3,
+                 make_integrator("rkmk4", robot.model), make_model("exact", robot))
+    assert result.status == "interrupted" and len(result.telemetry.t) == 6
+    assert np.allclose(np.linalg.norm(result.telemetry.base_quaternion, axis=1), 1.0)

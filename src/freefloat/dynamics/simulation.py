@@ -175,6 +175,7 @@ def run(
             if k % record_every == 0:
                 recorder.tel, row = rows.next_row()
                 recorder.record(row, t, q, v, tau, reference(t), work)
+                rows.commit()
             if field is not None and field.activate(t):
                 f = lambda qs, vs: model.acceleration(qs, vs, tau_full, field.forces(qs))  # noqa: E731
             else:
@@ -212,6 +213,7 @@ def run(
         t = start_time + k * control_period
         recorder.tel, row = rows.next_row()
         recorder.record(row, t, q, v, tau, reference(t), work)
+        rows.commit()
     wall = time.perf_counter() - start
     return RunResult(rows.collect(), status, message, k, wall, integrator.evaluations())
 

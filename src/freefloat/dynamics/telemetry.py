@@ -77,14 +77,18 @@ class Chunks(Generic[A]):
         self.used = 0
 
     def next_row(self) -> tuple[A, int]:
-        """The chunk and row index to write the next sample into."""
+        """The chunk and row index to write the next sample into; the row counts once
+        :meth:`commit` says it is written (a sample interrupted half-way is not kept)."""
         if self.used == self.rows:
             self.done.append(self.current)
             if self.on_chunk is not None:
                 self.on_chunk(self.current)
             self.current, self.used = self.allocate(self.rows), 0
+        return self.current, self.used
+
+    def commit(self) -> None:
+        """Count the row :meth:`next_row` gave as written."""
         self.used += 1
-        return self.current, self.used - 1
 
     def collect(self) -> A:
         """All samples recorded, in order; the last chunk (possibly partial) goes to
