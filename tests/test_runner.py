@@ -122,3 +122,22 @@ def test_an_interrupt_while_writing_skips_the_drawings_but_keeps_the_data(tmp_pa
         written, skipped = write_run(folder, scene, outcome, interrupted=lambda: True)
     assert skipped == ["figures", "trajectory.html"]
     assert {p.name for p in written} == {"telemetry.npz", "scene.toml", "summary.json"}
+
+
+def test_a_drawing_that_fails_costs_nothing_else(tmp_path):
+    """A figure writer that raises is listed as skipped with its reason; telemetry, summary and
+    the page are still written."""
+    from freefloat.app.outputs import write_run
+    from freefloat.app.run_folder import RunFolder
+
+    scene = load_scene(scene_variant(tmp_path / "s.toml", "four_arm_joint_space", simulation={"duration": 0.01}))
+    outcome = runner.simulate(scene)
+
+    def broken(folder):
+        raise ValueError("planted")
+
+    outcome.figures = broken
+    with RunFolder(tmp_path / "out") as folder:
+        written, skipped = write_run(folder, scene, outcome)
+    assert skipped == ["figures (failed: ValueError: planted)"]
+    assert {p.name for p in written} == {"telemetry.npz", "scene.toml", "summary.json", "trajectory.html"}

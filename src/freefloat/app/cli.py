@@ -267,7 +267,7 @@ def _report(done: SceneRun) -> int:
             print(f"  {key}: {outcome.summary[key]}")
     print(f"  wrote: {', '.join(p.name for p in done.written)}")
     if done.skipped:
-        print(f"  skipped (interrupted while writing): {', '.join(done.skipped)}")
+        print(f"  skipped: {', '.join(done.skipped)}")
     if not outcome.completed:
         print(f"freefloat: run stopped early: {outcome.message} (partial results kept in {out})", file=sys.stderr)
         return 1

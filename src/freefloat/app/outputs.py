@@ -55,7 +55,8 @@ def write_run(folder: RunFolder, scene: Scene | MechanismScene, outcome: Outcome
 
     Written whatever the run's status, so a diverged or interrupted run keeps what it computed;
     figures and page need two samples or more, and are skipped once ``interrupted()`` is true
-    (a second Ctrl-C while writing). Returns the paths written and what was skipped.
+    (a second Ctrl-C while writing) or when drawing them fails (listed with the reason).
+    Returns the paths written and what was skipped.
     """
     tel = outcome.telemetry
     written = [folder.save("telemetry.npz", tel, **outcome.names, scene=scene.name)]
@@ -77,7 +78,12 @@ def write_run(folder: RunFolder, scene: Scene | MechanismScene, outcome: Outcome
         if interrupted():
             skipped.append(what)
             continue
-        written += _draw(folder, draw)
+        try:
+            written += _draw(folder, draw)
+        except FreefloatError:
+            raise  # the disk refused a file: named, exit 2
+        except Exception as exc:  # a drawing that fails must not cost the run its data, already written
+            skipped.append(f"{what} (failed: {type(exc).__name__}: {exc})")
     return written, skipped
 
 
