@@ -87,5 +87,5 @@ def test_se3_ad_matrix_is_the_motion_cross_product():
 def test_unknown_integrator_lists_the_valid_names():
     """An unknown integrator name is rejected with the registry's names."""
     model = pin.buildSampleModelManipulator()
-    with pytest.raises(ValueError, match="valid: euler, rkmk4, rk4_naive, dopri5"):
+    with pytest.raises(ValueError, match="valid: euler, rkmk4, rk4_naive, rkmk6, dopri5"):
         make_integrator("rk45", model)

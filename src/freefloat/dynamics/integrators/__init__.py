@@ -7,12 +7,14 @@ import pinocchio as pin
 from .adaptive import DormandPrince45
 from .base import Acceleration, Integrator
 from .fixed_step import RungeKutta4, SemiImplicitEuler
+from .rkmk6 import RungeKuttaMuntheKaas6
 
 #: Registry names and one-line descriptions.
 INTEGRATORS = {
     "euler": "semi-implicit (symplectic) Euler, 1st order: the dissertation's scheme",
     "rkmk4": "Runge-Kutta-Munthe-Kaas 4, 4th order on the Lie group",
     "rk4_naive": "RK4 adding body velocities without dexp^-1: only 2nd order on SE(3)",
+    "rkmk6": "Runge-Kutta-Munthe-Kaas 6 (Butcher's 7 stages), 6th order on the Lie group",
     "dopri5": "adaptive Dormand-Prince 5(4) in the Munthe-Kaas chart",
 }
 
@@ -29,9 +31,14 @@ def make_integrator(
         return SemiImplicitEuler(model, substeps)
     if name in ("rkmk4", "rk4_naive"):
         return RungeKutta4(model, substeps, lie_correction=name == "rkmk4")
+    if name == "rkmk6":
+        return RungeKuttaMuntheKaas6(model, substeps)
     if name == "dopri5":
         return DormandPrince45(model, rtol=rtol, atol=atol)
     raise ValueError(f"unknown integrator '{name}'; valid: {', '.join(INTEGRATORS)}")
 
 
-__all__ = ["INTEGRATORS", "Acceleration", "Integrator", "make_integrator", "DormandPrince45", "RungeKutta4", "SemiImplicitEuler"]
+__all__ = [
+    "INTEGRATORS", "Acceleration", "Integrator", "make_integrator", "DormandPrince45", "RungeKutta4",
+    "RungeKuttaMuntheKaas6", "SemiImplicitEuler",
+]
