@@ -2,30 +2,19 @@
 
 from __future__ import annotations
 
-import warnings
-
 import numpy as np
 import pinocchio as pin
 import pytest
 
-from freefloat import load_robot
 from freefloat.dynamics.integrators import DormandPrince45
-from freefloat.dynamics.models import ExactModel
+
+from .conftest import torque_free
 
 
 @pytest.fixture(scope="module", params=["free", "planar"])
-def tumbling(request, spart_dir):
+def tumbling(request):
     """A torque-free SC_3DoF tumbling on the given base: robot, f, q0, v0."""
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        robot = load_robot(spart_dir / "urdf" / "SC_3DoF.urdf", base=request.param, visuals=False)
-    model = ExactModel(robot)
-    rng = np.random.default_rng(0)
-    q0 = robot.neutral()
-    q0[robot.model.nq - robot.n_joints:] = rng.uniform(-1, 1, robot.n_joints)
-    v0 = rng.uniform(-2, 2, robot.model.nv)
-    tau = np.zeros(robot.model.nv)
-    return robot, lambda q, v: model.acceleration(q, v, tau), q0, v0
+    return torque_free(request.param, seed=0, speed=2.0)
 
 
 def state_error(model: pin.Model, q: np.ndarray, v: np.ndarray, q_ref: np.ndarray, v_ref: np.ndarray) -> float:
@@ -33,21 +22,21 @@ def state_error(model: pin.Model, q: np.ndarray, v: np.ndarray, q_ref: np.ndarra
 
 
 def test_dense_output_is_accurate_between_steps(tumbling):
-    """At rtol 1e-8, 201 samples from the dense output stay within 1e-6 of a tight reference."""
+    """At rtol 1e-8, 401 samples from the dense output stay within 1e-6 of a tight reference."""
     robot, f, q0, v0 = tumbling
-    times = np.linspace(0.0, 1.0, 201)
+    times = np.linspace(0.0, 1.0, 401)
     solver = DormandPrince45(robot.model, rtol=1e-8, atol=1e-10)
     Q, V = solver.solve(f, q0, v0, times)
-    assert solver.accepted < 100  # most samples fall inside steps
+    assert solver.accepted < 200  # most samples fall inside steps
     Q_ref, V_ref = DormandPrince45(robot.model, rtol=1e-13, atol=1e-14).solve(f, q0, v0, times)
     assert max(state_error(robot.model, *x) for x in zip(Q, V, Q_ref, V_ref)) < 1e-6
 
 
 def test_dense_output_costs_no_extra_evaluations(tumbling):
-    """Sampling 201 times costs the same evaluations as one advance over the run."""
+    """Sampling 401 times costs the same evaluations as one advance over the run."""
     robot, f, q0, v0 = tumbling
     sampled, plain = DormandPrince45(robot.model, rtol=1e-8), DormandPrince45(robot.model, rtol=1e-8)
-    sampled.solve(f, q0, v0, np.linspace(0.0, 1.0, 201))
+    sampled.solve(f, q0, v0, np.linspace(0.0, 1.0, 401))
     plain.advance(f, q0, v0, 1.0)
     assert sampled.evaluations() == plain.evaluations()
 

@@ -7,6 +7,7 @@ import pinocchio as pin
 from .adaptive import DormandPrince45
 from .base import Acceleration, Integrator
 from .fixed_step import RungeKutta4, SemiImplicitEuler
+from .momentum_projection import MomentumProjection
 from .rkmk6 import RungeKuttaMuntheKaas6
 
 #: Registry names and one-line descriptions.
@@ -15,18 +16,28 @@ INTEGRATORS = {
     "rkmk4": "Runge-Kutta-Munthe-Kaas 4, 4th order on the Lie group",
     "rk4_naive": "RK4 adding body velocities without dexp^-1: only 2nd order on SE(3)",
     "rkmk6": "Runge-Kutta-Munthe-Kaas 6 (Butcher's 7 stages), 6th order on the Lie group",
-    "dopri5": "adaptive Dormand-Prince 5(4) in the Munthe-Kaas chart",
+    "dopri5": "adaptive Dormand-Prince 5(4) in the Munthe-Kaas chart, dense output",
 }
 
 
 def make_integrator(
-    name: str, model: pin.Model, substeps: int = 1, rtol: float = 1e-10, atol: float = 1e-12
+    name: str,
+    model: pin.Model,
+    substeps: int = 1,
+    rtol: float = 1e-10,
+    atol: float = 1e-12,
+    project_momentum: bool = False,
 ) -> Integrator:
     """The integrator called ``name`` (see :data:`INTEGRATORS`).
+
+    ``project_momentum`` wraps it in :class:`MomentumProjection` (only for runs without external
+    wrenches; not a scene option, since scenes may apply wrenches).
 
     Raises:
         ValueError: for an unknown name, listing the valid ones.
     """
+    if project_momentum:
+        return MomentumProjection(make_integrator(name, model, substeps, rtol, atol), model)
     if name == "euler":
         return SemiImplicitEuler(model, substeps)
     if name in ("rkmk4", "rk4_naive"):
@@ -39,6 +50,13 @@ def make_integrator(
 
 
 __all__ = [
-    "INTEGRATORS", "Acceleration", "Integrator", "make_integrator", "DormandPrince45", "RungeKutta4",
-    "RungeKuttaMuntheKaas6", "SemiImplicitEuler",
+    "INTEGRATORS",
+    "Acceleration",
+    "DormandPrince45",
+    "Integrator",
+    "MomentumProjection",
+    "RungeKutta4",
+    "RungeKuttaMuntheKaas6",
+    "SemiImplicitEuler",
+    "make_integrator",
 ]

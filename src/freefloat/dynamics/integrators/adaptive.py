@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from typing import Iterator
+from collections.abc import Iterator
 
 import numpy as np
 import pinocchio as pin
@@ -70,9 +70,10 @@ class DormandPrince45:
         return self._calls
 
     def advance(self, f: Acceleration, q: np.ndarray, v: np.ndarray, duration: float):
-        for _t, _h, q, v, _step in self._steps(f, q, v, duration):
-            pass
-        return q, v
+        end = q, v
+        for _t, _h, q_new, v_new, _step in self._steps(f, q, v, duration):
+            end = q_new, v_new
+        return end
 
     def solve(
         self, f: Acceleration, q: np.ndarray, v: np.ndarray, times: np.ndarray
