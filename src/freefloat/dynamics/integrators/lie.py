@@ -22,13 +22,22 @@ import pinocchio as pin
 from ...robot.conventions import skew
 
 
-def _ad_se3(theta: np.ndarray) -> np.ndarray:
-    """``ad`` of a twist [v; w] (6, 6): ``ad(x) y = [w x v' + v x w'; w x w']``."""
-    a, b, c, x, y, z = theta.tolist()
-    return np.array([
-        [0.0, -z, y, 0.0, -c, b], [z, 0.0, -x, c, 0.0, -a], [-y, x, 0.0, -b, a, 0.0],
-        [0.0, 0.0, 0.0, 0.0, -z, y], [0.0, 0.0, 0.0, z, 0.0, -x], [0.0, 0.0, 0.0, -y, x, 0.0],
-    ])
+def _ad_se3(t: list[float], u: list[float] | tuple[float, ...]) -> tuple[float, ...]:
+    """``ad_t u`` for twists [v; w] as 6 floats: ``[w_t x v_u + v_t x w_u; w_t x w_u]``."""
+    a1, a2, a3, w1, w2, w3 = t
+    u1, u2, u3, m1, m2, m3 = u
+    return (w2 * u3 - w3 * u2 + a2 * m3 - a3 * m2, w3 * u1 - w1 * u3 + a3 * m1 - a1 * m3,
+            w1 * u2 - w2 * u1 + a1 * m2 - a2 * m1, w2 * m3 - w3 * m2, w3 * m1 - w1 * m3, w1 * m2 - w2 * m1)
+
+
+def _dexpinv_se3(theta: np.ndarray, velocity: np.ndarray) -> np.ndarray:
+    """``dexp^{-1}_{-theta}`` on se(3) by the series, in scalar arithmetic (3x faster here than
+    through 6x6 matrices)."""
+    t, v = theta.tolist(), velocity.tolist()
+    x1 = _ad_se3(t, v)
+    x2 = _ad_se3(t, x1)
+    x4 = _ad_se3(t, _ad_se3(t, x2))
+    return np.array([a + 0.5 * b + c / 12.0 - d / 720.0 for a, b, c, d in zip(v, x1, x2, x4)])
 
 
 def _dexpinv_se2(theta: np.ndarray, velocity: np.ndarray) -> np.ndarray:
@@ -45,7 +54,8 @@ def _dexpinv_se2(theta: np.ndarray, velocity: np.ndarray) -> np.ndarray:
 
 
 def _dexpinv_matrix(ad_of):
-    """``dexp^{-1}_{-theta}`` through an ``ad`` matrix: ``v + ad v / 2 + ad^2 v / 12 - ad^4 v / 720``."""
+    """``dexp^{-1}_{-theta}`` through an ``ad`` matrix (so(3): ``skew``):
+    ``v + ad v / 2 + ad^2 v / 12 - ad^4 v / 720``."""
 
     def apply(theta: np.ndarray, velocity: np.ndarray) -> np.ndarray:
         ad = ad_of(theta)
@@ -58,7 +68,7 @@ def _dexpinv_matrix(ad_of):
 
 #: Per non-commutative joint kind: (velocity size, dexp^-1 function).
 AD_BY_JOINT = {
-    "JointModelFreeFlyer": (6, _dexpinv_matrix(_ad_se3)),
+    "JointModelFreeFlyer": (6, _dexpinv_se3),
     "JointModelPlanar": (3, _dexpinv_se2),
     "JointModelSpherical": (3, _dexpinv_matrix(skew)),
     "JointModelSphericalZYX": (3, _dexpinv_matrix(skew)),
