@@ -37,13 +37,13 @@ def rkmk_stages(
     ``Acc[i] = f(q * exp(theta_i), v_i)``. ``rows[0]`` is empty; ``a0`` is ``f(q, v)`` when already
     known (first stage same as the last of the previous step), so that it costs no call.
     """
-    K = np.empty((len(rows), v.size))
-    Acc = np.empty_like(K)
-    K[0] = v
-    Acc[0] = f(q, v) if a0 is None else a0
+    nv = v.size
+    KA = np.empty((len(rows), 2 * nv))  # [K | Acc], one product per stage for both
+    KA[0, :nv] = v
+    KA[0, nv:] = f(q, v) if a0 is None else a0
     for i in range(1, len(rows)):
-        theta = h * (rows[i] @ K[:i])
-        vel = v + h * (rows[i] @ Acc[:i])
-        K[i] = dexpinv(theta, vel)
-        Acc[i] = f(pin.integrate(model, q, theta), vel)
-    return K, Acc
+        increment = h * (rows[i] @ KA[:i])
+        theta, vel = increment[:nv], v + increment[nv:]
+        KA[i, :nv] = dexpinv(theta, vel)
+        KA[i, nv:] = f(pin.integrate(model, q, theta), vel)
+    return KA[:, :nv], KA[:, nv:]
