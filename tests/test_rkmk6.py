@@ -6,10 +6,13 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
+from freefloat.app.runner import prepare
+from freefloat.app.scenes import DEFAULT_SCENE, load_scene
 from freefloat.dynamics.integrators import make_integrator
+from freefloat.dynamics.simulation import run as simulate
 from freefloat.robot.conventions import momentum_about_origin
 
-from .conftest import CONSERVED, torque_free
+from .conftest import CONSERVED, scene_variant, torque_free
 
 
 @pytest.fixture(scope="module", params=["free", "planar"])
@@ -51,3 +54,14 @@ def test_rkmk6_counts_seven_evaluations_per_step(tumbling):
     integrator = make_integrator("rkmk6", robot.model, substeps=3)
     integrator.advance(f, q0, v0, 0.01)
     assert integrator.evaluations() == 21
+
+
+def test_a_scene_selects_rkmk6(tmp_path):
+    """A scene naming rkmk6 steps its loop with it: 7 evaluations per substep."""
+    scene = load_scene(scene_variant(tmp_path / "s.toml", DEFAULT_SCENE,
+                                     simulation={"integrator": "rkmk6", "substeps": 2, "duration": 0.005},
+                                     output={"figures": False, "html": False}))
+    p = prepare(scene)
+    dt = scene.simulation.control_period
+    simulate(p.robot, p.q0, p.v0, 5 * dt, dt, p.integrator, p.model, p.controller)
+    assert p.integrator.name == "rkmk6" and p.integrator.evaluations() == 7 * 2 * 5
