@@ -6,9 +6,9 @@ the ratios, not the absolute times (shared 2-core machines are noisy).
 
 On two torque-free tumbling robots (four-arm and dual-arm satellite, free base, seeded states):
 
-1. Work-precision over 1 s: rkmk4 and rkmk6 at halving steps (observed order
+1. Work-precision over 1 s: rkmk4, rkmk6 and rkmk8 at halving steps (observed order
    ``log2(e(h) / e(h/2))``), dopri5 over tolerances; final-state error against dopri5 at rtol 1e-13.
-2. Cost per step: evaluations and wall time of one step of euler, rkmk4, rkmk6 (h = 1 ms) and of
+2. Cost per step: evaluations and wall time of one step of euler, rkmk4, rkmk6, rkmk8 (h = 1 ms) and of
    one accepted dopri5 step (rtol 1e-9), taking turns in one process, as ratios to rkmk4; at equal
    accuracy (1e-5 ... 1e-11), each method's time as its evaluations times its time per evaluation.
 3. Long run: 20 s with euler (1 ms) and rkmk4 (5 ms), with and without momentum projection:
@@ -58,7 +58,7 @@ def work_precision(robot, f, q0, v0, quick: bool) -> dict:
     q_ref, v_ref = DormandPrince45(robot.model, rtol=1e-13, atol=1e-14).advance(f, q0, v0, 1.0)
     rows = []
     steps = [25, 50, 100, 200] if quick else [25, 50, 100, 200, 400, 800]
-    for name in ("rkmk4", "rkmk6"):
+    for name in ("rkmk4", "rkmk6", "rkmk8"):
         for n in steps:
             integrator = make_integrator(name, robot.model, substeps=n)
             start = time.perf_counter()
@@ -73,7 +73,7 @@ def work_precision(robot, f, q0, v0, quick: bool) -> dict:
                      "error": state_error(robot.model, q, v, q_ref, v_ref),
                      "evaluations": integrator.evaluations(), "wall_s": time.perf_counter() - start})
     orders = {}
-    for name in ("rkmk4", "rkmk6"):
+    for name in ("rkmk4", "rkmk6", "rkmk8"):
         e = [r["error"] for r in rows if r["integrator"] == name]
         orders[name] = np.log2(np.array(e[:-1]) / np.array(e[1:])).tolist()
     return {"rows": rows, "observed_orders": orders}
@@ -81,7 +81,7 @@ def work_precision(robot, f, q0, v0, quick: bool) -> dict:
 
 def cost_per_step(robot, f, q0, v0, repeats: int) -> dict:
     """Evaluations and best wall time per step, side by side; dopri5 per accepted step at rtol 1e-9."""
-    fixed = {name: make_integrator(name, robot.model, substeps=10) for name in ("euler", "rkmk4", "rkmk6")}
+    fixed = {name: make_integrator(name, robot.model, substeps=10) for name in ("euler", "rkmk4", "rkmk6", "rkmk8")}
     probe = DormandPrince45(robot.model, rtol=1e-9, atol=1e-11)
     probe.advance(f, q0, v0, 1.0)
     dopri_steps = probe.accepted + probe.rejected
@@ -89,7 +89,7 @@ def cost_per_step(robot, f, q0, v0, repeats: int) -> dict:
     fns["dopri5"] = (lambda: DormandPrince45(robot.model, rtol=1e-9, atol=1e-11).advance(f, q0, v0, 1.0), 1)
     best = side_by_side(fns, repeats)
     per_step = {name: best[name] / 10 for name in fixed} | {"dopri5": best["dopri5"] / probe.accepted}
-    evals = {"euler": 1, "rkmk4": 4, "rkmk6": 7, "dopri5": probe.evaluations() / probe.accepted}
+    evals = {"euler": 1, "rkmk4": 4, "rkmk6": 7, "rkmk8": 11, "dopri5": probe.evaluations() / probe.accepted}
     return {
         "seconds_per_step": per_step,
         "evaluations_per_step": evals,
@@ -101,7 +101,7 @@ def cost_per_step(robot, f, q0, v0, repeats: int) -> dict:
 def equal_accuracy(work: dict, cost: dict, targets=(1e-5, 1e-7, 1e-9, 1e-11)) -> dict:
     """Per target error: each method's cheapest point reaching it, its time as evaluations times the
     side-by-side time per evaluation, and the fastest method's lead over the runner-up."""
-    per_eval = {k: cost["seconds_per_step"][k] / cost["evaluations_per_step"][k] for k in ("rkmk4", "rkmk6", "dopri5")}
+    per_eval = {k: cost["seconds_per_step"][k] / cost["evaluations_per_step"][k] for k in ("rkmk4", "rkmk6", "rkmk8", "dopri5")}
     out = {}
     for target in targets:
         times = {}
@@ -149,7 +149,7 @@ def chart(report: dict, path) -> None:
     fig, axes = plt.subplots(len(ROBOTS), 3, figsize=(16, 4.5 * len(ROBOTS)))
     for row, label in zip(axes, ROBOTS):
         r = report[label]
-        for name in ("rkmk4", "rkmk6", "dopri5"):
+        for name in ("rkmk4", "rkmk6", "rkmk8", "dopri5"):
             pts = [p for p in r["work_precision"]["rows"] if p["integrator"] == name]
             row[0].loglog([p["evaluations"] for p in pts], [max(p["error"], 1e-16) for p in pts], "o-", label=name)
         row[0].set(xlabel="acceleration evaluations for 1 s", ylabel="final-state error",

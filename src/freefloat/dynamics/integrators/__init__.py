@@ -6,9 +6,9 @@ import pinocchio as pin
 
 from .adaptive import DormandPrince45
 from .base import Acceleration, Integrator
+from .explicit_rkmk import RungeKuttaMuntheKaas6, RungeKuttaMuntheKaas8
 from .fixed_step import RungeKutta4, SemiImplicitEuler
 from .momentum_projection import MomentumProjection
-from .rkmk6 import RungeKuttaMuntheKaas6
 
 #: Registry names and one-line descriptions.
 INTEGRATORS = {
@@ -16,6 +16,7 @@ INTEGRATORS = {
     "rkmk4": "Runge-Kutta-Munthe-Kaas 4, 4th order on the Lie group",
     "rk4_naive": "RK4 adding body velocities without dexp^-1: only 2nd order on SE(3)",
     "rkmk6": "Runge-Kutta-Munthe-Kaas 6 (Butcher's 7 stages), 6th order on the Lie group",
+    "rkmk8": "Runge-Kutta-Munthe-Kaas 8 (Cooper-Verner, 11 stages), 8th order on the Lie group",
     "dopri5": "adaptive Dormand-Prince 5(4) in the Munthe-Kaas chart, dense output",
 }
 
@@ -44,6 +45,8 @@ def make_integrator(
         return RungeKutta4(model, substeps, lie_correction=name == "rkmk4")
     if name == "rkmk6":
         return RungeKuttaMuntheKaas6(model, substeps)
+    if name == "rkmk8":
+        return RungeKuttaMuntheKaas8(model, substeps)
     if name == "dopri5":
         return DormandPrince45(model, rtol=rtol, atol=atol)
     raise ValueError(f"unknown integrator '{name}'; valid: {', '.join(INTEGRATORS)}")
@@ -57,6 +60,7 @@ __all__ = [
     "MomentumProjection",
     "RungeKutta4",
     "RungeKuttaMuntheKaas6",
+    "RungeKuttaMuntheKaas8",
     "SemiImplicitEuler",
     "make_integrator",
 ]

@@ -14,9 +14,9 @@ from .lie import ChartCorrection
 ChartVelocity = Callable[[np.ndarray, np.ndarray], np.ndarray]
 
 
-def chart_velocity(model: pin.Model) -> ChartVelocity:
-    """The model's ``dexp^{-1}_{-theta}``, or the identity when every joint commutes."""
-    chart = ChartCorrection(model)
+def chart_velocity(model: pin.Model, degree: int = 4) -> ChartVelocity:
+    """The model's ``dexp^{-1}_{-theta}`` to ``ad^degree``, or the identity when every joint commutes."""
+    chart = ChartCorrection(model, degree)
     return chart.apply if chart.needed else (lambda theta, velocity: velocity)
 
 
