@@ -132,3 +132,21 @@ def scene_variant(path: Path, builtin: str, **sections: dict) -> Path:
         raw.setdefault(section, {}).update(values)
     path.write_text(toml_text(raw))
     return path
+
+
+#: Components of [P; L about the inertial origin] that no root-joint reaction changes: all six for
+#: a free base; Px, Py, Lz for a planar base (its reactions are a z force and x, y torques).
+CONSERVED = {"free": [0, 1, 2, 3, 4, 5], "planar": [0, 1, 5]}
+
+
+def torque_free(base: str, seed: int, speed: float):
+    """SPART's SC_3DoF on a ``base`` root (``"free"`` or ``"planar"``), torque-free, from a
+    :func:`random_state`: ``(robot, f, q0, v0)`` with ``f(q, v) -> a`` (nv,) by Pinocchio's ABA."""
+    from freefloat.dynamics.models import ExactModel
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        robot = load_robot(SPART / "urdf" / "SC_3DoF.urdf", base=base, visuals=False)
+    model, tau = ExactModel(robot), np.zeros(robot.model.nv)
+    q0, v0 = random_state(robot, np.random.default_rng(seed), speed)
+    return robot, lambda q, v: model.acceleration(q, v, tau), q0, v0

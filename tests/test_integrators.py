@@ -8,8 +8,14 @@ import pytest
 
 from freefloat import load_robot
 from freefloat.dynamics.integrators import make_integrator
-from freefloat.dynamics.integrators.lie import _ad_se3, _dexpinv_matrix, _dexpinv_se2
+from freefloat.dynamics.integrators.lie import (
+    ChartCorrection,
+    _dexpinv_matrix,
+    _dexpinv_se2,
+    _dexpinv_se3,
+)
 from freefloat.dynamics.models import ExactModel
+from freefloat.robot.conventions import skew
 
 
 @pytest.fixture(scope="module")
@@ -26,7 +32,7 @@ def tumbling(spart_dir):
     q0[7:] = rng.uniform(-1, 1, robot.n_joints)
     v0 = rng.uniform(-2, 2, robot.model.nv)
     tau = np.zeros(robot.model.nv)
-    f = lambda q, v: model.acceleration(q, v, tau)  # noqa: E731
+    f = lambda q, v: model.acceleration(q, v, tau)
     reference = make_integrator("dopri5", robot.model, rtol=1e-13, atol=1e-14).advance(f, q0, v0, 1.0)
     return robot, f, q0, v0, reference
 
@@ -64,8 +70,9 @@ def test_dopri5_meets_its_tolerance(tumbling):
     assert e[0] < 1e-7
 
 
-def test_planar_closed_form_equals_the_matrix_series():
-    """The se(2) closed form of dexp^-1 equals the ad-matrix series."""
+@pytest.mark.parametrize("degree", [4, 6])
+def test_planar_closed_form_equals_the_matrix_series(degree):
+    """The se(2) closed form of dexp^-1 equals the ad-matrix series, to ad^4 and to ad^6."""
     rng = np.random.default_rng(1)
 
     def ad2(t):
@@ -74,18 +81,39 @@ def test_planar_closed_form_equals_the_matrix_series():
 
     for _ in range(20):
         theta, vel = rng.normal(size=3), rng.normal(size=3)
-        np.testing.assert_allclose(_dexpinv_se2(theta, vel), _dexpinv_matrix(ad2)(theta, vel), atol=1e-14)
+        expected = _dexpinv_matrix(ad2)(theta, vel, degree)
+        np.testing.assert_allclose(_dexpinv_se2(theta, vel, degree), expected, atol=1e-14)
 
 
-def test_se3_ad_matrix_is_the_motion_cross_product():
-    """ad_theta @ v equals Pinocchio's Motion cross product theta x v."""
+@pytest.mark.parametrize("degree", [4, 6])
+def test_se3_scalar_series_equals_the_series_on_pinocchio_ad_matrices(degree):
+    """The scalar se(3) dexp^-1 equals the series on Pinocchio's ad matrix (Motion.action), to ad^4 and ad^6."""
     rng = np.random.default_rng(2)
-    theta, vel = rng.normal(size=6), rng.normal(size=6)
-    np.testing.assert_allclose(_ad_se3(theta) @ vel, pin.Motion(theta).cross(pin.Motion(vel)).vector, atol=1e-14)
+    reference = _dexpinv_matrix(lambda t: pin.Motion(t).action)
+    for _ in range(20):
+        theta, vel = rng.normal(size=6), rng.normal(size=6)
+        np.testing.assert_allclose(_dexpinv_se3(theta, vel, degree), reference(theta, vel, degree), atol=1e-13)
+
+
+def test_series_sums_to_the_closed_form_dexp_inverse_on_so3():
+    """To ad^6 the series matches the closed-form so(3) dexp^-1 better than to ad^4 (error O(|theta|^8))."""
+    rng = np.random.default_rng(4)
+    theta, vel = 0.3 * rng.normal(size=3), rng.normal(size=3)
+    a = np.linalg.norm(theta)
+    W = skew(theta)
+    exact = vel + 0.5 * W @ vel + (1 - a / 2 / np.tan(a / 2)) / a**2 * W @ W @ vel  # dexp^-1_{-theta}
+    errors = [np.linalg.norm(_dexpinv_matrix(skew)(theta, vel, d) - exact) for d in (4, 6)]
+    assert errors[1] < errors[0] / 20.0
+
+
+def test_chart_correction_refuses_an_unsupported_degree():
+    """A series degree other than 4 or 6 is refused, naming the degree."""
+    with pytest.raises(ValueError, match="must be 4 or 6, got 5"):
+        ChartCorrection(pin.buildSampleModelManipulator(), degree=5)
 
 
 def test_unknown_integrator_lists_the_valid_names():
     """An unknown integrator name is rejected with the registry's names."""
     model = pin.buildSampleModelManipulator()
-    with pytest.raises(ValueError, match="valid: euler, rkmk4, rk4_naive, dopri5"):
+    with pytest.raises(ValueError, match="valid: euler, rkmk4, rk4_naive, rkmk6, rkmk8, dopri5"):
         make_integrator("rk45", model)

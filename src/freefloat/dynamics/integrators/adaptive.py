@@ -1,16 +1,18 @@
-"""Adaptive Dormand-Prince 5(4) in the Munthe-Kaas chart: error-controlled, 5th order on the group."""
+"""Adaptive Dormand-Prince 5(4) in the Munthe-Kaas chart: error-controlled, 5th order on the group, dense output."""
 
 from __future__ import annotations
+
+from collections.abc import Iterator
 
 import numpy as np
 import pinocchio as pin
 
 from ...errors import SimulationDiverged
 from .base import Acceleration
-from .lie import ChartCorrection
+from .stages import chart_velocity, rkmk_stages
 
 # Dormand-Prince 5(4) tableau (Hairer, Norsett & Wanner, Table II.5.2).
-_A = (
+_ROWS = tuple(np.array(r) for r in (
     (),
     (1 / 5,),
     (3 / 40, 9 / 40),
@@ -18,23 +20,37 @@ _A = (
     (19372 / 6561, -25360 / 2187, 64448 / 6561, -212 / 729),
     (9017 / 3168, -355 / 33, 46732 / 5247, 49 / 176, -5103 / 18656),
     (35 / 384, 0.0, 500 / 1113, 125 / 192, -2187 / 6784, 11 / 84),
-)
+))
 _B = np.array([35 / 384, 0.0, 500 / 1113, 125 / 192, -2187 / 6784, 11 / 84, 0.0])
 _B_LOW = np.array([5179 / 57600, 0.0, 7571 / 16695, 393 / 640, -92097 / 339200, 187 / 2100, 1 / 40])
+# Continuous extension of order 4 (Shampine 1986; Hairer & Wanner's DOPRI5 code, CONTD5).
+_D = np.array([-12715105075 / 11282082432, 0.0, 87487479700 / 32700410799, -10690763975 / 1880347072,
+               701980252875 / 199316789632, -1453857185 / 822651844, 69997945 / 29380423])
+
+
+def _interpolate(y0: np.ndarray, y1: np.ndarray, K: np.ndarray, h: float, s: float) -> np.ndarray:
+    """Dense output at ``t0 + s h`` (0 <= s <= 1) of a step from y0 to y1 with stage slopes K (7, n)."""
+    dy = y1 - y0
+    c3 = h * K[0] - dy
+    c4 = dy - h * K[6] - c3
+    return y0 + s * (dy + (1.0 - s) * (c3 + s * (c4 + (1.0 - s) * h * (_D @ K))))
 
 
 class DormandPrince45:
-    """Adaptive RKMK Dormand-Prince 5(4) with standard step-size control.
+    """Adaptive RKMK Dormand-Prince 5(4) with standard step-size control and dense output.
 
     Each step works in the exponential chart at its start point; the error estimate is the
     difference of the 5th- and 4th-order solutions in the chart (theta) and in v, scaled by
-    ``atol + rtol * |x|``. The step size carries over between :meth:`advance` calls.
+    ``atol + rtol * |x|``. The last stage is evaluated at the new state, so within one call it is
+    the next step's first (6 evaluations per accepted step). The step size carries over between
+    calls. :meth:`solve` samples one run at many times from the 4th-order continuous extension,
+    without shortening steps to land on them.
 
     Args:
         model: Pinocchio model.
         rtol: relative tolerance.
         atol: absolute tolerance.
-        max_steps: steps allowed per :meth:`advance` call before giving up.
+        max_steps: steps allowed per call before giving up.
     """
 
     name = "dopri5"
@@ -44,8 +60,7 @@ class DormandPrince45:
         if not (rtol > 0.0 and atol > 0.0):
             raise ValueError(f"rtol and atol must be > 0, got {rtol}, {atol}")
         self.model, self.rtol, self.atol, self.max_steps = model, rtol, atol, max_steps
-        chart = ChartCorrection(model)
-        self._dexpinv = chart.apply if chart.needed else (lambda theta, vel: vel)
+        self._dexpinv = chart_velocity(model)
         self._h: float | None = None
         self._calls = 0
         self.accepted = 0
@@ -55,15 +70,52 @@ class DormandPrince45:
         return self._calls
 
     def advance(self, f: Acceleration, q: np.ndarray, v: np.ndarray, duration: float):
-        t, h = 0.0, self._h or duration
+        end = q, v
+        for _t, _h, q_new, v_new, _step in self._steps(f, q, v, duration):
+            end = q_new, v_new
+        return end
+
+    def solve(
+        self, f: Acceleration, q: np.ndarray, v: np.ndarray, times: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """States at ``times`` (s, increasing, from 0): q (len(times), nq), v (len(times), nv).
+
+        One adaptive run to ``times[-1]``; the states in between come from the dense output
+        ``q0 * exp(theta(s))``, ``v(s)`` of the step that contains them (local frame of q0).
+        """
+        times = np.asarray(times, dtype=float)
+        if times.ndim != 1 or times.size == 0 or times[0] < 0.0 or np.any(np.diff(times) < 0.0):
+            raise ValueError("dopri5 solve: times must be a non-empty, increasing 1-D array from 0 on")
+        Q, V = np.empty((times.size, q.size)), np.empty((times.size, v.size))
+        i, q_new, v_new = 0, q, v
+        while i < times.size and times[i] == 0.0:
+            Q[i], V[i], i = q, v, i + 1
+        for t, h, q_new, v_new, (q0, v0, theta, K, Acc) in self._steps(f, q, v, float(times[-1])):
+            while i < times.size and times[i] <= t + h:
+                s = min(1.0, (times[i] - t) / h)
+                Q[i] = pin.integrate(self.model, q0, _interpolate(np.zeros_like(theta), theta, K, h, s))
+                V[i] = _interpolate(v0, v_new, Acc, h, s)
+                i += 1
+        Q[i:], V[i:] = q_new, v_new  # the last time, reached within round-off
+        return Q, V
+
+    def _steps(self, f: Acceleration, q: np.ndarray, v: np.ndarray, duration: float) -> Iterator[tuple]:
+        """Accepted steps: ``(t, h, q_new, v_new, (q, v, theta, K, Acc))``, t the step's start."""
+        t, h, a0 = 0.0, self._h or duration, None
         for _ in range(self.max_steps):
             if t >= duration * (1.0 - 1e-12):
-                return q, v
+                return
             h_try = min(h, duration - t)
-            q_new, v_new, err = self._attempt(f, q, v, h_try)
+            K, Acc = rkmk_stages(f, self.model, self._dexpinv, q, v, h_try, _ROWS, a0)
+            self._calls += len(_ROWS) - (a0 is not None)
+            a0 = Acc[0]
+            theta, v_new = h_try * (_B @ K), v + h_try * (_B @ Acc)
+            err = self._error(h_try * ((_B - _B_LOW) @ K), h_try * ((_B - _B_LOW) @ Acc), theta, v, v_new)
             factor = 0.9 * err ** -0.2 if err > 0.0 else 5.0
             if err <= 1.0:
-                t, q, v = t + h_try, q_new, v_new
+                q_new = pin.integrate(self.model, q, theta)
+                yield t, h_try, q_new, v_new, (q, v, theta, K, Acc)
+                t, q, v, a0 = t + h_try, q_new, v_new, Acc[6]
                 self.accepted += 1
                 h = h_try * min(5.0, max(0.2, factor))
                 self._h = h
@@ -74,18 +126,8 @@ class DormandPrince45:
             f"dopri5: {self.max_steps} steps did not cover {duration} s (last step {h:.3g} s)"
         )
 
-    def _attempt(self, f: Acceleration, q: np.ndarray, v: np.ndarray, h: float):
-        ks, accs = [], []
-        for row in _A:
-            theta = h * sum((a * k for a, k in zip(row, ks)), np.zeros_like(v))
-            vel = v + h * sum((a * acc for a, acc in zip(row, accs)), np.zeros_like(v))
-            accs.append(f(pin.integrate(self.model, q, theta) if ks else q, vel))
-            ks.append(self._dexpinv(theta, vel) if ks else vel)
-        self._calls += len(_A)
-        K, Acc = np.array(ks), np.array(accs)
-        theta, v_new = h * (_B @ K), v + h * (_B @ Acc)
-        err_theta, err_v = h * ((_B - _B_LOW) @ K), h * ((_B - _B_LOW) @ Acc)
+    def _error(self, err_theta, err_v, theta, v, v_new) -> float:
+        """RMS of the error estimate scaled by ``atol + rtol * |x|`` (1 = at tolerance)."""
         scale_v = self.atol + self.rtol * np.maximum(np.abs(v), np.abs(v_new))
         scale_theta = self.atol + self.rtol * np.abs(theta)
-        err = np.sqrt(np.mean(np.concatenate((err_theta / scale_theta, err_v / scale_v)) ** 2))
-        return pin.integrate(self.model, q, theta), v_new, float(err)
+        return float(np.sqrt(np.mean(np.concatenate((err_theta / scale_theta, err_v / scale_v)) ** 2)))

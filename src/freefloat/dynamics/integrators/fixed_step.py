@@ -9,7 +9,7 @@ from .base import Acceleration
 from .lie import ChartCorrection
 
 
-class _FixedStep:
+class FixedStep:
     """Shared stepping loop: ``substeps`` equal steps per :meth:`advance` call."""
 
     name = ""
@@ -37,7 +37,7 @@ class _FixedStep:
         raise NotImplementedError
 
 
-class SemiImplicitEuler(_FixedStep):
+class SemiImplicitEuler(FixedStep):
     """Symplectic (semi-implicit) Euler, the dissertation's scheme: ``v+ = v + h a``, ``q+ = q * exp(h v+)``.
 
     First order.
@@ -52,7 +52,7 @@ class SemiImplicitEuler(_FixedStep):
         return pin.integrate(self.model, q, h * v_next), v_next
 
 
-class RungeKutta4(_FixedStep):
+class RungeKutta4(FixedStep):
     """Classical RK4 in the exponential chart at q: Runge-Kutta-Munthe-Kaas, 4th order on the group.
 
     Stage configurations are ``q * exp(theta_i)``; the chart velocities are corrected by

@@ -1,0 +1,49 @@
+"""The stages of one explicit Runge-Kutta-Munthe-Kaas step, in the exponential chart at q."""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+
+import numpy as np
+import pinocchio as pin
+
+from .base import Acceleration
+from .lie import ChartCorrection
+
+#: ``dexp^{-1}_{-theta}(velocity)`` (nv,) from theta (nv,) and a local velocity (nv,).
+ChartVelocity = Callable[[np.ndarray, np.ndarray], np.ndarray]
+
+
+def chart_velocity(model: pin.Model, degree: int = 4) -> ChartVelocity:
+    """The model's ``dexp^{-1}_{-theta}`` to ``ad^degree``, or the identity when every joint commutes."""
+    chart = ChartCorrection(model, degree)
+    return chart.apply if chart.needed else (lambda theta, velocity: velocity)
+
+
+def rkmk_stages(
+    f: Acceleration,
+    model: pin.Model,
+    dexpinv: ChartVelocity,
+    q: np.ndarray,
+    v: np.ndarray,
+    h: float,
+    rows: Sequence[np.ndarray],
+    a0: np.ndarray | None = None,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Chart velocities ``K`` and accelerations ``Acc`` (both (s, nv)) of an s-stage explicit tableau.
+
+    Stage i sits at ``q * exp(theta_i)``, ``theta_i = h sum_j rows[i][j] K[j]`` (local frame of q),
+    with velocity ``v_i = v + h sum_j rows[i][j] Acc[j]``; ``K[i] = dexp^{-1}_{-theta_i}(v_i)`` and
+    ``Acc[i] = f(q * exp(theta_i), v_i)``. ``rows[0]`` is empty; ``a0`` is ``f(q, v)`` when already
+    known (first stage same as the last of the previous step), so that it costs no call.
+    """
+    nv = v.size
+    KA = np.empty((len(rows), 2 * nv))  # [K | Acc], one product per stage for both
+    KA[0, :nv] = v
+    KA[0, nv:] = f(q, v) if a0 is None else a0
+    for i in range(1, len(rows)):
+        increment = h * (rows[i] @ KA[:i])
+        theta, vel = increment[:nv], v + increment[nv:]
+        KA[i, :nv] = dexpinv(theta, vel)
+        KA[i, nv:] = f(pin.integrate(model, q, theta), vel)
+    return KA[:, :nv], KA[:, nv:]
