@@ -87,3 +87,38 @@ def test_unknown_scene_name_lists_the_builtins():
     """An unknown scene name lists the built-in scenes."""
     with pytest.raises(SceneError, match=f"built-in: .*{DEFAULT_SCENE}"):
         find_scene("not_a_scene")
+
+
+def test_momentum_projection_is_a_scene_option_that_holds_the_momentum(tmp_path):
+    """[simulation] project_momentum = true holds the momentum of a semi-implicit Euler tumbling
+    run at round-off, where the plain run drifts."""
+    from freefloat.app.runner import simulate
+
+    from .conftest import scene_variant
+
+    drifts = []
+    for project in (False, True):
+        scene = load_scene(scene_variant(tmp_path / f"s{project}.toml", "tumbling",
+                                         simulation={"integrator": "euler", "duration": 0.5, "project_momentum": project}))
+        drifts.append(simulate(scene).summary["momentum_drift_max"])
+    assert drifts[1] < 1e-10 < drifts[0]
+
+
+@pytest.mark.parametrize(("section", "values", "named"), [
+    ("robot", {"gravity": [0.0, 0.0, -9.81]}, "robot.gravity"),
+])
+def test_momentum_projection_is_refused_where_momentum_changes(tmp_path, section, values, named):
+    """Projection with gravity (or wrenches) would hold a momentum the physics changes: refused."""
+    from .conftest import scene_variant
+
+    path = scene_variant(tmp_path / "s.toml", "tumbling", simulation={"project_momentum": True}, **{section: values})
+    with pytest.raises(SceneError, match=f"project_momentum.*{named}"):
+        load_scene(path)
+
+
+def test_momentum_projection_is_refused_with_wrenches():
+    """A detumbling scene's impulse wrenches change the momentum: projection refused, naming them."""
+    raw = tomllib.loads(builtin_scenes()["detumble_impulse_arm1_joint4"].read_text())
+    raw["simulation"]["project_momentum"] = True
+    with pytest.raises(SceneError, match=r"project_momentum.*\[\[wrenches\]\]"):
+        parse_scene(raw)

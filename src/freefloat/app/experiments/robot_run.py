@@ -78,7 +78,8 @@ def prepare_robot(scene: Scene) -> RobotSetup:
     setup = RobotSetup(
         scene=scene, robot=robot, q0=q0, v0=v0,
         model=make_model(sim.model, robot),
-        integrator=make_integrator(sim.integrator, robot.model, sim.substeps, sim.rtol, sim.atol),
+        integrator=make_integrator(sim.integrator, robot.model, sim.substeps, sim.rtol, sim.atol,
+                                   project_momentum=sim.project_momentum),
         wrenches=tuple(ExternalWrench(w.link, w.force, w.torque, w.start, w.end, w.rise) for w in scene.wrenches),
     )
     check_run_size(setup)

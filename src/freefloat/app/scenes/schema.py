@@ -116,7 +116,9 @@ class ControllerSection:
 @dataclass(frozen=True)
 class SimulationSection:
     """``[simulation]``: duration and control period (s), plant model, integrator and its
-    settings, telemetry stride."""
+    settings, telemetry stride, and ``project_momentum``: after each control period, the
+    velocity nearest in the kinetic-energy metric with the start momentum (for torque-free or
+    internally actuated runs without gravity or wrenches, whose momentum is conserved)."""
 
     duration: float = 1.0
     control_period: float = 1e-3
@@ -126,6 +128,7 @@ class SimulationSection:
     rtol: float = 1e-10
     atol: float = 1e-12
     record_every: int = 1
+    project_momentum: bool = False
 
 
 @dataclass(frozen=True)
@@ -207,6 +210,9 @@ def parse_robot_scene(raw: dict[str, Any], source: Path | None = None) -> Scene:
     scene = Scene(**kwargs, source=source)
     sim = scene.simulation
     whole_number_of(where, sim.duration, sim.control_period, "simulation.duration", "simulation.control_period")
+    if sim.project_momentum and (scene.wrenches or any(scene.robot.gravity)):
+        raise SceneError(f"{where}'simulation.project_momentum' holds the momentum constant, but this scene's "
+                         f"{'[[wrenches]]' if scene.wrenches else 'robot.gravity'} change it; remove one of them")
     at_most(where, scene.output.html_fps, MAX_HTML_FPS, "output.html_fps")
     return scene
 

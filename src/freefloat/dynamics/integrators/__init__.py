@@ -31,8 +31,9 @@ def make_integrator(
 ) -> Integrator:
     """The integrator called ``name`` (see :data:`INTEGRATORS`).
 
-    ``project_momentum`` wraps it in :class:`MomentumProjection` (only for runs without external
-    wrenches; not a scene option, since scenes may apply wrenches).
+    ``project_momentum`` wraps it in :class:`MomentumProjection` (only for runs whose momentum is
+    conserved: no external wrenches, no gravity; the scene option ``simulation.project_momentum``
+    is refused together with either).
 
     Raises:
         ValueError: for an unknown name, listing the valid ones.
