@@ -1,5 +1,6 @@
-"""The README and the docs site show only what works: every Python snippet runs, every
-``freefloat`` command parses, every script exists, every scene file is accepted."""
+"""The README and the docs site show only what works: every Python snippet runs and its numbers
+agree with an independent reference, every ``freefloat`` command parses, every script exists,
+every scene example is read as written."""
 
 from __future__ import annotations
 
@@ -8,6 +9,7 @@ import re
 import shlex
 import tomllib
 
+import numpy as np
 import pytest
 
 from freefloat.app import cli
@@ -45,11 +47,63 @@ def commands() -> list[tuple[str, list[str]]]:
     return found
 
 
+def _readme_tumbling(ns: dict) -> None:
+    """The torque-free tumbling run conserves its momentum (a conservation law) and ends where an
+    independent integration (dopri5 at rtol 1e-12) ends."""
+    from freefloat.dynamics.integrators import make_integrator
+
+    result, robot = ns["result"], ns["robot"]
+    momentum = result.telemetry.momentum
+    assert result.status == "completed"
+    assert np.abs(momentum - momentum[0]).max() < 1e-12 * max(1.0, np.abs(momentum).max())
+    model = ns["make_model"]("exact", robot)
+    f = lambda q, v: model.acceleration(q, v, np.zeros(robot.model.nv))  # noqa: E731
+    q, v = make_integrator("dopri5", robot.model, rtol=1e-12, atol=1e-14).advance(f, ns["q0"], ns["v0"], 1.0)
+    assert np.abs(v - result.telemetry.v[-1]).max() < 1e-8
+
+
+def _gjm_page(ns: dict) -> None:
+    """The GJM state equals Pinocchio's counterparts (CRBA, centroidal momentum, frame
+    Jacobians) at the snippet's state."""
+    from freefloat.dynamics.reference import reference
+
+    s, ref = ns["s"], reference(ns["robot"], ns["q"], ns["v"])
+    for name in ("H0", "H0m", "Hm", "Hstar", "Jstar", "momentum_origin"):
+        expected = getattr(ref, name)
+        assert np.abs(getattr(s, name) - expected).max() <= 1e-10 * max(1.0, np.abs(expected).max()), name
+    assert np.abs(s.end_effector_velocity() - ref.ee_velocity).max() <= 1e-10 * max(1.0, np.abs(ref.ee_velocity).max())
+
+
+def _integrators_page(ns: dict) -> None:
+    """rkmk6 and dopri5's dense output end at the same state, and rkmk6 keeps the momentum of
+    the start (computed by Pinocchio)."""
+    import pinocchio as pin
+
+    model = ns["robot"].model
+    data = model.createData()
+
+    def momentum(q, v):
+        return pin.computeCentroidalMomentum(model, data, q, v).vector.copy()
+
+    assert np.abs(ns["V"][-1] - ns["v1"]).max() < 1e-6
+    start = momentum(ns["q0"], ns["v0"])
+    assert np.abs(momentum(ns["q1"], ns["v1"]) - start).max() < 1e-9 * max(1.0, np.abs(start).max())
+
+
+#: What each Python snippet of the pages claims, checked against a reference of its own.
+SNIPPET_CHECKS = {"README.md#python0": _readme_tumbling, "gjm.md#python0": _gjm_page,
+                  "integrators.md#python0": _integrators_page}
+
+
 @pytest.mark.parametrize(("where", "code"), blocks("python"), ids=[w for w, _ in blocks("python")])
-def test_python_snippet_runs(where, code, tmp_path, monkeypatch):
-    """The snippet executes without error (from a fresh folder)."""
+def test_python_snippet_runs_and_its_numbers_hold(where, code, tmp_path, monkeypatch):
+    """The snippet executes (from a fresh folder) and what it computes agrees with an independent
+    reference (Pinocchio, a conservation law, another integrator); a new snippet needs a check."""
+    assert where in SNIPPET_CHECKS, f"{where}: add a check of what the snippet computes to SNIPPET_CHECKS"
     monkeypatch.chdir(tmp_path)
-    exec(compile(code, where, "exec"), {"__name__": "snippet"})  # noqa: S102 -- running the snippet is the test
+    namespace = {"__name__": "snippet"}
+    exec(compile(code, where, "exec"), namespace)  # noqa: S102 -- running the snippet is half the test
+    SNIPPET_CHECKS[where](namespace)
 
 
 @pytest.mark.parametrize(("where", "argv"), commands(), ids=[" ".join(a) for _, a in commands()])
@@ -64,11 +118,29 @@ def test_command_parses(where, argv, monkeypatch):
     assert cli.main(argv[1:]) == 0 and seen, f"{where}: {' '.join(argv)}"
 
 
+def _plain(value):
+    """Tuples to lists, recursively (the schema stores sequences as tuples)."""
+    if isinstance(value, (list, tuple)):
+        return [_plain(v) for v in value]
+    if isinstance(value, dict):
+        return {k: _plain(v) for k, v in value.items()}
+    return value
+
+
 @pytest.mark.parametrize(("where", "text"), blocks("toml"), ids=[w for w, _ in blocks("toml")])
-def test_scene_example_is_accepted(where, text, monkeypatch):
-    """A TOML example that is a scene passes the scene validation."""
+def test_scene_example_is_read_as_written(where, text, monkeypatch):
+    """A TOML example passes the scene validation, and every value it sets reaches the parsed
+    scene unchanged (compared with tomllib's own reading of the text)."""
     monkeypatch.chdir(REPO / "src" / "freefloat" / "app" / "scenes")
-    parse_scene(tomllib.loads(text))
+    raw = tomllib.loads(text)
+    scene = parse_scene(raw)
+    for key, value in raw.items():
+        if isinstance(value, dict):
+            section = getattr(scene, key)
+            for field, expected in value.items():
+                assert _plain(getattr(section, field)) == _plain(expected), f"{where}: {key}.{field}"
+        elif not isinstance(value, list):
+            assert getattr(scene, key) == value, f"{where}: {key}"
 
 
 def test_site_builds_with_warnings_as_errors(tmp_path):

@@ -1,5 +1,5 @@
-"""The README's commands and code are true: its Python runs, CI runs its install and test
-commands, and the package description links nothing outside the repository."""
+"""The README's commands are true: CI runs its install and test commands, and the package
+description links nothing outside the repository (its Python: tests/test_docs.py)."""
 
 from __future__ import annotations
 
@@ -13,20 +13,6 @@ CI = (Path(__file__).resolve().parents[1] / ".ci" / "run").read_text()
 def code_blocks(language: str) -> list[str]:
     """The README's fenced blocks of ``language``."""
     return re.findall(rf"```{language}\n(.*?)```", README, flags=re.S)
-
-
-def test_python_snippets_run(capsys):
-    """Every Python block of the README executes as written; the tumbling example conserves
-    momentum."""
-    blocks = code_blocks("python")
-    assert blocks
-    for block in blocks:
-        namespace: dict = {}
-        exec(compile(block, "README.md", "exec"), namespace)  # noqa: S102
-    result = namespace["result"]
-    assert result.status == "completed"
-    momentum = result.telemetry.momentum
-    assert abs(momentum - momentum[0]).max() < 1e-12 * max(1.0, abs(momentum).max())
 
 
 def test_ci_runs_the_quick_start_commands():
