@@ -325,7 +325,7 @@ def _merge_grippers(model: pin.Model, robot: yourdfpy.Robot, leaves: list[str]) 
         if len(group) < 2 or not behind_movable or not all(part for _, part in group):
             chosen.append(leaf)
             continue
-        fixed = [name for name in (n for n, _ in group) if joint_to[name].parent == hub and joint_to[name].type == "fixed"]
+        fixed = [name for name, _ in group if joint_to[name].parent == hub and joint_to[name].type == "fixed"]
         pick = fixed[0] if len(fixed) == 1 else hub
         if pick not in chosen:
             chosen.append(pick)

@@ -97,12 +97,17 @@ def check_joints(path: Path, root: ET.Element) -> None:
             raise RobotModelError(f"{path}: joint '{name}' is defined {names.count(name)} times")
     nv = 6 + sum(joint.get("type") in ("revolute", "continuous", "prismatic") for joint in root.findall("joint"))
     need = DATA_PER_RUN * DATA_BYTES_PER_NV3 * nv**3
-    have = MEMORY_SHARE * os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
+    have = usable_memory()
     if need > have:
         raise RobotModelError(
             f"{path}: {nv - 6} movable joints: a simulation would need about {need / 1e9:.1f} GB "
             f"(Pinocchio's Data grows as nv^3, ~{DATA_BYTES_PER_NV3 * nv**3 / 1e9:.1f} GB each), more than "
             f"{have / 1e9:.1f} GB ({MEMORY_SHARE:.0%} of this machine's memory)")
+
+
+def usable_memory() -> float:
+    """Bytes a robot or a run may take: :data:`MEMORY_SHARE` of this machine's memory."""
+    return MEMORY_SHARE * os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
 
 
 def physics_notes(path: Path, robot: yourdfpy.Robot) -> list[str]:

@@ -3,14 +3,12 @@ take more than a day is refused with the estimate and the scene keys that set it
 
 from __future__ import annotations
 
-import os
 import time
 from typing import Callable
 
 from ...errors import SceneError
+from ...robot.urdf_checks import MEMORY_SHARE, usable_memory
 
-#: Share of the machine's memory a run may fill.
-MEMORY_SHARE = 0.5
 #: Longest run accepted, s of wall-clock time.
 MAX_SECONDS = 24 * 3600.0
 
@@ -27,13 +25,13 @@ def seconds_per_call(call: Callable[[], object], repeats: int = 5) -> float:
 
 
 def check_budget(scene_name: str, memory_bytes: float, seconds: float, keys: str) -> None:
-    """Refuse a run estimated to need more than :data:`MEMORY_SHARE` of this machine's memory or
+    """Refuse a run estimated to need more memory than it may take (``usable_memory``) or
     more than :data:`MAX_SECONDS`.
 
     Raises:
         SceneError: naming the scene, the keys that set the size (``keys``) and the estimate.
     """
-    available = MEMORY_SHARE * os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
+    available = usable_memory()
     if memory_bytes > available:
         raise SceneError(f"scene '{scene_name}': {keys} ask for a run that needs about {memory_bytes / 1e9:.3g} GB "
                          f"of telemetry, more than {available / 1e9:.3g} GB ({MEMORY_SHARE:.0%} of this machine's "
