@@ -16,31 +16,38 @@ from freefloat.robot.conventions import base_state
 from .conftest import random_robots, random_state, robot_from_case
 
 
+BOTH = pytest.mark.parametrize("backend", ["python", "compiled"])
+
+
 def torque_free(robot, q0, v0, duration=0.5, period=0.01, substeps=4, **kwargs):
     integrator = make_integrator("rkmk4", robot.model, substeps=substeps)
     return run(robot, q0, v0, duration, period, integrator, ExactModel(robot), **kwargs)
 
 
-@settings(max_examples=20, deadline=None)
+@BOTH
+@settings(max_examples=15, deadline=None)
 @given(random_robots(max_links=6))
-def test_torque_free_motion_conserves_momentum_and_energy(tmp_path_factory, case):
-    """Random robots tumbling freely keep their momentum (about the origin) and energy."""
+def test_torque_free_motion_conserves_momentum_and_energy(tmp_path_factory, backend, case):
+    """Random robots tumbling freely keep their momentum (about the origin) and energy, in
+    either loop."""
     robot, rng = robot_from_case(tmp_path_factory, case)
     q0, v0 = random_state(robot, rng, speed=0.5)
-    tel = torque_free(robot, q0, v0).telemetry
+    tel = torque_free(robot, q0, v0, backend=backend).telemetry
     scale = max(1.0, np.abs(tel.momentum[0]).max())
     assert np.abs(tel.momentum - tel.momentum[0]).max() < 1e-7 * scale
     assert np.abs(tel.energy - tel.energy[0]).max() < 1e-5 * max(1.0, tel.energy[0])
     np.testing.assert_allclose(tel.com, tel.com[0] + np.outer(tel.t, tel.momentum[0, :3]) / pin.computeTotalMass(robot.model), atol=1e-7)
 
 
-@settings(max_examples=15, deadline=None)
+@BOTH
+@settings(max_examples=10, deadline=None)
 @given(random_robots(max_links=6))
-def test_telemetry_matches_independent_pinocchio_calls(tmp_path_factory, case):
-    """Recorded momentum, base state and end-effector poses equal direct computations (CCRBA, FK)."""
+def test_telemetry_matches_independent_pinocchio_calls(tmp_path_factory, backend, case):
+    """Recorded momentum, base state and end-effector poses equal direct computations (CCRBA,
+    FK), in either loop."""
     robot, rng = robot_from_case(tmp_path_factory, case)
     q0, v0 = random_state(robot, rng, speed=0.5)
-    tel = torque_free(robot, q0, v0, duration=0.05).telemetry
+    tel = torque_free(robot, q0, v0, duration=0.05, backend=backend).telemetry
     data = robot.model.createData()
     k = len(tel.t) - 1
     q, v = tel.q[k], tel.v[k]
@@ -83,16 +90,18 @@ def test_unknown_wrench_link_is_rejected(tmp_path):
         torque_free(robot, robot.neutral(), np.zeros(robot.model.nv), wrenches=(ExternalWrench("arm9"),))
 
 
-def test_blow_up_stops_with_a_message_and_keeps_the_samples(tmp_path):
-    """An unstable run (Euler, huge step, fast spin) stops as 'diverged' and returns its samples."""
+@BOTH
+def test_blow_up_stops_with_a_message_and_keeps_the_samples(backend):
+    """An unstable run (Euler, huge step, fast spin) stops as 'diverged' and returns its samples,
+    in either loop."""
     from freefloat import load_robot
 
     from .conftest import REPO
 
     robot = load_robot(REPO / "urdf" / "four_arm_planar.urdf", visuals=False)
     q0, v0 = robot.neutral(), np.full(robot.model.nv, 50.0)
-    result = run(robot, q0, v0, 50.0, 0.5, make_integrator("euler", robot.model), ExactModel(robot))
-    assert result.status == "diverged" and "t = " in result.message
+    result = run(robot, q0, v0, 50.0, 0.5, make_integrator("euler", robot.model), ExactModel(robot), backend=backend)
+    assert result.status == "diverged" and result.backend == backend and "t = " in result.message
     assert 0 < len(result.telemetry.t) < 101
     assert np.isfinite(result.telemetry.q).all()
 
@@ -154,6 +163,6 @@ def test_a_sample_interrupted_half_way_is_not_kept(monkeypatch):
 
     monkeypatch.setattr(simulation.Recorder, "record", record)
     result = run(robot, robot.neutral(), np.zeros(robot.model.nv), 0.05, 1e-3,
-                 make_integrator("rkmk4", robot.model), make_model("exact", robot))
+                 make_integrator("rkmk4", robot.model), make_model("exact", robot), backend="python")
     assert result.status == "interrupted" and len(result.telemetry.t) == 6
     assert np.allclose(np.linalg.norm(result.telemetry.base_quaternion, axis=1), 1.0)

@@ -15,18 +15,21 @@ from ..robot.joints import JointCoordinates
 from ..robot.loading import BASE_COM_FRAME
 from ..robot.robot import Robot
 from ..robot.state import check_state
+from . import compiled
 from .integrators import Integrator
 from .models import DynamicsModel
 from .telemetry import Chunks, Telemetry
 from .threads import single_blas_thread
 from .wrenches import ExternalWrench, WrenchField
 
-__all__ = ["CHUNK_ROWS", "MAX_POSITION", "MAX_SPEED", "Controller", "Recorder", "RunResult", "control_periods", "run"]
+__all__ = ["BACKENDS", "CHUNK_ROWS", "MAX_POSITION", "MAX_SPEED", "Controller", "Recorder", "RunResult", "control_periods", "run"]
 
 #: A generalized velocity component above this (m/s or rad/s) counts as a blow-up.
 MAX_SPEED = 1e6
 #: A configuration coordinate above this (m) counts as a blow-up.
 MAX_POSITION = 1e12
+#: Loops :func:`run` can use (see its ``backend`` argument).
+BACKENDS = ("auto", "compiled", "python")
 #: Telemetry rows per chunk (what ``checkpoint`` receives at a time).
 CHUNK_ROWS = 1024
 
@@ -53,6 +56,8 @@ class RunResult:
         steps: control periods simulated.
         wall_time_s: wall-clock time of the loop, s.
         evaluations: dynamics-model calls made by the integrator.
+        backend: the loop that ran: ``"compiled"`` (:mod:`freefloat.dynamics.compiled`) or
+            ``"python"``.
     """
 
     telemetry: Telemetry
@@ -61,6 +66,7 @@ class RunResult:
     steps: int
     wall_time_s: float
     evaluations: int
+    backend: str = "python"
 
 
 class Recorder:
@@ -115,6 +121,7 @@ def run(
     stop: Callable[[float, np.ndarray, np.ndarray], bool] | None = None,
     start_time: float = 0.0,
     checkpoint: Callable[[Telemetry], None] | None = None,
+    backend: str = "auto",
 ) -> RunResult:
     """Simulate ``duration`` s in control periods of ``control_period`` s.
 
@@ -139,17 +146,32 @@ def run(
         start_time: time of the first sample, s (to chain runs, e.g. one per model phase).
         checkpoint: called with every chunk of :data:`CHUNK_ROWS` telemetry rows as it fills
             and with the last rows when the run ends (e.g. to save them as the run goes).
+        backend: ``"compiled"``: the same loop in compiled code (:mod:`freefloat.dynamics.compiled`;
+            the exact plant, a registry integrator, no or computed-torque control, no wrenches, no
+            stop event); ``"python"``: this module's loop; ``"auto"`` (default): compiled when the
+            run allows it.
 
     Raises:
         InvalidArgument: for a state of the wrong size or not finite, a non-unit base quaternion,
-            or a duration that is not a positive whole number of control periods.
+            a duration that is not a positive whole number of control periods, an unknown
+            backend, or ``"compiled"`` for a run it cannot do (with the reason).
     """
     steps = control_periods(duration, control_period)
     check_state(robot, q0, v0)
     if not (isinstance(record_every, int) and record_every >= 1):
         raise InvalidArgument(f"record_every must be an integer >= 1, got {record_every!r}")
+    if backend not in BACKENDS:
+        raise InvalidArgument(f"backend must be one of {', '.join(BACKENDS)}, got {backend!r}")
     shape = (robot.model.nq, robot.model.nv, robot.n_joints, len(robot.end_effectors))
     rows = Chunks(lambda n: Telemetry.allocate(n, *shape), CHUNK_ROWS, checkpoint)
+    if backend != "python":
+        reason = compiled.unsupported(model, integrator, controller, wrenches, stop)
+        if reason is None:
+            loop = compiled.CompiledLoop(robot, integrator, control_period, start_time, record_every,
+                                         controller.compiled_law() if controller is not None else None)
+            return _run_compiled(loop, q0, v0, steps, control_period, start_time, rows, progress)
+        if backend == "compiled":
+            raise InvalidArgument(f"the compiled loop cannot run this: {reason}")
     recorder = Recorder(robot, rows.current)
     nb = robot.n_base
     tau_full = np.zeros(robot.model.nv)
@@ -216,6 +238,33 @@ def run(
         rows.commit()
     wall = time.perf_counter() - start
     return RunResult(rows.collect(), status, message, k, wall, integrator.evaluations())
+
+
+def _run_compiled(loop: compiled.CompiledLoop, q0: np.ndarray, v0: np.ndarray, steps: int, control_period: float,
+                  start_time: float, rows: Chunks, progress: Callable[[int], None] | None) -> RunResult:
+    """:func:`run` through the compiled loop: Python is entered once per chunk or progress report."""
+    loop.start(q0, v0)
+    report_every = max(1, steps // 200)
+    status, message = "completed", ""
+    start = time.perf_counter()
+    try:
+        while loop.period < steps:
+            chunk, row = rows.next_row()
+            target = min(steps, (loop.period // report_every + 1) * report_every)
+            written = loop.run(target, chunk, row)
+            rows.commit(written)
+            if progress is not None and loop.period % report_every == 0:
+                progress(loop.period)
+    except KeyboardInterrupt:
+        status, message = "interrupted", f"interrupted by the user at t = {start_time + loop.period * control_period:.6g} s"
+    except RuntimeError as exc:  # blow-up detected in the loop, as in the Python loop
+        status, message = "diverged", str(exc)
+    else:
+        chunk, row = rows.next_row()
+        loop.record_last(chunk, row)
+        rows.commit()
+    wall = time.perf_counter() - start
+    return RunResult(rows.collect(), status, message, loop.period, wall, loop.evaluations(), "compiled")
 
 
 def control_periods(duration: float, control_period: float) -> int:

@@ -86,9 +86,10 @@ class Chunks(Generic[A]):
             self.current, self.used = self.allocate(self.rows), 0
         return self.current, self.used
 
-    def commit(self) -> None:
-        """Count the row :meth:`next_row` gave as written."""
-        self.used += 1
+    def commit(self, rows: int = 1) -> None:
+        """Count the row :meth:`next_row` gave (and the ``rows - 1`` after it, filled in the same
+        chunk) as written."""
+        self.used += rows
 
     def collect(self) -> A:
         """All samples recorded, in order; the last chunk (possibly partial) goes to

@@ -18,6 +18,10 @@ class JointCoordinates:
 
     Args:
         robot: the robot whose joints (Pinocchio joints 2..) are mapped.
+
+    Attributes:
+        scalar_q, scalar_pos: q indices of the one-number joints and their position indices.
+        circle_q, circle_pos: q index of the cos of each continuous joint and its position index.
     """
 
     def __init__(self, robot: Robot):
@@ -38,22 +42,22 @@ class JointCoordinates:
         nbq = model.nqs[1]
         self._plain = not circle_q and scalar_q == list(range(nbq, model.nq))
         self._slice = slice(nbq, model.nq)
-        self._scalar_q = np.array(scalar_q, dtype=int)
-        self._scalar_pos = np.array(scalar_pos, dtype=int)
-        self._circle_q = np.array(circle_q, dtype=int)
-        self._circle_pos = np.array(circle_pos, dtype=int)
+        self.scalar_q = np.array(scalar_q, dtype=int)
+        self.scalar_pos = np.array(scalar_pos, dtype=int)
+        self.circle_q = np.array(circle_q, dtype=int)
+        self.circle_pos = np.array(circle_pos, dtype=int)
 
     def get(self, q: np.ndarray) -> np.ndarray:
         """Actuated joint positions (n_joints,) from a configuration q (nq,)."""
         if self._plain:
             return q[self._slice].copy()
         out = np.empty(self.n)
-        out[self._scalar_pos] = q[self._scalar_q]
-        out[self._circle_pos] = np.arctan2(q[self._circle_q + 1], q[self._circle_q])
+        out[self.scalar_pos] = q[self.scalar_q]
+        out[self.circle_pos] = np.arctan2(q[self.circle_q + 1], q[self.circle_q])
         return out
 
     def set(self, q: np.ndarray, positions: np.ndarray) -> None:
         """Write actuated joint positions (n_joints,) into q (nq,) in place."""
-        q[self._scalar_q] = positions[self._scalar_pos]
-        q[self._circle_q] = np.cos(positions[self._circle_pos])
-        q[self._circle_q + 1] = np.sin(positions[self._circle_pos])
+        q[self.scalar_q] = positions[self.scalar_pos]
+        q[self.circle_q] = np.cos(positions[self.circle_pos])
+        q[self.circle_q + 1] = np.sin(positions[self.circle_pos])

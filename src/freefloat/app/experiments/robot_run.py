@@ -170,7 +170,7 @@ def simulate(setup: RobotSetup, progress: Progress | None, checkpoint: Checkpoin
     sim = setup.scene.simulation
     return run(setup.robot, setup.q0, setup.v0, sim.duration, sim.control_period, setup.integrator, setup.model,
                setup.controller, wrenches=setup.wrenches, record_every=sim.record_every, progress=progress,
-               checkpoint=checkpoint)
+               checkpoint=checkpoint, backend=sim.backend)
 
 
 def summary_of(setup: RobotSetup, result: RunResult, **task: Any) -> dict[str, Any]:
@@ -179,7 +179,7 @@ def summary_of(setup: RobotSetup, result: RunResult, **task: Any) -> dict[str, A
     summary = summarize(result.telemetry, setup.robot) if len(result.telemetry.t) else {}
     summary.update(task)
     summary.update(status=result.status, message=result.message, steps=result.steps,
-                   sim_wall_time_s=result.wall_time_s, model_evaluations=result.evaluations)
+                   sim_wall_time_s=result.wall_time_s, model_evaluations=result.evaluations, loop=result.backend)
     return summary
 
 

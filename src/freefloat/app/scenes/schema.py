@@ -13,6 +13,7 @@ from pathlib import Path
 from typing import Any
 
 from ...dynamics.integrators import INTEGRATORS
+from ...dynamics.simulation import BACKENDS
 from ...dynamics.models import MODELS
 from ...errors import SceneError
 from .fields import (
@@ -118,7 +119,10 @@ class SimulationSection:
     """``[simulation]``: duration and control period (s), plant model, integrator and its
     settings, telemetry stride, and ``project_momentum``: after each control period, the
     velocity nearest in the kinetic-energy metric with the start momentum (for torque-free or
-    internally actuated runs without gravity or wrenches, whose momentum is conserved)."""
+    internally actuated runs without gravity or wrenches, whose momentum is conserved), and the
+    ``backend`` of the loop: ``"compiled"`` (:mod:`freefloat.dynamics.compiled`), ``"python"``, or
+    ``"auto"``: compiled when the run allows it (exact plant, no momentum projection, no or
+    computed-torque control on the exact model, no wrenches, no stop event)."""
 
     duration: float = 1.0
     control_period: float = 1e-3
@@ -129,6 +133,7 @@ class SimulationSection:
     atol: float = 1e-12
     record_every: int = 1
     project_momentum: bool = False
+    backend: str = "auto"
 
 
 @dataclass(frozen=True)
@@ -175,6 +180,7 @@ CHOICES = {
     ("controller", "model"): tuple(MODELS),
     ("simulation", "model"): tuple(MODELS),
     ("simulation", "integrator"): tuple(INTEGRATORS),
+    ("simulation", "backend"): BACKENDS,
     ("", "angle_unit"): ("deg", "rad"),
 }
 POSITIVE = {

@@ -57,6 +57,15 @@ class ComputedTorque:
         self.dynamics = ControllerDynamics(robot, model)
         self.joints = JointCoordinates(robot)
 
+    def compiled_law(self) -> tuple[np.ndarray, np.ndarray, float, float, float] | None:
+        """``(start, delta, duration, kp, kd)`` of this law for the compiled loop
+        (:mod:`freefloat.dynamics.compiled`), which has it with the exact ``H*`` and ``c*`` only:
+        None for another controller model."""
+        if self.dynamics.model.name != "exact":
+            return None
+        trajectory = self.trajectory
+        return trajectory.start, trajectory.delta, trajectory.duration, self.kp, self.kd
+
     def reference(self, t: float) -> np.ndarray:
         """Reference joint positions q_d(t) (n,)."""
         return self.trajectory(t)[0]

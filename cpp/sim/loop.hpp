@@ -1,0 +1,225 @@
+// The simulation loop of freefloat.dynamics.simulation.run in C++: zero-order-hold control
+// periods, Pinocchio's ABA as the plant, an integrator of lie_rk.hpp, the joint-space computed
+// torque of freefloat.space.control (eqs 136-137, exact H* and c*, quintic reference), and the
+// telemetry row of simulation.Recorder.
+#pragma once
+
+#include <pinocchio/algorithm/aba.hpp>
+#include <pinocchio/algorithm/center-of-mass.hpp>
+#include <pinocchio/algorithm/centroidal.hpp>
+#include <pinocchio/algorithm/crba.hpp>
+#include <pinocchio/algorithm/energy.hpp>
+#include <pinocchio/algorithm/frames.hpp>
+#include <pinocchio/algorithm/rnea.hpp>
+
+#include <cstdio>
+#include <memory>
+#include <optional>
+
+#include "lie_rk.hpp"
+
+namespace freefloat::sim {
+
+// Where the actuated joint positions sit in q: plain coordinates (q index, position index) and
+// continuous joints stored as (cos, sin) (q index of cos, position index).
+struct JointMap {
+  std::vector<int> scalar_q, scalar_pos, circle_q, circle_pos;
+  int n = 0;
+
+  void get(const Vec& q, Vec& out) const {
+    for (size_t i = 0; i < scalar_q.size(); ++i) out[scalar_pos[i]] = q[scalar_q[i]];
+    for (size_t i = 0; i < circle_q.size(); ++i) out[circle_pos[i]] = std::atan2(q[circle_q[i] + 1], q[circle_q[i]]);
+  }
+};
+
+// q_d(t) = start + delta (10 s^3 - 15 s^4 + 6 s^5), s = t / T clipped to [0, 1].
+struct Quintic {
+  Vec start, delta;
+  double duration;
+
+  void at(double t, Vec& qd, Vec& qdd, Vec& qddd) const {
+    const double T = duration, s = std::min(std::max(t / T, 0.0), 1.0);
+    const double p = s * s * s * (10.0 - 15.0 * s + 6.0 * s * s);
+    const double dp = 30.0 * s * s * (1.0 - s) * (1.0 - s) / T;
+    const double ddp = 60.0 * s * (1.0 - s) * (1.0 - 2.0 * s) / (T * T);
+    qd = start + p * delta;
+    qdd = dp * delta;
+    qddd = ddp * delta;
+  }
+};
+
+// Telemetry arrays of one chunk (row-major, `rows` rows), filled in place; shapes as in
+// freefloat.dynamics.telemetry.Telemetry.
+struct Rows {
+  int rows = 0;
+  double *t, *q, *v, *tau, *joint_positions, *joint_reference, *base_position, *base_quaternion, *base_twist,
+      *ee_position, *ee_quaternion, *com, *momentum, *energy, *work;
+};
+
+class Simulation {
+ public:
+  static constexpr double kMaxSpeed = 1e6, kMaxPosition = 1e12;  // simulation.MAX_SPEED, MAX_POSITION
+
+  Simulation(Model model, JointMap joints, int n_base, const std::string& integrator, int substeps, double rtol,
+             double atol, double control_period, double start_time, int record_every)
+      : model_(std::move(model)), data_(model_), record_data_(model_), joints_(std::move(joints)), nb_(n_base),
+        integrator_(model_, integrator, substeps, rtol, atol), period_(control_period), start_(start_time),
+        record_every_(record_every) {
+    q_ = pinocchio::neutral(model_);
+    v_ = Vec::Zero(model_.nv);
+    tau_full_ = Vec::Zero(model_.nv);
+    tau_ = Vec::Zero(joints_.n);
+    pos_ = Vec::Zero(joints_.n);
+    qn_.resize(model_.nq);
+    vn_.resize(model_.nv);
+    mass_ = pinocchio::computeTotalMass(model_);
+    dynamics_ = [this](const Vec& q, const Vec& v, Vec& a) {
+      a = pinocchio::aba(model_, data_, q, v, tau_full_, pinocchio::Convention::LOCAL);
+    };
+  }
+
+  void set_frames(int base_frame, std::vector<int> ee_frames) {
+    base_frame_ = base_frame;
+    ee_frames_ = std::move(ee_frames);
+  }
+
+  void set_computed_torque(Quintic reference, double kp, double kd) {
+    reference_ = std::move(reference);
+    kp_ = kp;
+    kd_ = kd;
+  }
+
+  void set_state(const Vec& q, const Vec& v, long period, double work) {
+    q_ = q;
+    v_ = v;
+    k_ = period;
+    work_ = work;
+  }
+
+  const Vec& q() const { return q_; }
+  const Vec& v() const { return v_; }
+  long period() const { return k_; }
+  double work() const { return work_; }
+  long evaluations() const { return integrator_.evaluations(); }
+  const Model& model() const { return model_; }
+
+  // The plant's ABA at (q, v, tau) (nv,), outside of any run.
+  Vec acceleration(const Vec& q, const Vec& v, const Vec& tau) {
+    return pinocchio::aba(model_, data_, q, v, tau, pinocchio::Convention::LOCAL);
+  }
+
+  // Runs until period `last` (exclusive) or until `rows` has no free row for a period that
+  // records; writes rows from `row`. Returns the rows written. Throws std::runtime_error with the
+  // Python loop's message when the state blows up (the state stays at the last good period).
+  int run(long last, Rows& out, int row) {
+    const int first_row = row;
+    while (k_ < last) {
+      const double t = start_ + k_ * period_;
+      const bool records = k_ % record_every_ == 0;
+      if (records && row == out.rows) break;
+      control(t);
+      if (records) record(out, row++, t);
+      step(t);
+    }
+    return row - first_row;
+  }
+
+  // The row at the current state (the run's last sample), torques of the period that ends here.
+  void record_last(Rows& out, int row) { record(out, row, start_ + k_ * period_); }
+
+ private:
+  void control(double t) {
+    if (!reference_) return;
+    Vec qd(joints_.n), qdd(joints_.n), qddd(joints_.n);
+    reference_->at(t, qd, qdd, qddd);
+    joints_.get(q_, pos_);
+    const Eigen::MatrixXd& M = pinocchio::crba(model_, data_, q_, pinocchio::Convention::LOCAL);
+    M_ = M.selfadjointView<Eigen::Upper>();
+    const Vec& b = pinocchio::nonLinearEffects(model_, data_, q_, v_);
+    const int n = joints_.n;
+    Eigen::MatrixXd rhs(nb_, n + 1);
+    rhs.leftCols(n) = M_.topRightCorner(nb_, n);
+    rhs.col(n) = b.head(nb_);
+    const Eigen::MatrixXd coupling = M_.topLeftCorner(nb_, nb_).partialPivLu().solve(rhs);
+    const Eigen::MatrixXd H = M_.bottomRightCorner(n, n) - M_.bottomLeftCorner(n, nb_) * coupling.leftCols(n);
+    const Vec c = b.tail(n) - M_.bottomLeftCorner(n, nb_) * coupling.col(n);
+    tau_ = H * (qddd + kp_ * (qd - pos_) + kd_ * (qdd - v_.tail(n))) + c;
+    tau_full_.tail(n) = tau_;
+  }
+
+  void step(double t) {
+    qn_ = q_;
+    vn_ = v_;
+    integrator_.advance(dynamics_, qn_, vn_, period_);
+    const double t_end = t + period_;
+    const double vmax = vn_.cwiseAbs().maxCoeff();
+    if (!(vmax < kMaxSpeed))
+      fail("state blew up at t = %.6g s (step %ld): max |v| = %.3g (limit %g)", t_end, vmax, kMaxSpeed);
+    const double qmax = qn_.cwiseAbs().maxCoeff();
+    if (!(qmax < kMaxPosition))
+      fail("configuration left the finite range at t = %.6g s (step %ld): max |q| = %.3g (limit %g)", t_end, qmax,
+           kMaxPosition);
+    if (reference_) work_ += tau_.dot(pinocchio::difference(model_, q_, qn_).tail(joints_.n));
+    q_.swap(qn_);
+    v_.swap(vn_);
+    ++k_;
+  }
+
+  [[noreturn]] void fail(const char* format, double t, double value, double limit) const {
+    char text[256];
+    std::snprintf(text, sizeof text, format, t, k_ + 1, value, limit);
+    throw std::runtime_error(text);
+  }
+
+  void record(Rows& out, int row, double t) {
+    const int nq = model_.nq, nv = model_.nv, n = joints_.n, ne = static_cast<int>(ee_frames_.size());
+    Data& d = record_data_;
+    const pinocchio::Force& hg = pinocchio::computeCentroidalMomentum(model_, d, q_, v_);
+    const Vec3 com = d.com[0];
+    Eigen::Map<Vec6> momentum(out.momentum + 6 * row);
+    momentum.head<3>() = hg.linear();
+    momentum.tail<3>() = hg.angular() + com.cross(hg.linear());
+    out.t[row] = t;
+    Eigen::Map<Vec>(out.q + nq * row, nq) = q_;
+    Eigen::Map<Vec>(out.v + nv * row, nv) = v_;
+    Eigen::Map<Vec>(out.tau + n * row, n) = tau_;
+    joints_.get(q_, pos_);
+    Eigen::Map<Vec>(out.joint_positions + n * row, n) = pos_;
+    if (reference_) {
+      Vec qd(n), qdd(n), qddd(n);
+      reference_->at(t, qd, qdd, qddd);
+      Eigen::Map<Vec>(out.joint_reference + n * row, n) = qd;
+    }
+    Eigen::Map<Vec3>(out.com + 3 * row) = com;
+    out.energy[row] = pinocchio::computeKineticEnergy(model_, d) - mass_ * model_.gravity.linear().dot(com);
+    out.work[row] = work_;
+    const SE3& base = pinocchio::updateFramePlacement(model_, d, base_frame_);
+    Eigen::Map<Vec3>(out.base_position + 3 * row) = base.translation();
+    Eigen::Map<Eigen::Vector4d>(out.base_quaternion + 4 * row) = Eigen::Quaterniond(base.rotation()).coeffs();
+    Eigen::Map<Vec6>(out.base_twist + 6 * row) =
+        pinocchio::getFrameVelocity(model_, d, base_frame_, pinocchio::LOCAL_WORLD_ALIGNED).toVector();
+    for (int e = 0; e < ne; ++e) {
+      const SE3& frame = pinocchio::updateFramePlacement(model_, d, ee_frames_[e]);
+      Eigen::Map<Vec3>(out.ee_position + 3 * (row * ne + e)) = frame.translation();
+      Eigen::Map<Eigen::Vector4d>(out.ee_quaternion + 4 * (row * ne + e)) = Eigen::Quaterniond(frame.rotation()).coeffs();
+    }
+  }
+
+  Model model_;
+  Data data_, record_data_;
+  JointMap joints_;
+  int nb_;
+  LieIntegrator integrator_;
+  double period_, start_;
+  int record_every_;
+  Dynamics dynamics_;
+  std::optional<Quintic> reference_;
+  double kp_ = 0.0, kd_ = 0.0, mass_ = 0.0, work_ = 0.0;
+  long k_ = 0;
+  int base_frame_ = 0;
+  std::vector<int> ee_frames_;
+  Vec q_, v_, qn_, vn_, tau_full_, tau_, pos_;
+  Eigen::MatrixXd M_;
+};
+
+}  // namespace freefloat::sim

@@ -1,0 +1,85 @@
+// A pinocchio::Model rebuilt in C++ from the arrays that describe a Python-side pin.Model (no
+// object is shared across the two bindings): joints with their kind, parent, placement and
+// motion subspace, the joint inertias (fixed links already merged), armature, gravity, frames.
+#pragma once
+
+#include <pinocchio/multibody.hpp>
+
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace freefloat::sim {
+
+using pinocchio::Data;
+using pinocchio::Inertia;
+using pinocchio::JointIndex;
+using pinocchio::JointModel;
+using pinocchio::Model;
+using pinocchio::SE3;
+using Vec = Eigen::VectorXd;
+using Vec3 = Eigen::Vector3d;
+using Mat3 = Eigen::Matrix3d;
+using Vec6 = Eigen::Matrix<double, 6, 1>;
+
+// The joint of Pinocchio kind `kind` whose motion subspace is `S` = [linear; angular] (6,), for
+// the 1-dof kinds; the root kinds take no axis.
+inline JointModel make_joint(const std::string& kind, const Vec6& S, const std::string& name) {
+  using namespace pinocchio;
+  const Vec3 lin = S.head<3>(), ang = S.tail<3>();
+  if (kind == "JointModelFreeFlyer") return JointModelFreeFlyer();
+  if (kind == "JointModelPlanar") return JointModelPlanar();
+  if (kind == "JointModelRX") return JointModelRX();
+  if (kind == "JointModelRY") return JointModelRY();
+  if (kind == "JointModelRZ") return JointModelRZ();
+  if (kind == "JointModelRUBX") return JointModelRUBX();
+  if (kind == "JointModelRUBY") return JointModelRUBY();
+  if (kind == "JointModelRUBZ") return JointModelRUBZ();
+  if (kind == "JointModelPX") return JointModelPX();
+  if (kind == "JointModelPY") return JointModelPY();
+  if (kind == "JointModelPZ") return JointModelPZ();
+  if (kind == "JointModelRevoluteUnaligned") return JointModelRevoluteUnaligned(ang.normalized());
+  if (kind == "JointModelRevoluteUnboundedUnaligned") return JointModelRevoluteUnboundedUnaligned(ang.normalized());
+  if (kind == "JointModelPrismaticUnaligned") return JointModelPrismaticUnaligned(lin.normalized());
+  throw std::invalid_argument("joint '" + name + "': kind " + kind + " is not supported by the compiled simulation");
+}
+
+// Joints 1..n of the Python model: parent[j], kind[j], subspace (n, 6), placement (n, 4, 4)
+// row-major, inertia mass (n,), lever (n, 3) (CoM in the joint frame), rotational inertia about
+// the CoM (n, 3, 3); armature (nv,), gravity (3,), frames: parent joint (f,), placement (f, 4, 4).
+struct ModelArrays {
+  std::vector<int> parent;
+  std::vector<std::string> kind, name;
+  const double *subspace, *placement, *mass, *lever, *rotational;
+  const double *armature, *gravity;
+  std::vector<int> frame_parent;
+  const double* frame_placement;
+};
+
+inline SE3 se3_at(const double* p) {
+  Eigen::Map<const Eigen::Matrix<double, 4, 4, Eigen::RowMajor>> H(p);
+  return SE3(Mat3(H.topLeftCorner<3, 3>()), Vec3(H.topRightCorner<3, 1>()));
+}
+
+inline Model build_model(const ModelArrays& a) {
+  Model m;
+  const size_t n = a.parent.size();
+  for (size_t j = 0; j < n; ++j) {
+    const int parent = a.parent[j];
+    if (parent < 0 || parent > static_cast<int>(j))
+      throw std::invalid_argument("joint '" + a.name[j] + "': its parent must come before it");
+    const JointIndex id = m.addJoint(static_cast<JointIndex>(parent),
+                                     make_joint(a.kind[j], Eigen::Map<const Vec6>(a.subspace + 6 * j), a.name[j]),
+                                     se3_at(a.placement + 16 * j), a.name[j]);
+    Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> I(a.rotational + 9 * j);
+    m.appendBodyToJoint(id, Inertia(a.mass[j], Eigen::Map<const Vec3>(a.lever + 3 * j), Mat3(I)), SE3::Identity());
+  }
+  m.armature = Eigen::Map<const Vec>(a.armature, m.nv);
+  m.gravity.linear(Eigen::Map<const Vec3>(a.gravity));
+  for (size_t f = 0; f < a.frame_parent.size(); ++f)
+    m.addFrame(pinocchio::Frame("frame" + std::to_string(f), static_cast<JointIndex>(a.frame_parent[f]),
+                                se3_at(a.frame_placement + 16 * f), pinocchio::OP_FRAME));
+  return m;
+}
+
+}  // namespace freefloat::sim

@@ -1,0 +1,173 @@
+"""The simulation loop in compiled code (``freefloat.dynamics._sim``, built on Pinocchio's C++).
+
+The same loop as :func:`freefloat.dynamics.simulation.run`, period for period: zero-order-hold
+control, Pinocchio's ABA as the plant, the integrators of :mod:`freefloat.dynamics.integrators`
+(the same tableaus, ``dexp^{-1}`` series and step-size control), the joint-space computed torque
+of eqs 136-137 with the exact ``H*`` and ``c*``, and the telemetry row of
+:class:`~freefloat.dynamics.simulation.Recorder`. The Pinocchio model is handed over as arrays
+and rebuilt in C++; :class:`CompiledLoop` checks the rebuilt ABA against ``pin.aba`` before it is
+used. Python is entered once per telemetry chunk or progress report, so Ctrl-C, checkpoints and
+progress bars work as in the Python loop.
+"""
+
+from __future__ import annotations
+
+from dataclasses import fields
+from typing import Any
+
+import numpy as np
+import pinocchio as pin
+
+from ..errors import InvalidArgument
+from ..robot.joints import JointCoordinates
+from ..robot.loading import BASE_COM_FRAME
+from ..robot.robot import Robot
+from . import _sim
+from .telemetry import Telemetry
+
+__all__ = ["COMPILED_INTEGRATORS", "CompiledLoop", "unsupported"]
+
+#: Integrators the compiled loop runs (every registry entry; momentum projection is not compiled).
+COMPILED_INTEGRATORS = ("euler", "rkmk4", "rk4_naive", "rkmk6", "rkmk8", "dopri5")
+
+#: ABA of the rebuilt model against ``pin.aba`` at a random state: largest relative difference.
+REBUILD_TOLERANCE = 1e-9
+
+
+def unsupported(model: Any, integrator: Any, controller: Any, wrenches: tuple, stop: Any) -> str | None:
+    """Why this run cannot use the compiled loop, or None when it can.
+
+    It can when the plant is the exact model, the integrator is one of
+    :data:`COMPILED_INTEGRATORS` (not wrapped in momentum projection), the controller is none or
+    has a ``compiled_law`` (computed torque on the exact model), and there are no external
+    wrenches and no stop event.
+    """
+    if getattr(model, "name", None) != "exact":
+        return f"the plant model is '{getattr(model, 'name', model)}', not 'exact'"
+    if getattr(integrator, "name", None) not in COMPILED_INTEGRATORS or not hasattr(integrator, "model"):
+        return f"integrator '{getattr(integrator, 'name', integrator)}' is not compiled"
+    if controller is not None and getattr(controller, "compiled_law", lambda: None)() is None:
+        return f"controller {type(controller).__name__} has no compiled law"
+    if wrenches:
+        return "external wrenches are applied"
+    if stop is not None:
+        return "the run stops on an event"
+    return None
+
+
+def _model_arrays(robot: Robot) -> dict[str, Any]:
+    """Joints, inertias, frames of ``robot.model`` as the arrays ``_sim.Simulation`` rebuilds from."""
+    model = robot.model
+    q0 = pin.neutral(model)
+    joints = range(1, model.njoints)
+    subspace = []
+    for j in joints:
+        joint = model.joints[j]
+        data = joint.createData()
+        joint.calc(data, q0)
+        S = np.asarray(data.S)  # (6,) for one-dof joints, (6, nv) otherwise
+        subspace.append(S if S.ndim == 1 else np.zeros(6))
+    frames = [model.getFrameId(BASE_COM_FRAME), *robot.end_effector_frame_ids]
+    return dict(
+        parent=[int(model.parents[j]) for j in joints],
+        kind=[model.joints[j].shortname() for j in joints],
+        name=[model.names[j] for j in joints],
+        subspace=np.array(subspace).reshape(-1, 6),
+        placement=np.array([model.jointPlacements[j].homogeneous for j in joints]).reshape(-1, 4, 4),
+        mass=np.array([model.inertias[j].mass for j in joints]),
+        lever=np.array([model.inertias[j].lever for j in joints]).reshape(-1, 3),
+        rotational=np.array([model.inertias[j].inertia for j in joints]).reshape(-1, 3, 3),
+        armature=np.asarray(model.armature, dtype=float),
+        gravity=np.asarray(model.gravity.linear, dtype=float),
+        frame_parent=[int(model.frames[f].parentJoint) for f in frames],
+        frame_placement=np.array([model.frames[f].placement.homogeneous for f in frames]).reshape(-1, 4, 4),
+    )
+
+
+def _arrays(chunk: Telemetry) -> tuple[np.ndarray, ...]:
+    """The chunk's arrays in field order, not copied (the compiled loop fills them in place)."""
+    return tuple(getattr(chunk, f.name) for f in fields(chunk))
+
+
+def _joint_map(robot: Robot) -> _sim.JointMap:
+    coords = JointCoordinates(robot)
+    return _sim.JointMap(coords.scalar_q.tolist(), coords.scalar_pos.tolist(), coords.circle_q.tolist(),
+                         coords.circle_pos.tolist(), robot.n_joints)
+
+
+class CompiledLoop:
+    """One compiled simulation of ``robot``: plant, integrator, controller, telemetry.
+
+    Args:
+        robot: the robot (its Pinocchio model is rebuilt in C++).
+        integrator: an integrator of the registry (its name and settings are copied: ``substeps``,
+            and for ``dopri5`` ``rtol``, ``atol``).
+        control_period: zero-order-hold period, s.
+        start_time: time of period 0, s.
+        record_every: one telemetry row every this many periods.
+        law: ``(start, delta, duration, kp, kd)`` of a computed-torque controller on a quintic
+            (see ``ComputedTorque.compiled_law``), or None for a torque-free run.
+
+    Raises:
+        InvalidArgument: for a joint kind or integrator the compiled loop does not have, or when
+            the rebuilt model's ABA differs from ``pin.aba`` (it then names the difference).
+    """
+
+    def __init__(self, robot: Robot, integrator: Any, control_period: float, start_time: float = 0.0,
+                 record_every: int = 1, law: tuple | None = None):
+        self.robot = robot
+        n_ee = len(robot.end_effectors)
+        try:
+            self.sim = _sim.Simulation(
+                **_model_arrays(robot), joints=_joint_map(robot), n_base=robot.n_base, integrator=integrator.name,
+                substeps=getattr(integrator, "substeps", 1), rtol=getattr(integrator, "rtol", 1e-10),
+                atol=getattr(integrator, "atol", 1e-12), control_period=control_period, start_time=start_time,
+                record_every=record_every, base_frame=0, ee_frames=list(range(1, n_ee + 1)))
+        except ValueError as exc:
+            raise InvalidArgument(f"{robot.urdf_path.name}: {exc}") from exc
+        if law is not None:
+            start, delta, duration, kp, kd = law
+            self.sim.set_computed_torque(start, delta, duration, kp, kd)
+        self._check_rebuild()
+
+    def _check_rebuild(self) -> None:
+        model = self.robot.model
+        rng = np.random.default_rng(0)
+        q = pin.randomConfiguration(model, -np.ones(model.nq), np.ones(model.nq))
+        v, tau = rng.standard_normal(model.nv), rng.standard_normal(model.nv)
+        expected = pin.aba(model, model.createData(), q, v, tau)
+        got = self.sim.acceleration(q, v, tau)
+        error = np.abs(got - expected).max() / max(1.0, np.abs(expected).max())
+        if not error <= REBUILD_TOLERANCE:
+            raise InvalidArgument(f"{self.robot.urdf_path.name}: the compiled model's ABA differs from pin.aba by "
+                                  f"{error:.3g} (relative); use the Python loop")
+
+    def start(self, q: np.ndarray, v: np.ndarray, period: int = 0, work: float = 0.0) -> None:
+        """Set the state at the start of control period ``period``."""
+        self.sim.set_state(q, v, period, work)
+
+    def run(self, last_period: int, chunk: Telemetry, row: int) -> int:
+        """Advance to period ``last_period`` or until ``chunk`` is full, writing rows from ``row``.
+
+        Returns the rows written. Raises ``RuntimeError`` (with the Python loop's message) when the
+        state blows up; the state stays at the last good period.
+        """
+        return self.sim.run(last_period, _arrays(chunk), row)
+
+    def record_last(self, chunk: Telemetry, row: int) -> None:
+        """Write the row of the current state (a run's final sample)."""
+        self.sim.record_last(_arrays(chunk), row)
+
+    @property
+    def state(self) -> tuple[np.ndarray, np.ndarray]:
+        """The current ``(q, v)``."""
+        return self.sim.q, self.sim.v
+
+    @property
+    def period(self) -> int:
+        """Control periods done since period 0."""
+        return self.sim.period
+
+    def evaluations(self) -> int:
+        """Dynamics evaluations made by the integrator."""
+        return self.sim.evaluations
