@@ -49,11 +49,39 @@ def test_euler_at_equal_steps_agrees_between_packages(scene, ref):
 
 
 def test_sweep_covers_every_integrator_and_step():
-    """The sweep holds each fixed-step method at each step and dopri5 at each tolerance."""
+    """The sweep holds each fixed-step method at each step and dopri5 at each tolerance, in both
+    of freefloat's loops, with the bare Pinocchio loop and MuJoCo."""
     points = methods((1e-2, 1e-3), (1e-6,))
-    assert len(points) == 3 * 2 + 1 + 3 * 2
-    assert {p.label for p in points} == {"freefloat euler", "freefloat rkmk4", "freefloat rk4_naive",
-                                         "freefloat dopri5", "mujoco Euler", "mujoco implicitfast", "mujoco RK4"}
+    assert len(points) == 3 * 2 + 1 + 4 * 2 + 1 + 2 + 3 * 2
+    assert {p.label for p in points} == {
+        "freefloat euler", "freefloat rkmk4", "freefloat rk4_naive", "freefloat dopri5", "freefloat euler compiled",
+        "freefloat rkmk4 compiled", "freefloat rkmk6 compiled", "freefloat rkmk8 compiled",
+        "freefloat dopri5 compiled", "pinocchio euler", "mujoco Euler", "mujoco implicitfast", "mujoco RK4"}
+
+
+@pytest.mark.parametrize("integrator", ["euler", "rkmk4", "dopri5"])
+def test_compiled_loop_ends_where_the_python_loop_does(scene, ref, integrator):
+    """Each compiled bench method ends at the Python method's final state (same steps or the same
+    adaptive path), so their errors agree to round-off."""
+    setting = 1e-8 if integrator == "dopri5" else 2e-3
+    python, compiled = (measure(scene, Method("freefloat", integrator, setting, loop), ref, 1)
+                        for loop in ("python", "compiled"))
+    assert compiled.state_error == pytest.approx(python.state_error, rel=1e-6, abs=1e-13)
+
+
+def test_bare_pinocchio_loop_is_freefloats_euler(scene, ref):
+    """The bare Python loop of pin.aba and pin.integrate is the same semi-implicit Euler as
+    freefloat's: the same final-state error."""
+    bare = measure(scene, Method("pinocchio", "euler", 1e-3), ref, 1).state_error
+    ff = measure(scene, Method("freefloat", "euler", 1e-3), ref, 1).state_error
+    assert bare == pytest.approx(ff, rel=1e-9)
+
+
+def test_compiled_blow_up_counts_as_diverged(scene, ref):
+    """A compiled run that blows up (Euler at 0.1 s from a 300x faster start) gets infinite errors."""
+    fast = dataclasses.replace(scene, v0=300.0 * scene.v0)
+    point = measure(fast, Method("freefloat", "euler", 0.1, "compiled"), ref, 1)
+    assert np.isinf(point.state_error)
 
 
 def test_reference_is_reproducible(scene, ref):

@@ -7,6 +7,8 @@ import json
 
 import pytest
 
+from freefloat.app.bench.methods import methods
+from freefloat.app.bench.report import QUICK_RTOLS, QUICK_STEPS
 from freefloat.app.bench.summary import BANDS
 from freefloat.app.cli import main
 
@@ -31,7 +33,7 @@ def test_csv_and_json_hold_the_same_points(quick_run):
     report = json.loads((out / "bench.json").read_text())
     rows = list(csv.DictReader((out / "bench.csv").open()))
     points = report["scenes"]["dual_arm"]["points"]
-    assert len(rows) == len(points) == 3 * 3 + 2 + 3 * 3
+    assert len(rows) == len(points) == len(methods(QUICK_STEPS, QUICK_RTOLS)) == 3 * 3 + 2 + 4 * 3 + 2 + 3 + 3 * 3
     assert all(float(r["wall_time_s"]) > 0.0 and float(r["state_error"]) >= 0.0 for r in rows)
 
 

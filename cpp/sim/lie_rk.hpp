@@ -151,6 +151,9 @@ class LieIntegrator {
 
   long evaluations() const { return calls_; }
 
+  // Forget the adaptive step size (a new run starts from its first guess, the whole period).
+  void restart() { h_ = 0.0; }
+
   // (q, v) <- state after `duration` s.
   void advance(const Dynamics& f, Vec& q, Vec& v, double duration) {
     if (name_ == "dopri5") return adaptive(f, q, v, duration);

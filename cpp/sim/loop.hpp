@@ -89,7 +89,9 @@ class Simulation {
     kd_ = kd;
   }
 
+  // Start a run at (q, v), control period `period`, work done so far `work` (J).
   void set_state(const Vec& q, const Vec& v, long period, double work) {
+    integrator_.restart();
     q_ = q;
     v_ = v;
     k_ = period;

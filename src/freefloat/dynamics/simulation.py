@@ -105,7 +105,6 @@ class Recorder:
             tel.ee_quaternion[row, i] = pin.Quaternion(frame.rotation).coeffs()
 
 
-@single_blas_thread
 def run(
     robot: Robot,
     q0: np.ndarray,
@@ -172,6 +171,17 @@ def run(
             return _run_compiled(loop, q0, v0, steps, control_period, start_time, rows, progress)
         if backend == "compiled":
             raise InvalidArgument(f"the compiled loop cannot run this: {reason}")
+    return _run_python(robot, q0, v0, steps, control_period, integrator, model, controller, wrenches, record_every,
+                       progress, stop, start_time, rows)
+
+
+@single_blas_thread
+def _run_python(robot: Robot, q0: np.ndarray, v0: np.ndarray, steps: int, control_period: float,
+                integrator: Integrator, model: DynamicsModel, controller: Controller | None,
+                wrenches: tuple[ExternalWrench, ...], record_every: int, progress: Callable[[int], None] | None,
+                stop: Callable[[float, np.ndarray, np.ndarray], bool] | None, start_time: float,
+                rows: Chunks) -> RunResult:
+    """:func:`run` in this module's loop (BLAS limited to one thread around it)."""
     recorder = Recorder(robot, rows.current)
     nb = robot.n_base
     tau_full = np.zeros(robot.model.nv)

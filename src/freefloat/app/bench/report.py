@@ -17,19 +17,23 @@ from .summary import band_rows, summary_lines
 from .sweep import Point, sweep
 
 #: Steps (s) and dopri5 tolerances of a full sweep and of ``--quick``.
-STEPS = (5e-2, 2e-2, 1e-2, 5e-3, 2e-3, 1e-3, 5e-4, 2e-4, 1e-4)
+STEPS = (2e-1, 1e-1, 5e-2, 2e-2, 1e-2, 5e-3, 2e-3, 1e-3, 5e-4, 2e-4, 1e-4)
 RTOLS = (1e-4, 1e-6, 1e-8, 1e-10, 1e-12)
 QUICK_STEPS = (2e-2, 1e-2, 5e-3)
 QUICK_RTOLS = (1e-6, 1e-9)
-CSV_FIELDS = ("scene", "package", "integrator", "setting", "wall_time_s", "state_error", "momentum_error",
+CSV_FIELDS = ("scene", "package", "integrator", "loop", "setting", "wall_time_s", "state_error", "momentum_error",
               "energy_error")
+
+#: Line style per (package, loop) in the charts.
+STYLES = {("freefloat", "compiled"): "-o", ("freefloat", "python"): ":o", ("pinocchio", "python"): "-.^",
+          ("mujoco", "python"): "--s"}
 
 
 def _row(scene: str, p: Point) -> dict:
     """One point as a flat record; a diverged run's errors are None."""
     def finite(x: float) -> float | None:
         return x if math.isfinite(x) else None
-    return {"scene": scene, "package": p.method.package, "integrator": p.method.integrator,
+    return {"scene": scene, "package": p.method.package, "integrator": p.method.integrator, "loop": p.method.loop,
             "setting": p.method.setting, "wall_time_s": p.wall_time, "state_error": finite(p.state_error),
             "momentum_error": finite(p.momentum_error), "energy_error": finite(p.energy_error)}
 
@@ -51,14 +55,14 @@ def chart(scene: str, points: list[Point], path: Path) -> None:
                             (axes[1], "momentum_error", "momentum error, kg m/s and kg m^2/s")):
         for label, curve in curves.items():
             curve = sorted(curve, key=lambda p: -p.method.setting)
-            style = "-o" if label.startswith("freefloat") else "--s"
+            style = STYLES[(curve[0].method.package, curve[0].method.loop)]
             ax.loglog([getattr(p, field) for p in curve], [p.wall_time * 1e3 for p in curve], style, label=label, ms=4)
         ax.set_xlabel(f"{what} against dopri5 at rtol 1e-13")
         ax.invert_xaxis()
         ax.grid(True, which="both", alpha=0.3)
     axes[0].set_ylabel("wall time per run, ms (median)")
-    axes[0].legend(fontsize=8)
-    fig.suptitle(f"{scene}: work against precision (freefloat and MuJoCo in one process)")
+    axes[0].legend(fontsize=7, ncol=2)
+    fig.suptitle(f"{scene}: work against precision (freefloat, a bare Pinocchio loop and MuJoCo in one process)")
     fig.tight_layout()
     fig.savefig(path, dpi=120)
     plt.close(fig)

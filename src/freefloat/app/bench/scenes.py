@@ -2,13 +2,14 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 import pinocchio as pin
 
 from ...errors import InvalidArgument
 from ...robot.loading import load_robot
+from ...robot.robot import Robot
 from .mjcf import balanced_model
 
 
@@ -18,18 +19,23 @@ class TumblingScene:
 
     Attributes:
         name: scene name.
-        model: Pinocchio free-flyer model both sides simulate (a balanced copy when the URDF's
-            inertias break the triangle inequality, see :func:`.mjcf.balanced_model`).
+        robot: the robot both sides simulate, with a balanced copy of its model when the URDF's
+            inertias break the triangle inequality (see :func:`.mjcf.balanced_model`).
         q0: initial configuration (nq,), Pinocchio's convention.
         v0: initial velocity (nv,), Pinocchio's convention (base twist local).
         duration: simulated time, s.
     """
 
     name: str
-    model: pin.Model
+    robot: Robot
     q0: np.ndarray
     v0: np.ndarray
     duration: float
+
+    @property
+    def model(self) -> pin.Model:
+        """The Pinocchio free-flyer model both sides simulate."""
+        return self.robot.model
 
 
 #: Built-in bench scenes: name -> (robot, note).
@@ -60,6 +66,6 @@ def tumbling_scene(name: str, duration: float = 1.0, seed: int = 0) -> TumblingS
     if not duration > 0.0:
         raise InvalidArgument(f"duration must be > 0 s, got {duration}")
     robot = load_robot(SCENES[name][0], base="free", visuals=False)
-    model = balanced_model(robot.model)
-    q0, v0 = random_state(model, seed)
-    return TumblingScene(name, model, q0, v0, duration)
+    robot = replace(robot, model=balanced_model(robot.model))
+    q0, v0 = random_state(robot.model, seed)
+    return TumblingScene(name, robot, q0, v0, duration)
