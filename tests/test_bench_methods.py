@@ -1,5 +1,6 @@
 """Each bench method runs the scene from its initial state: MuJoCo and freefloat reach the same
-final state, and the Runge-Kutta methods' errors fall with the step at their order."""
+final state, the Runge-Kutta methods' errors fall with the step at their order, and on the
+controlled scene both packages apply the same law."""
 
 from __future__ import annotations
 
@@ -9,7 +10,10 @@ import warnings
 import numpy as np
 import pytest
 
+from freefloat.app.bench.controlled import controlled_scene, mujoco_law
 from freefloat.app.bench.methods import Method, methods, reference
+from freefloat.app.bench.mjcf import mjcf_from_model
+from freefloat.app.bench.mujoco_state import to_mujoco
 from freefloat.app.bench.scenes import tumbling_scene
 from freefloat.app.bench.sweep import measure
 
@@ -106,3 +110,47 @@ def test_both_packages_end_at_the_same_time_when_the_step_does_not_divide(scene,
     ff = measure(scene, Method("freefloat", "rkmk4", 0.03), ref, 1).state_error
     mj = measure(scene, Method("mujoco", "RK4", 0.03), ref, 1).state_error
     assert ff == pytest.approx(mj, rel=0.01)
+
+
+@pytest.fixture(scope="module")
+def controlled():
+    """The controlled scene over 0.1 s."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return controlled_scene(0.1)
+
+
+def test_mujoco_law_is_freefloats_computed_torque(controlled):
+    """The law written on MuJoCo's own mass matrix and bias forces gives freefloat's
+    computed-torque torques (Pinocchio's CRBA and RNEA) at the same moving state."""
+    import mujoco
+
+    model = mujoco.MjModel.from_xml_string(mjcf_from_model(controlled.model, "controlled", 1e-3, "RK4"))
+    data = mujoco.MjData(model)
+    rng = np.random.default_rng(2)
+    q = controlled.q0.copy()
+    q[7:] += rng.uniform(-0.3, 0.3, q.size - 7)
+    v = rng.normal(0.0, 0.5, controlled.model.nv)
+    data.qpos[:], data.qvel[:] = to_mujoco(q, v)
+    data.time = 0.03
+    mujoco.mj_forward(model, data)
+    expected = controlled.controller.torque(0.03, q, v)
+    np.testing.assert_allclose(mujoco_law(controlled, model, data), expected, rtol=1e-9, atol=1e-9)
+
+
+@pytest.mark.parametrize("loop", ["python", "native"])
+def test_controlled_rk4s_end_alike(controlled, loop):
+    """Under the same law held over 1 ms, MuJoCo's RK4 (either controller) and freefloat's
+    compiled RKMK4 end with the same error against the reference to 1 %."""
+    ref = reference(controlled)
+    ff = measure(controlled, Method("freefloat", "rkmk4", 1e-3, "compiled"), ref, 1).state_error
+    mj = measure(controlled, Method("mujoco", "RK4", 1e-3, loop), ref, 1).state_error
+    assert 1e-14 < ff == pytest.approx(mj, rel=0.01)
+
+
+def test_controlled_python_and_compiled_loops_agree(controlled):
+    """freefloat's Python and compiled loops end at the same state under computed torque."""
+    ref = reference(controlled)
+    python, compiled = (measure(controlled, Method("freefloat", "rkmk4", 5e-4, loop), ref, 1).state_error
+                        for loop in ("python", "compiled"))
+    assert compiled == pytest.approx(python, rel=1e-6, abs=1e-13)

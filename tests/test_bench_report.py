@@ -47,7 +47,7 @@ def test_summary_has_one_line_per_band(quick_run):
 def test_unknown_scene_exits_2_naming_it(tmp_path, capsys):
     """An unknown scene is refused before anything runs, the message listing the valid ones."""
     assert main(["bench", "nope", "--quick", "--out", str(tmp_path / "o")]) == 2
-    assert "unknown bench scene 'nope'; valid: four_arm, dual_arm" in capsys.readouterr().err
+    assert "unknown bench scene 'nope'; valid: four_arm, dual_arm, controlled" in capsys.readouterr().err
     assert not (tmp_path / "o").exists()
 
 
@@ -57,3 +57,19 @@ def test_non_empty_folder_is_refused(tmp_path, capsys):
     assert main(["bench", "dual_arm", "--quick", "--out", str(tmp_path)]) == 2
     assert "not empty" in capsys.readouterr().err
     assert {p.name for p in tmp_path.iterdir()} == {"keep.txt"}
+
+
+def test_controlled_quick_bench_compares_both_controllers(tmp_path):
+    """``freefloat bench controlled --quick`` measures freefloat's compiled loop and MuJoCo with
+    both controllers, and its summary names a cheapest method per band."""
+    import warnings
+
+    out = tmp_path / "c"
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        assert main(["bench", "controlled", "--quick", "--out", str(out)]) == 0
+    rows = list(csv.DictReader((out / "bench.csv").open()))
+    labels = {(r["package"], r["integrator"], r["loop"]) for r in rows}
+    assert {("mujoco", "RK4", "python"), ("mujoco", "RK4", "native"), ("freefloat", "rkmk4", "compiled")} <= labels
+    assert (out / "controlled.png").stat().st_size > 0
+    assert len((out / "summary.txt").read_text().splitlines()) == len(BANDS)

@@ -68,7 +68,7 @@ def main(argv: list[str] | None = None) -> int:
     rep.add_argument("--error", type=float, default=0.5, help="robustness: parameter error band (default 0.5 = 50 %%)")
     rep.add_argument("--scheduler", default=None, help="robustness: Dask scheduler address (default: a local cluster)")
     ben = commands.add_parser("bench", help="freefloat's integrators against MuJoCo's: work-precision per scene")
-    ben.add_argument("scenes", nargs="*", metavar="SCENE", help="four_arm, dual_arm (default: both)")
+    ben.add_argument("scenes", nargs="*", metavar="SCENE", help="four_arm, dual_arm, controlled (default: all)")
     ben.add_argument("--quick", action="store_true", help="three steps, 0.1 s, one repeat (a smoke test)")
     ben.add_argument("--out", type=Path, default=None, help="output folder (default: runs/bench-<time>)")
     args = parser.parse_args(argv)

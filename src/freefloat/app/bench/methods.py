@@ -12,10 +12,14 @@ import pinocchio as pin
 
 from ...dynamics.compiled import CompiledLoop
 from ...dynamics.integrators import make_integrator
+from ...dynamics.simulation import run as simulate
 from ...dynamics.telemetry import Telemetry
+from .controlled import ControlledScene, mujoco_law, periods, reference_plant, substeps
 from .mjcf import mjcf_from_model
 from .mujoco_state import from_mujoco, to_mujoco
 from .scenes import TumblingScene
+
+Scene = TumblingScene | ControlledScene
 
 #: freefloat's fixed-step integrators and its adaptive one, in the Python loop and in the compiled one.
 FREEFLOAT_FIXED = ("euler", "rkmk4", "rk4_naive")
@@ -38,7 +42,9 @@ class Method:
         package: ``"freefloat"``, ``"pinocchio"`` (a bare Python loop of its calls) or ``"mujoco"``.
         integrator: integrator name in that package.
         setting: step h in s (fixed-step) or rtol (adaptive).
-        loop: freefloat's ``"python"`` or ``"compiled"`` loop (``"python"`` for the others).
+        loop: freefloat's ``"python"`` or ``"compiled"`` loop; for MuJoCo on a controlled scene,
+            ``"python"`` (stepped by freefloat's Python-side controller) or ``"native"`` (the law on
+            MuJoCo's own mass matrix and bias forces).
     """
 
     package: str
@@ -49,7 +55,7 @@ class Method:
     @property
     def label(self) -> str:
         """``package integrator [compiled]``, the curve a point belongs to."""
-        return f"{self.package} {self.integrator}" + (" compiled" if self.loop == "compiled" else "")
+        return f"{self.package} {self.integrator}" + ("" if self.loop == "python" else f" {self.loop}")
 
 
 def _torque_free(model: pin.Model) -> Callable[[np.ndarray, np.ndarray], np.ndarray]:
@@ -62,9 +68,34 @@ def _steps(scene: TumblingScene, h: float) -> int:
     return max(1, round(scene.duration / h))
 
 
-def freefloat_run(scene: TumblingScene, integrator: str, setting: float) -> Run:
-    """Run of freefloat's ``integrator`` at step ``setting`` (s), or for dopri5 at rtol ``setting``
-    and atol ``setting / 100``; built fresh each call, so dopri5 carries no step size over."""
+def _stepper(scene: Scene, integrator: str, setting: float):
+    """``(periods, integrator)``: fixed steps of about ``setting`` s, or dopri5 at rtol ``setting``
+    and atol ``setting / 100``; a tumbling run is one period of the whole duration per step (or
+    one period for dopri5), a controlled run has the scene's periods."""
+    if integrator in FREEFLOAT_ADAPTIVE:
+        stepper = make_integrator(integrator, scene.model, rtol=setting, atol=setting * 1e-2)
+        return (periods(scene) if isinstance(scene, ControlledScene) else 1), stepper
+    if isinstance(scene, ControlledScene):
+        return periods(scene), make_integrator(integrator, scene.model, substeps=substeps(scene, setting))
+    return _steps(scene, setting), make_integrator(integrator, scene.model)
+
+
+def freefloat_run(scene: Scene, integrator: str, setting: float) -> Run:
+    """Run of freefloat's ``integrator`` in its Python loop at step ``setting`` (s), or for dopri5
+    at rtol ``setting`` and atol ``setting / 100``; built fresh each call, so dopri5 carries no step
+    size over."""
+    if isinstance(scene, ControlledScene):
+        plant = reference_plant(scene)
+
+        def run_controlled():
+            _, stepper = _stepper(scene, integrator, setting)
+            result = simulate(scene.robot, scene.q0, scene.v0, scene.duration, scene.period, stepper, plant,
+                              scene.controller, record_every=periods(scene), backend="python")
+            if result.status != "completed":
+                raise FloatingPointError(result.message)
+            return result.telemetry.q[-1], result.telemetry.v[-1]
+
+        return run_controlled
     f = _torque_free(scene.model)
 
     def run():
@@ -77,16 +108,14 @@ def freefloat_run(scene: TumblingScene, integrator: str, setting: float) -> Run:
     return run
 
 
-def compiled_run(scene: TumblingScene, integrator: str, setting: float) -> Run:
+def compiled_run(scene: Scene, integrator: str, setting: float) -> Run:
     """Run of freefloat's compiled loop (:mod:`freefloat.dynamics.compiled`) with ``integrator`` at
-    step ``setting`` (s), or for dopri5 at rtol ``setting`` and atol ``setting / 100`` over one
-    period; built once (like MuJoCo's model), started afresh each call (dopri5 from its first step
-    guess)."""
-    if integrator in COMPILED_ADAPTIVE:
-        n, stepper = 1, make_integrator(integrator, scene.model, rtol=setting, atol=setting * 1e-2)
-    else:
-        n, stepper = _steps(scene, setting), make_integrator(integrator, scene.model)
-    loop = CompiledLoop(scene.robot, stepper, scene.duration / n, record_every=n)
+    step ``setting`` (s), or for dopri5 at rtol ``setting`` and atol ``setting / 100``, with the
+    scene's computed torque if it has one; built once (like MuJoCo's model), started afresh each
+    call (dopri5 from its first step guess)."""
+    n, stepper = _stepper(scene, integrator, setting)
+    law = scene.controller.compiled_law() if isinstance(scene, ControlledScene) else None
+    loop = CompiledLoop(scene.robot, stepper, scene.duration / n, record_every=n, law=law)
     robot = scene.robot
     chunk = Telemetry.allocate(1, robot.model.nq, robot.model.nv, robot.n_joints, len(robot.end_effectors))
 
@@ -117,17 +146,41 @@ def pinocchio_run(scene: TumblingScene, h: float) -> Run:
     return run
 
 
-def mujoco_run(scene: TumblingScene, integrator: str, h: float) -> Run:
+def _mujoco_steps(scene: Scene, h: float, loop: str, model, data) -> None:
+    """Step MuJoCo through the scene: ``n`` equal steps of a tumbling run, or per control period the
+    law (freefloat's controller on the mapped state, or :func:`.controlled.mujoco_law`) held as
+    joint forces over the period's substeps."""
+    import mujoco
+
+    if not isinstance(scene, ControlledScene):
+        for _ in range(_steps(scene, h)):
+            mujoco.mj_step(model, data)
+        return
+    k = substeps(scene, h)
+    for i in range(periods(scene)):
+        if loop == "native":
+            mujoco.mj_forward(model, data)
+            data.qfrc_applied[6:] = mujoco_law(scene, model, data)
+        else:
+            q, v = from_mujoco(data.qpos, data.qvel)
+            data.qfrc_applied[6:] = scene.controller.torque(i * scene.period, q, v)
+        for _ in range(k):
+            mujoco.mj_step(model, data)
+
+
+def mujoco_run(scene: Scene, integrator: str, h: float, loop: str = "python") -> Run:
     """Run of MuJoCo's ``integrator`` at step ``h`` on the scene's model (a Python loop of
-    ``mj_step``), from the scene's initial state mapped to MuJoCo's convention.
+    ``mj_step``; on a controlled scene the law each period, see :func:`_mujoco_steps`), from the
+    scene's initial state mapped to MuJoCo's convention.
 
     The run raises ``FloatingPointError`` when MuJoCo met a non-finite or huge acceleration (it
     then silently resets the state to the model's rest state and goes on).
     """
     import mujoco
 
-    n = _steps(scene, h)  # timestep duration / n, as freefloat's substeps: both end at the same time
-    model = mujoco.MjModel.from_xml_string(mjcf_from_model(scene.model, scene.name, scene.duration / n, integrator))
+    # timestep as freefloat's substeps: both take equal steps that end at the same time
+    dt = scene.period / substeps(scene, h) if isinstance(scene, ControlledScene) else scene.duration / _steps(scene, h)
+    model = mujoco.MjModel.from_xml_string(mjcf_from_model(scene.model, scene.name, dt, integrator))
     data = mujoco.MjData(model)
     qpos, qvel = to_mujoco(scene.q0, scene.v0)
 
@@ -137,8 +190,7 @@ def mujoco_run(scene: TumblingScene, integrator: str, h: float) -> Run:
         handler = mujoco.get_mju_user_warning()
         mujoco.set_mju_user_warning(lambda message: None)  # read from data.warning below, no MUJOCO_LOG.TXT
         try:
-            for _ in range(n):
-                mujoco.mj_step(model, data)
+            _mujoco_steps(scene, h, loop, model, data)
         finally:
             mujoco.set_mju_user_warning(handler)
         if data.warning[mujoco.mjtWarning.mjWARN_BADQACC].number:  # MuJoCo reset the state and went on
@@ -148,10 +200,10 @@ def mujoco_run(scene: TumblingScene, integrator: str, h: float) -> Run:
     return run
 
 
-def method_run(scene: TumblingScene, method: Method) -> Run:
+def method_run(scene: Scene, method: Method) -> Run:
     """The run of ``method`` on ``scene``."""
     if method.package == "mujoco":
-        return mujoco_run(scene, method.integrator, method.setting)
+        return mujoco_run(scene, method.integrator, method.setting, method.loop)
     if method.package == "pinocchio":
         return pinocchio_run(scene, method.setting)
     if method.loop == "compiled":
@@ -159,8 +211,11 @@ def method_run(scene: TumblingScene, method: Method) -> Run:
     return freefloat_run(scene, method.integrator, method.setting)
 
 
-def reference(scene: TumblingScene) -> tuple[np.ndarray, np.ndarray]:
-    """Final state by freefloat's dopri5 at rtol 1e-13, atol 1e-15."""
+def reference(scene: Scene) -> tuple[np.ndarray, np.ndarray]:
+    """Final state by freefloat's dopri5 at rtol 1e-13, atol 1e-15 (in its Python loop, through
+    the same zero-order hold on a controlled scene)."""
+    if isinstance(scene, ControlledScene):
+        return freefloat_run(scene, "dopri5", REFERENCE_RTOL)()  # atol = rtol / 100 = 1e-15
     stepper = make_integrator("dopri5", scene.model, rtol=REFERENCE_RTOL, atol=REFERENCE_ATOL)
     return stepper.advance(_torque_free(scene.model), scene.q0, scene.v0, scene.duration)
 
@@ -174,3 +229,13 @@ def methods(steps: tuple[float, ...], rtols: tuple[float, ...]) -> list[Method]:
     points += [Method("freefloat", name, rtol, "compiled") for name in COMPILED_ADAPTIVE for rtol in rtols]
     points += [Method("pinocchio", "euler", h) for h in steps]
     return points + [Method("mujoco", name, h) for name in MUJOCO for h in steps]
+
+
+def controlled_methods(steps: tuple[float, ...], rtols: tuple[float, ...]) -> list[Method]:
+    """Every method of a controlled sweep: freefloat's compiled loop with each fixed-step
+    integrator at each step and dopri5 at each rtol, its Python loop with rkmk4, and MuJoCo's
+    integrators stepped by freefloat's controller and by the law on MuJoCo's own matrices."""
+    points = [Method("freefloat", name, h, "compiled") for name in ("euler", "rkmk4", "rkmk8") for h in steps]
+    points += [Method("freefloat", "dopri5", rtol, "compiled") for rtol in rtols]
+    points += [Method("freefloat", "rkmk4", h) for h in steps]
+    return points + [Method("mujoco", name, h, loop) for loop in ("python", "native") for name in MUJOCO for h in steps]

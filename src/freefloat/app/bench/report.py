@@ -11,7 +11,8 @@ from importlib.metadata import version
 from pathlib import Path
 
 from ...errors import InvalidArgument
-from .methods import REFERENCE_ATOL, REFERENCE_RTOL, methods
+from .controlled import controlled_scene
+from .methods import REFERENCE_ATOL, REFERENCE_RTOL, controlled_methods, methods
 from .scenes import SCENES, tumbling_scene
 from .summary import band_rows, summary_lines
 from .sweep import Point, sweep
@@ -21,12 +22,21 @@ STEPS = (2e-1, 1e-1, 5e-2, 2e-2, 1e-2, 5e-3, 2e-3, 1e-3, 5e-4, 2e-4, 1e-4)
 RTOLS = (1e-4, 1e-6, 1e-8, 1e-10, 1e-12)
 QUICK_STEPS = (2e-2, 1e-2, 5e-3)
 QUICK_RTOLS = (1e-6, 1e-9)
+#: The controlled scene's integration steps (s, dividing its 1 ms period) and dopri5 tolerances.
+CONTROLLED_STEPS = (1e-3, 5e-4, 2e-4, 1e-4)
+CONTROLLED_RTOLS = (1e-4, 1e-6, 1e-8, 1e-10)
+QUICK_CONTROLLED_STEPS = (1e-3, 5e-4)
+QUICK_CONTROLLED_RTOLS = (1e-6,)
+#: Every bench scene with its note: the tumbling ones and the controlled one.
+ALL_SCENES = {**{name: note for name, (_, note) in SCENES.items()},
+              "controlled": "four-arm robot (balanced, free base), computed torque held over 1 ms, the default "
+                            "task's quintic"}
 CSV_FIELDS = ("scene", "package", "integrator", "loop", "setting", "wall_time_s", "state_error", "momentum_error",
               "energy_error")
 
 #: Line style per (package, loop) in the charts.
 STYLES = {("freefloat", "compiled"): "-o", ("freefloat", "python"): ":o", ("pinocchio", "python"): "-.^",
-          ("mujoco", "python"): "--s"}
+          ("mujoco", "python"): "--s", ("mujoco", "native"): "-.s"}
 
 
 def _row(scene: str, p: Point) -> dict:
@@ -84,25 +94,35 @@ def bench(out: Path, scenes: list[str] | None = None, quick: bool = False, durat
     Returns:
         The report written to ``bench.json``.
     """
-    names = list(scenes or SCENES)
+    names = list(scenes or ALL_SCENES)
+    unknown = [name for name in names if name not in ALL_SCENES]
+    if unknown:
+        raise InvalidArgument(f"unknown bench scene '{unknown[0]}'; valid: {', '.join(ALL_SCENES)}")
     steps, rtols = (QUICK_STEPS, QUICK_RTOLS) if quick else (STEPS, RTOLS)
+    controlled_steps, controlled_rtols = ((QUICK_CONTROLLED_STEPS, QUICK_CONTROLLED_RTOLS) if quick
+                                          else (CONTROLLED_STEPS, CONTROLLED_RTOLS))
     duration = duration if duration is not None else (0.1 if quick else 1.0)
     repeats = repeats if repeats is not None else (1 if quick else 5)
-    scenes_built = [tumbling_scene(name, duration, seed) for name in names]  # bad names fail before any run
+    # bad names and durations fail before any run
+    scenes_built = [controlled_scene(duration) if name == "controlled" else tumbling_scene(name, duration, seed)
+                    for name in names]
     if out.exists() and (not out.is_dir() or any(out.iterdir())):
         raise InvalidArgument(f"{out}: output folder exists and is not empty")
     out.mkdir(parents=True, exist_ok=True)
     report = {"settings": {"duration_s": duration, "repeats": repeats, "seed": seed, "steps_s": steps,
-                           "dopri5_rtols": rtols, "reference": {"integrator": "dopri5", "rtol": REFERENCE_RTOL,
+                           "dopri5_rtols": rtols, "controlled_steps_s": controlled_steps,
+                           "controlled_dopri5_rtols": controlled_rtols, "reference": {"integrator": "dopri5", "rtol": REFERENCE_RTOL,
                                                                 "atol": REFERENCE_ATOL}},
               "versions": {"freefloat": version("freefloat"), "pin": version("pin"), "mujoco": version("mujoco"),
                            "python": platform.python_version()},
               "scenes": {}}
     rows, lines = [], []
     for scene in scenes_built:
-        points, reference_time = sweep(scene, methods(steps, rtols), repeats)
+        sweep_methods = (controlled_methods(controlled_steps, controlled_rtols) if scene.name == "controlled"
+                         else methods(steps, rtols))
+        points, reference_time = sweep(scene, sweep_methods, repeats)
         bands = band_rows(points)
-        report["scenes"][scene.name] = {"note": SCENES[scene.name][1], "reference_wall_time_s": reference_time,
+        report["scenes"][scene.name] = {"note": ALL_SCENES[scene.name], "reference_wall_time_s": reference_time,
                                         "points": [_row(scene.name, p) for p in points], "bands": bands}
         rows += [_row(scene.name, p) for p in points]
         lines += summary_lines(scene.name, bands)

@@ -1,0 +1,109 @@
+"""The controlled bench scene: the balanced four-arm robot on a free base follows the default
+task's quintic (every joint of arms 1 and 4 by +5 deg, of arms 2 and 3 by -5 deg, arms 2 and 4
+starting with joint 1 at 90 deg) under joint-space computed torque (eqs 136-137, Kp = 10, Kd = 100,
+exact H* and c*) held over 1 ms periods, from rest.
+
+MuJoCo runs it two ways: stepped by freefloat's own Python-side controller (the state mapped to
+Pinocchio's convention each period), and with the same law written on MuJoCo's own mass matrix
+and bias forces (``mj_forward`` once per period, then the substeps), its fastest way for a
+feedback law computed in Python (``mujoco.rollout`` takes open-loop controls only).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+
+import numpy as np
+import pinocchio as pin
+
+from ...dynamics.models import ExactModel
+from ...dynamics.simulation import control_periods
+from ...robot.joints import JointCoordinates
+from ...robot.loading import load_robot
+from ...robot.robot import Robot
+from ...space.control import ComputedTorque, QuinticTrajectory
+from .mjcf import balanced_model
+
+#: The controlled scene's control period, s, and gains (1/s^2, 1/s).
+PERIOD, KP, KD = 1e-3, 10.0, 100.0
+#: Joint displacement per arm (rad) and the joints that start at 90 deg (the default scene's).
+DISPLACEMENT = {"arm1": 5.0, "arm2": -5.0, "arm3": -5.0, "arm4": 5.0}
+START_90 = ("arm2_joint1", "arm4_joint1")
+
+
+@dataclass(frozen=True)
+class ControlledScene:
+    """A computed-torque run of one robot (see the module docstring).
+
+    Attributes:
+        name: scene name.
+        robot: the robot (balanced four-arm model, free base).
+        q0, v0: initial Pinocchio state (nq,), (nv,).
+        duration: simulated time, s (also the quintic's duration).
+        period: zero-order-hold control period, s.
+        controller: the computed-torque law on the exact model.
+    """
+
+    name: str
+    robot: Robot
+    q0: np.ndarray
+    v0: np.ndarray
+    duration: float
+    period: float
+    controller: ComputedTorque
+
+    @property
+    def model(self) -> pin.Model:
+        """The Pinocchio free-flyer model both sides simulate."""
+        return self.robot.model
+
+
+def controlled_scene(duration: float = 1.0) -> ControlledScene:
+    """The controlled scene over ``duration`` s.
+
+    Raises:
+        InvalidArgument: unless the duration is a positive whole number of 1 ms periods.
+    """
+    control_periods(duration, PERIOD)
+    robot = load_robot("four_arm_planar", base="free", visuals=False)
+    robot = replace(robot, model=balanced_model(robot.model))
+    joints = JointCoordinates(robot)
+    start = np.array([np.pi / 2 if name in START_90 else 0.0 for name in robot.joint_names])
+    delta = np.radians([DISPLACEMENT[name.split("_")[0]] for name in robot.joint_names])
+    q0 = robot.neutral()
+    joints.set(q0, start)
+    controller = ComputedTorque(robot, QuinticTrajectory(start, start + delta, duration), KP, KD, "exact")
+    return ControlledScene("controlled", robot, q0, np.zeros(robot.model.nv), duration, PERIOD, controller)
+
+
+def substeps(scene: ControlledScene, h: float) -> int:
+    """Equal integration steps of about ``h`` per control period."""
+    return max(1, round(scene.period / h))
+
+
+def periods(scene: ControlledScene) -> int:
+    """Control periods in the scene."""
+    return round(scene.duration / scene.period)
+
+
+def mujoco_law(scene: ControlledScene, model, data) -> np.ndarray:
+    """Joint torques (n,) of the scene's law from MuJoCo's own mass matrix and ``qfrc_bias`` at its
+    current state (after ``mj_forward``): ``tau = H* (qdd_d + Kp e + Kd edot) + c*`` with the base
+    rows eliminated, which gives the same law in any base velocity coordinates."""
+    import mujoco
+
+    nv = model.nv
+    M = np.empty((nv, nv))
+    mujoco.mj_fullM(model, data, M)
+    b = data.qfrc_bias
+    t = data.time
+    q_d, qdot_d, qddot_d = scene.controller.trajectory(t)
+    coupling = np.linalg.solve(M[:6, :6], np.column_stack((M[:6, 6:], b[:6])))
+    H = M[6:, 6:] - M[6:, :6] @ coupling[:, :-1]
+    c = b[6:] - M[6:, :6] @ coupling[:, -1]
+    return H @ (qddot_d + KP * (q_d - data.qpos[7:]) + KD * (qdot_d - data.qvel[6:])) + c
+
+
+def reference_plant(scene: ControlledScene) -> ExactModel:
+    """The plant of the freefloat runs (Pinocchio's ABA)."""
+    return ExactModel(scene.robot)
