@@ -5,8 +5,10 @@ Writes ``bench_simulation.json`` and ``bench_simulation.png`` to an output folde
 in one run: quote the ratios, not the absolute times (shared 2-core machines are noisy).
 
 1. Loop overhead, default scene (four-arm robot, computed torque, RKMK4, 1 ms):
-   freefloat's :func:`freefloat.simulation.run` against an inline loop of the same Pinocchio and
-   numpy calls, with telemetry at every step and with telemetry at the ends only.
+   freefloat's :func:`freefloat.simulation.run` in its compiled loop (the default) and in its
+   Python loop, against an inline Python loop of the same Pinocchio and numpy calls and against the
+   C++ floor: the compiled loop in one call for the whole run (no Python between chunks), with
+   telemetry at every step and with telemetry at the ends only.
 2. Work-precision: a torque-free tumbling four-arm robot (free base), 1 s, every integrator over
    a range of steps (dopri5 over tolerances): final-state error against a tight dopri5 reference
    versus wall time and dynamics evaluations.
@@ -29,10 +31,12 @@ from bench_common import parser, write_json
 from freefloat import load_robot
 from freefloat.app.runner import prepare
 from freefloat.app.scenes import DEFAULT_SCENE, find_scene
+from freefloat.dynamics.compiled import CompiledLoop
 from freefloat.dynamics.integrators import make_integrator
 from freefloat.dynamics.integrators.lie import _dexpinv_se2
 from freefloat.dynamics.models import ExactModel
 from freefloat.dynamics.simulation import run
+from freefloat.dynamics.telemetry import Telemetry
 from freefloat.paths import URDF_DIR
 from freefloat.space.control import joint_space_dynamics
 
@@ -87,23 +91,43 @@ def bare_loop(prepared, steps: int, dt: float, telemetry: bool) -> float:
     return time.perf_counter() - start
 
 
+def cpp_floor(prepared, steps: int, dt: float, every: int) -> float:
+    """The compiled loop in one call for the whole run (telemetry every ``every`` periods), s."""
+    robot = prepared.robot
+    loop = CompiledLoop(robot, prepared.integrator, dt, record_every=every, law=prepared.controller.compiled_law())
+    chunk = Telemetry.allocate(steps // every + 1, robot.model.nq, robot.model.nv, robot.n_joints,
+                               len(robot.end_effectors))
+    loop.start(prepared.q0, prepared.v0)
+    start = time.perf_counter()
+    rows = loop.run(steps, chunk, 0)
+    loop.record_last(chunk, rows)
+    return time.perf_counter() - start
+
+
 def loop_overhead(repeats: int, steps: int) -> dict:
-    """Time per step of freefloat's loop and of the inline loop, with and without telemetry."""
+    """Time per step of freefloat's loops (compiled, Python), the inline Python loop and the C++
+    floor, with telemetry at every step and at the ends only."""
     scene = find_scene(DEFAULT_SCENE)
     dt = scene.simulation.control_period
-    results: dict[str, list[float]] = {k: [] for k in ("freefloat_full", "bare_full", "freefloat_ends", "bare_none")}
+    kinds = ("compiled", "python", "bare", "cpp")
+    results: dict[str, list[float]] = {f"{k}_{label}": [] for k in kinds for label in ("full", "ends")}
     for _ in range(repeats):
-        for label, every, telemetry in (("full", 1, True), ("ends", steps, False)):
-            prepared = prepare(scene)
-            res = run(prepared.robot, prepared.q0, prepared.v0, steps * dt, dt, prepared.integrator,
-                      prepared.model, prepared.controller, record_every=every)
-            results[f"freefloat_{label}"].append(res.wall_time_s / steps)
-            results["bare_full" if telemetry else "bare_none"].append(bare_loop(prepare(scene), steps, dt, telemetry) / steps)
+        for label, every in (("full", 1), ("ends", steps)):
+            for backend in ("compiled", "python"):
+                prepared = prepare(scene)
+                res = run(prepared.robot, prepared.q0, prepared.v0, steps * dt, dt, prepared.integrator,
+                          prepared.model, prepared.controller, record_every=every, backend=backend)
+                results[f"{backend}_{label}"].append(res.wall_time_s / steps)
+            results[f"bare_{label}"].append(bare_loop(prepare(scene), steps, dt, label == "full") / steps)
+            results[f"cpp_{label}"].append(cpp_floor(prepare(scene), steps, dt, every) / steps)
     best = {k: min(v) for k, v in results.items()}
     return {
         "steps": steps, "repeats": repeats, "seconds_per_step_best": best,
-        "ratio_full_telemetry": best["freefloat_full"] / best["bare_full"],
-        "ratio_no_telemetry": best["freefloat_ends"] / best["bare_none"],
+        "compiled_over_cpp_floor_full_telemetry": best["compiled_full"] / best["cpp_full"],
+        "compiled_over_cpp_floor_no_telemetry": best["compiled_ends"] / best["cpp_ends"],
+        "python_over_compiled_full_telemetry": best["python_full"] / best["compiled_full"],
+        "python_over_bare_full_telemetry": best["python_full"] / best["bare_full"],
+        "bare_over_compiled_full_telemetry": best["bare_full"] / best["compiled_full"],
     }
 
 
@@ -172,11 +196,16 @@ def chart(report: dict, path: Path) -> None:
     ax1.grid(True, which="both", alpha=0.3)
     ax1.legend()
     best = report["loop_overhead"]["seconds_per_step_best"]
-    labels = ["freefloat\nfull telemetry", "bare loop\nsame telemetry", "freefloat\nends only", "bare loop\nno telemetry"]
-    values = [best["freefloat_full"], best["bare_full"], best["freefloat_ends"], best["bare_none"]]
-    ax2.bar(labels, np.array(values) * 1e6, color=["C0", "C7", "C0", "C7"])
+    names = {"compiled": "freefloat\ncompiled", "cpp": "C++ floor\n(one call)", "python": "freefloat\nPython loop",
+             "bare": "inline Python\nPinocchio loop"}
+    x = np.arange(len(names))
+    for offset, (label, what) in zip((-0.2, 0.2), (("full", "telemetry every step"), ("ends", "telemetry at the ends"))):
+        ax2.bar(x + offset, [best[f"{k}_{label}"] * 1e6 for k in names], width=0.4, label=what)
+    ax2.set_xticks(x, list(names.values()), fontsize=8)
+    ax2.set_yscale("log")
+    ax2.legend(fontsize=8)
     ax2.set_ylabel("time per control step [us]")
-    ax2.set_title("Default scene loop vs inline Pinocchio loop")
+    ax2.set_title("Default scene: freefloat's loops, the C++ floor, an inline Python loop")
     fig.tight_layout()
     fig.savefig(path, dpi=120)
     plt.close(fig)
@@ -197,7 +226,9 @@ def main() -> None:
     write_json(args.out, "simulation", report)
     chart(report, args.out / "bench_simulation.png")
     lo, bk = report["loop_overhead"], report["base_kind"]
-    print(f"loop/bare, full telemetry: {lo['ratio_full_telemetry']:.2f}; no telemetry: {lo['ratio_no_telemetry']:.2f}")
+    print(f"compiled / C++ floor, full telemetry: {lo['compiled_over_cpp_floor_full_telemetry']:.2f}; no telemetry: "
+          f"{lo['compiled_over_cpp_floor_no_telemetry']:.2f}; Python loop / compiled: "
+          f"{lo['python_over_compiled_full_telemetry']:.1f}")
     print(f"free/planar base time per step: {bk['ratio_free_over_planar']:.2f}")
     print(f"wrote {args.out}")
 
