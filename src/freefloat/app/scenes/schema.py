@@ -32,12 +32,15 @@ from .fields import (
 class RobotSection:
     """``[robot]``: URDF (absolute, relative to the scene file, a built-in robot file name, or the
     name of a robot of :mod:`freefloat.robot.catalog` such as ``"ur5"``),
-    floating base kind, end-effector link names (default: leaves), gravity (m/s^2, inertial)."""
+    floating base kind, end-effector link names (default: leaves), gravity (m/s^2, inertial), and
+    the joints held still at their initial positions by brakes (a joint, or an end-effector = every
+    joint of its arm; removed from the model, :mod:`freefloat.robot.locking`)."""
 
     urdf: str
     base: str = "free"
     end_effectors: tuple[str, ...] | None = None
     gravity: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    locked_joints: tuple[str, ...] | None = None
 
 
 @dataclass(frozen=True)
@@ -118,7 +121,9 @@ class SimulationSection:
     """``[simulation]``: duration and control period (s), plant model, integrator and its
     settings, telemetry stride, and ``project_momentum``: after each control period, the
     velocity nearest in the kinetic-energy metric with the start momentum (for torque-free or
-    internally actuated runs without gravity or wrenches, whose momentum is conserved)."""
+    internally actuated runs without gravity or wrenches, whose momentum is conserved), and
+    ``lock``: ``"auto"`` also locks every joint the scene never moves (see
+    :func:`freefloat.app.experiments.locked_run.never_moved`), ``"none"`` only ``robot.locked_joints``."""
 
     duration: float = 1.0
     control_period: float = 1e-3
@@ -129,6 +134,7 @@ class SimulationSection:
     atol: float = 1e-12
     record_every: int = 1
     project_momentum: bool = False
+    lock: str = "none"
 
 
 @dataclass(frozen=True)
@@ -175,6 +181,7 @@ CHOICES = {
     ("controller", "model"): tuple(MODELS),
     ("simulation", "model"): tuple(MODELS),
     ("simulation", "integrator"): tuple(INTEGRATORS),
+    ("simulation", "lock"): ("none", "auto"),
     ("", "angle_unit"): ("deg", "rad"),
 }
 POSITIVE = {
