@@ -32,14 +32,16 @@ from .locked_run import full_telemetry, lock_for
 STAGES = {"euler": 1, "rkmk4": 4, "rk4_naive": 4, "dopri5": 6}
 
 #: Summary keys the command line prints for a robot run.
-HEADLINE = ("tracking_rms_overall", "com_drift_max", "momentum_drift_max", "energy_drift_max", "base_displacement")
+HEADLINE = ("model_auto", "tracking_rms_overall", "com_drift_max", "momentum_drift_max", "energy_drift_max",
+            "base_displacement")
 
 
 @dataclass
 class RobotSetup:
     """A robot scene resolved before the loop: the robot, the initial Pinocchio state ``q0``
     (nq,), ``v0`` (nv,), the plant model and integrator, the controller (None: torque-free), the
-    external wrenches and the locked joints (None: none). With locked joints the model,
+    external wrenches, the locked joints (None: none) and how ``simulation.model = "auto"`` chose
+    the plant (None: the scene named it). With locked joints the model,
     integrator and controller are built on :attr:`plant` (the reduced robot); ``robot``, ``q0``
     and ``v0`` stay the full robot's, as the outputs show it."""
 
@@ -52,6 +54,7 @@ class RobotSetup:
     controller: Controller | None = None
     wrenches: tuple[ExternalWrench, ...] = ()
     lock: LockedJoints | None = None
+    model_choice: dict[str, Any] | None = None
 
     @property
     def plant(self) -> Robot:
@@ -98,6 +101,9 @@ def prepare_robot(scene: Scene) -> RobotSetup:
     lock = lock_for(scene, robot, q0, v0, displacement, explicit)
     plant = robot if lock is None else lock.robot
     sim = scene.simulation
+    if sim.model == "auto":
+        raise SceneError(f"scene '{scene.name}': 'simulation.model = \"auto\"' is chosen by a pilot run; prepare "
+                         "the scene with freefloat.app.runner.prepare")
     setup = RobotSetup(
         scene=scene, robot=robot, q0=q0, v0=v0,
         model=make_model(sim.model, plant),

@@ -118,7 +118,9 @@ class ControllerSection:
 
 @dataclass(frozen=True)
 class SimulationSection:
-    """``[simulation]``: duration and control period (s), plant model, integrator and its
+    """``[simulation]``: duration and control period (s), plant model (a registry name, or
+    ``"auto"``: the cheapest whose predicted state error over the run stays under ``tolerance``,
+    rad or m and rad/s or m/s, see :mod:`freefloat.app.experiments.model_choice`), integrator and its
     settings, telemetry stride, and ``project_momentum``: after each control period, the
     velocity nearest in the kinetic-energy metric with the start momentum (for torque-free or
     internally actuated runs without gravity or wrenches, whose momentum is conserved), and
@@ -127,7 +129,8 @@ class SimulationSection:
 
     duration: float = 1.0
     control_period: float = 1e-3
-    model: str = "exact"
+    model: str = "auto"
+    tolerance: float = 1e-6
     integrator: str = "rkmk4"
     substeps: int = 1
     rtol: float = 1e-10
@@ -179,14 +182,14 @@ CHOICES = {
     ("task", "method"): ("min_norm", "single", "null_space", "least_squares"),
     ("controller", "kind"): ("none", "computed_torque"),
     ("controller", "model"): tuple(MODELS),
-    ("simulation", "model"): tuple(MODELS),
+    ("simulation", "model"): ("auto", *MODELS),
     ("simulation", "integrator"): tuple(INTEGRATORS),
     ("simulation", "lock"): ("none", "auto"),
     ("", "angle_unit"): ("deg", "rad"),
 }
 POSITIVE = {
     ("task", "duration"), ("simulation", "duration"), ("simulation", "control_period"),
-    ("simulation", "substeps"), ("simulation", "rtol"), ("simulation", "atol"),
+    ("simulation", "substeps"), ("simulation", "rtol"), ("simulation", "atol"), ("simulation", "tolerance"),
     ("simulation", "record_every"), ("output", "html_fps"), ("target", "mass"), ("target", "contact_time"),
     ("target", "tolerance"),
 }
