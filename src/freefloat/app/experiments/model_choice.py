@@ -15,6 +15,7 @@ take a plant model).
 
 from __future__ import annotations
 
+import copy
 import dataclasses
 from typing import Any
 
@@ -75,9 +76,13 @@ def resolve(scene: Scene, models: tuple[str, ...] | None = None) -> tuple[Scene,
     costs = seconds_per_call(plants, [setups[lock].plant_state() for _, lock in pairs])
     duration = pilot_periods(scene) * sim.control_period
 
+    prepared: dict[tuple[str, str], Any] = {}
+
     def pilot(name: str, lock: str) -> Pilot:
-        trial = with_plant(scene, name, lock, duration)
-        outcome = experiment.run(experiment.prepare(trial))
+        """One pilot run, on a fresh copy of the pilot's setup (controllers keep state)."""
+        if (name, lock) not in prepared:
+            prepared[name, lock] = experiment.prepare(with_plant(scene, name, lock, duration))
+        outcome = experiment.run(copy.deepcopy(prepared[name, lock]))
         return Pilot(outcome.wall_time_s, outcome.telemetry.q, outcome.telemetry.v)
 
     candidates = [Candidate(name, lock, cost, lambda name=name, lock=lock: pilot(name, lock))

@@ -51,7 +51,7 @@ def regime_models(momentum: np.ndarray | None) -> tuple[str, ...]:
 
 
 def seconds_per_call(models: Sequence[DynamicsModel], states: Sequence[tuple[np.ndarray, np.ndarray]],
-                     calls: int = 200, repeats: int = 5) -> list[float]:
+                     calls: int = 50, repeats: int = 3) -> list[float]:
     """Cost of one ``acceleration`` of each model at its state ``(q, v)`` with zero torques, s:
     the best of ``repeats`` rounds of ``calls`` calls, the models taking turns in each round."""
     best = [np.inf] * len(models)
