@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 from freefloat.app import runner
+from freefloat.app.experiments import experiment_for as experiment_for_scene
 from freefloat.app.scenes import load_scene
 from freefloat.dynamics.telemetry import Telemetry
 from freefloat.errors import SceneError
@@ -98,3 +99,26 @@ def test_locking_is_refused_in_a_detumbling_scene(tmp_path):
     bad = scene(tmp_path, "detumble_impulse_arm1_joint4", robot={"locked_joints": ["arm2_joint1"]})
     with pytest.raises(SceneError, match="joint-space and torque-free scenes only; this is a detumbling scene"):
         runner.prepare(bad)
+
+
+def test_holding_torque_with_a_wrench_keeps_the_locked_joint_still_in_the_full_model(tmp_path):
+    """Under an external wrench, the recorded brake torque applied to the full robot with the same wrench
+    gives the locked joint zero acceleration."""
+    import pinocchio as pin
+
+    from freefloat.dynamics.wrenches import ExternalWrench, WrenchField
+
+    pushed = scene(tmp_path, "tumbling", robot={"locked_joints": ["arm2_joint2"]}, simulation={"duration": 0.02})
+    wrench = ExternalWrench("arm2_link4", force=(3.0, -2.0, 0.0), torque=(0.0, 0.0, 1.5))
+    setup = runner.prepare(pushed)
+    setup.wrenches = (wrench,)
+    tel = experiment_for_scene(pushed).run(setup).telemetry
+    robot, k = setup.robot, 10
+    field = WrenchField(robot, (wrench,))
+    field.activate(float(tel.t[k]))
+    tau = np.zeros(robot.model.nv)
+    tau[robot.n_base:] = tel.tau[k]
+    a = pin.aba(robot.model, robot.model.createData(), tel.q[k], tel.v[k], tau, field.forces(tel.q[k]))
+    locked = setup.lock.locked_v
+    assert abs(tel.tau[k, locked - robot.n_base]).max() > 1e-3
+    assert np.abs(a[locked]).max() < 1e-9 * np.abs(a).max()

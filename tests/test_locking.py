@@ -71,12 +71,16 @@ def test_locked_dynamics_equal_the_full_dynamics_with_locked_accelerations_zero(
 @RANDOM
 @given(case=random_robots(), pick_seed=st.integers(0, 2**32 - 1))
 def test_holding_torque_keeps_the_locked_joints_still_in_the_full_model(tmp_path_factory, case, pick_seed):
-    """The full model's ABA with the holding torques added on the locked joints gives them zero acceleration."""
+    """The full model's ABA with the holding torques (from the reduced ABA) added on the locked joints gives them
+    zero acceleration and the free coordinates the reduced robot's accelerations."""
     robot, lock, q, v, tau = locked_case(tmp_path_factory, case, pick_seed)
+    q_r, v_r = lock.reduce(q, v)
+    a_free = pin.aba(lock.robot.model, lock.robot.model.createData(), q_r, v_r, tau[lock.free_v])
     held = tau.copy()
-    held[lock.locked_v] += lock.holding_torque(q, v, tau)
+    held[lock.locked_v] += lock.holding_torque(q, v, a_free, tau)
     a = pin.aba(robot.model, robot.model.createData(), q, v, held)
     assert np.abs(a[lock.locked_v]).max() <= 1e-8 * max(1.0, np.abs(a).max())
+    assert np.abs(a[lock.free_v] - a_free).max() <= 1e-8 * max(1.0, np.abs(a).max())
 
 
 @RANDOM

@@ -8,9 +8,10 @@ with ``a_L = 0`` and ``s`` nonzero on ``L`` only (the constraint's generalized f
 
 .. math:: M_{FF} a_F = \\tau_F - b_F, \\qquad s_L = M_{LF} a_F + b_L - \\tau_L,
 
-where ``s_L`` is the torque a brake must apply to hold the locked joints. Frames (end-effectors,
-the base CoM frame, every link) keep their names, so kinematics and telemetry of the reduced
-robot read as the full robot's.
+where ``a_F`` is the reduced model's acceleration and ``s_L`` the torque a brake must apply to hold
+the locked joints (the locked rows of the inverse dynamics at ``a``, minus ``tau_L``). Frames
+(end-effectors, the base CoM frame, every link) keep their names, so kinematics and telemetry of
+the reduced robot read as the full robot's.
 """
 
 from __future__ import annotations
@@ -73,12 +74,14 @@ class LockedJoints:
         v_full[..., self.free_v] = v
         return q_full, v_full
 
-    def holding_torque(self, q: np.ndarray, v: np.ndarray, tau: np.ndarray,
+    def holding_torque(self, q: np.ndarray, v: np.ndarray, a_free: np.ndarray, tau: np.ndarray,
                        fext: Sequence[pin.Force] | None = None, data: pin.Data | None = None) -> np.ndarray:
-        """The brake torques ``s_L`` that keep the locked joints still (module docstring).
+        """The brake torques ``s_L`` that keep the locked joints still (module docstring), from the
+        reduced robot's accelerations: ``s = RNEA(q, v, a)_L - tau_L`` with ``a_F = a_free``, ``a_L = 0``.
 
         Args:
-            q, v: full state (nq,), (nv,).
+            q, v: full state (nq,), (nv,) (locked rates zero).
+            a_free: the reduced robot's accelerations at that state (reduced nv,), e.g. its ABA.
             tau: full generalized forces (nv,), Pinocchio order (zero base rows for a free base).
             fext: one wrench per full-model joint (joint frame), or None.
             data: a ``pin.Data`` of the full model to reuse, or None.
@@ -88,12 +91,10 @@ class LockedJoints:
         """
         model = self.full.model
         data = model.createData() if data is None else data
-        M = pin.crba(model, data, q)
-        zero = np.zeros(model.nv)
-        b = pin.rnea(model, data, q, v, zero) if fext is None else pin.rnea(model, data, q, v, zero, fext)
-        F, L = self.free_v, self.locked_v
-        a_free = np.linalg.solve(M[np.ix_(F, F)], tau[F] - b[F])
-        return M[np.ix_(L, F)] @ a_free + b[L] - tau[L]
+        a = np.zeros(model.nv)
+        a[self.free_v] = a_free
+        needed = pin.rnea(model, data, q, v, a) if fext is None else pin.rnea(model, data, q, v, a, fext)
+        return needed[self.locked_v] - tau[self.locked_v]
 
 
 def lock_joints(robot: Robot, names: Sequence[str], q: np.ndarray) -> LockedJoints:

@@ -12,6 +12,7 @@ from __future__ import annotations
 import dataclasses
 
 import numpy as np
+import pinocchio as pin
 
 from ...dynamics.telemetry import Telemetry
 from ...dynamics.wrenches import ExternalWrench, WrenchField
@@ -84,21 +85,23 @@ def full_telemetry(lock: LockedJoints, telemetry: Telemetry, wrenches: tuple[Ext
 
     ``q``, ``v``, ``joint_positions`` and ``joint_reference`` gain the locked joints (their
     positions, zero rates, their positions as reference where the row has one); ``tau`` gains the
-    brakes' holding torques at each row's state, torques and active wrenches
-    (:meth:`~freefloat.robot.locking.LockedJoints.holding_torque`). Every other column (base,
+    brakes' holding torques at each row's state, torques and active wrenches (from the reduced
+    robot's ABA there, :meth:`~freefloat.robot.locking.LockedJoints.holding_torque`). Every other column (base,
     end-effectors, CoM, momentum, energy, work) is the same for both robots and kept.
     """
-    full, free, locked = lock.full, lock.free_joints, lock.locked_joints
+    full, small, free, locked = lock.full, lock.robot, lock.free_joints, lock.locked_joints
     q, v = lock.expand(telemetry.q, telemetry.v)
-    rows, nb = len(telemetry.t), full.n_base
     held = JointCoordinates(full).get(lock.q_lock)[locked]
-    field = WrenchField(full, wrenches) if wrenches else None
+    fields = (WrenchField(full, wrenches), WrenchField(small, wrenches)) if wrenches else None
     tau = _columns(telemetry.tau, free, locked, np.zeros(len(locked)))
-    generalized, data = np.zeros(full.model.nv), full.model.createData()
-    for k in range(rows):
-        generalized[nb:] = tau[k]
-        fext = field.forces(q[k]) if field is not None and field.activate(float(telemetry.t[k])) else None
-        tau[k, locked] = lock.holding_torque(q[k], v[k], generalized, fext, data)
+    generalized, data, data_small = np.zeros(full.model.nv), full.model.createData(), small.model.createData()
+    for k, (t, q_small, v_small) in enumerate(zip(telemetry.t, telemetry.q, telemetry.v)):
+        generalized[full.n_base:] = tau[k]
+        active = fields is not None and fields[0].activate(float(t)) and fields[1].activate(float(t))
+        fext_small = [fields[1].forces(q_small)] if active else []
+        a = pin.aba(small.model, data_small, q_small, v_small, generalized[lock.free_v], *fext_small)
+        tau[k, locked] = lock.holding_torque(q[k], v[k], a, generalized, fields[0].forces(q[k]) if active else None,
+                                             data)
     reference = _columns(telemetry.joint_reference, free, locked, held)
     reference[np.isnan(telemetry.joint_reference).all(axis=1)] = np.nan
     return dataclasses.replace(telemetry, q=q, v=v, tau=tau, joint_reference=reference,
