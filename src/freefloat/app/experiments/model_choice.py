@@ -7,7 +7,7 @@ gravity or wrenches), each with the scene's lock setting and with ``lock = "auto
 scene never moves locked). Their costs per acceleration are measured side by side at the initial
 state; those cheaper than the exact model on the scene's lock setting run the first
 :data:`PILOT_SHARE` of the scene (at least :data:`PILOT_PERIODS` control periods) beside it, cheapest
-first (each pilot run three times, taking turns with the exact one's, for its best wall time), and
+first (each pilot run twice, taking turns with the exact one's, for its best wall time), and
 the first whose pilot error times ``(T / T_p)^2`` stays under the tolerance and whose pilot ran
 faster is chosen. Capture scenes always simulate the exact plant (their loop does not
 take a plant model).

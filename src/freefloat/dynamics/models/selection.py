@@ -135,7 +135,7 @@ class Choice:
 
 
 def choose(reference: Candidate, candidates: Sequence[Candidate], model: pin.Model, tolerance: float,
-           growth: float, repeats: int = 3) -> Choice:
+           growth: float, repeats: int = 2) -> Choice:
     """The cheapest candidate whose predicted error stays under ``tolerance``.
 
     Candidates cheaper per call than ``reference`` (the exact plant) are tried cheapest first:
