@@ -8,51 +8,41 @@ import pytest
 
 from freefloat.app import runner
 from freefloat.app.experiments import experiment_for as experiment_for_scene
-from freefloat.app.scenes import load_scene
 from freefloat.dynamics.telemetry import Telemetry
 from freefloat.errors import SceneError
 
-from .conftest import scene_variant
-
-QUIET = {"figures": False, "html": False}
-#: The default task with arm 1 moving only: arms 2-4 are held still by the controller.
-ONE_ARM = {"displacement": {"arm1_ee": 5.0}, "duration": 1.0}
-
-
-def scene(tmp_path, builtin="four_arm_joint_space", **sections):
-    sections.setdefault("output", QUIET)
-    return load_scene(scene_variant(tmp_path / "s.toml", builtin, **sections))
+from .conftest import ONE_ARM_TASK, quiet_scene
 
 
 def test_auto_locks_exactly_the_joints_the_controller_holds_still(tmp_path):
     """``lock = "auto"`` locks every joint of the three arms the task does not move, and no other."""
-    setup = runner.prepare(scene(tmp_path, task=ONE_ARM, simulation={"duration": 0.05, "lock": "auto"}))
+    setup = runner.prepare(quiet_scene(tmp_path, task=ONE_ARM_TASK, simulation={"duration": 0.05, "lock": "auto"}))
     assert setup.lock.names == tuple(f"arm{a}_joint{j}" for a in (2, 3, 4) for j in (1, 2, 3, 4))
 
 
 def test_auto_locks_nothing_in_a_torque_free_scene(tmp_path):
     """Torque-free joints are not held, so ``lock = "auto"`` locks none of them."""
-    setup = runner.prepare(scene(tmp_path, "tumbling", simulation={"duration": 0.05, "lock": "auto"}))
+    setup = runner.prepare(quiet_scene(tmp_path, "tumbling", simulation={"duration": 0.05, "lock": "auto"}))
     assert setup.lock is None
 
 
 def test_unknown_locked_joint_is_refused_naming_the_key_and_the_joint(tmp_path):
     """A name in ``robot.locked_joints`` that is no joint fails naming the key and the name."""
-    bad = scene(tmp_path, robot={"locked_joints": ["arm9_joint1"]}, simulation={"duration": 0.05})
+    bad = quiet_scene(tmp_path, robot={"locked_joints": ["arm9_joint1"]}, simulation={"duration": 0.05})
     with pytest.raises(SceneError, match="'robot.locked_joints': 'arm9_joint1' is neither a joint"):
         runner.prepare(bad)
 
 
 def test_a_locked_joint_the_task_moves_is_refused_naming_both_keys(tmp_path):
     """Locking a joint that ``task.displacement`` moves fails naming both keys and the joint."""
-    bad = scene(tmp_path, robot={"locked_joints": ["arm1_joint2"]}, simulation={"duration": 0.05})
+    bad = quiet_scene(tmp_path, robot={"locked_joints": ["arm1_joint2"]}, simulation={"duration": 0.05})
     with pytest.raises(SceneError, match="'robot.locked_joints' names arm1_joint2, which 'task.displacement' moves"):
         runner.prepare(bad)
 
 
 def test_a_locked_joint_with_an_initial_rate_is_refused(tmp_path):
     """Locking a joint that starts moving fails naming ``initial.joint_velocities``."""
-    bad = scene(tmp_path, "tumbling", robot={"locked_joints": ["arm3_joint1"]},
+    bad = quiet_scene(tmp_path, "tumbling", robot={"locked_joints": ["arm3_joint1"]},
                 initial={"joint_velocities": {"arm3_joint1": 1.0}}, simulation={"duration": 0.05})
     with pytest.raises(SceneError, match="arm3_joint1, which 'initial.joint_velocities' moves"):
         runner.prepare(bad)
@@ -60,7 +50,7 @@ def test_a_locked_joint_with_an_initial_rate_is_refused(tmp_path):
 
 def test_locked_run_keeps_the_full_joint_vector_with_the_locked_angles_constant(tmp_path):
     """The written telemetry has every joint; the locked ones keep their initial angles and zero rates."""
-    locked = scene(tmp_path, task=ONE_ARM, simulation={"duration": 0.05, "lock": "auto"})
+    locked = quiet_scene(tmp_path, task=ONE_ARM_TASK, simulation={"duration": 0.05, "lock": "auto"})
     runner.run_scene(locked, tmp_path / "out")
     tel = Telemetry.load(tmp_path / "out" / "telemetry.npz")
     assert tel.joint_positions.shape[1] == 16 and tel.q.shape[1] == 20
@@ -73,8 +63,8 @@ def test_locked_run_follows_the_unlocked_one_and_its_brakes_give_the_holding_tor
     """Arm 1 moves as in the unlocked run (to 1e-5 rad: the held joints move by the zero-order hold there), and at the start the brakes' torque equals
     the torque the unlocked controller applies to the held joints."""
     moving = {"joint_positions": {"arm2_joint1": 90.0}, "joint_velocities": {"arm1_joint1": 20.0}}
-    full = runner.simulate(scene(tmp_path, task=ONE_ARM, initial=moving, simulation={"duration": 0.05})).telemetry
-    locked = runner.simulate(scene(tmp_path, task=ONE_ARM, initial=moving,
+    full = runner.simulate(quiet_scene(tmp_path, task=ONE_ARM_TASK, initial=moving, simulation={"duration": 0.05})).telemetry
+    locked = runner.simulate(quiet_scene(tmp_path, task=ONE_ARM_TASK, initial=moving,
                                    simulation={"duration": 0.05, "lock": "auto"})).telemetry
     assert np.abs(locked.joint_positions - full.joint_positions).max() < 1e-5
     assert np.abs(full.joint_positions[:, 4:] - full.joint_positions[0, 4:]).max() > 0.0  # the unlocked run moves them
@@ -84,7 +74,7 @@ def test_locked_run_follows_the_unlocked_one_and_its_brakes_give_the_holding_tor
 
 def test_locked_free_floating_robot_conserves_its_momentum(tmp_path):
     """A tumbling free-base robot with two arms braked keeps its nonzero momentum to round-off."""
-    tumbling = scene(tmp_path, "tumbling", robot={"locked_joints": ["arm2_ee", "arm3_joint2"]},
+    tumbling = quiet_scene(tmp_path, "tumbling", robot={"locked_joints": ["arm2_ee", "arm3_joint2"]},
                      initial={"joint_positions": {"arm2_joint1": 30.0}, "joint_velocities": {"arm1_joint1": 20.0}},
                      simulation={"duration": 0.2})
     outcome = runner.simulate(tumbling)
@@ -96,7 +86,7 @@ def test_locked_free_floating_robot_conserves_its_momentum(tmp_path):
 
 def test_locking_is_refused_in_a_detumbling_scene(tmp_path):
     """A detumbling scene's controller moves every joint, so ``robot.locked_joints`` is refused there."""
-    bad = scene(tmp_path, "detumble_impulse_arm1_joint4", robot={"locked_joints": ["arm2_joint1"]})
+    bad = quiet_scene(tmp_path, "detumble_impulse_arm1_joint4", robot={"locked_joints": ["arm2_joint1"]})
     with pytest.raises(SceneError, match="joint-space and torque-free scenes only; this is a detumbling scene"):
         runner.prepare(bad)
 
@@ -108,7 +98,7 @@ def test_holding_torque_with_a_wrench_keeps_the_locked_joint_still_in_the_full_m
 
     from freefloat.dynamics.wrenches import ExternalWrench, WrenchField
 
-    pushed = scene(tmp_path, "tumbling", robot={"locked_joints": ["arm2_joint2"]}, simulation={"duration": 0.02})
+    pushed = quiet_scene(tmp_path, "tumbling", robot={"locked_joints": ["arm2_joint2"]}, simulation={"duration": 0.02})
     wrench = ExternalWrench("arm2_link4", force=(3.0, -2.0, 0.0), torque=(0.0, 0.0, 1.5))
     setup = runner.prepare(pushed)
     setup.wrenches = (wrench,)

@@ -13,16 +13,7 @@ from freefloat.app.scenes import load_scene
 from freefloat.dynamics.models.selection import Candidate, Pilot, choose
 from freefloat.errors import SceneError
 
-from .conftest import scene_variant
-
-QUIET = {"figures": False, "html": False}
-#: The default task with arm 1 moving only, over 1 s: arms 2-4 are held still.
-ONE_ARM = {"displacement": {"arm1_ee": 5.0}, "duration": 1.0}
-
-
-def scene(tmp_path, builtin="four_arm_joint_space", **sections):
-    sections.setdefault("output", QUIET)
-    return load_scene(scene_variant(tmp_path / "s.toml", builtin, **sections))
+from .conftest import ONE_ARM_TASK, quiet_scene
 
 
 def test_auto_is_the_default_plant(tmp_path):
@@ -35,7 +26,7 @@ def test_auto_is_the_default_plant(tmp_path):
 
 def test_auto_locks_the_held_arms_when_the_error_stays_under_the_tolerance(tmp_path):
     """With three arms held still, the pilot keeps the locked exact plant, its predicted error under the tolerance."""
-    auto = scene(tmp_path, task=ONE_ARM, simulation={"duration": 1.0, "model": "auto", "tolerance": 1e-4})
+    auto = quiet_scene(tmp_path, task=ONE_ARM_TASK, simulation={"duration": 1.0, "model": "auto", "tolerance": 1e-4})
     resolved, record = resolve(auto)
     assert (resolved.simulation.model, resolved.simulation.lock) == ("exact", "auto")
     assert 0.0 < record["predicted_error"] <= 1e-4 and record["pilot_duration"] == pytest.approx(0.02)
@@ -43,7 +34,7 @@ def test_auto_locks_the_held_arms_when_the_error_stays_under_the_tolerance(tmp_p
 
 def test_a_tolerance_below_the_locking_error_keeps_the_full_plant(tmp_path):
     """With a 1e-12 tolerance the locked plant's pilot error is too large, and the full exact plant is kept."""
-    tight = scene(tmp_path, task=ONE_ARM, simulation={"duration": 1.0, "model": "auto", "tolerance": 1e-12})
+    tight = quiet_scene(tmp_path, task=ONE_ARM_TASK, simulation={"duration": 1.0, "model": "auto", "tolerance": 1e-12})
     resolved, record = resolve(tight)
     assert (resolved.simulation.model, resolved.simulation.lock) == ("exact", "none")
     locked = next(t for t in record["trials"] if t["lock"] == "auto" and t["model"] == "exact")
@@ -53,7 +44,7 @@ def test_a_tolerance_below_the_locking_error_keeps_the_full_plant(tmp_path):
 def test_a_model_wrong_for_the_scene_is_refused_by_the_error_check(tmp_path):
     """On a tumbling robot with momentum, eq 127's model (exact only at zero momentum) is refused even when
     it is claimed far cheaper: its pilot error is far above the tolerance."""
-    tumbling = scene(tmp_path, "tumbling", simulation={"duration": 1.0, "model": "auto"})
+    tumbling = quiet_scene(tmp_path, "tumbling", simulation={"duration": 1.0, "model": "auto"})
     experiment, duration = experiment_for(tumbling), pilot_periods(tumbling) * 1e-3
 
     def pilot(name):
@@ -70,7 +61,7 @@ def test_a_model_wrong_for_the_scene_is_refused_by_the_error_check(tmp_path):
 
 def test_the_choice_is_written_to_the_summary(tmp_path):
     """A run with ``model = "auto"`` writes the choice, its speed-up and error into summary.json and prints it."""
-    auto = scene(tmp_path, task=ONE_ARM, simulation={"duration": 0.2, "model": "auto", "tolerance": 1e-5})
+    auto = quiet_scene(tmp_path, task=ONE_ARM_TASK, simulation={"duration": 0.2, "model": "auto", "tolerance": 1e-5})
     done = runner.run_scene(auto, tmp_path / "out")
     summary = json.loads((tmp_path / "out" / "summary.json").read_text())
     assert summary["model_choice"]["model"] == "exact" and summary["model_choice"]["lock"] in ("none", "auto")
@@ -80,13 +71,13 @@ def test_the_choice_is_written_to_the_summary(tmp_path):
 
 def test_capture_scenes_keep_the_exact_plant_without_a_pilot(tmp_path):
     """A capture scene's ``auto`` is the exact plant, with the reason recorded."""
-    capture = scene(tmp_path, "capture_planar", simulation={"model": "auto"})
+    capture = quiet_scene(tmp_path, "capture_planar", simulation={"model": "auto"})
     resolved, record = resolve(capture)
     assert resolved.simulation.model == "exact" and "capture" in record["reason"]
 
 
 def test_preparing_auto_outside_the_runner_is_refused_with_the_key(tmp_path):
     """An experiment asked to prepare ``model = "auto"`` directly names the key and the runner."""
-    auto = scene(tmp_path, simulation={"duration": 0.05, "model": "auto"})
+    auto = quiet_scene(tmp_path, simulation={"duration": 0.05, "model": "auto"})
     with pytest.raises(SceneError, match="'simulation.model = \"auto\"' is chosen by a pilot run"):
         experiment_for(auto).prepare(auto)
