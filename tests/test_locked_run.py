@@ -112,3 +112,12 @@ def test_holding_torque_with_a_wrench_keeps_the_locked_joint_still_in_the_full_m
     locked = setup.lock.locked_v
     assert abs(tel.tau[k, locked - robot.n_base]).max() > 1e-3
     assert np.abs(a[locked]).max() < 1e-9 * np.abs(a).max()
+
+
+def test_checkpointed_chunks_of_a_locked_run_have_every_joint(tmp_path):
+    """Each telemetry chunk handed to the checkpoint (what a killed run leaves) is the full robot's."""
+    chunks = []
+    locked = quiet_scene(tmp_path, task=ONE_ARM_TASK, simulation={"duration": 0.05, "lock": "auto"})
+    runner.simulate(locked, checkpoint=chunks.append)
+    assert chunks and all(c.q.shape[1] == 20 and c.tau.shape[1] == 16 for c in chunks)
+    assert sum(len(c.t) for c in chunks) == 51
