@@ -70,8 +70,9 @@ def lock_for(scene: Scene, robot: Robot, q0: np.ndarray, v0: np.ndarray, displac
         if moving.any():
             raise SceneError(f"{where} names {', '.join(names[moving])}, which '{key}' moves; a locked joint stays "
                              "still at its initial position")
-    locked = explicit | (never_moved(scene, displacement, v0, robot.n_base) if scene.simulation.lock == "auto"
-                         else False)
+    locked = explicit.copy()
+    if scene.simulation.lock == "auto":
+        locked |= never_moved(scene, displacement, v0, robot.n_base)
     if not locked.any():
         return None
     try:

@@ -21,10 +21,11 @@ from typing import Any
 
 from ...dynamics.models import make_model
 from ...dynamics.models.selection import Candidate, Pilot, choose, regime_models, seconds_per_call
+from ...errors import FreefloatError
 from ...robot.conventions import momentum_about_origin
 from ..scenes import Scene
 from . import experiment_for
-from .robot_run import control_steps
+from .robot_run import RobotSetup, control_steps
 
 #: Share of the scene's duration the pilot simulates, and the fewest control periods it takes.
 PILOT_SHARE = 0.02
@@ -64,15 +65,21 @@ def resolve(scene: Scene, models: tuple[str, ...] | None = None) -> tuple[Scene,
                                                       "reason": "capture scenes simulate the exact plant"}
     experiment = experiment_for(scene)
     setups = {lock: experiment.prepare(with_plant(scene, "exact", lock)) for lock in dict.fromkeys((sim.lock, "auto"))}
-    if "auto" in setups and sim.lock != "auto" and setups["auto"].lock == setups[sim.lock].lock:
+    if "auto" in setups and sim.lock != "auto" and _locked(setups["auto"]) == _locked(setups[sim.lock]):
         del setups["auto"]  # nothing more to lock
     full = setups[sim.lock]
     if models is None:
         conserved = not (scene.wrenches or any(scene.robot.gravity))
         momentum = momentum_about_origin(full.robot.model, full.robot.model.createData(), full.q0, full.v0)
         models = regime_models(momentum if conserved else None)
-    pairs = [(name, lock) for lock in setups for name in dict.fromkeys(("exact", *models))]
-    plants = [make_model(name, setups[lock].plant) for name, lock in pairs]
+    pairs, plants = [], []
+    for lock, setup in setups.items():
+        for name in dict.fromkeys(("exact", *models)):
+            try:
+                plants.append(make_model(name, setup.plant))
+            except (FreefloatError, ValueError, RuntimeError):  # e.g. a GJM model of an arm with every joint locked
+                continue
+            pairs.append((name, lock))
     costs = seconds_per_call(plants, [setups[lock].plant_state() for _, lock in pairs])
     duration = pilot_periods(scene) * sim.control_period
 
@@ -92,6 +99,11 @@ def resolve(scene: Scene, models: tuple[str, ...] | None = None) -> tuple[Scene,
     record.update(pilot_duration=duration, error_norm="max over rows of |q - q_exact|_inf (pin.difference, rad or m) "
                                                       "and |v - v_exact|_inf (rad/s or m/s)")
     return with_plant(scene, choice.model, choice.lock), record
+
+
+def _locked(setup: RobotSetup) -> tuple[str, ...]:
+    """Names of the joints ``setup`` locks."""
+    return () if setup.lock is None else setup.lock.names
 
 
 def describe(record: dict[str, Any]) -> str:
