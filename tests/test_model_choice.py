@@ -8,7 +8,7 @@ import pytest
 
 from freefloat.app import runner
 from freefloat.app.experiments import experiment_for
-from freefloat.app.experiments.model_choice import pilot_periods, resolve, with_plant
+from freefloat.app.experiments.model_choice import describe, pilot_periods, resolve, with_plant
 from freefloat.app.scenes import load_scene
 from freefloat.dynamics.models.selection import Candidate, Pilot, choose
 from freefloat.errors import SceneError
@@ -39,6 +39,7 @@ def test_a_tolerance_below_the_locking_error_keeps_the_full_plant(tmp_path):
     assert (resolved.simulation.model, resolved.simulation.lock) == ("exact", "none")
     locked = next(t for t in record["trials"] if t["lock"] == "auto" and t["model"] == "exact")
     assert locked["predicted_error"] > 1e-12 and not locked["accepted"]
+    assert describe(record).startswith("exact: no plant cheaper per call kept the predicted state error under 1e-12")
 
 
 def test_a_model_wrong_for_the_scene_is_refused_by_the_error_check(tmp_path):
