@@ -134,6 +134,19 @@ def scene_variant(path: Path, builtin: str, **sections: dict) -> Path:
     return path
 
 
+#: The default task with arm 1 moving only, over 1 s: the controller holds arms 2-4 still.
+ONE_ARM_TASK = {"displacement": {"arm1_ee": 5.0}, "duration": 1.0}
+
+
+def quiet_scene(tmp_path: Path, builtin: str = "four_arm_joint_space", **sections: dict):
+    """The built-in scene with the given keys replaced (see :func:`scene_variant`), without
+    figures or page, loaded."""
+    from freefloat.app.scenes import load_scene
+
+    sections.setdefault("output", {"figures": False, "html": False})
+    return load_scene(scene_variant(tmp_path / "s.toml", builtin, **sections))
+
+
 #: Components of [P; L about the inertial origin] that no root-joint reaction changes: all six for
 #: a free base; Px, Py, Lz for a planar base (its reactions are a z force and x, y torques).
 CONSERVED = {"free": [0, 1, 2, 3, 4, 5], "planar": [0, 1, 5]}

@@ -24,6 +24,7 @@ from pathlib import Path
 from typing import Any, Callable, Iterator
 
 from .experiments import Outcome, Progress, experiment_for
+from .experiments.model_choice import describe, resolve, with_plant
 from .outputs import write_run
 from .run_folder import RunFolder
 from .scenes import MechanismScene, Scene
@@ -43,12 +44,41 @@ class SceneRun:
 
 
 def prepare(scene: Scene | MechanismScene) -> Any:
-    """Everything ``scene`` resolves to before its loop, by its experiment kind.
+    """Everything ``scene`` resolves to before its loop, by its experiment kind. A robot scene
+    with ``simulation.model = "auto"`` is prepared with the exact plant here; :func:`run_scene`
+    and :func:`simulate` then choose its plant by a pilot run (:func:`choose_plant`).
 
     Raises:
         SceneError: naming the key of whatever the scene gets wrong.
     """
+    if _auto(scene):
+        scene = with_plant(scene, "exact", scene.simulation.lock)
     return experiment_for(scene).prepare(scene)
+
+
+def choose_plant(scene: Scene | MechanismScene, setup: Any) -> Any:
+    """The setup of ``scene`` with the plant ``simulation.model = "auto"`` chooses
+    (:func:`~freefloat.app.experiments.model_choice.resolve`), carrying the record of the choice;
+    ``setup`` itself when the scene names its model or the choice is made."""
+    if not _auto(scene) or setup.model_choice is not None:
+        return setup
+    resolved, record = resolve(scene)
+    chosen = experiment_for(resolved).prepare(resolved)
+    chosen.model_choice = record
+    return chosen
+
+
+def _auto(scene: Scene | MechanismScene) -> bool:
+    return isinstance(scene, Scene) and scene.simulation.model == "auto"
+
+
+def note_model_choice(outcome: Outcome, setup: Any) -> Outcome:
+    """``outcome`` with the plant choice of ``setup`` (if it made one) in its summary:
+    ``model_choice`` (the record) and ``model_auto`` (one line)."""
+    record = getattr(setup, "model_choice", None)
+    if record is not None:
+        outcome.summary.update(model_choice=record, model_auto=describe(record))
+    return outcome
 
 
 def total_steps(scene: Scene | MechanismScene) -> int:
@@ -60,11 +90,10 @@ def simulate(scene: Scene | MechanismScene, progress: Progress | None = None,
              checkpoint: Callable[[Any], None] | None = None) -> Outcome:
     """Prepare and run ``scene``: its outcome, nothing written (``checkpoint`` gets the telemetry
     chunk by chunk)."""
-    experiment = experiment_for(scene)
-    setup = experiment.prepare(scene)
+    setup = choose_plant(scene, prepare(scene))
     with signals_raise_keyboard_interrupt():
-        outcome = experiment.run(setup, progress, checkpoint)
-    return fail_if_not_finite(outcome)
+        outcome = experiment_for(scene).run(setup, progress, checkpoint)
+    return fail_if_not_finite(note_model_choice(outcome, setup))
 
 
 def run_scene(scene: Scene | MechanismScene, folder: Path, progress: Progress | None = None,
@@ -80,12 +109,13 @@ def run_scene(scene: Scene | MechanismScene, folder: Path, progress: Progress | 
         FreefloatError: before anything is simulated, when the scene is wrong (``SceneError``) or
             the folder cannot be used; after the run, when the disk refuses a file.
     """
-    experiment = experiment_for(scene)
-    setup = experiment.prepare(scene) if setup is None else setup
+    setup = prepare(scene) if setup is None else setup
     with RunFolder(folder, overwrite) as out:
+        setup = choose_plant(scene, setup)
         checkpoint = out.checkpoint if watch is None else lambda chunk: (out.checkpoint(chunk), watch(chunk))
         with signals_raise_keyboard_interrupt():
-            outcome = fail_if_not_finite(experiment.run(setup, progress, checkpoint))
+            outcome = experiment_for(scene).run(setup, progress, checkpoint)
+            outcome = fail_if_not_finite(note_model_choice(outcome, setup))
         with signals_deferred() as interrupted:
             written, skipped = write_run(out, scene, outcome, interrupted.is_set)
     return SceneRun(outcome, folder, written, skipped)

@@ -3,8 +3,8 @@
 ``loading`` (URDF -> :class:`Robot`, checks, end-effectors, arms, the base CoM frame), ``robot``
 (:class:`Robot`, :class:`Arm`), ``conventions`` (Pinocchio's base state <-> the dissertation's
 base twist [v0; w0] of the base CoM, inertial frame), ``joints`` (actuated joint coordinates <->
-Pinocchio q), ``attitude`` (the dissertation's Euler angles) and ``builders`` (robots as data ->
-URDF).
+Pinocchio q), ``locking`` (joints held still, removed from the model), ``attitude`` (the
+dissertation's Euler angles) and ``builders`` (robots as data -> URDF).
 
 May import: :mod:`freefloat.errors`, :mod:`freefloat.paths`. Nothing above it.
 """

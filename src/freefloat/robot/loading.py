@@ -131,7 +131,7 @@ def load_robot(
         base_com=com_pose[:3, 3].copy(),
         base_com_rotation=com_pose[:3, :3].copy(),
         end_effectors=ee_names,
-        arms=tuple(_arm(model, name) for name in ee_names),
+        arms=tuple(arm_of(model, name) for name in ee_names),
         link_coms={
             link.name: (link.inertial.origin[:3, 3].copy() if link.inertial is not None
                         and link.inertial.origin is not None else np.zeros(3))
@@ -332,7 +332,7 @@ def _merge_grippers(model: pin.Model, robot: yourdfpy.Robot, leaves: list[str]) 
     return tuple(chosen)
 
 
-def _arm(model: pin.Model, end_effector: str) -> Arm:
+def arm_of(model: pin.Model, end_effector: str) -> Arm:
     """The movable joints from the base to ``end_effector``, base outwards."""
     joint_id = model.frames[model.getFrameId(end_effector)].parentJoint
     chain = []

@@ -35,8 +35,8 @@ def prepare(scene: Scene) -> RobotSetup:
         robot, s = setup.robot, scene.angle_scale
         start = joint_table(robot, scene.initial.joint_positions, s, "initial.joint_positions")
         goal = start + joint_table(robot, task.displacement, s, "task.displacement")
-        setup.controller = ComputedTorque(robot, QuinticTrajectory(start, goal, task.duration), ctrl.kp, ctrl.kd,
-                                          ctrl.model)
+        trajectory = QuinticTrajectory(setup.plant_joints(start), setup.plant_joints(goal), task.duration)
+        setup.controller = ComputedTorque(setup.plant, trajectory, ctrl.kp, ctrl.kd, ctrl.model)
     return setup
 
 

@@ -21,23 +21,29 @@ from ...robot.catalog import find_robot, is_name
 from ...robot.conventions import state_from_base
 from ...robot.joints import JointCoordinates
 from ...robot.loading import load_robot
+from ...robot.locking import LockedJoints
 from ...robot.robot import Robot
 from ..scenes import Scene, resolve_file
 from .base import Checkpoint, Outcome, Progress
 from .budget import check_budget, seconds_per_call
+from .locked_run import full_telemetry, lock_for
 
 #: Model evaluations per integration step (dopri5: per attempted step).
 STAGES = {"euler": 1, "rkmk4": 4, "rk4_naive": 4, "dopri5": 6}
 
 #: Summary keys the command line prints for a robot run.
-HEADLINE = ("tracking_rms_overall", "com_drift_max", "momentum_drift_max", "energy_drift_max", "base_displacement")
+HEADLINE = ("model_auto", "tracking_rms_overall", "com_drift_max", "momentum_drift_max", "energy_drift_max",
+            "base_displacement")
 
 
 @dataclass
 class RobotSetup:
     """A robot scene resolved before the loop: the robot, the initial Pinocchio state ``q0``
-    (nq,), ``v0`` (nv,), the plant model and integrator, the controller (None: torque-free) and
-    the external wrenches."""
+    (nq,), ``v0`` (nv,), the plant model and integrator, the controller (None: torque-free), the
+    external wrenches, the locked joints (None: none) and how ``simulation.model = "auto"`` chose
+    the plant (None: the scene named it). With locked joints the model,
+    integrator and controller are built on :attr:`plant` (the reduced robot); ``robot``, ``q0``
+    and ``v0`` stay the full robot's, as the outputs show it."""
 
     scene: Scene
     robot: Robot
@@ -47,6 +53,21 @@ class RobotSetup:
     integrator: Integrator
     controller: Controller | None = None
     wrenches: tuple[ExternalWrench, ...] = ()
+    lock: LockedJoints | None = None
+    model_choice: dict[str, Any] | None = None
+
+    @property
+    def plant(self) -> Robot:
+        """The robot the loop simulates: the reduced robot when joints are locked."""
+        return self.robot if self.lock is None else self.lock.robot
+
+    def plant_state(self) -> tuple[np.ndarray, np.ndarray]:
+        """The initial state of :attr:`plant`: ``(q0, v0)``, reduced when joints are locked."""
+        return (self.q0, self.v0) if self.lock is None else self.lock.reduce(self.q0, self.v0)
+
+    def plant_joints(self, values: np.ndarray) -> np.ndarray:
+        """The columns of a full joint vector (n_joints,) that :attr:`plant` keeps."""
+        return values if self.lock is None else values[self.lock.free_joints]
 
 
 def prepare_robot(scene: Scene) -> RobotSetup:
@@ -74,13 +95,22 @@ def prepare_robot(scene: Scene) -> RobotSetup:
         )
     except Exception as exc:
         raise SceneError(f"scene '{scene.name}': [initial] {exc}") from exc
+    displacement = joint_table(robot, scene.task.displacement, s, "task.displacement")
+    explicit = joint_table(robot, dict.fromkeys(scene.robot.locked_joints or (), 1.0), 1.0,
+                           "robot.locked_joints") != 0.0
+    lock = lock_for(scene, robot, q0, v0, displacement, explicit)
+    plant = robot if lock is None else lock.robot
     sim = scene.simulation
+    if sim.model == "auto":
+        raise SceneError(f"scene '{scene.name}': 'simulation.model = \"auto\"' is chosen by a pilot run; prepare "
+                         "the scene with freefloat.app.runner.prepare")
     setup = RobotSetup(
         scene=scene, robot=robot, q0=q0, v0=v0,
-        model=make_model(sim.model, robot),
-        integrator=make_integrator(sim.integrator, robot.model, sim.substeps, sim.rtol, sim.atol,
+        model=make_model(sim.model, plant),
+        integrator=make_integrator(sim.integrator, plant.model, sim.substeps, sim.rtol, sim.atol,
                                    project_momentum=sim.project_momentum),
         wrenches=tuple(ExternalWrench(w.link, w.force, w.torque, w.start, w.end, w.rise) for w in scene.wrenches),
+        lock=lock,
     )
     check_run_size(setup)
     return setup
@@ -99,8 +129,9 @@ def check_run_size(setup: RobotSetup) -> None:
     steps = control_steps(scene)
     row = 8 * (1 + model.nq + model.nv + 3 * robot.n_joints + 13 + 7 * len(robot.end_effectors) + 11)
     memory = 2 * (steps // sim.record_every + 2) * row  # the chunks, then their concatenation
-    tau = np.zeros(model.nv)
-    per_call = seconds_per_call(lambda: setup.model.acceleration(setup.q0, setup.v0, tau))
+    q0, v0 = setup.plant_state()
+    tau = np.zeros(len(v0))
+    per_call = seconds_per_call(lambda: setup.model.acceleration(q0, v0, tau))
     calls = steps * sim.substeps * STAGES.get(sim.integrator, 6)
     check_budget(scene.name, memory, 1.5 * calls * per_call,
                  "'simulation.duration', 'control_period', 'substeps' and 'record_every'")
@@ -166,11 +197,21 @@ def control_steps(scene: Scene) -> int:
 
 
 def simulate(setup: RobotSetup, progress: Progress | None, checkpoint: Checkpoint | None) -> RunResult:
-    """The scene's loop: :func:`freefloat.dynamics.simulation.run` over its duration."""
-    sim = setup.scene.simulation
-    return run(setup.robot, setup.q0, setup.v0, sim.duration, sim.control_period, setup.integrator, setup.model,
-               setup.controller, wrenches=setup.wrenches, record_every=sim.record_every, progress=progress,
-               checkpoint=checkpoint, backend=sim.backend)
+    """The scene's loop: :func:`freefloat.dynamics.simulation.run` over its duration, on the
+    plant; with locked joints, its telemetry (and every checkpointed chunk) is the full robot's
+    (:func:`~freefloat.app.experiments.locked_run.full_telemetry`)."""
+    sim, lock = setup.scene.simulation, setup.lock
+    q0, v0 = setup.plant_state()
+
+    def on_chunk(chunk: Telemetry) -> None:
+        checkpoint(chunk if lock is None else full_telemetry(lock, chunk, setup.wrenches))
+
+    result = run(setup.plant, q0, v0, sim.duration, sim.control_period, setup.integrator, setup.model,
+                 setup.controller, wrenches=setup.wrenches, record_every=sim.record_every, progress=progress,
+                 checkpoint=None if checkpoint is None else on_chunk, backend=sim.backend)
+    if lock is not None:
+        result.telemetry = full_telemetry(lock, result.telemetry, setup.wrenches)
+    return result
 
 
 def summary_of(setup: RobotSetup, result: RunResult, **task: Any) -> dict[str, Any]:
@@ -204,7 +245,8 @@ def robot_outcome(setup: RobotSetup, robot: Robot, telemetry: Telemetry, result:
             "robot": {"urdf": str(robot.urdf_path), "base": robot.base, "nq": robot.model.nq, "nv": robot.model.nv,
                       "end_effectors": list(robot.end_effectors), "loader_notes": list(robot.warnings)},
             "settings": {"integrator": setup.integrator.name, "model": setup.model.name,
-                         "control_period": sim.control_period},
+                         "control_period": sim.control_period,
+                         "locked_joints": [] if setup.lock is None else list(setup.lock.names)},
         },
         headline=HEADLINE,
         extra_telemetry=extra_telemetry or {},

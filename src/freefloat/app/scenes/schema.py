@@ -33,12 +33,15 @@ from .fields import (
 class RobotSection:
     """``[robot]``: URDF (absolute, relative to the scene file, a built-in robot file name, or the
     name of a robot of :mod:`freefloat.robot.catalog` such as ``"ur5"``),
-    floating base kind, end-effector link names (default: leaves), gravity (m/s^2, inertial)."""
+    floating base kind, end-effector link names (default: leaves), gravity (m/s^2, inertial), and
+    the joints held still at their initial positions by brakes (a joint, or an end-effector = every
+    joint of its arm; removed from the model, :mod:`freefloat.robot.locking`)."""
 
     urdf: str
     base: str = "free"
     end_effectors: tuple[str, ...] | None = None
     gravity: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    locked_joints: tuple[str, ...] | None = None
 
 
 @dataclass(frozen=True)
@@ -116,23 +119,30 @@ class ControllerSection:
 
 @dataclass(frozen=True)
 class SimulationSection:
-    """``[simulation]``: duration and control period (s), plant model, integrator and its
+    """``[simulation]``: duration and control period (s), plant model (a registry name, or
+    ``"auto"``: the cheapest whose predicted state error over the run stays under ``tolerance``,
+    rad or m and rad/s or m/s, see :mod:`freefloat.app.experiments.model_choice`), integrator and its
     settings, telemetry stride, and ``project_momentum``: after each control period, the
     velocity nearest in the kinetic-energy metric with the start momentum (for torque-free or
-    internally actuated runs without gravity or wrenches, whose momentum is conserved), and the
-    ``backend`` of the loop: ``"compiled"`` (:mod:`freefloat.dynamics.compiled`), ``"python"``, or
-    ``"auto"``: compiled when the run allows it (exact plant, no momentum projection, no or
-    computed-torque control on the exact model, no wrenches, no stop event)."""
+    internally actuated runs without gravity or wrenches, whose momentum is conserved);
+    ``lock``: ``"auto"`` also locks every joint the scene never moves (see
+    :func:`freefloat.app.experiments.locked_run.never_moved`), ``"none"`` only
+    ``robot.locked_joints``; the ``backend`` of the loop: ``"compiled"``
+    (:mod:`freefloat.dynamics.compiled`), ``"python"``, or ``"auto"``: compiled when the run allows
+    it (exact plant, no momentum projection, no or computed-torque control on the exact model, no
+    wrenches, no stop event)."""
 
     duration: float = 1.0
     control_period: float = 1e-3
-    model: str = "exact"
+    model: str = "auto"
+    tolerance: float = 1e-6
     integrator: str = "rkmk4"
     substeps: int = 1
     rtol: float = 1e-10
     atol: float = 1e-12
     record_every: int = 1
     project_momentum: bool = False
+    lock: str = "none"
     backend: str = "auto"
 
 
@@ -178,14 +188,15 @@ CHOICES = {
     ("task", "method"): ("min_norm", "single", "null_space", "least_squares"),
     ("controller", "kind"): ("none", "computed_torque"),
     ("controller", "model"): tuple(MODELS),
-    ("simulation", "model"): tuple(MODELS),
+    ("simulation", "model"): ("auto", *MODELS),
     ("simulation", "integrator"): tuple(INTEGRATORS),
+    ("simulation", "lock"): ("none", "auto"),
     ("simulation", "backend"): BACKENDS,
     ("", "angle_unit"): ("deg", "rad"),
 }
 POSITIVE = {
     ("task", "duration"), ("simulation", "duration"), ("simulation", "control_period"),
-    ("simulation", "substeps"), ("simulation", "rtol"), ("simulation", "atol"),
+    ("simulation", "substeps"), ("simulation", "rtol"), ("simulation", "atol"), ("simulation", "tolerance"),
     ("simulation", "record_every"), ("output", "html_fps"), ("target", "mass"), ("target", "contact_time"),
     ("target", "tolerance"),
 }

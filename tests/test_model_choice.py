@@ -1,0 +1,84 @@
+"""``simulation.model = "auto"`` (freefloat.app.experiments.model_choice): the plant chosen by a pilot."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from freefloat.app import runner
+from freefloat.app.experiments import experiment_for
+from freefloat.app.experiments.model_choice import describe, pilot_periods, resolve, with_plant
+from freefloat.app.scenes import load_scene
+from freefloat.dynamics.models.selection import Candidate, Pilot, choose
+from freefloat.errors import SceneError
+
+from .conftest import ONE_ARM_TASK, quiet_scene
+
+
+def test_auto_is_the_default_plant(tmp_path):
+    """A scene that names no plant model gets ``model = "auto"`` with a 1e-6 tolerance."""
+    path = tmp_path / "s.toml"
+    path.write_text('name = "s"\n[robot]\nurdf = "four_arm_planar.urdf"\n')
+    sim = load_scene(path).simulation
+    assert (sim.model, sim.tolerance) == ("auto", 1e-6)
+
+
+def test_auto_locks_the_held_arms_when_the_error_stays_under_the_tolerance(tmp_path):
+    """With three arms held still, the pilot keeps the locked exact plant, its predicted error under the tolerance."""
+    auto = quiet_scene(tmp_path, task=ONE_ARM_TASK, simulation={"duration": 1.0, "model": "auto", "tolerance": 1e-4})
+    resolved, record = resolve(auto)
+    assert (resolved.simulation.model, resolved.simulation.lock) == ("exact", "auto")
+    assert 0.0 < record["predicted_error"] <= 1e-4 and record["pilot_duration"] == pytest.approx(0.02)
+
+
+def test_a_tolerance_below_the_locking_error_keeps_the_full_plant(tmp_path):
+    """With a 1e-12 tolerance the locked plant's pilot error is too large, and the full exact plant is kept."""
+    tight = quiet_scene(tmp_path, task=ONE_ARM_TASK, simulation={"duration": 1.0, "model": "auto", "tolerance": 1e-12})
+    resolved, record = resolve(tight)
+    assert (resolved.simulation.model, resolved.simulation.lock) == ("exact", "none")
+    locked = next(t for t in record["trials"] if t["lock"] == "auto" and t["model"] == "exact")
+    assert locked["predicted_error"] > 1e-12 and not locked["accepted"]
+    assert describe(record).startswith("exact: no plant cheaper per call kept the predicted state error under 1e-12")
+
+
+def test_a_model_wrong_for_the_scene_is_refused_by_the_error_check(tmp_path):
+    """On a tumbling robot with momentum, eq 127's model (exact only at zero momentum) is refused even when
+    it is claimed far cheaper: its pilot error is far above the tolerance."""
+    tumbling = quiet_scene(tmp_path, "tumbling", simulation={"duration": 1.0, "model": "auto"})
+    experiment, duration = experiment_for(tumbling), pilot_periods(tumbling) * 1e-3
+
+    def pilot(name):
+        outcome = experiment.run(experiment.prepare(with_plant(tumbling, name, "none", duration)))
+        return Pilot(outcome.wall_time_s / 10.0 if name != "exact" else outcome.wall_time_s, outcome.telemetry.q,
+                     outcome.telemetry.v)
+
+    full = experiment.prepare(with_plant(tumbling, "exact", "none"))
+    choice = choose(Candidate("exact", "none", 1.0, lambda: pilot("exact")),
+                    [Candidate("momentum_mono", "none", 0.01, lambda: pilot("momentum_mono"))],
+                    full.robot.model, 1e-6, 400.0)
+    assert choice.model == "exact" and choice.trials[1].predicted_error > 1e-3
+
+
+def test_the_choice_is_written_to_the_summary(tmp_path):
+    """A run with ``model = "auto"`` writes the choice, its speed-up and error into summary.json and prints it."""
+    auto = quiet_scene(tmp_path, task=ONE_ARM_TASK, simulation={"duration": 0.2, "model": "auto", "tolerance": 1e-5})
+    done = runner.run_scene(auto, tmp_path / "out")
+    summary = json.loads((tmp_path / "out" / "summary.json").read_text())
+    assert summary["model_choice"]["model"] == "exact" and summary["model_choice"]["lock"] in ("none", "auto")
+    assert summary["model_auto"].startswith("exact") and "tolerance 1e-05" in summary["model_auto"]
+    assert "model_auto" in done.outcome.headline  # the command line prints it
+
+
+def test_capture_scenes_keep_the_exact_plant_without_a_pilot(tmp_path):
+    """A capture scene's ``auto`` is the exact plant, with the reason recorded."""
+    capture = quiet_scene(tmp_path, "capture_planar", simulation={"model": "auto"})
+    resolved, record = resolve(capture)
+    assert resolved.simulation.model == "exact" and "capture" in record["reason"]
+
+
+def test_preparing_auto_outside_the_runner_is_refused_with_the_key(tmp_path):
+    """An experiment asked to prepare ``model = "auto"`` directly names the key and the runner."""
+    auto = quiet_scene(tmp_path, simulation={"duration": 0.05, "model": "auto"})
+    with pytest.raises(SceneError, match="'simulation.model = \"auto\"' is chosen by a pilot run"):
+        experiment_for(auto).prepare(auto)
