@@ -5,6 +5,8 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <optional>
+
 #include "sim/loop.hpp"
 
 namespace py = pybind11;
@@ -56,6 +58,8 @@ Rows rows_of(const Model& m, int n_joints, int n_ee, py::tuple arrays) {
 struct PySimulation {
   std::unique_ptr<Simulation> sim;
   int n_joints, n_ee;
+  Rows bound{};         // the chunk bind() gave, for period()
+  py::object bound_arrays;  // keeps its arrays alive (null until bind())
 
   Rows rows(py::tuple arrays) const { return rows_of(sim->model(), n_joints, n_ee, arrays); }
 };
@@ -126,14 +130,48 @@ PYBIND11_MODULE(_sim, m) {
            },
            "Runs to period `last` or until the chunk is full; returns the rows written from `row`.")
       .def("record_last",
-           [](PySimulation& s, py::tuple arrays, int row) {
+           [](PySimulation& s, py::tuple arrays, int row, std::optional<Array> reference) {
              Rows r = s.rows(arrays);
              if (row < 0 || row >= r.rows) throw std::invalid_argument("row out of range");
-             s.sim->record_last(r, row);
-           })
+             std::optional<Vec> ref;
+             if (reference) ref = vec(*reference, s.n_joints, "reference");
+             s.sim->record_last(r, row, ref ? &*ref : nullptr);
+           },
+           py::arg("arrays"), py::arg("row"), py::arg("reference") = py::none())
+      .def("bind",
+           [](PySimulation& s, py::tuple arrays) {
+             s.bound = s.rows(arrays);
+             s.bound_arrays = arrays;
+           },
+           "The chunk period() writes its rows into.")
+      .def("period",
+           [](PySimulation& s, const Array& tau, std::optional<Array> reference, int row) {
+             if (row >= 0 && (!s.bound_arrays || row >= s.bound.rows))
+               throw std::invalid_argument("row out of range of the bound chunk");
+             const Vec t = vec(tau, s.n_joints, "tau");
+             std::optional<Vec> ref;
+             if (reference) ref = vec(*reference, s.n_joints, "reference");
+             s.sim->period(t, ref ? &*ref : nullptr, &s.bound, row);
+           },
+           py::arg("tau"), py::arg("reference"), py::arg("row"),
+           "One control period with `tau` held; the row at its start goes to `row` of the bound chunk (-1: none).")
+      .def("set_wrenches",
+           [](PySimulation& s, std::vector<int> joints, const Array& com, const Array& force, const Array& torque) {
+             const py::ssize_t k = static_cast<py::ssize_t>(joints.size());
+             const double *c = sized(com, 3 * k, "com"), *f = sized(force, 3 * k, "force"), *t = sized(torque, 3 * k, "torque");
+             std::vector<Simulation::Wrench> w;
+             for (py::ssize_t i = 0; i < k; ++i) {
+               if (joints[i] < 1 || joints[i] >= static_cast<int>(s.sim->model().njoints))
+                 throw std::invalid_argument("wrench joint out of range");
+               w.push_back({joints[i], Eigen::Map<const Vec3>(c + 3 * i), Eigen::Map<const Vec3>(f + 3 * i),
+                            Eigen::Map<const Vec3>(t + 3 * i)});
+             }
+             s.sim->set_wrenches(std::move(w));
+           },
+           "Wrenches held from now on (joint, CoM in its frame, inertial force and torque, scaled).")
       .def_property_readonly("q", [](const PySimulation& s) { return out(s.sim->q()); })
       .def_property_readonly("v", [](const PySimulation& s) { return out(s.sim->v()); })
-      .def_property_readonly("period", [](const PySimulation& s) { return s.sim->period(); })
+      .def_property_readonly("periods_done", [](const PySimulation& s) { return s.sim->period(); })
       .def_property_readonly("work", [](const PySimulation& s) { return s.sim->work(); })
       .def_property_readonly("evaluations", [](const PySimulation& s) { return s.sim->evaluations(); });
 }

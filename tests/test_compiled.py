@@ -100,6 +100,41 @@ def test_computed_torque_matches_the_python_controller():
     np.testing.assert_allclose(runs[1].telemetry.joint_reference, runs[0].telemetry.joint_reference, atol=1e-15)
 
 
+def scene_in_both_loops(name: str, duration: float):
+    """A built-in scene over ``duration`` s in the Python and in the compiled loop."""
+    from freefloat.app.experiments import experiment_for
+    from freefloat.app.experiments.robot_run import simulate
+    from freefloat.app.scenes import find_scene
+
+    scene = find_scene(name)
+    runs = []
+    for backend in ("python", "compiled"):
+        sim = replace(scene.simulation, duration=duration, backend=backend, model="exact")
+        runs.append(simulate(experiment_for(scene).prepare(replace(scene, simulation=sim)), None, None))
+    return runs
+
+
+def test_detumbling_with_an_impulse_matches_the_python_loop():
+    """The detumbling scene (a 500 N m impulse on a link, the Python detumbling controller between
+    compiled periods) gives the Python loop's telemetry."""
+    python, compiled = scene_in_both_loops("detumble_impulse_arm1_joint4", 0.05)
+    assert [python.backend, compiled.backend] == ["python", "compiled"]
+    assert np.abs(compiled.telemetry.momentum[-1] - compiled.telemetry.momentum[0]).max() > 1.0  # the impulse acts
+    assert_same_telemetry(python.telemetry, compiled.telemetry, tol=1e-9)
+    np.testing.assert_allclose(compiled.telemetry.joint_reference, python.telemetry.joint_reference, atol=1e-12)
+
+
+def test_a_stop_event_ends_the_compiled_run_where_the_python_one_ends():
+    """A stop event evaluated between compiled periods ends the run at the same period."""
+    robot = robot_named("two_arm_planar.urdf")
+    q0, v0 = robot.neutral(), np.full(robot.model.nv, 0.3)
+    results = [run(robot, q0, v0, 0.5, 0.01, make_integrator("rkmk4", robot.model), ExactModel(robot),
+                   stop=lambda t, q, v: t >= 0.2 - 1e-12, backend=backend) for backend in ("python", "compiled")]
+    assert [r.status for r in results] == ["stopped", "stopped"]
+    assert results[0].steps == results[1].steps == 20
+    assert_same_telemetry(results[0].telemetry, results[1].telemetry)
+
+
 def test_compiled_refuses_what_it_does_not_have():
     """Asking for the compiled loop with a GJM plant names the reason; 'auto' falls back."""
     robot = robot_named("two_arm_planar.urdf")

@@ -250,7 +250,7 @@ class LieIntegrator {
         h = h_try * std::max(0.1, factor);
       }
     }
-    throw std::runtime_error("dopri5: " + std::to_string(max_steps_) + " steps did not cover " +
+    throw std::overflow_error("dopri5: " + std::to_string(max_steps_) + " steps did not cover " +
                              std::to_string(duration) + " s (last step " + std::to_string(h) + " s)");
   }
 

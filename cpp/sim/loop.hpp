@@ -10,6 +10,7 @@
 #include <pinocchio/algorithm/crba.hpp>
 #include <pinocchio/algorithm/energy.hpp>
 #include <pinocchio/algorithm/frames.hpp>
+#include <pinocchio/algorithm/kinematics.hpp>
 #include <pinocchio/algorithm/rnea.hpp>
 
 #include <cstdio>
@@ -73,8 +74,20 @@ class Simulation {
     qn_.resize(model_.nq);
     vn_.resize(model_.nv);
     mass_ = pinocchio::computeTotalMass(model_);
+    fext_.assign(model_.njoints, pinocchio::Force::Zero());
     dynamics_ = [this](const Vec& q, const Vec& v, Vec& a) {
-      a = pinocchio::aba(model_, data_, q, v, tau_full_, pinocchio::Convention::LOCAL);
+      if (wrenches_.empty()) {
+        a = pinocchio::aba(model_, data_, q, v, tau_full_, pinocchio::Convention::LOCAL);
+        return;
+      }
+      pinocchio::forwardKinematics(model_, data_, q);
+      for (auto& f : fext_) f.setZero();
+      for (const Wrench& w : wrenches_) {  // WrenchField.forces: inertial [f; n] at the link CoM
+        const Mat3& R = data_.oMi[w.joint].rotation();
+        const Vec3 f = R.transpose() * w.force;
+        fext_[w.joint] += pinocchio::Force(f, R.transpose() * w.torque + w.com.cross(f));
+      }
+      a = pinocchio::aba(model_, data_, q, v, tau_full_, fext_, pinocchio::Convention::LOCAL);
     };
   }
 
@@ -90,6 +103,26 @@ class Simulation {
   }
 
   // Start a run at (q, v), control period `period`, work done so far `work` (J).
+  // Wrenches held over the next periods (joint, CoM in the joint frame, inertial force and torque,
+  // already scaled by their profile); empty: none.
+  struct Wrench {
+    int joint;
+    Vec3 com, force, torque;
+  };
+  void set_wrenches(std::vector<Wrench> wrenches) { wrenches_ = std::move(wrenches); }
+
+  // One control period with the joint torques `tau` (n,) held: writes the row at its start into
+  // `out` when `row` >= 0 (reference: the controller's, or null for NaN), then steps. Throws like
+  // run().
+  void period(const Vec& tau, const Vec* reference, Rows* out, int row) {
+    tau_ = tau;
+    tau_full_.tail(joints_.n) = tau;
+    controlled_ = true;
+    const double t = start_ + k_ * period_;
+    if (row >= 0) record(*out, row, t, reference);
+    step(t);
+  }
+
   void set_state(const Vec& q, const Vec& v, long period, double work) {
     integrator_.restart();
     q_ = q;
@@ -111,7 +144,7 @@ class Simulation {
   }
 
   // Runs until period `last` (exclusive) or until `rows` has no free row for a period that
-  // records; writes rows from `row`. Returns the rows written. Throws std::runtime_error with the
+  // records; writes rows from `row`. Returns the rows written. Throws std::overflow_error with the
   // Python loop's message when the state blows up (the state stays at the last good period).
   int run(long last, Rows& out, int row) {
     const int first_row = row;
@@ -120,14 +153,15 @@ class Simulation {
       const bool records = k_ % record_every_ == 0;
       if (records && row == out.rows) break;
       control(t);
-      if (records) record(out, row++, t);
+      if (records) record(out, row++, t, nullptr);
       step(t);
     }
     return row - first_row;
   }
 
-  // The row at the current state (the run's last sample), torques of the period that ends here.
-  void record_last(Rows& out, int row) { record(out, row, start_ + k_ * period_); }
+  // The row at the current state (the run's last sample), torques of the period that ends here;
+  // `reference` as in period().
+  void record_last(Rows& out, int row, const Vec* reference) { record(out, row, start_ + k_ * period_, reference); }
 
  private:
   void control(double t) {
@@ -161,7 +195,7 @@ class Simulation {
     if (!(qmax < kMaxPosition))
       fail("configuration left the finite range at t = %.6g s (step %ld): max |q| = %.3g (limit %g)", t_end, qmax,
            kMaxPosition);
-    if (reference_) work_ += tau_.dot(pinocchio::difference(model_, q_, qn_).tail(joints_.n));
+    if (reference_ || controlled_) work_ += tau_.dot(pinocchio::difference(model_, q_, qn_).tail(joints_.n));
     q_.swap(qn_);
     v_.swap(vn_);
     ++k_;
@@ -170,10 +204,11 @@ class Simulation {
   [[noreturn]] void fail(const char* format, double t, double value, double limit) const {
     char text[256];
     std::snprintf(text, sizeof text, format, t, k_ + 1, value, limit);
-    throw std::runtime_error(text);
+    throw std::overflow_error(text);  // OverflowError in Python: a blow-up, not a bad call
   }
 
-  void record(Rows& out, int row, double t) {
+  // Row `row` at time t; the joint reference from `reference` if given, else from the compiled law.
+  void record(Rows& out, int row, double t, const Vec* reference) {
     const int nq = model_.nq, nv = model_.nv, n = joints_.n, ne = static_cast<int>(ee_frames_.size());
     Data& d = record_data_;
     const pinocchio::Force& hg = pinocchio::computeCentroidalMomentum(model_, d, q_, v_);
@@ -187,7 +222,9 @@ class Simulation {
     Eigen::Map<Vec>(out.tau + n * row, n) = tau_;
     joints_.get(q_, pos_);
     Eigen::Map<Vec>(out.joint_positions + n * row, n) = pos_;
-    if (reference_) {
+    if (reference != nullptr) {
+      Eigen::Map<Vec>(out.joint_reference + n * row, n) = *reference;
+    } else if (reference_) {
       Vec qd(n), qdd(n), qddd(n);
       reference_->at(t, qd, qdd, qddd);
       Eigen::Map<Vec>(out.joint_reference + n * row, n) = qd;
@@ -216,6 +253,9 @@ class Simulation {
   int record_every_;
   Dynamics dynamics_;
   std::optional<Quintic> reference_;
+  bool controlled_ = false;
+  std::vector<Wrench> wrenches_;
+  pinocchio::container::aligned_vector<pinocchio::Force> fext_;
   double kp_ = 0.0, kd_ = 0.0, mass_ = 0.0, work_ = 0.0;
   long k_ = 0;
   int base_frame_ = 0;

@@ -8,6 +8,12 @@ of eqs 136-137 with the exact ``H*`` and ``c*``, and the telemetry row of
 and rebuilt in C++; :class:`CompiledLoop` checks the rebuilt ABA against ``pin.aba`` before it is
 used. Python is entered once per telemetry chunk or progress report, so Ctrl-C, checkpoints and
 progress bars work as in the Python loop.
+
+Two ways to drive it: a whole chunk of periods per call when nothing needs Python between
+periods (no controller, or one with a ``compiled_law``; no wrenches; no stop event), or one call
+per period (:meth:`CompiledLoop.period`) with the torques, the active wrenches and the stop event
+from Python: any controller then keeps its Python code, and the period's integration and
+telemetry row are compiled.
 """
 
 from __future__ import annotations
@@ -24,8 +30,9 @@ from ..robot.loading import BASE_COM_FRAME
 from ..robot.robot import Robot
 from . import _sim
 from .telemetry import Telemetry
+from .wrenches import WrenchField
 
-__all__ = ["COMPILED_INTEGRATORS", "CompiledLoop", "unsupported"]
+__all__ = ["COMPILED_INTEGRATORS", "CompiledLoop", "law_of", "unsupported"]
 
 #: Integrators the compiled loop runs (every registry entry; momentum projection is not compiled).
 COMPILED_INTEGRATORS = ("euler", "rkmk4", "rk4_naive", "rkmk6", "rkmk8", "dopri5")
@@ -34,25 +41,20 @@ COMPILED_INTEGRATORS = ("euler", "rkmk4", "rk4_naive", "rkmk6", "rkmk8", "dopri5
 REBUILD_TOLERANCE = 1e-9
 
 
-def unsupported(model: Any, integrator: Any, controller: Any, wrenches: tuple, stop: Any) -> str | None:
-    """Why this run cannot use the compiled loop, or None when it can.
-
-    It can when the plant is the exact model, the integrator is one of
-    :data:`COMPILED_INTEGRATORS` (not wrapped in momentum projection), the controller is none or
-    has a ``compiled_law`` (computed torque on the exact model), and there are no external
-    wrenches and no stop event.
-    """
+def unsupported(model: Any, integrator: Any) -> str | None:
+    """Why a run with this plant and integrator cannot use the compiled loop, or None when it can:
+    the plant must be the exact model (Pinocchio's ABA) and the integrator one of
+    :data:`COMPILED_INTEGRATORS` (not wrapped in momentum projection)."""
     if getattr(model, "name", None) != "exact":
         return f"the plant model is '{getattr(model, 'name', model)}', not 'exact'"
     if getattr(integrator, "name", None) not in COMPILED_INTEGRATORS or not hasattr(integrator, "model"):
         return f"integrator '{getattr(integrator, 'name', integrator)}' is not compiled"
-    if controller is not None and getattr(controller, "compiled_law", lambda: None)() is None:
-        return f"controller {type(controller).__name__} has no compiled law"
-    if wrenches:
-        return "external wrenches are applied"
-    if stop is not None:
-        return "the run stops on an event"
     return None
+
+
+def law_of(controller: Any) -> tuple | None:
+    """The controller's ``compiled_law()`` (see ``ComputedTorque.compiled_law``), or None."""
+    return getattr(controller, "compiled_law", lambda: None)() if controller is not None else None
 
 
 def _model_arrays(robot: Robot) -> dict[str, Any]:
@@ -149,14 +151,30 @@ class CompiledLoop:
     def run(self, last_period: int, chunk: Telemetry, row: int) -> int:
         """Advance to period ``last_period`` or until ``chunk`` is full, writing rows from ``row``.
 
-        Returns the rows written. Raises ``RuntimeError`` (with the Python loop's message) when the
+        Returns the rows written. Raises ``OverflowError`` (with the Python loop's message) when the
         state blows up; the state stays at the last good period.
         """
         return self.sim.run(last_period, _arrays(chunk), row)
 
-    def record_last(self, chunk: Telemetry, row: int) -> None:
-        """Write the row of the current state (a run's final sample)."""
-        self.sim.record_last(_arrays(chunk), row)
+    def record_last(self, chunk: Telemetry, row: int, reference: np.ndarray | None = None) -> None:
+        """Write the row of the current state (a run's final sample); ``reference`` (n_joints,) is
+        the controller's joint reference (default: the compiled law's, or NaN)."""
+        self.sim.record_last(_arrays(chunk), row, reference)
+
+    def bind(self, chunk: Telemetry) -> None:
+        """The chunk :meth:`period` writes its rows into."""
+        self.sim.bind(_arrays(chunk))
+
+    def period(self, tau: np.ndarray, reference: np.ndarray | None, row: int) -> None:
+        """One control period with the joint torques ``tau`` (n_joints,) held: the row at its start
+        (with the joint ``reference``, or NaN) goes to row ``row`` of the bound chunk (-1: none),
+        then the state advances. Raises ``OverflowError`` (the Python loop's message) on a blow-up."""
+        self.sim.period(tau, reference, row)
+
+    def set_wrenches(self, field: WrenchField | None) -> None:
+        """Hold the wrenches ``field`` has active (after ``field.activate(t)``), or none."""
+        self.sim.set_wrenches(*(field.active() if field is not None else ([], np.zeros((0, 3)), np.zeros((0, 3)),
+                                                                          np.zeros((0, 3)))))
 
     @property
     def state(self) -> tuple[np.ndarray, np.ndarray]:
@@ -164,9 +182,9 @@ class CompiledLoop:
         return self.sim.q, self.sim.v
 
     @property
-    def period(self) -> int:
+    def periods_done(self) -> int:
         """Control periods done since period 0."""
-        return self.sim.period
+        return self.sim.periods_done
 
     def evaluations(self) -> int:
         """Dynamics evaluations made by the integrator."""

@@ -146,9 +146,10 @@ def run(
         checkpoint: called with every chunk of :data:`CHUNK_ROWS` telemetry rows as it fills
             and with the last rows when the run ends (e.g. to save them as the run goes).
         backend: ``"compiled"``: the same loop in compiled code (:mod:`freefloat.dynamics.compiled`;
-            the exact plant, a registry integrator, no or computed-torque control, no wrenches, no
-            stop event); ``"python"``: this module's loop; ``"auto"`` (default): compiled when the
-            run allows it.
+            the exact plant and an integrator of the registry without momentum projection; a
+            controller without a compiled law, wrenches and the stop event are then evaluated in
+            Python between compiled periods); ``"python"``: this module's loop; ``"auto"``
+            (default): compiled when the plant and integrator allow it.
 
     Raises:
         InvalidArgument: for a state of the wrong size or not finite, a non-unit base quaternion,
@@ -164,11 +165,17 @@ def run(
     shape = (robot.model.nq, robot.model.nv, robot.n_joints, len(robot.end_effectors))
     rows = Chunks(lambda n: Telemetry.allocate(n, *shape), CHUNK_ROWS, checkpoint)
     if backend != "python":
-        reason = compiled.unsupported(model, integrator, controller, wrenches, stop)
+        reason = compiled.unsupported(model, integrator)
         if reason is None:
+            law = compiled.law_of(controller)
+            whole_chunks = (controller is None or law is not None) and not wrenches and stop is None
             loop = compiled.CompiledLoop(robot, integrator, control_period, start_time, record_every,
-                                         controller.compiled_law() if controller is not None else None)
-            return _run_compiled(loop, q0, v0, steps, control_period, start_time, rows, progress)
+                                         law if whole_chunks else None)
+            if whole_chunks:
+                return _run_compiled(loop, q0, v0, steps, control_period, start_time, rows, progress)
+            field = WrenchField(robot, wrenches) if wrenches else None
+            return _run_compiled_periods(loop, robot, q0, v0, steps, control_period, controller, field, record_every,
+                                         progress, stop, start_time, rows)
         if backend == "compiled":
             raise InvalidArgument(f"the compiled loop cannot run this: {reason}")
     return _run_python(robot, q0, v0, steps, control_period, integrator, model, controller, wrenches, record_every,
@@ -258,23 +265,75 @@ def _run_compiled(loop: compiled.CompiledLoop, q0: np.ndarray, v0: np.ndarray, s
     status, message = "completed", ""
     start = time.perf_counter()
     try:
-        while loop.period < steps:
+        while loop.periods_done < steps:
             chunk, row = rows.next_row()
-            target = min(steps, (loop.period // report_every + 1) * report_every)
+            target = min(steps, (loop.periods_done // report_every + 1) * report_every)
             written = loop.run(target, chunk, row)
             rows.commit(written)
-            if progress is not None and loop.period % report_every == 0:
-                progress(loop.period)
+            if progress is not None and loop.periods_done % report_every == 0:
+                progress(loop.periods_done)
     except KeyboardInterrupt:
-        status, message = "interrupted", f"interrupted by the user at t = {start_time + loop.period * control_period:.6g} s"
-    except RuntimeError as exc:  # blow-up detected in the loop, as in the Python loop
+        status, message = "interrupted", f"interrupted by the user at t = {start_time + loop.periods_done * control_period:.6g} s"
+    except OverflowError as exc:  # blow-up detected in the loop, with the Python loop's message
         status, message = "diverged", str(exc)
     else:
         chunk, row = rows.next_row()
         loop.record_last(chunk, row)
         rows.commit()
     wall = time.perf_counter() - start
-    return RunResult(rows.collect(), status, message, loop.period, wall, loop.evaluations(), "compiled")
+    return RunResult(rows.collect(), status, message, loop.periods_done, wall, loop.evaluations(), "compiled")
+
+
+def _run_compiled_periods(loop: compiled.CompiledLoop, robot: Robot, q0: np.ndarray, v0: np.ndarray, steps: int,
+                          control_period: float, controller: Controller | None, field: WrenchField | None,
+                          record_every: int, progress: Callable[[int], None] | None,
+                          stop: Callable[[float, np.ndarray, np.ndarray], bool] | None, start_time: float,
+                          rows: Chunks) -> RunResult:
+    """:func:`run` through the compiled loop one period at a time: the controller, the wrench
+    selection and the stop event in Python, each period's integration and telemetry row compiled."""
+    loop.start(q0, v0)
+    reference = controller.reference if controller is not None else (lambda t: None)
+    zero = np.zeros(robot.n_joints)
+    report_every = max(1, steps // 200)
+    status, message, k, bound = "completed", "", 0, None
+    start = time.perf_counter()
+    try:
+        for k in range(steps):
+            t = start_time + k * control_period
+            q, v = loop.state
+            tau = controller.torque(t, q, v) if controller is not None else zero
+            if field is not None:
+                loop.set_wrenches(field if field.activate(t) else None)
+            row = -1
+            if k % record_every == 0:
+                chunk, row = rows.next_row()
+                if chunk is not bound:
+                    loop.bind(chunk)
+                    bound = chunk
+            loop.period(tau, reference(t), row)
+            if row >= 0:
+                rows.commit()
+            if progress is not None and (k + 1) % report_every == 0:
+                progress(k + 1)
+            if stop is not None and stop(start_time + (k + 1) * control_period, *loop.state):
+                status = "stopped"
+                k += 1
+                break
+        else:
+            k = steps
+    except OverflowError as exc:  # blow-up detected in the loop, with the Python loop's message
+        status, message = "diverged", str(exc)
+    except KeyboardInterrupt:
+        status, message = "interrupted", f"interrupted by the user at t = {start_time + k * control_period:.6g} s"
+    except (RuntimeError, ValueError) as exc:  # as in the Python loop
+        status, message = "diverged", f"at t = {start_time + k * control_period:.6g} s: {exc}"
+    else:
+        t = start_time + k * control_period
+        chunk, row = rows.next_row()
+        loop.record_last(chunk, row, reference(t))
+        rows.commit()
+    wall = time.perf_counter() - start
+    return RunResult(rows.collect(), status, message, loop.periods_done, wall, loop.evaluations(), "compiled")
 
 
 def control_periods(duration: float, control_period: float) -> int:

@@ -69,15 +69,22 @@ class WrenchField:
         self._active = [(item, scale) for item, scale in scaled if scale > 0.0]
         return bool(self._active)
 
+    def active(self) -> tuple[list[int], np.ndarray, np.ndarray, np.ndarray]:
+        """The active set as arrays: parent joints (k,), CoMs in their joint frames (k, 3), m, and
+        the inertial forces (k, 3), N, and torques (k, 3), N m, scaled by their profiles."""
+        items = [(joint, com, scale * force, scale * torque) for (_, joint, com, force, torque), scale in self._active]
+        if not items:
+            return [], np.zeros((0, 3)), np.zeros((0, 3)), np.zeros((0, 3))
+        joints, coms, forces, torques = zip(*items)
+        return list(joints), np.array(coms), np.array(forces), np.array(torques)
+
     def forces(self, q: np.ndarray) -> list[pin.Force]:
         """Wrenches of the active set, one ``pin.Force`` [f; n] per joint (njoints): joint-frame
         axes, moment about the joint-frame origin."""
         pin.forwardKinematics(self.model, self.data, q)
         out = [pin.Force.Zero() for _ in range(self.model.njoints)]
-        for (_, joint, com, force, torque), scale in self._active:
+        for joint, com, force, torque in zip(*self.active()):
             R = self.data.oMi[joint].rotation
-            f_local = scale * (R.T @ force)
-            n_local = scale * (R.T @ torque) + cross3(com, f_local)
-            out[joint] += pin.Force(f_local, n_local)
+            f_local = R.T @ force
+            out[joint] += pin.Force(f_local, R.T @ torque + cross3(com, f_local))
         return out
-
