@@ -20,6 +20,17 @@ def test_tumbling_limit_separates_stable_from_unstable_steps():
     assert below["energy_drift"] < above["energy_drift"]
 
 
+def test_tumbling_faster_is_the_same_motion_in_shorter_time():
+    """Torque-free without gravity, ten times the rate at a tenth of the step gives the same drifts
+    (time scaling maps one motion onto the other), so the limit scales as 1/rate."""
+    slow, fast = Tumbling("dual_arm_satellite", 3.0, "rkmk4"), Tumbling("dual_arm_satellite", 30.0, "rkmk4")
+    a, b = slow.measure(0.05), fast.measure(0.005)
+    assert a["steps"] == b["steps"]
+    assert b["energy_drift"] == pytest.approx(a["energy_drift"], rel=1e-6)
+    assert b["momentum_drift"] == pytest.approx(a["momentum_drift"], rel=1e-6)
+    assert a["energy_drift"] > 1e-5
+
+
 def test_tumbling_start_has_the_stated_rate():
     """The base starts turning at the stated rate, joints at rest relative to it."""
     case = Tumbling("dual_arm_satellite", 3.0, "euler")

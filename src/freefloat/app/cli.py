@@ -131,7 +131,14 @@ def _info(args: argparse.Namespace) -> int:
 
 
 def _reproduce(args: argparse.Namespace) -> int:
-    from .reproduce import five_bar_report, models_report, phases_report, stability_report, task_space_report
+    from .reproduce import (
+        chattering_report,
+        five_bar_report,
+        models_report,
+        phases_report,
+        stability_report,
+        task_space_report,
+    )
 
     out = args.out or Path("runs") / f"reproduce-{args.study}-{time.strftime('%Y%m%d-%H%M%S')}"
     with warnings.catch_warnings():
@@ -149,7 +156,7 @@ def _reproduce(args: argparse.Namespace) -> int:
         elif args.study == "stability":
             report = stability_report.reproduce(out, quick=args.quick)
         elif args.study == "chattering":
-            report = five_bar_report.reproduce_chattering(out, quick=args.quick)
+            report = chattering_report.reproduce(out, quick=args.quick)
         else:
             report = five_bar_report.reproduce_robustness(out, args.quick, args.runs, args.error, args.scheduler)
     print((out / "report.md").read_text())

@@ -125,8 +125,8 @@ def write_csv(rows: list[dict], path: Path) -> Path:
 
 def figure(rows: list[dict], path: Path) -> Path:
     """Largest stable step (log scale) against base rate (tumbling, one panel per robot) and
-    against scene (detumbling, closed chains), one curve per integrator; an open bracket is
-    drawn at its bound with a hollow marker."""
+    against scene (detumbling, closed chains), one curve per integrator (marker and line style
+    apart, as curves can coincide); an open bracket is drawn at its bound with a hollow marker."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -138,11 +138,11 @@ def figure(rows: list[dict], path: Path) -> Path:
     for ax, (group, scene) in zip(np.atleast_1d(axes), panels):
         mine = [r for r in rows if r["group"] == group and scene in (None, r["scene"])]
         ticks = list(dict.fromkeys(_tick(r) for r in mine))
-        for name in dict.fromkeys(r["integrator"] for r in mine):
+        for i, name in enumerate(dict.fromkeys(r["integrator"] for r in mine)):
             curve = [r for r in mine if r["integrator"] == name]
             x = [r["value"] if group == "tumbling" else ticks.index(_tick(r)) for r in curve]
             y = [r["stable_step"] if r["stable_step"] is not None else r["low"] for r in curve]
-            line, = ax.plot(x, y, "o-", label=name)
+            line, = ax.plot(x, y, "osx^D"[i % 5], ls="-" if i % 2 == 0 else "--", label=name)
             open_ = [i for i, r in enumerate(curve) if r["unstable_step"] is None or r["stable_step"] is None]
             ax.plot([x[i] for i in open_], [y[i] for i in open_], "o", mfc="white", color=line.get_color())
         if group == "tumbling":
