@@ -12,7 +12,12 @@ import pytest
 from freefloat.errors import FreefloatError
 from freefloat.parallel.five_bar import TRUE_PARAMETERS, FiveBarParameters, elbow_guess, five_bar
 from freefloat.parallel.held_control import steps_per_period, track_held
-from freefloat.parallel.sliding_mode import PlatformControl, PlatformController, circle_reference, track
+from freefloat.parallel.sliding_mode import (
+    PlatformControl,
+    PlatformController,
+    circle_reference,
+    track,
+)
 
 START = np.array([0.07, 0.17])
 

@@ -18,11 +18,10 @@ def euler_step(x: float, h: float) -> float:
 
 def rk4_step(x: float, h: float) -> float:
     """Classical RK4 on x' = -LAMBDA x, written out stage by stage."""
-    f = lambda y: -LAMBDA * y  # noqa: E731
-    k1 = f(x)
-    k2 = f(x + h / 2 * k1)
-    k3 = f(x + h / 2 * k2)
-    k4 = f(x + h * k3)
+    k1 = -LAMBDA * x
+    k2 = -LAMBDA * (x + h / 2 * k1)
+    k3 = -LAMBDA * (x + h / 2 * k2)
+    k4 = -LAMBDA * (x + h * k3)
     return x + h / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
 
 

@@ -51,7 +51,7 @@ def test_detumbling_is_stable_at_the_scene_period_and_not_at_ten_times_it():
     case = Detumbling("detumble_impulse_both_arms", "rkmk4", duration=0.1)
     fine, coarse = case.measure(1e-3), case.measure(1e-2)
     assert case.passes(fine) and not case.passes(coarse)
-    assert fine["momentum_drift"] < 1e-3 < 1e-1 < coarse["momentum_drift"]
+    assert fine["momentum_drift"] < 1e-3 and coarse["momentum_drift"] > 1e-1
 
 
 def test_detumbling_needs_an_impulse_of_pure_torques():
@@ -79,3 +79,15 @@ def test_whole_steps_cover_the_duration(duration, h, expected):
     """A run lasts the fewest whole steps that reach the duration."""
     n, total = whole_steps(duration, h)
     assert (n, total) == (expected[0], pytest.approx(expected[1]))
+
+
+@pytest.mark.parametrize("make, message", [
+    (lambda: Tumbling("dual_arm_satellite", 0.0, "rkmk4"), "rate must be finite and > 0"),
+    (lambda: Tumbling("dual_arm_satellite", 3.0, "rk5"), "unknown integrator 'rk5'; valid: euler"),
+    (lambda: Detumbling("detumble_impulse_both_arms", "rk4"), "unknown integrator 'rk4'"),
+    (lambda: ClosedChain("five_bar_computed_torque", "rkmk4", 0.0), "unknown integrator 'rkmk4'; valid: rk4, euler"),
+])
+def test_bad_case_settings_are_refused_naming_them(make, message):
+    """A rate that is not > 0 or an integrator the scene kind does not have is refused before any run."""
+    with pytest.raises(FreefloatError, match=message):
+        make()

@@ -10,8 +10,8 @@ rtol``, and checks ``low`` or ``high`` only when no step tried was stable, or no
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Callable
 
 from ..errors import InvalidArgument
 

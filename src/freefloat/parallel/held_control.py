@@ -9,6 +9,7 @@ law as the document's analysis assumes it).
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -46,10 +47,30 @@ def steps_per_period(period: float, step: float) -> int:
     Raises:
         FreefloatError: unless ``period`` is a whole number (>= 1) of ``step``.
     """
-    n = int(round(period / step))
+    n = round(period / step)
     if n < 1 or abs(n * step - period) > 1e-9 * period:
         raise FreefloatError(f"control period {period} s must be a whole number of integration steps ({step} s)")
     return n
+
+
+def held_dynamics(plant: ParallelMechanism, u: np.ndarray, baumgarte: float) -> Callable[[np.ndarray, np.ndarray], np.ndarray]:
+    """``qddot = f(q, qdot)`` of the plant under the held efforts ``u`` (k,)."""
+    return lambda q, qd: plant.forward(q, qd, u, baumgarte)
+
+
+def continuous_step(plant: ParallelMechanism, control: PlatformControl, q: np.ndarray, qd: np.ndarray, t: float,
+                    h: float, baumgarte: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """One RK4 step of ``h`` s from time ``t`` with the law evaluated at each stage's time and
+    state; returns ``(q, qdot, efforts at the first stage)``."""
+    times = iter((t, t + h / 2, t + h / 2, t + h))  # rk4_step evaluates its stages in this order
+    stages: list[np.ndarray] = []
+
+    def f(qq: np.ndarray, vv: np.ndarray) -> np.ndarray:
+        stages.append(control.efforts(next(times), qq, vv))
+        return plant.forward(qq, vv, stages[-1], baumgarte)
+
+    q, qd = rk4_step(f, q, qd, h)
+    return q, qd, stages[0]
 
 
 def track_held(plant: ParallelMechanism, control: PlatformControl, q0: np.ndarray, duration: float, step: float,
@@ -61,7 +82,7 @@ def track_held(plant: ParallelMechanism, control: PlatformControl, q0: np.ndarra
         FreefloatError: for a period that is not a whole number of steps.
     """
     hold = None if period is None else steps_per_period(period, step)
-    n = int(round(duration / step))
+    n = round(duration / step)
     lam, p = control.lam, plant.p
     q, qd = np.array(q0, float), np.zeros(len(q0))
     t_out, e_out, s_out, update_t, efforts = [], [], [], [], []
@@ -82,19 +103,11 @@ def track_held(plant: ParallelMechanism, control: PlatformControl, q0: np.ndarra
             efforts.append(u)
         try:
             if hold is None:
-                # rk4_step evaluates its stages in order at t, t + h/2, t + h/2, t + h
-                times = iter((t, t + step / 2, t + step / 2, t + step))
-                stage: list[np.ndarray] = []
-
-                def f(qq: np.ndarray, vv: np.ndarray) -> np.ndarray:
-                    stage.append(control.efforts(next(times), qq, vv))
-                    return plant.forward(qq, vv, stage[-1], baumgarte)
-
-                q, qd = rk4_step(f, q, qd, step)
+                q, qd, u = continuous_step(plant, control, q, qd, t, step, baumgarte)
                 update_t.append(t)
-                efforts.append(stage[0])
+                efforts.append(u)
             else:
-                q, qd = rk4_step(lambda qq, vv: plant.forward(qq, vv, u, baumgarte), q, qd, step)
+                q, qd = rk4_step(held_dynamics(plant, u, baumgarte), q, qd, step)
         except (FreefloatError, np.linalg.LinAlgError):
             completed = False
             break

@@ -61,6 +61,7 @@ def reproduce(out: Path, quick: bool = False) -> dict:
 
 
 def _period(row: dict) -> str:
+    """A row's control period in us, or "continuous"."""
     return "continuous" if row["period"] is None else f"{row['period'] * 1e6:g} us"
 
 
@@ -68,9 +69,9 @@ def markdown(report: dict) -> str:
     """The table, one row per (switch, control period)."""
     st = report["settings"]
     lines = ["# Chattering against the control period: sign(s) and tanh(100 s), eq 187's gains, the 15 % plant", "",
-             f"RK4 at {st['step'] * 1e6:g} us throughout; the law held over the control period, or evaluated at every "
-             f"RK4 stage (continuous). Measured after {st['after']} s of {st['duration']} s on the circle of eq 189; "
-             f"wall time {report['wall_time_s']:.0f} s.", "",
+             (f"RK4 at {st['step'] * 1e6:g} us throughout; the law held over the control period, or evaluated at "
+              f"every RK4 stage (continuous). Measured after {st['after']} s of {st['duration']} s on the circle of "
+              f"eq 189; wall time {report['wall_time_s']:.0f} s."), "",
              "| switch | control period | sign changes of s per s | max error x / y (mm) | max abs(s) | median effort jump (N m) |",
              "|---|---|---|---|---|---|"]
     for r in report["rows"]:

@@ -22,15 +22,16 @@ duration.
 from __future__ import annotations
 
 import math
+from abc import ABC, abstractmethod
 from dataclasses import dataclass, replace
 
 import numpy as np
 
-from ...dynamics.integrators import make_integrator
+from ...dynamics.integrators import INTEGRATORS, make_integrator
 from ...dynamics.models import make_model
 from ...dynamics.simulation import run
 from ...dynamics.wrenches import ExternalWrench
-from ...errors import FreefloatError
+from ...errors import FreefloatError, InvalidArgument
 from ...robot.conventions import state_from_base
 from ...robot.loading import load_robot
 from ..runner import simulate
@@ -40,25 +41,32 @@ from ..scenes import find_scene
 DRIFT_BOUND = 1e-2
 #: Bound on the loop-closure drift max |qbar| of a stable mechanism run, m.
 CLOSURE_BOUND = 1e-3
+#: The mechanisms' integrators (``[simulation] integrator`` of a mechanism scene).
+MECHANISM_INTEGRATORS = ("rk4", "euler")
 #: Telemetry rows kept per robot run (about; the drifts are checked on them).
 ROWS = 200
 
 
-class Case:
+class Case(ABC):
     """A scene run at a chosen step: subclasses give :meth:`measure` and :meth:`passes`."""
 
+    @abstractmethod
     def measure(self, h: float) -> dict:
         """The run at step ``h`` (s): its ``status``, ``steps`` and drifts."""
-        raise NotImplementedError
 
-    @staticmethod
-    def passes(m: dict) -> bool:
+    @abstractmethod
+    def passes(self, m: dict) -> bool:
         """Whether :meth:`measure`'s result ``m`` counts as stable."""
-        raise NotImplementedError
 
     def stable(self, h: float) -> bool:
         """:meth:`passes` of :meth:`measure` at step ``h`` (s)."""
         return self.passes(self.measure(h))
+
+
+def known(integrator: str, valid: tuple[str, ...]) -> None:
+    """Raises InvalidArgument naming ``integrator`` and the valid names unless it is one of them."""
+    if integrator not in valid:
+        raise InvalidArgument(f"stability: unknown integrator '{integrator}'; valid: {', '.join(valid)}")
 
 
 def whole_steps(duration: float, h: float) -> tuple[int, float]:
@@ -84,6 +92,9 @@ class Tumbling(Case):
     seed: int = 0
 
     def __post_init__(self) -> None:
+        if not (math.isfinite(self.rate) and self.rate > 0.0):
+            raise InvalidArgument(f"stability: tumbling rate must be finite and > 0 rad/s, got {self.rate}")
+        known(self.integrator, tuple(INTEGRATORS))
         self._robot = load_robot(self.robot, base="free", visuals=False)
         rng = np.random.default_rng(self.seed)
         axis = rng.normal(size=3)
@@ -133,6 +144,7 @@ class Detumbling(Case):
     duration: float = 0.5
 
     def __post_init__(self) -> None:
+        known(self.integrator, tuple(INTEGRATORS))
         self._scene = find_scene(self.scene)
         self._wrenches = [ExternalWrench(w.link, w.force, w.torque, w.start, w.end, w.rise) for w in self._scene.wrenches]
         if not self._wrenches or any(np.any(w.force) for w in self._wrenches):
@@ -183,6 +195,7 @@ class ClosedChain(Case):
     duration: float = 0.3
 
     def __post_init__(self) -> None:
+        known(self.integrator, MECHANISM_INTEGRATORS)
         self._scene = find_scene(self.scene)
 
     def measure(self, h: float) -> dict:

@@ -94,14 +94,15 @@ DEFINITIONS = {
 
 
 def _step(x: float | None, bound: str) -> str:
+    """``x`` (s) to three digits, or ``bound`` when the bracket is open there."""
     return bound if x is None else f"{x:.3g}"
 
 
 def markdown(report: dict) -> str:
     """The table: per case, the largest stable step and the smallest unstable one (s)."""
     lines = ["# Stability maps: the largest stable step per integrator and scene", "",
-             f"Bisection on the step to a relative bracket of {report['settings']['rtol']:g}; wall time "
-             f"{report['wall_time_s']:.0f} s.", ""]
+             (f"Bisection on the step to a relative bracket of {report['settings']['rtol']:g}; wall time "
+              f"{report['wall_time_s']:.0f} s."), ""]
     lines += [f"- {group}: {text}." for group, text in report["settings"]["definitions"].items()]
     lines += ["", "| group | scene | rate (rad/s) or lambda (1/s) | integrator | largest stable step (s) | smallest unstable step (s) | runs |",
               "|---|---|---|---|---|---|---|"]
