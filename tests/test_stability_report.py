@@ -10,35 +10,38 @@ from freefloat.app.reproduce.stability_cases import Case
 
 
 class Threshold(Case):
-    """A case stable below ``limit`` s."""
+    """A case stable below ``limit`` s whose runs blow up from ``blow`` s on."""
 
-    def __init__(self, limit: float):
-        self.limit = limit
+    def __init__(self, limit: float, blow: float = float("inf")):
+        self.limit, self.blow = limit, blow
 
     def measure(self, h: float) -> dict:
-        return {"status": "completed", "steps": 1, "h": h}
+        return {"status": "completed" if h < self.blow else "diverged", "steps": 1, "h": h}
 
     def passes(self, m: dict) -> bool:
         return m["h"] < self.limit
 
 
 def fake_cases(quick: bool):
-    return [({"group": "tumbling", "scene": "four_arm", "value": 3.0, "integrator": "rkmk4"}, Threshold(0.01), (1e-4, 1.0)),
-            ({"group": "tumbling", "scene": "four_arm", "value": 30.0, "integrator": "rkmk4"}, Threshold(0.001), (1e-4, 1.0)),
+    return [({"group": "tumbling", "scene": "four_arm", "value": 3.0, "integrator": "rkmk4"}, Threshold(0.01, 0.1), (1e-4, 1.0)),
+            ({"group": "tumbling", "scene": "four_arm", "value": 30.0, "integrator": "rkmk4"}, Threshold(0.001, 0.001), (1e-4, 1.0)),
             ({"group": "closed chain", "scene": "five_bar_computed_torque", "value": 0.0, "integrator": "rk4"},
              Threshold(10.0), (1e-4, 1.0))]
 
 
 def test_study_reports_each_bracket_and_open_ones(tmp_path, monkeypatch):
-    """Limits 0.01 and 0.001 s are bracketed; a case stable up to the top is written as '> high'."""
+    """Limits 0.01 and 0.001 s and blow-ups from 0.1 and 0.001 s are bracketed; a case stable up to
+    the top is written as '> high'."""
     monkeypatch.setattr(stability_report, "cases", fake_cases)
     report = stability_report.reproduce(tmp_path, quick=True)
     first, second, chain = report["rows"]
     assert first["stable_step"] < 0.01 <= first["unstable_step"] and second["stable_step"] < 0.001 <= second["unstable_step"]
-    assert chain["stable_step"] == 1.0 and chain["unstable_step"] is None
+    assert first["completes_step"] < 0.1 <= first["blows_up_step"] <= 0.1 * 1.1
+    assert (second["completes_step"], second["blows_up_step"]) == (second["stable_step"], second["unstable_step"])
+    assert chain["stable_step"] == chain["completes_step"] == 1.0 and chain["blows_up_step"] is None
     assert first["at_stable"]["h"] == first["stable_step"]
     table = (tmp_path / "report.md").read_text()
-    assert "| closed chain | five_bar_computed_torque | 0 | rk4 | 1 | > 1 |" in table
+    assert "| closed chain | five_bar_computed_torque | 0 | rk4 | 1 | > 1 | 1 | > 1 |" in table
     with (tmp_path / "stability.csv").open() as f:
         rows = list(csv.DictReader(f))
     assert [r["unstable_step"] for r in rows][2] == ""

@@ -3,7 +3,8 @@
 For every case of :mod:`.stability_cases` (robots tumbling at increasing base rates, the
 detumbling scenes after their impulse, the closed chains with and without Baumgarte), the step is
 bisected (:func:`freefloat.dynamics.stability.largest_stable_step`) between a stable and an
-unstable one. Writes ``report.json`` (settings, versions, rows), ``stability.csv``,
+unstable one, then, from the unstable one up, between a step whose run completes (whatever its
+drift) and one that blows up. Writes ``report.json`` (settings, versions, rows), ``stability.csv``,
 ``report.md`` and ``stability.png`` (largest stable step against rate or scene, one curve per
 integrator).
 """
@@ -54,17 +55,28 @@ def cases(quick: bool) -> list[tuple[dict, Case, tuple[float, float]]]:
 
 
 def search(case: Case, low: float, high: float, rtol: float) -> dict:
-    """Bisect one case; the row: the bracket and the case's measurements at both ends."""
+    """Bisect one case twice: for the largest stable step, then, from there up, for the largest
+    step whose run completes (no blow-up, whatever its drift). The row: both brackets and the
+    case's measurements at the first one's ends."""
     seen: dict[float, dict] = {}
 
-    def stable(h: float) -> bool:
-        seen[h] = case.measure(h)
-        return case.passes(seen[h])
+    def measured(h: float) -> dict:
+        if h not in seen:
+            seen[h] = case.measure(h)
+        return seen[h]
 
     start = time.perf_counter()
-    limit = largest_stable_step(stable, low, high, rtol)
+    limit = largest_stable_step(lambda h: case.passes(measured(h)), low, high, rtol)
+    if limit.unstable is None:  # stable, so completing, up to high
+        completes, blows_up = limit.stable, None
+    elif measured(limit.unstable)["status"] != "completed":  # blew up right past the stable step
+        completes, blows_up = limit.stable, limit.unstable
+    else:
+        blow_up = largest_stable_step(lambda h: measured(h)["status"] == "completed", limit.unstable, high, rtol)
+        completes, blows_up = blow_up.stable, blow_up.unstable
     return {"stable_step": limit.stable, "unstable_step": limit.unstable, "evaluations": limit.evaluations,
-            "at_stable": seen.get(limit.stable), "at_unstable": seen.get(limit.unstable),
+            "completes_step": completes, "blows_up_step": blows_up,
+            "runs": len(seen), "at_stable": seen.get(limit.stable), "at_unstable": seen.get(limit.unstable),
             "low": low, "high": high, "wall_time_s": time.perf_counter() - start}
 
 
@@ -99,23 +111,28 @@ def _step(x: float | None, bound: str) -> str:
 
 
 def markdown(report: dict) -> str:
-    """The table: per case, the largest stable step and the smallest unstable one (s)."""
+    """The table: per case, the largest stable step and the smallest unstable one, the largest step
+    that completes and the smallest that blows up (s)."""
     lines = ["# Stability maps: the largest stable step per integrator and scene", "",
              (f"Bisection on the step to a relative bracket of {report['settings']['rtol']:g}; wall time "
               f"{report['wall_time_s']:.0f} s."), ""]
     lines += [f"- {group}: {text}." for group, text in report["settings"]["definitions"].items()]
-    lines += ["", "| group | scene | rate (rad/s) or lambda (1/s) | integrator | largest stable step (s) | smallest unstable step (s) | runs |",
-              "|---|---|---|---|---|---|---|"]
+    lines += ["", ("| group | scene | rate (rad/s) or lambda (1/s) | integrator | largest stable step (s) "
+                   "| smallest unstable step (s) | largest step that completes (s) | smallest that blows up (s) | runs |"),
+              "|---|---|---|---|---|---|---|---|---|"]
     for r in report["rows"]:
         value = "-" if r["value"] is None else f"{r['value']:g}"
-        stable, unstable = _step(r["stable_step"], "< {:.3g}".format(r["low"])), _step(r["unstable_step"], "> {:.3g}".format(r["high"]))
-        lines.append(f"| {r['group']} | {r['scene']} | {value} | {r['integrator']} | {stable} | {unstable} | {r['evaluations']} |")
+        below, above = "< {:.3g}".format(r["low"]), "> {:.3g}".format(r["high"])
+        steps = (_step(r["stable_step"], below), _step(r["unstable_step"], above), _step(r["completes_step"], below),
+                 _step(r["blows_up_step"], above))
+        lines.append(f"| {r['group']} | {r['scene']} | {value} | {r['integrator']} | " + " | ".join(steps) + f" | {r['runs']} |")
     return "\n".join(lines) + "\n"
 
 
 def write_csv(rows: list[dict], path: Path) -> Path:
-    """One line per case: labels, the bracket (s, empty when open) and the bisection's runs."""
-    keys = ("group", "scene", "value", "integrator", "stable_step", "unstable_step", "evaluations", "low", "high")
+    """One line per case: labels, both brackets (s, empty when open), the runs and the bracket searched."""
+    keys = ("group", "scene", "value", "integrator", "stable_step", "unstable_step", "completes_step", "blows_up_step",
+            "runs", "low", "high")
     with path.open("w", newline="") as f:
         writer = csv.writer(f)
         writer.writerow(keys)
@@ -127,7 +144,8 @@ def write_csv(rows: list[dict], path: Path) -> Path:
 def figure(rows: list[dict], path: Path) -> Path:
     """Largest stable step (log scale) against base rate (tumbling, one panel per robot) and
     against scene (detumbling, closed chains), one curve per integrator (marker and line style
-    apart, as curves can coincide); an open bracket is drawn at its bound with a hollow marker."""
+    apart, as curves can coincide); an open bracket is drawn at its bound with a hollow marker.
+    Dotted, in the same colour: the largest step whose run completes."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -144,6 +162,8 @@ def figure(rows: list[dict], path: Path) -> Path:
             x = [r["value"] if group == "tumbling" else ticks.index(_tick(r)) for r in curve]
             y = [r["stable_step"] if r["stable_step"] is not None else r["low"] for r in curve]
             line, = ax.plot(x, y, "osx^D"[i % 5], ls="-" if i % 2 == 0 else "--", label=name)
+            ends = [(xi, r["completes_step"]) for xi, r in zip(x, curve) if r["completes_step"] is not None]
+            ax.plot([e[0] for e in ends], [e[1] for e in ends], ".:", color=line.get_color(), lw=0.8)
             open_ = [i for i, r in enumerate(curve) if r["unstable_step"] is None or r["stable_step"] is None]
             ax.plot([x[i] for i in open_], [y[i] for i in open_], "o", mfc="white", color=line.get_color())
         if group == "tumbling":
@@ -154,7 +174,7 @@ def figure(rows: list[dict], path: Path) -> Path:
             ax.set_xticks(range(len(ticks)), ticks, rotation=30, ha="right", fontsize=7)
             ax.set_title(group)
         ax.set_yscale("log")
-        ax.set_ylabel("largest stable step (s)")
+        ax.set_ylabel("largest stable step (s); dotted: completes")
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize=7)
     fig.tight_layout()
