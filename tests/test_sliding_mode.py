@@ -6,6 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from freefloat.errors import FreefloatError
 from freefloat.parallel.five_bar import TRUE_PARAMETERS, FiveBarParameters, elbow_guess, five_bar
 from freefloat.parallel.platform import platform_dynamics
 from freefloat.parallel.sliding_mode import (
@@ -90,3 +91,23 @@ def test_chattering_measures_effort_jumps_and_sign_changes():
     np.testing.assert_allclose(out["effort_jump_median"], [2.0, 6.0])
     assert out["s_sign_changes_per_s"][0] == pytest.approx(9 / 0.999)
     assert out["s_max"][0] == pytest.approx(1.0, abs=1e-3)
+
+
+def test_chattering_takes_effort_jumps_between_control_updates():
+    """Efforts updated every 10 ms and s sampled every 1 ms: jumps and their sum per second are
+    taken over the updates (alternating +-1: jump 2, 2 x 9 jumps in 0.09 s), sign changes over the samples."""
+    t = np.arange(0.0, 0.2, 1e-3) + 5e-4
+    updates = np.arange(0.0, 0.2, 1e-2) + 5e-4
+    efforts = np.where(np.arange(len(updates)) % 2 == 0, 1.0, -1.0)[:, None]
+    s = np.sin(2 * np.pi * 50 * t)[:, None]
+    out = chattering(t, efforts, s, after=0.1, effort_times=updates)
+    assert out["effort_jump_median"] == [2.0]
+    assert out["effort_variation_per_s"][0] == pytest.approx(2.0 * 9 / 0.09)
+    assert out["s_sign_changes_per_s"][0] == pytest.approx(9 / 0.099)
+
+
+def test_chattering_needs_two_updates_in_the_window():
+    """One control update after the start of the window is refused, naming the window."""
+    t = np.linspace(0.0, 1.0, 101)
+    with pytest.raises(FreefloatError, match="after t = 0.5 s"):
+        chattering(t, np.zeros((2, 1)), np.zeros((101, 1)), 0.5, effort_times=np.array([0.0, 0.6]))

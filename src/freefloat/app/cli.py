@@ -54,12 +54,13 @@ def main(argv: list[str] | None = None) -> int:
     ver.add_argument("--json", type=Path, default=None, help="also write the report as JSON here")
     rep = commands.add_parser("reproduce", help="reproduce a study of the documents against the exact reference")
     rep.add_argument("study", choices=["models", "task_space", "phases", "five_bar", "closure_stability", "chattering",
-                     "robustness"],
+                     "robustness", "stability"],
                      help="models: which dynamics model matches the exact one, where; task_space: sec 5.2 "
                           "(Tables 2-5, figs 38-40); phases: one model per capture phase vs exact; "
                           "five_bar: the 5R's sliding-mode gains and tracking (thesis sec 5.6); "
                           "closure_stability: loop-closure drift over step and Baumgarte lambda; "
-                          "chattering: sign(s) against tanh(100 s) with eq 187's gains; "
+                          "chattering: sign(s) against tanh(100 s) over the control period; "
+                          "stability: the largest stable step per integrator and scene; "
                           "robustness: Monte-Carlo of the 5R controller through Dask")
     rep.add_argument("--out", type=Path, default=None, help="output folder (default: runs/reproduce-<study>-<time>)")
     rep.add_argument("--quick", action="store_true", help="short runs and few samples (a smoke test)")
@@ -130,7 +131,14 @@ def _info(args: argparse.Namespace) -> int:
 
 
 def _reproduce(args: argparse.Namespace) -> int:
-    from .reproduce import five_bar_report, models_report, phases_report, task_space_report
+    from .reproduce import (
+        chattering_report,
+        five_bar_report,
+        models_report,
+        phases_report,
+        stability_report,
+        task_space_report,
+    )
 
     out = args.out or Path("runs") / f"reproduce-{args.study}-{time.strftime('%Y%m%d-%H%M%S')}"
     with warnings.catch_warnings():
@@ -145,8 +153,10 @@ def _reproduce(args: argparse.Namespace) -> int:
             report = five_bar_report.reproduce(out, quick=args.quick)
         elif args.study == "closure_stability":
             report = five_bar_report.reproduce_stability(out, quick=args.quick)
+        elif args.study == "stability":
+            report = stability_report.reproduce(out, quick=args.quick)
         elif args.study == "chattering":
-            report = five_bar_report.reproduce_chattering(out, quick=args.quick)
+            report = chattering_report.reproduce(out, quick=args.quick)
         else:
             report = five_bar_report.reproduce_robustness(out, args.quick, args.runs, args.error, args.scheduler)
     print((out / "report.md").read_text())

@@ -231,19 +231,26 @@ class PlatformController:
         return tau
 
 
-def chattering(t: np.ndarray, efforts: np.ndarray, s: np.ndarray, after: float) -> dict:
-    """How much a closed loop chatters after time ``after`` (s), from the control periods' times
-    (N,), efforts (N, k) and sliding variables (N, p).
+def chattering(t: np.ndarray, efforts: np.ndarray, s: np.ndarray, after: float,
+               effort_times: np.ndarray | None = None) -> dict:
+    """How much a closed loop chatters after time ``after`` (s), from the sliding variables
+    (N, p) sampled at times ``t`` (N,) and the efforts (M, k) the law gave at ``effort_times``
+    (M,; default ``t``, M = N): its control updates.
 
     Returns:
-        ``effort_jump_median`` (k,): median |tau_{i+1} - tau_i| between periods, N m;
+        ``effort_jump_median`` (k,): median |tau_{i+1} - tau_i| between updates, N m;
+        ``effort_variation_per_s`` (k,): sum of those jumps per second, N m/s;
         ``s_sign_changes_per_s`` (p,): sign changes of s per second; ``s_max`` (p,): max |s|.
     """
-    late = t > after
-    if late.sum() < 2:
-        raise FreefloatError(f"chattering: fewer than two control periods after t = {after} s (the run ends at {t[-1]} s)")
-    span = t[late][-1] - t[late][0]
-    return {"effort_jump_median": np.median(np.abs(np.diff(efforts[late], axis=0)), axis=0).tolist(),
+    effort_times = t if effort_times is None else effort_times
+    late, late_u = t > after, effort_times > after
+    if late.sum() < 2 or late_u.sum() < 2:
+        raise FreefloatError(f"chattering: fewer than two samples or control updates after t = {after} s "
+                             f"(the run ends at {t[-1]} s)")
+    span, span_u = t[late][-1] - t[late][0], effort_times[late_u][-1] - effort_times[late_u][0]
+    jumps = np.abs(np.diff(efforts[late_u], axis=0))
+    return {"effort_jump_median": np.median(jumps, axis=0).tolist(),
+            "effort_variation_per_s": (jumps.sum(axis=0) / span_u).tolist(),
             "s_sign_changes_per_s": ((np.diff(np.sign(s[late]), axis=0) != 0).sum(axis=0) / span).tolist(),
             "s_max": np.abs(s[late]).max(axis=0).tolist()}
 

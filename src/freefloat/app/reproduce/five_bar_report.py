@@ -21,7 +21,6 @@ from ...parallel.five_bar import TRUE_PARAMETERS, TRUE_PARAMETERS_50, FiveBarPar
 from ...parallel.platform_control import printed_gains
 from ...parallel.sliding_mode import (
     PlatformController,
-    chattering,
     circle_reference,
     design_gains,
     track,
@@ -193,37 +192,6 @@ def reproduce_stability(out: Path, quick: bool = False) -> dict:
         for h in steps:
             cells = [r for r in rows if r["method"] == method and r["h"] == h]
             lines.append(f"| {method} | {h:g} | " + " | ".join("diverged" if r["diverged"] else f"{r['max_drift_m']:.1e}" for r in cells) + " |")
-    return write_report(out, report, lambda _: "\n".join(lines) + "\n", start)
-
-
-def reproduce_chattering(out: Path, quick: bool = False) -> dict:
-    """``freefloat reproduce chattering``: sign(s) against tanh(100 s) with eq 187's printed gains
-    on the 15 % plant, the circle of eq 189 for 0.3 s, at two steps: tracking error after 0.2 s
-    and how much efforts and s chatter."""
-    out.mkdir(parents=True, exist_ok=True)
-    start = time.perf_counter()
-    gains = eq_187_gains()
-    duration, steps = (0.25, (2e-4,)) if quick else (0.3, (1e-4, 2e-4))
-    rows = []
-    for step in steps:
-        for saturation in ("tanh", "sign"):
-            controller = PlatformController(FiveBarParameters(), circle_reference, 40.0, gains, saturation)
-            _, _, efforts, log = track(TRUE_PARAMETERS, controller, duration, step)
-            t, e, s = (np.array([row[i] for row in log]) for i in range(3))
-            rows.append({"step": step, "saturation": saturation,
-                         "error_after_0.2s_mm": (np.abs(e[t > 0.2]).max(axis=0) * 1e3).tolist(),
-                         **chattering(t, efforts, s, 0.2)})
-    report = {"settings": {"quick": quick, "duration": duration, "lambda": 40.0, "gains": "eq 187 (printed)",
-                           "plant": "TRUE_PARAMETERS (15 %)"}, "rows": rows}
-    lines = ["# Chattering: sign(s) against tanh(100 s), eq 187's gains, the 15 % plant", "",
-             "After 0.2 s on the circle of eq 189; efforts held over each step.", "",
-             "| h (s) | switch | max error x / y (mm) | median effort jump (N m) | sign changes of s per s | max abs(s) |",
-             "|---|---|---|---|---|---|"]
-    for r in rows:
-        lines.append(f"| {r['step']:g} | {r['saturation']} | " + " / ".join(f"{x:.3f}" for x in r["error_after_0.2s_mm"])
-                     + " | " + ", ".join(f"{x:.1f}" for x in r["effort_jump_median"]) + " | "
-                     + ", ".join(f"{x:.0f}" for x in r["s_sign_changes_per_s"]) + " | "
-                     + ", ".join(f"{x:.3g}" for x in r["s_max"]) + " |")
     return write_report(out, report, lambda _: "\n".join(lines) + "\n", start)
 
 
