@@ -99,7 +99,7 @@ def cpp_floor(prepared, steps: int, dt: float, every: int) -> float:
                                len(robot.end_effectors))
     loop.start(prepared.q0, prepared.v0)
     start = time.perf_counter()
-    rows = loop.run(steps, chunk, 0)
+    rows, _ = loop.run(steps, chunk, 0)
     loop.record_last(chunk, rows)
     return time.perf_counter() - start
 

@@ -179,3 +179,15 @@ def test_an_unsupported_joint_is_named():
     model.appendBodyToJoint(joint, pin.Inertia.Random(), pin.SE3.Identity())
     with pytest.raises(InvalidArgument, match="joint .slider.*JointModelTranslation"):
         CompiledLoop(replace(robot, model=model), make_integrator("euler", model), 1e-3)
+
+
+def test_a_blow_up_keeps_every_row_of_its_chunk():
+    """A run that blows up in the middle of a compiled chunk keeps the rows before it and says
+    where, exactly as the Python loop does."""
+    robot = robot_named("two_arm_planar.urdf")
+    q0, v0 = robot.neutral(), np.full(robot.model.nv, 1.0)  # Euler at 50 ms: blows up after ~15 periods
+    python, compiled = (run(robot, q0, v0, 50.0, 0.05, make_integrator("euler", robot.model), ExactModel(robot),
+                            backend=backend) for backend in ("python", "compiled"))
+    assert python.status == compiled.status == "diverged" and compiled.message == python.message
+    assert 5 < len(compiled.telemetry.t) == len(python.telemetry.t) < 1000
+    assert_same_telemetry(python.telemetry, compiled.telemetry)

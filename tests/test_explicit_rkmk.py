@@ -77,5 +77,5 @@ def test_a_scene_selects_rkmk6(tmp_path):
                                      output={"figures": False, "html": False}))
     p = prepare(scene)
     dt = scene.simulation.control_period
-    simulate(p.robot, p.q0, p.v0, 5 * dt, dt, p.integrator, p.model, p.controller)
-    assert p.integrator.name == "rkmk6" and p.integrator.evaluations() == 7 * 2 * 5
+    result = simulate(p.robot, p.q0, p.v0, 5 * dt, dt, p.integrator, p.model, p.controller)
+    assert p.integrator.name == "rkmk6" and result.evaluations == 7 * 2 * 5

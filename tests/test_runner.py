@@ -141,3 +141,21 @@ def test_a_drawing_that_fails_costs_nothing_else(tmp_path):
         written, skipped = write_run(folder, scene, outcome)
     assert skipped == ["figures (failed: ValueError: planted)"]
     assert {p.name for p in written} == {"telemetry.npz", "scene.toml", "summary.json", "trajectory.html"}
+
+
+def test_an_interrupt_during_the_model_pilot_stops_the_run(tmp_path, monkeypatch):
+    """Ctrl-C or SIGTERM while model = "auto" pilots its plants stops the run at its first report:
+    status 'interrupted', the summary and the few rows written, nothing simulated to the end."""
+    from freefloat.app.experiments import model_choice
+
+    def interrupted(*args, **kwargs):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(model_choice, "choose", interrupted)
+    scene = load_scene(scene_variant(tmp_path / "s.toml", "four_arm_joint_space",
+                                     simulation={"duration": 5.0, "model": "auto"},
+                                     output={"figures": False, "html": False}))
+    result = runner.run_scene(scene, tmp_path / "out")
+    summary = json.loads((tmp_path / "out" / "summary.json").read_text())
+    assert result.outcome.status == summary["status"] == "interrupted"
+    assert 0 < len(Telemetry.load(tmp_path / "out" / "telemetry.npz").t) < 5001

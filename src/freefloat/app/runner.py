@@ -111,7 +111,11 @@ def run_scene(scene: Scene | MechanismScene, folder: Path, progress: Progress | 
     """
     setup = prepare(scene) if setup is None else setup
     with RunFolder(folder, overwrite) as out:
-        setup = choose_plant(scene, setup)
+        with signals_raise_keyboard_interrupt():
+            try:
+                setup = choose_plant(scene, setup)
+            except KeyboardInterrupt:  # during the pilot: stop the run at its first report instead
+                progress = _stop_at_first_report
         checkpoint = out.checkpoint if watch is None else lambda chunk: (out.checkpoint(chunk), watch(chunk))
         with signals_raise_keyboard_interrupt():
             outcome = experiment_for(scene).run(setup, progress, checkpoint)
@@ -119,6 +123,11 @@ def run_scene(scene: Scene | MechanismScene, folder: Path, progress: Progress | 
         with signals_deferred() as interrupted:
             written, skipped = write_run(out, scene, outcome, interrupted.is_set)
     return SceneRun(outcome, folder, written, skipped)
+
+
+def _stop_at_first_report(done: int) -> None:
+    """A progress callback that interrupts the run (the user asked to stop before it started)."""
+    raise KeyboardInterrupt
 
 
 def fail_if_not_finite(outcome: Outcome) -> Outcome:

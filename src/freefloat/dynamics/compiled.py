@@ -148,11 +148,11 @@ class CompiledLoop:
         """Set the state at the start of control period ``period``."""
         self.sim.set_state(q, v, period, work)
 
-    def run(self, last_period: int, chunk: Telemetry, row: int) -> int:
+    def run(self, last_period: int, chunk: Telemetry, row: int) -> tuple[int, str | None]:
         """Advance to period ``last_period`` or until ``chunk`` is full, writing rows from ``row``.
 
-        Returns the rows written. Raises ``OverflowError`` (with the Python loop's message) when the
-        state blows up; the state stays at the last good period.
+        Returns the rows written and, when the state blew up, the Python loop's message (None
+        otherwise); the run then stopped at the last good period, its rows kept.
         """
         return self.sim.run(last_period, _arrays(chunk), row)
 

@@ -268,8 +268,10 @@ def _run_compiled(loop: compiled.CompiledLoop, q0: np.ndarray, v0: np.ndarray, s
         while loop.periods_done < steps:
             chunk, row = rows.next_row()
             target = min(steps, (loop.periods_done // report_every + 1) * report_every)
-            written = loop.run(target, chunk, row)
+            written, blow_up = loop.run(target, chunk, row)
             rows.commit(written)
+            if blow_up is not None:
+                raise OverflowError(blow_up)
             if progress is not None and loop.periods_done % report_every == 0:
                 progress(loop.periods_done)
     except KeyboardInterrupt:

@@ -121,7 +121,9 @@ def compiled_run(scene: Scene, integrator: str, setting: float) -> Run:
 
     def run():  # a blow-up raises OverflowError, an ArithmeticError like MuJoCo's
         loop.start(scene.q0, scene.v0)
-        loop.run(n, chunk, 0)
+        _, blow_up = loop.run(n, chunk, 0)
+        if blow_up is not None:
+            raise OverflowError(blow_up)
         return loop.state
 
     return run

@@ -27,9 +27,11 @@ from ..scenes import Scene
 from . import experiment_for
 from .robot_run import RobotSetup, control_steps
 
-#: Share of the scene's duration the pilot simulates, and the fewest control periods it takes.
+#: Share of the scene's duration the pilot simulates, and the fewest and most control periods it
+#: takes (the most: a long run's pilot stays short; its error is extrapolated over the run anyway).
 PILOT_SHARE = 0.02
 PILOT_PERIODS = 20
+PILOT_MAX_PERIODS = 1000
 
 
 def with_plant(scene: Scene, model: str, lock: str, duration: float | None = None) -> Scene:
@@ -44,9 +46,9 @@ def with_plant(scene: Scene, model: str, lock: str, duration: float | None = Non
 
 def pilot_periods(scene: Scene) -> int:
     """Control periods of the pilot: :data:`PILOT_SHARE` of the scene's, at least
-    :data:`PILOT_PERIODS`, at most all."""
+    :data:`PILOT_PERIODS`, at most :data:`PILOT_MAX_PERIODS` and all."""
     periods = control_steps(scene)
-    return min(periods, max(PILOT_PERIODS, round(PILOT_SHARE * periods)))
+    return min(periods, PILOT_MAX_PERIODS, max(PILOT_PERIODS, round(PILOT_SHARE * periods)))
 
 
 def resolve(scene: Scene, models: tuple[str, ...] | None = None) -> tuple[Scene, dict[str, Any] | None]:
@@ -90,6 +92,8 @@ def resolve(scene: Scene, models: tuple[str, ...] | None = None) -> tuple[Scene,
         if (name, lock) not in prepared:
             prepared[name, lock] = experiment.prepare(with_plant(scene, name, lock, duration))
         outcome = experiment.run(copy.deepcopy(prepared[name, lock]))
+        if outcome.status == "interrupted":  # Ctrl-C or SIGTERM: the user stops the whole run
+            raise KeyboardInterrupt(outcome.message)
         return Pilot(outcome.wall_time_s, outcome.telemetry.q, outcome.telemetry.v)
 
     candidates = [Candidate(name, lock, cost, lambda name=name, lock=lock: pilot(name, lock))
@@ -120,4 +124,4 @@ def describe(record: dict[str, Any]) -> str:
             f"(tolerance {record['tolerance']:.2g})")
 
 
-__all__ = ["PILOT_PERIODS", "PILOT_SHARE", "describe", "pilot_periods", "resolve", "with_plant"]
+__all__ = ["PILOT_MAX_PERIODS", "PILOT_PERIODS", "PILOT_SHARE", "describe", "pilot_periods", "resolve", "with_plant"]
