@@ -126,7 +126,8 @@ def _batch(args: argparse.Namespace) -> int:
 
     if args.scheduler is not None and args.workers is not None:
         raise FreefloatError("--workers sets the size of a local cluster; with --scheduler the scheduler's workers run")
-    workers = Workers(args.workers or (2 if args.dask or args.scheduler else 1), args.dask or args.scheduler is not None,
+    default = 2 if args.dask or args.scheduler else 1
+    workers = Workers(default if args.workers is None else args.workers, args.dask or args.scheduler is not None,
                       args.scheduler)
     bands = [parse_band(text) for text in args.vary]
     scene = find_scene(args.scene or DEFAULT_SCENE)
