@@ -18,22 +18,24 @@ from freefloat.app.scenes import find_scene, load_scene
 from .conftest import random_robots, scene_variant
 
 
-@pytest.fixture(scope="module")
-def tumbling():
-    """The tumbling scene (free base) and its prepared nominal."""
-    scene = find_scene("tumbling")
+def prepared(name: str):
+    """The built-in scene ``name`` and its prepared nominal (loader notes silenced)."""
+    scene = find_scene(name)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         return scene, runner.prepare(scene)
+
+
+@pytest.fixture(scope="module")
+def tumbling():
+    """The tumbling scene (free base, torque-free)."""
+    return prepared("tumbling")
 
 
 @pytest.fixture(scope="module")
 def planar():
-    """The default scene (planar base, computed torque) and its prepared nominal."""
-    scene = find_scene("four_arm_joint_space")
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        return scene, runner.prepare(scene)
+    """The default scene (planar base, computed torque)."""
+    return prepared("four_arm_joint_space")
 
 
 def test_each_run_draws_within_its_bands(tumbling):
