@@ -26,16 +26,12 @@ import time
 import warnings
 from concurrent.futures import ProcessPoolExecutor
 
-import matplotlib
+from bench_common import parser, save_chart, write_json
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-from bench_common import parser, save_chart, write_json  # noqa: E402
-
-from freefloat.app.batch import Band, Workers, run_batch  # noqa: E402
-from freefloat.app.batch.one_run import TIMINGS  # noqa: E402
-from freefloat.app.scenes import find_scene  # noqa: E402
-from freefloat.distributed import client  # noqa: E402
+from freefloat.app.batch import Band, Workers, run_batch
+from freefloat.app.batch.one_run import TIMINGS
+from freefloat.app.scenes import find_scene
+from freefloat.distributed import client
 
 SCENES = ("four_arm_joint_space", "tumbling")
 BANDS = [Band("joint_rate", 2.0), Band("mass", 0.1)]
@@ -90,6 +86,11 @@ def measure(scene_name: str, runs: int, repeats: int, out, scheduler: str, pool:
 
 def chart(results: dict, path) -> None:
     """Runs per second per scene and executor, bars labelled with the speed-up over serial."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
     fig, ax = plt.subplots(figsize=(7, 4))
     names = list(next(iter(results.values()))["runs_per_second"])
     width = 0.8 / len(names)

@@ -32,6 +32,9 @@ from .sliding_mode import (
     worst_case,
 )
 
+#: ``client`` lives in :mod:`freefloat.distributed` and stays importable from here.
+__all__ = ["client", "design_gains_distributed", "monte_carlo"]
+
 
 def design_gains_distributed(dask_client, nominal: FiveBarParameters, points: np.ndarray, eta: float = 20.0,
                              chunks: int = 16, quiet: bool = True, timeout: float = 600.0) -> SlidingModeGains:
