@@ -14,7 +14,8 @@ batch) before the clock starts, through its scheduler address (``--scheduler``):
 cluster is up. The rows of all are checked identical (timings aside). The ceiling: a pure-Python
 busy loop of ``CEILING_S`` s, twice one after another against once on each of 2 processes, taking
 turns with the batches: the speed-up any work could get from 2 processes on this machine then.
-Quote the best-of-repeats ratios beside the ceiling.
+Speed-ups are paired: serial time over the executor's time within each turn (the median over
+turns is charted); quote them beside that turn's ceiling.
 """
 
 from __future__ import annotations
@@ -22,6 +23,7 @@ from __future__ import annotations
 import logging
 import os
 import shutil
+import statistics
 import time
 import warnings
 from concurrent.futures import ProcessPoolExecutor
@@ -57,8 +59,8 @@ def ceiling(pool: ProcessPoolExecutor) -> float:
 
 
 def measure(scene_name: str, runs: int, repeats: int, out, scheduler: str, pool: ProcessPoolExecutor) -> dict:
-    """Best and all wall times (s) of the batch per executor, runs/s, speed-ups over serial,
-    whether the rows agree, and the ceiling measured between the turns."""
+    """All and best wall times (s) of the batch per executor, best runs/s, speed-ups over serial
+    per turn and their median, whether the rows agree, and the ceiling of each turn."""
     scene = find_scene(scene_name)
     executors = {**EXECUTORS, WARM: Workers(1, dask=True, scheduler=scheduler)}
     times: dict[str, list[float]] = {name: [] for name in executors}
@@ -74,10 +76,12 @@ def measure(scene_name: str, runs: int, repeats: int, out, scheduler: str, pool:
             rows[name] = [{k: v for k, v in r.items() if k not in TIMINGS} for r in done.rows]
             shutil.rmtree(folder)
     best = {name: min(t) for name, t in times.items()}
+    paired = {name: [s / t for s, t in zip(times["serial"], times[name])] for name in times}
     return {
         "runs": runs, "times_s": times, "best_s": best,
         "runs_per_second": {name: runs / t for name, t in best.items()},
-        "speed_up_over_serial": {name: best["serial"] / t for name, t in best.items()},
+        "speed_up_over_serial": {name: statistics.median(r) for name, r in paired.items()},
+        "speed_up_per_repeat": paired,
         "rows_identical": all(r == rows["serial"] for r in rows.values()),
         "completed": sum(r["status"] == "completed" for r in rows["serial"]),
         "ceiling_2_processes": ceilings,
@@ -85,7 +89,7 @@ def measure(scene_name: str, runs: int, repeats: int, out, scheduler: str, pool:
 
 
 def chart(results: dict, path) -> None:
-    """Runs per second per scene and executor, bars labelled with the speed-up over serial."""
+    """Runs per second per scene and executor, bars labelled with the median paired speed-up."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -103,7 +107,7 @@ def chart(results: dict, path) -> None:
                         ha="center", va="bottom", fontsize=8)
     ax.set_xticks([i + 0.4 - width / 2 for i in range(len(results))],
                   [f"{n}\n(ceiling {max(r['ceiling_2_processes']):.2f}x)" for n, r in results.items()])
-    ax.set_ylabel("runs per second (whole batch, best of repeats)")
+    ax.set_ylabel("runs per second (whole batch, best of turns)")
     ax.set_title(f"freefloat batch on {os.cpu_count()} cores (shared machine)")
     ax.legend()
     save_chart(fig, path)
@@ -132,9 +136,11 @@ def main() -> None:
     path = write_json(ns.out, "batch", report)
     chart(results, ns.out / "bench_batch.png")
     for name, r in results.items():
-        rates = ", ".join(f"{k} {v:.2f} runs/s ({r['speed_up_over_serial'][k]:.2f}x)" for k, v in r["runs_per_second"].items())
-        print(f"{name}: {rates}; rows identical: {r['rows_identical']}; 2-process ceiling "
-              f"{', '.join(f'{c:.2f}x' for c in r['ceiling_2_processes'])}")
+        print(f"{name}: best runs/s {', '.join(f'{k} {v:.2f}' for k, v in r['runs_per_second'].items())}; "
+              f"rows identical: {r['rows_identical']}")
+        for turn, ceiling_ in enumerate(r["ceiling_2_processes"]):
+            ups = ", ".join(f"{k} {v[turn]:.2f}x" for k, v in r["speed_up_per_repeat"].items() if k != "serial")
+            print(f"  turn {turn}: 2-process ceiling {ceiling_:.2f}x; over serial: {ups}")
     print(f"wrote {path}")
 
 

@@ -123,7 +123,7 @@ def test_bad_flags_are_named_and_exit_2(tmp_path, capsys, args, message):
     scene = scene_variant(tmp_path / "s.toml", "tumbling", simulation={"duration": 0.01})
     status = main(["batch", str(scene), "--quiet", "--out", str(tmp_path / "out"), *args])
     assert status == 2 and message in capsys.readouterr().err
-    assert not (tmp_path / "out" / "runs.csv").exists()
+    assert not (tmp_path / "out").exists()
 
 
 def test_the_command_runs_a_batch_and_exits_0(tmp_path, capsys):

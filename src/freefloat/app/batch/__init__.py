@@ -8,7 +8,8 @@ table).
 
 from __future__ import annotations
 
-from .driver import BatchResult, Workers, run_batch
+from .driver import BatchResult, run_batch
+from .executors import Workers
 from .variations import VARIES, Band, parse_band
 
 __all__ = ["VARIES", "Band", "BatchResult", "Workers", "parse_band", "run_batch"]

@@ -20,41 +20,17 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Callable
 
-from ...errors import FreefloatError
 from ..outputs import strict_json, versions
 from ..run_folder import RunFolder
 from ..runner import prepare, signals_deferred, signals_raise_keyboard_interrupt
 from ..scenes import MechanismScene, Scene
-from .executors import run_dask, run_pool, run_serial
+from .executors import Workers, executor
 from .variations import Band, plan_runs
 
 PARTIAL = "runs-partial.jsonl"
 #: Summary keys whose spread over the runs ``summary.json`` and the command line report.
 HEADLINE = ("momentum_drift_max", "energy_drift_max", "tracking_rms_overall", "com_drift_max",
             "tracking_error_max[0]", "loop_closure_drift_max")
-
-
-@dataclass(frozen=True)
-class Workers:
-    """Where the runs go: ``count`` processes (1 and not ``dask``: this process, one after
-    another), through Dask when ``dask`` (a local cluster of ``count``, or ``scheduler``'s)."""
-
-    count: int = 1
-    dask: bool = False
-    scheduler: str | None = None
-
-    def __post_init__(self) -> None:
-        if self.count < 1:
-            raise FreefloatError(f"--workers must be >= 1, got {self.count}")
-        if self.scheduler is not None and not self.dask:
-            raise FreefloatError("--scheduler is a Dask scheduler's address; it needs --dask")
-
-    @property
-    def label(self) -> str:
-        """``serial``, ``pool of K`` or ``dask ...``, for reports."""
-        if self.dask:
-            return f"dask scheduler {self.scheduler}" if self.scheduler else f"dask local cluster of {self.count}"
-        return "serial" if self.count == 1 else f"pool of {self.count}"
 
 
 @dataclass
@@ -82,13 +58,14 @@ def run_batch(scene: Scene | MechanismScene, folder: Path, runs: int, bands: lis
 
     Raises:
         FreefloatError: before any run, naming the flag, key or folder at fault (runs < 1, a
-            band the scene cannot take, a scene error, a folder in use, a dead scheduler).
+            band the scene cannot take, a scene error, a dead scheduler (the folder is not made),
+            a folder in use).
     """
     scene = dataclasses.replace(scene, output=dataclasses.replace(scene.output, figures=False, html=False))
     plans = plan_runs(scene, prepare(scene), bands, runs, seed)
     rows: dict[int, dict[str, Any]] = {}
     start = time.perf_counter()
-    with RunFolder(folder, overwrite) as out:
+    with executor(workers) as execute, RunFolder(folder, overwrite) as out:
         if scene.source is not None:
             out.write_text("scene.toml", scene.source.read_text(errors="replace"))
         with open(out.path / PARTIAL, "a") as partial:
@@ -102,12 +79,7 @@ def run_batch(scene: Scene | MechanismScene, folder: Path, runs: int, bands: lis
             status = "completed"
             try:
                 with signals_raise_keyboard_interrupt():
-                    if workers.dask:
-                        run_dask(plans, workers.count, workers.scheduler, keep)
-                    elif workers.count > 1:
-                        run_pool(plans, workers.count, keep)
-                    else:
-                        run_serial(plans, keep)
+                    execute(plans, keep)
             except KeyboardInterrupt:
                 status = "interrupted"
         wall = time.perf_counter() - start
