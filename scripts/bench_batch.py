@@ -115,8 +115,8 @@ def chart(results: dict, path) -> None:
 
 def main() -> None:
     args = parser(__doc__, "batch")
-    args.add_argument("--runs", type=int, default=16, help="runs per batch (default 16)")
-    args.add_argument("--repeats", type=int, default=3, help="turns of the executors (default 3)")
+    args.add_argument("--runs", type=int, default=12, help="runs per batch (default 12)")
+    args.add_argument("--repeats", type=int, default=5, help="turns of the executors (default 5)")
     args.add_argument("--quick", action="store_true", help="4 runs, one repeat, the tumbling scene only")
     ns = args.parse_args()
     runs, repeats, scenes = (4, 1, ("tumbling",)) if ns.quick else (ns.runs, ns.repeats, SCENES)

@@ -57,6 +57,19 @@ def test_a_failing_run_is_recorded_and_the_batch_goes_on(tmp_path):
     assert done.summary["by_status"] == {s: statuses.count(s) for s in set(statuses)} and not done.completed
 
 
+def test_a_pool_worker_that_dies_fails_the_runs_left_and_the_batch_ends(tmp_path, monkeypatch):
+    """A worker process that exits mid-run (as a crash would) breaks the pool: every run left is a
+    failed row naming the lost worker, and the batch ends instead of hanging."""
+    import os
+
+    from freefloat.app.batch import one_run
+
+    monkeypatch.setattr(one_run, "experiment_for", lambda scene: os._exit(3))  # inherited by the forked workers
+    done = run_batch(short(tmp_path, "tumbling", 0.01), tmp_path / "out", 3, [], workers=Workers(2))
+    assert [r["run"] for r in done.rows] == [0, 1, 2]
+    assert all(r["status"] == "failed" and r["message"].startswith("worker process lost") for r in done.rows)
+
+
 def test_the_folder_holds_the_table_the_record_and_the_scene(tmp_path):
     """runs.csv and runs.json hold the same rows; summary.json the seed, bands, workers, counts,
     scene and versions; scene.toml the scene file; no partial file is left."""
