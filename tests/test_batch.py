@@ -139,6 +139,16 @@ def test_bad_flags_are_named_and_exit_2(tmp_path, capsys, args, message):
     assert not (tmp_path / "out").exists()
 
 
+def test_the_help_lists_every_vary_key(capsys):
+    """freefloat batch --help prints (its text has percent signs) and names each key."""
+    from freefloat.app.batch import VARIES
+
+    with pytest.raises(SystemExit) as stop:
+        main(["batch", "--help"])
+    printed = " ".join(capsys.readouterr().out.split())
+    assert stop.value.code == 0 and all(f"{key}:" in printed for key in VARIES)
+
+
 def test_the_command_runs_a_batch_and_exits_0(tmp_path, capsys):
     """freefloat batch prints the counts, the rate and the spread of the headline keys."""
     scene = scene_variant(tmp_path / "s.toml", "tumbling", simulation={"duration": 0.02})

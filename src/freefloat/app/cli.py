@@ -48,7 +48,7 @@ def main(argv: list[str] | None = None) -> int:
                                                          "spawn_key=(i, key)) (default 0)")
     bat.add_argument("--vary", action="append", default=[], metavar="KEY=WIDTH",
                      help="vary KEY uniformly within +-WIDTH about the scene's value (repeatable): "
-                          + "; ".join(f"{k}: {d}" for k, d in _varies().items()))
+                          + "; ".join(f"{k}: {d}" for k, d in _varies().items()).replace("%", "%%"))
     bat.add_argument("--workers", type=int, default=None,
                      help="worker processes (default 1: one run after another in this process)")
     bat.add_argument("--dask", action="store_true", help="run on Dask: a local cluster of --workers (default 2) "
