@@ -106,9 +106,11 @@ def chart(results: dict, path) -> None:
             ax.annotate(f"{r['speed_up_over_serial'][name]:.2f}x", (bar.get_x() + bar.get_width() / 2, bar.get_height()),
                         ha="center", va="bottom", fontsize=8)
     ax.set_xticks([i + 0.4 - width / 2 for i in range(len(results))],
-                  [f"{n}\n(ceiling {max(r['ceiling_2_processes']):.2f}x)" for n, r in results.items()])
+                  [f"{n}\n(2-process ceiling {min(r['ceiling_2_processes']):.2f}-{max(r['ceiling_2_processes']):.2f}x)"
+                   for n, r in results.items()])
     ax.set_ylabel("runs per second (whole batch, best of turns)")
-    ax.set_title(f"freefloat batch on {os.cpu_count()} cores (shared machine)")
+    ax.set_title(f"freefloat batch on {os.cpu_count()} cores (shared machine); labels: median speed-up\n"
+                 "over serial, paired within each turn")
     ax.legend()
     save_chart(fig, path)
 
