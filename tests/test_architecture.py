@@ -19,13 +19,15 @@ SRC = Path(freefloat.__file__).resolve().parent
 #: Layer of each family of modules, lowest first; the facade (``freefloat`` itself, its public
 #: aliases and ``__main__``) sits above everything.
 LAYERS = {
-    "freefloat.errors": 0, "freefloat.paths": 0,
+    "base": 0,
     "freefloat.robot": 1,
     "freefloat.dynamics": 2,
     "freefloat.space": 3, "freefloat.parallel": 3,
     "freefloat.app": 4,
 }
 FACADE = 5
+#: The base: single modules that form one family (they may import each other).
+BASE = {"freefloat.errors", "freefloat.paths", "freefloat.distributed"}
 
 
 def module_files() -> dict[str, Path]:
@@ -44,6 +46,8 @@ MODULES = module_files()
 
 def family(module: str) -> str | None:
     """The layer family (a key of LAYERS) ``module`` belongs to, or None for the facade."""
+    if module in BASE:
+        return "base"
     return next((f for f in LAYERS if module == f or module.startswith(f + ".")), None)
 
 

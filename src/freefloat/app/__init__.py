@@ -3,7 +3,8 @@
 ``scenes`` (TOML schema, built-in scenes), ``experiments`` (one module per experiment kind and
 their registry), ``runner`` (the one loop life cycle: start, progress, interruption, partial
 results), ``outputs`` (the one run-folder writer), ``viz`` (meshcat pages, figures),
-``reproduce`` (the documents' studies), ``bench`` (side by side with MuJoCo) and ``cli`` (the
+``reproduce`` (the documents' studies), ``bench`` (side by side with MuJoCo), ``batch`` (N
+seeded varied runs of a scene, serially, on a process pool or on Dask) and ``cli`` (the
 ``freefloat`` command).
 
 May import every layer below: :mod:`freefloat.space`, :mod:`freefloat.parallel`,

@@ -1,5 +1,6 @@
 """Command line: ``freefloat simulate [SCENE] [--out DIR]`` (robot and mechanism scenes),
-``freefloat scenes``, ``freefloat verify``, ``freefloat reproduce``, ``freefloat bench``."""
+``freefloat batch``, ``freefloat scenes``, ``freefloat verify``, ``freefloat reproduce``,
+``freefloat bench``."""
 
 from __future__ import annotations
 
@@ -40,6 +41,22 @@ def main(argv: list[str] | None = None) -> int:
     sim.add_argument("--view", action="store_true",
                      help="show the run live in a meshcat viewer as it is computed, then replay it (robot runs); "
                           "other runs open their page when it is written")
+    bat = commands.add_parser("batch", help="N seeded runs of a scene with its start or plant varied, into one table")
+    bat.add_argument("scene", nargs="?", default=None, help="built-in scene name or TOML file (default: the ch. 4 task)")
+    bat.add_argument("--runs", type=int, default=10, help="number of runs (default 10)")
+    bat.add_argument("--seed", type=int, default=0, help="seed of the batch; run i draws from SeedSequence(seed, "
+                                                         "spawn_key=(i, key)) (default 0)")
+    bat.add_argument("--vary", action="append", default=[], metavar="KEY=WIDTH",
+                     help="vary KEY uniformly within +-WIDTH about the scene's value (repeatable): "
+                          + "; ".join(f"{k}: {d}" for k, d in _varies().items()).replace("%", "%%"))
+    bat.add_argument("--workers", type=int, default=None,
+                     help="worker processes (default 1: one run after another in this process)")
+    bat.add_argument("--dask", action="store_true", help="run on Dask: a local cluster of --workers (default 2) "
+                                                         "processes, or --scheduler's workers")
+    bat.add_argument("--scheduler", default=None, help="with --dask: a Dask scheduler's address (tcp://host:8786)")
+    bat.add_argument("--out", type=Path, default=None, help="output folder (default: runs/batch-<scene>-<time>)")
+    bat.add_argument("--overwrite", action="store_true", help="replace the previous batch in --out")
+    bat.add_argument("--quiet", action="store_true", help="no progress bar")
     commands.add_parser("scenes", help="list the built-in scenes")
     info = commands.add_parser("info", help="joints, links, masses, end-effectors and warnings of a robot")
     info.add_argument("robot", help="URDF file, or the name of a known robot (ur5, solo12, panda, ...)")
@@ -73,7 +90,7 @@ def main(argv: list[str] | None = None) -> int:
     ben.add_argument("--quick", action="store_true", help="three steps, 0.1 s, one repeat (a smoke test)")
     ben.add_argument("--out", type=Path, default=None, help="output folder (default: runs/bench-<time>)")
     args = parser.parse_args(argv)
-    commands_run = {"simulate": _simulate, "bench": _bench, "scenes": lambda _: _scenes(), "verify": _verify, "reproduce": _reproduce,
+    commands_run = {"simulate": _simulate, "batch": _batch, "bench": _bench, "scenes": lambda _: _scenes(), "verify": _verify, "reproduce": _reproduce,
                     "info": _info, "view": _view}
     try:
         return commands_run[args.command](args)
@@ -95,6 +112,41 @@ def _bench(args: argparse.Namespace) -> int:
         report = bench(out, args.scenes, quick=args.quick)
     print("\n".join(report["summary"]))
     print(f"written to {out}")
+    return 0
+
+
+def _varies() -> dict[str, str]:
+    from .batch import VARIES
+
+    return VARIES
+
+
+def _batch(args: argparse.Namespace) -> int:
+    from .batch import Workers, parse_band, run_batch
+    from .scenes import DEFAULT_SCENE, find_scene
+
+    if args.scheduler is not None and args.workers is not None:
+        raise FreefloatError("--workers sets the size of a local cluster; with --scheduler the scheduler's workers run")
+    default = 2 if args.dask or args.scheduler else 1
+    workers = Workers(default if args.workers is None else args.workers, args.dask or args.scheduler is not None,
+                      args.scheduler)
+    bands = [parse_band(text) for text in args.vary]
+    scene = find_scene(args.scene or DEFAULT_SCENE)
+    out = args.out or default_folder(f"batch-{scene.name}")
+    with one_line_warnings(), tqdm(total=args.runs, desc=scene.name, unit="run", disable=args.quiet, delay=0.5) as bar:
+        done = run_batch(scene, out, args.runs, bands, args.seed, workers, args.overwrite,
+                         progress=lambda row: bar.update(1))
+    summary = done.summary
+    counts = ", ".join(f"{n} {status}" for status, n in sorted(summary["by_status"].items()))
+    print(f"{summary['status']}: {summary['finished']} of {summary['runs']} runs ({counts or 'none'}) in "
+          f"{summary['wall_time_s']:.2f} s, {summary['runs_per_second'] or 0:.2f} runs/s ({workers.label}) -> {out}")
+    for key, spread in summary["spread"].items():
+        print(f"  {key}: min {spread['min']:.3g}, median {spread['median']:.3g}, max {spread['max']:.3g}")
+    if not done.completed:
+        print(f"freefloat: batch not all completed: {summary['not_run']} not run, "
+              f"{summary['finished'] - summary['by_status'].get('completed', 0)} stopped early or failed "
+              f"(rows in {out / 'runs.csv'})", file=sys.stderr)
+        return 1
     return 0
 
 

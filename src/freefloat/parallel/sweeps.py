@@ -1,9 +1,10 @@
 """Sweeps that outgrow one machine, through Dask: the worst-case gain design over the workspace
 grid, and a Monte-Carlo robustness study of the sliding-mode controller (issue 6, item 7).
 
-Both take a ``dask.distributed.Client``: :func:`client` starts a local cluster by default or
-connects to a scheduler address to scale out. Dask is an optional dependency
-(``pip install -e ".[dask]"``); a progress bar shows the tasks as they finish.
+Both take a ``dask.distributed.Client``: :func:`freefloat.distributed.client` (also importable
+from here) starts a local cluster by default or connects to a scheduler address to scale out.
+Dask is an optional dependency (``pip install -e ".[dask]"``); a progress bar shows the tasks as
+they finish.
 
 A sweep survives its workers: a sample that raises is recorded as failed (with the reason)
 instead of aborting the others, no result within ``timeout`` s (every worker lost) ends the
@@ -13,13 +14,12 @@ sample so that a rerun resumes (``done``).
 
 from __future__ import annotations
 
-import socket
 from dataclasses import replace
 from typing import Callable
 
 import numpy as np
-from tqdm import tqdm
 
+from ..distributed import client, settle_futures
 from ..errors import FreefloatError
 from .five_bar import FiveBarParameters
 from .sliding_mode import (
@@ -32,73 +32,8 @@ from .sliding_mode import (
     worst_case,
 )
 
-
-def client(address: str | None = None, workers: int = 2, processes: bool = True, connect_timeout: float = 5.0):
-    """A Dask client: connected to ``address`` (e.g. ``tcp://host:8786``) or to a new local cluster
-    of ``workers`` workers on this machine (loopback only).
-
-    Raises:
-        FreefloatError: naming the address when it is malformed or nothing answers there within
-            ``connect_timeout`` s.
-    """
-    from dask.distributed import Client, LocalCluster
-
-    if address:
-        _reachable(address, connect_timeout)
-        return Client(address, timeout=connect_timeout)
-    network = {"host": "127.0.0.1"} if processes else {}  # in-process clusters have no sockets
-    return Client(LocalCluster(n_workers=workers, threads_per_worker=1, processes=processes,
-                               dashboard_address=None, **network))
-
-
-def _reachable(address: str, timeout: float) -> None:
-    """Check that a scheduler listens at ``address`` before Dask tries (its own failure takes
-    its whole timeout and leaves a half-made client behind).
-
-    Raises:
-        FreefloatError: naming the address and what is wrong with it.
-    """
-    from distributed.comm.addressing import parse_address, parse_host_port
-
-    try:
-        scheme, location = parse_address(address, strict=True)
-        host, port = parse_host_port(location)
-    except (ValueError, TypeError) as exc:
-        raise FreefloatError(f"--scheduler '{address}' is not a Dask address such as tcp://host:8786 ({exc})") from exc
-    if scheme not in ("tcp", "tls"):
-        raise FreefloatError(f"--scheduler '{address}': scheme '{scheme}' is not supported here; use tcp://host:port")
-    try:
-        socket.create_connection((host, port), timeout=timeout).close()
-    except OSError as exc:
-        raise FreefloatError(f"--scheduler '{address}': no Dask scheduler answers ({exc.strerror or exc})") from exc
-
-
-def _settle(futures: dict, label: str, quiet: bool, timeout: float,
-            on_result: Callable[[int, object], None] | None = None) -> dict[int, object]:
-    """Results of ``futures`` ({index: future}) as they complete, each a value or the exception
-    it raised; stops waiting when none completes within ``timeout`` s (the rest are missing)."""
-    from dask.distributed import TimeoutError as DaskTimeout
-    from dask.distributed import as_completed
-
-    index_of = {future.key: i for i, future in futures.items()}
-    results: dict[int, object] = {}
-    with tqdm(total=len(futures), desc=label, disable=quiet) as bar:
-        completed = as_completed(list(futures.values()), timeout=timeout)
-        try:
-            for future in completed:
-                i = index_of[future.key]
-                try:
-                    results[i] = future.result()
-                except Exception as exc:  # the sample's own failure, recorded, not fatal
-                    results[i] = exc
-                if on_result is not None:
-                    on_result(i, results[i])
-                bar.update(1)
-        except (DaskTimeout, TimeoutError):
-            pass
-    for future in futures.values():
-        future.cancel()
-    return results
+#: ``client`` lives in :mod:`freefloat.distributed` and stays importable from here.
+__all__ = ["client", "design_gains_distributed", "monte_carlo"]
 
 
 def design_gains_distributed(dask_client, nominal: FiveBarParameters, points: np.ndarray, eta: float = 20.0,
@@ -111,7 +46,7 @@ def design_gains_distributed(dask_client, nominal: FiveBarParameters, points: np
     """
     parts = [chunk for chunk in np.array_split(points, chunks) if len(chunk)]
     futures = {i: dask_client.submit(worst_case, nominal, chunk, UNCERTAINTY, pure=False) for i, chunk in enumerate(parts)}
-    settled = _settle(futures, "gain design", quiet, timeout)
+    settled = settle_futures(futures, "gain design", quiet, timeout)
     failed = [i for i in range(len(parts)) if not isinstance(settled.get(i), tuple)]
     if failed:
         reasons = {str(settled.get(i, f"no result within {timeout:g} s")) for i in failed}
@@ -170,7 +105,7 @@ def monte_carlo(dask_client, gains: SlidingModeGains | None, runs: int, relative
         if on_result is not None:
             on_result(i, done[i])
 
-    settled = _settle(todo, "Monte Carlo", quiet, timeout, finished)
+    settled = settle_futures(todo, "Monte Carlo", quiet, timeout, finished)
     for i in todo:
         if i not in settled:
             done[i] = described(i, TimeoutError(f"no worker finished it within {timeout:g} s"))

@@ -1,0 +1,79 @@
+"""One run of a batch, as a worker process runs it: prepare the varied scene, swap in the varied
+plant, run the loop, and reduce the outcome to one flat row."""
+
+from __future__ import annotations
+
+import dataclasses
+import time
+import warnings
+from typing import Any
+
+import pinocchio as pin
+
+from ...dynamics.integrators import make_integrator
+from ...dynamics.models import make_model
+from ...dynamics.threads import single_blas_thread
+from ..experiments import experiment_for
+from ..experiments.robot_run import RobotSetup
+from ..runner import fail_if_not_finite
+from .variations import RunPlan
+
+#: Row keys that vary from one execution of the same run to the next (not results).
+TIMINGS = ("wall_time_s", "sim_wall_time_s")
+
+
+@single_blas_thread
+def run_one(plan: RunPlan) -> dict[str, Any]:
+    """Run ``plan`` and return its row: ``run``, ``seed``, ``status`` and ``message``, the drawn
+    values, the outcome's summary flattened (``base_displacement[0]``,
+    ``tracking_rms_per_arm.arm1_ee``) and ``wall_time_s`` (preparation and loop, s).
+
+    A run that raises is a row with ``status = "failed"`` and the error as its message; it never
+    raises but for ``KeyboardInterrupt`` outside the loop (inside, the loop returns what it
+    computed with ``status = "interrupted"``)."""
+    start = time.perf_counter()
+    row: dict[str, Any] = {"run": plan.index, "seed": plan.seed, "status": "failed", "message": "", **plan.varied}
+    try:
+        experiment = experiment_for(plan.scene)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")  # the batch showed the scene's warnings once
+            setup = experiment.prepare(plan.scene)
+        if plan.masses:
+            with_plant_masses(setup, plan.masses)
+        outcome = fail_if_not_finite(experiment.run(setup, None, None))
+        row.update(flatten(outcome.summary))
+        row.update(status=outcome.status, message=outcome.message)
+    except Exception as exc:  # the run's own failure, recorded in its row
+        row["message"] = f"{type(exc).__name__}: {exc}"
+    row["wall_time_s"] = time.perf_counter() - start
+    return row
+
+
+def with_plant_masses(setup: RobotSetup, factors: dict[str, float]) -> None:
+    """Replace the plant of ``setup`` by the robot with each body's mass and rotational inertia
+    (about its CoM) scaled by ``factors[joint name]`` (CoMs unchanged). The controller keeps the
+    nominal robot; the loop, its telemetry and the summary (momentum, energy) use the plant."""
+    model = pin.Model(setup.robot.model)
+    for j, name in enumerate(model.names):
+        if name in factors:
+            body = model.inertias[j]
+            model.inertias[j] = pin.Inertia(body.mass * factors[name], body.lever, body.inertia * factors[name])
+    sim = setup.scene.simulation
+    setup.robot = dataclasses.replace(setup.robot, model=model)
+    setup.model = make_model(sim.model, setup.robot)
+    setup.integrator = make_integrator(sim.integrator, model, sim.substeps, sim.rtol, sim.atol,
+                                       project_momentum=sim.project_momentum)
+
+
+def flatten(summary: dict[str, Any], prefix: str = "") -> dict[str, Any]:
+    """Scalars of ``summary`` by flat name: tables as ``key.sub``, lists as ``key[i]``."""
+    out: dict[str, Any] = {}
+    for key, value in summary.items():
+        name = f"{prefix}.{key}" if prefix and not key.startswith("[") else f"{prefix}{key}"
+        if isinstance(value, dict):
+            out.update(flatten(value, name))
+        elif isinstance(value, (list, tuple)):
+            out.update(flatten({f"[{i}]": v for i, v in enumerate(value)}, name))
+        else:
+            out[name] = value.item() if hasattr(value, "item") else value
+    return out

@@ -1,0 +1,174 @@
+"""What a batch varies from run to run, and the seeded draws that vary it.
+
+A band is ``KEY=WIDTH`` (the ``--vary`` flag): each varied number of run ``i`` is its nominal
+value plus a uniform draw in ``[-WIDTH, WIDTH]`` (``mass``: a factor ``1 + U(-WIDTH, WIDTH)``).
+Run ``i`` of a batch with seed ``S`` draws key ``k`` (its place in :data:`VARIES`) from
+``numpy.random.default_rng(SeedSequence(S, spawn_key=(i, k)))``: the same run gets the same
+values whatever the number of runs, the other keys varied, or the process that runs it.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from typing import Any, NamedTuple
+
+import numpy as np
+
+from ...errors import FreefloatError
+from ...robot.robot import Robot
+from ..experiments.robot_run import joint_table
+from ..scenes import MechanismScene, Scene
+
+#: Vary keys, what each varies and in which unit. Robot scenes take the first five (``mass``
+#: only without a ``[target]``), mechanism scenes the last two.
+VARIES: dict[str, str] = {
+    "base_rate": "base angular velocity, each component (planar base: z), in angle_unit/s",
+    "base_velocity": "base CoM velocity, each component (planar base: x, y), m/s",
+    "joint_angle": "every joint's start position, in angle_unit (m for prismatic joints)",
+    "joint_rate": "every joint's start rate, in angle_unit/s (m/s for prismatic joints)",
+    "mass": "the plant's link masses and inertias, each body by its own factor 1 +- WIDTH (WIDTH < 1, "
+            "or a percentage such as 10%); the controller keeps the nominal model",
+    "platform": "mechanism: the platform coordinates at t = 0 (m or rad)",
+    "platform_rate": "mechanism: the platform rates at t = 0 (m/s or rad/s)",
+}
+ROBOT_KEYS = ("base_rate", "base_velocity", "joint_angle", "joint_rate", "mass")
+MECHANISM_KEYS = ("platform", "platform_rate")
+
+
+class Band(NamedTuple):
+    """One ``--vary KEY=WIDTH``: the key (of :data:`VARIES`) and the half-width of its band."""
+
+    key: str
+    width: float
+
+
+class RunPlan(NamedTuple):
+    """What run ``index`` of a batch runs: its scene (initial state varied), the plant's mass
+    factor per Pinocchio body (by joint name; empty: the nominal plant) and the values it drew,
+    flat (``{"initial.base_angular_velocity[2]": 8.4, "mass.arm1_joint1": 1.03}``)."""
+
+    index: int
+    seed: int
+    scene: Scene | MechanismScene
+    masses: dict[str, float]
+    varied: dict[str, float]
+
+
+def parse_band(text: str) -> Band:
+    """A band from ``KEY=WIDTH`` (``mass`` also takes ``P%``).
+
+    Raises:
+        FreefloatError: naming ``--vary`` and the text for a missing ``=``, an unknown key (listing
+            the keys) or a width that is not a finite number >= 0 (< 1 for ``mass``).
+    """
+    key, sep, value = text.partition("=")
+    key = key.strip()
+    if not sep:
+        raise FreefloatError(f"--vary '{text}': expected KEY=WIDTH such as base_rate=2 or mass=10%")
+    if key not in VARIES:
+        raise FreefloatError(f"--vary '{text}': unknown key '{key}'; keys: {', '.join(VARIES)}")
+    value = value.strip()
+    percent = key == "mass" and value.endswith("%")
+    try:
+        width = float(value[:-1] if percent else value) / (100.0 if percent else 1.0)
+    except ValueError:
+        raise FreefloatError(f"--vary '{text}': width '{value}' is not a number") from None
+    if not math.isfinite(width) or width < 0:
+        raise FreefloatError(f"--vary '{text}': width must be a finite number >= 0")
+    if key == "mass" and width >= 1:
+        raise FreefloatError(f"--vary '{text}': mass factors 1 +- width must stay positive; use a width < 1 (or < 100%)")
+    return Band(key, width)
+
+
+def check_bands(scene: Scene | MechanismScene, bands: list[Band]) -> None:
+    """Refuse bands the scene cannot take.
+
+    Raises:
+        FreefloatError: naming ``--vary`` and the key for a key given twice, a robot key on a
+            mechanism scene (or the reverse), or ``mass`` on a capture scene.
+    """
+    seen: set[str] = set()
+    for band in bands:
+        if band.key in seen:
+            raise FreefloatError(f"--vary {band.key}: given twice")
+        seen.add(band.key)
+        valid = MECHANISM_KEYS if isinstance(scene, MechanismScene) else ROBOT_KEYS
+        if band.key not in valid:
+            raise FreefloatError(f"--vary {band.key}: not a key of {scene.kind} scene '{scene.name}'; "
+                                 f"valid: {', '.join(valid)}")
+        if band.key == "mass" and scene.kind == "capture":
+            raise FreefloatError(f"--vary mass: scene '{scene.name}' is a capture scene (its robot changes at the "
+                                 "grasp); mass varies joint-space and detumbling scenes")
+
+
+def plan_runs(scene: Scene | MechanismScene, nominal: Any, bands: list[Band], runs: int, seed: int) -> list[RunPlan]:
+    """The ``runs`` runs of a batch, each with its seeded draws.
+
+    Args:
+        nominal: the scene prepared once (``runner.prepare``): its robot or mechanism gives the
+            joints, bodies and platform coordinates to vary.
+
+    Raises:
+        FreefloatError: for ``runs`` < 1 or ``seed`` < 0 (naming the flag), or a band the scene
+            cannot take (see :func:`check_bands`).
+    """
+    if runs < 1:
+        raise FreefloatError(f"--runs must be >= 1, got {runs}")
+    if seed < 0:
+        raise FreefloatError(f"--seed must be >= 0, got {seed}")
+    check_bands(scene, bands)
+    return [_plan(scene, nominal, bands, i, seed) for i in range(runs)]
+
+
+def _plan(scene: Scene | MechanismScene, nominal: Any, bands: list[Band], index: int, seed: int) -> RunPlan:
+    initial: dict[str, Any] = {}
+    masses: dict[str, float] = {}
+    varied: dict[str, float] = {}
+    for band in bands:
+        rng = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(index, list(VARIES).index(band.key))))
+        if band.key == "mass":
+            names = nominal.robot.model.names[1:]
+            masses = dict(zip(names, 1.0 + rng.uniform(-band.width, band.width, len(names))))
+            varied.update({f"mass.{name}": float(f) for name, f in masses.items()})
+        else:
+            field, values = _draw(scene, nominal, band, rng)
+            initial[field] = values
+            varied.update(_flat(f"initial.{field}", values))
+    varied_scene = dataclasses.replace(scene, initial=dataclasses.replace(scene.initial, **initial))
+    return RunPlan(index, seed, varied_scene, masses, varied)
+
+
+def _draw(scene: Scene | MechanismScene, nominal: Any, band: Band, rng: np.random.Generator) -> tuple[str, Any]:
+    """The scene ``[initial]`` field ``band`` varies and its drawn value (scene units)."""
+    width = band.width
+    if band.key in ("joint_angle", "joint_rate"):
+        field = "joint_positions" if band.key == "joint_angle" else "joint_velocities"
+        robot: Robot = nominal.robot
+        start = joint_table(robot, getattr(scene.initial, field), 1.0, f"initial.{field}")
+        offsets = rng.uniform(-width, width, robot.n_joints)
+        values = {}
+        for j, name in enumerate(robot.joint_names, start=2):
+            first = robot.model.idx_vs[j] - robot.n_base  # one offset per joint, on all its coordinates
+            values[name] = float(start[first] + offsets[first])
+        return field, values
+    if band.key in ("base_rate", "base_velocity"):
+        field = "base_angular_velocity" if band.key == "base_rate" else "base_linear_velocity"
+        planar = nominal.robot.base == "planar"
+        free = [2] if planar and band.key == "base_rate" else [0, 1] if planar else [0, 1, 2]
+        values = np.array(getattr(scene.initial, field), float)
+        values[free] += rng.uniform(-width, width, len(free))
+        return field, tuple(float(v) for v in values)
+    p = nominal.setup.nominal.p
+    if band.key == "platform":
+        start = nominal.controller.reference(0.0)[0] if scene.initial.platform is None else scene.initial.platform
+        return "platform", tuple(float(v) for v in np.asarray(start, float) + rng.uniform(-width, width, p))
+    rates = np.zeros(p) if scene.initial.platform_velocity is None else np.asarray(scene.initial.platform_velocity)
+    return "platform_velocity", tuple(float(v) for v in rates + rng.uniform(-width, width, p))
+
+
+def _flat(prefix: str, values: Any) -> dict[str, float]:
+    """``{prefix.name: v}`` for a table, ``{prefix[i]: v}`` for a vector."""
+    if isinstance(values, dict):
+        return {f"{prefix}.{k}": v for k, v in values.items()}
+    return {f"{prefix}[{i}]": v for i, v in enumerate(values)}

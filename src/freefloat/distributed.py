@@ -1,0 +1,88 @@
+"""Work spread over processes through Dask: a client of a local cluster or of a scheduler, and
+the results of submitted tasks as they finish.
+
+Dask is an optional dependency (``pip install -e ".[dask]"``), imported when a client is made.
+Shared by the 5R sweeps (:mod:`freefloat.parallel.sweeps`) and the batches of runs
+(:mod:`freefloat.app.batch`); it imports nothing of freefloat but its errors.
+"""
+
+from __future__ import annotations
+
+import socket
+from typing import Callable
+
+from tqdm import tqdm
+
+from .errors import FreefloatError
+
+
+def client(address: str | None = None, workers: int = 2, processes: bool = True, connect_timeout: float = 5.0):
+    """A Dask client: connected to ``address`` (e.g. ``tcp://host:8786``) or to a new local cluster
+    of ``workers`` workers on this machine (loopback only, one thread each).
+
+    Raises:
+        FreefloatError: naming the address when it is malformed or nothing answers there within
+            ``connect_timeout`` s.
+    """
+    from dask.distributed import Client, LocalCluster
+
+    if address:
+        _reachable(address, connect_timeout)
+        return Client(address, timeout=connect_timeout)
+    network = {"host": "127.0.0.1"} if processes else {}  # in-process clusters have no sockets
+    return Client(LocalCluster(n_workers=workers, threads_per_worker=1, processes=processes,
+                               dashboard_address=None, **network))
+
+
+def _reachable(address: str, timeout: float) -> None:
+    """Check that a scheduler listens at ``address`` before Dask tries (its own failure takes
+    its whole timeout and leaves a half-made client behind).
+
+    Raises:
+        FreefloatError: naming the address and what is wrong with it.
+    """
+    from distributed.comm.addressing import parse_address, parse_host_port
+
+    try:
+        scheme, location = parse_address(address, strict=True)
+        host, port = parse_host_port(location)
+    except (ValueError, TypeError) as exc:
+        raise FreefloatError(f"--scheduler '{address}' is not a Dask address such as tcp://host:8786 ({exc})") from exc
+    if scheme not in ("tcp", "tls"):
+        raise FreefloatError(f"--scheduler '{address}': scheme '{scheme}' is not supported here; use tcp://host:port")
+    try:
+        socket.create_connection((host, port), timeout=timeout).close()
+    except OSError as exc:
+        raise FreefloatError(f"--scheduler '{address}': no Dask scheduler answers ({exc.strerror or exc})") from exc
+
+
+def settle_futures(futures: dict, label: str, quiet: bool, timeout: float,
+           on_result: Callable[[int, object], None] | None = None) -> dict[int, object]:
+    """Results of ``futures`` ({index: future}) as they complete, each a value or the exception
+    it raised; stops waiting when none completes within ``timeout`` s (the rest are missing).
+    ``on_result(index, result)`` is called as each completes; the futures still pending when it
+    returns (or is interrupted) are cancelled."""
+    from dask.distributed import TimeoutError as DaskTimeout
+    from dask.distributed import as_completed
+
+    index_of = {future.key: i for i, future in futures.items()}
+    results: dict[int, object] = {}
+    try:
+        with tqdm(total=len(futures), desc=label, disable=quiet) as bar:
+            completed = as_completed(list(futures.values()), timeout=timeout)
+            try:
+                for future in completed:
+                    i = index_of[future.key]
+                    try:
+                        results[i] = future.result()
+                    except Exception as exc:  # the task's own failure, recorded, not fatal
+                        results[i] = exc
+                    if on_result is not None:
+                        on_result(i, results[i])
+                    bar.update(1)
+            except (DaskTimeout, TimeoutError):
+                pass
+    finally:
+        for future in futures.values():
+            future.cancel()
+    return results

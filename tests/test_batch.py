@@ -1,0 +1,159 @@
+"""Batches of runs: the same numbers serially, on a pool and on Dask; failures kept as rows; an
+interrupted batch keeps its finished rows; the folder's table and record; bad flags named."""
+
+from __future__ import annotations
+
+import csv
+import json
+import signal
+import subprocess
+import sys
+import time
+
+import pytest
+
+from freefloat import FreefloatError
+from freefloat.app.batch import Band, Workers, run_batch
+from freefloat.app.batch.driver import PARTIAL
+from freefloat.app.batch.one_run import TIMINGS
+from freefloat.app.cli import main
+from freefloat.app.scenes import load_scene
+
+from .conftest import scene_variant
+
+
+def short(tmp_path, builtin: str = "four_arm_joint_space", duration: float = 0.05):
+    """A built-in scene cut to ``duration`` s."""
+    return load_scene(scene_variant(tmp_path / f"{builtin}.toml", builtin, simulation={"duration": duration}))
+
+
+def results(rows: list[dict]) -> list[dict]:
+    """Rows without their timings."""
+    return [{k: v for k, v in row.items() if k not in TIMINGS} for row in rows]
+
+
+def test_serial_pool_and_dask_give_identical_rows(tmp_path):
+    """The same seeds give bit-identical rows one after another, on a 2-process pool and on a
+    local Dask cluster of 2 worker processes."""
+    pytest.importorskip("dask.distributed")
+    scene = short(tmp_path)
+    bands = [Band("joint_rate", 2.0), Band("mass", 0.1)]
+    serial, pool, dask = (run_batch(scene, tmp_path / name, 4, bands, seed=5, workers=workers).rows
+                          for name, workers in [("serial", Workers()), ("pool", Workers(2)),
+                                                ("dask", Workers(2, dask=True))])
+    assert [r["status"] for r in serial] == ["completed"] * 4
+    assert results(serial) == results(pool) == results(dask)
+    assert len({r["tracking_rms_overall"] for r in serial}) == 4
+
+
+def test_a_failing_run_is_recorded_and_the_batch_goes_on(tmp_path):
+    """Starts where the 5R cannot be assembled fail with the reason in their rows, on a pool; the
+    other runs complete."""
+    done = run_batch(short(tmp_path, "five_bar_computed_torque", 0.01), tmp_path / "out", 6, [Band("platform", 0.2)],
+                     seed=0, workers=Workers(2))
+    statuses = [r["status"] for r in done.rows]
+    assert set(statuses) == {"completed", "failed"} and [r["run"] for r in done.rows] == list(range(6))
+    assert all("cannot" in r["message"] or "point" in r["message"] for r in done.rows if r["status"] == "failed")
+    assert done.summary["by_status"] == {s: statuses.count(s) for s in set(statuses)} and not done.completed
+
+
+def test_a_pool_worker_that_dies_fails_the_runs_left_and_the_batch_ends(tmp_path, monkeypatch):
+    """A worker process that exits mid-run (as a crash would) breaks the pool: every run left is a
+    failed row naming the lost worker, and the batch ends instead of hanging."""
+    import os
+
+    from freefloat.app.batch import one_run
+
+    monkeypatch.setattr(one_run, "experiment_for", lambda scene: os._exit(3))  # inherited by the forked workers
+    done = run_batch(short(tmp_path, "tumbling", 0.01), tmp_path / "out", 3, [], workers=Workers(2))
+    assert [r["run"] for r in done.rows] == [0, 1, 2]
+    assert all(r["status"] == "failed" and r["message"].startswith("worker process lost") for r in done.rows)
+
+
+def test_the_folder_holds_the_table_the_record_and_the_scene(tmp_path):
+    """runs.csv and runs.json hold the same rows; summary.json the seed, bands, workers, counts,
+    scene and versions; scene.toml the scene file; no partial file is left."""
+    scene = short(tmp_path, "tumbling")
+    done = run_batch(scene, tmp_path / "out", 3, [Band("base_rate", 2.0)], seed=9)
+    out = tmp_path / "out"
+    table = list(csv.DictReader((out / "runs.csv").open()))
+    rows = json.loads((out / "runs.json").read_text())
+    assert rows == json.loads(json.dumps(done.rows)) and len(table) == 3
+    assert [float(r["initial.base_angular_velocity[1]"]) for r in table] == [
+        r["initial.base_angular_velocity[1]"] for r in rows]
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["seed"] == 9 and summary["vary"] == {"base_rate": 2.0} and summary["workers"] == "serial"
+    assert summary["by_status"] == {"completed": 3} and summary["scene"]["name"] == "tumbling"
+    assert "pin" in summary["versions"] and (out / "scene.toml").read_text() == scene.source.read_text()
+    assert not (out / PARTIAL).exists()
+
+
+def test_a_folder_in_use_or_not_empty_is_refused_before_any_run(tmp_path):
+    """An output folder holding other files is refused naming it, and nothing is run."""
+    (tmp_path / "out").mkdir()
+    (tmp_path / "out" / "mine.txt").write_text("keep")
+    with pytest.raises(FreefloatError, match="output folder .* is not empty"):
+        run_batch(short(tmp_path), tmp_path / "out", 2, [])
+    assert sorted(p.name for p in (tmp_path / "out").iterdir()) == ["mine.txt"]
+
+
+@pytest.mark.parametrize("workers", ["1", "2"])
+def test_sigterm_keeps_the_finished_rows(tmp_path, workers):
+    """SIGTERM to a running batch (serial or pool) exits 1 and writes every finished row, the
+    batch marked interrupted and the runs left counted as not run."""
+    scene = scene_variant(tmp_path / "s.toml", "tumbling", simulation={"duration": 0.2})
+    out = tmp_path / "out"
+    proc = subprocess.Popen([sys.executable, "-m", "freefloat", "batch", str(scene), "--runs", "400", "--workers",
+                             workers, "--quiet", "--out", str(out)], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                            text=True)
+    deadline = time.monotonic() + 120
+    while not (out / PARTIAL).is_file() or len((out / PARTIAL).read_text().splitlines()) < 2:
+        assert time.monotonic() < deadline and proc.poll() is None, "the batch never finished a run"
+        time.sleep(0.05)
+    proc.send_signal(signal.SIGTERM)
+    _, err = proc.communicate(timeout=60)
+    summary = json.loads((out / "summary.json").read_text())
+    rows = json.loads((out / "runs.json").read_text())
+    assert proc.returncode == 1 and summary["status"] == "interrupted", err
+    assert 2 <= len(rows) == summary["finished"] < 400 and summary["not_run"] == 400 - len(rows)
+    assert all(r["status"] == "completed" for r in rows) and not (out / PARTIAL).exists()
+
+
+@pytest.mark.parametrize("args, message", [
+    (["--runs", "0"], "--runs must be >= 1, got 0"),
+    (["--vary", "wobble=1"], "--vary 'wobble=1': unknown key 'wobble'"),
+    (["--vary", "mass=2"], "--vary 'mass=2'"),
+    (["--workers", "0"], "--workers must be >= 1, got 0"),
+    (["--dask", "--scheduler", "tcp://127.0.0.1:1"], "--scheduler 'tcp://127.0.0.1:1': no Dask scheduler answers"),
+    (["--scheduler", "nonsense"], "--scheduler 'nonsense' is not a Dask address"),
+    (["--scheduler", "tcp://127.0.0.1:1", "--workers", "2"], "--workers sets the size of a local cluster"),
+])
+def test_bad_flags_are_named_and_exit_2(tmp_path, capsys, args, message):
+    """Bad counts, bands, workers and scheduler addresses exit 2 with a message naming the flag,
+    before any run."""
+    if "--scheduler" in args:
+        pytest.importorskip("dask.distributed")
+    scene = scene_variant(tmp_path / "s.toml", "tumbling", simulation={"duration": 0.01})
+    status = main(["batch", str(scene), "--quiet", "--out", str(tmp_path / "out"), *args])
+    assert status == 2 and message in capsys.readouterr().err
+    assert not (tmp_path / "out").exists()
+
+
+def test_the_help_lists_every_vary_key(capsys):
+    """freefloat batch --help prints (its text has percent signs) and names each key."""
+    from freefloat.app.batch import VARIES
+
+    with pytest.raises(SystemExit) as stop:
+        main(["batch", "--help"])
+    printed = " ".join(capsys.readouterr().out.split())
+    assert stop.value.code == 0 and all(f"{key}:" in printed for key in VARIES)
+
+
+def test_the_command_runs_a_batch_and_exits_0(tmp_path, capsys):
+    """freefloat batch prints the counts, the rate and the spread of the headline keys."""
+    scene = scene_variant(tmp_path / "s.toml", "tumbling", simulation={"duration": 0.02})
+    status = main(["batch", str(scene), "--runs", "2", "--vary", "base_rate=1", "--quiet", "--out",
+                   str(tmp_path / "out")])
+    printed = capsys.readouterr().out
+    assert status == 0 and "completed: 2 of 2 runs (2 completed)" in printed and "runs/s (serial)" in printed
+    assert "momentum_drift_max: min" in printed

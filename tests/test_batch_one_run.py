@@ -1,0 +1,81 @@
+"""One run of a batch: the varied plant, the flat row, and a failure kept as a row."""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+import pinocchio as pin
+import pytest
+
+from freefloat.app import runner
+from freefloat.app.batch.one_run import flatten, run_one, with_plant_masses
+from freefloat.app.batch.variations import Band, plan_runs
+from freefloat.app.scenes import load_scene
+
+from .conftest import scene_variant
+
+
+@pytest.fixture
+def short_task(tmp_path):
+    """The default task (computed torque), 0.05 s, no drawings."""
+    return load_scene(scene_variant(tmp_path / "s.toml", "four_arm_joint_space", simulation={"duration": 0.05},
+                                    output={"figures": False, "html": False}))
+
+
+def prepared(scene):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return runner.prepare(scene)
+
+
+def test_the_plant_gets_the_scaled_bodies_and_the_controller_keeps_the_nominal(short_task):
+    """Each body's mass and inertia are scaled by its factor about an unchanged CoM (Pinocchio's
+    CRBA of the plant changes by those factors); the controller's model does not change."""
+    setup = prepared(short_task)
+    nominal = setup.robot.model
+    factors = {name: 1.0 + 0.01 * j for j, name in enumerate(nominal.names) if j > 0}
+    controller_model = setup.controller.dynamics.model.model  # the controller's ExactModel's pin.Model
+    with_plant_masses(setup, factors)
+    plant = setup.robot.model
+    for j in range(1, nominal.njoints):
+        f = factors[nominal.names[j]]
+        assert plant.inertias[j].mass == pytest.approx(f * nominal.inertias[j].mass, rel=1e-14)
+        np.testing.assert_allclose(plant.inertias[j].lever, nominal.inertias[j].lever, rtol=0, atol=0)
+        np.testing.assert_allclose(plant.inertias[j].inertia, f * nominal.inertias[j].inertia, rtol=1e-14)
+    assert pin.computeTotalMass(plant) == pytest.approx(sum(factors[nominal.names[j]] * nominal.inertias[j].mass
+                                                            for j in range(1, nominal.njoints)), rel=1e-14)
+    assert setup.model.model is plant and setup.controller.dynamics.model.model is controller_model is nominal
+
+
+def test_a_varied_mass_changes_the_run_but_not_its_momentum_conservation(short_task):
+    """With the plant 20 % off, the tracking differs from the nominal run while momentum is still
+    conserved (the summary uses the plant's masses)."""
+    nominal = prepared(short_task)
+    same, varied = (plan_runs(short_task, nominal, bands, 1, seed=2)[0] for bands in ([], [Band("mass", 0.2)]))
+    a, b = run_one(same), run_one(varied)
+    assert a["status"] == b["status"] == "completed"
+    assert a["tracking_rms_overall"] != b["tracking_rms_overall"]
+    assert b["momentum_drift_max"] < 1e-10
+
+
+def test_a_run_that_raises_is_a_failed_row(short_task, monkeypatch):
+    """An error in a run becomes its row's status and message, with the drawn values kept."""
+    from freefloat.app.batch import one_run
+
+    plan = plan_runs(short_task, prepared(short_task), [Band("joint_rate", 1.0)], 1, seed=0)[0]
+
+    def broken(scene):
+        raise ValueError("no such thing")
+
+    monkeypatch.setattr(one_run, "experiment_for", broken)
+    row = run_one(plan)
+    assert row["status"] == "failed" and row["message"] == "ValueError: no such thing"
+    assert row["initial.joint_velocities.arm1_joint1"] == plan.varied["initial.joint_velocities.arm1_joint1"]
+
+
+def test_flatten_names_tables_and_lists():
+    """Nested tables become key.sub, lists key[i], numpy scalars plain numbers."""
+    flat = flatten({"a": 1.0, "b": [1, [2, 3]], "c": {"x": np.float64(2.5), "y": [4]}})
+    assert flat == {"a": 1.0, "b[0]": 1, "b[1][0]": 2, "b[1][1]": 3, "c.x": 2.5, "c.y[0]": 4}
+    assert type(flat["c.x"]) is float
