@@ -125,10 +125,16 @@ PYBIND11_MODULE(_sim, m) {
            [](PySimulation& s, long last, py::tuple arrays, int row) {
              Rows r = s.rows(arrays);
              if (row < 0 || row > r.rows) throw std::invalid_argument("row out of range");
-             py::gil_scoped_release release;
-             return s.sim->run(last, r, row);
+             std::string error;
+             int written;
+             {
+               py::gil_scoped_release release;
+               written = s.sim->run(last, r, row, error);
+             }
+             return py::make_tuple(written, error.empty() ? py::object(py::none()) : py::object(py::str(error)));
            },
-           "Runs to period `last` or until the chunk is full; returns the rows written from `row`.")
+           "Runs to period `last` or until the chunk is full: (rows written from `row`, the blow-up "
+           "message or None).")
       .def("record_last",
            [](PySimulation& s, py::tuple arrays, int row, std::optional<Array> reference) {
              Rows r = s.rows(arrays);

@@ -144,9 +144,9 @@ class Simulation {
   }
 
   // Runs until period `last` (exclusive) or until `rows` has no free row for a period that
-  // records; writes rows from `row`. Returns the rows written. Throws std::overflow_error with the
-  // Python loop's message when the state blows up (the state stays at the last good period).
-  int run(long last, Rows& out, int row) {
+  // records; writes rows from `row`. Returns the rows written; when the state blows up, stops
+  // there (the state stays at the last good period) and puts the Python loop's message in `error`.
+  int run(long last, Rows& out, int row, std::string& error) {
     const int first_row = row;
     while (k_ < last) {
       const double t = start_ + k_ * period_;
@@ -154,7 +154,12 @@ class Simulation {
       if (records && row == out.rows) break;
       control(t);
       if (records) record(out, row++, t, nullptr);
-      step(t);
+      try {
+        step(t);
+      } catch (const std::overflow_error& blow_up) {
+        error = blow_up.what();
+        break;
+      }
     }
     return row - first_row;
   }
