@@ -157,3 +157,10 @@ def test_the_command_runs_a_batch_and_exits_0(tmp_path, capsys):
     printed = capsys.readouterr().out
     assert status == 0 and "completed: 2 of 2 runs (2 completed)" in printed and "runs/s (serial)" in printed
     assert "momentum_drift_max: min" in printed
+
+
+def test_a_batch_without_vary_warns_that_its_runs_are_alike(tmp_path, capsys):
+    """Without --vary every run starts alike: the command says so (the runs still go)."""
+    scene = scene_variant(tmp_path / "s.toml", "tumbling", simulation={"duration": 0.01})
+    assert main(["batch", str(scene), "--runs", "2", "--quiet", "--out", str(tmp_path / "out")]) == 0
+    assert "no --vary: the 2 runs start alike" in capsys.readouterr().err

@@ -131,6 +131,9 @@ def _batch(args: argparse.Namespace) -> int:
     workers = Workers(default if args.workers is None else args.workers, args.dask or args.scheduler is not None,
                       args.scheduler)
     bands = [parse_band(text) for text in args.vary]
+    if not bands and args.runs > 1:
+        print(f"freefloat: warning: no --vary: the {args.runs} runs start alike and give the same numbers "
+              "(vary them with --vary KEY=WIDTH, see freefloat batch --help)", file=sys.stderr)
     scene = find_scene(args.scene or DEFAULT_SCENE)
     out = args.out or default_folder(f"batch-{scene.name}")
     with one_line_warnings(), tqdm(total=args.runs, desc=scene.name, unit="run", disable=args.quiet, delay=0.5) as bar:

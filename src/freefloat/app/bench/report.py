@@ -72,7 +72,10 @@ def chart(scene: str, points: list[Point], path: Path) -> None:
         ax.grid(True, which="both", alpha=0.3)
     axes[0].set_ylabel("wall time per run, ms (median)")
     axes[0].legend(fontsize=7, ncol=2)
-    fig.suptitle(f"{scene}: work against precision (freefloat, a bare Pinocchio loop and MuJoCo in one process)")
+    names = {"freefloat": "freefloat", "pinocchio": "a bare Pinocchio loop", "mujoco": "MuJoCo"}
+    present = [names[p] for p in names if any(q.method.package == p for q in points)]
+    fig.suptitle(f"{scene}: work against precision ({', '.join(present[:-1])} and {present[-1]} in one process)"
+                 if len(present) > 1 else f"{scene}: work against precision")
     fig.tight_layout()
     fig.savefig(path, dpi=120)
     plt.close(fig)
