@@ -58,7 +58,7 @@ Rows rows_of(const Model& m, int n_joints, int n_ee, py::tuple arrays) {
 struct PySimulation {
   std::unique_ptr<Simulation> sim;
   int n_joints, n_ee;
-  Rows bound{};         // the chunk bind() gave, for period()
+  Rows bound{};             // the chunk bind() gave, for record()
   py::object bound_arrays;  // keeps its arrays alive (null until bind())
 
   Rows rows(py::tuple arrays) const { return rows_of(sim->model(), n_joints, n_ee, arrays); }
@@ -135,32 +135,26 @@ PYBIND11_MODULE(_sim, m) {
            },
            "Runs to period `last` or until the chunk is full: (rows written from `row`, the blow-up "
            "message or None).")
-      .def("record_last",
-           [](PySimulation& s, py::tuple arrays, int row, std::optional<Array> reference) {
-             Rows r = s.rows(arrays);
-             if (row < 0 || row >= r.rows) throw std::invalid_argument("row out of range");
-             std::optional<Vec> ref;
-             if (reference) ref = vec(*reference, s.n_joints, "reference");
-             s.sim->record_last(r, row, ref ? &*ref : nullptr);
-           },
-           py::arg("arrays"), py::arg("row"), py::arg("reference") = py::none())
       .def("bind",
            [](PySimulation& s, py::tuple arrays) {
              s.bound = s.rows(arrays);
              s.bound_arrays = arrays;
            },
-           "The chunk period() writes its rows into.")
-      .def("period",
-           [](PySimulation& s, const Array& tau, std::optional<Array> reference, int row) {
-             if (row >= 0 && (!s.bound_arrays || row >= s.bound.rows))
+           "The chunk record() writes into.")
+      .def("hold", [](PySimulation& s, const Array& tau) { s.sim->hold(vec(tau, s.n_joints, "tau")); },
+           "Hold the joint torques `tau` (n_joints,) from the current period on.")
+      .def("record",
+           [](PySimulation& s, int row, std::optional<Array> reference) {
+             if (!s.bound_arrays || row < 0 || row >= s.bound.rows)
                throw std::invalid_argument("row out of range of the bound chunk");
-             const Vec t = vec(tau, s.n_joints, "tau");
              std::optional<Vec> ref;
              if (reference) ref = vec(*reference, s.n_joints, "reference");
-             s.sim->period(t, ref ? &*ref : nullptr, &s.bound, row);
+             s.sim->record_now(s.bound, row, ref ? &*ref : nullptr);
            },
-           py::arg("tau"), py::arg("reference"), py::arg("row"),
-           "One control period with `tau` held; the row at its start goes to `row` of the bound chunk (-1: none).")
+           py::arg("row"), py::arg("reference") = py::none(),
+           "Row `row` of the bound chunk at the current state (reference: the joint reference, or None).")
+      .def("step", [](PySimulation& s) { s.sim->step_period(); },
+           "One control period; OverflowError with the Python loop's message on a blow-up.")
       .def("set_wrenches",
            [](PySimulation& s, std::vector<int> joints, const Array& com, const Array& force, const Array& torque) {
              const py::ssize_t k = static_cast<py::ssize_t>(joints.size());

@@ -26,7 +26,7 @@ from pathlib import Path
 
 import numpy as np
 import pinocchio as pin
-from bench_common import parser, write_json
+from bench_common import parser, save_chart, write_json
 
 from freefloat import load_robot
 from freefloat.app.runner import prepare
@@ -100,7 +100,8 @@ def cpp_floor(prepared, steps: int, dt: float, every: int) -> float:
     loop.start(prepared.q0, prepared.v0)
     start = time.perf_counter()
     rows, _ = loop.run(steps, chunk, 0)
-    loop.record_last(chunk, rows)
+    loop.bind(chunk)
+    loop.record(rows)
     return time.perf_counter() - start
 
 
@@ -206,9 +207,7 @@ def chart(report: dict, path: Path) -> None:
     ax2.legend(fontsize=8)
     ax2.set_ylabel("time per control step [us]")
     ax2.set_title("Default scene: freefloat's loops, the C++ floor, an inline Python loop")
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    save_chart(fig, path)
 
 
 def main() -> None:

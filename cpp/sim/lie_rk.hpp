@@ -145,6 +145,7 @@ class LieIntegrator {
     A_.resize(s, model.nv);
     theta_.resize(model.nv);
     vel_.resize(model.nv);
+    k_.resize(model.nv);
     qs_.resize(model.nq);
     a_.resize(model.nv);
   }
@@ -163,7 +164,8 @@ class LieIntegrator {
         f(q, v, a_);
         ++calls_;
         v += h * a_;
-        pinocchio::integrate(model_, q, (h * v).eval(), qs_);
+        theta_ = h * v;
+        pinocchio::integrate(model_, q, theta_, qs_);
         q = qs_;
       } else {
         stages(f, q, v, h, false);
@@ -187,13 +189,12 @@ class LieIntegrator {
       ++calls_;
     }
     const bool correct = name_ != "rk4_naive";
-    Vec k(model_.nv);
     for (size_t i = 1; i < s; ++i) {
       combine(tableau_.rows[i], h, theta_, vel_);
       vel_ += v;
-      if (correct) chart_.apply(theta_, vel_, k);
-      else k = vel_;
-      K_.row(i) = k.transpose();
+      if (correct) chart_.apply(theta_, vel_, k_);
+      else k_ = vel_;
+      K_.row(i) = k_.transpose();
       pinocchio::integrate(model_, q, theta_, qs_);
       f(qs_, vel_, a_);
       A_.row(i) = a_.transpose();
@@ -262,7 +263,7 @@ class LieIntegrator {
   ChartCorrection chart_;
   Tableau tableau_;
   Mat K_, A_;
-  Vec theta_, vel_, qs_, a_;
+  Vec theta_, vel_, k_, qs_, a_;  // scratch: chart increment, stage velocity, chart velocity, stage q, acceleration
   long calls_ = 0, accepted_ = 0, rejected_ = 0;
   double h_ = 0.0;
 

@@ -97,6 +97,7 @@ class Simulation {
   }
 
   void set_computed_torque(Quintic reference, double kp, double kd) {
+    controlled_ = true;
     reference_ = std::move(reference);
     kp_ = kp;
     kd_ = kd;
@@ -111,17 +112,16 @@ class Simulation {
   };
   void set_wrenches(std::vector<Wrench> wrenches) { wrenches_ = std::move(wrenches); }
 
-  // One control period with the joint torques `tau` (n,) held: writes the row at its start into
-  // `out` when `row` >= 0 (reference: the controller's, or null for NaN), then steps. Throws like
-  // run().
-  void period(const Vec& tau, const Vec* reference, Rows* out, int row) {
+  // Hold the joint torques `tau` (n,) from the current period on (a controller outside the loop).
+  void hold(const Vec& tau) {
     tau_ = tau;
     tau_full_.tail(joints_.n) = tau;
     controlled_ = true;
-    const double t = start_ + k_ * period_;
-    if (row >= 0) record(*out, row, t, reference);
-    step(t);
   }
+
+  // One control period from the current state, torques and wrenches held. Throws
+  // std::overflow_error with the Python loop's message on a blow-up (the state stays).
+  void step_period() { step(start_ + k_ * period_); }
 
   void set_state(const Vec& q, const Vec& v, long period, double work) {
     integrator_.restart();
@@ -164,9 +164,9 @@ class Simulation {
     return row - first_row;
   }
 
-  // The row at the current state (the run's last sample), torques of the period that ends here;
-  // `reference` as in period().
-  void record_last(Rows& out, int row, const Vec* reference) { record(out, row, start_ + k_ * period_, reference); }
+  // Row `row` of `out` at the current state and time, with the torques held; the joint reference
+  // from `reference` if given, else from the compiled law (or NaN).
+  void record_now(Rows& out, int row, const Vec* reference) { record(out, row, start_ + k_ * period_, reference); }
 
  private:
   void control(double t) {
@@ -200,7 +200,7 @@ class Simulation {
     if (!(qmax < kMaxPosition))
       fail("configuration left the finite range at t = %.6g s (step %ld): max |q| = %.3g (limit %g)", t_end, qmax,
            kMaxPosition);
-    if (reference_ || controlled_) work_ += tau_.dot(pinocchio::difference(model_, q_, qn_).tail(joints_.n));
+    if (controlled_) work_ += tau_.dot(pinocchio::difference(model_, q_, qn_).tail(joints_.n));
     q_.swap(qn_);
     v_.swap(vn_);
     ++k_;
@@ -258,7 +258,7 @@ class Simulation {
   int record_every_;
   Dynamics dynamics_;
   std::optional<Quintic> reference_;
-  bool controlled_ = false;
+  bool controlled_ = false;  // torques are held (a law or hold()): the work is accumulated
   std::vector<Wrench> wrenches_;
   pinocchio::container::aligned_vector<pinocchio::Force> fext_;
   double kp_ = 0.0, kd_ = 0.0, mass_ = 0.0, work_ = 0.0;

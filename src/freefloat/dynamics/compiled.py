@@ -58,7 +58,15 @@ def law_of(controller: Any) -> tuple | None:
 
 
 def _model_arrays(robot: Robot) -> dict[str, Any]:
-    """Joints, inertias, frames of ``robot.model`` as the arrays ``_sim.Simulation`` rebuilds from."""
+    """Joints, inertias, frames of ``robot.model`` as the arrays ``_sim.Simulation`` rebuilds from.
+
+    Per joint 1..njoints-1: parent joint index; Pinocchio kind; motion subspace ``[linear;
+    angular]`` (6,) in the joint frame (zeros for multi-dof joints, which need none); placement in
+    the parent joint's frame (4, 4); mass, kg; CoM in the joint frame (3,), m; rotational inertia
+    about the CoM in joint-frame axes (3, 3), kg m^2. Armature (nv,), gravity in the inertial
+    frame (3,), m/s^2. Frames, in order the base CoM frame then each end-effector: parent joint and
+    placement in its frame (4, 4).
+    """
     model = robot.model
     q0 = pin.neutral(model)
     joints = range(1, model.njoints)
@@ -98,7 +106,8 @@ def _joint_map(robot: Robot) -> _sim.JointMap:
 
 
 class CompiledLoop:
-    """One compiled simulation of ``robot``: plant, integrator, controller, telemetry.
+    """One compiled simulation of ``robot``: plant, integrator, controller, telemetry. The same
+    per-period interface as :class:`~freefloat.dynamics.simulation.PythonPeriods`.
 
     Args:
         robot: the robot (its Pinocchio model is rebuilt in C++).
@@ -114,6 +123,8 @@ class CompiledLoop:
         InvalidArgument: for a joint kind or integrator the compiled loop does not have, or when
             the rebuilt model's ABA differs from ``pin.aba`` (it then names the difference).
     """
+
+    backend = "compiled"
 
     def __init__(self, robot: Robot, integrator: Any, control_period: float, start_time: float = 0.0,
                  record_every: int = 1, law: tuple | None = None):
@@ -156,20 +167,22 @@ class CompiledLoop:
         """
         return self.sim.run(last_period, _arrays(chunk), row)
 
-    def record_last(self, chunk: Telemetry, row: int, reference: np.ndarray | None = None) -> None:
-        """Write the row of the current state (a run's final sample); ``reference`` (n_joints,) is
-        the controller's joint reference (default: the compiled law's, or NaN)."""
-        self.sim.record_last(_arrays(chunk), row, reference)
-
     def bind(self, chunk: Telemetry) -> None:
-        """The chunk :meth:`period` writes its rows into."""
+        """The chunk :meth:`record` writes into."""
         self.sim.bind(_arrays(chunk))
 
-    def period(self, tau: np.ndarray, reference: np.ndarray | None, row: int) -> None:
-        """One control period with the joint torques ``tau`` (n_joints,) held: the row at its start
-        (with the joint ``reference``, or NaN) goes to row ``row`` of the bound chunk (-1: none),
-        then the state advances. Raises ``OverflowError`` (the Python loop's message) on a blow-up."""
-        self.sim.period(tau, reference, row)
+    def hold(self, tau: np.ndarray) -> None:
+        """Hold the joint torques ``tau`` (n_joints,) from the current period on."""
+        self.sim.hold(tau)
+
+    def record(self, row: int, reference: np.ndarray | None = None) -> None:
+        """Row ``row`` of the bound chunk at the current state, with the joint ``reference``
+        (n_joints,; default: the compiled law's, or NaN)."""
+        self.sim.record(row, reference)
+
+    def step(self) -> None:
+        """One control period. Raises ``OverflowError`` (the Python loop's message) on a blow-up."""
+        self.sim.step()
 
     def set_wrenches(self, field: WrenchField | None) -> None:
         """Hold the wrenches ``field`` has active (after ``field.activate(t)``), or none."""

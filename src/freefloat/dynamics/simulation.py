@@ -22,7 +22,8 @@ from .telemetry import Chunks, Telemetry
 from .threads import single_blas_thread
 from .wrenches import ExternalWrench, WrenchField
 
-__all__ = ["BACKENDS", "CHUNK_ROWS", "MAX_POSITION", "MAX_SPEED", "Controller", "Recorder", "RunResult", "control_periods", "run"]
+__all__ = ["BACKENDS", "CHUNK_ROWS", "MAX_POSITION", "MAX_SPEED", "Controller", "PythonPeriods", "Recorder", "RunResult",
+           "control_periods", "run"]
 
 #: A generalized velocity component above this (m/s or rad/s) counts as a blow-up.
 MAX_SPEED = 1e6
@@ -70,9 +71,10 @@ class RunResult:
 
 
 class Recorder:
-    """Fills telemetry rows from (q, v): kinematics, momentum, energy. One Pinocchio Data of its own."""
+    """Fills telemetry rows from (q, v): kinematics, momentum, energy, into ``tel`` (a chunk, set
+    before each row). One Pinocchio Data of its own."""
 
-    def __init__(self, robot: Robot, telemetry: Telemetry):
+    def __init__(self, robot: Robot, telemetry: Telemetry | None = None):
         self.tel = telemetry
         self.model = robot.model
         self.data = robot.model.createData()
@@ -173,88 +175,103 @@ def run(
                                          law if whole_chunks else None)
             if whole_chunks:
                 return _run_compiled(loop, q0, v0, steps, control_period, start_time, rows, progress)
-            field = WrenchField(robot, wrenches) if wrenches else None
-            return _run_compiled_periods(loop, robot, q0, v0, steps, control_period, controller, field, record_every,
-                                         progress, stop, start_time, rows)
+            loop.start(q0, v0)
+            return _run_periods(loop, steps, control_period, controller, field_of(robot, wrenches), record_every,
+                                progress, stop, start_time, rows)
         if backend == "compiled":
             raise InvalidArgument(f"the compiled loop cannot run this: {reason}")
-    return _run_python(robot, q0, v0, steps, control_period, integrator, model, controller, wrenches, record_every,
-                       progress, stop, start_time, rows)
+    engine = PythonPeriods(robot, integrator, model, control_period, start_time)
+    engine.start(q0, v0)
+    return single_blas_thread(_run_periods)(engine, steps, control_period, controller, field_of(robot, wrenches),
+                                            record_every, progress, stop, start_time, rows)
 
 
-@single_blas_thread
-def _run_python(robot: Robot, q0: np.ndarray, v0: np.ndarray, steps: int, control_period: float,
-                integrator: Integrator, model: DynamicsModel, controller: Controller | None,
-                wrenches: tuple[ExternalWrench, ...], record_every: int, progress: Callable[[int], None] | None,
-                stop: Callable[[float, np.ndarray, np.ndarray], bool] | None, start_time: float,
-                rows: Chunks) -> RunResult:
-    """:func:`run` in this module's loop (BLAS limited to one thread around it)."""
-    recorder = Recorder(robot, rows.current)
-    nb = robot.n_base
-    tau_full = np.zeros(robot.model.nv)
-    field = WrenchField(robot, wrenches) if wrenches else None
-    reference = controller.reference if controller is not None else (lambda t: None)
-    report_every = max(1, steps // 200)
+def field_of(robot: Robot, wrenches: tuple[ExternalWrench, ...]) -> WrenchField | None:
+    """The wrenches as a field, or None when there are none."""
+    return WrenchField(robot, wrenches) if wrenches else None
 
-    end_period = getattr(model, "end_period", None)
 
-    def free_dynamics(qs: np.ndarray, vs: np.ndarray) -> np.ndarray:
-        return model.acceleration(qs, vs, tau_full)  # tau_full is updated in place each period
+class PythonPeriods:
+    """The loop's control periods in this module's Python (numpy and Pinocchio's bindings): the
+    readable reference that the compiled loop (:class:`~freefloat.dynamics.compiled.CompiledLoop`,
+    the same interface) is tested against.
 
-    q, v, work, k = np.array(q0, dtype=float), np.array(v0, dtype=float), 0.0, 0
-    status, message = "completed", ""
-    tau = np.zeros(robot.n_joints)
-    start = time.perf_counter()
-    try:
-        for k in range(steps):
-            t = start_time + k * control_period
-            if controller is not None:
-                tau = controller.torque(t, q, v)
-                tau_full[nb:] = tau
-            if k % record_every == 0:
-                recorder.tel, row = rows.next_row()
-                recorder.record(row, t, q, v, tau, reference(t), work)
-                rows.commit()
-            if field is not None and field.activate(t):
-                f = lambda qs, vs: model.acceleration(qs, vs, tau_full, field.forces(qs))  # noqa: E731
-            else:
-                f = free_dynamics
-            q_next, v_next = integrator.advance(f, q, v, control_period)
-            if not np.abs(v_next).max() < MAX_SPEED:  # also false for NaN
-                raise SimulationDiverged(
-                    f"state blew up at t = {t + control_period:.6g} s (step {k + 1}): "
-                    f"max |v| = {np.abs(v_next).max():.3g} (limit {MAX_SPEED:g})"
-                )
-            if not np.abs(q_next).max() < MAX_POSITION:
-                raise SimulationDiverged(
-                    f"configuration left the finite range at t = {t + control_period:.6g} s (step {k + 1}): "
-                    f"max |q| = {np.abs(q_next).max():.3g} (limit {MAX_POSITION:g})"
-                )
-            work += float(tau @ pin.difference(robot.model, q, q_next)[nb:])
-            if end_period is not None:
-                end_period(q, v, control_period)
-            q, v = q_next, v_next
-            if progress is not None and (k + 1) % report_every == 0:
-                progress(k + 1)
-            if stop is not None and stop(start_time + (k + 1) * control_period, q, v):
-                status = "stopped"
-                k += 1
-                break
-        else:
-            k = steps
-    except SimulationDiverged as exc:
-        status, message = "diverged", str(exc)
-    except KeyboardInterrupt:
-        status, message = "interrupted", f"interrupted by the user at t = {start_time + k * control_period:.6g} s"
-    except (RuntimeError, ValueError) as exc:  # Pinocchio rejects non-finite or degenerate states
-        status, message = "diverged", f"at t = {start_time + k * control_period:.6g} s: {exc}"
-    else:
-        t = start_time + k * control_period
-        recorder.tel, row = rows.next_row()
-        recorder.record(row, t, q, v, tau, reference(t), work)
-        rows.commit()
-    wall = time.perf_counter() - start
-    return RunResult(rows.collect(), status, message, k, wall, integrator.evaluations())
+    Args:
+        robot: the robot.
+        integrator: advances the state over each period.
+        model: gives the accelerations.
+        control_period: zero-order-hold period, s.
+        start_time: time of period 0, s.
+    """
+
+    backend = "python"
+
+    def __init__(self, robot: Robot, integrator: Integrator, model: DynamicsModel, control_period: float,
+                 start_time: float = 0.0):
+        self.robot, self.integrator, self.model = robot, integrator, model
+        self.control_period, self.start_time = control_period, start_time
+        self.recorder = Recorder(robot)
+        self.tau_full = np.zeros(robot.model.nv)  # [0 on the base rows; joint torques] (nv,)
+        self.tau = np.zeros(robot.n_joints)
+        self.field: WrenchField | None = None
+        self.end_period = getattr(model, "end_period", None)
+        self.periods_done, self.work = 0, 0.0
+        self.q, self.v = robot.neutral(), np.zeros(robot.model.nv)
+
+    def start(self, q: np.ndarray, v: np.ndarray) -> None:
+        """Set the state at period 0."""
+        self.q, self.v = np.array(q, dtype=float), np.array(v, dtype=float)
+
+    @property
+    def state(self) -> tuple[np.ndarray, np.ndarray]:
+        """The current ``(q, v)``."""
+        return self.q, self.v
+
+    def bind(self, chunk: Telemetry) -> None:
+        """The chunk :meth:`record` writes into."""
+        self.recorder.tel = chunk
+
+    def hold(self, tau: np.ndarray) -> None:
+        """Hold the joint torques ``tau`` (n_joints,) from the current period on."""
+        self.tau = tau
+        self.tau_full[self.robot.n_base:] = tau
+
+    def set_wrenches(self, field: WrenchField | None) -> None:
+        """Apply the wrenches ``field`` has active (after ``field.activate(t)``), or none."""
+        self.field = field
+
+    def record(self, row: int, reference: np.ndarray | None = None) -> None:
+        """Row ``row`` of the bound chunk at the current state, with the joint ``reference``."""
+        t = self.start_time + self.periods_done * self.control_period
+        self.recorder.record(row, t, self.q, self.v, self.tau, reference, self.work)
+
+    def _acceleration(self, q: np.ndarray, v: np.ndarray) -> np.ndarray:
+        forces = None if self.field is None else self.field.forces(q)
+        return self.model.acceleration(q, v, self.tau_full, forces)
+
+    def step(self) -> None:
+        """One control period.
+
+        Raises:
+            SimulationDiverged: when the state leaves :data:`MAX_SPEED` or :data:`MAX_POSITION`.
+        """
+        q, v, k = self.q, self.v, self.periods_done
+        t_end = self.start_time + (k + 1) * self.control_period
+        q_next, v_next = self.integrator.advance(self._acceleration, q, v, self.control_period)
+        if not np.abs(v_next).max() < MAX_SPEED:  # also false for NaN
+            raise SimulationDiverged(f"state blew up at t = {t_end:.6g} s (step {k + 1}): "
+                                     f"max |v| = {np.abs(v_next).max():.3g} (limit {MAX_SPEED:g})")
+        if not np.abs(q_next).max() < MAX_POSITION:
+            raise SimulationDiverged(f"configuration left the finite range at t = {t_end:.6g} s (step {k + 1}): "
+                                     f"max |q| = {np.abs(q_next).max():.3g} (limit {MAX_POSITION:g})")
+        self.work += float(self.tau @ pin.difference(self.robot.model, q, q_next)[self.robot.n_base:])
+        if self.end_period is not None:
+            self.end_period(q, v, self.control_period)
+        self.q, self.v, self.periods_done = q_next, v_next, k + 1
+
+    def evaluations(self) -> int:
+        """Dynamics evaluations made by the integrator."""
+        return self.integrator.evaluations()
 
 
 def _run_compiled(loop: compiled.CompiledLoop, q0: np.ndarray, v0: np.ndarray, steps: int, control_period: float,
@@ -280,62 +297,62 @@ def _run_compiled(loop: compiled.CompiledLoop, q0: np.ndarray, v0: np.ndarray, s
         status, message = "diverged", str(exc)
     else:
         chunk, row = rows.next_row()
-        loop.record_last(chunk, row)
+        loop.bind(chunk)
+        loop.record(row)
         rows.commit()
     wall = time.perf_counter() - start
     return RunResult(rows.collect(), status, message, loop.periods_done, wall, loop.evaluations(), "compiled")
 
 
-def _run_compiled_periods(loop: compiled.CompiledLoop, robot: Robot, q0: np.ndarray, v0: np.ndarray, steps: int,
-                          control_period: float, controller: Controller | None, field: WrenchField | None,
-                          record_every: int, progress: Callable[[int], None] | None,
-                          stop: Callable[[float, np.ndarray, np.ndarray], bool] | None, start_time: float,
-                          rows: Chunks) -> RunResult:
-    """:func:`run` through the compiled loop one period at a time: the controller, the wrench
-    selection and the stop event in Python, each period's integration and telemetry row compiled."""
-    loop.start(q0, v0)
+def _run_periods(engine: PythonPeriods | compiled.CompiledLoop, steps: int, control_period: float,
+                controller: Controller | None, field: WrenchField | None, record_every: int,
+                progress: Callable[[int], None] | None, stop: Callable[[float, np.ndarray, np.ndarray], bool] | None,
+                start_time: float, rows: Chunks) -> RunResult:
+    """:func:`run` one control period at a time: the controller, the wrench selection and the stop
+    event here, each period's telemetry row and integration by ``engine`` (this module's Python,
+    or the compiled loop)."""
     reference = controller.reference if controller is not None else (lambda t: None)
-    zero = np.zeros(robot.n_joints)
     report_every = max(1, steps // 200)
-    status, message, k, bound = "completed", "", 0, None
+    status, message, k = "completed", "", 0
+    bound: list[Telemetry] = []
+
+    def record(t: float) -> None:  # the next row, into the chunk the engine writes
+        chunk, row = rows.next_row()
+        if not bound or chunk is not bound[0]:
+            engine.bind(chunk)
+            bound[:] = [chunk]
+        engine.record(row, reference(t))
+        rows.commit()
+
     start = time.perf_counter()
     try:
         for k in range(steps):
             t = start_time + k * control_period
-            q, v = loop.state
-            tau = controller.torque(t, q, v) if controller is not None else zero
+            if controller is not None:
+                engine.hold(controller.torque(t, *engine.state))
             if field is not None:
-                loop.set_wrenches(field if field.activate(t) else None)
-            row = -1
+                engine.set_wrenches(field if field.activate(t) else None)
             if k % record_every == 0:
-                chunk, row = rows.next_row()
-                if chunk is not bound:
-                    loop.bind(chunk)
-                    bound = chunk
-            loop.period(tau, reference(t), row)
-            if row >= 0:
-                rows.commit()
+                record(t)
+            engine.step()
             if progress is not None and (k + 1) % report_every == 0:
                 progress(k + 1)
-            if stop is not None and stop(start_time + (k + 1) * control_period, *loop.state):
+            if stop is not None and stop(start_time + (k + 1) * control_period, *engine.state):
                 status = "stopped"
                 k += 1
                 break
         else:
             k = steps
-    except OverflowError as exc:  # blow-up detected in the loop, with the Python loop's message
+    except (SimulationDiverged, OverflowError) as exc:  # a blow-up (OverflowError: the compiled loop's)
         status, message = "diverged", str(exc)
     except KeyboardInterrupt:
         status, message = "interrupted", f"interrupted by the user at t = {start_time + k * control_period:.6g} s"
-    except (RuntimeError, ValueError) as exc:  # as in the Python loop
+    except (RuntimeError, ValueError) as exc:  # Pinocchio rejects non-finite or degenerate states
         status, message = "diverged", f"at t = {start_time + k * control_period:.6g} s: {exc}"
     else:
-        t = start_time + k * control_period
-        chunk, row = rows.next_row()
-        loop.record_last(chunk, row, reference(t))
-        rows.commit()
+        record(start_time + k * control_period)
     wall = time.perf_counter() - start
-    return RunResult(rows.collect(), status, message, loop.periods_done, wall, loop.evaluations(), "compiled")
+    return RunResult(rows.collect(), status, message, k, wall, engine.evaluations(), engine.backend)
 
 
 def control_periods(duration: float, control_period: float) -> int:
