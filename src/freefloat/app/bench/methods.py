@@ -4,7 +4,6 @@ Python loop of Pinocchio calls, and MuJoCo's integrators; each a callable that r
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from typing import Callable
 
 import numpy as np
@@ -17,6 +16,7 @@ from ...dynamics.telemetry import Telemetry
 from .controlled import ControlledScene, mujoco_law, periods, reference_plant, substeps
 from .mjcf import mjcf_from_model
 from .mujoco_state import from_mujoco, to_mujoco
+from .scene import Method, Run
 from .scenes import TumblingScene
 
 Scene = TumblingScene | ControlledScene
@@ -30,33 +30,6 @@ COMPILED_ADAPTIVE = ("dopri5",)
 MUJOCO = ("Euler", "implicitfast", "RK4")
 #: Tolerances of the reference run (dopri5 on the group).
 REFERENCE_RTOL, REFERENCE_ATOL = 1e-13, 1e-15
-
-Run = Callable[[], tuple[np.ndarray, np.ndarray]]
-
-
-@dataclass(frozen=True)
-class Method:
-    """One point of a sweep.
-
-    Attributes:
-        package: ``"freefloat"``, ``"pinocchio"`` (a bare Python loop of its calls) or ``"mujoco"``.
-        integrator: integrator name in that package.
-        setting: step h in s (fixed-step) or rtol (adaptive).
-        loop: freefloat's ``"python"`` or ``"compiled"`` loop; for MuJoCo on a controlled scene,
-            ``"python"`` (stepped by freefloat's Python-side controller) or ``"native"`` (the law on
-            MuJoCo's own mass matrix and bias forces).
-    """
-
-    package: str
-    integrator: str
-    setting: float
-    loop: str = "python"
-
-    @property
-    def label(self) -> str:
-        """``package integrator [compiled]``, the curve a point belongs to."""
-        return f"{self.package} {self.integrator}" + ("" if self.loop == "python" else f" {self.loop}")
-
 
 def _torque_free(model: pin.Model) -> Callable[[np.ndarray, np.ndarray], np.ndarray]:
     data, tau = model.createData(), np.zeros(model.nv)
