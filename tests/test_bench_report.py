@@ -7,8 +7,7 @@ import json
 
 import pytest
 
-from freefloat.app.bench.methods import methods
-from freefloat.app.bench.report import QUICK_RTOLS, QUICK_STEPS
+from freefloat.app.bench.free_floating import free_floating_scene
 from freefloat.app.bench.summary import BANDS
 from freefloat.app.cli import main
 
@@ -33,7 +32,7 @@ def test_csv_and_json_hold_the_same_points(quick_run):
     report = json.loads((out / "bench.json").read_text())
     rows = list(csv.DictReader((out / "bench.csv").open()))
     points = report["scenes"]["dual_arm"]["points"]
-    assert len(rows) == len(points) == len(methods(QUICK_STEPS, QUICK_RTOLS)) == 3 * 3 + 2 + 4 * 3 + 2 + 3 + 3 * 3
+    assert len(rows) == len(points) == len(free_floating_scene("dual_arm", quick=True).methods())
     assert all(float(r["wall_time_s"]) > 0.0 and float(r["state_error"]) >= 0.0 for r in rows)
 
 
@@ -47,7 +46,7 @@ def test_summary_has_one_line_per_band(quick_run):
 def test_unknown_scene_exits_2_naming_it(tmp_path, capsys):
     """An unknown scene is refused before anything runs, the message listing the valid ones."""
     assert main(["bench", "nope", "--quick", "--out", str(tmp_path / "o")]) == 2
-    assert "unknown bench scene 'nope'; valid: four_arm, dual_arm, controlled" in capsys.readouterr().err
+    assert "unknown bench scene 'nope'; valid: four_arm, dual_arm, controlled, detumbling" in capsys.readouterr().err
     assert not (tmp_path / "o").exists()
 
 

@@ -6,14 +6,15 @@ import math
 
 import pytest
 
-from freefloat.app.bench.methods import Method
+from freefloat.app.bench.scene import Method
 from freefloat.app.bench.summary import band_rows, cheapest, summary_lines, time_to_reach
 from freefloat.app.bench.sweep import Point
 
 
 def _curve(package: str, integrator: str, c: float, order: float) -> list[Point]:
     """Points on ``time = c * error^(-1/order)`` at errors 1e-2 ... 1e-10."""
-    return [Point(Method(package, integrator, 10.0 ** -k), c * (10.0 ** -k) ** (-1.0 / order), 10.0 ** -k, 0.0, 0.0)
+    return [Point(Method(package, integrator, 10.0 ** -k), c * (10.0 ** -k) ** (-1.0 / order),
+                  {"state_error": 10.0 ** -k})
             for k in range(2, 11, 2)]
 
 

@@ -86,8 +86,10 @@ def main(argv: list[str] | None = None) -> int:
     rep.add_argument("--error", type=float, default=0.5, help="robustness: parameter error band (default 0.5 = 50 %%)")
     rep.add_argument("--scheduler", default=None, help="robustness: Dask scheduler address (default: a local cluster)")
     ben = commands.add_parser("bench", help="freefloat's integrators against MuJoCo's: work-precision per scene")
-    ben.add_argument("scenes", nargs="*", metavar="SCENE", help="four_arm, dual_arm, controlled (default: all)")
-    ben.add_argument("--quick", action="store_true", help="three steps, 0.1 s, one repeat (a smoke test)")
+    ben.add_argument("scenes", nargs="*", metavar="SCENE",
+                     help="four_arm, dual_arm, controlled, detumbling, five_bar, rsu_ppap (default: all)")
+    ben.add_argument("--quick", action="store_true", help="a few steps, a short run, one repeat (a smoke test)")
+    ben.add_argument("--repeats", type=int, default=None, help="runs per point, median time (default 5; 1 with --quick)")
     ben.add_argument("--out", type=Path, default=None, help="output folder (default: runs/bench-<time>)")
     args = parser.parse_args(argv)
     commands_run = {"simulate": _simulate, "batch": _batch, "bench": _bench, "scenes": lambda _: _scenes(), "verify": _verify, "reproduce": _reproduce,
@@ -109,7 +111,7 @@ def _bench(args: argparse.Namespace) -> int:
 
     out = args.out or default_folder("bench")
     with one_line_warnings():
-        report = bench(out, args.scenes, quick=args.quick)
+        report = bench(out, args.scenes, quick=args.quick, repeats=args.repeats)
     print("\n".join(report["summary"]))
     print(f"written to {out}")
     return 0

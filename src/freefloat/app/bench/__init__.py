@@ -1,8 +1,10 @@
-"""``freefloat bench``: freefloat's integrators against MuJoCo's, side by side in one process.
+"""``freefloat bench``: speed against accuracy, freefloat side by side with MuJoCo in one process.
 
-``mjcf`` (MJCF from a loaded robot, inertia balancing), ``mujoco_state`` (the two state
-conventions), ``scenes`` (tumbling scenes from a seeded state), ``methods`` (each integrator as a
-run), ``sweep`` (wall time and errors per point), ``summary`` (cheapest method per accuracy band)
-and ``report`` (the output folder). MuJoCo is an optional extra (``pip install -e ".[bench]"``);
-only ``methods.mujoco_run`` imports it.
+``scene`` (what a bench scene is: :class:`~.scene.BenchScene`, :class:`~.scene.Method`),
+``free_floating`` (the free-floating scenes and what each sweeps) built on ``scenes`` (tumbling),
+``controlled`` (computed torque) and ``detumbling`` (after a capture); ``methods`` (each package's
+integrators as runs), ``mjcf``, ``mujoco_state`` and ``mujoco_wrenches`` (the robot, its state and
+its wrenches in MuJoCo's terms); ``sweep`` (wall time and errors per point), ``summary`` (cheapest
+method per accuracy band) and ``report`` (the output folder). MuJoCo is an optional extra
+(``pip install -e ".[bench]"``); only the MuJoCo runs import it.
 """

@@ -12,12 +12,13 @@ feedback law computed in Python (``mujoco.rollout`` takes open-loop controls onl
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
+from typing import Any, Callable
 
 import numpy as np
 import pinocchio as pin
 
-from ...dynamics.models import ExactModel
 from ...dynamics.simulation import control_periods
+from ...dynamics.wrenches import ExternalWrench
 from ...robot.joints import JointCoordinates
 from ...robot.loading import load_robot
 from ...robot.robot import Robot
@@ -33,15 +34,18 @@ START_90 = ("arm2_joint1", "arm4_joint1")
 
 @dataclass(frozen=True)
 class ControlledScene:
-    """A computed-torque run of one robot (see the module docstring).
+    """A controlled run of one robot: this module's computed-torque scene, or the post-capture
+    detumbling of :mod:`.detumbling`.
 
     Attributes:
         name: scene name.
-        robot: the robot (balanced four-arm model, free base).
+        robot: the robot (free base).
         q0, v0: initial Pinocchio state (nq,), (nv,).
-        duration: simulated time, s (also the quintic's duration).
+        duration: simulated time, s.
         period: zero-order-hold control period, s.
-        controller: the computed-torque law on the exact model.
+        make_controller: a controller in its initial state (a fresh one per run: a controller may
+            keep state from period to period).
+        wrenches: external wrenches on links (held over each period, inertial frame).
     """
 
     name: str
@@ -50,7 +54,8 @@ class ControlledScene:
     v0: np.ndarray
     duration: float
     period: float
-    controller: ComputedTorque
+    make_controller: Callable[[], Any]
+    wrenches: tuple[ExternalWrench, ...] = ()
 
     @property
     def model(self) -> pin.Model:
@@ -73,7 +78,7 @@ def controlled_scene(duration: float = 1.0) -> ControlledScene:
     q0 = robot.neutral()
     joints.set(q0, start)
     controller = ComputedTorque(robot, QuinticTrajectory(start, start + delta, duration), KP, KD, "exact")
-    return ControlledScene("controlled", robot, q0, np.zeros(robot.model.nv), duration, PERIOD, controller)
+    return ControlledScene("controlled", robot, q0, np.zeros(robot.model.nv), duration, PERIOD, lambda: controller)
 
 
 def substeps(scene: ControlledScene, h: float) -> int:
@@ -97,13 +102,8 @@ def mujoco_law(scene: ControlledScene, model, data) -> np.ndarray:
     mujoco.mj_fullM(model, data, M)
     b = data.qfrc_bias
     t = data.time
-    q_d, qdot_d, qddot_d = scene.controller.trajectory(t)
+    q_d, qdot_d, qddot_d = scene.make_controller().trajectory(t)
     coupling = np.linalg.solve(M[:6, :6], np.column_stack((M[:6, 6:], b[:6])))
     H = M[6:, 6:] - M[6:, :6] @ coupling[:, :-1]
     c = b[6:] - M[6:, :6] @ coupling[:, -1]
     return H @ (qddot_d + KP * (q_d - data.qpos[7:]) + KD * (qdot_d - data.qvel[6:])) + c
-
-
-def reference_plant(scene: ControlledScene) -> ExactModel:
-    """The plant of the freefloat runs (Pinocchio's ABA)."""
-    return ExactModel(scene.robot)

@@ -4,18 +4,18 @@ Python loop of Pinocchio calls, and MuJoCo's integrators; each a callable that r
 
 from __future__ import annotations
 
-from typing import Callable
-
 import numpy as np
 import pinocchio as pin
 
-from ...dynamics.compiled import CompiledLoop
-from ...dynamics.integrators import make_integrator
+from ...dynamics.compiled import CompiledLoop, law_of
+from ...dynamics.integrators import Acceleration, make_integrator
+from ...dynamics.models import DynamicsModel, make_model
 from ...dynamics.simulation import run as simulate
 from ...dynamics.telemetry import Telemetry
-from .controlled import ControlledScene, mujoco_law, periods, reference_plant, substeps
+from .controlled import ControlledScene, mujoco_law, periods, substeps
 from .mjcf import mjcf_from_model
 from .mujoco_state import from_mujoco, to_mujoco
+from .mujoco_wrenches import MujocoWrenches
 from .scene import Method, Run
 from .scenes import TumblingScene
 
@@ -28,12 +28,25 @@ COMPILED_FIXED = ("euler", "rkmk4", "rkmk6", "rkmk8")
 COMPILED_ADAPTIVE = ("dopri5",)
 #: MuJoCo's integrators compared (names as in MJCF).
 MUJOCO = ("Euler", "implicitfast", "RK4")
-#: Tolerances of the reference run (dopri5 on the group).
+#: Tolerances of the reference run (dopri5 on the group; atol = rtol / 100 like every dopri5 point).
 REFERENCE_RTOL, REFERENCE_ATOL = 1e-13, 1e-15
 
-def _torque_free(model: pin.Model) -> Callable[[np.ndarray, np.ndarray], np.ndarray]:
+
+def _plant(scene: Scene, model: str) -> DynamicsModel:
+    """The plant of a freefloat run: Pinocchio's ABA, or the registry model ``model``."""
+    return make_model(model or "exact", scene.robot)
+
+
+def _torque_free(model: pin.Model) -> Acceleration:
+    """``f(q, v)``: Pinocchio's ABA at zero torque (the exact plant, with nothing in between)."""
     data, tau = model.createData(), np.zeros(model.nv)
     return lambda q, v: pin.aba(model, data, q, v, tau)
+
+
+def _model_torque_free(plant: DynamicsModel, nv: int) -> Acceleration:
+    """``f(q, v)``: a registry model's acceleration at zero torque."""
+    tau = np.zeros(nv)
+    return lambda q, v: plant.acceleration(q, v, tau)
 
 
 def _steps(scene: TumblingScene, h: float) -> int:
@@ -53,23 +66,29 @@ def _stepper(scene: Scene, integrator: str, setting: float):
     return _steps(scene, setting), make_integrator(integrator, scene.model)
 
 
-def freefloat_run(scene: Scene, integrator: str, setting: float) -> Run:
+def _controlled_run(scene: ControlledScene, integrator: str, setting: float, model: str, backend: str) -> Run:
+    """Run of :func:`freefloat.dynamics.simulation.run` on a controlled scene (a fresh controller
+    and integrator each call, so dopri5 carries no step size over)."""
+    plant = _plant(scene, model)
+
+    def run():
+        _, stepper = _stepper(scene, integrator, setting)
+        result = simulate(scene.robot, scene.q0, scene.v0, scene.duration, scene.period, stepper, plant,
+                          scene.make_controller(), scene.wrenches, record_every=periods(scene), backend=backend)
+        if result.status != "completed":
+            raise FloatingPointError(result.message)
+        return result.telemetry.q[-1], result.telemetry.v[-1]
+
+    return run
+
+
+def freefloat_run(scene: Scene, integrator: str, setting: float, model: str = "") -> Run:
     """Run of freefloat's ``integrator`` in its Python loop at step ``setting`` (s), or for dopri5
-    at rtol ``setting`` and atol ``setting / 100``; built fresh each call, so dopri5 carries no step
-    size over."""
+    at rtol ``setting`` and atol ``setting / 100``, on the plant ``model`` (registry name; empty:
+    Pinocchio's ABA); built fresh each call, so dopri5 carries no step size over."""
     if isinstance(scene, ControlledScene):
-        plant = reference_plant(scene)
-
-        def run_controlled():
-            _, stepper = _stepper(scene, integrator, setting)
-            result = simulate(scene.robot, scene.q0, scene.v0, scene.duration, scene.period, stepper, plant,
-                              scene.controller, record_every=periods(scene), backend="python")
-            if result.status != "completed":
-                raise FloatingPointError(result.message)
-            return result.telemetry.q[-1], result.telemetry.v[-1]
-
-        return run_controlled
-    f = _torque_free(scene.model)
+        return _controlled_run(scene, integrator, setting, model, "python")
+    f = _torque_free(scene.model) if not model else _model_torque_free(_plant(scene, model), scene.model.nv)
 
     def run():
         if integrator in FREEFLOAT_ADAPTIVE:
@@ -83,11 +102,19 @@ def freefloat_run(scene: Scene, integrator: str, setting: float) -> Run:
 
 def compiled_run(scene: Scene, integrator: str, setting: float) -> Run:
     """Run of freefloat's compiled loop (:mod:`freefloat.dynamics.compiled`) with ``integrator`` at
-    step ``setting`` (s), or for dopri5 at rtol ``setting`` and atol ``setting / 100``, with the
-    scene's computed torque if it has one; built once (like MuJoCo's model), started afresh each
-    call (dopri5 from its first step guess)."""
+    step ``setting`` (s), or for dopri5 at rtol ``setting`` and atol ``setting / 100``.
+
+    When every period can run in compiled code (no controller or one with a compiled law, no
+    wrenches) the loop is built once (like MuJoCo's model) and started afresh each call (dopri5
+    from its first step guess); otherwise each call is :func:`freefloat.dynamics.simulation.run`
+    with the controller and the wrenches in Python between compiled periods.
+    """
+    law = None
+    if isinstance(scene, ControlledScene):
+        law = law_of(scene.make_controller())
+        if law is None or scene.wrenches:
+            return _controlled_run(scene, integrator, setting, "", "compiled")
     n, stepper = _stepper(scene, integrator, setting)
-    law = scene.controller.compiled_law() if isinstance(scene, ControlledScene) else None
     loop = CompiledLoop(scene.robot, stepper, scene.duration / n, record_every=n, law=law)
     robot = scene.robot
     chunk = Telemetry.allocate(1, robot.model.nq, robot.model.nv, robot.n_joints, len(robot.end_effectors))
@@ -120,22 +147,25 @@ def pinocchio_run(scene: TumblingScene, h: float) -> Run:
 
 def _mujoco_steps(scene: Scene, h: float, loop: str, model, data) -> None:
     """Step MuJoCo through the scene: ``n`` equal steps of a tumbling run, or per control period the
-    law (freefloat's controller on the mapped state, or :func:`.controlled.mujoco_law`) held as
-    joint forces over the period's substeps."""
+    law (a fresh freefloat controller on the mapped state, or :func:`.controlled.mujoco_law`) held
+    as joint forces, and the scene's wrenches held, over the period's substeps."""
     import mujoco
 
     if not isinstance(scene, ControlledScene):
         for _ in range(_steps(scene, h)):
             mujoco.mj_step(model, data)
         return
-    k = substeps(scene, h)
+    k, controller = substeps(scene, h), scene.make_controller()
+    wrenches = MujocoWrenches(scene.robot, scene.wrenches,
+                              lambda name: mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, name))
     for i in range(periods(scene)):
         if loop == "native":
             mujoco.mj_forward(model, data)
             data.qfrc_applied[6:] = mujoco_law(scene, model, data)
         else:
-            q, v = from_mujoco(data.qpos, data.qvel)
-            data.qfrc_applied[6:] = scene.controller.torque(i * scene.period, q, v)
+            data.qfrc_applied[6:] = controller.torque(i * scene.period, *from_mujoco(data.qpos, data.qvel))
+        if scene.wrenches:
+            wrenches.apply(i * scene.period, from_mujoco(data.qpos, data.qvel)[0], data.xfrc_applied)
         for _ in range(k):
             mujoco.mj_step(model, data)
 
@@ -180,16 +210,13 @@ def method_run(scene: Scene, method: Method) -> Run:
         return pinocchio_run(scene, method.setting)
     if method.loop == "compiled":
         return compiled_run(scene, method.integrator, method.setting)
-    return freefloat_run(scene, method.integrator, method.setting)
+    return freefloat_run(scene, method.integrator, method.setting, method.model)
 
 
 def reference(scene: Scene) -> tuple[np.ndarray, np.ndarray]:
-    """Final state by freefloat's dopri5 at rtol 1e-13, atol 1e-15 (in its Python loop, through
-    the same zero-order hold on a controlled scene)."""
-    if isinstance(scene, ControlledScene):
-        return freefloat_run(scene, "dopri5", REFERENCE_RTOL)()  # atol = rtol / 100 = 1e-15
-    stepper = make_integrator("dopri5", scene.model, rtol=REFERENCE_RTOL, atol=REFERENCE_ATOL)
-    return stepper.advance(_torque_free(scene.model), scene.q0, scene.v0, scene.duration)
+    """Final state by freefloat's dopri5 at rtol 1e-13, atol 1e-15 = rtol / 100, in its Python loop
+    on Pinocchio's ABA (through the same zero-order hold on a controlled scene)."""
+    return freefloat_run(scene, "dopri5", REFERENCE_RTOL)()
 
 
 def methods(steps: tuple[float, ...], rtols: tuple[float, ...]) -> list[Method]:

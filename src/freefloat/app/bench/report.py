@@ -11,28 +11,21 @@ from importlib.metadata import version
 from pathlib import Path
 
 from ...errors import InvalidArgument
-from .controlled import controlled_scene
-from .methods import REFERENCE_ATOL, REFERENCE_RTOL, controlled_methods, methods
-from .scenes import SCENES, tumbling_scene
+from .free_floating import NOTES, free_floating_scene
+from .scene import BenchScene
 from .summary import band_rows, summary_lines
 from .sweep import Point, sweep
 
-#: Steps (s) and dopri5 tolerances of a full sweep and of ``--quick``.
-STEPS = (2e-1, 1e-1, 5e-2, 2e-2, 1e-2, 5e-3, 2e-3, 1e-3, 5e-4, 2e-4, 1e-4)
-RTOLS = (1e-4, 1e-6, 1e-8, 1e-10, 1e-12)
-QUICK_STEPS = (2e-2, 1e-2, 5e-3)
-QUICK_RTOLS = (1e-6, 1e-9)
-#: The controlled scene's integration steps (s, dividing its 1 ms period) and dopri5 tolerances.
-CONTROLLED_STEPS = (1e-3, 5e-4, 2e-4, 1e-4)
-CONTROLLED_RTOLS = (1e-4, 1e-6, 1e-8, 1e-10)
-QUICK_CONTROLLED_STEPS = (1e-3, 5e-4)
-QUICK_CONTROLLED_RTOLS = (1e-6,)
-#: Every bench scene with its note: the tumbling ones and the controlled one.
-ALL_SCENES = {**{name: note for name, (_, note) in SCENES.items()},
-              "controlled": "four-arm robot (balanced, free base), computed torque held over 1 ms, the default "
-                            "task's quintic"}
-CSV_FIELDS = ("scene", "package", "integrator", "loop", "setting", "wall_time_s", "state_error", "momentum_error",
-              "energy_error")
+#: Every bench scene with its note.
+ALL_SCENES = dict(NOTES)
+CSV_FIELDS = ("scene", "package", "integrator", "model", "loop", "setting", "wall_time_s", "state_error",
+              "momentum_error", "energy_error", "constraint_drift")
+
+
+def bench_scene(name: str, duration: float | None, quick: bool, seed: int) -> BenchScene:
+    """The bench scene ``name`` of :data:`ALL_SCENES` (see :func:`.free_floating.free_floating_scene`)."""
+    return free_floating_scene(name, duration, quick, seed)
+
 
 #: Line style per (package, loop) in the charts.
 STYLES = {("freefloat", "compiled"): "-o", ("freefloat", "python"): ":o", ("pinocchio", "python"): "-.^",
@@ -41,17 +34,20 @@ STYLES = {("freefloat", "compiled"): "-o", ("freefloat", "python"): ":o", ("pino
 
 def _row(scene: str, p: Point) -> dict:
     """One point as a flat record; a diverged run's errors are None."""
-    def finite(x: float) -> float | None:
-        return x if math.isfinite(x) else None
-    return {"scene": scene, "package": p.method.package, "integrator": p.method.integrator, "loop": p.method.loop,
-            "setting": p.method.setting, "wall_time_s": p.wall_time, "state_error": finite(p.state_error),
-            "momentum_error": finite(p.momentum_error), "energy_error": finite(p.energy_error)}
+    errors = {key: value if math.isfinite(value) else None for key, value in p.errors.items()}
+    return {"scene": scene, "package": p.method.package, "integrator": p.method.integrator, "model": p.method.model,
+            "loop": p.method.loop, "setting": p.method.setting, "wall_time_s": p.wall_time, **errors}
 
 
-def chart(scene: str, points: list[Point], path: Path) -> None:
-    """Log-log work-precision chart: wall time against final-state error (left) and against
-    momentum error (right), one curve per method (points joined from the coarsest step or
-    tolerance to the finest)."""
+def _style(method) -> str:
+    """Line style of a method's curve: by package and loop, dashed diamonds for a model variant."""
+    return "-.d" if method.model else STYLES[(method.package, method.loop)]
+
+
+def chart(scene: BenchScene, points: list[Point], path: Path) -> None:
+    """Log-log work-precision chart: wall time against final-state error (left) and against the
+    scene's secondary error (right: momentum, or constraint drift), one curve per method (points
+    joined from the coarsest step or tolerance to the finest)."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -61,21 +57,20 @@ def chart(scene: str, points: list[Point], path: Path) -> None:
     curves: dict[str, list[Point]] = {}
     for p in points:
         curves.setdefault(p.method.label, []).append(p)
-    for ax, field, what in ((axes[0], "state_error", "final-state error"),
-                            (axes[1], "momentum_error", "momentum error, kg m/s and kg m^2/s")):
+    for ax, (key, what) in zip(axes, (("state_error", "final-state error"), scene.secondary)):
         for label, curve in curves.items():
             curve = sorted(curve, key=lambda p: -p.method.setting)
-            style = STYLES[(curve[0].method.package, curve[0].method.loop)]
-            ax.loglog([getattr(p, field) for p in curve], [p.wall_time * 1e3 for p in curve], style, label=label, ms=4)
-        ax.set_xlabel(f"{what} against dopri5 at rtol 1e-13")
+            ax.loglog([p.errors[key] for p in curve], [p.wall_time * 1e3 for p in curve], _style(curve[0].method),
+                      label=label, ms=4)
+        ax.set_xlabel(what)
         ax.invert_xaxis()
         ax.grid(True, which="both", alpha=0.3)
     axes[0].set_ylabel("wall time per run, ms (median)")
     axes[0].legend(fontsize=7, ncol=2)
     names = {"freefloat": "freefloat", "pinocchio": "a bare Pinocchio loop", "mujoco": "MuJoCo"}
     present = [names[p] for p in names if any(q.method.package == p for q in points)]
-    fig.suptitle(f"{scene}: work against precision ({', '.join(present[:-1])} and {present[-1]} in one process)"
-                 if len(present) > 1 else f"{scene}: work against precision")
+    together = f" ({', '.join(present[:-1])} and {present[-1]} in one process)" if len(present) > 1 else ""
+    fig.suptitle(f"{scene.name}: work against precision{together}; errors against a tight reference")
     fig.tight_layout()
     fig.savefig(path, dpi=120)
     plt.close(fig)
@@ -87,11 +82,11 @@ def bench(out: Path, scenes: list[str] | None = None, quick: bool = False, durat
 
     Args:
         out: output folder (created; must be new or empty).
-        scenes: names from :data:`.scenes.SCENES` (default: all).
-        quick: three steps, two tolerances, 0.1 s, one repeat (a smoke test).
-        duration: simulated time per run, s (default 1 s, 0.1 s with ``quick``).
+        scenes: names from :data:`ALL_SCENES` (default: all).
+        quick: each scene's smoke sweep (a few steps, a short duration) and one repeat.
+        duration: simulated time per run, s (default: each scene's own).
         repeats: runs per point; the median time counts (default 5, 1 with ``quick``).
-        seed: initial-state seed.
+        seed: initial-state seed of the tumbling scenes.
         progress: called with one line per finished scene.
 
     Returns:
@@ -101,40 +96,35 @@ def bench(out: Path, scenes: list[str] | None = None, quick: bool = False, durat
     unknown = [name for name in names if name not in ALL_SCENES]
     if unknown:
         raise InvalidArgument(f"unknown bench scene '{unknown[0]}'; valid: {', '.join(ALL_SCENES)}")
-    steps, rtols = (QUICK_STEPS, QUICK_RTOLS) if quick else (STEPS, RTOLS)
-    controlled_steps, controlled_rtols = ((QUICK_CONTROLLED_STEPS, QUICK_CONTROLLED_RTOLS) if quick
-                                          else (CONTROLLED_STEPS, CONTROLLED_RTOLS))
-    duration = duration if duration is not None else (0.1 if quick else 1.0)
+    if duration is not None and not duration > 0.0:
+        raise InvalidArgument(f"duration must be > 0 s, got {duration}")
     repeats = repeats if repeats is not None else (1 if quick else 5)
-    # bad names and durations fail before any run
-    scenes_built = [controlled_scene(duration) if name == "controlled" else tumbling_scene(name, duration, seed)
-                    for name in names]
+    if not (isinstance(repeats, int) and repeats >= 1):
+        raise InvalidArgument(f"repeats must be an integer >= 1, got {repeats!r}")
+    built = [bench_scene(name, duration, quick, seed) for name in names]  # bad scenes fail before any run
     if out.exists() and (not out.is_dir() or any(out.iterdir())):
         raise InvalidArgument(f"{out}: output folder exists and is not empty")
     out.mkdir(parents=True, exist_ok=True)
-    report = {"settings": {"duration_s": duration, "repeats": repeats, "seed": seed, "steps_s": steps,
-                           "dopri5_rtols": rtols, "controlled_steps_s": controlled_steps,
-                           "controlled_dopri5_rtols": controlled_rtols, "reference": {"integrator": "dopri5", "rtol": REFERENCE_RTOL,
-                                                                "atol": REFERENCE_ATOL}},
+    report = {"settings": {"repeats": repeats, "quick": quick},
               "versions": {"freefloat": version("freefloat"), "pin": version("pin"), "mujoco": version("mujoco"),
                            "python": platform.python_version()},
               "scenes": {}}
     rows, lines = [], []
-    for scene in scenes_built:
-        sweep_methods = (controlled_methods(controlled_steps, controlled_rtols) if scene.name == "controlled"
-                         else methods(steps, rtols))
-        points, reference_time = sweep(scene, sweep_methods, repeats)
+    for scene in built:
+        points, reference_time = sweep(scene, repeats)
         bands = band_rows(points)
-        report["scenes"][scene.name] = {"note": ALL_SCENES[scene.name], "reference_wall_time_s": reference_time,
+        report["scenes"][scene.name] = {"note": scene.note, "settings": scene.settings,
+                                        "reference_wall_time_s": reference_time,
                                         "points": [_row(scene.name, p) for p in points], "bands": bands}
         rows += [_row(scene.name, p) for p in points]
         lines += summary_lines(scene.name, bands)
-        chart(scene.name, points, out / f"{scene.name}.png")
+        chart(scene, points, out / f"{scene.name}.png")
         progress(f"{scene.name}: {len(points)} points")
     report["summary"] = lines
     (out / "bench.json").write_text(json.dumps(report, indent=2))
     with open(out / "bench.csv", "w", newline="") as f:
-        writer = csv.DictWriter(f, fieldnames=CSV_FIELDS)
+        extra = sorted({key for row in rows for key in row} - set(CSV_FIELDS))
+        writer = csv.DictWriter(f, fieldnames=CSV_FIELDS + tuple(extra))
         writer.writeheader()
         writer.writerows(rows)
     (out / "summary.txt").write_text("\n".join(lines) + "\n")
