@@ -54,8 +54,9 @@ def test_sigint_sigterm_and_sighup_keep_what_was_computed(tmp_path, signum):
     time.sleep(0.5)
     proc.send_signal(signum)
     _, err = proc.communicate(timeout=60)
+    assert (out / "summary.json").is_file(), f"exit {proc.returncode}, no summary.json; stderr:\n{err}"
     summary = json.loads((out / "summary.json").read_text())
-    assert proc.returncode == 1 and summary["status"] == "interrupted", err
+    assert proc.returncode == 1 and summary["status"] == "interrupted", f"exit {proc.returncode}; stderr:\n{err}"
     assert 1 < len(Telemetry.load(out / "telemetry.npz").t) < 500_001
 
 
