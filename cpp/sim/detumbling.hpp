@@ -72,7 +72,7 @@ inline std::string solve(const GeneralizedJacobian& g, const DetumblingTask& tas
       Eigen::MatrixXd C(count, s);
       for (int j = 0; j < s; ++j) C.col(j) = g.J0.col(task.joints[j]).segment(first, count);
       const Vec d = C * qS + g.base_twist.segment(first, count);
-      qS += N * (-pinv(C * N, 1e-15) * d);  // numpy.linalg.pinv's default rcond
+      qS += N * (-pinv(C * N, task.rcond) * d);
     }
   }
   qdot.setZero(g.Jstar.cols());

@@ -123,7 +123,7 @@ def solve(state: GJMState, rows: np.ndarray, joints: np.ndarray, method: str = "
         pinv = np.linalg.pinv(A, rcond=rcond)
         qS = -pinv @ drift
         if method == "null_space":
-            qS = qS + _null_space_step(state, A, pinv, joints, qS, secondary)
+            qS = qS + _null_space_step(state, A, pinv, joints, qS, secondary, rcond)
     qdot = np.zeros(state.Jstar.shape[1])
     qdot[joints] = qS
     base = state.J0 @ qdot + np.linalg.solve(state.H0, state.momentum_base)
@@ -132,11 +132,16 @@ def solve(state: GJMState, rows: np.ndarray, joints: np.ndarray, method: str = "
 
 
 def _null_space_step(state: GJMState, A: np.ndarray, pinv: np.ndarray, joints: np.ndarray,
-                     qS: np.ndarray, secondary: str) -> np.ndarray:
-    """Null-space motion of A minimising the base angular velocity (or whole twist)."""
+                     qS: np.ndarray, secondary: str, rcond: float) -> np.ndarray:
+    """Null-space motion of A minimising the base angular velocity (or whole twist).
+
+    ``C N`` is rank-deficient whenever the spare joints cannot move every component of the
+    objective; its pseudo-inverse drops singular values up to ``rcond`` times the largest, as the
+    main solve does (numpy's default cut, 1e-15, kept round-off values near 1e-15 and returned
+    rates of hundreds of rad/s)."""
     N = np.eye(len(joints)) - pinv @ A
     sel = slice(3, 6) if secondary == "base_angular_velocity" else slice(0, 6)
     C = state.J0[sel][:, joints]
     d = C @ qS + np.linalg.solve(state.H0, state.momentum_base)[sel]
-    z = -np.linalg.pinv(C @ N) @ d
+    z = -np.linalg.pinv(C @ N, rcond=rcond) @ d
     return N @ z
