@@ -303,9 +303,9 @@ def test_wrench_profiles_in_the_compiled_loop_match_the_python_selection(monkeyp
 def test_capture_scene_detumbles_alike_in_both_loops(monkeypatch):
     """The capture_planar scene (grasp, then min-norm detumbling of the merged robot, compiled
     after the grasp) gives the Python loop's post-capture telemetry and solver residual."""
-    import freefloat.dynamics.simulation as simulation
     from freefloat.app.experiments import experiment_for
     from freefloat.app.scenes import find_scene
+    from freefloat.dynamics import simulation
     from freefloat.space.capture import capture_and_detumble
 
     scene = find_scene("capture_planar")

@@ -17,10 +17,10 @@ namespace freefloat::sim {
 
 // n actuated joints, k end-effectors; vectors [linear; angular] in the inertial frame.
 struct GeneralizedJacobian {
-  Eigen::MatrixXd Jstar;  // J* = Jm - J0E H0^-1 H0m (6k, n), eq 82: [v_E; w_E] per joint rate
-  Eigen::MatrixXd J0;     // J0 = -H0^-1 H0m (6, n), eq 71: base CoM twist per joint rate
-  Vec drift;              // J0E H0^-1 M (6k,), eq 115: [v_E; w_E] at zero joint rates
-  Vec6 base_twist;        // H0^-1 M (6,): base CoM twist [v0; w0] at zero joint rates
+  Eigen::MatrixXd Jstar;             // J* = Jm - J0E H0^-1 H0m (6k, n), eq 82: [v_E; w_E] per joint rate
+  Eigen::MatrixXd J0;                // J0 = -H0^-1 H0m (6, n), eq 71: base CoM twist per joint rate
+  Vec drift;                         // J0E H0^-1 M (6k,), eq 115: [v_E; w_E] at zero joint rates
+  Vec6 base_twist = Vec6::Zero();    // H0^-1 M (6,): base CoM twist [v0; w0] at zero joint rates
 };
 
 // At state (q, v): `base_frame` is the base CoM frame, `ee_frames` the end-effector frames (their

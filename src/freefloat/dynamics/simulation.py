@@ -150,8 +150,8 @@ def run(
         backend: ``"compiled"``: the same loop in compiled code (:mod:`freefloat.dynamics.compiled`;
             the exact plant and an integrator of the registry without momentum projection; a
             controller without a compiled law and the stop event are then evaluated in Python
-            between compiled periods, with the wrenches selected there too); ``"python"``: this module's loop; ``"auto"``
-            (default): compiled when the plant and integrator allow it.
+            between compiled periods, with the wrenches selected there too); ``"python"``: this
+            module's loop; ``"auto"`` (default): compiled when the plant and integrator allow it.
 
     Raises:
         InvalidArgument: for a state of the wrong size or not finite, a non-unit base quaternion,
