@@ -31,6 +31,29 @@ py::array_t<double> out(const Vec& x) {
   return r;
 }
 
+py::array_t<double> out(const Eigen::MatrixXd& x) {
+  py::array_t<double> r({x.rows(), x.cols()});
+  Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(r.mutable_data(), x.rows(),
+                                                                                    x.cols()) = x;
+  return r;
+}
+
+py::object maybe(const std::optional<Vec>& x) { return x ? py::object(out(*x)) : py::object(py::none()); }
+
+// Wrenches of `k` rows: joint, CoM in its frame, inertial force and torque.
+std::vector<Wrench> wrenches_of(const Model& m, const std::vector<int>& joints, const Array& com, const Array& force,
+                                const Array& torque) {
+  const py::ssize_t k = static_cast<py::ssize_t>(joints.size());
+  const double *c = sized(com, 3 * k, "com"), *f = sized(force, 3 * k, "force"), *t = sized(torque, 3 * k, "torque");
+  std::vector<Wrench> w;
+  for (py::ssize_t i = 0; i < k; ++i) {
+    if (joints[i] < 1 || joints[i] >= static_cast<int>(m.njoints)) throw std::invalid_argument("wrench joint out of range");
+    w.push_back({joints[i], Eigen::Map<const Vec3>(c + 3 * i), Eigen::Map<const Vec3>(f + 3 * i),
+                 Eigen::Map<const Vec3>(t + 3 * i)});
+  }
+  return w;
+}
+
 // The telemetry fields in Telemetry's order: (t, q, v, tau, joint_positions, joint_reference,
 // base_position, base_quaternion, base_twist, ee_position, ee_quaternion, com, momentum, energy, work).
 Rows rows_of(const Model& m, int n_joints, int n_ee, py::tuple arrays) {
@@ -88,6 +111,21 @@ PySimulation make(std::vector<int> parent, std::vector<std::string> kind, std::v
   for (int& id : ee_frames) id += 1;  // frame 0 is the universe
   sim->set_frames(base_frame + 1, ee_frames);
   return PySimulation{std::move(sim), joints.n, static_cast<int>(ee_frames.size())};
+}
+
+DetumblingTask task_of(const PySimulation& s, std::vector<int> rows, std::vector<int> joints, const std::string& method,
+                       const std::string& secondary, double rcond) {
+  for (int r : rows)
+    if (r < 0 || r >= 6 * s.n_ee) throw std::invalid_argument("detumbling row out of range");
+  for (int j : joints)
+    if (j < 0 || j >= s.n_joints) throw std::invalid_argument("mission joint out of range");
+  if (rows.empty() || joints.empty()) throw std::invalid_argument("detumbling needs rows and mission joints");
+  const auto m = DetumblingTask::method_named(method);
+  if (m == DetumblingTask::Method::single && (rows.size() != 1 || joints.size() != 1))
+    throw std::invalid_argument("method 'single' takes one row and one mission joint");
+  if (secondary != "base_angular_velocity" && secondary != "base_twist")
+    throw std::invalid_argument("unknown secondary objective '" + secondary + "'");
+  return DetumblingTask{std::move(rows), std::move(joints), m, secondary == "base_twist", rcond};
 }
 
 }  // namespace
@@ -157,18 +195,61 @@ PYBIND11_MODULE(_sim, m) {
            "One control period; OverflowError with the Python loop's message on a blow-up.")
       .def("set_wrenches",
            [](PySimulation& s, std::vector<int> joints, const Array& com, const Array& force, const Array& torque) {
-             const py::ssize_t k = static_cast<py::ssize_t>(joints.size());
-             const double *c = sized(com, 3 * k, "com"), *f = sized(force, 3 * k, "force"), *t = sized(torque, 3 * k, "torque");
-             std::vector<Simulation::Wrench> w;
-             for (py::ssize_t i = 0; i < k; ++i) {
-               if (joints[i] < 1 || joints[i] >= static_cast<int>(s.sim->model().njoints))
-                 throw std::invalid_argument("wrench joint out of range");
-               w.push_back({joints[i], Eigen::Map<const Vec3>(c + 3 * i), Eigen::Map<const Vec3>(f + 3 * i),
-                            Eigen::Map<const Vec3>(t + 3 * i)});
-             }
-             s.sim->set_wrenches(std::move(w));
+             s.sim->set_wrenches(wrenches_of(s.sim->model(), joints, com, force, torque));
            },
            "Wrenches held from now on (joint, CoM in its frame, inertial force and torque, scaled).")
+      .def("set_wrench_profiles",
+           [](PySimulation& s, std::vector<int> joints, const Array& com, const Array& force, const Array& torque,
+              const Array& start, const Array& end, const Array& rise) {
+             const std::vector<Wrench> full = wrenches_of(s.sim->model(), joints, com, force, torque);
+             const py::ssize_t k = static_cast<py::ssize_t>(full.size());
+             const double *t0 = sized(start, k, "start"), *t1 = sized(end, k, "end"), *r = sized(rise, k, "rise");
+             std::vector<WrenchProfile> profiles;
+             for (py::ssize_t i = 0; i < k; ++i) profiles.push_back({full[i], t0[i], t1[i], r[i]});
+             s.sim->set_wrench_profiles(std::move(profiles));
+           },
+           "Wrenches with their profiles (as set_wrenches, at profile value 1; start, end, rise in s), "
+           "selected by run() at the start of each period.")
+      .def("set_detumbling",
+           [](PySimulation& s, std::vector<int> rows, std::vector<int> joints, const std::string& method,
+              const std::string& secondary, double rcond, double start, double kp, double kd, double period,
+              std::optional<Array> hold, std::optional<Array> previous) {
+             DetumblingLaw law{task_of(s, rows, joints, method, secondary, rcond), start, kp, kd, period};
+             if (hold) law.hold = vec(*hold, s.n_joints, "hold");
+             if (previous) law.previous = vec(*previous, s.n_joints, "previous");
+             s.sim->set_detumbling(std::move(law));
+           },
+           py::arg("rows"), py::arg("joints"), py::arg("method"), py::arg("secondary"), py::arg("rcond"),
+           py::arg("start"), py::arg("kp"), py::arg("kd"), py::arg("period"), py::arg("hold"), py::arg("previous"),
+           "The detumbling law (see DetumblingController), with its state so far (hold, previous: None or (n,)).")
+      .def("take_detumbling_state",
+           [](PySimulation& s) {
+             DetumblingLaw* law = s.sim->detumbling();
+             if (law == nullptr) throw std::invalid_argument("no detumbling law is set");
+             py::array_t<double> residuals(static_cast<py::ssize_t>(law->residuals.size()));
+             std::copy(law->residuals.begin(), law->residuals.end(), residuals.mutable_data());
+             law->residuals.clear();
+             return py::make_tuple(maybe(law->hold), maybe(law->previous), residuals);
+           },
+           "(hold, previous rates, residual max of each detumbling period since the last call).")
+      .def("generalized_jacobian",
+           [](PySimulation& s, const Array& q, const Array& v) {
+             const Model& m = s.sim->model();
+             const GeneralizedJacobian g = s.sim->generalized_jacobian_at(vec(q, m.nq, "q"), vec(v, m.nv, "v"));
+             return py::make_tuple(out(g.Jstar), out(g.J0), out(g.drift), out(Vec(g.base_twist)));
+           },
+           "(J*, J0, J0E H0^-1 M, H0^-1 M) at (q, v).")
+      .def("detumbling_solve",
+           [](PySimulation& s, const Array& q, const Array& v, std::vector<int> rows, std::vector<int> joints,
+              const std::string& method, const std::string& secondary, double rcond) {
+             const Model& m = s.sim->model();
+             const GeneralizedJacobian g = s.sim->generalized_jacobian_at(vec(q, m.nq, "q"), vec(v, m.nv, "v"));
+             Vec qdot, residual;
+             const std::string error = solve(g, task_of(s, rows, joints, method, secondary, rcond), qdot, residual);
+             if (!error.empty()) throw std::invalid_argument(error);
+             return py::make_tuple(out(qdot), out(residual));
+           },
+           "(qdot, residual) of the detumbling solve at (q, v).")
       .def_property_readonly("q", [](const PySimulation& s) { return out(s.sim->q()); })
       .def_property_readonly("v", [](const PySimulation& s) { return out(s.sim->v()); })
       .def_property_readonly("periods_done", [](const PySimulation& s) { return s.sim->period(); })

@@ -13,6 +13,11 @@ in one run: quote the ratios, not the absolute times (shared 2-core machines are
    a range of steps (dopri5 over tolerances): final-state error against a tight dopri5 reference
    versus wall time and dynamics evaluations.
 3. Model no more than the scene needs: the default scene with a planar vs a free-flyer base.
+4. Detumbling: a ``detumble_impulse`` scene (a ramped capture impulse, then the detumbling law, 1 s
+   at 1 ms, RKMK4 with 10 substeps) in the Python loop, in the compiled loop driven one period at a
+   time with the Python law and wrench selection (the mode before the law was compiled), and in
+   whole compiled chunks (law and wrench profiles in C++), taking turns within each repeat; and,
+   for the law's share, the same run in whole chunks without a controller (impulse only).
 
 Usage: ``python3 scripts/bench_simulation.py [--out DIR] [--repeats N] [--quick]``
 """
@@ -180,6 +185,41 @@ def base_kind(repeats: int, steps: int) -> dict:
     return out
 
 
+class PythonLaw:
+    """A controller's Python law without its compiled one: the run falls back to one compiled
+    period at a time with the law (and the wrench selection) in Python."""
+
+    def __init__(self, controller):
+        self.torque, self.reference = controller.torque, controller.reference
+
+
+#: The loops of :func:`detumbling`: (backend, how the scene's controller is handed to the run).
+DETUMBLING_LOOPS = {"python": ("python", lambda c: c), "compiled_per_period": ("compiled", PythonLaw),
+                    "compiled_whole_chunks": ("compiled", lambda c: c), "compiled_no_controller": ("compiled", lambda c: None)}
+
+
+def detumbling(repeats: int, name: str = "detumble_impulse_arm1_joint4") -> dict:
+    """Wall time of a detumble scene's whole run in the Python loop, in per-period compiled mode, in
+    whole compiled chunks, and in whole chunks without the controller; the loops take turns
+    within each repeat."""
+    scene = find_scene(name)
+    sim = scene.simulation
+    walls: dict[str, list[float]] = {loop: [] for loop in DETUMBLING_LOOPS}
+    for _ in range(repeats):
+        for loop, (backend, hand) in DETUMBLING_LOOPS.items():
+            p = prepare(scene)
+            res = run(p.robot, p.q0, p.v0, sim.duration, sim.control_period, p.integrator, p.model, hand(p.controller),
+                      wrenches=p.wrenches, backend=backend)
+            assert res.status == "completed" and res.backend == backend
+            walls[loop].append(res.wall_time_s)
+    best = {loop: min(w) for loop, w in walls.items()}
+    return {"scene": name, "steps": res.steps, "repeats": repeats, "wall_s_best": best,
+            "python_over_whole_chunks": best["python"] / best["compiled_whole_chunks"],
+            "per_period_over_whole_chunks": best["compiled_per_period"] / best["compiled_whole_chunks"],
+            "python_over_per_period": best["python"] / best["compiled_per_period"],
+            "law_share_of_whole_chunks": 1.0 - best["compiled_no_controller"] / best["compiled_whole_chunks"]}
+
+
 def chart(report: dict, path: Path) -> None:
     """Work-precision chart and loop-overhead bars."""
     import matplotlib
@@ -187,7 +227,7 @@ def chart(report: dict, path: Path) -> None:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(12, 4.5))
+    fig, (ax1, ax2, ax3) = plt.subplots(1, 3, figsize=(17, 4.5))
     for name in ("euler", "rk4_naive", "rkmk4", "dopri5"):
         rows = [r for r in report["work_precision"] if r["integrator"] == name]
         ax1.loglog([r["wall_s"] for r in rows], [max(r["error"], 1e-16) for r in rows], "o-", label=name)
@@ -207,6 +247,13 @@ def chart(report: dict, path: Path) -> None:
     ax2.legend(fontsize=8)
     ax2.set_ylabel("time per control step [us]")
     ax2.set_title("Default scene: freefloat's loops, the C++ floor, an inline Python loop")
+    det = report["detumbling"]
+    labels = {"python": "Python loop", "compiled_per_period": "compiled,\nper period\n(Python law)",
+              "compiled_whole_chunks": "compiled,\nwhole chunks\n(C++ law)",
+              "compiled_no_controller": "compiled,\nwhole chunks,\nno controller"}
+    ax3.bar(list(labels.values()), [det["wall_s_best"][k] for k in labels], color=["C1", "C2", "C0", "C7"])
+    ax3.set_ylabel("wall time of the run [s]")
+    ax3.set_title(f"{det['scene']}: {det['steps']} periods")
     save_chart(fig, path)
 
 
@@ -219,16 +266,20 @@ def main() -> None:
     report = {
         "loop_overhead": loop_overhead(args.repeats, steps),
         "base_kind": base_kind(args.repeats, steps),
+        "detumbling": detumbling(args.repeats),
         "work_precision": work_precision(args.quick),
         "settings": {"repeats": args.repeats, "steps": steps, "quick": args.quick},
     }
     write_json(args.out, "simulation", report)
     chart(report, args.out / "bench_simulation.png")
-    lo, bk = report["loop_overhead"], report["base_kind"]
+    lo, bk, det = report["loop_overhead"], report["base_kind"], report["detumbling"]
     print(f"compiled / C++ floor, full telemetry: {lo['compiled_over_cpp_floor_full_telemetry']:.2f}; no telemetry: "
           f"{lo['compiled_over_cpp_floor_no_telemetry']:.2f}; Python loop / compiled: "
           f"{lo['python_over_compiled_full_telemetry']:.1f}")
     print(f"free/planar base time per step: {bk['ratio_free_over_planar']:.2f}")
+    print(f"{det['scene']}: Python loop / whole compiled chunks {det['python_over_whole_chunks']:.1f}, "
+          f"per-period compiled / whole chunks {det['per_period_over_whole_chunks']:.1f}, "
+          f"the law's share of the whole-chunk run {det['law_share_of_whole_chunks']:.0%}")
     print(f"wrote {args.out}")
 
 

@@ -1,27 +1,37 @@
 """The compiled loop (freefloat.dynamics.compiled): the rebuilt model against Pinocchio, every
-integrator and the computed-torque law against the Python loop, and what it refuses."""
+integrator, the computed-torque and detumbling laws and the wrench profiles against the Python loop
+(and the C++ detumbling solve against detumbling.solve), and what it refuses."""
 
 from __future__ import annotations
 
+import re
 import warnings
 from dataclasses import replace
 
 import numpy as np
 import pinocchio as pin
 import pytest
-from hypothesis import given, settings
+from hypothesis import assume, given, settings
+from hypothesis import strategies as st
 
+from freefloat.dynamics import gjm
 from freefloat.dynamics.compiled import COMPILED_INTEGRATORS, CompiledLoop
 from freefloat.dynamics.integrators import make_integrator
 from freefloat.dynamics.models import ExactModel, make_model
 from freefloat.dynamics.simulation import run
+from freefloat.dynamics.wrenches import ExternalWrench
 from freefloat.errors import InvalidArgument
 from freefloat.paths import URDF_DIR
+from freefloat.space.detumbling import METHODS, SECONDARY, solve
 
 from freefloat import load_robot
 
 from .conftest import random_robots, random_state, robot_from_case
 
+DETUMBLE_SCENES = ("detumble_impulse_arm1_joint3", "detumble_impulse_arm1_joint4", "detumble_impulse_arm2_joint4",
+                   "detumble_impulse_both_arms")
+#: The detumble scenes' capture impulse: 500 N m about z on arm 1's last link, ramped over 5 ms.
+IMPULSE = (ExternalWrench("arm1_link4", torque=(0.0, 0.0, 500.0), start=0.005, end=0.015, rise=0.005),)
 FIELDS = ("q", "v", "tau", "joint_positions", "base_position", "base_quaternion", "base_twist", "ee_position",
           "ee_quaternion", "com", "momentum", "energy", "work")
 
@@ -100,28 +110,220 @@ def test_computed_torque_matches_the_python_controller():
     np.testing.assert_allclose(runs[1].telemetry.joint_reference, runs[0].telemetry.joint_reference, atol=1e-15)
 
 
-def scene_in_both_loops(name: str, duration: float):
-    """A built-in scene over ``duration`` s in the Python and in the compiled loop."""
+@settings(max_examples=25, deadline=None)
+@given(random_robots(max_links=8))
+def test_generalized_jacobian_from_pinocchio_equals_gjm_compute(tmp_path_factory, case):
+    """J*, J0, the drift J0E H0^-1 M and H0^-1 M built from Pinocchio's centroidal map and frame
+    Jacobians equal gjm.compute's on random trees, free and planar bases."""
+    seed, _ = case
+    robot, rng = robot_from_case(tmp_path_factory, case, base="planar" if seed % 2 else "free")
+    loop = CompiledLoop(robot, make_integrator("rkmk4", robot.model), 1e-3)
+    q, v = random_state(robot, rng)
+    state = gjm.compute(robot, q, v)
+    free = np.linalg.solve(state.H0, state.momentum_base)
+    for got, expected in zip(loop.generalized_jacobian(q, v), (state.Jstar, state.J0, state.J0E @ free, free)):
+        np.testing.assert_allclose(got, expected, atol=1e-10 * max(1.0, np.abs(expected).max()))
+
+
+def task_shape(rng: np.random.Generator, method: str, secondary: str, n: int, k: int) -> tuple[int, int]:
+    """Random (rows, mission joints) counts ``solve`` takes: one of each for ``single``, any rows
+    for ``least_squares``, no more rows than joints otherwise, leaving ``null_space`` as many spare
+    joints as its objective has rows."""
+    if method == "single":
+        return 1, 1
+    s = int(rng.integers(1, n + 1))
+    if method == "least_squares":
+        return int(rng.integers(1, 6 * k + 1)), s
+    most = min(6 * k, s - ({"base_angular_velocity": 3, "base_twist": 6}[secondary] if method == "null_space" else 0))
+    assume(most >= 1)
+    return int(rng.integers(1, most + 1)), s
+
+
+def condition(state, rows: np.ndarray, joints: np.ndarray, method: str, secondary: str, rcond: float = 1e-10) -> float:
+    """The solve's round-off amplification: the condition number of A = J*{k, S} over its kept
+    singular values, times that of C N for ``null_space`` (1 for ``single``)."""
+    def kept(M: np.ndarray) -> float:
+        s = np.linalg.svd(M, compute_uv=False)
+        s = s[s > rcond * s.max()] if s.size and s.max() > 0 else np.ones(1)
+        return s.max() / s.min()
+
+    if method == "single":
+        return 1.0
+    A = state.Jstar[np.ix_(rows, joints)]
+    if method != "null_space":
+        return kept(A)
+    N = np.eye(len(joints)) - np.linalg.pinv(A, rcond=rcond) @ A
+    C = state.J0[3 if secondary == "base_angular_velocity" else 0:][:, joints]
+    return kept(A) * kept(C @ N)
+
+
+@settings(max_examples=40, deadline=None)
+@given(random_robots(max_links=8), st.sampled_from(METHODS), st.sampled_from(SECONDARY), st.integers(0, 2**16))
+def test_compiled_detumbling_solve_equals_the_python_solver(tmp_path_factory, case, method, secondary, pick):
+    """The C++ detumbling solve gives detumbling.solve's joint rates and residual to round-off on
+    random robots (free and planar bases), random rows, mission joints, methods and secondary
+    objectives; where the Python solver refuses 'single', so does the C++ one, with its message."""
+    seed, _ = case
+    robot, rng = robot_from_case(tmp_path_factory, case, base="planar" if seed % 2 else "free")
+    choose = np.random.default_rng(pick)
+    k = len(robot.end_effectors)
+    r, s = task_shape(choose, method, secondary, robot.n_joints, k)
+    rows = np.sort(choose.choice(6 * k, size=r, replace=False))
+    joints = np.sort(choose.choice(robot.n_joints, size=s, replace=False))
+    q, v = random_state(robot, rng)
+    state = gjm.compute(robot, q, v)
+    loop = CompiledLoop(robot, make_integrator("rkmk4", robot.model), 1e-3)
+    try:
+        expected = solve(state, rows, joints, method, secondary)
+    except ValueError as exc:
+        with pytest.raises(ValueError, match=re.escape(str(exc))):
+            loop.detumbling_solve(q, v, rows, joints, method, secondary)
+        return
+    qdot, residual = loop.detumbling_solve(q, v, rows, joints, method, secondary)
+    tol = 1e-12 * condition(state, rows, joints, method, secondary) * max(1.0, np.abs(expected.qdot).max())
+    np.testing.assert_allclose(qdot, expected.qdot, atol=tol)
+    np.testing.assert_allclose(residual, expected.residual, atol=tol)
+
+
+def never(*args, **kwargs):
+    raise AssertionError("the compiled run called Python between periods")
+
+
+@pytest.mark.parametrize("name", DETUMBLE_SCENES)
+def test_detumble_scene_runs_whole_chunks_like_the_python_loop(name, monkeypatch):
+    """A detumble_impulse scene (a ramped 500 N m impulse, then the detumbling law) gives the
+    Python loop's telemetry and solver residuals with the law and the wrench profiles in C++ (the
+    Python controller and wrench selection are never called)."""
     from freefloat.app.experiments import experiment_for
     from freefloat.app.experiments.robot_run import simulate
     from freefloat.app.scenes import find_scene
+    from freefloat.dynamics.wrenches import WrenchField
 
     scene = find_scene(name)
-    runs = []
+    runs, controllers = [], []
     for backend in ("python", "compiled"):
-        sim = replace(scene.simulation, duration=duration, backend=backend, model="exact")
-        runs.append(simulate(experiment_for(scene).prepare(replace(scene, simulation=sim)), None, None))
-    return runs
-
-
-def test_detumbling_with_an_impulse_matches_the_python_loop():
-    """The detumbling scene (a 500 N m impulse on a link, the Python detumbling controller between
-    compiled periods) gives the Python loop's telemetry."""
-    python, compiled = scene_in_both_loops("detumble_impulse_arm1_joint4", 0.05)
-    assert [python.backend, compiled.backend] == ["python", "compiled"]
+        sim = replace(scene.simulation, backend=backend, model="exact")
+        setup = experiment_for(scene).prepare(replace(scene, simulation=sim))
+        if backend == "compiled":
+            setup.controller.torque = never
+            monkeypatch.setattr(WrenchField, "activate", never)
+        runs.append(simulate(setup, None, None))
+        controllers.append(setup.controller)
+    python, compiled = runs
+    assert [python.status, compiled.status] == ["completed", "completed"]
     assert np.abs(compiled.telemetry.momentum[-1] - compiled.telemetry.momentum[0]).max() > 1.0  # the impulse acts
+    assert np.abs(compiled.telemetry.tau).max() > 1.0  # the law acts
     assert_same_telemetry(python.telemetry, compiled.telemetry, tol=1e-9)
     np.testing.assert_allclose(compiled.telemetry.joint_reference, python.telemetry.joint_reference, atol=1e-12)
+    assert len(controllers[1].residuals) == len(controllers[0].residuals) > 900
+    np.testing.assert_allclose(controllers[1].residuals, controllers[0].residuals, atol=1e-12)
+
+
+def test_detumbling_with_another_controller_model_falls_back_to_python():
+    """A detumbling controller on the nidc model has no compiled law: the run drives the compiled
+    plant one period at a time with the Python law and the wrenches selected in Python, and still
+    gives the Python loop's telemetry."""
+    from freefloat.space.control.detumbling_control import DetumblingController
+    from freefloat.space.detumbling import joint_indices, task_rows
+
+    robot = robot_named("two_arm_planar.urdf", base="planar")
+    results = []
+    for backend in ("python", "compiled"):
+        ctrl = DetumblingController(robot, task_rows(robot, [("arm1_ee", "wz")]), joint_indices(robot, None), 0.01,
+                                    1e-3, model="nidc")
+        assert ctrl.compiled_law() is None
+        results.append(run(robot, robot.neutral(), np.zeros(robot.model.nv), 0.03, 1e-3,
+                           make_integrator("rkmk4", robot.model), ExactModel(robot), ctrl, IMPULSE, backend=backend))
+    assert [r.backend for r in results] == ["python", "compiled"]
+    assert_same_telemetry(results[0].telemetry, results[1].telemetry)
+
+
+def test_chained_compiled_runs_keep_the_detumbling_state():
+    """One controller over two chained runs (the second starting where the first ended) holds the
+    first run's posture and differences against its last rates, in both loops alike."""
+    from freefloat.space.control.detumbling_control import DetumblingController
+    from freefloat.space.detumbling import joint_indices, task_rows
+
+    robot = robot_named("two_arm_planar.urdf", base="planar")
+    q0, v0 = random_state(robot, np.random.default_rng(5), speed=0.3)
+    second, residuals = [], []
+    for backend in ("python", "compiled"):
+        ctrl = DetumblingController(robot, task_rows(robot, [("arm1_ee", "wz"), ("arm2_ee", "wz")]),
+                                    joint_indices(robot, None), 0.025, 1e-3, method="null_space")
+        first = run(robot, q0, v0, 0.03, 1e-3, make_integrator("rkmk4", robot.model), ExactModel(robot), ctrl,
+                    backend=backend)
+        tel = first.telemetry
+        second.append(run(robot, tel.q[-1], tel.v[-1], 0.02, 1e-3, make_integrator("rkmk4", robot.model),
+                          ExactModel(robot), ctrl, start_time=0.03, backend=backend))
+        residuals.append(ctrl.residuals)
+    assert_same_telemetry(second[0].telemetry, second[1].telemetry)
+    np.testing.assert_allclose(second[1].telemetry.joint_reference, second[0].telemetry.joint_reference)
+    assert len(residuals[1]) == len(residuals[0]) >= 20
+    np.testing.assert_allclose(residuals[1], residuals[0], atol=1e-12)
+
+
+def test_a_failing_detumbling_solve_stops_the_compiled_run_like_the_python_one():
+    """'single' with a mission joint that cannot move its row (a planar arm and a vz row) stops
+    both loops as diverged at the first detumbling period, with the solver's message."""
+    from freefloat.space.control.detumbling_control import DetumblingController
+    from freefloat.space.detumbling import joint_indices, task_rows
+
+    robot = robot_named("two_arm_planar.urdf", base="planar")
+    results = []
+    for backend in ("python", "compiled"):
+        ctrl = DetumblingController(robot, task_rows(robot, [("arm1_ee", "vz")]), joint_indices(robot, ["arm1_joint4"]),
+                                    0.005, 1e-3, method="single")
+        results.append(run(robot, robot.neutral(), np.full(robot.model.nv, 0.1), 0.02, 1e-3,
+                           make_integrator("rkmk4", robot.model), ExactModel(robot), ctrl, backend=backend))
+    python, compiled = results
+    assert python.status == compiled.status == "diverged"
+    assert compiled.message == python.message and "does not move row" in python.message
+    assert_same_telemetry(python.telemetry, compiled.telemetry)
+
+
+def test_wrench_profiles_in_the_compiled_loop_match_the_python_selection(monkeypatch):
+    """Ramped, stepped and finished wrenches (forces and torques, on a link and on the base) give
+    the Python loop's telemetry with the selection made in C++."""
+    from freefloat.dynamics.wrenches import ExternalWrench, WrenchField
+
+    robot = robot_named("two_arm_planar.urdf")
+    wrenches = (ExternalWrench("arm2_link3", force=(3.0, -1.0, 2.0), torque=(0.5, 0.0, -1.0), start=0.004, end=0.02,
+                               rise=0.0063),
+                ExternalWrench(robot.base_link, force=(0.0, 5.0, 0.0), start=0.01, end=0.014),
+                *IMPULSE)
+    python = run(robot, robot.neutral(), np.full(robot.model.nv, 0.05), 0.03, 1e-3,
+                 make_integrator("rkmk4", robot.model), ExactModel(robot), wrenches=wrenches, backend="python")
+    monkeypatch.setattr(WrenchField, "activate", never)
+    compiled = run(robot, robot.neutral(), np.full(robot.model.nv, 0.05), 0.03, 1e-3,
+                   make_integrator("rkmk4", robot.model), ExactModel(robot), wrenches=wrenches, backend="compiled")
+    assert np.abs(python.telemetry.momentum[-1] - python.telemetry.momentum[0]).max() > 1e-2
+    assert_same_telemetry(python.telemetry, compiled.telemetry)
+
+
+def test_capture_scene_detumbles_alike_in_both_loops(monkeypatch):
+    """The capture_planar scene (grasp, then min-norm detumbling of the merged robot, compiled
+    after the grasp) gives the Python loop's post-capture telemetry and solver residual."""
+    from freefloat.app.experiments import experiment_for
+    from freefloat.app.scenes import find_scene
+    from freefloat.dynamics import simulation
+    from freefloat.space.capture import capture_and_detumble
+
+    scene = find_scene("capture_planar")
+    setup = experiment_for(scene).prepare(replace(scene, simulation=replace(scene.simulation, model="exact")))
+    python_run = simulation.run
+
+    def capture():
+        return capture_and_detumble(setup.robot, setup.target, "arm1_ee", [("arm1_ee", "wz")], None,
+                                    approach_time=0.6, detumble_time=0.2, q0=setup.q0, v0=setup.v0)
+
+    compiled = capture()
+    monkeypatch.setattr(simulation, "run", lambda *a, **k: python_run(*a, **k, backend="python"))
+    python = capture()
+    assert compiled.summary["status"] == python.summary["status"] == "completed"
+    assert compiled.summary["solver_residual_max"] > 0.0
+    np.testing.assert_allclose(compiled.summary["solver_residual_max"], python.summary["solver_residual_max"],
+                               atol=1e-12)
+    assert_same_telemetry(python.post, compiled.post)
 
 
 def test_a_stop_event_ends_the_compiled_run_where_the_python_one_ends():

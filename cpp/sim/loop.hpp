@@ -1,7 +1,8 @@
 // The simulation loop of freefloat.dynamics.simulation.run in C++: zero-order-hold control
-// periods, Pinocchio's ABA as the plant, an integrator of lie_rk.hpp, the joint-space computed
-// torque of freefloat.space.control (eqs 136-137, exact H* and c*, quintic reference), and the
-// telemetry row of simulation.Recorder.
+// periods, Pinocchio's ABA as the plant with the external wrenches of wrench_field.hpp, an
+// integrator of lie_rk.hpp, a control law with the exact H* and c* (the joint-space computed
+// torque of freefloat.space.control, eqs 136-137, on a quintic reference, or the detumbling law of
+// detumbling_law.hpp), and the telemetry row of simulation.Recorder.
 #pragma once
 
 #include <pinocchio/algorithm/aba.hpp>
@@ -17,7 +18,9 @@
 #include <memory>
 #include <optional>
 
+#include "detumbling_law.hpp"
 #include "lie_rk.hpp"
+#include "wrench_field.hpp"
 
 namespace freefloat::sim {
 
@@ -103,14 +106,18 @@ class Simulation {
     kd_ = kd;
   }
 
-  // Start a run at (q, v), control period `period`, work done so far `work` (J).
-  // Wrenches held over the next periods (joint, CoM in the joint frame, inertial force and torque,
-  // already scaled by their profile); empty: none.
-  struct Wrench {
-    int joint;
-    Vec3 com, force, torque;
-  };
+  void set_detumbling(DetumblingLaw law) {
+    controlled_ = true;
+    detumbling_ = std::move(law);
+  }
+  // The detumbling law with its state (held posture, previous rates, residuals), if set.
+  DetumblingLaw* detumbling() { return detumbling_ ? &*detumbling_ : nullptr; }
+
+  // Wrenches held over the next periods (already scaled by their profile); empty: none.
   void set_wrenches(std::vector<Wrench> wrenches) { wrenches_ = std::move(wrenches); }
+
+  // Wrenches with profiles, selected by run() at the start of each period (replaces set_wrenches).
+  void set_wrench_profiles(std::vector<WrenchProfile> profiles) { profiles_ = std::move(profiles); }
 
   // Hold the joint torques `tau` (n,) from the current period on (a controller outside the loop).
   void hold(const Vec& tau) {
@@ -143,6 +150,13 @@ class Simulation {
     return pinocchio::aba(model_, data_, q, v, tau, pinocchio::Convention::LOCAL);
   }
 
+  // The generalized Jacobian quantities at (q, v), outside of any run.
+  GeneralizedJacobian generalized_jacobian_at(const Vec& q, const Vec& v) {
+    GeneralizedJacobian g;
+    generalized_jacobian(model_, data_, q, v, base_frame_, ee_frames_, joints_.n, g);
+    return g;
+  }
+
   // Runs until period `last` (exclusive) or until `rows` has no free row for a period that
   // records; writes rows from `row`. Returns the rows written; when the state blows up, stops
   // there (the state stays at the last good period) and puts the Python loop's message in `error`.
@@ -152,12 +166,13 @@ class Simulation {
       const double t = start_ + k_ * period_;
       const bool records = k_ % record_every_ == 0;
       if (records && row == out.rows) break;
-      control(t);
-      if (records) record(out, row++, t, nullptr);
       try {
+        control(t);
+        if (!profiles_.empty()) select_wrenches(profiles_, t, wrenches_);
+        if (records) record(out, row++, t, nullptr);
         step(t);
-      } catch (const std::overflow_error& blow_up) {
-        error = blow_up.what();
+      } catch (const std::overflow_error& stop) {  // a blow-up, or a detumbling solve that failed
+        error = stop.what();
         break;
       }
     }
@@ -169,11 +184,37 @@ class Simulation {
   void record_now(Rows& out, int row, const Vec* reference) { record(out, row, start_ + k_ * period_, reference); }
 
  private:
+  // The law's torques at time t for the current state; throws std::overflow_error with the
+  // Python loop's message when the detumbling solve fails.
   void control(double t) {
-    if (!reference_) return;
-    Vec qd(joints_.n), qdd(joints_.n), qddd(joints_.n);
-    reference_->at(t, qd, qdd, qddd);
+    if (!reference_ && !detumbling_) return;
+    const int n = joints_.n;
     joints_.get(q_, pos_);
+    joint_space();
+    if (reference_) {
+      Vec qd(n), qdd(n), qddd(n);
+      reference_->at(t, qd, qdd, qddd);
+      tau_ = H_ * (qddd + kp_ * (qd - pos_) + kd_ * (qdd - v_.tail(n))) + c_;
+    } else {
+      DetumblingLaw& law = *detumbling_;
+      if (!law.hold) law.hold = pos_;
+      if (!law.detumbling(t)) {
+        tau_ = law.hold_torque(pos_, v_.tail(n), H_, c_);
+      } else {
+        generalized_jacobian(model_, data_, q_, v_, base_frame_, ee_frames_, n, law.at_state);
+        const std::string error = law.track(v_.tail(n), H_, c_, tau_);
+        if (!error.empty()) {
+          char when[64];
+          std::snprintf(when, sizeof when, "at t = %.6g s: ", t);
+          throw std::overflow_error(when + error);
+        }
+      }
+    }
+    tau_full_.tail(n) = tau_;
+  }
+
+  // H_ = H* and c_ = c* of tau = H* qddot + c* (the base eliminated through its rows) at the state.
+  void joint_space() {
     const Eigen::MatrixXd& M = pinocchio::crba(model_, data_, q_, pinocchio::Convention::LOCAL);
     M_ = M.selfadjointView<Eigen::Upper>();
     const Vec& b = pinocchio::nonLinearEffects(model_, data_, q_, v_);
@@ -182,10 +223,8 @@ class Simulation {
     rhs.leftCols(n) = M_.topRightCorner(nb_, n);
     rhs.col(n) = b.head(nb_);
     const Eigen::MatrixXd coupling = M_.topLeftCorner(nb_, nb_).partialPivLu().solve(rhs);
-    const Eigen::MatrixXd H = M_.bottomRightCorner(n, n) - M_.bottomLeftCorner(n, nb_) * coupling.leftCols(n);
-    const Vec c = b.tail(n) - M_.bottomLeftCorner(n, nb_) * coupling.col(n);
-    tau_ = H * (qddd + kp_ * (qd - pos_) + kd_ * (qdd - v_.tail(n))) + c;
-    tau_full_.tail(n) = tau_;
+    H_ = M_.bottomRightCorner(n, n) - M_.bottomLeftCorner(n, nb_) * coupling.leftCols(n);
+    c_ = b.tail(n) - M_.bottomLeftCorner(n, nb_) * coupling.col(n);
   }
 
   void step(double t) {
@@ -233,6 +272,8 @@ class Simulation {
       Vec qd(n), qdd(n), qddd(n);
       reference_->at(t, qd, qdd, qddd);
       Eigen::Map<Vec>(out.joint_reference + n * row, n) = qd;
+    } else if (detumbling_ && !detumbling_->detumbling(t)) {  // DetumblingController.reference
+      Eigen::Map<Vec>(out.joint_reference + n * row, n) = *detumbling_->hold;
     }
     Eigen::Map<Vec3>(out.com + 3 * row) = com;
     out.energy[row] = pinocchio::computeKineticEnergy(model_, d) - mass_ * model_.gravity.linear().dot(com);
@@ -258,15 +299,18 @@ class Simulation {
   int record_every_;
   Dynamics dynamics_;
   std::optional<Quintic> reference_;
+  std::optional<DetumblingLaw> detumbling_;
   bool controlled_ = false;  // torques are held (a law or hold()): the work is accumulated
   std::vector<Wrench> wrenches_;
+  std::vector<WrenchProfile> profiles_;
   pinocchio::container::aligned_vector<pinocchio::Force> fext_;
   double kp_ = 0.0, kd_ = 0.0, mass_ = 0.0, work_ = 0.0;
   long k_ = 0;
   int base_frame_ = 0;
   std::vector<int> ee_frames_;
   Vec q_, v_, qn_, vn_, tau_full_, tau_, pos_;
-  Eigen::MatrixXd M_;
+  Eigen::MatrixXd M_, H_;
+  Vec c_;
 };
 
 }  // namespace freefloat::sim

@@ -10,15 +10,17 @@ used. Python is entered once per telemetry chunk or progress report, so Ctrl-C, 
 progress bars work as in the Python loop.
 
 Two ways to drive it: a whole chunk of periods per call when nothing needs Python between
-periods (no controller, or one with a ``compiled_law``; no wrenches; no stop event), or one call
-per period (:meth:`CompiledLoop.period`) with the torques, the active wrenches and the stop event
-from Python: any controller then keeps its Python code, and the period's integration and
-telemetry row are compiled.
+periods (no controller, or one with a ``compiled_law``: the computed torque on a quintic or the
+detumbling law of :class:`DetumblingLaw`; external wrenches with their profiles; no stop event),
+or one call per period (:meth:`CompiledLoop.step`) with the torques, the active wrenches and the
+stop event from Python: any controller then keeps its Python code, and the period's integration
+and telemetry row are compiled.
 """
 
 from __future__ import annotations
 
-from dataclasses import fields
+from collections.abc import Callable
+from dataclasses import dataclass, fields
 from typing import Any
 
 import numpy as np
@@ -32,7 +34,7 @@ from . import _sim
 from .telemetry import Telemetry
 from .wrenches import WrenchField
 
-__all__ = ["COMPILED_INTEGRATORS", "CompiledLoop", "law_of", "unsupported"]
+__all__ = ["COMPILED_INTEGRATORS", "CompiledLoop", "DetumblingLaw", "law_of", "unsupported"]
 
 #: Integrators the compiled loop runs (every registry entry; momentum projection is not compiled).
 COMPILED_INTEGRATORS = ("euler", "rkmk4", "rk4_naive", "rkmk6", "rkmk8", "dopri5")
@@ -52,8 +54,45 @@ def unsupported(model: Any, integrator: Any) -> str | None:
     return None
 
 
-def law_of(controller: Any) -> tuple | None:
-    """The controller's ``compiled_law()`` (see ``ComputedTorque.compiled_law``), or None."""
+@dataclass
+class DetumblingLaw:
+    """The detumbling controller (``DetumblingController``, dissertation sec 3.8, eq 134) as the
+    compiled loop runs it, with the exact ``H*``, ``c*`` and the detumbling solve of
+    ``freefloat.space.detumbling.solve`` on Pinocchio's Jacobians.
+
+    Attributes:
+        rows: stacked end-effector rows to stop (r,), into the 6k rows ``[v_E; w_E]``.
+        joints: mission joint indices (s,).
+        method: ``single``, ``min_norm``, ``null_space`` or ``least_squares``.
+        secondary: ``null_space``'s objective, ``base_angular_velocity`` or ``base_twist``.
+        rcond: the solver's pseudo-inverse cut (singular values not above ``rcond`` times the largest).
+        start: time the detumbling starts, s (before it: hold the posture).
+        kp, kd: gains, 1/s^2 and 1/s.
+        period: the backward-difference period of ``qddot_d``, s.
+        hold: the held joint positions (n,), or None for those at the first period.
+        previous: the previous detumbling period's ``qdot_d`` (n,), or None.
+        report: called after each compiled chunk with ``(hold, previous, residuals)``, the
+            residuals the max ``|residual|`` of each detumbling period of the chunk (the
+            controller keeps its state current through it).
+    """
+
+    rows: np.ndarray
+    joints: np.ndarray
+    method: str
+    secondary: str
+    rcond: float
+    start: float
+    kp: float
+    kd: float
+    period: float
+    hold: np.ndarray | None
+    previous: np.ndarray | None
+    report: Callable[[np.ndarray | None, np.ndarray | None, np.ndarray], None]
+
+
+def law_of(controller: Any) -> tuple | DetumblingLaw | None:
+    """The controller's ``compiled_law()`` (see ``ComputedTorque.compiled_law`` and
+    ``DetumblingController.compiled_law``), or None."""
     return getattr(controller, "compiled_law", lambda: None)() if controller is not None else None
 
 
@@ -117,7 +156,10 @@ class CompiledLoop:
         start_time: time of period 0, s.
         record_every: one telemetry row every this many periods.
         law: ``(start, delta, duration, kp, kd)`` of a computed-torque controller on a quintic
-            (see ``ComputedTorque.compiled_law``), or None for a torque-free run.
+            (see ``ComputedTorque.compiled_law``), a :class:`DetumblingLaw`, or None for a
+            torque-free run.
+        wrenches: external wrenches the loop selects by their profiles at each period of
+            :meth:`run` (the per-period interface takes them through :meth:`set_wrenches` instead).
 
     Raises:
         InvalidArgument: for a joint kind or integrator the compiled loop does not have, or when
@@ -127,8 +169,9 @@ class CompiledLoop:
     backend = "compiled"
 
     def __init__(self, robot: Robot, integrator: Any, control_period: float, start_time: float = 0.0,
-                 record_every: int = 1, law: tuple | None = None):
+                 record_every: int = 1, law: tuple | DetumblingLaw | None = None, wrenches: WrenchField | None = None):
         self.robot = robot
+        self.law = law
         n_ee = len(robot.end_effectors)
         try:
             self.sim = _sim.Simulation(
@@ -138,9 +181,14 @@ class CompiledLoop:
                 record_every=record_every, base_frame=0, ee_frames=list(range(1, n_ee + 1)))
         except ValueError as exc:
             raise InvalidArgument(f"{robot.urdf_path.name}: {exc}") from exc
-        if law is not None:
+        if isinstance(law, DetumblingLaw):
+            self.sim.set_detumbling([int(r) for r in law.rows], [int(j) for j in law.joints], law.method, law.secondary,
+                                    law.rcond, law.start, law.kp, law.kd, law.period, law.hold, law.previous)
+        elif law is not None:
             start, delta, duration, kp, kd = law
             self.sim.set_computed_torque(start, delta, duration, kp, kd)
+        if wrenches is not None:
+            self.sim.set_wrench_profiles(*wrenches.profiles())
         self._check_rebuild()
 
     def _check_rebuild(self) -> None:
@@ -165,7 +213,10 @@ class CompiledLoop:
         Returns the rows written and, when the state blew up, the Python loop's message (None
         otherwise); the run then stopped at the last good period, its rows kept.
         """
-        return self.sim.run(last_period, _arrays(chunk), row)
+        written, blow_up = self.sim.run(last_period, _arrays(chunk), row)
+        if isinstance(self.law, DetumblingLaw):
+            self.law.report(*self.sim.take_detumbling_state())
+        return written, blow_up
 
     def bind(self, chunk: Telemetry) -> None:
         """The chunk :meth:`record` writes into."""
@@ -188,6 +239,17 @@ class CompiledLoop:
         """Hold the wrenches ``field`` has active (after ``field.activate(t)``), or none."""
         self.sim.set_wrenches(*(field.active() if field is not None else ([], np.zeros((0, 3)), np.zeros((0, 3)),
                                                                           np.zeros((0, 3)))))
+
+    def generalized_jacobian(self, q: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, ...]:
+        """``(J*, J0, J0E H0^-1 M, H0^-1 M)`` at (q, v) from Pinocchio's Jacobians, as in
+        :class:`~freefloat.dynamics.gjm.GJMState`: (6k, n), (6, n), (6k,), (6,)."""
+        return self.sim.generalized_jacobian(q, v)
+
+    def detumbling_solve(self, q: np.ndarray, v: np.ndarray, rows: np.ndarray, joints: np.ndarray, method: str,
+                         secondary: str = "base_angular_velocity", rcond: float = 1e-10) -> tuple[np.ndarray, np.ndarray]:
+        """The compiled ``freefloat.space.detumbling.solve`` at (q, v): ``(qdot, residual)`` (n,), (r,)."""
+        return self.sim.detumbling_solve(q, v, [int(r) for r in rows], [int(j) for j in joints], method, secondary,
+                                         rcond)
 
     @property
     def state(self) -> tuple[np.ndarray, np.ndarray]:

@@ -149,9 +149,9 @@ def run(
             and with the last rows when the run ends (e.g. to save them as the run goes).
         backend: ``"compiled"``: the same loop in compiled code (:mod:`freefloat.dynamics.compiled`;
             the exact plant and an integrator of the registry without momentum projection; a
-            controller without a compiled law, wrenches and the stop event are then evaluated in
-            Python between compiled periods); ``"python"``: this module's loop; ``"auto"``
-            (default): compiled when the plant and integrator allow it.
+            controller without a compiled law and the stop event are then evaluated in Python
+            between compiled periods, with the wrenches selected there too); ``"python"``: this
+            module's loop; ``"auto"`` (default): compiled when the plant and integrator allow it.
 
     Raises:
         InvalidArgument: for a state of the wrong size or not finite, a non-unit base quaternion,
@@ -170,9 +170,10 @@ def run(
         reason = compiled.unsupported(model, integrator)
         if reason is None:
             law = compiled.law_of(controller)
-            whole_chunks = (controller is None or law is not None) and not wrenches and stop is None
+            whole_chunks = (controller is None or law is not None) and stop is None
             loop = compiled.CompiledLoop(robot, integrator, control_period, start_time, record_every,
-                                         law if whole_chunks else None)
+                                         law if whole_chunks else None,
+                                         field_of(robot, wrenches) if whole_chunks else None)
             if whole_chunks:
                 return _run_compiled(loop, q0, v0, steps, control_period, start_time, rows, progress)
             loop.start(q0, v0)

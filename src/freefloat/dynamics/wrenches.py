@@ -78,6 +78,16 @@ class WrenchField:
         joints, coms, forces, torques = zip(*items)
         return list(joints), np.array(coms), np.array(forces), np.array(torques)
 
+    def profiles(self) -> tuple[list[int], np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """Every wrench as data, for the compiled loop: parent joints (k,), CoMs in their joint
+        frames (k, 3), m, inertial forces (k, 3), N, and torques (k, 3), N m, at profile value 1,
+        and the profiles' start, end and rise (k,), s."""
+        if not self._items:
+            return [], *(np.zeros((0, 3)),) * 3, *(np.zeros(0),) * 3
+        wrenches, joints, coms, forces, torques = zip(*self._items)
+        return (list(joints), np.array(coms), np.array(forces), np.array(torques),
+                *(np.array([getattr(w, key) for w in wrenches], dtype=float) for key in ("start", "end", "rise")))
+
     def forces(self, q: np.ndarray) -> list[pin.Force]:
         """Wrenches of the active set, one ``pin.Force`` [f; n] per joint (njoints): joint-frame
         axes, moment about the joint-frame origin."""

@@ -84,6 +84,25 @@ def joint_indices(robot: Robot, names: list[str] | None) -> np.ndarray:
     return np.array(out, dtype=int)
 
 
+def check_task(rows: np.ndarray, joints: np.ndarray, method: str = "min_norm",
+               secondary: str = "base_angular_velocity") -> None:
+    """The rules of :func:`solve` that do not depend on the state.
+
+    Raises:
+        ValueError: unknown method or secondary objective; ``single`` without exactly one row and
+            one joint; more rows than joints without ``least_squares``.
+    """
+    if method not in METHODS:
+        raise ValueError(f"unknown method '{method}'; valid: {', '.join(METHODS)}")
+    if secondary not in SECONDARY:
+        raise ValueError(f"unknown secondary objective '{secondary}'; valid: {', '.join(SECONDARY)}")
+    if method == "single" and (len(rows), len(joints)) != (1, 1):
+        raise ValueError(f"method 'single' (eq 120) takes one row and one mission joint, got {len(rows)} and {len(joints)}")
+    if method not in ("single", "least_squares") and len(rows) > len(joints):
+        raise ValueError(f"{len(rows)} task rows but {len(joints)} mission joints: use method='least_squares' "
+                         "or add joints")
+
+
 def solve(state: GJMState, rows: np.ndarray, joints: np.ndarray, method: str = "min_norm",
           secondary: str = "base_angular_velocity", rcond: float = 1e-10) -> DetumblingSolution:
     """Joint rates that stop the rows ``rows`` given the state's momentum.
@@ -93,26 +112,18 @@ def solve(state: GJMState, rows: np.ndarray, joints: np.ndarray, method: str = "
             and one joint, or with a mission joint that cannot move the row; more rows than
             joints without ``least_squares``.
     """
-    if method not in METHODS:
-        raise ValueError(f"unknown method '{method}'; valid: {', '.join(METHODS)}")
-    if secondary not in SECONDARY:
-        raise ValueError(f"unknown secondary objective '{secondary}'; valid: {', '.join(SECONDARY)}")
+    check_task(rows, joints, method, secondary)
     drift = state.J0E[rows] @ np.linalg.solve(state.H0, state.momentum_base)   # J0E{k} H0^-1 M
     A = state.Jstar[np.ix_(rows, joints)]
     if method == "single":
-        if A.shape != (1, 1):
-            raise ValueError(f"method 'single' (eq 120) takes one row and one mission joint, got {A.shape[0]} and {A.shape[1]}")
         if abs(A[0, 0]) < rcond * max(1.0, np.abs(state.Jstar).max()):
             raise ValueError(f"mission joint {joints[0]} does not move row {rows[0]} (coefficient {A[0, 0]:.2e}): choose another")
         qS = -drift / A[0, 0]
-    elif len(rows) > len(joints) and method != "least_squares":
-        raise ValueError(f"{len(rows)} task rows but {len(joints)} mission joints: use method='least_squares' "
-                         "or add joints")
     else:
         pinv = np.linalg.pinv(A, rcond=rcond)
         qS = -pinv @ drift
         if method == "null_space":
-            qS = qS + _null_space_step(state, A, pinv, joints, qS, secondary)
+            qS = qS + _null_space_step(state, A, pinv, joints, qS, secondary, rcond)
     qdot = np.zeros(state.Jstar.shape[1])
     qdot[joints] = qS
     base = state.J0 @ qdot + np.linalg.solve(state.H0, state.momentum_base)
@@ -121,11 +132,16 @@ def solve(state: GJMState, rows: np.ndarray, joints: np.ndarray, method: str = "
 
 
 def _null_space_step(state: GJMState, A: np.ndarray, pinv: np.ndarray, joints: np.ndarray,
-                     qS: np.ndarray, secondary: str) -> np.ndarray:
-    """Null-space motion of A minimising the base angular velocity (or whole twist)."""
+                     qS: np.ndarray, secondary: str, rcond: float) -> np.ndarray:
+    """Null-space motion of A minimising the base angular velocity (or whole twist).
+
+    ``C N`` is rank-deficient whenever the spare joints cannot move every component of the
+    objective; its pseudo-inverse drops singular values up to ``rcond`` times the largest, as the
+    main solve does (numpy's default cut, 1e-15, kept round-off values near 1e-15 and returned
+    rates of hundreds of rad/s)."""
     N = np.eye(len(joints)) - pinv @ A
     sel = slice(3, 6) if secondary == "base_angular_velocity" else slice(0, 6)
     C = state.J0[sel][:, joints]
     d = C @ qS + np.linalg.solve(state.H0, state.momentum_base)[sel]
-    z = -np.linalg.pinv(C @ N) @ d
+    z = -np.linalg.pinv(C @ N, rcond=rcond) @ d
     return N @ z

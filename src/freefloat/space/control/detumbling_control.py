@@ -7,7 +7,8 @@ joint rates ``qdot_d`` that stop the task rows, and drives the joints onto them:
 .. math:: \\tau = H (\\ddot q_d + K_d (\\dot q_d - \\dot q)) + c,
 
 with ``qddot_d`` the backward difference of ``qdot_d`` over the period and ``(H, c)`` the chosen
-model's joint-space form.
+model's joint-space form. With the exact model the compiled loop runs the same law in C++
+(:meth:`DetumblingController.compiled_law`); this class stays the readable reference.
 """
 
 from __future__ import annotations
@@ -15,9 +16,10 @@ from __future__ import annotations
 import numpy as np
 
 from ...dynamics import gjm
+from ...dynamics.compiled import DetumblingLaw
 from ...robot.joints import JointCoordinates
 from ...robot.robot import Robot
-from ..detumbling import solve
+from ..detumbling import check_task, solve
 from .computed_torque import ControllerDynamics
 
 
@@ -44,6 +46,24 @@ class DetumblingController:
         self.hold: np.ndarray | None = None
         self._qdot_prev: np.ndarray | None = None
         self.residuals: list[float] = []
+
+    def compiled_law(self) -> DetumblingLaw | None:
+        """This law for the compiled loop (:mod:`freefloat.dynamics.compiled`), with the state it
+        has so far; None (the Python law) for a controller model other than ``exact``, or a task
+        :func:`~freefloat.space.detumbling.solve` refuses (its error then comes from Python)."""
+        if self.dynamics.model.name != "exact":
+            return None
+        try:
+            check_task(self.rows, self.joints, self.method)
+        except ValueError:
+            return None
+        return DetumblingLaw(self.rows, self.joints, self.method, "base_angular_velocity", 1e-10, self.start, self.kp,
+                             self.kd, self.T, self.hold, self._qdot_prev, self._absorb)
+
+    def _absorb(self, hold: np.ndarray | None, qdot_prev: np.ndarray | None, residuals: np.ndarray) -> None:
+        """Take over the compiled law's state after a chunk (see :class:`DetumblingLaw`)."""
+        self.hold, self._qdot_prev = hold, qdot_prev
+        self.residuals.extend(residuals.tolist())
 
     def reference(self, t: float) -> np.ndarray | None:
         """The held posture before the start (n,), None afterwards."""
