@@ -1,0 +1,241 @@
+"""Bench scenes of the closed-chain mechanisms: the 5R under sliding mode and the 2RSU+PPaP under
+computed torque, the plants and controllers of their scene files, the law held over 1 ms.
+
+Every method runs the same zero-order hold: the controller (:class:`PlatformControl` on the
+nominal model, read in Orsino's coordinates) is evaluated every :data:`PERIOD` s and its
+efforts held while the plant is integrated at a step that divides the period. Methods:
+
+* ``freefloat``: Orsino's eq 129 (:class:`.mechanism_plants.OrsinoPlant`), RK4 or semi-implicit
+  Euler, model ``orsino baumgarte 100`` (lambda = 100 1/s) or ``orsino`` (lambda = 0); loop
+  ``compiled`` (the mechanism's compiled core) or ``python`` (its numpy reference backend);
+* ``pinocchio``: a bare Python loop of ``pin.constraintDynamics`` on the spanning tree
+  (:class:`.mechanism_plants.PinocchioPlant`, Baumgarte 100), the same integrators.
+
+The reference is the same held-law loop with each period integrated by scipy's DOP853 (rtol and
+atol :data:`REFERENCE_TOL`) on Orsino's compiled model, Baumgarte 100. Errors
+(:meth:`MechanismBench.errors`) are measured in the spanning tree's terms, the same way for every
+method.
+"""
+
+from __future__ import annotations
+
+import tomllib
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+from scipy.integrate import solve_ivp
+
+from ...errors import FreefloatError, InvalidArgument
+from ...parallel.held_control import steps_per_period
+from ...parallel.mechanism import rk4_step
+from ...parallel.sliding_mode import PlatformControl
+from ..experiments.mechanism import PreparedMechanism, prepare
+from ..scenes import find_scene
+from .mechanism_plants import OrsinoPlant, PinocchioPlant, SpanningTree, plant_model, spanning_tree
+from .scene import Method, Run
+
+#: Bench scene name -> note (what runs).
+MECHANISM_SCENES = {
+    "five_bar": "5R (scene five_bar_sliding_mode): sliding mode (eq 153, eq 187's gains) on the nominal model, "
+                "plant 15 % off, circle of eq 189; law held over 1 ms (the scene file evaluates it every 0.1 ms step)",
+    "rsu_ppap": "2RSU+PPaP (scene rsu_ppap_computed_torque, assumed geometry): computed torque (eq 190) on an exact "
+                "model, 3 cm circle at 1 Hz; law held over 1 ms",
+}
+#: The scene file behind each bench scene.
+SCENE_FILES = {"five_bar": "five_bar_sliding_mode", "rsu_ppap": "rsu_ppap_computed_torque"}
+#: Control period, s: the law is evaluated every PERIOD and held in between.
+PERIOD = 1e-3
+#: Default simulated time per run, s (full sweep, ``quick``).
+DURATION = {"five_bar": 0.2, "rsu_ppap": 0.3}
+QUICK_DURATION = 0.02
+#: Integration steps, s (each divides PERIOD): the full sweep, the numpy backend's (it costs
+#: ~150x the compiled core per call), ``quick``.
+STEPS = (1e-3, 5e-4, 2e-4, 1e-4, 5e-5, 2e-5, 1e-5)
+NUMPY_STEPS = (1e-3, 5e-4, 2e-4)
+QUICK_STEPS = (1e-3, 5e-4)
+#: Baumgarte lambda (1/s) of the stabilised models and of the reference.
+BAUMGARTE = 100.0
+#: DOP853's rtol and atol for the reference.
+REFERENCE_TOL = 1e-12
+#: Integrators: one step of ``qddot = f(q, qdot)`` of h s.
+Step = Callable[[Callable, np.ndarray, np.ndarray, float], tuple[np.ndarray, np.ndarray]]
+
+
+def semi_implicit_euler(f: Callable, q: np.ndarray, v: np.ndarray, h: float) -> tuple[np.ndarray, np.ndarray]:
+    """``v += h f(q, v)``, then ``q += h v`` (the new rate moves q)."""
+    v = v + h * f(q, v)
+    return q + h * v, v
+
+
+INTEGRATORS: dict[str, Step] = {"rk4": rk4_step, "euler": semi_implicit_euler}
+
+
+@dataclass(frozen=True)
+class MechanismResult:
+    """One run, in the spanning tree's coordinates.
+
+    Attributes:
+        q: tree configuration after every integration step, the start first (N + 1, nq).
+        v: tree joint rates at the end (nv,).
+    """
+
+    q: np.ndarray
+    v: np.ndarray
+
+
+def held_run(plant, control: PlatformControl, q0: np.ndarray, v0: np.ndarray, duration: float, step: float,
+             integrator: str) -> MechanismResult:
+    """The closed loop from ``(q0, v0)`` (the plant's coordinates) for ``duration`` s: the law
+    evaluated every :data:`PERIOD` s on ``plant.controller_state`` and held, ``integrator`` at ``step`` s.
+
+    Raises:
+        FloatingPointError: when the state stops being finite or the plant's dynamics fail (a
+            singular pose, the loop come apart), naming the time.
+    """
+    advance, hold = INTEGRATORS[integrator], steps_per_period(PERIOD, step)
+    periods = round(duration / PERIOD)
+    q, v = np.array(q0, float), np.array(v0, float)
+    rows = np.empty((periods * hold + 1, len(q)))
+    rows[0] = q
+    for n in range(periods):
+        u = control.efforts(n * PERIOD, *plant.controller_state(q, v))
+        f = lambda qq, vv: plant.acceleration(qq, vv, u)  # noqa: E731
+        for k in range(hold):
+            try:
+                q, v = advance(f, q, v, step)
+            except (FreefloatError, np.linalg.LinAlgError, RuntimeError) as exc:
+                raise FloatingPointError(f"t = {n * PERIOD + k * step:.6g} s: {exc}") from exc
+            rows[n * hold + k + 1] = q
+        if not (np.isfinite(q).all() and np.isfinite(v).all()):
+            raise FloatingPointError(f"the state is not finite at t = {(n + 1) * PERIOD:.6g} s")
+    return MechanismResult(plant.to_tree(rows), plant.to_tree(v))
+
+
+def dop853_run(plant: OrsinoPlant, control: PlatformControl, q0: np.ndarray, v0: np.ndarray,
+               duration: float) -> MechanismResult:
+    """The held-law loop with each period integrated by DOP853 (rtol = atol = :data:`REFERENCE_TOL`);
+    ``q`` holds the period ends only."""
+    n_q = len(q0)
+    y = np.concatenate((q0, v0))
+    rows = [q0]
+    for n in range(round(duration / PERIOD)):
+        u = control.efforts(n * PERIOD, y[:n_q], y[n_q:])
+        rhs = lambda _t, s: np.concatenate((s[n_q:], plant.acceleration(s[:n_q], s[n_q:], u)))  # noqa: E731
+        y = solve_ivp(rhs, (0.0, PERIOD), y, method="DOP853", rtol=REFERENCE_TOL, atol=REFERENCE_TOL).y[:, -1]
+        rows.append(y[:n_q])
+    return MechanismResult(plant.to_tree(np.array(rows)), plant.to_tree(y[n_q:]))
+
+
+class MechanismBench:
+    """A closed-chain bench scene (a :class:`~.scene.BenchScene`).
+
+    Attributes:
+        name, note, secondary, settings: see :class:`~.scene.BenchScene`.
+        prepared: the scene file resolved (plant, nominal controller, assembled start).
+        tree: the plant's spanning tree (shared coordinates, drift).
+        duration: simulated time per run, s.
+    """
+
+    secondary = ("constraint_drift", "largest loop-closure gap over the run, m")
+
+    def __init__(self, name: str, prepared: PreparedMechanism, duration: float, steps: tuple[float, ...],
+                 numpy_steps: tuple[float, ...]) -> None:
+        self.name, self.note, self.prepared, self.duration = name, MECHANISM_SCENES[name], prepared, duration
+        self.steps, self.numpy_steps = steps, numpy_steps
+        scene = prepared.scene
+        chain = prepared.setup.display
+        model = plant_model(chain, scene.mechanism.name, scene.mechanism.plant)
+        platform = chain_platform(prepared)
+        self.tree: SpanningTree = spanning_tree(chain, model, *platform)
+        self.settings = {"duration_s": duration, "control_period_s": PERIOD, "steps_s": list(steps),
+                         "numpy_steps_s": list(numpy_steps), "baumgarte": BAUMGARTE,
+                         "reference": {"integrator": "DOP853 per control period", "model": "orsino baumgarte 100",
+                                       "rtol": REFERENCE_TOL, "atol": REFERENCE_TOL},
+                         "state_error": "2-norm of [q#; actuated joints; their rates] at the end (m, rad, m/s, rad/s)"}
+
+    def methods(self) -> list[Method]:
+        """freefloat's compiled core with and without Baumgarte, its numpy reference (Baumgarte
+        100, the coarser steps) and Pinocchio's constraint dynamics, each with RK4 and Euler."""
+        out = []
+        for integrator in INTEGRATORS:
+            out += [Method("freefloat", integrator, h, "compiled", model)
+                    for model in (f"orsino baumgarte {BAUMGARTE:g}", "orsino") for h in self.steps]
+            out += [Method("freefloat", integrator, h, "python", f"orsino baumgarte {BAUMGARTE:g}")
+                    for h in self.numpy_steps]
+            out += [Method("pinocchio", integrator, h, "python", f"constraintDynamics baumgarte {BAUMGARTE:g}")
+                    for h in self.steps]
+        return out
+
+    def plant(self, method: Method) -> OrsinoPlant | PinocchioPlant:
+        """The plant ``method`` integrates.
+
+        Raises:
+            InvalidArgument: for a package, loop or model this scene does not have.
+        """
+        baumgarte = BAUMGARTE if "baumgarte" in method.model else 0.0
+        mechanism = self.prepared.setup.plant
+        if method.package == "freefloat" and method.loop in ("compiled", "python"):
+            return OrsinoPlant(mechanism if method.loop == "compiled" else mechanism.reference(), baumgarte, self.tree)
+        if method.package == "pinocchio":
+            return PinocchioPlant(self.tree, baumgarte)
+        raise InvalidArgument(f"bench scene '{self.name}' has no method {method.label}")
+
+    def run(self, method: Method) -> Run:
+        """Each call runs ``method`` from the assembled start."""
+        if method.integrator not in INTEGRATORS:
+            raise InvalidArgument(f"bench scene '{self.name}': unknown integrator '{method.integrator}'; "
+                                  f"valid: {', '.join(INTEGRATORS)}")
+        plant = self.plant(method)
+        q0, v0 = self.prepared.q0, self.prepared.qd0
+        if isinstance(plant, PinocchioPlant):
+            q0, v0 = q0[self.tree.from_orsino], v0[self.tree.from_orsino]
+        control = self.prepared.controller
+        return lambda: held_run(plant, control, q0, v0, self.duration, method.setting, method.integrator)
+
+    def reference(self) -> MechanismResult:
+        """DOP853 per control period on Orsino's compiled model, Baumgarte 100."""
+        plant = OrsinoPlant(self.prepared.setup.plant, BAUMGARTE, self.tree)
+        return dop853_run(plant, self.prepared.controller, self.prepared.q0, self.prepared.qd0, self.duration)
+
+    def errors(self, result: MechanismResult, reference: MechanismResult) -> dict[str, float]:
+        """``state_error``: 2-norm of the difference of :meth:`SpanningTree.shared` at the end;
+        ``constraint_drift``: the largest closure gap (m) over every step of the run;
+        ``tracking_error``: ``|q#_d(T) - q#(T)|``, m, at the end of the run."""
+        tree = self.tree
+        end = tree.shared(result.q[-1], result.v)
+        p = len(tree.axes)
+        target = self.prepared.controller.reference(self.duration)[0]
+        return {"state_error": float(np.linalg.norm(end - tree.shared(reference.q[-1], reference.v))),
+                "constraint_drift": max(tree.gap(q) for q in result.q),
+                "tracking_error": float(np.linalg.norm(target - end[:p]))}
+
+
+def chain_platform(prepared: PreparedMechanism) -> tuple[str, list[str]]:
+    """The closure file's platform frame and coordinates (what q# is; :func:`prepare` checked them)."""
+    platform = tomllib.loads(prepared.closure.read_text(encoding="utf-8"))["platform"]
+    return platform["frame"], platform.get("coordinates", ["x", "y", "z"])
+
+
+def mechanism_scene(name: str, duration: float | None = None, quick: bool = False) -> MechanismBench:
+    """The closed-chain bench scene ``name`` (a key of :data:`MECHANISM_SCENES`).
+
+    Args:
+        duration: simulated time per run, s (None: :data:`DURATION`, or :data:`QUICK_DURATION`
+            with ``quick``); a whole number of control periods.
+        quick: a smoke sweep: :data:`QUICK_STEPS` for every method and a short run.
+
+    Raises:
+        InvalidArgument: an unknown name (lists the valid ones) or a duration that is not a
+            positive whole number of control periods.
+    """
+    if name not in MECHANISM_SCENES:
+        raise InvalidArgument(f"unknown closed-chain bench scene '{name}'; valid: {', '.join(MECHANISM_SCENES)}")
+    duration = duration if duration is not None else (QUICK_DURATION if quick else DURATION[name])
+    periods = round(duration / PERIOD) if np.isfinite(duration) else 0
+    if not duration > 0.0 or periods < 1 or abs(periods * PERIOD - duration) > 1e-9:
+        raise InvalidArgument(f"bench scene '{name}': duration must be a positive whole number of {PERIOD} s control "
+                              f"periods, got {duration}")
+    prepared = prepare(find_scene(SCENE_FILES[name]))
+    steps = QUICK_STEPS if quick else STEPS
+    return MechanismBench(name, prepared, duration, steps, QUICK_STEPS if quick else NUMPY_STEPS)
