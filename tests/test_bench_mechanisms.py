@@ -96,7 +96,7 @@ def test_quick_sweep_points_are_all_finite(name):
     scene = mechanism_scene(name, quick=True)
     ref = scene.reference()
     methods = scene.methods()
-    assert {m.package for m in methods} == {"freefloat", "pinocchio"}
+    assert {m.package for m in methods} == {"freefloat", "pinocchio", "mujoco"}
     for method in methods:
         errors = scene.errors(scene.run(method)(), ref)
         assert all(math.isfinite(e) for e in errors.values()) and errors["constraint_drift"] < 1e-4, (method, errors)
@@ -129,6 +129,44 @@ def test_duration_must_be_whole_control_periods(duration):
 
 
 def test_unknown_method_fails_naming_it(scenes):
-    """A method of another package (MuJoCo is not swept here) fails naming the method."""
+    """A method this scene does not sweep (MuJoCo names its RK4 "RK4") fails naming the method."""
     with pytest.raises(InvalidArgument, match="no method mujoco rk4"):
         scenes["five_bar"].run(Method("mujoco", "rk4", 1e-3))
+
+
+@pytest.mark.parametrize("name", list(MECHANISM_SCENES))
+def test_mujoco_tree_has_pinocchios_mass_matrix(scenes, name):
+    """MuJoCo's joint-space mass matrix of the written MJCF equals Pinocchio's CRBA at the start (the 5R's planar links balanced)."""
+    from freefloat.app.bench.mechanism_mujoco import MujocoMechanism
+
+    scene = scenes[name]
+    sim = MujocoMechanism(scene.tree, "RK4", 1e-3)
+    assert sim.mass_matrix_gap(scene.prepared.q0[scene.tree.from_orsino]) < 1e-12
+    assert sim.model.neq == len(scene.tree.constraints)
+
+
+def test_mujoco_reaches_the_reference_with_stiff_closures(scenes, references):
+    """MuJoCo's RK4 at 20 us (closures' time constant 40 us) ends within 1e-6 of the 2RSU+PPaP reference, its
+    loop-closure drift measured and below 1 nm, and its error falls with the step (soft closures: first order)."""
+    scene, ref = scenes["rsu_ppap"], references["rsu_ppap"]
+    coarse, fine = (scene.errors(scene.run(Method("mujoco", "RK4", h, "python", "soft"))(), ref) for h in (1e-4, 2e-5))
+    assert fine["state_error"] < 1e-6 and 0.0 < fine["constraint_drift"] < 1e-9
+    assert coarse["state_error"] > 3.0 * fine["state_error"]
+
+
+def test_mujoco_instability_is_an_arithmetic_error(scenes):
+    """A MuJoCo run its own checks find unstable (a huge applied force) raises an ArithmeticError instead of
+    continuing from MuJoCo's reset state."""
+    from freefloat.app.bench.mechanism_mujoco import MujocoMechanism
+
+    scene = scenes["five_bar"]
+    tree = scene.tree
+
+    class Violent:
+        def efforts(self, t, q, qd):
+            return np.full(len(tree.actuated), 1e30)
+
+    sim = MujocoMechanism(tree, "Euler", 1e-3)
+    q0 = scene.prepared.q0[tree.from_orsino]
+    with pytest.raises(ArithmeticError, match="unstable"):
+        sim.run(Violent(), q0, np.zeros(len(q0)), 0.01, 1e-3, 1e-3)

@@ -9,7 +9,9 @@ efforts held while the plant is integrated at a step that divides the period. Me
   Euler, model ``orsino baumgarte 100`` (lambda = 100 1/s) or ``orsino`` (lambda = 0); loop
   ``compiled`` (the mechanism's compiled core) or ``python`` (its numpy reference backend);
 * ``pinocchio``: a bare Python loop of ``pin.constraintDynamics`` on the spanning tree
-  (:class:`.mechanism_plants.PinocchioPlant`, Baumgarte 100), the same integrators.
+  (:class:`.mechanism_plants.PinocchioPlant`, Baumgarte 100), the same integrators;
+* ``mujoco``: MuJoCo on the same tree with the closures as soft equality constraints
+  (:mod:`.mechanism_mjcf`, :mod:`.mechanism_mujoco`), Euler, implicitfast and RK4.
 
 The reference is the same held-law loop with each period integrated by scipy's DOP853 (rtol and
 atol :data:`REFERENCE_TOL`) on Orsino's compiled model, Baumgarte 100. Errors
@@ -32,6 +34,7 @@ from ...parallel.mechanism import rk4_step
 from ...parallel.sliding_mode import PlatformControl
 from ..experiments.mechanism import PreparedMechanism, prepare
 from ..scenes import find_scene
+from .mechanism_mjcf import TIMECONST_STEPS
 from .mechanism_plants import OrsinoPlant, PinocchioPlant, SpanningTree, plant_model, spanning_tree
 from .scene import Method, Run
 
@@ -69,6 +72,9 @@ def semi_implicit_euler(f: Callable, q: np.ndarray, v: np.ndarray, h: float) -> 
 
 
 INTEGRATORS: dict[str, Step] = {"rk4": rk4_step, "euler": semi_implicit_euler}
+#: MuJoCo's integrators compared (names as in MJCF) and the model label of its soft closures.
+MUJOCO = ("Euler", "implicitfast", "RK4")
+MUJOCO_MODEL = f"soft closures timeconst {TIMECONST_STEPS:g}h"
 
 
 @dataclass(frozen=True)
@@ -156,7 +162,8 @@ class MechanismBench:
 
     def methods(self) -> list[Method]:
         """freefloat's compiled core with and without Baumgarte, its numpy reference (Baumgarte
-        100, the coarser steps) and Pinocchio's constraint dynamics, each with RK4 and Euler."""
+        100, the coarser steps) and Pinocchio's constraint dynamics, each with RK4 and Euler;
+        MuJoCo's three integrators."""
         out = []
         for integrator in INTEGRATORS:
             out += [Method("freefloat", integrator, h, "compiled", model)
@@ -165,7 +172,7 @@ class MechanismBench:
                     for h in self.numpy_steps]
             out += [Method("pinocchio", integrator, h, "python", f"constraintDynamics baumgarte {BAUMGARTE:g}")
                     for h in self.steps]
-        return out
+        return out + [Method("mujoco", integrator, h, "python", MUJOCO_MODEL) for integrator in MUJOCO for h in self.steps]
 
     def plant(self, method: Method) -> OrsinoPlant | PinocchioPlant:
         """The plant ``method`` integrates.
@@ -182,15 +189,27 @@ class MechanismBench:
         raise InvalidArgument(f"bench scene '{self.name}' has no method {method.label}")
 
     def run(self, method: Method) -> Run:
-        """Each call runs ``method`` from the assembled start."""
+        """Each call runs ``method`` from the assembled start.
+
+        Raises:
+            InvalidArgument: for an unknown method.
+            FreefloatError: when MuJoCo's model does not have the tree's mass matrix.
+        """
+        control, tree = self.prepared.controller, self.tree
+        if method.package == "mujoco" and method.integrator in MUJOCO:
+            from .mechanism_mujoco import MujocoMechanism  # mujoco is the optional 'bench' extra
+
+            q0, v0 = self.prepared.q0[tree.from_orsino], self.prepared.qd0[tree.from_orsino]
+            sim = MujocoMechanism(tree, method.integrator, method.setting)
+            sim.check_inertias(q0)
+            return lambda: MechanismResult(*sim.run(control, q0, v0, self.duration, PERIOD, method.setting))
         if method.integrator not in INTEGRATORS:
             raise InvalidArgument(f"bench scene '{self.name}': unknown integrator '{method.integrator}'; "
                                   f"valid: {', '.join(INTEGRATORS)}")
         plant = self.plant(method)
         q0, v0 = self.prepared.q0, self.prepared.qd0
         if isinstance(plant, PinocchioPlant):
-            q0, v0 = q0[self.tree.from_orsino], v0[self.tree.from_orsino]
-        control = self.prepared.controller
+            q0, v0 = q0[tree.from_orsino], v0[tree.from_orsino]
         return lambda: held_run(plant, control, q0, v0, self.duration, method.setting, method.integrator)
 
     def reference(self) -> MechanismResult:
