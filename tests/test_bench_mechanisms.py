@@ -154,11 +154,12 @@ def test_mujoco_reaches_the_reference_with_stiff_closures(scenes, references):
     assert coarse["state_error"] > 3.0 * fine["state_error"]
 
 
-def test_mujoco_instability_is_an_arithmetic_error(scenes):
+def test_mujoco_instability_is_an_arithmetic_error(scenes, tmp_path, monkeypatch):
     """A MuJoCo run its own checks find unstable (a huge applied force) raises an ArithmeticError instead of
     continuing from MuJoCo's reset state."""
     from freefloat.app.bench.mechanism_mujoco import MujocoMechanism
 
+    monkeypatch.chdir(tmp_path)  # MuJoCo writes its warning to MUJOCO_LOG.TXT here
     scene = scenes["five_bar"]
     tree = scene.tree
 
