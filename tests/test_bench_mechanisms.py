@@ -31,10 +31,12 @@ def state_error(scene, reference, method: Method) -> float:
     return scene.errors(scene.run(method)(), reference)["state_error"]
 
 
-def test_rk4_error_falls_at_fourth_order(scenes, references):
-    """Halving RK4's step (law held over 1 ms) divides the 5R's final-state error by about 16."""
-    scene, ref = scenes["five_bar"], references["five_bar"]
-    errors = [state_error(scene, ref, Method("freefloat", "rk4", h, "compiled", STABILISED)) for h in (1e-3, 5e-4, 2.5e-4)]
+@pytest.mark.parametrize("name", list(MECHANISM_SCENES))
+def test_rk4_error_falls_at_fourth_order(scenes, references, name):
+    """Halving RK4's step from the control period (the law held) divides the final-state error by about 16."""
+    scene, ref = scenes[name], references[name]
+    steps = [scene.period / 2**k for k in range(3)]
+    errors = [state_error(scene, ref, Method("freefloat", "rk4", h, "compiled", STABILISED)) for h in steps]
     orders = [math.log2(a / b) for a, b in zip(errors, errors[1:])]
     assert all(3.6 < order < 4.4 for order in orders), (errors, orders)
 
@@ -112,7 +114,7 @@ def test_a_run_that_blows_up_raises_an_arithmetic_error(scenes):
 
     plant = Broken(scene.prepared.setup.plant, 0.0, scene.tree)
     with pytest.raises(ArithmeticError, match="not finite at t = 0.001 s"):
-        held_run(plant, scene.prepared.controller, scene.prepared.q0, scene.prepared.qd0, 0.02, 1e-3, "rk4")
+        held_run(plant, scene.prepared.controller, scene.prepared.q0, scene.prepared.qd0, 0.02, 1e-3, 1e-3, "rk4")
 
 
 def test_unknown_scene_lists_the_valid_ones():
@@ -123,9 +125,9 @@ def test_unknown_scene_lists_the_valid_ones():
 
 @pytest.mark.parametrize("duration", [0.0, -1.0, 0.0105, math.nan])
 def test_duration_must_be_whole_control_periods(duration):
-    """A duration that is not a positive whole number of 1 ms periods fails naming it."""
+    """A duration that is not a positive whole number of the 2RSU+PPaP's 1 ms periods fails naming it."""
     with pytest.raises(InvalidArgument, match="whole number of 0.001 s control periods"):
-        mechanism_scene("five_bar", duration)
+        mechanism_scene("rsu_ppap", duration)
 
 
 def test_unknown_method_fails_naming_it(scenes):

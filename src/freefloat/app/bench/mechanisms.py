@@ -1,9 +1,10 @@
 """Bench scenes of the closed-chain mechanisms: the 5R under sliding mode and the 2RSU+PPaP under
-computed torque, the plants and controllers of their scene files, the law held over 1 ms.
+computed torque, the plants and controllers of their scene files, the law held over a control
+period (the scene file's step for the 5R, 0.1 ms; 1 ms for the 2RSU+PPaP, its scene file's step).
 
 Every method runs the same zero-order hold: the controller (:class:`PlatformControl` on the
-nominal model, read in Orsino's coordinates) is evaluated every :data:`PERIOD` s and its
-efforts held while the plant is integrated at a step that divides the period. Methods:
+nominal model, read in Orsino's coordinates) is evaluated every period and its efforts held
+while the plant is integrated at a step that divides the period (:data:`SWEEPS`). Methods:
 
 * ``freefloat``: Orsino's eq 129 (:class:`.mechanism_plants.OrsinoPlant`), RK4 or semi-implicit
   Euler, model ``orsino baumgarte 100`` (lambda = 100 1/s) or ``orsino`` (lambda = 0); loop
@@ -41,22 +42,43 @@ from .scene import Method, Run
 #: Bench scene name -> note (what runs).
 MECHANISM_SCENES = {
     "five_bar": "5R (scene five_bar_sliding_mode): sliding mode (eq 153, eq 187's gains) on the nominal model, "
-                "plant 15 % off, circle of eq 189; law held over 1 ms (the scene file evaluates it every 0.1 ms step)",
+                "plant 15 % off, circle of eq 189; law held over 0.1 ms (the scene file's step)",
     "rsu_ppap": "2RSU+PPaP (scene rsu_ppap_computed_torque, assumed geometry): computed torque (eq 190) on an exact "
-                "model, 3 cm circle at 1 Hz; law held over 1 ms",
+                "model, 3 cm circle at 1 Hz; law held over 1 ms (the scene file's step)",
 }
-#: The scene file behind each bench scene.
-SCENE_FILES = {"five_bar": "five_bar_sliding_mode", "rsu_ppap": "rsu_ppap_computed_torque"}
-#: Control period, s: the law is evaluated every PERIOD and held in between.
-PERIOD = 1e-3
-#: Default simulated time per run, s (full sweep, ``quick``).
-DURATION = {"five_bar": 0.2, "rsu_ppap": 0.3}
+
+
+@dataclass(frozen=True)
+class SweepSettings:
+    """What one closed-chain bench scene sweeps.
+
+    Attributes:
+        scene: the built-in scene file (plant, controller, start).
+        period: control period, s: the law is evaluated every period and held in between.
+        duration: default simulated time per run, s.
+        steps: integration steps of the full sweep, s (each divides ``period``).
+        numpy_steps: the numpy backend's steps (it costs ~150x the compiled core per call).
+        quick_steps: the steps of every method with ``quick``.
+    """
+
+    scene: str
+    period: float
+    duration: float
+    steps: tuple[float, ...]
+    numpy_steps: tuple[float, ...]
+    quick_steps: tuple[float, ...]
+
+
+#: Each scene's sweep. The 5R's law is held over its scene file's 0.1 ms: held over 1 ms, the
+#: sliding-mode loop amplifies any difference ~50x every 50 ms (chattering), so that after 0.2 s
+#: RK4's final-state error is O(1) at every step from 1 ms to 0.1 ms.
+SWEEPS = {
+    "five_bar": SweepSettings("five_bar_sliding_mode", 1e-4, 0.2, (1e-4, 5e-5, 2e-5, 1e-5), (1e-4, 5e-5), (1e-4, 5e-5)),
+    "rsu_ppap": SweepSettings("rsu_ppap_computed_torque", 1e-3, 0.3, (1e-3, 5e-4, 2e-4, 1e-4, 5e-5, 2e-5, 1e-5),
+                              (1e-3, 5e-4, 2e-4), (1e-3, 5e-4)),
+}
+#: Simulated time per run with ``quick``, s.
 QUICK_DURATION = 0.02
-#: Integration steps, s (each divides PERIOD): the full sweep, the numpy backend's (it costs
-#: ~150x the compiled core per call), ``quick``.
-STEPS = (1e-3, 5e-4, 2e-4, 1e-4, 5e-5, 2e-5, 1e-5)
-NUMPY_STEPS = (1e-3, 5e-4, 2e-4)
-QUICK_STEPS = (1e-3, 5e-4)
 #: Baumgarte lambda (1/s) of the stabilised models and of the reference.
 BAUMGARTE = 100.0
 #: DOP853's rtol and atol for the reference.
@@ -90,45 +112,45 @@ class MechanismResult:
     v: np.ndarray
 
 
-def held_run(plant, control: PlatformControl, q0: np.ndarray, v0: np.ndarray, duration: float, step: float,
-             integrator: str) -> MechanismResult:
+def held_run(plant, control: PlatformControl, q0: np.ndarray, v0: np.ndarray, duration: float, period: float,
+             step: float, integrator: str) -> MechanismResult:
     """The closed loop from ``(q0, v0)`` (the plant's coordinates) for ``duration`` s: the law
-    evaluated every :data:`PERIOD` s on ``plant.controller_state`` and held, ``integrator`` at ``step`` s.
+    evaluated every ``period`` s on ``plant.controller_state`` and held, ``integrator`` at ``step`` s.
 
     Raises:
         FloatingPointError: when the state stops being finite or the plant's dynamics fail (a
             singular pose, the loop come apart), naming the time.
     """
-    advance, hold = INTEGRATORS[integrator], steps_per_period(PERIOD, step)
-    periods = round(duration / PERIOD)
+    advance, hold = INTEGRATORS[integrator], steps_per_period(period, step)
+    periods = round(duration / period)
     q, v = np.array(q0, float), np.array(v0, float)
     rows = np.empty((periods * hold + 1, len(q)))
     rows[0] = q
     for n in range(periods):
-        u = control.efforts(n * PERIOD, *plant.controller_state(q, v))
+        u = control.efforts(n * period, *plant.controller_state(q, v))
         f = lambda qq, vv: plant.acceleration(qq, vv, u)  # noqa: E731
         for k in range(hold):
             try:
                 q, v = advance(f, q, v, step)
             except (FreefloatError, np.linalg.LinAlgError, RuntimeError) as exc:
-                raise FloatingPointError(f"t = {n * PERIOD + k * step:.6g} s: {exc}") from exc
+                raise FloatingPointError(f"t = {n * period + k * step:.6g} s: {exc}") from exc
             rows[n * hold + k + 1] = q
         if not (np.isfinite(q).all() and np.isfinite(v).all()):
-            raise FloatingPointError(f"the state is not finite at t = {(n + 1) * PERIOD:.6g} s")
+            raise FloatingPointError(f"the state is not finite at t = {(n + 1) * period:.6g} s")
     return MechanismResult(plant.to_tree(rows), plant.to_tree(v))
 
 
-def dop853_run(plant: OrsinoPlant, control: PlatformControl, q0: np.ndarray, v0: np.ndarray,
-               duration: float) -> MechanismResult:
+def dop853_run(plant: OrsinoPlant, control: PlatformControl, q0: np.ndarray, v0: np.ndarray, duration: float,
+               period: float) -> MechanismResult:
     """The held-law loop with each period integrated by DOP853 (rtol = atol = :data:`REFERENCE_TOL`);
     ``q`` holds the period ends only."""
     n_q = len(q0)
     y = np.concatenate((q0, v0))
     rows = [q0]
-    for n in range(round(duration / PERIOD)):
-        u = control.efforts(n * PERIOD, y[:n_q], y[n_q:])
+    for n in range(round(duration / period)):
+        u = control.efforts(n * period, y[:n_q], y[n_q:])
         rhs = lambda _t, s: np.concatenate((s[n_q:], plant.acceleration(s[:n_q], s[n_q:], u)))  # noqa: E731
-        y = solve_ivp(rhs, (0.0, PERIOD), y, method="DOP853", rtol=REFERENCE_TOL, atol=REFERENCE_TOL).y[:, -1]
+        y = solve_ivp(rhs, (0.0, period), y, method="DOP853", rtol=REFERENCE_TOL, atol=REFERENCE_TOL).y[:, -1]
         rows.append(y[:n_q])
     return MechanismResult(plant.to_tree(np.array(rows)), plant.to_tree(y[n_q:]))
 
@@ -141,20 +163,22 @@ class MechanismBench:
         prepared: the scene file resolved (plant, nominal controller, assembled start).
         tree: the plant's spanning tree (shared coordinates, drift).
         duration: simulated time per run, s.
+        period: control period, s.
+        steps, numpy_steps: the sweep's integration steps, s (the numpy backend's).
     """
 
     secondary = ("constraint_drift", "largest loop-closure gap over the run, m")
 
-    def __init__(self, name: str, prepared: PreparedMechanism, duration: float, steps: tuple[float, ...],
-                 numpy_steps: tuple[float, ...]) -> None:
+    def __init__(self, name: str, prepared: PreparedMechanism, duration: float, period: float,
+                 steps: tuple[float, ...], numpy_steps: tuple[float, ...]) -> None:
         self.name, self.note, self.prepared, self.duration = name, MECHANISM_SCENES[name], prepared, duration
-        self.steps, self.numpy_steps = steps, numpy_steps
+        self.period, self.steps, self.numpy_steps = period, steps, numpy_steps
         scene = prepared.scene
         chain = prepared.setup.display
         model = plant_model(chain, scene.mechanism.name, scene.mechanism.plant)
         platform = chain_platform(prepared)
         self.tree: SpanningTree = spanning_tree(chain, model, *platform)
-        self.settings = {"duration_s": duration, "control_period_s": PERIOD, "steps_s": list(steps),
+        self.settings = {"duration_s": duration, "control_period_s": period, "steps_s": list(steps),
                          "numpy_steps_s": list(numpy_steps), "baumgarte": BAUMGARTE,
                          "reference": {"integrator": "DOP853 per control period", "model": "orsino baumgarte 100",
                                        "rtol": REFERENCE_TOL, "atol": REFERENCE_TOL},
@@ -202,7 +226,7 @@ class MechanismBench:
             q0, v0 = self.prepared.q0[tree.from_orsino], self.prepared.qd0[tree.from_orsino]
             sim = MujocoMechanism(tree, method.integrator, method.setting)
             sim.check_inertias(q0)
-            return lambda: MechanismResult(*sim.run(control, q0, v0, self.duration, PERIOD, method.setting))
+            return lambda: MechanismResult(*sim.run(control, q0, v0, self.duration, self.period, method.setting))
         if method.integrator not in INTEGRATORS:
             raise InvalidArgument(f"bench scene '{self.name}': unknown integrator '{method.integrator}'; "
                                   f"valid: {', '.join(INTEGRATORS)}")
@@ -210,12 +234,13 @@ class MechanismBench:
         q0, v0 = self.prepared.q0, self.prepared.qd0
         if isinstance(plant, PinocchioPlant):
             q0, v0 = q0[tree.from_orsino], v0[tree.from_orsino]
-        return lambda: held_run(plant, control, q0, v0, self.duration, method.setting, method.integrator)
+        return lambda: held_run(plant, control, q0, v0, self.duration, self.period, method.setting, method.integrator)
 
     def reference(self) -> MechanismResult:
         """DOP853 per control period on Orsino's compiled model, Baumgarte 100."""
         plant = OrsinoPlant(self.prepared.setup.plant, BAUMGARTE, self.tree)
-        return dop853_run(plant, self.prepared.controller, self.prepared.q0, self.prepared.qd0, self.duration)
+        return dop853_run(plant, self.prepared.controller, self.prepared.q0, self.prepared.qd0, self.duration,
+                          self.period)
 
     def errors(self, result: MechanismResult, reference: MechanismResult) -> dict[str, float]:
         """``state_error``: 2-norm of the difference of :meth:`SpanningTree.shared` at the end;
@@ -240,9 +265,9 @@ def mechanism_scene(name: str, duration: float | None = None, quick: bool = Fals
     """The closed-chain bench scene ``name`` (a key of :data:`MECHANISM_SCENES`).
 
     Args:
-        duration: simulated time per run, s (None: :data:`DURATION`, or :data:`QUICK_DURATION`
-            with ``quick``); a whole number of control periods.
-        quick: a smoke sweep: :data:`QUICK_STEPS` for every method and a short run.
+        duration: simulated time per run, s (None: the scene's :attr:`SweepSettings.duration`, or
+            :data:`QUICK_DURATION` with ``quick``); a whole number of control periods.
+        quick: a smoke sweep: :attr:`SweepSettings.quick_steps` for every method and a short run.
 
     Raises:
         InvalidArgument: an unknown name (lists the valid ones) or a duration that is not a
@@ -250,11 +275,13 @@ def mechanism_scene(name: str, duration: float | None = None, quick: bool = Fals
     """
     if name not in MECHANISM_SCENES:
         raise InvalidArgument(f"unknown closed-chain bench scene '{name}'; valid: {', '.join(MECHANISM_SCENES)}")
-    duration = duration if duration is not None else (QUICK_DURATION if quick else DURATION[name])
-    periods = round(duration / PERIOD) if np.isfinite(duration) else 0
-    if not duration > 0.0 or periods < 1 or abs(periods * PERIOD - duration) > 1e-9:
-        raise InvalidArgument(f"bench scene '{name}': duration must be a positive whole number of {PERIOD} s control "
-                              f"periods, got {duration}")
-    prepared = prepare(find_scene(SCENE_FILES[name]))
-    steps = QUICK_STEPS if quick else STEPS
-    return MechanismBench(name, prepared, duration, steps, QUICK_STEPS if quick else NUMPY_STEPS)
+    sweep = SWEEPS[name]
+    duration = duration if duration is not None else (QUICK_DURATION if quick else sweep.duration)
+    periods = round(duration / sweep.period) if np.isfinite(duration) else 0
+    if not duration > 0.0 or periods < 1 or abs(periods * sweep.period - duration) > 1e-9:
+        raise InvalidArgument(f"bench scene '{name}': duration must be a positive whole number of {sweep.period:g} s "
+                              f"control periods, got {duration}")
+    prepared = prepare(find_scene(sweep.scene))
+    if quick:
+        return MechanismBench(name, prepared, duration, sweep.period, sweep.quick_steps, sweep.quick_steps)
+    return MechanismBench(name, prepared, duration, sweep.period, sweep.steps, sweep.numpy_steps)
