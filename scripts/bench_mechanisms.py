@@ -93,7 +93,7 @@ def chart(scene, points: list[Measured], path) -> None:
     axes[0].set_ylabel("wall time per run, ms (median)")
     axes[0].legend(fontsize=6, ncol=2)
     fig.suptitle(f"{scene.name}: work against precision (freefloat, a bare Pinocchio loop and MuJoCo in one process; "
-                 f"{scene.duration:g} s, law held over 1 ms)", fontsize=10)
+                 f"{scene.duration:g} s, law held over {scene.period * 1e3:g} ms)", fontsize=10)
     fig.tight_layout()
     fig.savefig(path, dpi=120)
     plt.close(fig)
