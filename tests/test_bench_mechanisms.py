@@ -3,6 +3,7 @@ Baumgarte's effect on drift, the shared coordinates, and bad input."""
 
 from __future__ import annotations
 
+import itertools
 import math
 
 import numpy as np
@@ -37,7 +38,7 @@ def test_rk4_error_falls_at_fourth_order(scenes, references, name):
     scene, ref = scenes[name], references[name]
     steps = [scene.period / 2**k for k in range(3)]
     errors = [state_error(scene, ref, Method("freefloat", "rk4", h, "compiled", STABILISED)) for h in steps]
-    orders = [math.log2(a / b) for a, b in zip(errors, errors[1:])]
+    orders = [math.log2(a / b) for a, b in itertools.pairwise(errors)]
     assert all(3.6 < order < 4.4 for order in orders), (errors, orders)
 
 

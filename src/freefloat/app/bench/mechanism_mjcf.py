@@ -47,8 +47,8 @@ def _body(model: pin.Model, joint_id: int, children: dict[int, list[int]], sites
     I = inertia.inertia
     lines = [f"{indent}<body name={name} {_pose(model.jointPlacements[joint_id])}>",
              f'{indent}  <joint name={name} type="{kind}" axis="{_num(axis)}" limited="false"/>',
-             f'{indent}  <inertial pos="{_num(inertia.lever)}" mass="{inertia.mass:.17g}" '
-             f'fullinertia="{_num([I[0, 0], I[1, 1], I[2, 2], I[0, 1], I[0, 2], I[1, 2]])}"/>',
+             (f'{indent}  <inertial pos="{_num(inertia.lever)}" mass="{inertia.mass:.17g}" '
+              f'fullinertia="{_num([I[0, 0], I[1, 1], I[2, 2], I[0, 1], I[0, 2], I[1, 2]])}"/>'),
              *[indent + "  " + site for site in sites.get(joint_id, [])]]
     for child in children.get(joint_id, []):
         lines += _body(model, child, children, sites, indent + "  ")

@@ -23,8 +23,8 @@ method.
 from __future__ import annotations
 
 import tomllib
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Callable
 
 import numpy as np
 from scipy.integrate import solve_ivp
@@ -128,7 +128,7 @@ def held_run(plant, control: PlatformControl, q0: np.ndarray, v0: np.ndarray, du
     rows[0] = q
     for n in range(periods):
         u = control.efforts(n * period, *plant.controller_state(q, v))
-        f = lambda qq, vv: plant.acceleration(qq, vv, u)  # noqa: E731
+        f = lambda qq, vv, u=u: plant.acceleration(qq, vv, u)
         for k in range(hold):
             try:
                 q, v = advance(f, q, v, step)
@@ -149,7 +149,7 @@ def dop853_run(plant: OrsinoPlant, control: PlatformControl, q0: np.ndarray, v0:
     rows = [q0]
     for n in range(round(duration / period)):
         u = control.efforts(n * period, y[:n_q], y[n_q:])
-        rhs = lambda _t, s: np.concatenate((s[n_q:], plant.acceleration(s[:n_q], s[n_q:], u)))  # noqa: E731
+        rhs = lambda _t, s, u=u: np.concatenate((s[n_q:], plant.acceleration(s[:n_q], s[n_q:], u)))
         y = solve_ivp(rhs, (0.0, period), y, method="DOP853", rtol=REFERENCE_TOL, atol=REFERENCE_TOL).y[:, -1]
         rows.append(y[:n_q])
     return MechanismResult(plant.to_tree(np.array(rows)), plant.to_tree(y[n_q:]))
