@@ -68,6 +68,19 @@ def test_baumgarte_holds_the_loop_tighter_with_euler(scenes):
 
 
 @pytest.mark.parametrize("name", list(MECHANISM_SCENES))
+def test_pinocchio_baumgarte_gains_match_eq_129(scenes, name):
+    """Pinocchio's correctors at Kp = lambda^2, Kd = 2 lambda open the loop as far as Orsino's eq 129 with the same
+    lambda (semi-implicit Euler at the control period, within 5 %), and lambda = 0 opens it wider."""
+    scene = scenes[name]
+    drift = {model: scene.errors(scene.run(Method(package, "euler", scene.period, loop, model))(),
+                                 scene.reference())["constraint_drift"]
+             for package, loop, model in (("freefloat", "compiled", STABILISED), ("pinocchio", "python", "baumgarte 100"),
+                                          ("pinocchio", "python", "no stabilisation"))}
+    assert abs(drift["baumgarte 100"] / drift[STABILISED] - 1.0) < 0.05, drift
+    assert drift["no stabilisation"] > 1.5 * drift["baumgarte 100"], drift
+
+
+@pytest.mark.parametrize("name", list(MECHANISM_SCENES))
 def test_shared_coordinates_read_the_assembled_start(scenes, name):
     """At the start, the tree's platform point, actuated joints and their rates equal Orsino's q#, actuated coordinates and rates."""
     scene = scenes[name]

@@ -35,7 +35,7 @@ from ...parallel.mechanism import rk4_step
 from ...parallel.sliding_mode import PlatformControl
 from ..experiments.mechanism import PreparedMechanism, prepare
 from ..scenes import find_scene
-from .mechanism_mjcf import TIMECONST_STEPS
+from .mechanism_mjcf import SOLIMP, TIMECONST_STEPS
 from .mechanism_plants import OrsinoPlant, PinocchioPlant, SpanningTree, plant_model, spanning_tree
 from .scene import Method, Run
 
@@ -182,6 +182,8 @@ class MechanismBench:
                          "numpy_steps_s": list(numpy_steps), "baumgarte": BAUMGARTE,
                          "reference": {"integrator": "DOP853 per control period", "model": "orsino baumgarte 100",
                                        "rtol": REFERENCE_TOL, "atol": REFERENCE_TOL},
+                         "mujoco": {"solref": f"timeconst {TIMECONST_STEPS:g} x step, dampratio 1",
+                                    "solimp": list(SOLIMP)},
                          "state_error": "2-norm of [q#; actuated joints; their rates] at the end (m, rad, m/s, rad/s)"}
 
     def methods(self) -> list[Method]:
