@@ -46,7 +46,7 @@ def test_summary_has_one_line_per_band(quick_run):
 def test_unknown_scene_exits_2_naming_it(tmp_path, capsys):
     """An unknown scene is refused before anything runs, the message listing the valid ones."""
     assert main(["bench", "nope", "--quick", "--out", str(tmp_path / "o")]) == 2
-    assert "unknown bench scene 'nope'; valid: four_arm, dual_arm, controlled, detumbling" in capsys.readouterr().err
+    assert "unknown bench scene 'nope'; valid: four_arm, dual_arm, controlled, detumbling, five_bar, rsu_ppap" in capsys.readouterr().err
     assert not (tmp_path / "o").exists()
 
 

@@ -10,20 +10,25 @@ import platform
 from importlib.metadata import version
 from pathlib import Path
 
+from ...dynamics.threads import single_blas_thread
 from ...errors import InvalidArgument
 from .free_floating import NOTES, free_floating_scene
+from .mechanisms import MECHANISM_SCENES, mechanism_scene
 from .scene import BenchScene
 from .summary import band_rows, summary_lines
 from .sweep import Point, sweep
 
-#: Every bench scene with its note.
-ALL_SCENES = dict(NOTES)
+#: Every bench scene with its note: the free-floating robots, then the closed-chain mechanisms.
+ALL_SCENES = {**NOTES, **MECHANISM_SCENES}
 CSV_FIELDS = ("scene", "package", "integrator", "model", "loop", "setting", "wall_time_s", "state_error",
               "momentum_error", "energy_error", "constraint_drift")
 
 
 def bench_scene(name: str, duration: float | None, quick: bool, seed: int) -> BenchScene:
-    """The bench scene ``name`` of :data:`ALL_SCENES` (see :func:`.free_floating.free_floating_scene`)."""
+    """The bench scene ``name`` of :data:`ALL_SCENES` (:func:`.free_floating.free_floating_scene`,
+    :func:`.mechanisms.mechanism_scene`; the seed applies to the tumbling scenes)."""
+    if name in MECHANISM_SCENES:
+        return mechanism_scene(name, duration, quick)
     return free_floating_scene(name, duration, quick, seed)
 
 
@@ -76,6 +81,7 @@ def chart(scene: BenchScene, points: list[Point], path: Path) -> None:
     plt.close(fig)
 
 
+@single_blas_thread  # once for the whole bench: a limit per run costs 2-6 ms, small matrices run slower threaded
 def bench(out: Path, scenes: list[str] | None = None, quick: bool = False, duration: float | None = None,
           repeats: int | None = None, seed: int = 0, progress=print) -> dict:
     """Run the sweep for each scene in this process and write the folder ``out``.
