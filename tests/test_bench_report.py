@@ -4,6 +4,10 @@ from __future__ import annotations
 
 import csv
 import json
+import signal
+import subprocess
+import sys
+import time
 
 import pytest
 
@@ -72,3 +76,23 @@ def test_controlled_quick_bench_compares_both_controllers(tmp_path):
     assert {("mujoco", "RK4", "python"), ("mujoco", "RK4", "native"), ("freefloat", "rkmk4", "compiled")} <= labels
     assert (out / "controlled.png").stat().st_size > 0
     assert len((out / "summary.txt").read_text().splitlines()) == len(BANDS)
+
+
+@pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM])
+def test_interrupted_bench_keeps_the_points_measured(tmp_path, signum):
+    """Ctrl-C or SIGTERM during a sweep: exit 1, and bench.json (status "interrupted") and
+    bench.csv hold every point measured before it."""
+    out = tmp_path / "b"
+    proc = subprocess.Popen([sys.executable, "-u", "-m", "freefloat", "bench", "four_arm", "--out", str(out)],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    deadline = time.monotonic() + 120
+    while "four_arm: measuring" not in proc.stdout.readline():
+        assert time.monotonic() < deadline and proc.poll() is None, "the bench never started"
+    time.sleep(2.0)
+    proc.send_signal(signum)
+    _, err = proc.communicate(timeout=120)
+    assert proc.returncode == 1, err
+    report = json.loads((out / "bench.json").read_text())
+    rows = list(csv.DictReader((out / "bench.csv").open()))
+    assert report["status"].startswith(f"interrupted ({signal.Signals(signum).name}) after ")
+    assert 1 <= len(rows) == len(report["scenes"]["four_arm"]["points"]) < len(free_floating_scene("four_arm").methods())

@@ -114,6 +114,10 @@ def _bench(args: argparse.Namespace) -> int:
         report = bench(out, args.scenes, quick=args.quick, repeats=args.repeats)
     print("\n".join(report["summary"]))
     print(f"written to {out}")
+    if report["status"] != "completed":
+        print(f"freefloat: bench stopped early: {report['status']} (the points measured are kept in {out})",
+              file=sys.stderr)
+        return 1
     return 0
 
 

@@ -5,6 +5,6 @@
 ``controlled`` (computed torque) and ``detumbling`` (after a capture); ``methods`` (each package's
 integrators as runs), ``mjcf``, ``mujoco_state`` and ``mujoco_wrenches`` (the robot, its state and
 its wrenches in MuJoCo's terms); ``sweep`` (wall time and errors per point), ``summary`` (cheapest
-method per accuracy band) and ``report`` (the output folder). MuJoCo is an optional extra
+method per accuracy band), ``chart`` (work against precision) and ``report`` (the output folder). MuJoCo is an optional extra
 (``pip install -e ".[bench]"``); only the MuJoCo runs import it.
 """

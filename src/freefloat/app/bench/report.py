@@ -4,7 +4,6 @@
 from __future__ import annotations
 
 import csv
-import itertools
 import json
 import math
 import platform
@@ -13,11 +12,13 @@ from pathlib import Path
 
 from ...dynamics.threads import single_blas_thread
 from ...errors import InvalidArgument
+from ..runner import signals_raise_keyboard_interrupt
 from .free_floating import NOTES, free_floating_scene
 from .mechanisms import MECHANISM_SCENES, mechanism_scene
 from .scene import BenchScene
 from .summary import band_rows, summary_lines
-from .sweep import Point, sweep
+from .chart import chart
+from .sweep import Point, sweep, timed_reference
 
 #: Every bench scene with its note: the free-floating robots, then the closed-chain mechanisms.
 ALL_SCENES = {**NOTES, **MECHANISM_SCENES}
@@ -33,56 +34,11 @@ def bench_scene(name: str, duration: float | None, quick: bool, seed: int) -> Be
     return free_floating_scene(name, duration, quick, seed)
 
 
-#: Line style per (package, loop) in the charts.
-STYLES = {("freefloat", "compiled"): "-o", ("freefloat", "python"): ":o", ("pinocchio", "python"): "-.^",
-          ("mujoco", "python"): "--s", ("mujoco", "native"): "-.s"}
-
-
 def _row(scene: str, p: Point) -> dict:
     """One point as a flat record; a diverged run's errors are None."""
     errors = {key: value if math.isfinite(value) else None for key, value in p.errors.items()}
     return {"scene": scene, "package": p.method.package, "integrator": p.method.integrator, "model": p.method.model,
             "loop": p.method.loop, "setting": p.method.setting, "wall_time_s": p.wall_time, **errors}
-
-
-def _style(method) -> str:
-    """Line style of a method's curve: by package and loop; diamonds for a named plant model."""
-    style = STYLES[(method.package, method.loop)]
-    return style[:-1] + "d" if method.model else style
-
-
-def chart(scene: BenchScene, points: list[Point], path: Path) -> None:
-    """Log-log work-precision chart: wall time against final-state error (left) and against the
-    scene's secondary error (right: momentum, or constraint drift), one curve per method (points
-    joined from the coarsest step or tolerance to the finest)."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig, axes = plt.subplots(1, 2, figsize=(12, 6.5), sharey=True)
-    curves: dict[str, list[Point]] = {}
-    for p in points:
-        curves.setdefault(p.method.label, []).append(p)
-    colors = plt.get_cmap("tab20").colors
-    for ax, (key, what) in zip(axes, (("state_error", "final-state error"), scene.secondary)):
-        for color, (label, curve) in zip(itertools.cycle(colors), curves.items()):
-            curve = sorted(curve, key=lambda p: -p.method.setting)
-            ax.loglog([p.errors[key] for p in curve], [p.wall_time * 1e3 for p in curve], _style(curve[0].method),
-                      color=color, label=label, ms=4)
-        ax.set_xlabel(what)
-        ax.invert_xaxis()
-        ax.grid(True, which="both", alpha=0.3)
-    axes[0].set_ylabel("wall time per run, ms (median)")
-    rows = -(-len(curves) // 3)
-    fig.legend(*axes[0].get_legend_handles_labels(), loc="lower center", ncol=3, fontsize=7, frameon=False)
-    names = {"freefloat": "freefloat", "pinocchio": "a bare Pinocchio loop", "mujoco": "MuJoCo"}
-    present = [names[p] for p in names if any(q.method.package == p for q in points)]
-    together = f" ({', '.join(present[:-1])} and {present[-1]} in one process)" if len(present) > 1 else ""
-    fig.suptitle(f"{scene.name}: work against precision{together}; errors against a tight reference")
-    fig.tight_layout(rect=(0.0, 0.03 * rows + 0.02, 1.0, 1.0))
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
 
 
 @single_blas_thread  # once for the whole bench: a limit per run costs 2-6 ms, small matrices run slower threaded
@@ -97,10 +53,12 @@ def bench(out: Path, scenes: list[str] | None = None, quick: bool = False, durat
         duration: simulated time per run, s (default: each scene's own).
         repeats: runs per point; the median time counts (default 5, 1 with ``quick``).
         seed: initial-state seed of the tumbling scenes.
-        progress: called with one line per finished scene.
+        progress: called with a line as each scene starts and as it ends.
 
     Returns:
-        The report written to ``bench.json``.
+        The report written to ``bench.json``; its ``status`` is ``"completed"``, or says where
+        Ctrl-C, SIGTERM or SIGHUP stopped the bench (the files then hold every point measured
+        before; they are rewritten after each scene as the bench goes).
     """
     names = list(scenes or ALL_SCENES)
     unknown = [name for name in names if name not in ALL_SCENES]
@@ -115,21 +73,43 @@ def bench(out: Path, scenes: list[str] | None = None, quick: bool = False, durat
     if out.exists() and (not out.is_dir() or any(out.iterdir())):
         raise InvalidArgument(f"{out}: output folder exists and is not empty")
     out.mkdir(parents=True, exist_ok=True)
-    report = {"settings": {"repeats": repeats, "quick": quick},
+    report = {"settings": {"repeats": repeats, "quick": quick, "seed": seed},
               "versions": {"freefloat": version("freefloat"), "pin": version("pin"), "mujoco": version("mujoco"),
                            "python": platform.python_version()},
-              "scenes": {}}
+              "status": "running", "scenes": {}}
+    points: dict[str, list[Point]] = {}
+    charted = None
+    try:
+        with signals_raise_keyboard_interrupt():
+            for scene in built:
+                report["scenes"][scene.name] = {"note": scene.note, "settings": scene.settings}
+                points[scene.name] = []
+                progress(f"{scene.name}: measuring {len(scene.methods())} methods, {repeats} runs each")
+                ref, report["scenes"][scene.name]["reference_wall_time_s"] = timed_reference(scene)
+                for point in sweep(scene, ref, repeats):
+                    points[scene.name].append(point)
+                _write(out, report, built, points, scene.name)
+                progress(f"{scene.name}: {len(points[scene.name])} points")
+        report["status"] = "completed"
+    except KeyboardInterrupt as stop:
+        current = list(points)[-1]
+        done = sum(len(p) for p in points.values())
+        report["status"] = f"interrupted ({str(stop) or 'SIGINT'}) after {done} points, in scene {current}"
+        charted = current if points[current] else None
+    _write(out, report, built, points, charted)
+    return report
+
+
+def _write(out: Path, report: dict, scenes: list[BenchScene], points: dict[str, list[Point]],
+           charted: str | None) -> None:
+    """``bench.json``, ``bench.csv`` and ``summary.txt`` from the points so far, and the chart of
+    the scene ``charted`` (None: no chart)."""
     rows, lines = [], []
-    for scene in built:
-        points, reference_time = sweep(scene, repeats)
-        bands = band_rows(points)
-        report["scenes"][scene.name] = {"note": scene.note, "settings": scene.settings,
-                                        "reference_wall_time_s": reference_time,
-                                        "points": [_row(scene.name, p) for p in points], "bands": bands}
-        rows += [_row(scene.name, p) for p in points]
-        lines += summary_lines(scene.name, bands)
-        chart(scene, points, out / f"{scene.name}.png")
-        progress(f"{scene.name}: {len(points)} points")
+    for name, measured in points.items():
+        bands = band_rows(measured)
+        report["scenes"][name].update(points=[_row(name, p) for p in measured], bands=bands)
+        rows += report["scenes"][name]["points"]
+        lines += summary_lines(name, bands)
     report["summary"] = lines
     (out / "bench.json").write_text(json.dumps(report, indent=2))
     with open(out / "bench.csv", "w", newline="") as f:
@@ -138,4 +118,5 @@ def bench(out: Path, scenes: list[str] | None = None, quick: bool = False, durat
         writer.writeheader()
         writer.writerows(rows)
     (out / "summary.txt").write_text("\n".join(lines) + "\n")
-    return report
+    if charted is not None:
+        chart(next(s for s in scenes if s.name == charted), points[charted], out / f"{charted}.png")

@@ -5,7 +5,9 @@ from __future__ import annotations
 import math
 import statistics
 import time
+from collections.abc import Iterator
 from dataclasses import dataclass
+from typing import Any
 
 from ...errors import SimulationDiverged
 from .scene import BenchScene, Method
@@ -53,9 +55,15 @@ def measure(scene: BenchScene, method: Method, ref, repeats: int) -> Point:
     return Point(method, statistics.median(times), errors)
 
 
-def sweep(scene: BenchScene, repeats: int = 3) -> tuple[list[Point], float]:
-    """Every method of the scene measured in this process, and the reference's wall time (s)."""
+def timed_reference(scene: BenchScene) -> tuple[Any, float]:
+    """The scene's reference result and its wall time, s."""
     start = time.perf_counter()
     ref = scene.reference()
-    reference_time = time.perf_counter() - start
-    return [measure(scene, method, ref, repeats) for method in scene.methods()], reference_time
+    return ref, time.perf_counter() - start
+
+
+def sweep(scene: BenchScene, ref: Any, repeats: int = 3) -> Iterator[Point]:
+    """Every method of the scene measured in this process against ``ref``, one point as each
+    finishes (so an interrupted sweep keeps the points before it)."""
+    for method in scene.methods():
+        yield measure(scene, method, ref, repeats)
