@@ -63,14 +63,15 @@ class ControlledScene:
         return self.robot.model
 
 
-def controlled_scene(duration: float = 1.0) -> ControlledScene:
-    """The controlled scene over ``duration`` s.
+def controlled_scene(duration: float = 1.0, base: str = "free") -> ControlledScene:
+    """The controlled scene over ``duration`` s on a ``"free"`` or ``"planar"`` base (the motion is
+    planar: :func:`.detumbling.planar_to_free` maps a planar-base state to the free base's).
 
     Raises:
         InvalidArgument: unless the duration is a positive whole number of 1 ms periods.
     """
     control_periods(duration, PERIOD)
-    robot = load_robot("four_arm_planar", base="free", visuals=False)
+    robot = load_robot("four_arm_planar", base=base, visuals=False)
     robot = replace(robot, model=balanced_model(robot.model))
     joints = JointCoordinates(robot)
     start = np.array([np.pi / 2 if name in START_90 else 0.0 for name in robot.joint_names])

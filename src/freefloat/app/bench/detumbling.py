@@ -4,7 +4,7 @@
 torque on the exact model held over 1 ms) on a **free** base, its inertias balanced (MuJoCo
 refuses the URDF's, see :func:`.mjcf.balanced_model`), so MuJoCo's free joint and the MJCF
 of :mod:`.mjcf` take it as they are; the same scene on its planar base is the smaller model of the
-sweep (:func:`planar_to_free` maps its states for the errors).
+sweep (:func:`.free_floating.planar_to_free` maps its states for the errors).
 
 MuJoCo is stepped by freefloat's detumbling controller (state mapped each period) with the
 impulses as ``xfrc_applied`` (:mod:`.mujoco_wrenches`); the law has no form on MuJoCo's own
@@ -14,8 +14,6 @@ matrices here (it needs the generalized Jacobian of the end-effector rows).
 from __future__ import annotations
 
 import dataclasses
-
-import numpy as np
 
 from ...space.control.detumbling_control import DetumblingController
 from ..experiments.detumbling import prepare
@@ -46,15 +44,3 @@ def detumbling_scene(duration: float = 1.0, base: str = "free") -> ControlledSce
     return ControlledScene("detumbling", robot, setup.q0, setup.v0, duration, scene.simulation.control_period,
                            make_controller, setup.wrenches)
 
-
-def planar_to_free(q: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """The free-base Pinocchio state of a planar-base one.
-
-    Planar: ``q = [x, y, cos t, sin t; joints]``, ``v = [vx, vy, wz; joint rates]`` (base frame).
-    Free: ``q = [x, y, 0, quat (0, 0, sin t/2, cos t/2); joints]``, ``v = [vx, vy, 0, 0, 0, wz; joint
-    rates]`` (base frame). Shapes (nq,), (nv,) in, (nq + 3,), (nv + 3,) out.
-    """
-    half = 0.5 * np.arctan2(q[3], q[2])
-    q_free = np.concatenate([q[:2], [0.0, 0.0, 0.0, np.sin(half), np.cos(half)], q[4:]])
-    v_free = np.concatenate([v[:2], [0.0, 0.0, 0.0], v[2:]])
-    return q_free, v_free

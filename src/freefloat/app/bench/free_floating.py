@@ -19,7 +19,7 @@ import pinocchio as pin
 from ...errors import InvalidArgument
 from ...robot.conventions import momentum_about_origin
 from .controlled import controlled_scene
-from .detumbling import detumbling_scene, planar_to_free
+from .detumbling import detumbling_scene
 from .methods import (FREEFLOAT_ADAPTIVE, MUJOCO, REFERENCE_ATOL, REFERENCE_RTOL, Scene,
                       controlled_methods, method_run, methods, reference)
 from .scene import Method, Run
@@ -43,10 +43,14 @@ TUMBLING_MODELS = ("standard_corrected", "standard", "momentum_mono")
 #: Steps at which those models run (their cost makes the finest steps long).
 MODEL_STEPS = (5e-2, 2e-2, 1e-2, 5e-3, 2e-3, 1e-3)
 
+#: ``Method.model`` of the planar-base variant of a planar scene (controlled, detumbling).
+PLANAR = "planar base"
+
 #: Every free-floating bench scene with its note.
 NOTES = {
     **{name: note for name, (_, note) in SCENES.items()},
-    "controlled": "four-arm robot (balanced, free base), computed torque held over 1 ms, the default task's quintic",
+    "controlled": "four-arm robot (balanced, free base), computed torque held over 1 ms, the default task's quintic; "
+                  "also on its planar base",
     "detumbling": "two-arm robot (balanced) after capture (500 N m impulses on both arms, sec 5.3 scenario 4), free base, "
                   "detumbling control held over 1 ms; also on its planar base",
 }
@@ -66,6 +70,20 @@ def state_errors(model: pin.Model, state: State, ref: State) -> dict[str, float]
     h_ref, e_ref = invariants(model, q_ref, v_ref)
     return {"state_error": float(np.linalg.norm(np.concatenate([pin.difference(model, q_ref, q), v - v_ref]))),
             "momentum_error": float(np.linalg.norm(h - h_ref)), "energy_error": abs(e - e_ref)}
+
+
+def planar_to_free(q: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The free-base Pinocchio state of a planar-base one.
+
+    Planar: ``q = [x, y, cos t, sin t; joints]``, ``v = [vx, vy, wz; joint rates]`` (base frame).
+    Free: ``q = [x, y, 0, quat (0, 0, sin t/2, cos t/2); joints]``, ``v = [vx, vy, 0, 0, 0, wz; joint
+    rates]`` (base frame). Shapes (nq,), (nv,) in, (nq + 3,), (nv + 3,) out.
+    """
+    half = 0.5 * np.arctan2(q[3], q[2])
+    q_free = np.concatenate([q[:2], [0.0, 0.0, 0.0, np.sin(half), np.cos(half)], q[4:]])
+    v_free = np.concatenate([v[:2], [0.0, 0.0, 0.0], v[2:]])
+    return q_free, v_free
+
 
 
 @dataclass(frozen=True)
@@ -121,12 +139,16 @@ def _settings(duration: float, steps: tuple[float, ...], rtols: tuple[float, ...
 
 def _detumbling_methods(steps: tuple[float, ...], rtols: tuple[float, ...]) -> list[Method]:
     """The compiled loop's fixed-step methods and dopri5, the Python loop's RKMK4, the planar
-    base in the compiled loop with RKMK4, and MuJoCo stepped by freefloat's controller."""
+    base (:func:`_planar_methods`), and MuJoCo stepped by freefloat's controller."""
     points = [Method("freefloat", name, h, "compiled") for name in ("euler", "rkmk4", "rkmk8") for h in steps]
     points += [Method("freefloat", name, rtol, "compiled") for name in FREEFLOAT_ADAPTIVE for rtol in rtols]
     points += [Method("freefloat", "rkmk4", h) for h in steps]
-    points += [Method("freefloat", "rkmk4", h, "compiled", "planar base") for h in steps]
-    return points + [Method("mujoco", name, h) for name in MUJOCO for h in steps]
+    return points + _planar_methods(steps) + [Method("mujoco", name, h) for name in MUJOCO for h in steps]
+
+
+def _planar_methods(steps: tuple[float, ...]) -> list[Method]:
+    """The compiled loop's Euler and RKMK4 on the scene's planar-base variant."""
+    return [Method("freefloat", name, h, "compiled", PLANAR) for name in ("euler", "rkmk4") for h in steps]
 
 
 def free_floating_scene(name: str, duration: float | None = None, quick: bool = False,
@@ -155,9 +177,10 @@ def free_floating_scene(name: str, duration: float | None = None, quick: bool = 
     steps, rtols = (QUICK_CONTROLLED_STEPS, QUICK_CONTROLLED_RTOLS) if quick else (CONTROLLED_STEPS, CONTROLLED_RTOLS)
     if name == "controlled":
         duration = duration or (0.1 if quick else 1.0)
-        return FreeFloatingBench(controlled_scene(duration), NOTES[name], tuple(controlled_methods(steps, rtols)),
-                                 _settings(duration, steps, rtols))
+        sweep = controlled_methods(steps, rtols) + _planar_methods(steps)
+        return FreeFloatingBench(controlled_scene(duration), NOTES[name], tuple(sweep), _settings(duration, steps, rtols),
+                                 {PLANAR: (controlled_scene(duration, "planar"), planar_to_free)})
     duration = duration or (0.05 if quick else 1.0)
     planar = detumbling_scene(duration, "planar")
     return FreeFloatingBench(detumbling_scene(duration), NOTES[name], tuple(_detumbling_methods(steps, rtols)),
-                             _settings(duration, steps, rtols), {"planar base": (planar, planar_to_free)})
+                             _settings(duration, steps, rtols), {PLANAR: (planar, planar_to_free)})
