@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import subprocess
+import sys
 import warnings
 from pathlib import Path
 
@@ -163,3 +165,16 @@ def torque_free(base: str, seed: int, speed: float):
     model, tau = ExactModel(robot), np.zeros(robot.model.nv)
     q0, v0 = random_state(robot, np.random.default_rng(seed), speed)
     return robot, lambda q, v: model.acceleration(q, v, tau), q0, v0
+
+
+#: ``python -m freefloat`` with Ctrl-C's default handler installed first (see :func:`cli_process`).
+_FOREGROUND = ("import runpy, signal, sys; signal.signal(signal.SIGINT, signal.default_int_handler); "
+               "sys.argv[0] = 'freefloat'; runpy.run_module('freefloat', run_name='__main__')")
+
+
+def cli_process(*args: str) -> subprocess.Popen:
+    """``python -u -m freefloat ARGS`` with pipes for stdout and stderr (text), as a terminal's
+    foreground process: Ctrl-C (SIGINT) handled even when the tests run in the background with
+    SIGINT ignored, which a child inherits (a background job rightly ignores Ctrl-C)."""
+    return subprocess.Popen([sys.executable, "-u", "-c", _FOREGROUND, *args], stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True)

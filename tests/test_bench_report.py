@@ -5,8 +5,6 @@ from __future__ import annotations
 import csv
 import json
 import signal
-import subprocess
-import sys
 import time
 
 import pytest
@@ -14,6 +12,8 @@ import pytest
 from freefloat.app.bench.free_floating import free_floating_scene
 from freefloat.app.bench.summary import BANDS
 from freefloat.app.cli import main
+
+from .conftest import cli_process
 
 
 @pytest.fixture(scope="module")
@@ -83,8 +83,7 @@ def test_interrupted_bench_keeps_the_points_measured(tmp_path, signum):
     """Ctrl-C or SIGTERM during a sweep: exit 1, and bench.json (status "interrupted") and
     bench.csv hold every point measured before it."""
     out = tmp_path / "b"
-    proc = subprocess.Popen([sys.executable, "-u", "-m", "freefloat", "bench", "four_arm", "--out", str(out)],
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    proc = cli_process("bench", "four_arm", "--out", str(out))
     deadline = time.monotonic() + 120
     while "four_arm: measuring" not in proc.stdout.readline():
         assert time.monotonic() < deadline and proc.poll() is None, "the bench never started"

@@ -6,7 +6,6 @@ import json
 import os
 import signal
 import subprocess
-import sys
 import time
 
 import numpy as np
@@ -18,7 +17,7 @@ from freefloat.app.scenes import load_scene
 from freefloat.dynamics.simulation import run
 from freefloat.dynamics.telemetry import Telemetry
 
-from .conftest import scene_variant
+from .conftest import cli_process, scene_variant
 
 
 def test_run_scene_writes_exactly_what_the_bare_loop_computes(tmp_path):
@@ -65,8 +64,7 @@ def _start(tmp_path, duration: float) -> tuple[subprocess.Popen, "os.PathLike"]:
     scene = scene_variant(tmp_path / "s.toml", "four_arm_joint_space", simulation={"duration": duration},
                           output={"figures": False, "html": False})
     out = tmp_path / "out"
-    proc = subprocess.Popen([sys.executable, "-m", "freefloat", "simulate", str(scene), "--out", str(out)],
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    proc = cli_process("simulate", str(scene), "--out", str(out))
     deadline = time.monotonic() + 60
     while "step" not in proc.stderr.readline():  # the progress bar (text mode reads up to each \r)
         assert time.monotonic() < deadline and proc.poll() is None, "the run never started"
