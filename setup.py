@@ -42,7 +42,7 @@ setup(
         Pybind11Extension(
             "freefloat.dynamics._sim",
             ["cpp/sim_module.cpp"],
-            depends=[str(path) for path in sorted(Path("cpp/sim").glob("*.hpp"))],
+            depends=[str(path) for path in sorted(Path("cpp/sim").glob("*.hpp"))] + ["cpp/py_arrays.hpp"],
             include_dirs=[cmeel_include("pinocchio/algorithm/aba.hpp"), cmeel_include("Eigen/Core"), "cpp"],
             cxx_std=17,
             extra_compile_args=FLAGS + PINOCCHIO_FLAGS,

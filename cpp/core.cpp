@@ -11,20 +11,15 @@
 #include "gjm.hpp"
 #include "models.hpp"
 #include "parallel.hpp"
+#include "py_arrays.hpp"
 
 namespace py = pybind11;
 using namespace freefloat;
-using Array = py::array_t<double, py::array::c_style | py::array::forcecast>;
+using freefloat::py_arrays::Array;
+using freefloat::py_arrays::checked;
 using IntArray = py::array_t<long long, py::array::c_style | py::array::forcecast>;
 
 namespace {
-
-const double* checked(const Array& a, py::ssize_t size, const char* name) {
-  if (a.size() != size)
-    throw std::invalid_argument(std::string(name) + ": expected " + std::to_string(size) + " numbers, got " +
-                                std::to_string(a.size()));
-  return a.data();
-}
 
 py::array_t<double> copy_out(std::vector<py::ssize_t> shape, const double* data) {
   py::array_t<double> out(shape);

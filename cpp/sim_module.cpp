@@ -7,23 +7,18 @@
 
 #include <optional>
 
+#include "py_arrays.hpp"
 #include "sim/loop.hpp"
 
 namespace py = pybind11;
 using namespace freefloat::sim;
-using Array = py::array_t<double, py::array::c_style | py::array::forcecast>;
+using freefloat::py_arrays::Array;
+using freefloat::py_arrays::checked;
 using OutArray = py::array_t<double, py::array::c_style>;
 
 namespace {
 
-const double* sized(const Array& a, py::ssize_t size, const char* name) {
-  if (a.size() != size)
-    throw std::invalid_argument(std::string(name) + ": expected " + std::to_string(size) + " numbers, got " +
-                                std::to_string(a.size()));
-  return a.data();
-}
-
-Vec vec(const Array& a, py::ssize_t size, const char* name) { return Eigen::Map<const Vec>(sized(a, size, name), size); }
+Vec vec(const Array& a, py::ssize_t size, const char* name) { return Eigen::Map<const Vec>(checked(a, size, name), size); }
 
 py::array_t<double> out(const Vec& x) {
   py::array_t<double> r(x.size());
@@ -44,7 +39,7 @@ py::object maybe(const std::optional<Vec>& x) { return x ? py::object(out(*x)) :
 std::vector<Wrench> wrenches_of(const Model& m, const std::vector<int>& joints, const Array& com, const Array& force,
                                 const Array& torque) {
   const py::ssize_t k = static_cast<py::ssize_t>(joints.size());
-  const double *c = sized(com, 3 * k, "com"), *f = sized(force, 3 * k, "force"), *t = sized(torque, 3 * k, "torque");
+  const double *c = checked(com, 3 * k, "com"), *f = checked(force, 3 * k, "force"), *t = checked(torque, 3 * k, "torque");
   std::vector<Wrench> w;
   for (py::ssize_t i = 0; i < k; ++i) {
     if (joints[i] < 1 || joints[i] >= static_cast<int>(m.njoints)) throw std::invalid_argument("wrench joint out of range");
@@ -96,9 +91,9 @@ PySimulation make(std::vector<int> parent, std::vector<std::string> kind, std::v
   const py::ssize_t n = static_cast<py::ssize_t>(parent.size()), f = static_cast<py::ssize_t>(frame_parent.size());
   if (kind.size() != parent.size() || name.size() != parent.size())
     throw std::invalid_argument("parent, kind, name: expected one entry per joint");
-  ModelArrays a{parent, kind, name, sized(subspace, 6 * n, "subspace"), sized(placement, 16 * n, "placement"),
-                sized(mass, n, "mass"), sized(lever, 3 * n, "lever"), sized(rotational, 9 * n, "rotational"),
-                armature.data(), sized(gravity, 3, "gravity"), frame_parent, sized(frame_placement, 16 * f, "frame_placement")};
+  ModelArrays a{parent, kind, name, checked(subspace, 6 * n, "subspace"), checked(placement, 16 * n, "placement"),
+                checked(mass, n, "mass"), checked(lever, 3 * n, "lever"), checked(rotational, 9 * n, "rotational"),
+                armature.data(), checked(gravity, 3, "gravity"), frame_parent, checked(frame_placement, 16 * f, "frame_placement")};
   Model model = build_model(a);
   if (armature.size() != model.nv) throw std::invalid_argument("armature: expected one entry per velocity");
   if (record_every < 1) throw std::invalid_argument("record_every must be >= 1");
@@ -203,7 +198,7 @@ PYBIND11_MODULE(_sim, m) {
               const Array& start, const Array& end, const Array& rise) {
              const std::vector<Wrench> full = wrenches_of(s.sim->model(), joints, com, force, torque);
              const py::ssize_t k = static_cast<py::ssize_t>(full.size());
-             const double *t0 = sized(start, k, "start"), *t1 = sized(end, k, "end"), *r = sized(rise, k, "rise");
+             const double *t0 = checked(start, k, "start"), *t1 = checked(end, k, "end"), *r = checked(rise, k, "rise");
              std::vector<WrenchProfile> profiles;
              for (py::ssize_t i = 0; i < k; ++i) profiles.push_back({full[i], t0[i], t1[i], r[i]});
              s.sim->set_wrench_profiles(std::move(profiles));
