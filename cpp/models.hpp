@@ -8,6 +8,7 @@
 
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "gjm.hpp"
 
@@ -18,10 +19,18 @@ enum class Variant {
   reduced, momentum_mono, momentum_multi, momentum_routh
 };
 
+// The names of Variant, in its order (exported as _core.MODELS; tests/test_models.py checks them
+// against freefloat.dynamics.models.MODELS).
+inline const std::vector<std::string>& variant_names() {
+  static const std::vector<std::string> names{"standard", "standard_full_hdot", "standard_corrected", "nidc",
+                                              "nidc_translation", "reduced", "momentum_mono", "momentum_multi",
+                                              "momentum_routh"};
+  return names;
+}
+
 inline Variant variant_of(const std::string& name) {
-  static const char* names[] = {"standard", "standard_full_hdot", "standard_corrected", "nidc", "nidc_translation",
-                                "reduced", "momentum_mono", "momentum_multi", "momentum_routh"};
-  for (int i = 0; i < 9; ++i)
+  const auto& names = variant_names();
+  for (size_t i = 0; i < names.size(); ++i)
     if (name == names[i]) return static_cast<Variant>(i);
   throw std::invalid_argument("unknown compiled dynamics model '" + name + "'");
 }

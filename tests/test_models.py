@@ -242,3 +242,11 @@ def test_unknown_model_backend_is_refused(four_arm):
     """A GJM model with an unknown backend raises ValueError listing the valid ones."""
     with pytest.raises(ValueError, match="compiled, numpy"):
         make_model("standard", four_arm, backend="julia")
+
+
+def test_the_compiled_core_has_the_registrys_compiled_models():
+    """The C++ core's model names (cpp/models.hpp) are the registry's compiled hand-built models."""
+    from freefloat.dynamics import _core
+    from freefloat.dynamics.models import MODELS
+
+    assert list(_core.MODELS) == [name for name, spec in MODELS.items() if spec.compiled and name != "exact"]

@@ -127,6 +127,13 @@ inline Tableau dopri5_tableau() {  // Dormand-Prince 5(4) (adaptive.py)
           4};
 }
 
+// The names LieIntegrator takes: freefloat.dynamics.integrators.INTEGRATORS' compiled entries
+// (exported as _sim.INTEGRATORS; tests/test_compiled.py checks the two lists agree).
+inline const std::vector<std::string>& integrator_names() {
+  static const std::vector<std::string> names{"euler", "rkmk4", "rk4_naive", "rkmk6", "rkmk8", "dopri5"};
+  return names;
+}
+
 // One integrator of the registry by name, advancing (q, v) over a control period.
 class LieIntegrator {
  public:

@@ -25,3 +25,31 @@ class SingularityError(FreefloatError):
 class InvalidArgument(FreefloatError, ValueError):
     """A function argument of the wrong shape, not finite, or out of its domain; the message names
     the argument."""
+
+
+class UnknownName(InvalidArgument, KeyError):
+    """A name not in its registry (integrator, model, controller, mechanism, experiment kind, bench
+    scene, ...); the message lists the valid choices.
+
+    Attributes:
+        kind: what was named (e.g. ``"integrator"``).
+        name: the name given.
+        choices: the valid names.
+    """
+
+    def __init__(self, kind: str, name: object, choices):
+        self.kind, self.name, self.choices = kind, name, tuple(choices)
+        super().__init__(f"unknown {kind} {name!r}; valid: {', '.join(map(str, self.choices))}")
+
+    def __str__(self) -> str:  # KeyError would quote the message
+        return str(self.args[0])
+
+
+class BadShape(InvalidArgument):
+    """An array of the wrong shape; the message names the argument, the shape expected and the
+    shape given."""
+
+
+class NotAssembled(FreefloatError):
+    """A closed chain that cannot be assembled (loop-closure residual not driven to zero) at the
+    pose asked for; the message gives the pose and the residual."""

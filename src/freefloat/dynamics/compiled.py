@@ -31,13 +31,15 @@ from ..robot.joints import JointCoordinates
 from ..robot.loading import BASE_COM_FRAME
 from ..robot.robot import Robot
 from . import _sim
+from .integrators import INTEGRATORS
 from .telemetry import Telemetry
 from .wrenches import WrenchField
 
 __all__ = ["COMPILED_INTEGRATORS", "CompiledLoop", "DetumblingLaw", "law_of", "unsupported"]
 
-#: Integrators the compiled loop runs (every registry entry; momentum projection is not compiled).
-COMPILED_INTEGRATORS = ("euler", "rkmk4", "rk4_naive", "rkmk6", "rkmk8", "dopri5")
+#: Integrators the compiled loop runs (the registry's entries marked compiled; momentum projection
+#: is not compiled). ``_sim.INTEGRATORS`` lists the compiled side's names; a test checks both agree.
+COMPILED_INTEGRATORS = tuple(name for name, spec in INTEGRATORS.items() if spec.compiled)
 
 #: ABA of the rebuilt model against ``pin.aba`` at a random state: largest relative difference.
 REBUILD_TOLERANCE = 1e-9
@@ -49,7 +51,8 @@ def unsupported(model: Any, integrator: Any) -> str | None:
     :data:`COMPILED_INTEGRATORS` (not wrapped in momentum projection)."""
     if getattr(model, "name", None) != "exact":
         return f"the plant model is '{getattr(model, 'name', model)}', not 'exact'"
-    if getattr(integrator, "name", None) not in COMPILED_INTEGRATORS or not hasattr(integrator, "model"):
+    spec = INTEGRATORS.get(getattr(integrator, "name", None))
+    if spec is None or not spec.compiled or not hasattr(integrator, "model"):
         return f"integrator '{getattr(integrator, 'name', integrator)}' is not compiled"
     return None
 

@@ -16,11 +16,12 @@ from typing import Callable
 import numpy as np
 import pinocchio as pin
 
+from ...dynamics.integrators import swept
 from ...errors import InvalidArgument
 from ...robot.conventions import momentum_about_origin
 from .controlled import controlled_scene
 from .detumbling import detumbling_scene
-from .methods import (FREEFLOAT_ADAPTIVE, MUJOCO, REFERENCE_ATOL, REFERENCE_RTOL, Scene,
+from .methods import (MUJOCO, REFERENCE_ATOL, REFERENCE_RTOL, Scene,
                       controlled_methods, method_run, methods, reference)
 from .scene import Method, Run
 from .scenes import SCENES, tumbling_scene
@@ -141,7 +142,7 @@ def _detumbling_methods(steps: tuple[float, ...], rtols: tuple[float, ...]) -> l
     """The compiled loop's fixed-step methods and dopri5, the Python loop's RKMK4, the planar
     base (:func:`_planar_methods`), and MuJoCo stepped by freefloat's controller."""
     points = [Method("freefloat", name, h, "compiled") for name in ("euler", "rkmk4", "rkmk8") for h in steps]
-    points += [Method("freefloat", name, rtol, "compiled") for name in FREEFLOAT_ADAPTIVE for rtol in rtols]
+    points += [Method("freefloat", name, rtol, "compiled") for name in swept("compiled", True) for rtol in rtols]
     points += [Method("freefloat", "rkmk4", h) for h in steps]
     return points + _planar_methods(steps) + [Method("mujoco", name, h) for name in MUJOCO for h in steps]
 

@@ -8,7 +8,7 @@ import numpy as np
 import pinocchio as pin
 
 from ...dynamics.compiled import CompiledLoop, law_of
-from ...dynamics.integrators import Acceleration, make_integrator
+from ...dynamics.integrators import INTEGRATORS, Acceleration, make_integrator, swept
 from ...dynamics.models import DynamicsModel, make_model
 from ...dynamics.simulation import run as simulate
 from ...dynamics.telemetry import Telemetry
@@ -21,11 +21,6 @@ from .scenes import TumblingScene
 
 Scene = TumblingScene | ControlledScene
 
-#: freefloat's fixed-step integrators and its adaptive one, in the Python loop and in the compiled one.
-FREEFLOAT_FIXED = ("euler", "rkmk4", "rk4_naive")
-FREEFLOAT_ADAPTIVE = ("dopri5",)
-COMPILED_FIXED = ("euler", "rkmk4", "rkmk6", "rkmk8")
-COMPILED_ADAPTIVE = ("dopri5",)
 #: MuJoCo's integrators compared (names as in MJCF).
 MUJOCO = ("Euler", "implicitfast", "RK4")
 #: Tolerances of the reference run (dopri5 on the group; atol = rtol / 100 like every dopri5 point).
@@ -58,7 +53,7 @@ def _stepper(scene: Scene, integrator: str, setting: float):
     """``(periods, integrator)``: fixed steps of about ``setting`` s, or dopri5 at rtol ``setting``
     and atol ``setting / 100``; a tumbling run is one period of the whole duration per step (or
     one period for dopri5), a controlled run has the scene's periods."""
-    if integrator in FREEFLOAT_ADAPTIVE:
+    if INTEGRATORS[integrator].adaptive:
         stepper = make_integrator(integrator, scene.model, rtol=setting, atol=setting * 1e-2)
         return (periods(scene) if isinstance(scene, ControlledScene) else 1), stepper
     if isinstance(scene, ControlledScene):
@@ -91,7 +86,7 @@ def freefloat_run(scene: Scene, integrator: str, setting: float, model: str = ""
     f = _torque_free(scene.model) if not model else _model_torque_free(_plant(scene, model), scene.model.nv)
 
     def run():
-        if integrator in FREEFLOAT_ADAPTIVE:
+        if INTEGRATORS[integrator].adaptive:
             stepper = make_integrator(integrator, scene.model, rtol=setting, atol=setting * 1e-2)
         else:
             stepper = make_integrator(integrator, scene.model, substeps=_steps(scene, setting))
@@ -221,11 +216,12 @@ def reference(scene: Scene) -> tuple[np.ndarray, np.ndarray]:
 
 def methods(steps: tuple[float, ...], rtols: tuple[float, ...]) -> list[Method]:
     """Every method of a sweep: each fixed-step integrator at each step (freefloat's Python and
-    compiled loops, the bare Pinocchio loop, MuJoCo), dopri5 at each rtol in both loops."""
-    points = [Method("freefloat", name, h) for name in FREEFLOAT_FIXED for h in steps]
-    points += [Method("freefloat", name, rtol) for name in FREEFLOAT_ADAPTIVE for rtol in rtols]
-    points += [Method("freefloat", name, h, "compiled") for name in COMPILED_FIXED for h in steps]
-    points += [Method("freefloat", name, rtol, "compiled") for name in COMPILED_ADAPTIVE for rtol in rtols]
+    compiled loops as the registry's ``bench`` says, the bare Pinocchio loop, MuJoCo), the adaptive
+    ones at each rtol."""
+    points = [Method("freefloat", name, h, loop) for loop in ("python", "compiled") for name in swept(loop, False)
+              for h in steps]
+    points += [Method("freefloat", name, rtol, loop) for loop in ("python", "compiled") for name in swept(loop, True)
+               for rtol in rtols]
     points += [Method("pinocchio", "euler", h) for h in steps]
     return points + [Method("mujoco", name, h) for name in MUJOCO for h in steps]
 

@@ -10,7 +10,7 @@ from typing import Any
 import numpy as np
 import pinocchio as pin
 
-from ...dynamics.integrators import Integrator, make_integrator
+from ...dynamics.integrators import INTEGRATORS, Integrator, make_integrator
 from ...dynamics.metrics import summarize
 from ...dynamics.models import DynamicsModel, make_model
 from ...dynamics.simulation import Controller, RunResult, run
@@ -27,9 +27,6 @@ from ..scenes import Scene, resolve_file
 from .base import Checkpoint, Outcome, Progress
 from .budget import check_budget, seconds_per_call
 from .locked_run import full_telemetry, lock_for
-
-#: Model evaluations per integration step (dopri5: per attempted step).
-STAGES = {"euler": 1, "rkmk4": 4, "rk4_naive": 4, "dopri5": 6}
 
 #: Summary keys the command line prints for a robot run.
 HEADLINE = ("model_auto", "tracking_rms_overall", "com_drift_max", "momentum_drift_max", "energy_drift_max",
@@ -132,7 +129,7 @@ def check_run_size(setup: RobotSetup) -> None:
     q0, v0 = setup.plant_state()
     tau = np.zeros(len(v0))
     per_call = seconds_per_call(lambda: setup.model.acceleration(q0, v0, tau))
-    calls = steps * sim.substeps * STAGES.get(sim.integrator, 6)
+    calls = steps * sim.substeps * INTEGRATORS[sim.integrator].stages
     check_budget(scene.name, memory, 1.5 * calls * per_call,
                  "'simulation.duration', 'control_period', 'substeps' and 'record_every'")
 

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import MISSING, dataclass
+from collections.abc import Callable
 from typing import Any, NamedTuple
 
 from ...errors import SceneError
@@ -27,9 +28,10 @@ class OutputSection:
 
 class Rules(NamedTuple):
     """Value rules of one scene kind, keyed by ``(section, key)`` (section ``""``: top level):
-    the allowed strings, and the numbers that must be > 0 or >= 0."""
+    the allowed strings (or a function giving them, read when a scene is checked: a registry's
+    names, so that what is registered later is accepted), and the numbers that must be > 0 or >= 0."""
 
-    choices: dict[tuple[str, str], tuple[str, ...]]
+    choices: dict[tuple[str, str], tuple[str, ...] | Callable[[], tuple[str, ...]]]
     positive: set[tuple[str, str]]
     non_negative: set[tuple[str, str]]
 
@@ -102,6 +104,7 @@ def number(where: str, section: str, key: str, value: Any, kind: type, rules: Ru
 
 def choice(where: str, section: str, key: str, value: Any, rules: Rules) -> str:
     options = rules.choices.get((section, key))
+    options = options() if callable(options) else options
     if options is not None and value not in options:
         name = f"{section}.{key}" if section else key
         raise SceneError(f"{where}'{name}' is {value!r}; valid: {', '.join(options)}")

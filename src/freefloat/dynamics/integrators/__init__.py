@@ -1,24 +1,114 @@
-"""Integrators on the configuration Lie group, selectable by name."""
+"""Integrators on the configuration Lie group, one registry of objects: :data:`INTEGRATORS`.
+
+Each entry carries what the rest of freefloat needs to know about an integrator (its order, the
+dynamics evaluations of one step, whether it corrects the chart with ``dexp^-1``, whether the
+compiled loop has it) and builds it. A new integrator is one module plus one :func:`register`
+call; the scene schema, the run-size estimate, the compiled-loop check, the bench and the
+stability study read their lists here.
+"""
 
 from __future__ import annotations
 
+from collections.abc import Callable
+from dataclasses import dataclass
+
 import pinocchio as pin
 
+from ...errors import UnknownName
 from .adaptive import DormandPrince45
 from .base import Acceleration, Integrator
+from .dop853 import DormandPrince853
 from .explicit_rkmk import RungeKuttaMuntheKaas6, RungeKuttaMuntheKaas8
-from .fixed_step import RungeKutta4, SemiImplicitEuler
+from .fixed_step import ExplicitEuler, RungeKutta4, SemiImplicitEuler
 from .momentum_projection import MomentumProjection
 
-#: Registry names and one-line descriptions.
-INTEGRATORS = {
-    "euler": "semi-implicit (symplectic) Euler, 1st order: the dissertation's scheme",
-    "rkmk4": "Runge-Kutta-Munthe-Kaas 4, 4th order on the Lie group",
-    "rk4_naive": "RK4 adding body velocities without dexp^-1: only 2nd order on SE(3)",
-    "rkmk6": "Runge-Kutta-Munthe-Kaas 6 (Butcher's 7 stages), 6th order on the Lie group",
-    "rkmk8": "Runge-Kutta-Munthe-Kaas 8 (Cooper-Verner, 11 stages), 8th order on the Lie group",
-    "dopri5": "adaptive Dormand-Prince 5(4) in the Munthe-Kaas chart, dense output",
-}
+#: ``build(model, substeps, rtol, atol) -> Integrator`` on the configuration space ``model``.
+Build = Callable[[pin.Model, int, float, float], Integrator]
+
+
+@dataclass(frozen=True)
+class IntegratorSpec:
+    """One integrator of the registry.
+
+    Attributes:
+        name: registry name (scene key ``simulation.integrator``).
+        description: one line for listings and docs.
+        order: global order of accuracy on the Lie group (on a vector space, the tableau's order).
+        stages: dynamics evaluations per step (for the adaptive ones: per accepted step, about).
+        lie: True when stage velocities are corrected by ``dexp^-1`` (full order on SE(3)).
+        adaptive: True for step-size control (``rtol``, ``atol``); False for fixed steps
+            (``substeps`` per control period).
+        compiled: True when the compiled loops (``cpp/sim/lie_rk.hpp``) have it under the same name.
+        build: makes it for a configuration space.
+        bench: the loops ``freefloat bench`` sweeps it in (``"python"``, ``"compiled"``).
+    """
+
+    name: str
+    description: str
+    order: int
+    stages: int
+    lie: bool
+    adaptive: bool
+    compiled: bool
+    build: Build
+    bench: tuple[str, ...] = ("python",)
+
+
+#: Registry: name -> :class:`IntegratorSpec`.
+INTEGRATORS: dict[str, IntegratorSpec] = {}
+
+
+def register(spec: IntegratorSpec) -> IntegratorSpec:
+    """Add ``spec`` to :data:`INTEGRATORS` (a name already there is replaced)."""
+    INTEGRATORS[spec.name] = spec
+    return spec
+
+
+for _spec in (
+    IntegratorSpec("euler", "semi-implicit (symplectic) Euler, 1st order: the dissertation's scheme", order=1,
+                   stages=1, lie=True, adaptive=False, compiled=True, bench=("python", "compiled"),
+                   build=lambda m, n, rtol, atol: SemiImplicitEuler(m, n)),
+    IntegratorSpec("explicit_euler", "explicit (forward) Euler, 1st order: the old rate moves q; not compiled",
+                   order=1, stages=1, lie=True, adaptive=False, compiled=False, bench=(),
+                   build=lambda m, n, rtol, atol: ExplicitEuler(m, n)),
+    IntegratorSpec("rkmk4", "Runge-Kutta-Munthe-Kaas 4, 4th order on the Lie group", order=4, stages=4, lie=True,
+                   adaptive=False, compiled=True, bench=("python", "compiled"),
+                   build=lambda m, n, rtol, atol: RungeKutta4(m, n)),
+    IntegratorSpec("rk4_naive", "RK4 adding body velocities without dexp^-1: only 2nd order on SE(3)", order=2,
+                   stages=4, lie=False, adaptive=False, compiled=True, bench=("python",),
+                   build=lambda m, n, rtol, atol: RungeKutta4(m, n, lie_correction=False)),
+    IntegratorSpec("rkmk6", "Runge-Kutta-Munthe-Kaas 6 (Butcher's 7 stages), 6th order on the Lie group", order=6,
+                   stages=7, lie=True, adaptive=False, compiled=True, bench=("compiled",),
+                   build=lambda m, n, rtol, atol: RungeKuttaMuntheKaas6(m, n)),
+    IntegratorSpec("rkmk8", "Runge-Kutta-Munthe-Kaas 8 (Cooper-Verner, 11 stages), 8th order on the Lie group",
+                   order=8, stages=11, lie=True, adaptive=False, compiled=True, bench=("compiled",),
+                   build=lambda m, n, rtol, atol: RungeKuttaMuntheKaas8(m, n)),
+    IntegratorSpec("dopri5", "adaptive Dormand-Prince 5(4) in the Munthe-Kaas chart, dense output", order=5,
+                   stages=6, lie=True, adaptive=True, compiled=True, bench=("python", "compiled"),
+                   build=lambda m, n, rtol, atol: DormandPrince45(m, rtol=rtol, atol=atol)),
+    IntegratorSpec("dop853", "adaptive Dormand-Prince 8(5,3) (scipy's DOP853, the thesis's method) in the "
+                   "Munthe-Kaas chart: a tight reference, not compiled", order=8, stages=12, lie=True, adaptive=True,
+                   compiled=False, bench=(), build=lambda m, n, rtol, atol: DormandPrince853(m, rtol, atol)),
+):
+    register(_spec)
+
+
+def swept(loop: str, adaptive: bool) -> tuple[str, ...]:
+    """Names ``freefloat bench`` sweeps in ``loop`` (``"python"`` or ``"compiled"``), fixed-step or
+    adaptive, in registry order."""
+    return tuple(n for n, s in INTEGRATORS.items() if loop in s.bench and s.adaptive == adaptive)
+
+
+def integrator_spec(name: str) -> IntegratorSpec:
+    """The registry entry called ``name``.
+
+    Raises:
+        UnknownName: for a name not in :data:`INTEGRATORS`, listing the valid ones.
+    """
+    try:
+        return INTEGRATORS[name]
+    except (KeyError, TypeError):
+        raise UnknownName("integrator", name, INTEGRATORS) from None
 
 
 def make_integrator(
@@ -29,39 +119,37 @@ def make_integrator(
     atol: float = 1e-12,
     project_momentum: bool = False,
 ) -> Integrator:
-    """The integrator called ``name`` (see :data:`INTEGRATORS`).
+    """The integrator called ``name`` (see :data:`INTEGRATORS`) on the configuration space of
+    ``model``.
 
     ``project_momentum`` wraps it in :class:`MomentumProjection` (only for runs whose momentum is
     conserved: no external wrenches, no gravity; the scene option ``simulation.project_momentum``
     is refused together with either).
 
     Raises:
-        ValueError: for an unknown name, listing the valid ones.
+        UnknownName: for an unknown name, listing the valid ones.
     """
+    spec = integrator_spec(name)
     if project_momentum:
-        return MomentumProjection(make_integrator(name, model, substeps, rtol, atol), model)
-    if name == "euler":
-        return SemiImplicitEuler(model, substeps)
-    if name in ("rkmk4", "rk4_naive"):
-        return RungeKutta4(model, substeps, lie_correction=name == "rkmk4")
-    if name == "rkmk6":
-        return RungeKuttaMuntheKaas6(model, substeps)
-    if name == "rkmk8":
-        return RungeKuttaMuntheKaas8(model, substeps)
-    if name == "dopri5":
-        return DormandPrince45(model, rtol=rtol, atol=atol)
-    raise ValueError(f"unknown integrator '{name}'; valid: {', '.join(INTEGRATORS)}")
+        return MomentumProjection(spec.build(model, substeps, rtol, atol), model)
+    return spec.build(model, substeps, rtol, atol)
 
 
 __all__ = [
     "INTEGRATORS",
     "Acceleration",
     "DormandPrince45",
+    "DormandPrince853",
+    "ExplicitEuler",
     "Integrator",
+    "IntegratorSpec",
     "MomentumProjection",
     "RungeKutta4",
     "RungeKuttaMuntheKaas6",
     "RungeKuttaMuntheKaas8",
     "SemiImplicitEuler",
+    "integrator_spec",
     "make_integrator",
+    "register",
+    "swept",
 ]

@@ -52,6 +52,21 @@ class SemiImplicitEuler(FixedStep):
         return pin.integrate(self.model, q, h * v_next), v_next
 
 
+class ExplicitEuler(FixedStep):
+    """Explicit (forward) Euler: ``q+ = q * exp(h v)``, ``v+ = v + h a``, the old rate moving q.
+
+    First order; kept to show where it fails against the semi-implicit scheme (it gains energy on
+    oscillators and opens closed loops).
+    """
+
+    name = "explicit_euler"
+    order = 1
+
+    def step(self, f, q, v, h):
+        self._calls += 1
+        return pin.integrate(self.model, q, h * v), v + h * f(q, v)
+
+
 class RungeKutta4(FixedStep):
     """Classical RK4 in the exponential chart at q: Runge-Kutta-Munthe-Kaas, 4th order on the group.
 
