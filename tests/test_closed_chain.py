@@ -11,10 +11,12 @@ from hypothesis import strategies as st
 from freefloat import FreefloatError
 from freefloat.parallel.closed_chain import chain_from_tree, load_closed_chain
 from freefloat.parallel.five_bar import FiveBarParameters, elbow_guess, five_bar, five_bar_spec
-from freefloat.parallel.mechanism import rk4_step, simulate
+from freefloat.dynamics.plants import ConstraintDynamicsPlant
+from freefloat.dynamics.simulation import run_plant
 from freefloat.robot.builders import build_urdf, urdf_xml
 
 from .conftest import REPO
+from .loops import simulate
 
 CLOSURE = REPO / "urdf" / "five_bar.closure.toml"
 P = FiveBarParameters()
@@ -84,11 +86,13 @@ def test_bad_closure_files_name_the_key(tmp_path, edit, message):
 def test_five_bar_animation_places_the_joints_where_orsino_does(tmp_path):
     """The meshcat page of a 5R run animates chain 1's second joint at Orsino's joint frame."""
     from freefloat.app.reproduce.five_bar_report import animate
-    from freefloat.parallel.sliding_mode import PlatformController, circle_reference, track
+    from freefloat.parallel.closed_loop import track_five_bar
+    from freefloat.parallel.sliding_mode import PlatformControl, circle_reference
 
     from .test_viz import _animation, _packets
 
-    t, qs, _, _ = track(P, PlatformController(P, circle_reference, 40.0, None), 0.01, 1e-3)
+    tel = track_five_bar(P, PlatformControl(five_bar(P), circle_reference, 40.0), 0.01, 1e-3).telemetry
+    t, qs = tel.t, tel.q
     page = animate(t, qs, tmp_path / "five_bar.html")
     tracks = {path: tr for path, tr in _animation(_packets(page)).items() if path.endswith("c1_joint2")}
     assert len(tracks) == 1
@@ -102,17 +106,11 @@ def test_one_second_trajectories_agree_with_pinocchio(loaded):
     constrained dynamics follow the same joint trajectory to 1e-9 rad."""
     mech, model, cms = loaded.mechanism, loaded.model, loaded.constraints
     q0, _ = state(mech, rates=(0.0, 0.0))
-    _, qs, _ = simulate(mech, q0, np.zeros(6), lambda *_: np.zeros(2), 1.0, 1e-3)
-    data, cds = model.createData(), [c.createData() for c in cms]
-    pin.initConstraintDynamics(model, data, cms, cds)
-    settings = pin.ProximalSettings(1e-14, 1e-12, 50)
-    f = lambda q, v: pin.constraintDynamics(model, data, q, v, np.zeros(model.nv), cms, cds, settings).copy()  # noqa: E731
-    q, v, h = loaded.pinocchio_q(q0), np.zeros(model.nv), 1e-3
-    worst = 0.0
-    for k in range(1000):
-        q, v = rk4_step(f, q, v, h)
-        worst = max(worst, np.abs(q - loaded.pinocchio_q(qs[k + 1])).max())
-    assert worst < 1e-9
+    qs = simulate(mech, q0, np.zeros(6), lambda *_: np.zeros(2), 1.0, 1e-3).telemetry.q
+    plant = ConstraintDynamicsPlant(model, cms, [], accuracy=1e-14)
+    pinocchio = run_plant(plant, loaded.pinocchio_q(q0), np.zeros(model.nv), 1.0, 1e-3, "rkmk4").telemetry.q
+    assert len(pinocchio) == len(qs) == 1001
+    assert max(np.abs(q - loaded.pinocchio_q(orsino)).max() for q, orsino in zip(pinocchio, qs)) < 1e-9
 
 
 JOINT_TYPES = (pin.JointModelRX, pin.JointModelRY, pin.JointModelRZ, pin.JointModelPX, pin.JointModelPY, pin.JointModelPZ)

@@ -1,6 +1,6 @@
-"""The 5R's closed loop with the control period apart from the step: held efforts agree with the
-existing step-held loop, the continuous law sees every RK4 stage's time, and holding longer
-costs first-order accuracy."""
+"""A mechanism's closed loop on the one engine (freefloat.parallel.closed_loop): the law held over
+a control period or evaluated at every stage, compiled and Python loops equal, holding longer
+costs first-order accuracy, and a plant that comes apart keeps its samples."""
 
 from __future__ import annotations
 
@@ -10,16 +10,13 @@ import numpy as np
 import pytest
 
 from freefloat.errors import FreefloatError
+from freefloat.parallel.closed_loop import steps_per_period, track
 from freefloat.parallel.five_bar import TRUE_PARAMETERS, FiveBarParameters, elbow_guess, five_bar
-from freefloat.parallel.held_control import steps_per_period, track_held
-from freefloat.parallel.sliding_mode import (
-    PlatformControl,
-    PlatformController,
-    circle_reference,
-    track,
-)
+from freefloat.parallel.sliding_mode import PlatformControl, circle_reference, printed_gains
 
 START = np.array([0.07, 0.17])
+EQ_187 = printed_gains(np.array([75.3, 108.0]), np.array([[1.25, 0.92], [1.68, 1.65]]),
+                       {(0, 0): np.array([37.0, 54.1]), (1, 0): np.array([22.7, 35.5]), (1, 1): np.array([17.5, 28.5])})
 
 
 @pytest.fixture(scope="module")
@@ -32,46 +29,53 @@ def computed_torque() -> PlatformControl:
     return PlatformControl(five_bar(FiveBarParameters()), circle_reference, 40.0)
 
 
-def test_holding_over_one_step_is_the_step_held_loop(plant_q0):
-    """With the period equal to the step, the errors are those of sliding_mode.track (mechanism.simulate)."""
+@pytest.mark.parametrize("period", [1e-4, None], ids=["held over 10 steps", "per stage"])
+@pytest.mark.parametrize("saturation", ["tanh", "sign"])
+def test_compiled_loop_equals_the_python_loop(plant_q0, period, saturation):
+    """Sliding mode (eq 187's gains) held over 10 steps or evaluated per RK4 stage: the compiled
+    loop (plant, RKMK4 and law in C++) and the Python loop on the numpy reference agree to 1e-12."""
     plant, q0 = plant_q0
-    held = track_held(plant, computed_torque(), q0, 0.02, 1e-3, 1e-3)
-    _, _, efforts, log = track(TRUE_PARAMETERS, PlatformController(FiveBarParameters(), circle_reference, 40.0), 0.02, 1e-3)
-    np.testing.assert_allclose(held.e[:-1], np.array([row[1] for row in log]), atol=1e-13)
-    np.testing.assert_allclose(held.efforts, efforts, rtol=1e-10, atol=1e-10)
-    assert held.completed
+    control = PlatformControl(five_bar(FiveBarParameters()), circle_reference, 40.0, EQ_187, saturation)
+    numpy_control = PlatformControl(control.model.reference(), circle_reference, 40.0, EQ_187, saturation)
+    compiled = track(plant, control, q0, 0.01, 1e-5, period, backend="compiled")
+    python = track(plant.reference(), numpy_control, q0, 0.01, 1e-5, period, backend="python")
+    assert (compiled.backend, python.backend) == ("compiled", "python")
+    np.testing.assert_allclose(compiled.telemetry.q, python.telemetry.q, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(compiled.telemetry.efforts, python.telemetry.efforts, rtol=1e-9, atol=1e-9)
+    np.testing.assert_allclose(compiled.telemetry.reference, python.telemetry.reference, rtol=0, atol=1e-15)
 
 
 @dataclass
 class StageSpy:
     """A control law of zero effort that records the times it is asked at."""
 
-    lam: float = 1.0
-    times: list | None = None
+    times: list
 
-    def reference(self, t: float):
-        return np.zeros(2), np.zeros(2), np.zeros(2)
+    def reference(self, t: float) -> None:
+        return None
 
-    def efforts(self, t: float, q: np.ndarray, qd: np.ndarray) -> np.ndarray:
+    def torque(self, t: float, q: np.ndarray, qd: np.ndarray) -> np.ndarray:
         self.times.append(t)
         return np.zeros(2)
 
 
 def test_continuous_law_is_asked_at_every_rk4_stage_time(plant_q0):
-    """Two steps of 1 ms: the law is evaluated at 0, 0.5, 0.5, 1, 1, 1.5, 1.5, 2 ms."""
+    """Two steps of 1 ms: besides the loop's call at each step's start (the efforts recorded),
+    the law is evaluated at the stages 0, 0.5, 0.5, 1 and 1, 1.5, 1.5, 2 ms."""
     plant, q0 = plant_q0
-    spy = StageSpy(times=[])
-    run = track_held(plant, spy, q0, 2e-3, 1e-3, None)
-    np.testing.assert_allclose(spy.times, np.array([0, 0.5, 0.5, 1, 1, 1.5, 1.5, 2]) * 1e-3, atol=1e-15)
-    np.testing.assert_allclose(run.update_t, [0.0, 1e-3], atol=1e-15)
+    spy = StageSpy([])
+    run = track(plant, spy, q0, 2e-3, 1e-3, None)
+    expected = np.array([0, 0, 0.5, 0.5, 1, 1, 1, 1.5, 1.5, 2]) * 1e-3
+    np.testing.assert_allclose(spy.times, expected, atol=1e-15)
+    assert run.status == "completed" and len(run.telemetry.t) == 3
 
 
 def test_holding_longer_departs_from_the_continuous_law_to_first_order(plant_q0):
     """Computed torque: the gap to the continuous law shrinks about tenfold for a tenfold shorter hold."""
     plant, q0 = plant_q0
     control = computed_torque()
-    base = track_held(plant, control, q0, 0.02, 1e-5, None).e
-    gap = [np.abs(track_held(plant, control, q0, 0.02, 1e-5, period).e - base).max() for period in (1e-3, 1e-4)]
+    base = track(plant, control, q0, 0.02, 1e-5, None).telemetry.q
+    gap = [np.abs(track(plant, control, q0, 0.02, 1e-5, period).telemetry.q - base).max() for period in (1e-3, 1e-4)]
     assert 5.0 < gap[0] / gap[1] < 20.0
 
 
@@ -81,17 +85,17 @@ def test_a_period_that_is_not_a_whole_number_of_steps_is_refused():
         steps_per_period(1.5e-4, 1e-4)
 
 
-@dataclass
 class Kick(StageSpy):
     """A law that gives absurd efforts: the plant comes apart."""
 
-    def efforts(self, t: float, q: np.ndarray, qd: np.ndarray) -> np.ndarray:
+    def torque(self, t: float, q: np.ndarray, qd: np.ndarray) -> np.ndarray:
         return np.full(2, 1e9)
 
 
-def test_a_plant_that_comes_apart_stops_early_keeping_its_samples(plant_q0):
-    """The run stops, says so, and keeps every sample up to there."""
+@pytest.mark.parametrize("backend", ["python", "compiled"])
+def test_a_plant_that_comes_apart_stops_early_keeping_its_samples(plant_q0, backend):
+    """The run stops as diverged, says why and when, and keeps every sample up to there."""
     plant, q0 = plant_q0
-    run = track_held(plant, Kick(), q0, 0.1, 1e-3, 1e-3)
-    assert not run.completed
-    assert 1 <= len(run.t) < 101 and len(run.e) == len(run.s) == len(run.t)
+    run = track(plant, Kick([]), q0, 0.1, 1e-3, 1e-3, backend="python" if backend == "python" else "auto")
+    assert run.status == "diverged" and ("came apart" in run.message or "singular" in run.message), run.message
+    assert 1 <= len(run.telemetry.t) < 101 and np.isfinite(run.telemetry.q).all()

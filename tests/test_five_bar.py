@@ -9,6 +9,7 @@ import pytest
 from freefloat import FreefloatError
 from freefloat.parallel.five_bar import FiveBarParameters, elbow_guess, five_bar
 
+from .loops import simulate
 from .test_serial import pinocchio_chain
 
 P = FiveBarParameters()
@@ -99,43 +100,40 @@ def test_failed_assembly_names_the_residual(mech):
 
 def test_baumgarte_stabilisation_holds_the_loop_closed(mech):
     """Falling freely for 1 s (RK4, 1 ms), lambda = 100 keeps the loop 10x tighter than no stabilisation."""
-    from freefloat.parallel.mechanism import simulate
-
     q0 = assembled(mech, [0.07, 0.17])
     zero = lambda t, q, qd: np.zeros(2)  # noqa: E731
-    _, _, loose = simulate(mech, q0, np.zeros(6), zero, 1.0, 1e-3, baumgarte=0.0)
-    _, _, held = simulate(mech, q0, np.zeros(6), zero, 1.0, 1e-3, baumgarte=100.0)
+    loose = drift(simulate(mech, q0, np.zeros(6), zero, 1.0, 1e-3, baumgarte=0.0))
+    held = drift(simulate(mech, q0, np.zeros(6), zero, 1.0, 1e-3, baumgarte=100.0))
     assert held.max() < 0.1 * loose.max() and loose.max() > 1e-7
 
 
 def test_lambda_one_over_h_makes_euler_diverge_and_rk4_worse(mech):
     """The document's lambda = 1/h: semi-implicit Euler blows up; RK4 drifts more than with lambda = 100."""
-    from freefloat.parallel.mechanism import simulate
-
     q0 = assembled(mech, [0.07, 0.17])
     zero = lambda t, q, qd: np.zeros(2)  # noqa: E731
-    t, _, _ = simulate(mech, q0, np.zeros(6), zero, 0.3, 1e-3, baumgarte=1e3, method="euler")
-    assert t[-1] < 0.3 - 1e-4  # stopped early: diverged
-    _, _, one_over_h = simulate(mech, q0, np.zeros(6), zero, 0.1, 1e-3, baumgarte=1e3)
-    _, _, moderate = simulate(mech, q0, np.zeros(6), zero, 0.1, 1e-3, baumgarte=100.0)
+    assert simulate(mech, q0, np.zeros(6), zero, 0.3, 1e-3, baumgarte=1e3, integrator="euler").status == "diverged"
+    one_over_h = drift(simulate(mech, q0, np.zeros(6), zero, 0.1, 1e-3, baumgarte=1e3))
+    moderate = drift(simulate(mech, q0, np.zeros(6), zero, 0.1, 1e-3, baumgarte=100.0))
     assert moderate.max() < 0.1 * one_over_h.max()
 
 
 def test_rk4_at_0_2_ms_keeps_the_loop_closed_below_1e_9_m(mech):
     """RK4 at 0.2 ms with lambda = 100 keeps |qbar| below 1e-9 m while the 5R falls for 0.1 s."""
-    from freefloat.parallel.mechanism import simulate
-
-    _, _, drift = simulate(mech, assembled(mech, [0.07, 0.17]), np.zeros(6), lambda *_: np.zeros(2), 0.1, 2e-4, baumgarte=100.0)
-    assert drift.max() < 1e-9
+    run = simulate(mech, assembled(mech, [0.07, 0.17]), np.zeros(6), lambda *_: np.zeros(2), 0.1, 2e-4, baumgarte=100.0)
+    assert drift(run).max() < 1e-9
 
 
 def test_lambda_one_over_h_is_best_with_explicit_euler(mech):
     """With explicit Euler (the old rate moves q) lambda = 1/h holds the loop tighter than 100 or 0:
     the document's rule fails only for the semi-implicit method."""
-    from freefloat.parallel.mechanism import simulate
-
     q0 = assembled(mech, [0.07, 0.17])
     zero = lambda t, q, qd: np.zeros(2)  # noqa: E731
-    drift = {lam: simulate(mech, q0, np.zeros(6), zero, 0.1, 1e-3, baumgarte=lam, method="explicit_euler")[2].max()
+    worst = {lam: drift(simulate(mech, q0, np.zeros(6), zero, 0.1, 1e-3, baumgarte=lam, integrator="explicit_euler")).max()
              for lam in (0.0, 100.0, 1e3)}
-    assert drift[1e3] < 0.5 * drift[100.0] < 0.5 * drift[0.0]
+    assert worst[1e3] < 0.5 * worst[100.0] < 0.5 * worst[0.0]
+
+
+def drift(run) -> np.ndarray:
+    """The loop-closure residual of every recorded step of a completed run, m."""
+    assert run.status == "completed", run.message
+    return run.telemetry.drift

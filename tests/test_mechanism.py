@@ -10,8 +10,10 @@ import pytest
 
 from freefloat import FreefloatError
 from freefloat.parallel.five_bar import FiveBarParameters, elbow_guess, five_bar
-from freefloat.parallel.mechanism import BACKENDS, AngularConstraints, log3, simulate
+from freefloat.parallel.mechanism import BACKENDS, AngularConstraints, log3
 from freefloat.parallel.rsu_ppap import assembly_guess, load_data, load_rsu_ppap, reference_path
+
+from .loops import simulate
 
 P = FiveBarParameters()
 DATA = load_data()
@@ -96,11 +98,12 @@ def test_path_arrays_must_match():
 
 def test_simulation_stops_when_an_angular_constraint_comes_apart(rsu_ppap):
     """A start with the parallelogram's coupler turned 1.5 rad (an angular constraint off by more
-    than 1 rad) stops after the first step instead of running on."""
+    than 1 rad) stops in the first step, keeping the start, instead of running on."""
     q0 = rsu_ppap.assemble(np.array(DATA["home"]), assembly_guess(DATA, DATA["home"]))
     q0[3 + 12 + 2] += 1.5                       # ppap_coupler
-    t, qs, _ = simulate(rsu_ppap, q0, np.zeros_like(q0), lambda *_: np.zeros(3), 0.01, 1e-3)
-    assert len(t) == len(qs) == 2
+    run = simulate(rsu_ppap, q0, np.zeros_like(q0), lambda *_: np.zeros(3), 0.01, 1e-3)
+    assert run.status == "diverged" and "came apart" in run.message
+    assert len(run.telemetry.t) == 1
 
 
 def test_angular_constraints_check_their_shapes():
@@ -111,8 +114,8 @@ def test_angular_constraints_check_their_shapes():
 
 
 def test_simulation_keeps_its_samples_when_a_singular_pose_stops_it(monkeypatch):
-    """When the forward dynamics fail on the 4th step (a singular pose), simulate returns the
-    three steps it finished instead of raising and losing them."""
+    """When the forward dynamics fail on the 4th step (a singular pose), the loop returns the
+    three steps it finished (and the start) instead of raising and losing them."""
     mech = five_bar(P)
     q0 = mech.assemble(np.array([0.07, 0.17]), elbow_guess(P, np.array([0.07, 0.17])))
     calls = {"n": 0}
@@ -125,9 +128,11 @@ def test_simulation_keeps_its_samples_when_a_singular_pose_stops_it(monkeypatch)
         return forward(self, q, qd, tau, baumgarte)
 
     monkeypatch.setattr(type(mech), "forward", failing)
-    t, qs, drift = simulate(mech, q0, np.zeros(6), lambda *_: np.zeros(2), 0.01, 1e-3)
-    assert len(t) == len(qs) == len(drift) == 4
-    assert np.isfinite(qs).all()
+    run = simulate(mech, q0, np.zeros(6), lambda *_: np.zeros(2), 0.01, 1e-3, backend="python")
+    assert run.status == "diverged" and "singular" in run.message
+    tel = run.telemetry
+    assert len(tel.t) == len(tel.q) == len(tel.drift) == 4
+    assert np.isfinite(tel.q).all()
 
 
 def test_blocks_grow_back_after_successes_on_a_coarse_path(monkeypatch):

@@ -12,11 +12,10 @@ from freefloat.app import runner
 from freefloat.app.experiments.mechanism import prepare
 from freefloat.app.scenes import MechanismScene, builtin_scenes, load_scene
 from freefloat.parallel.five_bar import TRUE_PARAMETERS, FiveBarParameters, elbow_guess, five_bar
-from freefloat.parallel.mechanism import simulate
-from freefloat.parallel.platform_control import printed_gains
-from freefloat.parallel.sliding_mode import PlatformController, circle_reference
+from freefloat.parallel.sliding_mode import PlatformControl, circle_reference, printed_gains
 
 from .conftest import scene_variant
+from .loops import simulate
 
 SMC = "five_bar_sliding_mode"
 #: Eq 187's gains, as the built-in scene prints them.
@@ -40,25 +39,22 @@ def on_circle(tmp_path_factory):
     return runner.simulate(scene)
 
 
-def test_run_is_the_direct_simulation_with_the_5r_controller(tmp_path):
-    """The scene's trajectory and efforts equal parallel.mechanism.simulate on the 15 % 5R driven
-    by the 5R module's own sliding-mode controller with eq 187's gains."""
+def test_run_is_the_numpy_reference_loop_with_the_5r_controller(tmp_path):
+    """The scene (the compiled loop: plant, RK4 and sliding-mode law in C++) equals the Python
+    loop on the numpy reference of the 15 % 5R driven by the numpy sliding-mode law with eq 187's
+    gains, to round-off."""
     run = runner.simulate(_scene(tmp_path, simulation={"duration": 0.005}))
-    controller = PlatformController(FiveBarParameters(), circle_reference, 40.0, EQ_187)
-    plant = five_bar(TRUE_PARAMETERS)
+    assert run.summary["loop"] == "compiled"
+    control = PlatformControl(five_bar(FiveBarParameters()).reference(), circle_reference, 40.0, EQ_187)
+    plant = five_bar(TRUE_PARAMETERS).reference()
     q0 = plant.assemble(np.array([0.07, 0.17]), elbow_guess(TRUE_PARAMETERS, np.array([0.07, 0.17])))
-    efforts = []
-
-    def tau(t, q, qd):
-        efforts.append(controller.efforts(t, q, qd))
-        return efforts[-1]
-
-    t, qs, drift = simulate(plant, q0, np.zeros(6), tau, 0.005, 1e-4, 100.0, "rk4")
-    tel = run.telemetry
-    np.testing.assert_array_equal(tel.t, t)
-    np.testing.assert_allclose(np.hstack((tel.platform, tel.joints)), qs, rtol=0, atol=1e-12)
-    np.testing.assert_allclose(tel.efforts[:-1], efforts, rtol=1e-9)
-    np.testing.assert_allclose(tel.drift, drift, rtol=0, atol=1e-14)
+    python = simulate(plant, q0, np.zeros(6), control.torque, 0.005, 1e-4, 100.0, backend="python")
+    assert python.backend == "python"
+    tel, ref = run.telemetry, python.telemetry
+    np.testing.assert_allclose(tel.t, ref.t, rtol=0, atol=1e-15)
+    np.testing.assert_allclose(np.hstack((tel.platform, tel.joints)), ref.q, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(tel.efforts[:-1], ref.efforts[:-1], rtol=1e-9)
+    np.testing.assert_allclose(tel.drift, ref.drift, rtol=0, atol=1e-14)
 
 
 def test_stabilised_loop_stays_closed(on_circle):

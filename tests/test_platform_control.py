@@ -8,8 +8,8 @@ import pytest
 
 from freefloat import FreefloatError
 from freefloat.parallel.five_bar import FiveBarParameters, elbow_guess, five_bar
-from freefloat.parallel.platform_control import CircleReference, printed_gains
-from freefloat.parallel.sliding_mode import PlatformControl, circle_reference
+from freefloat.parallel.platform_control import CircleReference
+from freefloat.parallel.sliding_mode import PlatformControl, circle_reference, printed_gains
 
 P = FiveBarParameters()
 CIRCLE = CircleReference(np.array([0.0, 0.17]), 0.07, 28.57)
@@ -54,7 +54,7 @@ def test_computed_torque_on_the_exact_model_gives_the_commanded_acceleration():
     for q, qd, t in _states(mech):
         q_d, qd_d, qdd_d = CIRCLE(t)
         e, edot = q_d - q[:2], qd_d - qd[:2]
-        qdd = mech.forward(q, qd, control.efforts(t, q, qd))
+        qdd = mech.forward(q, qd, control.torque(t, q, qd))
         np.testing.assert_allclose(qdd[:2], qdd_d + 80.0 * edot + 1600.0 * e, rtol=1e-8)
 
 

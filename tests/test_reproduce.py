@@ -66,10 +66,11 @@ def test_printed_gains_reach_s_y_in_the_documents_time():
     """With eq 187's printed gains on the 15 % plant, s_y enters |s| < 0.02 at 0.007-0.0085 s
     (the document: about 0.008 s)."""
     from freefloat.app.reproduce.five_bar_report import eq_187_gains, reaching_times
-    from freefloat.parallel.five_bar import TRUE_PARAMETERS, FiveBarParameters
-    from freefloat.parallel.sliding_mode import PlatformController, circle_reference, track
+    from freefloat.parallel.closed_loop import track_five_bar
+    from freefloat.parallel.five_bar import TRUE_PARAMETERS, FiveBarParameters, five_bar
+    from freefloat.parallel.sliding_mode import PlatformControl, circle_reference
 
-    controller = PlatformController(FiveBarParameters(), circle_reference, 40.0, eq_187_gains())
-    track(TRUE_PARAMETERS, controller, 0.02, 1e-4)
-    t, _, s = (np.array([row[i] for row in controller.log]) for i in range(3))
-    assert 0.007 < reaching_times(t, s)[1] < 0.0085
+    control = PlatformControl(five_bar(FiveBarParameters()), circle_reference, 40.0, eq_187_gains())
+    tel = track_five_bar(TRUE_PARAMETERS, control, 0.02, 1e-4).telemetry
+    _, s = control.sliding_variables(tel.t, tel.q, tel.v)
+    assert 0.007 < reaching_times(tel.t, s)[1] < 0.0085

@@ -7,7 +7,8 @@ import pinocchio as pin
 import pytest
 
 from freefloat import FreefloatError
-from freefloat.parallel.mechanism import rk4_step, simulate
+from freefloat.dynamics.plants import ConstraintDynamicsPlant
+from freefloat.dynamics.simulation import run_plant
 from freefloat.parallel.rsu_ppap import (
     CLOSURE,
     assembly_guess,
@@ -17,6 +18,8 @@ from freefloat.parallel.rsu_ppap import (
     rsu_ppap_urdf,
 )
 from freefloat.robot.builders import urdf_xml
+
+from .loops import Law, simulate
 
 DATA = load_data()
 HOME = np.array(DATA["home"])
@@ -112,21 +115,21 @@ def held(loaded, q0):
     return lambda q_a, qd_a: tau0 - 50.0 * (q_a - q_a0) - 1.0 * qd_a
 
 
-def test_motion_follows_pinocchio_for_one_second(loaded, pinocchio_side):
+def test_motion_follows_pinocchio_for_one_second(loaded):
     """From a pushed start with PD-held actuators (efforts held over each step), RK4 at 2 ms, no stabilisation, the two models'
     trajectories stay together to 1e-9 over 1 s (both integrate the same ODE the same way)."""
     q0, qd0 = assembled(loaded, (0.02, -0.03, 0.03), (0.03, -0.03, 0.03))
     mech, h, efforts = loaded.mechanism, 2e-3, held(loaded, q0)
     a = mech.actuated
-    _, qs, _ = simulate(mech, q0, qd0, lambda t, q, qd: efforts(q[a], qd[a]), 1.0, h)
-    a_pin = [loaded.model.idx_qs[j] for j in loaded.actuated]
-    q, v = loaded.pinocchio_q(q0), loaded.pinocchio_q(qd0)
-    worst = 0.0
-    for k in range(len(qs) - 1):
-        tau = efforts(q[a_pin], v[a_pin])   # held over the step, as simulate() does
-        q, v = rk4_step(lambda q, v: pinocchio_side(q, v, tau), q, v, h)  # noqa: B023 (used in this step only)
-        worst = max(worst, np.abs(q - loaded.pinocchio_q(qs[k + 1])).max())
-    assert len(qs) == 501
+    qs = simulate(mech, q0, qd0, lambda t, q, qd: efforts(q[a], qd[a]), 1.0, h).telemetry.q
+    model = loaded.model
+    a_pin = [model.idx_qs[j] for j in loaded.actuated]
+    plant = ConstraintDynamicsPlant(model, loaded.constraints, [model.idx_vs[j] for j in loaded.actuated], accuracy=1e-14,
+                                    iterations=100)
+    law = Law(lambda t, q, v: efforts(q[a_pin], v[a_pin]))
+    pinocchio = run_plant(plant, loaded.pinocchio_q(q0), loaded.pinocchio_q(qd0), 1.0, h, "rkmk4", law).telemetry.q
+    worst = max(np.abs(q - loaded.pinocchio_q(orsino)).max() for q, orsino in zip(pinocchio, qs))
+    assert len(qs) == len(pinocchio) == 501
     assert np.ptp(qs[:, :3], axis=0).max() > 0.01   # it really moved
     assert worst < 1e-9
 
@@ -139,8 +142,9 @@ def test_baumgarte_closes_an_opened_loop(loaded):
     mech, efforts = loaded.mechanism, held(loaded, q0)
     opened = q0 + np.concatenate((np.zeros(3), np.full(len(q0) - 3, 1e-6)))
     a = mech.actuated
-    _, qs, drift = simulate(mech, opened, np.zeros_like(q0), lambda t, q, qd: efforts(q[a], qd[a]), 0.5, 2e-3,
-                            baumgarte=100.0)
+    tel = simulate(mech, opened, np.zeros_like(q0), lambda t, q, qd: efforts(q[a], qd[a]), 0.5, 2e-3,
+                   baumgarte=100.0).telemetry
+    qs, drift = tel.q, tel.drift
     assert len(qs) == 251
     assert drift[0] > 1e-7
     assert drift[-1] < 1e-9

@@ -9,13 +9,13 @@ import pytest
 from freefloat.errors import FreefloatError
 from freefloat.parallel.five_bar import TRUE_PARAMETERS, FiveBarParameters, elbow_guess, five_bar
 from freefloat.parallel.platform import platform_dynamics
+from freefloat.parallel.closed_loop import track_five_bar
 from freefloat.parallel.sliding_mode import (
-    PlatformController,
+    PlatformControl,
     chattering,
     circle_reference,
     design_gains,
     extreme_parameters,
-    track,
 )
 
 NOMINAL = FiveBarParameters()
@@ -54,14 +54,13 @@ def test_sliding_condition_holds_at_the_design_points(gains):
 def test_sliding_mode_tracks_better_than_computed_torque(gains):
     """With the 15 % parameter errors of sec 5.6, sliding mode keeps the circle far closer than
     computed torque (eq 190, lambda = 40) once settled on the sliding surface (after 0.2 s)."""
-    def late_error(controller):
-        _, _, _, log = track(TRUE_PARAMETERS, controller, 0.3, 2e-4)
-        t = np.array([row[0] for row in log])
-        e = np.array([row[1] for row in log])
-        return np.abs(e[t > 0.2]).max(axis=0)
+    def late_error(control):
+        tel = track_five_bar(TRUE_PARAMETERS, control, 0.3, 2e-4).telemetry
+        e = control.sliding_variables(tel.t, tel.q, tel.v)[0]
+        return np.abs(e[tel.t > 0.2]).max(axis=0)
 
-    smc = late_error(PlatformController(NOMINAL, circle_reference, 40.0, gains))
-    ct = late_error(PlatformController(NOMINAL, circle_reference, 40.0, None))
+    smc = late_error(PlatformControl(five_bar(NOMINAL), circle_reference, 40.0, gains))
+    ct = late_error(PlatformControl(five_bar(NOMINAL), circle_reference, 40.0, None))
     assert np.all(smc < 0.3 * ct)
 
 

@@ -15,15 +15,17 @@ from ..robot.joints import JointCoordinates
 from ..robot.loading import BASE_COM_FRAME
 from ..robot.robot import Robot
 from ..robot.state import check_state
-from . import compiled
+from . import compiled, compiled_chain
 from .integrators import Integrator
 from .models import DynamicsModel
-from .telemetry import Chunks, Telemetry
+from .plant_periods import PlantPeriods
+from .plants import Plant
+from .telemetry import Chunks, PlantTelemetry, Telemetry
 from .threads import single_blas_thread
 from .wrenches import ExternalWrench, WrenchField
 
 __all__ = ["BACKENDS", "CHUNK_ROWS", "MAX_POSITION", "MAX_SPEED", "Controller", "PythonPeriods", "Recorder", "RunResult",
-           "control_periods", "run"]
+           "control_periods", "run", "run_plant"]
 
 #: A generalized velocity component above this (m/s or rad/s) counts as a blow-up.
 MAX_SPEED = 1e6
@@ -50,7 +52,8 @@ class RunResult:
     """Outcome of :func:`run`.
 
     Attributes:
-        telemetry: recorded samples (truncated to what was computed if the run stopped early).
+        telemetry: recorded samples (truncated to what was computed if the run stopped early):
+            :class:`Telemetry` for :func:`run`, :class:`PlantTelemetry` for :func:`run_plant`.
         status: ``"completed"``, ``"stopped"`` (by the ``stop`` callback), ``"diverged"`` or
             ``"interrupted"``.
         message: why the run stopped early (empty when completed).
@@ -61,7 +64,7 @@ class RunResult:
             ``"python"``.
     """
 
-    telemetry: Telemetry
+    telemetry: Telemetry | PlantTelemetry
     status: str
     message: str
     steps: int
@@ -185,6 +188,76 @@ def run(
     engine.start(q0, v0)
     return single_blas_thread(_run_periods)(engine, steps, control_period, controller, field_of(robot, wrenches),
                                             record_every, progress, stop, start_time, rows)
+
+
+def run_plant(
+    plant: Plant,
+    q0: np.ndarray,
+    v0: np.ndarray,
+    duration: float,
+    control_period: float,
+    integrator: str = "rkmk4",
+    controller: Controller | None = None,
+    substeps: int = 1,
+    rtol: float = 1e-10,
+    atol: float = 1e-12,
+    per_stage: bool = False,
+    record_every: int = 1,
+    progress: Callable[[int], None] | None = None,
+    stop: Callable[[float, np.ndarray, np.ndarray], bool] | None = None,
+    start_time: float = 0.0,
+    checkpoint: Callable[[PlantTelemetry], None] | None = None,
+    backend: str = "auto",
+) -> RunResult:
+    """Simulate a plant of :mod:`freefloat.dynamics.plants` (a closed chain) for ``duration`` s in
+    control periods of ``control_period`` s: the same loop as :func:`run` (zero-order hold, one
+    status, checkpoints, progress, Ctrl-C), with any integrator of the registry.
+
+    Args:
+        plant: what is integrated.
+        q0, v0: initial state (nq,), (nv,) in the plant's coordinates.
+        integrator: a name of :data:`freefloat.dynamics.integrators.INTEGRATORS`; ``substeps``
+            (fixed-step) or ``rtol``, ``atol`` (dopri5) its settings.
+        controller: efforts ``torque(t, q, v)`` (n_efforts,) and ``reference(t)``, or None for
+            zero efforts.
+        per_stage: evaluate the controller at every integrator stage (continuous control)
+            instead of holding its efforts over the period (plants on a vector space only).
+        record_every, progress, stop, start_time, checkpoint: as in :func:`run`.
+        backend: ``"compiled"`` (:mod:`freefloat.dynamics.compiled_chain`: a coupled chain with
+            its compiled core and a controller with a compiled law, or none), ``"python"``
+            (:class:`~.plant_periods.PlantPeriods`) or ``"auto"`` (compiled when it can).
+
+    Raises:
+        InvalidArgument: for a state of the wrong size or not finite, a duration that is not a
+            whole number of periods, an unknown integrator or backend, or ``"compiled"`` for a
+            run it cannot do (with the reason).
+    """
+    steps = control_periods(duration, control_period)
+    space = plant.space
+    q0, v0 = np.asarray(q0, dtype=float), np.asarray(v0, dtype=float)
+    if q0.shape != (space.nq,) or v0.shape != (space.nv,) or not (np.isfinite(q0).all() and np.isfinite(v0).all()):
+        raise InvalidArgument(f"plant '{plant.name}': the initial state must be finite with shapes ({space.nq},) and "
+                              f"({space.nv},), got {q0.shape} and {v0.shape}")
+    if not (isinstance(record_every, int) and record_every >= 1):
+        raise InvalidArgument(f"record_every must be an integer >= 1, got {record_every!r}")
+    if backend not in BACKENDS:
+        raise InvalidArgument(f"backend must be one of {', '.join(BACKENDS)}, got {backend!r}")
+    first = controller.reference(start_time) if controller is not None else None
+    shape = (space.nq, space.nv, plant.n_efforts, 0 if first is None else len(first))
+    rows = Chunks(lambda n: PlantTelemetry.allocate(n, *shape), CHUNK_ROWS, checkpoint)
+    if backend != "python":
+        reason = compiled_chain.unsupported(plant, integrator, controller, stop)
+        if reason is None:
+            engine = compiled_chain.CompiledChainLoop(plant, controller, integrator, control_period, start_time,
+                                                      substeps, rtol, atol, per_stage, record_every)
+            return _run_compiled(engine, q0, v0, steps, control_period, start_time, rows, progress)
+        if backend == "compiled":
+            raise InvalidArgument(f"the compiled loop cannot run this: {reason}")
+    law = controller.torque if (per_stage and controller is not None) else None
+    engine = PlantPeriods(plant, integrator, control_period, start_time, substeps, rtol, atol, law)
+    engine.start(q0, v0)
+    return single_blas_thread(_run_periods)(engine, steps, control_period, controller, None, record_every, progress,
+                                            stop, start_time, rows)
 
 
 def field_of(robot: Robot, wrenches: tuple[ExternalWrench, ...]) -> WrenchField | None:

@@ -178,3 +178,35 @@ class MechanismTelemetry(Arrays):
     efforts: np.ndarray
     drift: np.ndarray
     orientation_drift: np.ndarray
+
+
+@dataclass
+class PlantTelemetry(Arrays):
+    """Recorded run of a plant (:func:`freefloat.dynamics.simulation.run_plant`), one row per
+    recorded control period. Row ``k`` is the state at ``t[k]``; ``efforts[k]`` are held over
+    [t_k, t_k+1).
+
+    Attributes:
+        t: time, s (N,).
+        q: the plant's coordinates (N, nq) (a closed chain by coupling: Orsino's ``[q#; q°]``).
+        v: the plant's velocity (N, nv).
+        efforts: actuator efforts, N m or N (N, k).
+        reference: the controller's reference (N, r) (platform control: q#_d); NaN without one.
+        drift: largest loop-closure position residual, m (N,); 0 for a tree.
+        orientation_drift: largest orientation residual, rad (N,); 0 without angular closures.
+    """
+
+    t: np.ndarray
+    q: np.ndarray
+    v: np.ndarray
+    efforts: np.ndarray
+    reference: np.ndarray
+    drift: np.ndarray
+    orientation_drift: np.ndarray
+
+    @classmethod
+    def allocate(cls, rows: int, nq: int, nv: int, n_efforts: int, n_reference: int) -> "PlantTelemetry":
+        """Zero-filled buffers for ``rows`` samples (references NaN)."""
+        z = np.zeros
+        return cls(t=z(rows), q=z((rows, nq)), v=z((rows, nv)), efforts=z((rows, n_efforts)),
+                   reference=np.full((rows, n_reference), np.nan), drift=z(rows), orientation_drift=z(rows))

@@ -4,10 +4,13 @@ proposal secs 5.3-5.4).
 ``serial`` (chains from DH parameters or a URDF tree), ``mechanism`` (the coupling, constraints,
 forward and inverse dynamics, assembly), ``closed_chain`` (URDF spanning tree + closure file),
 ``five_bar`` and ``rsu_ppap`` (the two mechanisms), ``platform`` (platform-coordinate dynamics),
-``sliding_mode`` (the control law, gain design, chattering), ``held_control`` (the closed loop
-with the law held over a control period or evaluated at every stage), ``platform_control`` (circle
-references, printed gains), ``sweeps`` (Dask) and ``registry`` (mechanisms by name for scenes).
+``sliding_mode`` (the control law, gain design, chattering, printed gains), ``closed_loop`` (a
+mechanism and its law wired into the one loop of :mod:`freefloat.dynamics`: the law held over a
+control period or evaluated at every stage), ``platform_control`` (circle references), ``sweeps``
+(Dask) and ``registry`` (mechanisms by name for scenes). No time loop of its own: the plant is
+:class:`freefloat.dynamics.plants.CoupledChainPlant`, run by ``dynamics.simulation.run_plant``.
 
-May import: :mod:`freefloat.robot` (builders, conventions), :mod:`freefloat.errors`,
-:mod:`freefloat.paths`. Not :mod:`freefloat.space` (a sibling) nor :mod:`freefloat.app`.
+May import: :mod:`freefloat.dynamics` (plants, the loop, the compiled core), :mod:`freefloat.robot`
+(builders, conventions), :mod:`freefloat.errors`, :mod:`freefloat.paths`. Not
+:mod:`freefloat.space` (a sibling) nor :mod:`freefloat.app`.
 """

@@ -30,7 +30,6 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from ..dynamics._core import MechanismCore
-from ..dynamics.threads import single_blas_thread
 from ..errors import FreefloatError
 from .serial import SerialChain
 
@@ -106,9 +105,18 @@ class ParallelMechanism:
     @functools.cached_property
     def core(self) -> MechanismCore | None:
         """The compiled core of this mechanism, or None (numpy backend, or a non-square A°)."""
-        if self.backend != "compiled" or len(self.d) + (0 if self.angular is None else len(self.angular.offset)) \
-                != sum(c.dof for c in self.chains):
+        if self.backend != "compiled" or not self.square:
             return None
+        return MechanismCore(*self.core_arrays())
+
+    @property
+    def square(self) -> bool:
+        """True when A° is square (as many constraints as chain joints): what the compiled paths need."""
+        return len(self.d) + (0 if self.angular is None else len(self.angular.offset)) == sum(c.dof for c in self.chains)
+
+    def core_arrays(self) -> tuple[list[dict], dict]:
+        """The chains (one dict of arrays each) and the coupling (one dict) that the compiled
+        code (the core's ``MechanismCore``, the loop's ``ChainSimulation``) is built from."""
         chains = [{name: getattr(c, name) for name in ("placement", "link", "prismatic", "mass", "com", "inertia", "base",
                                                          "tip_point", "gravity")} for c in self.chains]
         coupling = {"D": self.D, "d": self.d, "E": self.E, "F": self.F, "platform_mass": self.platform_mass,
@@ -116,7 +124,7 @@ class ParallelMechanism:
                     "offset": None}
         if self.angular is not None:
             coupling.update({name: getattr(self.angular, name) for name in ("P", "Q", "R", "reference", "offset")})
-        return MechanismCore(chains, coupling)
+        return chains, coupling
 
     def __getstate__(self) -> dict:
         """Pickled without the compiled core (rebuilt on first use), so mechanisms travel to
@@ -138,6 +146,11 @@ class ParallelMechanism:
         """Number of platform coordinates q#."""
         return self.D.shape[1]
 
+    @property
+    def n_q(self) -> int:
+        """Number of coordinates ``q = [q#; q°]``."""
+        return self.p + sum(c.dof for c in self.chains)
+
     def split(self, q: np.ndarray) -> list[np.ndarray]:
         """The chains' joint coordinates (..., nu_i) from ``q = [q#; q°]`` (..., n_q)."""
         out, start = [], self.p
@@ -149,6 +162,12 @@ class ParallelMechanism:
     def constraint(self, q: np.ndarray) -> np.ndarray:
         """``qbar(q) = D q# - d - E x(q°) - F q°`` (..., m) for ``q`` (..., n_q), m."""
         return self._closure(q)[0][..., : len(self.d)]
+
+    def residuals(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """``(qbar(q), orientation residual)`` (..., m), (..., m_w) from one evaluation of the
+        closure (see :meth:`constraint` and :meth:`orientation_residual`)."""
+        residual = self._closure(q)[0]
+        return residual[..., : len(self.d)], residual[..., len(self.d):]
 
     def orientation_residual(self, q: np.ndarray) -> np.ndarray:
         """Position form of the angular constraints, ``offset - Q phi - R q°`` (..., m_w), rad;
@@ -422,56 +441,3 @@ def log3(R: np.ndarray) -> np.ndarray:
     small = angle < 1e-6
     scale = np.where(small, 1.0 + angle**2 / 6.0, angle / np.where(small, 1.0, sin))
     return scale[..., None] * vee
-
-
-def rk4_step(f, q: np.ndarray, qd: np.ndarray, h: float) -> tuple[np.ndarray, np.ndarray]:
-    """One classical Runge-Kutta 4 step of ``qddot = f(q, qdot)`` in Euclidean coordinates (n,),
-    step ``h`` s; returns ``(q, qdot)`` after the step."""
-    k1q, k1v = qd, f(q, qd)
-    k2q, k2v = qd + h / 2 * k1v, f(q + h / 2 * k1q, qd + h / 2 * k1v)
-    k3q, k3v = qd + h / 2 * k2v, f(q + h / 2 * k2q, qd + h / 2 * k2v)
-    k4q, k4v = qd + h * k3v, f(q + h * k3q, qd + h * k3v)
-    return q + h / 6 * (k1q + 2 * k2q + 2 * k3q + k4q), qd + h / 6 * (k1v + 2 * k2v + 2 * k3v + k4v)
-
-
-@single_blas_thread
-def simulate(mechanism: ParallelMechanism, q0: np.ndarray, qd0: np.ndarray, tau, duration: float, step: float,
-             baumgarte: float = 0.0, method: str = "rk4") -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Classical RK4 (or semi-implicit or explicit Euler) on the coupled coordinates (all Euclidean),
-    Baumgarte-stabilised. A run that blows up (a non-finite state, a loop open by more than 1 m,
-    an angular constraint off by more than 1 rad, or a singular pose where eq 129 has no
-    solution) stops there: the arrays end early, with every sample computed.
-
-    Args:
-        tau: ``tau(t, q, qd) -> efforts`` (k,), held over each step.
-        method: ``"rk4"``, ``"euler"`` (semi-implicit: the new rate moves q) or
-            ``"explicit_euler"`` (the old rate moves q).
-
-    Returns:
-        ``(t, q, drift)``: times (N,), coordinates (N, n_q), loop-closure residual max |qbar| (N,).
-    """
-    steps = int(round(duration / step))
-    t = np.arange(steps + 1) * step
-    qs, drift = np.empty((steps + 1, len(q0))), np.empty(steps + 1)
-    q, qd = np.array(q0, float), np.array(qd0, float)
-    m = len(mechanism.d)
-    qs[0], drift[0] = q, np.abs(mechanism.constraint(q)).max()
-    for k in range(steps):
-        u = tau(t[k], q, qd)
-        f = lambda qq, vv: mechanism.forward(qq, vv, u, baumgarte)  # noqa: E731
-        try:
-            if method == "euler":
-                qd = qd + step * f(q, qd)
-                q = q + step * qd
-            elif method == "explicit_euler":
-                q, qd = q + step * qd, qd + step * f(q, qd)
-            else:
-                q, qd = rk4_step(f, q, qd, step)
-        except (FreefloatError, np.linalg.LinAlgError):   # a singular pose reached: keep what was computed
-            return t[: k + 1], qs[: k + 1], drift[: k + 1]
-        residual = mechanism._closure(q)[0]
-        qs[k + 1], drift[k + 1] = q, np.abs(residual[:m]).max()
-        if not (np.isfinite(residual).all() and np.isfinite(qd).all() and drift[k + 1] <= 1.0
-                and np.abs(residual[m:]).max(initial=0.0) <= 1.0):
-            return t[: k + 2], qs[: k + 2], drift[: k + 2]
-    return t, qs, drift

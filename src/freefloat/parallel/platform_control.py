@@ -1,7 +1,6 @@
-"""What a mechanism scene's platform control needs besides the law itself
-(:class:`freefloat.parallel.sliding_mode.PlatformControl`: computed torque, eq 190, or sliding
-mode, eq 153, for any mechanism with as many actuators as platform coordinates): a circle
-reference in chosen platform coordinates and eq 167's gain from printed numbers (eq 187).
+"""The platform reference of a mechanism scene's control
+(:class:`freefloat.parallel.sliding_mode.PlatformControl`): a circle in chosen platform
+coordinates, which the compiled loop also evaluates (``cpp/sim/chain_loop.hpp``).
 """
 
 from __future__ import annotations
@@ -10,7 +9,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .sliding_mode import SlidingModeGains
 
 
 @dataclass(frozen=True)
@@ -32,14 +30,3 @@ class CircleReference:
         qd[list(self.axes)] = -r * w * s, r * w * c
         qdd[list(self.axes)] = -r * w * w * c, -r * w * w * s
         return q, qd, qdd
-
-
-def printed_gains(n: np.ndarray, T: np.ndarray, n_ij: dict[tuple[int, int], np.ndarray]) -> SlidingModeGains:
-    """Eq 167's gain from printed numbers (e.g. eq 187): ``n`` (p,), ``T`` (p, p), ``n_ij``
-    {(i, j): (p,)} for i >= j. The design's worst cases and eta are unknown for printed gains:
-    they are NaN, and no design points."""
-    p = len(n)
-    return SlidingModeGains(n=np.asarray(n, float), T=np.asarray(T, float),
-                            n_ij={k: np.asarray(v, float) for k, v in n_ij.items()}, eta=float("nan"),
-                            Delta_max=np.full((p, p), np.nan), delta0_max=np.full(p, np.nan),
-                            deltaij_max={}, points=np.empty((0, p)))

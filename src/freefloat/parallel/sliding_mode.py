@@ -21,6 +21,7 @@ from ..errors import FreefloatError
 from .five_bar import FiveBarParameters, elbow_guess, five_bar
 from .mechanism import ParallelMechanism
 from .platform import platform_dynamics, quadratic_coefficients
+from .platform_control import CircleReference
 
 #: The switching functions of eq 153: ``tanh(100 s)`` or ``sign(s)``.
 SWITCHES = ("tanh", "sign")
@@ -160,18 +161,19 @@ Reference = Callable[[float], tuple[np.ndarray, np.ndarray, np.ndarray]]
 @dataclass(frozen=True)
 class PlatformControl:
     """Computed torque (eq 190, ``gains`` None) or sliding mode (eq 153) on a nominal model, for
-    any mechanism with as many actuators as platform coordinates.
+    any mechanism with as many actuators as platform coordinates: a controller of the one loop
+    (:func:`freefloat.dynamics.simulation.run_plant`) on Orsino's coordinates ``q = [q#; q°]``.
 
     Attributes:
         model: the mechanism the controller believes (its p platform coordinates lead q).
-        reference: ``t -> (q#_d, qdot#_d, qddot#_d)``, each (p,).
+        trajectory: ``t -> (q#_d, qdot#_d, qddot#_d)``, each (p,).
         lam: lambda, 1/s.
         gains: eq 167's gains; None means computed torque ``u* = h^ + H^ (qddot_d + 2 lam edot + lam^2 e)``.
         saturation: ``"tanh"`` (``tanh(100 s)``) or ``"sign"``.
     """
 
     model: ParallelMechanism
-    reference: Reference
+    trajectory: Reference
     lam: float
     gains: SlidingModeGains | None = None
     saturation: str = "tanh"
@@ -184,7 +186,7 @@ class PlatformControl:
         """``(tau, e, s)``: actuator efforts (k,), N m or N, the error ``e = q#_d - q#`` and the
         sliding variable ``s = -(edot + lam e)`` (p,), for the measured q and qd (n_q,)."""
         p, lam = self.model.p, self.lam
-        q_d, qd_d, qdd_d = self.reference(t)
+        q_d, qd_d, qdd_d = self.trajectory(t)
         e, edot = q_d - q[:p], qd_d - qd[:p]
         H, v, g, B = platform_dynamics(self.model, q, qd[:p])
         s = -(edot + lam * e)
@@ -196,39 +198,39 @@ class PlatformControl:
             acceleration = sigma - self.gains.k(sigma, qd[:p]) * switch
         return np.linalg.solve(B, v + g + H @ acceleration), e, s
 
-    def efforts(self, t: float, q: np.ndarray, qd: np.ndarray) -> np.ndarray:
-        """Actuator efforts (k,) of :meth:`law`."""
+    def torque(self, t: float, q: np.ndarray, qd: np.ndarray) -> np.ndarray:
+        """Actuator efforts (k,) of :meth:`law` (the loop's controller interface)."""
         return self.law(t, q, qd)[0]
 
+    def reference(self, t: float) -> np.ndarray:
+        """The platform reference ``q#_d`` (p,) at ``t`` s."""
+        return self.trajectory(t)[0]
 
-@dataclass
-class PlatformController:
-    """:class:`PlatformControl` on the 5R built from estimated parameters, logging ``(t, e, s)``.
+    def sliding_variables(self, t: np.ndarray, q: np.ndarray, qd: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """``(e, s)`` (N, p) at recorded times (N,) and states (N, n_q)."""
+        p = self.model.p
+        rows = [self.trajectory(tk) for tk in t]
+        q_d = np.array([r[0] for r in rows]).reshape(-1, p)
+        qd_d = np.array([r[1] for r in rows]).reshape(-1, p)
+        e = q_d - q[:, :p]
+        return e, -(qd_d - qd[:, :p] + self.lam * e)
 
-    Attributes:
-        estimate: the nominal parameters the controller believes.
-        reference: ``t -> (q#_d, qdot#_d, qddot#_d)``.
-        lam: lambda (1/s).
-        gains: sliding-mode gains; None means computed torque (eq 190).
-        saturation: ``"sign"`` or ``"tanh"`` (``tanh(100 s)``).
-    """
-
-    estimate: FiveBarParameters
-    reference: Reference
-    lam: float
-    gains: SlidingModeGains | None = None
-    saturation: str = "tanh"
-
-    def __post_init__(self):
-        self.model = five_bar(self.estimate)
-        self.control = PlatformControl(self.model, self.reference, self.lam, self.gains, self.saturation)
-        self.log: list[tuple[float, np.ndarray, np.ndarray]] = []
-
-    def efforts(self, t: float, q: np.ndarray, qd: np.ndarray) -> np.ndarray:
-        """Actuator torques (k,) for the measured full state (q, qd)."""
-        tau, e, s = self.control.law(t, q, qd)
-        self.log.append((t, e.copy(), s.copy()))
-        return tau
+    def compiled_law(self) -> dict | None:
+        """This law as the compiled closed-chain loop takes it (``ChainSimulation.set_platform_law``):
+        for a circle reference (:class:`~.platform_control.CircleReference`) on a model with a
+        compiled core; None otherwise (the loop then calls :meth:`torque` from Python)."""
+        circle = self.trajectory
+        if self.model.core is None or not all(hasattr(circle, k) for k in ("center", "radius", "rate", "axes")):
+            return None
+        p = self.model.p
+        sliding = self.gains is not None
+        pairs = sorted(self.gains.n_ij) if sliding else []
+        return {"model": self.model, "center": np.asarray(circle.center, float), "radius": float(circle.radius),
+                "rate": float(circle.rate), "axes": tuple(int(a) for a in circle.axes), "lam": float(self.lam),
+                "sliding": sliding, "sign": self.saturation == "sign",
+                "n": self.gains.n if sliding else np.zeros(p), "T": self.gains.T if sliding else np.zeros((p, p)),
+                "pairs": [(int(i), int(j)) for i, j in pairs],
+                "n_ij": [np.asarray(self.gains.n_ij[k], float) for k in pairs]}
 
 
 def chattering(t: np.ndarray, efforts: np.ndarray, s: np.ndarray, after: float,
@@ -255,28 +257,17 @@ def chattering(t: np.ndarray, efforts: np.ndarray, s: np.ndarray, after: float,
             "s_max": np.abs(s[late]).max(axis=0).tolist()}
 
 
-def circle_reference(t: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Sec 5.6's reference (eq 189): x = 0.07 cos(28.57 t), y = 0.17 + 0.07 sin(28.57 t), m."""
-    w, r = 28.57, 0.07
-    c, s = np.cos(w * t), np.sin(w * t)
-    return np.array([r * c, 0.17 + r * s]), np.array([-r * w * s, r * w * c]), np.array([-r * w * w * c, -r * w * w * s])
+#: Sec 5.6's reference (eq 189): x = 0.07 cos(28.57 t), y = 0.17 + 0.07 sin(28.57 t), m; called
+#: with t (s), gives ``(q#_d, qdot#_d, qddot#_d)``.
+circle_reference = CircleReference(np.array([0.0, 0.17]), 0.07, 28.57)
 
 
-def track(plant: FiveBarParameters, controller: PlatformController, duration: float, step: float,
-          baumgarte: float = 100.0, start=(0.07, 0.17)):
-    """Closed loop from rest at ``start``: RK4 on the plant's coupled coordinates, efforts held over
-    each step. Returns ``(t, q, efforts, log)`` with the controller's (t, e, s) log."""
-    from .mechanism import simulate
-
-    mech = five_bar(plant)
-    point = np.array(start, float)
-    q0 = mech.assemble(point, elbow_guess(plant, point))
-    efforts = []
-
-    def tau(t, q, qd):
-        u = controller.efforts(t, q, qd)
-        efforts.append(u)
-        return u
-
-    t, qs, _ = simulate(mech, q0, np.zeros(len(q0)), tau, duration, step, baumgarte)
-    return t, qs, np.array(efforts), controller.log
+def printed_gains(n: np.ndarray, T: np.ndarray, n_ij: dict[tuple[int, int], np.ndarray]) -> SlidingModeGains:
+    """Eq 167's gain from printed numbers (e.g. eq 187): ``n`` (p,), ``T`` (p, p), ``n_ij``
+    {(i, j): (p,)} for i >= j. The design's worst cases and eta are unknown for printed gains:
+    they are NaN, and no design points."""
+    p = len(n)
+    return SlidingModeGains(n=np.asarray(n, float), T=np.asarray(T, float),
+                            n_ij={k: np.asarray(v, float) for k, v in n_ij.items()}, eta=float("nan"),
+                            Delta_max=np.full((p, p), np.nan), delta0_max=np.full(p, np.nan),
+                            deltaij_max={}, points=np.empty((0, p)))

@@ -21,14 +21,14 @@ import numpy as np
 
 from ..distributed import client, settle_futures
 from ..errors import FreefloatError
-from .five_bar import FiveBarParameters
+from .closed_loop import track_five_bar
+from .five_bar import FiveBarParameters, five_bar
 from .sliding_mode import (
     UNCERTAINTY,
-    PlatformController,
+    PlatformControl,
     SlidingModeGains,
     circle_reference,
     gains_from_worst_case,
-    track,
     worst_case,
 )
 
@@ -61,10 +61,9 @@ def design_gains_distributed(dask_client, nominal: FiveBarParameters, points: np
 def _robustness_run(gains: SlidingModeGains | None, plant: FiveBarParameters, duration: float, step: float,
                     settle: float) -> dict:
     """One closed loop: the tracking error after ``settle`` s (mm) and the peak torques."""
-    controller = PlatformController(FiveBarParameters(), circle_reference, 40.0, gains)
-    _, _, efforts, log = track(plant, controller, duration, step)
-    t = np.array([row[0] for row in log])
-    e = np.array([row[1] for row in log])
+    control = PlatformControl(five_bar(FiveBarParameters()), circle_reference, 40.0, gains)
+    tel = track_five_bar(plant, control, duration, step).telemetry
+    t, e, efforts = tel.t[:-1], control.sliding_variables(tel.t, tel.q, tel.v)[0][:-1], tel.efforts[:-1]
     return {"error_mm": (np.abs(e[t > settle]).max(axis=0) * 1e3).tolist(), "peak_torque": np.abs(efforts).max(axis=0).tolist()}
 
 

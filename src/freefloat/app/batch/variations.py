@@ -161,7 +161,7 @@ def _draw(scene: Scene | MechanismScene, nominal: Any, band: Band, rng: np.rando
         return field, tuple(float(v) for v in values)
     p = nominal.setup.nominal.p
     if band.key == "platform":
-        start = nominal.controller.reference(0.0)[0] if scene.initial.platform is None else scene.initial.platform
+        start = nominal.controller.reference(0.0) if scene.initial.platform is None else scene.initial.platform
         return "platform", tuple(float(v) for v in np.asarray(start, float) + rng.uniform(-width, width, p))
     rates = np.zeros(p) if scene.initial.platform_velocity is None else np.asarray(scene.initial.platform_velocity)
     return "platform_velocity", tuple(float(v) for v in rates + rng.uniform(-width, width, p))

@@ -14,7 +14,7 @@ import numpy as np
 import pinocchio as pin
 
 from ...errors import FreefloatError
-from ...parallel.held_control import steps_per_period
+from ...parallel.closed_loop import steps_per_period
 from ...parallel.sliding_mode import PlatformControl
 from .mechanism_mjcf import mechanism_mjcf
 from .mechanism_plants import SpanningTree
@@ -85,7 +85,7 @@ class MujocoMechanism:
         rows[0] = d.qpos
         for n in range(periods):
             q, v = d.qpos[self.q_index], d.qvel[self.v_index]
-            d.qfrc_applied[actuated] = control.efforts(n * period, *tree.orsino_state(q, v))
+            d.qfrc_applied[actuated] = control.torque(n * period, *tree.orsino_state(q, v))
             for k in range(hold):
                 mujoco.mj_step(m, d)
                 rows[n * hold + k + 1] = d.qpos

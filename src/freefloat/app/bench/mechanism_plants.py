@@ -1,12 +1,15 @@
 """The closed-chain bench's plants and the coordinates every method is judged in.
 
-Two formulations of one mechanism's forward dynamics under held actuator efforts:
+Two formulations of one mechanism's forward dynamics under held actuator efforts, both plants of
+the one loop (:mod:`freefloat.dynamics.plants`):
 
-* :class:`OrsinoPlant`: Orsino's coupled model, eq 129 (:meth:`ParallelMechanism.forward`) on
+* :class:`~freefloat.dynamics.plants.CoupledChainPlant`: Orsino's coupled model, eq 129, on
   ``q = [q#; q°]``, Baumgarte-stabilised with ``lambda``;
-* :class:`PinocchioPlant`: Pinocchio's ``constraintDynamics`` on the spanning tree with the closure
-  file's ``RigidConstraintModel``s, Baumgarte gains ``Kp = lambda^2``, ``Kd = 2 lambda`` (the same
-  correction as eq 129), on the tree's joint coordinates.
+* :class:`~freefloat.dynamics.plants.ConstraintDynamicsPlant`: Pinocchio's ``constraintDynamics``
+  on the spanning tree with the closure file's ``RigidConstraintModel``s, Baumgarte gains
+  ``Kp = lambda^2``, ``Kd = 2 lambda`` (the same correction as eq 129), on the tree's joint
+  coordinates (:func:`constraint_dynamics_plant`), its controller reading Orsino's coordinates
+  through :class:`ObservedController`.
 
 Both are judged in the spanning tree (:class:`SpanningTree`): Orsino's coordinates map onto the
 tree's joints (q# dropped), and the shared coordinates, the constraint drift and the
@@ -16,14 +19,15 @@ controller's view of the state are all computed there, one way for every method.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 import pinocchio as pin
 
+from ...dynamics.plants import ConstraintDynamicsPlant
 from ...errors import FreefloatError
 from ...parallel.closed_chain import AXES, ClosedChain
 from ...parallel.five_bar import five_bar_spec
-from ...parallel.mechanism import ParallelMechanism
 from ...parallel.registry import FIVE_BAR_PLANTS
 from ...robot.builders import build_urdf, urdf_xml
 
@@ -121,68 +125,24 @@ def plant_model(chain: ClosedChain, mechanism: str, plant: str) -> pin.Model:
     return model
 
 
-@dataclass
-class OrsinoPlant:
-    """Eq 129 on Orsino's coordinates ``q = [q#; q°]`` (n_q,).
+@dataclass(frozen=True)
+class ObservedController:
+    """A controller written for Orsino's coordinates driving a plant on the tree's: it reads
+    ``(q, qdot)`` through :meth:`SpanningTree.orsino_state`."""
 
-    Attributes:
-        mechanism: the plant (compiled core or numpy reference backend).
-        baumgarte: lambda of eq 129, 1/s (0: no stabilisation).
-        tree: the spanning tree it is judged in.
-    """
-
-    mechanism: ParallelMechanism
-    baumgarte: float
+    control: Any
     tree: SpanningTree
 
-    def acceleration(self, q: np.ndarray, v: np.ndarray, u: np.ndarray) -> np.ndarray:
-        """``qddot`` (n_q,) under actuator efforts ``u`` (k,)."""
-        return self.mechanism.forward(q, v, u, self.baumgarte)
+    def torque(self, t: float, q: np.ndarray, v: np.ndarray) -> np.ndarray:
+        """The controller's efforts (k,) at tree state ``(q, v)``."""
+        return self.control.torque(t, *self.tree.orsino_state(q, v))
 
-    def controller_state(self, q: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """The state in Orsino's coordinates: the plant's own."""
-        return q, v
-
-    def to_tree(self, q: np.ndarray) -> np.ndarray:
-        """Tree coordinates (..., nq) of Orsino's ``q`` (..., n_q) (also maps rates)."""
-        return q[..., self.tree.from_orsino]
+    def reference(self, t: float) -> np.ndarray:
+        """The controller's reference."""
+        return self.control.reference(t)
 
 
-@dataclass
-class PinocchioPlant:
-    """Pinocchio's ``constraintDynamics`` on the tree's coordinates (nq = nv), proximal solver
-    at accuracy 1e-12, mu 1e-12, at most 50 iterations.
-
-    Attributes:
-        tree: the spanning tree (its model and closures).
-        baumgarte: lambda, 1/s: every closure's corrector gets ``Kp = lambda^2``, ``Kd = 2 lambda``.
-    """
-
-    tree: SpanningTree
-    baumgarte: float
-    data: pin.Data = field(init=False, repr=False)
-
-    def __post_init__(self) -> None:
-        model = self.tree.model
-        self.constraints = [pin.RigidConstraintModel(cm) for cm in self.tree.constraints]
-        for cm in self.constraints:
-            cm.setBaumgarteCorrectorParameters(pin.BaumgarteCorrectorParameters(self.baumgarte**2, 2.0 * self.baumgarte))
-        self.data = model.createData()
-        self.cdatas = [cm.createData() for cm in self.constraints]
-        pin.initConstraintDynamics(model, self.data, self.constraints, self.cdatas)
-        self.settings = pin.ProximalSettings(1e-12, 1e-12, 50)
-        self.tau = np.zeros(model.nv)
-
-    def acceleration(self, q: np.ndarray, v: np.ndarray, u: np.ndarray) -> np.ndarray:
-        """Joint accelerations (nv,) under actuator efforts ``u`` (k,) on the actuated joints."""
-        self.tau[self.tree.actuated] = u
-        return pin.constraintDynamics(self.tree.model, self.data, q, v, self.tau, self.constraints, self.cdatas,
-                                      self.settings).copy()
-
-    def controller_state(self, q: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Orsino's ``(q, qdot)`` read off the tree (:meth:`SpanningTree.orsino_state`)."""
-        return self.tree.orsino_state(q, v)
-
-    def to_tree(self, q: np.ndarray) -> np.ndarray:
-        """The plant's own coordinates."""
-        return q
+def constraint_dynamics_plant(tree: SpanningTree, baumgarte: float) -> ConstraintDynamicsPlant:
+    """Pinocchio's ``constraintDynamics`` on ``tree`` with its closures, efforts on the actuated
+    joints (the tree's joints have one coordinate each: nq = nv)."""
+    return ConstraintDynamicsPlant(tree.model, tree.constraints, tree.actuated, baumgarte)

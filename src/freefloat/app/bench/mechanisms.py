@@ -6,16 +6,18 @@ Every method runs the same zero-order hold: the controller (:class:`PlatformCont
 nominal model, read in Orsino's coordinates) is evaluated every period and its efforts held
 while the plant is integrated at a step that divides the period (:data:`SWEEPS`). Methods:
 
-* ``freefloat``: Orsino's eq 129 (:class:`.mechanism_plants.OrsinoPlant`), RK4 or semi-implicit
-  Euler, model ``orsino baumgarte 100`` (lambda = 100 1/s) or ``orsino`` (lambda = 0); loop
-  ``compiled`` (the mechanism's compiled core) or ``python`` (its numpy reference backend);
-* ``pinocchio``: a bare Python loop of ``pin.constraintDynamics`` on the spanning tree
-  (:class:`.mechanism_plants.PinocchioPlant`, Baumgarte 100), the same integrators;
+* ``freefloat``: Orsino's eq 129 (:class:`~freefloat.dynamics.plants.CoupledChainPlant`), model
+  ``orsino baumgarte 100`` (lambda = 100 1/s) or ``orsino`` (lambda = 0); loop ``compiled`` (the
+  whole closed loop in C++: plant, integrator and law; Euler, RKMK4, RKMK6, RKMK8) or ``python``
+  (the one loop in Python on the numpy reference backend; Euler and RKMK4);
+* ``pinocchio``: ``pin.constraintDynamics`` on the spanning tree
+  (:class:`~freefloat.dynamics.plants.ConstraintDynamicsPlant`, Baumgarte 100) in the same Python
+  loop, Euler and RKMK4;
 * ``mujoco``: MuJoCo on the same tree with the closures as soft equality constraints
   (:mod:`.mechanism_mjcf`, :mod:`.mechanism_mujoco`), Euler, implicitfast and RK4.
 
-The reference is the same held-law loop with each period integrated by scipy's DOP853 (rtol and
-atol :data:`REFERENCE_TOL`) on Orsino's compiled model, Baumgarte 100. Errors
+The reference is the same held-law loop with each period integrated by the registry's ``dop853``
+(scipy's DOP853, rtol and atol :data:`REFERENCE_TOL`) on Orsino's compiled model, Baumgarte 100. Errors
 (:meth:`MechanismBench.errors`) are measured in the spanning tree's terms, the same way for every
 method.
 """
@@ -25,18 +27,20 @@ from __future__ import annotations
 import tomllib
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
-from scipy.integrate import solve_ivp
 
-from ...errors import FreefloatError, InvalidArgument
-from ...parallel.held_control import steps_per_period
-from ...parallel.mechanism import rk4_step
-from ...parallel.sliding_mode import PlatformControl
+from ...dynamics.integrators import INTEGRATORS
+from ...dynamics.plants import ConstraintDynamicsPlant, CoupledChainPlant, Plant
+from ...dynamics.sampled import Sampled
+from ...dynamics.simulation import run_plant
+from ...errors import InvalidArgument
+from ...parallel.closed_loop import steps_per_period
 from ..experiments.mechanism import PreparedMechanism, prepare
 from ..scenes import find_scene
 from .mechanism_mjcf import SOLIMP, TIMECONST_STEPS
-from .mechanism_plants import OrsinoPlant, PinocchioPlant, SpanningTree, plant_model, spanning_tree
+from .mechanism_plants import ObservedController, SpanningTree, constraint_dynamics_plant, plant_model, spanning_tree
 from .scene import Method, Run
 
 #: Bench scene name -> note (what runs).
@@ -83,17 +87,10 @@ QUICK_DURATION = 0.02
 BAUMGARTE = 100.0
 #: DOP853's rtol and atol for the reference.
 REFERENCE_TOL = 1e-12
-#: Integrators: one step of ``qddot = f(q, qdot)`` of h s.
-Step = Callable[[Callable, np.ndarray, np.ndarray, float], tuple[np.ndarray, np.ndarray]]
-
-
-def semi_implicit_euler(f: Callable, q: np.ndarray, v: np.ndarray, h: float) -> tuple[np.ndarray, np.ndarray]:
-    """``v += h f(q, v)``, then ``q += h v`` (the new rate moves q)."""
-    v = v + h * f(q, v)
-    return q + h * v, v
-
-
-INTEGRATORS: dict[str, Step] = {"rk4": rk4_step, "euler": semi_implicit_euler}
+#: freefloat's integrators swept with the compiled loop, and with the Python loops (numpy backend,
+#: Pinocchio's constraintDynamics), whose runs cost far more.
+COMPILED_INTEGRATORS = ("euler", "rkmk4", "rkmk6", "rkmk8")
+PYTHON_INTEGRATORS = ("euler", "rkmk4")
 #: MuJoCo's integrators compared (names as in MJCF) and the model label of its soft closures.
 MUJOCO = ("Euler", "implicitfast", "RK4")
 MUJOCO_MODEL = f"soft closures timeconst {TIMECONST_STEPS:g}h"
@@ -112,47 +109,25 @@ class MechanismResult:
     v: np.ndarray
 
 
-def held_run(plant, control: PlatformControl, q0: np.ndarray, v0: np.ndarray, duration: float, period: float,
-             step: float, integrator: str) -> MechanismResult:
-    """The closed loop from ``(q0, v0)`` (the plant's coordinates) for ``duration`` s: the law
-    evaluated every ``period`` s on ``plant.controller_state`` and held, ``integrator`` at ``step`` s.
+def held_run(plant: Plant, control: Any, q0: np.ndarray, v0: np.ndarray, duration: float, period: float,
+             step: float, integrator: str, to_tree: Callable[[np.ndarray], np.ndarray], backend: str = "auto",
+             rtol: float = 1e-10, atol: float = 1e-12) -> MechanismResult:
+    """The closed loop from ``(q0, v0)`` (the plant's coordinates) for ``duration`` s in the one
+    loop (:func:`~freefloat.dynamics.simulation.run_plant`): the law evaluated every ``period`` s and
+    held, ``integrator`` at ``step`` s, a row per step; ``to_tree`` maps the plant's coordinates
+    (and rates) to the tree's.
 
     Raises:
-        FloatingPointError: when the state stops being finite or the plant's dynamics fail (a
-            singular pose, the loop come apart), naming the time.
+        FloatingPointError: when the run does not complete (a state not finite, the loop come
+            apart, a singular pose), with the loop's message.
     """
-    advance, hold = INTEGRATORS[integrator], steps_per_period(period, step)
-    periods = round(duration / period)
-    q, v = np.array(q0, float), np.array(v0, float)
-    rows = np.empty((periods * hold + 1, len(q)))
-    rows[0] = q
-    for n in range(periods):
-        u = control.efforts(n * period, *plant.controller_state(q, v))
-        f = lambda qq, vv, u=u: plant.acceleration(qq, vv, u)
-        for k in range(hold):
-            try:
-                q, v = advance(f, q, v, step)
-            except (FreefloatError, np.linalg.LinAlgError, RuntimeError) as exc:
-                raise FloatingPointError(f"t = {n * period + k * step:.6g} s: {exc}") from exc
-            rows[n * hold + k + 1] = q
-        if not (np.isfinite(q).all() and np.isfinite(v).all()):
-            raise FloatingPointError(f"the state is not finite at t = {(n + 1) * period:.6g} s")
-    return MechanismResult(plant.to_tree(rows), plant.to_tree(v))
-
-
-def dop853_run(plant: OrsinoPlant, control: PlatformControl, q0: np.ndarray, v0: np.ndarray, duration: float,
-               period: float) -> MechanismResult:
-    """The held-law loop with each period integrated by DOP853 (rtol = atol = :data:`REFERENCE_TOL`);
-    ``q`` holds the period ends only."""
-    n_q = len(q0)
-    y = np.concatenate((q0, v0))
-    rows = [q0]
-    for n in range(round(duration / period)):
-        u = control.efforts(n * period, y[:n_q], y[n_q:])
-        rhs = lambda _t, s, u=u: np.concatenate((s[n_q:], plant.acceleration(s[:n_q], s[n_q:], u)))
-        y = solve_ivp(rhs, (0.0, period), y, method="DOP853", rtol=REFERENCE_TOL, atol=REFERENCE_TOL).y[:, -1]
-        rows.append(y[:n_q])
-    return MechanismResult(plant.to_tree(np.array(rows)), plant.to_tree(y[n_q:]))
+    hold = steps_per_period(period, step)
+    result = run_plant(plant, q0, v0, duration, step, integrator, control if hold == 1 else Sampled(control, hold),
+                       rtol=rtol, atol=atol, backend=backend)
+    if result.status != "completed":
+        raise FloatingPointError(result.message)
+    tel = result.telemetry
+    return MechanismResult(to_tree(tel.q), to_tree(tel.v[-1]))
 
 
 class MechanismBench:
@@ -191,17 +166,19 @@ class MechanismBench:
         100, the coarser steps) and Pinocchio's constraint dynamics, each with RK4 and Euler;
         MuJoCo's three integrators."""
         out = []
-        for integrator in INTEGRATORS:
+        for integrator in COMPILED_INTEGRATORS:
             out += [Method("freefloat", integrator, h, "compiled", model)
                     for model in (f"orsino baumgarte {BAUMGARTE:g}", "orsino") for h in self.steps]
+        for integrator in PYTHON_INTEGRATORS:
             out += [Method("freefloat", integrator, h, "python", f"orsino baumgarte {BAUMGARTE:g}")
                     for h in self.numpy_steps]
             out += [Method("pinocchio", integrator, h, "python", f"constraintDynamics baumgarte {BAUMGARTE:g}")
                     for h in self.steps]
         return out + [Method("mujoco", integrator, h, "python", MUJOCO_MODEL) for integrator in MUJOCO for h in self.steps]
 
-    def plant(self, method: Method) -> OrsinoPlant | PinocchioPlant:
-        """The plant ``method`` integrates.
+    def plant(self, method: Method) -> CoupledChainPlant | ConstraintDynamicsPlant:
+        """The plant ``method`` integrates: Orsino's on the compiled core (``compiled``: the whole
+        loop in C++) or on its numpy reference (``python``), or Pinocchio's constraint dynamics.
 
         Raises:
             InvalidArgument: for a package, loop or model this scene does not have.
@@ -209,10 +186,14 @@ class MechanismBench:
         baumgarte = BAUMGARTE if "baumgarte" in method.model else 0.0
         mechanism = self.prepared.setup.plant
         if method.package == "freefloat" and method.loop in ("compiled", "python"):
-            return OrsinoPlant(mechanism if method.loop == "compiled" else mechanism.reference(), baumgarte, self.tree)
+            return CoupledChainPlant(mechanism if method.loop == "compiled" else mechanism.reference(), baumgarte)
         if method.package == "pinocchio":
-            return PinocchioPlant(self.tree, baumgarte)
+            return constraint_dynamics_plant(self.tree, baumgarte)
         raise InvalidArgument(f"bench scene '{self.name}' has no method {method.label}")
+
+    def _from_orsino(self, q: np.ndarray) -> np.ndarray:
+        """Tree coordinates (..., nq) of Orsino's ``q`` (..., n_q) (also maps rates)."""
+        return q[..., self.tree.from_orsino]
 
     def run(self, method: Method) -> Run:
         """Each call runs ``method`` from the assembled start.
@@ -229,20 +210,25 @@ class MechanismBench:
             sim = MujocoMechanism(tree, method.integrator, method.setting)
             sim.check_inertias(q0)
             return lambda: MechanismResult(*sim.run(control, q0, v0, self.duration, self.period, method.setting))
+        plant = self.plant(method)
         if method.integrator not in INTEGRATORS:
             raise InvalidArgument(f"bench scene '{self.name}': unknown integrator '{method.integrator}'; "
                                   f"valid: {', '.join(INTEGRATORS)}")
-        plant = self.plant(method)
         q0, v0 = self.prepared.q0, self.prepared.qd0
-        if isinstance(plant, PinocchioPlant):
-            q0, v0 = q0[tree.from_orsino], v0[tree.from_orsino]
-        return lambda: held_run(plant, control, q0, v0, self.duration, self.period, method.setting, method.integrator)
+        backend = "compiled" if method.loop == "compiled" else "python"
+        if isinstance(plant, ConstraintDynamicsPlant):
+            q0, v0, control = self._from_orsino(q0), self._from_orsino(v0), ObservedController(control, tree)
+            return lambda: held_run(plant, control, q0, v0, self.duration, self.period, method.setting,
+                                    method.integrator, lambda q: q, backend)
+        return lambda: held_run(plant, control, q0, v0, self.duration, self.period, method.setting, method.integrator,
+                                self._from_orsino, backend)
 
     def reference(self) -> MechanismResult:
-        """DOP853 per control period on Orsino's compiled model, Baumgarte 100."""
-        plant = OrsinoPlant(self.prepared.setup.plant, BAUMGARTE, self.tree)
-        return dop853_run(plant, self.prepared.controller, self.prepared.q0, self.prepared.qd0, self.duration,
-                          self.period)
+        """DOP853 (the registry's ``dop853``) per control period on Orsino's compiled model,
+        Baumgarte 100; rows at the period ends."""
+        plant = CoupledChainPlant(self.prepared.setup.plant, BAUMGARTE)
+        return held_run(plant, self.prepared.controller, self.prepared.q0, self.prepared.qd0, self.duration,
+                        self.period, self.period, "dop853", self._from_orsino, "python", REFERENCE_TOL, REFERENCE_TOL)
 
     def errors(self, result: MechanismResult, reference: MechanismResult) -> dict[str, float]:
         """``state_error``: 2-norm of the difference of :meth:`SpanningTree.shared` at the end;
@@ -251,7 +237,7 @@ class MechanismBench:
         tree = self.tree
         end = tree.shared(result.q[-1], result.v)
         p = len(tree.axes)
-        target = self.prepared.controller.reference(self.duration)[0]
+        target = self.prepared.controller.reference(self.duration)
         return {"state_error": float(np.linalg.norm(end - tree.shared(reference.q[-1], reference.v))),
                 "constraint_drift": max(tree.gap(q) for q in result.q),
                 "tracking_error": float(np.linalg.norm(target - end[:p]))}

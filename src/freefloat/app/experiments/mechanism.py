@@ -1,27 +1,31 @@
 """Closed-chain mechanism experiments: a mechanism from the registry tracks a platform
 reference under computed torque (eq 190) or sliding mode (eq 153) on its nominal model.
 
-The plant is integrated by :func:`freefloat.parallel.mechanism.simulate` (RK4 or semi-implicit
-Euler on ``q = [q#; q°]``, Baumgarte-stabilised), the controller's efforts held over each step.
+The plant is the mechanism by Orsino's coupling (eq 129, Baumgarte-stabilised) in the one loop
+(:func:`freefloat.parallel.closed_loop.track` -> :func:`freefloat.dynamics.simulation.run_plant`,
+compiled when it can), any integrator of the registry on ``q = [q#; q°]``, the controller's
+efforts held over each step.
 """
 
 from __future__ import annotations
 
-import time
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from ...dynamics.metrics import rms
-from ...dynamics.telemetry import MechanismTelemetry
+from ...dynamics.integrators import INTEGRATORS
+from ...dynamics.telemetry import MechanismTelemetry, PlantTelemetry
 from ...errors import FreefloatError, SceneError
 from ...parallel.closed_chain import ClosedChain
-from ...parallel.mechanism import ParallelMechanism, simulate
-from ...parallel.platform_control import CircleReference, printed_gains
+from ...parallel.closed_loop import track
+from ...parallel.platform_control import CircleReference
+from ...parallel.sliding_mode import printed_gains
 from ...parallel.registry import REGISTRY, MechanismSetup
 from ...parallel.sliding_mode import PlatformControl
 from ..scenes import MechanismScene, resolve_file
+from ..scenes.mechanism_schema import ALIASES
 from .base import Checkpoint, Experiment, Outcome, Progress
 from .budget import check_budget, seconds_per_call
 
@@ -97,8 +101,8 @@ def check_run_size(prepared: PreparedMechanism) -> None:
     memory = steps * (8 * (3 * n_q + 2 * k + 8) + 200)  # plant samples, the control log, telemetry
     u = np.zeros(k)
     forward = seconds_per_call(lambda: plant.forward(prepared.q0, prepared.qd0, u, sim.baumgarte))
-    control = seconds_per_call(lambda: prepared.controller.efforts(0.0, prepared.q0, prepared.qd0))
-    calls = 4 if sim.integrator == "rk4" else 1
+    control = seconds_per_call(lambda: prepared.controller.torque(0.0, prepared.q0, prepared.qd0))
+    calls = INTEGRATORS[integrator_name(scene)].stages
     check_budget(scene.name, memory, 1.5 * steps * (calls * forward + control),
                  "'simulation.duration' and 'simulation.step'")
 
@@ -118,54 +122,32 @@ def _pair(where: str, key: str, p: int) -> tuple[int, int]:
     return i, j
 
 
+def integrator_name(scene: MechanismScene) -> str:
+    """The registry name of the scene's integrator (``rk4`` is ``rkmk4``)."""
+    return ALIASES.get(scene.simulation.integrator, scene.simulation.integrator)
+
+
 def run(prepared: PreparedMechanism, progress: Progress | None = None,
         checkpoint: Checkpoint | None = None) -> Outcome:
     """The mechanism's loop, its summary and its drawings.
 
-    A run that blows up (loop-closure residual above 1 m or not finite, or a singular solve) or
+    A run that blows up (loop-closure residual above 1 m or not finite, or a singular pose) or
     is interrupted (Ctrl-C) returns what it computed, with the status and a message.
 
     Args:
-        progress: called with the number of steps started, about 200 times per run.
-        checkpoint: called with the telemetry of every :data:`CHUNK_STEPS` steps started.
+        progress: called with the number of steps done, about 200 times per run.
+        checkpoint: called with the telemetry of every chunk of steps as it fills.
     """
     scene = prepared.scene
-    sim, plant, controller = scene.simulation, prepared.setup.plant, prepared.controller
-    steps = round(sim.duration / sim.step)
-    report_every = max(1, steps // 200)
-    log: list[tuple[float, np.ndarray, np.ndarray]] = []  # (t_k, q_k, efforts held from t_k)
-
-    def efforts(t: float, q: np.ndarray, qd: np.ndarray) -> np.ndarray:
-        u = controller.efforts(t, q, qd)
-        log.append((t, q.copy(), u))
-        if progress is not None and len(log) % report_every == 0:
-            progress(len(log))
-        if checkpoint is not None and len(log) % CHUNK_STEPS == 0:
-            checkpoint(_recorded(controller, plant, log[-CHUNK_STEPS:]))
-        return u
-
-    status, message = "completed", ""
-    start = time.perf_counter()
-    try:
-        t, q, drift = simulate(plant, prepared.q0, prepared.qd0, efforts, sim.duration, sim.step, sim.baumgarte,
-                               sim.integrator)
-        wall = time.perf_counter() - start
-        efforts_held = np.array([row[2] for row in log]).reshape(-1, len(plant.actuated))
-        telemetry = record(controller, plant, t, q, efforts_held, drift)
-        if len(t) < steps + 1:
-            status = "diverged"
-            message = (f"loop-closure residual {drift[-1]:.3g} m at t = {t[-1]:.6g} s (step {len(t) - 1}): "
-                       "the mechanism came apart")
-    except (KeyboardInterrupt, np.linalg.LinAlgError) as exc:
-        wall = time.perf_counter() - start
-        at = log[-1][0] if log else 0.0
-        status, message = (("interrupted", f"interrupted by the user at t = {at:.6g} s")
-                           if isinstance(exc, KeyboardInterrupt) else ("diverged", f"at t = {at:.6g} s: {exc}"))
-        telemetry = _recorded(controller, plant, log, len(prepared.q0))
+    sim, controller = scene.simulation, prepared.controller
+    result = track(prepared.setup.plant, controller, prepared.q0, sim.duration, sim.step, sim.step, sim.baumgarte,
+                   integrator_name(scene), prepared.qd0, rtol=sim.rtol, atol=sim.atol, progress=progress,
+                   checkpoint=None if checkpoint is None else (lambda chunk: checkpoint(record(controller, chunk))))
+    telemetry = record(controller, result.telemetry, result.status == "completed")
     summary = summarize_mechanism(telemetry, scene.metrics.reaching_phase)
-    steps_done = max(len(telemetry.t) - 1, 0)
-    summary.update(status=status, message=message, steps=steps_done, sim_wall_time_s=wall)
-    return outcome(prepared, telemetry, status, message, steps_done, wall, summary)
+    summary.update(status=result.status, message=result.message, steps=result.steps, sim_wall_time_s=result.wall_time_s,
+                   loop=result.backend)
+    return outcome(prepared, telemetry, result.status, result.message, result.steps, result.wall_time_s, summary)
 
 
 def outcome(prepared: PreparedMechanism, telemetry: MechanismTelemetry, status: str, message: str, steps: int,
@@ -205,26 +187,17 @@ def integration_steps(scene: MechanismScene) -> int:
     return round(scene.simulation.duration / scene.simulation.step)
 
 
-def _recorded(controller: PlatformControl, plant: ParallelMechanism,
-              rows: list[tuple[float, np.ndarray, np.ndarray]], n_q: int | None = None) -> MechanismTelemetry:
-    """Telemetry of logged ``(t_k, q_k, efforts held from t_k)`` rows, drift recomputed."""
-    q = np.array([row[1] for row in rows]).reshape(-1, n_q or len(rows[0][1]))
-    drift = np.array([np.abs(plant.constraint(qk)).max() for qk in q])
-    efforts = np.array([row[2] for row in rows]).reshape(-1, len(plant.actuated))
-    return record(controller, plant, np.array([row[0] for row in rows]), q, efforts, drift)
-
-
-def record(controller: PlatformControl, plant: ParallelMechanism, t: np.ndarray, q: np.ndarray,
-           efforts: np.ndarray, drift: np.ndarray) -> MechanismTelemetry:
-    """Telemetry rows from times (N,), the plant's coordinates (N, n_q), the efforts of the steps
-    started (M <= N, k) and drifts (N,); rows without efforts get NaN."""
+def record(controller: PlatformControl, telemetry: PlantTelemetry, completed: bool = False) -> MechanismTelemetry:
+    """A mechanism's telemetry from the loop's rows: Orsino's ``q = [q#; q°]`` split into the
+    platform and the joints, the controller's reference, the efforts held from each row (the last
+    row of a ``completed`` run, which starts no step, NaN)."""
     p = controller.model.p
-    held = np.full((len(t), efforts.shape[1]), np.nan)
-    held[: len(efforts)] = efforts[: len(t)]
-    reference = np.array([controller.reference(tk)[0] for tk in t]).reshape(-1, p)
-    orientation = np.abs(plant.orientation_residual(q)).max(axis=-1, initial=0.0)
-    return MechanismTelemetry(t=t, platform=q[:, :p], platform_reference=reference, joints=q[:, p:],
-                              efforts=held, drift=drift, orientation_drift=orientation)
+    efforts = telemetry.efforts.copy()
+    if completed and len(efforts):
+        efforts[-1] = np.nan
+    return MechanismTelemetry(t=telemetry.t, platform=telemetry.q[:, :p], platform_reference=telemetry.reference,
+                              joints=telemetry.q[:, p:], efforts=efforts, drift=telemetry.drift,
+                              orientation_drift=telemetry.orientation_drift)
 
 
 def summarize_mechanism(telemetry: MechanismTelemetry, reaching_phase: float) -> dict[str, object]:
@@ -247,9 +220,6 @@ def summarize_mechanism(telemetry: MechanismTelemetry, reaching_phase: float) ->
         "peak_efforts": np.abs(finite_efforts).max(axis=0).tolist() if len(finite_efforts) else None,
     }
 
-
-#: Steps of telemetry per checkpoint.
-CHUNK_STEPS = 1024
 
 #: Summary keys the command line prints for a mechanism run.
 HEADLINE = ("tracking_error_max", "tracking_error_rms", "loop_closure_drift_max", "orientation_drift_max",

@@ -13,6 +13,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from ...dynamics.integrators import INTEGRATORS
 from ...errors import SceneError
 from ...parallel.registry import REGISTRY
 from .fields import (
@@ -75,12 +76,16 @@ class PlatformControllerSection:
 @dataclass(frozen=True)
 class MechanismSimulation:
     """``[simulation]``: duration and step (s; efforts held over each step), Baumgarte lambda
-    (1/s, eq 129), integrator (``rk4`` or semi-implicit ``euler``)."""
+    (1/s, eq 129), integrator (any name of ``freefloat.dynamics.integrators.INTEGRATORS``; ``rk4``
+    is the classical Runge-Kutta 4, which ``rkmk4`` is on these Euclidean coordinates), and
+    dopri5's tolerances."""
 
     duration: float
     step: float
     baumgarte: float = 100.0
     integrator: str = "rk4"
+    rtol: float = 1e-10
+    atol: float = 1e-12
 
 
 @dataclass(frozen=True)
@@ -109,14 +114,18 @@ class MechanismScene:
     kind = "mechanism"
 
 
+#: Integrator names a mechanism scene may use besides the registry's: ``rk4`` (the thesis's
+#: classical RK4) is ``rkmk4``, identical on Euclidean coordinates.
+ALIASES = {"rk4": "rkmk4"}
+
 SECTIONS = {"mechanism": MechanismSection, "initial": PlatformStart, "trajectory": TrajectorySection,
             "controller": PlatformControllerSection, "simulation": MechanismSimulation,
             "metrics": MetricsSection, "output": OutputSection}
 RULES = Rules(
     choices={("mechanism", "name"): tuple(REGISTRY), ("trajectory", "kind"): ("circle",),
              ("controller", "kind"): ("computed_torque", "sliding_mode"),
-             ("controller", "saturation"): ("tanh", "sign"), ("simulation", "integrator"): ("rk4", "euler")},
-    positive={("simulation", "duration"), ("simulation", "step"), ("controller", "lam"), ("output", "html_fps")},
+             ("controller", "saturation"): ("tanh", "sign"), ("simulation", "integrator"): lambda: (*ALIASES, *INTEGRATORS)},
+    positive={("simulation", "duration"), ("simulation", "step"), ("simulation", "rtol"), ("simulation", "atol"), ("controller", "lam"), ("output", "html_fps")},
     non_negative={("simulation", "baumgarte"), ("metrics", "reaching_phase"), ("trajectory", "radius")},
 )
 
