@@ -155,7 +155,7 @@ def test_the_command_runs_a_batch_and_exits_0(tmp_path, capsys):
     status = main(["batch", str(scene), "--runs", "2", "--vary", "base_rate=1", "--quiet", "--out",
                    str(tmp_path / "out")])
     printed = capsys.readouterr().out
-    assert status == 0 and "completed: 2 of 2 runs (2 completed)" in printed and "runs/s (serial)" in printed
+    assert status == 0 and "completed: 2 of 2 runs completed (2 completed)" in printed and "runs/s (serial)" in printed
     assert "momentum_drift_max: min" in printed
 
 
@@ -164,3 +164,38 @@ def test_a_batch_without_vary_warns_that_its_runs_are_alike(tmp_path, capsys):
     scene = scene_variant(tmp_path / "s.toml", "tumbling", simulation={"duration": 0.01})
     assert main(["batch", str(scene), "--runs", "2", "--quiet", "--out", str(tmp_path / "out")]) == 0
     assert "no --vary: the 2 runs start alike" in capsys.readouterr().err
+
+
+def test_a_scene_left_to_choose_its_plant_runs_in_a_batch_as_in_simulate(tmp_path):
+    """The tumbling scene without its model line (model = "auto", the default): every run of a
+    batch completes on the plant freefloat simulate chooses for the same scene."""
+    import tomllib
+
+    from freefloat.app import runner
+    from freefloat.app.scenes import builtin_scenes
+
+    from .conftest import toml_text
+
+    raw = tomllib.loads(builtin_scenes()["tumbling"].read_text())
+    del raw["simulation"]["model"]
+    raw["simulation"]["duration"] = 0.01
+    path = tmp_path / "tumbling.toml"
+    path.write_text(toml_text(raw))
+    scene = load_scene(path)
+    assert scene.simulation.model == "auto"
+    done = run_batch(scene, tmp_path / "out", 2, [Band("base_rate", 1.0)], seed=1)
+    assert [r["status"] for r in done.rows] == ["completed"] * 2, [r["message"] for r in done.rows]
+    assert done.summary["status"] == "completed"
+    assert {r["model_auto"] for r in done.rows} == {runner.simulate(scene).summary["model_auto"]}
+
+
+def test_a_batch_with_failed_runs_reports_failed_with_the_count_completed(tmp_path, capsys):
+    """Starts where the 5R cannot be assembled: the summary's status is "failed", not "completed",
+    and the command's line counts the runs that completed."""
+    scene = scene_variant(tmp_path / "m.toml", "five_bar_computed_torque", simulation={"duration": 0.01})
+    status = main(["batch", str(scene), "--runs", "6", "--vary", "platform=0.2", "--seed", "0", "--quiet",
+                   "--out", str(tmp_path / "out")])
+    summary = json.loads((tmp_path / "out" / "summary.json").read_text())
+    completed = summary["by_status"].get("completed", 0)
+    assert status == 1 and summary["status"] == "failed" and 0 < completed < 6
+    assert capsys.readouterr().out.startswith(f"failed: {completed} of 6 runs completed (")

@@ -147,7 +147,8 @@ def _batch(args: argparse.Namespace) -> int:
                          progress=lambda row: bar.update(1))
     summary = done.summary
     counts = ", ".join(f"{n} {status}" for status, n in sorted(summary["by_status"].items()))
-    print(f"{summary['status']}: {summary['finished']} of {summary['runs']} runs ({counts or 'none'}) in "
+    print(f"{summary['status']}: {summary['by_status'].get('completed', 0)} of {summary['runs']} runs completed "
+          f"({counts or 'none run'}) in "
           f"{summary['wall_time_s']:.2f} s, {summary['runs_per_second'] or 0:.2f} runs/s ({workers.label}) -> {out}")
     for key, spread in summary["spread"].items():
         print(f"  {key}: min {spread['min']:.3g}, median {spread['median']:.3g}, max {spread['max']:.3g}")

@@ -68,6 +68,17 @@ def choose_plant(scene: Scene | MechanismScene, setup: Any) -> Any:
     return chosen
 
 
+def resolved_setup(scene: Scene | MechanismScene) -> Any:
+    """The setup of ``scene`` with its plant chosen: :func:`prepare`, then :func:`choose_plant`.
+    The one place ``simulation.model = "auto"`` is resolved, for every driver that runs a scene
+    (:func:`simulate`, :func:`run_scene` through the same two steps, ``freefloat batch``'s runs).
+
+    Raises:
+        SceneError: naming the key of whatever the scene gets wrong.
+    """
+    return choose_plant(scene, prepare(scene))
+
+
 def _auto(scene: Scene | MechanismScene) -> bool:
     return isinstance(scene, Scene) and scene.simulation.model == "auto"
 
@@ -90,7 +101,7 @@ def simulate(scene: Scene | MechanismScene, progress: Progress | None = None,
              checkpoint: Callable[[Any], None] | None = None) -> Outcome:
     """Prepare and run ``scene``: its outcome, nothing written (``checkpoint`` gets the telemetry
     chunk by chunk)."""
-    setup = choose_plant(scene, prepare(scene))
+    setup = resolved_setup(scene)
     with signals_raise_keyboard_interrupt():
         outcome = experiment_for(scene).run(setup, progress, checkpoint)
     return fail_if_not_finite(note_model_choice(outcome, setup))

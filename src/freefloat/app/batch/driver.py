@@ -84,6 +84,8 @@ def run_batch(scene: Scene | MechanismScene, folder: Path, runs: int, bands: lis
                 status = "interrupted"
         wall = time.perf_counter() - start
         ordered = [rows[i] for i in sorted(rows)]
+        if status == "completed" and (len(ordered) < runs or any(r["status"] != "completed" for r in ordered)):
+            status = "failed"  # some run failed or stopped early: the batch did not complete
         summary = _summary(scene, ordered, runs, bands, seed, workers, status, wall)
         with signals_deferred():
             _write_table(out, ordered)

@@ -15,7 +15,7 @@ from ...dynamics.models import make_model
 from ...dynamics.threads import single_blas_thread
 from ..experiments import experiment_for
 from ..experiments.robot_run import RobotSetup
-from ..runner import fail_if_not_finite
+from ..runner import fail_if_not_finite, note_model_choice, resolved_setup
 from .variations import RunPlan
 
 #: Row keys that vary from one execution of the same run to the next (not results).
@@ -37,10 +37,10 @@ def run_one(plan: RunPlan) -> dict[str, Any]:
         experiment = experiment_for(plan.scene)
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")  # the batch showed the scene's warnings once
-            setup = experiment.prepare(plan.scene)
+            setup = resolved_setup(plan.scene)  # model = "auto" chosen here as in freefloat simulate
         if plan.masses:
             with_plant_masses(setup, plan.masses)
-        outcome = fail_if_not_finite(experiment.run(setup, None, None))
+        outcome = fail_if_not_finite(note_model_choice(experiment.run(setup, None, None), setup))
         row.update(flatten(outcome.summary))
         row.update(status=outcome.status, message=outcome.message)
     except Exception as exc:  # the run's own failure, recorded in its row
@@ -60,7 +60,7 @@ def with_plant_masses(setup: RobotSetup, factors: dict[str, float]) -> None:
             model.inertias[j] = pin.Inertia(body.mass * factors[name], body.lever, body.inertia * factors[name])
     sim = setup.scene.simulation
     setup.robot = dataclasses.replace(setup.robot, model=model)
-    setup.model = make_model(sim.model, setup.robot)
+    setup.model = make_model(setup.model.name, setup.robot)  # the plant the scene resolved to
     setup.integrator = make_integrator(sim.integrator, model, sim.substeps, sim.rtol, sim.atol,
                                        project_momentum=sim.project_momentum)
 
