@@ -1,12 +1,81 @@
-"""freefloat: dynamics, simulation and control of free-floating multi-arm space robots, on Pinocchio."""
+"""freefloat: dynamics, simulation and control of free-floating multi-arm space robots and of
+closed-chain parallel mechanisms, on Pinocchio.
 
-from .errors import FreefloatError, RobotModelError, SceneError, SimulationDiverged
-from .robot.loading import load_robot
-from .robot.robot import Arm, Robot
+The public API, from one place::
+
+    from freefloat import load_robot, make_model, make_integrator, run, ComputedTorque
+    from freefloat import five_bar, PlatformControl, track, load_scene, simulate
+
+Names are imported when first used (``import freefloat`` stays cheap); the subpackages hold
+the rest (layers: robot < dynamics < space | parallel < app, see docs/architecture.md).
+"""
+
+from __future__ import annotations
+
+import importlib
+from typing import Any
+
+from .errors import (
+    BadShape,
+    FreefloatError,
+    InvalidArgument,
+    NotAssembled,
+    RobotModelError,
+    SceneError,
+    SimulationDiverged,
+    SingularityError,
+    UnknownName,
+)
 
 __version__ = "0.1.0"
 
-__all__ = [
-    "Arm", "FreefloatError", "Robot", "RobotModelError", "SceneError", "SimulationDiverged",
-    "load_robot", "__version__",
-]
+#: Public name -> the module that defines it (imported on first use).
+_PUBLIC = {
+    # robot
+    "load_robot": "freefloat.robot.loading", "Robot": "freefloat.robot.robot", "Arm": "freefloat.robot.robot",
+    # the GJM layer (also the module freefloat.gjm) and its check against Pinocchio
+    "check_robot": "freefloat.dynamics.verify",
+    # dynamics models, integrators, plants, the loop
+    "MODELS": "freefloat.dynamics.models", "make_model": "freefloat.dynamics.models",
+    "INTEGRATORS": "freefloat.dynamics.integrators", "make_integrator": "freefloat.dynamics.integrators",
+    "PLANTS": "freefloat.dynamics.plants", "CoupledChainPlant": "freefloat.dynamics.plants",
+    "ConstraintDynamicsPlant": "freefloat.dynamics.plants",
+    "run": "freefloat.dynamics.simulation", "run_plant": "freefloat.dynamics.simulation",
+    "RunResult": "freefloat.dynamics.simulation", "Sampled": "freefloat.dynamics.sampled",
+    "Telemetry": "freefloat.dynamics.telemetry", "PlantTelemetry": "freefloat.dynamics.telemetry",
+    "MechanismTelemetry": "freefloat.dynamics.telemetry",
+    # space-robot controllers and tasks
+    "ComputedTorque": "freefloat.space.control", "QuinticTrajectory": "freefloat.space.control",
+    "TaskSpaceComputedTorque": "freefloat.space.control.task_space",
+    "DetumblingController": "freefloat.space.control.detumbling_control",
+    # closed-chain mechanisms and their control
+    "ParallelMechanism": "freefloat.parallel.mechanism", "five_bar": "freefloat.parallel.five_bar",
+    "load_rsu_ppap": "freefloat.parallel.rsu_ppap", "load_closed_chain": "freefloat.parallel.closed_chain",
+    "MECHANISMS": ("freefloat.parallel.registry", "REGISTRY"), "PlatformControl": "freefloat.parallel.sliding_mode",
+    "design_gains": "freefloat.parallel.sliding_mode", "track": "freefloat.parallel.closed_loop",
+    # scenes, runs, bench
+    "load_scene": "freefloat.app.scenes", "find_scene": "freefloat.app.scenes",
+    "simulate": "freefloat.app.runner", "run_scene": "freefloat.app.runner",
+    "bench": "freefloat.app.bench.report",
+}
+
+
+def __getattr__(name: str) -> Any:
+    """The public name ``name``, imported from its module on first use."""
+    where = _PUBLIC.get(name)
+    if where is None:
+        raise AttributeError(f"module 'freefloat' has no attribute {name!r}")
+    module, attribute = where if isinstance(where, tuple) else (where, name)
+    value = getattr(importlib.import_module(module), attribute)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(__all__)
+
+
+__all__ = sorted([
+    *_PUBLIC, "BadShape", "FreefloatError", "InvalidArgument", "NotAssembled", "RobotModelError", "SceneError",
+    "SimulationDiverged", "SingularityError", "UnknownName", "__version__",
+])
