@@ -17,6 +17,7 @@ from typing import TYPE_CHECKING, Iterator
 from tqdm import tqdm
 
 from ..errors import FreefloatError
+from .reproduce import STUDIES
 
 if TYPE_CHECKING:
     from .runner import SceneRun
@@ -70,15 +71,8 @@ def main(argv: list[str] | None = None) -> int:
     ver.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
     ver.add_argument("--json", type=Path, default=None, help="also write the report as JSON here")
     rep = commands.add_parser("reproduce", help="reproduce a study of the documents against the exact reference")
-    rep.add_argument("study", choices=["models", "task_space", "phases", "five_bar", "closure_stability", "chattering",
-                     "robustness", "stability"],
-                     help="models: which dynamics model matches the exact one, where; task_space: sec 5.2 "
-                          "(Tables 2-5, figs 38-40); phases: one model per capture phase vs exact; "
-                          "five_bar: the 5R's sliding-mode gains and tracking (thesis sec 5.6); "
-                          "closure_stability: loop-closure drift over step and Baumgarte lambda; "
-                          "chattering: sign(s) against tanh(100 s) over the control period; "
-                          "stability: the largest stable step per integrator and scene; "
-                          "robustness: Monte-Carlo of the 5R controller through Dask")
+    rep.add_argument("study", choices=list(STUDIES),
+                     help="; ".join(f"{name}: {study.help}" for name, study in STUDIES.items()))
     rep.add_argument("--out", type=Path, default=None, help="output folder (default: runs/reproduce-<study>-<time>)")
     rep.add_argument("--quick", action="store_true", help="short runs and few samples (a smoke test)")
     rep.add_argument("--workers", type=int, default=2, help="parallel processes (default 2)")
@@ -193,34 +187,11 @@ def _info(args: argparse.Namespace) -> int:
 
 
 def _reproduce(args: argparse.Namespace) -> int:
-    from .reproduce import (
-        chattering_report,
-        five_bar_report,
-        models_report,
-        phases_report,
-        stability_report,
-        task_space_report,
-    )
-
     out = args.out or Path("runs") / f"reproduce-{args.study}-{time.strftime('%Y%m%d-%H%M%S')}"
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        if args.study == "models":
-            report = models_report.reproduce(out, quick=args.quick, workers=max(1, args.workers))
-        elif args.study == "task_space":
-            report = task_space_report.reproduce(out, quick=args.quick)
-        elif args.study == "phases":
-            report = phases_report.reproduce(out, quick=args.quick)
-        elif args.study == "five_bar":
-            report = five_bar_report.reproduce(out, quick=args.quick)
-        elif args.study == "closure_stability":
-            report = five_bar_report.reproduce_stability(out, quick=args.quick)
-        elif args.study == "stability":
-            report = stability_report.reproduce(out, quick=args.quick)
-        elif args.study == "chattering":
-            report = chattering_report.reproduce(out, quick=args.quick)
-        else:
-            report = five_bar_report.reproduce_robustness(out, args.quick, args.runs, args.error, args.scheduler)
+        report = STUDIES[args.study].run(out, args.quick, workers=max(1, args.workers), runs=args.runs,
+                                         relative_error=args.error, scheduler=args.scheduler)
     print((out / "report.md").read_text())
     print(f"wrote {out} in {report['wall_time_s']:.0f} s")
     return 0

@@ -1,1 +1,63 @@
-"""Reproductions of the documents' experiments against the exact reference."""
+"""Reproductions of the documents' experiments against the exact reference, one registry of
+studies: :data:`STUDIES` (``freefloat reproduce NAME`` takes its choices and help from it).
+
+A new study is one module with ``reproduce(out, quick=False, ...) -> report`` (it writes
+``report.json`` and ``report.md`` into ``out``) plus one :func:`register` call. Modules are
+imported when their study runs, so the command line starts without them.
+"""
+
+from __future__ import annotations
+
+import importlib
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+
+@dataclass(frozen=True)
+class Study:
+    """One study of the documents.
+
+    Attributes:
+        name: the ``freefloat reproduce`` argument.
+        help: one line for the command's help.
+        module: its module in this package.
+        function: the module's ``reproduce(out, quick=..., **options)``.
+        options: the command-line options it takes besides ``--quick`` (e.g. ``workers``).
+    """
+
+    name: str
+    help: str
+    module: str
+    function: str = "reproduce"
+    options: tuple[str, ...] = ()
+
+    def run(self, out: Path, quick: bool = False, **options: Any) -> dict:
+        """Run the study into ``out``; ``options`` beyond :attr:`options` are ignored."""
+        reproduce = getattr(importlib.import_module(f"{__name__}.{self.module}"), self.function)
+        return reproduce(out, quick=quick, **{k: v for k, v in options.items() if k in self.options})
+
+
+#: Registry: name -> :class:`Study`, in the order the command lists them.
+STUDIES: dict[str, Study] = {}
+
+
+def register(study: Study) -> Study:
+    """Add ``study`` to :data:`STUDIES`."""
+    STUDIES[study.name] = study
+    return study
+
+
+for _study in (
+    Study("models", "which dynamics model matches the exact one, where", "models_report", options=("workers",)),
+    Study("task_space", "sec 5.2 (Tables 2-5, figs 38-40)", "task_space_report"),
+    Study("phases", "one model per capture phase vs exact", "phases_report"),
+    Study("five_bar", "the 5R's sliding-mode gains and tracking (thesis sec 5.6)", "five_bar_report"),
+    Study("closure_stability", "loop-closure drift over step, integrator and Baumgarte lambda", "five_bar_report",
+          "reproduce_stability"),
+    Study("chattering", "sign(s) against tanh(100 s) over the control period", "chattering_report"),
+    Study("robustness", "Monte-Carlo of the 5R controller through Dask", "five_bar_report", "reproduce_robustness",
+          ("runs", "relative_error", "scheduler")),
+    Study("stability", "the largest stable step per integrator and scene", "stability_report"),
+):
+    register(_study)
