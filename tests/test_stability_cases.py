@@ -85,7 +85,7 @@ def test_whole_steps_cover_the_duration(duration, h, expected):
     (lambda: Tumbling("dual_arm_satellite", 0.0, "rkmk4"), "rate must be finite and > 0"),
     (lambda: Tumbling("dual_arm_satellite", 3.0, "rk5"), "unknown integrator 'rk5'; valid: euler"),
     (lambda: Detumbling("detumble_impulse_both_arms", "rk4"), "unknown integrator 'rk4'"),
-    (lambda: ClosedChain("five_bar_computed_torque", "rkmk4", 0.0), "unknown integrator 'rkmk4'; valid: rk4, euler"),
+    (lambda: ClosedChain("five_bar_computed_torque", "rk45", 0.0), "unknown integrator 'rk45'; valid: rk4, euler, explicit_euler"),
 ])
 def test_bad_case_settings_are_refused_naming_them(make, message):
     """A rate that is not > 0 or an integrator the scene kind does not have is refused before any run."""
