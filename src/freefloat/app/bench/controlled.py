@@ -1,7 +1,9 @@
-"""The controlled bench scene: the balanced four-arm robot on a free base follows the default
-task's quintic (every joint of arms 1 and 4 by +5 deg, of arms 2 and 3 by -5 deg, arms 2 and 4
-starting with joint 1 at 90 deg) under joint-space computed torque (eqs 136-137, Kp = 10, Kd = 100,
-exact H* and c*) held over 1 ms periods, from rest.
+"""The controlled bench scene: the default scene file (``four_arm_joint_space.toml``: its start,
+displacements, gains, controller model and control period, read from the file, not retyped) on
+the balanced four-arm robot with a free (or planar) base, its quintic stretched over the bench's
+duration: every joint of arms 1 and 4 by +5 deg, of arms 2 and 3 by -5 deg, arms 2 and 4 starting
+with joint 1 at 90 deg, under joint-space computed torque (eqs 136-137, Kp = 10, Kd = 100, exact
+H* and c*) held over 1 ms periods, from rest.
 
 MuJoCo runs it two ways: stepped by freefloat's own Python-side controller (the state mapped to
 Pinocchio's convention each period), and with the same law written on MuJoCo's own mass matrix
@@ -19,17 +21,14 @@ import pinocchio as pin
 
 from ...dynamics.simulation import control_periods
 from ...dynamics.wrenches import ExternalWrench
-from ...robot.joints import JointCoordinates
-from ...robot.loading import load_robot
 from ...robot.robot import Robot
-from ...space.control import ComputedTorque, QuinticTrajectory
+from ...space.control import ComputedTorque
+from ..experiments import experiment_for
+from ..scenes import find_scene
 from .mjcf import balanced_model
 
-#: The controlled scene's control period, s, and gains (1/s^2, 1/s).
-PERIOD, KP, KD = 1e-3, 10.0, 100.0
-#: Joint displacement per arm (rad) and the joints that start at 90 deg (the default scene's).
-DISPLACEMENT = {"arm1": 5.0, "arm2": -5.0, "arm3": -5.0, "arm4": 5.0}
-START_90 = ("arm2_joint1", "arm4_joint1")
+#: The scene file the controlled bench scene runs.
+SCENE = "four_arm_joint_space"
 
 
 @dataclass(frozen=True)
@@ -65,21 +64,23 @@ class ControlledScene:
 
 def controlled_scene(duration: float = 1.0, base: str = "free") -> ControlledScene:
     """The controlled scene over ``duration`` s on a ``"free"`` or ``"planar"`` base (the motion is
-    planar: :func:`.detumbling.planar_to_free` maps a planar-base state to the free base's).
+    planar: :func:`.detumbling.planar_to_free` maps a planar-base state to the free base's), from
+    the scene file :data:`SCENE` through its experiment's ``prepare``.
 
     Raises:
-        InvalidArgument: unless the duration is a positive whole number of 1 ms periods.
+        InvalidArgument: unless the duration is a positive whole number of control periods.
     """
-    control_periods(duration, PERIOD)
-    robot = load_robot("four_arm_planar", base=base, visuals=False)
-    robot = replace(robot, model=balanced_model(robot.model))
-    joints = JointCoordinates(robot)
-    start = np.array([np.pi / 2 if name in START_90 else 0.0 for name in robot.joint_names])
-    delta = np.radians([DISPLACEMENT[name.split("_")[0]] for name in robot.joint_names])
-    q0 = robot.neutral()
-    joints.set(q0, start)
-    controller = ComputedTorque(robot, QuinticTrajectory(start, start + delta, duration), KP, KD, "exact")
-    return ControlledScene("controlled", robot, q0, np.zeros(robot.model.nv), duration, PERIOD, lambda: controller)
+    scene = find_scene(SCENE)
+    control_periods(duration, scene.simulation.control_period)
+    scene = replace(scene, robot=replace(scene.robot, base=base), task=replace(scene.task, duration=duration),
+                    simulation=replace(scene.simulation, duration=duration, model="exact"),
+                    output=replace(scene.output, html=False))
+    setup = experiment_for(scene).prepare(scene)
+    robot = replace(setup.robot, model=balanced_model(setup.robot.model))
+    law = scene.controller
+    controller = ComputedTorque(robot, setup.controller.trajectory, law.kp, law.kd, law.model)
+    return ControlledScene("controlled", robot, setup.q0, setup.v0, duration, scene.simulation.control_period,
+                           lambda: controller)
 
 
 def substeps(scene: ControlledScene, h: float) -> int:
@@ -103,8 +104,9 @@ def mujoco_law(scene: ControlledScene, model, data) -> np.ndarray:
     mujoco.mj_fullM(model, data, M)
     b = data.qfrc_bias
     t = data.time
-    q_d, qdot_d, qddot_d = scene.make_controller().trajectory(t)
+    law = scene.make_controller()
+    q_d, qdot_d, qddot_d = law.trajectory(t)
     coupling = np.linalg.solve(M[:6, :6], np.column_stack((M[:6, 6:], b[:6])))
     H = M[6:, 6:] - M[6:, :6] @ coupling[:, :-1]
     c = b[6:] - M[6:, :6] @ coupling[:, -1]
-    return H @ (qddot_d + KP * (q_d - data.qpos[7:]) + KD * (qdot_d - data.qvel[6:])) + c
+    return H @ (qddot_d + law.kp * (q_d - data.qpos[7:]) + law.kd * (qdot_d - data.qvel[6:])) + c

@@ -57,8 +57,8 @@ class SweepSettings:
     """What one closed-chain bench scene sweeps.
 
     Attributes:
-        scene: the built-in scene file (plant, controller, start).
-        period: control period, s: the law is evaluated every period and held in between.
+        scene: the built-in scene file (plant, controller, start, and the control period: the
+            file's ``simulation.step``, over which the law is held).
         duration: default simulated time per run, s.
         steps: integration steps of the full sweep, s (each divides ``period``).
         numpy_steps: the numpy backend's steps (it costs ~150x the compiled core per call).
@@ -66,7 +66,6 @@ class SweepSettings:
     """
 
     scene: str
-    period: float
     duration: float
     steps: tuple[float, ...]
     numpy_steps: tuple[float, ...]
@@ -77,8 +76,8 @@ class SweepSettings:
 #: sliding-mode loop amplifies any difference ~50x every 50 ms (chattering), so that after 0.2 s
 #: RK4's final-state error is O(1) at every step from 1 ms to 0.1 ms.
 SWEEPS = {
-    "five_bar": SweepSettings("five_bar_sliding_mode", 1e-4, 0.2, (1e-4, 5e-5, 2e-5, 1e-5), (1e-4, 5e-5), (1e-4, 5e-5)),
-    "rsu_ppap": SweepSettings("rsu_ppap_computed_torque", 1e-3, 0.3, (1e-3, 5e-4, 2e-4, 1e-4, 5e-5, 2e-5, 1e-5),
+    "five_bar": SweepSettings("five_bar_sliding_mode", 0.2, (1e-4, 5e-5, 2e-5, 1e-5), (1e-4, 5e-5), (1e-4, 5e-5)),
+    "rsu_ppap": SweepSettings("rsu_ppap_computed_torque", 0.3, (1e-3, 5e-4, 2e-4, 1e-4, 5e-5, 2e-5, 1e-5),
                               (1e-3, 5e-4, 2e-4), (1e-3, 5e-4)),
 }
 #: Simulated time per run with ``quick``, s.
@@ -265,11 +264,12 @@ def mechanism_scene(name: str, duration: float | None = None, quick: bool = Fals
         raise InvalidArgument(f"unknown closed-chain bench scene '{name}'; valid: {', '.join(MECHANISM_SCENES)}")
     sweep = SWEEPS[name]
     duration = duration if duration is not None else (QUICK_DURATION if quick else sweep.duration)
-    periods = round(duration / sweep.period) if np.isfinite(duration) else 0
-    if not duration > 0.0 or periods < 1 or abs(periods * sweep.period - duration) > 1e-9:
-        raise InvalidArgument(f"bench scene '{name}': duration must be a positive whole number of {sweep.period:g} s "
-                              f"control periods, got {duration}")
     prepared = prepare(find_scene(sweep.scene))
+    period = prepared.scene.simulation.step  # the scene file's: the law is held over it
+    periods = round(duration / period) if np.isfinite(duration) else 0
+    if not duration > 0.0 or periods < 1 or abs(periods * period - duration) > 1e-9:
+        raise InvalidArgument(f"bench scene '{name}': duration must be a positive whole number of {period:g} s "
+                              f"control periods, got {duration}")
     if quick:
-        return MechanismBench(name, prepared, duration, sweep.period, sweep.quick_steps, sweep.quick_steps)
-    return MechanismBench(name, prepared, duration, sweep.period, sweep.steps, sweep.numpy_steps)
+        return MechanismBench(name, prepared, duration, period, sweep.quick_steps, sweep.quick_steps)
+    return MechanismBench(name, prepared, duration, period, sweep.steps, sweep.numpy_steps)
