@@ -90,8 +90,22 @@ def _integrators_page(ns: dict) -> None:
     assert np.abs(momentum(ns["q1"], ns["v1"]) - start).max() < 1e-9 * max(1.0, np.abs(start).max())
 
 
+def _readme_closed_chain(ns: dict) -> None:
+    """The compiled RKMK6 run ends where scipy's DOP853 (rtol 1e-12, the Python loop, another
+    integrator and loop) ends, with the loop held closed."""
+    from freefloat import track
+
+    result = ns["result"]
+    assert result.status == "completed" and result.backend == "compiled"
+    assert result.telemetry.drift.max() < 1e-9
+    reference = track(ns["plant"], ns["law"], ns["q0"], 0.1, 1e-4, 1e-4, integrator="dop853", rtol=1e-12, atol=1e-12)
+    assert reference.backend == "python"
+    assert np.abs(reference.telemetry.q[-1] - result.telemetry.q[-1]).max() < 1e-9
+
+
 #: What each Python snippet of the pages claims, checked against a reference of its own.
-SNIPPET_CHECKS = {"README.md#python0": _readme_tumbling, "gjm.md#python0": _gjm_page,
+SNIPPET_CHECKS = {"README.md#python0": _readme_tumbling, "README.md#python1": _readme_closed_chain,
+                  "gjm.md#python0": _gjm_page,
                   "integrators.md#python0": _integrators_page}
 
 
