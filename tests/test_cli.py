@@ -11,6 +11,7 @@ import pytest
 
 from freefloat.app.cli import main
 from freefloat.app.scenes import DEFAULT_SCENE, builtin_scenes
+from freefloat.app.run_folder import RECORD
 from freefloat.dynamics.telemetry import Telemetry
 from freefloat.paths import URDF_DIR
 
@@ -117,7 +118,7 @@ def test_mechanism_scene_writes_every_artefact(mechanism_run):
     """A mechanism scene writes telemetry, summary, scene, three figures and the HTML page; exit 0."""
     status, out, _ = mechanism_run
     assert status == 0
-    assert {p.name for p in out.iterdir()} == {"telemetry.npz", "summary.json", "scene.toml", "trajectory.html",
+    assert {p.name for p in out.iterdir() if p.name != RECORD} == {"telemetry.npz", "summary.json", "scene.toml", "trajectory.html",
                                                 "platform_tracking.png", "efforts.png", "loop_closure_drift.png",
                                                 "platform_tracking.pdf", "efforts.pdf", "loop_closure_drift.pdf"}
 
@@ -202,10 +203,36 @@ def test_a_second_run_into_the_same_out_needs_overwrite(tmp_path, capsys):
                           output={"figures": False, "html": False})
     args = ["simulate", str(scene), "--out", str(tmp_path / "out"), "--quiet"]
     assert main(args) == 0
-    (tmp_path / "out" / "stale.png").write_text("from an older run")
     assert main(args) == 2 and "--overwrite" in capsys.readouterr().err
     assert main([*args, "--overwrite"]) == 0
-    assert not (tmp_path / "out" / "stale.png").exists() and (tmp_path / "out" / "telemetry.npz").is_file()
+    assert (tmp_path / "out" / "telemetry.npz").is_file()
+
+
+def test_overwrite_keeps_the_user_s_files_in_out(tmp_path, capsys):
+    """--overwrite replaces the previous run and keeps a document and a data folder the user put
+    beside it, naming them."""
+    scene = scene_variant(tmp_path / "s.toml", DEFAULT_SCENE, simulation={"duration": 0.01},
+                          output={"figures": False, "html": False})
+    args = ["simulate", str(scene), "--out", str(tmp_path / "out"), "--quiet", "--overwrite"]
+    assert main(args) == 0
+    (tmp_path / "out" / "report.docx").write_text("precious")
+    (tmp_path / "out" / "data").mkdir()
+    (tmp_path / "out" / "data" / "x.csv").write_text("1")
+    assert main(args) == 0
+    assert "kept 2 file(s)" in capsys.readouterr().err
+    assert (tmp_path / "out" / "report.docx").read_text() == "precious"
+    assert (tmp_path / "out" / "data" / "x.csv").read_text() == "1"
+
+
+@pytest.mark.parametrize("overwrite", [[], ["--overwrite"]])
+def test_reproduce_never_writes_over_the_user_s_report(tmp_path, capsys, overwrite):
+    """reproduce --out into a folder holding the user's report.md and report.json exits 2 naming
+    them, and leaves both."""
+    (tmp_path / "report.md").write_text("my report")
+    (tmp_path / "report.json").write_text("{}")
+    assert main(["reproduce", "chattering", "--quick", "--out", str(tmp_path), *overwrite]) == 2
+    assert "report.md" in capsys.readouterr().err or overwrite
+    assert (tmp_path / "report.md").read_text() == "my report" and (tmp_path / "report.json").read_text() == "{}"
 
 
 @pytest.mark.parametrize(("extra", "message"), [(["--seed", "-1"], "--seed must be >= 0"),

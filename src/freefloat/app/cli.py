@@ -80,6 +80,9 @@ def main(argv: list[str] | None = None) -> int:
                           "stability: the largest stable step per integrator and scene; "
                           "robustness: Monte-Carlo of the 5R controller through Dask")
     rep.add_argument("--out", type=Path, default=None, help="output folder (default: runs/reproduce-<study>-<time>)")
+    rep.add_argument("--overwrite", action="store_true",
+                     help="replace the study freefloat wrote in --out (default: continue it from its journal; a "
+                          "folder holding other files is refused)")
     rep.add_argument("--quick", action="store_true", help="short runs and few samples (a smoke test)")
     rep.add_argument("--workers", type=int, default=2, help="parallel processes (default 2)")
     rep.add_argument("--runs", type=int, default=20, help="robustness: Monte-Carlo runs (default 20)")
@@ -192,6 +195,21 @@ def _info(args: argparse.Namespace) -> int:
 
 
 def _reproduce(args: argparse.Namespace) -> int:
+    from .run_folder import RunFolder
+
+    out = args.out or Path("runs") / f"reproduce-{args.study}-{time.strftime('%Y%m%d-%H%M%S')}"
+    with RunFolder(out, args.overwrite, keep_foreign=False, resume=True) as folder:
+        try:
+            report = _study(args, out)
+        finally:
+            folder.claim_present()  # what the study wrote, also when it was interrupted
+    print((out / "report.md").read_text())
+    print(f"wrote {out} in {report['wall_time_s']:.0f} s")
+    return 0
+
+
+def _study(args: argparse.Namespace, out: Path) -> dict:
+    """Run the study ``args.study`` into ``out``; its report."""
     from .reproduce import (
         chattering_report,
         five_bar_report,
@@ -201,7 +219,6 @@ def _reproduce(args: argparse.Namespace) -> int:
         task_space_report,
     )
 
-    out = args.out or Path("runs") / f"reproduce-{args.study}-{time.strftime('%Y%m%d-%H%M%S')}"
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         if args.study == "models":
@@ -220,9 +237,7 @@ def _reproduce(args: argparse.Namespace) -> int:
             report = chattering_report.reproduce(out, quick=args.quick)
         else:
             report = five_bar_report.reproduce_robustness(out, args.quick, args.runs, args.error, args.scheduler)
-    print((out / "report.md").read_text())
-    print(f"wrote {out} in {report['wall_time_s']:.0f} s")
-    return 0
+    return report
 
 
 def _verify(args: argparse.Namespace) -> int:
