@@ -159,3 +159,14 @@ def test_checkpoints_load_back_as_one_telemetry(tmp_path):
         folder.checkpoint(tiny(2, start=3.0))
     back = MechanismTelemetry.load_parts(tmp_path / "out" / PARTS)
     assert np.array_equal(back.t, np.arange(5.0))
+
+
+def test_a_chunk_handed_again_replaces_its_own_part(tmp_path):
+    """A chunk checkpointed twice (its hand-over was interrupted) is saved once: no row twice."""
+    chunk = tiny(3)
+    with RunFolder(tmp_path / "out") as folder:
+        folder.checkpoint(chunk)
+        folder.checkpoint(chunk)
+        folder.checkpoint(tiny(2, start=3.0))
+    back = MechanismTelemetry.load_parts(tmp_path / "out" / PARTS)
+    assert np.array_equal(back.t, np.arange(5.0))

@@ -25,3 +25,8 @@ class SingularityError(FreefloatError):
 class InvalidArgument(FreefloatError, ValueError):
     """A function argument of the wrong shape, not finite, or out of its domain; the message names
     the argument."""
+
+
+class TelemetryFileError(FreefloatError):
+    """A telemetry file (``.npz``) that is missing, damaged or of another kind; the message names
+    the file and what is wrong with it."""

@@ -70,7 +70,7 @@ class RunFolder:
 
     def __init__(self, path: Path, overwrite: bool = False, keep_foreign: bool = True, resume: bool = False):
         self.path = Path(path)
-        self._parts = 0
+        self._last_part: tuple[Arrays | None, int] = (None, -1)
         self._mine: set[str] = set()
         try:
             self.path.mkdir(parents=True, exist_ok=True)
@@ -255,13 +255,17 @@ class RunFolder:
         return final
 
     def checkpoint(self, chunk: Arrays) -> None:
-        """Save the next chunk of a running run's telemetry under :data:`PARTS`."""
+        """Save the next chunk of a running run's telemetry under :data:`PARTS`; the same chunk
+        object again (its hand-over was interrupted, see ``Chunks``) replaces its own part, so no
+        row is ever saved twice."""
         parts = self.claim(f"{PARTS}/")
         if parts.is_symlink():
             raise FreefloatError(f"'{parts}' is a symbolic link; freefloat does not follow links for its own files")
         parts.mkdir(exist_ok=True)
-        self.save(f"{PARTS}/part-{self._parts:05d}.npz", chunk)
-        self._parts += 1
+        last, index = self._last_part
+        index = index if chunk is last else index + 1
+        self.save(f"{PARTS}/part-{index:05d}.npz", chunk)
+        self._last_part = (chunk, index)  # one assignment: an interrupt leaves the old pair or the new
 
     def drop_checkpoints(self) -> None:
         """Remove the checkpoints once the whole telemetry is written (a file in :data:`PARTS`
