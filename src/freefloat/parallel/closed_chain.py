@@ -27,7 +27,6 @@ match. Mechanisms with frame closures build theirs from the same tree
 
 from __future__ import annotations
 
-import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -35,6 +34,7 @@ import numpy as np
 import pinocchio as pin
 
 from ..errors import FreefloatError
+from ..inputs import read_toml, reject_unknown
 from ..robot.urdf_checks import check_numbers, read_urdf
 from .mechanism import ParallelMechanism
 from .serial import SerialChain
@@ -123,10 +123,7 @@ def read_closures(path: str | Path) -> Closures:
             joint, a closure that is not a pair of frames, or an unknown closure kind.
     """
     path = Path(path)
-    try:
-        spec = tomllib.loads(path.read_text(encoding="utf-8"))
-    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:
-        raise FreefloatError(f"{path}: cannot read the closure file ({exc})") from exc
+    spec = read_toml(path, "closure file")
     _check_types(path, spec)
     urdf = path.parent / spec["urdf"]
     if not urdf.is_file():
@@ -163,6 +160,7 @@ def _check_types(path: Path, spec: dict) -> None:
     Raises:
         FreefloatError: naming the file and the key.
     """
+    reject_unknown(f"{path}: ", spec, ("urdf", "gravity", "actuated", "platform", "closures"))
     for key in ("urdf", "actuated", "platform", "closures"):
         if key not in spec:
             raise FreefloatError(f"{path}: missing key '{key}'")
@@ -172,6 +170,7 @@ def _check_types(path: Path, spec: dict) -> None:
             raise FreefloatError(f"{path}: '{key}' must be {what}, got {spec[key]!r}")
     if not isinstance(spec["actuated"], list) or not all(isinstance(n, str) for n in spec["actuated"]):
         raise FreefloatError(f"{path}: 'actuated' must be a list of joint names, got {spec['actuated']!r}")
+    reject_unknown(f"{path}: ", spec["platform"], ("frame", "coordinates"), "platform")
     if not isinstance(spec["platform"].get("frame", ""), str):
         raise FreefloatError(f"{path}: 'platform.frame' must be a frame name, got {spec['platform']['frame']!r}")
     coordinates = spec["platform"].get("coordinates", ["x", "y", "z"])
@@ -182,6 +181,7 @@ def _check_types(path: Path, spec: dict) -> None:
                 isinstance(closure.get("frames", []), list) and all(isinstance(f, str) for f in closure.get("frames", []))):
             raise FreefloatError(f"{path}: 'closures[{i}]' must be a table with 'frames' (two frame names) and "
                                  f"'kind' (a name), got {closure!r}")
+        reject_unknown(f"{path}: ", closure, ("frames", "kind"), f"closures[{i}]")
     gravity = spec.get("gravity", [0.0, 0.0, 0.0])
     if not (isinstance(gravity, list) and len(gravity) == 3 and all(
             isinstance(g, (int, float)) and not isinstance(g, bool) and np.isfinite(g) for g in gravity)):
