@@ -35,7 +35,7 @@ import pinocchio as pin
 
 from ..errors import FreefloatError
 from ..inputs import read_toml, reject_unknown
-from ..robot.urdf_checks import check_numbers, read_urdf
+from ..robot.urdf_checks import check_joints, check_numbers, read_urdf
 from .mechanism import ParallelMechanism
 from .serial import SerialChain
 
@@ -128,7 +128,9 @@ def read_closures(path: str | Path) -> Closures:
     urdf = path.parent / spec["urdf"]
     if not urdf.is_file():
         raise FreefloatError(f"{path}: 'urdf' file {urdf} does not exist")
-    check_numbers(urdf, read_urdf(urdf))
+    tree = read_urdf(urdf)
+    check_numbers(urdf, tree)
+    check_joints(urdf, tree)
     try:
         model = pin.buildModelFromUrdf(str(urdf))
     except (RuntimeError, ValueError) as exc:
