@@ -164,3 +164,22 @@ def test_a_batch_without_vary_warns_that_its_runs_are_alike(tmp_path, capsys):
     scene = scene_variant(tmp_path / "s.toml", "tumbling", simulation={"duration": 0.01})
     assert main(["batch", str(scene), "--runs", "2", "--quiet", "--out", str(tmp_path / "out")]) == 0
     assert "no --vary: the 2 runs start alike" in capsys.readouterr().err
+
+
+def test_a_batch_onto_a_full_disk_exits_2_naming_the_file(tmp_path, monkeypatch, capsys):
+    """When the disk refuses a journaled row, the batch stops with exit 2 naming the file
+    (it exited 0)."""
+    import errno
+    import os
+
+    real = os.write
+
+    def full(fd, data):
+        if os.path.basename(os.readlink(f"/proc/self/fd/{fd}")) == PARTIAL:
+            raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+        return real(fd, data)
+
+    monkeypatch.setattr(os, "write", full)
+    scene = short(tmp_path)
+    assert main(["batch", str(scene.source), "--runs", "2", "--out", str(tmp_path / "out"), "--quiet"]) == 2
+    assert f"{PARTIAL}': No space left on device" in capsys.readouterr().err

@@ -16,7 +16,7 @@ import shutil
 import secrets
 import warnings
 from pathlib import Path, PurePosixPath
-from typing import IO, Iterator
+from typing import Iterator
 
 from ..dynamics.telemetry import Arrays
 from ..errors import FreefloatError
@@ -224,9 +224,10 @@ class RunFolder:
             partial.write_text(text)
         return self.path / name
 
-    def open_append(self, name: str) -> IO[str]:
-        """``name`` opened for appending (a journal), claimed first and never through a link."""
-        return os.fdopen(open_own(self.claim(name), os.O_WRONLY | os.O_CREAT | os.O_APPEND), "a")
+    def journal(self, name: str) -> Journal:
+        """``name`` opened for appending lines (a journal), claimed first and never through a link."""
+        path = self.claim(name)
+        return Journal(path, open_own(path, os.O_WRONLY | os.O_CREAT | os.O_APPEND))
 
     def save(self, name: str, arrays: Arrays, **metadata: object) -> Path:
         """Save telemetry as ``name`` (.npz, atomically, see ``Arrays.save``); returns its path.
@@ -278,6 +279,38 @@ class RunFolder:
                 part.unlink()
         with contextlib.suppress(OSError):
             parts.rmdir()
+
+
+class Journal:
+    """A file that lines are appended to, each written through to the operating system at once
+    (unbuffered), so that a kill keeps every line appended before it.
+
+    Raises:
+        FreefloatError: naming the file when the disk refuses a line (full, read-only).
+    """
+
+    def __init__(self, path: Path, fd: int):
+        self.path, self._fd = path, fd
+
+    def append(self, line: str) -> None:
+        """Append ``line`` and a newline."""
+        data = (line + "\n").encode()
+        try:
+            while data:
+                data = data[os.write(self._fd, data):]
+        except OSError as exc:
+            raise FreefloatError(f"could not write '{self.path}': {exc.strerror or exc}") from None
+
+    def close(self) -> None:
+        """Close the file."""
+        with contextlib.suppress(OSError):
+            os.close(self._fd)
+
+    def __enter__(self) -> Journal:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
 
 
 def _remove(path: Path, folder: bool) -> None:
