@@ -197,6 +197,17 @@ def test_scene_names_become_one_folder_under_runs(name, expected, tmp_path, monk
     assert folder.parent == Path("runs") and folder.name.startswith(f"{expected}-") and "/" not in folder.name
 
 
+def test_a_long_scene_name_gives_a_folder_the_file_system_takes(tmp_path, monkeypatch):
+    """A scene named with 300 characters gets a default folder that can be created (it raised
+    'File name too long')."""
+    from freefloat.app.cli import MAX_FOLDER_NAME, default_folder
+
+    monkeypatch.chdir(tmp_path)
+    folder = default_folder("batch-" + "n" * 300)
+    folder.mkdir(parents=True)
+    assert folder.name.startswith("batch-nnn") and len(folder.name) <= MAX_FOLDER_NAME + 20
+
+
 def test_a_second_run_into_the_same_out_needs_overwrite(tmp_path, capsys):
     """Running twice into one --out exits 2 naming --overwrite; with it the folder is replaced."""
     scene = scene_variant(tmp_path / "s.toml", DEFAULT_SCENE, simulation={"duration": 0.01},

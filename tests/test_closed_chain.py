@@ -77,6 +77,9 @@ def test_pinocchio_with_the_closure_file_matches_orsino(loaded):
                                                            "coordinates, frame"),
     (lambda s: s + "stiffness = 1e6\n", "unknown \\[closures\\[0\\]\\] key 'stiffness'; allowed: frames, kind"),
     (lambda s: "a = " + "[" * 5000 + "]" * 5000 + "\n" + s, "nested too deeply"),
+    (lambda s: s.replace('frames = ["c1_ee", "c2_ee"]', 'frames = ["c1_ee", "c1_ee"]'), "joins frame 'c1_ee' to itself"),
+    (lambda s: s.replace('frames = ["c1_ee", "c2_ee"]', 'frames = ["c1_ee", "c2_link1"]'),
+     "joints c2_joint2 of five_bar.urdf lie on no chain"),
 ])
 def test_bad_closure_files_name_the_key(tmp_path, edit, message):
     """Unknown frames or joints, bad coordinates, a missing URDF, a one-frame closure, an unknown

@@ -22,6 +22,10 @@ if TYPE_CHECKING:
     from .runner import SceneRun
     from .viz.live import LiveView
 
+#: Longest scene-derived part of a default output folder's name.
+MAX_FOLDER_NAME = 80
+
+
 def main(argv: list[str] | None = None) -> int:
     """Entry point; returns the exit status (0 ok, 1 run stopped early, 2 bad input)."""
     parser = argparse.ArgumentParser(prog="freefloat", description=__doc__)
@@ -319,8 +323,9 @@ def _live_view(scene, setup) -> LiveView | None:
 
 def default_folder(scene_name: str) -> Path:
     """``runs/<scene name>-<time>``, the name reduced to one safe path component (a scene name
-    such as ``../../x`` or ``/abs`` cannot write elsewhere), numbered on a clash."""
-    safe = re.sub(r"[^A-Za-z0-9._-]+", "_", scene_name).strip("._") or "scene"
+    such as ``../../x`` or ``/abs`` cannot write elsewhere) of at most :data:`MAX_FOLDER_NAME`
+    characters (a file system refuses longer names), numbered on a clash."""
+    safe = re.sub(r"[^A-Za-z0-9._-]+", "_", scene_name)[:MAX_FOLDER_NAME].strip("._") or "scene"
     base = Path("runs") / f"{safe}-{time.strftime('%Y%m%d-%H%M%S')}"
     folder, n = base, 1
     while folder.exists():

@@ -148,6 +148,9 @@ def read_closures(path: str | Path) -> Closures:
             raise FreefloatError(f"{path}: 'closures[{i}].frames' must name two frames, got {frames}")
         if kind not in KINDS:
             raise FreefloatError(f"{path}: 'closures[{i}].kind' must be one of {list(KINDS)}, got '{kind}'")
+        if frames[0] == frames[1]:
+            raise FreefloatError(f"{path}: 'closures[{i}].frames' joins frame '{frames[0]}' to itself; a closure "
+                                 "joins two different frames")
         placements = [model.frames[out.frame_id(name, f"closures[{i}].frames")] for name in frames]
         out.constraints.append(pin.RigidConstraintModel(KINDS[kind], model, placements[0].parentJoint, placements[0].placement,
                                                         placements[1].parentJoint, placements[1].placement,
@@ -214,6 +217,15 @@ def load_closed_chain(path: str | Path) -> ClosedChain:
                 chain, joints = chain_from_tree(model, model.getFrameId(name))
                 chains.append(chain)
                 chain_joints.append(joints)
+    order = [j for joints in chain_joints for j in joints]
+    shared = sorted({model.names[j] for j in order if order.count(j) > 1})
+    if shared:
+        raise FreefloatError(f"{closures.path}: joints {', '.join(shared)} lie on more than one chain to a closure "
+                             "frame; tip-to-tip mechanisms need chains that share no joint")
+    loose = [model.names[j] for j in range(1, model.njoints) if j not in order]
+    if loose:
+        raise FreefloatError(f"{closures.path}: joints {', '.join(loose)} of {closures.urdf.name} lie on no chain from "
+                             "the root to a closure frame ('closures' frames)")
     axes = [AXES[c] for c in coords]
     p, n_tips = len(axes), len(chains)
     D = np.vstack([np.eye(p)] * n_tips)
@@ -221,7 +233,6 @@ def load_closed_chain(path: str | Path) -> ClosedChain:
     for t in range(n_tips):
         for r, axis in enumerate(axes):
             E[p * t + r, 3 * t + axis] = 1.0
-    order = [j for joints in chain_joints for j in joints]
     mech = ParallelMechanism(chains=tuple(chains), platform_mass=np.zeros((p, p)), platform_gravity=np.zeros(p),
                              D=D, d=np.zeros(p * n_tips), E=E, F=np.zeros((p * n_tips, len(order))),
                              actuated=np.array([p + order.index(j) for j in closures.actuated]))
