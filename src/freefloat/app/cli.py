@@ -245,11 +245,11 @@ def _study(args: argparse.Namespace, out: Path) -> dict:
 
 
 def _verify(args: argparse.Namespace) -> int:
-    from ..dynamics.verify import check_robot, write_report
+    from ..dynamics.verify import MAX_SAMPLES, check_robot, write_report
     from ..robot.loading import load_robot
 
-    if args.samples < 1:
-        raise FreefloatError(f"--samples must be >= 1, got {args.samples}")
+    if not 1 <= args.samples <= MAX_SAMPLES:
+        raise FreefloatError(f"--samples must be from 1 to {MAX_SAMPLES}, got {args.samples}")
     if args.seed < 0:
         raise FreefloatError(f"--seed must be >= 0, got {args.seed}")
     if args.json is not None and (args.json.is_dir() or not args.json.parent.is_dir()):
