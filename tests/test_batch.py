@@ -120,7 +120,7 @@ def test_sigterm_keeps_the_finished_rows(tmp_path, workers):
 
 
 @pytest.mark.parametrize("args, message", [
-    (["--runs", "0"], "--runs must be >= 1, got 0"),
+    (["--runs", "0"], "--runs must be from 1 to 100000, got 0"),
     (["--vary", "wobble=1"], "--vary 'wobble=1': unknown key 'wobble'"),
     (["--vary", "mass=2"], "--vary 'mass=2'"),
     (["--workers", "0"], "--workers must be >= 1, got 0"),
