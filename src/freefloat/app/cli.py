@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import importlib
 import re
 import sys
 import time
@@ -17,11 +18,16 @@ from typing import TYPE_CHECKING, Iterator
 from tqdm import tqdm
 
 from ..errors import FreefloatError
+from .signals import arrived_before_main, signals_deferred
 
 if TYPE_CHECKING:
     from .runner import SceneRun
     from .viz.live import LiveView
 
+#: The module each command imports first (with the robot loaders and their libraries), while
+#: Ctrl-C is deferred.
+HEAVY = {"simulate": ".runner", "batch": ".batch", "bench": ".runner", "reproduce": ".runner", "verify": ".runner",
+         "info": ".runner", "view": ".view"}
 #: Longest scene-derived part of a default output folder's name.
 MAX_FOLDER_NAME = 80
 
@@ -102,10 +108,20 @@ def main(argv: list[str] | None = None) -> int:
     commands_run = {"simulate": _simulate, "batch": _batch, "bench": _bench, "scenes": lambda _: _scenes(), "verify": _verify, "reproduce": _reproduce,
                     "info": _info, "view": _view}
     try:
+        early_too = arrived_before_main()
+        with signals_deferred() as early:  # Ctrl-C while importing: trimesh would swallow it
+            if args.command in HEAVY:
+                importlib.import_module(HEAVY[args.command], __package__)
+        if early.is_set() or early_too:
+            raise KeyboardInterrupt("while starting; nothing was written")
         return commands_run[args.command](args)
     except FreefloatError as exc:
         print(f"freefloat: error: {exc}", file=sys.stderr)
         return 2
+    except KeyboardInterrupt as exc:
+        print(f"freefloat: interrupted{' ' + str(exc) if str(exc) and not str(exc).startswith('SIG') else ''}",
+              file=sys.stderr)
+        return 1
 
 
 def _bench(args: argparse.Namespace) -> int:
@@ -281,7 +297,10 @@ def _simulate(args: argparse.Namespace) -> int:
         scene = dataclasses.replace(scene, output=output)
     out = args.out or default_folder(scene.name)
     with one_line_warnings():
-        setup = prepare(scene)
+        with signals_deferred() as early:
+            setup = prepare(scene)
+        if early.is_set():
+            raise KeyboardInterrupt("before the run started; nothing was written")
         live = _live_view(scene, setup) if args.view else None
         try:
             with tqdm(total=total_steps(scene), desc=scene.name, unit="step", disable=args.quiet, delay=0.5) as bar:
