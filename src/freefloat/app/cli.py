@@ -119,8 +119,8 @@ def main(argv: list[str] | None = None) -> int:
         print(f"freefloat: error: {exc}", file=sys.stderr)
         return 2
     except KeyboardInterrupt as exc:
-        print(f"freefloat: interrupted{' ' + str(exc) if str(exc) and not str(exc).startswith('SIG') else ''}",
-              file=sys.stderr)
+        detail = str(exc) if str(exc) and not str(exc).startswith("SIG") else ""
+        print(f"freefloat: interrupted{'' if detail.startswith(';') or not detail else ' '}{detail}", file=sys.stderr)
         return 1
 
 
@@ -218,9 +218,18 @@ def _reproduce(args: argparse.Namespace) -> int:
     from .run_folder import RunFolder
 
     out = args.out or Path("runs") / f"reproduce-{args.study}-{time.strftime('%Y%m%d-%H%M%S')}"
+    from .reproduce import JOURNALS
+    from .signals import signals_raise_keyboard_interrupt
+
     with RunFolder(out, args.overwrite, keep_foreign=False, resume=True) as folder:
+        for name in JOURNALS:  # claimed before they exist, so a study killed outright is still ours
+            folder.claim(name)
         try:
-            report = _study(args, out)
+            with signals_raise_keyboard_interrupt():
+                report = _study(args, out)
+        except KeyboardInterrupt:
+            raise KeyboardInterrupt(f"; the finished parts are journaled in {out} (rerun the same command to "
+                                    "resume)") from None
         finally:
             folder.claim_present()  # what the study wrote, also when it was interrupted
     print((out / "report.md").read_text())
