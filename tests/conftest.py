@@ -124,7 +124,8 @@ def toml_text(raw: dict) -> str:
 
 def scene_variant(path: Path, builtin: str, **sections: dict) -> Path:
     """Write the built-in scene ``builtin`` to ``path`` (.toml) with the given keys of each
-    section replaced (``simulation={"duration": 0.01}``); returns the path."""
+    section replaced (``simulation={"duration": 0.01}``; a mechanism's reaching phase is halved
+    down to half the shortened run); returns the path."""
     import tomllib
 
     from freefloat.app.scenes import builtin_scenes
@@ -132,6 +133,10 @@ def scene_variant(path: Path, builtin: str, **sections: dict) -> Path:
     raw = tomllib.loads(builtin_scenes()[builtin].read_text())
     for section, values in sections.items():
         raw.setdefault(section, {}).update(values)
+    duration = raw.get("simulation", {}).get("duration")
+    reaching = raw.get("metrics", {}).get("reaching_phase")
+    if "metrics" not in sections and reaching is not None and duration is not None and reaching >= duration:
+        raw["metrics"]["reaching_phase"] = duration / 2  # a shortened run still measures its tracking
     path.write_text(toml_text(raw))
     return path
 

@@ -78,6 +78,17 @@ def test_collada_texture_outside_is_dropped(tmp_path):
     assert mesh["object"]["resources"] == {}
 
 
+@pytest.mark.parametrize("url", ["http://tracker.example/pixel.png", "HTTPS://tracker.example/p.png",
+                                 "//tracker.example/p.png", " ftp://tracker.example/p.png"])
+def test_collada_texture_url_never_reaches_the_page(tmp_path, url):
+    """A Collada texture naming a URL is dropped with a warning naming it, and the page (its text
+    and every file it embeds) no longer names the host: opening it contacts nothing."""
+    _hostile_dae(tmp_path / "robot" / "evil.dae", url)
+    page, caught = _page(tmp_path, "evil.dae")
+    assert any(f"texture '{url.strip()}'" in str(w.message) and "URL" in str(w.message) for w in caught)
+    assert b"tracker.example" not in everything(page)
+
+
 def test_collada_texture_traversal_is_dropped(tmp_path):
     """A relative texture path climbing out of the URDF's folder is dropped."""
     _secret_stl(tmp_path / "outside" / "secret.png")

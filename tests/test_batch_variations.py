@@ -11,7 +11,7 @@ from hypothesis import HealthCheck, given, settings
 
 from freefloat import FreefloatError
 from freefloat.app import runner
-from freefloat.app.batch.variations import Band, parse_band, plan_runs
+from freefloat.app.batch.variations import MAX_RUNS, Band, parse_band, plan_runs
 from freefloat.app.experiments.robot_run import joint_table
 from freefloat.app.scenes import find_scene, load_scene
 
@@ -152,7 +152,7 @@ def test_keys_the_scene_cannot_take_are_refused(scene_name, band, message):
 def test_runs_below_one_and_negative_seeds_are_refused(tumbling):
     """--runs 0 and --seed -1 are errors naming the flag."""
     scene, nominal = tumbling
-    with pytest.raises(FreefloatError, match="--runs must be >= 1, got 0"):
+    with pytest.raises(FreefloatError, match="--runs must be from 1 to .*, got 0"):
         plan_runs(scene, nominal, [], 0, 0)
     with pytest.raises(FreefloatError, match="--seed must be >= 0"):
         plan_runs(scene, nominal, [], 1, -1)
@@ -163,3 +163,11 @@ def test_a_key_given_twice_is_refused(tumbling):
     scene, nominal = tumbling
     with pytest.raises(FreefloatError, match="--vary base_rate: given twice"):
         plan_runs(scene, nominal, [Band("base_rate", 1.0), Band("base_rate", 2.0)], 1, 0)
+
+
+def test_a_batch_of_a_trillion_runs_is_refused_up_front(tumbling):
+    """--runs 10**12 is refused at once naming the bound (planning every run grew memory until it
+    ran out)."""
+    scene, nominal = tumbling
+    with pytest.raises(FreefloatError, match=f"--runs must be from 1 to {MAX_RUNS}, got 1000000000000"):
+        plan_runs(scene, nominal, [], 10**12, 0)

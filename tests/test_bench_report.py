@@ -12,6 +12,7 @@ import pytest
 from freefloat.app.bench.free_floating import free_floating_scene
 from freefloat.app.bench.summary import BANDS
 from freefloat.app.cli import main
+from freefloat.app.run_folder import RECORD
 
 from .conftest import cli_process
 
@@ -27,7 +28,8 @@ def test_quick_bench_writes_every_file(quick_run):
     """Exit 0 and bench.json, bench.csv, dual_arm.png and summary.txt are written."""
     status, out = quick_run
     assert status == 0
-    assert {p.name for p in out.iterdir()} == {"bench.json", "bench.csv", "dual_arm.png", "summary.txt"}
+    assert {p.name for p in out.iterdir() if p.name != RECORD} == {"bench.json", "bench.csv", "dual_arm.png",
+                                                                  "summary.txt"}
 
 
 def test_csv_and_json_hold_the_same_points(quick_run):
@@ -95,3 +97,24 @@ def test_interrupted_bench_keeps_the_points_measured(tmp_path, signum):
     rows = list(csv.DictReader((out / "bench.csv").open()))
     assert report["status"].startswith(f"interrupted ({signal.Signals(signum).name}) after ")
     assert 1 <= len(rows) == len(report["scenes"]["four_arm"]["points"]) < len(free_floating_scene("four_arm").methods())
+
+
+def test_a_killed_bench_keeps_every_point_measured(tmp_path):
+    """SIGKILL mid-bench leaves each point measured so far in the journal, one JSON row each (it
+    kept none)."""
+    import time
+
+    from freefloat.app.bench.report import JOURNAL
+
+    from .conftest import cli_process
+
+    out = tmp_path / "out"
+    proc = cli_process("bench", "dual_arm", "--repeats", "1", "--out", str(out))
+    deadline = time.monotonic() + 240
+    while not (out / JOURNAL).is_file() or not (out / JOURNAL).read_text().count("\n") >= 2:
+        assert time.monotonic() < deadline and proc.poll() is None, "no point journaled"
+        time.sleep(0.2)
+    proc.kill()
+    proc.communicate(timeout=60)
+    rows = [json.loads(line) for line in (out / JOURNAL).read_text().splitlines()]
+    assert len(rows) >= 2 and all(r["scene"] == "dual_arm" and r["wall_time_s"] > 0 for r in rows)

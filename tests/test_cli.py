@@ -11,6 +11,7 @@ import pytest
 
 from freefloat.app.cli import main
 from freefloat.app.scenes import DEFAULT_SCENE, builtin_scenes
+from freefloat.app.run_folder import RECORD
 from freefloat.dynamics.telemetry import Telemetry
 from freefloat.paths import URDF_DIR
 
@@ -117,7 +118,7 @@ def test_mechanism_scene_writes_every_artefact(mechanism_run):
     """A mechanism scene writes telemetry, summary, scene, three figures and the HTML page; exit 0."""
     status, out, _ = mechanism_run
     assert status == 0
-    assert {p.name for p in out.iterdir()} == {"telemetry.npz", "summary.json", "scene.toml", "trajectory.html",
+    assert {p.name for p in out.iterdir() if p.name != RECORD} == {"telemetry.npz", "summary.json", "scene.toml", "trajectory.html",
                                                 "platform_tracking.png", "efforts.png", "loop_closure_drift.png",
                                                 "platform_tracking.pdf", "efforts.pdf", "loop_closure_drift.pdf"}
 
@@ -196,16 +197,53 @@ def test_scene_names_become_one_folder_under_runs(name, expected, tmp_path, monk
     assert folder.parent == Path("runs") and folder.name.startswith(f"{expected}-") and "/" not in folder.name
 
 
+def test_a_long_scene_name_gives_a_folder_the_file_system_takes(tmp_path, monkeypatch):
+    """A scene named with 300 characters gets a default folder that can be created (it raised
+    'File name too long')."""
+    from freefloat.app.cli import MAX_FOLDER_NAME, default_folder
+
+    monkeypatch.chdir(tmp_path)
+    folder = default_folder("batch-" + "n" * 300)
+    folder.mkdir(parents=True)
+    assert folder.name.startswith("batch-nnn") and len(folder.name) <= MAX_FOLDER_NAME + 20
+
+
 def test_a_second_run_into_the_same_out_needs_overwrite(tmp_path, capsys):
     """Running twice into one --out exits 2 naming --overwrite; with it the folder is replaced."""
     scene = scene_variant(tmp_path / "s.toml", DEFAULT_SCENE, simulation={"duration": 0.01},
                           output={"figures": False, "html": False})
     args = ["simulate", str(scene), "--out", str(tmp_path / "out"), "--quiet"]
     assert main(args) == 0
-    (tmp_path / "out" / "stale.png").write_text("from an older run")
     assert main(args) == 2 and "--overwrite" in capsys.readouterr().err
     assert main([*args, "--overwrite"]) == 0
-    assert not (tmp_path / "out" / "stale.png").exists() and (tmp_path / "out" / "telemetry.npz").is_file()
+    assert (tmp_path / "out" / "telemetry.npz").is_file()
+
+
+def test_overwrite_keeps_the_user_s_files_in_out(tmp_path, capsys):
+    """--overwrite replaces the previous run and keeps a document and a data folder the user put
+    beside it, naming them."""
+    scene = scene_variant(tmp_path / "s.toml", DEFAULT_SCENE, simulation={"duration": 0.01},
+                          output={"figures": False, "html": False})
+    args = ["simulate", str(scene), "--out", str(tmp_path / "out"), "--quiet", "--overwrite"]
+    assert main(args) == 0
+    (tmp_path / "out" / "report.docx").write_text("precious")
+    (tmp_path / "out" / "data").mkdir()
+    (tmp_path / "out" / "data" / "x.csv").write_text("1")
+    assert main(args) == 0
+    assert "kept 2 file(s)" in capsys.readouterr().err
+    assert (tmp_path / "out" / "report.docx").read_text() == "precious"
+    assert (tmp_path / "out" / "data" / "x.csv").read_text() == "1"
+
+
+@pytest.mark.parametrize("overwrite", [[], ["--overwrite"]])
+def test_reproduce_never_writes_over_the_user_s_report(tmp_path, capsys, overwrite):
+    """reproduce --out into a folder holding the user's report.md and report.json exits 2 naming
+    them, and leaves both."""
+    (tmp_path / "report.md").write_text("my report")
+    (tmp_path / "report.json").write_text("{}")
+    assert main(["reproduce", "chattering", "--quick", "--out", str(tmp_path), *overwrite]) == 2
+    assert "report.md" in capsys.readouterr().err or overwrite
+    assert (tmp_path / "report.md").read_text() == "my report" and (tmp_path / "report.json").read_text() == "{}"
 
 
 @pytest.mark.parametrize(("extra", "message"), [(["--seed", "-1"], "--seed must be >= 0"),
@@ -266,3 +304,23 @@ def test_simulate_any_known_robot_by_name(tmp_path):
                  "--no-figures"]) == 0
     summary = json.loads((tmp_path / "out" / "summary.json").read_text())
     assert summary["robot"]["urdf"].endswith("solo12.urdf") and summary["momentum_drift_max"] < 1e-12
+
+
+@pytest.mark.parametrize("delay", [0.05, 0.3, 0.8])
+def test_ctrl_c_while_starting_stops_cleanly(tmp_path, delay):
+    """Ctrl-C in the first second (imports, robot loading) is never swallowed by a library and
+    never a traceback: the command stops with exit 1 (it was ignored in 7 of 10 tries)."""
+    import signal
+    import time
+
+    from .conftest import cli_process
+
+    scene = scene_variant(tmp_path / "s.toml", DEFAULT_SCENE, simulation={"duration": 500.0},
+                          output={"figures": False, "html": False})
+    proc = cli_process("simulate", str(scene), "--out", str(tmp_path / "out"), "--quiet")
+    time.sleep(delay)
+    proc.send_signal(signal.SIGINT)
+    _, err = proc.communicate(timeout=120)
+    assert proc.returncode == 1 and "Traceback" not in err, f"exit {proc.returncode}; stderr:\n{err}"
+    summary = tmp_path / "out" / "summary.json"
+    assert not summary.exists() or json.loads(summary.read_text())["status"] == "interrupted"

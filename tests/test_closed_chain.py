@@ -73,10 +73,20 @@ def test_pinocchio_with_the_closure_file_matches_orsino(loaded):
     (lambda s: s.replace('frames = ["c1_ee", "c2_ee"]', 'frames = ["c1_ee"]'), "must name two frames"),
     (lambda s: s + 'kind = "hinge"\n', "'closures\\[0\\].kind' must be one of \\['point', 'frame'\\]"),
     (lambda s: s + 'kind = "frame"\n', "'closures\\[0\\].kind' is 'frame'"),
+    (lambda s: s.replace("gravity =", "gravty ="), "unknown top-level key 'gravty' \\(did you mean 'gravity'\\?\\); "
+                                                  "allowed: actuated, closures, gravity, platform, urdf"),
+    (lambda s: s.replace("coordinates =", "coordinate ="), "unknown \\[platform\\] key 'coordinate' .*allowed: "
+                                                           "coordinates, frame"),
+    (lambda s: s + "stiffness = 1e6\n", "unknown \\[closures\\[0\\]\\] key 'stiffness'; allowed: frames, kind"),
+    (lambda s: "a = " + "[" * 5000 + "]" * 5000 + "\n" + s, "nested too deeply"),
+    (lambda s: s.replace('frames = ["c1_ee", "c2_ee"]', 'frames = ["c1_ee", "c1_ee"]'), "joins frame 'c1_ee' to itself"),
+    (lambda s: s.replace('frames = ["c1_ee", "c2_ee"]', 'frames = ["c1_ee", "c2_link1"]'),
+     "joints c2_joint2 of five_bar.urdf lie on no chain"),
 ])
 def test_bad_closure_files_name_the_key(tmp_path, edit, message):
     """Unknown frames or joints, bad coordinates, a missing URDF, a one-frame closure, an unknown
-    closure kind, a frame closure given to the tip-to-tip loader: named errors."""
+    closure kind, a frame closure given to the tip-to-tip loader, a misspelt key, a file nested
+    too deeply to parse: named errors."""
     (tmp_path / "five_bar.urdf").write_text((REPO / "urdf" / "five_bar.urdf").read_text())
     (tmp_path / "m.toml").write_text(edit(CLOSURE.read_text()))
     with pytest.raises(FreefloatError, match=message):

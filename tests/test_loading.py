@@ -218,3 +218,12 @@ def test_arms_branching_at_the_base_stay_separate_end_effectors():
     """Leaves that branch at the base (the four-arm robot's arms) are not merged."""
     robot = load_robot(REPO / "urdf" / "four_arm_planar.urdf", visuals=False)
     assert robot.end_effectors == ("arm1_ee", "arm2_ee", "arm3_ee", "arm4_ee")
+
+
+@pytest.mark.parametrize("gravity", [(0.0, 0.0, float("nan")), (0.0, -9.81), ("down", 0, 0)])
+def test_a_gravity_that_is_not_three_finite_numbers_is_refused(gravity):
+    """load_robot refuses a NaN, two-component or non-numeric gravity, naming the argument."""
+    from freefloat.errors import InvalidArgument
+
+    with pytest.raises(InvalidArgument, match="'gravity' must be three finite numbers"):
+        load_robot(REPO / "urdf" / "two_arm_planar.urdf", gravity=gravity, visuals=False)

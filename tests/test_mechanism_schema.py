@@ -68,6 +68,7 @@ def test_robot_scenes_stay_robot_scenes():
     (lambda r: r["simulation"].update(integrator="rk45"), "'simulation.integrator' is 'rk45'; valid: rk4, euler, explicit_euler, rkmk4"),
     (lambda r: r["simulation"].update(step=1.0), "'simulation.step' (1.0 s) is longer than 'simulation.duration'"),
     (lambda r: r["simulation"].update(baumgarte=-1.0), "'simulation.baumgarte' must be >= 0"),
+    (lambda r: r.update(metrics={"reaching_phase": 1e3}), "'metrics.reaching_phase' (1000.0 s) is not shorter than"),
     (lambda r: r["initial"].update(platform=[]), "'initial.platform' must be a list of one or more finite numbers"),
 ])
 def test_bad_values_name_the_file_and_the_key(edit, message):

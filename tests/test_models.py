@@ -250,3 +250,21 @@ def test_the_compiled_core_has_the_registrys_compiled_models():
     from freefloat.dynamics.models import MODELS
 
     assert list(_core.MODELS) == [name for name, spec in MODELS.items() if spec.compiled and name != "exact"]
+
+
+@pytest.mark.parametrize("name", ["exact", "standard_corrected", "reduced"])
+@pytest.mark.parametrize(("argument", "bad", "message"), [
+    ("tau", lambda a: np.full_like(a, np.nan), "'tau' must be finite"),
+    ("v", lambda a: a[:-1], r"'v' must have shape \(\d+,\), got \(\d+,\)"),
+    ("q", lambda a: np.append(a, 0.0), r"'q' must have shape"),
+])
+def test_acceleration_refuses_bad_arguments_naming_them(four_arm, name, argument, bad, message):
+    """A NaN torque or a wrong-sized array gives InvalidArgument naming the argument, not NaN
+    accelerations or Pinocchio's C++ message."""
+    from freefloat.errors import InvalidArgument
+
+    model = make_model(name, four_arm)
+    args = {"q": four_arm.neutral(), "v": np.zeros(four_arm.model.nv), "tau": np.zeros(four_arm.model.nv)}
+    args[argument] = bad(args[argument])
+    with pytest.raises(InvalidArgument, match=message):
+        model.acceleration(args["q"], args["v"], args["tau"])

@@ -58,7 +58,8 @@ def test_default_scene_runs_from_an_empty_folder(installed, tmp_path):
 def test_mechanism_closure_file_is_found_from_an_empty_folder(installed, tmp_path):
     """A mechanism scene naming the built-in closure file by name finds it inside the package."""
     scene = builtin_scenes()["five_bar_computed_torque"].read_text()
-    (tmp_path / "s.toml").write_text(scene.replace("duration = 0.5", "duration = 0.002"))
+    (tmp_path / "s.toml").write_text(scene.replace("duration = 0.5", "duration = 0.002")
+                                     .replace("reaching_phase = 0.2", "reaching_phase = 0.001"))
     done = freefloat_from(installed, "simulate", "s.toml", "--quiet", "--no-html", "--no-figures", "--out", "out",
                           cwd=tmp_path)
     assert done.returncode == 0, done.stderr

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
 from freefloat.app.reproduce.models_report import REGIMES, attitude_study, tumbling_run
 
@@ -74,3 +75,38 @@ def test_printed_gains_reach_s_y_in_the_documents_time():
     tel = track_five_bar(TRUE_PARAMETERS, control, 0.02, 1e-4).telemetry
     _, s = control.sliding_variables(tel.t, tel.q, tel.v)
     assert 0.007 < reaching_times(tel.t, s)[1] < 0.0085
+
+
+def _fake_part(*args) -> dict:
+    return {"args": [str(a) for a in args]}
+
+
+def _recomputed(*args) -> dict:
+    raise AssertionError(f"part recomputed: {args}")
+
+
+def test_models_study_journals_each_part_and_resumes(tmp_path, monkeypatch):
+    """An interrupted models study keeps every finished part in its journal, and a rerun into the
+    same folder takes them instead of recomputing (it wrote only at the end)."""
+    from freefloat.app.reproduce import JOURNALS, models_report
+
+    monkeypatch.setattr(models_report, "figures", lambda report, out: None)
+    monkeypatch.setattr(models_report, "markdown", lambda report: "report")
+    monkeypatch.setattr(models_report, "accuracy", _fake_part)
+    monkeypatch.setattr(models_report, "grid_cell", _fake_part)
+    monkeypatch.setattr(models_report, "tumbling_run", _fake_part)
+
+    def interrupted():
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(models_report, "attitude_study", interrupted)
+    with pytest.raises(KeyboardInterrupt):
+        models_report.reproduce(tmp_path, quick=True, workers=1)
+    journaled = (tmp_path / models_report.JOURNAL).read_text().splitlines()
+    assert models_report.JOURNAL in JOURNALS and len(journaled) > 3 and not (tmp_path / "report.json").exists()
+    for name in ("accuracy", "grid_cell", "tumbling_run"):
+        monkeypatch.setattr(models_report, name, _recomputed)
+    monkeypatch.setattr(models_report, "attitude_study", lambda: {"rows": []})
+    report = models_report.reproduce(tmp_path, quick=True, workers=1)
+    assert len(report["grid"]) + len(report["tumbling"]) + 1 == len(journaled)
+    assert report["attitude"] == {"rows": []} and (tmp_path / "report.json").is_file()

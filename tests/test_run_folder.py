@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from freefloat import FreefloatError
-from freefloat.app.run_folder import PARTS, RunFolder
+from freefloat.app.run_folder import LOCK, PARTS, RECORD, RunFolder
 from freefloat.dynamics.telemetry import MechanismTelemetry
 
 
@@ -28,24 +28,112 @@ def test_a_second_run_into_a_held_folder_is_refused(tmp_path):
     RunFolder(tmp_path / "out").close()  # free again once released
 
 
+def previous_run(folder, *names: str) -> None:
+    """A run that wrote ``names`` (and a checkpoint) into ``folder``."""
+    with RunFolder(folder) as out:
+        for name in names:
+            out.write_text(name, "old")
+        out.checkpoint(tiny(2))
+
+
 def test_a_folder_that_is_not_empty_needs_overwrite(tmp_path):
     """A folder with files is refused without overwrite; with it, the previous run is cleared."""
-    (tmp_path / "out").mkdir()
-    (tmp_path / "out" / "summary.json").write_text("{}")
-    (tmp_path / "out" / "old_figure.png").write_text("x")
+    previous_run(tmp_path / "out", "summary.json", "old_figure.png")
     with pytest.raises(FreefloatError, match="not empty.*--overwrite"):
         RunFolder(tmp_path / "out")
     with RunFolder(tmp_path / "out", overwrite=True):
         assert not (tmp_path / "out" / "old_figure.png").exists()
+        assert not (tmp_path / "out" / PARTS).exists()
 
 
 def test_overwrite_never_clears_a_folder_that_holds_no_run(tmp_path):
-    """--overwrite refuses a folder of someone's files (no summary.json) and leaves them."""
+    """--overwrite refuses a folder of someone's files (no ownership record) and leaves them."""
     (tmp_path / "thesis").mkdir()
     (tmp_path / "thesis" / "chapter1.tex").write_text("precious")
-    with pytest.raises(FreefloatError, match="no freefloat run"):
+    with pytest.raises(FreefloatError, match="no record of a freefloat run"):
         RunFolder(tmp_path / "thesis", overwrite=True)
     assert (tmp_path / "thesis" / "chapter1.tex").read_text() == "precious"
+
+
+def test_a_summary_json_alone_does_not_make_a_folder_freefloat_s(tmp_path):
+    """A summary.json that looks like freefloat's, beside the user's files, clears nothing."""
+    (tmp_path / "out").mkdir()
+    (tmp_path / "out" / "summary.json").write_text('{"status": "completed", "versions": {}}')
+    (tmp_path / "out" / "notes.md").write_text("mine")
+    with pytest.raises(FreefloatError, match="no record"):
+        RunFolder(tmp_path / "out", overwrite=True)
+    assert {p.name for p in (tmp_path / "out").iterdir()} == {"summary.json", "notes.md"}
+
+
+def test_overwrite_removes_only_what_freefloat_wrote(tmp_path):
+    """The user's document, data folder and a note put into telemetry-parts/ survive --overwrite."""
+    out = tmp_path / "out"
+    previous_run(out, "summary.json", "telemetry.npz")
+    (out / "thesis.tex").write_text("precious")
+    (out / "data").mkdir()
+    (out / "data" / "measured.csv").write_text("1,2")
+    (out / PARTS / "note.txt").write_text("keep me")
+    with pytest.warns(UserWarning, match="kept 3 file"), RunFolder(out, overwrite=True):
+        pass
+    assert (out / "thesis.tex").read_text() == "precious"
+    assert (out / "data" / "measured.csv").read_text() == "1,2"
+    assert sorted(p.name for p in (out / PARTS).iterdir()) == ["note.txt"]
+    assert not (out / "summary.json").exists() and not (out / "telemetry.npz").exists()
+
+
+def test_a_run_never_replaces_a_file_it_did_not_write(tmp_path):
+    """A user's file with the name of a run's output is refused, named, and kept."""
+    previous_run(tmp_path / "out", "telemetry.npz")
+    (tmp_path / "out" / "summary.json").write_text("the user's own")
+    with pytest.warns(UserWarning, match="kept 1"), RunFolder(tmp_path / "out", overwrite=True) as folder:
+        with pytest.raises(FreefloatError, match="summary.json' exists and freefloat did not write it"):
+            folder.write_text("summary.json", "{}")
+    assert (tmp_path / "out" / "summary.json").read_text() == "the user's own"
+
+
+def test_a_record_naming_paths_outside_the_folder_is_refused(tmp_path):
+    """An ownership record edited to name ../ paths clears nothing."""
+    previous_run(tmp_path / "out", "summary.json")
+    (tmp_path / "victim.txt").write_text("precious")
+    with open(tmp_path / "out" / RECORD, "a") as record:
+        record.write("../victim.txt\n")
+    with pytest.raises(FreefloatError, match="not a path inside the folder"):
+        RunFolder(tmp_path / "out", overwrite=True)
+    assert (tmp_path / "victim.txt").read_text() == "precious"
+
+
+def test_a_lock_that_is_a_link_is_not_followed(tmp_path):
+    """A .freefloat.lock linking to another file is refused, naming it; the file is untouched."""
+    (tmp_path / "out").mkdir()
+    (tmp_path / "victim.txt").write_text("precious")
+    (tmp_path / "out" / LOCK).symlink_to(tmp_path / "victim.txt")
+    with pytest.raises(FreefloatError, match="freefloat.lock' is a symbolic link"):
+        RunFolder(tmp_path / "out")
+    assert (tmp_path / "victim.txt").read_text() == "precious"
+
+
+def test_a_temporary_file_that_is_a_link_is_not_followed(tmp_path):
+    """A link planted under a temporary name of the run is replaced, never written through."""
+    (tmp_path / "victim.txt").write_text("precious")
+    with RunFolder(tmp_path / "out") as folder:
+        folder.write_text("summary.json", "{}")
+        folder.save("telemetry.npz", tiny(2))
+        for name in (".summary.json.partial", ".telemetry.npz.partial"):
+            (tmp_path / "out" / name).symlink_to(tmp_path / "victim.txt")
+        folder.write_text("summary.json", '{"new": 1}')
+        folder.save("telemetry.npz", tiny(3))
+    assert (tmp_path / "victim.txt").read_text() == "precious"
+    assert (tmp_path / "out" / "summary.json").read_text() == '{"new": 1}'
+
+
+def test_a_link_under_a_temporary_name_before_the_run_is_refused(tmp_path):
+    """A link left under a temporary name the run has not claimed is refused, naming it."""
+    (tmp_path / "victim.txt").write_text("precious")
+    with RunFolder(tmp_path / "out") as folder:
+        (tmp_path / "out" / ".summary.json.partial").symlink_to(tmp_path / "victim.txt")
+        with pytest.raises(FreefloatError, match="summary.json.partial' exists"):
+            folder.write_text("summary.json", "{}")
+    assert (tmp_path / "victim.txt").read_text() == "precious"
 
 
 def test_a_failed_write_leaves_the_previous_file_whole(tmp_path, monkeypatch):
@@ -68,6 +156,17 @@ def test_checkpoints_load_back_as_one_telemetry(tmp_path):
     """Chunks checkpointed during a run read back, in order, as every row so far."""
     with RunFolder(tmp_path / "out") as folder:
         folder.checkpoint(tiny(3))
+        folder.checkpoint(tiny(2, start=3.0))
+    back = MechanismTelemetry.load_parts(tmp_path / "out" / PARTS)
+    assert np.array_equal(back.t, np.arange(5.0))
+
+
+def test_a_chunk_handed_again_replaces_its_own_part(tmp_path):
+    """A chunk checkpointed twice (its hand-over was interrupted) is saved once: no row twice."""
+    chunk = tiny(3)
+    with RunFolder(tmp_path / "out") as folder:
+        folder.checkpoint(chunk)
+        folder.checkpoint(chunk)
         folder.checkpoint(tiny(2, start=3.0))
     back = MechanismTelemetry.load_parts(tmp_path / "out" / PARTS)
     assert np.array_equal(back.t, np.arange(5.0))

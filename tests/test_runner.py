@@ -158,3 +158,20 @@ def test_an_interrupt_during_the_model_pilot_stops_the_run(tmp_path, monkeypatch
     summary = json.loads((tmp_path / "out" / "summary.json").read_text())
     assert result.outcome.status == summary["status"] == "interrupted"
     assert 0 < len(Telemetry.load(tmp_path / "out" / "telemetry.npz").t) < 5001
+
+
+@pytest.mark.parametrize("gap", [0.0, 0.05, 0.3])
+def test_a_second_ctrl_c_keeps_the_telemetry_and_summary(tmp_path, gap):
+    """Ctrl-C twice in a row (``gap`` s apart) stops the run once and still writes its
+    telemetry and summary, with exit 1 and no traceback (it raised KeyboardInterrupt while
+    the figure library was imported)."""
+    proc, out = _start(tmp_path, 500.0)
+    time.sleep(0.3)
+    proc.send_signal(signal.SIGINT)
+    time.sleep(gap)
+    proc.send_signal(signal.SIGINT)
+    _, err = proc.communicate(timeout=60)
+    assert proc.returncode == 1 and "Traceback" not in err, f"exit {proc.returncode}; stderr:\n{err}"
+    assert json.loads((out / "summary.json").read_text())["status"] == "interrupted"
+    t = Telemetry.load(out / "telemetry.npz").t
+    assert len(t) > 1 and np.all(np.diff(t) > 0)

@@ -70,6 +70,21 @@ def test_duplicate_joint_names_are_refused(tmp_path):
         load_text(tmp_path, two_link(joint2="j1"))
 
 
+def test_a_mimic_joint_naming_no_joint_is_refused(tmp_path):
+    """A <mimic joint="..."> that names no joint of the file is refused naming both joints."""
+    text = two_link().replace('<limit lower="-1" upper="1" effort="1" velocity="1"/></joint></robot>',
+                              '<limit lower="-1" upper="1" effort="1" velocity="1"/><mimic joint="j9"/></joint></robot>')
+    with pytest.raises(RobotModelError, match="joint 'j2' <mimic joint=\"j9\">: no joint of that name"):
+        load_text(tmp_path, text)
+
+
+def test_an_over_long_link_name_is_refused(tmp_path):
+    """A link name of 200 000 characters is refused up front (drawing its legend hung)."""
+    text = two_link().replace('"l2"', '"' + "L" * 200_000 + '"')
+    with pytest.raises(RobotModelError, match=f"200000 characters; at most {urdf_checks.MAX_NAME}"):
+        load_text(tmp_path, text)
+
+
 @pytest.mark.parametrize(("text", "message"), [
     (two_link()[:-40], "not well-formed XML at line 1"),
     ("<robot name='r'><link name='a'>" + "<x>" * 100_000 + "</x>" * 100_000 + "</link></robot>", "nested more than 64 levels"),

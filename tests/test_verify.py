@@ -103,3 +103,11 @@ def test_verify_reports_a_wrong_derivative(monkeypatch):
     monkeypatch.setattr(gjm, "derivatives", perturbed)
     failed = {c.quantity for c in check_robot(robot, samples=1).checks if not c.passed}
     assert failed == {"dH0"}
+
+
+def test_a_trillion_samples_are_refused_up_front(capsys):
+    """verify --samples 10**12 exits 2 naming the bound instead of running for ever."""
+    from freefloat.dynamics.verify import MAX_SAMPLES
+
+    assert main(["verify", str(REPO / "urdf" / "four_arm_planar.urdf"), "--samples", str(10**12)]) == 2
+    assert f"--samples must be from 1 to {MAX_SAMPLES}" in capsys.readouterr().err

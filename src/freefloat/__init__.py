@@ -24,6 +24,7 @@ from .errors import (
     SceneError,
     SimulationDiverged,
     SingularityError,
+    TelemetryFileError,
     UnknownName,
 )
 
@@ -77,5 +78,5 @@ def __dir__() -> list[str]:
 
 __all__ = sorted([
     *_PUBLIC, "BadShape", "FreefloatError", "InvalidArgument", "NotAssembled", "RobotModelError", "SceneError",
-    "SimulationDiverged", "SingularityError", "UnknownName", "__version__",
+    "SimulationDiverged", "SingularityError", "TelemetryFileError", "UnknownName", "__version__",
 ])

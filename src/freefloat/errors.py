@@ -53,3 +53,8 @@ class BadShape(InvalidArgument):
 class NotAssembled(FreefloatError):
     """A closed chain that cannot be assembled (loop-closure residual not driven to zero) at the
     pose asked for; the message gives the pose and the residual."""
+
+
+class TelemetryFileError(FreefloatError):
+    """A telemetry file (``.npz``) that is missing, damaged or of another kind; the message names
+    the file and what is wrong with it."""

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import importlib
 import re
 import sys
 import time
@@ -18,10 +19,19 @@ from tqdm import tqdm
 
 from ..errors import FreefloatError
 from .reproduce import STUDIES
+from .signals import arrived_before_main, signals_deferred
 
 if TYPE_CHECKING:
     from .runner import SceneRun
     from .viz.live import LiveView
+
+#: The module each command imports first (with the robot loaders and their libraries), while
+#: Ctrl-C is deferred.
+HEAVY = {"simulate": ".runner", "batch": ".batch", "bench": ".runner", "reproduce": ".runner", "verify": ".runner",
+         "info": ".runner", "view": ".view"}
+#: Longest scene-derived part of a default output folder's name.
+MAX_FOLDER_NAME = 80
+
 
 def main(argv: list[str] | None = None) -> int:
     """Entry point; returns the exit status (0 ok, 1 run stopped early, 2 bad input)."""
@@ -74,6 +84,9 @@ def main(argv: list[str] | None = None) -> int:
     rep.add_argument("study", choices=list(STUDIES),
                      help="; ".join(f"{name}: {study.help}" for name, study in STUDIES.items()))
     rep.add_argument("--out", type=Path, default=None, help="output folder (default: runs/reproduce-<study>-<time>)")
+    rep.add_argument("--overwrite", action="store_true",
+                     help="replace the study freefloat wrote in --out (default: continue it from its journal; a "
+                          "folder holding other files is refused)")
     rep.add_argument("--quick", action="store_true", help="short runs and few samples (a smoke test)")
     rep.add_argument("--workers", type=int, default=2, help="parallel processes (default 2)")
     rep.add_argument("--runs", type=int, default=20, help="robustness: Monte-Carlo runs (default 20)")
@@ -89,10 +102,20 @@ def main(argv: list[str] | None = None) -> int:
     commands_run = {"simulate": _simulate, "batch": _batch, "bench": _bench, "scenes": lambda _: _scenes(), "verify": _verify, "reproduce": _reproduce,
                     "info": _info, "view": _view}
     try:
+        early_too = arrived_before_main()
+        with signals_deferred() as early:  # Ctrl-C while importing: trimesh would swallow it
+            if args.command in HEAVY:
+                importlib.import_module(HEAVY[args.command], __package__)
+        if early.is_set() or early_too:
+            raise KeyboardInterrupt("while starting; nothing was written")
         return commands_run[args.command](args)
     except FreefloatError as exc:
         print(f"freefloat: error: {exc}", file=sys.stderr)
         return 2
+    except KeyboardInterrupt as exc:
+        detail = str(exc) if str(exc) and not str(exc).startswith("SIG") else ""
+        print(f"freefloat: interrupted{'' if detail.startswith(';') or not detail else ' '}{detail}", file=sys.stderr)
+        return 1
 
 
 def _bench(args: argparse.Namespace) -> int:
@@ -187,22 +210,42 @@ def _info(args: argparse.Namespace) -> int:
 
 
 def _reproduce(args: argparse.Namespace) -> int:
+    from .run_folder import RunFolder
+
     out = args.out or Path("runs") / f"reproduce-{args.study}-{time.strftime('%Y%m%d-%H%M%S')}"
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        report = STUDIES[args.study].run(out, args.quick, workers=max(1, args.workers), runs=args.runs,
-                                         relative_error=args.error, scheduler=args.scheduler)
+    from .reproduce import JOURNALS
+    from .signals import signals_raise_keyboard_interrupt
+
+    with RunFolder(out, args.overwrite, keep_foreign=False, resume=True) as folder:
+        for name in JOURNALS:  # claimed before they exist, so a study killed outright is still ours
+            folder.claim(name)
+        try:
+            with signals_raise_keyboard_interrupt():
+                report = _study(args, out)
+        except KeyboardInterrupt:
+            raise KeyboardInterrupt(f"; the finished parts are journaled in {out} (rerun the same command to "
+                                    "resume)") from None
+        finally:
+            folder.claim_present()  # what the study wrote, also when it was interrupted
     print((out / "report.md").read_text())
     print(f"wrote {out} in {report['wall_time_s']:.0f} s")
     return 0
 
 
+def _study(args: argparse.Namespace, out: Path) -> dict:
+    """Run the study ``args.study`` (:data:`~freefloat.app.reproduce.STUDIES`) into ``out``; its report."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return STUDIES[args.study].run(out, args.quick, workers=max(1, args.workers), runs=args.runs,
+                                       relative_error=args.error, scheduler=args.scheduler)
+
+
 def _verify(args: argparse.Namespace) -> int:
-    from ..dynamics.verify import check_robot, write_report
+    from ..dynamics.verify import MAX_SAMPLES, check_robot, write_report
     from ..robot.loading import load_robot
 
-    if args.samples < 1:
-        raise FreefloatError(f"--samples must be >= 1, got {args.samples}")
+    if not 1 <= args.samples <= MAX_SAMPLES:
+        raise FreefloatError(f"--samples must be from 1 to {MAX_SAMPLES}, got {args.samples}")
     if args.seed < 0:
         raise FreefloatError(f"--seed must be >= 0, got {args.seed}")
     if args.json is not None and (args.json.is_dir() or not args.json.parent.is_dir()):
@@ -234,7 +277,10 @@ def _simulate(args: argparse.Namespace) -> int:
         scene = dataclasses.replace(scene, output=output)
     out = args.out or default_folder(scene.name)
     with one_line_warnings():
-        setup = prepare(scene)
+        with signals_deferred() as early:
+            setup = prepare(scene)
+        if early.is_set():
+            raise KeyboardInterrupt("before the run started; nothing was written")
         live = _live_view(scene, setup) if args.view else None
         try:
             with tqdm(total=total_steps(scene), desc=scene.name, unit="step", disable=args.quiet, delay=0.5) as bar:
@@ -276,8 +322,9 @@ def _live_view(scene, setup) -> LiveView | None:
 
 def default_folder(scene_name: str) -> Path:
     """``runs/<scene name>-<time>``, the name reduced to one safe path component (a scene name
-    such as ``../../x`` or ``/abs`` cannot write elsewhere), numbered on a clash."""
-    safe = re.sub(r"[^A-Za-z0-9._-]+", "_", scene_name).strip("._") or "scene"
+    such as ``../../x`` or ``/abs`` cannot write elsewhere) of at most :data:`MAX_FOLDER_NAME`
+    characters (a file system refuses longer names), numbered on a clash."""
+    safe = re.sub(r"[^A-Za-z0-9._-]+", "_", scene_name)[:MAX_FOLDER_NAME].strip("._") or "scene"
     base = Path("runs") / f"{safe}-{time.strftime('%Y%m%d-%H%M%S')}"
     folder, n = base, 1
     while folder.exists():

@@ -6,11 +6,9 @@ from __future__ import annotations
 import dataclasses
 import json
 import math
-import os
 import platform
 import shutil
 import sys
-import tempfile
 import time
 from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
@@ -88,16 +86,11 @@ def write_run(folder: RunFolder, scene: Scene | MechanismScene, outcome: Outcome
 
 
 def _draw(folder: RunFolder, draw: Callable[[Path], list[Path]]) -> list[Path]:
-    """Files ``draw(into)`` makes in a private subfolder, each renamed into ``folder`` when all
+    """Files ``draw(into)`` makes in a private subfolder, each moved into ``folder`` when all
     are done (a drawing stopped half-way leaves nothing)."""
-    into = Path(tempfile.mkdtemp(prefix=".drawing-", dir=folder.path))
+    into = folder.private_dir()
     try:
-        made = draw(into)
-        moved = []
-        for path in made:
-            os.replace(path, folder.path / path.name)
-            moved.append(folder.path / path.name)
-        return moved
+        return [folder.place(path) for path in draw(into)]
     except OSError as exc:
         raise FreefloatError(f"could not write into '{folder.path}': {exc.strerror or exc}") from exc
     finally:

@@ -1,13 +1,21 @@
 """The output folder of one run: created and checked before the run starts, locked against other
-runs, written file by file under temporary names, and checkpointed as telemetry comes in."""
+runs, written file by file under temporary names, and checkpointed as telemetry comes in.
+
+Every name freefloat creates in the folder is first written to its ownership record,
+:data:`RECORD`; ``--overwrite`` removes exactly the names in that record and nothing else, and a
+run never replaces a file the record does not name. freefloat's own files (the lock, the record,
+the temporary files) are opened without following symbolic links."""
 
 from __future__ import annotations
 
 import contextlib
+import errno
 import fcntl
 import os
 import shutil
-from pathlib import Path
+import secrets
+import warnings
+from pathlib import Path, PurePosixPath
 from typing import Iterator
 
 from ..dynamics.telemetry import Arrays
@@ -18,60 +26,169 @@ from ..errors import FreefloatError
 #: ``Telemetry.load_parts(folder / PARTS)`` reads every checkpointed row.
 PARTS = "telemetry-parts"
 LOCK = ".freefloat.lock"
+#: The ownership record: one name (relative to the folder, ``/``-separated) per line, of every
+#: file or folder freefloat created there; a folder's name ends with ``/``.
+RECORD = ".freefloat-files"
+_HEADER = "# freefloat: the files its runs wrote in this folder; --overwrite removes these and nothing else\n"
+#: Opening flags of freefloat's own files: never through a symbolic link, not inherited.
+_NOFOLLOW = os.O_NOFOLLOW | os.O_CLOEXEC
+
+
+def open_own(path: Path, flags: int, mode: int = 0o644) -> int:
+    """``os.open(path, flags)`` that refuses a symbolic link at ``path`` (a file descriptor).
+
+    Raises:
+        FreefloatError: naming ``path`` when it is a symbolic link (or cannot be opened).
+    """
+    try:
+        return os.open(path, flags | _NOFOLLOW, mode)
+    except OSError as exc:
+        if exc.errno == errno.ELOOP or os.path.islink(path):
+            raise FreefloatError(f"'{path}' is a symbolic link; freefloat does not follow links for its own "
+                                 "files (remove it)") from None
+        raise FreefloatError(f"'{path}' cannot be written: {exc.strerror or exc}") from exc
 
 
 class RunFolder:
     """An output folder held by one run.
 
     Opening it creates the folder, takes an exclusive lock (a second run into the same folder is
-    refused at once) and checks that it is empty; with ``overwrite`` a previous run's folder
-    (one with a ``summary.json``) is cleared instead.
+    refused at once) and checks that it is empty; with ``overwrite`` the files a previous run
+    recorded in :data:`RECORD` are removed instead, and every other file is kept.
+
+    Args:
+        keep_foreign: with ``overwrite``, keep files freefloat did not write (otherwise refuse
+            the folder when it holds any: for a command that writes into it directly).
+        resume: without ``overwrite``, take a folder that holds only freefloat's files as it is
+            (a command that continues from its journal), instead of refusing it.
 
     Raises:
         FreefloatError: naming the folder when it is a file, sits under one, cannot be written,
-            is in use by another run, or is not empty (and ``overwrite`` is not given, or it does
-            not hold a freefloat run).
+            is in use by another run, or is not empty (and ``overwrite`` is not given, or it holds
+            no record of freefloat's files); naming the lock when it is a symbolic link.
     """
 
-    def __init__(self, path: Path, overwrite: bool = False):
+    def __init__(self, path: Path, overwrite: bool = False, keep_foreign: bool = True, resume: bool = False):
         self.path = Path(path)
-        self._parts = 0
+        self._last_part: tuple[Arrays | None, int] = (None, -1)
+        self._mine: set[str] = set()
         try:
             self.path.mkdir(parents=True, exist_ok=True)
-            self._lock = open(self.path / LOCK, "w")
         except OSError as exc:
             raise FreefloatError(f"output folder '{self.path}' cannot be written: {exc.strerror or exc}") from exc
+        self._lock = open_own(self.path / LOCK, os.O_RDWR | os.O_CREAT)
         try:
             fcntl.flock(self._lock, fcntl.LOCK_EX | fcntl.LOCK_NB)
         except OSError:
-            self._lock.close()
+            os.close(self._lock)
             raise FreefloatError(f"output folder '{self.path}' is in use by another freefloat run") from None
         try:
-            self._clear(overwrite)
+            self._clear(overwrite, keep_foreign, resume)
             self.write_text(".freefloat-write-check", "")
             (self.path / ".freefloat-write-check").unlink()
         except BaseException:
             self.close()
             raise
 
-    def _clear(self, overwrite: bool) -> None:
-        held = [p for p in self.path.iterdir() if p.name != LOCK]
+    def owned(self) -> list[str]:
+        """The names the ownership record lists (each checked to name a path inside the folder).
+
+        Raises:
+            FreefloatError: naming the record when it lists a path outside the folder.
+        """
+        record = self.path / RECORD
+        if not os.path.lexists(record):
+            return []
+        fd = open_own(record, os.O_RDONLY)
+        with os.fdopen(fd, errors="replace") as file:
+            names = [line.rstrip("\n") for line in file if line.strip() and not line.startswith("#")]
+        for name in names:
+            parts = PurePosixPath(name).parts
+            if not parts or parts[0] == "/" or ".." in parts or len(parts) > 2:
+                raise FreefloatError(f"'{record}' names '{name}', which is not a path inside the folder; "
+                                     "not clearing it")
+        return names
+
+    def _clear(self, overwrite: bool, keep_foreign: bool, resume: bool) -> None:
+        held = [p for p in self.path.iterdir() if p.name not in (LOCK, RECORD)]
         if not held:
             return
+        if resume and not overwrite:
+            owned = self.owned()
+            foreign = sorted(p.name for p in held if p.name not in {n.split("/")[0] for n in owned})
+            if not foreign:  # a previous run of the same command: continue it, its files are ours
+                self._mine.update(n.rstrip("/") for n in owned)
+                return
+            raise FreefloatError(f"output folder '{self.path}' holds files freefloat did not write "
+                                 f"({', '.join(foreign)}); choose another --out")
         if not overwrite:
             raise FreefloatError(f"output folder '{self.path}' is not empty; choose another --out, or pass "
                                  "--overwrite to replace the run in it")
-        if not (self.path / "summary.json").is_file() and not (self.path / PARTS).is_dir():
-            raise FreefloatError(f"output folder '{self.path}' holds files but no freefloat run (no summary.json); "
-                                 "not clearing it")
-        for p in held:
-            shutil.rmtree(p) if p.is_dir() and not p.is_symlink() else p.unlink()
+        owned = self.owned()
+        if not owned:
+            raise FreefloatError(f"output folder '{self.path}' holds files but no record of a freefloat run "
+                                 f"({RECORD}); not clearing it")
+        foreign = sorted(p.name for p in held if p.name not in {n.split("/")[0] for n in owned})
+        if foreign and not keep_foreign:
+            raise FreefloatError(f"output folder '{self.path}' holds files freefloat did not write ({', '.join(foreign)}) "
+                                 "and this command writes files whose names it does not know up front; not using it")
+        for name in sorted(set(owned), key=lambda n: -n.rstrip("/").count("/")):  # a folder's contents before it
+            _remove(self.path / name.rstrip("/"), folder=name.endswith("/"))
+        with contextlib.suppress(FileNotFoundError):
+            (self.path / RECORD).unlink()
+        kept = sorted(p.name for p in self.path.iterdir() if p.name != LOCK)
+        if kept:
+            warnings.warn(f"--overwrite kept {len(kept)} file(s) in '{self.path}' that freefloat did not write: "
+                          f"{', '.join(kept)}", stacklevel=2)
+
+    def claim(self, name: str) -> Path:
+        """Record ``name`` (relative to the folder; a folder ends with ``/``) as freefloat's before
+        it is created, and return its path.
+
+        Raises:
+            FreefloatError: naming the file when it exists and is not freefloat's (not written by
+                this run), or when the record cannot be written.
+        """
+        bare = name.rstrip("/")
+        path = self.path / bare
+        if bare not in self._mine:
+            reusable = name.endswith("/") and path.is_dir() and not path.is_symlink()  # its files are claimed one by one
+            if os.path.lexists(path) and not reusable:
+                raise FreefloatError(f"'{path}' exists and freefloat did not write it; not replacing it "
+                                     "(move it away or choose another --out)")
+            fd = open_own(self.path / RECORD, os.O_WRONLY | os.O_CREAT | os.O_APPEND)
+            try:
+                if os.fstat(fd).st_size == 0:
+                    os.write(fd, _HEADER.encode())
+                os.write(fd, f"{name}\n".encode())
+            finally:
+                os.close(fd)
+            self._mine.add(bare)
+        return path
+
+    def claim_present(self) -> None:
+        """Claim every file and folder now in the folder (after a command that wrote them
+        directly into a folder it held alone: ``keep_foreign=False``)."""
+        for entry in sorted(self.path.iterdir()):
+            if entry.name not in (LOCK, RECORD) and entry.name not in self._mine:
+                self.claim(f"{entry.name}/" if entry.is_dir() and not entry.is_symlink() else entry.name)
+
+    def _claim_file(self, name: str) -> tuple[Path, Path]:
+        """Claim ``name`` and its temporary name; both paths, the temporary one created empty (a
+        link or file left there before is removed first, so nothing is written through it)."""
+        final = self.claim(name)
+        partial = self.claim(str(PurePosixPath(name).with_name(f".{PurePosixPath(name).name}.partial")))
+        with contextlib.suppress(FileNotFoundError):
+            partial.unlink()
+        os.close(open_own(partial, os.O_WRONLY | os.O_CREAT | os.O_EXCL))
+        return final, partial
 
     def close(self) -> None:
         """Release the lock."""
         with contextlib.suppress(OSError):
             (self.path / LOCK).unlink()
-        self._lock.close()
+        with contextlib.suppress(OSError):
+            os.close(self._lock)
 
     def __enter__(self) -> RunFolder:
         return self
@@ -85,14 +202,18 @@ class RunFolder:
         normally, removed otherwise, so no half-written file ever carries the name.
 
         Raises:
-            FreefloatError: naming the file when the disk refuses it (full, read-only).
+            FreefloatError: naming the file when the disk refuses it (full, read-only), or when a
+                file of that name exists that freefloat did not write.
         """
-        partial = self.path / f".{name}.partial"
         try:
-            yield partial
-            os.replace(partial, self.path / name)
+            final, partial = self._claim_file(name)
         except OSError as exc:
             raise FreefloatError(f"could not write '{self.path / name}': {exc.strerror or exc}") from exc
+        try:
+            yield partial
+            os.replace(partial, final)
+        except OSError as exc:
+            raise FreefloatError(f"could not write '{final}': {exc.strerror or exc}") from exc
         finally:
             with contextlib.suppress(OSError):
                 partial.unlink()
@@ -103,24 +224,107 @@ class RunFolder:
             partial.write_text(text)
         return self.path / name
 
+    def journal(self, name: str) -> Journal:
+        """``name`` opened for appending lines (a journal), claimed first and never through a link."""
+        path = self.claim(name)
+        return Journal(path, open_own(path, os.O_WRONLY | os.O_CREAT | os.O_APPEND))
+
     def save(self, name: str, arrays: Arrays, **metadata: object) -> Path:
         """Save telemetry as ``name`` (.npz, atomically, see ``Arrays.save``); returns its path.
 
         Raises:
             FreefloatError: naming the file when the disk refuses it.
         """
+        final, _ = self._claim_file(name)
         try:
-            arrays.save(self.path / name, **metadata)
+            arrays.save(final, **metadata)
         except OSError as exc:
-            raise FreefloatError(f"could not write '{self.path / name}': {exc.strerror or exc}") from exc
-        return self.path / name
+            raise FreefloatError(f"could not write '{final}': {exc.strerror or exc}") from exc
+        return final
+
+    def private_dir(self) -> Path:
+        """A new, uniquely named hidden subfolder of freefloat's (for files made out of sight and
+        then :meth:`place`-d)."""
+        into = self.claim(f".drawing-{secrets.token_hex(6)}/")
+        into.mkdir()
+        return into
+
+    def place(self, made: Path) -> Path:
+        """Move the file ``made`` (in a :meth:`private_dir`) into the folder under its name."""
+        final = self.claim(made.name)
+        os.replace(made, final)
+        return final
 
     def checkpoint(self, chunk: Arrays) -> None:
-        """Save the next chunk of a running run's telemetry under :data:`PARTS`."""
-        (self.path / PARTS).mkdir(exist_ok=True)
-        self.save(f"{PARTS}/part-{self._parts:05d}.npz", chunk)
-        self._parts += 1
+        """Save the next chunk of a running run's telemetry under :data:`PARTS`; the same chunk
+        object again (its hand-over was interrupted, see ``Chunks``) replaces its own part, so no
+        row is ever saved twice."""
+        parts = self.claim(f"{PARTS}/")
+        if parts.is_symlink():
+            raise FreefloatError(f"'{parts}' is a symbolic link; freefloat does not follow links for its own files")
+        parts.mkdir(exist_ok=True)
+        last, index = self._last_part
+        index = index if chunk is last else index + 1
+        self.save(f"{PARTS}/part-{index:05d}.npz", chunk)
+        self._last_part = (chunk, index)  # one assignment: an interrupt leaves the old pair or the new
 
     def drop_checkpoints(self) -> None:
-        """Remove the checkpoints once the whole telemetry is written."""
-        shutil.rmtree(self.path / PARTS, ignore_errors=True)
+        """Remove the checkpoints once the whole telemetry is written (a file in :data:`PARTS`
+        that freefloat did not write stays, and so does the folder then)."""
+        parts = self.path / PARTS
+        if PARTS not in self._mine or parts.is_symlink() or not parts.is_dir():
+            return
+        for part in parts.iterdir():
+            if f"{PARTS}/{part.name}" in self._mine:
+                part.unlink()
+        with contextlib.suppress(OSError):
+            parts.rmdir()
+
+
+class Journal:
+    """A file that lines are appended to, each written through to the operating system at once
+    (unbuffered), so that a kill keeps every line appended before it.
+
+    Raises:
+        FreefloatError: naming the file when the disk refuses a line (full, read-only).
+    """
+
+    def __init__(self, path: Path, fd: int):
+        self.path, self._fd = path, fd
+
+    def append(self, line: str) -> None:
+        """Append ``line`` and a newline."""
+        data = (line + "\n").encode()
+        try:
+            while data:
+                data = data[os.write(self._fd, data):]
+        except OSError as exc:
+            raise FreefloatError(f"could not write '{self.path}': {exc.strerror or exc}") from None
+
+    def close(self) -> None:
+        """Close the file."""
+        with contextlib.suppress(OSError):
+            os.close(self._fd)
+
+    def __enter__(self) -> Journal:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+
+def _remove(path: Path, folder: bool) -> None:
+    """Remove one recorded name: a file or link by unlinking it, a folder once it is empty (a
+    private drawing folder with what it holds)."""
+    if not os.path.lexists(path):
+        return
+    try:
+        if path.is_symlink() or not path.is_dir():
+            path.unlink()
+        elif path.name.startswith(".drawing-"):
+            shutil.rmtree(path)
+        elif folder:
+            with contextlib.suppress(OSError):
+                path.rmdir()  # it still holds files freefloat did not write
+    except OSError as exc:
+        raise FreefloatError(f"could not remove '{path}': {exc.strerror or exc}") from exc

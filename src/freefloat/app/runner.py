@@ -9,28 +9,28 @@ The runner owns a run's life cycle:
   SIGHUP (what ``timeout``, batch schedulers and container stops send) interrupt it as Ctrl-C
   does: the loop ends with the status and message it gives and keeps every computed sample;
 - a run whose summary is not finite is a failure, whatever its loop said;
-- while the folder is written, a further interrupt skips the drawings still to come instead of
-  losing the telemetry and summary.
+- only the first interrupt stops the run (:func:`~freefloat.app.signals.stop_once`); a second
+  one, or any that comes after the loop, skips the drawings still to come instead of losing the
+  telemetry and summary.
 """
 
 from __future__ import annotations
 
-import contextlib
 import math
-import signal
-import threading
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Callable, Iterator
+from typing import Any, Callable
 
 from .experiments import Outcome, Progress, experiment_for
 from .experiments.model_choice import describe, resolve, with_plant
 from .outputs import write_run
 from .run_folder import RunFolder
 from .scenes import MechanismScene, Scene
+from .signals import STOP_SIGNALS, signals_deferred, signals_raise_keyboard_interrupt, stop_once
 
-#: Signals that stop a run as Ctrl-C (SIGINT) does.
-STOP_SIGNALS = tuple(getattr(signal, name) for name in ("SIGTERM", "SIGHUP") if hasattr(signal, name))
+__all__ = ["STOP_SIGNALS", "SceneRun", "choose_plant", "fail_if_not_finite", "note_model_choice", "prepare",
+           "run_scene", "signals_deferred", "signals_raise_keyboard_interrupt", "simulate", "total_steps"]
+
 
 
 @dataclass
@@ -121,18 +121,16 @@ def run_scene(scene: Scene | MechanismScene, folder: Path, progress: Progress | 
             the folder cannot be used; after the run, when the disk refuses a file.
     """
     setup = prepare(scene) if setup is None else setup
-    with RunFolder(folder, overwrite) as out:
-        with signals_raise_keyboard_interrupt():
-            try:
-                setup = choose_plant(scene, setup)
-            except KeyboardInterrupt:  # during the pilot: stop the run at its first report instead
-                progress = _stop_at_first_report
+    with RunFolder(folder, overwrite) as out, stop_once() as interrupts:
+        try:
+            setup = choose_plant(scene, setup)
+        except KeyboardInterrupt:  # during the pilot: stop the run at its first report instead
+            progress = _stop_at_first_report
         checkpoint = out.checkpoint if watch is None else lambda chunk: (out.checkpoint(chunk), watch(chunk))
-        with signals_raise_keyboard_interrupt():
-            outcome = experiment_for(scene).run(setup, progress, checkpoint)
-            outcome = fail_if_not_finite(note_model_choice(outcome, setup))
-        with signals_deferred() as interrupted:
-            written, skipped = write_run(out, scene, outcome, interrupted.is_set)
+        outcome = experiment_for(scene).run(setup, progress, checkpoint)
+        seen = interrupts.defer()  # from here on an interrupt only skips the drawings, as a second one does
+        outcome = fail_if_not_finite(note_model_choice(outcome, setup))
+        written, skipped = write_run(out, scene, outcome, lambda: interrupts.count >= 2 or interrupts.count > seen)
     return SceneRun(outcome, folder, written, skipped)
 
 
@@ -160,37 +158,3 @@ def _finite(value: object) -> bool:
     if isinstance(value, dict):
         return all(_finite(v) for v in value.values())
     return True
-
-
-@contextlib.contextmanager
-def signals_raise_keyboard_interrupt() -> Iterator[None]:
-    """SIGTERM and SIGHUP raise ``KeyboardInterrupt`` inside the block, as Ctrl-C does."""
-
-    def interrupt(signum: int, frame: object) -> None:
-        raise KeyboardInterrupt(signal.Signals(signum).name)
-
-    with _handling(interrupt, STOP_SIGNALS):
-        yield
-
-
-@contextlib.contextmanager
-def signals_deferred() -> Iterator[threading.Event]:
-    """Ctrl-C, SIGTERM and SIGHUP set the yielded event inside the block instead of stopping
-    the process there."""
-    received = threading.Event()
-    with _handling(lambda signum, frame: received.set(), (signal.SIGINT, *STOP_SIGNALS)):
-        yield received
-
-
-@contextlib.contextmanager
-def _handling(handler: Callable[[int, object], None], signums: tuple[int, ...]) -> Iterator[None]:
-    """``handler`` for ``signums`` inside the block (main thread only; elsewhere a no-op)."""
-    if threading.current_thread() is not threading.main_thread():
-        yield
-        return
-    previous = {signum: signal.signal(signum, handler) for signum in signums}
-    try:
-        yield
-    finally:
-        for signum, old in previous.items():
-            signal.signal(signum, old)

@@ -4,11 +4,15 @@ saved as ``.npz``."""
 from __future__ import annotations
 
 import os
+import zipfile
+import zlib
 from dataclasses import dataclass, fields
 from pathlib import Path
 from typing import Callable, Generic, TypeVar
 
 import numpy as np
+
+from ..errors import TelemetryFileError
 
 A = TypeVar("A", bound="Arrays")
 
@@ -24,20 +28,49 @@ class Arrays:
         """Write all arrays to ``path`` (.npz); ``metadata`` values are stored as arrays too.
 
         The file is written under a temporary name and renamed into place, so ``path`` is never
-        a half-written file, whatever stops the process."""
+        a half-written file, whatever stops the process; the temporary file is opened without
+        following a symbolic link."""
         path = Path(path)
         arrays = {f.name: getattr(self, f.name) for f in fields(self)}
         arrays.update({f"meta_{k}": np.asarray(v) for k, v in metadata.items()})
         partial = path.with_name(f".{path.name}.partial")
-        with open(partial, "wb") as file:
+        fd = os.open(partial, os.O_WRONLY | os.O_CREAT | os.O_TRUNC | os.O_NOFOLLOW | os.O_CLOEXEC, 0o644)
+        with os.fdopen(fd, "wb") as file:
             np.savez_compressed(file, **arrays)
         os.replace(partial, path)
 
     @classmethod
     def load(cls: type[A], path: str | Path) -> A:
-        """Read a file written by :meth:`save` (metadata is ignored)."""
-        with np.load(path) as data:
-            return cls(**{f.name: data[f.name] for f in fields(cls)})
+        """Read a file written by :meth:`save` (metadata is ignored).
+
+        Raises:
+            TelemetryFileError: naming the file when it cannot be read, is not an ``.npz`` of
+                this kind of telemetry (the arrays it lacks are listed) or its arrays differ in
+                length.
+        """
+        names = [f.name for f in fields(cls)]
+        try:
+            data = np.load(path, allow_pickle=False)
+            if not isinstance(data, np.lib.npyio.NpzFile):
+                raise TelemetryFileError(f"'{path}' is a single array, not {cls.__name__} telemetry (.npz)")
+            with data:
+                missing = [n for n in names if n not in data.files]
+                if missing:
+                    raise TelemetryFileError(f"'{path}' is not {cls.__name__} telemetry: it lacks "
+                                             f"{', '.join(missing)}")
+                arrays = {n: data[n] for n in names}
+        except TelemetryFileError:
+            raise
+        except FileNotFoundError:
+            raise TelemetryFileError(f"'{path}' does not exist") from None
+        except (OSError, ValueError, EOFError, KeyError, zipfile.BadZipFile, zlib.error) as exc:
+            raise TelemetryFileError(f"'{path}' is damaged or not a telemetry file: {type(exc).__name__}: "
+                                     f"{exc}") from None
+        lengths = {n: len(a) if a.ndim else None for n, a in arrays.items()}
+        if None in lengths.values() or len(set(lengths.values())) > 1:
+            raise TelemetryFileError(f"'{path}' is damaged: its arrays differ in length "
+                                     f"({', '.join(f'{n}: {k}' for n, k in lengths.items())})")
+        return cls(**arrays)
 
     @classmethod
     def concatenate(cls: type[A], parts: list[A]) -> A:
@@ -51,11 +84,17 @@ class Arrays:
 
         Raises:
             FileNotFoundError: when ``folder`` holds no part.
+            TelemetryFileError: naming the part that is damaged or foreign, or two parts whose
+                columns do not match.
         """
         parts = sorted(Path(folder).glob("part-*.npz"))
         if not parts:
             raise FileNotFoundError(f"{folder}: no telemetry part (part-*.npz)")
-        return cls.concatenate([cls.load(p) for p in parts])
+        loaded = [cls.load(p) for p in parts]
+        try:
+            return cls.concatenate(loaded)
+        except ValueError as exc:
+            raise TelemetryFileError(f"'{folder}': its parts do not fit together ({exc})") from None
 
 
 class Chunks(Generic[A]):
@@ -63,41 +102,59 @@ class Chunks(Generic[A]):
     what was recorded, and every full chunk is handed to ``on_chunk`` (e.g. saved to disk) as the
     run goes.
 
+    The bookkeeping is two counters, each changed by one assignment: ``filled`` (rows written,
+    over all chunks; row ``r`` lives in chunk ``r // rows``) and ``handed`` (chunks given to
+    ``on_chunk``). An exception at any instruction (Ctrl-C, SIGTERM) therefore leaves a state
+    where every row is either counted once or not at all, and a chunk whose hand-over was
+    interrupted is handed again.
+
     Args:
         allocate: ``allocate(rows)``: an empty chunk of ``rows`` samples.
         rows: samples per chunk.
-        on_chunk: called with each full chunk, in order.
+        on_chunk: called with each full chunk, in order (the same chunk again if the call before
+            was interrupted).
     """
 
     def __init__(self, allocate: Callable[[int], A], rows: int = 1024,
                  on_chunk: Callable[[A], None] | None = None):
         self.allocate, self.rows, self.on_chunk = allocate, rows, on_chunk
-        self.done: list[A] = []
-        self.current = allocate(rows)
-        self.used = 0
+        self.chunks: list[A] = []
+        self.filled = 0
+        self.handed = 0
 
     def next_row(self) -> tuple[A, int]:
         """The chunk and row index to write the next sample into; the row counts once
         :meth:`commit` says it is written (a sample interrupted half-way is not kept)."""
-        if self.used == self.rows:
-            self.done.append(self.current)
+        k, row = divmod(self.filled, self.rows)
+        self._hand_full(k)
+        if k == len(self.chunks):
+            self.chunks.append(self.allocate(self.rows))
+        return self.chunks[k], row
+
+    def _hand_full(self, k: int) -> None:
+        """Hand chunks ``handed .. k - 1`` (full) to ``on_chunk``."""
+        while self.handed < k:
             if self.on_chunk is not None:
-                self.on_chunk(self.current)
-            self.current, self.used = self.allocate(self.rows), 0
-        return self.current, self.used
+                self.on_chunk(self.chunks[self.handed])
+            self.handed += 1
 
     def commit(self, rows: int = 1) -> None:
         """Count the row :meth:`next_row` gave (and the ``rows - 1`` after it, filled in the same
         chunk) as written."""
-        self.used += rows
+        self.filled += rows
 
     def collect(self) -> A:
-        """All samples recorded, in order; the last chunk (possibly partial) goes to
-        ``on_chunk`` too."""
-        last = self.current.truncated(self.used)
-        if self.on_chunk is not None and self.used:
+        """All samples recorded, in order; the full chunks not handed on yet and the last one
+        (possibly partial) go to ``on_chunk`` too."""
+        k, row = divmod(self.filled, self.rows)
+        whole = self.chunks[:k]
+        last = self.chunks[k].truncated(row) if row else None
+        self._hand_full(k)
+        if self.on_chunk is not None and last is not None:
             self.on_chunk(last)
-        return type(last).concatenate([*self.done, last])
+        if not whole and last is None:
+            return self.allocate(0)
+        return type(whole[0] if whole else last).concatenate([*whole, *([last] if last is not None else [])])
 
 
 @dataclass

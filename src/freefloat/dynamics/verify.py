@@ -23,6 +23,7 @@ from pathlib import Path
 import numpy as np
 import pinocchio as pin
 
+from ..errors import InvalidArgument
 from ..robot.joints import JointCoordinates
 from ..robot.robot import Robot
 from . import gjm
@@ -141,9 +142,22 @@ def column_error(hand: np.ndarray, fd: np.ndarray, matrix: np.ndarray, h: float)
     return float(error / scale) if scale > 0 else error
 
 
+#: Most random states one check takes (each costs finite differences over every joint: about
+#: 10 ms on a 16-joint robot, so the bound is some twenty minutes).
+MAX_SAMPLES = 100_000
+
+
 def check_robot(robot: Robot, samples: int = 10, seed: int = 0) -> Report:
     """Run every check on ``samples`` random states of ``robot`` (free-flyer base), for both GJM
-    backends (compiled and numpy); each check reports the worse of the two."""
+    backends (compiled and numpy); each check reports the worse of the two.
+
+    Raises:
+        InvalidArgument: for ``samples`` outside [1, :data:`MAX_SAMPLES`] or a negative ``seed``.
+    """
+    if not isinstance(samples, int) or not 1 <= samples <= MAX_SAMPLES:
+        raise InvalidArgument(f"samples must be from 1 to {MAX_SAMPLES}, got {samples!r}")
+    if not isinstance(seed, int) or seed < 0:
+        raise InvalidArgument(f"seed must be an integer >= 0, got {seed!r}")
     rng = np.random.default_rng(seed)
     coords = JointCoordinates(robot)
     worst: dict[str, float] = {}

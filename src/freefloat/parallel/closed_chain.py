@@ -27,7 +27,6 @@ match. Mechanisms with frame closures build theirs from the same tree
 
 from __future__ import annotations
 
-import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -35,7 +34,8 @@ import numpy as np
 import pinocchio as pin
 
 from ..errors import FreefloatError
-from ..robot.urdf_checks import check_numbers, read_urdf
+from ..inputs import read_toml, reject_unknown
+from ..robot.urdf_checks import check_joints, check_numbers, read_urdf
 from .mechanism import ParallelMechanism
 from .serial import SerialChain
 
@@ -123,15 +123,14 @@ def read_closures(path: str | Path) -> Closures:
             joint, a closure that is not a pair of frames, or an unknown closure kind.
     """
     path = Path(path)
-    try:
-        spec = tomllib.loads(path.read_text(encoding="utf-8"))
-    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:
-        raise FreefloatError(f"{path}: cannot read the closure file ({exc})") from exc
+    spec = read_toml(path, "closure file")
     _check_types(path, spec)
     urdf = path.parent / spec["urdf"]
     if not urdf.is_file():
         raise FreefloatError(f"{path}: 'urdf' file {urdf} does not exist")
-    check_numbers(urdf, read_urdf(urdf))
+    tree = read_urdf(urdf)
+    check_numbers(urdf, tree)
+    check_joints(urdf, tree)
     try:
         model = pin.buildModelFromUrdf(str(urdf))
     except (RuntimeError, ValueError) as exc:
@@ -149,6 +148,9 @@ def read_closures(path: str | Path) -> Closures:
             raise FreefloatError(f"{path}: 'closures[{i}].frames' must name two frames, got {frames}")
         if kind not in KINDS:
             raise FreefloatError(f"{path}: 'closures[{i}].kind' must be one of {list(KINDS)}, got '{kind}'")
+        if frames[0] == frames[1]:
+            raise FreefloatError(f"{path}: 'closures[{i}].frames' joins frame '{frames[0]}' to itself; a closure "
+                                 "joins two different frames")
         placements = [model.frames[out.frame_id(name, f"closures[{i}].frames")] for name in frames]
         out.constraints.append(pin.RigidConstraintModel(KINDS[kind], model, placements[0].parentJoint, placements[0].placement,
                                                         placements[1].parentJoint, placements[1].placement,
@@ -163,6 +165,7 @@ def _check_types(path: Path, spec: dict) -> None:
     Raises:
         FreefloatError: naming the file and the key.
     """
+    reject_unknown(f"{path}: ", spec, ("urdf", "gravity", "actuated", "platform", "closures"))
     for key in ("urdf", "actuated", "platform", "closures"):
         if key not in spec:
             raise FreefloatError(f"{path}: missing key '{key}'")
@@ -172,6 +175,7 @@ def _check_types(path: Path, spec: dict) -> None:
             raise FreefloatError(f"{path}: '{key}' must be {what}, got {spec[key]!r}")
     if not isinstance(spec["actuated"], list) or not all(isinstance(n, str) for n in spec["actuated"]):
         raise FreefloatError(f"{path}: 'actuated' must be a list of joint names, got {spec['actuated']!r}")
+    reject_unknown(f"{path}: ", spec["platform"], ("frame", "coordinates"), "platform")
     if not isinstance(spec["platform"].get("frame", ""), str):
         raise FreefloatError(f"{path}: 'platform.frame' must be a frame name, got {spec['platform']['frame']!r}")
     coordinates = spec["platform"].get("coordinates", ["x", "y", "z"])
@@ -182,6 +186,7 @@ def _check_types(path: Path, spec: dict) -> None:
                 isinstance(closure.get("frames", []), list) and all(isinstance(f, str) for f in closure.get("frames", []))):
             raise FreefloatError(f"{path}: 'closures[{i}]' must be a table with 'frames' (two frame names) and "
                                  f"'kind' (a name), got {closure!r}")
+        reject_unknown(f"{path}: ", closure, ("frames", "kind"), f"closures[{i}]")
     gravity = spec.get("gravity", [0.0, 0.0, 0.0])
     if not (isinstance(gravity, list) and len(gravity) == 3 and all(
             isinstance(g, (int, float)) and not isinstance(g, bool) and np.isfinite(g) for g in gravity)):
@@ -212,6 +217,15 @@ def load_closed_chain(path: str | Path) -> ClosedChain:
                 chain, joints = chain_from_tree(model, model.getFrameId(name))
                 chains.append(chain)
                 chain_joints.append(joints)
+    order = [j for joints in chain_joints for j in joints]
+    shared = sorted({model.names[j] for j in order if order.count(j) > 1})
+    if shared:
+        raise FreefloatError(f"{closures.path}: joints {', '.join(shared)} lie on more than one chain to a closure "
+                             "frame; tip-to-tip mechanisms need chains that share no joint")
+    loose = [model.names[j] for j in range(1, model.njoints) if j not in order]
+    if loose:
+        raise FreefloatError(f"{closures.path}: joints {', '.join(loose)} of {closures.urdf.name} lie on no chain from "
+                             "the root to a closure frame ('closures' frames)")
     axes = [AXES[c] for c in coords]
     p, n_tips = len(axes), len(chains)
     D = np.vstack([np.eye(p)] * n_tips)
@@ -219,7 +233,6 @@ def load_closed_chain(path: str | Path) -> ClosedChain:
     for t in range(n_tips):
         for r, axis in enumerate(axes):
             E[p * t + r, 3 * t + axis] = 1.0
-    order = [j for joints in chain_joints for j in joints]
     mech = ParallelMechanism(chains=tuple(chains), platform_mass=np.zeros((p, p)), platform_gravity=np.zeros(p),
                              D=D, d=np.zeros(p * n_tips), E=E, F=np.zeros((p * n_tips, len(order))),
                              actuated=np.array([p + order.index(j) for j in closures.actuated]))

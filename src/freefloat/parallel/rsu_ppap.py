@@ -30,7 +30,6 @@ model needs no fourth chain for it.
 
 from __future__ import annotations
 
-import tomllib
 from pathlib import Path
 
 import numpy as np
@@ -38,6 +37,7 @@ import pinocchio as pin
 import yourdfpy
 
 from ..errors import FreefloatError
+from ..inputs import read_toml, reject_unknown
 from ..paths import URDF_DIR
 from ..robot.builders import JOINT_LIMIT, body_link, box_visual, pose, wrap_robot
 from .closed_chain import ClosedChain, chain_from_tree, read_closures
@@ -67,12 +67,12 @@ def load_data(path: str | Path = DATA) -> dict:
             shape, not positive (masses, lengths), or a crank direction that is not +-x or +-z.
     """
     path = Path(path)
-    try:
-        data = tomllib.loads(path.read_text(encoding="utf-8"))
-    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:
-        raise FreefloatError(f"{path}: cannot read the 2RSU+PPaP data ({exc})") from exc
+    data = read_toml(path, "2RSU+PPaP data file")
     for section, keys in _KEYS.items():
         table = data.get(section, {}) if section else data
+        if not isinstance(table, dict):
+            raise FreefloatError(f"{path}: '{section}' must be a table, got {table!r}")
+        reject_unknown(f"{path}: ", table, [*keys, *(s for s in _KEYS if s and not section)], section)
         for key, shape in keys.items():
             name = f"{section}.{key}" if section else key
             if key not in table:

@@ -17,7 +17,7 @@ import numpy as np
 import pinocchio as pin
 import yourdfpy
 
-from ..errors import RobotModelError
+from ..errors import InvalidArgument, RobotModelError
 from .catalog import example_robot_data_share, find_robot, is_name
 from .robot import BASE_DOFS, Arm, Robot
 from .urdf_checks import (
@@ -41,6 +41,14 @@ BASE_COM_FRAME = "base_com"
 
 class FreefloatWarning(UserWarning):
     """Something in a URDF was loaded with a stated assumption (missing limits, meshes...)."""
+
+
+def _numbers(value: object) -> bool:
+    """Whether ``value`` converts to a float array (not strings or objects)."""
+    try:
+        return np.asarray(value).dtype.kind in "biuf"
+    except (TypeError, ValueError):
+        return False
 
 
 def load_robot(
@@ -68,11 +76,15 @@ def load_robot(
         The :class:`~freefloat.robot.Robot`.
 
     Raises:
+        InvalidArgument: for a gravity that is not three finite numbers.
         RobotModelError: naming the file and the link or joint, when the file cannot be a
             floating-base tree (missing parent, two roots, a loop, negative mass, an inertia that is
             not positive definite, an unsupported joint type) or an end-effector does not exist.
     """
     path = Path(path)
+    given, gravity = gravity, np.asarray(gravity, dtype=float) if _numbers(gravity) else np.full(3, np.nan)
+    if gravity.shape != (3,) or not np.isfinite(gravity).all():
+        raise InvalidArgument(f"load_robot: 'gravity' must be three finite numbers (m/s^2), got {given!r}")
     if base not in BASE_DOFS:
         raise RobotModelError(f"base must be one of {sorted(BASE_DOFS)}, got {base!r}")
     if isinstance(end_effectors, str):

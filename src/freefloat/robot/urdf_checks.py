@@ -28,6 +28,8 @@ DATA_PER_RUN = 6
 MAX_MAGNITUDE = 1e15
 #: Deepest XML nesting accepted (a URDF needs about 5 levels).
 MAX_DEPTH = 64
+#: Longest link, joint or frame name accepted (names end up in legends, tables and file names).
+MAX_NAME = 256
 #: Share of the machine's memory a robot may take.
 MEMORY_SHARE = 0.5
 
@@ -86,15 +88,32 @@ def check_numbers(path: Path, root: ET.Element) -> None:
 
 
 def check_joints(path: Path, root: ET.Element) -> None:
-    """Joint names are unique, and the model fits in memory (Pinocchio's ``Data`` grows as nv^3).
+    """Link and joint names are at most :data:`MAX_NAME` long, joint names are unique, a mimic
+    joint follows a joint that exists, and the model fits in memory (Pinocchio's ``Data`` grows
+    as nv^3).
 
     Raises:
-        RobotModelError: naming the repeated joint, or the joint count with the memory estimate.
+        RobotModelError: naming the over-long name, the repeated joint, the mimic joint and the
+            joint it names, or the joint count with the memory estimate.
     """
+    for kind in ("link", "joint"):
+        for element in root.findall(kind):
+            name = element.get("name") or ""
+            if len(name) > MAX_NAME:
+                raise RobotModelError(f"{path}: {kind} '{name[:40]}...' has a name of {len(name)} characters; "
+                                      f"at most {MAX_NAME}")
     names = [joint.get("name") for joint in root.findall("joint")]
+    counts: dict[str | None, int] = {}
     for name in names:
-        if names.count(name) > 1:
-            raise RobotModelError(f"{path}: joint '{name}' is defined {names.count(name)} times")
+        counts[name] = counts.get(name, 0) + 1
+    for name, count in counts.items():
+        if count > 1:
+            raise RobotModelError(f"{path}: joint '{name}' is defined {count} times")
+    for joint in root.findall("joint"):
+        for mimic in joint.findall("mimic"):
+            if mimic.get("joint") not in counts:
+                raise RobotModelError(f"{path}: joint '{joint.get('name')}' <mimic joint=\"{mimic.get('joint')}\">: "
+                                      "no joint of that name")
     nv = 6 + sum(joint.get("type") in ("revolute", "continuous", "prismatic") for joint in root.findall("joint"))
     need = DATA_PER_RUN * DATA_BYTES_PER_NV3 * nv**3
     have = usable_memory()

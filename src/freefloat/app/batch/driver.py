@@ -68,11 +68,10 @@ def run_batch(scene: Scene | MechanismScene, folder: Path, runs: int, bands: lis
     with executor(workers) as execute, RunFolder(folder, overwrite) as out:
         if scene.source is not None:
             out.write_text("scene.toml", scene.source.read_text(errors="replace"))
-        with open(out.path / PARTIAL, "a") as partial:
+        with out.journal(PARTIAL) as partial:
             def keep(row: dict[str, Any]) -> None:
                 rows[row["run"]] = row
-                partial.write(json.dumps(row) + "\n")
-                partial.flush()
+                partial.append(json.dumps(row))
                 if progress is not None:
                     progress(row)
 

@@ -102,6 +102,11 @@ def check_bands(scene: Scene | MechanismScene, bands: list[Band]) -> None:
                                  "grasp); mass varies joint-space and detumbling scenes")
 
 
+#: Most runs one batch takes: every run is planned up front (about a kilobyte each), and
+#: 10**12 runs grew memory at 15 MB/s until it ran out.
+MAX_RUNS = 100_000
+
+
 def plan_runs(scene: Scene | MechanismScene, nominal: Any, bands: list[Band], runs: int, seed: int) -> list[RunPlan]:
     """The ``runs`` runs of a batch, each with its seeded draws.
 
@@ -110,11 +115,12 @@ def plan_runs(scene: Scene | MechanismScene, nominal: Any, bands: list[Band], ru
             joints, bodies and platform coordinates to vary.
 
     Raises:
-        FreefloatError: for ``runs`` < 1 or ``seed`` < 0 (naming the flag), or a band the scene
+        FreefloatError: for ``runs`` outside [1, :data:`MAX_RUNS`] or ``seed`` < 0 (naming the flag), or a band the scene
             cannot take (see :func:`check_bands`).
     """
-    if runs < 1:
-        raise FreefloatError(f"--runs must be >= 1, got {runs}")
+    if not 1 <= runs <= MAX_RUNS:
+        raise FreefloatError(f"--runs must be from 1 to {MAX_RUNS}, got {runs} (the runs are planned up front; "
+                             "split a bigger study into batches)")
     if seed < 0:
         raise FreefloatError(f"--seed must be >= 0, got {seed}")
     check_bands(scene, bands)

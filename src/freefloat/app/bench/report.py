@@ -12,6 +12,7 @@ from pathlib import Path
 
 from ...dynamics.threads import single_blas_thread
 from ...errors import InvalidArgument
+from ..run_folder import Journal, RunFolder
 from ..runner import signals_raise_keyboard_interrupt
 from .free_floating import NOTES, free_floating_scene
 from .mechanisms import MECHANISM_SCENES, mechanism_scene
@@ -22,6 +23,9 @@ from .sweep import Point, sweep, timed_reference
 
 #: Every bench scene with its note: the free-floating robots, then the closed-chain mechanisms.
 ALL_SCENES = {**NOTES, **MECHANISM_SCENES}
+#: Each measured point, one JSON line (a row of bench.csv), appended as it comes: what a bench
+#: killed outright leaves.
+JOURNAL = "points.jsonl"
 CSV_FIELDS = ("scene", "package", "integrator", "model", "loop", "setting", "wall_time_s", "state_error",
               "momentum_error", "energy_error", "constraint_drift")
 
@@ -47,7 +51,9 @@ def bench(out: Path, scenes: list[str] | None = None, quick: bool = False, durat
     """Run the sweep for each scene in this process and write the folder ``out``.
 
     Args:
-        out: output folder (created; must be new or empty).
+        out: output folder (created; must be new or empty). Each point is appended to
+            :data:`JOURNAL` there as it is measured (removed once the files are written), so a
+            bench killed outright keeps every point measured.
         scenes: names from :data:`ALL_SCENES` (default: all).
         quick: each scene's smoke sweep (a few steps, a short duration) and one repeat.
         duration: simulated time per run, s (default: each scene's own).
@@ -70,9 +76,15 @@ def bench(out: Path, scenes: list[str] | None = None, quick: bool = False, durat
     if not (isinstance(repeats, int) and repeats >= 1):
         raise InvalidArgument(f"repeats must be an integer >= 1, got {repeats!r}")
     built = [bench_scene(name, duration, quick, seed) for name in names]  # bad scenes fail before any run
-    if out.exists() and (not out.is_dir() or any(out.iterdir())):
-        raise InvalidArgument(f"{out}: output folder exists and is not empty")
-    out.mkdir(parents=True, exist_ok=True)
+    with RunFolder(out) as folder, folder.journal(JOURNAL) as journal:
+        report = _measure(folder, journal, built, repeats, quick, seed, progress)
+    (out / JOURNAL).unlink()
+    return report
+
+
+def _measure(out: RunFolder, journal: Journal, built: list[BenchScene], repeats: int, quick: bool, seed: int,
+             progress) -> dict:
+    """The sweeps of :func:`bench` into the held folder ``out``, each point journaled as measured."""
     report = {"settings": {"repeats": repeats, "quick": quick, "seed": seed},
               "versions": {"freefloat": version("freefloat"), "pin": version("pin"), "mujoco": version("mujoco"),
                            "python": platform.python_version()},
@@ -88,6 +100,7 @@ def bench(out: Path, scenes: list[str] | None = None, quick: bool = False, durat
                 ref, report["scenes"][scene.name]["reference_wall_time_s"] = timed_reference(scene)
                 for point in sweep(scene, ref, repeats):
                     points[scene.name].append(point)
+                    journal.append(json.dumps(_row(scene.name, point)))
                 _write(out, report, built, points, scene.name)
                 progress(f"{scene.name}: {len(points[scene.name])} points")
         report["status"] = "completed"
@@ -100,7 +113,7 @@ def bench(out: Path, scenes: list[str] | None = None, quick: bool = False, durat
     return report
 
 
-def _write(out: Path, report: dict, scenes: list[BenchScene], points: dict[str, list[Point]],
+def _write(out: RunFolder, report: dict, scenes: list[BenchScene], points: dict[str, list[Point]],
            charted: str | None) -> None:
     """``bench.json``, ``bench.csv`` and ``summary.txt`` from the points so far, and the chart of
     the scene ``charted`` (None: no chart)."""
@@ -111,12 +124,12 @@ def _write(out: Path, report: dict, scenes: list[BenchScene], points: dict[str, 
         rows += report["scenes"][name]["points"]
         lines += summary_lines(name, bands)
     report["summary"] = lines
-    (out / "bench.json").write_text(json.dumps(report, indent=2))
-    with open(out / "bench.csv", "w", newline="") as f:
+    out.write_text("bench.json", json.dumps(report, indent=2))
+    with out.atomic("bench.csv") as partial, open(partial, "w", newline="") as f:
         extra = sorted({key for row in rows for key in row} - set(CSV_FIELDS))
         writer = csv.DictWriter(f, fieldnames=CSV_FIELDS + tuple(extra))
         writer.writeheader()
         writer.writerows(rows)
-    (out / "summary.txt").write_text("\n".join(lines) + "\n")
+    out.write_text("summary.txt", "\n".join(lines) + "\n")
     if charted is not None:
-        chart(next(s for s in scenes if s.name == charted), points[charted], out / f"{charted}.png")
+        chart(next(s for s in scenes if s.name == charted), points[charted], out.claim(f"{charted}.png"))

@@ -24,6 +24,9 @@ class Study:
         module: its module in this package.
         function: the module's ``reproduce(out, quick=..., **options)``.
         options: the command-line options it takes besides ``--quick`` (e.g. ``workers``).
+        journal: the file it appends its finished parts to, if any (``models``: each part;
+            ``robustness``: each sample), so that an interrupted study keeps them and a rerun into
+            the same folder resumes.
     """
 
     name: str
@@ -31,6 +34,7 @@ class Study:
     module: str
     function: str = "reproduce"
     options: tuple[str, ...] = ()
+    journal: str | None = None
 
     def run(self, out: Path, quick: bool = False, **options: Any) -> dict:
         """Run the study into ``out``; ``options`` beyond :attr:`options` are ignored."""
@@ -49,7 +53,8 @@ def register(study: Study) -> Study:
 
 
 for _study in (
-    Study("models", "which dynamics model matches the exact one, where", "models_report", options=("workers",)),
+    Study("models", "which dynamics model matches the exact one, where", "models_report", options=("workers",),
+          journal="parts.jsonl"),
     Study("task_space", "sec 5.2 (Tables 2-5, figs 38-40)", "task_space_report"),
     Study("phases", "one model per capture phase vs exact", "phases_report"),
     Study("five_bar", "the 5R's sliding-mode gains and tracking (thesis sec 5.6)", "five_bar_report"),
@@ -57,7 +62,10 @@ for _study in (
           "reproduce_stability"),
     Study("chattering", "sign(s) against tanh(100 s) over the control period", "chattering_report"),
     Study("robustness", "Monte-Carlo of the 5R controller through Dask", "five_bar_report", "reproduce_robustness",
-          ("runs", "relative_error", "scheduler")),
+          ("runs", "relative_error", "scheduler"), "samples.jsonl"),
     Study("stability", "the largest stable step per integrator and scene", "stability_report"),
 ):
     register(_study)
+
+#: Every study's journal: ``freefloat reproduce`` claims them in its folder before the study runs.
+JOURNALS = tuple(study.journal for study in STUDIES.values() if study.journal)

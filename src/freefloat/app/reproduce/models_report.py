@@ -16,8 +16,9 @@ Four parts, all against Pinocchio's ABA (``exact``), written as JSON, Markdown a
 from __future__ import annotations
 
 import dataclasses
+import json
 import time
-from concurrent.futures import ProcessPoolExecutor
+from concurrent.futures import ProcessPoolExecutor, as_completed
 from pathlib import Path
 
 import numpy as np
@@ -132,21 +133,63 @@ def attitude_study() -> dict:
     return {"spins": rows, "eq11_printed_max_relative_error": float(np.max(printed))}
 
 
+#: Each finished part of the study, one JSON line (``{"settings", "part", "result"}``), so that an
+#: interrupted or killed study keeps them and a rerun into the same folder resumes from them.
+JOURNAL = "parts.jsonl"
+
+
+def _journaled(path: Path, settings: dict) -> dict[str, dict]:
+    """The parts an earlier run into the same folder journaled with the same settings, by part."""
+    if not path.is_file():
+        return {}
+    done = {}
+    for line in path.read_text().splitlines():
+        try:
+            record = json.loads(line)
+        except json.JSONDecodeError:
+            continue  # a line cut by a kill
+        if isinstance(record, dict) and record.get("settings") == settings and "part" in record:
+            done[json.dumps(record["part"])] = record["result"]
+    return done
+
+
 def reproduce(out: Path, quick: bool = False, workers: int = 2, seed: int = 0) -> dict:
-    """Run all parts and write ``report.json``, ``report.md`` and figures into ``out``."""
+    """Run all parts and write ``report.json``, ``report.md`` and figures into ``out``.
+
+    Each finished part (the accuracy table, each grid cell, each tumbling run, the attitude study)
+    is appended to :data:`JOURNAL` as it comes in; rerun into the same folder with the same
+    settings, the study takes the parts journaled there instead of recomputing them.
+    """
     out.mkdir(parents=True, exist_ok=True)
     duration = 0.5 if quick else 5.0
     start = time.perf_counter()
-    report: dict = {"settings": {"quick": quick, "seed": seed, "grid_duration_s": duration, "workers": workers}}
-    report["accuracy"] = accuracy(3 if quick else 20, seed)
-    cells = [(p, c, "euler") for p in GRID_MODELS for c in GRID_MODELS] + [("exact", c, "rkmk4") for c in EXACT_PLANT_CONTROLLERS]
-    cases = [(m, case) for case in list(REGIMES)[1:] for m in TUMBLING_MODELS]
-    with ProcessPoolExecutor(max_workers=workers) as pool:
-        grid = [pool.submit(grid_cell, p, c, i, duration) for p, c, i in cells]
-        tumbling = [pool.submit(tumbling_run, m, case, 0.1 if quick else 1.0, seed) for m, case in cases]
-        report["grid"] = [f.result() for f in grid]
-        report["tumbling"] = [f.result() for f in tumbling]
-    report["attitude"] = attitude_study()
+    settings = {"quick": quick, "seed": seed, "grid_duration_s": duration}
+    report: dict = {"settings": {**settings, "workers": workers}}
+    done = _journaled(out / JOURNAL, settings)
+    with open(out / JOURNAL, "a") as journal:
+        def keep(part: list, result: dict) -> dict:
+            journal.write(json.dumps({"settings": settings, "part": part, "result": result}) + "\n")
+            journal.flush()
+            done[json.dumps(part)] = result
+            return result
+
+        def part(key: list, compute) -> dict:
+            return done[json.dumps(key)] if json.dumps(key) in done else keep(key, compute())
+
+        report["accuracy"] = part(["accuracy"], lambda: accuracy(3 if quick else 20, seed))
+        cells = [(p, c, "euler") for p in GRID_MODELS for c in GRID_MODELS] + [("exact", c, "rkmk4") for c in EXACT_PLANT_CONTROLLERS]
+        cases = [(m, case) for case in list(REGIMES)[1:] for m in TUMBLING_MODELS]
+        keys = [["grid", *cell] for cell in cells] + [["tumbling", *case] for case in cases]
+        with ProcessPoolExecutor(max_workers=workers) as pool:
+            futures = {pool.submit(grid_cell, *cell, duration): key for key, cell in zip(keys, cells)
+                       if json.dumps(key) not in done}
+            futures.update({pool.submit(tumbling_run, *case, 0.1 if quick else 1.0, seed): key
+                            for key, case in zip(keys[len(cells):], cases) if json.dumps(key) not in done})
+            for future in as_completed(futures):
+                keep(futures[future], future.result())
+        report["grid"] = [done[json.dumps(key)] for key in keys[:len(cells)]]
+        report["tumbling"] = [done[json.dumps(key)] for key in keys[len(cells):]]
+        report["attitude"] = part(["attitude"], attitude_study)
     write_report(out, report, markdown, start)
     figures(report, out)
     return report

@@ -10,11 +10,11 @@ from __future__ import annotations
 
 import contextlib
 import dataclasses
-import tomllib
 from pathlib import Path
 from typing import Any
 
 from ...errors import SceneError
+from ...inputs import read_toml
 from ...paths import SCENES_DIR, URDF_DIR
 from .mechanism_schema import MechanismScene, parse_mechanism_scene
 from .schema import Scene, parse_robot_scene
@@ -33,16 +33,7 @@ def load_scene(path: str | Path) -> Scene | MechanismScene:
         SceneError: naming the file and the key for unknown keys, wrong types, impossible values.
     """
     path = Path(path)
-    try:
-        raw = tomllib.loads(path.read_text(encoding="utf-8"))
-    except FileNotFoundError as exc:
-        raise SceneError(f"{path}: no such scene file") from exc
-    except (IsADirectoryError, PermissionError) as exc:
-        raise SceneError(f"{path}: cannot read the scene file ({exc.strerror})") from exc
-    except UnicodeDecodeError as exc:
-        raise SceneError(f"{path}: not UTF-8 text (byte {exc.start})") from exc
-    except tomllib.TOMLDecodeError as exc:
-        raise SceneError(f"{path}: not valid TOML ({exc})") from exc
+    raw = read_toml(path, "scene file", SceneError)
     return parse_scene(raw, source=path)
 
 

@@ -8,6 +8,7 @@ from dataclasses import MISSING, dataclass
 from collections.abc import Callable
 from typing import Any, NamedTuple
 
+from ... import inputs
 from ...errors import SceneError
 
 #: Largest size of any number in a scene (SI units: nothing physical a scene sets comes near it;
@@ -75,10 +76,8 @@ def parse_section(where: str, section: str, cls: type, raw: Any, rules: Rules) -
 
 
 def reject_unknown(where: str, section: str, raw: dict, allowed: set[str]) -> None:
-    for key in raw:
-        if key not in allowed:
-            name = f"[{section}] key '{key}'" if section else f"top-level key '{key}'"
-            raise SceneError(f"{where}unknown {name}; allowed: {', '.join(sorted(allowed))}")
+    """A key of ``raw`` not in ``allowed`` refused (see :func:`freefloat.inputs.reject_unknown`)."""
+    inputs.reject_unknown(where, raw, allowed, section, SceneError)
 
 
 def typed(where: str, key: str, value: Any, kind: type) -> Any:

@@ -161,5 +161,8 @@ def parse_mechanism_scene(raw: dict[str, Any], source: Path | None = None) -> Me
         raise SceneError(f"{where}'simulation.step' ({scene.simulation.step} s) is longer than "
                          f"'simulation.duration' ({scene.simulation.duration} s)")
     whole_number_of(where, scene.simulation.duration, scene.simulation.step, "simulation.duration", "simulation.step")
+    if scene.metrics.reaching_phase >= scene.simulation.duration:
+        raise SceneError(f"{where}'metrics.reaching_phase' ({scene.metrics.reaching_phase} s) is not shorter than "
+                         f"'simulation.duration' ({scene.simulation.duration} s): no tracking error would be measured")
     at_most(where, scene.output.html_fps, MAX_HTML_FPS, "output.html_fps")
     return scene

@@ -4,8 +4,10 @@ A page may carry only files the robot's description legitimately points to: a me
 Collada texture must resolve (symbolic links followed) inside the URDF's folder or a package
 directory (:func:`allowed_folders`). A mesh elsewhere (``file:///etc/...``,
 ``package://../../..``) is refused: the geometry is left out with a :class:`FreefloatWarning`
-naming the URDF, the geometry and the path. A texture elsewhere, missing, or not an image is
-dropped with a warning and the mesh is drawn untextured.
+naming the URDF, the geometry and the path. A texture elsewhere, missing, not an image, or named
+by a URL (``http://``, ``//host/...``) is dropped with a warning and the mesh is drawn untextured;
+its name is also removed from the Collada text the page embeds, so a page never names a URL a
+browser would fetch (no tracking pixel, nothing loaded from the network).
 
 Each allowed file is stored once in an :class:`AssetTable` however many geometries use it,
 gzip-compressed (``mtime=0``, so pages stay bit-reproducible); command packets hold the
@@ -17,7 +19,9 @@ from __future__ import annotations
 
 import base64
 import gzip
+import html
 import mimetypes
+import re
 import warnings
 import xml.etree.ElementTree as ET
 from pathlib import Path
@@ -59,7 +63,7 @@ class AssetTable:
         self.folders = folders
         self.source = source
         self.entries: list[tuple[str, str]] = []
-        self._index: dict[Path, int] = {}
+        self._index: dict[object, int] = {}
 
     def placeholder(self, path: Path, kind: str) -> str:
         """The placeholder of ``path`` (read, compressed and stored on first use)."""
@@ -78,23 +82,58 @@ class AssetTable:
               f"and the package directories ({', '.join(map(str, self.folders))}); refused, geometry not drawn")
         return False
 
-    def collada_textures(self, dae: Path) -> dict[str, str]:
-        """``{<init_from> text: placeholder}`` of the textures of a Collada file that may be
-        embedded (resolved against the file's folder); the others are dropped with a warning."""
-        resources = {}
+    def collada(self, dae: Path) -> tuple[str, dict[str, str]]:
+        """The placeholder of a Collada file's text, with the textures that may not be embedded
+        removed from it, and ``{<init_from> text: data URI}`` of those that may (resolved
+        against the file's folder); each dropped texture is named in a warning."""
+        text = dae.read_text(errors="replace")
+        resources, dropped = self.collada_textures(dae)
+        if dropped:
+            def blank(match: re.Match[str]) -> str:
+                return match[1] + match[3] if html.unescape(match[2]).strip() in dropped else match[0]
+
+            text = _INIT_FROM.sub(blank, text)
+        return self.placeholder_text(dae, text), resources
+
+    def collada_textures(self, dae: Path) -> tuple[dict[str, str], set[str]]:
+        """``{<init_from> text: data URI}`` of the textures of a Collada file that may be embedded
+        (resolved against the file's folder), and the names of those dropped with a warning."""
+        resources, dropped = {}, set()
         root = ET.parse(dae).getroot()
-        images = [e for lib in root.iter() if lib.tag.endswith("library_images") for e in lib.iter()
-                  if e.tag.endswith("init_from") and (e.text or "").strip()]
+        images = [e for image in root.iter() if image.tag.endswith("}image") or image.tag == "image"
+                  for e in image.iter() if e.tag.rsplit("}", 1)[-1] in ("init_from", "ref") and (e.text or "").strip()]
         for element in images:
             name = element.text.strip()
+            if _URL.match(name):
+                _warn(f"{self.source}: texture '{name}' of {dae.name} is a URL; dropped (a page loads nothing "
+                      "from the network), mesh drawn untextured")
+                dropped.add(name)
+                continue
             image = dae.parent / name.removeprefix("file://")
             if not (inside(image, self.folders) and image.is_file() and image.suffix.lower() in IMAGE_SUFFIXES):
                 _warn(f"{self.source}: texture '{name}' of {dae.name} is not an image file inside the URDF's "
                       "folder or the package directories; dropped, mesh drawn untextured")
+                dropped.add(name)
                 continue
             mime = mimetypes.guess_type(image.name)[0] or "image/png"
             resources[name] = f"data:{mime};base64,{base64.b64encode(image.read_bytes()).decode('ascii')}"
-        return resources
+        return resources, dropped
+
+    def placeholder_text(self, path: Path, text: str) -> str:
+        """The placeholder of ``text`` stored as the (rewritten) contents of ``path``."""
+        key = (path.resolve(), text)
+        if key not in self._index:
+            packed = gzip.compress(text.encode(), compresslevel=9, mtime=0)
+            self._index[key] = len(self.entries)
+            self.entries.append(("text", base64.b64encode(packed).decode("ascii")))
+        return f"{PLACEHOLDER}{self._index[key]}"
+
+
+#: A URI with a scheme other than ``file:`` (``http:``, ``https:``, ``data:``, ``ftp:`` ...) or a
+#: network-path reference (``//host/...``).
+_URL = re.compile(r"^\s*(?!file:)[A-Za-z][A-Za-z0-9+.-]*:|^\s*//")
+#: An ``<init_from>`` or ``<ref>`` element's text (Collada 1.4 and 1.5 images).
+_INIT_FROM = re.compile(r"(<(?:\w+:)?(?:init_from|ref)\b[^>]*>)([^<]*)(</(?:\w+:)?(?:init_from|ref)\s*>)")
 
 
 def _warn(message: str) -> None:

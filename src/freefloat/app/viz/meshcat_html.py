@@ -268,8 +268,9 @@ def _visual_object(
     if suffix and not table.allowed_mesh(mesh, geometry.name):  # any mesh file, not a primitive
         return None
     if suffix == ".dae":  # keeps the Collada materials; allowed textures embedded as data URIs
+        data, resources = table.collada(mesh)
         obj: mg.Object | dict = {"uuid": str(uuid.uuid4()), "type": "_meshfile_object", "format": "dae",
-                                 "data": table.placeholder(mesh, "text"), "resources": table.collada_textures(mesh)}
+                                 "data": data, "resources": resources}
     else:
         if suffix == ".stl":
             shape = mg.MeshGeometry(table.placeholder(mesh, "binary"), "stl")

@@ -2,10 +2,13 @@
 
 from __future__ import annotations
 
-from typing import Protocol, Sequence
+import functools
+from typing import Any, Callable, Protocol, Sequence
 
 import numpy as np
 import pinocchio as pin
+
+from ...errors import InvalidArgument
 
 
 class DynamicsModel(Protocol):
@@ -42,3 +45,44 @@ class DynamicsModel(Protocol):
         have ``end_period(q, v, dt)``, called once per control period with the period's start
         state."""
         ...
+
+
+def checked(acceleration: Callable[..., np.ndarray]) -> Callable[..., np.ndarray]:
+    """A model's ``acceleration`` that refuses wrong-sized or non-finite arguments with
+    :class:`~freefloat.errors.InvalidArgument` naming the argument, instead of Pinocchio's C++
+    message or NaN accelerations. The check runs only when the call fails or its result is not
+    finite, so the simulation's hot loop pays one ``isfinite`` per call."""
+
+    @functools.wraps(acceleration)
+    def guarded(self: Any, q: np.ndarray, v: np.ndarray, tau: np.ndarray, fext: Any = None) -> np.ndarray:
+        try:
+            result = acceleration(self, q, v, tau, fext)
+        except InvalidArgument:
+            raise
+        except (ValueError, RuntimeError, TypeError, IndexError):
+            check_arguments(self, q, v, tau, fext)
+            raise
+        if not np.isfinite(result).all():
+            check_arguments(self, q, v, tau, fext)
+        return result
+
+    return guarded
+
+
+def check_arguments(model: Any, q: Any, v: Any, tau: Any, fext: Any) -> None:
+    """Raise :class:`InvalidArgument` naming the first of ``q``, ``v``, ``tau``, ``fext`` of
+    ``model.acceleration`` that has the wrong size or a non-finite entry (nothing if all fit)."""
+    pin_model = model.robot.model
+    for name, value, size in (("q", q, pin_model.nq), ("v", v, pin_model.nv), ("tau", tau, pin_model.nv)):
+        array = np.asarray(value)
+        if array.shape != (size,):
+            raise InvalidArgument(f"{model.name}.acceleration: '{name}' must have shape ({size},), got {array.shape}")
+        if not np.issubdtype(array.dtype, np.number) or not np.isfinite(array).all():
+            raise InvalidArgument(f"{model.name}.acceleration: '{name}' must be finite, got {array.tolist()}")
+    if fext is not None:
+        if len(fext) != pin_model.njoints:
+            raise InvalidArgument(f"{model.name}.acceleration: 'fext' must hold one pin.Force per joint "
+                                  f"({pin_model.njoints}), got {len(fext)}")
+        for i, force in enumerate(fext):
+            if not np.isfinite(np.asarray(force.vector)).all():
+                raise InvalidArgument(f"{model.name}.acceleration: 'fext[{i}]' must be finite")

@@ -8,6 +8,7 @@ import numpy as np
 import pinocchio as pin
 
 from ...robot.robot import Robot
+from .base import checked
 
 
 def joint_space_dynamics(robot: Robot, data: pin.Data, q: np.ndarray, v: np.ndarray):
@@ -50,6 +51,7 @@ class ExactModel:
         """``(H*, c*)`` with ``tau = H* qddot + c*``: the exact joint-space dynamics (n, n), (n,)."""
         return joint_space_dynamics(self.robot, self.data, q, v)
 
+    @checked
     def acceleration(
         self,
         q: np.ndarray,

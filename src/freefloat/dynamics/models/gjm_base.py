@@ -24,6 +24,7 @@ from ...robot.conventions import (
 )
 from ...robot.robot import Robot
 from ..gjm import BACKENDS, GJMDerivatives, GJMState, model_of, state_and_derivatives
+from .base import checked
 
 
 @dataclass
@@ -121,6 +122,7 @@ class GJMModelBase:
             return self.gjm.core.joint_space(self.name, q, v, self.generalized_forces(q)[0], self.sensitivities())
         return self.joint_space(self.terms(q, v))
 
+    @checked
     def acceleration(self, q, v, tau, fext=None) -> np.ndarray:
         """Forward dynamics (nv,), Pinocchio convention (see :class:`~freefloat.models.DynamicsModel`)."""
         if self.backend == "compiled":

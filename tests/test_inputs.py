@@ -1,0 +1,27 @@
+"""Reading user files: TOML errors name the file, unknown keys are refused with the valid ones."""
+
+from __future__ import annotations
+
+import pytest
+
+from freefloat.errors import FreefloatError, SceneError
+from freefloat.inputs import read_toml, reject_unknown
+
+
+def test_a_deeply_nested_file_is_refused_not_a_recursion_error(tmp_path):
+    """A TOML file nested thousands deep raises the given error naming the file."""
+    (tmp_path / "deep.toml").write_text("a = " + "[" * 20000 + "]" * 20000 + "\n")
+    with pytest.raises(SceneError, match="deep.toml: nested too deeply to be a scene file"):
+        read_toml(tmp_path / "deep.toml", "scene file", SceneError)
+
+
+def test_an_unknown_key_names_the_closest_valid_one_and_all():
+    """A misspelt key is refused with a suggestion and the list of valid keys."""
+    with pytest.raises(FreefloatError, match=r"f.toml: unknown \[platform\] key 'coordinate' \(did you mean "
+                                             r"'coordinates'\?\); allowed: coordinates, frame"):
+        reject_unknown("f.toml: ", {"coordinate": 1}, ["frame", "coordinates"], "platform")
+
+
+def test_known_keys_pass():
+    """A table of valid keys is accepted."""
+    reject_unknown("f.toml: ", {"frame": 1}, ["frame", "coordinates"])
