@@ -32,7 +32,7 @@ from bench_common import parser, save_chart, write_json
 
 from freefloat.app.batch import Band, Workers, run_batch
 from freefloat.app.batch.one_run import TIMINGS
-from freefloat.app.scenes import find_scene
+from freefloat import find_scene
 from freefloat.distributed import client
 
 SCENES = ("four_arm_joint_space", "tumbling")

@@ -12,8 +12,8 @@ from bench_common import parser, write_json
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
-from freefloat.app.runner import simulate
-from freefloat.app.scenes import find_scene
+from freefloat import simulate
+from freefloat import find_scene
 from freefloat.app.viz import plotting
 
 

@@ -37,7 +37,7 @@ from freefloat import load_robot
 from freefloat.app.runner import prepare
 from freefloat.app.scenes import DEFAULT_SCENE, find_scene
 from freefloat.dynamics.compiled import CompiledLoop
-from freefloat.dynamics.integrators import make_integrator
+from freefloat import make_integrator
 from freefloat.dynamics.integrators.lie import _dexpinv_se2
 from freefloat.dynamics.models import ExactModel
 from freefloat.dynamics.simulation import run

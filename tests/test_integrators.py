@@ -186,3 +186,21 @@ def test_a_registered_integrator_runs_in_simulate_batch_and_bench(toy_heun, tmp_
     batch = run_batch(robot, tmp_path / "batch", 2, [])
     assert [row["status"] for row in batch.rows] == ["completed", "completed"]
     assert any(m.integrator == "toy_heun" and m.loop == "python" for m in methods((1e-3,), (1e-6,)))
+
+
+def test_explicit_euler_is_first_order(tumbling):
+    """Halving the explicit Euler step halves the error (first order), like the semi-implicit one."""
+    e = errors(tumbling, "explicit_euler", [2000, 4000, 8000])
+    assert 1.7 < e[1] / e[2] < 2.3
+
+
+def test_dop853_in_the_chart_ends_at_the_tight_reference(tumbling):
+    """scipy's DOP853 stepped in the Munthe-Kaas chart (one chart over 0.1 s periods) ends within
+    1e-8 of dopri5's rtol-1e-13 run on the Lie group: the chart and dexp^-1 are right."""
+    robot, f, q0, v0, (q_ref, v_ref) = tumbling
+    integrator = make_integrator("dop853", robot.model, rtol=1e-12, atol=1e-12)
+    q, v = q0, v0
+    for _ in range(10):
+        q, v = integrator.advance(f, q, v, 0.1)
+    error = np.linalg.norm(np.concatenate((pin.difference(robot.model, q_ref, q), v - v_ref)))
+    assert error < 1e-8 and integrator.evaluations() > 0

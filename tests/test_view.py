@@ -78,6 +78,6 @@ def test_simulate_view_opens_the_written_page(tmp_path, monkeypatch):
     monkeypatch.setattr(webbrowser, "open", opened.append)
     scene = tmp_path / "short.toml"
     scene.write_text((find_scene("five_bar_computed_torque").source.read_text())
-                     .replace("duration = 0.5", "duration = 0.002"))
+                     .replace("duration = 0.5", "duration = 0.002").replace("reaching_phase = 0.2", "reaching_phase = 0.0"))
     assert main(["simulate", str(scene), "--out", str(tmp_path / "run"), "--quiet", "--no-figures", "--view"]) == 0
     assert opened == [(tmp_path / "run" / "trajectory.html").resolve().as_uri()]

@@ -13,7 +13,6 @@ the rest (layers: robot < dynamics < space | parallel < app, see docs/architectu
 from __future__ import annotations
 
 import importlib
-from typing import Any
 
 from .errors import (
     BadShape,
@@ -61,7 +60,7 @@ _PUBLIC = {
 }
 
 
-def __getattr__(name: str) -> Any:
+def __getattr__(name: str) -> object:
     """The public name ``name``, imported from its module on first use."""
     where = _PUBLIC.get(name)
     if where is None:

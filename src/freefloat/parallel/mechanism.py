@@ -30,7 +30,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from ..dynamics._core import MechanismCore
-from ..errors import FreefloatError
+from ..errors import FreefloatError, UnknownName
 from .serial import SerialChain
 
 
@@ -100,7 +100,7 @@ class ParallelMechanism:
 
     def __post_init__(self) -> None:
         if self.backend not in BACKENDS:
-            raise FreefloatError(f"unknown mechanism backend '{self.backend}'; valid: {', '.join(BACKENDS)}")
+            raise UnknownName("mechanism backend", self.backend, BACKENDS)
 
     @functools.cached_property
     def core(self) -> MechanismCore | None:

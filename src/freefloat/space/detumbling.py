@@ -21,6 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..dynamics.gjm import GJMState
+from ..errors import UnknownName
 from ..robot.robot import Robot
 
 COMPONENTS = {"vx": 0, "vy": 1, "vz": 2, "wx": 3, "wy": 4, "wz": 5}
@@ -93,9 +94,9 @@ def check_task(rows: np.ndarray, joints: np.ndarray, method: str = "min_norm",
             one joint; more rows than joints without ``least_squares``.
     """
     if method not in METHODS:
-        raise ValueError(f"unknown method '{method}'; valid: {', '.join(METHODS)}")
+        raise UnknownName("method", method, METHODS)
     if secondary not in SECONDARY:
-        raise ValueError(f"unknown secondary objective '{secondary}'; valid: {', '.join(SECONDARY)}")
+        raise UnknownName("secondary objective", secondary, SECONDARY)
     if method == "single" and (len(rows), len(joints)) != (1, 1):
         raise ValueError(f"method 'single' (eq 120) takes one row and one mission joint, got {len(rows)} and {len(joints)}")
     if method not in ("single", "least_squares") and len(rows) > len(joints):

@@ -21,6 +21,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from ...errors import UnknownName
 from ...robot.robot import Robot
 from ...robot.state import check_state
 from .kinematics import BodyKinematics, TreeStructure
@@ -125,7 +126,7 @@ def state_and_derivatives(gjm: GJM, q: np.ndarray, v: np.ndarray, backend: str =
         state, deriv = gjm.core.compute_with_derivatives(q, v)
         return state_of(state), GJMDerivatives(*deriv)
     if backend not in BACKENDS:
-        raise ValueError(f"unknown GJM backend '{backend}'; valid: {', '.join(BACKENDS)}")
+        raise UnknownName("GJM backend", backend, BACKENDS)
     state = gjm.compute(q, v, backend)
     return state, time_derivatives(gjm.tree, state)
 

@@ -7,6 +7,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from ...errors import UnknownName
 from ...robot.conventions import base_state, cross3
 from ...robot.joints import JointCoordinates
 from ...robot.robot import Robot
@@ -108,7 +109,7 @@ class GJM:
         if backend == "compiled":
             return state_of(self.core.compute(q, v))
         if backend != "numpy":
-            raise ValueError(f"unknown GJM backend '{backend}'; valid: {', '.join(BACKENDS)}")
+            raise UnknownName("GJM backend", backend, BACKENDS)
         kin = self.kinematics(q)
         r_E = end_effector_points(kin, self.ee_body, self.ee_offset)
         nb = len(self.tree.mass)

@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ...errors import UnknownName
 from ...robot.conventions import skew
 from .model import GJMState
 
@@ -38,7 +39,7 @@ def base_momentum_matrices(state: GJMState, variant: str = "corrected") -> tuple
         variant: ``"corrected"`` or ``"printed_eq182"``.
     """
     if variant not in H0C_VARIANTS:
-        raise ValueError(f"unknown H0^C variant '{variant}'; valid: {', '.join(H0C_VARIANTS)}")
+        raise UnknownName("H0^C variant", variant, H0C_VARIANTS)
     total = state.H0[0, 0]
     r0 = state.kinematics.r0
     r0C = unskew(state.H0[3:, :3]) / total  # H0 lower-left block is M r0C^x (eq 23)

@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ...errors import UnknownName
 from ...robot.robot import Robot
 from .gjm_base import GJMModelBase, Terms
 
@@ -36,7 +37,7 @@ class GeneralizedInertiaModel(GJMModelBase):
 
     def __init__(self, robot: Robot, variant: str, backend: str = "compiled"):
         if variant not in VARIANTS:
-            raise ValueError(f"unknown H* model '{variant}'; valid: {', '.join(VARIANTS)}")
+            raise UnknownName("H* model", variant, VARIANTS)
         super().__init__(robot, backend)
         self.name = variant
 

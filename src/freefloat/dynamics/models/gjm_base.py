@@ -16,6 +16,7 @@ from typing import Sequence
 import numpy as np
 import pinocchio as pin
 
+from ...errors import UnknownName
 from ...robot.conventions import (
     PLANAR_ROWS,
     base_link_placement,
@@ -75,7 +76,7 @@ class GJMModelBase:
 
     def __init__(self, robot: Robot, backend: str = "compiled"):
         if backend not in BACKENDS:
-            raise ValueError(f"unknown model backend '{backend}'; valid: {', '.join(BACKENDS)}")
+            raise UnknownName("model backend", backend, BACKENDS)
         self.robot = robot
         self.backend = backend
         self.gjm = model_of(robot)
