@@ -90,6 +90,20 @@ ChainRows chain_rows_of(int n_q, int k, int r, py::tuple arrays) {
   return ChainRows{rows, d[0], d[1], d[2], d[3], d[4], d[5], d[6]};
 }
 
+// run() of either compiled loop on a chunk, the GIL released: (rows written from `row`, the
+// blow-up message or None).
+template <typename Loop, typename Chunk>
+py::tuple run_chunk(Loop& loop, long last, Chunk rows, int row) {
+  if (row < 0 || row > rows.rows) throw std::invalid_argument("row out of range");
+  std::string error;
+  int written;
+  {
+    py::gil_scoped_release release;
+    written = loop.run(last, rows, row, error);
+  }
+  return py::make_tuple(written, error.empty() ? py::object(py::none()) : py::object(py::str(error)));
+}
+
 struct PyChain {
   std::unique_ptr<ChainSimulation> sim;
   int n_q, k, r = 0;
@@ -211,17 +225,7 @@ PYBIND11_MODULE(_sim, m) {
              s.sim->set_state(vec(q, m.nq, "q"), vec(v, m.nv, "v"), period, work);
            })
       .def("run",
-           [](PySimulation& s, long last, py::tuple arrays, int row) {
-             Rows r = s.rows(arrays);
-             if (row < 0 || row > r.rows) throw std::invalid_argument("row out of range");
-             std::string error;
-             int written;
-             {
-               py::gil_scoped_release release;
-               written = s.sim->run(last, r, row, error);
-             }
-             return py::make_tuple(written, error.empty() ? py::object(py::none()) : py::object(py::str(error)));
-           },
+           [](PySimulation& s, long last, py::tuple arrays, int row) { return run_chunk(*s.sim, last, s.rows(arrays), row); },
            "Runs to period `last` or until the chunk is full: (rows written from `row`, the blow-up "
            "message or None).")
       .def("bind",
@@ -336,23 +340,12 @@ PYBIND11_MODULE(_sim, m) {
            py::arg("n_ij"), py::arg("every") = 1,
            "PlatformControl (computed torque, or sliding mode with eq 167's gains) on a nominal model, evaluated "
            "every `every` control periods.")
-      .def("set_reference_size", [](PyChain& s, int r) { s.r = r; }, "Columns of the telemetry's reference.")
       .def("set_state",
            [](PyChain& s, const Array& q, const Array& v, long period) {
              s.sim->set_state(vec(q, s.n_q, "q"), vec(v, s.n_q, "v"), period);
            })
       .def("run",
-           [](PyChain& s, long last, py::tuple arrays, int row) {
-             ChainRows r = s.rows(arrays);
-             if (row < 0 || row > r.rows) throw std::invalid_argument("row out of range");
-             std::string error;
-             int written;
-             {
-               py::gil_scoped_release release;
-               written = s.sim->run(last, r, row, error);
-             }
-             return py::make_tuple(written, error.empty() ? py::object(py::none()) : py::object(py::str(error)));
-           },
+           [](PyChain& s, long last, py::tuple arrays, int row) { return run_chunk(*s.sim, last, s.rows(arrays), row); },
            "Runs to period `last` or until the chunk is full: (rows written from `row`, the blow-up message or None).")
       .def("bind",
            [](PyChain& s, py::tuple arrays) {

@@ -15,6 +15,7 @@
 
 #include "../parallel.hpp"
 #include "lie_rk.hpp"
+#include "periods.hpp"
 
 namespace freefloat::sim {
 
@@ -166,26 +167,19 @@ class ChainSimulation {
   // Runs until period `last` (exclusive) or until `out` has no free row for a period that records;
   // writes rows from `row`. Returns the rows written; on a blow-up stops there with the message in `error`.
   int run(long last, ChainRows& out, int row, std::string& error) {
-    const int first_row = row;
-    while (k_ < last) {
-      const double t = start_ + k_ * period_;
-      const bool records = k_ % record_every_ == 0;
-      if (records && row == out.rows) break;
-      try {
-        if (law_ && k_ % law_->every == 0) u_ = law_->efforts(t, q_, v_);
-        if (records) record(out, row++, nullptr);
-        step(t);
-      } catch (const std::overflow_error& stop) {
-        error = stop.what();
-        break;
-      } catch (const MechanismError& singular) {
-        char when[96];
-        std::snprintf(when, sizeof when, "at t = %.6g s (step %ld): singular pose, eq 129 has no solution: ", t, k_ + 1);
-        error = when + std::string(singular.what());
-        break;
-      }
-    }
-    return row - first_row;
+    return run_periods(k_, last, start_, period_, record_every_, out.rows, row, error,
+                       [&](double t, bool records, int& r) {
+                         try {
+                           if (law_ && k_ % law_->every == 0) u_ = law_->efforts(t, q_, v_);
+                           if (records) record(out, r++, nullptr);
+                           step(t);
+                         } catch (const MechanismError& singular) {
+                           char when[96];
+                           std::snprintf(when, sizeof when,
+                                         "at t = %.6g s (step %ld): singular pose, eq 129 has no solution: ", t, k_ + 1);
+                           throw std::overflow_error(when + std::string(singular.what()));
+                         }
+                       });
   }
 
   // Row `row` of `out` at the current state and time with the efforts held; the reference from

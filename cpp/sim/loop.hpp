@@ -20,6 +20,7 @@
 
 #include "detumbling_law.hpp"
 #include "lie_rk.hpp"
+#include "periods.hpp"
 #include "wrench_field.hpp"
 
 namespace freefloat::sim {
@@ -161,22 +162,13 @@ class Simulation {
   // records; writes rows from `row`. Returns the rows written; when the state blows up, stops
   // there (the state stays at the last good period) and puts the Python loop's message in `error`.
   int run(long last, Rows& out, int row, std::string& error) {
-    const int first_row = row;
-    while (k_ < last) {
-      const double t = start_ + k_ * period_;
-      const bool records = k_ % record_every_ == 0;
-      if (records && row == out.rows) break;
-      try {
-        control(t);
-        if (!profiles_.empty()) select_wrenches(profiles_, t, wrenches_);
-        if (records) record(out, row++, t, nullptr);
-        step(t);
-      } catch (const std::overflow_error& stop) {  // a blow-up, or a detumbling solve that failed
-        error = stop.what();
-        break;
-      }
-    }
-    return row - first_row;
+    return run_periods(k_, last, start_, period_, record_every_, out.rows, row, error,
+                       [&](double t, bool records, int& r) {
+                         control(t);  // throws std::overflow_error when a detumbling solve fails
+                         if (!profiles_.empty()) select_wrenches(profiles_, t, wrenches_);
+                         if (records) record(out, r++, t, nullptr);
+                         step(t);
+                       });
   }
 
   // Row `row` of `out` at the current state and time, with the torques held; the joint reference

@@ -35,7 +35,7 @@ from .integrators import INTEGRATORS
 from .telemetry import Telemetry
 from .wrenches import WrenchField
 
-__all__ = ["COMPILED_INTEGRATORS", "CompiledLoop", "DetumblingLaw", "law_of", "unsupported"]
+__all__ = ["COMPILED_INTEGRATORS", "CompiledEngine", "CompiledLoop", "DetumblingLaw", "law_of", "unsupported"]
 
 #: Integrators the compiled loop runs (the registry's entries marked compiled; momentum projection
 #: is not compiled). ``_sim.INTEGRATORS`` lists the compiled side's names; a test checks both agree.
@@ -147,7 +147,52 @@ def _joint_map(robot: Robot) -> _sim.JointMap:
                          coords.circle_pos.tolist(), robot.n_joints)
 
 
-class CompiledLoop:
+class CompiledEngine:
+    """What both compiled loops (:class:`CompiledLoop`, a robot; and
+    :class:`~freefloat.dynamics.compiled_chain.CompiledChainLoop`, a coupled closed chain) share
+    of the engine interface, over their extension object ``sim``: chunks of periods, the bound
+    chunk, one period, the state and the counts."""
+
+    backend = "compiled"
+    sim: Any
+
+    def run(self, last_period: int, chunk: Any, row: int) -> tuple[int, str | None]:
+        """Advance to period ``last_period`` or until ``chunk`` is full, writing rows from ``row``.
+
+        Returns the rows written and, when the state blew up, the Python loop's message (None
+        otherwise); the run then stopped at the last good period, its rows kept.
+        """
+        return self.sim.run(last_period, _arrays(chunk), row)
+
+    def bind(self, chunk: Any) -> None:
+        """The chunk :meth:`record` writes into."""
+        self.sim.bind(_arrays(chunk))
+
+    def record(self, row: int, reference: np.ndarray | None = None) -> None:
+        """Row ``row`` of the bound chunk at the current state, with the controller's ``reference``
+        (default: the compiled law's, or NaN)."""
+        self.sim.record(row, reference)
+
+    def step(self) -> None:
+        """One control period. Raises ``OverflowError`` (the Python loop's message) on a blow-up."""
+        self.sim.step()
+
+    @property
+    def state(self) -> tuple[np.ndarray, np.ndarray]:
+        """The current ``(q, v)``."""
+        return self.sim.q, self.sim.v
+
+    @property
+    def periods_done(self) -> int:
+        """Control periods done since period 0."""
+        return self.sim.periods_done
+
+    def evaluations(self) -> int:
+        """Dynamics evaluations made by the integrator."""
+        return self.sim.evaluations
+
+
+class CompiledLoop(CompiledEngine):
     """One compiled simulation of ``robot``: plant, integrator, controller, telemetry. The same
     per-period interface as :class:`~freefloat.dynamics.simulation.PythonPeriods`.
 
@@ -211,32 +256,15 @@ class CompiledLoop:
         self.sim.set_state(q, v, period, work)
 
     def run(self, last_period: int, chunk: Telemetry, row: int) -> tuple[int, str | None]:
-        """Advance to period ``last_period`` or until ``chunk`` is full, writing rows from ``row``.
-
-        Returns the rows written and, when the state blew up, the Python loop's message (None
-        otherwise); the run then stopped at the last good period, its rows kept.
-        """
-        written, blow_up = self.sim.run(last_period, _arrays(chunk), row)
+        """:meth:`CompiledEngine.run`, handing the detumbling law's state back to its controller."""
+        written, blow_up = super().run(last_period, chunk, row)
         if isinstance(self.law, DetumblingLaw):
             self.law.report(*self.sim.take_detumbling_state())
         return written, blow_up
 
-    def bind(self, chunk: Telemetry) -> None:
-        """The chunk :meth:`record` writes into."""
-        self.sim.bind(_arrays(chunk))
-
     def hold(self, tau: np.ndarray) -> None:
         """Hold the joint torques ``tau`` (n_joints,) from the current period on."""
         self.sim.hold(tau)
-
-    def record(self, row: int, reference: np.ndarray | None = None) -> None:
-        """Row ``row`` of the bound chunk at the current state, with the joint ``reference``
-        (n_joints,; default: the compiled law's, or NaN)."""
-        self.sim.record(row, reference)
-
-    def step(self) -> None:
-        """One control period. Raises ``OverflowError`` (the Python loop's message) on a blow-up."""
-        self.sim.step()
 
     def set_wrenches(self, field: WrenchField | None) -> None:
         """Hold the wrenches ``field`` has active (after ``field.activate(t)``), or none."""
@@ -253,17 +281,3 @@ class CompiledLoop:
         """The compiled ``freefloat.space.detumbling.solve`` at (q, v): ``(qdot, residual)`` (n,), (r,)."""
         return self.sim.detumbling_solve(q, v, [int(r) for r in rows], [int(j) for j in joints], method, secondary,
                                          rcond)
-
-    @property
-    def state(self) -> tuple[np.ndarray, np.ndarray]:
-        """The current ``(q, v)``."""
-        return self.sim.q, self.sim.v
-
-    @property
-    def periods_done(self) -> int:
-        """Control periods done since period 0."""
-        return self.sim.periods_done
-
-    def evaluations(self) -> int:
-        """Dynamics evaluations made by the integrator."""
-        return self.sim.evaluations

@@ -12,16 +12,15 @@ once per telemetry chunk or progress report.
 
 from __future__ import annotations
 
-from dataclasses import fields
 from typing import Any
 
 import numpy as np
 
 from ..errors import InvalidArgument
 from . import _sim
+from .compiled import CompiledEngine
 from .integrators import INTEGRATORS
 from .plants import CoupledChainPlant
-from .telemetry import PlantTelemetry
 
 __all__ = ["CompiledChainLoop", "unsupported"]
 
@@ -50,18 +49,14 @@ def _law(controller: Any) -> dict | None:
     return getattr(controller, "compiled_law", lambda: None)()
 
 
-def _arrays(chunk: PlantTelemetry) -> tuple[np.ndarray, ...]:
-    """The chunk's arrays in field order, not copied (the compiled loop fills them in place)."""
-    return tuple(getattr(chunk, f.name) for f in fields(chunk))
-
-
-class CompiledChainLoop:
+class CompiledChainLoop(CompiledEngine):
     """One compiled run of a coupled closed chain: plant, integrator, law, telemetry. The same
     interface as :class:`~.plant_periods.PlantPeriods`.
 
     Args:
         plant: a coupled chain with a compiled core.
-        controller: a controller with ``compiled_law()`` (``PlatformControl``), or None.
+        controller: a controller with ``compiled_law()`` (``PlatformControl``, or ``Sampled`` over
+            one), or None (zero efforts).
         integrator: a registry name with ``compiled``; ``substeps``, ``rtol``, ``atol`` its settings.
         control_period: zero-order-hold period, s.
         start_time: time of period 0, s.
@@ -72,8 +67,6 @@ class CompiledChainLoop:
         InvalidArgument: for an integrator the compiled loop does not have, or a law whose model
             differs in size from the plant.
     """
-
-    backend = "compiled"
 
     def __init__(self, plant: CoupledChainPlant, controller: Any, integrator: str, control_period: float,
                  start_time: float = 0.0, substeps: int = 1, rtol: float = 1e-10, atol: float = 1e-12,
@@ -91,23 +84,12 @@ class CompiledChainLoop:
             if law is not None:
                 model_chains, model_coupling = law.pop("model").core_arrays()
                 self.sim.set_platform_law(model_chains, model_coupling, **law)
-            elif controller is not None:
-                self.sim.set_reference_size(len(controller.reference(start_time)))
         except ValueError as exc:
             raise InvalidArgument(f"compiled closed-chain loop: {exc}") from exc
 
     def start(self, q: np.ndarray, v: np.ndarray, period: int = 0) -> None:
         """Set the state at period ``period``."""
         self.sim.set_state(q, v, period)
-
-    def run(self, last_period: int, chunk: PlantTelemetry, row: int) -> tuple[int, str | None]:
-        """Periods up to ``last_period`` (exclusive) or until ``chunk`` is full, rows written from
-        ``row``: ``(rows written, blow-up message or None)``."""
-        return self.sim.run(last_period, _arrays(chunk), row)
-
-    def bind(self, chunk: PlantTelemetry) -> None:
-        """The chunk :meth:`record` writes into."""
-        self.sim.bind(_arrays(chunk))
 
     def hold(self, u: np.ndarray) -> None:
         """Hold the efforts ``u`` (k,) from the current period on."""
@@ -122,28 +104,6 @@ class CompiledChainLoop:
         if field is not None:
             raise InvalidArgument("compiled closed-chain loop: external wrenches are not supported")
 
-    def record(self, row: int, reference: np.ndarray | None = None) -> None:
-        """Row ``row`` of the bound chunk at the current state."""
-        self.sim.record(row, reference)
-
-    def step(self) -> None:
-        """One control period (OverflowError on a blow-up)."""
-        self.sim.step()
-
     def law_efforts(self, t: float, q: np.ndarray, v: np.ndarray) -> np.ndarray:
         """The compiled law's efforts (k,) at time ``t`` and state ``(q, v)``."""
         return self.sim.law_efforts(t, q, v)
-
-    @property
-    def state(self) -> tuple[np.ndarray, np.ndarray]:
-        """The current ``(q, v)``."""
-        return self.sim.q, self.sim.v
-
-    @property
-    def periods_done(self) -> int:
-        """Control periods simulated."""
-        return self.sim.periods_done
-
-    def evaluations(self) -> int:
-        """Dynamics evaluations made by the integrator."""
-        return self.sim.evaluations
