@@ -6,6 +6,7 @@
 #pragma once
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -154,11 +155,28 @@ struct Mechanism {
   std::vector<ChainState> states;
   DVec x_buf, phi_buf, tip_c_buf, tip_dw_buf;  // reused between calls
   DMat Jv_buf, Jw_buf;
+  // The last closure evaluated: its q, residual and A (the chains' frames in `states` are its
+  // too). A step's drift check and the next step's first stage (and a law on the same model)
+  // ask for the same q; they take it from here.
+  DVec closure_q, closure_residual;
+  DMat closure_A;
 
   int m() const { return m_lin + m_ang; }
 
   // mechanism._closure: [qbar; orientation residual] (m) and A (m, n_q) at q, chain frames left in states.
   void closure(const double* q, DVec& residual, DMat& A) {
+    if (closure_q.size() == n_q && std::equal(q, q + n_q, closure_q.data())) {
+      residual = closure_residual;
+      A = closure_A;
+      return;
+    }
+    evaluate_closure(q, residual, A);
+    closure_q = Eigen::Map<const DVec>(q, n_q);
+    closure_residual = residual;
+    closure_A = A;
+  }
+
+  void evaluate_closure(const double* q, DVec& residual, DMat& A) {
     states.resize(chains.size());
     const int nc = static_cast<int>(chains.size());
     DVec& x = x_buf;
