@@ -27,7 +27,7 @@ LAYERS = {
 }
 FACADE = 5
 #: The base: single modules that form one family (they may import each other).
-BASE = {"freefloat.errors", "freefloat.paths", "freefloat.distributed", "freefloat.inputs"}
+BASE = {"freefloat.errors", "freefloat.paths", "freefloat.distributed", "freefloat.inputs", "freefloat.lazy"}
 
 
 def module_files() -> dict[str, Path]:

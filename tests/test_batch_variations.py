@@ -11,7 +11,8 @@ from hypothesis import HealthCheck, given, settings
 
 from freefloat import FreefloatError
 from freefloat.app import runner
-from freefloat.app.batch.variations import MAX_RUNS, Band, parse_band, plan_runs
+from freefloat.app.batch.bands import MAX_RUNS, Band, parse_band
+from freefloat.app.batch.variations import plan_runs
 from freefloat.app.experiments.robot_run import joint_table
 from freefloat.app.scenes import find_scene, load_scene
 

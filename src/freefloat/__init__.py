@@ -12,8 +12,6 @@ the rest (layers: robot < dynamics < space | parallel < app, see docs/architectu
 
 from __future__ import annotations
 
-import importlib
-
 from .errors import (
     BadShape,
     FreefloatError,
@@ -26,6 +24,7 @@ from .errors import (
     TelemetryFileError,
     UnknownName,
 )
+from .lazy import lazy_exports
 
 __version__ = "0.1.0"
 
@@ -60,15 +59,7 @@ _PUBLIC = {
 }
 
 
-def __getattr__(name: str) -> object:
-    """The public name ``name``, imported from its module on first use."""
-    where = _PUBLIC.get(name)
-    if where is None:
-        raise AttributeError(f"module 'freefloat' has no attribute {name!r}")
-    module, attribute = where if isinstance(where, tuple) else (where, name)
-    value = getattr(importlib.import_module(module), attribute)
-    globals()[name] = value
-    return value
+__getattr__ = lazy_exports(__name__, _PUBLIC, globals())
 
 
 def __dir__() -> list[str]:

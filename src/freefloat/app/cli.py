@@ -15,8 +15,6 @@ from importlib.metadata import version
 from pathlib import Path
 from typing import TYPE_CHECKING, Iterator
 
-from tqdm import tqdm
-
 from ..errors import FreefloatError
 from .reproduce import STUDIES
 from .signals import arrived_before_main, signals_deferred
@@ -139,12 +137,14 @@ def _bench(args: argparse.Namespace) -> int:
 
 
 def _varies() -> dict[str, str]:
-    from .batch import VARIES
+    from .batch.bands import VARIES
 
     return VARIES
 
 
 def _batch(args: argparse.Namespace) -> int:
+    from tqdm import tqdm
+
     from .batch import Workers, parse_band, run_batch
     from .scenes import DEFAULT_SCENE, find_scene
 
@@ -264,6 +264,8 @@ def _verify(args: argparse.Namespace) -> int:
 
 def _simulate(args: argparse.Namespace) -> int:
     import dataclasses
+
+    from tqdm import tqdm
 
     from .runner import prepare, run_scene, total_steps
     from .scenes import DEFAULT_SCENE, ROBOT_SCENE, find_scene, with_robot

@@ -25,7 +25,8 @@ from ..run_folder import RunFolder
 from ..runner import prepare, signals_deferred, signals_raise_keyboard_interrupt
 from ..scenes import MechanismScene, Scene
 from .executors import Workers, executor
-from .variations import Band, plan_runs
+from .bands import Band
+from .variations import plan_runs
 
 PARTIAL = "runs-partial.jsonl"
 #: Summary keys whose spread over the runs ``summary.json`` and the command line report.
