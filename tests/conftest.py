@@ -12,6 +12,7 @@ import pytest
 from hypothesis import strategies as st
 
 from freefloat import load_robot
+from freefloat.inputs import toml_text  # noqa: F401  (the tests write scene files with it)
 
 REPO = Path(__file__).resolve().parents[1]
 SPART = REPO / "tests" / "data" / "spart"  # SPART reference values, copied from shared/reference/spart
@@ -99,27 +100,6 @@ def random_state(robot, rng: np.random.Generator, speed: float = 1.0):
 def spart_dir() -> Path:
     """SPART reference folder (tests/data/spart): its URDFs and its values at one state each."""
     return SPART
-
-
-def toml_text(raw: dict) -> str:
-    """Minimal TOML writer for the nested dicts of a scene (inline-table keys quoted)."""
-    def value(x):
-        if isinstance(x, str):
-            return f'"{x}"'
-        if isinstance(x, bool):
-            return "true" if x else "false"
-        if isinstance(x, dict):
-            return "{ " + ", ".join(f'"{k}" = {value(v)}' for k, v in x.items()) + " }"
-        if isinstance(x, list):
-            return "[" + ", ".join(value(v) for v in x) + "]"
-        return repr(x)
-
-    lines = [f"{k} = {value(v)}" for k, v in raw.items() if not isinstance(v, dict)]
-    for section, body in raw.items():
-        if isinstance(body, dict):
-            lines.append(f"[{section}]")
-            lines += [f"{k} = {value(v)}" for k, v in body.items()]
-    return "\n".join(lines) + "\n"
 
 
 def scene_variant(path: Path, builtin: str, **sections: dict) -> Path:

@@ -2,10 +2,14 @@
 
 from __future__ import annotations
 
+import tomllib
+
 import pytest
+from hypothesis import given
+from hypothesis import strategies as st
 
 from freefloat.errors import FreefloatError, SceneError
-from freefloat.inputs import read_toml, reject_unknown
+from freefloat.inputs import read_toml, reject_unknown, toml_text
 
 
 def test_a_deeply_nested_file_is_refused_not_a_recursion_error(tmp_path):
@@ -25,3 +29,16 @@ def test_an_unknown_key_names_the_closest_valid_one_and_all():
 def test_known_keys_pass():
     """A table of valid keys is accepted."""
     reject_unknown("f.toml: ", {"frame": 1}, ["frame", "coordinates"])
+
+
+_scalars = st.one_of(st.booleans(), st.integers(-2**63, 2**63 - 1), st.floats(allow_nan=False), st.text(max_size=12))
+_values = st.recursive(_scalars, lambda inner: st.lists(inner, max_size=3) | st.dictionaries(st.text(max_size=6), inner,
+                                                                                               max_size=3), max_leaves=8)
+
+
+@given(st.dictionaries(st.text(max_size=8), _values | st.dictionaries(st.text(max_size=8), _values, max_size=4),
+                       max_size=5))
+def test_toml_text_reads_back_equal(table):
+    """Any table of TOML's values (odd keys, quotes, newlines, infinities, nesting) is read back
+    by tomllib as it was written."""
+    assert tomllib.loads(toml_text(table)) == table

@@ -1,10 +1,12 @@
 """Reading the files a user hands freefloat (scenes, closure files, mechanism data): TOML read
 with errors that name the file, and strict keys, so that a misspelt key is refused with the list
-of valid ones instead of being silently ignored."""
+of valid ones instead of being silently ignored; and TOML written back (a scene as it ran)."""
 
 from __future__ import annotations
 
 import difflib
+import json
+import math
 import tomllib
 from pathlib import Path
 from typing import Any, Iterable
@@ -51,3 +53,51 @@ def reject_unknown(where: str, table: dict[str, Any], allowed: Iterable[str], se
             close = difflib.get_close_matches(str(key), allowed, n=1)
             hint = f" (did you mean '{close[0]}'?)" if close else ""
             raise error(f"{where}unknown {name}{hint}; allowed: {', '.join(allowed)}")
+
+
+def toml_text(table: dict[str, Any]) -> str:
+    """``table`` as TOML that :func:`tomllib.loads` reads back equal: its plain values first, then
+    each dict value as a ``[section]`` (dicts inside a section inline) and each list of dicts as
+    ``[[section]]`` entries. None values are left out (TOML has no null: the key's default)."""
+    plain = {k: v for k, v in table.items() if not _is_table(v) and not _is_table_list(v) and v is not None}
+    lines = [f"{_key(k)} = {_value(v)}" for k, v in plain.items()]
+    for name, value in table.items():
+        if _is_table(value):
+            lines += ["", f"[{_key(name)}]", *(f"{_key(k)} = {_value(v)}" for k, v in value.items() if v is not None)]
+        elif _is_table_list(value):
+            for entry in value:
+                lines += ["", f"[[{_key(name)}]]", *(f"{_key(k)} = {_value(v)}" for k, v in entry.items()
+                                                     if v is not None)]
+    return "\n".join(lines) + "\n"
+
+
+def _is_table(value: Any) -> bool:
+    return isinstance(value, dict)
+
+
+def _is_table_list(value: Any) -> bool:
+    return isinstance(value, (list, tuple)) and len(value) > 0 and all(isinstance(v, dict) for v in value)
+
+
+def _key(key: str) -> str:
+    bare = key.replace("_", "").replace("-", "").isalnum() and key.isascii()
+    return key if bare else _value(key)
+
+
+def _value(value: Any) -> str:
+    """One TOML value: strings as JSON-style basic strings, floats exactly (repr; inf, nan),
+    arrays, and dicts as inline tables."""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, int):
+        return str(value)
+    if isinstance(value, float):
+        return repr(value) if math.isfinite(value) else ("nan" if math.isnan(value) else ("inf" if value > 0 else "-inf"))
+    if isinstance(value, str):
+        return json.dumps(value, ensure_ascii=False).replace("\x7f", "\\u007f")  # TOML escapes DEL too
+    if isinstance(value, (list, tuple)):
+        return "[" + ", ".join(_value(v) for v in value) + "]"
+    if isinstance(value, dict):
+        items = ", ".join(f"{_key(k)} = {_value(v)}" for k, v in value.items() if v is not None)
+        return "{ " + items + " }" if items else "{}"
+    raise TypeError(f"no TOML form for {type(value).__name__} {value!r}")

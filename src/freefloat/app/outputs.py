@@ -18,6 +18,7 @@ from ..errors import FreefloatError
 from .experiments.base import Outcome
 from .run_folder import RunFolder
 from .scenes import MechanismScene, Scene
+from .scenes.as_run import scene_as_run
 
 PACKAGES = ("freefloat", "pin", "numpy", "scipy", "meshcat", "example-robot-data", "yourdfpy")
 
@@ -48,7 +49,8 @@ def write_report(out: Path, report: dict, markdown: Callable[[dict], str], start
 def write_run(folder: RunFolder, scene: Scene | MechanismScene, outcome: Outcome,
               interrupted: Callable[[], bool] = lambda: False) -> tuple[list[Path], list[str]]:
     """Write ``telemetry.npz`` (with the outcome's names), any further telemetry,
-    ``summary.json`` (summary, scene, provenance, versions; strict JSON), the scene file as run,
+    ``summary.json`` (summary, scene, provenance, versions; strict JSON), ``scene.toml`` (the
+    scene as it ran: :func:`~.scenes.as_run.scene_as_run`),
     the figures and ``trajectory.html``, each file atomically.
 
     Written whatever the run's status, so a diverged or interrupted run keeps what it computed;
@@ -61,8 +63,7 @@ def write_run(folder: RunFolder, scene: Scene | MechanismScene, outcome: Outcome
     folder.drop_checkpoints()
     for name, extra in outcome.extra_telemetry.items():
         written.append(folder.save(f"telemetry_{name}.npz", extra))
-    if scene.source is not None:
-        written.append(folder.write_text("scene.toml", scene.source.read_text(errors="replace")))
+    written.append(folder.write_text("scene.toml", scene_as_run(scene, outcome.summary.get("model_choice"))))
     record = dict(outcome.summary)
     record.update(scene=_jsonable(dataclasses.asdict(scene)), **outcome.provenance, versions=versions())
     written.append(folder.write_text("summary.json", strict_json(record)))

@@ -24,6 +24,7 @@ from ..outputs import strict_json, versions
 from ..run_folder import RunFolder
 from ..runner import prepare, signals_deferred, signals_raise_keyboard_interrupt
 from ..scenes import MechanismScene, Scene
+from ..scenes.as_run import scene_as_run
 from .executors import Workers, executor
 from .bands import Band
 from .variations import plan_runs
@@ -67,8 +68,7 @@ def run_batch(scene: Scene | MechanismScene, folder: Path, runs: int, bands: lis
     rows: dict[int, dict[str, Any]] = {}
     start = time.perf_counter()
     with executor(workers) as execute, RunFolder(folder, overwrite) as out:
-        if scene.source is not None:
-            out.write_text("scene.toml", scene.source.read_text(errors="replace"))
+        out.write_text("scene.toml", scene_as_run(scene))
         with out.journal(PARTIAL) as partial:
             def keep(row: dict[str, Any]) -> None:
                 rows[row["run"]] = row
