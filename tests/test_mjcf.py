@@ -17,9 +17,9 @@ from freefloat.app.bench.mjcf import (
     balanced_model,
     mjcf,
     mjcf_from_model,
-    triangle_violations,
 )
 from freefloat.app.bench.mujoco_state import to_mujoco, velocity_map
+from freefloat.robot.inertias import triangle_violations
 
 from .conftest import load_text, random_robots, random_state, robot_from_case
 

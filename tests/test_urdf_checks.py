@@ -9,7 +9,7 @@ import pytest
 
 from freefloat import RobotModelError, load_robot
 from freefloat.robot import urdf_checks
-from freefloat.robot.loading import example_robot_data_share
+from freefloat.robot.loading import FreefloatWarning, example_robot_data_share
 from freefloat.robot.urdf_checks import compare_parses
 
 from .conftest import load_text
@@ -116,10 +116,22 @@ def test_parsers_that_disagree_are_refused(tmp_path):
 
 
 def test_impossible_inertias_and_inverted_limits_are_noted(tmp_path):
-    """Inertias that break the triangle inequality and lower > upper limits load with a note."""
+    """Inertias that break the triangle inequality and lower > upper limits load with a note of
+    at most two lines that says what to do."""
     notes = notes_of(tmp_path, two_link(i1="5", lo="1", hi="-1"))
-    assert any("triangle inequality" in n and "l1" in n for n in notes)
-    assert any("j1 have lower limit > upper limit" in n for n in notes)
+    triangle = next(n for n in notes if "I1 + I2 >= I3" in n)
+    assert "worst l1" in triangle and "check the links' <inertia>" in triangle and 'inertias = "balanced"' in triangle
+    assert any("j1 have lower limit > upper limit; swap them" in n for n in notes)
+    assert all(len(n.splitlines()) <= 2 for n in notes)
+
+
+def test_the_dissertation_robot_s_note_says_why_its_inertias_are_kept():
+    """The built-in four-arm robot's note is two lines: its inertias are the dissertation's, kept to
+    reproduce its numbers, and how to run a physical copy; 16 links named as three and a count."""
+    with pytest.warns(FreefloatWarning) as caught:
+        load_robot("four_arm_planar", visuals=False)
+    note = next(str(w.message) for w in caught if "I1 + I2 >= I3" in str(w.message))
+    assert len(note.splitlines()) == 2 and "as the dissertation prints them" in note and "and 13 more" in note
 
 
 def test_a_joint_that_moves_no_mass_is_named(tmp_path):

@@ -19,6 +19,7 @@ import yourdfpy
 
 from ..errors import InvalidArgument, RobotModelError
 from .catalog import example_robot_data_share, find_robot, is_name
+from .inertias import balanced
 from .robot import BASE_DOFS, Arm, Robot
 from .urdf_checks import (
     check_joints,
@@ -37,6 +38,8 @@ GRIPPER_JOINTS = 2
 #: Names of gripper parts.
 GRIPPER_WORDS = re.compile(r"finger|gripper|thumb|jaw|claw", re.IGNORECASE)
 BASE_COM_FRAME = "base_com"
+#: What ``load_robot(inertias=...)`` takes: the URDF's inertias, or a balanced copy of them.
+INERTIAS = ("as_given", "balanced")
 
 
 class FreefloatWarning(UserWarning):
@@ -57,6 +60,7 @@ def load_robot(
     end_effectors: list[str] | tuple[str, ...] | None = None,
     gravity: tuple[float, float, float] | np.ndarray = (0.0, 0.0, 0.0),
     visuals: bool = True,
+    inertias: str = "as_given",
 ) -> Robot:
     """Load a URDF as a free-floating robot.
 
@@ -71,6 +75,9 @@ def load_robot(
             :func:`_merge_grippers`).
         gravity: gravity vector in the inertial frame, m/s^2 (space: zero, the default).
         visuals: build the visual geometry (meshes through ``package://`` or relative paths).
+        inertias: ``"as_given"``, or ``"balanced"``: every body's least principal moments raised
+            until ``I1 + I2 >= I3`` holds, mass and CoM kept (a physical copy of a URDF whose
+            inertias no rigid body has, :func:`freefloat.robot.inertias.balanced`).
 
     Returns:
         The :class:`~freefloat.robot.Robot`.
@@ -87,6 +94,8 @@ def load_robot(
         raise InvalidArgument(f"load_robot: 'gravity' must be three finite numbers (m/s^2), got {given!r}")
     if base not in BASE_DOFS:
         raise RobotModelError(f"base must be one of {sorted(BASE_DOFS)}, got {base!r}")
+    if inertias not in INERTIAS:
+        raise InvalidArgument(f"load_robot: 'inertias' must be one of {', '.join(INERTIAS)}, got {inertias!r}")
     if isinstance(end_effectors, str):
         raise RobotModelError(f"end_effectors must be a list of link names, got the string {end_effectors!r}; "
                               f"write [{end_effectors!r}]")
@@ -105,7 +114,7 @@ def load_robot(
     notes: list[str] = []
     root = _check_tree(path, urdf.robot)
     _check_inertias(path, urdf.robot, root, notes)
-    notes += physics_notes(path, urdf.robot)
+    notes += physics_notes(path, urdf.robot, triangle=inertias == "as_given")
     xml, unlimited = _pinocchio_xml(tree)
     if unlimited:
         notes.append(
@@ -119,6 +128,8 @@ def load_robot(
         raise RobotModelError(f"{path}: Pinocchio's URDF parser refuses it ({exc})") from exc
     compare_parses(path, model, urdf.robot)
     notes += check_mass_matrix(path, model)
+    if inertias == "balanced":
+        model = balanced(model)[0]
     model.gravity = pin.Motion(np.asarray(gravity, dtype=float), np.zeros(3))
 
     base_inertial = urdf.link_map[root].inertial

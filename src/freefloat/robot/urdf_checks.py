@@ -12,6 +12,7 @@ from __future__ import annotations
 import math
 import os
 import xml.etree.ElementTree as ET
+from collections.abc import Iterable
 from pathlib import Path
 
 import numpy as np
@@ -19,6 +20,7 @@ import pinocchio as pin
 import yourdfpy
 
 from ..errors import RobotModelError
+from ..paths import URDF_DIR
 
 #: Bytes of one Pinocchio ``Data`` per nv^3 (measured: 4.2 GB at nv = 406, 0.56 GB at nv = 206).
 DATA_BYTES_PER_NV3 = 65.0
@@ -129,12 +131,13 @@ def usable_memory() -> float:
     return MEMORY_SHARE * os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
 
 
-def physics_notes(path: Path, robot: yourdfpy.Robot) -> list[str]:
-    """Notes on what loads but no real robot has: inertias that break the triangle inequality
-    (no rigid body can have them; MuJoCo refuses them), joint limits with lower > upper."""
+def physics_notes(path: Path, robot: yourdfpy.Robot, triangle: bool = True) -> list[str]:
+    """Notes on what loads but no real robot has, each at most two lines saying what to do:
+    inertias that break the triangle inequality (no rigid body can have them; MuJoCo refuses
+    them; skipped with ``triangle=False``), joint limits with lower > upper."""
     notes = []
     broken = {}
-    for link in robot.links:
+    for link in robot.links if triangle else ():
         if link.inertial is None or link.inertial.inertia is None:
             continue
         moments = np.linalg.eigvalsh(0.5 * (link.inertial.inertia + link.inertial.inertia.T))
@@ -143,14 +146,24 @@ def physics_notes(path: Path, robot: yourdfpy.Robot) -> list[str]:
     if broken:
         worst = max(broken, key=lambda name: broken[name][2] / (broken[name][0] + broken[name][1] + 1e-300))
         m = broken[worst]
-        notes.append(f"{path.name}: the inertias of {len(broken)} links ({', '.join(broken)}) break the triangle "
-                     f"inequality I1 + I2 >= I3 that every rigid body satisfies (worst: {worst}, {m[0]:.4g} + "
-                     f"{m[1]:.4g} < {m[2]:.4g}); MuJoCo refuses such a robot")
+        why = ("kept as the dissertation prints them, to reproduce its numbers" if path.resolve().parent == URDF_DIR.resolve()
+               else "no rigid body has them: check the links' <inertia>")
+        notes.append(f"{path.name}: {len(broken)} links' inertias break I1 + I2 >= I3 ({few(broken)}; worst {worst}: "
+                     f"{m[0]:.3g} + {m[1]:.3g} < {m[2]:.3g}), {why}.\n  Pinocchio simulates them as given "
+                     '(MuJoCo refuses them); a physical copy: [robot] inertias = "balanced" (load_robot(..., '
+                     'inertias="balanced")).')
     inverted = [j.name for j in robot.joints if j.limit is not None and j.limit.lower is not None
                 and j.limit.upper is not None and j.limit.lower > j.limit.upper]
     if inverted:
-        notes.append(f"{path.name}: joints {', '.join(inverted)} have lower limit > upper limit")
+        notes.append(f"{path.name}: joints {few(inverted)} have lower limit > upper limit; swap them in the URDF")
     return notes
+
+
+def few(names: Iterable[str], shown: int = 3) -> str:
+    """``names`` joined, the first ``shown`` of them and how many more (a note stays short)."""
+    names = list(names)
+    rest = len(names) - shown
+    return ", ".join(names[:shown]) + (f" and {rest} more" if rest > 0 else "")
 
 
 def compare_parses(path: Path, model: pin.Model, robot: yourdfpy.Robot) -> None:

@@ -21,6 +21,7 @@ import numpy as np
 import pinocchio as pin
 
 from ...errors import RobotModelError
+from ...robot.inertias import balanced
 from ...robot.robot import Robot
 
 #: Pinocchio joint kinds written as MuJoCo joints, with their axis in the joint frame.
@@ -53,34 +54,10 @@ def joint_axis(model: pin.Model, joint_id: int) -> tuple[str, np.ndarray]:
                           "(revolute and prismatic joints only; a continuous joint's (cos, sin) has none)")
 
 
-def triangle_violations(model: pin.Model, tol: float = 0.0) -> list[tuple[str, np.ndarray]]:
-    """Bodies (Pinocchio joint names) whose principal moments (ascending, kg m^2, about the CoM)
-    break ``I1 + I2 >= I3 - tol``."""
-    bad = []
-    for j in range(1, model.njoints):
-        moments = np.linalg.eigvalsh(model.inertias[j].inertia)
-        if moments[0] + moments[1] < moments[2] - tol:
-            bad.append((model.names[j], moments))
-    return bad
-
-
 def balanced_model(model: pin.Model) -> pin.Model:
-    """A copy whose every body satisfies the triangle inequality (unchanged bodies stay bit-equal).
-
-    A body with principal moments ``I1 <= I2 <= I3`` and deficit ``d = I3 - I1 - I2 > 0`` gets
-    ``I1 + d/2`` and ``I2 + d/2`` (then ``I1 + I2 = I3``) about the same principal axes; mass and
-    CoM are kept. This changes the robot: the warning gives the largest relative change.
-    """
-    copy = model.copy()
-    changes = {}
-    for name, _ in triangle_violations(model):
-        j = model.getJointId(name)
-        inertia = model.inertias[j]
-        moments, axes = np.linalg.eigh(inertia.inertia)
-        deficit = moments[2] - moments[0] - moments[1]
-        raised = moments + np.array([0.5, 0.5, 0.0]) * deficit * (1.0 + 1e-9)
-        copy.inertias[j] = pin.Inertia(inertia.mass, inertia.lever, axes @ np.diag(raised) @ axes.T)
-        changes[name] = 0.5 * deficit / moments[0]
+    """:func:`freefloat.robot.inertias.balanced`'s copy, with a warning giving the largest
+    relative change (it changes the robot, and both sides of the comparison use it)."""
+    copy, changes = balanced(model)
     if changes:
         warnings.warn(f"the inertias of {len(changes)} bodies (moved by {', '.join(changes)}) break the triangle "
                       "inequality and MuJoCo refuses them; both sides use a balanced copy whose least principal "

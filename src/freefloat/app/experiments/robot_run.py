@@ -77,6 +77,7 @@ def prepare_robot(scene: Scene) -> RobotSetup:
     robot = load_robot(
         _urdf_of(scene), base=scene.robot.base,
         end_effectors=scene.robot.end_effectors, gravity=scene.robot.gravity, visuals=scene.output.html,
+        inertias=scene.robot.inertias,
     )
     s, ini = scene.angle_scale, scene.initial
     joint_q0 = joint_table(robot, ini.joint_positions, s, "initial.joint_positions")

@@ -16,6 +16,7 @@ from ...dynamics.integrators import INTEGRATORS
 from ...dynamics.simulation import BACKENDS
 from ...dynamics.models import MODELS
 from ...errors import SceneError
+from ...robot.loading import INERTIAS
 from .fields import (
     MAX_HTML_FPS,
     OutputSection,
@@ -35,13 +36,16 @@ class RobotSection:
     name of a robot of :mod:`freefloat.robot.catalog` such as ``"ur5"``),
     floating base kind, end-effector link names (default: leaves), gravity (m/s^2, inertial), and
     the joints held still at their initial positions by brakes (a joint, or an end-effector = every
-    joint of its arm; removed from the model, :mod:`freefloat.robot.locking`)."""
+    joint of its arm; removed from the model, :mod:`freefloat.robot.locking`), and ``inertias``:
+    ``"as_given"`` or ``"balanced"`` (a physical copy of inertias that break ``I1 + I2 >= I3``,
+    :func:`freefloat.robot.inertias.balanced`)."""
 
     urdf: str
     base: str = "free"
     end_effectors: tuple[str, ...] | None = None
     gravity: tuple[float, float, float] = (0.0, 0.0, 0.0)
     locked_joints: tuple[str, ...] | None = None
+    inertias: str = "as_given"
 
 
 @dataclass(frozen=True)
@@ -184,6 +188,7 @@ SECTIONS = {
 }
 CHOICES = {
     ("robot", "base"): ("free", "planar"),
+    ("robot", "inertias"): INERTIAS,
     ("task", "kind"): ("none", "joint_quintic", "detumble"),
     ("task", "method"): ("min_norm", "single", "null_space", "least_squares"),
     ("controller", "kind"): ("none", "computed_torque"),
