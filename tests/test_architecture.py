@@ -27,7 +27,8 @@ LAYERS = {
 }
 FACADE = 5
 #: The base: single modules that form one family (they may import each other).
-BASE = {"freefloat.errors", "freefloat.paths", "freefloat.distributed", "freefloat.inputs", "freefloat.lazy"}
+BASE = {"freefloat.errors", "freefloat.paths", "freefloat.distributed", "freefloat.inputs", "freefloat.lazy",
+        "freefloat.extras"}
 
 
 def module_files() -> dict[str, Path]:

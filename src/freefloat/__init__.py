@@ -16,6 +16,7 @@ from .errors import (
     BadShape,
     FreefloatError,
     InvalidArgument,
+    MissingExtra,
     NotAssembled,
     RobotModelError,
     SceneError,
@@ -67,6 +68,6 @@ def __dir__() -> list[str]:
 
 
 __all__ = sorted([
-    *_PUBLIC, "BadShape", "FreefloatError", "InvalidArgument", "NotAssembled", "RobotModelError", "SceneError",
-    "SimulationDiverged", "SingularityError", "TelemetryFileError", "UnknownName", "__version__",
+    *_PUBLIC, "BadShape", "FreefloatError", "InvalidArgument", "MissingExtra", "NotAssembled", "RobotModelError",
+    "SceneError", "SimulationDiverged", "SingularityError", "TelemetryFileError", "UnknownName", "__version__",
 ])

@@ -14,6 +14,7 @@ from typing import Callable
 from tqdm import tqdm
 
 from .errors import FreefloatError
+from .extras import require
 
 
 def client(address: str | None = None, workers: int = 2, processes: bool = True, connect_timeout: float = 5.0):
@@ -23,7 +24,9 @@ def client(address: str | None = None, workers: int = 2, processes: bool = True,
     Raises:
         FreefloatError: naming the address when it is malformed or nothing answers there within
             ``connect_timeout`` s.
+        MissingExtra: without Dask.
     """
+    require("dask", "a Dask client")
     from dask.distributed import Client, LocalCluster
 
     if address:

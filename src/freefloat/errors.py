@@ -58,3 +58,8 @@ class NotAssembled(FreefloatError):
 class TelemetryFileError(FreefloatError):
     """A telemetry file (``.npz``) that is missing, damaged or of another kind; the message names
     the file and what is wrong with it."""
+
+
+class MissingExtra(FreefloatError):
+    """A command or call that needs an optional part of freefloat (an extra of pyproject.toml)
+    that is not installed; the message names it and the line that installs it."""

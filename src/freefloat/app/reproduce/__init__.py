@@ -2,7 +2,8 @@
 studies: :data:`STUDIES` (``freefloat reproduce NAME`` takes its choices and help from it).
 
 A new study is one module with ``reproduce(out, quick=False, ...) -> report`` (it writes
-``report.json`` and ``report.md`` into ``out``) plus one :func:`register` call. Modules are
+``report.json`` and ``report.md`` into ``out``; one that journals its parts also takes
+``journal=PATH``) plus one :func:`register` call. Modules are
 imported when their study runs, so the command line starts without them.
 """
 
@@ -27,6 +28,8 @@ class Study:
         journal: the file it appends its finished parts to, if any (``models``: each part;
             ``robustness``: each sample), so that an interrupted study keeps them and a rerun into
             the same folder resumes.
+        extras: the optional parts it needs (:data:`freefloat.extras.EXTRAS`), checked before it
+            starts.
     """
 
     name: str
@@ -35,11 +38,16 @@ class Study:
     function: str = "reproduce"
     options: tuple[str, ...] = ()
     journal: str | None = None
+    extras: tuple[str, ...] = ()
 
-    def run(self, out: Path, quick: bool = False, **options: Any) -> dict:
-        """Run the study into ``out``; ``options`` beyond :attr:`options` are ignored."""
+    def run(self, out: Path, quick: bool = False, journal: Path | None = None, **options: Any) -> dict:
+        """Run the study into ``out``, appending to ``journal`` (default ``out /``
+        :attr:`journal`) if it keeps one; ``options`` beyond :attr:`options` are ignored."""
         reproduce = getattr(importlib.import_module(f"{__name__}.{self.module}"), self.function)
-        return reproduce(out, quick=quick, **{k: v for k, v in options.items() if k in self.options})
+        chosen = {k: v for k, v in options.items() if k in self.options}
+        if self.journal is not None and journal is not None:
+            chosen["journal"] = journal
+        return reproduce(out, quick=quick, **chosen)
 
 
 #: Registry: name -> :class:`Study`, in the order the command lists them.
@@ -62,10 +70,10 @@ for _study in (
           "reproduce_stability"),
     Study("chattering", "sign(s) against tanh(100 s) over the control period", "chattering_report"),
     Study("robustness", "Monte-Carlo of the 5R controller through Dask", "five_bar_report", "reproduce_robustness",
-          ("runs", "relative_error", "scheduler"), "samples.jsonl"),
+          ("runs", "relative_error", "scheduler"), "samples.jsonl", ("dask",)),
     Study("stability", "the largest stable step per integrator and scene", "stability_report"),
 ):
     register(_study)
 
-#: Every study's journal: ``freefloat reproduce`` claims them in its folder before the study runs.
+#: Every study's journal (``freefloat reproduce`` claims a study's in its folder before the study runs).
 JOURNALS = tuple(study.journal for study in STUDIES.values() if study.journal)
