@@ -145,9 +145,12 @@ def _varies() -> dict[str, str]:
 def _batch(args: argparse.Namespace) -> int:
     from tqdm import tqdm
 
+    from ..extras import require
     from .batch import Workers, parse_band, run_batch
     from .scenes import DEFAULT_SCENE, find_scene
 
+    if args.dask or args.scheduler is not None:
+        require("dask", "freefloat batch --dask" if args.dask else "freefloat batch --scheduler")
     if args.scheduler is not None and args.workers is not None:
         raise FreefloatError("--workers sets the size of a local cluster; with --scheduler the scheduler's workers run")
     default = 2 if args.dask or args.scheduler else 1
@@ -210,8 +213,11 @@ def _info(args: argparse.Namespace) -> int:
 
 
 def _reproduce(args: argparse.Namespace) -> int:
+    from ..extras import require
     from .run_folder import RunFolder
 
+    for extra in STUDIES[args.study].extras:
+        require(extra, f"freefloat reproduce {args.study}")
     out = args.out or Path("runs") / f"reproduce-{args.study}-{time.strftime('%Y%m%d-%H%M%S')}"
     from .reproduce import JOURNALS
     from .signals import signals_raise_keyboard_interrupt
