@@ -32,7 +32,7 @@ def _plant(scene: Scene, model: str) -> DynamicsModel:
     return make_model(model or "exact", scene.robot)
 
 
-def _torque_free(model: pin.Model) -> Acceleration:
+def torque_free(model: pin.Model) -> Acceleration:
     """``f(q, v)``: Pinocchio's ABA at zero torque (the exact plant, with nothing in between)."""
     data, tau = model.createData(), np.zeros(model.nv)
     return lambda q, v: pin.aba(model, data, q, v, tau)
@@ -83,7 +83,7 @@ def freefloat_run(scene: Scene, integrator: str, setting: float, model: str = ""
     Pinocchio's ABA); built fresh each call, so dopri5 carries no step size over."""
     if isinstance(scene, ControlledScene):
         return _controlled_run(scene, integrator, setting, model, "python")
-    f = _torque_free(scene.model) if not model else _model_torque_free(_plant(scene, model), scene.model.nv)
+    f = torque_free(scene.model) if not model else _model_torque_free(_plant(scene, model), scene.model.nv)
 
     def run():
         if INTEGRATORS[integrator].adaptive:

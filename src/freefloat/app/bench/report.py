@@ -4,30 +4,31 @@
 from __future__ import annotations
 
 import csv
+import functools
 import json
-import math
 import platform
 from importlib.metadata import version
 from pathlib import Path
+from typing import Callable
 
 from ...dynamics.threads import single_blas_thread
-from ...errors import InvalidArgument
+from ...errors import UnknownName
 from ..run_folder import Journal, RunFolder
 from ..runner import signals_raise_keyboard_interrupt
 from .free_floating import NOTES, free_floating_scene
 from .mechanisms import MECHANISM_SCENES, mechanism_scene
+from .options import Options
 from .scene import BenchScene
 from .summary import band_rows, summary_lines
 from .chart import chart
-from .sweep import Point, sweep, timed_reference
+from .sweep import RECORD_KEYS, Point, sweep, timed_reference
 
 #: Every bench scene with its note: the free-floating robots, then the closed-chain mechanisms.
 ALL_SCENES = {**NOTES, **MECHANISM_SCENES}
 #: Each measured point, one JSON line (a row of bench.csv), appended as it comes: what a bench
 #: killed outright leaves.
 JOURNAL = "points.jsonl"
-CSV_FIELDS = ("scene", "package", "integrator", "model", "loop", "setting", "wall_time_s", "state_error",
-              "momentum_error", "energy_error", "constraint_drift")
+CSV_FIELDS = RECORD_KEYS + ("state_error", "momentum_error", "energy_error", "constraint_drift")
 
 
 def bench_scene(name: str, duration: float | None, quick: bool, seed: int) -> BenchScene:
@@ -38,14 +39,6 @@ def bench_scene(name: str, duration: float | None, quick: bool, seed: int) -> Be
     return free_floating_scene(name, duration, quick, seed)
 
 
-def _row(scene: str, p: Point) -> dict:
-    """One point as a flat record; a diverged run's errors are None."""
-    errors = {key: value if math.isfinite(value) else None for key, value in p.errors.items()}
-    return {"scene": scene, "package": p.method.package, "integrator": p.method.integrator, "model": p.method.model,
-            "loop": p.method.loop, "setting": p.method.setting, "wall_time_s": p.wall_time, **errors}
-
-
-@single_blas_thread  # once for the whole bench: a limit per run costs 2-6 ms, small matrices run slower threaded
 def bench(out: Path, scenes: list[str] | None = None, quick: bool = False, duration: float | None = None,
           repeats: int | None = None, seed: int = 0, progress=print) -> dict:
     """Run the sweep for each scene in this process and write the folder ``out``.
@@ -66,19 +59,34 @@ def bench(out: Path, scenes: list[str] | None = None, quick: bool = False, durat
         Ctrl-C, SIGTERM or SIGHUP stopped the bench (the files then hold every point measured
         before; they are rewritten after each scene as the bench goes).
     """
-    names = list(scenes or ALL_SCENES)
+    measure = prepared(Options(quick, repeats, tuple(scenes or ()), duration, seed))
+    with RunFolder(out) as folder:
+        return measure(folder, progress)
+
+
+def prepared(options: Options) -> Callable[[RunFolder, Callable[[str], None]], dict]:
+    """The scenes of ``options`` built, so that a bad one fails before any folder is made; the
+    measurement ``(folder, progress) -> report`` that sweeps them into a held folder (see
+    :func:`bench`).
+
+    Raises:
+        UnknownName: a scene not in :data:`ALL_SCENES`, listing the valid ones.
+    """
+    names = list(options.scenes or ALL_SCENES)
     unknown = [name for name in names if name not in ALL_SCENES]
     if unknown:
-        raise InvalidArgument(f"unknown bench scene '{unknown[0]}'; valid: {', '.join(ALL_SCENES)}")
-    if duration is not None and not duration > 0.0:
-        raise InvalidArgument(f"duration must be > 0 s, got {duration}")
-    repeats = repeats if repeats is not None else (1 if quick else 5)
-    if not (isinstance(repeats, int) and repeats >= 1):
-        raise InvalidArgument(f"repeats must be an integer >= 1, got {repeats!r}")
-    built = [bench_scene(name, duration, quick, seed) for name in names]  # bad scenes fail before any run
-    with RunFolder(out) as folder, folder.journal(JOURNAL) as journal:
-        report = _measure(folder, journal, built, repeats, quick, seed, progress)
-    (out / JOURNAL).unlink()
+        raise UnknownName("bench scene", unknown[0], ALL_SCENES)
+    repeats = options.repeats if options.repeats is not None else (1 if options.quick else 5)
+    built = [bench_scene(name, options.duration, options.quick, options.seed) for name in names]
+    return functools.partial(_into, built, repeats, options.quick, options.seed)
+
+
+@single_blas_thread  # once for the whole bench: a limit per run costs 2-6 ms, small matrices run slower threaded
+def _into(built: list[BenchScene], repeats: int, quick: bool, seed: int, out: RunFolder, progress) -> dict:
+    """The sweeps of :func:`bench` into the held folder ``out``, the journal removed at the end."""
+    with out.journal(JOURNAL) as journal:
+        report = _measure(out, journal, built, repeats, quick, seed, progress)
+    (out.path / JOURNAL).unlink()
     return report
 
 
@@ -100,7 +108,7 @@ def _measure(out: RunFolder, journal: Journal, built: list[BenchScene], repeats:
                 ref, report["scenes"][scene.name]["reference_wall_time_s"] = timed_reference(scene)
                 for point in sweep(scene, ref, repeats):
                     points[scene.name].append(point)
-                    journal.append(json.dumps(_row(scene.name, point)))
+                    journal.append(json.dumps(point.record(scene.name)))
                 _write(out, report, built, points, scene.name)
                 progress(f"{scene.name}: {len(points[scene.name])} points")
         report["status"] = "completed"
@@ -120,7 +128,7 @@ def _write(out: RunFolder, report: dict, scenes: list[BenchScene], points: dict[
     rows, lines = [], []
     for name, measured in points.items():
         bands = band_rows(measured)
-        report["scenes"][name].update(points=[_row(name, p) for p in measured], bands=bands)
+        report["scenes"][name].update(points=[p.record(name) for p in measured], bands=bands)
         rows += report["scenes"][name]["points"]
         lines += summary_lines(name, bands)
     report["summary"] = lines

@@ -48,19 +48,30 @@ def time_to_reach(points: list[Point], band: float) -> float:
     return best
 
 
+def curves(points: list[Point]) -> dict[str, list[Point]]:
+    """The points by method (``Method.label``), in the order the methods first come."""
+    out: dict[str, list[Point]] = {}
+    for p in points:
+        out.setdefault(p.method.label, []).append(p)
+    return out
+
+
+def times_to_reach(points: list[Point], band: float) -> dict[str, float]:
+    """Per method that reaches ``band``: the least wall time at which it does, s
+    (:func:`time_to_reach`), fastest first."""
+    times = {label: time_to_reach(curve, band) for label, curve in curves(points).items()}
+    return dict(sorted(((label, t) for label, t in times.items() if math.isfinite(t)), key=lambda item: item[1]))
+
+
 def cheapest(points: list[Point], package: str, band: float) -> Cheapest | None:
     """The method of ``package`` that reaches ``band`` in the least wall time, or None."""
-    curves: dict[str, list[Point]] = {}
-    for p in points:
-        if p.method.package == package:
-            curves.setdefault(p.method.label, []).append(p)
-    times = {label: time_to_reach(curve, band) for label, curve in curves.items()}
-    finite = {label: t for label, t in times.items() if math.isfinite(t)}
-    if not finite:
+    own = [p for p in points if p.method.package == package]
+    times = times_to_reach(own, band)
+    if not times:
         return None
-    label = min(finite, key=finite.__getitem__)
-    first = max(curves[label], key=lambda p: p.method.setting)
-    return Cheapest(label, finite[label], first.state_error <= band)
+    label = next(iter(times))
+    first = max(curves(own)[label], key=lambda p: p.method.setting)
+    return Cheapest(label, times[label], first.state_error <= band)
 
 
 def band_rows(points: list[Point], bands: tuple[float, ...] = BANDS) -> list[dict]:

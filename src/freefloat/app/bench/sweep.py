@@ -33,6 +33,25 @@ class Point:
         """The final-state error, the metric of the accuracy bands."""
         return self.errors["state_error"]
 
+    def record(self, scene: str) -> dict:
+        """The point as a flat record (a row of ``bench.csv``, strict JSON); a diverged run's
+        errors are None."""
+        errors = {key: value if math.isfinite(value) else None for key, value in self.errors.items()}
+        return {"scene": scene, "package": self.method.package, "integrator": self.method.integrator,
+                "model": self.method.model, "loop": self.method.loop, "setting": self.method.setting,
+                "wall_time_s": self.wall_time, **errors}
+
+    @classmethod
+    def from_record(cls, row: dict) -> Point:
+        """The point of a :meth:`record` (errors None read back as infinite)."""
+        method = Method(row["package"], row["integrator"], row["setting"], row["loop"], row["model"])
+        errors = {key: math.inf if value is None else value for key, value in row.items() if key not in RECORD_KEYS}
+        return cls(method, row["wall_time_s"], errors)
+
+
+#: The keys of a :meth:`Point.record` that are not errors.
+RECORD_KEYS = ("scene", "package", "integrator", "model", "loop", "setting", "wall_time_s")
+
 
 def measure(scene: BenchScene, method: Method, ref, repeats: int) -> Point:
     """Run ``method`` ``repeats`` times; the median wall time and the errors of the last run.
