@@ -39,7 +39,8 @@ def test_an_unknown_name_is_an_attribute_error():
         freefloat.load_robbot  # noqa: B018
 
 
-@pytest.mark.parametrize("argv", [["--version"], ["--help"], ["batch", "--help"], ["reproduce", "--help"]])
+@pytest.mark.parametrize("argv", [["--version"], ["--help"], ["batch", "--help"], ["reproduce", "--help"],
+                                  ["bench", "--help"]])
 def test_the_command_line_answers_without_heavy_libraries(argv):
     """``freefloat --version`` and the help texts import no numerical, robot or figure library
     (they made ``--version`` take 2.4 s, 4x ``import pinocchio``)."""

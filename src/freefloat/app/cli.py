@@ -16,6 +16,9 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Iterator
 
 from ..errors import FreefloatError
+from .bench.suites import ALL as ALL_SUITES
+from .bench.suites import DEFAULT as DEFAULT_SUITE
+from .bench.suites import SUITES
 from .reproduce import STUDIES
 from .signals import arrived_before_main, signals_deferred
 
@@ -90,12 +93,19 @@ def main(argv: list[str] | None = None) -> int:
     rep.add_argument("--runs", type=int, default=20, help="robustness: Monte-Carlo runs (default 20)")
     rep.add_argument("--error", type=float, default=0.5, help="robustness: parameter error band (default 0.5 = 50 %%)")
     rep.add_argument("--scheduler", default=None, help="robustness: Dask scheduler address (default: a local cluster)")
-    ben = commands.add_parser("bench", help="freefloat's integrators against MuJoCo's: work-precision per scene")
+    ben = commands.add_parser("bench", help="speed side by side in one process: freefloat against MuJoCo per scene, "
+                                             "or a suite of measurements (--suite)")
     ben.add_argument("scenes", nargs="*", metavar="SCENE",
-                     help="four_arm, dual_arm, controlled, detumbling, five_bar, rsu_ppap (default: all)")
-    ben.add_argument("--quick", action="store_true", help="a few steps, a short run, one repeat (a smoke test)")
-    ben.add_argument("--repeats", type=int, default=None, help="runs per point, median time (default 5; 1 with --quick)")
-    ben.add_argument("--out", type=Path, default=None, help="output folder (default: runs/bench-<time>)")
+                     help=f"the {DEFAULT_SUITE} suite's scenes: four_arm, dual_arm, controlled, detumbling, five_bar, "
+                          "rsu_ppap (default: all)")
+    ben.add_argument("--suite", nargs="+", default=None, metavar="NAME",
+                     help="; ".join(f"{name}: {suite.help}" for name, suite in SUITES.items()).replace("%", "%%")
+                          + f"; {ALL_SUITES}: every suite (default: {DEFAULT_SUITE})")
+    ben.add_argument("--quick", action="store_true", help="a few points, short runs, one repeat (a smoke test)")
+    ben.add_argument("--repeats", type=int, default=None,
+                     help="repeats of each measurement (default: each suite's own, fewer with --quick)")
+    ben.add_argument("--out", type=Path, default=None,
+                     help="output folder (default: runs/bench-<time>; with --suite, runs/bench-<names>-<time>)")
     args = parser.parse_args(argv)
     commands_run = {"simulate": _simulate, "batch": _batch, "bench": _bench, "scenes": lambda _: _scenes(), "verify": _verify, "reproduce": _reproduce,
                     "info": _info, "view": _view}
@@ -117,20 +127,16 @@ def main(argv: list[str] | None = None) -> int:
 
 
 def _bench(args: argparse.Namespace) -> int:
-    try:
-        import mujoco  # noqa: F401
-    except ImportError:
-        print('freefloat: error: freefloat bench needs MuJoCo: python3 -m pip install -e ".[bench]"', file=sys.stderr)
-        return 2
-    from .bench.report import bench
+    from .bench.options import Options
+    from .bench.suites import run_suites
 
-    out = args.out or default_folder("bench")
+    out = args.out or default_folder("-".join(["bench", *(args.suite or ())]))
     with one_line_warnings():
-        report = bench(out, args.scenes, quick=args.quick, repeats=args.repeats)
-    print("\n".join(report["summary"]))
+        ended = run_suites(out, args.suite or [DEFAULT_SUITE], Options(args.quick, args.repeats, tuple(args.scenes)))
+    print("\n".join(line for suite in ended for line in suite.lines))
     print(f"written to {out}")
-    if report["status"] != "completed":
-        print(f"freefloat: bench stopped early: {report['status']} (the points measured are kept in {out})",
+    if ended[-1].status != "completed":
+        print(f"freefloat: bench stopped early: {ended[-1].status} (what was measured is kept in {out})",
               file=sys.stderr)
         return 1
     return 0

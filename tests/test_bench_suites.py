@@ -1,0 +1,226 @@
+"""``freefloat bench --suite NAME``: the registry of suites, the command that reads it, and each
+suite's quick run (its JSON's numbers agree with one another; speed itself is never asserted)."""
+
+from __future__ import annotations
+
+import json
+import math
+import sys
+
+import pytest
+
+from freefloat.app.bench.suites import ALL, DEFAULT, SUITES, Suite, named
+from freefloat.app.bench.suites.locking import SCENES as LOCKING_SCENES
+from freefloat.app.bench.suites.robots import robot_names
+from freefloat.app.cli import main
+from freefloat.app.run_folder import RECORD
+
+from . import toy_suite
+
+#: The suites measured in parts (``bench_<name>.json``); the default one writes bench.json.
+PARTS_SUITES = [name for name, suite in SUITES.items() if not suite.takes_scenes]
+TOY = Suite("toy", "a toy suite of tests/toy_suite.py", "tests.toy_suite")
+
+
+@pytest.fixture
+def toy(monkeypatch):
+    """The toy suite registered as ``toy``."""
+    monkeypatch.setitem(SUITES, "toy", TOY)
+
+
+def test_registry_lists_exactly_the_suites():
+    """The registry holds the MuJoCo scenes and the eight former scripts, in the order ``all`` runs them."""
+    assert list(SUITES) == [DEFAULT, "simulation", "integrators", "gjm", "models", "locking", "parallel", "batch",
+                            "figures"]
+
+
+def test_help_lists_every_registered_suite(toy, capsys):
+    """``freefloat bench --help`` names each suite with its help line, read from the registry."""
+    with pytest.raises(SystemExit):
+        main(["bench", "--help"])
+    text = " ".join(capsys.readouterr().out.split())
+    assert all(f"{name}: {' '.join(suite.help.split())}" in text for name, suite in SUITES.items())
+    assert "toy: a toy suite of tests/toy_suite.py" in text
+
+
+def test_unknown_suite_exits_2_naming_the_valid_ones(toy, tmp_path, capsys):
+    """An unknown suite is refused before any folder is made, the message listing the registry's names."""
+    assert main(["bench", "--suite", "nope", "--out", str(tmp_path / "o")]) == 2
+    valid = ", ".join([*SUITES, ALL])
+    assert f"unknown bench suite 'nope'; valid: {valid}" in capsys.readouterr().err
+    assert "toy" in valid and not (tmp_path / "o").exists()
+
+
+def test_all_names_every_suite_once():
+    """``all`` (with a suite named again) is every suite of the registry, each once, in its order."""
+    assert named(["gjm", ALL]) == [SUITES["gjm"], *(s for n, s in SUITES.items() if n != "gjm")]
+
+
+def test_a_registered_toy_suite_runs_with_no_other_edit(toy, tmp_path):
+    """``freefloat bench --suite toy`` writes bench_toy.json (parts, settings, versions, status) and its chart."""
+    assert main(["bench", "--suite", "toy", "--repeats", "2", "--out", str(tmp_path)]) == 0
+    report = json.loads((tmp_path / "bench_toy.json").read_text())
+    assert report["status"] == "completed" and report["settings"] == {"quick": False, "repeats": 2}
+    assert report["first"]["a_over_b"] == 4.0 and "second" in report and "freefloat" in report["versions"]
+    assert (tmp_path / "bench_toy.png").read_text() == "first second"
+
+
+def test_a_suite_without_mujoco_runs_when_mujoco_is_missing(toy, tmp_path, monkeypatch):
+    """With MuJoCo not importable, a suite that does not need it still runs."""
+    monkeypatch.setitem(sys.modules, "mujoco", None)
+    assert main(["bench", "--suite", "toy", "--out", str(tmp_path)]) == 0
+
+
+def test_the_mujoco_suite_refuses_to_start_without_mujoco(tmp_path, monkeypatch, capsys):
+    """Without MuJoCo the default suite exits 2 naming the extra to install, before any folder is made."""
+    monkeypatch.setitem(sys.modules, "mujoco", None)
+    assert main(["bench", "--quick", "--out", str(tmp_path / "o")]) == 2
+    assert f'--suite {DEFAULT} needs mujoco: python3 -m pip install -e ".[bench]"' in capsys.readouterr().err
+    assert not (tmp_path / "o").exists()
+
+
+def test_scenes_without_the_mujoco_suite_are_refused(toy, tmp_path, capsys):
+    """Scenes given to suites that take none exit 2 (they belong to the default suite)."""
+    assert main(["bench", "four_arm", "--suite", "toy", "--out", str(tmp_path / "o")]) == 2
+    assert f"belong to the {DEFAULT} suite" in capsys.readouterr().err
+
+
+def test_sigterm_keeps_the_parts_measured(toy, tmp_path, monkeypatch):
+    """SIGTERM in a suite's second part: exit 1, its JSON holds the first part and says where it
+    stopped, and no chart is drawn from half a report."""
+    monkeypatch.setattr(toy_suite, "INTERRUPT_AT", "second")
+    assert main(["bench", "--suite", "toy", "--out", str(tmp_path)]) == 1
+    report = json.loads((tmp_path / "bench_toy.json").read_text())
+    assert report["status"] == "interrupted (SIGTERM) after 1 parts: first; no chart"
+    assert "first" in report and "second" not in report and not (tmp_path / "bench_toy.png").exists()
+
+
+@pytest.fixture(scope="module")
+def quick(tmp_path_factory):
+    """``run(name)``: ``freefloat bench --suite NAME --quick`` once per suite; its exit status,
+    folder and report."""
+    done = {}
+
+    def run(name: str):
+        if name not in done:
+            out = tmp_path_factory.mktemp(name) / "out"
+            status = main(["bench", "--suite", name, "--quick", "--out", str(out)])
+            done[name] = status, out, json.loads((out / f"bench_{name}.json").read_text())
+        return done[name]
+
+    return run
+
+
+def _values(value, key=""):
+    """Every ``(key, leaf)`` of a JSON value."""
+    if isinstance(value, dict):
+        for k, v in value.items():
+            yield from _values(v, k)
+    elif isinstance(value, list):
+        for v in value:
+            yield from _values(v, key)
+    else:
+        yield key, value
+
+
+@pytest.mark.parametrize("name", PARTS_SUITES)
+def test_quick_suite_writes_its_json_and_chart(quick, name):
+    """Exit 0, a completed report with settings and versions, its chart, and no other file."""
+    status, out, report = quick(name)
+    assert status == 0 and report["status"] == "completed"
+    assert report["settings"] and report["versions"]["pin"]
+    assert {p.name for p in out.iterdir()} == {f"bench_{name}.json", f"bench_{name}.png", RECORD}
+
+
+@pytest.mark.parametrize("name", PARTS_SUITES)
+def test_quick_suite_numbers_are_finite(quick, name):
+    """Every number is finite; the only nulls are accuracy bands no method reached."""
+    _, _, report = quick(name)
+    for key, value in _values(report):
+        assert value is not None or key in ("fastest", "lead"), key
+        assert not isinstance(value, float) or math.isfinite(value), key
+
+
+def _simulation(r):
+    best = r["loop_overhead"]["seconds_per_step_best"]
+    assert r["loop_overhead"]["python_over_compiled_full_telemetry"] == pytest.approx(best["python_full"] / best["compiled_full"])
+    assert r["base_kind"]["ratio_free_over_planar"] == pytest.approx(
+        r["base_kind"]["free"]["seconds_per_step_best"] / r["base_kind"]["planar"]["seconds_per_step_best"])
+    walls = r["detumbling"]["wall_s_best"]
+    assert r["detumbling"]["per_period_over_whole_chunks"] == pytest.approx(
+        walls["compiled_per_period"] / walls["compiled_whole_chunks"])
+
+
+def _integrators(r):
+    for robot in r["settings"]["robots"]:
+        wp = r[f"{robot} work precision"]
+        errors = [p["state_error"] for p in sorted(wp["points"], key=lambda p: -p["setting"])
+                  if p["integrator"] == "rkmk4"]
+        assert wp["observed_orders"]["freefloat rkmk4"] == pytest.approx(
+            [math.log2(a / b) for a, b in zip(errors, errors[1:])])
+        band = wp["bands"]["1e-03"]
+        seconds = list(band["seconds"].values())
+        assert band["fastest"] == min(band["seconds"], key=band["seconds"].get)
+        assert band["lead"] == pytest.approx(seconds[1] / seconds[0])
+        cost = r[f"{robot} cost per step"]
+        assert cost["time_ratio_to_rkmk4"]["rkmk8"] == pytest.approx(
+            cost["seconds_per_step"]["rkmk8"] / cost["seconds_per_step"]["rkmk4"])
+
+
+def _gjm(r):
+    for row in (r[name] for name in robot_names(r["settings"]["arm_counts"])):
+        t = row["seconds_per_call"]
+        assert row["ratios"]["compiled_over_pinocchio_calls"] == pytest.approx(t["compiled"] / t["pinocchio_calls"])
+
+
+def _models(r):
+    for row in (r[name] for name in robot_names(r["settings"]["arm_counts"])):
+        assert row["compiled_over_aba"] == pytest.approx({k: t / row["aba_s"] for k, t in row["compiled_s"].items()})
+
+
+def _locking(r):
+    for row in (r[label] for label, _, _ in LOCKING_SCENES):
+        assert row["locked_loop_speedup"] == pytest.approx(row["loop_s"]["unlocked"] / row["loop_s"]["locked"])
+        assert row["auto_total_over_exact_total"] == pytest.approx(row["total_s"]["auto"] / row["total_s"]["unlocked"])
+
+
+def _parallel(r):
+    for name in ("five_bar", "rsu_ppap"):
+        f, inv = r[name]["forward"], r[name]["inverse_compiled"]
+        assert f["compiled_over_pinocchio"] == pytest.approx(f["compiled_s"] / f["pinocchio_s"])
+        assert inv["trajectory_over_loop"] == pytest.approx(inv["trajectory_points_per_s"] / inv["loop_points_per_s"])
+    assert [row["turns"] for row in r["coarse_paths"]] == [1, 2, 4, 8]
+
+
+def _batch(r):
+    for name in r["settings"]["scenes"]:
+        row = r[name]
+        assert row["best_s"] == {k: min(t) for k, t in row["times_s"].items()}
+        assert row["runs_per_second"] == pytest.approx({k: row["runs"] / t for k, t in row["best_s"].items()})
+
+
+def _figures(r):
+    t = r["figures"]
+    assert t["figures_over_simulation"] == pytest.approx(t["figures_png_pdf_s"] / t["simulation_s"])
+
+
+#: Per suite, what its numbers must agree on (a new suite needs a check).
+CHECKS = {"simulation": _simulation, "integrators": _integrators, "gjm": _gjm, "models": _models,
+          "locking": _locking, "parallel": _parallel, "batch": _batch, "figures": _figures}
+
+
+@pytest.mark.parametrize("name", PARTS_SUITES)
+def test_quick_suite_numbers_agree(quick, name):
+    """Each ratio the suite reports is the quotient of the two times it reports (and likewise)."""
+    assert name in CHECKS, f"add a check of the {name} suite's numbers to CHECKS"
+    CHECKS[name](quick(name)[2])
+
+
+def test_mujoco_suite_runs_its_scenes_through_suite(tmp_path):
+    """``freefloat bench dual_arm --suite mujoco --quick`` writes bench.json whose speed-ups are
+    freefloat's time over MuJoCo's in each band."""
+    assert main(["bench", "dual_arm", "--suite", DEFAULT, "--quick", "--out", str(tmp_path)]) == 0
+    bands = json.loads((tmp_path / "bench.json").read_text())["scenes"]["dual_arm"]["bands"]
+    reached = [b for b in bands if b["mujoco_speedup"] is not None]
+    assert reached and all(b["mujoco_speedup"] == pytest.approx(b["freefloat"]["wall_time"] / b["mujoco"]["wall_time"])
+                           for b in reached)
