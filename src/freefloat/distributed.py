@@ -1,5 +1,6 @@
-"""Work spread over processes through Dask: a client of a local cluster or of a scheduler, and
-the results of submitted tasks as they finish.
+"""Work spread over processes: a pool of this machine's processes (:func:`process_pool`), or
+Dask: a client of a local cluster or of a scheduler, and the results of submitted tasks as they
+finish.
 
 Dask is an optional dependency (``pip install -e ".[dask]"``), imported when a client is made.
 Shared by the 5R sweeps (:mod:`freefloat.parallel.sweeps`) and the batches of runs
@@ -8,13 +9,23 @@ Shared by the 5R sweeps (:mod:`freefloat.parallel.sweeps`) and the batches of ru
 
 from __future__ import annotations
 
+import multiprocessing
 import socket
+from concurrent.futures import ProcessPoolExecutor
 from typing import Callable
 
 from tqdm import tqdm
 
 from .errors import FreefloatError
 from .extras import require
+
+
+def process_pool(workers: int, initializer: Callable[[], None] | None = None) -> ProcessPoolExecutor:
+    """A pool of ``workers`` new interpreters (spawned, never forked: this process has threads, BLAS's
+    and progress bars', and a fork of a threaded process can deadlock; Python 3.12 warns at every
+    fork there). As with any spawned pool, a script that makes one needs the
+    ``if __name__ == "__main__":`` guard."""
+    return ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("spawn"), initializer=initializer)
 
 
 def client(address: str | None = None, workers: int = 2, processes: bool = True, connect_timeout: float = 5.0):

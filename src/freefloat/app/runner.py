@@ -121,6 +121,10 @@ def run_scene(scene: Scene | MechanismScene, folder: Path, progress: Progress | 
             the folder cannot be used; after the run, when the disk refuses a file.
     """
     setup = prepare(scene) if setup is None else setup
+    if scene.output.figures:
+        from .viz import rendering
+
+        rendering.warm_up()  # the figure helper starts while the run simulates
     with RunFolder(folder, overwrite) as out, stop_once() as interrupts:
         try:
             setup = choose_plant(scene, setup)

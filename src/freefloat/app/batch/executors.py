@@ -11,13 +11,12 @@ Dask's pending tasks cancelled) and propagates, after every row already finished
 from __future__ import annotations
 
 import contextlib
-import multiprocessing
 import signal
 from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
 from dataclasses import dataclass
 from typing import Any, Callable, Iterator
 
-from ...distributed import client, settle_futures
+from ...distributed import client, process_pool, settle_futures
 from ...errors import FreefloatError
 from .one_run import run_one
 from .variations import RunPlan
@@ -85,11 +84,10 @@ def run_serial(plans: list[RunPlan], on_row: OnRow) -> None:
 
 
 def run_pool(plans: list[RunPlan], workers: int, on_row: OnRow) -> None:
-    """The runs on ``workers`` forked processes (spawned where fork is missing). Workers ignore
+    """The runs on a pool of ``workers`` processes (:func:`freefloat.distributed.process_pool`). Workers ignore
     Ctrl-C; this process stops them. A worker that dies (killed, crashed) fails the runs it
     leaves, each recorded with the reason."""
-    method = "fork" if "fork" in multiprocessing.get_all_start_methods() else "spawn"
-    pool = ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context(method), initializer=_ignore_ctrl_c)
+    pool = process_pool(workers, _ignore_ctrl_c)
     try:
         pending: dict[Future, RunPlan] = {pool.submit(run_one, plan): plan for plan in plans}
         while pending:

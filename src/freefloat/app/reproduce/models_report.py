@@ -18,12 +18,13 @@ from __future__ import annotations
 import dataclasses
 import json
 import time
-from concurrent.futures import ProcessPoolExecutor, as_completed
+from concurrent.futures import as_completed
 from pathlib import Path
 
 import numpy as np
 import pinocchio as pin
 
+from ...distributed import process_pool
 from ...dynamics.integrators import make_integrator
 from ...dynamics.metrics import momentum_drift, summarize
 from ...dynamics.models import MODELS, make_model
@@ -180,7 +181,7 @@ def reproduce(out: Path, quick: bool = False, workers: int = 2, seed: int = 0) -
         cells = [(p, c, "euler") for p in GRID_MODELS for c in GRID_MODELS] + [("exact", c, "rkmk4") for c in EXACT_PLANT_CONTROLLERS]
         cases = [(m, case) for case in list(REGIMES)[1:] for m in TUMBLING_MODELS]
         keys = [["grid", *cell] for cell in cells] + [["tumbling", *case] for case in cases]
-        with ProcessPoolExecutor(max_workers=workers) as pool:
+        with process_pool(workers) as pool:
             futures = {pool.submit(grid_cell, *cell, duration): key for key, cell in zip(keys, cells)
                        if json.dumps(key) not in done}
             futures.update({pool.submit(tumbling_run, *case, 0.1 if quick else 1.0, seed): key

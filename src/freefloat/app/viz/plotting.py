@@ -7,7 +7,6 @@ Figures are not registered with pyplot (nothing stays open). Layout is fixed fra
 
 from __future__ import annotations
 
-import os
 from pathlib import Path
 
 import numpy as np
@@ -16,6 +15,8 @@ from matplotlib.axes import Axes
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 from matplotlib.ticker import LogLocator, NullLocator
+
+from . import rendering
 
 #: Formats every figure is written in: PNG to look at, PDF to print.
 FORMATS = ("png", "pdf")
@@ -109,22 +110,16 @@ def log_curve(ax: Axes, t: np.ndarray, values: np.ndarray, label: str) -> None:
 def save_all(figures: dict[str, Figure | None], out_dir: Path) -> list[Path]:
     """Write each figure with :func:`save` (None: skipped); returns the paths, in order.
 
-    Rendering is most of the cost (text layout, rasterising, PDF), so where the system can fork,
-    a child process renders every other figure while this one renders the rest: about half the
-    wall time on two cores. A child that fails leaves its figures to this process."""
+    Rendering is most of the cost (text layout, rasterising, PDF), so a helper process
+    (:mod:`.rendering`: a new interpreter, not a fork) renders every other figure while this one renders
+    the rest. A figure the helper fails on is rendered here."""
     named = [(stem, fig) for stem, fig in figures.items() if fig is not None]
-    theirs = named[1::2] if len(named) > 1 and hasattr(os, "fork") else []
-    pid = os.fork() if theirs else 0
-    if theirs and pid == 0:  # the child: render its share, report by the exit status only
-        try:
-            for stem, fig in theirs:
-                save(fig, out_dir, stem)
-        finally:
-            os._exit(0 if all((out_dir / f"{stem}.{fmt}").is_file() for stem, _ in theirs for fmt in FORMATS) else 1)
-    for stem, fig in named[0::2] if theirs else named:
+    theirs = named[1::2]
+    collect = rendering.render_each(save, [(fig, out_dir, stem) for stem, fig in theirs])
+    for stem, fig in named[0::2]:
         save(fig, out_dir, stem)
-    if theirs and os.waitstatus_to_exitcode(os.waitpid(pid, 0)[1]) != 0:
-        for stem, fig in theirs:
+    for (stem, fig), reply in zip(theirs, collect(), strict=True):
+        if isinstance(reply, BaseException):  # the helper could not: this process can
             save(fig, out_dir, stem)
     return [out_dir / f"{stem}.{fmt}" for stem, _ in named for fmt in FORMATS]
 
