@@ -4,8 +4,10 @@ from __future__ import annotations
 
 import json
 import os
+import re
 import signal
 import subprocess
+import sys
 import time
 
 import numpy as np
@@ -175,3 +177,29 @@ def test_a_second_ctrl_c_keeps_the_telemetry_and_summary(tmp_path, gap):
     assert json.loads((out / "summary.json").read_text())["status"] == "interrupted"
     t = Telemetry.load(out / "telemetry.npz").t
     assert len(t) > 1 and np.all(np.diff(t) > 0)
+
+
+def test_writing_stages_come_after_the_simulation_in_order(tmp_path):
+    """run_scene reports every simulated step before its first writing stage, then the stages in
+    the order they write (data, figures, page): a progress bar can close when the writing starts."""
+    from freefloat.app.outputs import STAGES
+
+    events: list[tuple[str, object]] = []
+    scene = load_scene(scene_variant(tmp_path / "s.toml", "four_arm_joint_space", simulation={"duration": 0.05}))
+    runner.run_scene(scene, tmp_path / "out", progress=lambda k: events.append(("step", k)),
+                     stage=lambda name: events.append(("stage", name)))
+    first_stage = next(i for i, (kind, _) in enumerate(events) if kind == "stage")
+    assert events[first_stage - 1] == ("step", 50) and all(kind == "stage" for kind, _ in events[first_stage:])
+    assert [name for _, name in events[first_stage:]] == list(STAGES)
+
+
+def test_simulate_closes_its_bar_before_writing_and_times_each_stage(tmp_path):
+    """The command's bar ends at the last step, then one line per writing stage with its time."""
+    path = scene_variant(tmp_path / "s.toml", "four_arm_joint_space", simulation={"duration": 0.05})
+    done = subprocess.run([sys.executable, "-m", "freefloat", "simulate", str(path), "--out", str(tmp_path / "out")],
+                          capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0, done.stderr
+    lines = [line for line in done.stderr.splitlines() if line.startswith("writing ")]
+    assert [line.split(" ...")[0] for line in lines] == [
+        "writing telemetry.npz, summary.json, scene.toml", "writing figures (PNG and PDF)", "writing the page trajectory.html"]
+    assert all(re.fullmatch(r".* \.\.\. \d+\.\d\d s", line) for line in lines)

@@ -13,7 +13,7 @@ import time
 import warnings
 from importlib.metadata import version
 from pathlib import Path
-from typing import TYPE_CHECKING, Iterator
+from typing import TYPE_CHECKING, Any, Iterator
 
 from ..errors import FreefloatError
 from .bench.suites import ALL as ALL_SUITES
@@ -298,8 +298,10 @@ def _simulate(args: argparse.Namespace) -> int:
         live = _live_view(scene, setup) if args.view else None
         try:
             with tqdm(total=total_steps(scene), desc=scene.name, unit="step", disable=args.quiet, delay=0.5) as bar:
+                stages = _Stages(bar, args.quiet)
                 done = run_scene(scene, out, progress=lambda k: bar.update(k - bar.n), overwrite=args.overwrite,
-                                 setup=setup, watch=live.show if live else None)
+                                 setup=setup, watch=live.show if live else None, stage=stages)
+                stages.finish()
             status = _report(done)
             if live is not None:
                 tel = done.outcome.telemetry
@@ -315,6 +317,31 @@ def _simulate(args: argparse.Namespace) -> int:
             if live is not None:
                 live.close()
     return status
+
+
+class _Stages:
+    """What ``freefloat simulate`` shows after the simulation: its progress bar closed when the
+    writing starts (its rate then counts simulated steps only), then a line per writing stage
+    with the time it took."""
+
+    def __init__(self, bar: Any, quiet: bool) -> None:
+        self.bar, self.quiet = bar, quiet
+        self.started: float | None = None
+
+    def __call__(self, name: str) -> None:
+        from .outputs import STAGES
+
+        self.bar.close()
+        self.finish()
+        self.started = time.perf_counter()
+        if not self.quiet:
+            print(f"writing {STAGES[name]} ...", end="", file=sys.stderr, flush=True)
+
+    def finish(self) -> None:
+        """End the stage under way (its time on its line)."""
+        if self.started is not None and not self.quiet:
+            print(f" {time.perf_counter() - self.started:.2f} s", file=sys.stderr, flush=True)
+        self.started = None
 
 
 def _live_view(scene, setup) -> LiveView | None:

@@ -46,8 +46,14 @@ def write_report(out: Path, report: dict, markdown: Callable[[dict], str], start
     return report
 
 
+#: What :func:`write_run` writes, in order, by stage name (its ``stage`` callback's argument).
+STAGES = {"data": "telemetry.npz, summary.json, scene.toml", "figures": "figures (PNG and PDF)",
+          "trajectory.html": "the page trajectory.html"}
+
+
 def write_run(folder: RunFolder, scene: Scene | MechanismScene, outcome: Outcome,
-              interrupted: Callable[[], bool] = lambda: False) -> tuple[list[Path], list[str]]:
+              interrupted: Callable[[], bool] = lambda: False,
+              stage: Callable[[str], None] = lambda name: None) -> tuple[list[Path], list[str]]:
     """Write ``telemetry.npz`` (with the outcome's names), any further telemetry,
     ``summary.json`` (summary, scene, provenance, versions; strict JSON), ``scene.toml`` (the
     scene as it ran: :func:`~.scenes.as_run.scene_as_run`),
@@ -56,9 +62,11 @@ def write_run(folder: RunFolder, scene: Scene | MechanismScene, outcome: Outcome
     Written whatever the run's status, so a diverged or interrupted run keeps what it computed;
     figures and page need two samples or more, and are skipped once ``interrupted()`` is true
     (a second Ctrl-C while writing) or when drawing them fails (listed with the reason).
+    ``stage`` is called with the name of each stage as it starts (:data:`STAGES`).
     Returns the paths written and what was skipped.
     """
     tel = outcome.telemetry
+    stage("data")
     written = [folder.save("telemetry.npz", tel, **outcome.names, scene=scene.name)]
     folder.drop_checkpoints()
     for name, extra in outcome.extra_telemetry.items():
@@ -77,6 +85,7 @@ def write_run(folder: RunFolder, scene: Scene | MechanismScene, outcome: Outcome
         if interrupted():
             skipped.append(what)
             continue
+        stage(what)
         try:
             written += _draw(folder, draw)
         except FreefloatError:

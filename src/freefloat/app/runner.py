@@ -108,13 +108,16 @@ def simulate(scene: Scene | MechanismScene, progress: Progress | None = None,
 
 
 def run_scene(scene: Scene | MechanismScene, folder: Path, progress: Progress | None = None,
-              overwrite: bool = False, setup: Any = None, watch: Callable[[Any], None] | None = None) -> SceneRun:
+              overwrite: bool = False, setup: Any = None, watch: Callable[[Any], None] | None = None,
+              stage: Callable[[str], None] = lambda name: None) -> SceneRun:
     """Run ``scene`` into ``folder`` (telemetry, summary, scene, figures, page), whatever the
     run's status.
 
     Args:
         setup: the scene already prepared (:func:`prepare`), or None to prepare it here.
         watch: also given each telemetry chunk as it is checkpointed (a live viewer).
+        stage: called as each writing stage starts (:data:`~.outputs.STAGES`), the first one when
+            the simulation has ended.
 
     Raises:
         FreefloatError: before anything is simulated, when the scene is wrong (``SceneError``) or
@@ -134,7 +137,8 @@ def run_scene(scene: Scene | MechanismScene, folder: Path, progress: Progress | 
         outcome = experiment_for(scene).run(setup, progress, checkpoint)
         seen = interrupts.defer()  # from here on an interrupt only skips the drawings, as a second one does
         outcome = fail_if_not_finite(note_model_choice(outcome, setup))
-        written, skipped = write_run(out, scene, outcome, lambda: interrupts.count >= 2 or interrupts.count > seen)
+        written, skipped = write_run(out, scene, outcome, lambda: interrupts.count >= 2 or interrupts.count > seen,
+                                     stage)
     return SceneRun(outcome, folder, written, skipped)
 
 

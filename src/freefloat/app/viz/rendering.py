@@ -48,7 +48,15 @@ def warm_up() -> None:
     if _helper is None or _helper.poll() is not None:
         _helper = subprocess.Popen([sys.executable, "-m", __name__], stdin=subprocess.PIPE, stdout=subprocess.PIPE,
                                    stderr=subprocess.DEVNULL)
-        atexit.register(_helper.kill)
+        atexit.register(_stop, _helper)
+
+
+def _stop(helper: subprocess.Popen) -> None:
+    """End ``helper`` and close its pipes (at this process's exit)."""
+    helper.kill()
+    helper.wait()
+    helper.stdin.close()
+    helper.stdout.close()
 
 
 def render_each(save: Callable[[Figure, Path, str], list[Path]],
