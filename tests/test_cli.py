@@ -190,7 +190,7 @@ def test_version_and_module_entry_point():
 @pytest.mark.parametrize(("name", "expected"), [("../../x", "x"), ("/abs/dir", "abs_dir"), ("a b", "a_b"), ("..", "scene")])
 def test_scene_names_become_one_folder_under_runs(name, expected, tmp_path, monkeypatch):
     """A scene name cannot steer the default output folder out of runs/."""
-    from freefloat.app.cli import default_folder
+    from freefloat.app.folder_names import default_folder
 
     monkeypatch.chdir(tmp_path)
     folder = default_folder(name)
@@ -200,7 +200,7 @@ def test_scene_names_become_one_folder_under_runs(name, expected, tmp_path, monk
 def test_a_long_scene_name_gives_a_folder_the_file_system_takes(tmp_path, monkeypatch):
     """A scene named with 300 characters gets a default folder that can be created (it raised
     'File name too long')."""
-    from freefloat.app.cli import MAX_FOLDER_NAME, default_folder
+    from freefloat.app.folder_names import MAX_FOLDER_NAME, default_folder
 
     monkeypatch.chdir(tmp_path)
     folder = default_folder("batch-" + "n" * 300)

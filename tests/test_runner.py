@@ -9,6 +9,7 @@ import signal
 import subprocess
 import sys
 import time
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -203,3 +204,15 @@ def test_simulate_closes_its_bar_before_writing_and_times_each_stage(tmp_path):
     assert [line.split(" ...")[0] for line in lines] == [
         "writing telemetry.npz, summary.json, scene.toml", "writing figures (PNG and PDF)", "writing the page trajectory.html"]
     assert all(re.fullmatch(r".* \.\.\. \d+\.\d\d s", line) for line in lines)
+
+
+def test_run_scene_takes_a_name_and_writes_where_the_command_would(tmp_path, monkeypatch):
+    """The Python entry takes a scene file's path (or a built-in name) and, without a folder,
+    writes runs/<scene>-<time> as ``freefloat simulate`` does; its result holds the summary."""
+    path = scene_variant(tmp_path / "short.toml", "four_arm_joint_space", simulation={"duration": 0.02},
+                         output={"figures": False, "html": False})
+    monkeypatch.chdir(tmp_path)
+    done = runner.run_scene(str(path))
+    assert done.folder.parent == Path("runs") and done.folder.name.startswith("four_arm_joint_space-")
+    assert json.loads((done.folder / "summary.json").read_text())["steps"] == done.outcome.summary["steps"] == 20
+    assert runner.simulate(str(path)).summary["tracking_rms_overall"] == done.outcome.summary["tracking_rms_overall"]

@@ -7,7 +7,6 @@ from __future__ import annotations
 import argparse
 import contextlib
 import importlib
-import re
 import sys
 import time
 import warnings
@@ -19,6 +18,7 @@ from ..errors import FreefloatError
 from .bench.suites import ALL as ALL_SUITES
 from .bench.suites import DEFAULT as DEFAULT_SUITE
 from .bench.suites import SUITES
+from .folder_names import default_folder
 from .reproduce import STUDIES
 from .signals import arrived_before_main, signals_deferred
 
@@ -30,8 +30,6 @@ if TYPE_CHECKING:
 #: Ctrl-C is deferred.
 HEAVY = {"simulate": ".runner", "batch": ".batch", "bench": ".runner", "reproduce": ".runner", "verify": ".runner",
          "info": ".runner", "view": ".view"}
-#: Longest scene-derived part of a default output folder's name.
-MAX_FOLDER_NAME = 80
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -359,19 +357,6 @@ def _live_view(scene, setup) -> LiveView | None:
     print(f"live viewer: {live.url}")
     webbrowser.open(live.url)
     return live
-
-
-def default_folder(scene_name: str) -> Path:
-    """``runs/<scene name>-<time>``, the name reduced to one safe path component (a scene name
-    such as ``../../x`` or ``/abs`` cannot write elsewhere) of at most :data:`MAX_FOLDER_NAME`
-    characters (a file system refuses longer names), numbered on a clash."""
-    safe = re.sub(r"[^A-Za-z0-9._-]+", "_", scene_name)[:MAX_FOLDER_NAME].strip("._") or "scene"
-    base = Path("runs") / f"{safe}-{time.strftime('%Y%m%d-%H%M%S')}"
-    folder, n = base, 1
-    while folder.exists():
-        n += 1
-        folder = base.with_name(f"{base.name}-{n}")
-    return folder
 
 
 @contextlib.contextmanager

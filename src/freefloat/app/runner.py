@@ -23,9 +23,10 @@ from typing import Any, Callable
 
 from .experiments import Outcome, Progress, experiment_for
 from .experiments.model_choice import describe, resolve, with_plant
+from .folder_names import default_folder
 from .outputs import write_run
 from .run_folder import RunFolder
-from .scenes import MechanismScene, Scene
+from .scenes import DEFAULT_SCENE, MechanismScene, Scene, find_scene
 from .signals import STOP_SIGNALS, signals_deferred, signals_raise_keyboard_interrupt, stop_once
 
 __all__ = ["STOP_SIGNALS", "SceneRun", "choose_plant", "fail_if_not_finite", "note_model_choice", "prepare",
@@ -97,23 +98,28 @@ def total_steps(scene: Scene | MechanismScene) -> int:
     return experiment_for(scene).steps(scene)
 
 
-def simulate(scene: Scene | MechanismScene, progress: Progress | None = None,
+def simulate(scene: Scene | MechanismScene | str | Path = DEFAULT_SCENE, progress: Progress | None = None,
              checkpoint: Callable[[Any], None] | None = None) -> Outcome:
-    """Prepare and run ``scene``: its outcome, nothing written (``checkpoint`` gets the telemetry
-    chunk by chunk)."""
+    """Prepare and run ``scene`` (a scene, a built-in scene's name or a scene file; default: the
+    default job's): its outcome (``summary``, ``telemetry``, ``status``), nothing written
+    (``checkpoint`` gets the telemetry chunk by chunk). :func:`run_scene` also writes the folder."""
+    scene = _scene(scene)
     setup = resolved_setup(scene)
     with signals_raise_keyboard_interrupt():
         outcome = experiment_for(scene).run(setup, progress, checkpoint)
     return fail_if_not_finite(note_model_choice(outcome, setup))
 
 
-def run_scene(scene: Scene | MechanismScene, folder: Path, progress: Progress | None = None,
-              overwrite: bool = False, setup: Any = None, watch: Callable[[Any], None] | None = None,
-              stage: Callable[[str], None] = lambda name: None) -> SceneRun:
+def run_scene(scene: Scene | MechanismScene | str | Path = DEFAULT_SCENE, folder: Path | None = None,
+              progress: Progress | None = None, overwrite: bool = False, setup: Any = None,
+              watch: Callable[[Any], None] | None = None, stage: Callable[[str], None] = lambda name: None) -> SceneRun:
     """Run ``scene`` into ``folder`` (telemetry, summary, scene, figures, page), whatever the
-    run's status.
+    run's status: what ``freefloat simulate`` does. The result holds the outcome (``summary``,
+    ``telemetry``), the folder and the files written.
 
     Args:
+        scene: a scene, a built-in scene's name or a scene file (default: the default job's).
+        folder: the output folder (default: ``runs/<scene>-<time>``, as the command line).
         setup: the scene already prepared (:func:`prepare`), or None to prepare it here.
         watch: also given each telemetry chunk as it is checkpointed (a live viewer).
         stage: called as each writing stage starts (:data:`~.outputs.STAGES`), the first one when
@@ -123,6 +129,8 @@ def run_scene(scene: Scene | MechanismScene, folder: Path, progress: Progress | 
         FreefloatError: before anything is simulated, when the scene is wrong (``SceneError``) or
             the folder cannot be used; after the run, when the disk refuses a file.
     """
+    scene = _scene(scene)
+    folder = default_folder(scene.name) if folder is None else Path(folder)
     setup = prepare(scene) if setup is None else setup
     if scene.output.figures:
         from .viz import rendering
@@ -140,6 +148,11 @@ def run_scene(scene: Scene | MechanismScene, folder: Path, progress: Progress | 
         written, skipped = write_run(out, scene, outcome, lambda: interrupts.count >= 2 or interrupts.count > seen,
                                      stage)
     return SceneRun(outcome, folder, written, skipped)
+
+
+def _scene(scene: Scene | MechanismScene | str | Path) -> Scene | MechanismScene:
+    """``scene``, or the scene a built-in name or a file names (:func:`~.scenes.find_scene`)."""
+    return scene if isinstance(scene, (Scene, MechanismScene)) else find_scene(scene)
 
 
 def _stop_at_first_report(done: int) -> None:
