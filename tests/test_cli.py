@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import re
 import tomllib
 from pathlib import Path
 
@@ -326,3 +327,12 @@ def test_ctrl_c_while_starting_stops_cleanly(tmp_path, delay):
     assert proc.returncode == 1 and "Traceback" not in err, f"exit {proc.returncode}; stderr:\n{err}"
     summary = tmp_path / "out" / "summary.json"
     assert not summary.exists() or json.loads(summary.read_text())["status"] == "interrupted"
+
+
+@pytest.mark.parametrize("command", ["", "simulate", "batch", "bench", "reproduce", "verify", "info", "view", "scenes"])
+def test_help_texts_are_plain(command, capsys):
+    """``--help`` shows no reStructuredText markup (double backticks, roles)."""
+    with pytest.raises(SystemExit):
+        main([command, "--help"] if command else ["--help"])
+    text = capsys.readouterr().out
+    assert "usage: freefloat" in text and "``" not in text and not re.search(r":(func|class|mod|data|meth):", text)

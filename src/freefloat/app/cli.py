@@ -26,6 +26,9 @@ if TYPE_CHECKING:
     from .runner import SceneRun
     from .viz.live import LiveView
 
+#: What ``freefloat --help`` says first (plain text: the terminal shows no markup).
+DESCRIPTION = ("Dynamics, simulation and control of free-floating multi-arm space robots and of closed-chain "
+               "mechanisms, on Pinocchio. Each command has its own --help.")
 #: The module each command imports first (with the robot loaders and their libraries), while
 #: Ctrl-C is deferred.
 HEAVY = {"simulate": ".runner", "batch": ".batch", "bench": ".runner", "reproduce": ".runner", "verify": ".runner",
@@ -34,7 +37,7 @@ HEAVY = {"simulate": ".runner", "batch": ".batch", "bench": ".runner", "reproduc
 
 def main(argv: list[str] | None = None) -> int:
     """Entry point; returns the exit status (0 ok, 1 run stopped early, 2 bad input)."""
-    parser = argparse.ArgumentParser(prog="freefloat", description=__doc__)
+    parser = argparse.ArgumentParser(prog="freefloat", description=DESCRIPTION)
     parser.add_argument("--version", action="version", version=f"freefloat {version('freefloat')}")
     commands = parser.add_subparsers(dest="command", required=True)
     sim = commands.add_parser("simulate", help="run a scene and write its output folder")
