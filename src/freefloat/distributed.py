@@ -10,7 +10,10 @@ Shared by the 5R sweeps (:mod:`freefloat.parallel.sweeps`) and the batches of ru
 from __future__ import annotations
 
 import multiprocessing
+import os
 import socket
+import threading
+import time
 from concurrent.futures import ProcessPoolExecutor
 from typing import Callable
 
@@ -20,12 +23,36 @@ from .errors import FreefloatError
 from .extras import require
 
 
+#: Seconds between a pool worker's looks at whether the process that made it is still there.
+PARENT_WATCH_S = 0.5
+
+
 def process_pool(workers: int, initializer: Callable[[], None] | None = None) -> ProcessPoolExecutor:
     """A pool of ``workers`` new interpreters (spawned, never forked: this process has threads, BLAS's
     and progress bars', and a fork of a threaded process can deadlock; Python 3.12 warns at every
     fork there). As with any spawned pool, a script that makes one needs the
-    ``if __name__ == "__main__":`` guard."""
-    return ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("spawn"), initializer=initializer)
+    ``if __name__ == "__main__":`` guard.
+
+    Each worker ends itself within :data:`PARENT_WATCH_S` s once this process is gone: a process
+    killed outright (SIGKILL, the OOM killer) otherwise leaves its workers waiting on their queue
+    for ever, holding its output pipes open."""
+    return ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("spawn"), initializer=_start_worker,
+                               initargs=(os.getpid(), initializer))
+
+
+def _start_worker(parent: int, initializer: Callable[[], None] | None) -> None:
+    """In a new worker: watch ``parent`` (see :func:`process_pool`), then run ``initializer``."""
+    threading.Thread(target=_end_with, args=(parent,), name="freefloat-parent-watch", daemon=True).start()
+    if initializer is not None:
+        initializer()
+
+
+def _end_with(parent: int) -> None:
+    """End this process as soon as its parent is no longer ``parent`` (it died; the orphan was
+    handed to another)."""
+    while os.getppid() == parent:
+        time.sleep(PARENT_WATCH_S)
+    os._exit(1)
 
 
 def client(address: str | None = None, workers: int = 2, processes: bool = True, connect_timeout: float = 5.0):
