@@ -247,6 +247,39 @@ def test_reproduce_never_writes_over_the_user_s_report(tmp_path, capsys, overwri
     assert (tmp_path / "report.md").read_text() == "my report" and (tmp_path / "report.json").read_text() == "{}"
 
 
+def test_reproduce_writes_its_folder_and_a_rerun_resumes_into_it(tmp_path):
+    """reproduce exits 0 with each file it wrote whole and in the folder's record, and the same
+    command again takes that folder (it exited 2 on its own report.json: 'exists and freefloat
+    did not write it')."""
+    from .folder_checks import folder_problems
+
+    args = ["reproduce", "phases", "--quick", "--out", str(tmp_path / "out")]
+    assert main(args) == 0 and main(args) == 0
+    assert {"report.json", "report.md"} <= {p.name for p in (tmp_path / "out").iterdir()}
+    assert not folder_problems(tmp_path / "out")
+
+
+def test_an_interrupted_study_keeps_its_journal_and_nothing_half_made(tmp_path, monkeypatch, capsys):
+    """Ctrl-C in a study leaves its journal, in the folder's record, and none of the files it had
+    begun (report.json cut short and unrecorded: a rerun refused the folder as not freefloat's)."""
+    from freefloat.app.reproduce import STUDIES
+
+    class Halfway:
+        help, journal, extras = "a study stopped half-way", "parts.jsonl", ()
+
+        def run(self, out, quick, journal, **options):
+            journal.write_text('{"part": 1}\n')
+            (out / "report.json").write_text('{"cut')
+            raise KeyboardInterrupt
+
+    monkeypatch.setitem(STUDIES, "phases", Halfway())
+    out = tmp_path / "out"
+    assert main(["reproduce", "phases", "--out", str(out)]) == 1
+    assert "journaled in" in capsys.readouterr().err
+    assert {p.name for p in out.iterdir()} == {RECORD, "parts.jsonl"}
+    assert "parts.jsonl" in (out / RECORD).read_text()
+
+
 @pytest.mark.parametrize(("extra", "message"), [(["--seed", "-1"], "--seed must be >= 0"),
                                                  (["--json", "."], "must be a file in an existing folder"),
                                                  (["--json", "no/such/dir/v.json"], "must be a file in an existing folder")])

@@ -170,3 +170,15 @@ def test_a_chunk_handed_again_replaces_its_own_part(tmp_path):
         folder.checkpoint(tiny(2, start=3.0))
     back = MechanismTelemetry.load_parts(tmp_path / "out" / PARTS)
     assert np.array_equal(back.t, np.arange(5.0))
+
+
+def test_a_resumed_folder_drops_what_a_killed_run_was_making(tmp_path):
+    """A folder taken again to resume removes the private subfolder a killed run left half-made
+    there, and keeps the files that run finished."""
+    with RunFolder(tmp_path) as folder:
+        folder.write_text("report.json", "{}")
+        making = folder.private_dir()
+        (making / "figure.png").write_bytes(b"\x89PNG half")  # never placed: the run was killed here
+    with RunFolder(tmp_path, resume=True):
+        assert not making.exists()
+    assert (tmp_path / "report.json").read_text() == "{}"

@@ -220,37 +220,46 @@ def _info(args: argparse.Namespace) -> int:
 
 
 def _reproduce(args: argparse.Namespace) -> int:
+    """The study into its folder: its journal (if any) appended to in place, every other file made
+    in a private subfolder and moved in once the study is done, so that a file appears only whole,
+    already in the folder's record (a study stopped or killed leaves its journal, which a rerun of
+    the same command resumes from, and nothing half-made)."""
+    import shutil
+
     from ..extras import require
     from .run_folder import RunFolder
-
-    for extra in STUDIES[args.study].extras:
-        require(extra, f"freefloat reproduce {args.study}")
-    out = args.out or Path("runs") / f"reproduce-{args.study}-{time.strftime('%Y%m%d-%H%M%S')}"
-    from .reproduce import JOURNALS
     from .signals import signals_raise_keyboard_interrupt
 
+    study = STUDIES[args.study]
+    for extra in study.extras:
+        require(extra, f"freefloat reproduce {args.study}")
+    out = args.out or Path("runs") / f"reproduce-{args.study}-{time.strftime('%Y%m%d-%H%M%S')}"
     with RunFolder(out, args.overwrite, keep_foreign=False, resume=True) as folder:
-        for name in JOURNALS:  # claimed before they exist, so a study killed outright is still ours
-            folder.claim(name)
+        journal = folder.claim(study.journal) if study.journal else None  # ours before it exists
+        making = folder.private_dir()
         try:
             with signals_raise_keyboard_interrupt():
-                report = _study(args, out)
+                report = _study(args, making, journal)
+                for made in sorted(making.iterdir()):
+                    folder.place(made)
         except KeyboardInterrupt:
-            raise KeyboardInterrupt(f"; the finished parts are journaled in {out} (rerun the same command to "
-                                    "resume)") from None
+            kept = f"the finished parts are journaled in {out} (rerun the same command to resume)" if journal else \
+                "nothing of this run was kept"
+            raise KeyboardInterrupt(f"; {kept}") from None
         finally:
-            folder.claim_present()  # what the study wrote, also when it was interrupted
+            shutil.rmtree(making, ignore_errors=True)
     print((out / "report.md").read_text())
     print(f"wrote {out} in {report['wall_time_s']:.0f} s")
     return 0
 
 
-def _study(args: argparse.Namespace, out: Path) -> dict:
-    """Run the study ``args.study`` (:data:`~freefloat.app.reproduce.STUDIES`) into ``out``; its report."""
+def _study(args: argparse.Namespace, out: Path, journal: Path | None) -> dict:
+    """Run the study ``args.study`` (:data:`~freefloat.app.reproduce.STUDIES`) into ``out``,
+    journaling into ``journal``; its report."""
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        return STUDIES[args.study].run(out, args.quick, workers=max(1, args.workers), runs=args.runs,
-                                       relative_error=args.error, scheduler=args.scheduler)
+        return STUDIES[args.study].run(out, args.quick, journal=journal, workers=max(1, args.workers),
+                                       runs=args.runs, relative_error=args.error, scheduler=args.scheduler)
 
 
 def _verify(args: argparse.Namespace) -> int:

@@ -30,6 +30,8 @@ LOCK = ".freefloat.lock"
 #: file or folder freefloat created there; a folder's name ends with ``/``.
 RECORD = ".freefloat-files"
 _HEADER = "# freefloat: the files its runs wrote in this folder; --overwrite removes these and nothing else\n"
+#: Name prefix of :meth:`RunFolder.private_dir` folders.
+_PRIVATE = ".drawing-"
 #: Opening flags of freefloat's own files: never through a symbolic link, not inherited.
 _NOFOLLOW = os.O_NOFOLLOW | os.O_CLOEXEC
 
@@ -118,6 +120,9 @@ class RunFolder:
             foreign = sorted(p.name for p in held if p.name not in {n.split("/")[0] for n in owned})
             if not foreign:  # a previous run of the same command: continue it, its files are ours
                 self._mine.update(n.rstrip("/") for n in owned)
+                for name in owned:  # what a killed run was making out of sight (the lock is ours now)
+                    if name.startswith(_PRIVATE):
+                        _remove(self.path / name.rstrip("/"), folder=True)
                 return
             raise FreefloatError(f"output folder '{self.path}' holds files freefloat did not write "
                                  f"({', '.join(foreign)}); choose another --out")
@@ -165,13 +170,6 @@ class RunFolder:
                 os.close(fd)
             self._mine.add(bare)
         return path
-
-    def claim_present(self) -> None:
-        """Claim every file and folder now in the folder (after a command that wrote them
-        directly into a folder it held alone: ``keep_foreign=False``)."""
-        for entry in sorted(self.path.iterdir()):
-            if entry.name not in (LOCK, RECORD) and entry.name not in self._mine:
-                self.claim(f"{entry.name}/" if entry.is_dir() and not entry.is_symlink() else entry.name)
 
     def _claim_file(self, name: str) -> tuple[Path, Path]:
         """Claim ``name`` and its temporary name; both paths, the temporary one created empty (a
@@ -244,8 +242,9 @@ class RunFolder:
 
     def private_dir(self) -> Path:
         """A new, uniquely named hidden subfolder of freefloat's (for files made out of sight and
-        then :meth:`place`-d)."""
-        into = self.claim(f".drawing-{secrets.token_hex(6)}/")
+        then :meth:`place`-d: a file appears in the folder only whole, and whatever a kill leaves
+        half-made stays in a folder of freefloat's, removed by ``--overwrite`` or a resume)."""
+        into = self.claim(f"{_PRIVATE}{secrets.token_hex(6)}/")
         into.mkdir()
         return into
 
@@ -321,7 +320,7 @@ def _remove(path: Path, folder: bool) -> None:
     try:
         if path.is_symlink() or not path.is_dir():
             path.unlink()
-        elif path.name.startswith(".drawing-"):
+        elif path.name.startswith(_PRIVATE):
             shutil.rmtree(path)
         elif folder:
             with contextlib.suppress(OSError):

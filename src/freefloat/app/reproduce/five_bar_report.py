@@ -206,13 +206,13 @@ def _resumable(journal: Path, settings: dict) -> dict[int, dict]:
 
 
 def reproduce_robustness(out: Path, quick: bool = False, runs: int = 20, relative_error: float = 0.5,
-                         scheduler: str | None = None) -> dict:
+                         scheduler: str | None = None, journal: Path | None = None) -> dict:
     """``freefloat reproduce robustness``: gains designed across Dask workers over the grid, then
     ``runs`` closed loops on plants drawn within ``relative_error`` of the nominal parameters.
 
-    Each finished sample is appended to ``samples.jsonl`` in ``out`` as it comes in; rerun into the
-    same folder with the same settings, the study resumes from them. Failed samples are kept as
-    failures with their reason; the statistics are over the samples that ran.
+    Each finished sample is appended to ``journal`` (default ``samples.jsonl`` in ``out``) as it
+    comes in; rerun with the same journal and settings, the study resumes from them. Failed
+    samples are kept as failures with their reason; the statistics are over the samples that ran.
 
     Raises:
         FreefloatError: for ``runs`` < 1, ``relative_error`` outside [0, 1), a scheduler that
@@ -232,7 +232,7 @@ def reproduce_robustness(out: Path, quick: bool = False, runs: int = 20, relativ
     duration = 0.25 if quick else 0.3
     settings = {"quick": quick, "runs": runs, "relative_error": relative_error, "duration": duration,
                 "grid_points": len(points), "seed": 0}
-    journal = out / "samples.jsonl"
+    journal = out / "samples.jsonl" if journal is None else journal
     done = _resumable(journal, settings)
     with client(scheduler) as dask_client:
         gains = design_gains_distributed(dask_client, nominal, points, quiet=False)

@@ -154,23 +154,25 @@ def _journaled(path: Path, settings: dict) -> dict[str, dict]:
     return done
 
 
-def reproduce(out: Path, quick: bool = False, workers: int = 2, seed: int = 0) -> dict:
+def reproduce(out: Path, quick: bool = False, workers: int = 2, seed: int = 0, journal: Path | None = None) -> dict:
     """Run all parts and write ``report.json``, ``report.md`` and figures into ``out``.
 
     Each finished part (the accuracy table, each grid cell, each tumbling run, the attitude study)
-    is appended to :data:`JOURNAL` as it comes in; rerun into the same folder with the same
-    settings, the study takes the parts journaled there instead of recomputing them.
+    is appended to ``journal`` (default ``out /`` :data:`JOURNAL`) as it comes in; rerun with the
+    same journal and settings, the study takes the parts journaled there instead of recomputing
+    them.
     """
     out.mkdir(parents=True, exist_ok=True)
     duration = 0.5 if quick else 5.0
     start = time.perf_counter()
     settings = {"quick": quick, "seed": seed, "grid_duration_s": duration}
     report: dict = {"settings": {**settings, "workers": workers}}
-    done = _journaled(out / JOURNAL, settings)
-    with open(out / JOURNAL, "a") as journal:
+    journal = out / JOURNAL if journal is None else journal
+    done = _journaled(journal, settings)
+    with open(journal, "a") as log:
         def keep(part: list, result: dict) -> dict:
-            journal.write(json.dumps({"settings": settings, "part": part, "result": result}) + "\n")
-            journal.flush()
+            log.write(json.dumps({"settings": settings, "part": part, "result": result}) + "\n")
+            log.flush()
             done[json.dumps(part)] = result
             return result
 
