@@ -280,6 +280,30 @@ def test_an_interrupted_study_keeps_its_journal_and_nothing_half_made(tmp_path, 
     assert "parts.jsonl" in (out / RECORD).read_text()
 
 
+def test_sigterm_after_the_work_is_an_interruption_too(monkeypatch, capsys):
+    """SIGTERM at any moment of a command, even once its work is done, stops it as Ctrl-C does:
+    exit 1 and one line (between a batch's last run and its report it killed the process,
+    exit -15)."""
+    import os
+    import signal
+
+    from freefloat.app import cli
+
+    killed = []
+    previous = signal.signal(signal.SIGTERM, lambda signum, frame: killed.append(signum))
+
+    def scenes():
+        os.kill(os.getpid(), signal.SIGTERM)
+        return 0
+
+    monkeypatch.setattr(cli, "_scenes", scenes)
+    try:
+        status = main(["scenes"])
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+    assert status == 1 and not killed and "freefloat: interrupted" in capsys.readouterr().err
+
+
 @pytest.mark.parametrize(("extra", "message"), [(["--seed", "-1"], "--seed must be >= 0"),
                                                  (["--json", "."], "must be a file in an existing folder"),
                                                  (["--json", "no/such/dir/v.json"], "must be a file in an existing folder")])

@@ -20,7 +20,7 @@ from .bench.suites import DEFAULT as DEFAULT_SUITE
 from .bench.suites import SUITES
 from .folder_names import default_folder
 from .reproduce import STUDIES
-from .signals import arrived_before_main, signals_deferred
+from .signals import arrived_before_main, signals_deferred, signals_raise_keyboard_interrupt
 
 if TYPE_CHECKING:
     from .runner import SceneRun
@@ -117,7 +117,8 @@ def main(argv: list[str] | None = None) -> int:
                 importlib.import_module(HEAVY[args.command], __package__)
         if early.is_set() or early_too:
             raise KeyboardInterrupt("while starting; nothing was written")
-        return commands_run[args.command](args)
+        with signals_raise_keyboard_interrupt():  # SIGTERM and SIGHUP are Ctrl-C to the very end
+            return commands_run[args.command](args)
     except FreefloatError as exc:
         print(f"freefloat: error: {exc}", file=sys.stderr)
         return 2
@@ -228,7 +229,6 @@ def _reproduce(args: argparse.Namespace) -> int:
 
     from ..extras import require
     from .run_folder import RunFolder
-    from .signals import signals_raise_keyboard_interrupt
 
     study = STUDIES[args.study]
     for extra in study.extras:
@@ -238,10 +238,9 @@ def _reproduce(args: argparse.Namespace) -> int:
         journal = folder.claim(study.journal) if study.journal else None  # ours before it exists
         making = folder.private_dir()
         try:
-            with signals_raise_keyboard_interrupt():
-                report = _study(args, making, journal)
-                for made in sorted(making.iterdir()):
-                    folder.place(made)
+            report = _study(args, making, journal)
+            for made in sorted(making.iterdir()):
+                folder.place(made)
         except KeyboardInterrupt:
             kept = f"the finished parts are journaled in {out} (rerun the same command to resume)" if journal else \
                 "nothing of this run was kept"
