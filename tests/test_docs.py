@@ -8,6 +8,7 @@ import os
 import re
 import shlex
 import tomllib
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -103,10 +104,27 @@ def _readme_closed_chain(ns: dict) -> None:
     assert np.abs(reference.telemetry.q[-1] - result.telemetry.q[-1]).max() < 1e-9
 
 
+def _first_hour(ns: dict) -> None:
+    """The default job run from Python wrote its folder (the telemetry and summary read back equal
+    what it returned), tracks at or below the dissertation's FM-NIC-A (Table 1), keeps the system
+    CoM still and the momentum constant (no external force, at rest at the start: conservation
+    laws checked on the telemetry itself); the unwritten tumbling run conserves its momentum."""
+    run, saved, on_disk, outcome = ns["run"], ns["saved"], ns["on_disk"], ns["outcome"]
+    telemetry = run.outcome.telemetry
+    assert run.outcome.status == "completed" and run.folder.name == "first"
+    assert np.array_equal(saved.q, telemetry.q) and np.array_equal(saved.tau, telemetry.tau)
+    assert on_disk["tracking_rms_overall"] == run.outcome.summary["tracking_rms_overall"] <= 4.91e-7
+    assert np.abs(telemetry.com - telemetry.com[0]).max() < 1e-12
+    assert np.abs(telemetry.momentum).max() < 1e-12
+    assert outcome.status == "completed" and not (Path.cwd() / "runs" / "tumbling").exists()
+    momentum = outcome.telemetry.momentum
+    assert np.abs(momentum - momentum[0]).max() < 1e-12 * max(1.0, np.abs(momentum).max())
+
+
 #: What each Python snippet of the pages claims, checked against a reference of its own.
 SNIPPET_CHECKS = {"README.md#python0": _readme_tumbling, "README.md#python1": _readme_closed_chain,
                   "gjm.md#python0": _gjm_page,
-                  "integrators.md#python0": _integrators_page}
+                  "integrators.md#python0": _integrators_page, "first_hour.md#python0": _first_hour}
 
 
 @pytest.mark.parametrize(("where", "code"), blocks("python"), ids=[w for w, _ in blocks("python")])
@@ -157,15 +175,92 @@ def test_scene_example_is_read_as_written(where, text, monkeypatch):
             assert getattr(scene, key) == value, f"{where}: {key}"
 
 
-def test_site_builds_with_warnings_as_errors(tmp_path):
-    """``mkdocs build --strict`` succeeds (skipped without the docs extra)."""
+@pytest.fixture(scope="module")
+def site(tmp_path_factory):
+    """The docs site built once with ``mkdocs build --strict`` (skipped without the docs extra):
+    the completed process and the site's folder."""
     pytest.importorskip("mkdocs")
     pytest.importorskip("mkdocstrings")
     import subprocess
     import sys
 
+    folder = tmp_path_factory.mktemp("docs") / "site"
     env = dict(os.environ, NO_MKDOCS_2_WARNING="1")
-    done = subprocess.run([sys.executable, "-m", "mkdocs", "build", "--strict", "--site-dir", str(tmp_path / "site")],
+    done = subprocess.run([sys.executable, "-m", "mkdocs", "build", "--strict", "--site-dir", str(folder)],
                           check=False, cwd=REPO, capture_output=True, text=True, env=env, timeout=300)
+    return done, folder
+
+
+def test_site_builds_with_warnings_as_errors(site):
+    """``mkdocs build --strict`` succeeds (skipped without the docs extra)."""
+    done, folder = site
     assert done.returncode == 0, done.stderr[-2000:]
-    assert (tmp_path / "site" / "index.html").is_file()
+    assert (folder / "index.html").is_file()
+
+
+def test_api_reference_renders_sphinx_roles_as_links(site):
+    """No Sphinx role of the docstrings (``:func:`run```) reaches the API reference as text; one
+    naming a documented object is a link to it (``:func:`run``` in ``freefloat.dynamics.simulation``,
+    ``:class:`Robot``` in ``freefloat.robot.loading``), one naming an undocumented object is plain
+    inline code."""
+    done, folder = site
+    assert done.returncode == 0, done.stderr[-2000:]
+    html = (folder / "api" / "index.html").read_text()
+    assert not re.findall(r":(?:func|class|mod|data|meth|attr|obj|exc):", html)
+    assert "autoref" not in html.replace("autorefs", "")
+    link = r'<a class="autorefs autorefs-internal"[^>]*href="#{0}"[^>]*><code>{1}</code></a>'
+    assert re.search(link.format(r"freefloat\.dynamics\.simulation\.run", "run"), html)
+    assert re.search(link.format(r"freefloat\.robot\.robot\.Robot", "Robot"), html)
+    assert re.search(r'<span title="freefloat\.[\w.]+"><code>[\w.]+</code></span>', html)
+
+
+def _sphinx_roles():
+    """The docs' Griffe extension (docs/griffe_sphinx_roles.py), imported from its file."""
+    import importlib.util
+
+    path = REPO / "docs" / "griffe_sphinx_roles.py"
+    spec = importlib.util.spec_from_file_location("griffe_sphinx_roles", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_sphinx_roles_resolve_as_python_would(tmp_path):
+    """A role's target is resolved as a relative import (``.``: the docstring's package, ``..``
+    its parent), in the documented object's scope (an imported name to where it is defined) or as
+    a full path; ``~`` shows the last name only; an unknown target stays, shown as written."""
+    griffe = pytest.importorskip("griffe")
+    package = tmp_path / "pkg"
+    (package / "sub").mkdir(parents=True)
+    (package / "__init__.py").write_text('"""Top: :mod:`.sub` and :func:`~pkg.sub.core.step`."""\n')
+    (package / "sub" / "__init__.py").write_text('"""Sub: :class:`.core.Engine`, :mod:`..other`."""\n')
+    (package / "other.py").write_text("")
+    (package / "sub" / "core.py").write_text(
+        "from pkg.sub.helpers import helper\n"
+        "class Engine:\n"
+        '    """Runs :meth:`step` with :func:`helper`; see :data:`~.helpers.LIMIT`,\n'
+        '    :class:`numpy.ndarray`."""\n'
+        "    def step(self):\n"
+        '        """One step of :class:`Engine`."""\n'
+        "def step():\n"
+        '    """:func:`.helpers.helper` and :attr:`Engine.step`."""\n')
+    (package / "sub" / "helpers.py").write_text('LIMIT = 1\n"""A limit."""\ndef helper():\n    """Help."""\n')
+    roles = _sphinx_roles()
+    extensions = griffe.load_extensions(roles.SphinxRoles)
+    loader = griffe.GriffeLoader(search_paths=[str(tmp_path)], extensions=extensions)
+    pkg = loader.load("pkg")
+
+    def ref(identifier, shown):
+        return f'<autoref identifier="{identifier}" optional>`{shown}`</autoref>'
+
+    assert pkg.docstring.value == f"Top: {ref('pkg.sub', 'sub')} and {ref('pkg.sub.core.step', 'step')}."
+    assert pkg["sub"].docstring.value == (f"Sub: {ref('pkg.sub.core.Engine', 'core.Engine')}, "
+                                          f"{ref('pkg.other', 'other')}.")
+    engine = pkg["sub.core.Engine"]
+    assert engine.docstring.value == (f"Runs {ref('pkg.sub.core.Engine.step', 'step')} with "
+                                      f"{ref('pkg.sub.helpers.helper', 'helper')}; see "
+                                      f"{ref('pkg.sub.helpers.LIMIT', 'LIMIT')},\n"
+                                      f"{ref('numpy.ndarray', 'numpy.ndarray')}.")
+    assert engine["step"].docstring.value == f"One step of {ref('pkg.sub.core.Engine', 'Engine')}."
+    assert pkg["sub.core.step"].docstring.value == (f"{ref('pkg.sub.helpers.helper', 'helpers.helper')} and "
+                                                    f"{ref('pkg.sub.core.Engine.step', 'Engine.step')}.")
