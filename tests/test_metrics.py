@@ -63,3 +63,33 @@ def test_momentum_drift_is_the_larger_vector_norm_change():
 def test_settling_time_is_the_last_crossing_below_the_threshold(signal, expected):
     """Analytic cases on t = 0..4 s with threshold 1."""
     assert settling_time(np.arange(5.0), np.array(signal), 1.0) == expected
+
+
+def test_band_settling_time_of_an_exponential_decay():
+    """x = 0.5 + exp(-t) over 10 s: it stays within 2 % of its largest change from the final value
+    from t = -ln(0.02 (1 - e^-10) + e^-10) ~ ln 50 s on (to the 1e-4 s sampling)."""
+    from freefloat.dynamics.metrics import band_settling_time
+
+    t = np.linspace(0.0, 10.0, 100_001)
+    expected = -np.log(0.02 * (1.0 - np.exp(-10.0)) + np.exp(-10.0))
+    assert band_settling_time(t, 0.5 + np.exp(-t)) == pytest.approx(expected, abs=1e-4)
+    assert band_settling_time(t, np.full_like(t, 3.0)) == 0.0  # a constant rate is settled from the start
+
+
+def test_spin_summary_of_a_body_spun_up_then_stopped():
+    """A base turning at 2 rad/s about z that stops linearly from t = 1 to 2 s: peak 2, final 0,
+    within 2 % of 2 rad/s after t = 1.98 s (the next 10 ms sample); the end-effectors turn with it."""
+    from freefloat.dynamics.metrics import spin_summary
+    from freefloat.dynamics.telemetry import Telemetry
+
+    robot = load_robot(REPO / "urdf" / "two_arm_planar.urdf", base="planar", visuals=False)
+    t = np.linspace(0.0, 3.0, 301)
+    rate = 2.0 * np.clip(2.0 - t, 0.0, 1.0)
+    tel = Telemetry.allocate(len(t), robot.model.nq, robot.model.nv, robot.n_joints, 2)
+    tel.t[:], tel.base_twist[:, 5] = t, rate
+    tel.q[:] = robot.neutral()
+    tel.v[:, 2] = rate  # planar base: [vx, vy, wz] in the base frame
+    s = spin_summary(robot, tel)
+    assert s["base_angular_velocity_max"] == 2.0 and s["base_angular_velocity_final"] == 0.0
+    assert s["base_angular_velocity_settling_time"] == pytest.approx(1.99)
+    assert s["end_effector_angular_velocity_max"] == {"arm1_ee": pytest.approx(2.0), "arm2_ee": pytest.approx(2.0)}

@@ -506,6 +506,59 @@ def test_error_figure_skipped_without_references(iiwa2, tmp_path):
     assert "joint_errors.png" not in [p.name for p in written] and len(written) == 10
 
 
+def test_a_torque_free_run_writes_no_torque_figure(iiwa2, tmp_path):
+    """Zero joint torques throughout: no torque figure is written, and empty_figures says why."""
+    from freefloat.app.viz.figures import empty_figures
+
+    tel = _telemetry(iiwa2)
+    tel.tau[:] = 0.0
+    written = [p.name for p in write_figures(iiwa2, tel, tmp_path)]
+    assert "torques.png" not in written and "torques.pdf" not in written and "base_trajectory.png" in written
+    assert empty_figures(iiwa2, tel) == {"torques": "every joint torque is zero (a torque-free run)"}
+
+
+def test_angular_rate_curves_are_the_angular_speeds(iiwa2):
+    """The log panel draws each end-effector's and the base's |w| (rad/s), the base panel w0's
+    components, and the threshold line sits at the given rate."""
+    from freefloat.app.viz.figures import angular_rates_figure
+    from freefloat.dynamics.metrics import angular_speeds
+
+    tel = _telemetry(iiwa2)
+    tel.v[:] = np.random.default_rng(3).normal(size=tel.v.shape)
+    tel.base_twist[:, 3:] = np.random.default_rng(4).normal(size=(len(tel.t), 3))
+    base_ax, log_ax = angular_rates_figure(iiwa2, tel, threshold=1e-3).axes
+    base, ends = angular_speeds(iiwa2, tel)
+    curves = _lines(log_ax)
+    np.testing.assert_allclose(curves["base"][:, 1], base)
+    for k, name in enumerate(iiwa2.end_effectors):
+        (label,) = [key for key in curves if key.endswith(f"({name})")]
+        np.testing.assert_allclose(curves[label][:, 1], ends[:, k])
+    np.testing.assert_allclose(curves["threshold 0.001 rad/s"][:, 1], 1e-3)
+    np.testing.assert_allclose(_lines(base_ax)["w0 z"][:, 1], tel.base_twist[:, 5])
+
+
+def test_balance_curves_are_the_summary_balances(iiwa2):
+    """With a wrench, the balance figure's residual curves peak at the summary's balances, and
+    its momentum panel draws the change next to the impulse applied."""
+    from freefloat.app.viz.figures import balance_figure
+    from freefloat.dynamics.balance import balance
+    from freefloat.dynamics.wrenches import ExternalWrench
+
+    tel = _telemetry(iiwa2)
+    tel.t[:] = np.arange(len(tel.t)) * 1e-3
+    link = [f.name for f in iiwa2.model.frames if f.type == pin.FrameType.BODY][3]
+    wrenches = (ExternalWrench(link, force=(1.0, 2.0, 0.0), torque=(0.0, 0.0, 3.0), start=0.002, end=0.02),)
+    s = summarize(tel, iiwa2, wrenches, 1e-3)
+    momentum_ax, _, residual_ax, energy_ax = balance_figure(tel, balance(iiwa2, tel, wrenches, 1e-3)).axes
+    residuals = {**_lines(residual_ax), **_lines(energy_ax)}
+    for label, key in (("|P - P(0) - impulse| (kg m/s)", "linear_momentum_balance_max"),
+                       ("|L - L(0) - impulse| (kg m^2/s)", "angular_momentum_balance_max"),
+                       ("|E - E(0) - W joints - W wrenches|", "energy_balance_max")):
+        assert np.nanmax(residuals[label][:, 1]) == pytest.approx(s[key])
+    impulse = _lines(momentum_ax)["|impulse| on P (kg m/s)"][:, 1]
+    assert impulse[-1] == pytest.approx(np.linalg.norm(s["external_impulse"][:3]))
+
+
 def test_figures_rendered_in_two_processes_are_all_written(tmp_path, monkeypatch):
     """save_all writes every figure, half of them from a forked child; when the child fails, this
     process writes the child's share itself."""

@@ -1,4 +1,5 @@
-"""Run metrics: the dissertation's nested RMS (eq 140) and conservation drifts."""
+"""Run metrics: the dissertation's nested RMS (eq 140), conservation drifts (or, with external
+wrenches, balances: :mod:`.balance`) and how the spin of the base and end-effectors settles."""
 
 from __future__ import annotations
 
@@ -6,7 +7,13 @@ import numpy as np
 import pinocchio as pin
 
 from ..robot.robot import Robot
+from .balance import balance, free_com_motion
 from .telemetry import Telemetry
+from .wrenches import ExternalWrench
+
+#: A rate has settled when it stays within this fraction of its largest excursion from its final
+#: value (the 2 % settling time of control engineering).
+SETTLE_BAND = 0.02
 
 
 def rms(x: np.ndarray, axis: int = 0) -> np.ndarray:
@@ -39,15 +46,6 @@ def rotation_angle(quaternions: np.ndarray, reference: np.ndarray) -> np.ndarray
     return 2.0 * np.arctan2(perp, np.abs(dot))
 
 
-def free_com_motion(telemetry: Telemetry, robot: Robot) -> np.ndarray:
-    """System-CoM path that momentum conservation demands without external wrenches (N, 3):
-    ``com(0) + t P(0) / m + g t^2 / 2`` (inertial frame, m)."""
-    tel = telemetry
-    t = tel.t - tel.t[0]
-    mass = pin.computeTotalMass(robot.model)
-    return tel.com[0] + np.outer(t, tel.momentum[0, :3] / mass) + 0.5 * np.outer(t**2, robot.model.gravity.linear)
-
-
 def momentum_drift(momentum: np.ndarray) -> float:
     """Largest change from sample 0 of the linear or the angular momentum, as a vector norm.
 
@@ -67,21 +65,104 @@ def settling_time(t: np.ndarray, signal: np.ndarray, threshold: float) -> float 
     return None if above[-1] == len(signal) - 1 else float(t[above[-1] + 1])
 
 
-def summarize(telemetry: Telemetry, robot: Robot) -> dict[str, object]:
-    """Figures of merit of a run (SI units; see the README's output table)."""
+def band_settling_time(t: np.ndarray, signal: np.ndarray, band: float = SETTLE_BAND) -> float:
+    """First sample time (s) after which ``signal`` (N,) stays within ``band`` times its largest
+    excursion from its final value, ``|x - x_end| < band max |x - x_end|`` (``t[0]`` for a
+    constant signal)."""
+    deviation = np.abs(signal - signal[-1])
+    top = deviation.max()
+    return float(t[0]) if top == 0.0 else settling_time(t, deviation, band * top)  # type: ignore[return-value]
+
+
+def angular_speeds(robot: Robot, telemetry: Telemetry) -> tuple[np.ndarray, np.ndarray]:
+    """Angular speeds, rad/s: the base's ``|w0|`` (N,) and each end-effector frame's ``|w|``
+    (N, k), inertial frame."""
+    model, data = robot.model, robot.model.createData()
+    ends = np.empty((len(telemetry.t), len(robot.end_effectors)))
+    for row, (q, v) in enumerate(zip(telemetry.q, telemetry.v)):
+        pin.forwardKinematics(model, data, q, v)
+        for e, frame in enumerate(robot.end_effector_frame_ids):
+            ends[row, e] = np.linalg.norm(pin.getFrameVelocity(model, data, frame, pin.LOCAL_WORLD_ALIGNED).angular)
+    return np.linalg.norm(telemetry.base_twist[:, 3:], axis=1), ends
+
+
+def spin_summary(robot: Robot, telemetry: Telemetry) -> dict[str, object]:
+    """How the spin of the base and of each end-effector (a captured target's, once grasped)
+    settles: largest and final angular speed (rad/s) and the time (s) after which it stays within
+    :data:`SETTLE_BAND` of its largest excursion from the final value
+    (:func:`band_settling_time`); end-effector values keyed by name."""
+    t = telemetry.t
+    base, ends = angular_speeds(robot, telemetry)
+    names = robot.end_effectors
+    return {
+        "base_angular_velocity_max": float(base.max()), "base_angular_velocity_final": float(base[-1]),
+        "base_angular_velocity_settling_time": band_settling_time(t, base),
+        "end_effector_angular_velocity_max": {n: float(ends[:, e].max()) for e, n in enumerate(names)},
+        "end_effector_angular_velocity_final": {n: float(ends[-1, e]) for e, n in enumerate(names)},
+        "end_effector_angular_velocity_settling_time": {n: band_settling_time(t, ends[:, e])
+                                                        for e, n in enumerate(names)},
+        "settle_band": SETTLE_BAND,
+    }
+
+
+def conservation(telemetry: Telemetry, robot: Robot, wrenches: tuple[ExternalWrench, ...] | list[ExternalWrench] = (),
+                 control_period: float | None = None) -> dict[str, float | list[float]]:
+    """How well the run keeps the conservation laws (SI units).
+
+    Without external wrenches, drifts: ``com_drift_max`` (m, from :func:`free_com_motion`),
+    ``linear_momentum_drift_max``, ``angular_momentum_drift_max``, ``momentum_drift_max`` (their
+    max, see :func:`momentum_drift`; kg m/s, kg m^2/s about the inertial origin) and
+    ``energy_drift_max`` (``max |E - E(0) - W_tau|``, J). With wrenches the momentum and energy
+    change by what they apply, so none of that is a drift: balances instead
+    (:func:`freefloat.dynamics.balance.balance`), ``com_balance_max``,
+    ``linear_momentum_balance_max``, ``angular_momentum_balance_max``, ``momentum_balance_max``,
+    ``energy_balance_max``, with ``momentum_balance_relative`` (``momentum_balance_max`` over the
+    largest applied impulse), ``external_impulse`` (``[linear; angular about the origin]`` at the
+    end, N s and N m s, gravity included) and ``external_work`` (J).
+
+    Raises:
+        ValueError: when wrenches are given without ``control_period``.
+    """
     tel = telemetry
-    out: dict[str, object] = {
-        "com_drift_max": float(np.linalg.norm(tel.com - free_com_motion(tel, robot), axis=1).max()),
-        "linear_momentum_drift_max": float(np.linalg.norm(tel.momentum[:, :3] - tel.momentum[0, :3], axis=1).max()),
-        "angular_momentum_drift_max": float(np.linalg.norm(tel.momentum[:, 3:] - tel.momentum[0, 3:], axis=1).max()),
-        "energy_drift_max": float(np.abs(tel.energy - tel.energy[0] - tel.work).max()),
+    if not wrenches:
+        change = tel.momentum - tel.momentum[0]
+        return {
+            "com_drift_max": float(np.linalg.norm(tel.com - free_com_motion(tel, robot), axis=1).max()),
+            "linear_momentum_drift_max": float(np.linalg.norm(change[:, :3], axis=1).max()),
+            "angular_momentum_drift_max": float(np.linalg.norm(change[:, 3:], axis=1).max()),
+            "momentum_drift_max": momentum_drift(tel.momentum),
+            "energy_drift_max": float(np.abs(tel.energy - tel.energy[0] - tel.work).max()),
+        }
+    if control_period is None:
+        raise ValueError("conservation: a run with external wrenches needs its control_period")
+    res = balance(robot, tel, wrenches, control_period)
+    linear, angular = (float(np.linalg.norm(part, axis=1).max()) for part in (res.momentum[:, :3], res.momentum[:, 3:]))
+    applied = res.applied.impulse
+    largest = max(np.linalg.norm(applied[:, :3], axis=1).max(), np.linalg.norm(applied[:, 3:], axis=1).max())
+    return {
+        "com_balance_max": float(np.linalg.norm(res.com, axis=1).max()),
+        "linear_momentum_balance_max": linear, "angular_momentum_balance_max": angular,
+        "momentum_balance_max": max(linear, angular),
+        "momentum_balance_relative": max(linear, angular) / float(largest) if largest > 0.0 else None,
+        "energy_balance_max": float(np.abs(res.energy).max()),
+        "external_impulse": applied[-1].tolist(), "external_work": float(res.applied.work[-1]),
+    }
+
+
+def summarize(telemetry: Telemetry, robot: Robot, wrenches: tuple[ExternalWrench, ...] | list[ExternalWrench] = (),
+              control_period: float | None = None) -> dict[str, object]:
+    """Figures of merit of a run (SI units; see the README's output table): the conservation
+    laws (:func:`conservation`: drifts, or balances against ``wrenches`` applied over each
+    ``control_period``), base motion, end-effector positions, peak torque, tracking errors."""
+    tel = telemetry
+    out: dict[str, object] = conservation(tel, robot, wrenches, control_period)
+    out.update({
         "base_displacement": (tel.base_position[-1] - tel.base_position[0]).tolist(),
         "base_rotation_max": float(rotation_angle(tel.base_quaternion, tel.base_quaternion[0]).max()),
         "end_effectors_start": {n: tel.ee_position[0, i].tolist() for i, n in enumerate(robot.end_effectors)},
         "end_effectors_end": {n: tel.ee_position[-1, i].tolist() for i, n in enumerate(robot.end_effectors)},
         "peak_joint_torque": float(np.abs(tel.tau).max()) if tel.tau.size else 0.0,
-    }
-    out["momentum_drift_max"] = momentum_drift(tel.momentum)
+    })
     errors = tel.joint_reference - tel.joint_positions
     if np.isfinite(errors).all() and errors.size:
         overall, per_arm = nested_rms(errors, robot)

@@ -12,7 +12,7 @@ import meshcat.geometry as mg
 import numpy as np
 import pinocchio as pin
 
-from ...dynamics.metrics import summarize
+from ...dynamics.metrics import spin_summary, summarize
 from ...dynamics.simulation import RunResult
 from ...errors import SceneError
 from ...space.capture import Target, capture_and_detumble
@@ -73,14 +73,16 @@ def run(setup: CaptureSetup, progress: Progress | None = None, checkpoint: Check
     merged = dataclasses.replace(res.merged, visual_model=robot.visual_model)
     tel = res.post
     result = RunResult(tel, res.summary["status"], "", len(tel.t) - 1, wall, 0)
-    summary = summarize(tel, merged)
+    summary = summarize(tel, merged)  # after the grasp: no external wrench, so drifts
+    summary.update(spin_summary(merged, tel))
     summary.update(res.summary, sim_wall_time_s=wall, steps=len(res.pre.t) + len(tel.t) - 2)
     both_t = np.concatenate((res.pre.t, res.impact_time + tel.t[1:]))
     both_q = np.concatenate((res.pre.q, tel.q[1:]))
     poses = np.concatenate((res.target_poses[: len(res.pre.t)], res.target_poses[len(res.pre.t) + 1:]))
     return robot_outcome(setup, merged, tel, result, summary, animation=(both_t, both_q),
                          extra_bodies=[("target", mg.Mesh(mg.Box(list(tg.size)), TARGET_MATERIAL), poses)],
-                         extra_telemetry={"pre_capture": res.pre}, events=[(res.impact_time, "grasp")])
+                         extra_telemetry={"pre_capture": res.pre}, events=[(res.impact_time, "grasp")], wrenches=(),
+                         spin=True, settle_threshold=res.summary["settle_threshold"])
 
 
 EXPERIMENT = Experiment("capture", "a robot grasps a tumbling target and detumbles it",

@@ -9,7 +9,7 @@ from typing import Any
 import numpy as np
 
 from ...dynamics import gjm
-from ...dynamics.metrics import settling_time
+from ...dynamics.metrics import settling_time, spin_summary
 from ...dynamics.telemetry import Telemetry
 from ...errors import SceneError
 from ...robot.robot import Robot
@@ -42,7 +42,8 @@ def run(setup: RobotSetup, progress: Progress | None = None, checkpoint: Checkpo
     task: dict[str, Any] = {}
     if len(result.telemetry.t):
         task = detumble_summary(setup.robot, result.telemetry, detumble_task(setup.robot, setup.scene)[0])
-    return robot_outcome(setup, setup.robot, result.telemetry, result, summary_of(setup, result, **task))
+    return robot_outcome(setup, setup.robot, result.telemetry, result, summary_of(setup, result, **task), spin=True,
+                         settle_threshold=task.get("settle_threshold"))
 
 
 def rows_spec(scene: Scene) -> list[tuple[str, str]]:
@@ -81,13 +82,13 @@ def detumble_task(robot: Robot, scene: Scene) -> tuple[np.ndarray, np.ndarray]:
 
 def detumble_summary(robot: Robot, telemetry: Telemetry, rows: np.ndarray, threshold: float = 1e-6) -> dict:
     """Speed of the detumbled rows over the run (m/s or rad/s): final, max, and the settling
-    time (s) below ``threshold``; the base's final angular speed (rad/s)."""
+    time (s) after which it stays below ``threshold``; how the base's and each end-effector's
+    spin settles (:func:`~freefloat.dynamics.metrics.spin_summary`)."""
     speed = np.array([np.abs(gjm.compute(robot, q, v).end_effector_velocity()[rows]).max()
                       for q, v in zip(telemetry.q, telemetry.v)])
     settled = settling_time(telemetry.t, speed, threshold)
     return {"detumbled_rows_speed_final": float(speed[-1]), "detumbled_rows_speed_max": float(speed.max()),
-            "settling_time": settled, "settle_threshold": threshold,
-            "base_angular_velocity_final": float(np.linalg.norm(telemetry.base_twist[-1, 3:]))}
+            "settling_time": settled, "settle_threshold": threshold, **spin_summary(robot, telemetry)}
 
 
 EXPERIMENT = Experiment("detumbling", "a robot stops end-effector velocity rows after an impulse", prepare,

@@ -28,9 +28,11 @@ from .base import Checkpoint, Outcome, Progress
 from .budget import check_budget, seconds_per_call
 from .locked_run import full_telemetry, lock_for
 
-#: Summary keys the command line prints for a robot run.
+#: Summary keys the command line prints for a robot run (those it has: drifts without external
+#: wrenches, balances with them; the spin's settling for detumbling and capture runs).
 HEADLINE = ("model_auto", "tracking_rms_overall", "com_drift_max", "momentum_drift_max", "energy_drift_max",
-            "base_displacement")
+            "momentum_balance_max", "momentum_balance_relative", "energy_balance_max", "external_work",
+            "settling_time", "base_angular_velocity_final", "base_displacement", "figures_not_drawn")
 
 
 @dataclass
@@ -213,9 +215,11 @@ def simulate(setup: RobotSetup, progress: Progress | None, checkpoint: Checkpoin
 
 
 def summary_of(setup: RobotSetup, result: RunResult, **task: Any) -> dict[str, Any]:
-    """The run's figures of merit (:func:`freefloat.dynamics.metrics.summarize`), then the task's
+    """The run's figures of merit (:func:`freefloat.dynamics.metrics.summarize`: with the scene's
+    external wrenches, balances against what they applied instead of drifts), then the task's
     own, then status, steps, wall time and model evaluations."""
-    summary = summarize(result.telemetry, setup.robot) if len(result.telemetry.t) else {}
+    tel = result.telemetry
+    summary = summarize(tel, setup.robot, setup.wrenches, setup.scene.simulation.control_period) if len(tel.t) else {}
     summary.update(task)
     summary.update(status=result.status, message=result.message, steps=result.steps,
                    sim_wall_time_s=result.wall_time_s, model_evaluations=result.evaluations, loop=result.backend)
@@ -225,16 +229,25 @@ def summary_of(setup: RobotSetup, result: RunResult, **task: Any) -> dict[str, A
 def robot_outcome(setup: RobotSetup, robot: Robot, telemetry: Telemetry, result: RunResult,
                   summary: dict[str, Any], animation: tuple[np.ndarray, np.ndarray] | None = None,
                   extra_bodies: list | None = None, extra_telemetry: dict[str, Telemetry] | None = None,
-                  events: list[tuple[float, str]] | None = None) -> Outcome:
+                  events: list[tuple[float, str]] | None = None, wrenches: tuple[ExternalWrench, ...] | None = None,
+                  spin: bool = False, settle_threshold: float | None = None) -> Outcome:
     """The outcome of a robot run on ``robot`` (the scene's, or the merged one after a capture):
-    telemetry named by its joints and end-effectors, provenance, joint-space figures and the
-    animation of ``animation = (t, q)`` (default: the telemetry) with ``extra_bodies`` and the
-    named moments ``events`` ((time s, label))."""
-    from ..viz.figures import write_figures
+    telemetry named by its joints and end-effectors, provenance, the figures
+    (:func:`~freefloat.app.viz.figures.write_figures`: the conservation balance when the run has
+    ``wrenches``, default the scene's; the angular rates with ``spin``, against
+    ``settle_threshold``) and the animation of ``animation = (t, q)`` (default: the telemetry)
+    with ``extra_bodies`` and the named moments ``events`` ((time s, label)). The figures left
+    out because their data is identically zero are named in the summary's ``figures_not_drawn``."""
+    from ..viz.figures import empty_figures, write_figures
     from ..viz.meshcat_html import write_trajectory_html
 
     t, q = animation or (telemetry.t, telemetry.q)
     sim = setup.scene.simulation
+    wrenches = setup.wrenches if wrenches is None else wrenches
+    if setup.scene.output.figures and len(telemetry.t) >= 2:
+        left_out = empty_figures(robot, telemetry, spin)
+        if left_out:
+            summary = {**summary, "figures_not_drawn": left_out}
     return Outcome(
         telemetry=telemetry, status=result.status, message=result.message, steps=result.steps,
         wall_time_s=result.wall_time_s, summary=summary,
@@ -248,7 +261,8 @@ def robot_outcome(setup: RobotSetup, robot: Robot, telemetry: Telemetry, result:
         },
         headline=HEADLINE,
         extra_telemetry=extra_telemetry or {},
-        figures=lambda folder: write_figures(robot, telemetry, folder),
+        figures=lambda folder: write_figures(robot, telemetry, folder, wrenches, sim.control_period, spin,
+                                             settle_threshold),
         page=lambda path, fps: write_trajectory_html(robot, t, q, path, fps=fps, extra=extra_bodies or None,
                                                           events=events),
     )

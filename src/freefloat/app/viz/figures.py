@@ -4,7 +4,8 @@ in it, said so) with the robot drawn at start and end, log axes clipped to the d
 
 Each ``*_figure`` function returns a :class:`matplotlib.figure.Figure` on the Agg canvas (see
 :mod:`.plotting`), so tests can read the plotted data; :func:`write_figures` saves each as PNG
-and PDF. Positions and momenta are in the inertial frame, as recorded in
+and PDF, less those whose data is identically zero (:func:`empty_figures` says which and why,
+for the summary). Positions and momenta are in the inertial frame, as recorded in
 :class:`~freefloat.dynamics.telemetry.Telemetry`; joint errors in rad (m for prismatic
 joints), as in the summary.
 """
@@ -19,8 +20,10 @@ import pinocchio as pin
 from matplotlib.figure import Figure
 from scipy.spatial.transform import Rotation
 
-from ...dynamics.metrics import free_com_motion
+from ...dynamics.balance import Balance, balance
+from ...dynamics.metrics import SETTLE_BAND, angular_speeds, band_settling_time, free_com_motion
 from ...dynamics.telemetry import Telemetry
+from ...dynamics.wrenches import ExternalWrench
 from ...robot.robot import Arm, Robot
 from .plotting import (
     STYLES,
@@ -32,36 +35,77 @@ from .plotting import (
     log_curve,
     path,
     save_all,
+    thin,
 )
 
 #: Colours of the robot drawn at the start and at the end of a run.
 START_COLOR, END_COLOR = "#b0b0b0", "#303030"
 
 
-def write_figures(robot: Robot, telemetry: Telemetry, out_dir: str | Path) -> list[Path]:
+def write_figures(robot: Robot, telemetry: Telemetry, out_dir: str | Path,
+                  wrenches: tuple[ExternalWrench, ...] = (), control_period: float | None = None,
+                  spin: bool = False, settle_threshold: float | None = None) -> list[Path]:
     """Write the figures of a run as PNG and PDF files.
 
     Args:
         robot: the robot the run was simulated with.
         telemetry: the recorded run.
         out_dir: folder to write into (created if missing).
+        wrenches: the run's external wrenches; with some, ``conservation_balance`` (momentum and
+            energy against what they applied) replaces ``com_drift``.
+        control_period: s; needed with ``wrenches``.
+        spin: also draw ``angular_rates`` (base and end-effector spin decaying: detumbling and
+            capture runs), with the ``settle_threshold`` (rad/s) if given.
 
     Returns:
         The written files: ``joint_errors`` (only when the run has joint references),
-        ``torques``, ``base_trajectory``, ``end_effector_paths``, ``end_effector_displacement``
-        and ``com_drift``, each ``.png`` then ``.pdf``.
+        ``torques``, ``base_trajectory``, ``end_effector_paths``, ``end_effector_displacement``,
+        ``com_drift`` or ``conservation_balance``, and ``angular_rates``, each ``.png`` then
+        ``.pdf``, less those :func:`empty_figures` names.
     """
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
+    left_out = empty_figures(robot, telemetry, spin)
     figures = {
-        "joint_errors": joint_error_figure(robot, telemetry),
-        "torques": torque_figure(robot, telemetry),
-        "base_trajectory": base_trajectory_figure(telemetry),
-        "end_effector_paths": end_effector_paths_figure(robot, telemetry),
-        "end_effector_displacement": end_effector_displacement_figure(robot, telemetry),
-        "com_drift": com_drift_figure(robot, telemetry),
+        "joint_errors": lambda: joint_error_figure(robot, telemetry),
+        "torques": lambda: torque_figure(robot, telemetry),
+        "base_trajectory": lambda: base_trajectory_figure(telemetry),
+        "end_effector_paths": lambda: end_effector_paths_figure(robot, telemetry),
+        "end_effector_displacement": lambda: end_effector_displacement_figure(robot, telemetry),
     }
-    return save_all(figures, out_dir)
+    if wrenches:
+        if control_period is None:
+            raise ValueError("write_figures: a run with external wrenches needs its control_period")
+        res = balance(robot, telemetry, wrenches, control_period)
+        figures["conservation_balance"] = lambda: balance_figure(telemetry, res)
+    else:
+        figures["com_drift"] = lambda: com_drift_figure(robot, telemetry)
+    if spin:
+        figures["angular_rates"] = lambda: angular_rates_figure(robot, telemetry, settle_threshold)
+    return save_all({name: None if name in left_out else draw() for name, draw in figures.items()}, out_dir)
+
+
+def empty_figures(robot: Robot, telemetry: Telemetry, spin: bool = False) -> dict[str, str]:
+    """The figures :func:`write_figures` leaves out because what they plot is identically zero
+    (or, for ``joint_errors``, absent), each with the reason, as the summary says it."""
+    tel = telemetry
+    out = {}
+    errors = tel.joint_reference - tel.joint_positions
+    if np.all(np.isnan(errors)):
+        out["joint_errors"] = "the run has no joint reference"
+    elif not np.any(np.nan_to_num(errors)):
+        out["joint_errors"] = "every joint tracking error is zero"
+    if not np.any(tel.tau):
+        out["torques"] = "every joint torque is zero (a torque-free run)"
+    if not (np.any(tel.base_position) or np.any(base_attitude(tel.base_quaternion))):
+        out["base_trajectory"] = "the base stays at the origin, unrotated"
+    if not np.any(tel.ee_position - tel.ee_position[:1]):
+        out["end_effector_displacement"] = "no end-effector moves"
+    if not (np.any(tel.com - free_com_motion(tel, robot)) or np.any(tel.momentum - tel.momentum[:1])):
+        out["com_drift"] = "the CoM and momentum do not drift at all"
+    if spin and not (np.any(tel.base_twist[:, 3:]) or np.any(angular_speeds(robot, tel)[1])):
+        out["angular_rates"] = "nothing turns"
+    return out
 
 
 def arm_name(arm: Arm, index: int) -> str:
@@ -165,6 +209,61 @@ def com_drift_figure(robot: Robot, telemetry: Telemetry) -> Figure:
     log_curve(momentum_ax, t, np.linalg.norm(momentum[:, :3] - momentum[0, :3], axis=1), "|P - P(0)| (kg m/s)")
     log_curve(momentum_ax, t, np.linalg.norm(momentum[:, 3:] - momentum[0, 3:], axis=1), "|L - L(0)| (kg m^2/s)")
     finish(momentum_ax, "t (s)", "momentum drift", "linear and angular momentum (about the origin)")
+    return fig
+
+
+def balance_figure(telemetry: Telemetry, residuals: Balance) -> Figure:
+    """A run with external wrenches against the conservation laws: the momentum change and the
+    impulse applied (linear kg m/s, angular kg m^2/s about the origin), the energy change less
+    the joint torques' work and the wrenches' work (J), both on linear axes; below, on log axes
+    clipped to the data, what is left of each balance (the summary's ``*_balance_max`` are
+    their maxima), with the CoM's (m)."""
+    fig, (momentum_ax, energy_ax, residual_ax, energy_residual_ax) = figure(
+        2, 2, (13.0, 7.5), "Conservation with external wrenches: change = what the wrenches applied")
+    tel, done = telemetry, residuals.applied
+    t, change = tel.t, tel.momentum - tel.momentum[0]
+    for part, name, unit in ((slice(0, 3), "P", "kg m/s"), (slice(3, 6), "L", "kg m^2/s")):
+        curve(momentum_ax, t, np.linalg.norm(change[:, part], axis=1), f"|{name} - {name}(0)| ({unit})")
+        curve(momentum_ax, t, np.linalg.norm(done.impulse[:, part], axis=1), f"|impulse| on {name} ({unit})")
+    finish(momentum_ax, "t (s)", "momentum change, impulse", "momentum change and impulse applied (about the origin)")
+    curve(energy_ax, t, tel.energy - tel.energy[0] - tel.work, "E - E(0) - W joints")
+    curve(energy_ax, t, done.work, "W wrenches")
+    finish(energy_ax, "t (s)", "energy (J)", "energy change and work of the wrenches")
+    log_curve(residual_ax, t, np.linalg.norm(residuals.momentum[:, :3], axis=1), "|P - P(0) - impulse| (kg m/s)")
+    log_curve(residual_ax, t, np.linalg.norm(residuals.momentum[:, 3:], axis=1), "|L - L(0) - impulse| (kg m^2/s)")
+    log_curve(residual_ax, t, np.linalg.norm(residuals.com, axis=1), "|com - its forced motion| (m)")
+    finish(residual_ax, "t (s)", "balance residual", "momentum and CoM balance")
+    log_curve(energy_residual_ax, t, np.abs(residuals.energy), "|E - E(0) - W joints - W wrenches|")
+    finish(energy_residual_ax, "t (s)", "energy balance residual (J)", "energy balance")
+    return fig
+
+
+def angular_rates_figure(robot: Robot, telemetry: Telemetry, threshold: float | None = None) -> Figure:
+    """Spin decaying. Above, the base angular velocity ``w0`` (x, y, z, rad/s, inertial frame) on
+    linear axes, with the time after which ``|w0|`` stays within the settling band
+    (:func:`~freefloat.dynamics.metrics.band_settling_time`). Below, each end-effector's angular
+    speed ``|w|`` and the base's (rad/s) on a log axis down to the smallest positive value, with
+    the settle ``threshold`` when given."""
+    fig, (base_ax, log_ax) = figure(2, 1, (9.0, 7.0), "Angular rates: base and end-effectors", right=0.75)
+    t = telemetry.t
+    base, ends = angular_speeds(robot, telemetry)
+    for i, axis in enumerate("xyz"):
+        curve(base_ax, t, telemetry.base_twist[:, 3 + i], f"w0 {axis}")
+    settled = band_settling_time(t, base)
+    base_ax.axvline(settled, color="grey", linestyle=":", linewidth=1.0, label=f"settled, {settled:.3g} s")
+    finish(base_ax, "t (s)", "w0 (rad/s)", f"base angular velocity: final |w0| {base[-1]:.3g} rad/s, within "
+           f"{SETTLE_BAND:.0%} of its peak change from {settled:.3g} s", legend="outside")
+    rates = [(f"{arm_name(arm, k)} ({arm.end_effector})", ends[:, k]) for k, arm in enumerate(robot.arms)]
+    for label, rate in rates + [("base", base)]:
+        shown = thin(rate)
+        log_ax.semilogy(t[shown], np.where(rate > 0.0, rate, np.nan)[shown], label=label)
+    if threshold is not None:
+        log_ax.axhline(threshold, color="grey", linestyle=":", linewidth=1.0, label=f"threshold {threshold:g} rad/s")
+    positive = np.concatenate([ends.ravel(), base, [threshold] if threshold is not None else []])
+    positive = positive[np.isfinite(positive) & (positive > 0.0)]
+    if len(positive):
+        log_ax.set_ylim(positive.min() / 2, positive.max() * 2)
+    finish(log_ax, "t (s)", "|w| (rad/s)", "angular speeds, log axis: how far they settle", legend="outside")
     return fig
 
 
