@@ -153,7 +153,7 @@ def run(prepared: PreparedMechanism, progress: Progress | None = None,
 def outcome(prepared: PreparedMechanism, telemetry: MechanismTelemetry, status: str, message: str, steps: int,
             wall: float, summary: dict[str, object]) -> Outcome:
     """The outcome of a mechanism run: telemetry named by the tree's joints and actuators,
-    provenance, platform figures and the animated spanning tree."""
+    provenance, platform figures and the animated linkage with the platform and reference paths."""
     from ..viz.mechanism import write_mechanism_figures, write_mechanism_html
 
     scene, chain = prepared.scene, prepared.setup.display
@@ -171,7 +171,7 @@ def outcome(prepared: PreparedMechanism, telemetry: MechanismTelemetry, status: 
         },
         headline=HEADLINE,
         figures=lambda folder: write_mechanism_figures(telemetry, folder, chain),
-        page=lambda path, fps: write_mechanism_html(chain, telemetry.t, q, path, fps),
+        page=lambda path, fps: write_mechanism_html(chain, telemetry.t, q, path, fps, telemetry.platform_reference),
     )
 
 

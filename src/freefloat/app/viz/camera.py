@@ -15,6 +15,9 @@ import numpy as np
 FIELD_OF_VIEW = np.radians(75.0)
 #: Direction from the target to the camera: front-right, 30 deg above the xy-plane.
 VIEW_DIRECTION = np.array([np.cos(np.radians(-55.0)), np.sin(np.radians(-55.0)), np.tan(np.radians(30.0))])
+#: Direction for a motion in the xy-plane (a planar mechanism): from above, 75 deg up, tilted
+#: towards -y, so that x runs right and y up on the picture, as the plane is drawn on paper.
+PLANE_VIEW = np.array([0.0, -np.cos(np.radians(75.0)), np.sin(np.radians(75.0))])
 #: Narrowest picture (width / height) the framing must fit; wider windows show more around it.
 ASPECT = 4.0 / 3.0
 #: Factor on the smallest distance that shows every point (room around the motion).
@@ -35,11 +38,11 @@ class Framing(NamedTuple):
     radius: float
 
 
-def frame_motion(points: np.ndarray, min_radius: float = 0.05) -> Framing:
+def frame_motion(points: np.ndarray, min_radius: float = 0.05, direction: np.ndarray = VIEW_DIRECTION) -> Framing:
     """Camera that keeps every point of the motion in view, seen obliquely.
 
-    The camera looks at the bounding box's centre ``c`` from direction ``d``
-    (:data:`VIEW_DIRECTION`, unit), with z up on the picture. A point at offset ``o = p - c``
+    The camera looks at the bounding box's centre ``c`` from ``direction`` ``d`` (default
+    :data:`VIEW_DIRECTION`; made unit), with z up on the picture as far as ``d`` allows. A point at offset ``o = p - c``
     is in view at distance ``D`` when
     ``|o . u| <= (D - o . d) tan(fov/2)`` and ``|o . r| <= (D - o . d) ASPECT tan(fov/2)``
     (``u``, ``r`` the picture's up and right); ``D`` is the smallest such distance, at least
@@ -59,7 +62,7 @@ def frame_motion(points: np.ndarray, min_radius: float = 0.05) -> Framing:
     low, high = points.min(axis=0), points.max(axis=0)
     target = (low + high) / 2
     radius = max(float(np.linalg.norm(high - low)) / 2, min_radius)
-    d = VIEW_DIRECTION / np.linalg.norm(VIEW_DIRECTION)
+    d = np.asarray(direction, dtype=float) / np.linalg.norm(direction)
     right = np.cross(-d, [0.0, 0.0, 1.0])
     right /= np.linalg.norm(right)
     up = np.cross(right, -d)

@@ -1,7 +1,9 @@
-"""Points a page follows besides the bodies: a sphere moving along a drawn path.
+"""Points a page follows besides the bodies (a sphere moving along a drawn path), and bars
+between moving points (a closed chain's links).
 
 For a robot: the base CoM, the system CoM and each end-effector; for a mechanism: the two
-points of each closure. Positions are in the inertial frame, m.
+points of each closure, the platform point, its joint centres and the bars joining them.
+Positions are in the inertial frame, m.
 """
 
 from __future__ import annotations
@@ -26,11 +28,29 @@ class Marker(NamedTuple):
         name: node name in the page (``/meshcat/freefloat/markers/<name>``).
         color: 0xRRGGBB of its sphere and path.
         positions: the point at each sample, inertial frame, m (N, 3).
+        trail: whether its whole path is drawn too (a joint centre's is not).
     """
 
     name: str
     color: int
     positions: np.ndarray
+    trail: bool = True
+
+
+class Bar(NamedTuple):
+    """A rigid or telescopic link drawn as a thin cylinder between two moving points.
+
+    Attributes:
+        name: node name in the page (``/meshcat/freefloat/bars/<name>``).
+        color: 0xRRGGBB.
+        start: one end at each sample, inertial frame, m (N, 3).
+        end: the other end at each sample, inertial frame, m (N, 3).
+    """
+
+    name: str
+    color: int
+    start: np.ndarray
+    end: np.ndarray
 
 
 def robot_markers(robot: Robot, q: np.ndarray) -> list[Marker]:

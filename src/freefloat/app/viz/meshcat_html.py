@@ -13,7 +13,10 @@ animated pose is the joint frame in the inertial frame (``data.oMi``). Geometry 
 frame (and mesh scale) as the object's intrinsic matrix. Extra bodies are animated nodes
 ``/meshcat/freefloat/extra/<name>``; followed points (:mod:`.markers`) are animated spheres
 ``/meshcat/freefloat/markers/<name>`` with their whole path drawn at
-``/meshcat/freefloat/paths/<name>``. Animation key times are in frames of ``fps``, so the clip
+``/meshcat/freefloat/paths/<name>``; bars (a closed chain's links) are unit cylinders
+``/meshcat/freefloat/bars/<name>`` along their node's y axis, animated in position (the bar's
+middle), quaternion (y onto the bar) and scale (y: its length). Static lines (a reference path)
+are ``/meshcat/freefloat/lines/<name>``. Animation key times are in frames of ``fps``, so the clip
 plays in simulated time.
 """
 
@@ -39,7 +42,7 @@ from pinocchio.visualize.meshcat_visualizer import loadPrimitive
 from ...robot.robot import Robot
 from .assets import AssetTable, allowed_folders
 from .camera import frame_motion
-from .markers import Marker, robot_markers
+from .markers import Bar, Marker, robot_markers
 from .page_template import PAGE
 
 #: The viewer bundled with the installed meshcat package.
@@ -54,8 +57,13 @@ ExtraBody = tuple[str, mg.Geometry | mg.Object, np.ndarray]
 Event = tuple[float, str]
 
 _COLORS = {"base": 0x9A9A9A, "link": 0x4F7FC0, "joint": 0xF0A030, "end_effector": 0xD02020}
-#: Radius of a marker sphere, as a fraction of the framed radius.
-_MARKER_SIZE = 0.015
+#: Radius of a marker sphere, of a marker without trail (a joint centre) and of a bar, as fractions
+#: of the framed radius.
+_MARKER_SIZE, _JOINT_SIZE, _BAR_SIZE = 0.015, 0.011, 0.006
+#: Opacity of a linkage's base, so that the pivots on it show.
+_BASE_OPACITY = 0.5
+#: A static line: (name, 0xRRGGBB, points (K, 3), inertial frame, m).
+Line = tuple[str, int, np.ndarray]
 
 
 def frame_indices(t: np.ndarray, fps: float) -> np.ndarray:
@@ -90,6 +98,9 @@ def write_trajectory_html(
     extra: list[ExtraBody] | None = None,
     markers: list[Marker] | None = None,
     events: list[Event] | None = None,
+    bars: list[Bar] | None = None,
+    lines: list[Line] | None = None,
+    view: np.ndarray | None = None,
 ) -> Path:
     """Write a self-contained meshcat page animating a run.
 
@@ -106,6 +117,12 @@ def write_trajectory_html(
         markers: points to follow, positions (N, 3) at the samples; default the robot's base
             CoM, system CoM and end-effectors (:func:`.markers.robot_markers`).
         events: moments named under the time slider, e.g. ``[(2.0, "grasp")]``.
+        bars: links to draw as bars between moving points, ends (N, 3) at the samples; with
+            bars, the robot's own geometry is drawn for its base (root link) only: the bars
+            are its links.
+        lines: static polylines, e.g. a reference path, each (name, colour, points (K, 3)).
+        view: direction from the motion to the camera (3,); default
+            :data:`.camera.VIEW_DIRECTION` (oblique, from the front right).
 
     Returns:
         The written path.
@@ -121,12 +138,14 @@ def write_trajectory_html(
     if markers is None:
         markers = robot_markers(robot, q[shown])
     else:
-        markers = [m._replace(positions=_checked_points(m, len(t))[shown]) for m in markers]
+        markers = [m._replace(positions=_checked_points(m.name, m.positions, len(t))[shown]) for m in markers]
+    bars = [b._replace(start=_checked_points(b.name, b.start, len(t), "bar", "start")[shown],
+                       end=_checked_points(b.name, b.end, len(t), "bar", "end")[shown]) for b in bars or []]
 
     table = AssetTable(allowed_folders(robot.urdf_path), robot.urdf_path)
     packets = [
         _object_packet(ROOT.append(f"{model.names[j]}/{name}"), obj, placement)
-        for j, name, obj, placement in _robot_objects(robot, table)
+        for j, name, obj, placement in _robot_objects(robot, table, base_only=bool(bars))
     ]
     data = model.createData()
     poses = np.empty((len(shown), model.njoints, 4, 4))
@@ -135,7 +154,9 @@ def write_trajectory_html(
         poses[k] = [m.homogeneous for m in data.oMi]
     framing = frame_motion(np.concatenate(
         [poses[:, 1:, :3, 3].reshape(-1, 3), _geometry_points(robot, poses)]
-        + [b[2][:, :3, 3] for b in bodies] + [m.positions for m in markers]))
+        + [b[2][:, :3, 3] for b in bodies] + [m.positions for m in markers]
+        + [p for b in bars for p in (b.start, b.end)] + [np.asarray(points, float) for _, _, points in lines or []]),
+        **({} if view is None else {"direction": view}))
 
     animation = Animation(default_framerate=fps)
     for j in range(1, model.njoints):
@@ -145,10 +166,17 @@ def write_trajectory_html(
         packets.append(SetObject(obj, path=node).lower())
         animation.clips[node] = _clip(keys, body_poses, fps)
     for marker in markers:
-        packets += _marker_packets(marker, _MARKER_SIZE * framing.radius)
+        packets += _marker_packets(marker, (_MARKER_SIZE if marker.trail else _JOINT_SIZE) * framing.radius)
         marker_poses = np.tile(np.eye(4), (len(shown), 1, 1))
         marker_poses[:, :3, 3] = marker.positions
         animation.clips[ROOT.append(f"markers/{marker.name}")] = _clip(keys, marker_poses, fps)
+    for bar in bars:
+        node = ROOT.append(f"bars/{bar.name}")
+        packets.append(SetObject(mg.Mesh(mg.Cylinder(1.0, _BAR_SIZE * framing.radius), _material(bar.color)),
+                                 path=node).lower())
+        animation.clips[node] = _bar_clip(keys, bar, fps)
+    for name, color, points in lines or []:
+        packets.append(SetObject(_dashed(np.asarray(points, float), color), path=ROOT.append(f"lines/{name}")).lower())
     packets.append(SetAnimation(animation, play=True).lower())
     packets[-1]["options"]["repetitions"] = float("inf")  # loop until paused
 
@@ -206,21 +234,52 @@ def _checked_poses(name: str, poses: np.ndarray, n: int) -> np.ndarray:
     return poses
 
 
-def _checked_points(marker: Marker, n: int) -> np.ndarray:
-    """A marker's positions as (n, 3) floats, or ValueError naming the marker."""
-    points = np.asarray(marker.positions, dtype=float)
+def _checked_points(name: str, points: np.ndarray, n: int, what: str = "marker",
+                    field: str = "positions") -> np.ndarray:
+    """A marker's positions or a bar's ends as (n, 3) floats, or ValueError naming it."""
+    points = np.asarray(points, dtype=float)
     if points.shape != (n, 3):
-        raise ValueError(f"marker '{marker.name}': positions must be ({n}, 3), got {points.shape}")
+        raise ValueError(f"{what} '{name}': {field} must be ({n}, 3), got {points.shape}")
     return points
 
 
 def _marker_packets(marker: Marker, radius: float) -> list[dict]:
-    """The marker's sphere (animated node) and its whole path as a line (static node)."""
+    """The marker's sphere (animated node) and, with ``trail``, its whole path as a line
+    (static node)."""
     sphere = mg.Mesh(mg.Sphere(radius), _material(marker.color))
-    line = mg.Line(mg.PointsGeometry(marker.positions.T.astype(np.float32)),
-                   mg.LineBasicMaterial(color=marker.color, linewidth=2))
-    return [SetObject(sphere, path=ROOT.append(f"markers/{marker.name}")).lower(),
-            SetObject(line, path=ROOT.append(f"paths/{marker.name}")).lower()]
+    packets = [SetObject(sphere, path=ROOT.append(f"markers/{marker.name}")).lower()]
+    if marker.trail:
+        line = mg.Line(mg.PointsGeometry(marker.positions.T.astype(np.float32)),
+                       mg.LineBasicMaterial(color=marker.color, linewidth=2))
+        packets.append(SetObject(line, path=ROOT.append(f"paths/{marker.name}")).lower())
+    return packets
+
+
+def _dashed(points: np.ndarray, color: int, dashes: int = 120) -> mg.LineSegments:
+    """A polyline (K, 3) drawn dashed (meshcat has no dashed material): cut into ``2 dashes``
+    pieces of equal sample count, every other one drawn as a straight segment."""
+    picked = points[np.unique(np.linspace(0, len(points) - 1, 2 * dashes + 1).round().astype(int))]
+    ends = picked[: len(picked) - len(picked) % 2]  # an even count: (start, end) pairs
+    return mg.LineSegments(mg.PointsGeometry(ends.T.astype(np.float32)), mg.LineBasicMaterial(color=color))
+
+
+def _bar_clip(keys: np.ndarray, bar: Bar, fps: float) -> AnimationClip:
+    """Position (the middle), quaternion (the node's y axis onto the bar) and scale (y: the
+    length) tracks of a bar's unit cylinder; ``keys`` in frames."""
+    axis = bar.end - bar.start
+    length = np.linalg.norm(axis, axis=1)
+    y = np.array([0.0, 1.0, 0.0])
+    quaternions = [pin.Quaternion.FromTwoVectors(y, a / n if n > 0.0 else y).coeffs().tolist()
+                   for a, n in zip(axis, length)]
+    frames = keys.tolist()
+    return AnimationClip(
+        tracks={
+            "position": AnimationTrack("position", "vector3", frames, (0.5 * (bar.start + bar.end)).tolist()),
+            "quaternion": AnimationTrack("quaternion", "quaternion", frames, quaternions),
+            "scale": AnimationTrack("scale", "vector3", frames, [[1.0, n, 1.0] for n in length.tolist()]),
+        },
+        fps=fps,
+    )
 
 
 def _clip(keys: np.ndarray, poses: np.ndarray, fps: float) -> AnimationClip:
@@ -249,19 +308,25 @@ def _object_packet(node: MeshcatPath, obj: mg.Object | dict, placement: np.ndarr
     return packet
 
 
-def _robot_objects(robot: Robot, table: AssetTable) -> list[tuple[int, str, mg.Object | dict, np.ndarray]]:
-    """(joint id, name, meshcat object, placement in the joint frame incl. scale (4, 4))."""
+def _robot_objects(robot: Robot, table: AssetTable,
+                   base_only: bool = False) -> list[tuple[int, str, mg.Object | dict, np.ndarray]]:
+    """(joint id, name, meshcat object, placement in the joint frame incl. scale (4, 4)); with
+    ``base_only`` the root link's geometry alone (nothing when it has none), half transparent
+    so that the bars' pivots on it show."""
     visual = robot.visual_model
-    objects = [] if visual is None else [_visual_object(g, table) for g in visual.geometryObjects]
-    objects = [o for o in objects if o is not None]
-    return objects or _stick_figure(robot)
+    geometries = [] if visual is None else [g for g in visual.geometryObjects
+                                            if not base_only or g.parentJoint <= 1]
+    opacity = _BASE_OPACITY if base_only else 1.0
+    objects = [o for o in (_visual_object(g, table, opacity) for g in geometries) if o is not None]
+    return objects if objects or base_only else _stick_figure(robot)
 
 
 def _visual_object(
-    geometry: pin.GeometryObject, table: AssetTable
+    geometry: pin.GeometryObject, table: AssetTable, opacity: float = 1.0
 ) -> tuple[int, str, mg.Object | dict, np.ndarray] | None:
     """Meshcat object of one Pinocchio geometry (mesh file or primitive), or None if it cannot
-    or may not be drawn (a mesh outside the allowed folders, see :mod:`.assets`)."""
+    or may not be drawn (a mesh outside the allowed folders, see :mod:`.assets`); a mesh or
+    primitive (not Collada) at most ``opacity`` opaque."""
     mesh = Path(geometry.meshPath) if geometry.meshPath else None
     suffix = mesh.suffix.lower() if mesh else ""
     intrinsic = np.eye(4)
@@ -286,7 +351,7 @@ def _visual_object(
             )
             return None
         intrinsic = shape.intrinsic_transform()
-        obj = mg.Mesh(shape, _material(_rgb_int(geometry.meshColor), float(geometry.meshColor[3])))
+        obj = mg.Mesh(shape, _material(_rgb_int(geometry.meshColor), min(float(geometry.meshColor[3]), opacity)))
     scale = np.diag([*geometry.meshScale, 1.0])
     return (
         geometry.parentJoint,
