@@ -4,7 +4,8 @@
 (Pinocchio's counterparts), ``verify`` (the cross-check of the two), ``models`` (dynamics models
 selectable by name, Pinocchio's ABA the exact one), ``integrators`` (on the configuration Lie
 group), ``wrenches`` (external wrenches on links), ``simulation`` (the zero-order-hold loop and
-its :class:`~freefloat.dynamics.simulation.Controller` interface), ``telemetry``, ``metrics`` and
+its :class:`~freefloat.dynamics.simulation.Controller` interface), ``telemetry``, ``metrics``,
+``balance`` (momentum and energy against the impulse and work of external wrenches) and
 ``stability`` (the largest stable step, by bisection).
 
 May import: :mod:`freefloat.robot`, :mod:`freefloat.errors`, :mod:`freefloat.paths`.
