@@ -560,8 +560,8 @@ def test_balance_curves_are_the_summary_balances(iiwa2):
 
 
 def test_figures_rendered_in_two_processes_are_all_written(tmp_path, monkeypatch):
-    """save_all writes every figure, half of them from a forked child; when the child fails, this
-    process writes the child's share itself."""
+    """save_all writes every figure, half of them from the helper process; when the helper cannot
+    take them (here a save function it cannot import), this process writes its share itself."""
     import os
 
     from matplotlib.figure import Figure
@@ -584,7 +584,7 @@ def test_figures_rendered_in_two_processes_are_all_written(tmp_path, monkeypatch
 
     def child_fails(fig, out_dir, stem):
         if os.getpid() != parent:
-            raise RuntimeError("planted failure in the child")
+            raise RuntimeError("planted failure in the helper")
         return real(fig, out_dir, stem)
 
     monkeypatch.setattr(plotting, "save", child_fails)

@@ -68,24 +68,28 @@ def render_each(save: Callable[[Figure, Path, str], list[Path]],
     warm_up()
     helper = _helper
 
+    sent = [0]
+
     def feed() -> None:
         try:
             for job in jobs:
                 _send(helper.stdin, (save, *job))
+                sent[0] += 1
         except (OSError, pickle.PicklingError, TypeError, AttributeError):
-            pass  # the replies not received say so
+            pass  # a job that cannot be sent (the helper gone, a figure that cannot be pickled) is not awaited
 
     feeder = threading.Thread(target=feed, daemon=True)
     feeder.start()
 
     def collect() -> list[Any]:
+        feeder.join()  # the helper reads while it renders, so the last job is sent soon after its turn
         replies: list[Any] = []
         try:
-            for _ in jobs:
+            for _ in range(sent[0]):
                 replies.append(_receive(helper.stdout))
         except (EOFError, OSError, pickle.UnpicklingError) as exc:
-            replies += [exc] * (len(jobs) - len(replies))
-        return replies
+            replies += [exc] * (sent[0] - len(replies))
+        return replies + [RuntimeError("not sent to the figure helper")] * (len(jobs) - sent[0])
 
     return collect
 
