@@ -22,6 +22,7 @@ import pinocchio as pin
 
 from ...errors import RobotModelError
 from ...robot.inertias import balanced
+from ...robot.urdf_checks import few
 from ...robot.robot import Robot
 
 #: Pinocchio joint kinds written as MuJoCo joints, with their axis in the joint frame.
@@ -59,7 +60,7 @@ def balanced_model(model: pin.Model) -> pin.Model:
     relative change (it changes the robot, and both sides of the comparison use it)."""
     copy, changes = balanced(model)
     if changes:
-        warnings.warn(f"the inertias of {len(changes)} bodies (moved by {', '.join(changes)}) break the triangle "
+        warnings.warn(f"the inertias of {len(changes)} bodies ({few(changes)}) break the triangle "
                       "inequality and MuJoCo refuses them; both sides use a balanced copy whose least principal "
                       f"moments are raised by up to {max(changes.values()):.1%}", InertiaBalanceWarning, stacklevel=2)
     return copy
