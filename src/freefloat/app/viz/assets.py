@@ -6,7 +6,8 @@ directory (:func:`allowed_folders`). A mesh elsewhere (``file:///etc/...``,
 ``package://../../..``) is refused: the geometry is left out with a :class:`FreefloatWarning`
 naming the URDF, the geometry and the path. A texture elsewhere, missing, not an image, or named
 by a URL (``http://``, ``//host/...``) is dropped with a warning and the mesh is drawn untextured;
-its name is also removed from the Collada text the page embeds, so a page never names a URL a
+its name is also removed from the Collada text the page embeds (rewritten from the parsed file,
+so that a name in CDATA or split by a comment goes as well), so a page never names a URL a
 browser would fetch (no tracking pixel, nothing loaded from the network).
 
 Each allowed file is stored once in an :class:`AssetTable` however many geometries use it,
@@ -19,7 +20,6 @@ from __future__ import annotations
 
 import base64
 import gzip
-import html
 import mimetypes
 import re
 import warnings
@@ -86,24 +86,24 @@ class AssetTable:
         """The placeholder of a Collada file's text, with the textures that may not be embedded
         removed from it, and ``{<init_from> text: data URI}`` of those that may (resolved
         against the file's folder); each dropped texture is named in a warning."""
-        text = dae.read_text(errors="replace")
         resources, dropped = self.collada_textures(dae)
-        if dropped:
-            def blank(match: re.Match[str]) -> str:
-                return match[1] + match[3] if html.unescape(match[2]).strip() in dropped else match[0]
-
-            text = _INIT_FROM.sub(blank, text)
-        return self.placeholder_text(dae, text), resources
+        if not dropped:
+            return self.placeholder_text(dae, dae.read_text(errors="replace")), resources
+        root = ET.parse(dae).getroot()
+        for element in _texture_sources(root):
+            if _content(element) in dropped:
+                element.text = None
+                element[:] = []
+        return self.placeholder_text(dae, _xml(root)), resources
 
     def collada_textures(self, dae: Path) -> tuple[dict[str, str], set[str]]:
         """``{<init_from> text: data URI}`` of the textures of a Collada file that may be embedded
         (resolved against the file's folder), and the names of those dropped with a warning."""
         resources, dropped = {}, set()
-        root = ET.parse(dae).getroot()
-        images = [e for image in root.iter() if image.tag.endswith("}image") or image.tag == "image"
-                  for e in image.iter() if e.tag.rsplit("}", 1)[-1] in ("init_from", "ref") and (e.text or "").strip()]
-        for element in images:
-            name = element.text.strip()
+        for element in _texture_sources(ET.parse(dae).getroot()):
+            name = _content(element)
+            if not name:
+                continue
             if _URL.match(name):
                 _warn(f"{self.source}: texture '{name}' of {dae.name} is a URL; dropped (a page loads nothing "
                       "from the network), mesh drawn untextured")
@@ -132,10 +132,31 @@ class AssetTable:
 #: A URI with a scheme other than ``file:`` (``http:``, ``https:``, ``data:``, ``ftp:`` ...) or a
 #: network-path reference (``//host/...``).
 _URL = re.compile(r"^\s*(?!file:)[A-Za-z][A-Za-z0-9+.-]*:|^\s*//")
-#: An ``<init_from>`` or ``<ref>`` element's text (Collada 1.4 and 1.5 images).
-_INIT_FROM = re.compile(r"(<(?:\w+:)?(?:init_from|ref)\b[^>]*>)([^<]*)(</(?:\w+:)?(?:init_from|ref)\s*>)")
+
+
+def _texture_sources(root: ET.Element) -> list[ET.Element]:
+    """The ``<init_from>`` and ``<ref>`` elements of a Collada tree's images (Collada 1.4 and 1.5)."""
+    return [e for image in root.iter() if image.tag.rsplit("}", 1)[-1] == "image"
+            for e in image.iter() if e.tag.rsplit("}", 1)[-1] in ("init_from", "ref")]
+
+
+def _content(element: ET.Element) -> str:
+    """An element's whole text, as the page's loader reads it (the DOM's ``textContent``): CDATA
+    included, comments left out, child elements' text joined, stripped. (Its ``.text`` alone
+    stopped at a comment or a child, and a URL split there reached the page.)"""
+    return "".join(element.itertext()).strip()
 
 
 def _warn(message: str) -> None:
     """One :class:`FreefloatWarning`."""
     warnings.warn(message, FreefloatWarning, stacklevel=4)
+
+
+def _xml(root: ET.Element) -> str:
+    """The tree ``root`` as XML text, in its root's namespace as the default one (as Collada files
+    are written) when every element allows it."""
+    namespace = root.tag[1:].split("}", 1)[0] if root.tag.startswith("{") else None
+    try:
+        return ET.tostring(root, encoding="unicode", default_namespace=namespace)
+    except ValueError:  # an element outside any namespace: prefixes for the others
+        return ET.tostring(root, encoding="unicode")
