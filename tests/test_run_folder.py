@@ -182,3 +182,22 @@ def test_a_resumed_folder_drops_what_a_killed_run_was_making(tmp_path):
     with RunFolder(tmp_path, resume=True):
         assert not making.exists()
     assert (tmp_path / "report.json").read_text() == "{}"
+
+
+def test_a_name_freefloat_removed_is_no_longer_its_own(tmp_path):
+    """Once a run ends, its record lists only what is still there, so --overwrite keeps a user's
+    file made later under a name the run had used and removed itself (its checkpoints, a
+    temporary name): it deleted them."""
+    out = tmp_path / "out"
+    with RunFolder(out) as folder:
+        folder.checkpoint(tiny(3))
+        folder.save("telemetry.npz", tiny(3))
+        folder.drop_checkpoints()
+    assert (out / RECORD).read_text().splitlines()[1:] == ["telemetry.npz"]
+    (out / PARTS).mkdir()
+    (out / PARTS / "part-00000.npz").write_text("mine")
+    (out / ".telemetry.npz.partial").symlink_to(tmp_path / "elsewhere")
+    with RunFolder(out, overwrite=True):
+        pass
+    assert (out / PARTS / "part-00000.npz").read_text() == "mine" and (out / ".telemetry.npz.partial").is_symlink()
+    assert not (out / "telemetry.npz").exists()

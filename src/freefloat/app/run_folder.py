@@ -29,6 +29,8 @@ LOCK = ".freefloat.lock"
 #: The ownership record: one name (relative to the folder, ``/``-separated) per line, of every
 #: file or folder freefloat created there; a folder's name ends with ``/``.
 RECORD = ".freefloat-files"
+#: The record rewritten, before it is renamed over :data:`RECORD` (see :meth:`RunFolder.close`).
+RECORD_NEW = ".freefloat-files.new"
 _HEADER = "# freefloat: the files its runs wrote in this folder; --overwrite removes these and nothing else\n"
 #: Name prefix of :meth:`RunFolder.private_dir` folders.
 _PRIVATE = ".drawing-"
@@ -74,6 +76,7 @@ class RunFolder:
         self.path = Path(path)
         self._last_part: tuple[Arrays | None, int] = (None, -1)
         self._mine: set[str] = set()
+        self._taken = False
         try:
             self.path.mkdir(parents=True, exist_ok=True)
         except OSError as exc:
@@ -91,6 +94,7 @@ class RunFolder:
         except BaseException:
             self.close()
             raise
+        self._taken = True
 
     def owned(self) -> list[str]:
         """The names the ownership record lists (each checked to name a path inside the folder).
@@ -112,6 +116,8 @@ class RunFolder:
         return names
 
     def _clear(self, overwrite: bool, keep_foreign: bool, resume: bool) -> None:
+        with contextlib.suppress(FileNotFoundError):
+            (self.path / RECORD_NEW).unlink()  # a rewrite a kill cut short (the record stands)
         held = [p for p in self.path.iterdir() if p.name not in (LOCK, RECORD)]
         if not held:
             return
@@ -182,11 +188,32 @@ class RunFolder:
         return final, partial
 
     def close(self) -> None:
-        """Release the lock."""
+        """Release the lock, once the record of a folder this run took lists only the names still
+        there (:meth:`prune`)."""
+        if self._taken:
+            with contextlib.suppress(OSError, FreefloatError):
+                self.prune()
         with contextlib.suppress(OSError):
             (self.path / LOCK).unlink()
         with contextlib.suppress(OSError):
             os.close(self._lock)
+
+    def prune(self) -> None:
+        """Drop from the record the names no longer in the folder (temporary files renamed into
+        place, checkpoints removed once the telemetry was written, private folders): a name
+        freefloat removed itself is no longer its own, and a user's file made under it later is
+        not ``--overwrite``'s to remove. The record is rewritten under :data:`RECORD_NEW` and
+        renamed over the old one, so a kill leaves one whole record or the other."""
+        names = self.owned()
+        kept = [n for n in names if os.path.lexists(self.path / n.rstrip("/"))]
+        if len(kept) == len(names):
+            return
+        fresh = self.path / RECORD_NEW
+        with contextlib.suppress(FileNotFoundError):
+            fresh.unlink()
+        with os.fdopen(open_own(fresh, os.O_WRONLY | os.O_CREAT | os.O_EXCL), "w") as file:
+            file.write(_HEADER + "".join(f"{name}\n" for name in kept))
+        os.replace(fresh, self.path / RECORD)
 
     def __enter__(self) -> RunFolder:
         return self
