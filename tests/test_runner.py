@@ -216,3 +216,18 @@ def test_run_scene_takes_a_name_and_writes_where_the_command_would(tmp_path, mon
     assert done.folder.parent == Path("runs") and done.folder.name.startswith("four_arm_joint_space-")
     assert json.loads((done.folder / "summary.json").read_text())["steps"] == done.outcome.summary["steps"] == 20
     assert runner.simulate(str(path)).summary["tracking_rms_overall"] == done.outcome.summary["tracking_rms_overall"]
+
+
+def test_an_interrupt_while_writing_exits_1_with_the_data_whole(tmp_path):
+    """SIGTERM while the figures are drawn: exit 1 saying so (it was 0, as if all were written),
+    telemetry and summary whole, the drawings not yet begun (the page) listed as skipped."""
+    path = scene_variant(tmp_path / "s.toml", "four_arm_joint_space", simulation={"duration": 0.05})
+    process = cli_process("simulate", str(path), "--out", str(tmp_path / "out"))
+    for line in process.stderr:
+        if line.startswith("writing telemetry.npz"):  # its line ends as the figures start
+            process.send_signal(signal.SIGTERM)
+            break
+    out, err = process.communicate(timeout=120)
+    assert process.returncode == 1, err
+    assert "interrupted while writing" in err and "skipped:" in out and "trajectory.html" in out.split("skipped:")[1]
+    assert len(Telemetry.load(tmp_path / "out" / "telemetry.npz").t) == 51

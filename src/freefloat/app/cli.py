@@ -386,7 +386,7 @@ def one_line_warnings() -> Iterator[None]:
 
 def _report(done: SceneRun) -> int:
     """Print a run's outcome and its headline summary keys; the exit status (1 when it stopped
-    early)."""
+    early, or an interrupt cut its drawings short)."""
     outcome, out = done.outcome, done.folder
     print(f"{outcome.status}: {outcome.steps} steps in {outcome.wall_time_s:.2f} s -> {out}")
     for key in outcome.headline:
@@ -397,6 +397,10 @@ def _report(done: SceneRun) -> int:
         print(f"  skipped: {', '.join(done.skipped)}")
     if not outcome.completed:
         print(f"freefloat: run stopped early: {outcome.message} (partial results kept in {out})", file=sys.stderr)
+        return 1
+    if done.interrupted_writing:
+        print(f"freefloat: interrupted while writing {out}: the data are whole, the drawings listed as skipped are "
+              "not there", file=sys.stderr)
         return 1
     return 0
 

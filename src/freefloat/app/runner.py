@@ -36,12 +36,14 @@ __all__ = ["STOP_SIGNALS", "SceneRun", "choose_plant", "fail_if_not_finite", "no
 
 @dataclass
 class SceneRun:
-    """A finished run: its outcome, the files written to ``folder`` and the drawings skipped."""
+    """A finished run: its outcome, the files written to ``folder``, the drawings skipped, and
+    whether an interrupt (Ctrl-C, SIGTERM, SIGHUP) came while the folder was written."""
 
     outcome: Outcome
     folder: Path
     written: list[Path]
     skipped: list[str]
+    interrupted_writing: bool = False
 
 
 def prepare(scene: Scene | MechanismScene) -> Any:
@@ -145,9 +147,9 @@ def run_scene(scene: Scene | MechanismScene | str | Path = DEFAULT_SCENE, folder
         outcome = experiment_for(scene).run(setup, progress, checkpoint)
         seen = interrupts.defer()  # from here on an interrupt only skips the drawings, as a second one does
         outcome = fail_if_not_finite(note_model_choice(outcome, setup))
-        written, skipped = write_run(out, scene, outcome, lambda: interrupts.count >= 2 or interrupts.count > seen,
-                                     stage)
-    return SceneRun(outcome, folder, written, skipped)
+        interrupted = lambda: interrupts.count >= 2 or interrupts.count > seen  # noqa: E731
+        written, skipped = write_run(out, scene, outcome, interrupted, stage)
+    return SceneRun(outcome, folder, written, skipped, interrupted())
 
 
 def _scene(scene: Scene | MechanismScene | str | Path) -> Scene | MechanismScene:
