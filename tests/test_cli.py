@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import json
 import re
+import subprocess
+import sys
 import tomllib
 from pathlib import Path
 
@@ -393,3 +395,15 @@ def test_help_texts_are_plain(command, capsys):
         main([command, "--help"] if command else ["--help"])
     text = capsys.readouterr().out
     assert "usage: freefloat" in text and "``" not in text and not re.search(r":(func|class|mod|data|meth):", text)
+
+
+def test_a_warning_is_shown_once_per_run(tmp_path):
+    """The detumble scene loads its robot for the plant and for the controller: the inertia note
+    is printed once (it was printed twice), at most two lines."""
+    path = scene_variant(tmp_path / "s.toml", "detumble_impulse_arm1_joint3", simulation={"duration": 0.02},
+                         output={"figures": False, "html": False})
+    done = subprocess.run([sys.executable, "-m", "freefloat", "simulate", str(path), "--out", str(tmp_path / "out"),
+                           "--quiet"], capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0, done.stderr
+    notes = [line for line in done.stderr.splitlines() if line.startswith("freefloat: warning:")]
+    assert len(notes) == 1 and "I1 + I2 >= I3" in notes[0]

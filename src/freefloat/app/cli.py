@@ -372,12 +372,19 @@ def _live_view(scene, setup) -> LiveView | None:
 
 @contextlib.contextmanager
 def one_line_warnings() -> Iterator[None]:
-    """Each warning shown once, as one line ``freefloat: warning: ...`` (no source line)."""
+    """Each warning shown once per command, as ``freefloat: warning: ...`` (no source line), even
+    when its cause is met again from elsewhere (a robot loaded for the plant and for the controller)."""
+    seen: set[str] = set()
+
+    def show(message, *args, **kwargs) -> None:
+        if str(message) not in seen:
+            seen.add(str(message))
+            print(f"freefloat: warning: {message}", file=sys.stderr)
+
     with warnings.catch_warnings():
         warnings.simplefilter("default")
         shown = warnings.showwarning
-        warnings.showwarning = lambda message, *args, **kwargs: print(f"freefloat: warning: {message}",
-                                                                      file=sys.stderr)
+        warnings.showwarning = show
         try:
             yield
         finally:
