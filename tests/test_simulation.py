@@ -115,6 +115,24 @@ def test_duration_must_be_a_whole_number_of_periods():
         run(None, np.zeros(model.nq), np.zeros(model.nv), 1.0005, 0.001, None, None)
 
 
+@pytest.mark.parametrize("duration, period", [(1e9, 0.001), (1.0, 1e-12)])
+def test_a_run_too_long_for_memory_is_refused_at_once(duration, period):
+    """A run whose telemetry would not fit in memory is refused before it starts, naming its
+    duration and period (run(duration=1e9) grew by 23 MB/s until memory ran out)."""
+    import time
+
+    from freefloat import InvalidArgument, load_robot
+
+    from .conftest import REPO
+
+    robot = load_robot(REPO / "urdf" / "two_arm_planar.urdf", visuals=False)
+    started = time.perf_counter()
+    with pytest.raises(InvalidArgument, match=f"duration {duration} s in control periods of {period} s.* GB"):
+        run(robot, robot.neutral(), np.zeros(robot.model.nv), duration, period,
+            make_integrator("rkmk4", robot.model), ExactModel(robot))
+    assert time.perf_counter() - started < 1.0
+
+
 def test_interrupted_run_keeps_what_it_computed():
     """Ctrl-C during a run stops it as 'interrupted' with the samples recorded so far."""
     from freefloat import load_robot

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from typing import Callable, Protocol
 
 import numpy as np
@@ -15,6 +15,7 @@ from ..robot.joints import JointCoordinates
 from ..robot.loading import BASE_COM_FRAME
 from ..robot.robot import Robot
 from ..robot.state import check_state
+from ..robot.urdf_checks import usable_memory
 from . import compiled, compiled_chain
 from .integrators import Integrator
 from .models import DynamicsModel
@@ -25,7 +26,7 @@ from .threads import single_blas_thread
 from .wrenches import ExternalWrench, WrenchField
 
 __all__ = ["BACKENDS", "CHUNK_ROWS", "MAX_POSITION", "MAX_SPEED", "Controller", "PythonPeriods", "Recorder", "RunResult",
-           "control_periods", "run", "run_plant"]
+           "check_memory", "control_periods", "run", "run_plant"]
 
 #: A generalized velocity component above this (m/s or rad/s) counts as a blow-up.
 MAX_SPEED = 1e6
@@ -169,6 +170,7 @@ def run(
         raise InvalidArgument(f"backend must be one of {', '.join(BACKENDS)}, got {backend!r}")
     shape = (robot.model.nq, robot.model.nv, robot.n_joints, len(robot.end_effectors))
     rows = Chunks(lambda n: Telemetry.allocate(n, *shape), CHUNK_ROWS, checkpoint)
+    check_memory(rows, steps, record_every, duration, control_period)
     if backend != "python":
         reason = compiled.unsupported(model, integrator)
         if reason is None:
@@ -245,6 +247,7 @@ def run_plant(
     first = controller.reference(start_time) if controller is not None else None
     shape = (space.nq, space.nv, plant.n_efforts, 0 if first is None else len(first))
     rows = Chunks(lambda n: PlantTelemetry.allocate(n, *shape), CHUNK_ROWS, checkpoint)
+    check_memory(rows, steps, record_every, duration, control_period)
     if backend != "python":
         reason = compiled_chain.unsupported(plant, integrator, controller, stop)
         if reason is None:
@@ -427,6 +430,24 @@ def _run_periods(engine: PythonPeriods | compiled.CompiledLoop, steps: int, cont
         record(start_time + k * control_period)
     wall = time.perf_counter() - start
     return RunResult(rows.collect(), status, message, k, wall, engine.evaluations(), engine.backend)
+
+
+def check_memory(rows: Chunks, steps: int, record_every: int, duration: float, control_period: float) -> None:
+    """Refuse up front a run whose telemetry would not fit in memory: its rows are kept chunk by
+    chunk and then joined, about twice their size at the end (``run(duration=1e9)`` grew by
+    23 MB/s until the machine ran out).
+
+    Raises:
+        InvalidArgument: naming ``duration``, ``control_period`` and ``record_every`` with the
+            estimate and what this machine allows (:func:`~freefloat.robot.urdf_checks.usable_memory`).
+    """
+    one = rows.allocate(1)
+    need = 2.0 * (steps // record_every + 1) * sum(getattr(one, f.name).nbytes for f in fields(one))
+    if need > (allowed := usable_memory()):
+        raise InvalidArgument(f"duration {duration} s in control periods of {control_period} s, recording every "
+                              f"{record_every}: {steps // record_every + 1} telemetry rows need about "
+                              f"{need / 1e9:.3g} GB, more than {allowed / 1e9:.3g} GB that a run may take here; "
+                              "shorten it or raise record_every")
 
 
 def control_periods(duration: float, control_period: float) -> int:
