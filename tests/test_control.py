@@ -88,3 +88,17 @@ def test_controllers_advance_the_nidc_integral_once_per_period(name):
     by_hand.end_period(q, v, 0.01)
     assert np.abs(by_hand.D).max() > 1e-6
     np.testing.assert_allclose(controller.dynamics.model.D, by_hand.D, rtol=1e-12, atol=1e-15)
+
+
+@pytest.mark.parametrize("start, goal, duration, message", [
+    ([0.0], [np.nan], 1.0, "'goal' must be finite"), ([0.0], [1.0], 0.0, "'duration' must be > 0"),
+    ([0.0], [1.0], None, "'duration' must be a real number"), ([0.0], [1.0, 2.0], 1.0, "'goal' must have shape"),
+    ([0.0], [1.0], 1e-300, "accelerations overflow"),
+])
+def test_a_quintic_refuses_what_it_cannot_follow(start, goal, duration, message):
+    """A NaN goal, a duration that is not > 0 or so short that its accelerations overflow, and
+    mismatched ends are refused naming them (NaN goals were accepted, None raised a TypeError)."""
+    from freefloat import InvalidArgument
+
+    with pytest.raises(InvalidArgument, match=message):
+        QuinticTrajectory(np.array(start), np.array(goal), duration)

@@ -204,3 +204,16 @@ def test_dop853_in_the_chart_ends_at_the_tight_reference(tumbling):
         q, v = integrator.advance(f, q, v, 0.1)
     error = np.linalg.norm(np.concatenate((pin.difference(robot.model, q_ref, q), v - v_ref)))
     assert error < 1e-8 and integrator.evaluations() > 0
+
+
+@pytest.mark.parametrize("options, named", [({"substeps": None}, "substeps"), ({"substeps": 0}, "substeps"),
+                                            ({"substeps": 10**7}, "substeps"), ({"rtol": float("nan")}, "rtol"),
+                                            ({"rtol": 0.0}, "rtol"), ({"rtol": 1e-300}, "rtol"), ({"atol": -1.0}, "atol")])
+def test_bad_integrator_settings_are_refused_naming_them(options, named):
+    """make_integrator refuses a substep count or tolerance it cannot use with InvalidArgument
+    naming it (a TypeError from a comparison, a bare ValueError, or a tolerance below a double's
+    resolution accepted, before)."""
+    from freefloat import InvalidArgument
+
+    with pytest.raises(InvalidArgument, match=f"'{named}' must be"):
+        make_integrator("dopri5" if "tol" in named else "rkmk4", pin.buildSampleModelHumanoidRandom(), **options)

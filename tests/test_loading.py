@@ -227,3 +227,15 @@ def test_a_gravity_that_is_not_three_finite_numbers_is_refused(gravity):
 
     with pytest.raises(InvalidArgument, match="'gravity' must be three finite numbers"):
         load_robot(REPO / "urdf" / "two_arm_planar.urdf", gravity=gravity, visuals=False)
+
+
+@pytest.mark.parametrize("path, gravity, message", [(1.5, (0.0, 0.0, 0.0), "'path' must be a URDF file"),
+                                                    (None, (0.0, 0.0, 0.0), "'path' must be a URDF file"),
+                                                    ("ur5", (0.0, 0.0, 1e300), "'gravity' must be three finite")])
+def test_load_robot_refuses_a_path_or_gravity_that_is_none(path, gravity, message):
+    """A path that is no path (a TypeError from pathlib) and a gravity of 1e300 are refused
+    naming them."""
+    from freefloat import InvalidArgument
+
+    with pytest.raises(InvalidArgument, match=message):
+        load_robot(path, gravity=gravity, visuals=False)

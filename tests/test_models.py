@@ -257,10 +257,13 @@ def test_the_compiled_core_has_the_registrys_compiled_models():
     ("tau", lambda a: np.full_like(a, np.nan), "'tau' must be finite"),
     ("v", lambda a: a[:-1], r"'v' must have shape \(\d+,\), got \(\d+,\)"),
     ("q", lambda a: np.append(a, 0.0), r"'q' must have shape"),
+    ("v", lambda a: a + 1j, "'v' must hold real numbers, got complex numbers"),
+    ("q", lambda a: np.full_like(a, 1e300), "'q' must be at most 1e\\+15 in size"),
 ])
 def test_acceleration_refuses_bad_arguments_naming_them(four_arm, name, argument, bad, message):
-    """A NaN torque or a wrong-sized array gives InvalidArgument naming the argument, not NaN
-    accelerations or Pinocchio's C++ message."""
+    """A NaN torque, a wrong-sized array, complex velocities (their imaginary parts were dropped)
+    or a configuration of 1e300 (NaN accelerations) gives InvalidArgument naming the argument, not
+    NaN accelerations or Pinocchio's C++ message."""
     from freefloat.errors import InvalidArgument
 
     model = make_model(name, four_arm)
@@ -268,3 +271,12 @@ def test_acceleration_refuses_bad_arguments_naming_them(four_arm, name, argument
     args[argument] = bad(args[argument])
     with pytest.raises(InvalidArgument, match=message):
         model.acceleration(args["q"], args["v"], args["tau"])
+
+
+@pytest.mark.parametrize("name", ["exact", "standard_corrected"])
+def test_acceleration_takes_lists(four_arm, name):
+    """Plain lists give the accelerations numpy arrays give (the exact model raised Pinocchio's
+    C++ signature error)."""
+    model = make_model(name, four_arm)
+    q, v, tau = four_arm.neutral(), np.full(four_arm.model.nv, 0.1), np.full(four_arm.model.nv, 0.2)
+    assert np.array_equal(model.acceleration(list(q), list(v), list(tau)), model.acceleration(q, v, tau))

@@ -133,6 +133,36 @@ def test_a_run_too_long_for_memory_is_refused_at_once(duration, period):
     assert time.perf_counter() - started < 1.0
 
 
+@pytest.mark.parametrize("q0, v0, period, message", [(None, None, 0.001, "'v0' must hold real numbers"),
+                                                     ("q", None, 0.001, "'v0' must hold real numbers"),
+                                                     (None, 0, None, "'control_period' must be a real number")])
+def test_a_run_refuses_arguments_that_are_no_numbers(q0, v0, period, message):
+    """A missing velocity, a configuration of strings or a period of None is refused naming it
+    (the compiled loop's ValueError, numpy's message or a TypeError, before)."""
+    from freefloat import InvalidArgument, load_robot
+
+    from .conftest import REPO
+
+    robot = load_robot(REPO / "urdf" / "two_arm_planar.urdf", visuals=False)
+    q0 = robot.neutral() if q0 is None else np.full(robot.model.nq, q0)
+    v0 = np.zeros(robot.model.nv) if v0 == 0 else v0
+    with pytest.raises(InvalidArgument, match=message):
+        run(robot, q0, v0, 0.01, period, make_integrator("rkmk4", robot.model), ExactModel(robot))
+
+
+def test_recording_less_often_than_the_run_is_long_keeps_its_ends():
+    """record_every above the number of periods records the first and the last row, as the
+    number of periods does (10**12 overflowed the compiled loop's constructor)."""
+    from freefloat import load_robot
+
+    from .conftest import REPO
+
+    robot = load_robot(REPO / "urdf" / "two_arm_planar.urdf", visuals=False)
+    args = (robot, robot.neutral(), np.full(robot.model.nv, 0.1), 0.01, 0.001, make_integrator("rkmk4", robot.model),
+            ExactModel(robot))
+    assert np.array_equal(run(*args, record_every=10**12).telemetry.t, run(*args, record_every=10).telemetry.t)
+
+
 def test_interrupted_run_keeps_what_it_computed():
     """Ctrl-C during a run stops it as 'interrupted' with the samples recorded so far."""
     from freefloat import load_robot

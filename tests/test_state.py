@@ -49,9 +49,11 @@ def test_run_refuses_bad_initial_states(robot, case):
         run(robot, q, v, 0.01, 1e-3, make_integrator("rkmk4", robot.model), make_model("exact", robot))
 
 
-@pytest.mark.parametrize(("duration", "period"), [(1.0, 0.0), (0.0, 1e-3), (float("nan"), 1e-3)])
-def test_run_refuses_periods_and_durations_that_are_not_positive(robot, duration, period):
-    """control_period = 0 is an error naming it, not a ZeroDivisionError."""
-    with pytest.raises(InvalidArgument, match="control_period"):
+@pytest.mark.parametrize(("duration", "period", "named"), [(1.0, 0.0, "control_period"), (0.0, 1e-3, "duration"),
+                                                     (float("nan"), 1e-3, "duration")])
+def test_run_refuses_periods_and_durations_that_are_not_positive(robot, duration, period, named):
+    """control_period = 0 is an error naming it, not a ZeroDivisionError; so is a duration of 0
+    or NaN."""
+    with pytest.raises(InvalidArgument, match=f"'{named}' must be"):
         run(robot, robot.neutral(), np.zeros(robot.model.nv), duration, period,
             make_integrator("rkmk4", robot.model), make_model("exact", robot))

@@ -9,6 +9,7 @@ from typing import Callable, Protocol
 import numpy as np
 import pinocchio as pin
 
+from ..arguments import real_number, reals, whole_number
 from ..errors import InvalidArgument, SimulationDiverged
 from ..robot.conventions import momentum_about_origin
 from ..robot.joints import JointCoordinates
@@ -163,9 +164,8 @@ def run(
             backend, or ``"compiled"`` for a run it cannot do (with the reason).
     """
     steps = control_periods(duration, control_period)
-    check_state(robot, q0, v0)
-    if not (isinstance(record_every, int) and record_every >= 1):
-        raise InvalidArgument(f"record_every must be an integer >= 1, got {record_every!r}")
+    check_state(robot, q0, reals("v0", v0))
+    record_every = min(whole_number("record_every", record_every), steps)  # more records as many rows
     if backend not in BACKENDS:
         raise InvalidArgument(f"backend must be one of {', '.join(BACKENDS)}, got {backend!r}")
     shape = (robot.model.nq, robot.model.nv, robot.n_joints, len(robot.end_effectors))
@@ -240,8 +240,7 @@ def run_plant(
     if q0.shape != (space.nq,) or v0.shape != (space.nv,) or not (np.isfinite(q0).all() and np.isfinite(v0).all()):
         raise InvalidArgument(f"plant '{plant.name}': the initial state must be finite with shapes ({space.nq},) and "
                               f"({space.nv},), got {q0.shape} and {v0.shape}")
-    if not (isinstance(record_every, int) and record_every >= 1):
-        raise InvalidArgument(f"record_every must be an integer >= 1, got {record_every!r}")
+    record_every = min(whole_number("record_every", record_every), steps)
     if backend not in BACKENDS:
         raise InvalidArgument(f"backend must be one of {', '.join(BACKENDS)}, got {backend!r}")
     first = controller.reference(start_time) if controller is not None else None
@@ -454,12 +453,12 @@ def control_periods(duration: float, control_period: float) -> int:
     """Control periods in ``duration`` s.
 
     Raises:
-        InvalidArgument: unless both are positive and finite and ``duration`` is a whole number of
+        InvalidArgument: unless both are positive real numbers of at most
+            :data:`~freefloat.arguments.MAX_MAGNITUDE` and ``duration`` is a whole number of
             periods.
     """
-    if not (np.isfinite(duration) and np.isfinite(control_period) and duration > 0 and control_period > 0):
-        raise InvalidArgument(f"duration ({duration} s) and control_period ({control_period} s) must be positive "
-                             "and finite")
+    duration = real_number("duration", duration, above=0.0)
+    control_period = real_number("control_period", control_period, above=0.0)
     steps = int(round(duration / control_period))
     if steps < 1 or abs(steps * control_period - duration) > 1e-9 * duration:
         raise InvalidArgument(

@@ -8,6 +8,7 @@ link. The base reference point is the root link's centre of mass, as in the diss
 
 from __future__ import annotations
 
+import os
 import re
 import warnings
 import xml.etree.ElementTree as ET
@@ -17,6 +18,7 @@ import numpy as np
 import pinocchio as pin
 import yourdfpy
 
+from ..arguments import MAX_MAGNITUDE, real_array
 from ..errors import InvalidArgument, RobotModelError
 from .catalog import example_robot_data_share, find_robot, is_name
 from .inertias import balanced
@@ -44,14 +46,6 @@ INERTIAS = ("as_given", "balanced")
 
 class FreefloatWarning(UserWarning):
     """Something in a URDF was loaded with a stated assumption (missing limits, meshes...)."""
-
-
-def _numbers(value: object) -> bool:
-    """Whether ``value`` converts to a float array (not strings or objects)."""
-    try:
-        return np.asarray(value).dtype.kind in "biuf"
-    except (TypeError, ValueError):
-        return False
 
 
 def load_robot(
@@ -83,15 +77,20 @@ def load_robot(
         The :class:`~freefloat.robot.Robot`.
 
     Raises:
-        InvalidArgument: for a gravity that is not three finite numbers.
+        InvalidArgument: for a path that is no path or name, or a gravity that is not three finite
+            numbers of at most 1e15.
         RobotModelError: naming the file and the link or joint, when the file cannot be a
             floating-base tree (missing parent, two roots, a loop, negative mass, an inertia that is
             not positive definite, an unsupported joint type) or an end-effector does not exist.
     """
+    if not isinstance(path, (str, os.PathLike)):
+        raise InvalidArgument(f"load_robot: 'path' must be a URDF file or a robot's name, got {path!r}")
     path = Path(path)
-    given, gravity = gravity, np.asarray(gravity, dtype=float) if _numbers(gravity) else np.full(3, np.nan)
-    if gravity.shape != (3,) or not np.isfinite(gravity).all():
-        raise InvalidArgument(f"load_robot: 'gravity' must be three finite numbers (m/s^2), got {given!r}")
+    try:
+        gravity = real_array("gravity", gravity, (3,))
+    except InvalidArgument:
+        raise InvalidArgument(f"load_robot: 'gravity' must be three finite numbers (m/s^2) of at most "
+                              f"{MAX_MAGNITUDE:g}, got {gravity!r}") from None
     if base not in BASE_DOFS:
         raise RobotModelError(f"base must be one of {sorted(BASE_DOFS)}, got {base!r}")
     if inertias not in INERTIAS:

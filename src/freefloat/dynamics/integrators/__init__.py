@@ -14,6 +14,7 @@ from dataclasses import dataclass
 
 import pinocchio as pin
 
+from ...arguments import real_number, whole_number
 from ...errors import UnknownName
 from .adaptive import DormandPrince45
 from .base import Acceleration, Integrator
@@ -111,6 +112,13 @@ def integrator_spec(name: str) -> IntegratorSpec:
         raise UnknownName("integrator", name, INTEGRATORS) from None
 
 
+#: Most steps per control period :func:`make_integrator` takes (each is a full step's work).
+MAX_SUBSTEPS = 10**6
+#: Tightest relative tolerance of the adaptive integrators: below a double's resolution none
+#: can be met and the step would shrink without end.
+MIN_RTOL = 1e-16
+
+
 def make_integrator(
     name: str,
     model: pin.Model,
@@ -128,8 +136,13 @@ def make_integrator(
 
     Raises:
         UnknownName: for an unknown name, listing the valid ones.
+        InvalidArgument: for ``substeps`` not an integer from 1 to :data:`MAX_SUBSTEPS`,
+            ``rtol`` outside [:data:`MIN_RTOL`, 1] or ``atol`` not > 0 (each named).
     """
     spec = integrator_spec(name)
+    substeps = whole_number("substeps", substeps, 1, MAX_SUBSTEPS)
+    rtol = real_number("rtol", rtol, low=MIN_RTOL, high=1.0)
+    atol = real_number("atol", atol, above=0.0)
     if project_momentum:
         return MomentumProjection(spec.build(model, substeps, rtol, atol), model)
     return spec.build(model, substeps, rtol, atol)
@@ -137,6 +150,8 @@ def make_integrator(
 
 __all__ = [
     "INTEGRATORS",
+    "MAX_SUBSTEPS",
+    "MIN_RTOL",
     "Acceleration",
     "DormandPrince45",
     "DormandPrince853",

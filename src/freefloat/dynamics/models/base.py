@@ -8,6 +8,7 @@ from typing import Any, Callable, Protocol, Sequence
 import numpy as np
 import pinocchio as pin
 
+from ...arguments import real_array
 from ...errors import InvalidArgument
 
 
@@ -51,7 +52,8 @@ def checked(acceleration: Callable[..., np.ndarray]) -> Callable[..., np.ndarray
     """A model's ``acceleration`` that refuses wrong-sized or non-finite arguments with
     :class:`~freefloat.errors.InvalidArgument` naming the argument, instead of Pinocchio's C++
     message or NaN accelerations. The check runs only when the call fails or its result is not
-    finite, so the simulation's hot loop pays one ``isfinite`` per call."""
+    finite, so the simulation's hot loop pays one ``isfinite`` per call; lists that Pinocchio's
+    bindings refuse are taken as numpy arrays."""
 
     @functools.wraps(acceleration)
     def guarded(self: Any, q: np.ndarray, v: np.ndarray, tau: np.ndarray, fext: Any = None) -> np.ndarray:
@@ -61,24 +63,33 @@ def checked(acceleration: Callable[..., np.ndarray]) -> Callable[..., np.ndarray
             raise
         except (ValueError, RuntimeError, TypeError, IndexError):
             check_arguments(self, q, v, tau, fext)
-            raise
-        if not np.isfinite(result).all():
+            if all(isinstance(a, np.ndarray) for a in (q, v, tau)):
+                raise
+            return guarded(self, *(np.asarray(a, dtype=float) for a in (q, v, tau)), fext)  # lists, as numpy takes them
+        if not np.isfinite(result).all() or _complex(q, v, tau):
             check_arguments(self, q, v, tau, fext)
         return result
 
     return guarded
 
 
+def _complex(q: Any, v: Any, tau: Any) -> bool:
+    """Whether ``q``, ``v`` or ``tau`` is an array of complex numbers (numpy would drop their
+    imaginary parts; a list of them fails the conversion and is checked then)."""
+    return (type(q) is np.ndarray and q.dtype.kind == "c") or (type(v) is np.ndarray and v.dtype.kind == "c") or \
+        (type(tau) is np.ndarray and tau.dtype.kind == "c")
+
+
 def check_arguments(model: Any, q: Any, v: Any, tau: Any, fext: Any) -> None:
     """Raise :class:`InvalidArgument` naming the first of ``q``, ``v``, ``tau``, ``fext`` of
-    ``model.acceleration`` that has the wrong size or a non-finite entry (nothing if all fit)."""
+    ``model.acceleration`` that is not real numbers of the right size, finite and at most
+    :data:`~freefloat.arguments.MAX_MAGNITUDE` (nothing if all fit)."""
     pin_model = model.robot.model
     for name, value, size in (("q", q, pin_model.nq), ("v", v, pin_model.nv), ("tau", tau, pin_model.nv)):
-        array = np.asarray(value)
-        if array.shape != (size,):
-            raise InvalidArgument(f"{model.name}.acceleration: '{name}' must have shape ({size},), got {array.shape}")
-        if not np.issubdtype(array.dtype, np.number) or not np.isfinite(array).all():
-            raise InvalidArgument(f"{model.name}.acceleration: '{name}' must be finite, got {array.tolist()}")
+        try:
+            real_array(name, value, (size,))
+        except InvalidArgument as exc:
+            raise type(exc)(f"{model.name}.acceleration: {exc}") from None
     if fext is not None:
         if len(fext) != pin_model.njoints:
             raise InvalidArgument(f"{model.name}.acceleration: 'fext' must hold one pin.Force per joint "

@@ -4,6 +4,9 @@ from __future__ import annotations
 
 import numpy as np
 
+from ...arguments import real_array, real_number
+from ...errors import InvalidArgument
+
 
 class QuinticTrajectory:
     """Quintic polynomial from ``start`` to ``goal`` in ``duration`` s, zero velocity and
@@ -15,14 +18,21 @@ class QuinticTrajectory:
         start: joint positions at t = 0, rad or m (n,).
         goal: joint positions at t = duration (n,).
         duration: T, s (> 0).
+
+    Raises:
+        InvalidArgument: for a start or goal that is not finite real numbers of one shape, a
+            duration that is not > 0, or one so short that the accelerations overflow.
     """
 
     def __init__(self, start: np.ndarray, goal: np.ndarray, duration: float):
-        if not duration > 0.0:
-            raise ValueError(f"trajectory duration must be > 0, got {duration}")
-        self.start = np.asarray(start, dtype=float)
-        self.delta = np.asarray(goal, dtype=float) - self.start
-        self.duration = float(duration)
+        self.duration = real_number("duration", duration, above=0.0)
+        self.start = real_array("start", start)
+        self.delta = real_array("goal", goal, self.start.shape) - self.start
+        with np.errstate(all="ignore"):
+            overflow = not np.isfinite(self.delta / self.duration**2).all()
+        if overflow:
+            raise InvalidArgument(f"a trajectory of {duration} s cannot move from start to goal: its accelerations "
+                                  "overflow; lengthen it")
 
     def __call__(self, t: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Reference ``(q_d, qdot_d, qddot_d)`` at time t (each (n,))."""
