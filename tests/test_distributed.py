@@ -1,4 +1,5 @@
-"""Work spread over processes: a pool's workers do not outlive the process that made them."""
+"""Work spread over processes: a pool's workers do not outlive the process that made them,
+ignore Ctrl-C, and survive one that arrives as they are launched."""
 
 from __future__ import annotations
 
@@ -45,3 +46,50 @@ def test_a_pool_worker_ends_when_its_parent_is_killed(tmp_path):
     if survived:
         os.kill(worker, signal.SIGKILL)
     assert not survived, f"worker {worker} outlived its killed parent"
+
+
+def test_ctrl_c_while_a_worker_is_launched_waits_for_the_launch():
+    """Ctrl-C arriving as the pool launches a worker stops the caller once the launch is done,
+    and the worker starts and works (the launch was cut and the worker printed 'EOFError: Ran
+    out of input')."""
+    from freefloat.distributed import process_pool
+
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    pool = process_pool(1)
+    launch = pool._spawn_process
+
+    def interrupted_launch():
+        os.kill(os.getpid(), signal.SIGINT)  # held until the launch is done
+        launch()
+
+    pool._spawn_process = interrupted_launch
+    try:
+        try:
+            pool.submit(os.getpid)
+            raise AssertionError("Ctrl-C was lost")
+        except KeyboardInterrupt:
+            pass
+        assert len(pool._processes) == 1
+        assert pool.submit(os.getpid).result(timeout=60) in pool._processes
+    finally:
+        signal.signal(signal.SIGINT, previous)
+        pool.shutdown()
+
+
+def test_a_worker_ignores_ctrl_c_and_an_interrupted_block_cancels_what_waits():
+    """A worker ignores Ctrl-C (a terminal sends it to the whole group; the caller decides), and
+    leaving the pool's block by an exception cancels the calls not started instead of running
+    them all first."""
+    from freefloat.distributed import process_pool
+
+    started = time.monotonic()
+    try:
+        with process_pool(1) as pool:
+            worker = pool.submit(os.getpid).result(timeout=60)
+            os.kill(worker, signal.SIGINT)
+            assert pool.submit(os.getpid).result(timeout=60) == worker
+            waiting = [pool.submit(time.sleep, 1.0) for _ in range(20)]
+            raise RuntimeError("stop")
+    except RuntimeError:
+        pass
+    assert time.monotonic() - started < 10.0 and sum(f.cancelled() for f in waiting) >= 15  # a few already queued

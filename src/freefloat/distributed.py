@@ -11,11 +11,12 @@ from __future__ import annotations
 
 import multiprocessing
 import os
+import signal
 import socket
 import threading
 import time
-from concurrent.futures import ProcessPoolExecutor
-from typing import Callable
+from concurrent.futures import Future, ProcessPoolExecutor
+from typing import Any, Callable
 
 from tqdm import tqdm
 
@@ -33,15 +34,53 @@ def process_pool(workers: int, initializer: Callable[[], None] | None = None) ->
     fork there). As with any spawned pool, a script that makes one needs the
     ``if __name__ == "__main__":`` guard.
 
-    Each worker ends itself within :data:`PARENT_WATCH_S` s once this process is gone: a process
-    killed outright (SIGKILL, the OOM killer) otherwise leaves its workers waiting on their queue
-    for ever, holding its output pipes open."""
-    return ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("spawn"), initializer=_start_worker,
-                               initargs=(os.getpid(), initializer))
+    The pool is made to be stopped from this process (see :class:`_Pool`): its workers ignore
+    Ctrl-C (a terminal sends it to the whole process group; this process decides), each ends
+    itself within :data:`PARENT_WATCH_S` s once this process is gone (killed outright, its
+    workers otherwise waited on their queue for ever, holding its output pipes open), a stop
+    signal arriving while a worker is launched waits until the launch is done, and a block left
+    by an exception cancels the calls not yet started."""
+    return _Pool(workers, mp_context=multiprocessing.get_context("spawn"), initializer=_start_worker,
+                 initargs=(os.getpid(), initializer))
+
+
+class _Pool(ProcessPoolExecutor):
+    """A process pool for :func:`process_pool`."""
+
+    def submit(self, fn: Callable[..., Any], /, *args: Any, **kwargs: Any) -> Future:
+        """As ``ProcessPoolExecutor.submit``, with Ctrl-C, SIGTERM and SIGHUP held while it may launch
+        a worker: one arriving then cut the hand-over of the worker's start-up data, and the worker
+        printed a traceback ('EOFError: Ran out of input'). A signal held takes effect on return; the
+        worker starts with them blocked and unblocks them once it has started (:func:`_start_worker`)."""
+        arrived: list[int] = []
+        blocked = signal.pthread_sigmask(signal.SIG_BLOCK, _STOPS)  # inherited by the worker launched
+        previous = {s: signal.signal(s, lambda signum, frame: arrived.append(signum)) for s in _STOPS} \
+            if threading.current_thread() is threading.main_thread() else {}
+        try:
+            return super().submit(fn, *args, **kwargs)
+        finally:
+            signal.pthread_sigmask(signal.SIG_SETMASK, blocked)
+            for signum, handler in previous.items():
+                signal.signal(signum, handler)
+            if arrived:
+                signal.raise_signal(arrived[0])
+
+    def __exit__(self, exc_type: Any, exc: Any, tb: Any) -> bool:
+        """Wait for the workers; calls not started yet are cancelled when an exception (Ctrl-C,
+        SIGTERM) leaves the block, instead of all being run first."""
+        self.shutdown(wait=True, cancel_futures=exc_type is not None)
+        return False
+
+
+#: The signals that stop a freefloat command (held while a worker is launched).
+_STOPS = {signal.SIGINT, signal.SIGTERM, signal.SIGHUP}
 
 
 def _start_worker(parent: int, initializer: Callable[[], None] | None) -> None:
-    """In a new worker: watch ``parent`` (see :func:`process_pool`), then run ``initializer``."""
+    """In a new worker: ignore Ctrl-C, release the signals held at its launch, watch ``parent``
+    (see :func:`process_pool`), then run ``initializer``."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.pthread_sigmask(signal.SIG_UNBLOCK, _STOPS)
     threading.Thread(target=_end_with, args=(parent,), name="freefloat-parent-watch", daemon=True).start()
     if initializer is not None:
         initializer()

@@ -11,7 +11,6 @@ Dask's pending tasks cancelled) and propagates, after every row already finished
 from __future__ import annotations
 
 import contextlib
-import signal
 from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
 from dataclasses import dataclass
 from typing import Any, Callable, Iterator
@@ -87,7 +86,7 @@ def run_pool(plans: list[RunPlan], workers: int, on_row: OnRow) -> None:
     """The runs on a pool of ``workers`` processes (:func:`freefloat.distributed.process_pool`). Workers ignore
     Ctrl-C; this process stops them. A worker that dies (killed, crashed) fails the runs it
     leaves, each recorded with the reason."""
-    pool = process_pool(workers, _ignore_ctrl_c)
+    pool = process_pool(workers)
     try:
         pending: dict[Future, RunPlan] = {pool.submit(run_one, plan): plan for plan in plans}
         while pending:
@@ -119,11 +118,6 @@ def run_dask(dask_client, plans: list[RunPlan], on_row: OnRow) -> None:
 def failed_row(plan: RunPlan, message: str) -> dict[str, Any]:
     """The row of a run that never returned one."""
     return {"run": plan.index, "seed": plan.seed, "status": "failed", "message": message, **plan.varied}
-
-
-def _ignore_ctrl_c() -> None:
-    """Pool worker start: Ctrl-C reaches the whole terminal's process group; the parent decides."""
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
 
 
 def _terminate(pool: ProcessPoolExecutor) -> None:
