@@ -1,11 +1,15 @@
-"""The whole fuzz corpus: mutated URDFs, scenes and closure files run through ``freefloat
-simulate``, counted by outcome. A good outcome is a completed run, a run stopped early with its
-partial results (exit 1) or a clean refusal (exit 2); anything else (a traceback, a hang over the
-time bound, a crash of the process, a non-finite result, a file outside the run folder) is a
-failure, listed with its seed and mutation. Writes counts.json and failures.json to
-runs/fuzz-<time>/ and exits 1 when any case failed.
+"""The whole fuzz corpus, counted by class and outcome (tests/fuzz_corpus.py): mutated URDFs,
+scenes and closure files through ``freefloat simulate``; output folders holding a user's files or
+symbolic links; URL textures in pages; signals at checkpoints; Python API calls with hostile
+arguments. A good outcome is a completed run, a run stopped early with its partial results (exit
+1) or a clean refusal (exit 2, or one of freefloat's errors); anything else (a traceback, a hang
+over the time bound, a crash of the process, a non-finite result, a file outside the run folder,
+a user's file or a link's target changed, a URL in a page, a corrupted folder, a rerun that
+fails, a plainly wrong argument accepted) is a failure, listed with its seed and mutation. Writes
+counts.json and failures.json to runs/fuzz-<time>/ and exits 1 when any case failed.
 
-    python3 scripts/fuzz.py [--urdfs 1000] [--scenes 1000] [--first-seed 0] [--workers 2]
+    python3 scripts/fuzz.py [--urdfs 1000] [--scenes 1000] [--folders 300] [--links 300]
+        [--textures 300] [--signals 60] [--api 1000] [--first-seed 0] [--workers 2]
 """
 
 from __future__ import annotations
@@ -13,8 +17,10 @@ from __future__ import annotations
 import argparse
 import collections
 import json
+import os
 import sys
 import tempfile
+import threading
 import time
 import warnings
 from concurrent.futures import ProcessPoolExecutor
@@ -23,16 +29,29 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from tests.fuzzing import GOOD, run_case, scene_case, urdf_case  # noqa: E402
+from tests.fuzz_corpus import CLASSES, GOOD  # noqa: E402
+from tests.fuzzing import TIME_BOUND  # noqa: E402
 
-MAKERS = {"urdf": urdf_case, "scene": scene_case}
+#: Cases per class by default (a signal case starts a process and reruns it: a few seconds each).
+SIZES = {"urdf": 1000, "scene": 1000, "folders": 300, "links": 300, "textures": 300, "signals": 60, "api": 1000}
+#: Flag of each class.
+FLAGS = {"urdf": "urdfs", "scene": "scenes", "folders": "folders", "links": "links", "textures": "textures",
+         "signals": "signals", "api": "api"}
 
 
 def one(kind: str, seed: int, root: str) -> tuple[str, int, str, str, str]:
-    """Run one case in a worker process: (kind, seed, mutation, outcome, detail)."""
+    """Run one case in a worker process: (kind, seed, mutation, outcome, detail). A case stuck
+    where no Python handler can reach it (compiled code) ends the worker after three time bounds,
+    which counts as a crash."""
     warnings.simplefilter("ignore")
-    case = MAKERS[kind](seed)
-    outcome, detail = run_case(case, Path(root) / f"{kind}-{seed}")
+    watchdog = threading.Timer(3 * TIME_BOUND, os._exit, (3,))
+    watchdog.daemon = True
+    watchdog.start()
+    try:
+        case = CLASSES[kind](seed)
+        outcome, detail = case.run(Path(root) / f"{kind}-{seed}")
+    finally:
+        watchdog.cancel()
     return kind, seed, case.mutation, outcome, detail
 
 
@@ -54,28 +73,29 @@ def run_all(jobs: list[tuple[str, int]], root: str, workers: int) -> list[tuple[
                 try:
                     results.append(pool.submit(one, kind, seed, root).result())
                 except BrokenProcessPool:
-                    results.append((kind, seed, MAKERS[kind](seed).mutation, "crash", "the process died"))
+                    results.append((kind, seed, CLASSES[kind](seed).mutation, "crash", "the process died"))
     return results
 
 
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--urdfs", type=int, default=1000)
-    parser.add_argument("--scenes", type=int, default=1000)
+    for kind, flag in FLAGS.items():
+        parser.add_argument(f"--{flag}", type=int, default=SIZES[kind], help=f"{kind} cases (default {SIZES[kind]})")
     parser.add_argument("--first-seed", type=int, default=0)
     parser.add_argument("--workers", type=int, default=2)
     args = parser.parse_args()
     out = Path("runs") / f"fuzz-{time.strftime('%Y%m%d-%H%M%S')}"
     out.mkdir(parents=True)
-    seeds = range(args.first_seed, args.first_seed + max(args.urdfs, args.scenes))
-    jobs = [("urdf", s) for s in seeds[: args.urdfs]] + [("scene", s) for s in seeds[: args.scenes]]
+    sizes = {kind: getattr(args, flag) for kind, flag in FLAGS.items()}
+    jobs = [(kind, seed) for kind, n in sizes.items() for seed in range(args.first_seed, args.first_seed + n)]
     start = time.perf_counter()
     with tempfile.TemporaryDirectory() as root:
         results = run_all(jobs, root, args.workers)
-    counts = {kind: dict(collections.Counter(r[3] for r in results if r[0] == kind)) for kind in MAKERS}
+    counts = {kind: dict(collections.Counter(r[3] for r in results if r[0] == kind)) for kind in CLASSES if sizes[kind]}
     failures = [dict(zip(("kind", "seed", "mutation", "outcome", "detail"), r)) for r in results if r[3] not in GOOD]
     (out / "counts.json").write_text(json.dumps({"cases": len(results), "counts": counts, "failures": len(failures),
-                                                 "seconds": time.perf_counter() - start}, indent=2))
+                                                 "first_seed": args.first_seed, "seconds": time.perf_counter() - start},
+                                                indent=2))
     (out / "failures.json").write_text(json.dumps(failures, indent=2))
     print(f"{len(results)} cases in {time.perf_counter() - start:.0f} s -> {out}")
     for kind, by_outcome in counts.items():

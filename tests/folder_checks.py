@@ -18,7 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
-from freefloat.app.run_folder import LOCK, PARTS, RECORD
+from freefloat.app.run_folder import LOCK, PARTS, RECORD, RECORD_NEW
 from freefloat.dynamics.telemetry import Arrays, MechanismTelemetry, PlantTelemetry, Telemetry
 from freefloat.errors import TelemetryFileError
 
@@ -28,17 +28,20 @@ KINDS: tuple[type[Arrays], ...] = (Telemetry, PlantTelemetry, MechanismTelemetry
 ENDINGS = {".png": b"IEND\xaeB`\x82", ".pdf": b"%%EOF"}
 
 
-def folder_problems(folder: Path, period: float | None = None) -> list[str]:
+def folder_problems(folder: Path, period: float | None = None, ignore: set[str] = frozenset()) -> list[str]:
     """What is wrong in ``folder`` after a run or a fault (empty when nothing is): a file that
     does not load or is cut short, telemetry whose time does not strictly increase (or, with
     ``period``, is not ``k * period`` for every row ``k``: a row lost or repeated), a name
-    freefloat's record does not list."""
+    freefloat's record does not list. Names in ``ignore`` (at the top of the folder: a user's
+    files) are left out."""
     folder = Path(folder)
     if not folder.exists():
         return []
-    problems = _unrecorded(folder)
+    problems = [p for p in _unrecorded(folder) if p.split(":")[0] not in ignore]
     for path in sorted(folder.rglob("*")):
         relative = path.relative_to(folder)
+        if relative.parts[0] in ignore or path.is_symlink():
+            continue  # a user's, or a link freefloat never writes
         if path.is_dir() or path.name in (LOCK, RECORD) or any(p.startswith(".") for p in relative.parts):
             continue  # freefloat's temporary names: recorded (checked above), never taken as results
         try:
@@ -48,7 +51,7 @@ def folder_problems(folder: Path, period: float | None = None) -> list[str]:
         if problem:
             problems.append(f"{relative}: {problem}")
     parts = folder / PARTS
-    if parts.is_dir() and not parts.is_symlink() and list(parts.glob("part-*.npz")):
+    if PARTS not in ignore and parts.is_dir() and not parts.is_symlink() and list(parts.glob("part-*.npz")):
         try:
             whole = (folder / "telemetry.npz").is_file()  # then the parts may be half removed
             problem = _time_problem(_load(parts, parts_folder=True).t, None if whole else period)
@@ -63,13 +66,13 @@ def _unrecorded(folder: Path) -> list[str]:
     """The names at the top of ``folder`` that the ownership record does not list."""
     record = folder / RECORD
     listed = set()
-    if record.is_file():
+    if record.is_file() and not record.is_symlink():
         text = record.read_text()
         if text and not text.endswith("\n"):
             return [f"{RECORD}: its last line is cut"]
         listed = {line.split("/")[0] for line in text.splitlines() if line and not line.startswith("#")}
     return [f"{p.name}: not in {RECORD}" for p in sorted(folder.iterdir())
-            if p.name not in (LOCK, RECORD) and p.name not in listed]
+            if p.name not in (LOCK, RECORD, RECORD_NEW) and p.name not in listed]
 
 
 def _file_problem(path: Path, period: float | None) -> str:

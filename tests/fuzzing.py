@@ -2,6 +2,8 @@
 runs each through ``freefloat simulate``: every case must end in success, a run stopped early
 (exit 1, with its partial results) or a clean refusal (exit 2, ``freefloat: error: ...``) within a
 time bound, never a traceback, a hang, a crash, a non-finite result or a file outside its folder.
+The other classes of the corpus (``fuzzing_*.py``; ``fuzz_corpus.py`` lists them all) share
+:func:`cli` and :func:`verdict`.
 
 ``tests/test_fuzz.py`` runs a short slice; ``scripts/fuzz.py`` runs the whole corpus and counts.
 """
@@ -43,6 +45,10 @@ class Case:
     files: dict[str, str | bytes]
     scene: str
     mutation: str
+
+    def run(self, folder: Path) -> tuple[str, str]:
+        """Run the case in ``folder``: its outcome and detail (see :func:`run_case`)."""
+        return run_case(self, folder)
 
 
 def _urdf_mutation(rng: random.Random, text: str) -> tuple[str | bytes, str]:
@@ -169,8 +175,62 @@ def scene_case(seed: int) -> Case:
     return Case("scene", seed, files, "scene.toml", f"{source}: {mutation}")
 
 
+class Failure(Exception):
+    """A case that ended in a failure: its outcome (``traceback``, ``hang``, ...) and detail."""
+
+    def __init__(self, outcome: str, detail: str):
+        super().__init__(f"{outcome}: {detail}")
+        self.outcome, self.detail = outcome, detail
+
+
 class _Timeout(Exception):
     pass
+
+
+def cli(argv: list[str], cwd: Path | None = None) -> tuple[int, str]:
+    """``freefloat ARGV`` in this process (in ``cwd`` if given) within :data:`TIME_BOUND`: its
+    exit status and standard error.
+
+    Raises:
+        Failure: ``hang`` past the bound, ``traceback`` when anything escapes ``main``.
+    """
+    import os
+
+    err = io.StringIO()
+
+    def expire(signum, frame):
+        raise _Timeout()
+
+    previous = signal.signal(signal.SIGALRM, expire)
+    signal.setitimer(signal.ITIMER_REAL, TIME_BOUND)
+    before = os.getcwd()
+    try:
+        if cwd is not None:
+            os.chdir(cwd)
+        with contextlib.redirect_stderr(err), contextlib.redirect_stdout(io.StringIO()):
+            status = main(argv)
+    except _Timeout:
+        raise Failure("hang", f"over {TIME_BOUND:g} s") from None
+    except BaseException as exc:  # noqa: BLE001 - the point is to catch anything that escapes
+        raise Failure("traceback", f"{type(exc).__name__}: {exc}"[:300]) from None
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, previous)
+        os.chdir(before)
+    return status, err.getvalue()
+
+
+def verdict(status: int, err: str) -> tuple[str, str]:
+    """The outcome of an exit status: ``completed`` (0), ``stopped`` (1), ``refused`` (2 with
+    one ``freefloat: error:`` line), else ``traceback``; and its detail."""
+    last = err.strip().splitlines()[-1] if err.strip() else ""
+    if status == 0:
+        return "completed", ""
+    if status == 1:
+        return "stopped", last
+    if status == 2 and last.startswith("freefloat: error: "):
+        return "refused", last
+    return "traceback", f"exit {status}: {last}"
 
 
 def run_case(case: Case, folder: Path) -> tuple[str, str]:
@@ -183,32 +243,15 @@ def run_case(case: Case, folder: Path) -> tuple[str, str]:
     for name, content in case.files.items():
         (folder / name).write_bytes(content if isinstance(content, bytes) else content.encode("utf-8"))
     before = set(os.listdir(folder))
-    err = io.StringIO()
-
-    def expire(signum, frame):
-        raise _Timeout()
-
-    previous = signal.signal(signal.SIGALRM, expire)
-    signal.setitimer(signal.ITIMER_REAL, TIME_BOUND)
-    cwd = os.getcwd()
     try:
-        os.chdir(folder)
-        with contextlib.redirect_stderr(err), contextlib.redirect_stdout(io.StringIO()):
-            status = main(["simulate", case.scene, "--quiet"])
-    except _Timeout:
-        return "hang", f"over {TIME_BOUND:g} s"
-    except BaseException as exc:  # noqa: BLE001 - the point is to catch anything that escapes
-        return "traceback", f"{type(exc).__name__}: {exc}"[:300]
-    finally:
-        signal.setitimer(signal.ITIMER_REAL, 0)
-        signal.signal(signal.SIGALRM, previous)
-        os.chdir(cwd)
+        status, err = cli(["simulate", case.scene, "--quiet"], folder)
+    except Failure as failure:
+        return failure.outcome, failure.detail
     new = set(os.listdir(folder)) - before
     if new - {"runs"}:
         return "escaped", f"wrote {sorted(new - {'runs'})} beside the run folder"
     if status == 2:
-        message = err.getvalue().strip().splitlines()[-1] if err.getvalue().strip() else ""
-        return ("refused", message) if message.startswith("freefloat: error: ") else ("traceback", message)
+        return verdict(status, err)
     runs = list((folder / "runs").iterdir()) if (folder / "runs").is_dir() else []
     if len(runs) != 1:
         return "escaped", f"{len(runs)} run folders under runs/"
@@ -224,4 +267,10 @@ def run_case(case: Case, folder: Path) -> tuple[str, str]:
     return "traceback", f"exit {status} with status {summary.get('status')}"
 
 
+#: Outcomes that are no failure: a run that completed, one stopped early with its partial
+#: results, a clean refusal. Anything else is a failure: ``traceback``, ``hang``, ``crash``,
+#: ``non-finite``, ``escaped`` (a file outside the run folder), ``touched`` (a user's file
+#: changed), ``followed`` (a link's target changed), ``network`` (a page names a URL's host),
+#: ``corrupted`` (a file cut short, a telemetry row lost or repeated), ``not-resumable``,
+#: ``accepted`` (a plainly wrong argument taken).
 GOOD = ("completed", "stopped", "refused")
