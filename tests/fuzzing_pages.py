@@ -7,7 +7,6 @@ allowed local texture; or a mesh named by a URL. ``freefloat simulate`` writes t
 
 from __future__ import annotations
 
-import importlib.metadata
 import random
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -15,22 +14,11 @@ from pathlib import Path
 from .conftest import toml_text
 from .fuzzing import Failure, cli, verdict
 from .pages import everything
+from .test_assets import DAE, URDF  # UR5's wrist mesh; a two-link robot drawing {mesh}
 
-SHARE = Path(str(importlib.metadata.distribution("example-robot-data").locate_file("cmeel.prefix/share")))
-DAE = SHARE / "example-robot-data/robots/ur_description/meshes/ur5/visual/wrist3.dae"
 SCHEMES = ["http://", "https://", "HTTP://", "Https://", "ftp://", "ws://", "//", " http://", "\n\thttps://",
            "data:text/plain,", "javascript:", "http:/", "\\\\", "file://"]
 WRAPS = ["plain", "cdata", "comment", "child", "entity", "padded"]
-URDF = """<robot name="textured">
-  <link name="base"><inertial><mass value="2"/><inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial>
-    <visual><geometry><mesh filename="{mesh}"/></geometry></visual></link>
-  <link name="arm"><inertial><origin xyz="0.5 0 0"/><mass value="1"/>
-    <inertia ixx="0.1" ixy="0" ixz="0" iyy="0.1" iyz="0" izz="0.1"/></inertial>
-    <visual><geometry><box size="1 0.1 0.1"/></geometry></visual></link>
-  <joint name="j1" type="revolute"><parent link="base"/><child link="arm"/><axis xyz="0 0 1"/>
-    <limit lower="-3" upper="3" effort="1" velocity="1"/></joint>
-</robot>
-"""
 
 
 def _spelled(rng: random.Random, url: str, wrap: str) -> str:
