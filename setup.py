@@ -1,16 +1,19 @@
 """Build of the compiled parts (C++17, pybind11):
 
-- ``freefloat.dynamics._core``: the GJM layer (cpp/core.cpp) and the closed chains' core
-  (cpp/core_mechanism.cpp), Eigen headers only;
-- ``freefloat.dynamics._sim``: the simulation loop (cpp/sim_module.cpp, cpp/sim_chain.cpp) on
-  Pinocchio's C++ algorithms, compiled against the headers of the ``libpinocchio`` wheel (a build
-  requirement) and linked to its ``libpinocchio_default``, which holds the algorithms already
-  compiled (explicit template instantiation): instantiating them here was most of the build.
+- ``freefloat.dynamics._core``: the GJM layer (cpp/core.cpp) and the closed chains' core;
+- ``freefloat.dynamics._sim``: the simulation loop (cpp/sim_module.cpp) and the closed-chain loop
+  on Pinocchio's C++ algorithms, compiled against the headers of the ``libpinocchio`` wheel (a
+  build requirement) and linked to its ``libpinocchio_default``, which holds the algorithms
+  already compiled (explicit template instantiation): instantiating them here was most of the
+  build.
+
+The closed chains' bindings of both modules are one translation unit (cpp/chains.cpp), compiled
+once and linked into both (so both modules link to libpinocchio_default).
 
 Where the time goes (g++ 12, user seconds per translation unit, ``-ftime-report``): with the
 algorithms instantiated in the module, 266 s and 5.8 GB for the loop alone, two thirds of it in
-template instantiation; linked to the library, each of the four translation units below takes a
-fraction of that, and they compile in parallel (one per core).
+template instantiation; linked to the library, the three translation units below take 50, 45 and
+31 s, and they compile in parallel (one per core).
 
 Objects are kept in ``build/cpp/<configuration>/`` of the source tree (ignored by git), also by an
 editable install, whose own build folders are temporary: reinstalling with another extra, or
@@ -78,7 +81,7 @@ PINOCCHIO_FLAGS = ["-isystem", str(PINOCCHIO / "include"), "-DPINOCCHIO_ENABLE_T
                    "-DBOOST_MPL_LIMIT_LIST_SIZE=30", "-DBOOST_MPL_LIMIT_VECTOR_SIZE=30",
                    "-DBOOST_MPL_CFG_NO_PREPROCESSED_HEADERS", "-DBOOST_FUSION_INVOKE_MAX_ARITY=12"]
 # The heaviest translation units first, so that two cores finish together.
-ORDER = ["cpp/sim_module.cpp", "cpp/sim_chain.cpp", "cpp/core_mechanism.cpp", "cpp/core.cpp"]
+ORDER = ["cpp/sim_module.cpp", "cpp/chains.cpp", "cpp/core.cpp"]
 
 
 class BuildExt(pybind11_build_ext):
@@ -89,7 +92,7 @@ class BuildExt(pybind11_build_ext):
     def build_extensions(self) -> None:
         self.check_extensions_list(self.extensions)
         self.object_dir = ROOT / "build" / "cpp" / self.configuration()
-        jobs = [(ext, source) for ext in self.extensions for source in ext.sources]
+        jobs = list({source: (ext, source) for ext in self.extensions for source in ext.sources}.values())
         jobs.sort(key=lambda job: ORDER.index(job[1]) if job[1] in ORDER else len(ORDER))
         workers = int(os.environ.get("FREEFLOAT_BUILD_JOBS") or self.parallel or os.cpu_count() or 1)
         with ThreadPoolExecutor(max_workers=max(1, workers)) as pool:
@@ -124,7 +127,8 @@ class BuildExt(pybind11_build_ext):
         return f"{sysconfig.get_platform()}-{sys.implementation.cache_tag}-{digest}"
 
     def object_of(self, ext, source: str) -> str:
-        """The object of ``source`` in the kept folder, compiled unless it is fresh."""
+        """The object of ``source`` in the kept folder, compiled unless it is fresh (every extension
+        has the same flags, so a source shared by two is compiled once)."""
         obj = self.object_dir / Path(source).with_suffix(".o")
         deps = obj.with_suffix(".d")
         if not self.force and self.fresh(source, obj, deps):
@@ -157,14 +161,17 @@ def extension(name: str, sources: list[str], flags: list[str], **kwargs) -> Pybi
     return Pybind11Extension(name, sources, include_dirs=["cpp"], cxx_std=17, extra_compile_args=flags, **kwargs)
 
 
+# One set of flags for every translation unit: cpp/chains.cpp is shared by both modules.
+LINK = {"libraries": ["pinocchio_default"], "library_dirs": [str(PINOCCHIO / "lib")],
+        # where the wheel's package sits beside pin's cmeel.prefix; an editable install finds the
+        # library because freefloat.dynamics imports pinocchio first
+        "runtime_library_dirs": ["$ORIGIN/../../cmeel.prefix/lib"]}
+
 setup(
     ext_modules=[
-        extension("freefloat.dynamics._core", ["cpp/core.cpp", "cpp/core_mechanism.cpp"], FLAGS),
-        extension("freefloat.dynamics._sim", ["cpp/sim_module.cpp", "cpp/sim_chain.cpp"], FLAGS + PINOCCHIO_FLAGS,
-                  libraries=["pinocchio_default"], library_dirs=[str(PINOCCHIO / "lib")],
-                  # where the wheel's package sits beside pin's cmeel.prefix; an editable install
-                  # finds the library because freefloat.dynamics imports pinocchio first
-                  runtime_library_dirs=["$ORIGIN/../../cmeel.prefix/lib"]),
+        extension("freefloat.dynamics._core", ["cpp/core.cpp", "cpp/chains.cpp"], FLAGS + PINOCCHIO_FLAGS, **LINK),
+        extension("freefloat.dynamics._sim", ["cpp/sim_module.cpp", "cpp/chains.cpp"], FLAGS + PINOCCHIO_FLAGS,
+                  **LINK),
     ],
     install_requires=DEPENDENCIES + [f"libpinocchio=={version('libpinocchio')}"],
     cmdclass={"build_ext": BuildExt},

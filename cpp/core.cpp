@@ -1,7 +1,7 @@
 // freefloat.dynamics._core: the compiled GJM (gjm.hpp) behind a small pybind11 interface. The tree
 // is handed over as arrays (no C++ object is shared with pin's bindings); outputs are new C-order
 // numpy arrays with the shapes of the numpy reference. The closed chains' MechanismCore is bound
-// in core_mechanism.cpp, a translation unit of its own so that the two compile in parallel.
+// in chains.cpp, a translation unit of its own (shared with _sim) that compiles in parallel.
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
@@ -22,7 +22,7 @@ using freefloat::py_arrays::matrix_out;
 using freefloat::py_arrays::vector_out;
 
 namespace freefloat {
-void bind_mechanism(py::module_& m);  // core_mechanism.cpp
+void bind_mechanism(py::module_& m);  // chains.cpp
 }
 
 namespace {

@@ -1,7 +1,7 @@
 // freefloat.dynamics._sim: the compiled simulation loop (sim/loop.hpp) on Pinocchio's own C++
 // algorithms, behind a small pybind11 interface. The model is handed over as arrays and rebuilt;
 // telemetry chunks are numpy arrays filled in place. The closed-chain loop is bound in
-// sim_chain.cpp, a translation unit of its own so that the two compile in parallel.
+// chains.cpp, a translation unit of its own (shared with _core) that compiles in parallel.
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>

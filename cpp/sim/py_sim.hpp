@@ -1,5 +1,5 @@
 // What the two translation units of freefloat.dynamics._sim share (sim_module.cpp binds the robot
-// loop and the module, sim_chain.cpp the closed-chain loop; they compile in parallel): array
+// loop and the module, chains.cpp the closed-chain loop; they compile in parallel): array
 // conversions, the telemetry chunks' checks and the chunk runner.
 #pragma once
 
@@ -80,5 +80,5 @@ py::tuple run_chunk(Loop& loop, long last, Chunk rows, int row) {
 }  // namespace freefloat::sim::py_sim
 
 namespace freefloat::sim {
-void bind_chain(pybind11::module_& m);  // sim_chain.cpp
+void bind_chain(pybind11::module_& m);  // chains.cpp
 }
