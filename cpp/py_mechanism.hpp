@@ -14,9 +14,6 @@
 
 namespace freefloat::py_arrays {
 
-using IntArray = pybind11::array_t<long long, pybind11::array::c_style | pybind11::array::forcecast>;
-using RowMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-
 inline DMat dmat(const Array& a, pybind11::ssize_t rows, pybind11::ssize_t cols, const std::string& name) {
   return Eigen::Map<const RowMat>(checked(a, rows * cols, name.c_str()), rows, cols);
 }

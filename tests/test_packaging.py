@@ -3,8 +3,11 @@ and mechanism scenes from an empty folder (not from the repository)."""
 
 from __future__ import annotations
 
+import os
+import signal
 import subprocess
 import sys
+import time
 import zipfile
 from pathlib import Path
 
@@ -16,16 +19,32 @@ from freefloat.paths import URDF_DIR
 REPO = Path(__file__).resolve().parents[1]
 
 
-@pytest.fixture(scope="module")
+def run_group(args: list[str], timeout: float, **kwargs) -> subprocess.CompletedProcess:
+    """``subprocess.run`` in a process group of its own that is killed whole when the call ends
+    early (timeout, Ctrl-C): a wheel build's compilers never outlive the test."""
+    with subprocess.Popen(args, start_new_session=True, text=True, **kwargs) as process:
+        try:
+            out, err = process.communicate(timeout=timeout)
+        finally:
+            if process.poll() is None:
+                os.killpg(process.pid, signal.SIGKILL)
+                process.wait()
+    return subprocess.CompletedProcess(args, process.returncode, out, err)
+
+
+@pytest.fixture(scope="session")
 def installed(tmp_path_factory) -> Path:
-    """The project built as a wheel (pip wheel, isolated build) and unpacked into a folder of
-    its own with ``pip install --target`` (dependencies come from the test environment)."""
+    """The project built as a wheel once per test session (pip wheel, isolated build; the C++
+    objects of an earlier build of this tree are reused, see setup.py) and unpacked into a folder
+    of its own with ``pip install --target`` (dependencies come from the test environment)."""
     root = tmp_path_factory.mktemp("wheel")
-    subprocess.run([sys.executable, "-m", "pip", "wheel", str(REPO), "--no-deps", "-q", "-w", str(root / "dist")],
-                   check=True, timeout=900)
+    built = run_group([sys.executable, "-m", "pip", "wheel", str(REPO), "--no-deps", "-q", "-w", str(root / "dist")],
+                      timeout=900, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    assert built.returncode == 0, built.stderr
     wheel = next((root / "dist").glob("freefloat-*.whl"))
-    subprocess.run([sys.executable, "-m", "pip", "install", "--no-deps", "-q", "--target", str(root / "site"),
-                    str(wheel)], check=True, timeout=300)
+    unpacked = run_group([sys.executable, "-m", "pip", "install", "--no-deps", "-q", "--target", str(root / "site"),
+                          str(wheel)], timeout=300, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    assert unpacked.returncode == 0, unpacked.stderr
     return root
 
 
@@ -34,7 +53,8 @@ def freefloat_from(installed: Path, *args: str, cwd: Path) -> subprocess.Complet
     code = (f"import sys; sys.path.insert(0, {str(installed / 'site')!r}); import freefloat; "
             f"assert freefloat.__file__.startswith({str(installed / 'site')!r}), freefloat.__file__; "
             "from freefloat.app.cli import main; sys.exit(main(sys.argv[1:]))")
-    return subprocess.run([sys.executable, "-c", code, *args], cwd=cwd, capture_output=True, text=True, timeout=600)
+    return run_group([sys.executable, "-c", code, *args], timeout=600, cwd=cwd, stdout=subprocess.PIPE,
+                     stderr=subprocess.PIPE)
 
 
 def test_wheel_ships_every_builtin_robot_mechanism_and_scene(installed):
@@ -63,3 +83,26 @@ def test_mechanism_closure_file_is_found_from_an_empty_folder(installed, tmp_pat
     done = freefloat_from(installed, "simulate", "s.toml", "--quiet", "--no-html", "--no-figures", "--out", "out",
                           cwd=tmp_path)
     assert done.returncode == 0, done.stderr
+
+
+def test_a_command_past_its_timeout_leaves_no_process_behind(tmp_path):
+    """A command killed at its timeout takes the processes it started with it (as a wheel build's
+    compilers would be)."""
+    pid_file = tmp_path / "pid"
+    script = ("import subprocess, sys, time; "
+              "child = subprocess.Popen([sys.executable, '-c', 'import time; time.sleep(120)']); "
+              f"open({str(pid_file)!r}, 'w').write(str(child.pid)); time.sleep(120)")
+    with pytest.raises(subprocess.TimeoutExpired):
+        run_group([sys.executable, "-c", script], timeout=5)
+    status = Path(f"/proc/{pid_file.read_text()}/status")
+
+    def dead() -> bool:  # gone, or a zombie not yet reaped
+        try:
+            return "State:\tZ" in status.read_text()
+        except FileNotFoundError:
+            return True
+
+    deadline = time.monotonic() + 10  # SIGKILL was sent; give the kernel a moment to act on it
+    while not dead() and time.monotonic() < deadline:
+        time.sleep(0.05)
+    assert dead()

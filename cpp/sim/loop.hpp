@@ -81,7 +81,7 @@ class Simulation {
     fext_.assign(model_.njoints, pinocchio::Force::Zero());
     dynamics_ = [this](const Vec& q, const Vec& v, Vec& a) {
       if (wrenches_.empty()) {
-        a = pinocchio::aba(model_, data_, q, v, tau_full_, pinocchio::Convention::LOCAL);
+        a = pinocchio::aba(model_, data_, ConstRef(q), ConstRef(v), ConstRef(tau_full_), pinocchio::Convention::LOCAL);
         return;
       }
       pinocchio::forwardKinematics(model_, data_, q);
@@ -91,7 +91,8 @@ class Simulation {
         const Vec3 f = R.transpose() * w.force;
         fext_[w.joint] += pinocchio::Force(f, R.transpose() * w.torque + w.com.cross(f));
       }
-      a = pinocchio::aba(model_, data_, q, v, tau_full_, fext_, pinocchio::Convention::LOCAL);
+      a = pinocchio::aba(model_, data_, ConstRef(q), ConstRef(v), ConstRef(tau_full_), fext_,
+                          pinocchio::Convention::LOCAL);
     };
   }
 
@@ -148,7 +149,7 @@ class Simulation {
 
   // The plant's ABA at (q, v, tau) (nv,), outside of any run.
   Vec acceleration(const Vec& q, const Vec& v, const Vec& tau) {
-    return pinocchio::aba(model_, data_, q, v, tau, pinocchio::Convention::LOCAL);
+    return pinocchio::aba(model_, data_, ConstRef(q), ConstRef(v), ConstRef(tau), pinocchio::Convention::LOCAL);
   }
 
   // The generalized Jacobian quantities at (q, v), outside of any run.
@@ -207,7 +208,7 @@ class Simulation {
 
   // H_ = H* and c_ = c* of tau = H* qddot + c* (the base eliminated through its rows) at the state.
   void joint_space() {
-    const Eigen::MatrixXd& M = pinocchio::crba(model_, data_, q_, pinocchio::Convention::LOCAL);
+    const Eigen::MatrixXd& M = pinocchio::crba(model_, data_, ConstRef(q_), pinocchio::Convention::LOCAL);
     M_ = M.selfadjointView<Eigen::Upper>();
     const Vec& b = pinocchio::nonLinearEffects(model_, data_, q_, v_);
     const int n = joints_.n;
@@ -295,7 +296,7 @@ class Simulation {
   bool controlled_ = false;  // torques are held (a law or hold()): the work is accumulated
   std::vector<Wrench> wrenches_;
   std::vector<WrenchProfile> profiles_;
-  pinocchio::container::aligned_vector<pinocchio::Force> fext_;
+  std::vector<pinocchio::Force> fext_;
   double kp_ = 0.0, kd_ = 0.0, mass_ = 0.0, work_ = 0.0;
   long k_ = 0;
   int base_frame_ = 0;

@@ -22,6 +22,14 @@ using Vec3 = Eigen::Vector3d;
 using Mat3 = Eigen::Matrix3d;
 using Vec6 = Eigen::Matrix<double, 6, 1>;
 
+// The pin wheel's libpinocchio_default holds Pinocchio's algorithms compiled for double, the
+// default joints and Eigen::Ref<const VectorXd> arguments (explicit instantiation); this module is
+// built with PINOCCHIO_ENABLE_TEMPLATE_INSTANTIATION and linked to it, so that a call with these
+// argument types uses that code instead of instantiating the algorithm here (instantiating aba,
+// crba, ccrba, ... was most of the build's time and memory). Most algorithms convert their vector
+// arguments to ConstRef themselves; aba and crba take ConstRef arguments from the caller.
+using ConstRef = Eigen::Ref<const Vec>;
+
 // The joint of Pinocchio kind `kind` whose motion subspace is `S` = [linear; angular] (6,), for
 // the 1-dof kinds; the root kinds take no axis.
 inline JointModel make_joint(const std::string& kind, const Vec6& S, const std::string& name) {

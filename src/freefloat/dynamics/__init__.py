@@ -10,3 +10,7 @@ its :class:`~freefloat.dynamics.simulation.Controller` interface), ``telemetry``
 
 May import: :mod:`freefloat.robot`, :mod:`freefloat.errors`, :mod:`freefloat.paths`.
 """
+
+# The compiled loop (``_sim``) is linked to the pin wheel's libpinocchio_default; importing
+# pinocchio loads that library, which is how an editable install's ``_sim`` finds it.
+import pinocchio as _pinocchio  # noqa: E402, F401

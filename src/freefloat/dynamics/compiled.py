@@ -37,6 +37,11 @@ from .wrenches import WrenchField
 
 __all__ = ["COMPILED_INTEGRATORS", "CompiledEngine", "CompiledLoop", "DetumblingLaw", "law_of", "unsupported"]
 
+if _sim.PINOCCHIO_VERSION != pin.__version__:  # the module is linked to the library it was built with
+    raise ImportError(f"freefloat's compiled loop was built against Pinocchio {_sim.PINOCCHIO_VERSION} but "
+                      f"Pinocchio {pin.__version__} is installed: reinstall freefloat (pip install -e .) or "
+                      f"pin {_sim.PINOCCHIO_VERSION}")
+
 #: Integrators the compiled loop runs (the registry's entries marked compiled; momentum projection
 #: is not compiled). ``_sim.INTEGRATORS`` lists the compiled side's names; a test checks both agree.
 COMPILED_INTEGRATORS = tuple(name for name, spec in INTEGRATORS.items() if spec.compiled)
