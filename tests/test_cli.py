@@ -319,7 +319,9 @@ def test_verify_arguments_are_checked_before_it_runs(extra, message, capsys):
     ("simulation", {"duration": 1.0005}, "'simulation.duration' \\(1.0005 s\\) must be a whole number of 'simulation.control_period'"),
     ("output", {"html_fps": 1e12}, "'output.html_fps' is 1000000000000.0; at most 1000"),
     ("simulation", {"duration": 1e9}, "needs about .* GB of telemetry"),
-    ("simulation", {"duration": 100.0, "substeps": 1_000_000_000}, "estimated at .* h"),
+    ("simulation", {"duration": 100.0, "substeps": 1_000_000}, "estimated at .* h"),
+    ("simulation", {"substeps": 1_000_000_000}, "'simulation.substeps' must be from 1 to 1000000"),
+    ("simulation", {"integrator": "dopri5", "rtol": 1e-300}, "'simulation.rtol' must be >= 1e-16"),
 ])
 def test_runs_too_big_or_impossible_are_refused_before_they_start(tmp_path, capsys, section, values, message):
     """Durations off the period grid, absurd frame rates, runs that would not fit in memory or

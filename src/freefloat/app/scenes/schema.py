@@ -12,10 +12,10 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from ...dynamics.integrators import INTEGRATORS
+from ...dynamics.integrators import INTEGRATORS, check_settings
 from ...dynamics.simulation import BACKENDS
 from ...dynamics.models import MODELS
-from ...errors import SceneError
+from ...errors import InvalidArgument, SceneError
 from ...robot.loading import INERTIAS
 from .fields import (
     MAX_HTML_FPS,
@@ -232,6 +232,10 @@ def parse_robot_scene(raw: dict[str, Any], source: Path | None = None) -> Scene:
     scene = Scene(**kwargs, source=source)
     sim = scene.simulation
     whole_number_of(where, sim.duration, sim.control_period, "simulation.duration", "simulation.control_period")
+    try:
+        check_settings(sim.substeps, sim.rtol, sim.atol)
+    except InvalidArgument as exc:  # "'substeps' must be ..." -> "'simulation.substeps' must be ..."
+        raise SceneError(f"{where}{str(exc).replace(chr(39), chr(39) + 'simulation.', 1)}") from None
     if sim.project_momentum and (scene.wrenches or any(scene.robot.gravity)):
         raise SceneError(f"{where}'simulation.project_momentum' holds the momentum constant, but this scene's "
                          f"{'[[wrenches]]' if scene.wrenches else 'robot.gravity'} change it; remove one of them")

@@ -119,6 +119,17 @@ MAX_SUBSTEPS = 10**6
 MIN_RTOL = 1e-16
 
 
+def check_settings(substeps: int, rtol: float, atol: float) -> tuple[int, float, float]:
+    """An integrator's settings, checked: ``substeps`` an integer from 1 to :data:`MAX_SUBSTEPS`,
+    ``rtol`` in [:data:`MIN_RTOL`, 1], ``atol`` > 0.
+
+    Raises:
+        InvalidArgument: naming the setting (``'substeps' must be ...``).
+    """
+    return (whole_number("substeps", substeps, 1, MAX_SUBSTEPS), real_number("rtol", rtol, low=MIN_RTOL, high=1.0),
+            real_number("atol", atol, above=0.0))
+
+
 def make_integrator(
     name: str,
     model: pin.Model,
@@ -140,9 +151,7 @@ def make_integrator(
             ``rtol`` outside [:data:`MIN_RTOL`, 1] or ``atol`` not > 0 (each named).
     """
     spec = integrator_spec(name)
-    substeps = whole_number("substeps", substeps, 1, MAX_SUBSTEPS)
-    rtol = real_number("rtol", rtol, low=MIN_RTOL, high=1.0)
-    atol = real_number("atol", atol, above=0.0)
+    substeps, rtol, atol = check_settings(substeps, rtol, atol)
     if project_momentum:
         return MomentumProjection(spec.build(model, substeps, rtol, atol), model)
     return spec.build(model, substeps, rtol, atol)
@@ -163,6 +172,7 @@ __all__ = [
     "RungeKuttaMuntheKaas6",
     "RungeKuttaMuntheKaas8",
     "SemiImplicitEuler",
+    "check_settings",
     "integrator_spec",
     "make_integrator",
     "register",
