@@ -29,14 +29,24 @@ class Arrays:
 
         The file is written under a temporary name and renamed into place, so ``path`` is never
         a half-written file, whatever stops the process; the temporary file is opened without
-        following a symbolic link."""
+        following a symbolic link. The archive is numpy's ``savez_compressed`` format, written
+        here so that an archive an interrupt cut short is given up with its file (numpy's was
+        closed again when garbage-collected, after its file, and Python printed 'Exception
+        ignored ... ValueError: seek of closed file' after a clean Ctrl-C)."""
         path = Path(path)
         arrays = {f.name: getattr(self, f.name) for f in fields(self)}
         arrays.update({f"meta_{k}": np.asarray(v) for k, v in metadata.items()})
         partial = path.with_name(f".{path.name}.partial")
         fd = os.open(partial, os.O_WRONLY | os.O_CREAT | os.O_TRUNC | os.O_NOFOLLOW | os.O_CLOEXEC, 0o644)
         with os.fdopen(fd, "wb") as file:
-            np.savez_compressed(file, **arrays)
+            archive = zipfile.ZipFile(file, "w", zipfile.ZIP_DEFLATED, allowZip64=True)
+            try:
+                for name, array in arrays.items():
+                    with archive.open(f"{name}.npy", "w", force_zip64=True) as member:
+                        np.lib.format.write_array(member, np.asanyarray(array), allow_pickle=False)
+                archive.close()
+            finally:
+                archive.fp = None  # closed, or given up with the file: never written to at garbage collection
         os.replace(partial, path)
 
     @classmethod
