@@ -16,7 +16,7 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 from matplotlib.ticker import LogLocator, NullLocator
 
-from . import rendering
+from .rendering import render_each
 
 #: Formats every figure is written in: PNG to look at, PDF to print.
 FORMATS = ("png", "pdf")
@@ -115,7 +115,7 @@ def save_all(figures: dict[str, Figure | None], out_dir: Path) -> list[Path]:
     the rest. A figure the helper fails on is rendered here."""
     named = [(stem, fig) for stem, fig in figures.items() if fig is not None]
     theirs = named[1::2]
-    collect = rendering.render_each(save, [(fig, out_dir, stem) for stem, fig in theirs])
+    collect = render_each(save, [(fig, out_dir, stem) for stem, fig in theirs])
     for stem, fig in named[0::2]:
         save(fig, out_dir, stem)
     for (stem, fig), reply in zip(theirs, collect(), strict=True):
