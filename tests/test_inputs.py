@@ -26,9 +26,18 @@ def test_an_unknown_key_names_the_closest_valid_one_and_all():
         reject_unknown("f.toml: ", {"coordinate": 1}, ["frame", "coordinates"], "platform")
 
 
-def test_known_keys_pass():
-    """A table of valid keys is accepted."""
-    reject_unknown("f.toml: ", {"frame": 1}, ["frame", "coordinates"])
+@given(st.lists(st.sampled_from(["frame", "coordinates", "frames", "coordinate", "gravty", ""]), max_size=4))
+def test_a_table_is_refused_exactly_when_a_key_is_not_allowed(keys):
+    """reject_unknown refuses a table iff its keys are not a subset of the allowed ones (set
+    arithmetic as the reference), naming the first key that is not."""
+    allowed = ["frame", "coordinates"]
+    table = dict.fromkeys(keys, 1)
+    extra = [key for key in table if key not in allowed]
+    if not extra:
+        assert reject_unknown("f.toml: ", table, allowed) is None
+        return
+    with pytest.raises(FreefloatError, match=f"unknown top-level key '{extra[0]}'"):
+        reject_unknown("f.toml: ", table, allowed)
 
 
 _scalars = st.one_of(st.booleans(), st.integers(-2**63, 2**63 - 1), st.floats(allow_nan=False), st.text(max_size=12))
