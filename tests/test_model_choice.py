@@ -25,11 +25,16 @@ def test_auto_is_the_default_plant(tmp_path):
 
 
 def test_auto_locks_the_held_arms_when_the_error_stays_under_the_tolerance(tmp_path):
-    """With three arms held still, the pilot keeps the locked exact plant, its predicted error under the tolerance."""
+    """With three arms held still, the locked exact plant's predicted error is under the tolerance, and the
+    pilot keeps it exactly when its pilot also ran faster (wall times on a shared machine decide that part,
+    so the test checks the rule, not the clock)."""
     auto = quiet_scene(tmp_path, task=ONE_ARM_TASK, simulation={"duration": 1.0, "model": "auto", "tolerance": 1e-4})
     resolved, record = resolve(auto)
-    assert (resolved.simulation.model, resolved.simulation.lock) == ("exact", "auto")
-    assert 0.0 < record["predicted_error"] <= 1e-4 and record["pilot_duration"] == pytest.approx(0.02)
+    locked = next(t for t in record["trials"] if t["lock"] == "auto" and t["model"] == "exact")
+    full = record["trials"][0]
+    assert 0.0 < locked["predicted_error"] <= 1e-4 and record["pilot_duration"] == pytest.approx(0.02)
+    faster = locked["pilot_wall_time_s"] < full["pilot_wall_time_s"]
+    assert ((resolved.simulation.model, resolved.simulation.lock) == ("exact", "auto")) == faster
 
 
 def test_a_tolerance_below_the_locking_error_keeps_the_full_plant(tmp_path):
