@@ -50,12 +50,11 @@ struct PySimulation {
   Rows rows(py::tuple arrays) const { return rows_of(sim->model(), n_joints, n_ee, arrays); }
 };
 
-PySimulation make(std::vector<int> parent, std::vector<std::string> kind, std::vector<std::string> name,
-                  const Array& subspace, const Array& placement, const Array& mass, const Array& lever,
-                  const Array& rotational, const Array& armature, const Array& gravity, std::vector<int> frame_parent,
-                  const Array& frame_placement, JointMap joints, int n_base, const std::string& integrator,
-                  int substeps, double rtol, double atol, double control_period, double start_time, int record_every,
-                  int base_frame, std::vector<int> ee_frames) {
+// The Pinocchio model of the arrays of compiled._model_arrays.
+Model model_of(const std::vector<int>& parent, const std::vector<std::string>& kind,
+               const std::vector<std::string>& name, const Array& subspace, const Array& placement, const Array& mass,
+               const Array& lever, const Array& rotational, const Array& armature, const Array& gravity,
+               const std::vector<int>& frame_parent, const Array& frame_placement) {
   const py::ssize_t n = static_cast<py::ssize_t>(parent.size()), f = static_cast<py::ssize_t>(frame_parent.size());
   if (kind.size() != parent.size() || name.size() != parent.size())
     throw std::invalid_argument("parent, kind, name: expected one entry per joint");
@@ -64,6 +63,17 @@ PySimulation make(std::vector<int> parent, std::vector<std::string> kind, std::v
                 armature.data(), checked(gravity, 3, "gravity"), frame_parent, checked(frame_placement, 16 * f, "frame_placement")};
   Model model = build_model(a);
   if (armature.size() != model.nv) throw std::invalid_argument("armature: expected one entry per velocity");
+  return model;
+}
+
+PySimulation make(std::vector<int> parent, std::vector<std::string> kind, std::vector<std::string> name,
+                  const Array& subspace, const Array& placement, const Array& mass, const Array& lever,
+                  const Array& rotational, const Array& armature, const Array& gravity, std::vector<int> frame_parent,
+                  const Array& frame_placement, JointMap joints, int n_base, const std::string& integrator,
+                  int substeps, double rtol, double atol, double control_period, double start_time, int record_every,
+                  int base_frame, std::vector<int> ee_frames) {
+  Model model = model_of(parent, kind, name, subspace, placement, mass, lever, rotational, armature, gravity,
+                         frame_parent, frame_placement);
   if (record_every < 1) throw std::invalid_argument("record_every must be >= 1");
   const int frames = static_cast<int>(frame_parent.size());
   for (int id : ee_frames)
@@ -109,6 +119,31 @@ PYBIND11_MODULE(_sim, m) {
            py::arg("n_base"), py::arg("integrator"), py::arg("substeps"), py::arg("rtol"), py::arg("atol"),
            py::arg("control_period"), py::arg("start_time"), py::arg("record_every"), py::arg("base_frame"),
            py::arg("ee_frames"))
+      .def("configure",
+           [](PySimulation& s, const std::string& integrator, int substeps, double rtol, double atol,
+              double control_period, double start_time, int record_every) {
+             if (record_every < 1) throw std::invalid_argument("record_every must be >= 1");
+             s.sim->configure(integrator, substeps, rtol, atol, control_period, start_time, record_every);
+             s.bound = Rows{};
+             s.bound_arrays = py::object();
+           },
+           py::arg("integrator"), py::arg("substeps"), py::arg("rtol"), py::arg("atol"), py::arg("control_period"),
+           py::arg("start_time"), py::arg("record_every"),
+           "A new run on this loop's model and Data: the integrator's settings, the period, the start time and "
+           "the recording rate; no law, torques, wrenches, work or bound chunk; period 0; evaluations from 0.")
+      .def("set_model",
+           [](PySimulation& s, std::vector<int> parent, std::vector<std::string> kind, std::vector<std::string> name,
+              const Array& subspace, const Array& placement, const Array& mass, const Array& lever,
+              const Array& rotational, const Array& armature, const Array& gravity, std::vector<int> frame_parent,
+              const Array& frame_placement) {
+             s.sim->set_model(model_of(parent, kind, name, subspace, placement, mass, lever, rotational, armature,
+                                       gravity, frame_parent, frame_placement));
+           },
+           py::arg("parent"), py::arg("kind"), py::arg("name"), py::arg("subspace"), py::arg("placement"),
+           py::arg("mass"), py::arg("lever"), py::arg("rotational"), py::arg("armature"), py::arg("gravity"),
+           py::arg("frame_parent"), py::arg("frame_placement"),
+           "The plant's numbers from these arrays (as the constructor's), for a model of the same joints and "
+           "frames (ValueError otherwise); the loop's Data are kept.")
       .def("acceleration",
            [](PySimulation& s, const Array& q, const Array& v, const Array& tau) {
              const Model& m = s.sim->model();

@@ -67,18 +67,12 @@ class Simulation {
 
   Simulation(Model model, JointMap joints, int n_base, const std::string& integrator, int substeps, double rtol,
              double atol, double control_period, double start_time, int record_every)
-      : model_(std::move(model)), data_(model_), record_data_(model_), joints_(std::move(joints)), nb_(n_base),
-        integrator_(model_, integrator, substeps, rtol, atol), period_(control_period), start_(start_time),
-        record_every_(record_every) {
-    q_ = pinocchio::neutral(model_);
-    v_ = Vec::Zero(model_.nv);
-    tau_full_ = Vec::Zero(model_.nv);
-    tau_ = Vec::Zero(joints_.n);
-    pos_ = Vec::Zero(joints_.n);
+      : model_(std::move(model)), data_(lean_data(model_)), record_data_(data_), joints_(std::move(joints)),
+        nb_(n_base) {
     qn_.resize(model_.nq);
     vn_.resize(model_.nv);
     mass_ = pinocchio::computeTotalMass(model_);
-    fext_.assign(model_.njoints, pinocchio::Force::Zero());
+    configure(integrator, substeps, rtol, atol, control_period, start_time, record_every);
     dynamics_ = [this](const Vec& q, const Vec& v, Vec& a) {
       if (wrenches_.empty()) {
         a = pinocchio::aba(model_, data_, ConstRef(q), ConstRef(v), ConstRef(tau_full_), pinocchio::Convention::LOCAL);
@@ -94,6 +88,41 @@ class Simulation {
       a = pinocchio::aba(model_, data_, ConstRef(q), ConstRef(v), ConstRef(tau_full_), fext_,
                           pinocchio::Convention::LOCAL);
     };
+  }
+
+  // A new run on the same model and Data: the integrator and its settings, the period, the start
+  // time and the recording rate; no law, no torques, no wrenches, no work, period 0, the neutral
+  // state, evaluations counted from zero. Everything a run leaves behind is reset here, so a loop
+  // reused after a finished, failed or interrupted run starts as a new one does.
+  void configure(const std::string& integrator, int substeps, double rtol, double atol, double control_period,
+                 double start_time, int record_every) {
+    { const LieIntegrator check(model_, integrator, substeps, rtol, atol); }  // throws first, nothing changed
+    integrator_.emplace(model_, integrator, substeps, rtol, atol);
+    period_ = control_period;
+    start_ = start_time;
+    record_every_ = record_every;
+    reference_.reset();
+    detumbling_.reset();
+    controlled_ = false;
+    wrenches_.clear();
+    profiles_.clear();
+    fext_.assign(model_.njoints, pinocchio::Force::Zero());
+    kp_ = kd_ = work_ = 0.0;
+    k_ = 0;
+    q_ = pinocchio::neutral(model_);
+    v_ = Vec::Zero(model_.nv);
+    tau_full_ = Vec::Zero(model_.nv);
+    tau_ = Vec::Zero(joints_.n);
+    pos_ = Vec::Zero(joints_.n);
+  }
+
+  // The plant's numbers (inertias, placements, armature, gravity, frame placements) from `model`,
+  // which must have this loop's structure (same_structure): its Data serve it unchanged.
+  void set_model(Model model) {
+    if (!same_structure(model_, model))
+      throw std::invalid_argument("set_model: the model's joints or frames differ from the loop's");
+    model_ = std::move(model);  // in place: the integrator refers to model_
+    mass_ = pinocchio::computeTotalMass(model_);
   }
 
   void set_frames(int base_frame, std::vector<int> ee_frames) {
@@ -133,7 +162,7 @@ class Simulation {
   void step_period() { step(start_ + k_ * period_); }
 
   void set_state(const Vec& q, const Vec& v, long period, double work) {
-    integrator_.restart();
+    integrator_->restart();
     q_ = q;
     v_ = v;
     k_ = period;
@@ -144,7 +173,7 @@ class Simulation {
   const Vec& v() const { return v_; }
   long period() const { return k_; }
   double work() const { return work_; }
-  long evaluations() const { return integrator_.evaluations(); }
+  long evaluations() const { return integrator_->evaluations(); }
   const Model& model() const { return model_; }
 
   // The plant's ABA at (q, v, tau) (nv,), outside of any run.
@@ -223,7 +252,7 @@ class Simulation {
   void step(double t) {
     qn_ = q_;
     vn_ = v_;
-    integrator_.advance(dynamics_, qn_, vn_, period_);
+    integrator_->advance(dynamics_, qn_, vn_, period_);
     const double t_end = t + period_;
     const double vmax = vn_.cwiseAbs().maxCoeff();
     if (!(vmax < kMaxSpeed))
@@ -287,9 +316,9 @@ class Simulation {
   Data data_, record_data_;
   JointMap joints_;
   int nb_;
-  LieIntegrator integrator_;
-  double period_, start_;
-  int record_every_;
+  std::optional<LieIntegrator> integrator_;  // set by configure()
+  double period_ = 0.0, start_ = 0.0;
+  int record_every_ = 1;
   Dynamics dynamics_;
   std::optional<Quintic> reference_;
   std::optional<DetumblingLaw> detumbling_;

@@ -69,6 +69,32 @@ inline SE3 se3_at(const double* p) {
   return SE3(Mat3(H.topLeftCorner<3, 3>()), Vec3(H.topRightCorner<3, 1>()));
 }
 
+// A Data for `model` without Pinocchio's second-order tensors (kinematic Hessians 6 x nv x nv and
+// the four nv x nv x nv d2tau tensors, about 250 MB at nv 198): the loop computes no second-order
+// derivative, so they are allocated once by Data's constructor and released at once. A copy of
+// the result costs O(nv^2), so a loop's second Data is a copy of its first.
+inline Data lean_data(const Model& model) {
+  Data d(model);
+  d.kinematic_hessians.resize(0, 0, 0);
+  d.d2tau_dqdq.resize(0, 0, 0);
+  d.d2tau_dvdv.resize(0, 0, 0);
+  d.d2tau_dqdv.resize(0, 0, 0);
+  d.d2tau_dadq.resize(0, 0, 0);
+  return d;
+}
+
+// Whether a Data made for `a` serves `b`: the same joints (kind, axis, indices), parents and
+// frames' parents. Inertias, placements, armature and gravity may differ: Data holds none of
+// them from its construction (the algorithms read them from the model at every call).
+inline bool same_structure(const Model& a, const Model& b) {
+  if (a.njoints != b.njoints || a.nq != b.nq || a.nv != b.nv || a.nframes != b.nframes) return false;
+  for (JointIndex j = 0; j < static_cast<JointIndex>(a.njoints); ++j)
+    if (a.parents[j] != b.parents[j] || !(a.joints[j] == b.joints[j])) return false;
+  for (size_t f = 0; f < a.frames.size(); ++f)
+    if (a.frames[f].parentJoint != b.frames[f].parentJoint) return false;
+  return true;
+}
+
 inline Model build_model(const ModelArrays& a) {
   Model m;
   const size_t n = a.parent.size();

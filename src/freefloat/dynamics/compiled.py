@@ -15,10 +15,22 @@ detumbling law of :class:`DetumblingLaw`; external wrenches with their profiles;
 or one call per period (:meth:`CompiledLoop.step`) with the torques, the active wrenches and the
 stop event from Python: any controller then keeps its Python code, and the period's integration
 and telemetry row are compiled.
+
+Reuse across runs: building a loop builds a Pinocchio model and its ``Data`` in C++ (each
+``Data`` allocates and zeroes four nv^3 tensors, about 85 ms at nv 198, which the loop keeps
+none of), and checking it against ``pin.aba`` needs a Python ``Data``. So a process keeps the
+loops it has built (:data:`MAX_IDLE` of them, idle between runs) by the robot's structure (joints,
+axes, frames); :meth:`CompiledLoop.release` hands one back when its run ends, and the next run on
+a robot of the same structure takes it, resets it (:meth:`_sim.Simulation.configure`) and gives it
+the robot's numbers (inertias, placements, armature, gravity) when they changed. The check runs
+once per model. A reused loop gives the same numbers bit for bit as a new one (tested).
 """
 
 from __future__ import annotations
 
+import hashlib
+import threading
+from collections import OrderedDict
 from collections.abc import Callable
 from dataclasses import dataclass, fields
 from typing import Any
@@ -35,7 +47,8 @@ from .integrators import INTEGRATORS
 from .telemetry import Telemetry
 from .wrenches import WrenchField
 
-__all__ = ["COMPILED_INTEGRATORS", "CompiledEngine", "CompiledLoop", "DetumblingLaw", "law_of", "unsupported"]
+__all__ = ["COMPILED_INTEGRATORS", "MAX_IDLE", "CompiledEngine", "CompiledLoop", "DetumblingLaw", "clear_loops",
+           "law_of", "unsupported"]
 
 if _sim.PINOCCHIO_VERSION != pin.__version__:  # the module is linked to the library it was built with
     raise ImportError(f"freefloat's compiled loop was built against Pinocchio {_sim.PINOCCHIO_VERSION} but "
@@ -48,6 +61,30 @@ COMPILED_INTEGRATORS = tuple(name for name, spec in INTEGRATORS.items() if spec.
 
 #: ABA of the rebuilt model against ``pin.aba`` at a random state: largest relative difference.
 REBUILD_TOLERANCE = 1e-9
+#: Idle compiled loops a process keeps for the next runs (each holds its model and two ``Data``
+#: without the nv^3 tensors: about 4 MB at nv 198), the least recently used dropped first.
+MAX_IDLE = 4
+#: Fields of :func:`_model_arrays` that make the loop's structure (its ``Data`` depend on them);
+#: the others are the plant's numbers, set on a reused loop.
+_STRUCTURE = ("parent", "kind", "name", "subspace", "frame_parent")
+
+_idle: OrderedDict[tuple, list[tuple[Any, bytes]]] = OrderedDict()  # structure -> [(sim, numbers' digest)]
+_checked: OrderedDict[bytes, None] = OrderedDict()  # digests of models whose rebuild passed the check
+_lock = threading.Lock()
+
+
+def clear_loops() -> None:
+    """Forget the idle loops and the checked models of this process (the next run builds anew)."""
+    with _lock:
+        _idle.clear()
+        _checked.clear()
+
+
+def _digest(*parts: Any) -> bytes:
+    h = hashlib.blake2b(digest_size=16)
+    for part in parts:
+        h.update(np.ascontiguousarray(part).tobytes() if isinstance(part, np.ndarray) else repr(part).encode())
+    return h.digest()
 
 
 def unsupported(model: Any, integrator: Any) -> str | None:
@@ -146,12 +183,6 @@ def _arrays(chunk: Telemetry) -> tuple[np.ndarray, ...]:
     return tuple(getattr(chunk, f.name) for f in fields(chunk))
 
 
-def _joint_map(robot: Robot) -> _sim.JointMap:
-    coords = JointCoordinates(robot)
-    return _sim.JointMap(coords.scalar_q.tolist(), coords.scalar_pos.tolist(), coords.circle_q.tolist(),
-                         coords.circle_pos.tolist(), robot.n_joints)
-
-
 class CompiledEngine:
     """What both compiled loops (:class:`CompiledLoop`, a robot; and
     :class:`~freefloat.dynamics.compiled_chain.CompiledChainLoop`, a coupled closed chain) share
@@ -213,6 +244,8 @@ class CompiledLoop(CompiledEngine):
             torque-free run.
         wrenches: external wrenches the loop selects by their profiles at each period of
             :meth:`run` (the per-period interface takes them through :meth:`set_wrenches` instead).
+        data: a ``pin.Data`` of ``robot.model`` to check the rebuilt model with (e.g. the exact
+            plant's; default: a new one, which costs as much as the loop's own at large nv).
 
     Raises:
         InvalidArgument: for a joint kind or integrator the compiled loop does not have, or when
@@ -222,16 +255,27 @@ class CompiledLoop(CompiledEngine):
     backend = "compiled"
 
     def __init__(self, robot: Robot, integrator: Any, control_period: float, start_time: float = 0.0,
-                 record_every: int = 1, law: tuple | DetumblingLaw | None = None, wrenches: WrenchField | None = None):
+                 record_every: int = 1, law: tuple | DetumblingLaw | None = None, wrenches: WrenchField | None = None,
+                 data: pin.Data | None = None):
         self.robot = robot
         self.law = law
         n_ee = len(robot.end_effectors)
+        arrays = _model_arrays(robot)
+        coords = JointCoordinates(robot)
+        joints = _sim.JointMap(coords.scalar_q.tolist(), coords.scalar_pos.tolist(), coords.circle_q.tolist(),
+                               coords.circle_pos.tolist(), robot.n_joints)
+        self._structure = (_digest(*(arrays[k] for k in _STRUCTURE), robot.n_base, n_ee, coords.scalar_q,
+                                   coords.scalar_pos, coords.circle_q, coords.circle_pos, robot.n_joints),)
+        numbers = {k: v for k, v in arrays.items() if k not in _STRUCTURE}
+        self._numbers = _digest(*numbers.values())
+        settings = dict(integrator=integrator.name, substeps=getattr(integrator, "substeps", 1),
+                        rtol=getattr(integrator, "rtol", 1e-10), atol=getattr(integrator, "atol", 1e-12),
+                        control_period=control_period, start_time=start_time, record_every=record_every)
         try:
-            self.sim = _sim.Simulation(
-                **_model_arrays(robot), joints=_joint_map(robot), n_base=robot.n_base, integrator=integrator.name,
-                substeps=getattr(integrator, "substeps", 1), rtol=getattr(integrator, "rtol", 1e-10),
-                atol=getattr(integrator, "atol", 1e-12), control_period=control_period, start_time=start_time,
-                record_every=record_every, base_frame=0, ee_frames=list(range(1, n_ee + 1)))
+            self.sim = self._take(settings, arrays)
+            if self.sim is None:
+                self.sim = _sim.Simulation(**arrays, joints=joints, n_base=robot.n_base, **settings, base_frame=0,
+                                           ee_frames=list(range(1, n_ee + 1)))
         except ValueError as exc:
             raise InvalidArgument(f"{robot.urdf_path.name}: {exc}") from exc
         if isinstance(law, DetumblingLaw):
@@ -242,14 +286,50 @@ class CompiledLoop(CompiledEngine):
             self.sim.set_computed_torque(start, delta, duration, kp, kd)
         if wrenches is not None:
             self.sim.set_wrench_profiles(*wrenches.profiles())
-        self._check_rebuild()
+        key = self._structure[0] + self._numbers
+        if key not in _checked:
+            self._check_rebuild(data)
+            with _lock:
+                _checked[key] = None
+                while len(_checked) > 64:
+                    _checked.popitem(last=False)
+        self._released = False
 
-    def _check_rebuild(self) -> None:
+    def _take(self, settings: dict[str, Any], arrays: dict[str, Any]) -> Any:
+        """An idle loop of this structure, reset for this run with ``settings`` and given the
+        robot's numbers when they differ from its last; None when there is none."""
+        with _lock:
+            idle = _idle.get(self._structure)
+            if not idle:
+                return None
+            sim, numbers = idle.pop()
+        sim.configure(**settings)
+        if numbers != self._numbers:
+            sim.set_model(**arrays)
+        return sim
+
+    def release(self) -> None:
+        """Hand the loop back for the next run on a robot of this structure (its run is over: this
+        object must not be used after). Called by :func:`~freefloat.dynamics.simulation.run`."""
+        if self._released:
+            return
+        self._released = True
+        self.sim.configure("euler", 1, 1e-10, 1e-12, 1.0, 0.0, 1)  # drops the law and the chunk it held
+        with _lock:
+            _idle.setdefault(self._structure, []).append((self.sim, self._numbers))
+            _idle.move_to_end(self._structure)
+            while sum(len(v) for v in _idle.values()) > MAX_IDLE:
+                oldest = next(iter(_idle))
+                _idle[oldest].pop(0)
+                if not _idle[oldest]:
+                    del _idle[oldest]
+
+    def _check_rebuild(self, data: Any = None) -> None:
         model = self.robot.model
         rng = np.random.default_rng(0)
         q = pin.randomConfiguration(model, -np.ones(model.nq), np.ones(model.nq))
         v, tau = rng.standard_normal(model.nv), rng.standard_normal(model.nv)
-        expected = pin.aba(model, model.createData(), q, v, tau)
+        expected = pin.aba(model, model.createData() if data is None else data, q, v, tau)
         got = self.sim.acceleration(q, v, tau)
         error = np.abs(got - expected).max() / max(1.0, np.abs(expected).max())
         if not error <= REBUILD_TOLERANCE:

@@ -178,12 +178,16 @@ def run(
             whole_chunks = (controller is None or law is not None) and stop is None
             loop = compiled.CompiledLoop(robot, integrator, control_period, start_time, record_every,
                                          law if whole_chunks else None,
-                                         field_of(robot, wrenches) if whole_chunks else None)
-            if whole_chunks:
-                return _run_compiled(loop, q0, v0, steps, control_period, start_time, rows, progress)
-            loop.start(q0, v0)
-            return _run_periods(loop, steps, control_period, controller, field_of(robot, wrenches), record_every,
-                                progress, stop, start_time, rows)
+                                         field_of(robot, wrenches) if whole_chunks else None,
+                                         data=getattr(model, "data", None) if getattr(model, "model", None) is robot.model else None)
+            try:
+                if whole_chunks:
+                    return _run_compiled(loop, q0, v0, steps, control_period, start_time, rows, progress)
+                loop.start(q0, v0)
+                return _run_periods(loop, steps, control_period, controller, field_of(robot, wrenches), record_every,
+                                    progress, stop, start_time, rows)
+            finally:
+                loop.release()  # kept for the next run on this robot's structure (compiled.py)
         if backend == "compiled":
             raise InvalidArgument(f"the compiled loop cannot run this: {reason}")
     engine = PythonPeriods(robot, integrator, model, control_period, start_time)
