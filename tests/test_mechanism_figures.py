@@ -12,12 +12,15 @@ from freefloat.app.viz.mechanism import (
     closure_markers,
     drift_figure,
     efforts_figure,
+    linkage_bars,
     tracking_figure,
+    write_base_figures,
     write_mechanism_html,
 )
 from freefloat.dynamics.telemetry import MechanismTelemetry
 from freefloat.parallel.closed_chain import load_closed_chain
 from freefloat.parallel.five_bar import elbow_guess
+from freefloat.parallel.free_base import BaseTelemetry
 from freefloat.parallel.rsu_ppap import load_rsu_ppap
 
 from .conftest import REPO
@@ -165,3 +168,30 @@ def test_mechanism_page_draws_no_link_geometry_of_the_urdf(five_bar, tmp_path):
     assert geometry == [f"{ROOT}/base/base_link_0"]
     assert drawn[geometry[0]]["materials"][0]["opacity"] == 0.5
     assert f"{ROOT}/paths/platform" in drawn and f"{ROOT}/lines/platform_reference" in drawn
+
+
+def test_base_figures_show_the_attitude_and_the_momentum(tmp_path):
+    """A moving base's run writes base_attitude (rotation vector, angle turned, displacement) and
+    momentum (linear and angular components, and the drift on a log axis), PNG and PDF."""
+    n, t = 40, np.linspace(0.0, 0.4, 40)
+    base = BaseTelemetry(t=t, q=np.zeros((n, 4)), v=np.zeros((n, 3)), base_position=np.outer(t, [0.01, -0.02, 0.0]),
+                         base_rotation=np.outer(t, [0.0, 0.0, 0.3]), momentum=np.full((n, 6), 1e-12),
+                         com=np.zeros((n, 3)))
+    written = write_base_figures(base, np.linspace(0.0, 1e-12, n), tmp_path)
+    assert sorted(p.name for p in written) == ["base_attitude.pdf", "base_attitude.png", "momentum.pdf", "momentum.png"]
+
+
+def test_page_carries_the_linkage_with_the_base(five_bar, tmp_path):
+    """On a moving base every bar of the page is the fixed-base bar carried by the base's
+    placement at that sample (moved and turned)."""
+    from freefloat.parallel.five_bar import FiveBarParameters
+
+    point = np.array([0.05, 0.16])
+    q = np.tile(five_bar.mechanism.assemble(point, elbow_guess(FiveBarParameters(), point)), (3, 1))
+    poses = [pin.SE3(pin.exp3(np.array([0.0, 0.0, yaw])), np.array([0.1 * yaw, -0.2, 0.0])) for yaw in (0.0, 0.4, 1.1)]
+    page = write_mechanism_html(five_bar, np.arange(3.0), q, tmp_path / "page.html", fps=1.0,
+                                base=np.array([m.homogeneous for m in poses]))
+    drawn = _bars(page)
+    for bar in linkage_bars(five_bar, np.array([five_bar.pinocchio_q(qk) for qk in q])):
+        carried = [np.array([m.act(bar.start[k]), m.act(bar.end[k])]) for k, m in enumerate(poses)]
+        np.testing.assert_allclose(drawn[bar.name], carried, atol=1e-9)

@@ -119,3 +119,66 @@ def test_builtin_mechanism_scenes_assemble(name):
     """Every built-in mechanism scene assembles its plant at the start with the loop closed."""
     prepared = prepare(load_scene(builtin_scenes()[name]))
     assert np.abs(prepared.setup.plant.constraint(prepared.q0)).max() < 1e-12
+
+
+FREE_BASE_SCENES = ("five_bar_free_base", "rsu_ppap_free_base")
+
+
+def _on_base(raw_scene: str, tmp_path, name: str, duration: float, **mechanism):
+    """The built-in scene ``raw_scene`` shortened to ``duration`` s, its [mechanism] keys
+    replaced by ``mechanism`` (None removes a key), written as ``name`` and loaded."""
+    import tomllib
+
+    from freefloat.inputs import toml_text
+
+    raw = tomllib.loads(builtin_scenes()[raw_scene].read_text())
+    raw["simulation"]["duration"], raw["metrics"]["reaching_phase"] = duration, duration / 2
+    raw["mechanism"].update(mechanism)
+    raw["mechanism"] = {k: v for k, v in raw["mechanism"].items() if v is not None}
+    path = tmp_path / f"{name}.toml"
+    path.write_text(toml_text(raw))
+    return load_scene(path)
+
+
+def test_fixed_base_key_reproduces_todays_run_exactly(tmp_path):
+    """``[mechanism] base = "fixed"`` written out runs exactly the run without the key (the
+    compiled Orsino loop, bit for bit), and its summary has no base keys."""
+    today = runner.simulate(_on_base(SMC, tmp_path, "today", 0.005))
+    fixed = runner.simulate(_on_base(SMC, tmp_path, "fixed", 0.005, base="fixed"))
+    assert fixed.summary["loop"] == today.summary["loop"] == "compiled"
+    for name in ("t", "platform", "joints", "efforts", "drift"):
+        np.testing.assert_array_equal(getattr(fixed.telemetry, name), getattr(today.telemetry, name))
+    assert not fixed.extra_telemetry and "base_rotation_max" not in fixed.summary
+
+
+@pytest.mark.parametrize("name", FREE_BASE_SCENES)
+def test_a_very_heavy_base_is_the_ground(tmp_path, name):
+    """With a 1e8 kg base of 1e8 kg m^2, the free-base run (Pinocchio's constraintDynamics on the
+    tree, the law in the base frame) is the fixed-base run (Orsino's plant) of the same scene: the
+    platform to 1e-9 m, the joints to 1e-8 rad, the efforts to 1e-6 of their peak; the base barely
+    turns."""
+    duration = 0.02 if name.startswith("five_bar") else 0.1
+    heavy = runner.simulate(_on_base(name, tmp_path, "heavy", duration, base_mass=1e8, base_inertia=[1e8] * 3))
+    ground = runner.simulate(_on_base(name, tmp_path, "ground", duration, base="fixed", base_mass=None,
+                                      base_inertia=None))
+    assert heavy.summary["loop"] == "python" and heavy.summary["base_rotation_max"] < 1e-9
+    a, b = heavy.telemetry, ground.telemetry
+    np.testing.assert_allclose(a.platform, b.platform, rtol=0, atol=1e-9)
+    np.testing.assert_allclose(a.joints, b.joints, rtol=0, atol=1e-8)
+    peak = np.nanmax(np.abs(b.efforts))
+    np.testing.assert_allclose(a.efforts[:-1], b.efforts[:-1], rtol=0, atol=1e-6 * peak)
+
+
+@pytest.mark.parametrize("name", FREE_BASE_SCENES)
+def test_free_base_scenes_track_while_the_base_reacts(tmp_path, name):
+    """The built-in free-base scenes, shortened: the base turns and moves (the reaction), the
+    momentum stays put to 1e-9 at zero gravity, the loops stay closed, and the base's telemetry
+    is returned for telemetry_base.npz with one row per mechanism row."""
+    duration = 0.05 if name.startswith("five_bar") else 0.2
+    run = runner.simulate(_on_base(name, tmp_path, name, duration))
+    summary, base = run.summary, run.extra_telemetry["base"]
+    assert run.status == "completed" and summary["base"] in ("planar", "free")
+    assert summary["base_rotation_max"] > 1e-3 and summary["base_displacement_max"] > 1e-4
+    assert summary["momentum_drift_max"] < 1e-9 and summary["loop_closure_drift_max"] < 1e-9
+    assert len(base.t) == len(run.telemetry.t) and np.isfinite(base.momentum).all()
+    np.testing.assert_allclose(summary["base_rotation_max"], np.linalg.norm(base.base_rotation, axis=1).max())

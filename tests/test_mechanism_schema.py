@@ -46,6 +46,18 @@ def test_computed_torque_scene_differs_only_in_the_controller():
         smc.mechanism, smc.initial, smc.trajectory, smc.simulation, smc.metrics)
 
 
+def test_free_base_scenes_put_the_fixed_base_scenes_on_a_satellite():
+    """five_bar_free_base is five_bar_sliding_mode on a 5 kg planar base at zero gravity;
+    rsu_ppap_free_base is rsu_ppap_computed_torque on a 50 kg free base at zero gravity."""
+    for free, fixed, kind, mass in (("five_bar_free_base", "five_bar_sliding_mode", "planar", 5.0),
+                                    ("rsu_ppap_free_base", "rsu_ppap_computed_torque", "free", 50.0)):
+        a, b = find_scene(free), find_scene(fixed)
+        assert (a.mechanism.base, a.mechanism.base_mass, a.mechanism.gravity) == (kind, mass, (0.0, 0.0, 0.0))
+        assert (a.mechanism.name, a.mechanism.plant, a.controller, a.trajectory, a.simulation, a.initial) == (
+            b.mechanism.name, b.mechanism.plant, b.controller, b.trajectory, b.simulation, b.initial)
+        assert b.mechanism.base == "fixed"
+
+
 def test_robot_scenes_stay_robot_scenes():
     """A scene without [mechanism] is still a robot scene."""
     assert isinstance(find_scene("four_arm_joint_space"), Scene)
@@ -70,6 +82,19 @@ def test_robot_scenes_stay_robot_scenes():
     (lambda r: r["simulation"].update(baumgarte=-1.0), "'simulation.baumgarte' must be >= 0"),
     (lambda r: r.update(metrics={"reaching_phase": 1e3}), "'metrics.reaching_phase' (1000.0 s) is not shorter than"),
     (lambda r: r["initial"].update(platform=[]), "'initial.platform' must be a list of one or more finite numbers"),
+    (lambda r: r["mechanism"].update(base="floating"), "'mechanism.base' is 'floating'; valid: fixed, planar, free"),
+    (lambda r: r["mechanism"].update(base="planar", base_mass=-2.0), "'mechanism.base_mass' must be > 0"),
+    (lambda r: r["mechanism"].update(base="free", base_mass="heavy"), "'mechanism.base_mass' must be a number"),
+    (lambda r: r["mechanism"].update(base="free", base_inertia=[1.0, 2.0]),
+     "'mechanism.base_inertia' must be three finite numbers"),
+    (lambda r: r["mechanism"].update(base="free", base_inertia=[[1.0, 0.0, 0.0]] * 3),
+     "'mechanism.base_inertia' must be a list of one or more finite numbers"),
+    (lambda r: r["mechanism"].update(base="free", base_inertia=[1.0, 1.0, 3.0]),
+     "'mechanism.base_inertia' must be three positive principal moments"),
+    (lambda r: r["mechanism"].update(base="planar", base_com=[0.0, 0.1]), "'mechanism.base_com' must be three finite"),
+    (lambda r: r["mechanism"].update(base_mass=5.0), "'mechanism.base_mass' describes the base body, which plays no "
+                                                     "part on a fixed base"),
+    (lambda r: r["mechanism"].update(gravity=[0.0, -9.8]), "'mechanism.gravity' must be three finite numbers"),
 ])
 def test_bad_values_name_the_file_and_the_key(edit, message):
     """Unknown keys, unknown mechanisms and plants, missing or unused gains, wrong types and

@@ -57,7 +57,8 @@ class Closures:
     Attributes:
         path: the closure file.
         spec: its parsed content.
-        model: Pinocchio's fixed-base model of the spanning tree, gravity set.
+        model: Pinocchio's model of the spanning tree, gravity set: fixed-base, or on the root
+            joint :func:`read_closures` was given.
         constraints: one ``RigidConstraintModel`` per closure (LOCAL frame).
         frames: the two frame names of each closure.
         actuated: Pinocchio joint ids of the actuated joints.
@@ -115,8 +116,13 @@ class ClosedChain:
         return out
 
 
-def read_closures(path: str | Path) -> Closures:
+def read_closures(path: str | Path, root_joint: pin.JointModel | None = None) -> Closures:
     """Read a closure file and its URDF into Pinocchio's constrained model.
+
+    Args:
+        root_joint: None for a fixed base (the URDF's root link is the world frame); a planar or
+            free-flyer joint model to put the tree on a moving base (its joint 1, named
+            ``root_joint``; :mod:`freefloat.parallel.free_base`).
 
     Raises:
         FreefloatError: naming the file and the key for a missing URDF, an unknown frame or
@@ -132,7 +138,7 @@ def read_closures(path: str | Path) -> Closures:
     check_numbers(urdf, tree)
     check_joints(urdf, tree)
     try:
-        model = pin.buildModelFromUrdf(str(urdf))
+        model = pin.buildModelFromUrdf(str(urdf)) if root_joint is None else pin.buildModelFromUrdf(str(urdf), root_joint)
     except (RuntimeError, ValueError) as exc:
         raise FreefloatError(f"{urdf}: Pinocchio's URDF parser refuses it ({exc})") from exc
     model.gravity = pin.Motion(np.asarray(spec.get("gravity", [0.0, 0.0, 0.0]), float), np.zeros(3))

@@ -137,6 +137,18 @@ class ParallelMechanism:
         """The same mechanism on the numpy backend (the reference)."""
         return replace(self, backend="numpy")
 
+    def with_gravity(self, gravity: np.ndarray) -> ParallelMechanism:
+        """The same mechanism under another gravity (3,), m/s^2, inertial frame (every chain's).
+
+        Raises:
+            FreefloatError: for a platform with mass, whose generalized gravity ``g_B0`` is not
+                given by a vector alone.
+        """
+        if np.any(self.platform_mass != 0.0):
+            raise FreefloatError("a mechanism whose platform has mass cannot take another gravity here")
+        gravity = np.asarray(gravity, dtype=float)
+        return replace(self, chains=tuple(replace(c, gravity=gravity.copy()) for c in self.chains))
+
     def _point_core(self, q: np.ndarray) -> MechanismCore | None:
         """The compiled core when ``q`` is one point, else None."""
         return self.core if np.ndim(q) == 1 else None

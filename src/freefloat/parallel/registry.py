@@ -25,6 +25,7 @@ from pathlib import Path
 from typing import Callable, NamedTuple
 
 import numpy as np
+import pinocchio as pin
 
 from .closed_chain import ClosedChain, load_closed_chain
 from .five_bar import (
@@ -47,12 +48,16 @@ class MechanismSetup(NamedTuple):
         display: the closure file loaded (Pinocchio spanning tree, for the animation).
         guess: ``q# (p,) -> q° (n_q - p,)``: chain joints near the assembly at those platform
             coordinates (Newton's start in :meth:`ParallelMechanism.assemble`).
+        tree_inertias: writes the plant's link inertias into a Pinocchio model of the closure
+            file's URDF (the spanning tree on a moving base, :mod:`~freefloat.parallel.free_base`);
+            the default leaves the URDF's, right where they are the plant's.
     """
 
     nominal: ParallelMechanism
     plant: ParallelMechanism
     display: ClosedChain
     guess: Callable[[np.ndarray], np.ndarray]
+    tree_inertias: Callable[[pin.Model], None] = lambda model: None
 
 
 @dataclass(frozen=True)
@@ -75,7 +80,19 @@ def five_bar_setup(closure: Path, plant: str) -> MechanismSetup:
     chain = load_closed_chain(closure)
     params = FIVE_BAR_PLANTS[plant]
     true = chain.mechanism if plant == "nominal" else five_bar(params)
-    return MechanismSetup(nominal=chain.mechanism, plant=true, display=chain, guess=partial(elbow_guess, params))
+    return MechanismSetup(nominal=chain.mechanism, plant=true, display=chain, guess=partial(elbow_guess, params),
+                          tree_inertias=partial(five_bar_inertias, params))
+
+
+def five_bar_inertias(params: FiveBarParameters, model: pin.Model) -> None:
+    """The links of ``params`` in a model of ``five_bar.urdf`` (joints ``c<i>_joint<k>``): mass,
+    CoM at lg along the link's x, inertia Jz about z at the CoM, as
+    :func:`~freefloat.parallel.five_bar.five_bar_spec` writes them (the lengths are the URDF's)."""
+    links = ((params.m1, params.lg1, params.Jz1), (params.m2, params.lg2, params.Jz2))
+    for arm in ("c1", "c2"):
+        for k, (mass, lg, jz) in enumerate(links, start=1):
+            model.inertias[model.getJointId(f"{arm}_joint{k}")] = pin.Inertia(mass, np.array([lg, 0.0, 0.0]),
+                                                                              np.diag([0.0, 0.0, jz]))
 
 
 def rsu_ppap_setup(closure: Path, plant: str) -> MechanismSetup:

@@ -1,10 +1,13 @@
 """Closed-chain mechanism experiments: a mechanism from the registry tracks a platform
 reference under computed torque (eq 190) or sliding mode (eq 153) on its nominal model.
 
-The plant is the mechanism by Orsino's coupling (eq 129, Baumgarte-stabilised) in the one loop
-(:func:`freefloat.parallel.closed_loop.track` -> :func:`freefloat.dynamics.simulation.run_plant`,
-compiled when it can), any integrator of the registry on ``q = [q#; q°]``, the controller's
-efforts held over each step.
+On a fixed base (``[mechanism] base = "fixed"``) the plant is the mechanism by Orsino's coupling
+(eq 129, Baumgarte-stabilised) in the one loop (:func:`freefloat.parallel.closed_loop.track` ->
+:func:`freefloat.dynamics.simulation.run_plant`, compiled when it can), any integrator of the
+registry on ``q = [q#; q°]``, the controller's efforts held over each step. On a planar or free
+base the plant is Pinocchio's ``constraintDynamics`` on the spanning tree with its root joint
+(:mod:`freefloat.parallel.free_base`, the Python loop), the same law acting in the base frame,
+and the run also reports the base's motion and the system's momentum.
 """
 
 from __future__ import annotations
@@ -19,6 +22,7 @@ from ...dynamics.integrators import INTEGRATORS
 from ...dynamics.telemetry import MechanismTelemetry, PlantTelemetry
 from ...errors import FreefloatError, SceneError
 from ...parallel.closed_chain import ClosedChain
+from ...parallel import free_base
 from ...parallel.closed_loop import track
 from ...parallel.platform_control import CircleReference
 from ...parallel.sliding_mode import printed_gains
@@ -41,6 +45,7 @@ class PreparedMechanism:
     controller: PlatformControl
     q0: np.ndarray
     qd0: np.ndarray
+    floating: free_base.FloatingMechanism | None = None
 
 
 def prepare(scene: MechanismScene) -> PreparedMechanism:
@@ -54,6 +59,9 @@ def prepare(scene: MechanismScene) -> PreparedMechanism:
     where = f"{scene.source}: " if scene.source else f"scene '{scene.name}': "
     closure = resolve_file(scene, scene.mechanism.closure, "mechanism.closure")
     setup = REGISTRY[scene.mechanism.name].build(closure, scene.mechanism.plant)
+    if scene.mechanism.gravity is not None:
+        gravity = np.asarray(scene.mechanism.gravity)
+        setup = setup._replace(nominal=setup.nominal.with_gravity(gravity), plant=setup.plant.with_gravity(gravity))
     p = setup.nominal.p
     if len(setup.nominal.actuated) != p:
         raise FreefloatError(f"mechanism '{scene.mechanism.name}': {len(setup.nominal.actuated)} actuators for "
@@ -83,6 +91,10 @@ def prepare(scene: MechanismScene) -> PreparedMechanism:
     except FreefloatError as exc:
         raise SceneError(f"{where}'initial.platform': {exc}") from exc
     prepared = PreparedMechanism(scene, setup, closure, controller, q0, setup.plant.velocity_map(q0) @ rates)
+    mech = scene.mechanism
+    if mech.base != "fixed":
+        base = free_base.BaseBody(mech.base, mech.base_mass, mech.base_inertia, mech.base_com, mech.gravity)
+        prepared.floating = free_base.FloatingMechanism(setup.display, closure, base, setup.tree_inertias)
     check_run_size(prepared)
     return prepared
 
@@ -100,8 +112,15 @@ def check_run_size(prepared: PreparedMechanism) -> None:
     n_q, k = len(prepared.q0), len(plant.actuated)
     memory = steps * (8 * (3 * n_q + 2 * k + 8) + 200)  # plant samples, the control log, telemetry
     u = np.zeros(k)
-    forward = seconds_per_call(lambda: plant.forward(prepared.q0, prepared.qd0, u, sim.baumgarte))
-    control = seconds_per_call(lambda: prepared.controller.torque(0.0, prepared.q0, prepared.qd0))
+    if prepared.floating is None:
+        forward = seconds_per_call(lambda: plant.forward(prepared.q0, prepared.qd0, u, sim.baumgarte))
+        control = seconds_per_call(lambda: prepared.controller.torque(0.0, prepared.q0, prepared.qd0))
+    else:
+        tree = prepared.floating.plant(sim.baumgarte)
+        q, v = prepared.floating.tree_state(prepared.q0, prepared.qd0)
+        law = free_base.BaseFrameControl(prepared.controller, prepared.floating)
+        forward = seconds_per_call(lambda: tree.acceleration(q, v, u))
+        control = seconds_per_call(lambda: law.torque(0.0, q, v))
     calls = INTEGRATORS[integrator_name(scene)].stages
     check_budget(scene.name, memory, 1.5 * steps * (calls * forward + control),
                  "'simulation.duration' and 'simulation.step'")
@@ -140,6 +159,8 @@ def run(prepared: PreparedMechanism, progress: Progress | None = None,
     """
     scene = prepared.scene
     sim, controller = scene.simulation, prepared.controller
+    if prepared.floating is not None:
+        return run_on_moving_base(prepared, progress, checkpoint)
     result = track(prepared.setup.plant, controller, prepared.q0, sim.duration, sim.step, sim.step, sim.baumgarte,
                    integrator_name(scene), prepared.qd0, rtol=sim.rtol, atol=sim.atol, progress=progress,
                    checkpoint=None if checkpoint is None else (lambda chunk: checkpoint(record(controller, chunk))))
@@ -150,28 +171,94 @@ def run(prepared: PreparedMechanism, progress: Progress | None = None,
     return outcome(prepared, telemetry, result.status, result.message, result.steps, result.wall_time_s, summary)
 
 
+def run_on_moving_base(prepared: PreparedMechanism, progress: Progress | None = None,
+                       checkpoint: Checkpoint | None = None) -> Outcome:
+    """The loop of a mechanism on a planar or free base (:func:`freefloat.parallel.free_base.track`):
+    the mechanism's telemetry in Orsino's coordinates relative to the base (what the law sees),
+    the base's and the system's in ``telemetry_base.npz``, and the summary's base keys
+    (:func:`summarize_base`)."""
+    scene, floating = prepared.scene, prepared.floating
+    sim, controller = scene.simulation, prepared.controller
+
+    def relative(chunk: PlantTelemetry, completed: bool = False) -> MechanismTelemetry:
+        q, qd = floating.relative_rows(chunk.q, chunk.v)
+        return record(controller, PlantTelemetry(t=chunk.t, q=q, v=qd, efforts=chunk.efforts, reference=chunk.reference,
+                                                 drift=chunk.drift, orientation_drift=chunk.orientation_drift), completed)
+
+    q0, v0 = floating.tree_state(prepared.q0, prepared.qd0)
+    result = free_base.track(floating, controller, q0, v0, sim.duration, sim.step, sim.baumgarte, integrator_name(scene),
+                             rtol=sim.rtol, atol=sim.atol, progress=progress,
+                             checkpoint=None if checkpoint is None else (lambda chunk: checkpoint(relative(chunk))))
+    telemetry = relative(result.telemetry, result.status == "completed")
+    base = floating.describe(result.telemetry)
+    summary = summarize_mechanism(telemetry, scene.metrics.reaching_phase)
+    summary.update(summarize_base(floating, base))
+    summary.update(status=result.status, message=result.message, steps=result.steps, sim_wall_time_s=result.wall_time_s,
+                   loop=result.backend)
+    return outcome(prepared, telemetry, result.status, result.message, result.steps, result.wall_time_s, summary, base)
+
+
+def summarize_base(floating: free_base.FloatingMechanism, base: free_base.BaseTelemetry) -> dict[str, object]:
+    """A moving base's figures of merit (SI units), over the finite samples: ``base`` (its kind),
+    ``base_rotation_max`` (rad, the largest angle the base turned from its attitude at t = 0),
+    ``base_displacement_max`` (m, the root link origin's largest distance from its start),
+    ``momentum_drift_max`` (N s or N m s, the largest change of a component of the system's
+    momentum that nothing outside changes, gravity's impulse taken out:
+    :meth:`~freefloat.parallel.free_base.FloatingMechanism.momentum_drift`),
+    ``momentum_components`` (which: indices into ``[linear; angular]``) and ``com_drift_max`` (m,
+    the system CoM's largest distance from ``com(0) + t P(0)/m + g t^2/2``)."""
+    rows = np.isfinite(base.q).all(axis=1) & np.isfinite(base.v).all(axis=1)
+    if not rows.any():
+        return {"base": floating.base.kind}
+    tel = base.truncated(int(np.argmin(rows)) if not rows.all() else len(rows))
+    t = tel.t - tel.t[0]
+    free_motion = tel.com[0] + np.outer(t, tel.momentum[0, :3] / floating.mass) + 0.5 * np.outer(t * t, floating.model.gravity.linear)
+    return {"base": floating.base.kind,
+            "base_rotation_max": float(np.linalg.norm(tel.base_rotation, axis=1).max()),
+            "base_displacement_max": float(np.linalg.norm(tel.base_position - tel.base_position[0], axis=1).max()),
+            "momentum_drift_max": float(floating.momentum_drift(tel).max()),
+            "momentum_components": list(floating.conserved),
+            "com_drift_max": float(np.linalg.norm(tel.com - free_motion, axis=1).max())}
+
+
 def outcome(prepared: PreparedMechanism, telemetry: MechanismTelemetry, status: str, message: str, steps: int,
-            wall: float, summary: dict[str, object]) -> Outcome:
+            wall: float, summary: dict[str, object], base: free_base.BaseTelemetry | None = None) -> Outcome:
     """The outcome of a mechanism run: telemetry named by the tree's joints and actuators,
-    provenance, platform figures and the animated linkage with the platform and reference paths."""
-    from ..viz.mechanism import write_mechanism_figures, write_mechanism_html
+    provenance, platform figures and the animated linkage with the platform and reference paths;
+    on a moving base (``base``, its telemetry) also the base's figures, and the page moves the
+    linkage with the base."""
+    from ..viz.mechanism import write_base_figures, write_mechanism_figures, write_mechanism_html
 
     scene, chain = prepared.scene, prepared.setup.display
     joints = _joint_names(chain, len(prepared.q0))
     actuated = [chain.model.names[j] for j in chain.actuated]
     q = np.hstack((telemetry.platform, telemetry.joints))
+    floating = prepared.floating
+    poses = None if base is None else np.array([floating.base_placement(qk).homogeneous for qk in base.q])
+
+    def figures(folder: Path) -> list[Path]:
+        written = write_mechanism_figures(telemetry, folder, chain)
+        return written if base is None else written + write_base_figures(base, floating.momentum_drift(base), folder)
+
+    settings = {"integrator": scene.simulation.integrator, "step": scene.simulation.step,
+                "baumgarte": scene.simulation.baumgarte, "controller": scene.controller.kind}
+    if base is not None:
+        settings.update(base=scene.mechanism.base, base_mass=floating.model.inertias[1].mass,
+                        base_inertia=floating.model.inertias[1].inertia.diagonal().tolist(),
+                        gravity=floating.model.gravity.linear.tolist())
     return Outcome(
         telemetry=telemetry, status=status, message=message, steps=steps, wall_time_s=wall, summary=summary,
         names={"joint_names": joints, "actuated": actuated},
         provenance={
             "mechanism": {"name": scene.mechanism.name, "closure": str(prepared.closure), "plant": scene.mechanism.plant,
                           "platform_coordinates": prepared.setup.nominal.p, "joints": joints, "actuated": actuated},
-            "settings": {"integrator": scene.simulation.integrator, "step": scene.simulation.step,
-                         "baumgarte": scene.simulation.baumgarte, "controller": scene.controller.kind},
+            "settings": settings,
         },
-        headline=HEADLINE,
-        figures=lambda folder: write_mechanism_figures(telemetry, folder, chain),
-        page=lambda path, fps: write_mechanism_html(chain, telemetry.t, q, path, fps, telemetry.platform_reference),
+        headline=HEADLINE if base is None else HEADLINE + BASE_HEADLINE,
+        extra_telemetry={} if base is None else {"base": base},
+        figures=figures,
+        page=lambda path, fps: write_mechanism_html(chain, telemetry.t, q, path, fps, telemetry.platform_reference,
+                                                    base=poses),
     )
 
 
@@ -224,5 +311,7 @@ def summarize_mechanism(telemetry: MechanismTelemetry, reaching_phase: float) ->
 #: Summary keys the command line prints for a mechanism run.
 HEADLINE = ("tracking_error_max", "tracking_error_rms", "loop_closure_drift_max", "orientation_drift_max",
             "peak_efforts")
+#: Further keys it prints for a mechanism on a moving base.
+BASE_HEADLINE = ("base_rotation_max", "base_displacement_max", "momentum_drift_max")
 
 EXPERIMENT = Experiment("mechanism", "a closed-chain mechanism tracks a platform reference", prepare, integration_steps, run)

@@ -55,7 +55,7 @@ def parse_section(where: str, section: str, cls: type, raw: Any, rules: Rules) -
             values[key] = choice(where, section, key, typed(where, name, value, str), rules)
         elif kind == "bool":
             values[key] = typed(where, name, value, bool)
-        elif kind in ("int", "float"):
+        elif kind in ("int", "float", "float | None"):
             values[key] = number(where, section, key, value, int if kind == "int" else float, rules)
         elif kind == "tuple[str, ...] | None":
             values[key] = names(where, name, value)

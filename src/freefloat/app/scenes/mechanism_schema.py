@@ -15,6 +15,7 @@ from typing import Any
 
 from ...dynamics.integrators import INTEGRATORS
 from ...errors import SceneError
+from ...parallel.free_base import BASES, base_problem
 from ...parallel.registry import REGISTRY
 from .fields import (
     MAX_HTML_FPS,
@@ -31,11 +32,22 @@ from .fields import (
 @dataclass(frozen=True)
 class MechanismSection:
     """``[mechanism]``: registry ``name``, ``closure`` file (absolute, relative to the scene file,
-    or a file in ``urdf/``) and the ``plant``'s parameter set (one of the entry's plants)."""
+    or a file in ``urdf/``) and the ``plant``'s parameter set (one of the entry's plants).
+
+    ``base``: ``"fixed"`` (the URDF's root link is the inertial frame), ``"planar"`` (a base moving
+    in the inertial xy-plane) or ``"free"`` (6 DOF; :mod:`freefloat.parallel.free_base`). A moving
+    base's body: ``base_mass`` (kg), ``base_inertia`` (principal moments about its CoM, kg m^2),
+    ``base_com`` (in the root link's frame, m); each defaults to the URDF root link's.
+    ``gravity`` (m/s^2, inertial frame) replaces the closure file's (a satellite: zero)."""
 
     name: str
     closure: str
     plant: str = "nominal"
+    base: str = "fixed"
+    base_mass: float | None = None
+    base_inertia: tuple[float, ...] | None = None
+    base_com: tuple[float, ...] | None = None
+    gravity: tuple[float, ...] | None = None
 
 
 @dataclass(frozen=True)
@@ -118,14 +130,17 @@ class MechanismScene:
 #: classical RK4) is ``rkmk4``, identical on Euclidean coordinates.
 ALIASES = {"rk4": "rkmk4"}
 
+#: The scene key of each field of :func:`freefloat.parallel.free_base.base_problem`.
+BASE_KEYS = {"kind": "base", "mass": "base_mass", "inertia": "base_inertia", "com": "base_com", "gravity": "gravity"}
+
 SECTIONS = {"mechanism": MechanismSection, "initial": PlatformStart, "trajectory": TrajectorySection,
             "controller": PlatformControllerSection, "simulation": MechanismSimulation,
             "metrics": MetricsSection, "output": OutputSection}
 RULES = Rules(
-    choices={("mechanism", "name"): tuple(REGISTRY), ("trajectory", "kind"): ("circle",),
+    choices={("mechanism", "name"): tuple(REGISTRY), ("mechanism", "base"): BASES, ("trajectory", "kind"): ("circle",),
              ("controller", "kind"): ("computed_torque", "sliding_mode"),
              ("controller", "saturation"): ("tanh", "sign"), ("simulation", "integrator"): lambda: (*ALIASES, *INTEGRATORS)},
-    positive={("simulation", "duration"), ("simulation", "step"), ("simulation", "rtol"), ("simulation", "atol"), ("controller", "lam"), ("output", "html_fps")},
+    positive={("mechanism", "base_mass"), ("simulation", "duration"), ("simulation", "step"), ("simulation", "rtol"), ("simulation", "atol"), ("controller", "lam"), ("output", "html_fps")},
     non_negative={("simulation", "baumgarte"), ("metrics", "reaching_phase"), ("trajectory", "radius")},
 )
 
@@ -135,8 +150,9 @@ def parse_mechanism_scene(raw: dict[str, Any], source: Path | None = None) -> Me
 
     Raises:
         SceneError: naming the file and the key for unknown keys, wrong types, impossible values,
-            a plant the mechanism does not list, gains missing for sliding mode or given to
-            computed torque, and a step longer than the duration.
+            a plant the mechanism does not list, a base body that is no rigid body (or given to a
+            fixed base), gains missing for sliding mode or given to computed torque, and a step
+            longer than the duration.
     """
     where = f"{source}: " if source else "scene: "
     reject_unknown(where, "", raw, {"name", "description", *SECTIONS})
@@ -151,6 +167,10 @@ def parse_mechanism_scene(raw: dict[str, Any], source: Path | None = None) -> Me
     if scene.mechanism.plant not in plants:
         raise SceneError(f"{where}'mechanism.plant' is {scene.mechanism.plant!r}; valid for "
                          f"'{scene.mechanism.name}': {', '.join(plants)}")
+    mech = scene.mechanism
+    problem = base_problem(mech.base, mech.base_mass, mech.base_inertia, mech.base_com, mech.gravity)
+    if problem is not None:
+        raise SceneError(f"{where}'mechanism.{BASE_KEYS[problem[0]]}' {problem[1]}")
     ctrl = scene.controller
     if ctrl.kind == "sliding_mode" and (ctrl.n is None or ctrl.T is None):
         raise SceneError(f"{where}controller.kind 'sliding_mode' needs 'controller.n' and 'controller.T'")

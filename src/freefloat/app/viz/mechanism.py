@@ -20,6 +20,7 @@ from matplotlib.figure import Figure
 
 from ...dynamics.telemetry import MechanismTelemetry
 from ...parallel.closed_chain import ClosedChain
+from ...parallel.free_base import BaseTelemetry
 from ...robot.loading import load_robot
 from .camera import PLANE_VIEW
 from .markers import PALETTE, Bar, Marker
@@ -91,13 +92,49 @@ def drift_figure(telemetry: MechanismTelemetry) -> Figure:
     return fig
 
 
+def write_base_figures(base: BaseTelemetry, momentum_drift: np.ndarray, out_dir: str | Path) -> list[Path]:
+    """A mechanism on a moving base: write ``base_attitude`` (:func:`base_attitude_figure`) and
+    ``momentum`` (:func:`momentum_figure`) as PNG and PDF; returns the paths."""
+    return save_all({"base_attitude": base_attitude_figure(base),
+                     "momentum": momentum_figure(base, momentum_drift)}, Path(out_dir))
+
+
+def base_attitude_figure(base: BaseTelemetry) -> Figure:
+    """The base's reaction: the rotation vector of its attitude against its start (rad, x, y, z
+    and the angle turned) and its displacement (m, x, y, z) vs t."""
+    fig, (turn, move) = figure(2, 1, (9.0, 7.0), "Base reaction: attitude and position")
+    for i, axis in enumerate(COORDINATES):
+        curve(turn, base.t, base.base_rotation[:, i], f"rotation vector {axis}")
+    curve(turn, base.t, np.linalg.norm(base.base_rotation, axis=1), "angle turned", color="black", linestyle="--")
+    finish(turn, "t (s)", "log3(R(0)^T R(t)) (rad)")
+    for i, axis in enumerate(COORDINATES):
+        curve(move, base.t, base.base_position[:, i] - base.base_position[0, i], axis)
+    finish(move, "t (s)", "base displacement (m)")
+    return fig
+
+
+def momentum_figure(base: BaseTelemetry, drift: np.ndarray) -> Figure:
+    """The system's momentum about its CoM, each component vs t (linear N s, angular N m s), and
+    the largest change of the conserved components (``drift`` (N,), gravity's impulse taken out:
+    what the loop and the integrator leave), log axis."""
+    fig, (linear, angular, change) = figure(3, 1, (9.0, 9.0), "System momentum (about its CoM, inertial axes)")
+    for i, axis in enumerate(COORDINATES):
+        curve(linear, base.t, base.momentum[:, i], f"P_{axis}")
+        curve(angular, base.t, base.momentum[:, 3 + i], f"L_{axis}")
+    finish(linear, "t (s)", "linear (N s)")
+    finish(angular, "t (s)", "angular (N m s)")
+    log_curve(change, base.t, drift, "max |h(t) - h(0) - impulse of gravity|")
+    finish(change, "t (s)", "momentum drift (N s; N m s)")
+    return fig
+
+
 def _unit(kind: str) -> str:
     """Effort unit of a Pinocchio joint type: N for prismatic joints, N m otherwise."""
     return "N" if "Prismatic" in kind or kind.startswith("JointModelP") else "N m"
 
 
 def write_mechanism_html(chain: ClosedChain, t: np.ndarray, q: np.ndarray, path: str | Path, fps: float,
-                         reference: np.ndarray | None = None) -> Path:
+                         reference: np.ndarray | None = None, base: np.ndarray | None = None) -> Path:
     """Self-contained meshcat page of a mechanism run: the linkage (:func:`linkage_bars`,
     :func:`joint_markers`), the platform point and its path, the closure points
     (:func:`closure_markers`) and the reference path; a planar mechanism (two platform
@@ -111,6 +148,9 @@ def write_mechanism_html(chain: ClosedChain, t: np.ndarray, q: np.ndarray, path:
         path: output ``.html`` file.
         fps: animation frames per second of simulated time.
         reference: the platform reference q#_d (N, p), drawn as a dashed path; None: none.
+        base: a moving base's placement at each sample (N, 4, 4), inertial frame: ``q`` and
+            ``reference`` are then in the base frame, and the base, linkage, markers and paths
+            are drawn where the base carries them; None: a fixed base.
     """
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
@@ -121,14 +161,24 @@ def write_mechanism_html(chain: ClosedChain, t: np.ndarray, q: np.ndarray, path:
     for j in range(1, tree.njoints):  # same URDF, so the same joint names; the robot adds its base
         start, size = model.idx_qs[model.getJointId(tree.names[j])], tree.nqs[j]
         configurations[:, start:start + size] = tree_q[:, tree.idx_qs[j]:tree.idx_qs[j] + size]
+    if base is not None:  # the robot's free flyer is the root link's placement
+        configurations[:, :7] = [pin.SE3ToXYZQUAT(pin.SE3(pose)) for pose in base]
     p = chain.mechanism.p
-    platform = Marker("platform", PLATFORM_COLOR, _padded(np.asarray(q, float)[:, :p]))
+    carried = (lambda points: points) if base is None else (lambda points: _carried(base, points))
+    platform = Marker("platform", PLATFORM_COLOR, carried(_padded(np.asarray(q, float)[:, :p])))
     lines = []
     if reference is not None and np.isfinite(reference).all():
-        lines.append(("platform_reference", REFERENCE_COLOR, _padded(np.asarray(reference, float))))
-    markers = joint_markers(chain, tree_q) + closure_markers(chain, tree_q) + [platform]
-    return write_trajectory_html(robot, t, configurations, path, fps=fps, markers=markers,
-                                 bars=linkage_bars(chain, tree_q), lines=lines, view=PLANE_VIEW if p < 3 else None)
+        lines.append(("platform_reference", REFERENCE_COLOR, carried(_padded(np.asarray(reference, float)))))
+    markers = [m._replace(positions=carried(m.positions)) for m in joint_markers(chain, tree_q) + closure_markers(chain, tree_q)]
+    bars = [b._replace(start=carried(b.start), end=carried(b.end)) for b in linkage_bars(chain, tree_q)]
+    return write_trajectory_html(robot, t, configurations, path, fps=fps, markers=markers + [platform],
+                                 bars=bars, lines=lines, view=PLANE_VIEW if p < 3 else None)
+
+
+def _carried(base: np.ndarray, points: np.ndarray) -> np.ndarray:
+    """Points given in the base frame at each sample (N, 3) in the inertial frame, the base at
+    ``base`` (N, 4, 4)."""
+    return np.einsum("nij,nj->ni", base[:, :3, :3], points) + base[:, :3, 3]
 
 
 def _padded(points: np.ndarray) -> np.ndarray:

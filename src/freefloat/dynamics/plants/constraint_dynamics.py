@@ -13,7 +13,7 @@ from ...errors import SimulationDiverged
 
 class ConstraintDynamicsPlant:
     """``pin.constraintDynamics`` on a tree's coordinates with rigid closures, by Pinocchio's
-    proximal solver (mu 1e-12).
+    proximal solver (mu 1e-12 unless given).
 
     Args:
         model: the spanning tree (fixed or floating base), gravity set.
@@ -24,12 +24,14 @@ class ConstraintDynamicsPlant:
             same correction as eq 129).
         max_drift: a closure gap above this (m) is a blow-up.
         accuracy, iterations: the proximal solver's accuracy and most iterations.
+        mu: the proximal solver's regularisation (larger: better conditioned where closure rows
+            are redundant, more iterations elsewhere).
     """
 
     name = "constraint_dynamics"
 
     def __init__(self, model: pin.Model, constraints: Sequence, actuated: Sequence[int], baumgarte: float = 0.0,
-                 max_drift: float = 1.0, accuracy: float = 1e-12, iterations: int = 50):
+                 max_drift: float = 1.0, accuracy: float = 1e-12, iterations: int = 50, mu: float = 1e-12):
         self.space, self.baumgarte, self.max_drift = model, float(baumgarte), float(max_drift)
         self.actuated = np.asarray(actuated, dtype=int)
         self.n_efforts = len(self.actuated)
@@ -39,7 +41,7 @@ class ConstraintDynamicsPlant:
         self.data = model.createData()
         self.cdatas = [cm.createData() for cm in self.constraints]
         pin.initConstraintDynamics(model, self.data, self.constraints, self.cdatas)
-        self.settings = pin.ProximalSettings(accuracy, 1e-12, iterations)
+        self.settings = pin.ProximalSettings(accuracy, mu, iterations)
         self.tau = np.zeros(model.nv)
         self.kinematics = model.createData()
 

@@ -1,0 +1,301 @@
+"""A parallel mechanism on a moving base: its spanning tree on a planar or free-flyer root joint
+(the satellite that carries it), the loop closures as Pinocchio rigid constraints, and the
+platform law of the fixed-base mechanism acting relative to the base.
+
+The plant is Pinocchio's ``constraintDynamics`` on that tree
+(:class:`~freefloat.dynamics.plants.ConstraintDynamicsPlant`):
+
+.. math::
+
+    M(q) a + h(q, v) = S^T u + J(q)^T \\lambda, \\qquad
+    J a = -\\dot J v - 2 \\lambda_B J v - \\lambda_B^2 e(q)
+
+``q`` (nq,) the tree's configuration, root joint first (planar: x, y, cos, sin of the yaw in the
+inertial xy-plane; free flyer: position and quaternion xyzw), ``v`` (nv,) its velocity (the
+root's in Pinocchio's local convention), ``S`` (k, nv) the actuated joints' rows, ``J`` the
+closures' Jacobians, ``e`` the closure gaps, ``lambda_B`` Baumgarte's rate (1/s). At zero gravity
+nothing outside acts on the system, so its momentum is conserved; on a planar base, the
+in-plane components (linear x, y, angular z).
+
+The controller (:class:`BaseFrameControl`) measures what a controller on the base can: the joint
+angles (relative to the base) and the platform point in the base frame, by the fixed-base tree's
+forward kinematics. It maps them to Orsino's coordinates ``q = [q#; q°]`` of the fixed-base
+mechanism, so the thesis's laws (:class:`~freefloat.parallel.sliding_mode.PlatformControl`)
+track the reference relative to the base; the base's reaction is a disturbance they do not model.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pinocchio as pin
+
+from ..dynamics.plants import ConstraintDynamicsPlant
+from ..dynamics.simulation import RunResult, run_plant
+from ..dynamics.telemetry import Arrays, PlantTelemetry
+from ..errors import FreefloatError
+from .closed_chain import AXES, ClosedChain, read_closures
+
+#: Base kinds: ``fixed`` (the URDF's root link is the inertial frame), ``planar`` (x, y and yaw
+#: in the inertial xy-plane), ``free`` (6 DOF).
+BASES = ("fixed", "planar", "free")
+#: Root joint of each moving base.
+ROOT_JOINTS = {"planar": pin.JointModelPlanar, "free": pin.JointModelFreeFlyer}
+#: Components of the momentum ``[linear; angular]`` that nothing outside changes, per moving base
+#: (a planar joint bears the out-of-plane force and moments).
+CONSERVED = {"planar": (0, 1, 5), "free": (0, 1, 2, 3, 4, 5)}
+#: Regularisation of Pinocchio's proximal solver on a moving base. A closure row can be redundant
+#: (the 5R's point closure along the normal of its plane): with mu = 1e-12 the solver's rounding
+#: there grows as 1/mu and, on a tumbling base, broke momentum conservation by 9e-6 N s in 0.05 s
+#: (torque-free 5R, RK4 at 0.1 ms); with 1e-4, 9e-14 N s, the accelerations unchanged (to 2e-11).
+PROXIMAL_MU = 1e-4
+
+
+def base_problem(kind: str, mass: float | None = None, inertia: Sequence[float] | None = None,
+                 com: Sequence[float] | None = None, gravity: Sequence[float] | None = None) -> tuple[str, str] | None:
+    """What is wrong with a base description, as ``(field, problem)``, or None.
+
+    ``kind`` one of :data:`BASES`; ``mass`` > 0 (kg); ``inertia`` three principal moments about
+    the base's CoM (kg m^2), positive and each at most the sum of the other two (a rigid body);
+    ``com`` and ``gravity`` three finite numbers (m, m/s^2). The body's fields (mass, inertia,
+    com) describe a moving base; a fixed base takes none.
+    """
+    if kind not in BASES:
+        return "kind", f"is {kind!r}; valid: {', '.join(BASES)}"
+    if kind == "fixed":
+        given = [name for name, value in (("mass", mass), ("inertia", inertia), ("com", com)) if value is not None]
+        if given:
+            return given[0], "describes the base body, which plays no part on a fixed base"
+    if mass is not None and not (np.isfinite(mass) and mass > 0):
+        return "mass", f"must be > 0 (kg), got {mass!r}"
+    for name, value in (("inertia", inertia), ("com", com), ("gravity", gravity)):
+        if value is not None and (np.shape(value) != (3,) or not np.isfinite(np.asarray(value, float)).all()):
+            return name, f"must be three finite numbers, got {list(np.ravel(value))!r}"
+    if inertia is not None:
+        moments = np.asarray(inertia, float)
+        if (moments <= 0).any() or (2.0 * moments.max() > moments.sum() * (1.0 + 1e-12)):
+            return "inertia", (f"must be three positive principal moments (kg m^2), each at most the sum of the "
+                               f"other two (a rigid body), got {moments.tolist()}")
+    return None
+
+
+@dataclass(frozen=True)
+class BaseBody:
+    """The moving base (a satellite) and the gravity it flies in.
+
+    Attributes:
+        kind: ``"planar"`` or ``"free"`` (:data:`ROOT_JOINTS`).
+        mass: kg; None: the URDF root link's.
+        inertia: principal moments (3,) about the base's CoM along the root link's axes, kg m^2;
+            None: the URDF root link's inertia.
+        com: the base's CoM in the root link's frame (3,), m; None: the URDF's.
+        gravity: inertial frame (3,), m/s^2; None: the closure file's.
+
+    Raises:
+        FreefloatError: naming the field (:func:`base_problem`); a fixed base is no moving base.
+    """
+
+    kind: str = "free"
+    mass: float | None = None
+    inertia: tuple[float, float, float] | None = None
+    com: tuple[float, float, float] | None = None
+    gravity: tuple[float, float, float] | None = None
+
+    def __post_init__(self) -> None:
+        problem = base_problem(self.kind, self.mass, self.inertia, self.com, self.gravity)
+        if problem is None and self.kind == "fixed":
+            problem = "kind", "is 'fixed': a BaseBody describes a planar or free base"
+        if problem is not None:
+            raise FreefloatError(f"BaseBody '{problem[0]}' {problem[1]}")
+
+
+@dataclass
+class BaseTelemetry(Arrays):
+    """The moving base and the whole system along a run, one row per step.
+
+    Attributes:
+        t: time, s (N,).
+        q: the tree's configuration, root joint first (N, nq).
+        v: its velocity (N, nv).
+        base_position: the root link's origin, inertial frame, m (N, 3).
+        base_rotation: rotation vector of the base's attitude against its attitude at t = 0,
+            ``log3(R(0)^T R(t))``, rad (N, 3) (its norm: the angle turned).
+        momentum: the system's momentum about its CoM, inertial axes, ``[linear; angular]``,
+            N s and N m s (N, 6).
+        com: the system's CoM, inertial frame, m (N, 3).
+    """
+
+    t: np.ndarray
+    q: np.ndarray
+    v: np.ndarray
+    base_position: np.ndarray
+    base_rotation: np.ndarray
+    momentum: np.ndarray
+    com: np.ndarray
+
+
+class FloatingMechanism:
+    """A closure file's mechanism with its spanning tree on a moving base.
+
+    Args:
+        chain: the mechanism loaded on its fixed base (:class:`ClosedChain`: Orsino's model, its
+            coordinates and the fixed-base tree, which gives the base-frame kinematics).
+        closure: the closure file it was loaded from (the same URDF and closures).
+        base: the base body and the gravity.
+        tree_inertias: writes the plant's link inertias into the tree (a registry's
+            ``MechanismSetup.tree_inertias``); the default keeps the URDF's.
+
+    Attributes:
+        model: the tree on its root joint (joint 1, ``root_joint``), the base body's inertia on
+            it, gravity set.
+        constraints: one ``RigidConstraintModel`` per closure on ``model``.
+        actuated: velocity index in ``model`` of each actuator, in the closure file's order (k,).
+
+    Raises:
+        FreefloatError: as :func:`read_closures`.
+    """
+
+    def __init__(self, chain: ClosedChain, closure: str | Path, base: BaseBody,
+                 tree_inertias: Callable[[pin.Model], None] = lambda model: None):
+        closures = read_closures(closure, ROOT_JOINTS[base.kind]())
+        model = closures.model
+        tree_inertias(model)
+        root = model.inertias[1]
+        model.inertias[1] = pin.Inertia(root.mass if base.mass is None else float(base.mass),
+                                        root.lever if base.com is None else np.asarray(base.com, float),
+                                        root.inertia if base.inertia is None else np.diag(np.asarray(base.inertia, float)))
+        if base.gravity is not None:
+            model.gravity = pin.Motion(np.asarray(base.gravity, float), np.zeros(3))
+        self.chain, self.base, self.model, self.constraints = chain, base, model, closures.constraints
+        self.actuated = np.array([model.idx_vs[j] for j in closures.actuated])
+        self.root_nq, self.root_nv = model.nqs[1], model.nvs[1]
+        fixed = chain.model
+        for j in range(1, fixed.njoints):  # the same URDF: its joints follow the root, in the same order
+            if model.idx_qs[model.getJointId(fixed.names[j])] != self.root_nq + fixed.idx_qs[j]:
+                raise FreefloatError(f"{closure}: joint '{fixed.names[j]}' is ordered differently on a moving base")
+        p, n_q = chain.mechanism.p, chain.mechanism.n_q
+        owner = {i: j for j, i in sorted(chain.joint_coordinates.items(), reverse=True)}  # the first joint of each
+        #: Orsino's chain coordinate q°_i is the fixed tree's coordinate ``joint_index[i]``.
+        self.joint_index = np.array([fixed.idx_qs[owner[i]] for i in range(p, n_q)])
+        spec = closures.spec["platform"]
+        self.platform_frame = fixed.getFrameId(spec["frame"])
+        self.axes = [AXES[c] for c in spec.get("coordinates", ["x", "y", "z"])]
+        self.data, self.fixed_data = model.createData(), fixed.createData()
+        self.mass = pin.computeTotalMass(model)
+
+    @property
+    def conserved(self) -> tuple[int, ...]:
+        """Indices of the momentum components ``[linear; angular]`` nothing outside changes but
+        gravity (:data:`CONSERVED`)."""
+        return CONSERVED[self.base.kind]
+
+    def plant(self, baumgarte: float = 0.0, max_drift: float = 1.0) -> ConstraintDynamicsPlant:
+        """The plant of the one loop: ``constraintDynamics`` on :attr:`model` with the closures,
+        efforts on :attr:`actuated`, Baumgarte ``lambda`` (1/s), the proximal solver's mu
+        :data:`PROXIMAL_MU`."""
+        return ConstraintDynamicsPlant(self.model, self.constraints, self.actuated, baumgarte, max_drift,
+                                       mu=PROXIMAL_MU)
+
+    def tree_state(self, q: np.ndarray, qd: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The tree's ``(q (nq,), v (nv,))`` at Orsino's ``q``, ``qd`` (n_q,), the base at the
+        inertial origin, unturned and at rest."""
+        config, velocity = pin.neutral(self.model), np.zeros(self.model.nv)
+        config[self.root_nq:] = self.chain.pinocchio_q(q)
+        velocity[self.root_nv:] = self.chain.pinocchio_q(qd)
+        return config, velocity
+
+    def relative(self, q: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Orsino's ``(q, qd)`` (n_q,) relative to the base at the tree's state ``(q, v)``: the
+        platform point's coordinates q# and rates in the base frame (the root link's; the
+        fixed-base tree's forward kinematics at the joints), and the chains' joints q°."""
+        fixed, data = self.chain.model, self.fixed_data
+        joints, rates = q[self.root_nq:], v[self.root_nv:]
+        pin.forwardKinematics(fixed, data, joints, rates)
+        frame = pin.updateFramePlacement(fixed, data, self.platform_frame)
+        velocity = pin.getFrameVelocity(fixed, data, self.platform_frame, pin.LOCAL_WORLD_ALIGNED).linear
+        return (np.concatenate((frame.translation[self.axes], joints[self.joint_index])),
+                np.concatenate((velocity[self.axes], rates[self.joint_index])))
+
+    def relative_rows(self, q: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """:meth:`relative` at each recorded state (N, nq), (N, nv): two arrays (N, n_q)."""
+        rows = [self.relative(qk, vk) for qk, vk in zip(q, v)]
+        n_q = self.chain.mechanism.n_q
+        return (np.array([r[0] for r in rows]).reshape(-1, n_q), np.array([r[1] for r in rows]).reshape(-1, n_q))
+
+    def base_placement(self, q: np.ndarray) -> pin.SE3:
+        """The root link's placement in the inertial frame at the tree's ``q``."""
+        pin.forwardKinematics(self.model, self.data, q)
+        return self.data.oMi[1]
+
+    def momentum(self, q: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The system's momentum about its CoM, inertial axes, ``[linear; angular]`` (6,), and its
+        CoM (3,), m."""
+        pin.computeCentroidalMomentum(self.model, self.data, q, v)
+        return self.data.hg.vector.copy(), self.data.com[0].copy()
+
+    def describe(self, telemetry: PlantTelemetry) -> BaseTelemetry:
+        """The base and system quantities of a run's rows (:class:`BaseTelemetry`)."""
+        n = len(telemetry.t)
+        position, rotation, momentum, com = np.zeros((n, 3)), np.zeros((n, 3)), np.zeros((n, 6)), np.zeros((n, 3))
+        start = None
+        for k in range(n):
+            placement = self.base_placement(telemetry.q[k])
+            start = placement.rotation.copy() if start is None else start
+            position[k], rotation[k] = placement.translation, pin.log3(start.T @ placement.rotation)
+            momentum[k], com[k] = self.momentum(telemetry.q[k], telemetry.v[k])
+        return BaseTelemetry(t=telemetry.t, q=telemetry.q, v=telemetry.v, base_position=position,
+                             base_rotation=rotation, momentum=momentum, com=com)
+
+    def momentum_drift(self, telemetry: BaseTelemetry) -> np.ndarray:
+        """Per row, the largest change of a conserved momentum component beyond gravity's
+        impulse: ``max_i |h_i(t) - h_i(0) - [m g t; 0]_i|`` over :attr:`conserved` (N,), N s or
+        N m s (gravity exerts no moment about the CoM)."""
+        impulse = np.zeros((len(telemetry.t), 6))
+        impulse[:, :3] = self.mass * np.outer(telemetry.t - telemetry.t[0], self.model.gravity.linear)
+        change = telemetry.momentum - telemetry.momentum[:1] - impulse
+        return np.abs(change[:, list(self.conserved)]).max(axis=1)
+
+
+class BaseFrameControl:
+    """A platform law of the fixed-base mechanism on Orsino's coordinates (its ``torque(t, q,
+    qd)``, :class:`~freefloat.parallel.sliding_mode.PlatformControl`), on the moving base: it
+    reads the joints and the platform in the base frame (:meth:`FloatingMechanism.relative`) and
+    its efforts drive the actuated joints (the plant's ``actuated``, the same order).
+
+    Attributes:
+        law: the fixed-base law.
+        mechanism: the mechanism on its moving base.
+    """
+
+    def __init__(self, law: Any, mechanism: FloatingMechanism):
+        self.law, self.mechanism = law, mechanism
+
+    @property
+    def model(self) -> Any:
+        """The nominal model the law believes."""
+        return self.law.model
+
+    def torque(self, t: float, q: np.ndarray, v: np.ndarray) -> np.ndarray:
+        """Actuator efforts (k,) at the tree's state ``(q, v)``, N m or N."""
+        return self.law.torque(t, *self.mechanism.relative(q, v))
+
+    def reference(self, t: float) -> np.ndarray:
+        """The platform reference q#_d (p,) in the base frame."""
+        return self.law.reference(t)
+
+
+def track(mechanism: FloatingMechanism, law: Any, q0: np.ndarray, v0: np.ndarray, duration: float, step: float,
+          baumgarte: float = 100.0, integrator: str = "rkmk4", **run: Any) -> RunResult:
+    """The closed loop on the moving base from the tree's ``(q0, v0)``: one ``integrator`` step of
+    ``step`` s per row, the law (through :class:`BaseFrameControl`) held over each step, by
+    :func:`~freefloat.dynamics.simulation.run_plant` (the Python loop: this plant is not compiled).
+
+    Args:
+        run: further keywords of ``run_plant`` (``rtol``, ``atol``, ``progress``, ``checkpoint``).
+    """
+    return run_plant(mechanism.plant(baumgarte), q0, v0, duration, step, integrator,
+                     BaseFrameControl(law, mechanism), **run)
