@@ -7,7 +7,8 @@ forward and inverse dynamics, assembly), ``closed_chain`` (URDF spanning tree + 
 ``sliding_mode`` (the control law, gain design, chattering, printed gains), ``closed_loop`` (a
 mechanism and its law wired into the one loop of :mod:`freefloat.dynamics`: the law held over a
 control period or evaluated at every stage), ``platform_control`` (circle references), ``sweeps``
-(Dask) and ``registry`` (mechanisms by name for scenes). No time loop of its own: the plant is
+(Dask), ``registry`` (mechanisms by name for scenes) and ``free_base`` (a mechanism's tree on a
+planar or free base, Pinocchio's ``constraintDynamics`` as its plant, the law in the base frame). No time loop of its own: the plant is
 :class:`freefloat.dynamics.plants.CoupledChainPlant`, run by ``dynamics.simulation.run_plant``.
 
 May import: :mod:`freefloat.dynamics` (plants, the loop, the compiled core), :mod:`freefloat.robot`
