@@ -80,3 +80,55 @@ def test_flatten_names_tables_and_lists():
     flat = flatten({"a": 1.0, "b": [1, [2, 3]], "c": {"x": np.float64(2.5), "y": [4]}})
     assert flat == {"a": 1.0, "b[0]": 1, "b[1][0]": 2, "b[1][1]": 3, "c.x": 2.5, "c.y[0]": 4}
     assert type(flat["c.x"]) is float
+
+
+def test_a_worker_loads_its_robot_once_and_rows_do_not_depend_on_it(short_task, monkeypatch):
+    """Runs of a batch in one process parse and check the robot's URDF once, and each row equals
+    the row of the same run in a process that kept nothing (robots and compiled loops forgotten)."""
+    from freefloat.app.batch import one_run
+    from freefloat.dynamics import compiled
+    from freefloat.robot import loading
+
+    plans = plan_runs(short_task, prepared(short_task), [Band("joint_rate", 2.0), Band("mass", 0.1)], 3, seed=5)
+    one_run.ROBOTS.clear()
+    compiled.clear_loops()
+    fresh = []
+    for plan in plans:
+        one_run.ROBOTS.clear()
+        compiled.clear_loops()
+        fresh.append(run_one(plan))
+    parsed = []
+    original = loading._load
+    monkeypatch.setattr(loading, "_load", lambda *args: parsed.append(1) or original(*args))
+    one_run.ROBOTS.clear()
+    kept = [run_one(plan) for plan in plans]
+    assert len(parsed) == 1
+    timings = set(one_run.TIMINGS)
+    assert [{k: v for k, v in r.items() if k not in timings} for r in kept] == \
+           [{k: v for k, v in r.items() if k not in timings} for r in fresh]
+    assert all(r["status"] == "completed" for r in kept)
+
+
+def test_a_remembered_robot_is_a_copy_with_the_same_warnings(tmp_path):
+    """Within remembered_loads a second load of an unchanged file gives an equal robot with its own
+    pin.Model and the same warnings; a changed file is loaded again."""
+    from freefloat.paths import URDF_DIR
+    from freefloat.robot.loading import load_robot, remembered_loads
+
+    store: dict = {}
+    with remembered_loads(store), warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        first = load_robot(URDF_DIR / "four_arm_planar.urdf", visuals=False)
+        n_first = len(caught)
+        second = load_robot(URDF_DIR / "four_arm_planar.urdf", visuals=False)
+    assert n_first > 0 and [str(w.message) for w in caught[n_first:]] == [str(w.message) for w in caught[:n_first]]
+    assert second.model is not first.model and second.model == first.model
+    assert second.end_effectors == first.end_effectors and len(store) == 1
+    copy = tmp_path / "robot.urdf"
+    copy.write_text((URDF_DIR / "two_arm_planar.urdf").read_text())
+    with remembered_loads(store), warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        load_robot(copy, visuals=False)
+        copy.write_text(copy.read_text() + "\n")
+        load_robot(copy, visuals=False)
+    assert len(store) == 3

@@ -8,10 +8,14 @@ link. The base reference point is the root link's centre of mass, as in the diss
 
 from __future__ import annotations
 
+import contextlib
+import contextvars
+import dataclasses
 import os
 import re
 import warnings
 import xml.etree.ElementTree as ET
+from collections.abc import Iterator
 from pathlib import Path
 
 import numpy as np
@@ -42,6 +46,24 @@ GRIPPER_WORDS = re.compile(r"finger|gripper|thumb|jaw|claw", re.IGNORECASE)
 BASE_COM_FRAME = "base_com"
 #: What ``load_robot(inertias=...)`` takes: the URDF's inertias, or a balanced copy of them.
 INERTIAS = ("as_given", "balanced")
+
+
+#: The store of :func:`remembered_loads` in effect (None: every call loads).
+_remembered: contextvars.ContextVar[dict | None] = contextvars.ContextVar("remembered_loads", default=None)
+
+
+@contextlib.contextmanager
+def remembered_loads(store: dict) -> Iterator[None]:
+    """Within the block, :func:`load_robot` loads and checks a file once per ``store``: a call with
+    the same arguments on the same file, unchanged (size and modification time), gets a copy of
+    the robot loaded before (its own ``pin.Model``) and the same warnings. For a worker that runs
+    many scenes on one robot (``freefloat batch``: about 12 ms of parsing and checks per run of the
+    four-arm robot); ``store`` (a dict the caller keeps) lives as long as the caller wants."""
+    token = _remembered.set(store)
+    try:
+        yield
+    finally:
+        _remembered.reset(token)
 
 
 class FreefloatWarning(UserWarning):
@@ -102,6 +124,25 @@ def load_robot(
         path = find_robot(str(path))
     if not path.is_file():
         raise RobotModelError(f"{path}: no such URDF file")
+    store, key = _remembered.get(), None
+    if store is not None:
+        stat = path.stat()
+        key = (str(path.resolve()), stat.st_mtime_ns, stat.st_size, base,
+               None if end_effectors is None else tuple(end_effectors), tuple(gravity.tolist()), visuals, inertias)
+        if key in store:
+            robot = store[key]
+            for note in robot.warnings:
+                warnings.warn(note, FreefloatWarning, stacklevel=2)
+            return dataclasses.replace(robot, model=pin.Model(robot.model))
+    robot = _load(path, base, end_effectors, gravity, visuals, inertias)
+    if store is not None:
+        store[key] = dataclasses.replace(robot, model=pin.Model(robot.model))
+    return robot
+
+
+def _load(path: Path, base: str, end_effectors: list[str] | tuple[str, ...] | None, gravity: np.ndarray, visuals: bool,
+          inertias: str) -> Robot:
+    """:func:`load_robot` of a checked path and arguments."""
     tree = read_urdf(path)
     check_numbers(path, tree)
     check_joints(path, tree)
@@ -141,7 +182,7 @@ def load_robot(
     if visuals:
         visual_model = _visual_model(path, model, xml, notes)
     for note in notes:
-        warnings.warn(note, FreefloatWarning, stacklevel=2)
+        warnings.warn(note, FreefloatWarning, stacklevel=3)
 
     ee_names = _end_effectors(path, model, urdf.robot, end_effectors)
     return Robot(

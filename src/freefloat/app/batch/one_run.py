@@ -1,5 +1,10 @@
 """One run of a batch, as a worker process runs it: prepare the varied scene, swap in the varied
-plant, run the loop, and reduce the outcome to one flat row."""
+plant, run the loop, and reduce the outcome to one flat row.
+
+A worker loads and checks the scene's robot once (:func:`~freefloat.robot.loading.remembered_loads`
+over :data:`ROBOTS`, kept as long as the process) and runs every run on one compiled loop per
+robot structure (:mod:`freefloat.dynamics.compiled` keeps it), reset between runs: only the
+varied state and masses change from one run to the next."""
 
 from __future__ import annotations
 
@@ -13,6 +18,7 @@ import pinocchio as pin
 from ...dynamics.integrators import make_integrator
 from ...dynamics.models import make_model
 from ...dynamics.threads import single_blas_thread
+from ...robot.loading import remembered_loads
 from ..experiments import experiment_for
 from ..experiments.robot_run import RobotSetup
 from ..runner import fail_if_not_finite, note_model_choice, resolved_setup
@@ -20,6 +26,8 @@ from .variations import RunPlan
 
 #: Row keys that vary from one execution of the same run to the next (not results).
 TIMINGS = ("wall_time_s", "sim_wall_time_s")
+#: The robots this process has loaded for batch runs (see :func:`remembered_loads`).
+ROBOTS: dict = {}
 
 
 @single_blas_thread
@@ -35,7 +43,7 @@ def run_one(plan: RunPlan) -> dict[str, Any]:
     row: dict[str, Any] = {"run": plan.index, "seed": plan.seed, "status": "failed", "message": "", **plan.varied}
     try:
         experiment = experiment_for(plan.scene)
-        with warnings.catch_warnings():
+        with warnings.catch_warnings(), remembered_loads(ROBOTS):
             warnings.simplefilter("ignore")  # the batch showed the scene's warnings once
             setup = resolved_setup(plan.scene)  # model = "auto" chosen here as in freefloat simulate
         if plan.masses:
