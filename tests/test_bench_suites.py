@@ -29,9 +29,10 @@ def toy(monkeypatch):
 
 
 def test_registry_lists_exactly_the_suites():
-    """The registry holds the MuJoCo scenes and the eight former scripts, in the order ``all`` runs them."""
+    """The registry holds the MuJoCo scenes, the eight former scripts and the fixed-cost suite, in the
+    order ``all`` runs them."""
     assert list(SUITES) == [DEFAULT, "simulation", "integrators", "gjm", "models", "locking", "parallel", "batch",
-                            "figures"]
+                            "figures", "setup"]
 
 
 def test_help_lists_every_registered_suite(toy, capsys):
@@ -204,9 +205,21 @@ def _figures(r):
     assert t["figures_over_simulation"] == pytest.approx(t["figures_png_pdf_s"] / t["simulation_s"])
 
 
+def _setup(r):
+    for arms in r["settings"]["arm_counts"]:
+        row = r[f"nv{6 + 4 * arms}"]
+        assert row["best_s"] == {"new_loop": min(row["fixed_s"]["new_loop"]), "kept_loop": min(row["fixed_s"]["kept_loop"]),
+                                 "loop_1s": min(row["loop_1s_s"])}
+        assert row["fixed_over_loop"]["kept_loop"] == pytest.approx(row["best_s"]["kept_loop"] / row["best_s"]["loop_1s"])
+    for name in r["settings"]["scenes"]:
+        row = r[name]
+        assert row["rows_identical"] and row["completed"] == row["runs"]
+        assert row["reused_over_fresh"] == pytest.approx(row["best_s"]["fresh"] / row["best_s"]["reused"])
+
+
 #: Per suite, what its numbers must agree on (a new suite needs a check).
 CHECKS = {"simulation": _simulation, "integrators": _integrators, "gjm": _gjm, "models": _models,
-          "locking": _locking, "parallel": _parallel, "batch": _batch, "figures": _figures}
+          "locking": _locking, "parallel": _parallel, "batch": _batch, "figures": _figures, "setup": _setup}
 
 
 @pytest.mark.parametrize("name", PARTS_SUITES)

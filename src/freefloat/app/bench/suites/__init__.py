@@ -121,6 +121,8 @@ for _suite in (
     Suite("batch", "freefloat batch's runs per second serially, on 2 processes and on Dask", ".batch",
           (("distributed", "dask"),)),
     Suite("figures", "writing a run's figures against the simulation itself", ".figures"),
+    Suite("setup", "a run's fixed cost against its loop, nv 22 to 198, and a batch's runs per second, each run "
+                   "fresh or reused", ".setup"),
 ):
     register(_suite)
 
