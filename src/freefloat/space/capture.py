@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import dataclasses
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 import pinocchio as pin
@@ -82,17 +83,22 @@ class Target:
 
 
 class TargetBody:
-    """The target as a one-body free-flyer Pinocchio model, with a frame at the grasp point."""
+    """The target as a one-body free-flyer Pinocchio model, with a frame at each grasp point:
+    ``grasp`` (``target.grasp``), then ``grasp_2``, ... for ``more_grasps`` (body frame, from the
+    CoM, m)."""
 
-    def __init__(self, target: Target):
+    def __init__(self, target: Target, more_grasps: tuple[np.ndarray, ...] = ()):
         self.target = target
         model = pin.Model()
         joint = model.addJoint(0, pin.JointModelFreeFlyer(), pin.SE3.Identity(), "target")
         model.appendBodyToJoint(joint, pin.Inertia(target.mass, np.zeros(3), np.diag(target.inertia)), pin.SE3.Identity())
-        model.addFrame(pin.Frame("grasp", joint, pin.SE3(np.eye(3), np.asarray(target.grasp, float)), pin.FrameType.OP_FRAME))
+        names = ["grasp", *(f"grasp_{k + 2}" for k in range(len(more_grasps)))]
+        for name, point in zip(names, (target.grasp, *more_grasps)):
+            model.addFrame(pin.Frame(name, joint, pin.SE3(np.eye(3), np.asarray(point, float)), pin.FrameType.OP_FRAME))
         model.gravity = pin.Motion.Zero()
         self.model, self.data = model, model.createData()
-        self.grasp_id = model.getFrameId("grasp")
+        self.grasp_ids = tuple(model.getFrameId(name) for name in names)
+        self.grasp_id = self.grasp_ids[0]
 
     def initial_state(self) -> tuple[np.ndarray, np.ndarray]:
         """``(q, v)`` of the target: pose and local twist from the inertial data."""
@@ -102,10 +108,10 @@ class TargetBody:
         v = np.concatenate((R.T @ np.asarray(t.velocity, float), R.T @ np.asarray(t.angular_velocity, float)))
         return q, v
 
-    def grasp_point(self, q: np.ndarray) -> np.ndarray:
-        """Grasp point, inertial frame (3,)."""
+    def grasp_point(self, q: np.ndarray, k: int = 0) -> np.ndarray:
+        """Grasp point ``k``, inertial frame (3,)."""
         pin.framesForwardKinematics(self.model, self.data, q)
-        return self.data.oMf[self.grasp_id].translation.copy()
+        return self.data.oMf[self.grasp_ids[k]].translation.copy()
 
     def momentum(self, q: np.ndarray, v: np.ndarray) -> np.ndarray:
         """[P; L about the inertial origin] of the target (6,)."""
@@ -184,6 +190,73 @@ def attach(robot: Robot, end_effector: str, q: np.ndarray, body: TargetBody, q_t
 
 
 @dataclass
+class FlyingTarget:
+    """The target's free flight during an approach.
+
+    Attributes:
+        q, v: its state when the approach ended (7,), (6,): pose (xyz, quaternion) and local twist.
+        poses: its CoM frame poses, inertial, one per control period from the start (N, 4, 4).
+        closest: smallest largest gap between grasp points and end-effectors (m) and when (s).
+    """
+
+    q: np.ndarray
+    v: np.ndarray
+    poses: np.ndarray
+    closest: tuple[float, float]
+
+
+def approach(robot: Robot, body: TargetBody, end_effectors: tuple[str, ...], control_period: float,
+             duration: float, tolerance: float, integrator: str, q0: np.ndarray | None, v0: np.ndarray | None,
+             kp: float, kd: float, model: str) -> tuple[Any, FlyingTarget]:
+    """The robot holds its posture (computed torque on its joints) while the target flies freely,
+    until every grasp point ``k`` of ``body`` is within ``tolerance`` of ``end_effectors[k]``'s
+    frame origin: the run's result (status ``"stopped"`` there) and the target's flight.
+
+    Raises:
+        FreefloatError: when the grasp points do not all come within ``tolerance`` in ``duration`` s
+            (the message names the end-effectors and gives the closest approach and when).
+    """
+    from ..dynamics.integrators import make_integrator
+    from ..dynamics.models import ExactModel
+    from ..dynamics.simulation import run
+    from .control.detumbling_control import DetumblingController
+    from .detumbling import joint_indices, task_rows
+
+    q_t, v_t = body.initial_state()
+    target_step = make_integrator(integrator, body.model)
+    zero = np.zeros(6)
+    frames = [robot.model.getFrameId(name) for name in end_effectors]
+    data = robot.model.createData()
+    flight = FlyingTarget(q_t, v_t, [pin.XYZQUATToSE3(q_t).homogeneous], (np.inf, 0.0))
+
+    def reached(t: float, q: np.ndarray, v: np.ndarray) -> bool:
+        flight.q, flight.v = target_step.advance(
+            lambda qs, vs: pin.aba(body.model, body.data, qs, vs, zero), flight.q, flight.v, control_period)
+        flight.poses.append(pin.XYZQUATToSE3(flight.q).homogeneous)
+        pin.framesForwardKinematics(robot.model, data, q)
+        pin.framesForwardKinematics(body.model, body.data, flight.q)
+        gap = max(float(np.linalg.norm(body.data.oMf[g].translation - data.oMf[f].translation))
+                  for g, f in zip(body.grasp_ids, frames))
+        if gap < flight.closest[0]:
+            flight.closest = (gap, t)
+        return gap < tolerance
+
+    hold = DetumblingController(robot, task_rows(robot, [(end_effectors[0], "angular")]), joint_indices(robot, None),
+                                start=np.inf, control_period=control_period, kp=kp, kd=kd, model=model)
+    q0 = robot.neutral() if q0 is None else q0
+    v0 = np.zeros(robot.model.nv) if v0 is None else v0
+    pre = run(robot, q0, v0, duration, control_period, make_integrator(integrator, robot.model), ExactModel(robot),
+              hold, stop=reached)
+    if pre.status != "stopped":
+        gap, when = flight.closest
+        names = "' and '".join(end_effectors)
+        raise FreefloatError(f"target never reaches '{names}' within {tolerance} m in "
+                             f"{duration} s (closest approach {gap:.4g} m at t = {when:.4g} s)")
+    flight.poses = np.array(flight.poses)
+    return pre, flight
+
+
+@dataclass
 class CaptureResult:
     """A capture and detumbling run.
 
@@ -227,38 +300,12 @@ def capture_and_detumble(robot: Robot, target: Target, end_effector: str, rows_s
     from .detumbling import joint_indices, task_rows
 
     body = TargetBody(target)
-    q_t, v_t = body.initial_state()
-    target_step = make_integrator(integrator, body.model)
-    zero = np.zeros(6)
-    fid = robot.model.getFrameId(end_effector)
-    data = robot.model.createData()
-    state = {"q_t": q_t, "v_t": v_t, "closest": (np.inf, 0.0), "poses": [pin.XYZQUATToSE3(q_t).homogeneous]}
-
-    def reached(t: float, q: np.ndarray, v: np.ndarray) -> bool:
-        state["q_t"], state["v_t"] = target_step.advance(
-            lambda qs, vs: pin.aba(body.model, body.data, qs, vs, zero), state["q_t"], state["v_t"], control_period)
-        state["poses"].append(pin.XYZQUATToSE3(state["q_t"]).homogeneous)
-        pin.framesForwardKinematics(robot.model, data, q)
-        gap = float(np.linalg.norm(body.grasp_point(state["q_t"]) - data.oMf[fid].translation))
-        if gap < state["closest"][0]:
-            state["closest"] = (gap, t)
-        return gap < tolerance
-
-    all_joints = joint_indices(robot, None)
-    hold = DetumblingController(robot, task_rows(robot, rows_spec), all_joints, start=np.inf, control_period=control_period,
-                                kp=kp, kd=kd, model=model)
-    q0 = robot.neutral() if q0 is None else q0
-    v0 = np.zeros(robot.model.nv) if v0 is None else v0
-    pre = run(robot, q0, v0, approach_time, control_period, make_integrator(integrator, robot.model), ExactModel(robot),
-              hold, stop=reached)
-    if pre.status != "stopped":
-        gap, when = state["closest"]
-        raise FreefloatError(f"target never reaches '{end_effector}' within {tolerance} m in {approach_time} s "
-                             f"(closest approach {gap:.4g} m at t = {when:.4g} s)")
+    pre, state = approach(robot, body, (end_effector,), control_period, approach_time, tolerance, integrator, q0, v0,
+                          kp, kd, model)
     t_hit = pre.telemetry.t[-1]
     q, v = pre.telemetry.q[-1], pre.telemetry.v[-1]
-    hit = impact(robot, end_effector, q, v, body, state["q_t"], state["v_t"])
-    merged = attach(robot, end_effector, q, body, state["q_t"])
+    hit = impact(robot, end_effector, q, v, body, state.q, state.v)
+    merged = attach(robot, end_effector, q, body, state.q)
     merged_after = robot_momentum(merged, q, hit.v_robot)
     controller = DetumblingController(merged, task_rows(merged, rows_spec), joint_indices(merged, joints), start=0.0,
                                       control_period=control_period, method=method, kp=kp, kd=kd, model=model)
@@ -284,7 +331,7 @@ def capture_and_detumble(robot: Robot, target: Target, end_effector: str, rows_s
         "status": post.status,
     }
     post_poses = attached_poses(merged, tel.q)
-    poses = np.concatenate((np.array(state["poses"][: len(pre.telemetry.t)]), post_poses))
+    poses = np.concatenate((state.poses[: len(pre.telemetry.t)], post_poses))
     return CaptureResult(pre.telemetry, tel, merged, float(t_hit), hit, w, summary, poses)
 
 

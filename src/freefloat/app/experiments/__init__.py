@@ -9,12 +9,13 @@ new module and one line in :data:`EXPERIMENTS`.
 from __future__ import annotations
 
 from ...errors import SceneError
-from . import capture, detumbling, joint_space, mechanism
+from . import capture, detumbling, joint_space, mechanism, two_hand_capture
 from .base import Experiment, Outcome, Progress
 
 #: Experiment kinds by the scene kind they run.
 EXPERIMENTS: dict[str, Experiment] = {
-    e.kind: e for e in (joint_space.EXPERIMENT, detumbling.EXPERIMENT, capture.EXPERIMENT, mechanism.EXPERIMENT)
+    e.kind: e for e in (joint_space.EXPERIMENT, detumbling.EXPERIMENT, capture.EXPERIMENT, two_hand_capture.EXPERIMENT,
+                        mechanism.EXPERIMENT)
 }
 
 

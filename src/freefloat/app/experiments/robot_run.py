@@ -10,6 +10,7 @@ from typing import Any
 import numpy as np
 import pinocchio as pin
 
+from ...dynamics.closures import ClosedModel
 from ...dynamics.integrators import INTEGRATORS, Integrator, make_integrator
 from ...dynamics.metrics import summarize
 from ...dynamics.models import DynamicsModel, make_model
@@ -27,12 +28,14 @@ from ..scenes import Scene, resolve_file
 from .base import Checkpoint, Outcome, Progress
 from .budget import check_budget, seconds_per_call
 from .locked_run import full_telemetry, lock_for
+from .scene_closures import assemble, scene_closures
 
 #: Summary keys the command line prints for a robot run (those it has: drifts without external
 #: wrenches, balances with them; the spin's settling for detumbling and capture runs).
 HEADLINE = ("model_auto", "tracking_rms_overall", "com_drift_max", "momentum_drift_max", "energy_drift_max",
             "momentum_balance_max", "momentum_balance_relative", "energy_balance_max", "external_work",
-            "settling_time", "base_angular_velocity_final", "base_displacement", "figures_not_drawn")
+            "settling_time", "base_angular_velocity_final", "base_displacement", "closure_drift_max",
+            "squeeze_max", "figures_not_drawn")
 
 
 @dataclass
@@ -98,15 +101,19 @@ def prepare_robot(scene: Scene) -> RobotSetup:
     displacement = joint_table(robot, scene.task.displacement, s, "task.displacement")
     explicit = joint_table(robot, dict.fromkeys(scene.robot.locked_joints or (), 1.0), 1.0,
                            "robot.locked_joints") != 0.0
-    lock = lock_for(scene, robot, q0, v0, displacement, explicit)
-    plant = robot if lock is None else lock.robot
     sim = scene.simulation
     if sim.model == "auto":
         raise SceneError(f"scene '{scene.name}': 'simulation.model = \"auto\"' is chosen by a pilot run; prepare "
                          "the scene with freefloat.app.runner.prepare")
+    closures = scene_closures(scene, robot)
+    if closures:
+        check_closed_scene(scene, explicit.any())
+        q0, v0 = assemble(scene, robot, closures, q0, v0)
+    lock = None if closures else lock_for(scene, robot, q0, v0, displacement, explicit)
+    plant = robot if lock is None else lock.robot
     setup = RobotSetup(
         scene=scene, robot=robot, q0=q0, v0=v0,
-        model=make_model(sim.model, plant),
+        model=ClosedModel(plant, closures, sim.baumgarte) if closures else make_model(sim.model, plant),
         integrator=make_integrator(sim.integrator, plant.model, sim.substeps, sim.rtol, sim.atol,
                                    project_momentum=sim.project_momentum),
         wrenches=tuple(ExternalWrench(w.link, w.force, w.torque, w.start, w.end, w.rise) for w in scene.wrenches),
@@ -114,6 +121,24 @@ def prepare_robot(scene: Scene) -> RobotSetup:
     )
     check_run_size(setup)
     return setup
+
+
+def check_closed_scene(scene: Scene, locks: bool) -> None:
+    """What a scene with ``[[closures]]`` may ask for: the exact plant, no controller (the
+    robot controllers do not know the loop), no locked joints.
+
+    Raises:
+        SceneError: naming the key that asks for more.
+    """
+    where = f"{scene.source}: " if scene.source else f"scene '{scene.name}': "
+    if scene.simulation.model != "exact":
+        raise SceneError(f"{where}'simulation.model' is '{scene.simulation.model}'; a scene with [[closures]] "
+                         "simulates the exact plant with its loops (model = \"exact\" or \"auto\")")
+    if scene.controller.kind != "none" or scene.kind != "joint_space":
+        raise SceneError(f"{where}[[closures]] run torque-free ('controller.kind = \"none\"', no [task] or "
+                         "[target]); a grasp that closes a loop is a [target] with 'second_end_effector'")
+    if locks or scene.simulation.lock != "none":
+        raise SceneError(f"{where}'robot.locked_joints' and 'simulation.lock' are not available with [[closures]]")
 
 
 def check_run_size(setup: RobotSetup) -> None:
@@ -221,6 +246,9 @@ def summary_of(setup: RobotSetup, result: RunResult, **task: Any) -> dict[str, A
     tel = result.telemetry
     summary = summarize(tel, setup.robot, setup.wrenches, setup.scene.simulation.control_period) if len(tel.t) else {}
     summary.update(task)
+    if isinstance(setup.model, ClosedModel) and len(tel.t):
+        position, rotation = closure_drifts(setup.model, tel.q)
+        summary.update(closure_drift_max=float(position.max()), closure_rotation_drift_max=float(rotation.max()))
     summary.update(status=result.status, message=result.message, steps=result.steps,
                    sim_wall_time_s=result.wall_time_s, model_evaluations=result.evaluations, loop=result.backend)
     return summary
@@ -244,6 +272,7 @@ def robot_outcome(setup: RobotSetup, robot: Robot, telemetry: Telemetry, result:
     t, q = animation or (telemetry.t, telemetry.q)
     sim = setup.scene.simulation
     wrenches = setup.wrenches if wrenches is None else wrenches
+    closed = setup.model if isinstance(setup.model, ClosedModel) and robot is setup.robot else None
     if setup.scene.output.figures and len(telemetry.t) >= 2:
         left_out = empty_figures(robot, telemetry, spin)
         if left_out:
@@ -261,11 +290,28 @@ def robot_outcome(setup: RobotSetup, robot: Robot, telemetry: Telemetry, result:
         },
         headline=HEADLINE,
         extra_telemetry=extra_telemetry or {},
-        figures=lambda folder: write_figures(robot, telemetry, folder, wrenches, sim.control_period, spin,
-                                             settle_threshold),
+        figures=lambda folder: [*write_figures(robot, telemetry, folder, wrenches, sim.control_period, spin,
+                                               settle_threshold), *closure_figures(closed, telemetry, folder)],
         page=lambda path, fps: write_trajectory_html(robot, t, q, path, fps=fps, extra=extra_bodies or None,
                                                           events=events),
     )
+
+
+def closure_drifts(model: ClosedModel, qs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Largest closure position (m) and rotation (rad) residual at each sample of ``qs`` (N,), (N,)."""
+    drifts = np.array([model.drift(q) for q in qs])
+    return drifts[:, 0], drifts[:, 1]
+
+
+def closure_figures(model: ClosedModel | None, telemetry: Telemetry, folder: Path) -> list[Path]:
+    """The ``closed_loop`` figure (closure drift over the run) of a run with closures; none without."""
+    if model is None or len(telemetry.t) < 2:
+        return []
+    from ..viz.loop_figures import loop_figure
+    from ..viz.plotting import save_all
+
+    position, rotation = closure_drifts(model, telemetry.q)
+    return save_all({"closed_loop": loop_figure(telemetry.t, None, None, position, rotation)}, folder)
 
 
 __all__ = ["HEADLINE", "RobotSetup", "control_steps", "joint_table", "prepare_robot", "robot_outcome", "simulate",

@@ -12,6 +12,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from ...dynamics.closures.kinds import ALIASES, KINDS
 from ...dynamics.integrators import INTEGRATORS, check_settings
 from ...dynamics.simulation import BACKENDS
 from ...dynamics.models import MODELS
@@ -92,11 +93,25 @@ class WrenchSection:
 
 
 @dataclass(frozen=True)
+class ClosureSection:
+    """``[[closures]]``: a loop closure between two frames of the robot (link or frame names),
+    active from the start: ``kind`` ``"point"`` (the origins coincide), ``"revolute"`` (and the z
+    axes align: a hinge about the first frame's z) or ``"weld"`` (the frames coincide); see
+    :mod:`freefloat.dynamics.closures`. Simulated with Baumgarte rate ``simulation.baumgarte``."""
+
+    frames: tuple[str, ...] | None = None
+    kind: str = "point"
+
+
+@dataclass(frozen=True)
 class TargetSection:
     """``[target]``: a rigid target that reaches ``end_effector`` at ``contact_time`` s flying
     freely (velocity, inertial, m/s; spin along a principal axis, in angle_unit per s), is grasped
     by an exact inelastic impulse, then detumbled by the ``[task]``. Mass kg, inertia (principal,
-    kg m^2), grasp point in the target frame from its CoM (m), display size (m)."""
+    kg m^2), grasp point in the target frame from its CoM (m), display size (m). With
+    ``second_end_effector`` both hands grasp it at once (:mod:`freefloat.space.dual_capture`): its
+    grasp point ``second_grasp`` (target frame, m) must meet that hand at ``contact_time`` too
+    (default: where the hand is then)."""
 
     end_effector: str
     mass: float = 10.0
@@ -108,17 +123,22 @@ class TargetSection:
     contact_time: float = 0.5
     tolerance: float = 1e-3
     size: tuple[float, float, float] = (0.3, 0.3, 0.3)
+    second_end_effector: str = ""
+    second_grasp: tuple[float, ...] | None = None
 
 
 @dataclass(frozen=True)
 class ControllerSection:
     """``[controller]``: ``kind = "none"`` or ``"computed_torque"`` with scalar gains Kp, Kd and
-    the dynamics model it uses."""
+    the dynamics model it uses; for a two-hand capture, the ``squeeze`` between the hands (N) and
+    a ``torque_limit`` per joint (N m; none when absent)."""
 
     kind: str = "none"
     model: str = "exact"
     kp: float = 10.0
     kd: float = 100.0
+    squeeze: float = 0.0
+    torque_limit: float | None = None
 
 
 @dataclass(frozen=True)
@@ -148,6 +168,7 @@ class SimulationSection:
     project_momentum: bool = False
     lock: str = "none"
     backend: str = "auto"
+    baumgarte: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -165,14 +186,16 @@ class Scene:
     output: OutputSection = OutputSection()
     wrenches: tuple[WrenchSection, ...] = ()
     target: TargetSection | None = None
+    closures: tuple[ClosureSection, ...] = ()
     source: Path | None = None
 
     @property
     def kind(self) -> str:
-        """The experiment kind that runs this scene: ``"capture"`` (a ``[target]``),
-        ``"detumbling"`` (``task.kind = "detumble"``) or ``"joint_space"``."""
+        """The experiment kind that runs this scene: ``"two_hand_capture"`` (a ``[target]`` with
+        a second end-effector), ``"capture"`` (a ``[target]``), ``"detumbling"``
+        (``task.kind = "detumble"``) or ``"joint_space"``."""
         if self.target is not None:
-            return "capture"
+            return "two_hand_capture" if self.target.second_end_effector else "capture"
         return "detumbling" if self.task.kind == "detumble" else "joint_space"
 
     @property
@@ -197,23 +220,24 @@ CHOICES = {
     ("simulation", "integrator"): lambda: tuple(INTEGRATORS),
     ("simulation", "lock"): ("none", "auto"),
     ("simulation", "backend"): BACKENDS,
+    ("closures", "kind"): lambda: (*KINDS, *ALIASES),
     ("", "angle_unit"): ("deg", "rad"),
 }
 POSITIVE = {
     ("task", "duration"), ("simulation", "duration"), ("simulation", "control_period"),
     ("simulation", "substeps"), ("simulation", "rtol"), ("simulation", "atol"), ("simulation", "tolerance"),
     ("simulation", "record_every"), ("output", "html_fps"), ("target", "mass"), ("target", "contact_time"),
-    ("target", "tolerance"),
+    ("target", "tolerance"), ("controller", "torque_limit"),
 }
 NON_NEGATIVE = {("controller", "kp"), ("controller", "kd"), ("task", "start"), ("wrenches", "start"),
-                ("wrenches", "rise")}
+                ("wrenches", "rise"), ("simulation", "baumgarte")}
 RULES = Rules(CHOICES, POSITIVE, NON_NEGATIVE)
 
 
 def parse_robot_scene(raw: dict[str, Any], source: Path | None = None) -> Scene:
     """Validate a robot scene given as a dict (the parsed TOML)."""
     where = f"{source}: " if source else "scene: "
-    top = {"name", "description", "angle_unit", "wrenches", *SECTIONS}
+    top = {"name", "description", "angle_unit", "wrenches", "closures", *SECTIONS}
     reject_unknown(where, "", raw, top)
     if "name" not in raw or "robot" not in raw:
         raise SceneError(f"{where}'name' and [robot] are required")
@@ -229,6 +253,14 @@ def parse_robot_scene(raw: dict[str, Any], source: Path | None = None) -> Scene:
     if not isinstance(wrenches, list):
         raise SceneError(f"{where}'wrenches' must be an array of tables ([[wrenches]]), got {wrenches!r}")
     kwargs["wrenches"] = tuple(parse_section(where, "wrenches", WrenchSection, w, RULES) for w in wrenches)
+    closures = raw.get("closures", [])
+    if not isinstance(closures, list):
+        raise SceneError(f"{where}'closures' must be an array of tables ([[closures]]), got {closures!r}")
+    kwargs["closures"] = tuple(parse_section(where, "closures", ClosureSection, c, RULES) for c in closures)
+    for i, closure in enumerate(kwargs["closures"]):
+        if closure.frames is None or len(closure.frames) != 2 or closure.frames[0] == closure.frames[1]:
+            raise SceneError(f"{where}'closures[{i}].frames' must name two different frames, got "
+                             f"{list(closure.frames or ())}")
     scene = Scene(**kwargs, source=source)
     sim = scene.simulation
     whole_number_of(where, sim.duration, sim.control_period, "simulation.duration", "simulation.control_period")

@@ -1,0 +1,183 @@
+"""Two-hand capture experiments: both hands of a robot grasp one tumbling target at once (one
+impulse closing both welds), then detumble it through the loop it closes
+(:mod:`freefloat.space.dual_capture`)."""
+
+from __future__ import annotations
+
+import dataclasses
+import time
+from dataclasses import dataclass
+
+import meshcat.geometry as mg
+import numpy as np
+import pinocchio as pin
+
+from ...dynamics.metrics import momentum_drift, settling_time, spin_summary, summarize
+from ...dynamics.simulation import RunResult
+from ...errors import FreefloatError, SceneError
+from ...robot.conventions import momentum_about_origin
+from ...space.capture import TARGET_FRAME, Target, target_angular_speed
+from ...space.dual_capture import capture_with_two_hands, loop_history, second_grasp_at_contact
+from ..scenes import Scene
+from .base import Checkpoint, Experiment, Outcome, Progress
+from .capture import TARGET_MATERIAL
+from .capture import prepare as prepare_one_hand
+from .detumbling import mission_joints, rows_spec
+from .robot_run import RobotSetup, control_steps, robot_outcome
+
+#: How the page draws the grasp points: a green and a blue ball, the loop a thin bar between them.
+GRASP_MATERIALS = (mg.MeshPhongMaterial(color=0x20A040), mg.MeshPhongMaterial(color=0x2060D0))
+LOOP_MATERIAL = mg.MeshPhongMaterial(color=0xC02020, opacity=0.8, transparent=True)
+#: Target spin (rad/s) below which the detumbling counts as settled.
+SETTLED = 1e-6
+
+
+@dataclass(kw_only=True)
+class TwoHandSetup(RobotSetup):
+    """A two-hand capture scene resolved before the loop: the robot's setup, the target (its first
+    grasp point meets the first hand at ``target.contact_time``), the two hands and the second
+    grasp point (target frame, m)."""
+
+    target: Target
+    hands: tuple[str, str]
+    second_grasp: np.ndarray
+
+
+def prepare(scene: Scene) -> TwoHandSetup:
+    """The one-hand capture's setup (:func:`.capture.prepare`), the second hand checked, and the
+    second grasp point checked against where that hand is at contact.
+
+    Raises:
+        SceneError: naming ``target.second_end_effector``, ``target.second_grasp`` (with the point
+            that would meet the hand) or what the one-hand setup refuses.
+    """
+    one = prepare_one_hand(scene)
+    tg, robot = scene.target, one.robot
+    where = f"{scene.source}: " if scene.source else f"scene '{scene.name}': "
+    hands = (tg.end_effector, tg.second_end_effector)
+    if hands[1] not in robot.end_effectors or hands[1] == hands[0]:
+        raise SceneError(f"{where}'target.second_end_effector' '{hands[1]}' must be an end-effector other than "
+                         f"'{hands[0]}'; end-effectors: {', '.join(robot.end_effectors)}")
+    rotation = pin.rpy.rpyToMatrix(*np.multiply(tg.rpy_at_contact, scene.angle_scale))
+    meets = second_grasp_at_contact(robot, hands, one.q0, np.asarray(tg.grasp), rotation)
+    if tg.second_grasp is None:
+        second = meets
+    else:
+        second = np.asarray(tg.second_grasp, float)
+        if second.shape != (3,):
+            raise SceneError(f"{where}'target.second_grasp' must be three numbers (m), got {list(tg.second_grasp)}")
+        miss = float(np.linalg.norm(second - meets))
+        if miss > tg.tolerance:
+            raise SceneError(f"{where}'target.second_grasp' {second.tolist()} is {miss:.4g} m from '{hands[1]}' when "
+                             f"'target.grasp' meets '{hands[0]}' (tolerance {tg.tolerance} m): both contacts must "
+                             f"close together; with this posture, second_grasp = {np.round(meets, 6).tolist()}")
+    return TwoHandSetup(**vars(one), hands=hands, second_grasp=second)
+
+
+def run(setup: TwoHandSetup, progress: Progress | None = None, checkpoint: Checkpoint | None = None) -> Outcome:
+    """Approach, the two-hand grasp and detumbling through the loop; the summary (grasp momentum
+    balance, the loop's squeeze and drift, target spin settling, base attitude), the loop figure,
+    and the page with the target, both grasp points and the loop between them."""
+    scene, robot = setup.scene, setup.robot
+    tg, sim, ctrl = scene.target, scene.simulation, scene.controller
+    start = time.perf_counter()
+    try:
+        res = capture_with_two_hands(
+            robot, setup.target, setup.hands, setup.second_grasp, _rows(setup), _joints(setup), sim.control_period,
+            tg.contact_time + 0.5, sim.duration, tg.tolerance, sim.integrator, setup.q0, setup.v0, ctrl.kp, ctrl.kd,
+            sim.baumgarte, ctrl.squeeze, ctrl.torque_limit or 0.0, progress, checkpoint)
+    except FreefloatError as exc:
+        raise SceneError(f"scene '{scene.name}': {exc}") from exc
+    history = loop_history(res, setup.target, sim.baumgarte)
+    wall = time.perf_counter() - start
+    merged = dataclasses.replace(res.merged, visual_model=robot.visual_model)
+    tel, result = res.post, res.post_result
+    summary = summarize(tel, merged)
+    summary.update(spin_summary(merged, tel))
+    summary.update(_loop_summary(res, history, setup))
+    summary.update(status=result.status, message=result.message, sim_wall_time_s=wall,
+                   steps=len(res.pre.t) + len(tel.t) - 2, loop="python")
+    both_t = np.concatenate((res.pre.t, res.impact_time + tel.t[1:]))
+    both_q = np.concatenate((res.pre.q, tel.q[1:]))
+    outcome = robot_outcome(
+        setup, merged, tel, RunResult(tel, result.status, result.message, len(tel.t) - 1, wall, 0), summary,
+        animation=(both_t, both_q), extra_bodies=_page_bodies(tg.size, res.target_poses, res.grasp_poses),
+        extra_telemetry={"pre_capture": res.pre}, events=[(res.impact_time, "both hands grasp")], wrenches=(),
+        spin=True, settle_threshold=SETTLED)
+    robot_figures = outcome.figures
+
+    def figures(folder):
+        from ..viz.loop_figures import loop_figure
+        from ..viz.plotting import save_all
+
+        loop = save_all({"closed_loop": loop_figure(history.t, history.squeeze, history.internal,
+                                                    history.drift_position, history.drift_rotation)}, folder)
+        return [*robot_figures(folder), *loop]
+
+    outcome.figures = figures
+    return outcome
+
+
+def _rows(setup: TwoHandSetup) -> np.ndarray:
+    from ...space.detumbling import task_rows
+
+    return task_rows(setup.robot, rows_spec(setup.scene))
+
+
+def _joints(setup: TwoHandSetup) -> np.ndarray:
+    from ...space.detumbling import joint_indices
+
+    return joint_indices(setup.robot, mission_joints(setup.scene))
+
+
+def _loop_summary(res, history, setup: TwoHandSetup) -> dict:
+    """The task's figures of merit (SI units; angles rad)."""
+    merged, tel = res.merged, res.post
+    w = target_angular_speed(merged, tel.q, tel.v)
+    after = momentum_about_origin(merged.model, merged.model.createData(), tel.q[0], tel.v[0])
+    q_base = tel.base_quaternion
+    attitude = [2.0 * np.arccos(min(1.0, abs(float(np.dot(q_base[0], qk))))) for qk in q_base]
+    saturated = res.controller.log.saturated
+    return {
+        "impact_time": res.impact_time,
+        "momentum_before_impact": res.hit.momentum_before.tolist(),
+        "momentum_after_impact": after.tolist(),
+        "momentum_balance_error": float(np.abs(after - res.hit.momentum_before).max()),
+        "momentum_drift_after_impact": momentum_drift(tel.momentum),
+        "target_angular_velocity_at_impact": float(w[0]),
+        "target_angular_velocity_final": float(w[-1]),
+        "settling_time": settling_time(tel.t, w, SETTLED),
+        "settle_threshold": SETTLED,
+        "squeeze_max": float(np.abs(history.squeeze).max(initial=0.0)),
+        "squeeze_set": setup.scene.controller.squeeze,
+        "internal_force_max": float(history.internal.max(initial=0.0)),
+        "closure_drift_max": float(history.drift_position.max(initial=0.0)),
+        "closure_rotation_drift_max": float(history.drift_rotation.max(initial=0.0)),
+        "base_attitude_change_max": float(max(attitude)),
+        "peak_joint_torque": float(np.abs(tel.tau).max()),
+        "torque_limited_share": float(np.mean(saturated)) if saturated else 0.0,
+        "rows_residual_max": float(max(res.controller.log.rows_residual, default=0.0)),
+    }
+
+
+def _page_bodies(size, target_poses: np.ndarray, grasp_poses: np.ndarray) -> list:
+    """The target box, a ball at each grasp point and a bar between them (the loop's closing
+    link through the target), posed over the page's frames."""
+    bodies = [("target", mg.Mesh(mg.Box(list(size)), TARGET_MATERIAL), target_poses)]
+    for k, material in enumerate(GRASP_MATERIALS):
+        bodies.append((f"grasp_{k + 1}", mg.Mesh(mg.Sphere(0.03), material), grasp_poses[k]))
+    span = grasp_poses[1, :, :3, 3] - grasp_poses[0, :, :3, 3]
+    length = float(np.linalg.norm(span[0]))
+    bar = np.repeat(np.eye(4)[None], len(span), axis=0)
+    bar[:, :3, 3] = 0.5 * (grasp_poses[0, :, :3, 3] + grasp_poses[1, :, :3, 3])
+    for k, d in enumerate(span):  # the cylinder's axis (y) along the span
+        y = d / max(np.linalg.norm(d), 1e-12)
+        x = np.cross(y, [0.0, 0.0, 1.0]) if abs(y[2]) < 0.9 else np.cross(y, [1.0, 0.0, 0.0])
+        x /= np.linalg.norm(x)
+        bar[k, :3, :3] = np.column_stack((x, y, np.cross(x, y)))
+    bodies.append(("loop", mg.Mesh(mg.Cylinder(length, 0.01), LOOP_MATERIAL), bar))
+    return bodies
+
+
+EXPERIMENT = Experiment("two_hand_capture", "both hands grasp one tumbling target at once and detumble it "
+                        "through the closed loop", prepare, control_steps, run)
