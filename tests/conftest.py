@@ -163,3 +163,27 @@ def cli_process(*args: str) -> subprocess.Popen:
     SIGINT ignored, which a child inherits (a background job rightly ignores Ctrl-C)."""
     return subprocess.Popen([sys.executable, "-u", "-c", _FOREGROUND, *args], stdout=subprocess.PIPE,
                             stderr=subprocess.PIPE, text=True)
+
+
+def box_in_both_hands(seed: int):
+    """The dual-arm satellite at a random posture with a 50 kg box whose two grasp points lie on
+    its two tool frames, the box turned at random: ``(robot, body, q, q_t, rng)`` (q_t: the box's
+    pose, xyz and quaternion)."""
+    import pinocchio as pin
+
+    from freefloat.space.capture import Target, TargetBody
+    from freefloat.space.dual_capture import second_grasp_at_contact
+
+    robot = load_robot(REPO / "urdf" / "dual_arm_satellite.urdf", visuals=False)
+    rng = np.random.default_rng(seed)
+    q = pin.neutral(robot.model)
+    q[7:] = rng.uniform(-0.5, 0.5, robot.model.nq - 7)
+    data = robot.model.createData()
+    pin.framesForwardKinematics(robot.model, data, q)
+    rotation = pin.exp3(rng.normal(size=3))
+    grasp = np.array([-0.25, 0.3, 0.0])
+    second = second_grasp_at_contact(robot, ("left_tool0", "right_tool0"), q, grasp, rotation)
+    position = data.oMf[robot.model.getFrameId("left_tool0")].translation - rotation @ grasp
+    target = Target(mass=50.0, inertia=(2.0, 2.5, 3.0), grasp=tuple(grasp), position=tuple(position),
+                    rpy=tuple(pin.rpy.matrixToRpy(rotation)))
+    return robot, TargetBody(target, (second,)), q, pin.SE3ToXYZQUAT(pin.SE3(rotation, position)), rng

@@ -133,3 +133,16 @@ def test_meeting_refuses_a_precessing_spin():
     with pytest.raises(FreefloatError, match="principal axis"):
         Target.meeting((0, 0, 0), 1.0, mass=1.0, inertia=(1.0, 2.0, 3.0), grasp=(0, 0, 0), velocity=(0, 0, 0),
                        angular_velocity=(0.3, 0.4, 0.0))
+
+
+def test_an_approach_too_long_to_simulate_is_refused_naming_the_contact_time(tmp_path):
+    """A contact a million seconds away: the approach alone would run for days, and preparing the
+    scene says so, naming 'target.contact_time' (the detumbling's 'simulation.duration' is short)."""
+    from freefloat.app import runner
+    from freefloat.errors import SceneError
+
+    from .conftest import quiet_scene
+
+    scene = quiet_scene(tmp_path, "capture_planar", target={"contact_time": 1e6})
+    with pytest.raises(SceneError, match=r"'target.contact_time' ask for a run that needs"):
+        runner.prepare(scene)

@@ -354,8 +354,13 @@ def grasp_balance_error(merged: Robot, q: np.ndarray, v_after: np.ndarray, befor
 
 def attached_poses(merged: Robot, qs: np.ndarray) -> np.ndarray:
     """Poses of the captured target frame over the samples (N, 4, 4), inertial frame."""
-    model, data = merged.model, merged.model.createData()
-    fid = model.getFrameId(TARGET_FRAME)
+    return frame_poses(merged, TARGET_FRAME, qs)
+
+
+def frame_poses(robot: Robot, frame: str, qs: np.ndarray) -> np.ndarray:
+    """Poses of ``frame`` over the samples (N, 4, 4), inertial frame."""
+    model, data = robot.model, robot.model.createData()
+    fid = model.getFrameId(frame)
     out = np.empty((len(qs), 4, 4))
     for k, q in enumerate(qs):
         pin.framesForwardKinematics(model, data, q)

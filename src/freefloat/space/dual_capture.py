@@ -24,7 +24,7 @@ import pinocchio as pin
 from ..dynamics.closures import KINDS, ClosedModel, Closure, closing_impulse, closure_drift, solve
 from ..robot.conventions import momentum_about_origin
 from ..robot.robot import Robot
-from .capture import TARGET_FRAME, Target, TargetBody, approach, attach
+from .capture import TARGET_FRAME, Target, TargetBody, approach, attach, frame_poses
 
 #: The merged robot's frame on the target where the second hand holds it.
 SECOND_GRASP_FRAME = "captured_target_grasp_2"
@@ -180,17 +180,6 @@ def _carried(poses: np.ndarray, target: Target, point: np.ndarray) -> np.ndarray
     return out
 
 
-def frame_poses(robot: Robot, frame: str, qs: np.ndarray) -> np.ndarray:
-    """Poses of ``frame`` over the samples (N, 4, 4), inertial frame."""
-    model, data = robot.model, robot.model.createData()
-    fid = model.getFrameId(frame)
-    out = np.empty((len(qs), 4, 4))
-    for k, q in enumerate(qs):
-        pin.framesForwardKinematics(model, data, q)
-        out[k] = data.oMf[fid].homogeneous
-    return out
-
-
 @dataclass
 class LoopHistory:
     """The loop over a run, at the start of each control period (the telemetry rows but the last).
@@ -234,5 +223,5 @@ def loop_history(capture: TwoHandCapture, target: Target, baumgarte: float) -> L
 
 
 __all__ = ["SECOND_GRASP_FRAME", "LoopHistory", "TwoHandCapture", "TwoHandImpact", "attach_with_loop",
-           "capture_with_two_hands", "frame_poses", "grasp_welds", "loop_history", "robot_and_target",
+           "capture_with_two_hands", "grasp_welds", "loop_history", "robot_and_target",
            "second_grasp_at_contact", "two_hand_impact"]

@@ -19,7 +19,7 @@ from ...space.capture import Target, capture_and_detumble
 from ..scenes import Scene
 from .base import Checkpoint, Experiment, Outcome, Progress
 from .detumbling import detumble_task, mission_joints, rows_spec
-from .robot_run import RobotSetup, control_steps, prepare_robot, robot_outcome
+from .robot_run import APPROACH_MARGIN, RobotSetup, control_steps, prepare_robot, robot_outcome
 
 #: How the page draws the target: orange, apart from the robot's greys and blues.
 TARGET_MATERIAL = mg.MeshPhongMaterial(color=0xE07000)
@@ -66,7 +66,7 @@ def run(setup: CaptureSetup, progress: Progress | None = None, checkpoint: Check
     tg, sim, ctrl = scene.target, scene.simulation, scene.controller
     start = time.perf_counter()
     res = capture_and_detumble(robot, setup.target, tg.end_effector, rows_spec(scene), mission_joints(scene),
-                               scene.task.method, sim.control_period, tg.contact_time + 0.5, sim.duration,
+                               scene.task.method, sim.control_period, tg.contact_time + APPROACH_MARGIN, sim.duration,
                                tg.tolerance, integrator=sim.integrator, q0=setup.q0, v0=setup.v0,
                                kp=ctrl.kp, kd=ctrl.kd, model=ctrl.model)
     wall = time.perf_counter() - start

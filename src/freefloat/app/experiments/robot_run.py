@@ -151,15 +151,28 @@ def check_run_size(setup: RobotSetup) -> None:
     """
     scene, robot = setup.scene, setup.robot
     sim, model = scene.simulation, robot.model
-    steps = control_steps(scene)
+    steps = control_steps(scene) + approach_periods(scene)
     row = 8 * (1 + model.nq + model.nv + 3 * robot.n_joints + 13 + 7 * len(robot.end_effectors) + 11)
     memory = 2 * (steps // sim.record_every + 2) * row  # the chunks, then their concatenation
     q0, v0 = setup.plant_state()
     tau = np.zeros(len(v0))
     per_call = seconds_per_call(lambda: setup.model.acceleration(q0, v0, tau))
     calls = steps * sim.substeps * INTEGRATORS[sim.integrator].stages
-    check_budget(scene.name, memory, 1.5 * calls * per_call,
-                 "'simulation.duration', 'control_period', 'substeps' and 'record_every'")
+    keys = "'simulation.duration', 'control_period', 'substeps'" + (", 'record_every' and 'target.contact_time'"
+                                                                   if scene.target else " and 'record_every'")
+    check_budget(scene.name, memory, 1.5 * calls * per_call, keys)
+
+
+#: A capture's approach runs this long past the target's contact time before it gives up, s.
+APPROACH_MARGIN = 0.5
+
+
+def approach_periods(scene: Scene) -> int:
+    """Control periods a capture scene's approach may take (up to the contact time plus
+    :data:`APPROACH_MARGIN`); 0 without a ``[target]``."""
+    if scene.target is None:
+        return 0
+    return round((scene.target.contact_time + APPROACH_MARGIN) / scene.simulation.control_period)
 
 
 def _urdf_of(scene: Scene) -> Path:
@@ -314,5 +327,5 @@ def closure_figures(model: ClosedModel | None, telemetry: Telemetry, folder: Pat
     return save_all({"closed_loop": loop_figure(telemetry.t, None, None, position, rotation)}, folder)
 
 
-__all__ = ["HEADLINE", "RobotSetup", "control_steps", "joint_table", "prepare_robot", "robot_outcome", "simulate",
+__all__ = ["APPROACH_MARGIN", "HEADLINE", "RobotSetup", "approach_periods", "control_steps", "joint_table", "prepare_robot", "robot_outcome", "simulate",
            "summary_of"]

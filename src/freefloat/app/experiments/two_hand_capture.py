@@ -23,7 +23,7 @@ from .base import Checkpoint, Experiment, Outcome, Progress
 from .capture import TARGET_MATERIAL
 from .capture import prepare as prepare_one_hand
 from .detumbling import mission_joints, rows_spec
-from .robot_run import RobotSetup, control_steps, robot_outcome
+from .robot_run import APPROACH_MARGIN, RobotSetup, control_steps, robot_outcome
 
 #: How the page draws the grasp points: a green and a blue ball, the loop a thin bar between them.
 GRASP_MATERIALS = (mg.MeshPhongMaterial(color=0x20A040), mg.MeshPhongMaterial(color=0x2060D0))
@@ -84,7 +84,7 @@ def run(setup: TwoHandSetup, progress: Progress | None = None, checkpoint: Check
     try:
         res = capture_with_two_hands(
             robot, setup.target, setup.hands, setup.second_grasp, _rows(setup), _joints(setup), sim.control_period,
-            tg.contact_time + 0.5, sim.duration, tg.tolerance, sim.integrator, setup.q0, setup.v0, ctrl.kp, ctrl.kd,
+            tg.contact_time + APPROACH_MARGIN, sim.duration, tg.tolerance, sim.integrator, setup.q0, setup.v0, ctrl.kp, ctrl.kd,
             sim.baumgarte, ctrl.squeeze, ctrl.torque_limit or 0.0, progress, checkpoint)
     except FreefloatError as exc:
         raise SceneError(f"scene '{scene.name}': {exc}") from exc

@@ -271,9 +271,6 @@ def parse_robot_scene(raw: dict[str, Any], source: Path | None = None) -> Scene:
     if sim.project_momentum and (scene.wrenches or any(scene.robot.gravity)):
         raise SceneError(f"{where}'simulation.project_momentum' holds the momentum constant, but this scene's "
                          f"{'[[wrenches]]' if scene.wrenches else 'robot.gravity'} change it; remove one of them")
-    if scene.target is not None and scene.target.contact_time >= sim.duration:
-        raise SceneError(f"{where}'target.contact_time' ({scene.target.contact_time} s) is not before the end of the "
-                         f"run ('simulation.duration' = {sim.duration} s): the capture would never happen")
     at_most(where, scene.output.html_fps, MAX_HTML_FPS, "output.html_fps")
     return scene
 

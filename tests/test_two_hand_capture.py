@@ -1,0 +1,58 @@
+"""The two-hand capture experiment (freefloat.app.experiments.two_hand_capture)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from freefloat.app import runner
+from freefloat.errors import SceneError
+
+from .conftest import quiet_scene
+
+SCENE = "capture_two_hands_satellite"
+
+
+@pytest.fixture(scope="module")
+def short_run(tmp_path_factory):
+    """The built-in scene with 0.3 s of detumbling."""
+    return runner.simulate(quiet_scene(tmp_path_factory.mktemp("s"), SCENE, simulation={"duration": 0.3}))
+
+
+def test_the_grasp_keeps_the_momentum_of_robot_and_box(short_run):
+    """The merged robot just after the grasp has robot + box momentum before it, to 1e-12 relative."""
+    s = short_run.summary
+    assert s["momentum_balance_error"] < 1e-12 * np.abs(s["momentum_before_impact"]).max()
+
+
+def test_the_loop_stays_closed_and_carries_the_chosen_squeeze(short_run):
+    """The closure drifts under 1e-7 m, the internal wrench is the scene's 20 N squeeze (1e-6), and
+    no torque exceeds the 150 N m limit."""
+    s = short_run.summary
+    assert s["closure_drift_max"] < 1e-7 and s["squeeze_max"] == pytest.approx(20.0, abs=1e-6)
+    assert s["internal_force_max"] == pytest.approx(20.0, abs=1e-6)
+    assert s["peak_joint_torque"] <= 150.0 * (1 + 1e-12)
+
+
+def test_the_box_stops_turning(short_run):
+    """The rate gain kd = 20/s makes the box's spin decay as exp(-kd t): after 0.3 s it is under
+    5e-3 of its spin just after the grasp (exp(-6) = 2.5e-3)."""
+    s = short_run.summary
+    assert s["target_angular_velocity_final"] < 5e-3 * s["target_angular_velocity_at_impact"]
+
+
+def test_a_second_grasp_off_the_second_hand_is_refused_with_the_right_one(tmp_path):
+    """A second grasp point 10 cm off where the second hand is at contact: the error names the key,
+    the miss, and the point that would close both contacts together."""
+    scene = quiet_scene(tmp_path, SCENE, target={"second_grasp": [-0.25, -0.2, 0.0]})
+    with pytest.raises(SceneError, match=r"'target.second_grasp' \[-0.25, -0.2, 0.0\] is 0.1 m from 'right_tool0'.*"
+                                         r"second_grasp = \[-0.25, -0.3, 0.0\]"):
+        runner.prepare(scene)
+
+
+@pytest.mark.parametrize("hand", ["left_tool0", "no_hand"])
+def test_a_second_hand_that_is_not_another_end_effector_is_refused(tmp_path, hand):
+    """The second hand must be an end-effector other than the first; the error lists them."""
+    scene = quiet_scene(tmp_path, SCENE, target={"second_end_effector": hand})
+    with pytest.raises(SceneError, match=r"'target.second_end_effector' .* end-effectors: left_tool0, right_tool0"):
+        runner.prepare(scene)
