@@ -1,9 +1,13 @@
-"""MJCF text of a closed-chain mechanism: its Pinocchio spanning tree on a fixed base, each
-closure a MuJoCo equality constraint between two sites.
+"""MJCF text of a closed-chain mechanism: its Pinocchio spanning tree on a fixed, planar or free
+base, each closure a MuJoCo equality constraint between two sites.
 
 One MuJoCo body per Pinocchio joint, placed by ``model.jointPlacements`` (the body frame is the
 joint frame), carrying that joint's inertia; one hinge or slide joint per body, unlimited, no
-armature or damping; gravity the model's; contacts off. A point closure (``CONTACT_3D``) is a
+armature or damping; gravity the model's; contacts off. A moving base (:mod:`freefloat.parallel.free_base`)
+is Pinocchio's root joint: a planar root is written as three joints of the root body (slides
+along x and y, then a hinge about z, named ``<root>_x``, ``<root>_y``, ``<root>_yaw``), a
+free-flyer root as a ``<freejoint>`` (:data:`ROOT_JOINTS`; :mod:`.mechanism_mujoco` maps the
+states). A point closure (``CONTACT_3D``) is a
 ``<connect>`` of two sites at its two placements, a frame closure (``CONTACT_6D``) a ``<weld>``
 (the site frames coincide). MuJoCo's constraints are soft: each gets ``solref`` and ``solimp``
 chosen stiff: impedance 0.9999 (:data:`SOLIMP`, MuJoCo's largest) and time constant twice the
@@ -32,6 +36,23 @@ TIMECONST_STEPS = 2.0
 SOLIMP = (0.9999, 0.9999, 0.001, 0.5, 2.0)
 #: Pinocchio contact type -> MuJoCo equality.
 EQUALITIES = {pin.ContactType.CONTACT_3D: "connect", pin.ContactType.CONTACT_6D: "weld"}
+#: MuJoCo joints of a root joint of a moving base: name suffix, type, axis (the root body's frame).
+PLANAR_JOINTS = (("_x", "slide", (1.0, 0.0, 0.0)), ("_y", "slide", (0.0, 1.0, 0.0)), ("_yaw", "hinge", (0.0, 0.0, 1.0)))
+ROOT_JOINTS = ("JointModelPlanar", "JointModelFreeFlyer")
+
+
+def _joints(model: pin.Model, joint_id: int, indent: str) -> list[str]:
+    """The MuJoCo joint lines of Pinocchio joint ``joint_id`` (a root joint of :data:`ROOT_JOINTS`,
+    or one hinge or slide)."""
+    name = model.names[joint_id]
+    kind = model.joints[joint_id].shortname()
+    if kind == "JointModelFreeFlyer":
+        return [f"{indent}<freejoint name={quoteattr(name)}/>"]
+    if kind == "JointModelPlanar":
+        return [f'{indent}<joint name={quoteattr(name + suffix)} type="{joint}" axis="{_num(axis)}" limited="false"/>'
+                for suffix, joint, axis in PLANAR_JOINTS]
+    joint, axis = joint_axis(model, joint_id)
+    return [f'{indent}<joint name={quoteattr(name)} type="{joint}" axis="{_num(axis)}" limited="false"/>']
 
 
 def _pose(placement: pin.SE3) -> str:
@@ -42,11 +63,9 @@ def _pose(placement: pin.SE3) -> str:
 def _body(model: pin.Model, joint_id: int, children: dict[int, list[int]], sites: dict[int, list[str]],
           indent: str) -> list[str]:
     inertia = model.inertias[joint_id]
-    kind, axis = joint_axis(model, joint_id)
     name = quoteattr(model.names[joint_id])
     I = inertia.inertia
-    lines = [f"{indent}<body name={name} {_pose(model.jointPlacements[joint_id])}>",
-             f'{indent}  <joint name={name} type="{kind}" axis="{_num(axis)}" limited="false"/>',
+    lines = [f"{indent}<body name={name} {_pose(model.jointPlacements[joint_id])}>", *_joints(model, joint_id, indent + "  "),
              (f'{indent}  <inertial pos="{_num(inertia.lever)}" mass="{inertia.mass:.17g}" '
               f'fullinertia="{_num([I[0, 0], I[1, 1], I[2, 2], I[0, 1], I[0, 2], I[1, 2]])}"/>'),
              *[indent + "  " + site for site in sites.get(joint_id, [])]]
@@ -56,7 +75,7 @@ def _body(model: pin.Model, joint_id: int, children: dict[int, list[int]], sites
 
 
 def mechanism_mjcf(model: pin.Model, constraints: list, timestep: float, integrator: str) -> str:
-    """MJCF of a fixed-base tree ``model`` with ``constraints`` (Pinocchio ``RigidConstraintModel``
+    """MJCF of a tree ``model`` (fixed base, or a root joint of :data:`ROOT_JOINTS`) with ``constraints`` (Pinocchio ``RigidConstraintModel``
     s, point or frame) as equalities ``closure<i>`` between sites ``closure<i>_a``, ``closure<i>_b``.
 
     Args:

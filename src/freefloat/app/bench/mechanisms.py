@@ -208,7 +208,8 @@ class MechanismBench:
             q0, v0 = self.prepared.q0[tree.from_orsino], self.prepared.qd0[tree.from_orsino]
             sim = MujocoMechanism(tree, method.integrator, method.setting)
             sim.check_inertias(q0)
-            return lambda: MechanismResult(*sim.run(control, q0, v0, self.duration, self.period, method.setting))
+            observed = ObservedController(control, tree)
+            return lambda: MechanismResult(*sim.run(observed, q0, v0, self.duration, self.period, method.setting))
         plant = self.plant(method)
         if method.integrator not in INTEGRATORS:
             raise InvalidArgument(f"bench scene '{self.name}': unknown integrator '{method.integrator}'; "

@@ -16,6 +16,7 @@ from ...errors import UnknownName
 from ..run_folder import Journal, RunFolder
 from ..runner import signals_raise_keyboard_interrupt
 from .free_floating import NOTES, free_floating_scene
+from .floating_mechanisms import FLOATING_SCENES, floating_mechanism_scene
 from .mechanisms import MECHANISM_SCENES, mechanism_scene
 from .options import Options
 from .scene import BenchScene
@@ -23,8 +24,11 @@ from .summary import band_rows, summary_lines
 from .chart import chart
 from .sweep import RECORD_KEYS, Point, sweep, timed_reference
 
-#: Every bench scene with its note: the free-floating robots, then the closed-chain mechanisms.
-ALL_SCENES = {**NOTES, **MECHANISM_SCENES}
+#: Every bench scene with its note: the free-floating robots, the closed-chain mechanisms, and
+#: the mechanisms on a moving base.
+ALL_SCENES = {**NOTES, **MECHANISM_SCENES, **FLOATING_SCENES}
+#: The scenes a bench without scene names sweeps (the moving-base ones are named to run).
+DEFAULT_SCENES = {**NOTES, **MECHANISM_SCENES}
 #: Each measured point, one JSON line (a row of bench.csv), appended as it comes: what a bench
 #: killed outright leaves.
 JOURNAL = "points.jsonl"
@@ -33,9 +37,11 @@ CSV_FIELDS = RECORD_KEYS + ("state_error", "momentum_error", "energy_error", "co
 
 def bench_scene(name: str, duration: float | None, quick: bool, seed: int) -> BenchScene:
     """The bench scene ``name`` of :data:`ALL_SCENES` (:func:`.free_floating.free_floating_scene`,
-    :func:`.mechanisms.mechanism_scene`; the seed applies to the tumbling scenes)."""
+    :func:`.mechanisms.mechanism_scene`, :func:`.floating_mechanisms.floating_mechanism_scene`; the seed applies to the tumbling scenes)."""
     if name in MECHANISM_SCENES:
         return mechanism_scene(name, duration, quick)
+    if name in FLOATING_SCENES:
+        return floating_mechanism_scene(name, duration, quick)
     return free_floating_scene(name, duration, quick, seed)
 
 
@@ -47,7 +53,7 @@ def bench(out: Path, scenes: list[str] | None = None, quick: bool = False, durat
         out: output folder (created; must be new or empty). Each point is appended to
             :data:`JOURNAL` there as it is measured (removed once the files are written), so a
             bench killed outright keeps every point measured.
-        scenes: names from :data:`ALL_SCENES` (default: all).
+        scenes: names from :data:`ALL_SCENES` (default: :data:`DEFAULT_SCENES`).
         quick: each scene's smoke sweep (a few steps, a short duration) and one repeat.
         duration: simulated time per run, s (default: each scene's own).
         repeats: runs per point; the median time counts (default 5, 1 with ``quick``).
@@ -72,7 +78,7 @@ def prepared(options: Options) -> Callable[[RunFolder, Callable[[str], None]], d
     Raises:
         UnknownName: a scene not in :data:`ALL_SCENES`, listing the valid ones.
     """
-    names = list(options.scenes or ALL_SCENES)
+    names = list(options.scenes or DEFAULT_SCENES)
     unknown = [name for name in names if name not in ALL_SCENES]
     if unknown:
         raise UnknownName("bench scene", unknown[0], ALL_SCENES)
