@@ -7,6 +7,7 @@
 #include <pybind11/stl.h>
 
 #include <optional>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -99,6 +100,27 @@ DetumblingTask task_of(const PySimulation& s, std::vector<int> rows, std::vector
   if (secondary != "base_angular_velocity" && secondary != "base_twist")
     throw std::invalid_argument("unknown secondary objective '" + secondary + "'");
   return DetumblingTask{std::move(rows), std::move(joints), m, secondary == "base_twist", rcond};
+}
+
+// A closure as Python hands it over: (joint1, placement1 (4, 4), joint2, placement2 (4, 4),
+// rotation rows), see compiled._closure.
+using ClosureTuple = std::tuple<int, Array, int, Array, std::vector<int>>;
+
+Closure closure_of(const Model& m, const ClosureTuple& c) {
+  const auto& [joint1, placement1, joint2, placement2, rotation_rows] = c;
+  for (int j : {joint1, joint2})
+    if (j < 0 || j >= static_cast<int>(m.njoints)) throw std::invalid_argument("closure joint out of range");
+  for (int r : rotation_rows)
+    if (r < 0 || r > 2) throw std::invalid_argument("closure rotation rows must be 0, 1 or 2");
+  return Closure{static_cast<JointIndex>(joint1), static_cast<JointIndex>(joint2),
+                 se3_at(checked(placement1, 16, "placement1")), se3_at(checked(placement2, 16, "placement2")),
+                 rotation_rows};
+}
+
+std::vector<Closure> closures_of(const Model& m, const std::vector<ClosureTuple>& closures) {
+  std::vector<Closure> out;
+  for (const ClosureTuple& c : closures) out.push_back(closure_of(m, c));
+  return out;
 }
 
 }  // namespace
@@ -212,6 +234,82 @@ PYBIND11_MODULE(_sim, m) {
            py::arg("rows"), py::arg("joints"), py::arg("method"), py::arg("secondary"), py::arg("rcond"),
            py::arg("start"), py::arg("kp"), py::arg("kd"), py::arg("period"), py::arg("hold"), py::arg("previous"),
            "The detumbling law (see DetumblingController), with its state so far (hold, previous: None or (n,)).")
+      .def("set_closures",
+           [](PySimulation& s, const std::vector<ClosureTuple>& closures, double baumgarte) {
+             s.sim->set_closures(closures_of(s.sim->model(), closures), baumgarte);
+           },
+           py::arg("closures"), py::arg("baumgarte"),
+           "The plant's loop closures, each (joint1, placement1 (4, 4), joint2, placement2 (4, 4), rotation "
+           "rows), and Baumgarte rate (1/s): the constrained dynamics of closures.ClosedModel replace ABA.")
+      .def("closure_solve",
+           [](PySimulation& s, const Array& q, const Array& v, const Array& tau) {
+             const Model& m = s.sim->model();
+             ConstrainedDynamics& c = s.sim->closed();
+             Vec a;
+             c.solve(m, s.sim->scratch_data(), vec(q, m.nq, "q"), vec(v, m.nv, "v"), vec(tau, m.nv, "tau"), nullptr, a);
+             return py::make_tuple(out(a), out(c.force), out(c.rows.e), c.rank);
+           },
+           "(a, lambda, e, rank) of the constrained dynamics at (q, v, tau) (closures.solve); "
+           "OverflowError when M is not positive definite.")
+      .def("set_loop_detumbling",
+           [](PySimulation& s, std::vector<int> rows, std::vector<int> joints, double kd, double period,
+              double baumgarte, double squeeze, double torque_limit, const ClosureTuple& closure, int target_joint,
+              const Array& target_placement, double mass, const Array& inertia, int first_joint,
+              const Array& first_placement, std::optional<Array> previous, const Array& force) {
+             const Model& m = s.sim->model();
+             LoopDetumblingLaw law;
+             law.closure = {closure_of(m, closure)};
+             if (law.closure[0].size() != 6) throw std::invalid_argument("a two-hand grasp is a weld (6 rows)");
+             for (int r : rows)
+               if (r < 0 || r >= 6 * s.n_ee) throw std::invalid_argument("detumbling row out of range");
+             for (int j : joints)
+               if (j < 0 || j >= s.n_joints) throw std::invalid_argument("mission joint out of range");
+             for (int j : {target_joint, first_joint})
+               if (j < 0 || j >= static_cast<int>(m.njoints)) throw std::invalid_argument("frame joint out of range");
+             law.rows = std::move(rows);
+             law.joints = std::move(joints);
+             law.kd = kd;
+             law.period = period;
+             law.baumgarte = baumgarte;
+             law.squeeze = squeeze;
+             law.limit = torque_limit;
+             law.target_joint = static_cast<JointIndex>(target_joint);
+             law.target_placement = se3_at(checked(target_placement, 16, "target_placement"));
+             law.mass = mass;
+             law.inertia = Eigen::Map<const Vec3>(checked(inertia, 3, "inertia")).asDiagonal();
+             law.first_joint = static_cast<JointIndex>(first_joint);
+             law.first_placement = se3_at(checked(first_placement, 16, "first_placement"));
+             if (previous) law.previous = vec(*previous, s.n_joints, "previous");
+             law.force = Eigen::Map<const Vec6>(checked(force, 6, "force"));
+             s.sim->set_loop_detumbling(std::move(law));
+           },
+           py::arg("rows"), py::arg("joints"), py::arg("kd"), py::arg("period"), py::arg("baumgarte"),
+           py::arg("squeeze"), py::arg("torque_limit"), py::arg("closure"), py::arg("target_joint"),
+           py::arg("target_placement"), py::arg("mass"), py::arg("inertia"), py::arg("first_joint"),
+           py::arg("first_placement"), py::arg("previous"), py::arg("force"),
+           "The two-hand detumbling law (see LoopDetumblingController), with its state so far (previous "
+           "rates: None or (n,); the closure force lambda (6,)).")
+      .def("loop_detumbling_torque",
+           [](PySimulation& s, double t, const Array& q, const Array& v) {
+             if (s.sim->loop_detumbling() == nullptr) throw std::invalid_argument("no two-hand law is set");
+             const Model& m = s.sim->model();
+             return out(s.sim->loop_detumbling_torque(t, vec(q, m.nq, "q"), vec(v, m.nv, "v")));
+           },
+           "The two-hand law's torques (n,) at time t and (q, v); its state advances as in a run.")
+      .def("take_loop_detumbling_state",
+           [](PySimulation& s) {
+             LoopDetumblingLaw* law = s.sim->loop_detumbling();
+             if (law == nullptr) throw std::invalid_argument("no two-hand law is set");
+             const py::tuple state = py::make_tuple(maybe(law->previous), out(Vec(law->force)),
+                                                    py::cast(law->times), py::cast(law->residuals),
+                                                    py::cast(law->saturated));
+             law->times.clear();
+             law->residuals.clear();
+             law->saturated.clear();
+             return state;
+           },
+           "(previous rates, closure force, and the log since the last call: period times, rows' residuals, "
+           "saturated flags).")
       .def("take_detumbling_state",
            [](PySimulation& s) {
              DetumblingLaw* law = s.sim->detumbling();

@@ -1,8 +1,10 @@
 // The simulation loop of freefloat.dynamics.simulation.run in C++: zero-order-hold control
 // periods, Pinocchio's ABA as the plant with the external wrenches of wrench_field.hpp, an
 // integrator of lie_rk.hpp, a control law with the exact H* and c* (the joint-space computed
-// torque of freefloat.space.control, eqs 136-137, on a quintic reference, or the detumbling law of
-// detumbling_law.hpp), and the telemetry row of simulation.Recorder.
+// torque of freefloat.space.control, eqs 136-137, on a quintic reference, the detumbling law of
+// detumbling_law.hpp, or the two-hand law of loop_detumbling_law.hpp), and the telemetry row of
+// simulation.Recorder. With loop closures (closures.hpp) the plant is the constrained dynamics of
+// closures.ClosedModel instead of ABA.
 #pragma once
 
 #include <pinocchio/algorithm/aba.hpp>
@@ -18,8 +20,10 @@
 #include <memory>
 #include <optional>
 
+#include "closures.hpp"
 #include "detumbling_law.hpp"
 #include "lie_rk.hpp"
+#include "loop_detumbling_law.hpp"
 #include "periods.hpp"
 #include "wrench_field.hpp"
 
@@ -75,6 +79,7 @@ class Simulation {
     configure(integrator, substeps, rtol, atol, control_period, start_time, record_every);
     dynamics_ = [this](const Vec& q, const Vec& v, Vec& a) {
       if (wrenches_.empty()) {
+        if (!closed_.empty()) return closed_.solve(model_, data_, q, v, tau_full_, nullptr, a);
         a = pinocchio::aba(model_, data_, ConstRef(q), ConstRef(v), ConstRef(tau_full_), pinocchio::Convention::LOCAL);
         return;
       }
@@ -85,6 +90,7 @@ class Simulation {
         const Vec3 f = R.transpose() * w.force;
         fext_[w.joint] += pinocchio::Force(f, R.transpose() * w.torque + w.com.cross(f));
       }
+      if (!closed_.empty()) return closed_.solve(model_, data_, q, v, tau_full_, &fext_, a);
       a = pinocchio::aba(model_, data_, ConstRef(q), ConstRef(v), ConstRef(tau_full_), fext_,
                           pinocchio::Convention::LOCAL);
     };
@@ -103,6 +109,8 @@ class Simulation {
     record_every_ = record_every;
     reference_.reset();
     detumbling_.reset();
+    loop_law_.reset();
+    closed_.closures.clear();
     controlled_ = false;
     wrenches_.clear();
     profiles_.clear();
@@ -143,6 +151,28 @@ class Simulation {
   }
   // The detumbling law with its state (held posture, previous rates, residuals), if set.
   DetumblingLaw* detumbling() { return detumbling_ ? &*detumbling_ : nullptr; }
+
+  // The plant's loop closures and Baumgarte rate (none: ABA, the exact tree).
+  void set_closures(std::vector<Closure> closures, double baumgarte) {
+    closed_.closures = std::move(closures);
+    closed_.baumgarte = baumgarte;
+  }
+  ConstrainedDynamics& closed() { return closed_; }
+  Data& scratch_data() { return data_; }  // the plant's Data, for evaluations outside of a run
+
+  void set_loop_detumbling(LoopDetumblingLaw law) {
+    controlled_ = true;
+    loop_law_ = std::move(law);
+  }
+  // The two-hand law with its state (previous rates and force, the log since last taken), if set.
+  LoopDetumblingLaw* loop_detumbling() { return loop_law_ ? &*loop_law_ : nullptr; }
+
+  // The two-hand law's torques at (q, v) and time t (its state advances), outside of any run.
+  Vec loop_detumbling_torque(double t, const Vec& q, const Vec& v) {
+    Vec tau(joints_.n);
+    loop_law_torque(t, q, v, tau);
+    return tau;
+  }
 
   // Wrenches held over the next periods (already scaled by their profile); empty: none.
   void set_wrenches(std::vector<Wrench> wrenches) { wrenches_ = std::move(wrenches); }
@@ -209,6 +239,11 @@ class Simulation {
   // The law's torques at time t for the current state; throws std::overflow_error with the
   // Python loop's message when the detumbling solve fails.
   void control(double t) {
+    if (loop_law_) {
+      loop_law_torque(t, q_, v_, tau_);
+      tau_full_.tail(joints_.n) = tau_;
+      return;
+    }
     if (!reference_ && !detumbling_) return;
     const int n = joints_.n;
     joints_.get(q_, pos_);
@@ -233,6 +268,11 @@ class Simulation {
       }
     }
     tau_full_.tail(n) = tau_;
+  }
+
+  void loop_law_torque(double t, const Vec& q, const Vec& v, Vec& tau) {
+    generalized_jacobian(model_, data_, q, v, base_frame_, ee_frames_, joints_.n, loop_law_->at_state);
+    loop_law_->torque(model_, data_, q, v, nb_, t, tau);
   }
 
   // H_ = H* and c_ = c* of tau = H* qddot + c* (the base eliminated through its rows) at the state.
@@ -322,6 +362,8 @@ class Simulation {
   Dynamics dynamics_;
   std::optional<Quintic> reference_;
   std::optional<DetumblingLaw> detumbling_;
+  std::optional<LoopDetumblingLaw> loop_law_;
+  ConstrainedDynamics closed_;  // the plant's loop closures (none: ABA)
   bool controlled_ = false;  // torques are held (a law or hold()): the work is accumulated
   std::vector<Wrench> wrenches_;
   std::vector<WrenchProfile> profiles_;

@@ -9,9 +9,16 @@ and rebuilt in C++; :class:`CompiledLoop` checks the rebuilt ABA against ``pin.a
 used. Python is entered once per telemetry chunk or progress report, so Ctrl-C, checkpoints and
 progress bars work as in the Python loop.
 
+The plant is the exact tree (Pinocchio's ABA) or, for a
+:class:`~freefloat.dynamics.closures.ClosedModel`, the tree with its loop closures: the constrained
+dynamics of :func:`freefloat.dynamics.closures.solve` (CRBA, RNEA with the external wrenches, the
+closure rows from Pinocchio's kinematics, the Delassus solve with the same redundancy rule;
+``cpp/sim/closures.hpp``).
+
 Two ways to drive it: a whole chunk of periods per call when nothing needs Python between
-periods (no controller, or one with a ``compiled_law``: the computed torque on a quintic or the
-detumbling law of :class:`DetumblingLaw`; external wrenches with their profiles; no stop event),
+periods (no controller, or one with a ``compiled_law``: the computed torque on a quintic, the
+detumbling law of :class:`DetumblingLaw` or the two-hand law of :class:`LoopDetumblingLaw`;
+external wrenches with their profiles; no stop event),
 or one call per period (:meth:`CompiledLoop.step`) with the torques, the active wrenches and the
 stop event from Python: any controller then keeps its Python code, and the period's integration
 and telemetry row are compiled.
@@ -47,8 +54,8 @@ from .integrators import INTEGRATORS
 from .telemetry import Telemetry
 from .wrenches import WrenchField
 
-__all__ = ["COMPILED_INTEGRATORS", "MAX_IDLE", "CompiledEngine", "CompiledLoop", "DetumblingLaw", "clear_loops",
-           "law_of", "unsupported"]
+__all__ = ["COMPILED_INTEGRATORS", "COMPILED_PLANTS", "MAX_IDLE", "CompiledEngine", "CompiledLoop", "DetumblingLaw",
+           "LoopDetumblingLaw", "clear_loops", "law_of", "unsupported"]
 
 if _sim.PINOCCHIO_VERSION != pin.__version__:  # the module is linked to the library it was built with
     raise ImportError(f"freefloat's compiled loop was built against Pinocchio {_sim.PINOCCHIO_VERSION} but "
@@ -59,6 +66,9 @@ if _sim.PINOCCHIO_VERSION != pin.__version__:  # the module is linked to the lib
 #: is not compiled). ``_sim.INTEGRATORS`` lists the compiled side's names; a test checks both agree.
 COMPILED_INTEGRATORS = tuple(name for name, spec in INTEGRATORS.items() if spec.compiled)
 
+#: Plant models the compiled loop integrates: the exact tree, and the tree with loop closures
+#: (``ClosedModel``, its ``closures`` and ``baumgarte`` handed over).
+COMPILED_PLANTS = ("exact", "exact_closed")
 #: ABA of the rebuilt model against ``pin.aba`` at a random state: largest relative difference.
 REBUILD_TOLERANCE = 1e-9
 #: Idle compiled loops a process keeps for the next runs (each holds its model and two ``Data``
@@ -89,10 +99,11 @@ def _digest(*parts: Any) -> bytes:
 
 def unsupported(model: Any, integrator: Any) -> str | None:
     """Why a run with this plant and integrator cannot use the compiled loop, or None when it can:
-    the plant must be the exact model (Pinocchio's ABA) and the integrator one of
+    the plant must be one of :data:`COMPILED_PLANTS` (the exact model, Pinocchio's ABA, or a
+    ``ClosedModel``: the exact tree with loop closures) and the integrator one of
     :data:`COMPILED_INTEGRATORS` (not wrapped in momentum projection)."""
-    if getattr(model, "name", None) != "exact":
-        return f"the plant model is '{getattr(model, 'name', model)}', not 'exact'"
+    if getattr(model, "name", None) not in COMPILED_PLANTS:
+        return f"the plant model is '{getattr(model, 'name', model)}', not one of {', '.join(COMPILED_PLANTS)}"
     spec = INTEGRATORS.get(getattr(integrator, "name", None))
     if spec is None or not spec.compiled or not hasattr(integrator, "model"):
         return f"integrator '{getattr(integrator, 'name', integrator)}' is not compiled"
@@ -135,7 +146,56 @@ class DetumblingLaw:
     report: Callable[[np.ndarray | None, np.ndarray | None, np.ndarray], None]
 
 
-def law_of(controller: Any) -> tuple | DetumblingLaw | None:
+@dataclass
+class LoopDetumblingLaw:
+    """The two-hand detumbling law (``LoopDetumblingController``, steps 1-4 of its module
+    docstring) as the compiled loop runs it (``cpp/sim/loop_detumbling_law.hpp``).
+
+    Attributes:
+        rows: stacked end-effector rows to stop (r,), into the 6k rows ``[v_E; w_E]``.
+        joints: mission joint indices (s,).
+        kd: rate gain, 1/s.
+        period: T, the backward-difference period, s.
+        baumgarte: the closure's Baumgarte rate beta, 1/s.
+        squeeze: s, N.
+        torque_limit: N m per joint; 0: none.
+        closure: the weld between the second hand (frame 1) and its grasp on the target.
+        target_joint, target_placement: the frame at the target's CoM (principal axes).
+        mass, inertia: the target's mass (kg) and principal moments (3,), kg m^2.
+        first_joint, first_placement: the first hand's frame.
+        previous: the previous period's ``qdot_d`` (n,), or None.
+        force: the previous period's closure force lambda (6,).
+        report: called after each compiled chunk with ``(previous, force, t, rows_residual,
+            saturated)``, the last three the log entries of the chunk's periods (lists).
+    """
+
+    rows: np.ndarray
+    joints: np.ndarray
+    kd: float
+    period: float
+    baumgarte: float
+    squeeze: float
+    torque_limit: float
+    closure: Any
+    target_joint: int
+    target_placement: pin.SE3
+    mass: float
+    inertia: np.ndarray
+    first_joint: int
+    first_placement: pin.SE3
+    previous: np.ndarray | None
+    force: np.ndarray
+    report: Callable[[np.ndarray | None, np.ndarray, list, list, list], None]
+
+
+def _closure(closure: Any) -> tuple:
+    """A ``closures.Closure`` as ``_sim`` takes it: (joint1, placement1 (4, 4), joint2,
+    placement2 (4, 4), rotation rows)."""
+    return (int(closure.joint1), closure.placement1.homogeneous, int(closure.joint2), closure.placement2.homogeneous,
+            list(closure.kind.rotation_rows))
+
+
+def law_of(controller: Any) -> tuple | DetumblingLaw | LoopDetumblingLaw | None:
     """The controller's ``compiled_law()`` (see ``ComputedTorque.compiled_law`` and
     ``DetumblingController.compiled_law``), or None."""
     return getattr(controller, "compiled_law", lambda: None)() if controller is not None else None
@@ -240,12 +300,14 @@ class CompiledLoop(CompiledEngine):
         start_time: time of period 0, s.
         record_every: one telemetry row every this many periods.
         law: ``(start, delta, duration, kp, kd)`` of a computed-torque controller on a quintic
-            (see ``ComputedTorque.compiled_law``), a :class:`DetumblingLaw`, or None for a
-            torque-free run.
+            (see ``ComputedTorque.compiled_law``), a :class:`DetumblingLaw`, a
+            :class:`LoopDetumblingLaw`, or None for a torque-free run.
         wrenches: external wrenches the loop selects by their profiles at each period of
             :meth:`run` (the per-period interface takes them through :meth:`set_wrenches` instead).
         data: a ``pin.Data`` of ``robot.model`` to check the rebuilt model with (e.g. the exact
             plant's; default: a new one, which costs as much as the loop's own at large nv).
+        plant: the run's plant model; a ``ClosedModel`` (:data:`COMPILED_PLANTS`) hands its
+            closures and Baumgarte rate to the loop, which then integrates the constrained dynamics.
 
     Raises:
         InvalidArgument: for a joint kind or integrator the compiled loop does not have, or when
@@ -255,8 +317,8 @@ class CompiledLoop(CompiledEngine):
     backend = "compiled"
 
     def __init__(self, robot: Robot, integrator: Any, control_period: float, start_time: float = 0.0,
-                 record_every: int = 1, law: tuple | DetumblingLaw | None = None, wrenches: WrenchField | None = None,
-                 data: pin.Data | None = None):
+                 record_every: int = 1, law: tuple | DetumblingLaw | LoopDetumblingLaw | None = None,
+                 wrenches: WrenchField | None = None, data: pin.Data | None = None, plant: Any = None):
         self.robot = robot
         self.law = law
         n_ee = len(robot.end_effectors)
@@ -281,11 +343,19 @@ class CompiledLoop(CompiledEngine):
         if isinstance(law, DetumblingLaw):
             self.sim.set_detumbling([int(r) for r in law.rows], [int(j) for j in law.joints], law.method, law.secondary,
                                     law.rcond, law.start, law.kp, law.kd, law.period, law.hold, law.previous)
+        elif isinstance(law, LoopDetumblingLaw):
+            self.sim.set_loop_detumbling(
+                [int(r) for r in law.rows], [int(j) for j in law.joints], law.kd, law.period, law.baumgarte,
+                law.squeeze, law.torque_limit, _closure(law.closure), int(law.target_joint),
+                law.target_placement.homogeneous, law.mass, np.asarray(law.inertia, float), int(law.first_joint),
+                law.first_placement.homogeneous, law.previous, np.asarray(law.force, float))
         elif law is not None:
             start, delta, duration, kp, kd = law
             self.sim.set_computed_torque(start, delta, duration, kp, kd)
         if wrenches is not None:
             self.sim.set_wrench_profiles(*wrenches.profiles())
+        if getattr(plant, "closures", None):
+            self.sim.set_closures([_closure(c) for c in plant.closures], float(plant.baumgarte))
         key = self._structure[0] + self._numbers
         if key not in _checked:
             self._check_rebuild(data)
@@ -341,10 +411,12 @@ class CompiledLoop(CompiledEngine):
         self.sim.set_state(q, v, period, work)
 
     def run(self, last_period: int, chunk: Telemetry, row: int) -> tuple[int, str | None]:
-        """:meth:`CompiledEngine.run`, handing the detumbling law's state back to its controller."""
+        """:meth:`CompiledEngine.run`, handing the compiled law's state back to its controller."""
         written, blow_up = super().run(last_period, chunk, row)
         if isinstance(self.law, DetumblingLaw):
             self.law.report(*self.sim.take_detumbling_state())
+        elif isinstance(self.law, LoopDetumblingLaw):
+            self.law.report(*self.sim.take_loop_detumbling_state())
         return written, blow_up
 
     def hold(self, tau: np.ndarray) -> None:

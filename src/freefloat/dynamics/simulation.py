@@ -179,7 +179,8 @@ def run(
             loop = compiled.CompiledLoop(robot, integrator, control_period, start_time, record_every,
                                          law if whole_chunks else None,
                                          field_of(robot, wrenches) if whole_chunks else None,
-                                         data=getattr(model, "data", None) if getattr(model, "model", None) is robot.model else None)
+                                         data=getattr(model, "data", None) if getattr(model, "model", None) is robot.model else None,
+                                         plant=model)
             try:
                 if whole_chunks:
                     return _run_compiled(loop, q0, v0, steps, control_period, start_time, rows, progress)

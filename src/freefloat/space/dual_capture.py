@@ -142,9 +142,11 @@ def capture_with_two_hands(robot: Robot, target: Target, hands: tuple[str, ...],
                            detumble_time: float, tolerance: float = 1e-3, integrator: str = "rkmk4",
                            q0: np.ndarray | None = None, v0: np.ndarray | None = None, kp: float = 10.0,
                            kd: float = 100.0, baumgarte: float = 0.0, squeeze: float = 0.0,
-                           torque_limit: float = 0.0, progress: Any = None, checkpoint: Any = None) -> TwoHandCapture:
+                           torque_limit: float = 0.0, progress: Any = None, checkpoint: Any = None,
+                           backend: str = "auto") -> TwoHandCapture:
     """Hold until both grasp points reach both hands, close both welds by one impulse, then
-    detumble the merged robot through the loop (module docstring).
+    detumble the merged robot through the loop (module docstring). ``backend``: the post-grasp
+    run's loop (``dynamics.simulation.run``; ``"auto"``: the compiled loop, closures and law in C++).
 
     Raises:
         FreefloatError: when the grasp points do not both come within ``tolerance`` of the hands in
@@ -165,7 +167,7 @@ def capture_with_two_hands(robot: Robot, target: Target, hands: tuple[str, ...],
                                           rows, joints, control_period, kd, baumgarte, squeeze, torque_limit)
     post = run(merged, q, hit.v_robot, detumble_time, control_period, make_integrator(integrator, merged.model),
                ClosedModel(merged, [closure], baumgarte), controller, progress=progress,
-               checkpoint=checkpoint, backend="python")
+               checkpoint=checkpoint, backend=backend)
     poses = np.concatenate((flight.poses[: len(pre.telemetry.t)], frame_poses(merged, TARGET_FRAME, post.telemetry.q)[1:]))
     grasps = np.stack([np.concatenate((_carried(flight.poses[: len(pre.telemetry.t)], target, point),
                                        frame_poses(merged, name, post.telemetry.q)[1:]))

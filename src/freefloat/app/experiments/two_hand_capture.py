@@ -85,7 +85,7 @@ def run(setup: TwoHandSetup, progress: Progress | None = None, checkpoint: Check
         res = capture_with_two_hands(
             robot, setup.target, setup.hands, setup.second_grasp, _rows(setup), _joints(setup), sim.control_period,
             tg.contact_time + APPROACH_MARGIN, sim.duration, tg.tolerance, sim.integrator, setup.q0, setup.v0, ctrl.kp, ctrl.kd,
-            sim.baumgarte, ctrl.squeeze, ctrl.torque_limit or 0.0, progress, checkpoint)
+            sim.baumgarte, ctrl.squeeze, ctrl.torque_limit or 0.0, progress, checkpoint, sim.backend)
     except FreefloatError as exc:
         raise SceneError(f"scene '{scene.name}': {exc}") from exc
     history = loop_history(res, setup.target, sim.baumgarte)
@@ -96,7 +96,7 @@ def run(setup: TwoHandSetup, progress: Progress | None = None, checkpoint: Check
     summary.update(spin_summary(merged, tel))
     summary.update(_loop_summary(res, history, setup))
     summary.update(status=result.status, message=result.message, sim_wall_time_s=wall,
-                   steps=len(res.pre.t) + len(tel.t) - 2, loop="python")
+                   steps=len(res.pre.t) + len(tel.t) - 2, loop=result.backend)
     both_t = np.concatenate((res.pre.t, res.impact_time + tel.t[1:]))
     both_q = np.concatenate((res.pre.q, tel.q[1:]))
     outcome = robot_outcome(

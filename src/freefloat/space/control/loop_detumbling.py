@@ -24,6 +24,8 @@ with ``J* = J_q - J_b M_bb^-1 M_bq`` (the generalized Jacobian, eq 82, of those 
 
 With these torques the plant's constrained dynamics (:class:`~freefloat.dynamics.closures.ClosedModel`,
 the same Baumgarte rate) gives exactly ``qddot`` and ``lambda`` (tests/test_loop_detumbling.py).
+The compiled loop runs the same law in C++ (:meth:`LoopDetumblingController.compiled_law`); this
+class stays the readable reference.
 """
 
 from __future__ import annotations
@@ -35,6 +37,7 @@ import pinocchio as pin
 
 from ...dynamics import gjm
 from ...dynamics.closures import Closure, frame_motion, kinematics, stacked
+from ...dynamics.compiled import LoopDetumblingLaw
 from ...robot.robot import Robot
 from ..detumbling import check_task
 
@@ -87,6 +90,21 @@ class LoopDetumblingController:
         self._qdot_prev: np.ndarray | None = None
         self._force = np.zeros(6)
         self.log = LoopLog()
+
+    def compiled_law(self) -> LoopDetumblingLaw:
+        """This law for the compiled loop (:mod:`freefloat.dynamics.compiled`), with the state it
+        has so far (previous rates and closure force); its log is kept complete through it."""
+        return LoopDetumblingLaw(self.rows, self.joints, self.kd, self.T, self.beta, self.squeeze, self.limit,
+                                 self.closure, self.target_joint, self.target_placement, self.mass,
+                                 np.diag(self.inertia), self.first_grasp.parentJoint, self.first_grasp.placement,
+                                 self._qdot_prev, self._force, self._absorb)
+
+    def _absorb(self, previous: np.ndarray | None, force: np.ndarray, t: list, residuals: list, saturated: list) -> None:
+        """Take over the compiled law's state and log after a chunk (see :class:`LoopDetumblingLaw`)."""
+        self._qdot_prev, self._force = previous, force
+        self.log.t.extend(t)
+        self.log.rows_residual.extend(residuals)
+        self.log.saturated.extend(saturated)
 
     def reference(self, t: float) -> np.ndarray | None:
         """No joint reference (the rates are solved each period)."""
