@@ -210,7 +210,7 @@ def test_true_5r_inertias_give_the_true_5r_on_the_ground():
     ({"inertia": (1.0, 2.0)}, "'inertia' must be three finite numbers"),
     ({"inertia": (1.0, 1.0, 3.0)}, "'inertia' must be three positive principal moments"),
     ({"com": (0.0, float("nan"), 0.0)}, "'com' must be three finite numbers"),
-    ({"kind": "fixed"}, "'kind' is 'fixed'"),
+    ({"kind": "fixed", "mass": 5.0}, "'mass' describes the base body, which plays no part on a fixed base"),
 ])
 def test_bad_base_bodies_are_refused_naming_the_field(body, message):
     """A base body that is no rigid body, or no moving base, is refused naming the field."""

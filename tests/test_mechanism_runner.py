@@ -182,3 +182,20 @@ def test_free_base_scenes_track_while_the_base_reacts(tmp_path, name):
     assert summary["momentum_drift_max"] < 1e-9 and summary["loop_closure_drift_max"] < 1e-9
     assert len(base.t) == len(run.telemetry.t) and np.isfinite(base.momentum).all()
     np.testing.assert_allclose(summary["base_rotation_max"], np.linalg.norm(base.base_rotation, axis=1).max())
+
+
+@pytest.mark.parametrize(("dynamics", "within", "efforts_within"),
+                         [("closed_tree", 1e-12, 1e-6), ("constraint_dynamics", 1e-9, 1e-2)])
+def test_the_revolute_closed_5r_tracks_as_the_point_closed_one(tmp_path, dynamics, within, efforts_within):
+    """five_bar_revolute (the 5R closed by a revolute, on its spanning tree by freefloat's or by
+    Pinocchio's constrained dynamics) tracks the circle as five_bar_sliding_mode (Orsino's compiled
+    plant, a point closure) over 0.01 s: platform to 1e-12 m (Pinocchio's: 1e-9 m, its proximal
+    mu 1e-4 on the redundant rows), efforts to 1e-6 of their peak (1e-2: the sliding-mode law's
+    tanh(100 s) amplifies the state's differences)."""
+    revolute = runner.simulate(_on_base("five_bar_revolute", tmp_path, "revolute", 0.01, dynamics=dynamics))
+    point = runner.simulate(_on_base(SMC, tmp_path, "point", 0.01))
+    assert revolute.summary["loop"] == "python" and point.summary["loop"] == "compiled"
+    np.testing.assert_allclose(revolute.telemetry.platform, point.telemetry.platform, rtol=0, atol=within)
+    efforts = point.telemetry.efforts[:-1]  # the last row holds no effort
+    np.testing.assert_allclose(revolute.telemetry.efforts[:-1], efforts, rtol=0,
+                               atol=efforts_within * np.abs(efforts).max())

@@ -95,6 +95,9 @@ def test_robot_scenes_stay_robot_scenes():
     (lambda r: r["mechanism"].update(base_mass=5.0), "'mechanism.base_mass' describes the base body, which plays no "
                                                      "part on a fixed base"),
     (lambda r: r["mechanism"].update(gravity=[0.0, -9.8]), "'mechanism.gravity' must be three finite numbers"),
+    (lambda r: r["mechanism"].update(dynamics="orsino"), "'mechanism.dynamics' is 'orsino'; valid: auto, coupled_chain"),
+    (lambda r: r["mechanism"].update(base="planar", dynamics="coupled_chain"),
+     "'mechanism.dynamics' is 'coupled_chain', which models a fixed base; on a 'planar' base use"),
 ])
 def test_bad_values_name_the_file_and_the_key(edit, message):
     """Unknown keys, unknown mechanisms and plants, missing or unused gains, wrong types and

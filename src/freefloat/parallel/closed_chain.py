@@ -14,7 +14,7 @@ what the tree leaves out:
     coordinates = ["x", "y"]                  # which of its inertial coordinates
     [[closures]]
     frames = ["c1_ee", "c2_ee"]               # these two points coincide (3-D point contact)
-    kind = "point"                            # or "frame": the two frames coincide (6-D)
+    kind = "point"                            # or "revolute" (5-D: origins and z axes), "weld" (6-D; alias "frame")
 
 :func:`read_closures` turns it into Pinocchio's fixed-base model with one
 ``RigidConstraintModel`` per closure (CONTACT_3D for a point, CONTACT_6D for a frame), the
@@ -27,12 +27,13 @@ match. Mechanisms with frame closures build theirs from the same tree
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 import pinocchio as pin
 
+from ..dynamics.closures import ALIASES, KINDS, Closure, closure_kind
 from ..errors import FreefloatError
 from ..inputs import read_toml, reject_unknown
 from ..robot.urdf_checks import check_joints, check_numbers, read_urdf
@@ -41,8 +42,6 @@ from .serial import SerialChain
 
 AXES = {"x": 0, "y": 1, "z": 2}
 
-
-KINDS = {"point": pin.ContactType.CONTACT_3D, "frame": pin.ContactType.CONTACT_6D}
 #: Joint types a chain takes, with the axis they turn about or slide along (in the joint frame).
 AXIS_JOINTS = {"JointModelRX": (False, 0), "JointModelRY": (False, 1), "JointModelRZ": (False, 2),
                "JointModelPX": (True, 0), "JointModelPY": (True, 1), "JointModelPZ": (True, 2)}
@@ -59,9 +58,12 @@ class Closures:
         spec: its parsed content.
         model: Pinocchio's model of the spanning tree, gravity set: fixed-base, or on the root
             joint :func:`read_closures` was given.
-        constraints: one ``RigidConstraintModel`` per closure (LOCAL frame).
+        constraints: Pinocchio's ``RigidConstraintModel`` (LOCAL frame) for the closures: one per
+            point or weld, two per revolute (:func:`pinocchio_constraints`).
         frames: the two frame names of each closure.
         actuated: Pinocchio joint ids of the actuated joints.
+        closures: one :class:`~freefloat.dynamics.closures.Closure` per closure (point, revolute or
+            weld; ``frame`` is a weld).
     """
 
     path: Path
@@ -70,6 +72,7 @@ class Closures:
     constraints: list
     frames: list[tuple[str, str]]
     actuated: list[int]
+    closures: list[Closure] = field(default_factory=list)
 
     @property
     def urdf(self) -> Path:
@@ -98,6 +101,7 @@ class ClosedChain:
         joint_coordinates: Pinocchio joint id -> index of its coordinate in Orsino's ``q``.
         actuated: Pinocchio joint ids of the actuated joints.
         urdf: the spanning tree's URDF file.
+        closures: the closures, one :class:`~freefloat.dynamics.closures.Closure` each.
     """
 
     mechanism: ParallelMechanism
@@ -106,6 +110,7 @@ class ClosedChain:
     joint_coordinates: dict[int, int]
     actuated: list[int]
     urdf: Path
+    closures: list[Closure] = field(default_factory=list)
 
     def pinocchio_q(self, q: np.ndarray) -> np.ndarray:
         """Pinocchio configuration (nq,) from Orsino's ``q`` (the platform coordinates dropped);
@@ -149,20 +154,39 @@ def read_closures(path: str | Path, root_joint: pin.JointModel | None = None) ->
         out.actuated.append(model.getJointId(name))
     out.frame_id(spec["platform"].get("frame", ""), "platform.frame")
     for i, closure in enumerate(spec["closures"]):
-        frames, kind = closure.get("frames", []), closure.get("kind", "point")
+        frames, kind = closure.get("frames", []), closure_kind(closure.get("kind", "point"))
         if len(frames) != 2:
             raise FreefloatError(f"{path}: 'closures[{i}].frames' must name two frames, got {frames}")
-        if kind not in KINDS:
-            raise FreefloatError(f"{path}: 'closures[{i}].kind' must be one of {list(KINDS)}, got '{kind}'")
+        if kind is None:
+            raise FreefloatError(f"{path}: 'closures[{i}].kind' must be one of {[*KINDS, *ALIASES]}, got "
+                                 f"'{closure['kind']}'")
         if frames[0] == frames[1]:
             raise FreefloatError(f"{path}: 'closures[{i}].frames' joins frame '{frames[0]}' to itself; a closure "
                                  "joins two different frames")
         placements = [model.frames[out.frame_id(name, f"closures[{i}].frames")] for name in frames]
-        out.constraints.append(pin.RigidConstraintModel(KINDS[kind], model, placements[0].parentJoint, placements[0].placement,
-                                                        placements[1].parentJoint, placements[1].placement,
-                                                        pin.ReferenceFrame.LOCAL))
+        out.closures.append(Closure(f"closures[{i}]", kind, placements[0].parentJoint, placements[0].placement,
+                                    placements[1].parentJoint, placements[1].placement, tuple(frames)))
+        out.constraints.extend(pinocchio_constraints(model, out.closures[-1]))
         out.frames.append(tuple(frames))
     return out
+
+
+#: Pinocchio's contact for each closure kind it has; a revolute closure is two point contacts on its
+#: hinge, :data:`HINGE_SPAN` m apart (the same motions allowed, one row redundant).
+PINOCCHIO_CONTACTS = {"point": pin.ContactType.CONTACT_3D, "weld": pin.ContactType.CONTACT_6D}
+HINGE_SPAN = 0.1
+
+
+def pinocchio_constraints(model: pin.Model, closure: Closure) -> list:
+    """Pinocchio's ``RigidConstraintModel`` (LOCAL) equivalent to ``closure``: one contact for a
+    point or weld, two point contacts on the hinge (frame 1's z axis) for a revolute."""
+    def contact(kind: str, lift: float) -> pin.RigidConstraintModel:
+        shift = pin.SE3(np.eye(3), np.array([0.0, 0.0, lift]))
+        return pin.RigidConstraintModel(PINOCCHIO_CONTACTS[kind], model, closure.joint1, closure.placement1 * shift,
+                                        closure.joint2, closure.placement2 * shift, pin.ReferenceFrame.LOCAL)
+    if closure.kind.name == "revolute":
+        return [contact("point", 0.0), contact("point", HINGE_SPAN)]
+    return [contact(closure.kind.name, 0.0)]
 
 
 def _check_types(path: Path, spec: dict) -> None:
@@ -203,18 +227,18 @@ def load_closed_chain(path: str | Path) -> ClosedChain:
     """Both models of a mechanism whose closures join chain tips at the platform point (the 5R).
 
     Raises:
-        FreefloatError: as :func:`read_closures`, and for a frame closure or a platform
-            coordinate not x/y/z.
+        FreefloatError: as :func:`read_closures`, and for a weld closure, a revolute closure of a
+            loop that is not planar, or a platform coordinate not x/y/z.
     """
     closures = read_closures(path)
     model, spec = closures.model, closures.spec
     coords = spec["platform"].get("coordinates", ["x", "y", "z"])
     if not coords or any(c not in AXES for c in coords):
         raise FreefloatError(f"{closures.path}: 'platform.coordinates' must be a list of x, y, z; got {coords}")
-    for i, closure in enumerate(spec["closures"]):
-        if closure.get("kind", "point") != "point":
-            raise FreefloatError(f"{closures.path}: 'closures[{i}].kind' is '{closure['kind']}'; tip-to-tip mechanisms "
-                                 "take point closures (frame closures need their own builder, see rsu_ppap)")
+    for closure in closures.closures:
+        if closure.kind.name == "weld":
+            raise FreefloatError(f"{closures.path}: '{closure.name}.kind' is a weld; tip-to-tip mechanisms take point "
+                                 "or planar revolute closures (weld closures need their own builder, see rsu_ppap)")
     chains, chain_joints, tips = [], [], []
     for pair in closures.frames:
         for name in pair:
@@ -232,6 +256,9 @@ def load_closed_chain(path: str | Path) -> ClosedChain:
     if loose:
         raise FreefloatError(f"{closures.path}: joints {', '.join(loose)} of {closures.urdf.name} lie on no chain from "
                              "the root to a closure frame ('closures' frames)")
+    for closure in closures.closures:
+        if closure.kind.name == "revolute":
+            _check_planar_hinge(closures, closure, [j for joints in chain_joints for j in joints])
     axes = [AXES[c] for c in coords]
     p, n_tips = len(axes), len(chains)
     D = np.vstack([np.eye(p)] * n_tips)
@@ -243,7 +270,30 @@ def load_closed_chain(path: str | Path) -> ClosedChain:
                              D=D, d=np.zeros(p * n_tips), E=E, F=np.zeros((p * n_tips, len(order))),
                              actuated=np.array([p + order.index(j) for j in closures.actuated]))
     return ClosedChain(mech, model, closures.constraints, {j: p + i for i, j in enumerate(order)}, closures.actuated,
-                       closures.urdf)
+                       closures.urdf, closures.closures)
+
+
+def _check_planar_hinge(closures: Closures, closure: Closure, joints: list[int]) -> None:
+    """A revolute closure of a tip-to-tip mechanism must close a planar loop: every revolute joint
+    of its chains turns about the hinge's direction and every prismatic one slides across it
+    (checked at the neutral pose, which these joints keep). Its three extra rows are then always
+    met, and Orsino's point model of the tips is exact.
+
+    Raises:
+        FreefloatError: naming the closure and the first joint out of the plane.
+    """
+    model, data = closures.model, closures.model.createData()
+    pin.forwardKinematics(model, data, pin.neutral(model))
+    hinge = (data.oMi[closure.joint1] * closure.placement1).rotation[:, 2]
+    for j in joints:
+        slides, axis = AXIS_JOINTS[model.joints[j].shortname()]
+        direction = data.oMi[j].rotation[:, axis]
+        off = abs(direction @ hinge) if slides else np.linalg.norm(np.cross(direction, hinge))
+        if off > 1e-9:
+            raise FreefloatError(f"{closures.path}: '{closure.name}' is a revolute closure, but joint "
+                                 f"'{model.names[j]}' {'slides along' if slides else 'turns about'} a direction "
+                                 "out of its hinge's plane; tip-to-tip mechanisms take revolute closures of planar "
+                                 "loops only")
 
 
 def chain_from_tree(model: pin.Model, frame: int) -> tuple[SerialChain, list[int]]:

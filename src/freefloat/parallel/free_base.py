@@ -34,7 +34,7 @@ from typing import Any
 import numpy as np
 import pinocchio as pin
 
-from ..dynamics.plants import ConstraintDynamicsPlant
+from ..dynamics.plants import ClosedTreePlant, ConstraintDynamicsPlant
 from ..dynamics.simulation import RunResult, run_plant
 from ..dynamics.telemetry import Arrays, PlantTelemetry
 from ..errors import FreefloatError
@@ -52,6 +52,9 @@ CONSERVED = {"planar": (0, 1, 5), "free": (0, 1, 2, 3, 4, 5)}
 #: (the 5R's point closure along the normal of its plane): with mu = 1e-12 the solver's rounding
 #: there grows as 1/mu and, on a tumbling base, broke momentum conservation by 9e-6 N s in 0.05 s
 #: (torque-free 5R, RK4 at 0.1 ms); with 1e-4, 9e-14 N s, the accelerations unchanged (to 2e-11).
+#: On the ground too: the 5R's revolute closure as two point contacts (6 rows, rank 2 in the plane)
+#: with Baumgarte 100 at a 1 um closure gap gave accelerations off by 1.4e4 m/s^2 (of 595) with
+#: mu = 1e-12, 7e-4 with 1e-4 (freefloat's closed_tree as the reference).
 PROXIMAL_MU = 1e-4
 
 
@@ -88,7 +91,8 @@ class BaseBody:
     """The moving base (a satellite) and the gravity it flies in.
 
     Attributes:
-        kind: ``"planar"`` or ``"free"`` (:data:`ROOT_JOINTS`).
+        kind: ``"planar"`` or ``"free"`` (:data:`ROOT_JOINTS`), or ``"fixed"`` (the tree on the
+            ground: a tree plant of a fixed-base mechanism; no body fields).
         mass: kg; None: the URDF root link's.
         inertia: principal moments (3,) about the base's CoM along the root link's axes, kg m^2;
             None: the URDF root link's inertia.
@@ -96,7 +100,7 @@ class BaseBody:
         gravity: inertial frame (3,), m/s^2; None: the closure file's.
 
     Raises:
-        FreefloatError: naming the field (:func:`base_problem`); a fixed base is no moving base.
+        FreefloatError: naming the field (:func:`base_problem`).
     """
 
     kind: str = "free"
@@ -107,8 +111,6 @@ class BaseBody:
 
     def __post_init__(self) -> None:
         problem = base_problem(self.kind, self.mass, self.inertia, self.com, self.gravity)
-        if problem is None and self.kind == "fixed":
-            problem = "kind", "is 'fixed': a BaseBody describes a planar or free base"
         if problem is not None:
             raise FreefloatError(f"BaseBody '{problem[0]}' {problem[1]}")
 
@@ -161,18 +163,21 @@ class FloatingMechanism:
 
     def __init__(self, chain: ClosedChain, closure: str | Path, base: BaseBody,
                  tree_inertias: Callable[[pin.Model], None] = lambda model: None):
-        closures = read_closures(closure, ROOT_JOINTS[base.kind]())
+        moving = base.kind in ROOT_JOINTS
+        closures = read_closures(closure, ROOT_JOINTS[base.kind]() if moving else None)
         model = closures.model
         tree_inertias(model)
-        root = model.inertias[1]
-        model.inertias[1] = pin.Inertia(root.mass if base.mass is None else float(base.mass),
-                                        root.lever if base.com is None else np.asarray(base.com, float),
-                                        root.inertia if base.inertia is None else np.diag(np.asarray(base.inertia, float)))
+        if moving:
+            root = model.inertias[1]
+            model.inertias[1] = pin.Inertia(root.mass if base.mass is None else float(base.mass),
+                                            root.lever if base.com is None else np.asarray(base.com, float),
+                                            root.inertia if base.inertia is None else np.diag(np.asarray(base.inertia, float)))
         if base.gravity is not None:
             model.gravity = pin.Motion(np.asarray(base.gravity, float), np.zeros(3))
         self.chain, self.base, self.model, self.constraints = chain, base, model, closures.constraints
+        self.closures = closures.closures
         self.actuated = np.array([model.idx_vs[j] for j in closures.actuated])
-        self.root_nq, self.root_nv = model.nqs[1], model.nvs[1]
+        self.root_nq, self.root_nv = (model.nqs[1], model.nvs[1]) if moving else (0, 0)
         fixed = chain.model
         for j in range(1, fixed.njoints):  # the same URDF: its joints follow the root, in the same order
             if model.idx_qs[model.getJointId(fixed.names[j])] != self.root_nq + fixed.idx_qs[j]:
@@ -193,10 +198,14 @@ class FloatingMechanism:
         gravity (:data:`CONSERVED`)."""
         return CONSERVED[self.base.kind]
 
-    def plant(self, baumgarte: float = 0.0, max_drift: float = 1.0) -> ConstraintDynamicsPlant:
-        """The plant of the one loop: ``constraintDynamics`` on :attr:`model` with the closures,
-        efforts on :attr:`actuated`, Baumgarte ``lambda`` (1/s), the proximal solver's mu
-        :data:`PROXIMAL_MU`."""
+    def plant(self, baumgarte: float = 0.0, max_drift: float = 1.0,
+              dynamics: str = ConstraintDynamicsPlant.name) -> ConstraintDynamicsPlant | ClosedTreePlant:
+        """The plant of the one loop on :attr:`model` with the closures, efforts on
+        :attr:`actuated`, Baumgarte ``lambda`` (1/s): ``dynamics`` ``"constraint_dynamics"``
+        (Pinocchio's, the proximal solver's mu :data:`PROXIMAL_MU`) or
+        ``"closed_tree"`` (freefloat's, :mod:`freefloat.dynamics.closures`)."""
+        if dynamics == ClosedTreePlant.name:
+            return ClosedTreePlant(self.model, self.closures, self.actuated, baumgarte, max_drift)
         return ConstraintDynamicsPlant(self.model, self.constraints, self.actuated, baumgarte, max_drift,
                                        mu=PROXIMAL_MU)
 
@@ -227,7 +236,10 @@ class FloatingMechanism:
         return (np.array([r[0] for r in rows]).reshape(-1, n_q), np.array([r[1] for r in rows]).reshape(-1, n_q))
 
     def base_placement(self, q: np.ndarray) -> pin.SE3:
-        """The root link's placement in the inertial frame at the tree's ``q``."""
+        """The root link's placement in the inertial frame at the tree's ``q`` (the identity on a
+        fixed base)."""
+        if not self.root_nv:
+            return pin.SE3.Identity()
         pin.forwardKinematics(self.model, self.data, q)
         return self.data.oMi[1]
 
@@ -289,13 +301,15 @@ class BaseFrameControl:
 
 
 def track(mechanism: FloatingMechanism, law: Any, q0: np.ndarray, v0: np.ndarray, duration: float, step: float,
-          baumgarte: float = 100.0, integrator: str = "rkmk4", **run: Any) -> RunResult:
+          baumgarte: float = 100.0, integrator: str = "rkmk4", dynamics: str = ConstraintDynamicsPlant.name,
+          **run: Any) -> RunResult:
     """The closed loop on the moving base from the tree's ``(q0, v0)``: one ``integrator`` step of
     ``step`` s per row, the law (through :class:`BaseFrameControl`) held over each step, by
     :func:`~freefloat.dynamics.simulation.run_plant` (the Python loop: this plant is not compiled).
 
     Args:
+        dynamics: the plant (:meth:`FloatingMechanism.plant`).
         run: further keywords of ``run_plant`` (``rtol``, ``atol``, ``progress``, ``checkpoint``).
     """
-    return run_plant(mechanism.plant(baumgarte), q0, v0, duration, step, integrator,
+    return run_plant(mechanism.plant(baumgarte, dynamics=dynamics), q0, v0, duration, step, integrator,
                      BaseFrameControl(law, mechanism), **run)

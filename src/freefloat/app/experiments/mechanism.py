@@ -92,7 +92,7 @@ def prepare(scene: MechanismScene) -> PreparedMechanism:
         raise SceneError(f"{where}'initial.platform': {exc}") from exc
     prepared = PreparedMechanism(scene, setup, closure, controller, q0, setup.plant.velocity_map(q0) @ rates)
     mech = scene.mechanism
-    if mech.base != "fixed":
+    if mech.plant_kind != "coupled_chain":  # a tree plant: on a moving base, or on the ground
         base = free_base.BaseBody(mech.base, mech.base_mass, mech.base_inertia, mech.base_com, mech.gravity)
         prepared.floating = free_base.FloatingMechanism(setup.display, closure, base, setup.tree_inertias)
     check_run_size(prepared)
@@ -116,7 +116,7 @@ def check_run_size(prepared: PreparedMechanism) -> None:
         forward = seconds_per_call(lambda: plant.forward(prepared.q0, prepared.qd0, u, sim.baumgarte))
         control = seconds_per_call(lambda: prepared.controller.torque(0.0, prepared.q0, prepared.qd0))
     else:
-        tree = prepared.floating.plant(sim.baumgarte)
+        tree = prepared.floating.plant(sim.baumgarte, dynamics=scene.mechanism.plant_kind)
         q, v = prepared.floating.tree_state(prepared.q0, prepared.qd0)
         law = free_base.BaseFrameControl(prepared.controller, prepared.floating)
         forward = seconds_per_call(lambda: tree.acceleration(q, v, u))
@@ -187,12 +187,13 @@ def run_on_moving_base(prepared: PreparedMechanism, progress: Progress | None = 
 
     q0, v0 = floating.tree_state(prepared.q0, prepared.qd0)
     result = free_base.track(floating, controller, q0, v0, sim.duration, sim.step, sim.baumgarte, integrator_name(scene),
-                             rtol=sim.rtol, atol=sim.atol, progress=progress,
+                             scene.mechanism.plant_kind, rtol=sim.rtol, atol=sim.atol, progress=progress,
                              checkpoint=None if checkpoint is None else (lambda chunk: checkpoint(relative(chunk))))
     telemetry = relative(result.telemetry, result.status == "completed")
-    base = floating.describe(result.telemetry)
+    base = floating.describe(result.telemetry) if floating.root_nv else None
     summary = summarize_mechanism(telemetry, scene.metrics.reaching_phase)
-    summary.update(summarize_base(floating, base))
+    if base is not None:
+        summary.update(summarize_base(floating, base))
     summary.update(status=result.status, message=result.message, steps=result.steps, sim_wall_time_s=result.wall_time_s,
                    loop=result.backend)
     return outcome(prepared, telemetry, result.status, result.message, result.steps, result.wall_time_s, summary, base)
@@ -241,7 +242,8 @@ def outcome(prepared: PreparedMechanism, telemetry: MechanismTelemetry, status: 
         return written if base is None else written + write_base_figures(base, floating.momentum_drift(base), folder)
 
     settings = {"integrator": scene.simulation.integrator, "step": scene.simulation.step,
-                "baumgarte": scene.simulation.baumgarte, "controller": scene.controller.kind}
+                "baumgarte": scene.simulation.baumgarte, "controller": scene.controller.kind,
+                "dynamics": scene.mechanism.plant_kind}
     if base is not None:
         settings.update(base=scene.mechanism.base, base_mass=floating.model.inertias[1].mass,
                         base_inertia=floating.model.inertias[1].inertia.diagonal().tolist(),

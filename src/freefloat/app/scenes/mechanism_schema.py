@@ -38,7 +38,11 @@ class MechanismSection:
     in the inertial xy-plane) or ``"free"`` (6 DOF; :mod:`freefloat.parallel.free_base`). A moving
     base's body: ``base_mass`` (kg), ``base_inertia`` (principal moments about its CoM, kg m^2),
     ``base_com`` (in the root link's frame, m); each defaults to the URDF root link's.
-    ``gravity`` (m/s^2, inertial frame) replaces the closure file's (a satellite: zero)."""
+    ``gravity`` (m/s^2, inertial frame) replaces the closure file's (a satellite: zero).
+    ``dynamics``: the plant (:data:`freefloat.dynamics.plants.PLANTS`): ``"coupled_chain"``
+    (Orsino's subsystem coupling, fixed base only), ``"constraint_dynamics"`` (Pinocchio's, on the
+    spanning tree), ``"closed_tree"`` (freefloat's constrained dynamics on the spanning tree, any
+    closure kind) or ``"auto"``: coupled_chain on a fixed base, constraint_dynamics on a moving one."""
 
     name: str
     closure: str
@@ -48,6 +52,14 @@ class MechanismSection:
     base_inertia: tuple[float, ...] | None = None
     base_com: tuple[float, ...] | None = None
     gravity: tuple[float, ...] | None = None
+    dynamics: str = "auto"
+
+    @property
+    def plant_kind(self) -> str:
+        """The plant ``dynamics`` resolves to (``"auto"``: see the class docstring)."""
+        if self.dynamics != "auto":
+            return self.dynamics
+        return "coupled_chain" if self.base == "fixed" else "constraint_dynamics"
 
 
 @dataclass(frozen=True)
@@ -137,7 +149,8 @@ SECTIONS = {"mechanism": MechanismSection, "initial": PlatformStart, "trajectory
             "controller": PlatformControllerSection, "simulation": MechanismSimulation,
             "metrics": MetricsSection, "output": OutputSection}
 RULES = Rules(
-    choices={("mechanism", "name"): tuple(REGISTRY), ("mechanism", "base"): BASES, ("trajectory", "kind"): ("circle",),
+    choices={("mechanism", "name"): tuple(REGISTRY), ("mechanism", "base"): BASES,
+             ("mechanism", "dynamics"): ("auto", "coupled_chain", "constraint_dynamics", "closed_tree"), ("trajectory", "kind"): ("circle",),
              ("controller", "kind"): ("computed_torque", "sliding_mode"),
              ("controller", "saturation"): ("tanh", "sign"), ("simulation", "integrator"): lambda: (*ALIASES, *INTEGRATORS)},
     positive={("mechanism", "base_mass"), ("simulation", "duration"), ("simulation", "step"), ("simulation", "rtol"), ("simulation", "atol"), ("controller", "lam"), ("output", "html_fps")},
@@ -171,6 +184,9 @@ def parse_mechanism_scene(raw: dict[str, Any], source: Path | None = None) -> Me
     problem = base_problem(mech.base, mech.base_mass, mech.base_inertia, mech.base_com, mech.gravity)
     if problem is not None:
         raise SceneError(f"{where}'mechanism.{BASE_KEYS[problem[0]]}' {problem[1]}")
+    if mech.dynamics == "coupled_chain" and mech.base != "fixed":
+        raise SceneError(f"{where}'mechanism.dynamics' is 'coupled_chain', which models a fixed base; on a "
+                         f"'{mech.base}' base use 'constraint_dynamics' or 'closed_tree'")
     ctrl = scene.controller
     if ctrl.kind == "sliding_mode" and (ctrl.n is None or ctrl.T is None):
         raise SceneError(f"{where}controller.kind 'sliding_mode' needs 'controller.n' and 'controller.T'")

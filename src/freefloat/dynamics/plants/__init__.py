@@ -13,6 +13,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from .base import Plant
+from .closed_tree import ClosedTreePlant
 from .constraint_dynamics import ConstraintDynamicsPlant
 from .coupled_chain import CoupledChainPlant
 from .vector_space import vector_space
@@ -42,7 +43,9 @@ PLANTS: dict[str, PlantSpec] = {spec.name: spec for spec in (
     PlantSpec(CoupledChainPlant.name, "a closed chain by Orsino's subsystem coupling, eq 129, Baumgarte-stabilised",
               True, True),
     PlantSpec(ConstraintDynamicsPlant.name, "a closed chain by Pinocchio's constraintDynamics on its spanning tree "
-              "(the reference)", True, False),
+              "(the reference; a revolute closure as two point contacts on its hinge)", True, False),
+    PlantSpec(ClosedTreePlant.name, "a closed chain by freefloat's constrained dynamics on its spanning tree: point, "
+              "revolute and weld closures, redundant rows allowed (freefloat.dynamics.closures)", True, False),
 )}
 
-__all__ = ["PLANTS", "ConstraintDynamicsPlant", "CoupledChainPlant", "Plant", "PlantSpec", "vector_space"]
+__all__ = ["PLANTS", "ClosedTreePlant", "ConstraintDynamicsPlant", "CoupledChainPlant", "Plant", "PlantSpec", "vector_space"]
