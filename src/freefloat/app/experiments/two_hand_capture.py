@@ -20,14 +20,15 @@ from ...space.capture import TARGET_FRAME, Target, target_angular_speed
 from ...space.dual_capture import capture_with_two_hands, loop_history, second_grasp_at_contact
 from ..scenes import Scene
 from .base import Checkpoint, Experiment, Outcome, Progress
-from .capture import TARGET_MATERIAL
 from .capture import prepare as prepare_one_hand
 from .detumbling import mission_joints, rows_spec
 from .robot_run import APPROACH_MARGIN, RobotSetup, control_steps, robot_outcome
 
-#: How the page draws the grasp points: a green and a blue ball, the loop a thin bar between them.
+#: How the page draws the target (see-through, so that the loop inside shows), the grasp points (a
+#: green and a blue ball) and the loop's closing link through the target (a red bar between them).
+SEE_THROUGH_TARGET = mg.MeshPhongMaterial(color=0xE07000, opacity=0.35, transparent=True)
 GRASP_MATERIALS = (mg.MeshPhongMaterial(color=0x20A040), mg.MeshPhongMaterial(color=0x2060D0))
-LOOP_MATERIAL = mg.MeshPhongMaterial(color=0xC02020, opacity=0.8, transparent=True)
+LOOP_MATERIAL = mg.MeshPhongMaterial(color=0xC02020)
 #: Target spin (rad/s) below which the detumbling counts as settled.
 SETTLED = 1e-6
 
@@ -163,9 +164,9 @@ def _loop_summary(res, history, setup: TwoHandSetup) -> dict:
 def _page_bodies(size, target_poses: np.ndarray, grasp_poses: np.ndarray) -> list:
     """The target box, a ball at each grasp point and a bar between them (the loop's closing
     link through the target), posed over the page's frames."""
-    bodies = [("target", mg.Mesh(mg.Box(list(size)), TARGET_MATERIAL), target_poses)]
+    bodies = [("target", mg.Mesh(mg.Box(list(size)), SEE_THROUGH_TARGET), target_poses)]
     for k, material in enumerate(GRASP_MATERIALS):
-        bodies.append((f"grasp_{k + 1}", mg.Mesh(mg.Sphere(0.03), material), grasp_poses[k]))
+        bodies.append((f"grasp_{k + 1}", mg.Mesh(mg.Sphere(0.04), material), grasp_poses[k]))
     span = grasp_poses[1, :, :3, 3] - grasp_poses[0, :, :3, 3]
     length = float(np.linalg.norm(span[0]))
     bar = np.repeat(np.eye(4)[None], len(span), axis=0)
@@ -175,7 +176,7 @@ def _page_bodies(size, target_poses: np.ndarray, grasp_poses: np.ndarray) -> lis
         x = np.cross(y, [0.0, 0.0, 1.0]) if abs(y[2]) < 0.9 else np.cross(y, [1.0, 0.0, 0.0])
         x /= np.linalg.norm(x)
         bar[k, :3, :3] = np.column_stack((x, y, np.cross(x, y)))
-    bodies.append(("loop", mg.Mesh(mg.Cylinder(length, 0.01), LOOP_MATERIAL), bar))
+    bodies.append(("loop", mg.Mesh(mg.Cylinder(length, 0.015), LOOP_MATERIAL), bar))
     return bodies
 
 
