@@ -29,8 +29,8 @@ from .robot_run import APPROACH_MARGIN, RobotSetup, control_steps, robot_outcome
 SEE_THROUGH_TARGET = mg.MeshPhongMaterial(color=0xE07000, opacity=0.35, transparent=True)
 GRASP_MATERIALS = (mg.MeshPhongMaterial(color=0x20A040), mg.MeshPhongMaterial(color=0x2060D0))
 LOOP_MATERIAL = mg.MeshPhongMaterial(color=0xC02020)
-#: Target spin (rad/s) below which the detumbling counts as settled.
-SETTLED = 1e-6
+#: Share of the target's spin just after the grasp below which the detumbling counts as settled.
+SETTLED_SHARE = 1e-4
 
 
 @dataclass(kw_only=True)
@@ -104,7 +104,7 @@ def run(setup: TwoHandSetup, progress: Progress | None = None, checkpoint: Check
         setup, merged, tel, RunResult(tel, result.status, result.message, len(tel.t) - 1, wall, 0), summary,
         animation=(both_t, both_q), extra_bodies=_page_bodies(tg.size, res.target_poses, res.grasp_poses),
         extra_telemetry={"pre_capture": res.pre}, events=[(res.impact_time, "both hands grasp")], wrenches=(),
-        spin=True, settle_threshold=SETTLED)
+        spin=True, settle_threshold=summary["settle_threshold"])
     robot_figures = outcome.figures
 
     def figures(folder):
@@ -147,8 +147,8 @@ def _loop_summary(res, history, setup: TwoHandSetup) -> dict:
         "momentum_drift_after_impact": momentum_drift(tel.momentum),
         "target_angular_velocity_at_impact": float(w[0]),
         "target_angular_velocity_final": float(w[-1]),
-        "settling_time": settling_time(tel.t, w, SETTLED),
-        "settle_threshold": SETTLED,
+        "settling_time": settling_time(tel.t, w, SETTLED_SHARE * w[0]),
+        "settle_threshold": SETTLED_SHARE * float(w[0]),
         "squeeze_max": float(np.abs(history.squeeze).max(initial=0.0)),
         "squeeze_set": setup.scene.controller.squeeze,
         "internal_force_max": float(history.internal.max(initial=0.0)),
