@@ -40,17 +40,19 @@ def compiled_plant(robot, closures, baumgarte=0.0, law=None):
 def test_compiled_constrained_dynamics_equals_numpy_and_pinocchio(tmp_path_factory, kind, case):
     """On random trees with a random closure, the compiled constrained dynamics equal
     closures.solve (accelerations 1e-10 relative, the closures' generalized force J^T lambda 1e-9,
-    residuals, rank; also with Baumgarte, an open gap and redundant rows) and Pinocchio's
-    constraintDynamics at a consistent velocity (1e-10). The tolerances are the Delassus matrix's
-    conditioning (up to 1e7 on these trees; numpy and Pinocchio differ by as much), not the loop's."""
+    residuals, rank; also with Baumgarte, an open gap and redundant rows) and, when no row is
+    redundant, Pinocchio's constraintDynamics at a consistent velocity (1e-10; with redundant rows
+    its proximal solver leaves 1e-8 where both solves give 1e-13). The tolerances are the Delassus
+    matrix's conditioning (up to 1e7 on these trees; numpy and Pinocchio differ by as much)."""
     robot, closure, q, v, rng = closed_case(tmp_path_factory, case, kind, offset=0.0)
     model = robot.model
     v = consistent(model, closure, q, v)
     tau = rng.normal(size=model.nv)
     loop, _ = compiled_plant(robot, [closure])
     a, force, e, rank = loop.sim.closure_solve(q, v, tau)
-    reference = constraint_dynamics(model, q, v, tau, pinocchio_constraints(model, closure))
-    assert np.abs(a - reference).max() <= 1e-10 * max(1.0, np.abs(reference).max())
+    if rank == closure.size:
+        reference = constraint_dynamics(model, q, v, tau, pinocchio_constraints(model, closure))
+        assert np.abs(a - reference).max() <= 1e-10 * max(1.0, np.abs(reference).max())
     gap = dataclasses.replace(closure, placement2=closure.placement2 * pin.SE3(pin.exp3(rng.normal(size=3) * 0.05),
                                                                              rng.normal(size=3) * 0.05))
     for closures, beta in (([closure], 0.0), ([gap], 7.0), ([gap, closure], 3.0)):  # the last: redundant rows
@@ -166,7 +168,6 @@ def test_law_torques_equal_the_python_law_along_the_scene(two_hands):
         expected = law.torque(tel.t[k], tel.q[k], tel.v[k])
         got = loop.sim.loop_detumbling_torque(tel.t[k], tel.q[k], tel.v[k])
         assert np.abs(got - expected).max() <= 1e-9 * max(1.0, np.abs(expected).max()), k
-    assert any(law.log.saturated), "the scene's torque limit should be met early on"
     previous, force, t, residuals, saturated = loop.sim.take_loop_detumbling_state()
     assert saturated == law.log.saturated and np.allclose(t, law.log.t, rtol=0, atol=1e-15)
     assert np.abs(np.subtract(residuals, law.log.rows_residual)).max() <= 1e-12
@@ -195,6 +196,7 @@ def test_law_torques_equal_the_python_law_at_random_states(two_hands, seed):
             expected = law.torque(k * 1e-3, q, v)
             got = loop.sim.loop_detumbling_torque(k * 1e-3, q, v)
             assert np.abs(got - expected).max() <= 1e-9 * max(1.0, np.abs(expected).max())
+        assert any(law.log.saturated) == (limit > 0.0)  # the limit is met at these rates
 
 
 def test_compiled_law_hands_its_state_back(two_hands):

@@ -9,7 +9,6 @@
 
 #include <pinocchio/algorithm/crba.hpp>
 #include <pinocchio/algorithm/frames.hpp>
-#include <pinocchio/algorithm/jacobian.hpp>
 #include <pinocchio/algorithm/kinematics.hpp>
 #include <pinocchio/algorithm/rnea.hpp>
 #include <pinocchio/spatial.hpp>  // log3
@@ -47,8 +46,8 @@ struct FrameMotion {
   Matrix6x jacobian;
 };
 
-// closure.frame_motion; `d` must hold kinematics(): placements, velocities, accelerations at zero
-// joint acceleration and the joint Jacobians.
+// closure.frame_motion; `d` must hold what closure.kinematics leaves: placements, velocities,
+// accelerations at zero joint acceleration and the joint Jacobians (ConstrainedDynamics::prepare).
 inline void frame_motion(const Model& m, Data& d, JointIndex joint, const SE3& placement, FrameMotion& out) {
   out.pose = d.oMi[joint] * placement;
   const Mat3& R = out.pose.rotation();
@@ -59,12 +58,6 @@ inline void frame_motion(const Model& m, Data& d, JointIndex joint, const SE3& p
   out.angular_acceleration = R * acc.angular();
   out.jacobian.setZero(6, m.nv);
   pinocchio::getFrameJacobian(m, d, joint, placement, pinocchio::LOCAL_WORLD_ALIGNED, out.jacobian);
-}
-
-// closure.kinematics: what frame_motion reads, at (q, v).
-inline void closure_kinematics(const Model& m, Data& d, const Vec& q, const Vec& v, const Vec& zero) {
-  pinocchio::forwardKinematics(m, d, ConstRef(q), ConstRef(v), ConstRef(zero));
-  pinocchio::computeJointJacobians(m, d, ConstRef(q));
 }
 
 inline Mat3 skew(const Vec3& x) {
@@ -147,7 +140,10 @@ inline int delassus_solve(const Eigen::MatrixXd& D, const Vec& rhs, Vec& out) {
   return rank;
 }
 
-// constrained.solve with scratch kept between calls: the plant of a robot with loop closures.
+// constrained.solve with scratch kept between calls: the plant of a robot with loop closures. The
+// part that does not depend on tau (M, h, the rows, the factors) is kept for the last state it was
+// computed at without external wrenches: a law that prepare()s the state at the start of a period
+// saves the integrator's first evaluation there that work (the same numbers: same q, v, model).
 struct ConstrainedDynamics {
   std::vector<Closure> closures;
   double baumgarte = 0.0;  // beta, 1/s
@@ -159,28 +155,47 @@ struct ConstrainedDynamics {
   Eigen::MatrixXd M, MinvJt, D;
   Eigen::LLT<Eigen::MatrixXd, Eigen::Upper> llt;
   Vec h, zero, a_free, rhs;
+  Vec state_q, state_v;  // the state M, h, rows, ... are for, when `kept`
+  bool kept = false;
 
   bool empty() const { return closures.empty(); }
+  // Forget the kept state (the model's numbers or the closures changed).
+  void forget() { kept = false; }
+
+  // M (symmetric), h = RNEA(q, v, 0, fext), the closures' rows, the Cholesky factor of M, M^-1 J^T
+  // and D at (q, v), `d` left with what frame_motion reads; kept for solve() when `fext` is null.
+  // Throws std::overflow_error when M is not positive definite.
+  void prepare(const Model& m, Data& d, const Vec& q, const Vec& v, const std::vector<pinocchio::Force>* fext = nullptr) {
+    kept = false;
+    zero.setZero(m.nv);
+    // CRBA in the WORLD convention also leaves the joint Jacobians (data.J) as
+    // computeJointJacobians does, so that only the velocities and accelerations remain to compute.
+    M = pinocchio::crba(m, d, ConstRef(q), pinocchio::Convention::WORLD).selfadjointView<Eigen::Upper>();
+    if (fext == nullptr)
+      h = pinocchio::rnea(m, d, ConstRef(q), ConstRef(v), ConstRef(zero));
+    else
+      h = pinocchio::rnea(m, d, ConstRef(q), ConstRef(v), ConstRef(zero), *fext);
+    pinocchio::forwardKinematics(m, d, ConstRef(q), ConstRef(v), ConstRef(zero));
+    rows.evaluate(closures, m, d, true);
+    llt.compute(M);
+    if (llt.info() != Eigen::Success) throw std::overflow_error("the mass matrix is not positive definite");
+    MinvJt = llt.solve(rows.J.transpose());
+    D.noalias() = rows.J * MinvJt;
+    if (fext == nullptr) {
+      state_q = q;
+      state_v = v;
+      kept = true;
+    }
+  }
 
   // The accelerations `a` at (q, v) under generalized forces tau (nv,) and the external wrenches
   // `fext` (one per joint, joint frames; null: none). Throws std::overflow_error with the
   // reference's message when M is not positive definite or `a` is not finite.
   void solve(const Model& m, Data& d, const Vec& q, const Vec& v, const Vec& tau,
              const std::vector<pinocchio::Force>* fext, Vec& a) {
-    zero.setZero(m.nv);
-    M = pinocchio::crba(m, d, ConstRef(q), pinocchio::Convention::LOCAL).selfadjointView<Eigen::Upper>();
-    if (fext == nullptr)
-      h = pinocchio::rnea(m, d, ConstRef(q), ConstRef(v), ConstRef(zero));
-    else
-      h = pinocchio::rnea(m, d, ConstRef(q), ConstRef(v), ConstRef(zero), *fext);
-    closure_kinematics(m, d, q, v, zero);
-    rows.evaluate(closures, m, d, true);
-    llt.compute(M);
-    if (llt.info() != Eigen::Success) throw std::overflow_error("the mass matrix is not positive definite");
+    if (!(fext == nullptr && kept && q == state_q && v == state_v)) prepare(m, d, q, v, fext);
     a_free = llt.solve(tau - h);
-    MinvJt = llt.solve(rows.J.transpose());
     rhs = -rows.gamma - 2.0 * baumgarte * (rows.J * v) - baumgarte * baumgarte * rows.e - rows.J * a_free;
-    D.noalias() = rows.J * MinvJt;
     rank = delassus_solve(D, rhs, force);
     a = a_free + MinvJt * force;
     if (!a.allFinite()) throw std::overflow_error("constrained dynamics: accelerations are not finite");

@@ -111,6 +111,7 @@ class Simulation {
     detumbling_.reset();
     loop_law_.reset();
     closed_.closures.clear();
+    closed_.forget();
     controlled_ = false;
     wrenches_.clear();
     profiles_.clear();
@@ -130,6 +131,7 @@ class Simulation {
     if (!same_structure(model_, model))
       throw std::invalid_argument("set_model: the model's joints or frames differ from the loop's");
     model_ = std::move(model);  // in place: the integrator refers to model_
+    closed_.forget();
     mass_ = pinocchio::computeTotalMass(model_);
   }
 
@@ -156,6 +158,7 @@ class Simulation {
   void set_closures(std::vector<Closure> closures, double baumgarte) {
     closed_.closures = std::move(closures);
     closed_.baumgarte = baumgarte;
+    closed_.forget();
   }
   ConstrainedDynamics& closed() { return closed_; }
   Data& scratch_data() { return data_; }  // the plant's Data, for evaluations outside of a run
@@ -272,7 +275,7 @@ class Simulation {
 
   void loop_law_torque(double t, const Vec& q, const Vec& v, Vec& tau) {
     generalized_jacobian(model_, data_, q, v, base_frame_, ee_frames_, joints_.n, loop_law_->at_state);
-    loop_law_->torque(model_, data_, q, v, nb_, t, tau);
+    loop_law_->torque(model_, data_, closed_, q, v, nb_, t, tau);
   }
 
   // H_ = H* and c_ = c* of tau = H* qddot + c* (the base eliminated through its rows) at the state.

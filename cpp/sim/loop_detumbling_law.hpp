@@ -33,12 +33,14 @@ struct LoopDetumblingLaw {
   GeneralizedJacobian at_state;    // filled by the loop for the state before torque()
 
   // Joint torques (n,) at time t for (q, v); `at_state` must hold the state's generalized Jacobian.
-  void torque(const Model& m, Data& d, const Vec& q, const Vec& v, int nb, double t, Vec& tau) {
+  // M, h and the kinematics come from the plant's prepare() at (q, v), which the plant's first
+  // evaluation of the period then reuses.
+  void torque(const Model& m, Data& d, ConstrainedDynamics& plant, const Vec& q, const Vec& v, int nb, double t,
+              Vec& tau) {
     const int n = m.nv - nb, mc = closure[0].size();
-    M = pinocchio::crba(m, d, ConstRef(q), pinocchio::Convention::LOCAL).selfadjointView<Eigen::Upper>();
-    h = pinocchio::nonLinearEffects(m, d, ConstRef(q), ConstRef(v));
-    zero.setZero(m.nv);
-    closure_kinematics(m, d, q, v, zero);
+    plant.prepare(m, d, q, v);
+    const Eigen::MatrixXd& M = plant.M;
+    const Vec& h = plant.h;  // RNEA(q, v, 0): the nonlinear effects
     rows_.evaluate(closure, m, d, true);
     const Eigen::MatrixXd& Jc = rows_.J;
     Eigen::MatrixXd rhs(nb, n + 2 + mc);
@@ -54,7 +56,7 @@ struct LoopDetumblingLaw {
     Vec qddot_d = kd * (qdot_d - v.tail(n));
     if (previous) qddot_d += (qdot_d - *previous) / period;
     previous = qdot_d;
-    projector_ = pinv(Jc_star_, 1e-10);
+    projector_.compute(Jc_star_, 1e-10);
     H_ = M.bottomRightCorner(n, n) - M.topRightCorner(nb, n).transpose() * to_base;
     c_ = h.tail(n) - M.topRightCorner(nb, n).transpose() * bias;
     frame_motion(m, d, target_joint, target_placement, target_);
@@ -88,7 +90,8 @@ struct LoopDetumblingLaw {
       b[r + i] = -closure_drift[i];
       for (int j = 0; j < s; ++j) A(r + i, j) = Jc_star(i, joints[j]);
     }
-    const Vec qS = pinv(A, 1e-10) * b;
+    rates_.compute(A, 1e-10);
+    const Vec qS = rates_.solve(b);
     Vec qdot = Vec::Zero(g.Jstar.cols());
     for (int j = 0; j < s; ++j) qdot[joints[j]] = qS[j];
     double largest = 0.0;
@@ -105,7 +108,7 @@ struct LoopDetumblingLaw {
     Vec6 lambda = force;
     for (int pass = 0; pass < 2; ++pass) {  // lambda moves the base only through J_c,b
       const Vec target = target_rows + Jc_b * (bias - reaction * lambda);
-      qddot = desired - projector_ * (Jc_star_ * desired - target);
+      qddot = desired - projector_.solve(Jc_star_ * desired - target);
       a.head(to_base.rows()) = reaction * lambda - to_base * qddot - bias;
       a.tail(qddot.size()) = qddot;
       lambda = shared_force(a);
@@ -144,8 +147,9 @@ struct LoopDetumblingLaw {
   // Scratch of one period.
   ClosureRows rows_;
   FrameMotion target_;
-  Eigen::MatrixXd M, coupling_, Jc_star_, projector_, H_;
-  Vec h, zero, c_;
+  Eigen::MatrixXd coupling_, Jc_star_, H_;
+  LeastNorm projector_, rates_;  // pinv(J*_c), pinv([J*_rows; J*_c]) (rcond 1e-10), as solvers
+  Vec c_;
   Mat3 hand_rotation_, inertia_world_;
   Vec3 grasp_, squeeze_axis_;
 };
