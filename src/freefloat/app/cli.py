@@ -98,7 +98,8 @@ def main(argv: list[str] | None = None) -> int:
                                              "or a suite of measurements (--suite)")
     ben.add_argument("scenes", nargs="*", metavar="SCENE",
                      help=f"the {DEFAULT_SUITE} suite's scenes: four_arm, dual_arm, controlled, detumbling, five_bar, "
-                          "rsu_ppap (default: these six), and five_bar_free_base, rsu_ppap_free_base")
+                          "rsu_ppap (default: these six), and five_bar_free_base, rsu_ppap_free_base, "
+                          "capture_two_hands_satellite")
     ben.add_argument("--suite", nargs="+", default=None, metavar="NAME",
                      help="; ".join(f"{name}: {suite.help}" for name, suite in SUITES.items()).replace("%", "%%")
                           + f"; {ALL_SUITES}: every suite (default: {DEFAULT_SUITE})")

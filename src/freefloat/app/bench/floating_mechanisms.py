@@ -32,7 +32,8 @@ from ...parallel.free_base import BaseFrameControl
 from ..experiments.mechanism import prepare
 from ..scenes import find_scene
 from .mechanism_mjcf import SOLIMP, TIMECONST_STEPS
-from .mechanisms import MUJOCO, MUJOCO_MODEL, QUICK_DURATION, REFERENCE_TOL, MechanismResult, held_run
+from .mechanisms import (MUJOCO, MUJOCO_MODEL, QUICK_DURATION, REFERENCE_TOL, MechanismResult, held_run,
+                         whole_periods)
 from .scene import Method, Run
 
 #: Bench scene name (the scene file's) -> note (what runs).
@@ -70,6 +71,17 @@ SWEEPS = {
 }
 #: freefloat's model label: the scene's plant.
 PLANT = "constraintDynamics baumgarte {:g}"
+#: MuJoCo's closures, as ``bench.json`` records them.
+MUJOCO_SETTINGS = {"solref": f"timeconst {TIMECONST_STEPS:g} x step, dampratio 1", "solimp": list(SOLIMP)}
+
+
+def swept_methods(steps: dict[str, tuple[float, ...]], loop: str, model: str,
+                  mujoco_steps: tuple[float, ...]) -> list[Method]:
+    """freefloat's methods (each integrator of ``steps`` at its steps, s, in ``loop``, plant label
+    ``model``), then MuJoCo's three integrators at ``mujoco_steps``."""
+    out = [Method("freefloat", integrator, h, loop, model) for integrator, own in steps.items() for h in own]
+    return out + [Method("mujoco", integrator, h, "python", MUJOCO_MODEL)
+                  for integrator in MUJOCO for h in mujoco_steps]
 
 
 @dataclass(frozen=True)
@@ -137,17 +149,13 @@ class FloatingMechanismBench:
                          "base": self.floating.base.kind,
                          "reference": {"integrator": "DOP853 per control period", "model": self.model_label,
                                        "rtol": REFERENCE_TOL, "atol": REFERENCE_TOL},
-                         "mujoco": {"solref": f"timeconst {TIMECONST_STEPS:g} x step, dampratio 1",
-                                    "solimp": list(SOLIMP)},
+                         "mujoco": MUJOCO_SETTINGS,
                          "state_error": "2-norm of [difference(q_ref, q); v - v_ref] on the tree, root joint "
                                         "included, at the end (m, rad, m/s, rad/s)"}
 
     def methods(self) -> list[Method]:
         """freefloat's plant with Euler, RKMK4 and RKMK8 (Python loop); MuJoCo's three integrators."""
-        out = [Method("freefloat", integrator, h, "python", self.model_label)
-               for integrator, steps in self.steps.items() for h in steps]
-        return out + [Method("mujoco", integrator, h, "python", MUJOCO_MODEL) for integrator in MUJOCO
-                      for h in self.mujoco_steps]
+        return swept_methods(self.steps, "python", self.model_label, self.mujoco_steps)
 
     def tree(self) -> ClosedTree:
         """The tree MuJoCo is written from."""
@@ -200,8 +208,5 @@ def floating_mechanism_scene(name: str, duration: float | None = None, quick: bo
         raise InvalidArgument(f"unknown moving-base bench scene '{name}'; valid: {', '.join(FLOATING_SCENES)}")
     duration = duration if duration is not None else (QUICK_DURATION if quick else SWEEPS[name].duration)
     bench = FloatingMechanismBench(name, duration, quick)
-    periods = round(duration / bench.period) if np.isfinite(duration) else 0
-    if not duration > 0.0 or periods < 1 or abs(periods * bench.period - duration) > 1e-9:
-        raise InvalidArgument(f"bench scene '{name}': duration must be a positive whole number of {bench.period:g} s "
-                              f"control periods, got {duration}")
+    whole_periods(name, duration, bench.period)
     return bench

@@ -267,10 +267,20 @@ def mechanism_scene(name: str, duration: float | None = None, quick: bool = Fals
     duration = duration if duration is not None else (QUICK_DURATION if quick else sweep.duration)
     prepared = prepare(find_scene(sweep.scene))
     period = prepared.scene.simulation.step  # the scene file's: the law is held over it
+    whole_periods(name, duration, period)
+    if quick:
+        return MechanismBench(name, prepared, duration, period, sweep.quick_steps, sweep.quick_steps)
+    return MechanismBench(name, prepared, duration, period, sweep.steps, sweep.numpy_steps)
+
+
+def whole_periods(name: str, duration: float, period: float) -> None:
+    """Checks that bench scene ``name``'s ``duration`` (s) is a positive whole number of ``period`` s
+    control periods.
+
+    Raises:
+        InvalidArgument: when it is not, naming the scene, the period and the duration.
+    """
     periods = round(duration / period) if np.isfinite(duration) else 0
     if not duration > 0.0 or periods < 1 or abs(periods * period - duration) > 1e-9:
         raise InvalidArgument(f"bench scene '{name}': duration must be a positive whole number of {period:g} s "
                               f"control periods, got {duration}")
-    if quick:
-        return MechanismBench(name, prepared, duration, period, sweep.quick_steps, sweep.quick_steps)
-    return MechanismBench(name, prepared, duration, period, sweep.steps, sweep.numpy_steps)

@@ -17,6 +17,7 @@ from ..run_folder import Journal, RunFolder
 from ..runner import signals_raise_keyboard_interrupt
 from .free_floating import NOTES, free_floating_scene
 from .floating_mechanisms import FLOATING_SCENES, floating_mechanism_scene
+from .two_hand_capture import CAPTURE_SCENES, two_hand_capture_scene
 from .mechanisms import MECHANISM_SCENES, mechanism_scene
 from .options import Options
 from .scene import BenchScene
@@ -24,10 +25,10 @@ from .summary import band_rows, summary_lines
 from .chart import chart
 from .sweep import RECORD_KEYS, Point, sweep, timed_reference
 
-#: Every bench scene with its note: the free-floating robots, the closed-chain mechanisms, and
-#: the mechanisms on a moving base.
-ALL_SCENES = {**NOTES, **MECHANISM_SCENES, **FLOATING_SCENES}
-#: The scenes a bench without scene names sweeps (the moving-base ones are named to run).
+#: Every bench scene with its note: the free-floating robots, the closed-chain mechanisms, the
+#: mechanisms on a moving base and the two-hand capture's post-grasp phase.
+ALL_SCENES = {**NOTES, **MECHANISM_SCENES, **FLOATING_SCENES, **CAPTURE_SCENES}
+#: The scenes a bench without scene names sweeps (the moving-base and capture ones are named to run).
 DEFAULT_SCENES = {**NOTES, **MECHANISM_SCENES}
 #: Each measured point, one JSON line (a row of bench.csv), appended as it comes: what a bench
 #: killed outright leaves.
@@ -37,11 +38,14 @@ CSV_FIELDS = RECORD_KEYS + ("state_error", "momentum_error", "energy_error", "co
 
 def bench_scene(name: str, duration: float | None, quick: bool, seed: int) -> BenchScene:
     """The bench scene ``name`` of :data:`ALL_SCENES` (:func:`.free_floating.free_floating_scene`,
-    :func:`.mechanisms.mechanism_scene`, :func:`.floating_mechanisms.floating_mechanism_scene`; the seed applies to the tumbling scenes)."""
+    :func:`.mechanisms.mechanism_scene`, :func:`.floating_mechanisms.floating_mechanism_scene`,
+    :func:`.two_hand_capture.two_hand_capture_scene`; the seed applies to the tumbling scenes)."""
     if name in MECHANISM_SCENES:
         return mechanism_scene(name, duration, quick)
     if name in FLOATING_SCENES:
         return floating_mechanism_scene(name, duration, quick)
+    if name in CAPTURE_SCENES:
+        return two_hand_capture_scene(name, duration, quick)
     return free_floating_scene(name, duration, quick, seed)
 
 

@@ -55,6 +55,8 @@ class BenchScene(Protocol):
         secondary: ``(errors key, chart axis label)`` of the second chart panel (momentum for a
             free-floating robot, constraint drift for a closed chain).
         settings: the sweep's settings for ``bench.json`` (steps, tolerances, duration, ...).
+        turns: optional; when true the methods take turns, one run each per round
+            (:func:`.sweep.taking_turns`), instead of each method's runs in a row.
     """
 
     name: str

@@ -53,6 +53,25 @@ class Point:
 RECORD_KEYS = ("scene", "package", "integrator", "model", "loop", "setting", "wall_time_s")
 
 
+def _call(run: Any) -> tuple[float, Any]:
+    """Wall time (s) and result of one run; the result None when it blew up."""
+    start = time.perf_counter()
+    try:
+        result = run()
+    except (SimulationDiverged, ArithmeticError):
+        result = None
+    return time.perf_counter() - start, result
+
+
+def _point(scene: BenchScene, method: Method, times: list[float], result: Any, ref: Any) -> Point:
+    """The median of ``times`` and the errors of ``result`` (all infinite when it is None or its
+    errors are not finite, under the keys of the reference's own errors)."""
+    errors = None if result is None else scene.errors(result, ref)
+    if errors is None or not all(math.isfinite(e) for e in errors.values()):
+        errors = dict.fromkeys(scene.errors(ref, ref), math.inf)
+    return Point(method, statistics.median(times), errors)
+
+
 def measure(scene: BenchScene, method: Method, ref, repeats: int) -> Point:
     """Run ``method`` ``repeats`` times; the median wall time and the errors of the last run.
 
@@ -60,18 +79,22 @@ def measure(scene: BenchScene, method: Method, ref, repeats: int) -> Point:
     and gets infinite errors (under the keys of the reference's own errors).
     """
     run = scene.run(method)
-    times, result = [], None
-    for _ in range(repeats):
-        start = time.perf_counter()
-        try:
-            result = run()
-        except (SimulationDiverged, ArithmeticError):
-            result = None
-        times.append(time.perf_counter() - start)
-    errors = None if result is None else scene.errors(result, ref)
-    if errors is None or not all(math.isfinite(e) for e in errors.values()):
-        errors = dict.fromkeys(scene.errors(ref, ref), math.inf)
-    return Point(method, statistics.median(times), errors)
+    calls = [_call(run) for _ in range(repeats)]
+    return _point(scene, method, [t for t, _ in calls], calls[-1][1], ref)
+
+
+def taking_turns(scene: BenchScene, ref: Any, repeats: int) -> Iterator[Point]:
+    """Every method of the scene run once per round, ``repeats`` rounds, so that load from
+    elsewhere falls on all of them alike; each point (as :func:`measure`'s) comes as its method's
+    last run ends, in the last round."""
+    runs = [(method, scene.run(method)) for method in scene.methods()]
+    times: list[list[float]] = [[] for _ in runs]
+    for round_ in range(repeats):
+        for (method, run), own in zip(runs, times):
+            elapsed, result = _call(run)
+            own.append(elapsed)
+            if round_ == repeats - 1:
+                yield _point(scene, method, own, result, ref)
 
 
 def timed_reference(scene: BenchScene) -> tuple[Any, float]:
@@ -83,6 +106,10 @@ def timed_reference(scene: BenchScene) -> tuple[Any, float]:
 
 def sweep(scene: BenchScene, ref: Any, repeats: int = 3) -> Iterator[Point]:
     """Every method of the scene measured in this process against ``ref``, one point as each
-    finishes (so an interrupted sweep keeps the points before it)."""
+    finishes (so an interrupted sweep keeps the points before it); by :func:`taking_turns` when
+    the scene's ``turns`` is true (its points then come in the last round)."""
+    if getattr(scene, "turns", False):
+        yield from taking_turns(scene, ref, repeats)
+        return
     for method in scene.methods():
         yield measure(scene, method, ref, repeats)
