@@ -61,14 +61,23 @@ def constraint_dynamics(model, q, v, tau, constraints):
 @given(case=random_robots(min_links=2, max_links=7))
 def test_accelerations_equal_pinocchio_constraint_dynamics(tmp_path_factory, kind, case):
     """On random trees with a random closure between two bodies, the accelerations equal Pinocchio's
-    constraintDynamics (a revolute closure: two point contacts on its hinge) to 1e-11."""
+    constraintDynamics (a revolute closure: two point contacts on its hinge) to 1e-12 relative, or
+    to 1e-15 times the Delassus matrix's condition number where the closure is nearly singular
+    (150 random cases: 2e-13 at worst for welds and revolutes; a point closure with a singular value
+    of 8e-5 differed by 8e-10 with both solutions meeting the equations to 1e-11)."""
     robot, closure, q, v, rng = closed_case(tmp_path_factory, case, kind)
-    model = robot.model
+    model, data = robot.model, robot.model.createData()
     v = consistent(model, closure, q, v)
     tau = rng.normal(size=model.nv)
-    ours = solve(model, model.createData(), q, v, tau, [closure]).acceleration
+    ours = solve(model, data, q, v, tau, [closure]).acceleration
     reference = constraint_dynamics(model, q, v, tau, pinocchio_constraints(model, closure))
-    assert np.abs(ours - reference).max() <= 1e-11 * max(1.0, np.abs(reference).max())
+    kinematics(model, data, q, v)
+    J = stacked([closure], model, data)[1]
+    M = pin.crba(model, data, q)
+    M = np.triu(M) + np.triu(M, 1).T
+    singular = np.linalg.svd(J @ np.linalg.solve(M, J.T), compute_uv=False)
+    conditioning = singular[0] / max(singular[singular > 1e-12 * singular[0]].min(), 1e-300)
+    assert np.abs(ours - reference).max() <= (1e-12 + 1e-15 * conditioning) * max(1.0, np.abs(reference).max())
 
 
 @pytest.mark.parametrize("kind", ["point", "weld", "revolute"])
