@@ -56,3 +56,16 @@ def test_a_second_hand_that_is_not_another_end_effector_is_refused(tmp_path, han
     scene = quiet_scene(tmp_path, SCENE, target={"second_end_effector": hand})
     with pytest.raises(SceneError, match=r"'target.second_end_effector' .* end-effectors: left_tool0, right_tool0"):
         runner.prepare(scene)
+
+
+def test_a_grasp_at_a_singular_posture_is_warned(tmp_path):
+    """At the satellite's zero posture the stretched arms cannot move the hands apart in every
+    direction (the loop loses a rank): preparing the scene warns, naming the fix."""
+    from freefloat.robot.loading import FreefloatWarning
+
+    zero = {name: 0.0 for name in ("left_shoulder_lift_joint", "left_elbow_joint", "left_wrist_1_joint",
+                                   "left_wrist_2_joint", "right_shoulder_lift_joint", "right_elbow_joint",
+                                   "right_wrist_1_joint", "right_wrist_2_joint")}
+    scene = quiet_scene(tmp_path, SCENE, initial={"joint_positions": zero}, target={"second_grasp": None})
+    with pytest.warns(FreefloatWarning, match=r"singular at the grasp posture \(conditioning .*\).*arms bent"):
+        runner.prepare(scene)

@@ -137,6 +137,19 @@ def second_grasp_at_contact(robot: Robot, hands: tuple[str, ...], q: np.ndarray,
     return rotation_at_contact.T @ (hand2 - com)
 
 
+def loop_conditioning(robot: Robot, hands: tuple[str, ...], q: np.ndarray) -> float:
+    """How far from singular the loop two hands close is at ``q``: the smallest over the largest
+    singular value of the joints' map to the hands' relative twist (world axes; 0: the hands
+    cannot move relative to each other in some direction, and a weld between them is singular)."""
+    model, data = robot.model, robot.model.createData()
+    pin.computeJointJacobians(model, data, q)
+    pin.updateFramePlacements(model, data)
+    first, second = (pin.getFrameJacobian(model, data, model.getFrameId(h), pin.LOCAL_WORLD_ALIGNED)[:, robot.n_base:]
+                     for h in hands[:2])
+    singular = np.linalg.svd(second - first, compute_uv=False)
+    return float(singular[-1] / singular[0]) if singular[0] > 0 else 0.0
+
+
 def capture_with_two_hands(robot: Robot, target: Target, hands: tuple[str, ...], second_grasp: np.ndarray,
                            rows: np.ndarray, joints: np.ndarray, control_period: float, approach_time: float,
                            detumble_time: float, tolerance: float = 1e-3, integrator: str = "rkmk4",
@@ -225,5 +238,5 @@ def loop_history(capture: TwoHandCapture, target: Target, baumgarte: float) -> L
 
 
 __all__ = ["SECOND_GRASP_FRAME", "LoopHistory", "TwoHandCapture", "TwoHandImpact", "attach_with_loop",
-           "capture_with_two_hands", "grasp_welds", "loop_history", "robot_and_target",
+           "capture_with_two_hands", "grasp_welds", "loop_conditioning", "loop_history", "robot_and_target",
            "second_grasp_at_contact", "two_hand_impact"]
