@@ -59,25 +59,40 @@ def constraint_dynamics(model, q, v, tau, constraints):
 @pytest.mark.parametrize("kind", ["point", "weld", "revolute"])
 @settings(max_examples=12, deadline=None)
 @given(case=random_robots(min_links=2, max_links=7))
-def test_accelerations_equal_pinocchio_constraint_dynamics(tmp_path_factory, kind, case):
-    """On random trees with a random closure between two bodies, the accelerations equal Pinocchio's
-    constraintDynamics (a revolute closure: two point contacts on its hinge) to 1e-12 relative, or
-    to 1e-15 times the Delassus matrix's condition number where the closure is nearly singular
-    (150 random cases: 2e-13 at worst for welds and revolutes; a point closure with a singular value
-    of 8e-5 differed by 8e-10 with both solutions meeting the equations to 1e-11)."""
+def test_accelerations_meet_the_constrained_equations(tmp_path_factory, kind, case):
+    """On random trees with a random closure between two bodies, the accelerations meet the
+    equations themselves to 1e-12 (relative): ``J a + gamma = 0``, and ``M a + h - tau`` is a
+    closure force ``J^T lambda`` (900 random cases: 5e-13 and 3e-14 at worst)."""
     robot, closure, q, v, rng = closed_case(tmp_path_factory, case, kind)
     model, data = robot.model, robot.model.createData()
     v = consistent(model, closure, q, v)
     tau = rng.normal(size=model.nv)
-    ours = solve(model, data, q, v, tau, [closure]).acceleration
-    reference = constraint_dynamics(model, q, v, tau, pinocchio_constraints(model, closure))
+    a = solve(model, data, q, v, tau, [closure]).acceleration
     kinematics(model, data, q, v)
-    J = stacked([closure], model, data)[1]
+    _, J, gamma = stacked([closure], model, data)
     M = pin.crba(model, data, q)
     M = np.triu(M) + np.triu(M, 1).T
-    singular = np.linalg.svd(J @ np.linalg.solve(M, J.T), compute_uv=False)
-    conditioning = singular[0] / max(singular[singular > 1e-12 * singular[0]].min(), 1e-300)
-    assert np.abs(ours - reference).max() <= (1e-12 + 1e-15 * conditioning) * max(1.0, np.abs(reference).max())
+    unbalanced = M @ a + pin.rnea(model, data, q, v, np.zeros(model.nv)) - tau
+    force = np.linalg.lstsq(J.T, unbalanced, rcond=None)[0]
+    assert np.abs(J @ a + gamma).max() <= 1e-12 * max(1.0, np.abs(gamma).max(), np.abs(J).max() * np.abs(a).max())
+    assert np.abs(unbalanced - J.T @ force).max() <= 1e-12 * max(1.0, np.abs(tau).max(), np.abs(M @ a).max())
+
+
+@pytest.mark.parametrize("kind", ["point", "weld", "revolute"])
+@settings(max_examples=12, deadline=None)
+@given(case=random_robots(min_links=2, max_links=7))
+def test_accelerations_equal_pinocchio_constraint_dynamics(tmp_path_factory, kind, case):
+    """The same cases against Pinocchio's constraintDynamics (a revolute closure: two point
+    contacts on its hinge): equal to 1e-9 relative. Where the two differ beyond 1e-12 (900 random
+    cases: up to 3.6e-10, on nearly singular or fully rigid loops) it is Pinocchio's proximal
+    solver that meets the equations less closely (constraint residual up to 5e-11 against 5e-13)."""
+    robot, closure, q, v, rng = closed_case(tmp_path_factory, case, kind)
+    model = robot.model
+    v = consistent(model, closure, q, v)
+    tau = rng.normal(size=model.nv)
+    ours = solve(model, model.createData(), q, v, tau, [closure]).acceleration
+    reference = constraint_dynamics(model, q, v, tau, pinocchio_constraints(model, closure))
+    assert np.abs(ours - reference).max() <= 1e-9 * max(1.0, np.abs(reference).max())
 
 
 @pytest.mark.parametrize("kind", ["point", "weld", "revolute"])
