@@ -21,6 +21,9 @@ def loop_figure(t: np.ndarray, squeeze: np.ndarray | None, internal: np.ndarray 
         curve(axes[0], t, squeeze, "squeeze (along grasp 2 -> grasp 1)")
         curve(axes[0], t, internal, "|internal force|")
         finish(axes[0], "t (s)", "force (N)", "internal wrench of the loop")
+        low, high = min(0.0, np.nanmin(squeeze, initial=0.0)), max(0.0, np.nanmax(internal, initial=0.0))
+        axes[0].set_ylim(1.2 * low - 1.0, 1.2 * high + 1.0)  # from zero: a held squeeze reads as a flat line at its value
+        axes[0].ticklabel_format(axis="y", useOffset=False)
     drift_ax = axes[-1]
     log_curve(drift_ax, t, drift_position, "position residual (m)")
     log_curve(drift_ax, t, drift_rotation, "rotation residual (rad)")
