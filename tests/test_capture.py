@@ -146,3 +146,22 @@ def test_an_approach_too_long_to_simulate_is_refused_naming_the_contact_time(tmp
     scene = quiet_scene(tmp_path, "capture_planar", target={"contact_time": 1e6})
     with pytest.raises(SceneError, match=r"'target.contact_time' ask for a run that needs"):
         runner.prepare(scene)
+
+
+def test_an_interrupted_approach_is_an_interrupt_not_a_missed_target(monkeypatch):
+    """Ctrl-C during the approach (the loop returns status 'interrupted') stops the capture as an
+    interrupt, not with 'target never reaches' (which would blame the scene)."""
+    from freefloat.dynamics import simulation
+    from freefloat.space import capture
+
+    robot = load_robot(REPO / "urdf" / "two_arm_planar.urdf", base="planar", visuals=False)
+    target = capture.Target.meeting([7.75, 0.0, 0.0], 0.5, 50.0, (2.0, 2.5, 3.0), (-0.25, 0.0, 0.0),
+                                    (-0.4, 0.0, 0.0), (0.0, 0.0, 0.3))
+    real_run = simulation.run
+
+    def interrupted(*args, **kwargs):  # the approach's loop, Ctrl-C at its first period
+        return real_run(*args, **{**kwargs, "stop": lambda t, q, v: (_ for _ in ()).throw(KeyboardInterrupt())})
+
+    monkeypatch.setattr(simulation, "run", interrupted)
+    with pytest.raises(KeyboardInterrupt):
+        capture.capture_and_detumble(robot, target, "arm1_ee", [("arm1_ee", "wz")], None, approach_time=0.2)

@@ -214,7 +214,9 @@ def approach(robot: Robot, body: TargetBody, end_effectors: tuple[str, ...], con
 
     Raises:
         FreefloatError: when the grasp points do not all come within ``tolerance`` in ``duration`` s
-            (the message names the end-effectors and gives the closest approach and when).
+            (the message names the end-effectors and gives the closest approach and when), or the
+            approach diverged.
+        KeyboardInterrupt: when the approach was interrupted (Ctrl-C, SIGTERM).
     """
     from ..dynamics.integrators import make_integrator
     from ..dynamics.models import ExactModel
@@ -247,9 +249,13 @@ def approach(robot: Robot, body: TargetBody, end_effectors: tuple[str, ...], con
     v0 = np.zeros(robot.model.nv) if v0 is None else v0
     pre = run(robot, q0, v0, duration, control_period, make_integrator(integrator, robot.model), ExactModel(robot),
               hold, stop=reached)
+    if pre.status == "interrupted":  # Ctrl-C or SIGTERM during the approach stops the whole run
+        raise KeyboardInterrupt(pre.message)
     if pre.status != "stopped":
         gap, when = flight.closest
         names = "' and '".join(end_effectors)
+        if pre.status != "completed":
+            raise FreefloatError(f"the approach to '{names}' {pre.status}: {pre.message}")
         raise FreefloatError(f"target never reaches '{names}' within {tolerance} m in "
                              f"{duration} s (closest approach {gap:.4g} m at t = {when:.4g} s)")
     flight.poses = np.array(flight.poses)
