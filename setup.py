@@ -1,7 +1,8 @@
 """Build of the compiled parts (C++17, pybind11):
 
 - ``freefloat.dynamics._core``: the GJM layer (cpp/core.cpp) and the closed chains' core;
-- ``freefloat.dynamics._sim``: the simulation loop (cpp/sim_module.cpp) and the closed-chain loop
+- ``freefloat.dynamics._sim``: the simulation loop (cpp/sim_module.cpp; its plant with loop
+  closures and the two-hand law in cpp/closures.cpp, a unit of its own) and the closed-chain loop
   on Pinocchio's C++ algorithms, compiled against the headers of the ``libpinocchio`` wheel (a
   build requirement) and linked to its ``libpinocchio_default``, which holds the algorithms
   already compiled (explicit template instantiation): instantiating them here was most of the
@@ -81,7 +82,7 @@ PINOCCHIO_FLAGS = ["-isystem", str(PINOCCHIO / "include"), "-DPINOCCHIO_ENABLE_T
                    "-DBOOST_MPL_LIMIT_LIST_SIZE=30", "-DBOOST_MPL_LIMIT_VECTOR_SIZE=30",
                    "-DBOOST_MPL_CFG_NO_PREPROCESSED_HEADERS", "-DBOOST_FUSION_INVOKE_MAX_ARITY=12"]
 # The heaviest translation units first, so that two cores finish together.
-ORDER = ["cpp/sim_module.cpp", "cpp/chains.cpp", "cpp/core.cpp"]
+ORDER = ["cpp/sim_module.cpp", "cpp/chains.cpp", "cpp/closures.cpp", "cpp/core.cpp"]
 
 
 class BuildExt(pybind11_build_ext):
@@ -170,8 +171,8 @@ LINK = {"libraries": ["pinocchio_default"], "library_dirs": [str(PINOCCHIO / "li
 setup(
     ext_modules=[
         extension("freefloat.dynamics._core", ["cpp/core.cpp", "cpp/chains.cpp"], FLAGS + PINOCCHIO_FLAGS, **LINK),
-        extension("freefloat.dynamics._sim", ["cpp/sim_module.cpp", "cpp/chains.cpp"], FLAGS + PINOCCHIO_FLAGS,
-                  **LINK),
+        extension("freefloat.dynamics._sim", ["cpp/sim_module.cpp", "cpp/chains.cpp", "cpp/closures.cpp"],
+                  FLAGS + PINOCCHIO_FLAGS, **LINK),
     ],
     install_requires=DEPENDENCIES + [f"libpinocchio=={version('libpinocchio')}"],
     cmdclass={"build_ext": BuildExt},

@@ -87,12 +87,17 @@ PySimulation make(std::vector<int> parent, std::vector<std::string> kind, std::v
   return PySimulation{std::move(sim), joints.n, static_cast<int>(ee_frames.size())};
 }
 
-DetumblingTask task_of(const PySimulation& s, std::vector<int> rows, std::vector<int> joints, const std::string& method,
-                       const std::string& secondary, double rcond) {
+// A detumbling task's rows (into the 6 n_ee end-effector rows) and mission joints, checked.
+void check_task_indices(const PySimulation& s, const std::vector<int>& rows, const std::vector<int>& joints) {
   for (int r : rows)
     if (r < 0 || r >= 6 * s.n_ee) throw std::invalid_argument("detumbling row out of range");
   for (int j : joints)
     if (j < 0 || j >= s.n_joints) throw std::invalid_argument("mission joint out of range");
+}
+
+DetumblingTask task_of(const PySimulation& s, std::vector<int> rows, std::vector<int> joints, const std::string& method,
+                       const std::string& secondary, double rcond) {
+  check_task_indices(s, rows, joints);
   if (rows.empty() || joints.empty()) throw std::invalid_argument("detumbling needs rows and mission joints");
   const auto m = DetumblingTask::method_named(method);
   if (m == DetumblingTask::Method::single && (rows.size() != 1 || joints.size() != 1))
@@ -260,10 +265,7 @@ PYBIND11_MODULE(_sim, m) {
              LoopDetumblingLaw law;
              law.closure = {closure_of(m, closure)};
              if (law.closure[0].size() != 6) throw std::invalid_argument("a two-hand grasp is a weld (6 rows)");
-             for (int r : rows)
-               if (r < 0 || r >= 6 * s.n_ee) throw std::invalid_argument("detumbling row out of range");
-             for (int j : joints)
-               if (j < 0 || j >= s.n_joints) throw std::invalid_argument("mission joint out of range");
+             check_task_indices(s, rows, joints);
              for (int j : {target_joint, first_joint})
                if (j < 0 || j >= static_cast<int>(m.njoints)) throw std::invalid_argument("frame joint out of range");
              law.rows = std::move(rows);

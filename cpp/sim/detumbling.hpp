@@ -17,12 +17,14 @@
 namespace freefloat::sim {
 
 // The Moore-Penrose pseudo-inverse with numpy.linalg.pinv's cut: singular values not above
-// rcond times the largest are dropped.
-inline Eigen::MatrixXd pinv(const Eigen::MatrixXd& A, double rcond) {
+// rcond times the largest are dropped (their count left in `rank` if given).
+inline Eigen::MatrixXd pinv(const Eigen::MatrixXd& A, double rcond, int* rank = nullptr) {
+  if (rank != nullptr) *rank = 0;
   if (A.size() == 0) return Eigen::MatrixXd::Zero(A.cols(), A.rows());
   Eigen::JacobiSVD<Eigen::MatrixXd> svd(A, Eigen::ComputeThinU | Eigen::ComputeThinV);
   const Vec& s = svd.singularValues();
   const double cutoff = rcond * s.maxCoeff();
+  if (rank != nullptr) *rank = static_cast<int>((s.array() > cutoff).count());
   const Vec inverse = (s.array() > cutoff).select(s.cwiseInverse(), 0.0);
   return svd.matrixV() * inverse.asDiagonal() * svd.matrixU().transpose();
 }

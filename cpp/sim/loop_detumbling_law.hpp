@@ -7,6 +7,7 @@
 //   3. the closure force lambda: each hand carries half of the target's inertial wrench plus a
 //      squeeze along grasp 2 -> grasp 1 (two fixed-point passes, from the previous period's lambda);
 //   4. tau = H* qddot + c* - J*_c^T lambda, the largest share of qddot_d within the torque limit.
+// Declarations: the definitions are in cpp/closures.cpp (see closures.hpp).
 #pragma once
 
 #include <optional>
@@ -36,113 +37,22 @@ struct LoopDetumblingLaw {
   // M, h and the kinematics come from the plant's prepare() at (q, v), which the plant's first
   // evaluation of the period then reuses.
   void torque(const Model& m, Data& d, ConstrainedDynamics& plant, const Vec& q, const Vec& v, int nb, double t,
-              Vec& tau) {
-    const int n = m.nv - nb, mc = closure[0].size();
-    plant.prepare(m, d, q, v);
-    const Eigen::MatrixXd& M = plant.M;
-    const Vec& h = plant.h;  // RNEA(q, v, 0): the nonlinear effects
-    rows_.evaluate(closure, m, d, true);
-    const Eigen::MatrixXd& Jc = rows_.J;
-    Eigen::MatrixXd rhs(nb, n + 2 + mc);
-    rhs.leftCols(n) = M.topRightCorner(nb, n);
-    rhs.col(n) = M.topRows(nb) * v;
-    rhs.col(n + 1) = h.head(nb);
-    rhs.rightCols(mc) = Jc.leftCols(nb).transpose();
-    coupling_ = M.topLeftCorner(nb, nb).partialPivLu().solve(rhs);
-    const auto to_base = coupling_.leftCols(n), reaction = coupling_.rightCols(mc);
-    const Vec momentum = coupling_.col(n), bias = coupling_.col(n + 1);
-    Jc_star_ = Jc.rightCols(n) - Jc.leftCols(nb) * to_base;
-    const Vec qdot_d = rates(Jc_star_, Jc.leftCols(nb) * momentum + baumgarte * rows_.e);
-    Vec qddot_d = kd * (qdot_d - v.tail(n));
-    if (previous) qddot_d += (qdot_d - *previous) / period;
-    previous = qdot_d;
-    projector_.compute(Jc_star_, 1e-10);
-    H_ = M.bottomRightCorner(n, n) - M.topRightCorner(nb, n).transpose() * to_base;
-    c_ = h.tail(n) - M.topRightCorner(nb, n).transpose() * bias;
-    frame_motion(m, d, target_joint, target_placement, target_);
-    const SE3 hand = d.oMi[closure[0].joint1] * closure[0].placement1;
-    hand_rotation_ = hand.rotation();
-    grasp_ = (d.oMi[closure[0].joint2] * closure[0].placement2).translation();
-    const Vec3 other = (d.oMi[first_joint] * first_placement).translation();
-    squeeze_axis_ = (other - grasp_) / std::max((other - grasp_).norm(), 1e-12);
-    const Mat3& R = target_.pose.rotation();
-    inertia_world_ = R * inertia * R.transpose();
-    const Vec target = -rows_.gamma - 2.0 * baumgarte * (Jc * v) - baumgarte * baumgarte * rows_.e;
-    tau = torques(qddot_d, target, Jc.leftCols(nb), to_base, reaction, bias);
-    const bool saturates = limit > 0.0 && tau.cwiseAbs().maxCoeff() > limit;
-    if (saturates) tau = within_limit(torques(Vec::Zero(n), target, Jc.leftCols(nb), to_base, reaction, bias), tau);
-    times.push_back(t);
-    saturated.push_back(saturates);
-  }
+              Vec& tau);
 
  private:
   // Step 1 (LoopDetumblingController._rates): qdot (n,), the rows' residual logged.
-  Vec rates(const Eigen::MatrixXd& Jc_star, const Vec& closure_drift) {
-    const GeneralizedJacobian& g = at_state;
-    const int r = static_cast<int>(rows.size()), s = static_cast<int>(joints.size()), mc = Jc_star.rows();
-    Eigen::MatrixXd A(r + mc, s);
-    Vec b(r + mc);
-    for (int i = 0; i < r; ++i) {
-      b[i] = -g.drift[rows[i]];
-      for (int j = 0; j < s; ++j) A(i, j) = g.Jstar(rows[i], joints[j]);
-    }
-    for (int i = 0; i < mc; ++i) {
-      b[r + i] = -closure_drift[i];
-      for (int j = 0; j < s; ++j) A(r + i, j) = Jc_star(i, joints[j]);
-    }
-    rates_.compute(A, 1e-10);
-    const Vec qS = rates_.solve(b);
-    Vec qdot = Vec::Zero(g.Jstar.cols());
-    for (int j = 0; j < s; ++j) qdot[joints[j]] = qS[j];
-    double largest = 0.0;
-    for (int i = 0; i < r; ++i) largest = std::max(largest, std::abs(g.Jstar.row(rows[i]).dot(qdot) + g.drift[rows[i]]));
-    residuals.push_back(largest);
-    return qdot;
-  }
+  Vec rates(const Eigen::MatrixXd& Jc_star, const Vec& closure_drift);
 
   // Steps 2-4 for the desired joint accelerations `desired` (affine in them); lambda kept in `force`.
-  template <typename Jcb, typename ToBase, typename Reaction>
-  Vec torques(const Vec& desired, const Vec& target_rows, const Jcb& Jc_b, const ToBase& to_base,
-              const Reaction& reaction, const Vec& bias) {
-    Vec qddot, a(to_base.rows() + to_base.cols());
-    Vec6 lambda = force;
-    for (int pass = 0; pass < 2; ++pass) {  // lambda moves the base only through J_c,b
-      const Vec target = target_rows + Jc_b * (bias - reaction * lambda);
-      qddot = desired - projector_.solve(Jc_star_ * desired - target);
-      a.head(to_base.rows()) = reaction * lambda - to_base * qddot - bias;
-      a.tail(qddot.size()) = qddot;
-      lambda = shared_force(a);
-    }
-    force = lambda;
-    return H_ * qddot + c_ - Jc_star_.transpose() * lambda;
-  }
+  Vec torques(const Vec& desired, const Vec& target_rows, const Eigen::MatrixXd& Jc_b, const Eigen::MatrixXd& to_base,
+              const Eigen::MatrixXd& reaction, const Vec& bias);
 
   // Step 3 (LoopDetumblingController._shared_force) at the acceleration a (nv,).
-  Vec6 shared_force(const Vec& a) const {
-    const Vec3& w = target_.angular_velocity;
-    const Vec3 linear = mass * (target_.jacobian.topRows<3>() * a + target_.acceleration);
-    const Vec3 angular = inertia_world_ * (target_.jacobian.bottomRows<3>() * a + target_.angular_acceleration) +
-                         w.cross(inertia_world_ * w);
-    const Vec3 f = 0.5 * linear + squeeze * squeeze_axis_;
-    const Vec3 n_grasp = 0.5 * angular - (grasp_ - target_.pose.translation()).cross(f);
-    Vec6 out;
-    out << hand_rotation_.transpose() * f, hand_rotation_.transpose() * n_grasp;
-    return out;
-  }
+  Vec6 shared_force(const Vec& a) const;
 
   // LoopDetumblingController._within_limit: hold + s (full - hold), the largest s in [0, 1] within
   // the limit; `hold` scaled down to it when it already exceeds it.
-  Vec within_limit(const Vec& hold, const Vec& full) const {
-    const double peak = hold.cwiseAbs().maxCoeff();
-    if (peak >= limit) return hold * (limit / peak);
-    const Vec step = full - hold;
-    double room = 1.0;
-    for (int i = 0; i < step.size(); ++i) {
-      if (step[i] > 0) room = std::min(room, (limit - hold[i]) / step[i]);
-      else if (step[i] < 0) room = std::min(room, (-limit - hold[i]) / step[i]);
-    }
-    return hold + room * step;
-  }
+  Vec within_limit(const Vec& hold, const Vec& full) const;
 
   // Scratch of one period.
   ClosureRows rows_;
