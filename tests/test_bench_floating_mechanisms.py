@@ -81,7 +81,7 @@ def test_both_sides_converge_to_the_reference(scenes, name):
     scene = scenes[name]
     ref = scene.reference()
     label = scene.model_label
-    ours = scene.errors(scene.run(Method("freefloat", "rkmk4", scene.period / 2, "python", label))(), ref)
+    ours = scene.errors(scene.run(Method("freefloat", "rkmk4", scene.period / 2, "compiled", label))(), ref)
     assert ours["state_error"] < 1e-8
     theirs = [scene.errors(scene.run(Method("mujoco", "RK4", h))(), ref)["state_error"]
               for h in (scene.period, scene.period / 10)]

@@ -17,6 +17,14 @@ closures' Jacobians, ``e`` the closure gaps, ``lambda_B`` Baumgarte's rate (1/s)
 nothing outside acts on the system, so its momentum is conserved; on a planar base, the
 in-plane components (linear x, y, angular z).
 
+With ``closed_tree`` dynamics (freefloat's constrained dynamics,
+:class:`~freefloat.dynamics.closures.ClosedModel`) a moving-base run goes through the compiled
+robot loop (:func:`~freefloat.dynamics.simulation.run` with :attr:`FloatingMechanism.robot`, the
+tree on its root joint as a :class:`~freefloat.robot.robot.Robot`), the law called from Python
+once per control period (:class:`JointEfforts`); the other plants run in the Python loop
+(:func:`~freefloat.dynamics.simulation.run_plant`). Both give the same telemetry
+(:class:`~freefloat.dynamics.telemetry.PlantTelemetry`; tested equal to round-off).
+
 The controller (:class:`BaseFrameControl`) measures what a controller on the base can: the joint
 angles (relative to the base) and the platform point in the base frame, by the fixed-base tree's
 forward kinematics. It maps them to Orsino's coordinates ``q = [q#; q°]`` of the fixed-base
@@ -26,6 +34,7 @@ track the reference relative to the base; the base's reaction is a disturbance t
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -34,10 +43,14 @@ from typing import Any
 import numpy as np
 import pinocchio as pin
 
+from ..dynamics.closures import ClosedModel
+from ..dynamics.integrators import INTEGRATORS, make_integrator
 from ..dynamics.plants import ClosedTreePlant, ConstraintDynamicsPlant
-from ..dynamics.simulation import RunResult, run_plant
-from ..dynamics.telemetry import Arrays, PlantTelemetry
-from ..errors import FreefloatError
+from ..dynamics.simulation import RunResult, run, run_plant
+from ..dynamics.telemetry import Arrays, PlantTelemetry, Telemetry
+from ..errors import FreefloatError, InvalidArgument
+from ..robot.loading import BASE_COM_FRAME
+from ..robot.robot import Robot
 from .closed_chain import AXES, ClosedChain, read_closures
 
 #: Base kinds: ``fixed`` (the URDF's root link is the inertial frame), ``planar`` (x, y and yaw
@@ -191,6 +204,76 @@ class FloatingMechanism:
         self.axes = [AXES[c] for c in spec.get("coordinates", ["x", "y", "z"])]
         self.data, self.fixed_data = model.createData(), fixed.createData()
         self.mass = pin.computeTotalMass(model)
+        self.urdf = Path(closure)
+        self._robot: Robot | None = None
+
+    @property
+    def robot(self) -> Robot:
+        """The tree on its root joint as a robot of the compiled loop (a moving base only): a copy
+        of :attr:`model` with the base CoM frame the loop records, the root link as its base link,
+        no end-effectors; joint ids, closures and :attr:`actuated` hold on it.
+
+        Raises:
+            FreefloatError: on a fixed base (a robot's root joint is planar or free).
+        """
+        if self._robot is None:
+            if not self.root_nv:
+                raise FreefloatError("a mechanism on a fixed base is no robot: its tree has no root joint")
+            model = pin.Model(self.model)
+            root = model.inertias[1]
+            model.addFrame(pin.Frame(BASE_COM_FRAME, 1, 0, pin.SE3(np.eye(3), root.lever), pin.FrameType.OP_FRAME))
+            link = next(f.name for f in model.frames if f.parentJoint == 1 and f.type == pin.FrameType.BODY)
+            self._robot = Robot(model=model, visual_model=None, urdf_path=self.urdf, base_link=link,
+                                base=self.base.kind, base_com=root.lever.copy(), base_com_rotation=np.eye(3),
+                                end_effectors=(), arms=(), link_coms={})
+        return self._robot
+
+    def closed_model(self, baumgarte: float = 0.0) -> ClosedModel:
+        """The compiled loop's plant on :attr:`robot`: the tree with :attr:`closures`, Baumgarte
+        ``baumgarte`` (1/s); the same equations as :class:`~freefloat.dynamics.plants.ClosedTreePlant`."""
+        return ClosedModel(self.robot, self.closures, baumgarte)
+
+    def compiled(self, dynamics: str, integrator: str) -> str | None:
+        """Why a run with this plant and integrator cannot take the compiled robot loop, or None
+        when it can: a moving base, ``closed_tree`` dynamics and an integrator the loop has."""
+        if not self.root_nv:
+            return "the mechanism is on a fixed base"
+        if dynamics != ClosedTreePlant.name:
+            return f"the plant is '{dynamics}', not '{ClosedTreePlant.name}'"
+        spec = INTEGRATORS.get(integrator)
+        if spec is None or not spec.compiled:
+            return f"integrator '{integrator}' is not compiled"
+        return None
+
+    def drift(self, q: np.ndarray) -> tuple[float, float]:
+        """Largest closure position residual (m) and rotation residual (rad) at ``q``: those of
+        :func:`~freefloat.dynamics.closures.closure_drift` (the distance between the two frames;
+        a weld's angle ``|log3(R1^T R2)|``, a revolute's ``|(z x R1^T R2 z)_xy|``) from the
+        placements alone, 1e-15 apart from it and about 20 times cheaper (no Jacobians)."""
+        data = self.data
+        pin.forwardKinematics(self.model, data, q)
+        position = rotation = 0.0
+        for c in self.closures:
+            first, second = data.oMi[c.joint1] * c.placement1, data.oMi[c.joint2] * c.placement2
+            position = max(position, float(np.linalg.norm(second.translation - first.translation)))
+            rows = list(c.kind.rotation_rows)
+            relative = first.rotation.T @ second.rotation
+            if len(rows) == 3:
+                rotation = max(rotation, float(np.linalg.norm(pin.log3(relative))))
+            elif rows:
+                rotation = max(rotation, float(np.linalg.norm(np.cross([0.0, 0.0, 1.0], relative[:, 2])[rows])))
+        return position, rotation
+
+    def plant_rows(self, telemetry: Telemetry, control: Any) -> PlantTelemetry:
+        """A compiled robot run's rows (:class:`~freefloat.dynamics.telemetry.Telemetry`) as the
+        Python loop records them (:class:`~freefloat.dynamics.telemetry.PlantTelemetry`): the
+        actuated joints' efforts, ``control.reference(t)`` and the closure drift of each row."""
+        n = len(telemetry.t)
+        drift = np.array([self.drift(q) for q in telemetry.q]).reshape(n, 2)
+        reference = np.array([control.reference(t) for t in telemetry.t]).reshape(n, -1)
+        return PlantTelemetry(t=telemetry.t, q=telemetry.q, v=telemetry.v,
+                              efforts=telemetry.tau[:, self.actuated - self.root_nv], reference=reference,
+                              drift=drift[:, 0], orientation_drift=drift[:, 1])
 
     @property
     def conserved(self) -> tuple[int, ...]:
@@ -278,13 +361,20 @@ class BaseFrameControl:
     reads the joints and the platform in the base frame (:meth:`FloatingMechanism.relative`) and
     its efforts drive the actuated joints (the plant's ``actuated``, the same order).
 
+    Args:
+        compiled: evaluate the law by its compiled form when it has one
+            (:meth:`~freefloat.parallel.sliding_mode.PlatformControl.compiled_torque`: the same
+            efforts to round-off, about 10 times cheaper); False: its numpy ``torque``, the reference.
+
     Attributes:
         law: the fixed-base law.
         mechanism: the mechanism on its moving base.
     """
 
-    def __init__(self, law: Any, mechanism: FloatingMechanism):
+    def __init__(self, law: Any, mechanism: FloatingMechanism, compiled: bool = True):
         self.law, self.mechanism = law, mechanism
+        fast = getattr(law, "compiled_torque", lambda: None)() if compiled else None
+        self._efforts = law.torque if fast is None else fast
 
     @property
     def model(self) -> Any:
@@ -293,23 +383,89 @@ class BaseFrameControl:
 
     def torque(self, t: float, q: np.ndarray, v: np.ndarray) -> np.ndarray:
         """Actuator efforts (k,) at the tree's state ``(q, v)``, N m or N."""
-        return self.law.torque(t, *self.mechanism.relative(q, v))
+        return self._efforts(t, *self.mechanism.relative(q, v))
 
     def reference(self, t: float) -> np.ndarray:
         """The platform reference q#_d (p,) in the base frame."""
         return self.law.reference(t)
 
 
+class JointEfforts:
+    """A controller of the tree's actuators as a robot controller of the compiled loop
+    (:func:`~freefloat.dynamics.simulation.run`): torques on every joint but the root's, the
+    controller's efforts on the actuated joints and zero on the passive ones.
+
+    Args:
+        control: efforts ``torque(t, q, v)`` (k,) at the tree's state, in :attr:`FloatingMechanism.actuated`'s order.
+        mechanism: the mechanism on its moving base.
+    """
+
+    def __init__(self, control: Any, mechanism: FloatingMechanism):
+        self.control = control
+        self.index = mechanism.actuated - mechanism.root_nv
+        self.n_joints = mechanism.model.nv - mechanism.root_nv
+
+    def torque(self, t: float, q: np.ndarray, v: np.ndarray) -> np.ndarray:
+        """Joint torques (nv - root nv,), N m or N."""
+        tau = np.zeros(self.n_joints)
+        tau[self.index] = self.control.torque(t, q, v)
+        return tau
+
+    def reference(self, t: float) -> None:
+        """No joint reference (the platform's is the mechanism telemetry's)."""
+        return None
+
+
 def track(mechanism: FloatingMechanism, law: Any, q0: np.ndarray, v0: np.ndarray, duration: float, step: float,
           baumgarte: float = 100.0, integrator: str = "rkmk4", dynamics: str = ConstraintDynamicsPlant.name,
-          **run: Any) -> RunResult:
-    """The closed loop on the moving base from the tree's ``(q0, v0)``: one ``integrator`` step of
-    ``step`` s per row, the law (through :class:`BaseFrameControl`) held over each step, by
-    :func:`~freefloat.dynamics.simulation.run_plant` (the Python loop: this plant is not compiled).
+          backend: str = "auto", substeps: int = 1, rtol: float = 1e-10, atol: float = 1e-12,
+          control: Any = None, **kwargs: Any) -> RunResult:
+    """The closed loop on the moving base from the tree's ``(q0, v0)``: the law (through
+    :class:`BaseFrameControl`) evaluated every ``step`` s and held, one telemetry row per step.
+
+    ``closed_tree`` dynamics on a moving base with a compiled integrator go through the compiled
+    robot loop (:func:`~freefloat.dynamics.simulation.run` on :attr:`FloatingMechanism.robot`,
+    :meth:`FloatingMechanism.closed_model`; the law from Python once per step); anything else
+    through :func:`~freefloat.dynamics.simulation.run_plant` on :meth:`FloatingMechanism.plant` (the
+    Python loop). Either way the telemetry is a :class:`~freefloat.dynamics.telemetry.PlantTelemetry`.
 
     Args:
         dynamics: the plant (:meth:`FloatingMechanism.plant`).
-        run: further keywords of ``run_plant`` (``rtol``, ``atol``, ``progress``, ``checkpoint``).
+        backend: ``"auto"`` (compiled when it can), ``"compiled"`` or ``"python"``.
+        substeps: integrator steps per control step; ``rtol``, ``atol``: an adaptive integrator's.
+        control: the controller on the tree's state, default ``BaseFrameControl(law, mechanism)``.
+        kwargs: ``progress``, ``checkpoint`` (called with PlantTelemetry chunks), ``record_every``.
+
+    Raises:
+        InvalidArgument: ``"compiled"`` for a run the compiled loop cannot do (with the reason).
     """
-    return run_plant(mechanism.plant(baumgarte, dynamics=dynamics), q0, v0, duration, step, integrator,
-                     BaseFrameControl(law, mechanism), **run)
+    control = BaseFrameControl(law, mechanism) if control is None else control
+    reason = mechanism.compiled(dynamics, integrator)
+    if backend == "compiled" and reason is not None:
+        raise InvalidArgument(f"the compiled loop cannot run this: {reason}")
+    if backend == "python" or reason is not None:
+        return run_plant(mechanism.plant(baumgarte, dynamics=dynamics), q0, v0, duration, step, integrator, control,
+                         substeps, rtol, atol, backend="python", **kwargs)
+    checkpoint = kwargs.pop("checkpoint", None)
+    result = run_compiled(mechanism, control, q0, v0, duration, step, baumgarte, integrator, substeps, rtol, atol,
+                          checkpoint=None if checkpoint is None else
+                          (lambda rows: checkpoint(mechanism.plant_rows(rows, control))), **kwargs)
+    return dataclasses.replace(result, telemetry=mechanism.plant_rows(result.telemetry, control))
+
+
+def run_compiled(mechanism: FloatingMechanism, control: Any, q0: np.ndarray, v0: np.ndarray, duration: float,
+                 period: float, baumgarte: float, integrator: str, substeps: int = 1, rtol: float = 1e-10,
+                 atol: float = 1e-12, **kwargs: Any) -> RunResult:
+    """The compiled robot loop of :func:`track` (``closed_tree`` on a moving base): ``control``'s
+    efforts (on the tree's state) held over each ``period`` s, ``substeps`` steps of
+    ``integrator`` per period, the robot's telemetry
+    (:class:`~freefloat.dynamics.telemetry.Telemetry`, one row per period; :meth:`FloatingMechanism.plant_rows`
+    makes it the Python loop's). ``kwargs``: :func:`~freefloat.dynamics.simulation.run`'s
+    ``progress``, ``checkpoint``, ``record_every``.
+
+    Raises:
+        InvalidArgument: when the compiled loop cannot run it (with the reason).
+    """
+    robot = mechanism.robot
+    return run(robot, q0, v0, duration, period, make_integrator(integrator, robot.model, substeps, rtol, atol),
+               mechanism.closed_model(baumgarte), JointEfforts(control, mechanism), backend="compiled", **kwargs)

@@ -3,21 +3,23 @@ on a planar base, sliding mode) and ``rsu_ppap_free_base`` (the 2RSU+PPaP on a f
 computed torque), at zero gravity, against MuJoCo.
 
 Every method runs the scene's closed loop with the same zero-order hold: the fixed-base law read
-in the base frame (:class:`~freefloat.parallel.free_base.BaseFrameControl`, in Python) evaluated
-every control period (the scene file's step) and held while the plant is integrated at a step
-that divides the period. Methods:
+in the base frame (:class:`~freefloat.parallel.free_base.BaseFrameControl`, called from Python,
+the law itself its compiled form) evaluated every control period (the scene file's step) and held
+while the plant is integrated at a step that divides the period. Methods:
 
-* ``freefloat``: the scene's plant, Pinocchio's ``constraintDynamics`` on the spanning tree with
-  its root joint (:meth:`~freefloat.parallel.free_base.FloatingMechanism.plant`, Baumgarte the
-  scene's lambda, proximal mu 1e-4) in the one loop (``run_plant``: the Python loop, which this
-  plant runs in), Euler, RKMK4 and RKMK8;
+* ``freefloat``: the scenes' plant, freefloat's constrained dynamics on the spanning tree with its
+  root joint (``closed_tree``: :meth:`~freefloat.parallel.free_base.FloatingMechanism.closed_model`,
+  Baumgarte the scene's lambda) in the compiled robot loop, as a scene runs it
+  (:func:`~freefloat.parallel.free_base.run_compiled`), Euler, RKMK4 and RKMK8, one row per period;
 * ``mujoco``: the same tree as MJCF (:mod:`.mechanism_mjcf`: the planar root as two slides and a
   hinge, the free root as a free joint) with the closures as stiff soft equalities, Euler,
   implicitfast and RK4 (:mod:`.mechanism_mujoco`).
 
 The reference is the same held-law loop with each period integrated by scipy's DOP853 (rtol and
-atol :data:`~.mechanisms.REFERENCE_TOL`) on freefloat's plant. Errors are measured on the tree's
-state, the same way for every method (:meth:`FloatingMechanismBench.errors`).
+atol :data:`~.mechanisms.REFERENCE_TOL`) on freefloat's plant in the Python loop
+(:class:`~freefloat.dynamics.plants.ClosedTreePlant`, numpy). Errors are measured on the tree's
+state at the period ends, the same way for every method (:meth:`FloatingMechanismBench.errors`).
+The methods take turns (:attr:`FloatingMechanismBench.turns`).
 """
 
 from __future__ import annotations
@@ -28,7 +30,8 @@ import numpy as np
 import pinocchio as pin
 
 from ...errors import InvalidArgument
-from ...parallel.free_base import BaseFrameControl
+from ...parallel.closed_loop import steps_per_period
+from ...parallel.free_base import BaseFrameControl, run_compiled
 from ..experiments.mechanism import prepare
 from ..scenes import find_scene
 from .mechanism_mjcf import SOLIMP, TIMECONST_STEPS
@@ -63,14 +66,14 @@ class FloatingSweep:
     quick_steps: tuple[float, ...]
 
 
-#: Each scene's sweep (the freefloat plant's Python loop costs about 0.3 ms per RK4 step on the 5R).
+#: Each scene's sweep.
 SWEEPS = {
     "five_bar_free_base": FloatingSweep(0.2, (1e-4, 5e-5, 2e-5, 1e-5), (1e-4, 5e-5, 2e-5), (1e-4,), (1e-4, 5e-5)),
     "rsu_ppap_free_base": FloatingSweep(0.3, (1e-3, 5e-4, 2e-4, 1e-4, 5e-5, 2e-5), (1e-3, 5e-4, 2e-4, 1e-4),
                                         (1e-3, 5e-4), (1e-3, 5e-4)),
 }
-#: freefloat's model label: the scene's plant.
-PLANT = "constraintDynamics baumgarte {:g}"
+#: freefloat's model label: the scenes' plant.
+PLANT = "closed tree baumgarte {:g}"
 #: MuJoCo's closures, as ``bench.json`` records them.
 MUJOCO_SETTINGS = {"solref": f"timeconst {TIMECONST_STEPS:g} x step, dampratio 1", "solimp": list(SOLIMP)}
 
@@ -128,7 +131,8 @@ class FloatingMechanismBench:
         duration, period: simulated time and control period, s.
     """
 
-    secondary = ("constraint_drift", "largest loop-closure gap over the run, m")
+    secondary = ("constraint_drift", "largest loop-closure gap at the control-period ends, m")
+    turns = True
 
     def __init__(self, name: str, duration: float, quick: bool) -> None:
         prepared = prepare(find_scene(name))
@@ -147,15 +151,16 @@ class FloatingMechanismBench:
         self.settings = {"duration_s": duration, "control_period_s": self.period, "steps_s": self.steps,
                          "mujoco_steps_s": list(self.mujoco_steps), "baumgarte": self.baumgarte,
                          "base": self.floating.base.kind,
-                         "reference": {"integrator": "DOP853 per control period", "model": self.model_label,
+                         "reference": {"integrator": "DOP853 per control period, python loop",
+                                       "model": self.model_label,
                                        "rtol": REFERENCE_TOL, "atol": REFERENCE_TOL},
                          "mujoco": MUJOCO_SETTINGS,
                          "state_error": "2-norm of [difference(q_ref, q); v - v_ref] on the tree, root joint "
                                         "included, at the end (m, rad, m/s, rad/s)"}
 
     def methods(self) -> list[Method]:
-        """freefloat's plant with Euler, RKMK4 and RKMK8 (Python loop); MuJoCo's three integrators."""
-        return swept_methods(self.steps, "python", self.model_label, self.mujoco_steps)
+        """freefloat's plant with Euler, RKMK4 and RKMK8 (compiled loop); MuJoCo's three integrators."""
+        return swept_methods(self.steps, "compiled", self.model_label, self.mujoco_steps)
 
     def tree(self) -> ClosedTree:
         """The tree MuJoCo is written from."""
@@ -174,18 +179,33 @@ class FloatingMechanismBench:
 
             sim = MujocoMechanism(self.tree(), method.integrator, method.setting)
             sim.check_inertias(self.q0)
-            return lambda: MechanismResult(*sim.run(self.law, self.q0, self.v0, self.duration, self.period,
-                                                    method.setting))
+            hold = steps_per_period(self.period, method.setting)
+
+            def mujoco_run() -> MechanismResult:
+                q, v = sim.run(self.law, self.q0, self.v0, self.duration, self.period, method.setting)
+                return MechanismResult(q[::hold], v)
+            return mujoco_run
         if method.package != "freefloat" or method.integrator not in self.steps:
             raise InvalidArgument(f"bench scene '{self.name}' has no method {method.label}")
-        plant = self.floating.plant(self.baumgarte)
-        return lambda: held_run(plant, self.law, self.q0, self.v0, self.duration, self.period, method.setting,
-                                method.integrator, lambda q: q)
+        return lambda: self._freefloat(method.integrator, method.setting)
+
+    def _freefloat(self, integrator: str, step: float) -> MechanismResult:
+        """One held-law run in the compiled loop, rows at the period ends.
+
+        Raises:
+            FloatingPointError: when the run does not complete, with the loop's message.
+        """
+        result = run_compiled(self.floating, self.law, self.q0, self.v0, self.duration, self.period, self.baumgarte,
+                              integrator, steps_per_period(self.period, step))
+        if result.status != "completed":
+            raise FloatingPointError(result.message)
+        return MechanismResult(result.telemetry.q, result.telemetry.v[-1])
 
     def reference(self) -> MechanismResult:
-        """DOP853 per control period on freefloat's plant."""
-        return held_run(self.floating.plant(self.baumgarte), self.law, self.q0, self.v0, self.duration, self.period,
-                        self.period, "dop853", lambda q: q, "python", REFERENCE_TOL, REFERENCE_TOL)
+        """DOP853 per control period on freefloat's plant, the Python loop."""
+        return held_run(self.floating.plant(self.baumgarte, dynamics="closed_tree"), self.law, self.q0, self.v0,
+                        self.duration, self.period, self.period, "dop853", lambda q: q, "python", REFERENCE_TOL,
+                        REFERENCE_TOL)
 
     def errors(self, result: MechanismResult, reference: MechanismResult) -> dict[str, float]:
         """:func:`tree_errors`."""

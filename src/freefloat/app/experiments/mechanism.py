@@ -5,9 +5,11 @@ On a fixed base (``[mechanism] base = "fixed"``) the plant is the mechanism by O
 (eq 129, Baumgarte-stabilised) in the one loop (:func:`freefloat.parallel.closed_loop.track` ->
 :func:`freefloat.dynamics.simulation.run_plant`, compiled when it can), any integrator of the
 registry on ``q = [q#; q°]``, the controller's efforts held over each step. On a planar or free
-base the plant is Pinocchio's ``constraintDynamics`` on the spanning tree with its root joint
-(:mod:`freefloat.parallel.free_base`, the Python loop), the same law acting in the base frame,
-and the run also reports the base's motion and the system's momentum.
+base the plant is the spanning tree with its root joint and the closures
+(:mod:`freefloat.parallel.free_base`): freefloat's constrained dynamics in the compiled robot
+loop (``closed_tree``, the default there) or Pinocchio's ``constraintDynamics`` in the Python loop,
+the same law acting in the base frame, and the run also reports the base's motion and the
+system's momentum.
 """
 
 from __future__ import annotations

@@ -42,7 +42,8 @@ class MechanismSection:
     ``dynamics``: the plant (:data:`freefloat.dynamics.plants.PLANTS`): ``"coupled_chain"``
     (Orsino's subsystem coupling, fixed base only), ``"constraint_dynamics"`` (Pinocchio's, on the
     spanning tree), ``"closed_tree"`` (freefloat's constrained dynamics on the spanning tree, any
-    closure kind) or ``"auto"``: coupled_chain on a fixed base, constraint_dynamics on a moving one."""
+    closure kind) or ``"auto"``: coupled_chain on a fixed base, closed_tree on a moving one (there the
+    compiled robot loop runs it; as accurate as constraint_dynamics, see docs/parallel.md)."""
 
     name: str
     closure: str
@@ -59,7 +60,7 @@ class MechanismSection:
         """The plant ``dynamics`` resolves to (``"auto"``: see the class docstring)."""
         if self.dynamics != "auto":
             return self.dynamics
-        return "coupled_chain" if self.base == "fixed" else "constraint_dynamics"
+        return "coupled_chain" if self.base == "fixed" else "closed_tree"
 
 
 @dataclass(frozen=True)
