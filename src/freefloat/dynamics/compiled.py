@@ -373,6 +373,8 @@ class CompiledLoop(CompiledEngine):
             if not idle:
                 return None
             sim, numbers = idle.pop()
+            if not idle:  # no empty lists: release() evicts from the oldest list
+                del _idle[self._structure]
         sim.configure(**settings)
         if numbers != self._numbers:
             sim.set_model(**arrays)
@@ -390,7 +392,8 @@ class CompiledLoop(CompiledEngine):
             _idle.move_to_end(self._structure)
             while sum(len(v) for v in _idle.values()) > MAX_IDLE:
                 oldest = next(iter(_idle))
-                _idle[oldest].pop(0)
+                if _idle[oldest]:
+                    _idle[oldest].pop(0)
                 if not _idle[oldest]:
                     del _idle[oldest]
 
