@@ -29,10 +29,10 @@ def toy(monkeypatch):
 
 
 def test_registry_lists_exactly_the_suites():
-    """The registry holds the MuJoCo scenes, the eight former scripts and the fixed-cost suite, in the
-    order ``all`` runs them."""
+    """The registry holds the MuJoCo scenes, the eight former scripts, the fixed-cost suite and the
+    two-hand capture's, in the order ``all`` runs them."""
     assert list(SUITES) == [DEFAULT, "simulation", "integrators", "gjm", "models", "locking", "parallel", "batch",
-                            "figures", "setup"]
+                            "figures", "setup", "two_hands"]
 
 
 def test_help_lists_every_registered_suite(toy, capsys):
@@ -217,9 +217,20 @@ def _setup(r):
         assert row["reused_over_fresh"] == pytest.approx(row["best_s"]["fresh"] / row["best_s"]["reused"])
 
 
+def _two_hands(r):
+    part = r["post_grasp"]
+    per_second = {k: min(t) / r["settings"]["duration_s"] for k, t in part["times_s"].items()}
+    assert part["per_simulated_second_s"] == pytest.approx(per_second)
+    assert part["two_hands_over_one_hand"] == pytest.approx(per_second["two_hands compiled"] / per_second["one_hand compiled"])
+    assert part["python_over_compiled"] == pytest.approx(per_second["two_hands python"] / per_second["two_hands compiled"])
+    assert part["loop"] == {"two_hands python": "python", "two_hands compiled": "compiled", "one_hand compiled": "compiled"}
+    assert set(part["status"].values()) == {"completed"} and part["final_state_difference"] < 1e-10
+
+
 #: Per suite, what its numbers must agree on (a new suite needs a check).
 CHECKS = {"simulation": _simulation, "integrators": _integrators, "gjm": _gjm, "models": _models,
-          "locking": _locking, "parallel": _parallel, "batch": _batch, "figures": _figures, "setup": _setup}
+          "locking": _locking, "parallel": _parallel, "batch": _batch, "figures": _figures, "setup": _setup,
+          "two_hands": _two_hands}
 
 
 @pytest.mark.parametrize("name", PARTS_SUITES)

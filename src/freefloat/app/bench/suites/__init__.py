@@ -123,6 +123,8 @@ for _suite in (
     Suite("figures", "writing a run's figures against the simulation itself", ".figures"),
     Suite("setup", "a run's fixed cost against its loop, nv 22 to 198, and a batch's runs per second, each run "
                    "fresh or reused", ".setup"),
+    Suite("two_hands", "the two-hand capture's post-grasp phase (loop closure and its law) in the Python and the "
+                       "compiled loop, against the single-arm capture's, per simulated second", ".two_hands"),
 ):
     register(_suite)
 
