@@ -44,7 +44,8 @@ def _telemetry(p: int, k: int, n: int = 50) -> MechanismTelemetry:
     drift = np.abs(rng.normal(size=n)) * 1e-11
     drift[0] = 1e-312
     return MechanismTelemetry(t=t, platform=platform, platform_reference=platform + 1e-5, joints=np.zeros((n, 4)),
-                              efforts=rng.normal(size=(n, k)), drift=drift, orientation_drift=np.zeros(n))
+                              efforts=rng.normal(size=(n, k)), drift=drift, orientation_drift=np.zeros(n),
+                              sliding=rng.normal(size=(n, p)) * 0.1)
 
 
 def test_efforts_are_named_by_actuated_joint_with_their_units():

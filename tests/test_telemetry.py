@@ -20,7 +20,7 @@ def tiny(rows: int, start: float = 0.0) -> MechanismTelemetry:
     t = start + np.arange(rows, dtype=float)
     return MechanismTelemetry(t=t, platform=np.zeros((rows, 2)), platform_reference=np.zeros((rows, 2)),
                               joints=np.zeros((rows, 3)), efforts=np.zeros((rows, 2)), drift=np.zeros(rows),
-                              orientation_drift=np.zeros(rows))
+                              orientation_drift=np.zeros(rows), sliding=np.zeros((rows, 2)))
 
 
 def record(chunks: Chunks, samples: int) -> None:

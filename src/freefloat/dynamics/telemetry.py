@@ -236,6 +236,8 @@ class MechanismTelemetry(Arrays):
         drift: loop-closure residual max |qbar(q)|, m (N,).
         orientation_drift: residual of the angular constraints' position form, max over rows, rad
             (N,); 0 for a mechanism without angular constraints.
+        sliding: the law's sliding variables ``s = -(edot + lambda e)``, ``e = q#_d - q#``, at each
+X
     """
 
     t: np.ndarray
@@ -245,6 +247,7 @@ class MechanismTelemetry(Arrays):
     efforts: np.ndarray
     drift: np.ndarray
     orientation_drift: np.ndarray
+    sliding: np.ndarray
 
 
 @dataclass

@@ -281,14 +281,16 @@ def integration_steps(scene: MechanismScene) -> int:
 def record(controller: PlatformControl, telemetry: PlantTelemetry, completed: bool = False) -> MechanismTelemetry:
     """A mechanism's telemetry from the loop's rows: Orsino's ``q = [q#; q°]`` split into the
     platform and the joints, the controller's reference, the efforts held from each row (the last
-    row of a ``completed`` run, which starts no step, NaN)."""
+    row of a ``completed`` run, which starts no step, NaN) and the law's sliding variables s at
+    each row's state (:meth:`~freefloat.parallel.sliding_mode.PlatformControl.sliding_variables`)."""
     p = controller.model.p
     efforts = telemetry.efforts.copy()
     if completed and len(efforts):
         efforts[-1] = np.nan
+    _, sliding = controller.sliding_variables(telemetry.t, telemetry.q, telemetry.v)
     return MechanismTelemetry(t=telemetry.t, platform=telemetry.q[:, :p], platform_reference=telemetry.reference,
                               joints=telemetry.q[:, p:], efforts=efforts, drift=telemetry.drift,
-                              orientation_drift=telemetry.orientation_drift)
+                              orientation_drift=telemetry.orientation_drift, sliding=sliding)
 
 
 def summarize_mechanism(telemetry: MechanismTelemetry, reaching_phase: float) -> dict[str, object]:

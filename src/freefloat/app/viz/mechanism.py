@@ -37,11 +37,11 @@ _APART = 1e-9
 
 def write_mechanism_figures(telemetry: MechanismTelemetry, out_dir: str | Path,
                             chain: ClosedChain | None = None) -> list[Path]:
-    """Write ``platform_tracking``, ``efforts`` and ``loop_closure_drift`` as PNG and PDF;
-    ``chain`` names the actuators and their units. Returns the paths."""
+    """Write ``platform_tracking``, ``efforts``, ``loop_closure_drift`` and ``sliding_variables``
+    as PNG and PDF; ``chain`` names the actuators and their units. Returns the paths."""
     out_dir = Path(out_dir)
     figures = {"platform_tracking": tracking_figure(telemetry), "efforts": efforts_figure(telemetry, chain),
-               "loop_closure_drift": drift_figure(telemetry)}
+               "loop_closure_drift": drift_figure(telemetry), "sliding_variables": sliding_figure(telemetry)}
     return save_all(figures, out_dir)
 
 
@@ -89,6 +89,20 @@ def drift_figure(telemetry: MechanismTelemetry) -> Figure:
     if np.any(telemetry.orientation_drift > 0):
         log_curve(ax, telemetry.t, telemetry.orientation_drift, "orientation (rad)")
     finish(ax, "t (s)", "loop-closure residual (m; rad)")
+    return fig
+
+
+def sliding_figure(telemetry: MechanismTelemetry) -> Figure:
+    """The law's sliding variables ``s = -(edot + lambda e)`` (m/s) per platform coordinate vs t
+    (the thesis's figs 14-15 and 20-21): linear, and |s| on a log axis clipped to the data, where
+    the reaching phase and the boundary layer the law keeps s in are read."""
+    tel = telemetry
+    fig, (linear, log) = figure(2, 1, (9.0, 7.0), "Sliding variables s = -(edot + lambda e), e = q#_d - q#")
+    for i in range(tel.sliding.shape[1]):
+        curve(linear, tel.t, tel.sliding[:, i], f"s_{COORDINATES[i]}")
+        log_curve(log, tel.t, np.abs(tel.sliding[:, i]), f"|s_{COORDINATES[i]}|")
+    finish(linear, "t (s)", "s (m/s)")
+    finish(log, "t (s)", "|s| (m/s)")
     return fig
 
 

@@ -1,0 +1,52 @@
+"""The sliding variables s of a mechanism run (thesis sec 5.5-5.6, figs 14-15 and 20-21):
+recorded in the telemetry for sliding-mode and computed-torque runs, saved, and drawn."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from freefloat.app import runner
+from freefloat.app.scenes import load_scene
+from freefloat.dynamics.telemetry import MechanismTelemetry
+from freefloat.parallel.five_bar import TRUE_PARAMETERS, elbow_guess, five_bar
+
+from .conftest import scene_variant
+from .loops import simulate
+
+#: The built-in scenes' circle: centre (m), radius (m), rate (rad/s); and lambda (1/s).
+CENTER, RADIUS, RATE, LAM = np.array([0.0, 0.17]), 0.07, 28.57, 40.0
+
+
+@pytest.mark.parametrize("name", ["five_bar_sliding_mode", "five_bar_computed_torque"])
+def test_recorded_s_is_the_law_definition_from_the_platform_error_and_its_rate(tmp_path, name):
+    """s = -(edot + lambda e), e = q#_d - q#, recomputed from the recorded error and the platform
+    rate of the same run in the Python loop under the recorded efforts, equals the recorded s."""
+    run = runner.simulate(load_scene(scene_variant(tmp_path / "s.toml", name, simulation={"duration": 0.02})))
+    tel = run.telemetry
+    q0 = np.hstack((tel.platform[0], tel.joints[0]))
+    plant = five_bar(TRUE_PARAMETERS).reference()
+    np.testing.assert_allclose(plant.assemble(tel.platform[0], elbow_guess(TRUE_PARAMETERS, tel.platform[0])), q0,
+                               atol=1e-12)
+    efforts = {round(t / 1e-4): u for t, u in zip(tel.t, tel.efforts)}
+    replay = simulate(plant, q0, np.zeros(6), lambda t, q, qd: efforts[round(t / 1e-4)], 0.02, 1e-4, 100.0,
+                      backend="python")
+    np.testing.assert_allclose(replay.telemetry.q[:, :2], tel.platform, atol=1e-10)
+    angle = RATE * tel.t
+    e = tel.platform_reference - tel.platform
+    np.testing.assert_allclose(tel.platform_reference, CENTER + RADIUS * np.column_stack((np.cos(angle), np.sin(angle))),
+                               atol=1e-15)
+    rate_d = RADIUS * RATE * np.column_stack((-np.sin(angle), np.cos(angle)))
+    edot = rate_d - replay.telemetry.v[:, :2]
+    np.testing.assert_allclose(tel.sliding, -(edot + LAM * e), rtol=0, atol=1e-8 * np.abs(tel.sliding).max())
+    assert np.abs(tel.sliding).max() > 0.1  # the start is off the circle's velocity: s is not trivially 0
+
+
+def test_s_is_saved_and_drawn(tmp_path):
+    """telemetry.npz carries ``sliding`` (N, 2) and the run folder has the figure sliding_variables."""
+    out = tmp_path / "run"
+    runner.run_scene(load_scene(scene_variant(tmp_path / "s.toml", "five_bar_sliding_mode",
+                                              simulation={"duration": 0.01})), out)
+    saved = MechanismTelemetry.load(out / "telemetry.npz")
+    assert saved.sliding.shape == saved.platform.shape
+    assert (out / "sliding_variables.png").is_file() and (out / "sliding_variables.pdf").is_file()
