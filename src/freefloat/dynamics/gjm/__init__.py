@@ -7,6 +7,7 @@ and the numpy modules here (``backend="numpy"``), which are the equation-by-equa
 """
 
 from .derivatives import GJMDerivatives, derivatives, state_and_derivatives
+from .jacobian_rates import GJMRates, jacobian_rates, state_and_rates
 from .model import BACKENDS, GJM, GJMState, compute, egjm_blocks, model_of
 from .momentum import H0C_VARIANTS, base_momentum_matrices, momentum_about_origin
 
@@ -15,12 +16,15 @@ __all__ = [
     "GJM",
     "H0C_VARIANTS",
     "GJMDerivatives",
+    "GJMRates",
     "GJMState",
     "base_momentum_matrices",
     "compute",
     "derivatives",
     "egjm_blocks",
+    "jacobian_rates",
     "model_of",
     "momentum_about_origin",
     "state_and_derivatives",
+    "state_and_rates",
 ]
