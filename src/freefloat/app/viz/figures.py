@@ -55,12 +55,13 @@ def write_figures(robot: Robot, telemetry: Telemetry, out_dir: str | Path,
             energy against what they applied) replaces ``com_drift``.
         control_period: s; needed with ``wrenches``.
         spin: also draw ``angular_rates`` (base and end-effector spin decaying: detumbling and
-            capture runs), with the ``settle_threshold`` (rad/s) if given.
+            capture runs), with the ``settle_threshold`` (rad/s) if given, and
+            ``angular_momentum`` (L(t) itself, dissertation fig 41).
 
     Returns:
         The written files: ``joint_errors`` (only when the run has joint references),
         ``torques``, ``base_trajectory``, ``end_effector_paths``, ``end_effector_displacement``,
-        ``com_drift`` or ``conservation_balance``, and ``angular_rates``, each ``.png`` then
+        ``com_drift`` or ``conservation_balance``, ``angular_rates`` and ``angular_momentum``, each ``.png`` then
         ``.pdf``, less those :func:`empty_figures` names.
     """
     out_dir = Path(out_dir)
@@ -82,6 +83,7 @@ def write_figures(robot: Robot, telemetry: Telemetry, out_dir: str | Path,
         figures["com_drift"] = lambda: com_drift_figure(robot, telemetry)
     if spin:
         figures["angular_rates"] = lambda: angular_rates_figure(robot, telemetry, settle_threshold)
+        figures["angular_momentum"] = lambda: angular_momentum_figure(telemetry)
     return save_all({name: None if name in left_out else draw() for name, draw in figures.items()}, out_dir)
 
 
@@ -105,6 +107,8 @@ def empty_figures(robot: Robot, telemetry: Telemetry, spin: bool = False) -> dic
         out["com_drift"] = "the CoM and momentum do not drift at all"
     if spin and not (np.any(tel.base_twist[:, 3:]) or np.any(angular_speeds(robot, tel)[1])):
         out["angular_rates"] = "nothing turns"
+    if spin and not np.any(tel.momentum[:, 3:]):
+        out["angular_momentum"] = "the angular momentum is zero throughout"
     return out
 
 
@@ -264,6 +268,29 @@ def angular_rates_figure(robot: Robot, telemetry: Telemetry, threshold: float | 
     if len(positive):
         log_ax.set_ylim(positive.min() / 2, positive.max() * 2)
     finish(log_ax, "t (s)", "|w| (rad/s)", "angular speeds, log axis: how far they settle", legend="outside")
+    return fig
+
+
+def angular_momentum_about_com(telemetry: Telemetry) -> np.ndarray:
+    """The system's angular momentum about its CoM, inertial axes, kg m^2/s (N, 3), from the
+    recorded ``[P; L_O]`` about the inertial origin: ``L_G = L_O - com x P`` (Pinocchio's
+    centroidal momentum's angular part)."""
+    momentum = telemetry.momentum
+    return momentum[:, 3:] - np.cross(telemetry.com, momentum[:, :3])
+
+
+def angular_momentum_figure(telemetry: Telemetry) -> Figure:
+    """The angular momentum L(t) itself (dissertation fig 41 plots only log |L - L0|): above,
+    about the system CoM (x, y, z, kg m^2/s, inertial axes; :func:`angular_momentum_about_com`),
+    below, about the inertial origin as recorded. Constant after a capture (no external
+    wrench); a capture impulse shows as its step."""
+    fig, (com_ax, origin_ax) = figure(2, 1, (9.0, 7.0), "Angular momentum L(t), inertial axes", right=0.82)
+    t, about_com = telemetry.t, angular_momentum_about_com(telemetry)
+    for i, axis in enumerate("xyz"):
+        curve(com_ax, t, about_com[:, i], f"L_{axis}")
+        curve(origin_ax, t, telemetry.momentum[:, 3 + i], f"L_{axis}")
+    finish(com_ax, "t (s)", "L about CoM (kg m^2/s)", "about the system CoM", legend="outside")
+    finish(origin_ax, "t (s)", "L about O (kg m^2/s)", "about the inertial origin", legend="outside")
     return fig
 
 
