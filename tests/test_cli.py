@@ -118,12 +118,13 @@ def mechanism_run(tmp_path_factory):
 
 
 def test_mechanism_scene_writes_every_artefact(mechanism_run):
-    """A mechanism scene writes telemetry, summary, scene, three figures and the HTML page; exit 0."""
+    """A mechanism scene writes telemetry, summary, scene, four figures and the HTML page; exit 0."""
     status, out, _ = mechanism_run
     assert status == 0
     assert {p.name for p in out.iterdir() if p.name != RECORD} == {"telemetry.npz", "summary.json", "scene.toml", "trajectory.html",
                                                 "platform_tracking.png", "efforts.png", "loop_closure_drift.png",
-                                                "platform_tracking.pdf", "efforts.pdf", "loop_closure_drift.pdf"}
+                                                "sliding_variables.png", "platform_tracking.pdf", "efforts.pdf",
+                                                "loop_closure_drift.pdf", "sliding_variables.pdf"}
 
 
 def test_mechanism_summary_records_provenance(mechanism_run):
