@@ -63,3 +63,27 @@ def test_task_space_controller_tracks_end_effector_rates(joint_space_run):
     travel = np.linalg.norm(tel.ee_position[-1] - tel.ee_position[0], axis=1).max()
     assert result.status == "completed" and error < 1e-2 * travel
     assert max(ctrl.condition_numbers) < 1e4
+
+
+def test_analytic_qddot_tracks_closer_than_the_backward_difference(tmp_path):
+    """Sec 5.2 at 1 ms (quick): qddot_d from dJ*/dt tracks the joint-space path closer than the
+    dissertation's backward difference, which the report's Table 2 keeps."""
+    from freefloat.app.reproduce.task_space_report import reproduce
+
+    report = reproduce(tmp_path, quick=True)
+    backward, analytic = report["table2"]["overall"], report["qddot_analytic"]["table2_analytic"]["overall"]
+    assert max(analytic) < 0.5 * min(backward)
+    assert 0.0 < report["qddot_analytic"]["position_difference_max_m"] < 1e-4
+
+
+def test_reference_accelerations_are_the_derivative_of_the_rates(joint_space_run):
+    """The report's end-effector accelerations (ABA + classical frame acceleration) equal central
+    differences of the end-effector rates along the joint-space run, to the differences' O(h) (the
+    torque is held over each 1 ms step, so the acceleration jumps at every sample)."""
+    from freefloat.app.reproduce.task_space_report import end_effector_accelerations, end_effector_rates
+
+    robot, tel = joint_space_run
+    rows = task_rows(robot, ROWS)
+    rates, acc = end_effector_rates(robot, tel, rows), end_effector_accelerations(robot, tel, rows)
+    fd = (rates[2:] - rates[:-2]) / (tel.t[2:] - tel.t[:-2])[:, None]
+    assert np.abs(acc[1:-1] - fd).max() < 5e-3 * np.abs(acc).max()

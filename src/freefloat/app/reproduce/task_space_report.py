@@ -3,7 +3,10 @@
 1. The joint-space run (JSC): the chapter-4 task from Table 4's start (every joint 0.5 deg off
    the stretched posture, in the direction it moves), exact plant, RKMK4, 0.1 ms.
 2. The task-space run (TSC): the end-effector rates (vx, vy, wz of each arm) of the JSC run as
-   references, joint references by the inverse E-GJM (eqs 138-139), same plant and step.
+   references, joint references by the inverse E-GJM (eqs 138-139), same plant and step, with
+   qddot_d by the dissertation's backward difference; and the same run with the analytic
+   qddot_d (the derivative of eq 138 with dJ*/dt from ``gjm.jacobian_rates`` and the JSC's exact
+   end-effector accelerations), its Table 2 and its distance from the first.
 3. Table 2: RMS of the TSC end-effector pose error against the JSC path (x, y in m, z-rotation in
    deg), per arm, overall = RMS of the three; Table 3: KJC of the TSC run (E-GJM rates against
    central differences of the simulated motion; m/s and deg/s); Tables 4-5: joint and end-effector
@@ -75,6 +78,54 @@ def end_effector_rates(robot, tel, rows: np.ndarray) -> np.ndarray:
     return np.array(out)
 
 
+def end_effector_accelerations(robot, tel, rows: np.ndarray) -> np.ndarray:
+    """Exact end-effector accelerations (d/dt of the rates of :func:`end_effector_rates`) at each
+    sample (N, len(rows)): Pinocchio's classical frame accelerations, joint accelerations by ABA
+    from the recorded torques (held over each step, so exact at the samples)."""
+    data, out = robot.model.createData(), []
+    nb = robot.n_base
+    for q, v, tau in zip(tel.q, tel.v, tel.tau):
+        a = pin.aba(robot.model, data, q, v, np.concatenate((np.zeros(nb), tau)))
+        pin.forwardKinematics(robot.model, data, q, v, a)
+        acc = [pin.getFrameClassicalAcceleration(robot.model, data, fid, pin.LOCAL_WORLD_ALIGNED).vector
+               for fid in robot.end_effector_frame_ids]
+        out.append(np.concatenate(acc)[rows])
+    return np.array(out)
+
+
+def interpolated(t_samples: np.ndarray, values: np.ndarray):
+    """``t -> values`` interpolated linearly per column (len(columns),)."""
+    return lambda t: np.array([np.interp(t, t_samples, values[:, i]) for i in range(values.shape[1])])
+
+
+def task_space_run(robot, jsc, rows, dt: float, duration: float, record_every: int, qddot: str, acceleration=None):
+    """The TSC run tracking the JSC end-effector rates, with the given qddot_d method."""
+    reference = interpolated(jsc.t, end_effector_rates(robot, jsc, rows))
+    ctrl = TaskSpaceComputedTorque(robot, InverseEGJM(rows), reference, jsc.joint_positions[0], dt,
+                                   qddot=qddot, acceleration=acceleration)
+    tel = run(robot, jsc.q[0], jsc.v[0], duration, dt, make_integrator("rkmk4", robot.model), ExactModel(robot),
+              ctrl, record_every=record_every).telemetry
+    return ctrl, tel
+
+
+def table2(tsc, jsc) -> dict:
+    """Table 2: RMS of the TSC end-effector pose error against the JSC path, per arm and axis."""
+    per_axis = rms(planar_pose(tsc) - planar_pose(jsc), axis=0)
+    return {"x": per_axis[:, 0].tolist(), "y": per_axis[:, 1].tolist(), "z_deg": per_axis[:, 2].tolist(),
+            "overall": rms(per_axis, axis=1).tolist()}
+
+
+def qddot_comparison(robot, jsc, tsc, rows, dt: float, duration: float, record_every: int) -> dict:
+    """The TSC run again with the analytic qddot_d; its Table 2 and how far it ends from ``tsc``."""
+    acceleration = interpolated(jsc.t, end_effector_accelerations(robot, jsc, rows))
+    _, analytic = task_space_run(robot, jsc, rows, dt, duration, record_every, "analytic", acceleration)
+    difference = planar_pose(analytic) - planar_pose(tsc)
+    return {"table2_analytic": table2(analytic, jsc),
+            "position_difference_max_m": float(np.abs(difference[..., :2]).max()),
+            "angle_difference_max_deg": float(np.abs(difference[..., 2]).max()),
+            "joint_difference_max_deg": float(np.degrees(np.abs(analytic.joint_positions - tsc.joint_positions).max()))}
+
+
 def planar_pose(tel) -> np.ndarray:
     """End-effector (x, y, yaw in deg) over time (N, k, 3), yaw unwrapped."""
     yaw = np.stack([base_attitude(tel.ee_quaternion[:, k])[:, 2] for k in range(tel.ee_quaternion.shape[1])], axis=1)
@@ -126,17 +177,11 @@ def reproduce(out: Path, quick: bool = False) -> dict:
     record_every = 1 if quick else 10
     jsc = joint_space_run(robot, 0.5, duration, dt, record_every)
     rows = task_rows(robot, ROWS)
-    rates = end_effector_rates(robot, jsc, rows)
-    reference = lambda t: np.array([np.interp(t, jsc.t, rates[:, i]) for i in range(len(rows))])  # noqa: E731
-    ctrl = TaskSpaceComputedTorque(robot, InverseEGJM(rows), reference, jsc.joint_positions[0], dt)
-    tsc = run(robot, jsc.q[0], jsc.v[0], duration, dt, make_integrator("rkmk4", robot.model), ExactModel(robot),
-              ctrl, record_every=record_every).telemetry
-    error = planar_pose(tsc) - planar_pose(jsc)
-    per_axis = rms(error, axis=0)
+    ctrl, tsc = task_space_run(robot, jsc, rows, dt, duration, record_every, "backward_difference")
     report = {
         "settings": {"dt": dt, "duration": duration, "record_every": record_every, "quick": quick},
-        "table2": {"x": per_axis[:, 0].tolist(), "y": per_axis[:, 1].tolist(), "z_deg": per_axis[:, 2].tolist(),
-                   "overall": rms(per_axis, axis=1).tolist()},
+        "table2": table2(tsc, jsc),
+        "qddot_analytic": qddot_comparison(robot, jsc, tsc, rows, dt, duration, record_every),
         "table3": kjc_table(robot, tsc),
         "table4": {run_name: {"start_deg": np.degrees(tel.joint_positions[0]).round(4).tolist(),
                               "end_deg": np.degrees(tel.joint_positions[-1]).round(4).tolist()} for run_name, tel in (("JSC", jsc), ("TSC", tsc))},
@@ -160,6 +205,13 @@ def markdown(report: dict) -> str:
     for key, label in (("x", "x (m)"), ("y", "y (m)"), ("z_deg", "z-rotation (deg)"), ("overall", "overall")):
         lines.append(f"| {label}, freefloat | " + " | ".join(f(x) for x in report["table2"][key]) + " |")
         lines.append(f"| {label}, dissertation | " + " | ".join(f(x) for x in TABLE_2[key]) + " |")
+    qa = report["qddot_analytic"]
+    lines += ["", "## Table 2 with the analytic qddot_d (dJ*/dt in place of the backward difference)", "",
+              "| | arm 1 | arm 2 | arm 3 | arm 4 |", "|---|---|---|---|---|"]
+    for key, label in (("x", "x (m)"), ("y", "y (m)"), ("z_deg", "z-rotation (deg)"), ("overall", "overall")):
+        lines.append(f"| {label}, analytic | " + " | ".join(f(x) for x in qa["table2_analytic"][key]) + " |")
+    lines += ["", f"Analytic run minus backward-difference run, max: end-effector position {qa['position_difference_max_m']:.2e} m, "
+              f"z-rotation {qa['angle_difference_max_deg']:.2e} deg, joints {qa['joint_difference_max_deg']:.2e} deg."]
     lines += ["", "## Table 3: KJC (E-GJM rates vs differences of the simulated motion; m/s, deg/s)", "",
               "| | arm 1 | arm 2 | arm 3 | arm 4 |", "|---|---|---|---|---|"]
     for key, label in (("x", "x"), ("y", "y"), ("z_deg", "z-rotation"), ("overall", "overall")):
