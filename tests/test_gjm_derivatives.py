@@ -96,3 +96,17 @@ def test_task_space_law_qddot_is_the_derivative_of_eq_138(tmp_path_factory, case
               for t in (-2 * h, -h, h, 2 * h)]
     fd = (values[0] - 8.0 * values[1] + 8.0 * values[2] - values[3]) / (12.0 * h)
     assert relative(qddot_d, fd) < 1e-6
+
+
+@settings(max_examples=20, deadline=None)
+@given(random_robots(max_links=6))
+def test_jm_rate_equals_pinocchios_frame_jacobian_time_variation(tmp_path_factory, case):
+    """dJm/dt equals the joint columns of Pinocchio's LOCAL_WORLD_ALIGNED frame Jacobian time variation."""
+    robot, rng = robot_from_case(tmp_path_factory, case)
+    q, v = random_state(robot, rng)
+    model, data = robot.model, robot.model.createData()
+    pin.computeJointJacobiansTimeVariation(model, data, q, v)
+    pin.updateFramePlacements(model, data)
+    ref = np.vstack([pin.getFrameJacobianTimeVariation(model, data, fid, pin.LOCAL_WORLD_ALIGNED)
+                     for fid in robot.end_effector_frame_ids])[:, robot.n_base:]
+    assert relative(gjm.jacobian_rates(robot, q, v).Jm_dot, ref) < 1e-12
