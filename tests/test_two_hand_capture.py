@@ -58,14 +58,40 @@ def test_a_second_hand_that_is_not_another_end_effector_is_refused(tmp_path, han
         runner.prepare(scene)
 
 
-def test_a_grasp_at_a_singular_posture_is_warned(tmp_path):
-    """At the satellite's zero posture the stretched arms cannot move the hands apart in every
-    direction (the loop loses a rank): preparing the scene warns, naming the fix."""
+BENT = {"shoulder_lift_joint": -90.0, "elbow_joint": 90.0, "wrist_1_joint": -90.0, "wrist_2_joint": 90.0}
+
+
+def _relative_motion_rank(robot, q) -> int:
+    """Rank of the joints' map to the right tool's twist relative to the left tool's, from
+    Pinocchio's frame Jacobians (numpy's SVD rank): 6 when a weld between the hands is regular."""
+    import pinocchio as pin
+
+    model, data = robot.model, robot.model.createData()
+    pin.computeJointJacobians(model, data, q)
+    pin.updateFramePlacements(model, data)
+    left, right = (pin.getFrameJacobian(model, data, model.getFrameId(f), pin.LOCAL_WORLD_ALIGNED)[:, 6:]
+                   for f in ("left_tool0", "right_tool0"))
+    return int(np.linalg.matrix_rank(right - left))
+
+
+@pytest.mark.parametrize("stretched", [True, False])
+def test_the_grasp_posture_is_warned_exactly_when_the_loop_is_singular(tmp_path, stretched):
+    """The warning follows the loop's rank as Pinocchio's Jacobians give it: at the zero posture
+    (arms stretched) the hands' relative motion has rank 5 and preparing the scene warns, naming
+    the fix; at the scene's bent posture it has rank 6 and nothing is warned."""
+    import warnings
+
     from freefloat.robot.loading import FreefloatWarning
 
-    zero = {name: 0.0 for name in ("left_shoulder_lift_joint", "left_elbow_joint", "left_wrist_1_joint",
-                                   "left_wrist_2_joint", "right_shoulder_lift_joint", "right_elbow_joint",
-                                   "right_wrist_1_joint", "right_wrist_2_joint")}
-    scene = quiet_scene(tmp_path, SCENE, initial={"joint_positions": zero}, target={"second_grasp": None})
-    with pytest.warns(FreefloatWarning, match=r"singular at the grasp posture \(conditioning .*\).*arms bent"):
-        runner.prepare(scene)
+    angles = {f"{side}_{joint}": 0.0 if stretched else value for side in ("left", "right")
+              for joint, value in BENT.items()}
+    scene = quiet_scene(tmp_path, SCENE, initial={"joint_positions": angles}, target={"second_grasp": None})
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        setup = runner.prepare(scene)
+    singular = [w for w in caught if issubclass(w.category, FreefloatWarning) and "singular at the grasp" in str(w.message)]
+    rank = _relative_motion_rank(setup.robot, setup.q0)
+    assert rank == (5 if stretched else 6)
+    assert bool(singular) == (rank < 6)
+    if singular:
+        assert "[initial.joint_positions]" in str(singular[0].message)
