@@ -83,19 +83,23 @@ class LoopDetumblingController:
         self.robot, self.closure, self.rows, self.joints = robot, closure, rows, joints
         self.T, self.kd, self.beta, self.squeeze, self.limit = control_period, kd, baumgarte, squeeze, torque_limit
         self.model, self.data = robot.model, robot.model.createData()
-        frame = self.model.frames[self.model.getFrameId(target_frame)]
-        self.target_joint, self.target_placement = frame.parentJoint, frame.placement
+        self.target = self.model.frames[self.model.getFrameId(target_frame)]
         self.mass, self.inertia = float(target_mass), np.diag(np.asarray(target_inertia, float))
         self.first_grasp = self.model.frames[self.model.getFrameId(robot.end_effectors[0])]
         self._qdot_prev: np.ndarray | None = None
         self._force = np.zeros(6)
         self.log = LoopLog()
 
+    def _share(self, a: np.ndarray) -> np.ndarray:
+        """Step 3's closure force (6,), frame-1 axes, at the state ``self.data`` holds."""
+        return grasp_share(self.model, self.data, self.closure, self.target, self.mass, self.inertia,
+                           self.first_grasp, a, self.squeeze).force
+
     def compiled_law(self) -> LoopDetumblingLaw:
         """This law for the compiled loop (:mod:`freefloat.dynamics.compiled`), with the state it
         has so far (previous rates and closure force); its log is kept complete through it."""
         return LoopDetumblingLaw(self.rows, self.joints, self.kd, self.T, self.beta, self.squeeze, self.limit,
-                                 self.closure, self.target_joint, self.target_placement, self.mass,
+                                 self.closure, self.target.parentJoint, self.target.placement, self.mass,
                                  np.diag(self.inertia), self.first_grasp.parentJoint, self.first_grasp.placement,
                                  self._qdot_prev, self._force, self._absorb)
 
@@ -140,7 +144,7 @@ class LoopDetumblingController:
             for _ in range(2):  # lambda moves the base only through J_c,b (zero when both frames ride on the tree)
                 target = -gamma - 2.0 * self.beta * (Jc @ v) - self.beta**2 * e + Jcb @ (bias - reaction @ force)
                 qddot = desired - projector @ (Jc_star @ desired - target)
-                force = self._shared_force(np.concatenate((reaction @ force - to_base @ qddot - bias, qddot)))
+                force = self._share(np.concatenate((reaction @ force - to_base @ qddot - bias, qddot)))
             self._force = force
             return H_star @ qddot + c_star - Jc_star.T @ force
 
@@ -175,25 +179,47 @@ class LoopDetumblingController:
         self.log.rows_residual.append(float(np.abs(state.Jstar[self.rows] @ qdot + rows_drift).max(initial=0.0)))
         return qdot
 
-    def _shared_force(self, a: np.ndarray) -> np.ndarray:
-        """The closure force lambda (6,) giving each hand half the target's inertial wrench at the
-        acceleration ``a``, plus the squeeze (step 3), in the closure's frame-1 axes."""
-        model, data = self.model, self.data
-        target = frame_motion(model, data, self.target_joint, self.target_placement)
-        R = target.pose.rotation
-        w = target.angular_velocity
-        I_world = R @ self.inertia @ R.T
-        linear = self.mass * (target.jacobian[:3] @ a + target.acceleration)
-        angular = I_world @ (target.jacobian[3:] @ a + target.angular_acceleration) + np.cross(w, I_world @ w)
-        c = self.closure
-        hand = (data.oMi[c.joint1] * c.placement1)
-        grasp = (data.oMi[c.joint2] * c.placement2).translation
-        other = (data.oMi[self.first_grasp.parentJoint] * self.first_grasp.placement).translation
-        u = other - grasp
-        u = u / max(np.linalg.norm(u), 1e-12)
-        f = 0.5 * linear + self.squeeze * u
-        n_grasp = 0.5 * angular - np.cross(grasp - target.pose.translation, f)
-        return np.concatenate((hand.rotation.T @ f, hand.rotation.T @ n_grasp))
+
+@dataclass(frozen=True)
+class GraspShare:
+    """The equal share of a held target's inertial wrench at one state and acceleration.
+
+    Attributes:
+        force: the closure force lambda (6,) that gives each hand half the target's inertial wrench
+            plus ``squeeze`` N along ``direction``: [force; moment about the second grasp point],
+            in the closure's frame-1 axes (the second hand's), acting on the target.
+        hand_rotation: frame 1's orientation, inertial (3, 3).
+        grasp: the second grasp point, inertial, m (3,).
+        com: the target's CoM, inertial, m (3,).
+        direction: unit vector from the second grasp point to the first, inertial (3,).
+    """
+
+    force: np.ndarray
+    hand_rotation: np.ndarray
+    grasp: np.ndarray
+    com: np.ndarray
+    direction: np.ndarray
+
+
+def grasp_share(model: pin.Model, data: pin.Data, closure: Closure, target: pin.Frame, mass: float,
+                inertia: np.ndarray, first_grasp: pin.Frame, a: np.ndarray, squeeze: float) -> GraspShare:
+    """Step 3 of the law at the state ``data`` holds (:func:`~freefloat.dynamics.closures.kinematics`)
+    and the acceleration ``a`` (nv,): the target's inertial wrench at its CoM, ``[m a_c; I w' + w x I w]``
+    (``target``: its CoM frame, principal axes; ``inertia`` (3, 3) principal, kg m^2), halved, plus
+    the squeeze along the line between the grasps (``first_grasp``: the first hand's frame)."""
+    motion = frame_motion(model, data, target.parentJoint, target.placement)
+    R, w = motion.pose.rotation, motion.angular_velocity
+    I_world = R @ inertia @ R.T
+    linear = mass * (motion.jacobian[:3] @ a + motion.acceleration)
+    angular = I_world @ (motion.jacobian[3:] @ a + motion.angular_acceleration) + np.cross(w, I_world @ w)
+    hand = data.oMi[closure.joint1] * closure.placement1
+    grasp = (data.oMi[closure.joint2] * closure.placement2).translation
+    other = (data.oMi[first_grasp.parentJoint] * first_grasp.placement).translation
+    direction = (other - grasp) / max(np.linalg.norm(other - grasp), 1e-12)
+    f = 0.5 * linear + squeeze * direction
+    moment = 0.5 * angular - np.cross(grasp - motion.pose.translation, f)
+    return GraspShare(np.concatenate((hand.rotation.T @ f, hand.rotation.T @ moment)), hand.rotation, grasp,
+                      motion.pose.translation, direction)
 
 
 def internal_wrench(robot: Robot, closure: Closure, target_frame: str, target_mass: float,
@@ -201,17 +227,13 @@ def internal_wrench(robot: Robot, closure: Closure, target_frame: str, target_ma
                     force: np.ndarray) -> tuple[float, np.ndarray]:
     """The loop's internal wrench at a state with acceleration ``a`` and closure force ``force``:
     arm 2's wrench on the target minus half the target's inertial wrench, at the target's CoM,
-    world axes (6,), and its force along grasp 2 -> grasp 1 (the squeeze, N)."""
-    law = LoopDetumblingController(robot, closure, target_frame, target_mass, target_inertia, np.zeros(0, int),
-                                   np.zeros(0, int), 1.0)
-    model, data = robot.model, law.data
+    inertial axes, [force; moment] (6,), and its force along grasp 2 -> grasp 1 (the squeeze, N)."""
+    model = robot.model
+    data = model.createData()
     kinematics(model, data, q, v)
-    shared = law._shared_force(a)  # squeeze 0: the equal share, frame-1 axes at the grasp
-    hand = data.oMi[closure.joint1] * closure.placement1
-    grasp = (data.oMi[closure.joint2] * closure.placement2).translation
-    com = (data.oMi[law.target_joint] * law.target_placement).translation
-    df, dn = hand.rotation @ (force[:3] - shared[:3]), hand.rotation @ (force[3:] - shared[3:])
-    wrench = np.concatenate((df, dn + np.cross(grasp - com, df)))
-    other = (data.oMi[law.first_grasp.parentJoint] * law.first_grasp.placement).translation
-    u = (other - grasp) / max(np.linalg.norm(other - grasp), 1e-12)
-    return float(df @ u), wrench
+    frames = [model.frames[model.getFrameId(name)] for name in (target_frame, robot.end_effectors[0])]
+    share = grasp_share(model, data, closure, frames[0], float(target_mass),
+                        np.diag(np.asarray(target_inertia, float)), frames[1], a, 0.0)
+    df = share.hand_rotation @ (force[:3] - share.force[:3])
+    dn = share.hand_rotation @ (force[3:] - share.force[3:])
+    return float(df @ share.direction), np.concatenate((df, dn + np.cross(share.grasp - share.com, df)))
