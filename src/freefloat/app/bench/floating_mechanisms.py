@@ -35,7 +35,7 @@ from ...parallel.free_base import BaseFrameControl, run_compiled
 from ..experiments.mechanism import prepare
 from ..scenes import find_scene
 from .mechanism_mjcf import SOLIMP, TIMECONST_STEPS
-from .mechanisms import (MUJOCO, MUJOCO_MODEL, QUICK_DURATION, REFERENCE_TOL, MechanismResult, held_run,
+from .mechanisms import (MUJOCO, MUJOCO_MODEL, REFERENCE_TOL, MechanismResult, held_run, scene_duration,
                          whole_periods)
 from .scene import Method, Run
 
@@ -224,9 +224,7 @@ def floating_mechanism_scene(name: str, duration: float | None = None, quick: bo
         InvalidArgument: an unknown name (lists the valid ones) or a duration that is not a
             positive whole number of control periods.
     """
-    if name not in FLOATING_SCENES:
-        raise InvalidArgument(f"unknown moving-base bench scene '{name}'; valid: {', '.join(FLOATING_SCENES)}")
-    duration = duration if duration is not None else (QUICK_DURATION if quick else SWEEPS[name].duration)
+    duration = scene_duration(name, FLOATING_SCENES, "moving-base", duration, quick, lambda: SWEEPS[name].duration)
     bench = FloatingMechanismBench(name, duration, quick)
     whole_periods(name, duration, bench.period)
     return bench

@@ -25,7 +25,7 @@ method.
 from __future__ import annotations
 
 import tomllib
-from collections.abc import Callable
+from collections.abc import Callable, Collection
 from dataclasses import dataclass
 from typing import Any
 
@@ -261,16 +261,27 @@ def mechanism_scene(name: str, duration: float | None = None, quick: bool = Fals
         InvalidArgument: an unknown name (lists the valid ones) or a duration that is not a
             positive whole number of control periods.
     """
-    if name not in MECHANISM_SCENES:
-        raise InvalidArgument(f"unknown closed-chain bench scene '{name}'; valid: {', '.join(MECHANISM_SCENES)}")
+    duration = scene_duration(name, MECHANISM_SCENES, "closed-chain", duration, quick, lambda: SWEEPS[name].duration)
     sweep = SWEEPS[name]
-    duration = duration if duration is not None else (QUICK_DURATION if quick else sweep.duration)
     prepared = prepare(find_scene(sweep.scene))
     period = prepared.scene.simulation.step  # the scene file's: the law is held over it
     whole_periods(name, duration, period)
     if quick:
         return MechanismBench(name, prepared, duration, period, sweep.quick_steps, sweep.quick_steps)
     return MechanismBench(name, prepared, duration, period, sweep.steps, sweep.numpy_steps)
+
+
+def scene_duration(name: str, scenes: Collection[str], kind: str, duration: float | None, quick: bool,
+                   default: Callable[[], float]) -> float:
+    """The duration (s) a bench scene ``name`` of ``scenes`` runs: ``duration`` if given, else
+    :data:`QUICK_DURATION` with ``quick``, else ``default()``.
+
+    Raises:
+        InvalidArgument: for a name not in ``scenes`` (the ``kind`` of bench scene, the valid names).
+    """
+    if name not in scenes:
+        raise InvalidArgument(f"unknown {kind} bench scene '{name}'; valid: {', '.join(scenes)}")
+    return duration if duration is not None else (QUICK_DURATION if quick else default())
 
 
 def whole_periods(name: str, duration: float, period: float) -> None:

@@ -47,7 +47,7 @@ from ..experiments.two_hand_capture import _joints, _rows
 from ..runner import prepare
 from ..scenes import find_scene
 from .floating_mechanisms import MUJOCO_SETTINGS, ClosedTree, swept_methods, tree_errors
-from .mechanisms import MUJOCO, QUICK_DURATION, REFERENCE_TOL, MechanismResult, whole_periods
+from .mechanisms import MUJOCO, REFERENCE_TOL, MechanismResult, scene_duration, whole_periods
 from .scene import Method, Run
 
 #: Bench scene name (the scene file's) -> note (what runs).
@@ -202,9 +202,7 @@ def two_hand_capture_scene(name: str, duration: float | None = None, quick: bool
         InvalidArgument: an unknown name (lists the valid ones) or a duration that is not a
             positive whole number of control periods.
     """
-    if name not in CAPTURE_SCENES:
-        raise InvalidArgument(f"unknown two-hand capture bench scene '{name}'; valid: {', '.join(CAPTURE_SCENES)}")
-    duration = duration if duration is not None else (QUICK_DURATION if quick else DURATION)
+    duration = scene_duration(name, CAPTURE_SCENES, "two-hand capture", duration, quick, lambda: DURATION)
     bench = TwoHandCaptureBench(name, duration, quick)
     whole_periods(name, duration, bench.start.period)
     return bench
