@@ -203,7 +203,8 @@ class LoopHistory:
         t: period starts, s (N,).
         squeeze: internal force along grasp 2 -> grasp 1, N (N,).
         internal: norm of the internal wrench's force part, N (N,).
-        force: the closure force lambda (N, 6).
+        force: the closure force lambda (N, 6): [force; moment about the second grasp point] on the
+            target, in the second hand's frame axes (N, N m).
         drift_position, drift_rotation: closure residuals, m and rad (N,).
     """
 
