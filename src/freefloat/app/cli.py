@@ -1,6 +1,6 @@
 """Command line: ``freefloat simulate [SCENE] [--out DIR]`` (robot and mechanism scenes),
 ``freefloat batch``, ``freefloat scenes``, ``freefloat verify``, ``freefloat reproduce``,
-``freefloat bench``."""
+``freefloat bench``, ``freefloat atlas``."""
 
 from __future__ import annotations
 
@@ -15,6 +15,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any, Iterator
 
 from ..errors import FreefloatError
+from .atlas.kinds import KINDS as ATLAS_KINDS
 from .bench.suites import ALL as ALL_SUITES
 from .bench.suites import DEFAULT as DEFAULT_SUITE
 from .bench.suites import SUITES
@@ -32,7 +33,7 @@ DESCRIPTION = ("Dynamics, simulation and control of free-floating multi-arm spac
 #: The module each command imports first (with the robot loaders and their libraries), while
 #: Ctrl-C is deferred.
 HEAVY = {"simulate": ".runner", "batch": ".batch", "bench": ".runner", "reproduce": ".runner", "verify": ".runner",
-         "info": ".runner", "view": ".view"}
+         "info": ".runner", "view": ".view", "atlas": ".atlas.engine"}
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -108,8 +109,9 @@ def main(argv: list[str] | None = None) -> int:
                      help="repeats of each measurement (default: each suite's own, fewer with --quick)")
     ben.add_argument("--out", type=Path, default=None,
                      help="output folder (default: runs/bench-<time>; with --suite, runs/bench-<names>-<time>)")
+    _atlas_parser(commands)
     args = parser.parse_args(argv)
-    commands_run = {"simulate": _simulate, "batch": _batch, "bench": _bench, "scenes": lambda _: _scenes(), "verify": _verify, "reproduce": _reproduce,
+    commands_run = {"atlas": _atlas, "simulate": _simulate, "batch": _batch, "bench": _bench, "scenes": lambda _: _scenes(), "verify": _verify, "reproduce": _reproduce,
                     "info": _info, "view": _view}
     try:
         early_too = arrived_before_main()
@@ -142,6 +144,68 @@ def _bench(args: argparse.Namespace) -> int:
         print(f"freefloat: bench stopped early: {ended[-1].status} (what was measured is kept in {out})",
               file=sys.stderr)
         return 1
+    return 0
+
+
+def _atlas_parser(commands: Any) -> None:
+    """The ``atlas`` subcommand's arguments (the kinds' names and help from their registry)."""
+    atl = commands.add_parser("atlas", help="a map over a grid: free-floating workspace, dynamic singularities, ... "
+                                            "(data, summary and figures into one folder)")
+    atl.add_argument("kind", metavar="KIND", help="; ".join(f"{k.name}: {k.help} (TARGET: {k.target})"
+                                                          for k in ATLAS_KINDS.values()))
+    atl.add_argument("target", metavar="TARGET", help="what the kind maps: a robot's name or URDF file, a mechanism")
+    atl.add_argument("--grid", type=int, default=None, help="points per grid axis (default: the kind's)")
+    atl.add_argument("--axes", default=None, metavar="A,B,...",
+                     help="the grid's axes, comma-separated (joints of the mapped arm; default: the kind's)")
+    atl.add_argument("--end-effector", default=None, help="the end-effector mapped (default: the robot's first)")
+    atl.add_argument("--momentum", type=float, nargs="+", default=None, metavar="M",
+                     help="the system momentum [P; L] about the system CoM, inertial frame (6 numbers, or 3 for a "
+                          "planar base: Px Py Lz; default zero)")
+    atl.add_argument("--tolerance", type=float, default=None,
+                     help="sigma_min / sigma_max below which a Jacobian counts as singular (default: the kind's)")
+    atl.add_argument("--base", choices=["free", "planar"], default=None,
+                     help="floating base of a robot given by name or file (default: planar for freefloat's planar "
+                          "robots, free otherwise)")
+    atl.add_argument("--workers", type=int, default=None, help="worker processes (default 1: this process)")
+    atl.add_argument("--dask", action="store_true", help="evaluate on Dask: a local cluster of --workers (default 2) "
+                                                         "processes, or --scheduler's workers")
+    atl.add_argument("--scheduler", default=None, help="with --dask: a Dask scheduler's address (tcp://host:8786)")
+    atl.add_argument("--out", type=Path, default=None, help="output folder (default: runs/atlas-<kind>-<target>-<time>)")
+    atl.add_argument("--overwrite", action="store_true",
+                     help="replace the atlas freefloat wrote in --out (default: resume it from its journal)")
+    atl.add_argument("--quiet", action="store_true", help="no progress bar")
+
+
+def _atlas(args: argparse.Namespace) -> int:
+    from tqdm import tqdm
+
+    from ..extras import require
+    from .atlas.engine import run_atlas
+    from .atlas.kinds import Options, find_kind
+    from .batch import Workers
+
+    find_kind(args.kind)
+    if args.dask or args.scheduler is not None:
+        require("dask", "freefloat atlas --dask")
+    if args.scheduler is not None and args.workers is not None:
+        raise FreefloatError("--workers sets the size of a local cluster; with --scheduler the scheduler's workers run")
+    workers = Workers(args.workers or (2 if args.dask else 1), args.dask or args.scheduler is not None, args.scheduler)
+    options = Options(grid=args.grid, axes=tuple(args.axes.split(",")) if args.axes else None,
+                      end_effector=args.end_effector, momentum=tuple(args.momentum) if args.momentum else None,
+                      tolerance=args.tolerance, base=args.base)
+    out = args.out or default_folder(f"atlas-{args.kind}-{Path(args.target).stem}")
+    with one_line_warnings(), tqdm(total=0, desc=args.kind, unit="pt", disable=args.quiet, delay=0.5) as bar:
+        def progress(done: int, total: int) -> None:
+            bar.total = total
+            bar.update(done - bar.n)
+
+        done = run_atlas(args.kind, args.target, options, out, workers, args.overwrite, progress)
+    print(f"{args.kind} of {args.target}: {done.grid.size} points in {done.summary['wall_time_s']:.2f} s "
+          f"({workers.label}) -> {done.folder}")
+    for key, value in done.summary["summary"].items():
+        if not isinstance(value, (dict, list)):
+            print(f"  {key}: {value}")
+    print(f"  wrote: {', '.join(p.name for p in done.written)}")
     return 0
 
 

@@ -1,0 +1,207 @@
+"""The atlas engine: a kind evaluated over its grid in chunks, journaled, into one folder.
+
+:func:`run_atlas` resolves the kind and its target, checks that the grid's results fit in memory
+(one point is evaluated first to learn its size), then evaluates the chunks not yet finished in
+this process, on a process pool (:func:`freefloat.distributed.process_pool`) or on Dask (a local
+cluster or a scheduler's workers), as ``freefloat batch`` does. Each chunk is saved under
+``chunks/`` and a line appended to ``atlas-journal.jsonl`` as it finishes, so Ctrl-C, SIGTERM or
+a kill keeps the finished chunks and the same command again resumes from them (a folder holding
+another atlas's journal is refused). Once all are in, :mod:`.writer` writes the data, the summary
+and the figures, and the chunks and the journal are removed.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import time
+from concurrent.futures import FIRST_COMPLETED, Future, wait
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Callable
+
+import numpy as np
+
+from ...distributed import client, process_pool, settle_futures
+from ...errors import FreefloatError
+from ..batch.executors import Workers, _terminate
+from ..run_folder import RunFolder
+from .grid import Grid, check_memory
+from .kinds import AtlasKind, Options, find_kind
+from .writer import write_outputs
+
+JOURNAL = "atlas-journal.jsonl"
+CHUNKS = "chunks"
+#: Chunks per worker the grid is cut into (progress and resumption at that grain) ...
+CHUNKS_PER_WORKER = 8
+#: ... each of at least this many points (the kind's per-call overhead amortised) and at most
+#: this many (memory in flight, and what an interrupt loses).
+MIN_CHUNK, MAX_CHUNK = 256, 20_000
+#: With Dask, the map ends when no chunk finishes within this many seconds.
+DASK_TIMEOUT = 600.0
+
+
+@dataclass(frozen=True)
+class AtlasRun:
+    """A finished atlas.
+
+    Attributes:
+        folder: the output folder.
+        grid: the grid evaluated.
+        result: every array of the kind, rows in flat grid order.
+        summary: what ``summary.json`` holds.
+        written: the files written.
+    """
+
+    folder: Path
+    grid: Grid
+    result: dict[str, np.ndarray]
+    summary: dict
+    written: list[Path]
+
+
+def evaluate_chunk(kind: AtlasKind, context: Any, grid: Grid, start: int, stop: int) -> dict[str, np.ndarray]:
+    """The kind's arrays at grid points ``start`` to ``stop`` (a worker's task; the kind travels
+    as its registry object, so a worker needs no registry of its own)."""
+    return kind.load().evaluate(context, grid.points(start, stop))
+
+
+def chunk_size(grid: Grid, workers: int) -> int:
+    """Points per chunk: about :data:`CHUNKS_PER_WORKER` chunks per worker, within
+    [:data:`MIN_CHUNK`, :data:`MAX_CHUNK`]."""
+    return int(min(MAX_CHUNK, max(MIN_CHUNK, math.ceil(grid.size / (CHUNKS_PER_WORKER * workers)))))
+
+
+def run_atlas(kind: str, target: str, options: Options, out: Path, workers: Workers = Workers(),
+              overwrite: bool = False, progress: Callable[[int, int], None] | None = None) -> AtlasRun:
+    """Map ``kind`` of ``target`` into the folder ``out``.
+
+    Args:
+        kind: a name of :data:`~.kinds.KINDS`.
+        target: what the kind maps (a robot's name or URDF file, a mechanism's name, ...).
+        options: the command's options (only those the kind reads may be set).
+        out: the output folder (created; a folder of this same atlas resumes from its journal).
+        workers: this process, a process pool or Dask.
+        overwrite: replace what freefloat wrote in ``out`` before.
+        progress: called with (points done, points in all) as chunks finish.
+
+    Raises:
+        UnknownName: for an unknown kind, listing the kinds.
+        InvalidArgument: for an option the kind does not take, or a grid too large for memory.
+        FreefloatError: the kind's own refusals of the target (naming it), and an output folder
+            that is not free or holds another atlas.
+    """
+    started = time.perf_counter()
+    entry = find_kind(kind)
+    module = entry.check_options(options)
+    context = module.prepare(target, options)
+    grid = module.grid(context, options)
+    probe = module.evaluate(context, grid.points(0, 1))
+    check_memory(grid, sum(a.nbytes for a in probe.values()))
+    size = chunk_size(grid, workers.count)
+    spans = grid.chunks(size)
+    settings = {"kind": kind, "target": target, "options": options.as_dict(), "grid": grid.describe(),
+                "chunk_size": size}
+    with RunFolder(out, overwrite, keep_foreign=False, resume=True) as folder:
+        done = _resumed(folder.path, settings)
+        parts: dict[int, dict[str, np.ndarray]] = {i: _load_chunk(folder.path, i) for i in done}
+        chunks_dir = folder.claim(f"{CHUNKS}/")
+        chunks_dir.mkdir(exist_ok=True)
+        with folder.journal(JOURNAL) as journal:
+            if not done:
+                journal.append(json.dumps({"settings": settings}))
+
+            def finished(i: int, arrays: dict[str, np.ndarray]) -> None:
+                with folder.atomic(f"{CHUNKS}/chunk-{i:05d}.npz") as partial, open(partial, "wb") as file:
+                    np.savez(file, **arrays)
+                journal.append(json.dumps({"chunk": i, "start": spans[i][0], "stop": spans[i][1]}))
+                parts[i] = arrays
+                if progress is not None:
+                    progress(sum(spans[j][1] - spans[j][0] for j in parts), grid.size)
+
+            if progress is not None:
+                progress(sum(spans[j][1] - spans[j][0] for j in parts), grid.size)
+            todo = [i for i in range(len(spans)) if i not in parts]
+            try:
+                _execute(workers, entry, context, grid, spans, todo, finished)
+            except KeyboardInterrupt:
+                raise KeyboardInterrupt(f"; {len(parts)} of {len(spans)} chunks are journaled in {folder.path} "
+                                        "(rerun the same command to resume)") from None
+        result = {key: np.concatenate([parts[i][key] for i in range(len(spans))]) for key in probe}
+        summary = {**settings, "points": grid.size, "workers": workers.label,
+                   "summary": module.summarise(context, grid, result)}
+        written = write_outputs(folder, grid, result, summary, started,
+                                lambda into: module.figures(context, grid, result, into))
+        for i in range(len(spans)):
+            (folder.path / CHUNKS / f"chunk-{i:05d}.npz").unlink(missing_ok=True)
+        chunks_dir.rmdir()
+        (folder.path / JOURNAL).unlink()
+    return AtlasRun(folder.path, grid, result, json.loads((folder.path / "summary.json").read_text()), written)
+
+
+def _resumed(folder: Path, settings: dict) -> list[int]:
+    """The chunks a previous run of the same atlas journaled in ``folder`` (none when it has no
+    journal).
+
+    Raises:
+        FreefloatError: when the journal is of another atlas (kind, target, options or grid).
+    """
+    path = folder / JOURNAL
+    if not path.is_file():
+        return []
+    lines = [json.loads(line) for line in path.read_text().splitlines() if line.strip().endswith("}")]
+    if not lines or lines[0].get("settings") != json.loads(json.dumps(settings)):
+        raise FreefloatError(f"output folder '{folder}' holds the journal of another atlas "
+                             f"({lines[0]['settings'] if lines else 'unreadable'}); pass --overwrite or choose "
+                             "another --out")
+    return sorted({line["chunk"] for line in lines[1:]
+                   if "chunk" in line and (folder / CHUNKS / f"chunk-{line['chunk']:05d}.npz").is_file()})
+
+
+def _load_chunk(folder: Path, i: int) -> dict[str, np.ndarray]:
+    with np.load(folder / CHUNKS / f"chunk-{i:05d}.npz") as data:
+        return {key: data[key] for key in data.files}
+
+
+def _execute(workers: Workers, kind: AtlasKind, context: Any, grid: Grid, spans: list[tuple[int, int]], todo: list[int],
+             finished: Callable[[int, dict], None]) -> None:
+    """Evaluate the chunks ``todo`` (indices into ``spans``) on ``workers``, calling
+    ``finished(i, arrays)`` in this process as each finishes.
+
+    Raises:
+        FreefloatError: naming the chunk when a worker fails or is lost.
+    """
+    if workers.dask:
+        with client(workers.scheduler, workers.count) as dask_client:
+            futures = {i: dask_client.submit(evaluate_chunk, kind, context, grid, *spans[i], pure=False) for i in todo}
+            settled = settle_futures(futures, "atlas", True, DASK_TIMEOUT, lambda i, r: _take(i, r, finished))
+            missing = [i for i in todo if i not in settled]
+            if missing:
+                raise FreefloatError(f"no Dask worker finished chunk {missing[0]} within {DASK_TIMEOUT:g} s")
+    elif workers.count > 1 and len(todo) > 1:
+        pool = process_pool(workers.count)
+        try:
+            pending: dict[Future, int] = {pool.submit(evaluate_chunk, kind, context, grid, *spans[i]): i for i in todo}
+            while pending:
+                ready, _ = wait(pending, return_when=FIRST_COMPLETED)
+                for future in ready:
+                    i = pending.pop(future)
+                    exc = future.exception()
+                    _take(i, future.result() if exc is None else exc, finished)
+        except BaseException:
+            _terminate(pool)
+            raise
+        finally:
+            pool.shutdown(wait=True, cancel_futures=True)
+    else:
+        for i in todo:
+            finished(i, evaluate_chunk(kind, context, grid, *spans[i]))
+
+
+def _take(i: int, result: object, finished: Callable[[int, dict], None]) -> None:
+    """Hand a worker's chunk on, or raise what it raised (a kind's own error as it was)."""
+    if isinstance(result, FreefloatError):
+        raise result
+    if isinstance(result, BaseException):
+        raise FreefloatError(f"atlas chunk {i} failed in its worker: {type(result).__name__}: {result}") from result
+    finished(i, result)

@@ -1,0 +1,108 @@
+"""The kinds of map of ``freefloat atlas KIND``: one registry of objects, :data:`KINDS`.
+
+Each :class:`AtlasKind` names the module that computes it (imported when the kind runs, so the
+command line's help stays cheap); the module's contract is in the package's docstring. A new
+kind is one module plus one :func:`register` line at the end of this file.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import importlib
+from dataclasses import dataclass
+from types import ModuleType
+
+from ...errors import InvalidArgument, UnknownName
+
+
+@dataclass(frozen=True)
+class Options:
+    """What the command line hands every kind; ``None`` is "the kind's default". A kind reads the
+    fields named in its module's ``OPTIONS``.
+
+    Attributes:
+        grid: points per grid axis.
+        axes: names of the grid's axes (joints of the mapped arm, ...), in grid order.
+        end_effector: the end-effector mapped (a frame name of the robot).
+        momentum: the system's momentum [P; L about the system CoM], inertial frame, N s and
+            N m s (6,), or a planar [Px, Py, Lz] (3,).
+        tolerance: the kind's threshold (e.g. sigma_min / sigma_max below which a Jacobian counts
+            as singular).
+        base: floating base of a robot loaded by name or file: ``"free"`` or ``"planar"``.
+    """
+
+    grid: int | None = None
+    axes: tuple[str, ...] | None = None
+    end_effector: str | None = None
+    momentum: tuple[float, ...] | None = None
+    tolerance: float | None = None
+    base: str | None = None
+
+    def given(self) -> list[str]:
+        """Names of the fields set (not None)."""
+        return [f.name for f in dataclasses.fields(self) if getattr(self, f.name) is not None]
+
+    def as_dict(self) -> dict:
+        """The fields as JSON-able values (for the journal and the summary)."""
+        return {k: list(v) if isinstance(v, tuple) else v for k, v in dataclasses.asdict(self).items()}
+
+
+@dataclass(frozen=True)
+class AtlasKind:
+    """One kind of map.
+
+    Attributes:
+        name: the ``KIND`` argument of ``freefloat atlas``.
+        help: one line for the command's help.
+        target: what ``TARGET`` names for it (one line for the help).
+        module: its module, relative to this package (or absolute).
+    """
+
+    name: str
+    help: str
+    target: str
+    module: str
+
+    def load(self) -> ModuleType:
+        """The kind's module (imported now)."""
+        return importlib.import_module(self.module, __package__)
+
+    def check_options(self, options: Options) -> ModuleType:
+        """The kind's module, once every option given is one it reads.
+
+        Raises:
+            InvalidArgument: naming the options it does not take and those it does.
+        """
+        module = self.load()
+        extra = [name for name in options.given() if name not in module.OPTIONS]
+        if extra:
+            flags = ", ".join("--" + name.replace("_", "-") for name in extra)
+            takes = ", ".join("--" + name.replace("_", "-") for name in sorted(module.OPTIONS)) or "none"
+            raise InvalidArgument(f"atlas kind '{self.name}' does not take {flags} (it takes: {takes})")
+        return module
+
+
+#: Every kind, by name.
+KINDS: dict[str, AtlasKind] = {}
+
+
+def register(kind: AtlasKind) -> None:
+    """Add ``kind`` to :data:`KINDS`."""
+    KINDS[kind.name] = kind
+
+
+def find_kind(name: str) -> AtlasKind:
+    """The kind called ``name``.
+
+    Raises:
+        UnknownName: listing the kinds.
+    """
+    if name not in KINDS:
+        raise UnknownName("atlas kind", name, KINDS)
+    return KINDS[name]
+
+
+register(AtlasKind("workspace", "free-floating workspace of an end-effector (reachable, path-independent and "
+                   "path-dependent), beside the fixed-base one", "a robot: name or URDF file", ".workspace"))
+register(AtlasKind("singularities", "dynamic singularities (rank loss of J*) against the fixed-base ones of Jm, "
+                   "condition number and manipulability of both", "a robot: name or URDF file", ".singularities"))

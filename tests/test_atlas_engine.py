@@ -1,0 +1,118 @@
+"""The atlas engine (freefloat.app.atlas.engine, grid, kinds, writer) on a toy kind whose values
+are known in closed form."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from freefloat.app.atlas import engine
+from freefloat.app.atlas.engine import run_atlas
+from freefloat.app.atlas.grid import Axis, Grid, check_memory
+from freefloat.app.atlas.kinds import KINDS, AtlasKind, Options, find_kind, register
+from freefloat.app.batch import Workers
+from freefloat.app.cli import main
+from freefloat.errors import InvalidArgument, UnknownName
+
+
+@pytest.fixture(autouse=True)
+def toy_kind(monkeypatch):
+    """The toy kind registered for the test, and chunks of 8 points (several per toy grid)."""
+    monkeypatch.setitem(KINDS, "toy", AtlasKind("toy", "a toy", "anything", "tests.atlas_toy_kind"))
+    monkeypatch.setattr(engine, "MIN_CHUNK", 8)
+    monkeypatch.setattr(engine, "CHUNKS_PER_WORKER", 100)
+
+
+def expected(n: int = 7) -> np.ndarray:
+    x, y = np.meshgrid(np.linspace(0, 1, n), np.linspace(0, 1, n + 1), indexing="ij")
+    return (x**2 + 10 * y).ravel()
+
+
+def test_grid_points_are_the_tensor_product_in_c_order():
+    """Grid.points lists the tensor product with the last axis fastest, and chunks cover it once."""
+    grid = Grid((Axis("a", 0, 1, 3), Axis("b", -1, 1, 2)))
+    assert np.array_equal(grid.points(), [[0, -1], [0, 1], [0.5, -1], [0.5, 1], [1, -1], [1, 1]])
+    assert np.array_equal(np.vstack([grid.points(a, b) for a, b in grid.chunks(4)]), grid.points())
+
+
+def test_serial_map_equals_the_closed_form_and_writes_the_folder(tmp_path):
+    """The map's data equal f on the grid; the folder holds the data, summary, CSV and figure, and no journal."""
+    done = run_atlas("toy", "t", Options(), tmp_path / "out")
+    assert np.allclose(done.result["f"], expected()) and done.result["gradient"].shape == (56, 2)
+    with np.load(tmp_path / "out" / "atlas.npz") as data:
+        assert np.allclose(data["f"], expected()) and np.allclose(data["axis_y"], np.linspace(0, 1, 8))
+    summary = json.loads((tmp_path / "out" / "summary.json").read_text())
+    assert summary["summary"]["max_f"] == pytest.approx(11.0) and summary["figures"] == ["toy.txt"]
+    assert "max_f,11.0" in (tmp_path / "out" / "summary.csv").read_text()
+    assert not (tmp_path / "out" / engine.JOURNAL).exists() and not (tmp_path / "out" / engine.CHUNKS).exists()
+
+
+def test_process_pool_gives_the_serial_map(tmp_path):
+    """Two worker processes give the serial numbers."""
+    done = run_atlas("toy", "t", Options(grid=9), tmp_path / "out", Workers(2))
+    assert np.array_equal(done.result["f"], expected(9))
+
+
+def test_an_interrupted_map_resumes_from_its_journal(tmp_path):
+    """Ctrl-C after the second chunk keeps both journaled; the rerun evaluates only the rest."""
+    def stop(done, total):
+        if done >= 16:
+            raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt, match="2 of 7 chunks are journaled"):
+        run_atlas("toy", "t", Options(), tmp_path / "out", progress=stop)
+    evaluated = []
+    original = engine.evaluate_chunk
+
+    def counting(kind, context, grid, start, stop):
+        evaluated.append(start)
+        return original(kind, context, grid, start, stop)
+
+    engine.evaluate_chunk = counting
+    try:
+        done = run_atlas("toy", "t", Options(), tmp_path / "out")
+    finally:
+        engine.evaluate_chunk = original
+    assert evaluated == [16, 24, 32, 40, 48] and np.allclose(done.result["f"], expected())
+
+
+def test_a_folder_of_another_atlas_is_refused(tmp_path):
+    """A journal of other settings in --out is not mixed with this map."""
+    def stop(done, total):
+        if done:
+            raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        run_atlas("toy", "t", Options(), tmp_path / "out", progress=stop)
+    with pytest.raises(Exception, match="journal of another atlas"):
+        run_atlas("toy", "t", Options(grid=5), tmp_path / "out")
+
+
+def test_unknown_kind_and_foreign_option_are_refused():
+    """An unknown kind lists the kinds; an option the kind does not read is named."""
+    with pytest.raises(UnknownName, match="toy"):
+        find_kind("nope")
+    with pytest.raises(InvalidArgument, match="--tolerance"):
+        find_kind("toy").check_options(Options(tolerance=0.1))
+
+
+def test_a_grid_too_large_for_memory_is_refused():
+    """The memory check names the points and the memory."""
+    with pytest.raises(InvalidArgument, match="grid too large for memory: 1000 x 1000"):
+        check_memory(Grid((Axis("a", 0, 1, 1000), Axis("b", 0, 1, 1000))), 1000, available=2**30)
+
+
+def test_cli_unknown_kind_exits_2_listing_the_kinds(capsys):
+    """freefloat atlas with an unknown kind: exit 2, the kinds listed."""
+    assert main(["atlas", "nope", "ur5", "--quiet"]) == 2
+    assert "workspace" in capsys.readouterr().err
+
+
+def test_register_adds_a_kind(monkeypatch):
+    """register puts the kind object under its name."""
+    kind = AtlasKind("other", "h", "t", "tests.atlas_toy_kind")
+    monkeypatch.setitem(KINDS, "other", kind)
+    register(kind)
+    assert KINDS["other"] is kind
