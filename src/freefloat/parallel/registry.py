@@ -37,6 +37,7 @@ from .five_bar import (
 )
 from .mechanism import ParallelMechanism
 from .rsu_ppap import assembly_guess, load_data, load_rsu_ppap
+from .rsu_ppap_masses import PLANT_ERRORS, plant_masses, tree_inertias, with_masses
 
 
 class MechanismSetup(NamedTuple):
@@ -97,15 +98,18 @@ def five_bar_inertias(params: FiveBarParameters, model: pin.Model) -> None:
 
 def rsu_ppap_setup(closure: Path, plant: str) -> MechanismSetup:
     """The 2RSU+PPaP (assumed numbers in ``urdf/rsu_ppap.data.toml``): the closure file's model is
-    both the nominal model and the plant (``"nominal"`` is its only plant); assembly guesses from
-    :func:`~freefloat.parallel.rsu_ppap.assembly_guess`."""
-    chain = load_rsu_ppap(closure)
-    return MechanismSetup(nominal=chain.mechanism, plant=chain.mechanism, display=chain,
-                          guess=partial(assembly_guess, load_data()))
+    the nominal model; the plant has the uncertain masses of
+    :func:`~freefloat.parallel.rsu_ppap_masses.plant_masses` (``"nominal"``: the model itself);
+    assembly guesses from :func:`~freefloat.parallel.rsu_ppap.assembly_guess`."""
+    chain, data = load_rsu_ppap(closure), load_data()
+    masses = plant_masses(data, plant)
+    true = chain.mechanism if plant == "nominal" else with_masses(chain.mechanism, data, masses)
+    return MechanismSetup(nominal=chain.mechanism, plant=true, display=chain, guess=partial(assembly_guess, data),
+                          tree_inertias=partial(tree_inertias, data, masses))
 
 
 #: Mechanism name -> entry.
 REGISTRY: dict[str, MechanismEntry] = {
     "five_bar": MechanismEntry(plants=tuple(FIVE_BAR_PLANTS), build=five_bar_setup),
-    "rsu_ppap": MechanismEntry(plants=("nominal",), build=rsu_ppap_setup),
+    "rsu_ppap": MechanismEntry(plants=tuple(PLANT_ERRORS), build=rsu_ppap_setup),
 }

@@ -57,6 +57,9 @@ _KEYS = {"": {"home": (3,)},
                  "rod_radius": (), "joint_mass": (), "joint_radius": ()},
          "ppap": {"rail": (3,), "slider_mass": (), "slider_size": (3,), "bar_length": (), "bar_spacing": (), "bar_mass": (),
                   "bar_radius": (), "coupler_mass": (), "coupler_size": (3,), "lift_offset": ()}}
+#: The bodies' masses, as keys of the data file: the parameters ``[uncertainty]`` may name.
+MASSES = ("platform.mass", "rsu.crank_mass", "rsu.rod_mass", "rsu.joint_mass", "ppap.slider_mass", "ppap.bar_mass",
+          "ppap.coupler_mass")
 
 
 def load_data(path: str | Path = DATA) -> dict:
@@ -64,7 +67,9 @@ def load_data(path: str | Path = DATA) -> dict:
 
     Raises:
         FreefloatError: naming the file and the key that is missing, not numeric, of the wrong
-            shape, not positive (masses, lengths), or a crank direction that is not +-x or +-z.
+            shape, not positive (masses, lengths), a crank direction that is not +-x or +-z, or
+            an ``[uncertainty]`` table that is missing, names no mass, or gives a half-width not
+            in (0, nominal mass).
     """
     path = Path(path)
     data = read_toml(path, "2RSU+PPaP data file")
@@ -72,7 +77,8 @@ def load_data(path: str | Path = DATA) -> dict:
         table = data.get(section, {}) if section else data
         if not isinstance(table, dict):
             raise FreefloatError(f"{path}: '{section}' must be a table, got {table!r}")
-        reject_unknown(f"{path}: ", table, [*keys, *(s for s in _KEYS if s and not section)], section)
+        tables = [] if section else [*(s for s in _KEYS if s), "uncertainty"]
+        reject_unknown(f"{path}: ", table, [*keys, *tables], section)
         for key, shape in keys.items():
             name = f"{section}.{key}" if section else key
             if key not in table:
@@ -87,7 +93,27 @@ def load_data(path: str | Path = DATA) -> dict:
         if sorted(np.abs(crank)) != [0.0, 0.0, 1.0] or crank[1] != 0.0:
             raise FreefloatError(f"{path}: 'rsu.crank' [{i}] must be a unit vector along x or z (perpendicular to the "
                                  f"crank axis y), got {crank.tolist()}")
+    _check_uncertainty(path, data)
     return data
+
+
+def mass(data: dict, key: str) -> float:
+    """The nominal mass (kg) of a key of :data:`MASSES` (``"section.key"``)."""
+    section, name = key.split(".")
+    return float(data[section][name])
+
+
+def _check_uncertainty(path: Path, data: dict) -> None:
+    """``[uncertainty]``: half-widths (kg) of some of :data:`MASSES`, each in (0, nominal)."""
+    table = data.get("uncertainty")
+    if not isinstance(table, dict) or not table:
+        raise FreefloatError(f"{path}: missing table 'uncertainty' (half-widths of the uncertain masses, kg, keyed by "
+                             f"any of {', '.join(MASSES)})")
+    reject_unknown(f"{path}: ", table, MASSES, "uncertainty")
+    for key, value in table.items():
+        if not _numeric(value) or isinstance(value, list) or not 0.0 < value < mass(data, key):
+            raise FreefloatError(f"{path}: 'uncertainty.\"{key}\"' must be a number in (0, {mass(data, key)}) kg "
+                                 f"(the nominal mass: a mass stays positive), got {value!r}")
 
 
 def _numeric(value) -> bool:

@@ -11,8 +11,9 @@ workspace and all extreme parameter combinations, of ``Delta = H^-1 H^ - 1``,
 
 from __future__ import annotations
 
+import functools
 import itertools
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from typing import Callable
 
 import numpy as np
@@ -20,7 +21,9 @@ import numpy as np
 from ..dynamics.compiled_chain import CompiledChainLoop
 from ..dynamics.plants import CoupledChainPlant
 from ..errors import FreefloatError
+from . import gain_design
 from .five_bar import FiveBarParameters, elbow_guess, five_bar
+from .gain_design import SlidingModeGains, WorstCase
 from .mechanism import ParallelMechanism
 from .platform import platform_dynamics, quadratic_coefficients
 from .platform_control import CircleReference
@@ -29,34 +32,6 @@ from .platform_control import CircleReference
 SWITCHES = ("tanh", "sign")
 #: The six uncertain 5R parameters and their stated uncertainties (sec 5.6, iv).
 UNCERTAINTY = {"lg1": 0.009, "lg2": 0.011, "m1": 0.0215, "m2": 0.0257, "Jz1": 25.7e-6, "Jz2": 48.1e-6}
-
-
-@dataclass(frozen=True)
-class SlidingModeGains:
-    """eq 167: ``diag(k) = n + T |sigma| + sum n_ij |qd_i| |qd_j|``.
-
-    Attributes:
-        n: (p,). T: (p, p). n_ij: {(i, j): (p,)} for i >= j. eta: the reaching rate used.
-        Delta_max, delta0_max, deltaij_max: the worst cases found (element-wise absolute
-            values): (p, p), (p,), {(i, j): (p,)}.
-        points: workspace points used (N, p), m.
-    """
-
-    n: np.ndarray
-    T: np.ndarray
-    n_ij: dict
-    eta: float
-    Delta_max: np.ndarray
-    delta0_max: np.ndarray
-    deltaij_max: dict
-    points: np.ndarray
-
-    def k(self, sigma: np.ndarray, qd_sharp: np.ndarray) -> np.ndarray:
-        """``diag(k)`` at (sigma, qdot#) (p,)."""
-        out = self.n + self.T @ np.abs(sigma)
-        for (i, j), nij in self.n_ij.items():
-            out = out + nij * abs(qd_sharp[i]) * abs(qd_sharp[j])
-        return out
 
 
 def workspace_grid(p: FiveBarParameters, spacing: float = 0.01, max_condition: float = 20.0) -> np.ndarray:
@@ -113,48 +88,55 @@ def point_coefficients(nominal: FiveBarParameters, q: np.ndarray) -> tuple[np.nd
     return H_c, g_c, quad_c
 
 
-def worst_case(nominal: FiveBarParameters, points: np.ndarray, uncertainty: dict[str, float] = UNCERTAINTY):
-    """``(|Delta|_max, |delta_0|_max, {ij: |delta_ij|_max})`` over ``points`` and the 2^6 extremes.
+@dataclass(frozen=True)
+class FiveBarModel:
+    """The 5R as a :class:`~freefloat.parallel.gain_design.LinearParameterModel`: the uncertain
+    parameters of ``uncertainty`` (names of :class:`FiveBarParameters` fields, half-widths) about
+    ``params``, linear in :func:`base_parameters`; poses with the elbows outward."""
 
-    Worst cases of disjoint point sets combine by element-wise maximum, so the grid can be split
-    across workers (:mod:`freefloat.parallel.sweeps`).
-    """
-    est = five_bar(nominal)
-    extremes = np.array([base_parameters(pp) for pp in extreme_parameters(nominal, uncertainty)])
-    pi_hat = base_parameters(nominal)
-    p = est.p
-    Dmax, d0max = np.zeros((p, p)), np.zeros(p)
-    dijmax: dict = {}
-    for point in points:
-        q = est.assemble(point, elbow_guess(nominal, point))
-        H_c, g_c, quad_c = point_coefficients(nominal, q)
-        H_hat, g_hat = np.tensordot(pi_hat, H_c, 1), pi_hat @ g_c
-        for pi in extremes:
-            Hinv = np.linalg.inv(np.tensordot(pi, H_c, 1))
-            Dmax = np.maximum(Dmax, np.abs(Hinv @ H_hat - np.eye(p)))
-            d0max = np.maximum(d0max, np.abs(Hinv @ (g_hat - pi @ g_c)))
-            for key, c in quad_c.items():
-                dijmax[key] = np.maximum(dijmax.get(key, np.zeros(p)), np.abs(Hinv @ ((pi_hat - pi) @ c)))
-    return Dmax, d0max, dijmax
+    params: FiveBarParameters
+    uncertainty_of: dict[str, float] = field(default_factory=lambda: dict(UNCERTAINTY))
+    p: int = 2
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        return tuple(self.uncertainty_of)
+
+    @property
+    def nominal(self) -> np.ndarray:
+        return np.array([getattr(self.params, n) for n in self.names])
+
+    @property
+    def uncertainty(self) -> np.ndarray:
+        return np.array([self.uncertainty_of[n] for n in self.names])
+
+    @functools.cached_property
+    def mechanism(self) -> ParallelMechanism:
+        """The nominal 5R."""
+        return five_bar(self.params)
+
+    def linear_parameters(self, theta: np.ndarray) -> np.ndarray:
+        """:func:`base_parameters` (6,) of ``params`` with ``names`` set to theta (r,)."""
+        return base_parameters(replace(self.params, **dict(zip(self.names, (float(x) for x in theta)))))
+
+    def assemble(self, point: np.ndarray) -> np.ndarray:
+        return self.mechanism.assemble(point, elbow_guess(self.params, point))
+
+    def coefficients(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray, dict]:
+        return point_coefficients(self.params, q)
 
 
-def gains_from_worst_case(Dmax: np.ndarray, d0max: np.ndarray, dijmax: dict, eta: float, points: np.ndarray) -> SlidingModeGains:
-    """Eqs 168-170 from the worst cases.
-
-    Raises:
-        ValueError: when ``1 - |Delta|_max`` is not invertible with a positive inverse (eq 161).
-    """
-    inv = np.linalg.inv(np.eye(len(d0max)) - Dmax)
-    if (inv < 0).any():
-        raise ValueError(f"(1 - |Delta|_max)^-1 has negative entries (|Delta|_max = {Dmax.tolist()}): eq 161 has no solution")
-    return SlidingModeGains(n=inv @ (d0max + eta), T=inv @ Dmax, n_ij={k: inv @ v for k, v in dijmax.items()}, eta=eta,
-                            Delta_max=Dmax, delta0_max=d0max, deltaij_max=dijmax, points=points)
+def worst_case(nominal: FiveBarParameters, points: np.ndarray, uncertainty: dict[str, float] = UNCERTAINTY) -> WorstCase:
+    """The 5R's worst cases over ``points`` (N, 2) and the 2^6 extremes
+    (:func:`freefloat.parallel.gain_design.worst_case`)."""
+    return gain_design.worst_case(FiveBarModel(nominal, dict(uncertainty)), points)
 
 
 def design_gains(nominal: FiveBarParameters, points: np.ndarray, eta: float = 20.0,
                  uncertainty: dict[str, float] = UNCERTAINTY) -> SlidingModeGains:
-    """Worst-case gains (eqs 155-170) over ``points`` and all 2^6 extreme parameter sets."""
-    return gains_from_worst_case(*worst_case(nominal, points, uncertainty), eta=eta, points=points)
+    """Worst-case gains (eqs 155-170) of the 5R over ``points`` (N, 2) and all 2^6 extreme
+    parameter sets (:func:`freefloat.parallel.gain_design.design_gains`)."""
+    return gain_design.design_gains(FiveBarModel(nominal, dict(uncertainty)), points, eta)
 
 
 Reference = Callable[[float], tuple[np.ndarray, np.ndarray, np.ndarray]]

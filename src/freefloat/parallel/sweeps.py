@@ -23,39 +23,36 @@ from ..distributed import client, settle_futures
 from ..errors import FreefloatError
 from .closed_loop import track_five_bar
 from .five_bar import FiveBarParameters, five_bar
-from .sliding_mode import (
-    UNCERTAINTY,
-    PlatformControl,
-    SlidingModeGains,
-    circle_reference,
-    gains_from_worst_case,
-    worst_case,
-)
+from .gain_design import LinearParameterModel, SlidingModeGains, WorstCase, gains_from_worst_case, worst_case
+from .sliding_mode import UNCERTAINTY, FiveBarModel, PlatformControl, circle_reference
 
 #: ``client`` lives in :mod:`freefloat.distributed` and stays importable from here.
 __all__ = ["client", "design_gains_distributed", "monte_carlo"]
 
 
-def design_gains_distributed(dask_client, nominal: FiveBarParameters, points: np.ndarray, eta: float = 20.0,
-                             chunks: int = 16, quiet: bool = True, timeout: float = 600.0) -> SlidingModeGains:
-    """The gain design with the grid split into ``chunks`` tasks, worst cases reduced by maximum.
+def design_gains_distributed(dask_client, model: LinearParameterModel | FiveBarParameters, points: np.ndarray,
+                             eta: float = 20.0, chunks: int = 16, quiet: bool = True,
+                             timeout: float = 600.0) -> SlidingModeGains:
+    """The gain design (:func:`freefloat.parallel.gain_design.design_gains`) of ``model`` (5R
+    parameters stand for :class:`~freefloat.parallel.sliding_mode.FiveBarModel` of them) with the
+    grid split into ``chunks`` tasks, worst cases reduced by maximum.
 
     Raises:
         FreefloatError: when a chunk fails or none finishes within ``timeout`` s (the design
             needs every point).
     """
+    model = FiveBarModel(model) if isinstance(model, FiveBarParameters) else model
     parts = [chunk for chunk in np.array_split(points, chunks) if len(chunk)]
-    futures = {i: dask_client.submit(worst_case, nominal, chunk, UNCERTAINTY, pure=False) for i, chunk in enumerate(parts)}
+    futures = {i: dask_client.submit(worst_case, model, chunk, pure=False) for i, chunk in enumerate(parts)}
     settled = settle_futures(futures, "gain design", quiet, timeout)
-    failed = [i for i in range(len(parts)) if not isinstance(settled.get(i), tuple)]
+    failed = [i for i in range(len(parts)) if not isinstance(settled.get(i), WorstCase)]
     if failed:
         reasons = {str(settled.get(i, f"no result within {timeout:g} s")) for i in failed}
         raise FreefloatError(f"gain design: {len(failed)} of {len(parts)} chunks failed ({'; '.join(sorted(reasons))})")
-    results = [settled[i] for i in range(len(parts))]
-    Dmax = np.max([r[0] for r in results], axis=0)
-    d0max = np.max([r[1] for r in results], axis=0)
-    dijmax = {k: np.max([r[2][k] for r in results], axis=0) for k in results[0][2]}
-    return gains_from_worst_case(Dmax, d0max, dijmax, eta, points)
+    worst = settled[0]
+    for i in range(1, len(parts)):
+        worst = worst.combine(settled[i])
+    return gains_from_worst_case(worst, eta, points)
 
 
 def _robustness_run(gains: SlidingModeGains | None, plant: FiveBarParameters, duration: float, step: float,

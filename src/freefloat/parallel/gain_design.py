@@ -1,0 +1,209 @@
+"""Worst-case sliding-mode gain design (thesis proposal sec 5.5, eqs 154-170) for any mechanism
+whose platform dynamics are linear in a parameter vector.
+
+A :class:`LinearParameterModel` states its uncertain physical parameters ``theta`` (r,) (names,
+nominal values, half-widths of their intervals) and the vector ``pi(theta)`` (l,) the dynamics
+are linear in: at every assembled pose q,
+
+.. math:: H(q; \\theta) = \\sum_k \\pi_k(\\theta) H_k(q), \\quad
+          g_M(q; \\theta) = \\sum_k \\pi_k(\\theta) g_k(q), \\quad
+          \\delta_{ij}(q; \\theta) = \\sum_k \\pi_k(\\theta) \\delta_{ij,k}(q)
+
+(eq 137's ``H qddot# + v_M + g_M = u*``, ``v_M = sum_{i >= j} delta_ij qdot#_i qdot#_j``, eq 162),
+so one evaluation of the coefficients per pose serves every parameter set. The design takes, over
+the workspace points and the vertices of the parameter box (the 2^r extreme combinations, as the
+thesis does for the 5R), the element-wise worst cases ``|Delta|_max`` of ``Delta = H^-1 H^ - 1``
+(eq 156), ``|delta_0|_max`` of ``H^-1 (g^ - g)`` (eq 164) and ``|delta_ij|_max`` of
+``H^-1 (delta^_ij - delta_ij)`` (eq 165), then the gains of eqs 167-170.
+
+The vertices are the thesis's method, not a bound: ``Delta`` is not linear in theta (``H^-1``),
+so an interior parameter set may be worse than every vertex. Beyond :data:`MAX_VERTICES`
+vertices the design refuses, unless asked to sample: ``sample`` distinct vertices drawn uniformly
+(seeded), which gives a worst case no larger than the full one.
+
+Eq 161 (``diag(k) = (1 - |Delta|_max)^-1 (...)``) has a solution only when
+``(1 - |Delta|_max)^-1`` exists and is non-negative; for the non-negative matrix
+``|Delta|_max`` that holds exactly when its spectral radius is below 1 (``1 - |Delta|_max`` is
+then a non-singular M-matrix). :func:`spectral_radius` is that margin, pointwise for the
+feasibility map.
+"""
+
+from __future__ import annotations
+
+import itertools
+from dataclasses import dataclass, field
+from typing import Protocol
+
+import numpy as np
+
+from ..errors import FreefloatError, InvalidArgument
+
+#: Most vertices (2^r) the design evaluates exhaustively (r = 12 parameters).
+MAX_VERTICES = 4096
+
+
+class LinearParameterModel(Protocol):
+    """A mechanism whose platform dynamics are linear in ``pi(theta)``.
+
+    Attributes:
+        names: the uncertain parameters (r,), e.g. ``"m1"`` or ``"rsu.crank_mass"``.
+        nominal: their nominal values theta^ (r,), SI units; the controller's model.
+        uncertainty: half-widths of their intervals (r,), same units.
+        p: number of platform coordinates.
+    """
+
+    names: tuple[str, ...]
+    nominal: np.ndarray
+    uncertainty: np.ndarray
+    p: int
+
+    def linear_parameters(self, theta: np.ndarray) -> np.ndarray:
+        """``pi(theta)`` (l,) for parameters theta (r,)."""
+
+    def assemble(self, point: np.ndarray) -> np.ndarray:
+        """The nominal mechanism's coordinates q (n_q,) at platform coordinates ``point`` (p,);
+        raises :class:`~freefloat.errors.FreefloatError` where it does not assemble."""
+
+    def coefficients(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray, dict]:
+        """At q (n_q,): the coefficients of H (l, p, p), g_M (l, p) and each delta_ij
+        {(i, j): (l, p)}, i >= j, on ``pi``."""
+
+
+@dataclass(frozen=True)
+class WorstCase:
+    """Element-wise worst cases over points and vertices: ``|Delta|_max`` (p, p),
+    ``|delta_0|_max`` (p,), ``|delta_ij|_max`` {(i, j): (p,)}. Worst cases of disjoint point
+    sets combine by element-wise maximum (:meth:`combine`)."""
+
+    Delta: np.ndarray
+    delta0: np.ndarray
+    deltaij: dict
+
+    def combine(self, other: WorstCase) -> WorstCase:
+        """The worst case over both point sets."""
+        return WorstCase(np.maximum(self.Delta, other.Delta), np.maximum(self.delta0, other.delta0),
+                         {k: np.maximum(v, other.deltaij[k]) for k, v in self.deltaij.items()})
+
+
+@dataclass(frozen=True)
+class SlidingModeGains:
+    """eq 167: ``diag(k) = n + T |sigma| + sum n_ij |qd_i| |qd_j|``.
+
+    Attributes:
+        n: (p,). T: (p, p). n_ij: {(i, j): (p,)} for i >= j. eta: the reaching rate used.
+        Delta_max, delta0_max, deltaij_max: the worst cases found (element-wise absolute
+            values): (p, p), (p,), {(i, j): (p,)}.
+        points: workspace points used (N, p), platform coordinates.
+    """
+
+    n: np.ndarray
+    T: np.ndarray
+    n_ij: dict
+    eta: float
+    Delta_max: np.ndarray
+    delta0_max: np.ndarray
+    deltaij_max: dict = field(default_factory=dict)
+    points: np.ndarray = field(default_factory=lambda: np.empty((0, 0)))
+
+    def k(self, sigma: np.ndarray, qd_sharp: np.ndarray) -> np.ndarray:
+        """``diag(k)`` at (sigma, qdot#) (p,)."""
+        out = self.n + self.T @ np.abs(sigma)
+        for (i, j), nij in self.n_ij.items():
+            out = out + nij * abs(qd_sharp[i]) * abs(qd_sharp[j])
+        return out
+
+
+def vertices(model: LinearParameterModel, sample: int | None = None, seed: int = 0) -> np.ndarray:
+    """The parameter sets at the vertices of the box ``nominal +- uncertainty`` (V, r): all 2^r
+    (signs in ``itertools.product((-1, 1), repeat=r)`` order) or, with ``sample``, that many
+    distinct ones drawn uniformly without replacement (``numpy.random.default_rng(seed)``).
+
+    Raises:
+        InvalidArgument: for 2^r above :data:`MAX_VERTICES` without ``sample``, or a ``sample``
+            below 1 or above 2^r.
+    """
+    r = len(model.names)
+    total = 2**r
+    if sample is None:
+        if total > MAX_VERTICES:
+            raise InvalidArgument(f"gain design: {r} uncertain parameters give {total} vertices, more than "
+                                  f"{MAX_VERTICES}; pass sample=N to draw N of them (a lower bound of the worst case)")
+        signs = np.array(list(itertools.product((-1.0, 1.0), repeat=r))).reshape(total, r)
+    else:
+        if not 1 <= sample <= total:
+            raise InvalidArgument(f"gain design: sample must be in [1, {total}] (2^{r} vertices), got {sample}")
+        codes = np.random.default_rng(seed).choice(total, size=sample, replace=False)
+        signs = np.where((codes[:, None] >> np.arange(r - 1, -1, -1)) & 1, 1.0, -1.0)
+    return np.array([model.nominal + s * model.uncertainty for s in signs])
+
+
+def point_worst_case(model: LinearParameterModel, q: np.ndarray, extremes: np.ndarray) -> WorstCase:
+    """The worst cases at one assembled pose q (n_q,) over the parameter sets ``extremes`` (V, r)
+    (eqs 156, 164, 165): H, g_M and delta_ij from the coefficients at q, the estimates at the
+    nominal parameters."""
+    H_c, g_c, quad_c = model.coefficients(q)
+    pi_hat = model.linear_parameters(model.nominal)
+    H_hat = np.tensordot(pi_hat, H_c, 1)
+    p = H_hat.shape[0]
+    Dmax, d0max = np.zeros((p, p)), np.zeros(p)
+    dijmax = {key: np.zeros(p) for key in quad_c}
+    g_hat = pi_hat @ g_c
+    for theta in extremes:
+        pi = model.linear_parameters(theta)
+        Hinv = np.linalg.inv(np.tensordot(pi, H_c, 1))
+        Dmax = np.maximum(Dmax, np.abs(Hinv @ H_hat - np.eye(p)))
+        d0max = np.maximum(d0max, np.abs(Hinv @ (g_hat - pi @ g_c)))
+        for key, c in quad_c.items():
+            dijmax[key] = np.maximum(dijmax[key], np.abs(Hinv @ ((pi_hat - pi) @ c)))
+    return WorstCase(Dmax, d0max, dijmax)
+
+
+def worst_case(model: LinearParameterModel, points: np.ndarray, sample: int | None = None, seed: int = 0) -> WorstCase:
+    """The worst cases over ``points`` (N, p) and the :func:`vertices` of the parameter box.
+
+    Raises:
+        FreefloatError: for no points, or a point where the mechanism does not assemble (named).
+    """
+    if len(points) == 0:
+        raise InvalidArgument("gain design: no workspace points")
+    extremes = vertices(model, sample, seed)
+    out = None
+    for point in np.asarray(points, float):
+        try:
+            q = model.assemble(point)
+        except FreefloatError as exc:
+            raise FreefloatError(f"gain design: point {np.round(point, 6).tolist()}: {exc}") from exc
+        here = point_worst_case(model, q, extremes)
+        out = here if out is None else out.combine(here)
+    return out
+
+
+def spectral_radius(Delta: np.ndarray) -> float:
+    """Spectral radius of ``|Delta|_max`` (p, p): eq 161 has a solution (``(1 - |Delta|_max)^-1``
+    exists and is non-negative) if and only if it is below 1."""
+    return float(np.max(np.abs(np.linalg.eigvals(Delta))))
+
+
+def gains_from_worst_case(worst: WorstCase, eta: float, points: np.ndarray) -> SlidingModeGains:
+    """Eqs 168-170 from the worst cases, for the reaching rate ``eta``.
+
+    Raises:
+        InvalidArgument: when ``(1 - |Delta|_max)^-1`` does not exist or has negative entries
+            (spectral radius of ``|Delta|_max`` >= 1): eq 161 has no solution.
+    """
+    Dmax, d0max = worst.Delta, worst.delta0
+    radius = spectral_radius(Dmax)
+    if radius >= 1.0:
+        raise InvalidArgument(f"gain design: |Delta|_max = {np.round(Dmax, 3).tolist()} has spectral radius {radius:.3f} "
+                              ">= 1, so (1 - |Delta|_max)^-1 is singular or has negative entries: eq 161 has no solution "
+                              "over these points (cover a smaller region or a smaller uncertainty)")
+    inv = np.linalg.inv(np.eye(len(d0max)) - Dmax)
+    return SlidingModeGains(n=inv @ (d0max + eta), T=inv @ Dmax, n_ij={k: inv @ v for k, v in worst.deltaij.items()},
+                            eta=eta, Delta_max=Dmax, delta0_max=d0max, deltaij_max=worst.deltaij,
+                            points=np.asarray(points, float))
+
+
+def design_gains(model: LinearParameterModel, points: np.ndarray, eta: float = 20.0, sample: int | None = None,
+                 seed: int = 0) -> SlidingModeGains:
+    """Worst-case gains (eqs 155-170) over ``points`` (N, p) and the parameter box's vertices."""
+    return gains_from_worst_case(worst_case(model, points, sample, seed), eta, points)
