@@ -1,0 +1,38 @@
+"""Drawing shared by the space-robot kinds: a joint-space panel over the grid's first two axes
+(the other axes at the grid value nearest the reference posture)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .arm_maps import ArmMap
+from .grid import Grid
+
+def joint_slice(context: ArmMap, grid: Grid, values: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The first two axes' values (n0,), (n1,) and ``values`` (rows in flat grid order) on that
+    plane (n0, n1), the other axes at the grid value nearest their reference posture."""
+    cube = values.reshape(grid.shape)
+    index = [slice(None), slice(None)] + [
+        int(np.argmin(np.abs(axis.values() - context.posture[j]))) for axis, j in zip(grid.axes[2:], context.axis_index[2:])]
+    return grid.axes[0].values(), grid.axes[1].values(), cube[tuple(index)]
+
+
+def joint_panel(ax, context: ArmMap, grid: Grid, values: np.ndarray, label: str, loci: dict[str, np.ndarray],
+                log: bool = False) -> None:
+    """``values`` as an image over the first two axes (deg; colours span the 1st to 99th
+    percentile, so that the near-infinite values at a singularity do not flatten the rest), with
+    each ``loci`` flag drawn as dots."""
+    x, y, image = joint_slice(context, grid, values)
+    shown = np.log10(np.clip(image, 1e-300, None)) if log else image
+    shown = np.where(np.isfinite(shown), shown, np.nan)
+    low, high = np.nanpercentile(shown, [1, 99]) if np.isfinite(shown).any() else (0.0, 1.0)
+    mesh = ax.pcolormesh(np.degrees(x), np.degrees(y), shown.T, shading="auto", cmap="viridis", vmin=low, vmax=high)
+    ax.figure.colorbar(mesh, ax=ax, label=f"log10 {label}" if log else label)
+    for (name, flags), color, size in zip(loci.items(), ("#d62728", "#ffffff"), (4.0, 1.5)):
+        _, _, mask = joint_slice(context, grid, flags)
+        i, j = np.nonzero(mask)
+        ax.plot(np.degrees(x[i]), np.degrees(y[j]), ".", ms=size, color=color, label=name)
+    ax.set_xlabel(f"{grid.axes[0].name} (deg)")
+    ax.set_ylabel(f"{grid.axes[1].name} (deg)")
+    if loci:
+        ax.legend(loc="upper right", fontsize=7, markerscale=3)
