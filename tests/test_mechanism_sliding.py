@@ -50,3 +50,36 @@ def test_s_is_saved_and_drawn(tmp_path):
     saved = MechanismTelemetry.load(out / "telemetry.npz")
     assert saved.sliding.shape == saved.platform.shape
     assert (out / "sliding_variables.png").is_file() and (out / "sliding_variables.pdf").is_file()
+
+
+@pytest.fixture(scope="module")
+def rsu_ppap_study():
+    """The study's design (2 cm grid of home +- 4 cm) and the built-in 2RSU+PPaP scene."""
+    from freefloat.app.reproduce.rsu_ppap_sliding_report import SCENE, design
+    from freefloat.app.scenes import builtin_scenes
+
+    return design(), load_scene(builtin_scenes()[SCENE])
+
+
+def test_rsu_ppap_scene_prints_the_worst_case_design(rsu_ppap_study):
+    """The scene's n, T and n_ij are the design's rounded to 4 significant digits."""
+    gains, scene = rsu_ppap_study
+    ctrl = scene.controller
+    np.testing.assert_allclose(ctrl.n, gains.n, rtol=5e-4)
+    np.testing.assert_allclose(ctrl.T, gains.T, rtol=5e-4)
+    assert set(ctrl.n_ij) == {f"{i},{j}" for i, j in gains.n_ij}
+    for (i, j), value in gains.n_ij.items():
+        np.testing.assert_allclose(ctrl.n_ij[f"{i},{j}"], value, rtol=5e-4)
+
+
+@pytest.mark.parametrize("plant", ["true_15", "true_50"])
+def test_rsu_ppap_sliding_mode_out_tracks_computed_torque(rsu_ppap_study, plant):
+    """On the plant 15 % or 50 % off, the scene under sliding mode (the designed gains) keeps each
+    platform coordinate within 0.3 times computed torque's max error (eq 190, same lambda, same
+    plant) after the reaching phase, both run through the one loop."""
+    from freefloat.app.reproduce.rsu_ppap_sliding_report import variant
+
+    gains, scene = rsu_ppap_study
+    smc, ct = (runner.simulate(variant(scene, plant, g)).summary for g in (gains, None))
+    assert smc["status"] == ct["status"] == "completed"
+    assert np.all(np.array(smc["tracking_error_max"]) < 0.3 * np.array(ct["tracking_error_max"]))

@@ -158,6 +158,20 @@ def point_worst_case(model: LinearParameterModel, q: np.ndarray, extremes: np.nd
     return WorstCase(Dmax, d0max, dijmax)
 
 
+def box_grid(center: np.ndarray, half_width: float, spacing: float) -> np.ndarray:
+    """Design points (N, p): the grid of ``spacing`` through ``center`` (p,) filling the cube
+    ``center +- half_width`` (platform units), C order over the coordinates.
+
+    Raises:
+        InvalidArgument: for a spacing or half-width that is not positive.
+    """
+    if not (spacing > 0.0 and half_width > 0.0):
+        raise InvalidArgument(f"box_grid: spacing ({spacing}) and half_width ({half_width}) must be positive")
+    offsets = np.arange(-np.floor(half_width / spacing + 1e-9), np.floor(half_width / spacing + 1e-9) + 1) * spacing
+    axes = np.meshgrid(*[c + offsets for c in np.asarray(center, float)], indexing="ij")
+    return np.stack([a.ravel() for a in axes], axis=-1)
+
+
 def worst_case(model: LinearParameterModel, points: np.ndarray, sample: int | None = None, seed: int = 0) -> WorstCase:
     """The worst cases over ``points`` (N, p) and the :func:`vertices` of the parameter box.
 

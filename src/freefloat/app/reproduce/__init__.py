@@ -72,6 +72,7 @@ for _study in (
     Study("robustness", "Monte-Carlo of the 5R controller through Dask", "five_bar_report", "reproduce_robustness",
           ("runs", "relative_error", "scheduler"), "samples.jsonl", ("dask",)),
     Study("stability", "the largest stable step per integrator and scene", "stability_report"),
+    Study("rsu_ppap_sliding", "the 2RSU+PPaP's gains, sliding mode vs computed torque", "rsu_ppap_sliding_report"),
 ):
     register(_study)
 
