@@ -1,0 +1,182 @@
+"""The space-robot atlas kinds (freefloat.app.atlas.arm_maps, workspace, singularities) against
+references built without the hand-built GJM: Pinocchio's frame Jacobians and centroidal map, the
+four-arm robot's printed geometry, and a simulated motion to a mapped configuration."""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+import pinocchio as pin
+import pytest
+
+from freefloat.app.atlas import singularities, workspace
+from freefloat.app.atlas.arm_maps import evaluate, robot_of
+from freefloat.app.atlas.engine import run_atlas
+from freefloat.app.atlas.grid import Axis, Grid
+from freefloat.app.atlas.kinds import Options
+from freefloat.app.cli import main
+from freefloat.dynamics.integrators import make_integrator
+from freefloat.dynamics.models import ExactModel
+from freefloat.dynamics.simulation import run
+from freefloat.errors import UnknownName
+from freefloat.robot.joints import JointCoordinates
+from freefloat.space.control import ComputedTorque, QuinticTrajectory
+
+pytestmark = pytest.mark.filterwarnings("ignore")
+
+
+def pinocchio_blocks(context, angles: np.ndarray, momentum: np.ndarray | None = None):
+    """J* and Jm blocks of the mapped end-effector (rows and arm columns as the map's), and the
+    end-effector's velocity at zero joint rates under ``momentum`` [P; L about the CoM], from
+    Pinocchio's frame Jacobian and centroidal momentum map: at momentum h the base velocity v_b
+    solves A_b v_b = h - A_j qdot (the base rows of the conserved momenta), so J* = J_j - J_b A_b^-1 A_j."""
+    robot = robot_of(context.target, context.base)
+    model, data = robot.model, robot.model.createData()
+    q = robot.neutral()
+    JointCoordinates(robot).set(q, angles)
+    pin.computeJointJacobians(model, data, q)
+    pin.updateFramePlacements(model, data)
+    J = pin.getFrameJacobian(model, data, robot.end_effector_frame_ids[context.index], pin.LOCAL_WORLD_ALIGNED)
+    A = pin.computeCentroidalMap(model, data, q)
+    kept = list(context.rows)
+    nb = robot.n_base
+    A_b, A_j = A[kept, :nb], A[kept, nb:]
+    J_b, J_j = J[kept, :nb], J[kept, nb:]
+    cols = list(context.columns)
+    Jstar = (J_j - J_b @ np.linalg.solve(A_b, A_j))[:, cols]
+    drift = None if momentum is None else J_b @ np.linalg.solve(A_b, momentum[kept])
+    return Jstar, J_j[:, cols], drift
+
+
+@pytest.mark.parametrize("target, axes", [("four_arm_planar", ("arm1_joint2", "arm1_joint3")),
+                                          ("ur5", ("shoulder_lift_joint", "elbow_joint"))])
+def test_singular_values_match_svd_of_pinocchio_jacobians(target, axes):
+    """The map's singular values of J* and Jm equal those of Pinocchio-built Jacobians, and the
+    points flagged singular are those where Pinocchio's sigma_min / sigma_max is below the tolerance."""
+    context = singularities.prepare(target, Options(axes=axes))
+    grid = singularities.grid(context, Options(grid=5))
+    points = grid.points()
+    result = evaluate(context, points)
+    for k, point in enumerate(points):
+        angles = np.array(context.posture)
+        angles[list(context.axis_index)] = point
+        Jstar, Jm, _ = pinocchio_blocks(context, angles)
+        for J, key in ((Jstar, "free"), (Jm, "fixed")):
+            sv = np.linalg.svd(J, compute_uv=False)
+            assert np.allclose(result[f"sv_{key}"][k], sv, rtol=1e-9, atol=1e-10 * sv[0])
+            assert result[f"singular_{key}"][k] == (sv[-1] < context.tolerance * sv[0])
+    assert result["singular_free"].any()  # the 5-point grid holds the stretched and folded arm
+
+
+def test_stretched_arm_is_a_rank_loss_in_pinocchio_and_on_the_map():
+    """The four-arm robot's stretched arm (Table 4, figs 38-40 at 0 deg) loses rank: Pinocchio's
+    J* block has sigma_min ~ 0, and the map flags it; 1 deg off it does not."""
+    context = singularities.prepare("four_arm_planar", Options(axes=("arm1_joint2", "arm1_joint3")))
+    result = evaluate(context, np.radians([[0.0, 0.0], [1.0, 1.0]]))
+    assert list(result["singular_free"]) == [True, False] and list(result["singular_fixed"]) == [True, False]
+    Jstar, _, _ = pinocchio_blocks(context, np.array(context.posture))
+    sv = np.linalg.svd(Jstar, compute_uv=False)
+    assert sv[-1] < 1e-12 * sv[0]
+
+
+def test_momentum_drift_matches_pinocchio_and_is_held():
+    """With a momentum, the drift equals Pinocchio's end-effector velocity at zero joint rates,
+    and the hold rate cancels it where J* has full rank."""
+    momentum = np.array([0.3, -0.2, 0.0, 0.0, 0.0, 0.5])
+    context = workspace.prepare("two_arm_planar", Options(momentum=(0.3, -0.2, 0.5)))
+    points = np.random.default_rng(0).uniform(-2.5, 2.5, (6, len(context.axes)))
+    result = evaluate(context, points)
+    for k, point in enumerate(points):
+        angles = np.array(context.posture)
+        angles[list(context.axis_index)] = point
+        _, _, drift = pinocchio_blocks(context, angles, momentum)
+        assert np.allclose(result["drift"][k], drift, atol=1e-12)
+    regular = ~result["singular_free"]
+    assert regular.any() and np.all(result["drift_left"][regular] < 1e-10)
+
+
+def test_fixed_base_reach_of_the_four_arm_robot_is_its_printed_length():
+    """Fixed base: the arm reaches 7.75 m from the base CoM (pivot 1.75 m + four links, the
+    dissertation's printed end-effector position), and the map's greatest reach is that."""
+    context = workspace.prepare("four_arm_planar", Options())
+    result = evaluate(context, workspace.grid(context, Options(grid=5)).points())
+    assert result["radius_fixed"].max() == pytest.approx(7.75, abs=1e-12)
+
+
+def test_shells_split_the_reachable_radii():
+    """Radii of singular points make the path-dependent shells; the rest of the range is
+    path-independent; gaps narrower than the resolution are closed."""
+    radius = np.linspace(1.0, 5.0, 401)
+    singular = (np.abs(radius - 2.0) < 0.05) | (np.abs(radius - 2.3) < 0.05)
+    split = workspace.shells(radius, singular, gap=0.5, bins=40)
+    assert split["reachable"] == [1.0, 5.0]
+    assert split["path_dependent"] == [[pytest.approx(1.9), pytest.approx(2.4)]]
+    assert split["path_independent"] == [[1.0, pytest.approx(1.9)], [pytest.approx(2.4), 5.0]]
+    assert len(workspace.shells(radius, singular, gap=0.0, bins=40)["path_dependent"]) == 2
+
+
+def test_a_mapped_point_is_reached_by_a_simulated_motion():
+    """Driven from the reference posture to grid configurations by computed torque (exact plant,
+    zero momentum), the end-effector arrives where the map says: at the mapped position relative to
+    the system CoM in the base frame (to 10 um: the tracking error left 0.5 s after the quintic ends),
+    the CoM unmoved."""
+    context = workspace.prepare("two_arm_planar", Options())
+    robot = robot_of(context.target, context.base)
+    grid = Grid(tuple(Axis(n, 0.4, 0.9, 2) for n in context.axes))
+    result = evaluate(context, grid.points())
+    coords = JointCoordinates(robot)
+    start = np.array(context.posture)
+    q0 = robot.neutral()
+    coords.set(q0, start)
+    model, data = robot.model, robot.model.createData()
+    com0 = pin.centerOfMass(model, data, q0).copy()
+    for k in (0, grid.size - 1):
+        goal = start.copy()
+        goal[list(context.axis_index)] = grid.points(k, k + 1)[0]
+        controller = ComputedTorque(robot, QuinticTrajectory(start, goal, 1.0), 400.0, 40.0)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            tel = run(robot, q0, np.zeros(model.nv), 1.5, 1e-3, make_integrator("rkmk4", model),
+                      ExactModel(robot), controller, record_every=500).telemetry
+        q = tel.q[-1]
+        pin.framesForwardKinematics(model, data, q)
+        com = pin.centerOfMass(model, data, q)
+        ee = data.oMf[robot.end_effector_frame_ids[context.index]].translation
+        base = data.oMi[1].rotation
+        assert np.allclose(com, com0, atol=1e-9)
+        assert np.allclose(base.T @ (ee - com), result["ee_from_com"][k], atol=1e-5)
+
+
+def test_cli_refuses_a_robot_without_end_effectors(tmp_path, capsys):
+    """A URDF with no movable joint has no end-effector to map: exit 2 naming the file."""
+    urdf = tmp_path / "block.urdf"
+    urdf.write_text('<robot name="block"><link name="body"><inertial><mass value="1"/><origin xyz="0 0 0"/>'
+                    '<inertia ixx="1" iyy="1" izz="1" ixy="0" ixz="0" iyz="0"/></inertial></link></robot>')
+    assert main(["atlas", "workspace", str(urdf), "--quiet", "--out", str(tmp_path / "out")]) == 2
+    assert "block.urdf" in capsys.readouterr().err
+
+
+def test_cli_refuses_a_grid_too_large_for_memory(tmp_path, capsys):
+    """A 4-axis grid of 10^4 points per axis: exit 2, saying so, before anything is written."""
+    assert main(["atlas", "workspace", "four_arm_planar", "--grid", "10000", "--quiet",
+                 "--out", str(tmp_path / "out")]) == 2
+    assert "grid too large for memory" in capsys.readouterr().err and not (tmp_path / "out").exists()
+
+
+def test_unknown_end_effector_lists_the_robot_s():
+    """An end-effector that is not the robot's is refused with the valid names."""
+    with pytest.raises(UnknownName, match="arm1_ee"):
+        workspace.prepare("four_arm_planar", Options(end_effector="hand"))
+
+
+def test_cli_writes_a_singularity_map(tmp_path):
+    """freefloat atlas singularities writes the data, summary and figures; the figs 38-40 paths'
+    condition numbers grow as the offset shrinks."""
+    out = tmp_path / "out"
+    assert main(["atlas", "singularities", "four_arm_planar", "--grid", "9", "--quiet", "--out", str(out)]) == 0
+    done = run_atlas("singularities", "four_arm_planar", Options(grid=9), out, overwrite=True)
+    paths = done.summary["summary"]["figs_38_40"]
+    assert paths["0_deg"]["condition_egjm_start"] > paths["0.1_deg"]["condition_egjm_start"] \
+        > paths["1_deg"]["condition_egjm_start"]
+    assert {"atlas.npz", "summary.json", "singularities_cond.png"} <= {p.name for p in out.iterdir()}
