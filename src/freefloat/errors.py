@@ -55,6 +55,11 @@ class NotAssembled(FreefloatError):
     pose asked for; the message gives the pose and the residual."""
 
 
+class InfeasiblePlan(FreefloatError):
+    """A motion plan that cannot meet its request (a target out of reach, a limit violated, a
+    deadline too short); the message names what fails, where and by how much."""
+
+
 class TelemetryFileError(FreefloatError):
     """A telemetry file (``.npz``) that is missing, damaged or of another kind; the message names
     the file and what is wrong with it."""

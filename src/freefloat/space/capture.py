@@ -207,10 +207,13 @@ class FlyingTarget:
 
 def approach(robot: Robot, body: TargetBody, end_effectors: tuple[str, ...], control_period: float,
              duration: float, tolerance: float, integrator: str, q0: np.ndarray | None, v0: np.ndarray | None,
-             kp: float, kd: float, model: str) -> tuple[Any, FlyingTarget]:
-    """The robot holds its posture (computed torque on its joints) while the target flies freely,
-    until every grasp point ``k`` of ``body`` is within ``tolerance`` of ``end_effectors[k]``'s
-    frame origin: the run's result (status ``"stopped"`` there) and the target's flight.
+             kp: float, kd: float, model: str, controller: Any = None,
+             not_before: float = 0.0) -> tuple[Any, FlyingTarget]:
+    """The robot holds its posture (computed torque on its joints), or follows ``controller`` (e.g.
+    a planned approach, :mod:`freefloat.space.planning`), while the target flies freely, until
+    every grasp point ``k`` of ``body`` is within ``tolerance`` of ``end_effectors[k]``'s frame
+    origin: the run's result (status ``"stopped"`` there) and the target's flight. A planned
+    grasp closes the hand at its instant: no contact is declared before ``not_before`` s.
 
     Raises:
         FreefloatError: when the grasp points do not all come within ``tolerance`` in ``duration`` s
@@ -241,10 +244,11 @@ def approach(robot: Robot, body: TargetBody, end_effectors: tuple[str, ...], con
                   for g, f in zip(body.grasp_ids, frames))
         if gap < flight.closest[0]:
             flight.closest = (gap, t)
-        return gap < tolerance
+        return gap < tolerance and t > not_before - 0.5 * control_period
 
-    hold = DetumblingController(robot, task_rows(robot, [(end_effectors[0], "angular")]), joint_indices(robot, None),
-                                start=np.inf, control_period=control_period, kp=kp, kd=kd, model=model)
+    hold = controller or DetumblingController(robot, task_rows(robot, [(end_effectors[0], "angular")]),
+                                              joint_indices(robot, None), start=np.inf,
+                                              control_period=control_period, kp=kp, kd=kd, model=model)
     q0 = robot.neutral() if q0 is None else q0
     v0 = np.zeros(robot.model.nv) if v0 is None else v0
     pre = run(robot, q0, v0, duration, control_period, make_integrator(integrator, robot.model), ExactModel(robot),
@@ -291,9 +295,13 @@ def capture_and_detumble(robot: Robot, target: Target, end_effector: str, rows_s
                          method: str = "min_norm", control_period: float = 1e-3, approach_time: float = 1.0,
                          detumble_time: float = 1.0, tolerance: float = 1e-3, settle_below: float = 1e-6,
                          integrator: str = "rkmk4", q0: np.ndarray | None = None, v0: np.ndarray | None = None,
-                         kp: float = 10.0, kd: float = 100.0, model: str = "exact") -> CaptureResult:
-    """Hold until the target's grasp point reaches ``end_effector``, grasp it (exact impulse),
-    then detumble the merged robot by stopping the end-effector rows ``rows_spec``.
+                         kp: float = 10.0, kd: float = 100.0, model: str = "exact",
+                         approach_controller: Any = None, grasp_time: float = 0.0) -> CaptureResult:
+    """Hold (or follow ``approach_controller``) until the target's grasp point reaches
+    ``end_effector``, grasp it (exact impulse), then detumble the merged robot by stopping the
+    end-effector rows ``rows_spec``; not before ``grasp_time`` s (a planned grasp instant). The
+    summary has the approach's base attitude change (rad,
+    start to contact) and the grasp mismatch at contact (:func:`grasp_mismatch`).
 
     Raises:
         FreefloatError: when the target does not come within ``tolerance`` of the end-effector
@@ -307,10 +315,11 @@ def capture_and_detumble(robot: Robot, target: Target, end_effector: str, rows_s
 
     body = TargetBody(target)
     pre, state = approach(robot, body, (end_effector,), control_period, approach_time, tolerance, integrator, q0, v0,
-                          kp, kd, model)
+                          kp, kd, model, approach_controller, grasp_time)
     t_hit = pre.telemetry.t[-1]
     q, v = pre.telemetry.q[-1], pre.telemetry.v[-1]
     hit = impact(robot, end_effector, q, v, body, state.q, state.v)
+    gap, relative_speed = grasp_mismatch(robot, end_effector, q, v, body, state.q, state.v)
     merged = attach(robot, end_effector, q, body, state.q)
     merged_after = robot_momentum(merged, q, hit.v_robot)
     controller = DetumblingController(merged, task_rows(merged, rows_spec), joint_indices(merged, joints), start=0.0,
@@ -322,6 +331,10 @@ def capture_and_detumble(robot: Robot, target: Target, end_effector: str, rows_s
     settled = settling_time(tel.t, w, settle_below)
     summary = {
         "impact_time": float(t_hit),
+        "approach_base_attitude_change": attitude_change(pre.telemetry.base_quaternion),
+        "grasp_position_mismatch": gap,
+        "grasp_velocity_mismatch": relative_speed,
+        "grasp_impulse": float(np.linalg.norm(hit.impulse[:3])),
         "momentum_before_impact": hit.momentum_before.tolist(),
         "momentum_after_impact": merged_after.tolist(),
         "momentum_balance_error": grasp_balance_error(merged, q, hit.v_robot, hit.momentum_before),
@@ -339,6 +352,27 @@ def capture_and_detumble(robot: Robot, target: Target, end_effector: str, rows_s
     post_poses = attached_poses(merged, tel.q)
     poses = np.concatenate((state.poses[: len(pre.telemetry.t)], post_poses))
     return CaptureResult(pre.telemetry, tel, merged, float(t_hit), hit, w, summary, poses)
+
+
+def grasp_mismatch(robot: Robot, end_effector: str, q: np.ndarray, v: np.ndarray, body: TargetBody,
+                   q_t: np.ndarray, v_t: np.ndarray) -> tuple[float, float]:
+    """``(|p_E - p_g|, |v_E - v_g|)``: the end-effector frame origin against the grasp point,
+    position (m) and linear velocity (m/s, inertial), just before the grasp."""
+    model, data = robot.model, robot.model.createData()
+    fid = model.getFrameId(end_effector)
+    pin.forwardKinematics(model, data, q, v)
+    p_E = pin.updateFramePlacement(model, data, fid).translation
+    v_E = pin.getFrameVelocity(model, data, fid, pin.LOCAL_WORLD_ALIGNED).linear
+    pin.forwardKinematics(body.model, body.data, q_t, v_t)
+    p_g = pin.updateFramePlacement(body.model, body.data, body.grasp_id).translation
+    v_g = pin.getFrameVelocity(body.model, body.data, body.grasp_id, pin.LOCAL_WORLD_ALIGNED).linear
+    return float(np.linalg.norm(p_E - p_g)), float(np.linalg.norm(v_E - v_g))
+
+
+def attitude_change(quaternions: np.ndarray) -> float:
+    """Angle of the rotation from the first to the last of the base quaternions (N, 4) (xyzw), rad."""
+    first, last = (pin.Quaternion(np.asarray(quat, float)).matrix() for quat in (quaternions[0], quaternions[-1]))
+    return float(np.linalg.norm(pin.log3(last @ first.T)))
 
 
 def grasp_balance_error(merged: Robot, q: np.ndarray, v_after: np.ndarray, before: np.ndarray) -> float:

@@ -1,6 +1,8 @@
 """Capture experiments (dissertation sec 3.8, done exactly): the robot holds its posture until a
 tumbling target's grasp point reaches the end-effector, grasps it by an exact impulse, then the
-merged robot detumbles it."""
+merged robot detumbles it. With ``[approach]`` the pre-capture phase is planned instead
+(:mod:`freefloat.space.planning`): the hand is brought onto the grasp point at the contact time
+with its velocity, tracked by computed torque, so one scene runs the three phases."""
 
 from __future__ import annotations
 
@@ -14,8 +16,10 @@ import pinocchio as pin
 
 from ...dynamics.metrics import spin_summary, summarize
 from ...dynamics.simulation import RunResult
-from ...errors import SceneError
+from ...errors import FreefloatError, SceneError
 from ...space.capture import Target, capture_and_detumble
+from ...space.planning import ApproachRequest, GraspMotion, Limits, Plan, plan_approach
+from ...space.planning.tracking import PlanTracking
 from ..scenes import Scene
 from .base import Checkpoint, Experiment, Outcome, Progress
 from .detumbling import detumble_task, mission_joints, rows_spec
@@ -28,9 +32,12 @@ TARGET_MATERIAL = mg.MeshPhongMaterial(color=0xE07000)
 @dataclass(kw_only=True)
 class CaptureSetup(RobotSetup):
     """A capture scene resolved before the loop: the robot's setup and the target, which meets
-    the end-effector at ``target.contact_time``."""
+    the end-effector at ``target.contact_time``; with ``[approach]`` the checked plan that brings
+    the end-effector there, and the minimum-norm plan of the same approach when compared."""
 
     target: Target
+    plan: Plan | None = None
+    min_norm: Plan | None = None
 
 
 def prepare(scene: Scene) -> CaptureSetup:
@@ -49,12 +56,63 @@ def prepare(scene: Scene) -> CaptureSetup:
     data = robot.model.createData()
     pin.framesForwardKinematics(robot.model, data, setup.q0)
     point = data.oMf[robot.model.getFrameId(tg.end_effector)].translation
+    if scene.approach is not None:
+        point = point + np.asarray(scene.approach.reach)
     try:
         target = Target.meeting(point, tg.contact_time, tg.mass, tg.inertia, tg.grasp, tg.velocity,
                                 np.multiply(tg.angular_velocity, s), np.multiply(tg.rpy_at_contact, s), tg.size)
     except Exception as exc:
         raise SceneError(f"scene '{scene.name}': [target] {exc}") from exc
-    return CaptureSetup(**vars(setup), target=target)
+    if scene.approach is None:
+        return CaptureSetup(**vars(setup), target=target)
+    return CaptureSetup(**vars(setup), target=target, **planned(scene, setup, target))
+
+
+def planned(scene: Scene, setup, target: Target) -> dict[str, Plan | None]:
+    """The scene's approach plan (``plan``) and, with ``approach.compare``, the minimum-norm plan
+    of the same request (``min_norm``; unchecked, since it is only compared).
+
+    Raises:
+        SceneError: naming ``[approach]`` with what fails (out of reach, a limit, the deadline),
+            or an unknown ``approach.mission_joints`` name.
+    """
+    from ...space.planning import PLANNERS, evaluate
+
+    ap, robot = scene.approach, setup.robot
+    try:
+        joints = None if ap.mission_joints is None else mission_joint_indices(robot, ap.mission_joints)
+        rate = None if ap.max_joint_rate is None else ap.max_joint_rate * scene.angle_scale
+        request = ApproachRequest(robot, setup.q0, setup.v0, scene.target.end_effector, GraspMotion.of(target),
+                                  scene.target.contact_time, Limits.of(robot, rate, ap.max_torque), joints, ap.steps,
+                                  tolerance=0.1 * scene.target.tolerance)
+        plan = plan_approach(request, ap.method)
+    except FreefloatError as exc:
+        raise SceneError(f"scene '{scene.name}': [approach] {exc}") from exc
+    compared = evaluate(request, PLANNERS["min_norm"](request), "min_norm") if ap.compare else None
+    return {"plan": plan, "min_norm": compared}
+
+
+def mission_joint_indices(robot, names: tuple[str, ...]) -> np.ndarray:
+    """Indices of ``names`` among the robot's joints (n_mission,).
+
+    Raises:
+        SceneError: naming ``approach.mission_joints`` and the joints.
+    """
+    unknown = [name for name in names if name not in robot.joint_names]
+    if unknown:
+        raise SceneError(f"'approach.mission_joints': no joint '{unknown[0]}'; joints: {', '.join(robot.joint_names)}")
+    return np.array([robot.joint_names.index(name) for name in names], dtype=int)
+
+
+def approach_summary(setup: CaptureSetup) -> dict:
+    """The plan's figures of merit, the limits used and, when compared, the minimum-norm plan's
+    base attitude change and the ratio of the two (min-norm / this plan)."""
+    plan = setup.plan
+    out = plan.summary()
+    if setup.min_norm is not None:
+        out["approach_min_norm_attitude_change"] = setup.min_norm.attitude_change
+        out["approach_attitude_ratio"] = setup.min_norm.attitude_change / max(plan.attitude_change, 1e-300)
+    return out
 
 
 def run(setup: CaptureSetup, progress: Progress | None = None, checkpoint: Checkpoint | None = None) -> Outcome:
@@ -68,7 +126,10 @@ def run(setup: CaptureSetup, progress: Progress | None = None, checkpoint: Check
     res = capture_and_detumble(robot, setup.target, tg.end_effector, rows_spec(scene), mission_joints(scene),
                                scene.task.method, sim.control_period, tg.contact_time + APPROACH_MARGIN, sim.duration,
                                tg.tolerance, integrator=sim.integrator, q0=setup.q0, v0=setup.v0,
-                               kp=ctrl.kp, kd=ctrl.kd, model=ctrl.model)
+                               kp=ctrl.kp, kd=ctrl.kd, model=ctrl.model,
+                               approach_controller=None if setup.plan is None else
+                               PlanTracking(robot, setup.plan.path, ctrl.kp, ctrl.kd, ctrl.model),
+                               grasp_time=0.0 if setup.plan is None else tg.contact_time)
     wall = time.perf_counter() - start
     merged = dataclasses.replace(res.merged, visual_model=robot.visual_model)
     tel = res.post
@@ -76,6 +137,8 @@ def run(setup: CaptureSetup, progress: Progress | None = None, checkpoint: Check
     summary = summarize(tel, merged)  # after the grasp: no external wrench, so drifts
     summary.update(spin_summary(merged, tel))
     summary.update(res.summary, sim_wall_time_s=wall, steps=len(res.pre.t) + len(tel.t) - 2)
+    if setup.plan is not None:
+        summary.update(approach_summary(setup))
     both_t = np.concatenate((res.pre.t, res.impact_time + tel.t[1:]))
     both_q = np.concatenate((res.pre.q, tel.q[1:]))
     poses = np.concatenate((res.target_poses[: len(res.pre.t)], res.target_poses[len(res.pre.t) + 1:]))

@@ -128,6 +128,26 @@ class TargetSection:
 
 
 @dataclass(frozen=True)
+class ApproachSection:
+    """``[approach]`` (with a ``[target]``): plan the pre-capture motion of ``target.end_effector``
+    from t = 0 to ``target.contact_time`` (:mod:`freefloat.space.planning`) and track it by
+    computed torque (``[controller]`` gains and model). The target's grasp point meets the hand
+    then at the hand's start position plus ``reach`` (inertial, m), with its own velocity.
+    ``method``: ``"null_space"`` (reaction null space), ``"min_norm"`` (J*^+) or ``"optimised"``
+    (SLSQP); limits ``max_joint_rate`` (angle_unit/s) and ``max_torque`` (N m) for every joint
+    (default each joint's URDF ``<limit>``); ``mission_joints`` (default all); ``steps`` of the
+    planning grid; ``compare``: also plan ``min_norm`` and report the attitude-change ratio."""
+
+    method: str = "null_space"
+    reach: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    max_joint_rate: float | None = None
+    max_torque: float | None = None
+    mission_joints: tuple[str, ...] | None = None
+    steps: int = 200
+    compare: bool = True
+
+
+@dataclass(frozen=True)
 class ControllerSection:
     """``[controller]``: ``kind = "none"`` or ``"computed_torque"`` with scalar gains Kp, Kd and
     the dynamics model it uses; for a two-hand capture, the ``squeeze`` between the hands (N) and
@@ -187,6 +207,7 @@ class Scene:
     wrenches: tuple[WrenchSection, ...] = ()
     target: TargetSection | None = None
     closures: tuple[ClosureSection, ...] = ()
+    approach: ApproachSection | None = None
     source: Path | None = None
 
     @property
@@ -207,7 +228,7 @@ class Scene:
 SECTIONS = {
     "robot": RobotSection, "initial": InitialSection, "task": TaskSection,
     "controller": ControllerSection, "simulation": SimulationSection, "output": OutputSection,
-    "target": TargetSection,
+    "target": TargetSection, "approach": ApproachSection,
 }
 CHOICES = {
     ("robot", "base"): ("free", "planar"),
@@ -222,12 +243,14 @@ CHOICES = {
     ("simulation", "backend"): BACKENDS,
     ("closures", "kind"): lambda: (*KINDS, *ALIASES),
     ("", "angle_unit"): ("deg", "rad"),
+    ("approach", "method"): ("null_space", "min_norm", "optimised"),
 }
 POSITIVE = {
     ("task", "duration"), ("simulation", "duration"), ("simulation", "control_period"),
     ("simulation", "substeps"), ("simulation", "rtol"), ("simulation", "atol"), ("simulation", "tolerance"),
     ("simulation", "record_every"), ("output", "html_fps"), ("target", "mass"), ("target", "contact_time"),
     ("target", "tolerance"), ("controller", "torque_limit"),
+    ("approach", "max_joint_rate"), ("approach", "max_torque"), ("approach", "steps"),
 }
 NON_NEGATIVE = {("controller", "kp"), ("controller", "kd"), ("task", "start"), ("wrenches", "start"),
                 ("wrenches", "rise"), ("simulation", "baumgarte")}
@@ -261,6 +284,9 @@ def parse_robot_scene(raw: dict[str, Any], source: Path | None = None) -> Scene:
         if closure.frames is None or len(closure.frames) != 2 or closure.frames[0] == closure.frames[1]:
             raise SceneError(f"{where}'closures[{i}].frames' must name two different frames, got "
                              f"{list(closure.frames or ())}")
+    if "approach" in kwargs and ("target" not in kwargs or kwargs["target"].second_end_effector):
+        raise SceneError(f"{where}[approach] plans a one-hand capture: it needs a [target] without "
+                         "'second_end_effector'")
     scene = Scene(**kwargs, source=source)
     sim = scene.simulation
     whole_number_of(where, sim.duration, sim.control_period, "simulation.duration", "simulation.control_period")

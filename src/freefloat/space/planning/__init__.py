@@ -1,0 +1,59 @@
+"""Pre-capture planning (dissertation sec 3.8, the pre-capture phase): bring an end-effector onto a
+tumbling target's grasp point at the grasp instant with the grasp point's velocity, disturbing the
+base attitude as little as possible, within joint-rate and torque limits.
+
+``grasp_motion`` (where the grasp point will be), ``request`` (what is asked, the limits),
+``floating_kinematics`` (the base motion the joints cause at conserved momentum),
+``reaction_null_space`` (the minimum-norm and reaction-null-space rate laws), ``resolved_rate``
+(a task-space quintic followed by a rate law), ``optimised`` (a polynomial joint path minimising
+the base rotation by SLSQP), ``plan`` (the joint path, its evaluation and its checks) and
+``tracking`` (computed torque on the plan, for the one loop). :data:`PLANNERS` maps each method
+name to its planner; :func:`plan_approach` runs one and checks the result.
+"""
+
+from __future__ import annotations
+
+from typing import Callable
+
+from ...errors import UnknownName
+from .grasp_motion import GraspMotion
+from .plan import JointPath, Plan, check, evaluate
+from .reaction_null_space import RATE_LAWS, TaskRows
+from .request import ApproachRequest, Limits
+
+
+def _resolved_rate(name: str) -> Callable[[ApproachRequest], JointPath]:
+    """The planner that follows the task quintic with the rate law ``name``."""
+    from .resolved_rate import resolved_rate_path
+
+    return lambda request: resolved_rate_path(request, RATE_LAWS[name])
+
+
+def _optimised(request: ApproachRequest) -> JointPath:
+    from .optimised import optimised_path
+
+    return optimised_path(request)
+
+
+#: Approach planners by method name: each turns a request into a joint path.
+PLANNERS: dict[str, Callable[[ApproachRequest], JointPath]] = {
+    "min_norm": _resolved_rate("min_norm"),
+    "null_space": _resolved_rate("null_space"),
+    "optimised": _optimised,
+}
+
+
+def plan_approach(request: ApproachRequest, method: str = "null_space") -> Plan:
+    """The checked plan of ``method`` (see :data:`PLANNERS`).
+
+    Raises:
+        UnknownName: for a method not in :data:`PLANNERS`.
+        InfeasiblePlan: when the plan misses the grasp or breaks a limit (:func:`.plan.check`).
+    """
+    if method not in PLANNERS:
+        raise UnknownName("approach method", method, PLANNERS)
+    return check(evaluate(request, PLANNERS[method](request), method), request)
+
+
+__all__ = ["PLANNERS", "ApproachRequest", "GraspMotion", "JointPath", "Limits", "Plan", "TaskRows", "check",
+           "evaluate", "plan_approach"]

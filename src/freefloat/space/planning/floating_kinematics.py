@@ -1,0 +1,98 @@
+"""Free-floating kinematics at conserved momentum: the base moves as the joints make it.
+
+With no external wrench the total momentum ``[P; L about the inertial origin]`` is constant;
+about the base CoM it is ``M = [P; L_o - r_0 x P]`` and the base twist follows from the joint
+rates (dissertation eq 70/71):
+
+.. math:: \\dot x_0 = J_0 \\dot q + H_0^{-1} M, \\qquad J_0 = -H_0^{-1} H_{0m}.
+
+A planner integrates this over its time grid (:func:`rollout`) to know where the base, and so the
+end-effector, will be.
+"""
+
+from __future__ import annotations
+
+from typing import Callable
+
+import numpy as np
+import pinocchio as pin
+
+from ...dynamics import gjm
+from ...dynamics.gjm import GJMState
+from ...robot.conventions import PLANAR_ROWS, base_link_placement, cross3, inertial_to_local_twist, momentum_about_origin
+from ...robot.robot import Robot
+
+#: Joint rates of a plan (n,) from time (s), configuration (nq,) and the GJM matrices there.
+Rates = Callable[[float, np.ndarray, GJMState], np.ndarray]
+
+
+class FloatingKinematics:
+    """The base velocity that joint rates give a robot of constant total momentum.
+
+    Args:
+        robot: a free-floating robot (free or planar base).
+        momentum_origin: the conserved ``[P; L about the inertial origin]``, inertial frame (6,).
+    """
+
+    def __init__(self, robot: Robot, momentum_origin: np.ndarray):
+        self.robot = robot
+        self.momentum_origin = np.asarray(momentum_origin, float)
+        self._zero = np.zeros(robot.model.nv)
+        self._gjm = gjm.model_of(robot)  # unchecked per call: the roll-out makes its own states
+
+    @classmethod
+    def at_state(cls, robot: Robot, q: np.ndarray, v: np.ndarray) -> "FloatingKinematics":
+        """The kinematics with the momentum of the state (q, v) (Pinocchio's centroidal momentum)."""
+        return cls(robot, momentum_about_origin(robot.model, robot.model.createData(), q, v))
+
+    def matrices(self, q: np.ndarray) -> GJMState:
+        """The GJM quantities at configuration q (nq,) (joint rates zero: matrices only)."""
+        return self._gjm.compute(q, self._zero)
+
+    def momentum_base(self, state: GJMState) -> np.ndarray:
+        """``M = [P; L about the base CoM]`` (6,), inertial frame, at the state's configuration."""
+        P, L = self.momentum_origin[:3], self.momentum_origin[3:]
+        return np.concatenate((P, L - cross3(state.kinematics.r0, P)))
+
+    def base_twist(self, state: GJMState, qdot: np.ndarray) -> np.ndarray:
+        """``x0dot = J0 qdot + H0^-1 M``: base twist [v0; w0] of the base CoM, inertial (6,)."""
+        return state.J0 @ qdot + np.linalg.solve(state.H0, self.momentum_base(state))
+
+    def velocity(self, q: np.ndarray, state: GJMState, qdot: np.ndarray) -> np.ndarray:
+        """Pinocchio's velocity (nv,) with joint rates ``qdot`` (n,) at configuration ``q``."""
+        robot = self.robot
+        local = inertial_to_local_twist(base_link_placement(robot, q).rotation, robot.base_com,
+                                        self.base_twist(state, qdot))
+        return np.concatenate((local if robot.base == "free" else local[PLANAR_ROWS], qdot))
+
+
+def stage_times(times: np.ndarray) -> np.ndarray:
+    """Every time :func:`rollout` asks the rates for on the grid ``times``: the grid and its
+    midpoints, computed as it computes them."""
+    return np.concatenate((times, times[:-1] + (times[1:] - times[:-1]) / 2))
+
+
+def rollout(kin: FloatingKinematics, q0: np.ndarray, rates: Rates, times: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Configurations and velocities on the grid ``times`` (N,), by classical Runge-Kutta 4 on the
+    configuration manifold (``pin.integrate`` of the stage velocities).
+
+    Returns:
+        ``(qs, vs)``: (N, nq) and (N, nv); ``vs[k]`` is the velocity at ``qs[k]`` with
+        ``rates(times[k], qs[k], matrices)``.
+    """
+    model = kin.robot.model
+
+    def f(t: float, q: np.ndarray) -> np.ndarray:
+        state = kin.matrices(q)
+        return kin.velocity(q, state, rates(t, q, state))
+
+    qs, vs = [np.asarray(q0, float)], [f(times[0], q0)]
+    for k in range(len(times) - 1):
+        t, h, q = times[k], times[k + 1] - times[k], qs[-1]
+        k1 = vs[-1]
+        k2 = f(t + h / 2, pin.integrate(model, q, k1 * h / 2))
+        k3 = f(t + h / 2, pin.integrate(model, q, k2 * h / 2))
+        k4 = f(t + h, pin.integrate(model, q, k3 * h))
+        qs.append(pin.integrate(model, q, (k1 + 2 * k2 + 2 * k3 + k4) * h / 6))
+        vs.append(f(t + h, qs[-1]))
+    return np.array(qs), np.array(vs)

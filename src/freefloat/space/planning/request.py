@@ -1,0 +1,112 @@
+"""What a pre-capture plan is asked for (dissertation sec 3.8, the pre-capture phase): the robot and
+its start, the end-effector, the target's grasp-point flight, the grasp instant and the limits."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import pinocchio as pin
+
+from ...errors import InvalidArgument
+from ...robot.robot import Robot
+from .grasp_motion import GraspMotion
+
+
+@dataclass(frozen=True)
+class Limits:
+    """Per-joint limits of a plan, actuated joint order.
+
+    Attributes:
+        joint_rate: largest |qdot| per joint, rad/s or m/s (n,).
+        torque: largest |tau| per joint, N m or N (n,).
+    """
+
+    joint_rate: np.ndarray
+    torque: np.ndarray
+
+    @classmethod
+    def of(cls, robot: Robot, joint_rate: float | None = None, torque: float | None = None) -> "Limits":
+        """``joint_rate`` and ``torque`` for every joint, or where None the URDF's ``<limit
+        velocity effort>`` (Pinocchio's ``velocityLimit``, ``effortLimit``).
+
+        Raises:
+            InvalidArgument: for a limit that is not > 0 (given, or read from the URDF).
+        """
+        nb = robot.n_base
+        rate = robot.model.velocityLimit[nb:] if joint_rate is None else np.full(robot.n_joints, float(joint_rate))
+        effort = robot.model.effortLimit[nb:] if torque is None else np.full(robot.n_joints, float(torque))
+        for name, values in (("joint rate", rate), ("torque", effort)):
+            bad = np.flatnonzero(~(np.asarray(values) > 0.0))
+            if bad.size:
+                raise InvalidArgument(f"{name} limit of joint '{robot.joint_names[bad[0]]}' is {values[bad[0]]}; it "
+                                      "must be > 0 (set it in the URDF's <limit> or give one)")
+        return cls(np.array(rate, float), np.array(effort, float))
+
+
+@dataclass(frozen=True)
+class ApproachRequest:
+    """A pre-capture approach: bring ``end_effector`` onto the grasp point at ``duration`` s with
+    the grasp point's velocity.
+
+    Attributes:
+        robot: the free-floating robot.
+        q0, v0: its state when the approach starts (t = 0), Pinocchio's (nq,), (nv,).
+        end_effector: the gripper's frame (one of ``robot.end_effectors``).
+        grasp: the grasp point's flight, time from the approach's start.
+        duration: the grasp instant T, s (the deadline).
+        limits: joint-rate and torque limits.
+        joints: the mission joints, indices into the actuated joints (None: all).
+        steps: intervals of the planning grid over [0, T].
+        gain: closed-loop gain of the resolved-rate laws on the task position error, 1/s.
+        tolerance: largest grasp-point position mismatch at T the plan may leave, m.
+        velocity_tolerance: largest grasp-point velocity mismatch at T, m/s.
+    """
+
+    robot: Robot
+    q0: np.ndarray
+    v0: np.ndarray
+    end_effector: str
+    grasp: GraspMotion
+    duration: float
+    limits: Limits
+    joints: np.ndarray | None = None
+    steps: int = 200
+    gain: float = 20.0
+    tolerance: float = 1e-4
+    velocity_tolerance: float = 1e-3
+
+    def __post_init__(self):
+        if self.end_effector not in self.robot.end_effectors:
+            raise InvalidArgument(f"approach: '{self.end_effector}' is not an end-effector; end-effectors: "
+                                  f"{', '.join(self.robot.end_effectors)}")
+        if not self.duration > 0.0:
+            raise InvalidArgument(f"approach: the grasp instant must be > 0 s after the start, got {self.duration}")
+        if self.steps < 4:
+            raise InvalidArgument(f"approach: 'steps' must be >= 4, got {self.steps}")
+
+    @property
+    def times(self) -> np.ndarray:
+        """The planning grid over [0, T] (steps + 1,), s."""
+        return np.linspace(0.0, self.duration, self.steps + 1)
+
+    @property
+    def frame(self) -> int:
+        """Pinocchio frame id of the end-effector."""
+        return self.robot.model.getFrameId(self.end_effector)
+
+    def task_components(self) -> np.ndarray:
+        """The position components the plan matches: x, y on a planar base, x, y, z on a free one."""
+        return np.arange(2 if self.robot.base == "planar" else 3)
+
+    def arm_reach(self) -> tuple[float, float]:
+        """``(distance, reach)`` at the start: from the end-effector arm's first joint to the grasp
+        point at T, and the sum of the arm's joint-to-joint and joint-to-end-effector lengths (m),
+        for the out-of-reach message."""
+        model, data = self.robot.model, self.robot.model.createData()
+        pin.framesForwardKinematics(model, data, self.q0)
+        arm = self.robot.arms[self.robot.end_effectors.index(self.end_effector)]
+        points = [data.oMi[model.getJointId(name)].translation for name in arm.joints]
+        points.append(data.oMf[self.frame].translation)
+        reach = float(sum(np.linalg.norm(b - a) for a, b in zip(points, points[1:])))
+        return float(np.linalg.norm(self.grasp.at(self.duration)[0] - points[0])), reach

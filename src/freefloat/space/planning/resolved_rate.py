@@ -1,0 +1,67 @@
+"""Resolved-rate approach planning: follow a task-space quintic from the end-effector to the grasp
+point with a rate law of :mod:`.reaction_null_space`, closed on the position error.
+
+The task path ``x_d(t)`` is the quintic with the end-effector's position and velocity (zero
+acceleration) at t = 0 and the grasp point's position, velocity and acceleration at T; the law is
+asked for ``xdot_d + K (x_d - x_E)`` along the free-floating motion it causes (the base moving at
+the conserved momentum, :func:`.floating_kinematics.rollout`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pinocchio as pin
+from scipy.interpolate import CubicHermiteSpline
+
+from ...robot.joints import JointCoordinates
+from .floating_kinematics import FloatingKinematics, rollout
+from .plan import JointPath
+from .reaction_null_space import RateLaw, TaskRows
+from .request import ApproachRequest
+
+
+def quintic(T: float, start: tuple[np.ndarray, ...], end: tuple[np.ndarray, ...]) -> np.ndarray:
+    """Coefficients (6, m) of the quintic ``x(t) = sum_i c_i t^i`` with position, velocity and
+    acceleration ``start`` at 0 and ``end`` at T ((m,) each)."""
+    rows = []
+    for t in (0.0, T):
+        powers = np.array([t**i for i in range(6)])
+        rows += [powers, np.array([i * t ** max(i - 1, 0) for i in range(6)]),
+                 np.array([i * (i - 1) * t ** max(i - 2, 0) for i in range(6)])]
+    return np.linalg.solve(np.array(rows), np.array([*start, *end]))
+
+
+def task_path(request: ApproachRequest) -> np.ndarray:
+    """The quintic's coefficients (6, m) over the task components (see the module docstring)."""
+    model, data = request.robot.model, request.robot.model.createData()
+    pin.forwardKinematics(model, data, request.q0, request.v0)
+    frame = pin.updateFramePlacement(model, data, request.frame)
+    velocity = pin.getFrameVelocity(model, data, request.frame, pin.LOCAL_WORLD_ALIGNED).linear
+    c = request.task_components()
+    p_g, v_g, a_g = request.grasp.at(request.duration)
+    return quintic(request.duration, (frame.translation[c], velocity[c], np.zeros(len(c))), (p_g[c], v_g[c], a_g[c]))
+
+
+def resolved_rate_path(request: ApproachRequest, law: RateLaw) -> JointPath:
+    """The joint path of ``law`` following :func:`task_path` on the request's grid: the rolled-out
+    joint positions and rates joined by a cubic Hermite spline (C1; the accelerations are its
+    second derivative)."""
+    robot = request.robot
+    kin = FloatingKinematics.at_state(robot, request.q0, request.v0)
+    task = TaskRows.position(robot, request.end_effector, request.joints)
+    coefficients = task_path(request)
+    i, c = robot.end_effectors.index(request.end_effector), request.task_components()
+
+    def rates(t: float, _q: np.ndarray, state) -> np.ndarray:
+        powers = np.array([t**k for k in range(6)])
+        speeds = np.array([k * t ** max(k - 1, 0) for k in range(6)])
+        x_d, xdot_d = powers @ coefficients, speeds @ coefficients
+        error = x_d - state.ee_position[i][c]
+        return law(state, kin.momentum_base(state), xdot_d + request.gain * error, task)
+
+    times = request.times
+    q, v = rollout(kin, request.q0, rates, times)
+    coords = JointCoordinates(robot)
+    positions = np.array([coords.get(qk) for qk in q])
+    positions[:, coords.circle_pos] = np.unwrap(positions[:, coords.circle_pos], axis=0)
+    return JointPath(CubicHermiteSpline(times, positions, v[:, robot.n_base:]))
