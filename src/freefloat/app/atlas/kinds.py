@@ -106,3 +106,5 @@ register(AtlasKind("workspace", "free-floating workspace of an end-effector (rea
                    "path-dependent), beside the fixed-base one", "a robot: name or URDF file", ".workspace"))
 register(AtlasKind("singularities", "dynamic singularities (rank loss of J*) against the fixed-base ones of Jm, "
                    "condition number and manipulability of both", "a robot: name or URDF file", ".singularities"))
+register(AtlasKind("feasibility", "where the worst-case sliding-mode gain design has a solution (eq 161) over the "
+                   "uncertainty set", "a closed-chain mechanism: five_bar or rsu_ppap", ".feasibility"))
