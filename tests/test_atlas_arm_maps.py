@@ -4,8 +4,6 @@ four-arm robot's printed geometry, and a simulated motion to a mapped configurat
 
 from __future__ import annotations
 
-import warnings
-
 import numpy as np
 import pinocchio as pin
 import pytest
@@ -16,12 +14,9 @@ from freefloat.app.atlas.engine import run_atlas
 from freefloat.app.atlas.grid import Axis, Grid
 from freefloat.app.atlas.kinds import Options
 from freefloat.app.cli import main
-from freefloat.dynamics.integrators import make_integrator
-from freefloat.dynamics.models import ExactModel
-from freefloat.dynamics.simulation import run
+from freefloat.app.atlas.reach_check import drive_to
 from freefloat.errors import UnknownName
 from freefloat.robot.joints import JointCoordinates
-from freefloat.space.control import ComputedTorque, QuinticTrajectory
 
 pytestmark = pytest.mark.filterwarnings("ignore")
 
@@ -122,30 +117,12 @@ def test_a_mapped_point_is_reached_by_a_simulated_motion():
     the system CoM in the base frame (to 10 um: the tracking error left 0.5 s after the quintic ends),
     the CoM unmoved."""
     context = workspace.prepare("two_arm_planar", Options())
-    robot = robot_of(context.target, context.base)
     grid = Grid(tuple(Axis(n, 0.4, 0.9, 2) for n in context.axes))
     result = evaluate(context, grid.points())
-    coords = JointCoordinates(robot)
-    start = np.array(context.posture)
-    q0 = robot.neutral()
-    coords.set(q0, start)
-    model, data = robot.model, robot.model.createData()
-    com0 = pin.centerOfMass(model, data, q0).copy()
     for k in (0, grid.size - 1):
-        goal = start.copy()
-        goal[list(context.axis_index)] = grid.points(k, k + 1)[0]
-        controller = ComputedTorque(robot, QuinticTrajectory(start, goal, 1.0), 400.0, 40.0)
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            tel = run(robot, q0, np.zeros(model.nv), 1.5, 1e-3, make_integrator("rkmk4", model),
-                      ExactModel(robot), controller, record_every=500).telemetry
-        q = tel.q[-1]
-        pin.framesForwardKinematics(model, data, q)
-        com = pin.centerOfMass(model, data, q)
-        ee = data.oMf[robot.end_effector_frame_ids[context.index]].translation
-        base = data.oMi[1].rotation
-        assert np.allclose(com, com0, atol=1e-9)
-        assert np.allclose(base.T @ (ee - com), result["ee_from_com"][k], atol=1e-5)
+        arrival = drive_to(context, grid.points(k, k + 1)[0])
+        assert arrival.com_drift < 1e-9
+        assert np.allclose(arrival.ee_from_com, result["ee_from_com"][k], atol=1e-5)
 
 
 def test_cli_refuses_a_robot_without_end_effectors(tmp_path, capsys):

@@ -1,11 +1,15 @@
 """Drawing shared by the space-robot kinds: a joint-space panel over the grid's first two axes
-(the other axes at the grid value nearest the reference posture)."""
+(the other axes at the grid value nearest the reference posture), and a meshcat page of 3-D
+point clouds about the robot."""
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 
-from .arm_maps import ArmMap
+from ...robot.joints import JointCoordinates
+from .arm_maps import ArmMap, robot_of
 from .grid import Grid
 
 def joint_slice(context: ArmMap, grid: Grid, values: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -36,3 +40,26 @@ def joint_panel(ax, context: ArmMap, grid: Grid, values: np.ndarray, label: str,
     ax.set_ylabel(f"{grid.axes[1].name} (deg)")
     if loci:
         ax.legend(loc="upper right", fontsize=7, markerscale=3)
+
+
+#: Most points of a cloud drawn on a page (an evenly strided sample beyond it).
+MAX_CLOUD = 30_000
+
+
+def cloud_page(context: ArmMap, clouds: list[tuple[str, np.ndarray, np.ndarray]], path: Path) -> Path:
+    """A self-contained meshcat page (no server) of the robot at the reference posture and point
+    clouds about it: each ``(name, points (m, 3) in the inertial frame, m; colours (m, 3) in [0, 1])``,
+    thinned to :data:`MAX_CLOUD` points."""
+    import meshcat.geometry as mg
+
+    from ..viz.meshcat_html import write_trajectory_html
+
+    robot = robot_of(context.target, context.base)
+    q = robot.neutral()
+    JointCoordinates(robot).set(q, np.array(context.posture))
+    extra = []
+    for name, points, colours in clouds:
+        kept = np.arange(0, len(points), max(1, int(np.ceil(len(points) / MAX_CLOUD))))
+        geometry = mg.PointsGeometry(points[kept].T.astype(np.float32), colours[kept].T.astype(np.float32))
+        extra.append((name, mg.Points(geometry, mg.PointsMaterial(size=0.01)), np.eye(4)[None]))
+    return write_trajectory_html(robot, np.zeros(1), q[None], path, extra=extra)

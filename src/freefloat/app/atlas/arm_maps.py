@@ -171,6 +171,16 @@ def _momentum(values: tuple[float, ...] | None, base: str) -> tuple[float, ...] 
     return tuple(m) if np.any(m) else None
 
 
+def reference_point(context: ArmMap) -> tuple[np.ndarray, np.ndarray]:
+    """The system CoM and the base CoM (3,), (3,) at the reference posture, inertial frame, m."""
+    robot = robot_of(context.target, context.base)
+    q = robot.neutral()
+    JointCoordinates(robot).set(q, np.array(context.posture))
+    kin = gjm.model_of(robot).kinematics(q)
+    mass = gjm.model_of(robot).tree.mass
+    return mass @ kin.com / mass.sum(), kin.r0
+
+
 def evaluate(context: ArmMap, points: np.ndarray) -> dict[str, np.ndarray]:
     """Every quantity of the module's docstring at ``points`` (m, len(axes)): ``ee_from_com`` and
     ``ee_from_base`` (m, 3); ``radius_free`` and ``radius_fixed`` (m,), their norms (in-plane on a

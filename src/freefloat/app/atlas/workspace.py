@@ -33,7 +33,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .arm_figures import joint_panel
+from .arm_figures import cloud_page, joint_panel
 from .arm_maps import OPTIONS, ArmMap, evaluate
 from .arm_maps import prepare as prepare_arm
 from .grid import Axis, Grid
@@ -123,10 +123,25 @@ def summarise(context: ArmMap, grid: Grid, result: dict[str, np.ndarray]) -> dic
     return out
 
 
+def _page(context: ArmMap, result: dict[str, np.ndarray], path: Path) -> Path:
+    """The spatial map's points on a meshcat page: the free-floating positions about the system CoM
+    of the reference posture (grey; dynamic singularities red) and the fixed-base ones (blue;
+    kinematic singularities orange), the robot at the reference posture."""
+    from .arm_maps import reference_point
+
+    com, r0 = reference_point(context)
+    grey, red, blue, orange = (np.array(c) for c in ((0.6, 0.6, 0.6), (0.85, 0.15, 0.15), (0.2, 0.45, 0.8), (1.0, 0.6, 0.1)))
+    free = np.where(result["singular_free"][:, None], red, grey)
+    fixed = np.where(result["singular_fixed"][:, None], orange, blue)
+    return cloud_page(context, [("free_floating", com + result["ee_from_com"], free),
+                                ("fixed_base", r0 + result["ee_from_base"], fixed)], path)
+
+
 def figures(context: ArmMap, grid: Grid, result: dict[str, np.ndarray], out: Path) -> list[Path]:
     """``workspace_task_space.png`` (free-floating shells about the CoM beside the fixed-base
     points about the base CoM), ``workspace_radii.png`` (the radii of every point and of the
-    singular ones) and, for two or more axes, ``workspace_joint_space.png``."""
+    singular ones), for two or more axes ``workspace_joint_space.png``, and on a free base the
+    3-D points on a meshcat page, ``workspace_points.html``."""
     from ..viz.plotting import figure, finish, save
 
     free = shells(result["radius_free"], result["singular_free"], resolution(context, grid, result))
@@ -162,4 +177,6 @@ def figures(context: ArmMap, grid: Grid, result: dict[str, np.ndarray], out: Pat
                     {"singular J*": result["singular_free"], "singular Jm": result["singular_fixed"]})
         joint_panel(axes[1], context, grid, result["radius_fixed"], "distance from the base CoM (m)", {})
         paths += save(fig, out, "workspace_joint_space")
+    if context.base == "free":
+        paths.append(_page(context, result, out / "workspace_points.html"))
     return [p for p in paths if p.suffix == ".png"] + [p for p in paths if p.suffix != ".png"]
