@@ -62,9 +62,10 @@ def resolve(scene: Scene, models: tuple[str, ...] | None = None) -> tuple[Scene,
     sim = scene.simulation
     if sim.model != "auto":
         return scene, None
-    if scene.kind in ("capture", "two_hand_capture") or scene.closures:
+    if scene.kind in ("capture", "two_hand_capture") or scene.closures or scene.wheels:
         return with_plant(scene, "exact", sim.lock), {"model": "exact", "lock": sim.lock,
-                                                      "reason": "capture scenes and closed loops simulate the exact plant"}
+                                                      "reason": "capture scenes, closed loops and reaction wheels "
+                                                                "simulate the exact plant"}
     experiment = experiment_for(scene)
     setups = {lock: experiment.prepare(with_plant(scene, "exact", lock)) for lock in dict.fromkeys((sim.lock, "auto"))}
     if "auto" in setups and sim.lock != "auto" and _locked(setups["auto"]) == _locked(setups[sim.lock]):

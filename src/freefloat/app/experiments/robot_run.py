@@ -24,11 +24,13 @@ from ...robot.joints import JointCoordinates
 from ...robot.loading import load_robot
 from ...robot.locking import LockedJoints
 from ...robot.robot import Robot
+from ...robot.wheels import Wheels
 from ..scenes import Scene, resolve_file
 from .base import Checkpoint, Outcome, Progress
 from .budget import check_budget, seconds_per_call
 from .locked_run import full_telemetry, lock_for
 from .scene_closures import assemble, scene_closures
+from . import wheel_run
 
 #: Summary keys the command line prints for a robot run (those it has: drifts without external
 #: wrenches, balances with them; the spin's settling for detumbling and capture runs).
@@ -42,8 +44,9 @@ HEADLINE = ("model_auto", "tracking_rms_overall", "com_drift_max", "momentum_dri
 class RobotSetup:
     """A robot scene resolved before the loop: the robot, the initial Pinocchio state ``q0``
     (nq,), ``v0`` (nv,), the plant model and integrator, the controller (None: torque-free), the
-    external wrenches, the locked joints (None: none) and how ``simulation.model = "auto"`` chose
-    the plant (None: the scene named it). With locked joints the model,
+    external wrenches, the locked joints (None: none), how ``simulation.model = "auto"`` chose
+    the plant (None: the scene named it), and the reaction wheels (None: none) with the
+    controller the loop ran (``[attitude]`` composed with ``controller``). With locked joints the model,
     integrator and controller are built on :attr:`plant` (the reduced robot); ``robot``, ``q0``
     and ``v0`` stay the full robot's, as the outputs show it."""
 
@@ -57,6 +60,8 @@ class RobotSetup:
     wrenches: tuple[ExternalWrench, ...] = ()
     lock: LockedJoints | None = None
     model_choice: dict[str, Any] | None = None
+    wheels: Wheels | None = None
+    wheel_control: Controller | None = None
 
     @property
     def plant(self) -> Robot:
@@ -84,6 +89,8 @@ def prepare_robot(scene: Scene) -> RobotSetup:
         end_effectors=scene.robot.end_effectors, gravity=scene.robot.gravity, visuals=scene.output.html,
         inertias=scene.robot.inertias,
     )
+    wheels = wheel_run.mount(scene, robot)
+    robot = robot if wheels is None else wheels.robot
     s, ini = scene.angle_scale, scene.initial
     joint_q0 = joint_table(robot, ini.joint_positions, s, "initial.joint_positions")
     joint_v0 = joint_table(robot, ini.joint_velocities, s, "initial.joint_velocities")
@@ -117,7 +124,7 @@ def prepare_robot(scene: Scene) -> RobotSetup:
         integrator=make_integrator(sim.integrator, plant.model, sim.substeps, sim.rtol, sim.atol,
                                    project_momentum=sim.project_momentum),
         wrenches=tuple(ExternalWrench(w.link, w.force, w.torque, w.start, w.end, w.rise) for w in scene.wrenches),
-        lock=lock,
+        lock=lock, wheels=wheels,
     )
     check_run_size(setup)
     return setup
@@ -240,12 +247,15 @@ def simulate(setup: RobotSetup, progress: Progress | None, checkpoint: Checkpoin
     (:func:`~freefloat.app.experiments.locked_run.full_telemetry`)."""
     sim, lock = setup.scene.simulation, setup.lock
     q0, v0 = setup.plant_state()
+    controller = setup.controller
+    if setup.wheels is not None:
+        controller = setup.wheel_control = wheel_run.attitude_control(setup.scene, setup.wheels, controller, q0)
 
     def on_chunk(chunk: Telemetry) -> None:
         checkpoint(chunk if lock is None else full_telemetry(lock, chunk, setup.wrenches))
 
     result = run(setup.plant, q0, v0, sim.duration, sim.control_period, setup.integrator, setup.model,
-                 setup.controller, wrenches=setup.wrenches, record_every=sim.record_every, progress=progress,
+                 controller, wrenches=setup.wrenches, record_every=sim.record_every, progress=progress,
                  checkpoint=None if checkpoint is None else on_chunk, backend=sim.backend)
     if lock is not None:
         result.telemetry = full_telemetry(lock, result.telemetry, setup.wrenches)
@@ -286,6 +296,11 @@ def robot_outcome(setup: RobotSetup, robot: Robot, telemetry: Telemetry, result:
     sim = setup.scene.simulation
     wrenches = setup.wrenches if wrenches is None else wrenches
     closed = setup.model if isinstance(setup.model, ClosedModel) and robot is setup.robot else None
+    wheels = setup.wheels if robot is setup.robot and len(telemetry.t) else None
+    extra_telemetry = dict(extra_telemetry or {})
+    if wheels is not None:
+        wheel_rows = extra_telemetry["wheels"] = wheel_run.wheel_telemetry(wheels, telemetry, wrenches, sim.control_period)
+        summary = {**summary, **wheel_run.wheel_summary(wheels, setup.wheel_control, wheel_rows)}
     if setup.scene.output.figures and len(telemetry.t) >= 2:
         left_out = empty_figures(robot, telemetry, spin)
         if left_out:
@@ -301,10 +316,11 @@ def robot_outcome(setup: RobotSetup, robot: Robot, telemetry: Telemetry, result:
                          "control_period": sim.control_period,
                          "locked_joints": [] if setup.lock is None else list(setup.lock.names)},
         },
-        headline=HEADLINE,
-        extra_telemetry=extra_telemetry or {},
+        headline=HEADLINE if wheels is None else HEADLINE + wheel_run.HEADLINE,
+        extra_telemetry=extra_telemetry,
         figures=lambda folder: [*write_figures(robot, telemetry, folder, wrenches, sim.control_period, spin,
-                                               settle_threshold), *closure_figures(closed, telemetry, folder)],
+                                               settle_threshold), *closure_figures(closed, telemetry, folder),
+                                *([] if wheels is None else wheel_run.wheel_figures(wheels, wheel_rows, folder))],
         page=lambda path, fps: write_trajectory_html(robot, t, q, path, fps=fps, extra=extra_bodies or None,
                                                           events=events),
     )

@@ -128,6 +128,38 @@ class TargetSection:
 
 
 @dataclass(frozen=True)
+class WheelSection:
+    """``[[wheels]]``: a reaction wheel on the base (:mod:`freefloat.robot.wheels`): ``joint``, a
+    continuous joint of the URDF on the base, or one freefloat adds: its joint ``name``, spin
+    ``axis`` and rotor centre ``position`` (base-link frame, m), rotor ``mass`` (kg), axial
+    ``inertia`` and ``transverse_inertia`` (kg m^2; default half the axial); either way its limits,
+    ``max_momentum`` (stored momentum ``|I Omega|``, N m s) and ``max_torque`` (N m)."""
+
+    max_momentum: float
+    max_torque: float
+    joint: str = ""
+    name: str = ""
+    axis: tuple[float, ...] | None = None
+    position: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    mass: float = 1.0
+    inertia: float = 0.01
+    transverse_inertia: float | None = None
+
+
+@dataclass(frozen=True)
+class AttitudeSection:
+    """``[attitude]``: what the ``[[wheels]]`` do: ``kind = "hold"``, computed torque on the base
+    attitude (gains ``kp`` 1/s^2, ``kd`` 1/s) toward ``rpy`` (XYZ Euler angles in angle_unit;
+    default the initial attitude), composed with the arm's controller
+    (:mod:`freefloat.space.control.wheel_attitude`); ``"none"``: the wheels get no torque."""
+
+    kind: str = "hold"
+    kp: float = 4.0
+    kd: float = 4.0
+    rpy: tuple[float, ...] | None = None
+
+
+@dataclass(frozen=True)
 class ApproachSection:
     """``[approach]`` (with a ``[target]``): plan the pre-capture motion of ``target.end_effector``
     from t = 0 to ``target.contact_time`` (:mod:`freefloat.space.planning`) and track it by
@@ -208,6 +240,8 @@ class Scene:
     target: TargetSection | None = None
     closures: tuple[ClosureSection, ...] = ()
     approach: ApproachSection | None = None
+    wheels: tuple[WheelSection, ...] = ()
+    attitude: AttitudeSection | None = None
     source: Path | None = None
 
     @property
@@ -228,7 +262,7 @@ class Scene:
 SECTIONS = {
     "robot": RobotSection, "initial": InitialSection, "task": TaskSection,
     "controller": ControllerSection, "simulation": SimulationSection, "output": OutputSection,
-    "target": TargetSection, "approach": ApproachSection,
+    "target": TargetSection, "approach": ApproachSection, "attitude": AttitudeSection,
 }
 CHOICES = {
     ("robot", "base"): ("free", "planar"),
@@ -244,6 +278,7 @@ CHOICES = {
     ("closures", "kind"): lambda: (*KINDS, *ALIASES),
     ("", "angle_unit"): ("deg", "rad"),
     ("approach", "method"): ("null_space", "min_norm", "optimised"),
+    ("attitude", "kind"): ("hold", "none"),
 }
 POSITIVE = {
     ("task", "duration"), ("simulation", "duration"), ("simulation", "control_period"),
@@ -251,8 +286,11 @@ POSITIVE = {
     ("simulation", "record_every"), ("output", "html_fps"), ("target", "mass"), ("target", "contact_time"),
     ("target", "tolerance"), ("controller", "torque_limit"),
     ("approach", "max_joint_rate"), ("approach", "max_torque"), ("approach", "steps"),
+    ("wheels", "max_momentum"), ("wheels", "max_torque"), ("wheels", "mass"), ("wheels", "inertia"),
+    ("wheels", "transverse_inertia"),
 }
 NON_NEGATIVE = {("controller", "kp"), ("controller", "kd"), ("task", "start"), ("wrenches", "start"),
+                ("attitude", "kp"), ("attitude", "kd"),
                 ("wrenches", "rise"), ("simulation", "baumgarte")}
 RULES = Rules(CHOICES, POSITIVE, NON_NEGATIVE)
 
@@ -260,7 +298,7 @@ RULES = Rules(CHOICES, POSITIVE, NON_NEGATIVE)
 def parse_robot_scene(raw: dict[str, Any], source: Path | None = None) -> Scene:
     """Validate a robot scene given as a dict (the parsed TOML)."""
     where = f"{source}: " if source else "scene: "
-    top = {"name", "description", "angle_unit", "wrenches", "closures", *SECTIONS}
+    top = {"name", "description", "angle_unit", "wrenches", "closures", "wheels", *SECTIONS}
     reject_unknown(where, "", raw, top)
     if "name" not in raw or "robot" not in raw:
         raise SceneError(f"{where}'name' and [robot] are required")
@@ -284,6 +322,9 @@ def parse_robot_scene(raw: dict[str, Any], source: Path | None = None) -> Scene:
         if closure.frames is None or len(closure.frames) != 2 or closure.frames[0] == closure.frames[1]:
             raise SceneError(f"{where}'closures[{i}].frames' must name two different frames, got "
                              f"{list(closure.frames or ())}")
+    kwargs["wheels"] = parse_wheels(where, raw)
+    if "attitude" in kwargs and not kwargs["wheels"]:
+        raise SceneError(f"{where}[attitude] drives the reaction wheels: add [[wheels]] or remove it")
     if "approach" in kwargs and ("target" not in kwargs or kwargs["target"].second_end_effector):
         raise SceneError(f"{where}[approach] plans a one-hand capture: it needs a [target] without "
                          "'second_end_effector'")
@@ -301,3 +342,23 @@ def parse_robot_scene(raw: dict[str, Any], source: Path | None = None) -> Scene:
     return scene
 
 
+
+
+def parse_wheels(where: str, raw: dict[str, Any]) -> tuple[WheelSection, ...]:
+    """``[[wheels]]``: each names a URDF ``joint`` or adds a wheel (``name`` and ``axis``).
+
+    Raises:
+        SceneError: naming ``wheels[i]`` when it has both or neither, or an axis not of three
+            numbers.
+    """
+    tables = raw.get("wheels", [])
+    if not isinstance(tables, list):
+        raise SceneError(f"{where}'wheels' must be an array of tables ([[wheels]]), got {tables!r}")
+    wheels = tuple(parse_section(where, "wheels", WheelSection, w, RULES) for w in tables)
+    for i, wheel in enumerate(wheels):
+        if bool(wheel.joint) == bool(wheel.name or wheel.axis is not None):
+            raise SceneError(f"{where}'wheels[{i}]' needs either 'joint' (a continuous joint of the URDF) or "
+                             "'name' and 'axis' (a wheel freefloat adds), not both")
+        if not wheel.joint and (not wheel.name or wheel.axis is None or len(wheel.axis) != 3):
+            raise SceneError(f"{where}'wheels[{i}]': an added wheel needs 'name' and an 'axis' of three numbers")
+    return wheels

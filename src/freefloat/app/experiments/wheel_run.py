@@ -1,0 +1,161 @@
+"""Reaction wheels in a robot scene: ``[[wheels]]`` mounted on the loaded robot, ``[attitude]``
+composed with the arm's controller, and what a run reports about the wheels (summary keys, the
+``telemetry_wheels.npz`` arrays, the ``reaction_wheels`` figure)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pinocchio as pin
+
+from ...dynamics.balance import applied
+from ...dynamics.simulation import Controller
+from ...dynamics.telemetry import Arrays, Telemetry
+from ...dynamics.wrenches import ExternalWrench
+from ...errors import RobotModelError, SceneError
+from ...robot.conventions import base_link_placement, momentum_about_origin
+from ...robot.robot import Robot
+from ...robot.wheels import Wheels, WheelSpec, mount_wheels
+from ...space.control.wheel_attitude import WheelAttitudeControl
+from ..scenes import Scene
+from ..scenes.schema import AttitudeSection
+
+#: Summary keys about the wheels the command line prints.
+HEADLINE = ("wheel_saturated", "wheel_momentum_max", "wheel_momentum_balance_max")
+
+
+@dataclass
+class WheelTelemetry(Arrays):
+    """The wheels over a run, one row per telemetry sample (``telemetry_wheels.npz``).
+
+    Attributes:
+        t: time, s (N,).
+        speed: wheel rates relative to the base ``Omega``, rad/s (N, nw).
+        momentum: stored momentum of each wheel about its axis ``I Omega``, N m s (N, nw).
+        torque: wheel torques held over [t_k, t_k+1), N m (N, nw).
+        stored: the wheels' stored angular momentum ``sum_i I_i Omega_i R a_i``, inertial frame,
+            N m s (N, 3).
+        rest: angular momentum of everything else (the robot with its wheels not spinning
+            relative to the base, from Pinocchio) about the inertial origin, N m s (N, 3).
+        balance: ``stored + rest`` minus its start value minus the external angular impulse
+            about the origin (round-off when the wheels' momentum is the arm's reaction), N m s (N, 3).
+    """
+
+    t: np.ndarray
+    speed: np.ndarray
+    momentum: np.ndarray
+    torque: np.ndarray
+    stored: np.ndarray
+    rest: np.ndarray
+    balance: np.ndarray
+
+
+def mount(scene: Scene, robot: Robot) -> Wheels | None:
+    """The scene's ``[[wheels]]`` on ``robot`` (None without any).
+
+    Raises:
+        SceneError: naming the file and ``wheels[i]`` key for a wheel that cannot be mounted, and
+            the keys wheels cannot be used with (closures, locked joints, a detumbling task whose
+            mission joints include a wheel or default to all joints).
+    """
+    if not scene.wheels:
+        return None
+    where = f"{scene.source}: " if scene.source else f"scene '{scene.name}': "
+    specs = [WheelSpec(name=w.joint or w.name, max_momentum=w.max_momentum, max_torque=w.max_torque,
+                       axis=None if w.joint else w.axis, position=w.position, mass=w.mass, inertia=w.inertia,
+                       transverse_inertia=w.transverse_inertia, key=f"wheels[{i}]")
+             for i, w in enumerate(scene.wheels)]
+    try:
+        wheels = mount_wheels(robot, specs)
+    except RobotModelError as exc:
+        raise SceneError(f"{where}{exc}") from exc
+    if scene.closures:
+        raise SceneError(f"{where}[[closures]] are not available with [[wheels]] (the attitude law knows no loop)")
+    if scene.robot.locked_joints or scene.simulation.lock != "none":
+        raise SceneError(f"{where}'robot.locked_joints' and 'simulation.lock' are not available with [[wheels]]")
+    names = {w.name for w in wheels.wheels}
+    if scene.task.kind == "detumble" and (scene.task.mission_joints is None or names & set(scene.task.mission_joints)):
+        raise SceneError(f"{where}'task.mission_joints' must list the arm joints that detumble: the wheels "
+                         f"({', '.join(sorted(names))}) are driven by [attitude]")
+    return wheels
+
+
+def target_rotation(scene: Scene, robot: Robot, q0: np.ndarray) -> np.ndarray:
+    """The base-link rotation ``[attitude]`` holds (3, 3), inertial frame: the initial one, or the
+    base CoM frame at ``attitude.rpy`` (angle_unit) turned back to the base-link frame."""
+    rpy = None if scene.attitude is None else scene.attitude.rpy
+    if rpy is None:
+        return base_link_placement(robot, q0).rotation
+    if len(rpy) != 3:
+        raise SceneError(f"scene '{scene.name}': 'attitude.rpy' must be three angles, got {list(rpy)}")
+    return pin.rpy.rpyToMatrix(*(np.multiply(rpy, scene.angle_scale))) @ robot.base_com_rotation.T
+
+
+def attitude_control(scene: Scene, wheels: Wheels, arm: Controller | None, q0: np.ndarray) -> Controller | None:
+    """The controller of a scene with wheels: the attitude law composed with the arm's controller
+    (``[attitude] kind = "hold"``, the default), or free wheels under the arm's controller
+    (``"none"``: no wheel torque)."""
+    attitude = scene.attitude or AttitudeSection()
+    if attitude.kind == "none":
+        return WheelAttitudeControl(wheels, arm, None)
+    return WheelAttitudeControl(wheels, arm, target_rotation(scene, wheels.robot, q0), attitude.kp, attitude.kd)
+
+
+def wheel_telemetry(wheels: Wheels, telemetry: Telemetry, wrenches: tuple[ExternalWrench, ...],
+                    control_period: float) -> WheelTelemetry:
+    """The wheels' rows of a run (:class:`WheelTelemetry`)."""
+    robot, tel = wheels.robot, telemetry
+    model = robot.model
+    data = model.createData()
+    axes = wheels.axes()
+    momentum = wheels.momenta(tel.v)
+    stored = np.array([base_link_placement(robot, q).rotation @ axes @ h for q, h in zip(tel.q, momentum)])
+    rest = np.array([momentum_about_origin(model, data, q, wheels.without_rates(v))[3:] for q, v in zip(tel.q, tel.v)])
+    impulse = applied(robot, tel, wrenches, control_period).impulse[:, 3:] if wrenches else np.zeros_like(stored)
+    total = stored + rest
+    return WheelTelemetry(t=tel.t, speed=wheels.speeds(tel.v), momentum=momentum, torque=tel.tau[:, wheels.columns],
+                          stored=stored, rest=rest, balance=total - total[0] - impulse)
+
+
+def wheel_summary(wheels: Wheels, control: Controller | None, rows: WheelTelemetry) -> dict[str, Any]:
+    """Summary keys of the wheels: stored momentum (final, largest, per wheel, N m s), the
+    largest torque, the momentum balance (N m s), the arm's reaction and the wheels' momentum
+    change at the end (inertial, N m s), and the saturations: ``wheel_saturated`` (any limit
+    reached), each event, and the control periods each wheel spent at a limit."""
+    names = [w.name for w in wheels.wheels]
+    out: dict[str, Any] = {
+        "wheel_momentum_final": dict(zip(names, rows.momentum[-1].tolist())),
+        "wheel_momentum_max": dict(zip(names, np.abs(rows.momentum).max(axis=0).tolist())),
+        "wheel_momentum_limit": dict(zip(names, wheels.max_momenta.tolist())),
+        "wheel_torque_max": dict(zip(names, np.abs(rows.torque).max(axis=0).tolist())),
+        "wheel_stored_momentum_change": (rows.stored[-1] - rows.stored[0]).tolist(),
+        "arm_reaction_momentum": (rows.rest[-1] - rows.rest[0]).tolist(),
+        "wheel_momentum_balance_max": float(np.linalg.norm(rows.balance, axis=1).max()),
+    }
+    if isinstance(control, WheelAttitudeControl):
+        out.update(
+            wheel_saturated=bool(control.events),
+            wheel_saturation_events=[{"t": e.t, "wheel": e.wheel, "limit": e.limit, "asked": e.asked}
+                                     for e in control.events],
+            wheel_saturated_periods=dict(zip(names, control.saturated_periods.tolist())),
+        )
+    return out
+
+
+def wheel_figures(wheels: Wheels, rows: WheelTelemetry, folder: Path) -> list[Path]:
+    """The ``reaction_wheels`` figure (:func:`~freefloat.app.viz.wheel_figures.wheel_figure`)."""
+    if len(rows.t) < 2:
+        return []
+    from ..viz.plotting import save_all
+    from ..viz.wheel_figures import wheel_figure
+
+    names = [w.name for w in wheels.wheels]
+    figure = wheel_figure(rows.t, names, rows.momentum, wheels.max_momenta, rows.torque, wheels.max_torques)
+    return save_all({"reaction_wheels": figure}, folder)
+
+
+__all__ = ["HEADLINE", "WheelTelemetry", "attitude_control", "mount", "target_rotation", "wheel_figures",
+           "wheel_summary", "wheel_telemetry"]

@@ -1,0 +1,204 @@
+"""Base attitude control with reaction wheels, composed with the arm's controller.
+
+The arm's controller (computed torque on a joint reference, the detumbling law, or none) decides
+how the arm joints move; the wheels decide how the base turns. Each control period:
+
+1. The arm's law is evaluated on the arm's view of the state, the wheel rates set to zero: its
+   GJM then carries the momentum ``M - H_0w Omega`` (eqs 84-88 with the wheels' stored momentum
+   as the non-zero momentum term), so a detumbling solve stops the rows it is asked to with the
+   wheels spinning. The arm accelerations it intends, ``a_P``, are the exact forward dynamics of
+   its torques at that view (for computed torque on the exact model, ``qddot_d + Kp e + Kd edot``).
+2. With ``F`` the base and the other free coordinates (the wheels, and the arm when it has no
+   controller), the base and wheel rows of ``M a + b = tau`` give
+
+   .. math:: M_{FF} a_F = \\tau_F - M_{FP} a_P - b_F, \\qquad \\tau_F = S_w^T \\tau_w,
+
+   so the base angular acceleration is affine in the wheel torques, ``alpha = G tau_w + f``:
+   ``f`` holds the arm's reaction (the coupling ``H_0m qddot`` and the velocity terms), fed
+   forward. The wheel torques are the least-squares solution of ``G tau_w = alpha_d`` with the
+   attitude law (computed torque on SO(3) in the base frame, the target held):
+
+   .. math:: \\alpha_d = K_p \\log(R^T R_d) - K_d\\, \\omega_0 .
+
+3. Each wheel's torque is limited to ``max_torque``, and a wheel at its stored-momentum limit
+   ``max_momentum`` gets no torque that would spin it faster; every period a limit acts is
+   counted and each start of a saturation is an event (:attr:`WheelAttitudeControl.events`),
+   never a silent clip.
+4. The arm torques are the inverse dynamics (RNEA) with the arm accelerations ``a_P`` and the
+   base and wheel accelerations these wheel torques give: the arm moves as its law intends
+   whatever the wheels do.
+
+With three wheels whose axes span space (one about z on a planar base) and no limit reached,
+the base angular acceleration is ``alpha_d`` exactly.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import pinocchio as pin
+
+from ...dynamics.simulation import Controller
+from ...robot.joints import JointCoordinates
+from ...robot.wheels import Wheels
+
+#: Singular values of ``G`` below this fraction of the largest are cut (wheels that cannot turn
+#: the base about some axis leave that axis to itself).
+RCOND = 1e-10
+
+
+@dataclass(frozen=True)
+class SaturationEvent:
+    """A wheel reaching a limit.
+
+    Attributes:
+        t: time of the control period where it starts, s.
+        wheel: the wheel's joint name.
+        limit: ``"torque"`` (the law asked more than ``max_torque``) or ``"momentum"`` (the wheel
+            is at ``max_momentum`` and the law asked it to spin faster).
+        asked: the torque the attitude law asked of the wheel, N m.
+    """
+
+    t: float
+    wheel: str
+    limit: str
+    asked: float
+
+
+class BaseAttitude:
+    """The base attitude error and angular velocity in the base-link frame.
+
+    Free-flyer base: ``e = log3(R^T R_d)`` (3,) and ``omega`` the local angular velocity (3,);
+    planar base: the yaw error wrapped to (-pi, pi] and the yaw rate, (1,) each.
+
+    Args:
+        base: ``"free"`` or ``"planar"``.
+        target: the desired base-link rotation in the inertial frame (3, 3).
+    """
+
+    def __init__(self, base: str, target: np.ndarray):
+        self.free = base == "free"
+        self.target = np.asarray(target, dtype=float)
+        self.rows = np.arange(3, 6) if self.free else np.array([2])
+        self.yaw = float(np.arctan2(self.target[1, 0], self.target[0, 0]))
+
+    def error(self, q: np.ndarray) -> np.ndarray:
+        """Attitude error, rad ((3,) free, (1,) planar)."""
+        if self.free:
+            rotation = pin.Quaternion(q[3:7]).toRotationMatrix()
+            return pin.log3(rotation.T @ self.target)
+        return np.array([np.angle(np.exp(1j * (self.yaw - np.arctan2(q[3], q[2]))))])
+
+    def rate(self, v: np.ndarray) -> np.ndarray:
+        """Base angular velocity in the base-link frame, rad/s ((3,) free, (1,) planar)."""
+        return v[self.rows]
+
+
+class WheelAttitudeControl:
+    """Reaction wheels holding the base attitude while the arm's own law moves the arm.
+
+    Implements :class:`~freefloat.dynamics.simulation.Controller` for the robot with wheels (the
+    module docstring gives the law).
+
+    Args:
+        wheels: the robot with its wheels.
+        arm: the arm's controller on the same robot (its torques on the wheels are ignored), or
+            None: the arm joints are passive (zero torque).
+        target: the desired base-link rotation (3, 3), inertial frame; None: the wheels get no
+            torque (free wheels; the arm still moves as its law intends).
+        kp: attitude stiffness, 1/s^2.
+        kd: attitude damping, 1/s.
+
+    Attributes:
+        events: each start of a saturation, in time order.
+        saturated_periods: per wheel (nw,), the control periods in which a limit acted.
+        asked_torque: per wheel (nw,), the largest torque the attitude law asked, N m.
+    """
+
+    def __init__(self, wheels: Wheels, arm: Controller | None, target: np.ndarray | None, kp: float = 0.0,
+                 kd: float = 0.0):
+        robot = wheels.robot
+        self.wheels, self.arm, self.kp, self.kd = wheels, arm, kp, kd
+        self.model, self.data = robot.model, robot.model.createData()
+        self.attitude = None if target is None else BaseAttitude(robot.base, target)
+        self.coords = JointCoordinates(robot)
+        nb, nv = robot.n_base, robot.model.nv
+        self.nb = nb
+        self.prescribed = wheels.arm_columns + nb if arm is not None else np.zeros(0, dtype=int)
+        self.free = np.setdiff1d(np.arange(nv), self.prescribed)
+        self.wheel_in_free = np.searchsorted(self.free, wheels.v_indices)
+        self.tau_full = np.zeros(nv)
+        self.events: list[SaturationEvent] = []
+        self.saturated_periods = np.zeros(len(wheels.wheels), dtype=int)
+        self.asked_torque = np.zeros(len(wheels.wheels))
+        self._saturated = np.zeros(len(wheels.wheels), dtype=bool)
+        self._wheel_angles = np.zeros(len(wheels.wheels))
+
+    def reference(self, t: float) -> np.ndarray | None:
+        """The arm's reference (n_joints,), with the wheel rows at the wheels' measured angles of
+        the last period (a wheel has no position reference); None without an arm controller or
+        when the arm's law has none."""
+        ref = None if self.arm is None else self.arm.reference(t)
+        if ref is None:
+            return None
+        ref = np.array(ref, dtype=float)
+        ref[self.wheels.columns] = self._wheel_angles
+        return ref
+
+    def arm_acceleration(self, t: float, q: np.ndarray, v: np.ndarray) -> np.ndarray:
+        """The accelerations the arm's law intends for the prescribed coordinates (len(P),):
+        forward dynamics of all its torques (its wheel rows too: a computed-torque law couples
+        them) at its view of the state (wheel rates zero)."""
+        if self.arm is None:
+            return np.zeros(0)
+        view = self.wheels.without_rates(v)
+        self.tau_full[:] = 0.0
+        self.tau_full[self.nb:] = self.arm.torque(t, q, view)
+        return pin.aba(self.model, self.data, q, view, self.tau_full)[self.prescribed]
+
+    def torque(self, t: float, q: np.ndarray, v: np.ndarray) -> np.ndarray:
+        """Joint torques (n_joints,): the arm's from inverse dynamics, the wheels' from the
+        attitude law within their limits."""
+        a_P = self.arm_acceleration(t, q, v)
+        model, data, P, F = self.model, self.data, self.prescribed, self.free
+        M = pin.crba(model, data, q)
+        M = np.triu(M) + np.triu(M, 1).T
+        b = pin.nonLinearEffects(model, data, q, v)
+        rhs = -b[F] - M[np.ix_(F, P)] @ a_P
+        unit = np.zeros((len(F), len(self.wheel_in_free)))
+        unit[self.wheel_in_free, np.arange(len(self.wheel_in_free))] = 1.0
+        X = np.linalg.solve(M[np.ix_(F, F)], np.column_stack((rhs, unit)))
+        tau_w = np.zeros(len(self.wheel_in_free))
+        if self.attitude is not None:
+            rows = self.attitude.rows  # base rows come first in F
+            alpha_d = self.kp * self.attitude.error(q) - self.kd * self.attitude.rate(v)
+            asked = np.linalg.pinv(X[rows, 1:], rcond=RCOND) @ (alpha_d - X[rows, 0])
+            tau_w = self._limited(t, asked, self.wheels.speeds(v))
+        a = np.zeros(model.nv)
+        a[P] = a_P
+        a[F] = X[:, 0] + X[:, 1:] @ tau_w
+        tau = np.zeros(model.nv)
+        tau[P] = pin.rnea(model, data, q, v, a)[P]
+        tau[self.wheels.v_indices] = tau_w
+        self._wheel_angles = self.coords.get(q)[self.wheels.columns]
+        return tau[self.nb:]
+
+    def _limited(self, t: float, asked: np.ndarray, speeds: np.ndarray) -> np.ndarray:
+        """``asked`` within each wheel's torque limit, and zero where a wheel at its momentum limit
+        would spin faster; counts the periods and records each saturation's start."""
+        w = self.wheels
+        self.asked_torque = np.maximum(self.asked_torque, np.abs(asked))
+        tau = np.clip(asked, -w.max_torques, w.max_torques)
+        at_speed = (np.abs(speeds) * w.inertias >= w.max_momenta) & (tau * speeds > 0.0)
+        tau[at_speed] = 0.0
+        limited = at_speed | (np.abs(asked) > w.max_torques)
+        for i in np.flatnonzero(limited & ~self._saturated):
+            self.events.append(SaturationEvent(t, w.wheels[i].name, "momentum" if at_speed[i] else "torque",
+                                               float(asked[i])))
+        self.saturated_periods += limited
+        self._saturated = limited
+        return tau
+
+
+__all__ = ["RCOND", "BaseAttitude", "SaturationEvent", "WheelAttitudeControl"]
