@@ -5,12 +5,14 @@
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
+#include <cmath>
 #include <stdexcept>
 #include <string>
 
 #include "gjm.hpp"
 #include "models.hpp"
 #include "py_arrays.hpp"
+#include "tree_solve.hpp"
 
 namespace py = pybind11;
 using namespace freefloat;
@@ -95,28 +97,67 @@ Tree make_tree(const IntArray& parent, const Array& placement, const Array& axis
   return t;
 }
 
+// A row-major matrix handed to numpy without a copy: the array owns it (the state's copy is left
+// empty and reallocated by the next compute).
+py::array_t<double> take(MatX& m) {
+  auto* owned = new MatX(std::move(m));
+  py::capsule free(owned, [](void* p) { delete static_cast<MatX*>(p); });
+  return py::array_t<double>({static_cast<py::ssize_t>(owned->rows()), static_cast<py::ssize_t>(owned->cols())},
+                             owned->data(), free);
+}
+
 // (H0, H0m, Hm, Hstar, J0, Jm, J0E, Jstar, momentum_base, momentum_origin, x0dot, qdot,
-//  ee_position, (r0, R0, rotation, origin, joint_position, joint_axis, com, inertia))
-py::tuple state_out(const State& s) {
+//  ee_position, (r0, R0, rotation, origin, joint_position, joint_axis, com, inertia)); the dense
+// (n, n) and (6k, n) outputs are moved out of `s`.
+py::tuple state_out(State& s) {
   const Kinematics& k = s.kin;
   py::tuple kin = py::make_tuple(vector_out(k.r0), matrix_out(k.R0), stack33(k.rotation), stack3(k.origin),
                                  stack3(k.origin, 1), stack3(k.joint_axis), stack3(k.com), stack33(k.inertia));
-  return py::make_tuple(matrix_out(s.H0), matrix_out(s.H0m), matrix_out(s.Hm), matrix_out(s.Hstar),
-                        matrix_out(s.J0), matrix_out(s.Jm), matrix_out(s.J0E), matrix_out(s.Jstar),
-                        vector_out(s.momentum_base), vector_out(s.momentum_origin), vector_out(s.x0dot),
-                        vector_out(s.qdot), matrix_out(s.ee_position), kin);
+  return py::make_tuple(matrix_out(s.H0), matrix_out(s.H0m), take(s.Hm), take(s.Hstar), matrix_out(s.J0),
+                        take(s.Jm), matrix_out(s.J0E), take(s.Jstar), vector_out(s.momentum_base),
+                        vector_out(s.momentum_origin), vector_out(s.x0dot), vector_out(s.qdot),
+                        matrix_out(s.ee_position), kin);
 }
 
-// (dH0, dH0m, dHm, H0dot, H0mdot, Hmdot); dHm dense from its nonzero entries, on numpy's zeroed
-// (calloc) memory so that the zeros cost nothing.
-py::tuple derivatives_out(const Tree& t, const Derivatives& d) {
+// A new zeroed numpy array of `shape` (calloc: the zeros cost nothing until written).
+py::array_t<double> zeros(py::tuple shape) { return py::module_::import("numpy").attr("zeros")(shape); }
+
+// (dH0, dH0m, dHm, H0dot, H0mdot, Hmdot) dense, from the nonzero columns and entries.
+py::tuple derivatives_out(const Tree& t, const Derivatives& d, const VecX& qdot) {
   const py::ssize_t n = t.n;
-  py::array_t<double> dHm = py::module_::import("numpy").attr("zeros")(py::make_tuple(n, n, n));
-  double* out = dHm.mutable_data();
-  for (py::ssize_t k = 0; k < n; ++k)
-    for (const Derivatives::Entry& e : d.dHm_entries[k]) out[(k * n + e.i) * n + e.j] = out[(k * n + e.j) * n + e.i] = e.value;
-  return py::make_tuple(copy_out({n, 6, 6}, d.dH0.data()), copy_out({n, 6, n}, d.dH0m.data()), dHm,
-                        matrix_out(d.H0dot), matrix_out(d.H0mdot), matrix_out(d.Hmdot));
+  py::array_t<double> dH0m = zeros(py::make_tuple(n, 6, n)), dHm = zeros(py::make_tuple(n, n, n));
+  py::array_t<double> Hmdot = zeros(py::make_tuple(n, n));
+  double *columns = dH0m.mutable_data(), *entries = dHm.mutable_data(), *rate = Hmdot.mutable_data();
+  for (py::ssize_t k = 0; k < n; ++k) {
+    for (const Derivatives::Column& c : d.dH0m_columns[k])
+      for (int r = 0; r < 6; ++r) columns[(k * 6 + r) * n + c.j] = c.value[r];
+    for (const Derivatives::Entry& e : d.dHm_entries[k]) {
+      entries[(k * n + e.i) * n + e.j] = entries[(k * n + e.j) * n + e.i] = e.value;
+      rate[e.i * n + e.j] += qdot[k] * e.value;
+      if (e.i != e.j) rate[e.j * n + e.i] += qdot[k] * e.value;
+    }
+  }
+  return py::make_tuple(copy_out({n, 6, 6}, d.dH0.data()), dH0m, dHm, matrix_out(d.H0dot), matrix_out(d.H0mdot),
+                        Hmdot);
+}
+
+// Whether (q, v) passes freefloat.robot.state.check_state: every number finite and at most
+// `largest` in size, every unit-norm block of q (base quaternion, planar base's and continuous
+// joints' (cos, sin)) within `tolerance` of norm 1 (as pin.isNormalized). Sizes are not checked.
+bool admissible(const Tree& t, const double* q, int nq, const double* v, int nv, double tolerance, double largest) {
+  for (int i = 0; i < nq; ++i)
+    if (!(std::abs(q[i]) <= largest)) return false;  // NaN fails too
+  for (int i = 0; i < nv; ++i)
+    if (!(std::abs(v[i]) <= largest)) return false;
+  const auto unit = [&](int i, int size) {
+    double norm = 0.0;
+    for (int j = i; j < i + size; ++j) norm += q[j] * q[j];
+    return std::abs(std::sqrt(norm) - 1.0) < tolerance;
+  };
+  if (!(t.free_base ? unit(3, 4) : unit(2, 2))) return false;
+  for (int j = 0; j < t.n; ++j)
+    if (t.circle[j] && !unit(t.q_index[j], 2)) return false;
+  return true;
 }
 
 struct Core {
@@ -124,9 +165,18 @@ struct Core {
   int nq, nv;
   State state;
   Derivatives deriv;
+  TreeSolver solver;
+
+  Core(Tree t, int nq_, int nv_) : tree(std::move(t)), nq(nq_), nv(nv_), solver(tree) {}
 
   void run(const Array& q, const Array& v) {
     compute(tree, checked(q, nq, "q"), checked(v, nv, "v"), state);
+  }
+
+  // What the models need (no dense outputs), with the derivatives.
+  void run_dynamics(const Array& q, const Array& v) {
+    compute_inertia(tree, checked(q, nq, "q"), checked(v, nv, "v"), state);
+    derivatives(tree, state, deriv);
   }
 
   MatX sensitivity_rows(const Array& D) const {  // NIDC's D (n, 6), or zeros when empty
@@ -134,20 +184,24 @@ struct Core {
     return Eigen::Map<const MatX>(checked(D, 6 * tree.n, "D"), tree.n, 6);
   }
 
-  // Forward dynamics of one model: Pinocchio's a (nv,).
+  // Forward dynamics of one model: Pinocchio's a (nv,). H* qddot = tau + Q_q - c is solved through
+  // the tree-sparse factorisation of the whole GJM mass matrix (tree_solve.hpp), never forming H*.
   py::array_t<double> acceleration(const std::string& name, const Array& q, const Array& v, const Array& tau,
                                    const Array& F, const Array& Q_q, const Array& D) {
     const Variant variant = variant_of(name);
-    run(q, v);
-    derivatives(tree, state, deriv);
+    run_dynamics(q, v);
     const int n = tree.n, n_base = nv - n;
     const Vec6 force = Eigen::Map<const Vec6>(checked(F, 6, "F"));
     const ModelResult r = model_terms(tree, state, deriv, variant, force, sensitivity_rows(D));
-    const VecX rhs = Eigen::Map<const VecX>(checked(tau, nv, "tau") + n_base, n) +
-                     Eigen::Map<const VecX>(checked(Q_q, n, "Q_q"), n) - r.c;
+    VecX z(6 + n);
+    z.head<6>().setZero();
+    z.tail(n) = Eigen::Map<const VecX>(checked(tau, nv, "tau") + n_base, n) +
+                Eigen::Map<const VecX>(checked(Q_q, n, "Q_q"), n) - r.c;
+    solver.factor(state);
+    solver.solve(z.data());
     py::array_t<double> a(nv);
     Eigen::Map<VecX> qddot(a.mutable_data() + n_base, n);
-    qddot = state.Hstar.ldlt().solve(rhs);
+    qddot = z.tail(n);
     const Vec6 xddot0 = -state.H0_ldlt.solve(state.H0m * qddot + r.base_bias);
     local_base_acceleration(tree, q.data(), v.data(), xddot0, a.mutable_data());
     return a;
@@ -165,8 +219,7 @@ struct Core {
 
   // NIDC's dxdot0/dq_k (n, 6) at (q, v) with the augmented partials of D.
   py::array_t<double> sensitivity(const Array& q, const Array& v, bool translation, const Array& D) {
-    run(q, v);
-    derivatives(tree, state, deriv);
+    run_dynamics(q, v);
     const Partials p = nidc_partials(tree, state, deriv, sensitivity_rows(D), translation);
     return matrix_out(freefloat::sensitivity(state, p, tree.n));
   }
@@ -185,9 +238,9 @@ PYBIND11_MODULE(_core, m) {
                        py::array_t<bool> circle, bool free_base, const Array& base_com,
                        const Array& base_com_rotation, const IntArray& ee_body, const Array& ee_offset, int nq,
                        int nv) {
-             return Core{make_tree(parent, placement, axis, revolute, mass, com, inertia, q_index, circle, free_base,
+             return Core(make_tree(parent, placement, axis, revolute, mass, com, inertia, q_index, circle, free_base,
                                    base_com, base_com_rotation, ee_body, ee_offset),
-                         nq, nv, State{}, Derivatives{}};
+                         nq, nv);
            }),
            py::arg("parent"), py::arg("placement"), py::arg("axis"), py::arg("revolute"), py::arg("mass"),
            py::arg("com"), py::arg("inertia"), py::arg("q_index"), py::arg("circle"), py::arg("free_base"),
@@ -200,13 +253,17 @@ PYBIND11_MODULE(_core, m) {
       .def("compute_with_derivatives", [](Core& c, const Array& q, const Array& v) {
              c.run(q, v);
              derivatives(c.tree, c.state, c.deriv);
-             return py::make_tuple(state_out(c.state), derivatives_out(c.tree, c.deriv));
+             py::tuple deriv = derivatives_out(c.tree, c.deriv, c.state.qdot);
+             return py::make_tuple(state_out(c.state), deriv);
            }, "(state tuple, derivative tuple in GJMDerivatives field order) at (q, v).")
       .def("derivatives", [](Core& c, const Array& q, const Array& v) {
-             c.run(q, v);
-             derivatives(c.tree, c.state, c.deriv);
-             return derivatives_out(c.tree, c.deriv);
+             c.run_dynamics(q, v);
+             return derivatives_out(c.tree, c.deriv, c.state.qdot);
            }, "Derivative tuple in GJMDerivatives field order at (q, v).")
+      .def("admissible", [](const Core& c, const Array& q, const Array& v, double tolerance, double largest) {
+             return admissible(c.tree, checked(q, c.nq, "q"), c.nq, checked(v, c.nv, "v"), c.nv, tolerance, largest);
+           }, py::arg("q"), py::arg("v"), py::arg("tolerance"), py::arg("largest"),
+           "Whether (q, v) passes check_state: finite, at most `largest` in size, unit blocks within `tolerance` of norm 1.")
       .def("acceleration", &Core::acceleration, py::arg("name"), py::arg("q"), py::arg("v"), py::arg("tau"),
            py::arg("F"), py::arg("Q_q"), py::arg("D"),
            "Forward dynamics (nv,) of the named GJM model; F (6,) and Q_q (n,) generalized forces, D NIDC's (n, 6) or empty.")

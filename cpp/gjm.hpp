@@ -11,6 +11,11 @@
 // on the path to joint j (eq 19; zero between branches). Joint k moves everything it carries
 // rigidly with the motion S_k: a motion vector X by S_k x X, a momentum F by S_k x* F, an inertia
 // by S_k x* I - I S_k x.
+//
+// Cost: everything a dynamics model needs (compute_inertia, derivatives) is O(n d^2) for a tree of
+// depth d, the joint derivatives kept as their nonzero entries and columns; only the dense outputs
+// of compute_outputs (Hm, H*, Jm, J*) and the dense derivative arrays handed to numpy grow as n^2
+// (n^3 for dHm/dq).
 #pragma once
 
 #include <Eigen/Dense>
@@ -24,6 +29,7 @@ using Mat3 = Eigen::Matrix3d;
 using Vec6 = Eigen::Matrix<double, 6, 1>;
 using Mat6 = Eigen::Matrix<double, 6, 6>;
 using MatX = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+using Mat6X = Eigen::Matrix<double, 6, Eigen::Dynamic>;  // (6, n), one contiguous column per joint
 using VecX = Eigen::VectorXd;
 
 inline Mat3 skew(const Vec3& x) {
@@ -111,7 +117,8 @@ struct Kinematics {
 struct State {
   Kinematics kin;
   Mat6 H0;
-  MatX H0m, Hm, Hstar, J0, Jm, J0E, Jstar, ee_position;
+  Mat6X H0m;
+  MatX Hm, Hstar, J0, Jm, J0E, Jstar, ee_position;  // compute_outputs only
   Vec6 momentum_base, momentum_origin, x0dot;
   VecX qdot;
   std::vector<Vec6> S;          // (n) joint motions about r0
@@ -121,12 +128,19 @@ struct State {
 
 struct Derivatives {
   std::vector<double> dH0;      // (n, 6, 6) C order
-  std::vector<double> dH0m;     // (n, 6, n)
+  struct Column {
+    int j;
+    Vec6 value;
+  };
+  // (n) dH0m/dq_k (6, n): its nonzero columns, those of the joints k carries or that are above k.
+  std::vector<std::vector<Column>> dH0m_columns;
   struct Entry {
     int i, j;
     double value;
   };
   std::vector<std::vector<Entry>> dHm_entries;  // (n) dHm/dq_k (n, n): its nonzero entries, i <= j
+  Mat6 H0dot;
+  Mat6X H0mdot;
 
   // x^T dHm/dq_k x from the nonzero entries.
   double dHm_form(int k, const VecX& x) const {
@@ -134,8 +148,26 @@ struct Derivatives {
     for (const Entry& e : dHm_entries[k]) out += (e.i == e.j ? 1.0 : 2.0) * e.value * x[e.i] * x[e.j];
     return out;
   }
-  Mat6 H0dot;
-  MatX H0mdot, Hmdot;
+  // dH0m/dq_k x (6,).
+  Vec6 dH0m_times(int k, const VecX& x) const {
+    Vec6 out = Vec6::Zero();
+    for (const Column& c : dH0m_columns[k]) out += x[c.j] * c.value;
+    return out;
+  }
+  // out += w dH0m/dq_k.
+  void add_dH0m(int k, double w, Mat6X& out) const {
+    for (const Column& c : dH0m_columns[k]) out.col(c.j) += w * c.value;
+  }
+  // Hmdot x = sum_k qdot_k dHm/dq_k x (n,).
+  VecX Hmdot_times(const VecX& qdot, const VecX& x) const {
+    VecX out = VecX::Zero(x.size());
+    for (size_t k = 0; k < dHm_entries.size(); ++k)
+      for (const Entry& e : dHm_entries[k]) {
+        out[e.i] += qdot[k] * e.value * x[e.j];
+        if (e.i != e.j) out[e.j] += qdot[k] * e.value * x[e.i];
+      }
+    return out;
+  }
 };
 
 // Base-link pose and the base twist x0dot = [v0; w0] (base CoM, inertial) from Pinocchio's q, v.
@@ -201,9 +233,10 @@ inline Mat6 spatial_inertia(double m, const Vec3& c, const Mat3& Icom) {
   return I;
 }
 
-// All GJM quantities at (q, v) (numpy: GJM.compute).
-inline void compute(const Tree& t, const double* q, const double* v, State& s) {
-  const int n = t.n, nb = t.bodies(), k = static_cast<int>(t.ee_body.size());
+// What every dynamics model needs at (q, v), in O(n): body kinematics, joint motions S, composite
+// inertias Ic, H0 (and its factorisation), H0m, the base twist, joint rates and momenta.
+inline void compute_inertia(const Tree& t, const double* q, const double* v, State& s) {
+  const int n = t.n, nb = t.bodies();
   const int n_base = t.free_base ? 6 : 3;
   Mat3 Rb;
   Vec3 pb;
@@ -225,51 +258,74 @@ inline void compute(const Tree& t, const double* q, const double* v, State& s) {
   s.H0 = s.Ic[0];
   s.H0m.resize(6, n);
   for (int j = 0; j < n; ++j) s.H0m.col(j) = s.Ic[j + 1] * s.S[j];
-  s.Hm.setZero(n, n);
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i <= j; ++i)
-      if (t.carries(i, j)) s.Hm(i, j) = s.Hm(j, i) = s.S[i].dot(s.H0m.col(j));
-
-  s.ee_position.resize(k, 3);
-  s.Jm.setZero(6 * k, n);
-  s.J0E.setZero(6 * k, 6);
-  for (int e = 0; e < k; ++e) {
-    const int b = t.ee_body[e];
-    const Vec3 rE = kin.origin[b] + kin.rotation[b] * t.ee_offset[e];
-    s.ee_position.row(e) = rE.transpose();
-    for (int j = 0; j < n; ++j) {
-      if (!t.moves[b * n + j]) continue;
-      const Vec3& a = kin.joint_axis[j];
-      if (t.revolute[j]) {
-        s.Jm.block<3, 1>(6 * e, j) = a.cross(rE - kin.origin[j + 1]);
-        s.Jm.block<3, 1>(6 * e + 3, j) = a;
-      } else {
-        s.Jm.block<3, 1>(6 * e, j) = a;
-      }
-    }
-    s.J0E.block<6, 6>(6 * e, 0).setIdentity();
-    s.J0E.block<3, 3>(6 * e, 3) = -skew(rE - r0);
-  }
-
   s.H0_ldlt.compute(s.H0);
-  const MatX solved = s.H0_ldlt.solve(s.H0m);  // H0^-1 H0m (6, n)
-  s.J0 = -solved;
-  s.Hstar = s.Hm - s.H0m.transpose() * solved;
-  s.Hstar = 0.5 * (s.Hstar + s.Hstar.transpose()).eval();
-  s.Jstar = s.Jm - s.J0E * solved;
   s.qdot = Eigen::Map<const VecX>(v + n_base, n);
   s.momentum_base = s.H0 * s.x0dot + s.H0m * s.qdot;
   s.momentum_origin = s.momentum_base;
   s.momentum_origin.tail<3>() += r0.cross(s.momentum_base.head<3>());
 }
 
+// The dense outputs of GJM.compute after compute_inertia: Hm, the end-effector Jacobians, J0, H*
+// and J*. Hm is filled along the paths only; H* = Hm + H0m^T J0 row by row on and above the
+// diagonal, mirrored; J* = Jm + J0E J0 with J0E's blocks [[I, -(r_E - r0)x], [0, I]] written out.
+inline void compute_outputs(const Tree& t, State& s) {
+  const int n = t.n, k = static_cast<int>(t.ee_body.size());
+  const Kinematics& kin = s.kin;
+  const Vec3 r0 = kin.r0;
+  s.Hm.setZero(n, n);
+  for (int j = 0; j < n; ++j) {
+    s.Hm(j, j) = s.S[j].dot(s.H0m.col(j));
+    for (int i : t.above[j]) s.Hm(i, j) = s.Hm(j, i) = s.S[i].dot(s.H0m.col(j));
+  }
+  s.J0 = -s.H0_ldlt.solve(s.H0m);  // (6, n), row-major: its rows are what H* and J* combine
+  s.Hstar.resize(n, n);
+  for (int i = 0; i < n; ++i) {
+    s.Hstar.row(i).tail(n - i) = s.Hm.row(i).tail(n - i) + s.H0m.col(i).transpose() * s.J0.rightCols(n - i);
+    for (int j = i + 1; j < n; ++j) s.Hstar(j, i) = s.Hstar(i, j);
+  }
+
+  s.ee_position.resize(k, 3);
+  s.Jm.setZero(6 * k, n);
+  s.J0E.setZero(6 * k, 6);
+  s.Jstar.resize(6 * k, n);
+  for (int e = 0; e < k; ++e) {
+    const int b = t.ee_body[e];
+    const Vec3 rE = kin.origin[b] + kin.rotation[b] * t.ee_offset[e];
+    s.ee_position.row(e) = rE.transpose();
+    if (b > 0) {
+      const auto column = [&](int j) {
+        const Vec3& a = kin.joint_axis[j];
+        if (t.revolute[j]) {
+          s.Jm.block<3, 1>(6 * e, j) = a.cross(rE - kin.origin[j + 1]);
+          s.Jm.block<3, 1>(6 * e + 3, j) = a;
+        } else {
+          s.Jm.block<3, 1>(6 * e, j) = a;
+        }
+      };
+      column(b - 1);
+      for (int j : t.above[b - 1]) column(j);
+    }
+    const Mat3 lever = skew(rE - r0);
+    s.J0E.block<6, 6>(6 * e, 0).setIdentity();
+    s.J0E.block<3, 3>(6 * e, 3) = -lever;
+    s.Jstar.middleRows<3>(6 * e) = s.Jm.middleRows<3>(6 * e) + s.J0.topRows<3>() - lever * s.J0.bottomRows<3>();
+    s.Jstar.middleRows<3>(6 * e + 3) = s.Jm.middleRows<3>(6 * e + 3) + s.J0.bottomRows<3>();
+  }
+}
+
+// All GJM quantities at (q, v) (numpy: GJM.compute).
+inline void compute(const Tree& t, const double* q, const double* v, State& s) {
+  compute_inertia(t, q, v, s);
+  compute_outputs(t, s);
+}
+
 // Joint derivatives at fixed base pose and twist, and time derivatives along the motion
-// (numpy: derivatives.time_derivatives), from a state computed by compute(). dHm/dq_k is kept as
-// its nonzero entries.
+// (numpy: derivatives.time_derivatives), from a state computed by compute_inertia(). dH0m/dq_k is
+// kept as its nonzero columns and dHm/dq_k as its nonzero entries.
 inline void derivatives(const Tree& t, const State& s, Derivatives& d) {
   const int n = t.n;
-  d.dH0.assign(static_cast<size_t>(n) * 36, 0.0);
-  d.dH0m.assign(static_cast<size_t>(n) * 6 * n, 0.0);
+  d.dH0.resize(static_cast<size_t>(n) * 36);
+  d.dH0m_columns.resize(n);
   d.dHm_entries.resize(n);
   // Joint k moves the joints it carries rigidly; it changes only the entries that pair a joint
   // strictly above it with a joint it carries or with another joint above it.
@@ -279,14 +335,15 @@ inline void derivatives(const Tree& t, const State& s, Derivatives& d) {
     const Mat6& Ick = s.Ic[k + 1];
     Eigen::Map<Eigen::Matrix<double, 6, 6, Eigen::RowMajor>> dH0(d.dH0.data() + 36 * k);
     dH0 = inertia_rate(Sk, Ick);
-    Eigen::Map<MatX> dH0m(d.dH0m.data() + static_cast<size_t>(6) * n * k, 6, n);
+    auto& columns = d.dH0m_columns[k];
     auto& entries = d.dHm_entries[k];
+    columns.clear();
     entries.clear();
-    for (int j : t.carried[k]) dH0m.col(j) = cross_force(Sk, s.H0m.col(j));
+    for (int j : t.carried[k]) columns.push_back({j, cross_force(Sk, s.H0m.col(j))});
     for (int i : t.above[k]) {
       SxSk[i] = cross_motion(s.S[i], Sk);
       IcS[i] = Ick * s.S[i];
-      dH0m.col(i) = cross_force(Sk, IcS[i]) - Ick * cross_motion(Sk, s.S[i]);
+      columns.push_back({i, cross_force(Sk, IcS[i]) - Ick * cross_motion(Sk, s.S[i])});
     }
     for (int i : t.above[k]) {
       for (int j : t.carried[k]) entries.push_back({i, j, SxSk[i].dot(s.H0m.col(j))});  // i above k, k on the path to j
@@ -298,15 +355,10 @@ inline void derivatives(const Tree& t, const State& s, Derivatives& d) {
   Omega.topLeftCorner<3, 3>() = Omega.bottomRightCorner<3, 3>() = skew(s.x0dot.tail<3>());
   d.H0dot = Omega * s.H0 - s.H0 * Omega;
   d.H0mdot = Omega * s.H0m;
-  d.Hmdot.setZero(n, n);
   for (int k = 0; k < n; ++k) {
     const double qk = s.qdot[k];
     d.H0dot += qk * Eigen::Map<const Eigen::Matrix<double, 6, 6, Eigen::RowMajor>>(d.dH0.data() + 36 * k);
-    d.H0mdot += qk * Eigen::Map<const MatX>(d.dH0m.data() + static_cast<size_t>(6) * n * k, 6, n);
-    for (const Derivatives::Entry& e : d.dHm_entries[k]) {
-      d.Hmdot(e.i, e.j) += qk * e.value;
-      if (e.i != e.j) d.Hmdot(e.j, e.i) += qk * e.value;
-    }
+    d.add_dH0m(k, qk, d.H0mdot);
   }
 }
 

@@ -3,7 +3,11 @@
 // equations; each function here names the method it mirrors. tests/test_models.py pins the two.
 //
 // Every model writes the joints as tau + Q_q = H qddot + c and the base row as xddot0 = f(qddot),
-// xddot0 the acceleration of the base CoM twist [v0; w0] (inertial frame).
+// xddot0 the acceleration of the base CoM twist [v0; w0] (inertial frame). Every term here is
+// O(n d^2) for a tree of depth d: the joint partials are contracted through their nonzero columns
+// and entries, NIDC's augmentation is applied to vectors, and forward dynamics solves H = H* through
+// the tree-sparse factorisation of the whole mass matrix (tree_solve.hpp) where the numpy reference
+// forms and solves the dense H*.
 #pragma once
 
 #include <stdexcept>
@@ -38,26 +42,57 @@ inline Variant variant_of(const std::string& name) {
 using RowMat6 = Eigen::Matrix<double, 6, 6, Eigen::RowMajor>;
 
 // The joint partials dH0/dq_k and dH0m/dq_k a model uses: GJM's, read in place, or NIDC's
-// augmented ones. dH0m/dq_k is only ever needed times qdot or summed with weights, so NIDC's
-// augmentation of it (linear in D) is applied to those contractions, never stored per joint.
+// augmented ones. Both are only ever needed times a vector or summed with weights, so NIDC's
+// augmentation (linear in D) is applied to those contractions, never stored per joint.
 struct Partials {
   const Derivatives* d;
   const State* s;
   int n;
-  std::vector<Mat6> dH0_aug;   // NIDC: the augmented dH0/dq_k; empty otherwise
   std::vector<Vec3> turn;      // NIDC: D's rotation rows (base turned by them); empty otherwise
   std::vector<Vec3> shift;     // nidc_translation: D's translation rows; empty otherwise
   Vec6 H0m_qdot = Vec6::Zero();
+  double links = 0.0;          // nidc_translation: the links' mass and sum_i m_i r0i
+  Vec3 first_moment = Vec3::Zero();
 
-  Mat6 dH0(int k) const {
-    return dH0_aug.empty() ? Mat6(Eigen::Map<const RowMat6>(d->dH0.data() + 36 * k)) : dH0_aug[k];
+  Eigen::Map<const RowMat6> gjm_dH0(int k) const { return Eigen::Map<const RowMat6>(d->dH0.data() + 36 * k); }
+  // NIDC's change of dH0 for a base turned by r and moved by t (NIDCModel.augmented and
+  // _translation_terms): Delta H0 - H0 Delta with Delta = diag(r x, r x), plus
+  // [[0, m t x], [-m t x, t x S x + S x t x]], times x (6,).
+  Vec6 augmentation_times(const Vec3& r, const Vec3& t, const Vec6& x) const {
+    const Vec6 h = s->H0 * x;
+    Vec6 turned;
+    turned << r.cross(x.head<3>()), r.cross(x.tail<3>());
+    Vec6 out = -(s->H0 * turned);
+    out.head<3>() += r.cross(h.head<3>()) + links * t.cross(x.tail<3>());
+    out.tail<3>() += r.cross(h.tail<3>()) - links * t.cross(x.head<3>()) +
+                     t.cross(first_moment.cross(x.tail<3>())) + first_moment.cross(t.cross(x.tail<3>()));
+    return out;
   }
-  Eigen::Map<const MatX> gjm_dH0m(int k) const {
-    return Eigen::Map<const MatX>(d->dH0m.data() + static_cast<size_t>(6) * n * k, 6, n);
+  Vec3 turn_of(int k) const { return turn.empty() ? Vec3::Zero() : turn[k]; }
+  Vec3 shift_of(int k) const { return shift.empty() ? Vec3::Zero() : shift[k]; }
+
+  // dH0/dq_k x (6,).
+  Vec6 dH0_times(int k, const Vec6& x) const {
+    Vec6 out = gjm_dH0(k) * x;
+    if (!turn.empty()) out += augmentation_times(turn[k], shift_of(k), x);
+    return out;
+  }
+  // sum_k w_k dH0/dq_k (6, 6).
+  Mat6 dH0_sum(const VecX& w) const {
+    Mat6 out = Mat6::Zero();
+    Vec3 r = Vec3::Zero(), t = Vec3::Zero();
+    for (int k = 0; k < n; ++k) {
+      out += w[k] * gjm_dH0(k);
+      r += w[k] * turn_of(k);
+      t += w[k] * shift_of(k);
+    }
+    if (!turn.empty())
+      for (int c = 0; c < 6; ++c) out.col(c) += augmentation_times(r, t, Vec6::Unit(c));
+    return out;
   }
   // dH0m/dq_k qdot (6,); NIDC adds Delta_k H0m qdot (and -[0; delta_k J_TS qdot]).
   Vec6 dH0m_qdot(int k) const {
-    Vec6 out = gjm_dH0m(k) * s->qdot;
+    Vec6 out = d->dH0m_times(k, s->qdot);
     if (!turn.empty()) {
       out.head<3>() += turn[k].cross(H0m_qdot.head<3>());
       out.tail<3>() += turn[k].cross(H0m_qdot.tail<3>());
@@ -66,9 +101,9 @@ struct Partials {
     return out;
   }
   // sum_k w_k dH0m/dq_k (6, n).
-  MatX dH0m_sum(const VecX& w) const {
-    MatX out = MatX::Zero(6, n);
-    for (int k = 0; k < n; ++k) out += w[k] * gjm_dH0m(k);
+  Mat6X dH0m_sum(const VecX& w) const {
+    Mat6X out = Mat6X::Zero(6, n);
+    for (int k = 0; k < n; ++k) d->add_dH0m(k, w[k], out);
     if (!turn.empty()) {
       Vec3 r = Vec3::Zero();
       for (int k = 0; k < n; ++k) r += w[k] * turn[k];
@@ -90,27 +125,15 @@ inline Partials gjm_partials(const Tree& t, const State& s, const Derivatives& d
 // translation for nidc_translation, NIDCModel._translation_terms). D is (n, 6), row k = dx0/dq_k.
 inline Partials nidc_partials(const Tree& t, const State& s, const Derivatives& d, const MatX& D, bool translation) {
   const int n = t.n;
-  Partials p{&d, &s, n, std::vector<Mat6>(n)};
+  Partials p{&d, &s, n};
   p.H0m_qdot = s.H0m * s.qdot;
-  double links = 0.0;
-  Vec3 S = Vec3::Zero();
-  for (int b = 1; b <= n; ++b) {
-    links += t.mass[b];
-    S += t.mass[b] * (s.kin.com[b] - s.kin.r0);
-  }
-  const Mat3 SX = skew(S);
-  for (int k = 0; k < n; ++k) {
-    p.turn.push_back(D.row(k).tail<3>().transpose());
-    Mat6 Delta = Mat6::Zero();
-    Delta.topLeftCorner<3, 3>() = Delta.bottomRightCorner<3, 3>() = skew(p.turn[k]);
-    p.dH0_aug[k] = Eigen::Map<const RowMat6>(d.dH0.data() + 36 * k) + Delta * s.H0 - s.H0 * Delta;
-    if (translation) {
-      p.shift.push_back(D.row(k).head<3>().transpose());
-      const Mat3 delta = skew(p.shift[k]);
-      p.dH0_aug[k].topRightCorner<3, 3>() += links * delta;
-      p.dH0_aug[k].bottomLeftCorner<3, 3>() -= links * delta;
-      p.dH0_aug[k].bottomRightCorner<3, 3>() += delta * SX + SX * delta;
+  for (int k = 0; k < n; ++k) p.turn.push_back(D.row(k).tail<3>().transpose());
+  if (translation) {
+    for (int b = 1; b <= n; ++b) {
+      p.links += t.mass[b];
+      p.first_moment += t.mass[b] * (s.kin.com[b] - s.kin.r0);
     }
+    for (int k = 0; k < n; ++k) p.shift.push_back(D.row(k).head<3>().transpose());
   }
   return p;
 }
@@ -119,7 +142,7 @@ inline Partials nidc_partials(const Tree& t, const State& s, const Derivatives& 
 inline VecX quadratic_form(const State& s, const Partials& p, int n) {
   VecX out(n);
   for (int k = 0; k < n; ++k)
-    out[k] = s.x0dot.dot(p.dH0(k) * s.x0dot) + 2.0 * s.x0dot.dot(p.dH0m_qdot(k)) + p.d->dHm_form(k, s.qdot);
+    out[k] = s.x0dot.dot(p.dH0_times(k, s.x0dot)) + 2.0 * s.x0dot.dot(p.dH0m_qdot(k)) + p.d->dHm_form(k, s.qdot);
   return out;
 }
 
@@ -128,7 +151,7 @@ inline MatX sensitivity(const State& s, const Partials& p, int n) {
   const Vec6 base_rate = s.H0_ldlt.solve(s.H0m * s.qdot);
   MatX out(n, 6);
   for (int k = 0; k < n; ++k)
-    out.row(k) = s.H0_ldlt.solve(p.dH0(k) * base_rate - p.dH0m_qdot(k)).transpose();
+    out.row(k) = s.H0_ldlt.solve(p.dH0_times(k, base_rate) - p.dH0m_qdot(k)).transpose();
   return out;
 }
 
@@ -146,22 +169,21 @@ inline ModelResult underactuated(const Tree& t, const State& s, const Derivative
   const bool full = variant == Variant::standard_full_hdot || variant == Variant::standard_corrected;
   const Partials p = nidc ? nidc_partials(t, s, d, D, variant == Variant::nidc_translation) : gjm_partials(t, s, d);
   Mat6 H0dot;
-  MatX H0mdot, Hmdot;
+  Mat6X H0mdot;
   if (full) {
-    H0dot = d.H0dot, H0mdot = d.H0mdot, Hmdot = d.Hmdot;
+    H0dot = d.H0dot, H0mdot = d.H0mdot;
   } else {  // sum_k dH/dq_k qdot_k: the base's rotation left out
-    H0dot.setZero();
-    for (int k = 0; k < n; ++k) H0dot += s.qdot[k] * p.dH0(k);
+    H0dot = p.dH0_sum(s.qdot);
     H0mdot = p.dH0m_sum(s.qdot);
-    Hmdot = d.Hmdot;  // dHm does not depend on the base rotation
-  }
+  }  // Hmdot is the same either way: Hm does not depend on the base rotation
   Vec6 c0 = Vec6::Zero();
   if (variant == Variant::standard_corrected) c0.tail<3>() = s.x0dot.head<3>().cross(s.momentum_base.head<3>());
   VecX c_m = -0.5 * quadratic_form(s, p, n);
   if (nidc) c_m -= sensitivity(s, p, n) * s.momentum_base;
   ModelResult out;
   out.base_bias = H0dot * s.x0dot + H0mdot * s.qdot + c0 - F;
-  out.c = H0mdot.transpose() * s.x0dot + Hmdot * s.qdot + c_m - s.H0m.transpose() * s.H0_ldlt.solve(out.base_bias);
+  out.c = H0mdot.transpose() * s.x0dot + d.Hmdot_times(s.qdot, s.qdot) + c_m -
+          s.H0m.transpose() * s.H0_ldlt.solve(out.base_bias);
   return out;
 }
 
@@ -170,21 +192,20 @@ inline ModelResult underactuated(const Tree& t, const State& s, const Derivative
 // sum_k qdot_k dH*/dq_k uses the joint-only rates, and qdot^T dH*/dq_k qdot needs A qdot only.
 inline ModelResult generalized(const Tree& t, const State& s, const Derivatives& d, Variant variant) {
   const int n = t.n;
-  const MatX A = s.H0_ldlt.solve(s.H0m);  // (6, n)
+  const Mat6X A = s.H0_ldlt.solve(s.H0m);  // (6, n)
   const VecX& qd = s.qdot;
   const Vec6 Aqd = A * qd;
   Mat6 H0dot_joints = Mat6::Zero();
-  MatX H0mdot_joints = MatX::Zero(6, n);
+  Mat6X H0mdot_joints = Mat6X::Zero(6, n);
   VecX quad(n), amended(n), gyro(n);
   const bool momentum = variant != Variant::reduced;
   const Vec6 invM = momentum ? Vec6(s.H0_ldlt.solve(s.momentum_base)) : Vec6::Zero();
   for (int k = 0; k < n; ++k) {
-    const Eigen::Map<const MatX> dH0m(d.dH0m.data() + static_cast<size_t>(6) * n * k, 6, n);
     const Eigen::Map<const RowMat6> dH0(d.dH0.data() + 36 * k);
-    const Vec6 dH0m_qd = dH0m * qd;
+    const Vec6 dH0m_qd = d.dH0m_times(k, qd);
     quad[k] = d.dHm_form(k, qd) - 2.0 * Aqd.dot(dH0m_qd) + Aqd.dot(dH0 * Aqd);
     H0dot_joints += qd[k] * dH0;
-    H0mdot_joints += qd[k] * dH0m;
+    d.add_dH0m(k, qd[k], H0mdot_joints);
     if (momentum) {
       const Vec6 dH0invM = dH0 * invM;
       amended[k] = -dH0invM.dot(invM);
@@ -192,7 +213,7 @@ inline ModelResult generalized(const Tree& t, const State& s, const Derivatives&
     }
   }
   ModelResult out;
-  out.c = d.Hmdot * qd - H0mdot_joints.transpose() * Aqd - A.transpose() * (H0mdot_joints * qd) +
+  out.c = d.Hmdot_times(qd, qd) - H0mdot_joints.transpose() * Aqd - A.transpose() * (H0mdot_joints * qd) +
           A.transpose() * (H0dot_joints * Aqd) - 0.5 * quad;
   if (momentum) {
     const VecX rate = d.H0mdot.transpose() * invM - s.H0m.transpose() * s.H0_ldlt.solve(d.H0dot * invM);

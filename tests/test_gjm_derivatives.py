@@ -79,7 +79,9 @@ def test_pseudo_inverse_rate_matches_differences(damping):
 @settings(max_examples=15, deadline=None)
 @given(random_robots(min_links=3, max_links=6))
 def test_task_space_law_qddot_is_the_derivative_of_eq_138(tmp_path_factory, case):
-    """The analytic qddot_d equals differences of eq 138's qdot_d along a torque-free motion."""
+    """The analytic qddot_d equals differences of eq 138's qdot_d along a torque-free motion, to
+    1e-6 plus the differences' own error (estimated from steps h and h / 2: near-singular rows
+    make qddot_d large and the differences coarse)."""
     robot, rng = robot_from_case(tmp_path_factory, case)
     q, v = random_state(robot, rng)
     state = gjm.compute(robot, q, v)
@@ -91,11 +93,14 @@ def test_task_space_law_qddot_is_the_derivative_of_eq_138(tmp_path_factory, case
                                    acceleration=lambda t: x1)
     qddot_d = ctrl.reference_joint(0.0, q, v)[2]
     a = pin.aba(robot.model, robot.model.createData(), q, v, np.zeros(robot.model.nv))
-    h = 1e-3
-    values = [inverse.joint_rates(gjm.compute(robot, pin.integrate(robot.model, q, v * t), v + a * t), x0 + x1 * t)
-              for t in (-2 * h, -h, h, 2 * h)]
-    fd = (values[0] - 8.0 * values[1] + 8.0 * values[2] - values[3]) / (12.0 * h)
-    assert relative(qddot_d, fd) < 1e-6
+
+    def differences(h: float) -> np.ndarray:
+        values = [inverse.joint_rates(gjm.compute(robot, pin.integrate(robot.model, q, v * t), v + a * t), x0 + x1 * t)
+                  for t in (-2 * h, -h, h, 2 * h)]
+        return (values[0] - 8.0 * values[1] + 8.0 * values[2] - values[3]) / (12.0 * h)
+
+    coarse, fine = differences(1e-3), differences(5e-4)
+    assert relative(qddot_d, fine) < 1e-6 + relative(coarse, fine)
 
 
 @settings(max_examples=20, deadline=None)

@@ -23,10 +23,9 @@ import numpy as np
 
 from ...errors import UnknownName
 from ...robot.robot import Robot
-from ...robot.state import check_state
 from .kinematics import BodyKinematics, TreeStructure
 from .matrices import body_jacobians, skew_batch
-from .model import BACKENDS, GJM, GJMState, model_of, state_of
+from .model import BACKENDS, GJM, GJMState, checked_state, state_of
 
 
 class GJMDerivatives(NamedTuple):
@@ -141,9 +140,7 @@ def derivatives(robot: Robot, q: np.ndarray, v: np.ndarray, backend: str = "comp
     Raises:
         InvalidArgument: for q or v of the wrong size, not finite, or a non-unit quaternion.
     """
-    q, v = np.asarray(q, dtype=float), np.asarray(v, dtype=float)
-    check_state(robot, q, v)
-    gjm = model_of(robot)
+    gjm, q, v = checked_state(robot, q, v)
     if backend == "compiled":
         return GJMDerivatives(*gjm.core.derivatives(q, v))
     return state_and_derivatives(gjm, q, v, backend)[1]

@@ -32,10 +32,9 @@ from typing import NamedTuple
 import numpy as np
 
 from ...robot.robot import Robot
-from ...robot.state import check_state
 from .derivatives import GJMDerivatives, state_and_derivatives
 from .matrices import body_jacobians, point_jacobians, skew_batch
-from .model import GJMState, model_of
+from .model import GJMState, checked_state, model_of
 
 
 class GJMRates(NamedTuple):
@@ -125,6 +124,5 @@ def jacobian_rates(robot: Robot, q: np.ndarray, v: np.ndarray, backend: str = "c
     Raises:
         InvalidArgument: for q or v of the wrong size, not finite, or a non-unit quaternion.
     """
-    q, v = np.asarray(q, dtype=float), np.asarray(v, dtype=float)
-    check_state(robot, q, v)
+    _, q, v = checked_state(robot, q, v)
     return state_and_rates(robot, q, v, backend, momentum_rate)[1]

@@ -7,11 +7,12 @@ from typing import NamedTuple
 
 import numpy as np
 
+from ...arguments import MAX_MAGNITUDE
 from ...errors import UnknownName
 from ...robot.conventions import base_state, cross3
 from ...robot.joints import JointCoordinates
 from ...robot.robot import Robot
-from ...robot.state import check_state
+from ...robot.state import UNIT_TOLERANCE, check_state
 from .._core import GJMCore
 from .kinematics import BodyKinematics, TreeStructure, forward_kinematics
 from .matrices import end_effector_jacobians, end_effector_points, inertia_matrices, point_jacobians
@@ -100,6 +101,13 @@ class GJM:
         self.__dict__.update(state)
         self.core = compiled_core(self.robot, self.tree, self.ee_body, self.ee_offset)
 
+    def admissible(self, q: np.ndarray, v: np.ndarray) -> bool:
+        """Whether float arrays q (nq,), v (nv,) pass :func:`~freefloat.robot.state.check_state`,
+        checked in the compiled core (a fraction of check_state's cost; False for wrong shapes)."""
+        model = self.robot.model
+        return q.shape == (model.nq,) and v.shape == (model.nv,) and \
+            self.core.admissible(q, v, UNIT_TOLERANCE, MAX_MAGNITUDE)
+
     def kinematics(self, q: np.ndarray) -> BodyKinematics:
         """Body kinematics at configuration q (nq,)."""
         return forward_kinematics(self.robot, self.tree, self.coords, q)
@@ -166,6 +174,21 @@ def model_of(robot: Robot) -> GJM:
     return GJM(robot)
 
 
+def checked_state(robot: Robot, q: np.ndarray, v: np.ndarray) -> tuple[GJM, np.ndarray, np.ndarray]:
+    """The robot's cached :class:`GJM` and (q, v) as float arrays, checked: the core's
+    :meth:`GJM.admissible` first, :func:`~freefloat.robot.state.check_state` (which names the
+    problem) only when that fails.
+
+    Raises:
+        InvalidArgument: as check_state.
+    """
+    q, v = np.asarray(q, dtype=float), np.asarray(v, dtype=float)
+    gjm = model_of(robot)
+    if not gjm.admissible(q, v):
+        check_state(robot, q, v)
+    return gjm, q, v
+
+
 def compute(robot: Robot, q: np.ndarray, v: np.ndarray, backend: str = "compiled") -> GJMState:
     """GJM quantities of ``robot`` at Pinocchio state (q, v).
 
@@ -179,6 +202,5 @@ def compute(robot: Robot, q: np.ndarray, v: np.ndarray, backend: str = "compiled
         InvalidArgument: for q or v of the wrong size, not finite, or a non-unit quaternion (a
             zero quaternion used to be read as the identity).
     """
-    q, v = np.asarray(q, dtype=float), np.asarray(v, dtype=float)
-    check_state(robot, q, v)
-    return model_of(robot).compute(q, v, backend)
+    gjm, q, v = checked_state(robot, q, v)
+    return gjm.compute(q, v, backend)
