@@ -20,7 +20,7 @@ from .bench.suites import ALL as ALL_SUITES
 from .bench.suites import DEFAULT as DEFAULT_SUITE
 from .bench.suites import SUITES
 from .folder_names import default_folder
-from .reproduce import STUDIES
+from .reproduce import ALL_STUDIES, STUDIES
 from .signals import arrived_before_main, signals_deferred, signals_raise_keyboard_interrupt
 
 if TYPE_CHECKING:
@@ -84,8 +84,9 @@ def main(argv: list[str] | None = None) -> int:
     ver.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
     ver.add_argument("--json", type=Path, default=None, help="also write the report as JSON here")
     rep = commands.add_parser("reproduce", help="reproduce a study of the documents against the exact reference")
-    rep.add_argument("study", choices=list(STUDIES),
-                     help="; ".join(f"{name}: {study.help}" for name, study in STUDIES.items()))
+    rep.add_argument("study", choices=[*STUDIES, ALL_STUDIES],
+                     help="; ".join(f"{name}: {study.help}" for name, study in STUDIES.items())
+                          + f"; {ALL_STUDIES}: every study, then one report of both documents (HTML and PDF)")
     rep.add_argument("--out", type=Path, default=None, help="output folder (default: runs/reproduce-<study>-<time>)")
     rep.add_argument("--overwrite", action="store_true",
                      help="replace the study freefloat wrote in --out (default: continue it from its journal; a "
@@ -286,44 +287,22 @@ def _info(args: argparse.Namespace) -> int:
 
 
 def _reproduce(args: argparse.Namespace) -> int:
-    """The study into its folder: its journal (if any) appended to in place, every other file made
-    in a private subfolder and moved in once the study is done, so that a file appears only whole,
-    already in the folder's record (a study stopped or killed leaves its journal, which a rerun of
-    the same command resumes from, and nothing half-made)."""
-    import shutil
+    """One study into its folder, or ``all`` of them into one folder each plus the report
+    (:mod:`~freefloat.app.reproduce.folders`)."""
+    from .reproduce.folders import run_all, run_study
 
-    from ..extras import require
-    from .run_folder import RunFolder
-
-    study = STUDIES[args.study]
-    for extra in study.extras:
-        require(extra, f"freefloat reproduce {args.study}")
+    options = {"workers": max(1, args.workers), "runs": args.runs, "relative_error": args.error,
+               "scheduler": args.scheduler}
     out = args.out or Path("runs") / f"reproduce-{args.study}-{time.strftime('%Y%m%d-%H%M%S')}"
-    with RunFolder(out, args.overwrite, keep_foreign=False, resume=True) as folder:
-        journal = folder.claim(study.journal) if study.journal else None  # ours before it exists
-        making = folder.private_dir()
-        try:
-            report = _study(args, making, journal)
-            for made in sorted(making.iterdir()):
-                folder.place(made)
-        except KeyboardInterrupt:
-            kept = f"the finished parts are journaled in {out} (rerun the same command to resume)" if journal else \
-                "nothing of this run was kept"
-            raise KeyboardInterrupt(f"; {kept}") from None
-        finally:
-            shutil.rmtree(making, ignore_errors=True)
+    if args.study == ALL_STUDIES:
+        start = time.perf_counter()
+        run_all(out, args.overwrite, args.quick, options)
+        print(f"wrote {out / 'report.html'} and {out / 'report.pdf'} in {time.perf_counter() - start:.0f} s")
+        return 0
+    report = run_study(args.study, out, args.overwrite, args.quick, options)
     print((out / "report.md").read_text())
     print(f"wrote {out} in {report['wall_time_s']:.0f} s")
     return 0
-
-
-def _study(args: argparse.Namespace, out: Path, journal: Path | None) -> dict:
-    """Run the study ``args.study`` (:data:`~freefloat.app.reproduce.STUDIES`) into ``out``,
-    journaling into ``journal``; its report."""
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        return STUDIES[args.study].run(out, args.quick, journal=journal, workers=max(1, args.workers),
-                                       runs=args.runs, relative_error=args.error, scheduler=args.scheduler)
 
 
 def _verify(args: argparse.Namespace) -> int:

@@ -73,8 +73,12 @@ for _study in (
           ("runs", "relative_error", "scheduler"), "samples.jsonl", ("dask",)),
     Study("stability", "the largest stable step per integrator and scene", "stability_report"),
     Study("rsu_ppap_sliding", "the 2RSU+PPaP's gains, sliding mode vs computed torque", "rsu_ppap_sliding_report"),
+    Study("series", "the runs behind the time-series figures of secs 5.1 and 5.3 (figs 8-19, 41-56)", "series_report"),
 ):
     register(_study)
+
+#: The ``freefloat reproduce`` argument that runs every study and builds the report.
+ALL_STUDIES = "all"
 
 #: Every study's journal (``freefloat reproduce`` claims a study's in its folder before the study runs).
 JOURNALS = tuple(study.journal for study in STUDIES.values() if study.journal)

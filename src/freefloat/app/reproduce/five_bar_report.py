@@ -5,7 +5,9 @@
    region without a threshold) and the 64 extreme parameter sets, beside eq 187.
 2. The circle of eq 189 from (0.07, 0.17) at rest, lambda = 40, tanh(100 s), with the true
    parameters 15 % and 50 % off the estimates: sliding mode and computed torque (eq 190).
-   Reaching time (|s| < 0.02), tracking error after 0.2 s, peak actuator torques.
+   Reaching time (|s| < 0.02), tracking error after 0.2 s, peak actuator torques; the error,
+   sliding-variable and torque series (every 10th step) for the report's figures.
+3. Fig 8's workspace as numbers: the conditioning map of :func:`conditioning_map`.
 """
 
 from __future__ import annotations
@@ -40,6 +42,31 @@ STABILITY_INTEGRATORS = ("euler", "explicit_euler", "rkmk4", "rkmk6", "rkmk8")
 ANIMATED, ANIMATION = "sliding mode, 15 %", "trajectory_sliding_mode_15.html"
 
 
+#: The threshold on the condition numbers of A° and C^T U that bounds the non-singular workspace
+#: (the thesis draws its region without stating one; freefloat's stated choice).
+MAX_CONDITION = 6.0
+
+
+def conditioning_map(p: FiveBarParameters, spacing: float) -> dict:
+    """Thesis fig 8 as numbers: on the ``spacing`` grid of :func:`workspace_grid` (x in
+    [-reach, reach], y in (0, reach], m), the larger of the condition numbers of A° and C^T U where
+    the 5R assembles with outward elbows, None where it does not (out of reach)."""
+    mech = five_bar(p)
+    reach = p.l1 + p.l2 + p.l0
+    xs, ys = np.arange(-reach, reach + 1e-9, spacing), np.arange(spacing, reach + 1e-9, spacing)
+    condition = np.full((len(ys), len(xs)), np.nan)
+    for i, y in enumerate(ys):
+        for j, x in enumerate(xs):
+            try:
+                q = mech.assemble(np.array([x, y]), elbow_guess(p, np.array([x, y])))
+            except FreefloatError:
+                continue
+            A, _, C, *_ = mech.terms(q, np.zeros(6))
+            condition[i, j] = max(np.linalg.cond(A[:, 2:]), np.linalg.cond(C.T @ mech.selection()))
+    return {"x": xs.tolist(), "y": ys.tolist(), "condition": [[None if np.isnan(c) else float(c) for c in row]
+                                                              for row in condition]}
+
+
 def reaching_times(t: np.ndarray, s: np.ndarray, bound: float = 0.02) -> list[float | None]:
     """First time (s) each sliding variable's |s| is below ``bound``, or None: ``t`` (N,), ``s`` (N, p)."""
     reached = np.abs(s) < bound
@@ -63,7 +90,8 @@ def run_case(gains, plant: FiveBarParameters, duration: float, step: float, html
             "peak_torque_Nm": magnitude.max(axis=0).tolist(),
             "peak_torque_time_s": t_sim[magnitude.argmax(axis=0)].tolist(),
             "peak_torque_reaching_Nm": magnitude[reaching].max(axis=0).tolist(),
-            "t": t[::10].tolist(), "e_mm": (e[::10] * 1e3).tolist()}
+            "t": t[::10].tolist(), "e_mm": (e[::10] * 1e3).tolist(), "s": s[::10].tolist(),
+            "torque_Nm": efforts[::10].tolist()}
 
 
 def reproduce(out: Path, quick: bool = False) -> dict:
@@ -72,7 +100,8 @@ def reproduce(out: Path, quick: bool = False) -> dict:
     out.mkdir(parents=True, exist_ok=True)
     start = time.perf_counter()
     nominal = FiveBarParameters()
-    points = workspace_grid(nominal, spacing=0.03 if quick else 0.01, max_condition=6.0)
+    spacing = 0.03 if quick else 0.01
+    points = workspace_grid(nominal, spacing=spacing, max_condition=MAX_CONDITION)
     gains = design_gains(nominal, points)
     duration, step = (0.25, 2e-4) if quick else (0.5, 1e-4)
     cases = {"sliding mode, 15 %": (gains, TRUE_PARAMETERS), "computed torque, 15 %": (None, TRUE_PARAMETERS),
@@ -80,7 +109,8 @@ def reproduce(out: Path, quick: bool = False) -> dict:
              "sliding mode, 50 %": (gains, TRUE_PARAMETERS_50), "computed torque, 50 %": (None, TRUE_PARAMETERS_50)}
     report = {
         "settings": {"quick": quick, "duration": duration, "step": step, "lambda": 40.0, "eta": 20.0,
-                     "grid_points": len(points), "max_condition": 6.0},
+                     "grid_points": len(points), "max_condition": MAX_CONDITION},
+        "workspace": conditioning_map(nominal, spacing),
         "gains": {"n": gains.n.tolist(), "T": gains.T.tolist(), "xdot2": gains.n_ij[(0, 0)].tolist(),
                   "xdot_ydot": gains.n_ij[(1, 0)].tolist(), "ydot2": gains.n_ij[(1, 1)].tolist()},
         "eq_187": EQ_187,

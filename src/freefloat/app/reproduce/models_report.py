@@ -15,7 +15,6 @@ Four parts, all against Pinocchio's ABA (``exact``), written as JSON, Markdown a
 
 from __future__ import annotations
 
-import dataclasses
 import json
 import time
 from concurrent.futures import as_completed
@@ -34,9 +33,9 @@ from ...robot import attitude
 from ...robot.loading import load_robot
 from ..outputs import write_report
 from ..runner import prepare
-from ..scenes import DEFAULT_SCENE, find_scene
 from .models_cases import EXACT_PLANT_CONTROLLERS, GRID_MODELS, REGIMES, TUMBLING_MODELS
 from .models_output import figures, markdown
+from .series_report import chapter_four_scene
 from .states import state_with_momentum
 
 
@@ -73,14 +72,7 @@ def accuracy(samples: int, seed: int) -> dict:
 
 def grid_cell(plant: str, controller: str, integrator: str, duration: float) -> dict:
     """One run of the chapter-5.1 task with the given plant, controller model and integrator."""
-    scene = find_scene(DEFAULT_SCENE)
-    scene = dataclasses.replace(
-        scene,
-        controller=dataclasses.replace(scene.controller, model=controller),
-        simulation=dataclasses.replace(scene.simulation, model=plant, integrator=integrator, duration=duration),
-        task=dataclasses.replace(scene.task, duration=min(scene.task.duration, duration)),
-        output=dataclasses.replace(scene.output, html=False, figures=False),
-    )
+    scene = chapter_four_scene(plant, controller, integrator, duration)
     p = prepare(scene)
     result = run(p.robot, p.q0, p.v0, duration, scene.simulation.control_period, p.integrator, p.model, p.controller)
     s = summarize(result.telemetry, p.robot)

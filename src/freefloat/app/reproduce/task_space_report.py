@@ -1,4 +1,4 @@
-"""``freefloat reproduce task_space``: the dissertation's sec 5.2 (Tables 2-5, figs 38-40).
+"""``freefloat reproduce task_space``: the dissertation's sec 5.2 (Tables 2-5, figs 20-40).
 
 1. The joint-space run (JSC): the chapter-4 task from Table 4's start (every joint 0.5 deg off
    the stretched posture, in the direction it moves), exact plant, RKMK4, 0.1 ms.
@@ -14,6 +14,8 @@
 4. Figs 38-40: condition number of the E-GJM along the first second of the joint-space task from
    offsets of 1, 0.1 and 0 deg; at 0 deg the plain inversion is refused and damped least squares
    is run instead.
+5. The runs themselves for figs 20-37: ``jsc.npz`` and ``tsc.npz``
+   (:func:`~.series_report.series_arrays`) and ``kjc.npz`` (:func:`kjc_series`).
 """
 
 from __future__ import annotations
@@ -40,6 +42,7 @@ from ...space.control.task_space import TaskSpaceComputedTorque
 from ...space.detumbling import task_rows
 from ..outputs import write_report
 from ..viz.figures import base_attitude
+from .series_report import series_arrays
 
 ROWS = [(f"arm{i}_ee", c) for i in range(1, 5) for c in ("vx", "vy", "wz")]
 DIRECTION = np.repeat([1.0, -1.0, -1.0, 1.0], 4)  # arms 1, 4 move +5 deg, arms 2, 3 -5 deg
@@ -132,15 +135,21 @@ def planar_pose(tel) -> np.ndarray:
     return np.concatenate((tel.ee_position[..., :2], np.degrees(yaw)[..., None]), axis=2)
 
 
-def kjc_table(robot, tel) -> dict:
-    """Table 3: E-GJM rates vs central differences of the simulated planar pose, per arm and axis."""
+def kjc_series(robot, tel) -> dict[str, np.ndarray]:
+    """E-GJM end-effector rates and central differences of the simulated planar pose at the inner
+    samples: ``t`` (N-2,), ``rates`` and ``differences`` (N-2, k, 3): vx, vy in m/s, wz in deg/s."""
     pose = planar_pose(tel)
     dt = np.diff(tel.t)
     fd = (pose[2:] - pose[:-2]) / (dt[1:] + dt[:-1])[:, None, None]
     rates = np.array([gjm.compute(robot, q, v).end_effector_velocity().reshape(-1, 6)[:, [0, 1, 5]]
                       for q, v in zip(tel.q[1:-1], tel.v[1:-1])])
     rates[..., 2] = np.degrees(rates[..., 2])
-    per_axis = rms(rates - fd, axis=0)                      # (k, 3)
+    return {"t": tel.t[1:-1], "rates": rates, "differences": fd}
+
+
+def kjc_table(kjc: dict[str, np.ndarray]) -> dict:
+    """Table 3: RMS of the E-GJM rates minus the differences (:func:`kjc_series`), per arm and axis."""
+    per_axis = rms(kjc["rates"] - kjc["differences"], axis=0)                      # (k, 3)
     return {"x": per_axis[:, 0].tolist(), "y": per_axis[:, 1].tolist(), "z_deg": per_axis[:, 2].tolist(),
             "overall": rms(per_axis, axis=1).tolist()}
 
@@ -178,11 +187,15 @@ def reproduce(out: Path, quick: bool = False) -> dict:
     jsc = joint_space_run(robot, 0.5, duration, dt, record_every)
     rows = task_rows(robot, ROWS)
     ctrl, tsc = task_space_run(robot, jsc, rows, dt, duration, record_every, "backward_difference")
+    kjc = kjc_series(robot, tsc)
+    for name, tel in (("jsc", jsc), ("tsc", tsc)):  # the runs the report draws (figs 20-37)
+        np.savez_compressed(out / f"{name}.npz", **series_arrays(robot, tel))
+    np.savez_compressed(out / "kjc.npz", **kjc)
     report = {
         "settings": {"dt": dt, "duration": duration, "record_every": record_every, "quick": quick},
         "table2": table2(tsc, jsc),
         "qddot_analytic": qddot_comparison(robot, jsc, tsc, rows, dt, duration, record_every),
-        "table3": kjc_table(robot, tsc),
+        "table3": kjc_table(kjc),
         "table4": {run_name: {"start_deg": np.degrees(tel.joint_positions[0]).round(4).tolist(),
                               "end_deg": np.degrees(tel.joint_positions[-1]).round(4).tolist()} for run_name, tel in (("JSC", jsc), ("TSC", tsc))},
         "table5": {run_name: {"start": planar_pose(tel)[0].round(4).tolist(), "end": planar_pose(tel)[-1].round(4).tolist()}
