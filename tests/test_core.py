@@ -14,7 +14,7 @@ from hypothesis import strategies as st
 
 from freefloat import gjm, load_robot
 
-from .conftest import REPO, random_robots, random_state, robot_from_case
+from .conftest import REPO, load_text, random_robots, random_state, robot_from_case
 
 KINEMATICS = ("r0", "R0", "rotation", "origin", "joint_position", "joint_axis", "com", "inertia")
 
@@ -92,7 +92,7 @@ def test_a_used_model_pickles_and_gives_the_same_accelerations():
 
 def test_continuous_joints_read_their_angle_from_cos_and_sin(tmp_path):
     """A tree of continuous joints (q holds cos, sin) gives the same GJM in both backends."""
-    from .conftest import load_text, random_urdf
+    from .conftest import random_urdf
 
     text = random_urdf(np.random.default_rng(7), 5, fixed_share=0.0).replace('type="revolute"', 'type="continuous"')
     text = text.replace('type="prismatic"', 'type="continuous"')
@@ -102,3 +102,44 @@ def test_continuous_joints_read_their_angle_from_cos_and_sin(tmp_path):
     compiled, numpy = gjm.compute(robot, q, v), gjm.compute(robot, q, v, backend="numpy")
     for name in gjm.GJMState._fields[:-1]:
         assert close(getattr(compiled, name), getattr(numpy, name)), name
+
+
+#: Damage done to a valid state: (what, which of q / v, value or scale of a unit-norm block).
+DAMAGES = (("nan", "q", np.nan), ("nan", "v", np.nan), ("inf", "v", -np.inf), ("large", "q", 2e15),
+           ("large", "v", -2e15), ("unit", "q", 1.0 + 3e-6), ("unit", "q", 1.0 - 3e-6),
+           ("unit", "q", 1.0 + 3e-7), ("unit", "q", 0.0))
+
+
+@settings(max_examples=60, deadline=None)
+@given(random_robots(max_links=5), st.sampled_from(["free", "planar"]), st.booleans(),
+       st.sampled_from((None, *DAMAGES)), st.integers(0, 2**16))
+def test_core_admits_exactly_the_states_check_state_accepts(tmp_path_factory, case, base, continuous, damage, where):
+    """GJM.admissible, the compiled check gjm.compute and gjm.derivatives run instead of
+    check_state, is True exactly when check_state accepts the state: valid states, a NaN, an
+    infinity or a value above 1e15 anywhere in q or v, a unit-norm block (base quaternion or
+    (cos, sin), a continuous joint's (cos, sin)) scaled off norm 1 by more or less than 1e-6."""
+    from freefloat.errors import InvalidArgument
+    from freefloat.robot.state import check_state
+
+    seed, text = case
+    if continuous:
+        text = text.replace('type="revolute"', 'type="continuous"')
+    robot = load_text(tmp_path_factory.mktemp("r"), text, base=base)
+    q, v = random_state(robot, np.random.default_rng(seed))
+    if damage is not None:
+        kind, target, value = damage
+        if kind == "unit":
+            model = robot.model
+            blocks = [(model.idx_qs[j], model.nqs[j]) for j in range(1, model.njoints) if model.nqs[j] != model.nvs[j]]
+            start, size = blocks[where % len(blocks)]
+            unit = 4 if size == 7 else 2  # the free-flyer's quaternion, else a (cos, sin) pair
+            q[start + size - unit:start + size] *= value
+        else:
+            array = q if target == "q" else v
+            array[where % len(array)] = value
+    try:
+        check_state(robot, q, v)
+        accepted = True
+    except InvalidArgument:
+        accepted = False
+    assert gjm.model_of(robot).admissible(q, v) == accepted
