@@ -38,8 +38,8 @@ class FeasibilityMap:
 
     Attributes:
         assembled: (m,) whether the mechanism assembles there (the rest are NaN).
-        radius: (m,) spectral radius of ``|Delta|_max(x)``; inf where H is singular for some
-            vertex (no design there).
+        radius: (m,) spectral radius of ``|Delta|_max(x)``; inf at a singular pose (A° or some
+            vertex's H singular: no design there, critical scale 0).
         Delta: (m, p, p) ``|Delta|_max(x)``.
         scale: (m,) the critical scale s*(x) (module docstring), capped at ``s_max``.
         s_max: the largest scale keeping every parameter positive.
@@ -114,14 +114,14 @@ def feasibility(model: LinearParameterModel, points: np.ndarray, sample: int | N
         except FreefloatError:
             continue
         assembled[k] = True
-        H_c = model.coefficients(q)[0]
-        scale[k] = critical_scale(model, H_c, signs, s_max)
         try:
+            H_c = model.coefficients(q)[0]
             Delta[k] = delta_max(model, H_c, extremes)
-        except np.linalg.LinAlgError:
-            Delta[k], radius[k] = np.inf, np.inf
+        except (FreefloatError, np.linalg.LinAlgError):  # a singular pose: no platform dynamics, no design
+            Delta[k], radius[k], scale[k] = np.inf, np.inf, 0.0
             continue
         radius[k] = spectral_radius(Delta[k])
+        scale[k] = critical_scale(model, H_c, signs, s_max)
     return FeasibilityMap(assembled, radius, Delta, scale, s_max)
 
 

@@ -114,8 +114,9 @@ def evaluate(context: FeasibilityContext, points: np.ndarray) -> dict[str, np.nd
 
 
 def summarise(context: FeasibilityContext, grid: Grid, result: dict[str, np.ndarray]) -> dict:
-    """Counts, the spectral radius and critical scale over the assembled points, and the radius of
-    a design pooled over every feasible point (feasible iff below 1)."""
+    """Counts (assembled, feasible, singular poses), the spectral radius (finite ones) and critical
+    scale over the assembled points, and the radius of a design pooled over every feasible point
+    (that design is feasible iff it is below 1)."""
     from ...parallel.gain_feasibility import largest_scale, region_radius
 
     model = model_of(context.mechanism)
@@ -124,6 +125,7 @@ def summarise(context: FeasibilityContext, grid: Grid, result: dict[str, np.ndar
     return {"mechanism": context.mechanism, "uncertain": dict(zip(model.names, model.uncertainty.tolist())),
             "held": dict(zip(MECHANISMS[context.mechanism].coordinates, MECHANISMS[context.mechanism].held)),
             "points": grid.size, "assembled": int(on.sum()), "feasible": int(result["feasible"].sum()),
+            "singular": int((on & np.isinf(result["radius"])).sum()),
             "radius_max": float(result["radius"][finite].max()) if finite.any() else None,
             "radius_min": float(result["radius"][finite].min()) if finite.any() else None,
             "scale_min": float(np.nanmin(result["scale"][on])) if on.any() else None,
@@ -134,7 +136,8 @@ def summarise(context: FeasibilityContext, grid: Grid, result: dict[str, np.ndar
 
 def figures(context: FeasibilityContext, grid: Grid, result: dict[str, np.ndarray], out: Path) -> list[Path]:
     """``feasibility.png``: the spectral radius (contour at 1) and the critical scale (contour at
-    1, the stated uncertainty) over the plane, blank where the mechanism does not assemble."""
+    1, the stated uncertainty) over the plane, blank where the mechanism does not assemble,
+    singular poses crossed."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -142,13 +145,17 @@ def figures(context: FeasibilityContext, grid: Grid, result: dict[str, np.ndarra
 
     a, b = grid.axes
     extent = (a.low, a.high, b.low, b.high)
+    singular = grid.points()[result["assembled"] & np.isinf(result["radius"])]
     fig, axes = plt.subplots(1, 2, figsize=(11, 4.5))
     for ax, key, label in ((axes[0], "radius", "spectral radius of |Delta|_max (eq 161: < 1)"),
                            (axes[1], "scale", "critical scale s* of the uncertainties (feasible: > 1)")):
-        values = np.ma.masked_invalid(result[key].reshape(grid.shape).T)
+        values = np.ma.masked_invalid(np.where(np.isinf(result[key]), np.nan, result[key]).reshape(grid.shape).T)
         image = ax.imshow(values, origin="lower", extent=extent, aspect="equal", cmap="viridis")
         if np.ma.count(values) and values.min() < 1.0 < values.max():
             ax.contour(a.values(), b.values(), values.filled(np.nan), levels=[1.0], colors="red")
+        if len(singular):
+            ax.plot(singular[:, 0], singular[:, 1], "rx", markersize=5, label="singular pose")
+            ax.legend(fontsize=7, loc="upper right")
         fig.colorbar(image, ax=ax, shrink=0.8)
         ax.set_title(label, fontsize=9)
         ax.set_xlabel(f"{a.name} (m)")

@@ -106,8 +106,8 @@ def markdown(report: dict) -> str:
               "|---|---|---|---|---|"]
     for name, c in report["cases"].items():
         reach = ", ".join("-" if r is None else f"{r:.4f}" for r in c["reaching_time_s"])
-        lines.append(f"| {name} | {' / '.join(f'{x:.4f}' for x in c['error_max_mm'])} | "
-                     f"{' / '.join(f'{x:.4f}' for x in c['error_rms_mm'])} | {reach} | "
+        lines.append(f"| {name} | {' / '.join(f'{x:.3g}' for x in c['error_max_mm'])} | "
+                     f"{' / '.join(f'{x:.3g}' for x in c['error_rms_mm'])} | {reach} | "
                      f"{', '.join(f'{x:.2f}' for x in c['peak_efforts'])} |")
     return "\n".join(lines) + "\n"
 
