@@ -100,15 +100,17 @@ def test_fixed_base_reach_of_the_four_arm_robot_is_its_printed_length():
 
 
 def test_shells_split_the_reachable_radii():
-    """Radii of singular points make the path-dependent shells; the rest of the range is
-    path-independent; gaps narrower than the resolution are closed."""
+    """Radii between neighbouring singular grid points make the path-dependent shells; the rest
+    of the range is path-independent."""
     radius = np.linspace(1.0, 5.0, 401)
     singular = (np.abs(radius - 2.0) < 0.05) | (np.abs(radius - 2.3) < 0.05)
-    split = workspace.shells(radius, singular, gap=0.5, bins=40)
+    split = workspace.shells(radius, singular, (401,), bins=40)
     assert split["reachable"] == [1.0, 5.0]
-    assert split["path_dependent"] == [[pytest.approx(1.9), pytest.approx(2.4)]]
-    assert split["path_independent"] == [[1.0, pytest.approx(1.9)], [pytest.approx(2.4), 5.0]]
-    assert len(workspace.shells(radius, singular, gap=0.0, bins=40)["path_dependent"]) == 2
+    assert split["path_dependent"] == [[pytest.approx(1.9), pytest.approx(2.1)], [pytest.approx(2.2), pytest.approx(2.4)]]
+    assert split["path_independent"] == [[1.0, pytest.approx(1.9)], [pytest.approx(2.1), pytest.approx(2.2)],
+                                         [pytest.approx(2.4), 5.0]]
+    across = workspace.shells(np.array([1.0, 3.0, 2.0, 5.0]), np.array([True, True, False, False]), (2, 2), 8)
+    assert across["path_dependent"] == [[1.0, 3.5]]  # the pair along the second axis fills 1 to 3 m (0.5 m bins)
 
 
 def test_a_mapped_point_is_reached_by_a_simulated_motion():

@@ -30,8 +30,9 @@ from pathlib import Path
 import numpy as np
 
 from ...dynamics import gjm
+from ...dynamics.gjm import GJMState
+from ...dynamics.gjm.kinematics import BodyKinematics
 from ...errors import InvalidArgument, RobotModelError, UnknownName
-from ...robot.conventions import cross3
 from ...robot.joints import JointCoordinates
 from ...robot.loading import load_robot
 from ...robot.robot import Robot
@@ -41,6 +42,9 @@ from .kinds import Options
 ROWS = {"planar": (0, 1, 5), "free": (0, 1, 2, 3, 4, 5)}
 #: sigma_min / sigma_max below which a Jacobian counts as singular (default of --tolerance).
 TOLERANCE = 1e-3
+#: Places of the compiled core's outputs (GJMState's field order; the body kinematics last).
+_H0, _JM, _J0E, _JSTAR, _EE = (GJMState._fields.index(f) for f in ("H0", "Jm", "J0E", "Jstar", "ee_position"))
+_R0, _COM = (BodyKinematics._fields.index(f) for f in ("r0", "com"))
 #: The options both space-robot kinds read.
 OPTIONS = frozenset({"grid", "axes", "end_effector", "momentum", "tolerance", "base"})
 
@@ -192,25 +196,32 @@ def evaluate(context: ArmMap, points: np.ndarray) -> dict[str, np.ndarray]:
     model, coords = gjm.model_of(robot), JointCoordinates(robot)
     q, v = robot.neutral(), np.zeros(robot.model.nv)
     angles = np.array(context.posture)
-    rows = 6 * context.index + np.array(context.rows)
-    columns, axes = np.array(context.columns), np.array(context.axis_index)
-    mass = model.tree.mass
-    m, r = len(points), len(rows)
-    Jstar, Jm = np.empty((m, r, len(columns))), np.empty((m, r, len(columns)))
-    ee, com, r0 = np.empty((m, 3)), np.empty((m, 3)), np.empty((m, 3))
-    drift = np.empty((m, r)) if context.momentum is not None else None
+    block = slice(6 * context.index, 6 * context.index + 6)
+    axes, m = np.array(context.axis_index), len(points)
+    n_bodies = len(model.tree.mass)
+    # per point only the compiled call and slice copies; the selections and sums per chunk, batched
+    Jstar, Jm = np.empty((m, 6, robot.n_joints)), np.empty((m, 6, robot.n_joints))
+    ee, r0, coms = np.empty((m, 3)), np.empty((m, 3)), np.empty((m, n_bodies, 3))
+    J0E, H0 = (np.empty((m, 6, 6)), np.empty((m, 6, 6))) if context.momentum is not None else (None, None)
     for k, point in enumerate(points):
         angles[axes] = point
         coords.set(q, angles)
-        state = model.compute(q, v)
-        Jstar[k] = state.Jstar[rows][:, columns]
-        Jm[k] = state.Jm[rows][:, columns]
-        ee[k], r0[k] = state.ee_position[context.index], state.kinematics.r0
-        com[k] = mass @ state.kinematics.com / mass.sum()
-        if drift is not None:
-            P, L = np.array(context.momentum[:3]), np.array(context.momentum[3:])
-            about_base = np.concatenate((P, L + cross3(com[k] - r0[k], P)))
-            drift[k] = state.J0E[rows] @ np.linalg.solve(state.H0, about_base)
+        raw = model.core.compute(q, v)  # GJMState's fields as a tuple (gjm.compute without the wrapping)
+        Jstar[k], Jm[k] = raw[_JSTAR][block], raw[_JM][block]
+        ee[k] = raw[_EE][context.index]
+        kinematics = raw[-1]
+        r0[k], coms[k] = kinematics[_R0], kinematics[_COM]
+        if J0E is not None:
+            J0E[k], H0[k] = raw[_J0E][block], raw[_H0]
+    mass = model.tree.mass
+    com = np.einsum("b,kbi->ki", mass / mass.sum(), coms)
+    kept, columns = list(context.rows), list(context.columns)
+    Jstar, Jm = Jstar[:, kept][:, :, columns], Jm[:, kept][:, :, columns]
+    drift = None
+    if J0E is not None:
+        P, L = np.array(context.momentum[:3]), np.array(context.momentum[3:])
+        about_base = np.concatenate((np.broadcast_to(P, (m, 3)), L + np.cross(com - r0, P)), axis=1)
+        drift = np.einsum("kij,kj->ki", J0E[:, kept], np.linalg.solve(H0, about_base[..., None])[..., 0])
     out = {"ee_from_com": ee - com, "ee_from_base": ee - r0}
     plane = slice(0, 2) if context.base == "planar" else slice(0, 3)
     out["radius_free"] = np.linalg.norm(out["ee_from_com"][:, plane], axis=1)

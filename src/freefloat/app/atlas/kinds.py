@@ -108,3 +108,5 @@ register(AtlasKind("singularities", "dynamic singularities (rank loss of J*) aga
                    "condition number and manipulability of both", "a robot: name or URDF file", ".singularities"))
 register(AtlasKind("feasibility", "where the worst-case sliding-mode gain design has a solution (eq 161) over the "
                    "uncertainty set", "a closed-chain mechanism: five_bar or rsu_ppap", ".feasibility"))
+register(AtlasKind("mechanism", "a closed-chain mechanism's workspace, type I and type II singularity loci and its "
+                   "working / assembly modes", "a closed-chain mechanism: five_bar or rsu_ppap", ".mechanism_maps"))

@@ -11,8 +11,9 @@ every point at a distance ``|f(q_s)|`` from the CoM of a singular ``q_s`` can be
 singularity on some path (which one depends on the attitude the path arrives with): those shells
 form the path-dependent workspace (PDW). The rest of the reachable shell, the path-independent
 workspace (PIW), is reached along any path without meeting one. On a grid, a point counts as
-singular when sigma_min / sigma_max of the J* block is below ``--tolerance``, and the shells are
-resolved in :data:`BINS` radial bins.
+singular when sigma_min / sigma_max of the J* block is below ``--tolerance``; the singular radii
+are filled in between neighbouring singular grid points (see :func:`shells`) and resolved in
+:data:`BINS` radial bins.
 
 The fixed-base workspace of the same arm is the set of its end-effector positions relative to the
 base CoM with the base held, and its kinematic singularities those of Jm.
@@ -39,7 +40,7 @@ from .arm_maps import prepare as prepare_arm
 from .grid import Axis, Grid
 from .kinds import Options
 
-__all__ = ["OPTIONS", "evaluate", "figures", "grid", "prepare", "resolution", "shells", "summarise"]
+__all__ = ["OPTIONS", "evaluate", "figures", "grid", "prepare", "shells", "summarise"]
 
 #: Grid points of the default grid, about.
 POINTS = 50_000
@@ -59,30 +60,33 @@ def grid(context: ArmMap, options: Options) -> Grid:
     return Grid(tuple(Axis(name, low, high, n) for name, (low, high) in zip(context.axes, context.limits)))
 
 
-def shells(radius: np.ndarray, singular: np.ndarray, gap: float = 0.0, bins: int = BINS) -> dict:
-    """The reachable radii [low, high] and their split into path-dependent radii (bins holding a
-    singular point's radius, gaps narrower than ``gap`` between them closed: the grid's
-    resolution, see :func:`resolution`) and path-independent ones (the other bins), as merged
-    intervals, m."""
+def shells(radius: np.ndarray, singular: np.ndarray, shape: tuple[int, ...], bins: int = BINS) -> dict:
+    """The reachable radii [low, high] and their split into path-dependent radii and
+    path-independent ones, as merged intervals of ``bins`` radial bins, m.
+
+    ``radius`` and ``singular`` hold the grid's points in flat order over a grid of ``shape``. The
+    path-dependent radii are those of the singular points and, where two neighbouring grid points
+    (one step along one axis) are both singular, every radius between theirs: the singular set
+    is a manifold the grid samples, and its radii fill the range between neighbouring samples on
+    it (a singular point without a singular neighbour adds its own radius only)."""
     low, high = float(radius.min()), float(radius.max())
     edges = np.linspace(low, high, bins + 1)
-    dependent = np.zeros(bins, bool)
-    if singular.any():
-        found = np.unique(np.clip(np.searchsorted(edges, radius[singular], side="right") - 1, 0, bins - 1))
-        dependent[found] = True
-        for a, b in zip(found[:-1], found[1:]):
-            if edges[b] - edges[a + 1] < gap:
-                dependent[a:b] = True
+    r, s = radius.reshape(shape), singular.reshape(shape)
+    lows, highs = [radius[singular]], [radius[singular]]
+    for axis in range(len(shape)):
+        a = (slice(None),) * axis + (slice(0, -1),)
+        b = (slice(None),) * axis + (slice(1, None),)
+        both = s[a] & s[b]
+        lows.append(np.minimum(r[a], r[b])[both])
+        highs.append(np.maximum(r[a], r[b])[both])
+    first = np.clip(np.searchsorted(edges, np.concatenate(lows), side="right") - 1, 0, bins - 1)
+    last = np.clip(np.searchsorted(edges, np.concatenate(highs), side="right") - 1, 0, bins - 1)
+    count = np.zeros(bins + 1, int)
+    np.add.at(count, first, 1)
+    np.add.at(count, last + 1, -1)
+    dependent = np.cumsum(count)[:bins] > 0
     return {"reachable": [low, high], "path_dependent": _intervals(edges, dependent),
             "path_independent": _intervals(edges, ~dependent)}
-
-
-def resolution(context: ArmMap, grid: Grid, result: dict[str, np.ndarray]) -> float:
-    """How far apart in radius two neighbouring grid points can lie, about: the greatest reach
-    times the largest axis step (rad), m; a gap in the singular radii narrower than this is the
-    grid's, not the robot's."""
-    step = max(((a.high - a.low) / (a.n - 1) if a.n > 1 else 0.0) for a in grid.axes)
-    return float(result["radius_free"].max() * step)
 
 
 def _intervals(edges: np.ndarray, mask: np.ndarray) -> list[list[float]]:
@@ -102,12 +106,11 @@ def summarise(context: ArmMap, grid: Grid, result: dict[str, np.ndarray]) -> dic
     """Reachable, path-dependent and path-independent shells (free-floating, about the system CoM),
     the fixed-base reach (about the base CoM), and the singular shares of the grid."""
     power = 2 if context.base == "planar" else 3
-    gap = resolution(context, grid, result)
-    free = shells(result["radius_free"], result["singular_free"], gap)
-    fixed = shells(result["radius_fixed"], result["singular_fixed"], gap)
+    free = shells(result["radius_free"], result["singular_free"], grid.shape)
+    fixed = shells(result["radius_fixed"], result["singular_fixed"], grid.shape)
     out = {
         "robot": context.target, "base": context.base, "end_effector": context.end_effector,
-        "axes": list(context.axes), "tolerance": context.tolerance, "radial_resolution_m": gap,
+        "axes": list(context.axes), "tolerance": context.tolerance,
         "reach_free_min_m": free["reachable"][0], "reach_free_max_m": free["reachable"][1],
         "reach_fixed_min_m": fixed["reachable"][0], "reach_fixed_max_m": fixed["reachable"][1],
         "pdw_share": share(free["path_dependent"], free["reachable"], power),
@@ -144,7 +147,7 @@ def figures(context: ArmMap, grid: Grid, result: dict[str, np.ndarray], out: Pat
     3-D points on a meshcat page, ``workspace_points.html``."""
     from ..viz.plotting import figure, finish, save
 
-    free = shells(result["radius_free"], result["singular_free"], resolution(context, grid, result))
+    free = shells(result["radius_free"], result["singular_free"], grid.shape)
     fig, (left, right) = figure(1, 2, (12, 5.6), f"{context.target}: workspace of {context.end_effector}")
     step = max(1, len(result["radius_free"]) // 20_000)
     for ax, key, flags, about in ((left, "ee_from_com", "singular_free", "system CoM"),

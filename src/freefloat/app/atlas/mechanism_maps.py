@@ -1,0 +1,259 @@
+"""Atlas kind ``mechanism``: a closed-chain mechanism's workspace, its type I and type II
+singularity loci and its working / assembly modes (issue 21 item 5; the thesis proposal's fig. 8
+for the 5R), from :mod:`freefloat.parallel.maps`.
+
+``freefloat atlas mechanism five_bar`` (or ``rsu_ppap``) maps, over a grid of platform points
+(task space), every working mode: where it exists, the determinants and conditioning of the
+inverse (type I) and direct (type II) blocks of the constraint Jacobian. ``--axes`` picks the
+grid: two or three platform coordinates (the others held at the built-in scenes' start), or the
+actuated joints' names (``c1_joint1 c2_joint1``; ``rsu1_crank rsu2_crank`` with the rail held):
+the actuated-joint space, where the assembly modes are mapped instead. The summary names the
+mode the built-in scenes run in, counts each mode's points and the loci's (grid edges bisected
+onto them, :mod:`freefloat.parallel.maps.loci`), and for the 5R compares the map with the
+closed-form workspace. Figures: one panel per mode (the scenes' marked), the mode's region, its
+type I and type II points, the scenes' path; for the 5R the exact boundary; a 3-D grid gives
+slices and a 3-D scatter of the scenes' mode.
+"""
+
+from __future__ import annotations
+
+import functools
+import itertools
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from ...errors import InvalidArgument, UnknownName
+from ...paths import URDF_DIR
+from .grid import Axis, Grid
+from .kinds import Options
+
+OPTIONS = frozenset({"grid", "axes"})
+
+
+@dataclass(frozen=True)
+class MechanismSpace:
+    """Where a mechanism is mapped.
+
+    Attributes:
+        coordinates: its platform coordinates' names (p,).
+        ranges: each platform coordinate's range, m (p, 2).
+        scene: the built-in scene whose start (held coordinates) and path the maps use.
+        axes: default axes (platform coordinates).
+        points: default points per axis.
+        joint_ranges: range of each actuated joint, rad or m (k, 2), in ``mechanism.actuated`` order.
+        starts: Newton starts per point (task space, joint space).
+    """
+
+    coordinates: tuple[str, ...]
+    ranges: tuple[tuple[float, float], ...]
+    scene: str
+    axes: tuple[str, ...]
+    points: int
+    joint_ranges: tuple[tuple[float, float], ...]
+    starts: tuple[int, int]
+
+
+#: The mechanisms this kind maps, by name (the ``TARGET``; their models come from
+#: :data:`freefloat.parallel.registry.REGISTRY`).
+MECHANISMS = {
+    "five_bar": MechanismSpace(("x", "y"), ((-0.33, 0.33), (-0.33, 0.33)), "five_bar_computed_torque", ("x", "y"), 61,
+                               ((-np.pi, np.pi), (-np.pi, np.pi)), (12, 16)),
+    "rsu_ppap": MechanismSpace(("x", "y", "z"), ((-0.33, 0.12), (-0.25, 0.25), (0.05, 0.65)), "rsu_ppap_computed_torque",
+                               ("x", "z"), 31, ((-np.pi, np.pi), (-np.pi, np.pi), (-0.25, 0.25)), (32, 64)),
+}
+
+
+@dataclass(frozen=True)
+class MechanismMapContext:
+    """The target, the space mapped (``"task"`` or ``"joint"``), the mapped coordinates (indices
+    into the platform coordinates or the actuated joints) and their names."""
+
+    mechanism: str
+    space: str
+    axes: tuple[int, ...]
+    names: tuple[str, ...]
+
+
+@functools.lru_cache(maxsize=None)
+def setup_of(mechanism: str):
+    """The mechanism's :class:`~freefloat.parallel.registry.MechanismSetup` (nominal plant), built
+    once per process."""
+    from ...parallel.registry import REGISTRY
+
+    return REGISTRY[mechanism].build(URDF_DIR / f"{mechanism}.closure.toml", "nominal")
+
+
+@functools.lru_cache(maxsize=None)
+def scene_of(mechanism: str) -> tuple[np.ndarray, np.ndarray, dict]:
+    """The built-in scene's start: platform point (p,), its assembled coordinates (n_q,) and the
+    scene's trajectory table."""
+    from ...inputs import read_toml
+    from ...paths import SCENES_DIR
+
+    spec = read_toml(SCENES_DIR / f"{MECHANISMS[mechanism].scene}.toml", "scene")
+    setup = setup_of(mechanism)
+    start = np.array(spec["initial"]["platform"], float)
+    return start, setup.nominal.assemble(start, setup.guess(start)), spec.get("trajectory", {})
+
+
+def actuated_names(mechanism: str) -> tuple[str, ...]:
+    """Names of the actuated joints, in ``mechanism.actuated`` order."""
+    setup = setup_of(mechanism)
+    by_coordinate = {i: setup.display.model.names[j] for j, i in setup.display.joint_coordinates.items()}
+    return tuple(by_coordinate[int(i)] for i in setup.nominal.actuated)
+
+
+def prepare(target: str, options: Options) -> MechanismMapContext:
+    """Check the mechanism name and ``--axes`` (two or three platform coordinates, or two or three
+    actuated joints).
+
+    Raises:
+        UnknownName: for a mechanism this kind does not map.
+        InvalidArgument: for axes that are not 2-3 distinct coordinates of one space.
+    """
+    if target not in MECHANISMS:
+        raise UnknownName("mechanism for the mechanism maps", target, MECHANISMS)
+    space = MECHANISMS[target]
+    names = tuple(options.axes or space.axes)
+    joints = actuated_names(target)
+    for kind, pool in (("task", space.coordinates), ("joint", joints)):
+        if set(names) <= set(pool) and len(set(names)) == len(names) and 2 <= len(names) <= 3:
+            return MechanismMapContext(target, kind, tuple(pool.index(n) for n in names), names)
+    raise InvalidArgument(f"atlas mechanism {target}: --axes must be two or three distinct platform coordinates "
+                          f"({', '.join(space.coordinates)}) or actuated joints ({', '.join(joints)}), got {', '.join(names)}")
+
+
+def grid(context: MechanismMapContext, options: Options) -> Grid:
+    """The axes over their ranges, ``--grid`` points each (default 61 for the 5R, 31 for the
+    2RSU+PPaP)."""
+    space = MECHANISMS[context.mechanism]
+    n = options.grid or space.points
+    if context.space == "task":
+        ranges, units = space.ranges, ["m"] * len(space.ranges)
+    else:
+        from ...parallel.maps.solve import revolute
+
+        mech = setup_of(context.mechanism).nominal
+        ranges, units = space.joint_ranges, ["rad" if r else "m" for r in revolute(mech)[mech.actuated]]
+    return Grid(tuple(Axis(name, *ranges[i], n, units[i]) for name, i in zip(context.names, context.axes)))
+
+
+def full_coordinates(context: MechanismMapContext, points: np.ndarray) -> np.ndarray:
+    """Grid points (m, d) completed with the held coordinates: platform points (m, p) or actuated
+    joints (m, k), held at the scenes' start."""
+    mech = setup_of(context.mechanism).nominal
+    start, q0, _ = scene_of(context.mechanism)
+    held = start if context.space == "task" else q0[mech.actuated]
+    full = np.tile(held, (len(points), 1))
+    full[:, list(context.axes)] = points
+    return full
+
+
+def evaluate(context: MechanismMapContext, points: np.ndarray) -> dict[str, np.ndarray]:
+    """Per point (m rows): ``found`` (m, M) whether each mode exists; ``inverse``, ``direct``
+    (m, M) the blocks' determinants; ``inverse_ratio``, ``direct_ratio`` (m, M) their
+    sigma_min / sigma_max; ``legs`` (m, M, n_legs); ``q`` (m, M, n_q) the solutions."""
+    from ...parallel.maps.grids import joint_map, task_map
+
+    mech = setup_of(context.mechanism).nominal
+    space = MECHANISMS[context.mechanism]
+    full = full_coordinates(context, points)
+    if context.space == "task":
+        solved = task_map(mech, full, count=space.starts[0])
+    else:
+        solved = joint_map(mech, full, np.array(space.ranges), count=space.starts[1])
+    s = solved.singular
+    return {"found": solved.modes.found, "inverse": s.inverse, "direct": s.direct, "inverse_ratio": s.inverse_ratio,
+            "direct_ratio": s.direct_ratio, "legs": s.legs, "q": solved.modes.q}
+
+
+def labels(context: MechanismMapContext) -> tuple[str, ...]:
+    """The modes' names, in the order of the result's mode axis."""
+    from ...parallel.maps.jacobians import partition
+
+    if context.space == "joint":
+        return ("+", "-")
+    legs = len(partition(setup_of(context.mechanism).nominal).legs)
+    return tuple("".join(s) for s in itertools.product("+-", repeat=legs))
+
+
+def scene_mode(context: MechanismMapContext) -> str:
+    """The mode the built-in scenes run in (working mode in task space, assembly mode in joint space)."""
+    from ...parallel.maps.modes import assembly_label, working_label
+
+    mech = setup_of(context.mechanism).nominal
+    q0 = scene_of(context.mechanism)[1]
+    return str(working_label(mech, q0) if context.space == "task" else assembly_label(mech, q0))
+
+
+#: The last map's loci, keyed by its context and result (summarise and figures both need them).
+_LOCI: dict = {}
+
+
+def loci_of(context: MechanismMapContext, grid: Grid, result: dict[str, np.ndarray]):
+    """The type I and type II loci (bisected grid edges) of the map, ``{kind: Locus}``."""
+    key = (context, grid, id(result["found"]))
+    if key not in _LOCI:
+        _LOCI.clear()
+        _LOCI[key] = _bisected(context, grid, result)
+    return _LOCI[key]
+
+
+def _bisected(context: MechanismMapContext, grid: Grid, result: dict[str, np.ndarray]):
+    from ...parallel.maps.grids import ModeMap
+    from ...parallel.maps.jacobians import Singularity
+    from ...parallel.maps.loci import loci
+    from ...parallel.maps.modes import Modes
+
+    solved = ModeMap(full_coordinates(context, grid.points()), Modes(labels(context), result["q"], result["found"]),
+                     Singularity(*(result[k] for k in ("inverse", "direct", "legs", "inverse_ratio", "direct_ratio"))))
+    found = loci(setup_of(context.mechanism).nominal, solved, grid.shape, context.space)
+    return {locus.kind: locus for locus in found}
+
+
+def summarise(context: MechanismMapContext, grid: Grid, result: dict[str, np.ndarray]) -> dict:
+    """The modes (and the scenes'), points per mode, points where any mode exists, the loci's
+    points per kind and how singular they are (largest sigma_min / sigma_max of their block), the
+    area or volume mapped; for the 5R's task space the closed-form area and the grid points that
+    disagree with the closed-form workspace."""
+    from ...parallel.maps import five_bar_exact
+    from ...parallel.maps.jacobians import closure, partition
+
+    mech = setup_of(context.mechanism).nominal
+    part = partition(mech)
+    found = result["found"]
+    cell = float(np.prod([(a.high - a.low) / max(a.n - 1, 1) for a in grid.axes]))
+    loci = loci_of(context, grid, result)
+    out = {"mechanism": context.mechanism, "space": context.space, "axes": list(context.names),
+           "held": full_coordinates(context, grid.points(0, 1))[0].tolist(), "modes": list(labels(context)),
+           "scene_mode": scene_mode(context), "points": grid.size, "any_mode": int(found.any(axis=1).sum()),
+           "per_mode": dict(zip(labels(context), found.sum(axis=0).tolist())),
+           "measure_any_mode": found.any(axis=1).sum() * cell}
+    for kind, locus in loci.items():
+        columns = part.joints if kind == "I" else part.unactuated
+        ratio = np.linalg.svd(closure(mech, locus.q)[1][..., columns], compute_uv=False) if len(locus.q) else np.ones((0, 1))
+        out[f"type_{kind}_points"] = len(locus.q)
+        out[f"type_{kind}_ratio_max"] = float((ratio[:, -1] / ratio[:, 0]).max()) if len(locus.q) else None
+    if context.mechanism == "five_bar" and context.space == "task":
+        from ...parallel.five_bar import FiveBarParameters
+
+        p = FiveBarParameters()
+        out["exact_area"] = five_bar_exact.area(p)
+        out["disagree_with_annuli"] = int((found.any(axis=1) != five_bar_exact.contains(p, grid.points())).sum())
+        r = np.linalg.norm(loci["I"].coordinates[:, None] - five_bar_exact.bases(p), axis=-1)
+        out["type_I_distance_to_circles_max"] = float(np.abs(r[..., None] - np.array(five_bar_exact.radii(p))).reshape(len(r), -1)
+                                                      .min(axis=1).max()) if len(r) else None
+    return out
+
+
+def figures(context: MechanismMapContext, grid: Grid, result: dict[str, np.ndarray], out: Path) -> list[Path]:
+    """``modes.png``: one panel per mode over a 2-D grid (the mode's region, type I points black,
+    type II red, the scenes' start and path, the 5R's exact boundary dashed), the scenes' mode
+    named; a 3-D grid: ``slices.png`` (the workspace on three slices of the last axis, with its
+    loci near them) and ``workspace_3d.png`` (the scenes' mode's points, coloured by the direct
+    block's conditioning)."""
+    from . import mechanism_figures
+
+    return mechanism_figures.draw(context, grid, result, loci_of(context, grid, result), out)
