@@ -202,7 +202,8 @@ def _batch(r):
 
 def _figures(r):
     t = r["figures"]
-    assert t["figures_over_simulation"] == pytest.approx(t["figures_png_pdf_s"] / t["simulation_s"])
+    for key in ("default_png", "all_png", "all_png_pdf"):
+        assert t[f"{key}_over_simulation"] == pytest.approx(t[f"{key}_s"] / t["simulation_s"])
 
 
 def _setup(r):

@@ -173,13 +173,13 @@ def test_mechanism_page_draws_no_link_geometry_of_the_urdf(five_bar, tmp_path):
 
 def test_base_figures_show_the_attitude_and_the_momentum(tmp_path):
     """A moving base's run writes base_attitude (rotation vector, angle turned, displacement) and
-    momentum (linear and angular components, and the drift on a log axis), PNG and PDF."""
+    momentum (linear and angular components, and the drift on a log axis), as PNG."""
     n, t = 40, np.linspace(0.0, 0.4, 40)
     base = BaseTelemetry(t=t, q=np.zeros((n, 4)), v=np.zeros((n, 3)), base_position=np.outer(t, [0.01, -0.02, 0.0]),
                          base_rotation=np.outer(t, [0.0, 0.0, 0.3]), momentum=np.full((n, 6), 1e-12),
                          com=np.zeros((n, 3)))
     written = write_base_figures(base, np.linspace(0.0, 1e-12, n), tmp_path)
-    assert sorted(p.name for p in written) == ["base_attitude.pdf", "base_attitude.png", "momentum.pdf", "momentum.png"]
+    assert sorted(p.name for p in written) == ["base_attitude.png", "momentum.png"]
 
 
 def test_page_carries_the_linkage_with_the_base(five_bar, tmp_path):

@@ -24,8 +24,10 @@ def _figures(count: int) -> dict:
 def test_the_helper_renders_what_it_is_sent(tmp_path):
     """Each job sent to the helper comes back as the paths it wrote, and they are there."""
     figures = _figures(2)
-    replies = rendering.render_each(plotting.save, [(fig, tmp_path, stem) for stem, fig in figures.items()])()
-    assert replies == [[tmp_path / f"{stem}.{fmt}" for fmt in plotting.FORMATS] for stem in figures]
+    helper = rendering.Renderer(plotting.save)
+    assert all(helper.send(fig, tmp_path, stem, ("png", "pdf")) for stem, fig in figures.items())
+    replies = helper.collect()
+    assert replies == [[tmp_path / f"{stem}.{fmt}" for fmt in ("png", "pdf")] for stem in figures]
     assert all(path.stat().st_size > 0 for reply in replies for path in reply)
 
 
@@ -36,7 +38,7 @@ def test_save_all_never_forks(tmp_path, monkeypatch):
 
     monkeypatch.setattr(os, "fork", no_fork)
     paths = plotting.save_all(_figures(4), tmp_path)
-    assert len(paths) == 8 and all(path.is_file() for path in paths)
+    assert len(paths) == 4 and all(path.is_file() for path in paths)
 
 
 def test_a_lost_helper_costs_no_figure(tmp_path, monkeypatch):
@@ -46,4 +48,19 @@ def test_a_lost_helper_costs_no_figure(tmp_path, monkeypatch):
     rendering._helper.wait()
     monkeypatch.setattr(rendering, "warm_up", lambda: None)  # keep the dead helper for this call
     paths = plotting.save_all(_figures(3), tmp_path)
-    assert len(paths) == 6 and all(path.is_file() for path in paths)
+    assert len(paths) == 3 and all(path.is_file() for path in paths)
+
+
+def test_a_figure_redrawn_after_it_was_sent_is_rendered_as_sent(tmp_path, monkeypatch):
+    """The helper renders a figure as it was when sent, and so does this process when the helper
+    failed on it: a later change to the same Figure (the next figure redrawing it) reaches neither."""
+    (fig,) = _figures(1).values()
+    helper = rendering.Renderer(plotting.save)
+    helper.send(fig, tmp_path, "sent", ("png",))
+    fig.axes[0].lines[0].set_ydata(np.zeros(200))  # redrawn for the next figure
+    plotting.save(fig, tmp_path, "changed", ("png",))
+    helper.collect()
+    fresh = _figures(1)["figure0"]
+    plotting.save(fresh, tmp_path, "fresh", ("png",))
+    assert (tmp_path / "sent.png").read_bytes() == (tmp_path / "fresh.png").read_bytes()
+    assert (tmp_path / "changed.png").read_bytes() != (tmp_path / "fresh.png").read_bytes()

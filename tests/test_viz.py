@@ -490,10 +490,15 @@ def test_log_axes_are_clipped_to_the_data():
 
 
 def test_write_figures_writes_png_and_pdf(iiwa2, tmp_path):
-    """With references, all six figures are written as PNG and PDF files."""
-    written = write_figures(iiwa2, _telemetry(iiwa2), tmp_path / "figs")
+    """With references, all six figures are written, as PNG (the default) and, when chosen, as
+    PNG and PDF files."""
+    from freefloat.app.viz.plotting import choose
+
     stems = ["joint_errors", "torques", "base_trajectory", "end_effector_paths", "end_effector_displacement",
              "com_drift"]
+    assert [p.name for p in write_figures(iiwa2, _telemetry(iiwa2), tmp_path / "png")] == [f"{s}.png" for s in stems]
+    with choose(None, ("png", "pdf")):
+        written = write_figures(iiwa2, _telemetry(iiwa2), tmp_path / "figs")
     assert [p.name for p in written] == [f"{stem}.{fmt}" for stem in stems for fmt in ("png", "pdf")]
     assert all(p.read_bytes().startswith(b"\x89PNG\r\n\x1a\n") for p in written if p.suffix == ".png")
     assert all(p.read_bytes().startswith(b"%PDF") for p in written if p.suffix == ".pdf")
@@ -503,7 +508,7 @@ def test_error_figure_skipped_without_references(iiwa2, tmp_path):
     """A run without joint references (NaN) gets no joint error figure and the five others."""
     written = write_figures(iiwa2, _telemetry(iiwa2, references=False), tmp_path)
     assert sorted(p.name for p in tmp_path.iterdir()) == sorted(p.name for p in written)
-    assert "joint_errors.png" not in [p.name for p in written] and len(written) == 10
+    assert "joint_errors.png" not in [p.name for p in written] and len(written) == 5
 
 
 def test_a_torque_free_run_writes_no_torque_figure(iiwa2, tmp_path):
@@ -513,7 +518,7 @@ def test_a_torque_free_run_writes_no_torque_figure(iiwa2, tmp_path):
     tel = _telemetry(iiwa2)
     tel.tau[:] = 0.0
     written = [p.name for p in write_figures(iiwa2, tel, tmp_path)]
-    assert "torques.png" not in written and "torques.pdf" not in written and "base_trajectory.png" in written
+    assert "torques.png" not in written and "base_trajectory.png" in written
     assert empty_figures(iiwa2, tel) == {"torques": "every joint torque is zero (a torque-free run)"}
 
 
@@ -582,12 +587,43 @@ def test_figures_rendered_in_two_processes_are_all_written(tmp_path, monkeypatch
     assert {p.name for p in written} == expected == {p.name for p in (tmp_path / "a").iterdir()}
     parent, real = os.getpid(), plotting.save
 
-    def child_fails(fig, out_dir, stem):
+    def child_fails(fig, out_dir, stem, formats):
         if os.getpid() != parent:
             raise RuntimeError("planted failure in the helper")
-        return real(fig, out_dir, stem)
+        return real(fig, out_dir, stem, formats)
 
     monkeypatch.setattr(plotting, "save", child_fails)
     (tmp_path / "b").mkdir()
     plotting.save_all(figures(), tmp_path / "b")
     assert {p.name for p in (tmp_path / "b").iterdir()} == expected
+
+
+def _artists(fig) -> list:
+    """Every plotted datum of a figure: per axes its title, labels, limits, legend texts and per
+    line its label, style and data."""
+    out = [fig._suptitle.get_text()]
+    for ax in fig.axes:
+        legend = ax.get_legend()
+        out.append((ax.get_title(), ax.get_xlabel(), ax.get_ylabel(), ax.get_xlim(), ax.get_ylim(),
+                    [text.get_text() for text in legend.get_texts()] if legend else None))
+        out += [(line.get_label(), line.get_drawstyle(), line.get_linestyle(), line.get_color(),
+                 np.asarray(line.get_xdata(), float).tolist(), np.asarray(line.get_ydata(), float).tolist())
+                for line in ax.get_lines()]
+    return out
+
+
+def test_a_redrawn_per_arm_figure_equals_a_fresh_one(iiwa2):
+    """torques drawn on the figure joint_errors drew first (one Figure redrawn) has the same
+    titles, labels, limits, legends, line styles and data as torques drawn on a fresh figure."""
+    from freefloat.app.viz.figures import ArmPanels
+
+    tel = _telemetry(iiwa2, n=3000)  # thinned curves: the redrawn lines change their sample count
+    tel.tau[:] = np.cumsum(tel.tau, axis=0)  # torques at another scale than the errors
+    panels = ArmPanels(iiwa2, tel.t)
+    errors = joint_error_figure(iiwa2, tel, panels)
+    first = _artists(errors)
+    redrawn = torque_figure(iiwa2, tel, panels)
+    assert redrawn is errors
+    assert _artists(redrawn) == _artists(torque_figure(iiwa2, tel))
+    assert _artists(joint_error_figure(iiwa2, tel)) == first
+    assert _artists(redrawn) != first

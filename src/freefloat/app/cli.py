@@ -14,7 +14,7 @@ from importlib.metadata import version
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Iterator
 
-from ..errors import FreefloatError
+from ..errors import FreefloatError, SceneError
 from .atlas.kinds import KINDS as ATLAS_KINDS
 from .bench.suites import ALL as ALL_SUITES
 from .bench.suites import DEFAULT as DEFAULT_SUITE
@@ -47,7 +47,10 @@ def main(argv: list[str] | None = None) -> int:
                      help="run this robot instead (URDF file or a known name such as ur5 or solo12); without "
                           "a scene: the torque-free 'tumbling' scene")
     sim.add_argument("--out", type=Path, default=None, help="output folder (default: runs/<scene>-<time>)")
-    sim.add_argument("--no-figures", action="store_true", help="skip the PNG figures")
+    sim.add_argument("--no-figures", action="store_true", help="skip the figures")
+    sim.add_argument("--figures", default=None, metavar="NAME,...",
+                     help="the figures to draw, comma-separated ('all': every one; '': none); default: the scene's "
+                          "[output] figures, a lean set (docs/commands.md lists the names)")
     sim.add_argument("--no-html", action="store_true", help="skip the meshcat animation")
     sim.add_argument("--quiet", action="store_true", help="no progress bar")
     sim.add_argument("--overwrite", action="store_true",
@@ -338,6 +341,11 @@ def _simulate(args: argparse.Namespace) -> int:
     scene = find_scene(args.scene or (ROBOT_SCENE if args.robot else DEFAULT_SCENE))
     if args.robot is not None:
         scene = with_robot(scene, args.robot)
+    if args.figures is not None:
+        from . import figure_set
+
+        chosen = figure_set.parse_names(args.figures, "--figures", SceneError)
+        scene = dataclasses.replace(scene, output=dataclasses.replace(scene.output, figures=chosen))
     if args.no_figures or args.no_html:
         output = dataclasses.replace(scene.output, figures=scene.output.figures and not args.no_figures,
                                      html=scene.output.html and not args.no_html)

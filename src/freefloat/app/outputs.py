@@ -15,6 +15,7 @@ from pathlib import Path
 from typing import Callable
 
 from ..errors import FreefloatError
+from . import figure_set
 from .experiments.base import Outcome
 from .run_folder import RunFolder
 from .scenes import MechanismScene, Scene
@@ -47,7 +48,7 @@ def write_report(out: Path, report: dict, markdown: Callable[[dict], str], start
 
 
 #: What :func:`write_run` writes, in order, by stage name (its ``stage`` callback's argument).
-STAGES = {"data": "telemetry.npz, summary.json, scene.toml", "figures": "figures (PNG and PDF)",
+STAGES = {"data": "telemetry.npz, summary.json, scene.toml", "figures": "figures",
           "trajectory.html": "the page trajectory.html"}
 
 
@@ -57,7 +58,8 @@ def write_run(folder: RunFolder, scene: Scene | MechanismScene, outcome: Outcome
     """Write ``telemetry.npz`` (with the outcome's names), any further telemetry,
     ``summary.json`` (summary, scene, provenance, versions; strict JSON), ``scene.toml`` (the
     scene as it ran: :func:`~.scenes.as_run.scene_as_run`),
-    the figures and ``trajectory.html``, each file atomically.
+    the figures the scene chose (``[output] figures``, :mod:`.figure_set`) and
+    ``trajectory.html``, each file atomically.
 
     Written whatever the run's status, so a diverged or interrupted run keeps what it computed;
     figures and page need two samples or more, and are skipped once ``interrupted()`` is true
@@ -77,7 +79,7 @@ def write_run(folder: RunFolder, scene: Scene | MechanismScene, outcome: Outcome
     written.append(folder.write_text("summary.json", strict_json(record)))
     drawings = []
     if len(tel.t) >= 2 and scene.output.figures and outcome.figures is not None:
-        drawings.append(("figures", lambda into: outcome.figures(into)))
+        drawings.append(("figures", lambda into: _figures(outcome, scene, into)))
     if len(tel.t) >= 2 and scene.output.html and outcome.page is not None:
         drawings.append(("trajectory.html", lambda into: [outcome.page(into / "trajectory.html", scene.output.html_fps)]))
     skipped = []
@@ -93,6 +95,14 @@ def write_run(folder: RunFolder, scene: Scene | MechanismScene, outcome: Outcome
         except Exception as exc:  # a drawing that fails must not cost the run its data, already written
             skipped.append(f"{what} (failed: {type(exc).__name__}: {exc})")
     return written, skipped
+
+
+def _figures(outcome: Outcome, scene: Scene | MechanismScene, into: Path) -> list[Path]:
+    """The run's figures that ``[output] figures`` chose, in its ``figure_formats``."""
+    from .viz.plotting import choose
+
+    with choose(figure_set.selected(scene.output.figures), scene.output.figure_formats):
+        return outcome.figures(into)
 
 
 def _draw(folder: RunFolder, draw: Callable[[Path], list[Path]]) -> list[Path]:

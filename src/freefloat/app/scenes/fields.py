@@ -10,6 +10,8 @@ from typing import Any, NamedTuple
 
 from ... import inputs
 from ...errors import SceneError
+from .. import figure_set
+from ..figure_set import FigureChoice, FigureFormats  # noqa: F401  (the annotations parse_section reads)
 
 #: Largest size of any number in a scene (SI units: nothing physical a scene sets comes near it;
 #: beyond it float arithmetic overflows).
@@ -20,9 +22,11 @@ MAX_HTML_FPS = 1000.0
 
 @dataclass(frozen=True)
 class OutputSection:
-    """``[output]``: which artefacts a run writes."""
+    """``[output]``: which artefacts a run writes; ``figures`` and ``figure_formats`` as
+    :mod:`freefloat.app.figure_set` says."""
 
-    figures: bool = True
+    figures: FigureChoice = True
+    figure_formats: FigureFormats = ("png",)
     html: bool = True
     html_fps: float = 30.0
 
@@ -59,6 +63,10 @@ def parse_section(where: str, section: str, cls: type, raw: Any, rules: Rules) -
             values[key] = number(where, section, key, value, int if kind == "int" else float, rules)
         elif kind == "tuple[str, ...] | None":
             values[key] = names(where, name, value)
+        elif kind == "FigureChoice":
+            values[key] = figure_set.check_choice(value, f"{where}'{name}'", SceneError)
+        elif kind == "FigureFormats":
+            values[key] = figure_set.check_formats(value, f"{where}'{name}'", SceneError)
         elif kind == "tuple[float, float, float]":
             values[key] = vector(where, name, value, 3)
         elif kind in ("tuple[float, ...]", "tuple[float, ...] | None"):

@@ -1,6 +1,23 @@
-"""Visualisation of runs: self-contained meshcat animation pages and dissertation-style figures."""
+"""Visualisation of runs: self-contained meshcat animation pages and dissertation-style figures.
 
-from .figures import write_figures
-from .meshcat_html import ExtraBody, frame_indices, write_trajectory_html
+The names below are imported when first used, so that a submodule (the figure helper's
+:mod:`.rendering`, :mod:`.plotting`) loads without the figures' and pages' own imports
+(Pinocchio, SciPy, the URDF loader).
+"""
+
+from __future__ import annotations
+
+import importlib
+from typing import Any
+
+#: Public name -> the submodule that defines it.
+_WHERE = {"write_figures": ".figures", "ExtraBody": ".meshcat_html", "frame_indices": ".meshcat_html",
+          "write_trajectory_html": ".meshcat_html"}
 
 __all__ = ["ExtraBody", "frame_indices", "write_figures", "write_trajectory_html"]
+
+
+def __getattr__(name: str) -> Any:
+    if name not in _WHERE:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    return getattr(importlib.import_module(_WHERE[name], __name__), name)

@@ -3,9 +3,9 @@ lie on each other still distinguishable, paths in 3-D (or in the xy-plane when t
 in it, said so) with the robot drawn at start and end, log axes clipped to the data.
 
 Each ``*_figure`` function returns a :class:`matplotlib.figure.Figure` on the Agg canvas (see
-:mod:`.plotting`), so tests can read the plotted data; :func:`write_figures` saves each as PNG
-and PDF, less those whose data is identically zero (:func:`empty_figures` says which and why,
-for the summary). Positions and momenta are in the inertial frame, as recorded in
+:mod:`.plotting`), so tests can read the plotted data; :func:`write_figures` saves those the run
+chose (:mod:`freefloat.app.figure_set`), less those whose data is identically zero
+(:func:`empty_figures` says which and why, for the summary). Positions and momenta are in the inertial frame, as recorded in
 :class:`~freefloat.dynamics.telemetry.Telemetry`; joint errors in rad (m for prismatic
 joints), as in the summary.
 """
@@ -45,7 +45,8 @@ START_COLOR, END_COLOR = "#b0b0b0", "#303030"
 def write_figures(robot: Robot, telemetry: Telemetry, out_dir: str | Path,
                   wrenches: tuple[ExternalWrench, ...] = (), control_period: float | None = None,
                   spin: bool = False, settle_threshold: float | None = None) -> list[Path]:
-    """Write the figures of a run as PNG and PDF files.
+    """Write the figures of a run that its writer chose (:func:`.plotting.choose`; default: every
+    one, as PNG), each drawn only when chosen.
 
     Args:
         robot: the robot the run was simulated with.
@@ -61,15 +62,16 @@ def write_figures(robot: Robot, telemetry: Telemetry, out_dir: str | Path,
     Returns:
         The written files: ``joint_errors`` (only when the run has joint references),
         ``torques``, ``base_trajectory``, ``end_effector_paths``, ``end_effector_displacement``,
-        ``com_drift`` or ``conservation_balance``, ``angular_rates`` and ``angular_momentum``, each ``.png`` then
-        ``.pdf``, less those :func:`empty_figures` names.
+        ``com_drift`` or ``conservation_balance``, ``angular_rates`` and ``angular_momentum``, each in the
+        chosen formats, less those not chosen and those :func:`empty_figures` names.
     """
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     left_out = empty_figures(robot, telemetry, spin)
+    panels = ArmPanels(robot, telemetry.t)  # joint_errors and torques: one figure, redrawn
     figures = {
-        "joint_errors": lambda: joint_error_figure(robot, telemetry),
-        "torques": lambda: torque_figure(robot, telemetry),
+        "joint_errors": lambda: joint_error_figure(robot, telemetry, panels),
+        "torques": lambda: torque_figure(robot, telemetry, panels),
         "base_trajectory": lambda: base_trajectory_figure(telemetry),
         "end_effector_paths": lambda: end_effector_paths_figure(robot, telemetry),
         "end_effector_displacement": lambda: end_effector_displacement_figure(robot, telemetry),
@@ -77,14 +79,14 @@ def write_figures(robot: Robot, telemetry: Telemetry, out_dir: str | Path,
     if wrenches:
         if control_period is None:
             raise ValueError("write_figures: a run with external wrenches needs its control_period")
-        res = balance(robot, telemetry, wrenches, control_period)
-        figures["conservation_balance"] = lambda: balance_figure(telemetry, res)
+        figures["conservation_balance"] = lambda: balance_figure(
+            telemetry, balance(robot, telemetry, wrenches, control_period))
     else:
         figures["com_drift"] = lambda: com_drift_figure(robot, telemetry)
     if spin:
         figures["angular_rates"] = lambda: angular_rates_figure(robot, telemetry, settle_threshold)
         figures["angular_momentum"] = lambda: angular_momentum_figure(telemetry)
-    return save_all({name: None if name in left_out else draw() for name, draw in figures.items()}, out_dir)
+    return save_all({name: None if name in left_out else draw for name, draw in figures.items()}, out_dir)
 
 
 def empty_figures(robot: Robot, telemetry: Telemetry, spin: bool = False) -> dict[str, str]:
@@ -122,21 +124,22 @@ def arm_name(arm: Arm, index: int) -> str:
     return prefix or f"arm {index + 1}"
 
 
-def joint_error_figure(robot: Robot, telemetry: Telemetry) -> Figure | None:
+def joint_error_figure(robot: Robot, telemetry: Telemetry, panels: ArmPanels | None = None) -> Figure | None:
     """Joint tracking error ``joint_reference - joint_positions`` (rad; m for prismatic joints)
-    vs t, one panel per arm. Returns None when the run has no reference (all NaN)."""
+    vs t, one panel per arm, drawn on ``panels`` (default: new ones). Returns None when the run
+    has no reference (all NaN)."""
     error = telemetry.joint_reference - telemetry.joint_positions
     if np.all(np.isnan(error)):
         return None
-    return _per_arm_figure(robot, telemetry.t, error, "Joint tracking error, reference - actual",
-                           "error (rad)", "m", steps=False)
+    return (panels or ArmPanels(robot, telemetry.t)).draw(error, "Joint tracking error, reference - actual",
+                                                          "error (rad)", "m", steps=False)
 
 
-def torque_figure(robot: Robot, telemetry: Telemetry) -> Figure:
+def torque_figure(robot: Robot, telemetry: Telemetry, panels: ArmPanels | None = None) -> Figure:
     """Joint torques (N m; N for prismatic joints) vs t, one panel per arm, drawn as steps since
-    ``tau[k]`` is held over [t_k, t_k+1)."""
-    return _per_arm_figure(robot, telemetry.t, telemetry.tau, "Joint torques, held over each control period",
-                           "torque (N m)", "N", steps=True)
+    ``tau[k]`` is held over [t_k, t_k+1), on ``panels`` (default: new ones)."""
+    return (panels or ArmPanels(robot, telemetry.t)).draw(telemetry.tau, "Joint torques, held over each control period",
+                                                          "torque (N m)", "N", steps=True)
 
 
 def base_trajectory_figure(telemetry: Telemetry) -> Figure:
@@ -307,19 +310,46 @@ def skeleton(robot: Robot, q: np.ndarray) -> list[np.ndarray]:
     return segments
 
 
-def _per_arm_figure(robot: Robot, t: np.ndarray, values: np.ndarray, title: str, ylabel: str,
-                    prismatic_unit: str, steps: bool) -> Figure:
-    """One panel per arm plotting the columns of ``values`` (N, n_joints) of the arm's joints."""
-    n = max(1, len(robot.arms))
-    fig, axes = figure(n, 1, (10.0, 2.6 * n + 0.8), title, right=0.78)
-    prismatic = _prismatic(robot)
-    for k, (ax, arm) in enumerate(zip(axes, robot.arms)):
-        columns = arm.v_indices - robot.n_base
-        for name, column in zip(arm.joints, columns):
-            curve(ax, t, values[:, column], name, drawstyle="steps-post" if steps else "default")
-        label = ylabel[:-1] + f"; {prismatic_unit} prismatic)" if prismatic[columns].any() else ylabel
-        finish(ax, "t (s)", label, f"{arm_name(arm, k)} (end-effector {arm.end_effector})", legend="outside")
-    return fig
+class ArmPanels:
+    """One panel per arm plotting per-joint time series (``joint_errors``, ``torques``): the first
+    :meth:`draw` makes the figure, each later one redraws the same figure, its lines given the new
+    data, style and labels (a run's second per-arm figure costs its rendering only). A drawn
+    figure is the same as a fresh one's in every plotted datum (tested)."""
+
+    def __init__(self, robot: Robot, t: np.ndarray):
+        self.robot, self.t = robot, t
+        self.fig: Figure | None = None
+
+    def draw(self, values: np.ndarray, title: str, ylabel: str, prismatic_unit: str, steps: bool) -> Figure:
+        """The columns of ``values`` (N, n_joints) of each arm's joints vs t, one line per joint,
+        as steps (held over each period) when ``steps``; the figure titled ``title``, the panels'
+        y axes ``ylabel`` (with ``prismatic_unit`` for the prismatic joints' arms)."""
+        robot, t = self.robot, self.t
+        n = max(1, len(robot.arms))
+        first = self.fig is None
+        if first:
+            self.fig, _ = figure(n, 1, (10.0, 2.6 * n + 0.8), title, right=0.78)
+        else:
+            self.fig.suptitle(title)
+        prismatic = _prismatic(robot)
+        style = "steps-post" if steps else "default"
+        for k, (ax, arm) in enumerate(zip(self.fig.axes, robot.arms)):
+            columns = arm.v_indices - robot.n_base
+            for i, (name, column) in enumerate(zip(arm.joints, columns)):
+                if first:
+                    curve(ax, t, values[:, column], name, drawstyle=style)
+                else:
+                    shown = thin(np.asarray(values[:, column], dtype=float))
+                    ax.lines[i].set_data(t[shown], values[shown, column])
+                    ax.lines[i].set_drawstyle(style)
+            label = ylabel[:-1] + f"; {prismatic_unit} prismatic)" if prismatic[columns].any() else ylabel
+            if first:
+                finish(ax, "t (s)", label, f"{arm_name(arm, k)} (end-effector {arm.end_effector})", legend="outside")
+            else:
+                ax.set_ylabel(label)
+                ax.relim()
+                ax.autoscale_view()
+        return self.fig
 
 
 def _prismatic(robot: Robot) -> np.ndarray:

@@ -37,11 +37,14 @@ _APART = 1e-9
 
 def write_mechanism_figures(telemetry: MechanismTelemetry, out_dir: str | Path,
                             chain: ClosedChain | None = None) -> list[Path]:
-    """Write ``platform_tracking``, ``efforts``, ``loop_closure_drift`` and ``sliding_variables``
-    as PNG and PDF; ``chain`` names the actuators and their units. Returns the paths."""
+    """Write ``platform_tracking``, ``efforts``, ``loop_closure_drift`` and ``sliding_variables``,
+    those chosen (:func:`.plotting.choose`); ``chain`` names the actuators and their units.
+    Returns the paths."""
     out_dir = Path(out_dir)
-    figures = {"platform_tracking": tracking_figure(telemetry), "efforts": efforts_figure(telemetry, chain),
-               "loop_closure_drift": drift_figure(telemetry), "sliding_variables": sliding_figure(telemetry)}
+    figures = {"platform_tracking": lambda: tracking_figure(telemetry),
+               "efforts": lambda: efforts_figure(telemetry, chain),
+               "loop_closure_drift": lambda: drift_figure(telemetry),
+               "sliding_variables": lambda: sliding_figure(telemetry)}
     return save_all(figures, out_dir)
 
 
@@ -108,9 +111,9 @@ def sliding_figure(telemetry: MechanismTelemetry) -> Figure:
 
 def write_base_figures(base: BaseTelemetry, momentum_drift: np.ndarray, out_dir: str | Path) -> list[Path]:
     """A mechanism on a moving base: write ``base_attitude`` (:func:`base_attitude_figure`) and
-    ``momentum`` (:func:`momentum_figure`) as PNG and PDF; returns the paths."""
-    return save_all({"base_attitude": base_attitude_figure(base),
-                     "momentum": momentum_figure(base, momentum_drift)}, Path(out_dir))
+    ``momentum`` (:func:`momentum_figure`), those chosen (:func:`.plotting.choose`); returns the paths."""
+    return save_all({"base_attitude": lambda: base_attitude_figure(base),
+                     "momentum": lambda: momentum_figure(base, momentum_drift)}, Path(out_dir))
 
 
 def base_attitude_figure(base: BaseTelemetry) -> Figure:

@@ -1,5 +1,6 @@
 """What every run figure shares: an Agg figure with fixed margins, distinguishable curves,
-labelled axes, log axes clipped to the data, and writing to PNG and PDF.
+labelled axes, log axes clipped to the data, and writing the figures a run chose (PNG, and PDF
+when asked: :func:`choose`).
 
 Figures are not registered with pyplot (nothing stays open). Layout is fixed fractions
 (``subplots_adjust``) rather than constrained layout, which doubled the cost of a save.
@@ -7,6 +8,9 @@ Figures are not registered with pyplot (nothing stays open). Layout is fixed fra
 
 from __future__ import annotations
 
+import contextlib
+import contextvars
+from collections.abc import Callable, Iterator
 from pathlib import Path
 
 import numpy as np
@@ -16,10 +20,16 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 from matplotlib.ticker import LogLocator, NullLocator
 
-from .rendering import render_each
+from .rendering import Renderer
 
-#: Formats every figure is written in: PNG to look at, PDF to print.
-FORMATS = ("png", "pdf")
+#: Formats a figure is written in unless a run chose others (:func:`choose`): PNG to look at.
+FORMATS = ("png",)
+#: What a run chose to draw (:func:`choose`): figure names (None: every one) and formats.
+_CHOSEN: contextvars.ContextVar[tuple[frozenset[str] | None, tuple[str, ...]]] = contextvars.ContextVar(
+    "figures_chosen", default=(None, FORMATS))
+#: A figure to write: drawn already, drawn when called (so that one not chosen costs nothing),
+#: or None (not drawn).
+Drawing = Figure | Callable[[], Figure | None] | None
 #: Curve styles: colour and dash change together, so curves lying on each other stay
 #: distinguishable (the first drawn widest, so a later one on top leaves it visible).
 STYLES = (cycler(color=["#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b", "#e377c2", "#17becf"])
@@ -107,27 +117,52 @@ def log_curve(ax: Axes, t: np.ndarray, values: np.ndarray, label: str) -> None:
     ax.yaxis.set_minor_locator(NullLocator())  # no minor ticks: each tick is an artist to draw
 
 
-def save_all(figures: dict[str, Figure | None], out_dir: Path) -> list[Path]:
-    """Write each figure with :func:`save` (None: skipped); returns the paths, in order.
-
-    Rendering is most of the cost (text layout, rasterising, PDF), so a helper process
-    (:mod:`.rendering`: a new interpreter, not a fork) renders every other figure while this one renders
-    the rest. A figure the helper fails on is rendered here."""
-    named = [(stem, fig) for stem, fig in figures.items() if fig is not None]
-    theirs = named[1::2]
-    collect = render_each(save, [(fig, out_dir, stem) for stem, fig in theirs])
-    for stem, fig in named[0::2]:
-        save(fig, out_dir, stem)
-    for (stem, fig), reply in zip(theirs, collect(), strict=True):
-        if isinstance(reply, BaseException):  # the helper could not: this process can
-            save(fig, out_dir, stem)
-    return [out_dir / f"{stem}.{fmt}" for stem, _ in named for fmt in FORMATS]
+@contextlib.contextmanager
+def choose(names: frozenset[str] | None, formats: tuple[str, ...]) -> Iterator[None]:
+    """Within: :func:`save_all` draws only the figures named in ``names`` (None: every one) and
+    writes each in ``formats`` (of :data:`freefloat.app.figure_set.FORMATS`)."""
+    token = _CHOSEN.set((names, tuple(formats)))
+    try:
+        yield
+    finally:
+        _CHOSEN.reset(token)
 
 
-def save(fig: Figure, out_dir: Path, stem: str) -> list[Path]:
-    """Write ``<stem>.png`` (120 dpi, zlib level 1: encoding was the largest single cost)
-    and ``<stem>.pdf``; returns the paths."""
-    files = [out_dir / f"{stem}.{fmt}" for fmt in FORMATS]
+def save_all(figures: dict[str, Drawing], out_dir: Path) -> list[Path]:
+    """Draw and write the chosen figures (:func:`choose`) of ``figures`` with :func:`save`, in
+    order (None: skipped); returns the paths, in order.
+
+    Rendering is most of the cost (text layout, rasterising), so a helper process
+    (:mod:`.rendering`: a new interpreter, not a fork) renders every other figure while this one
+    draws the next and renders the rest. A figure goes to the helper pickled as it is when sent,
+    so the next one may redraw the same Figure (see
+    :class:`~freefloat.app.viz.figures.ArmPanels`); a figure the helper fails on is rendered
+    here from that copy."""
+    names, formats = _CHOSEN.get()
+    helper: Renderer | None = None
+    stems: list[str] = []
+    for stem, drawing in figures.items():
+        if drawing is None or (names is not None and stem not in names):
+            continue
+        fig = drawing() if callable(drawing) else drawing
+        if fig is None:
+            continue
+        sent = False
+        if len(stems) % 2 == 0:  # every other figure, from the first, to the helper
+            helper = helper or Renderer(save)
+            sent = helper.send(fig, out_dir, stem, formats)
+        if not sent:
+            save(fig, out_dir, stem, formats)
+        stems.append(stem)
+    if helper is not None:
+        helper.collect()
+    return [out_dir / f"{stem}.{fmt}" for stem in stems for fmt in formats]
+
+
+def save(fig: Figure, out_dir: Path, stem: str, formats: tuple[str, ...] = FORMATS) -> list[Path]:
+    """Write ``<stem>.<format>`` for each of ``formats`` (PNG at 120 dpi, zlib level 1: encoding
+    was the largest single cost); returns the paths."""
+    files = [out_dir / f"{stem}.{fmt}" for fmt in formats]
     for file in files:
         fig.savefig(file, dpi=120, **({"pil_kwargs": {"compress_level": 1}} if file.suffix == ".png" else {}))
     return files

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import atexit
 import pickle
+import queue
 import signal
 import struct
 import subprocess
@@ -59,45 +60,68 @@ def _stop(helper: subprocess.Popen) -> None:
     helper.stdout.close()
 
 
-def render_each(save: Callable[[Figure, Path, str], list[Path]],
-                jobs: list[tuple[Figure, Path, str]]) -> Callable[[], list[Any]]:
-    """Start ``save(*job)`` for each job in the helper (started now if it is not); returns the
-    call that waits for them: in order, the paths each wrote or the exception it raised there
-    (also when the helper is lost). The figures are pickled and sent from a thread, so this
-    process goes on with its own share meanwhile."""
-    warm_up()
-    helper = _helper
+class Renderer:
+    """Jobs ``save(*job)`` for the helper (started now if it is not): each job is pickled when
+    sent, so a figure may change afterwards (the next figure of a run redraws the same one), and
+    written to the helper's pipe from a thread, so this process goes on with its own share."""
 
-    sent = [0]
+    def __init__(self, save: Callable[..., list[Path]]):
+        warm_up()
+        self._helper, self._save = _helper, save
+        self._queue: queue.SimpleQueue[bytes | None] = queue.SimpleQueue()
+        self._jobs: list[bytes] = []  # each job as pickled, in order
+        self._written = 0
+        self._feeder = threading.Thread(target=self._feed, daemon=True)
+        self._feeder.start()
 
-    def feed() -> None:
+    def send(self, *job: Any) -> bool:
+        """Queue ``save(*job)`` for the helper; False (nothing queued) when the job cannot be
+        pickled."""
         try:
-            for job in jobs:
-                _send(helper.stdin, (save, *job))
-                sent[0] += 1
-        except (OSError, pickle.PicklingError, TypeError, AttributeError):
-            pass  # a job that cannot be sent (the helper gone, a figure that cannot be pickled) is not awaited
+            data = pickle.dumps((self._save, *job), protocol=pickle.HIGHEST_PROTOCOL)
+        except (pickle.PicklingError, TypeError, AttributeError):
+            return False
+        self._jobs.append(data)
+        self._queue.put(data)
+        return True
 
-    feeder = threading.Thread(target=feed, daemon=True)
-    feeder.start()
+    def _feed(self) -> None:
+        stream = self._helper.stdin
+        while (data := self._queue.get()) is not None:
+            try:
+                stream.write(_HEADER.pack(len(data)) + data)
+                stream.flush()
+                self._written += 1
+            except OSError:  # the helper is gone: what is not written is not awaited
+                while self._queue.get() is not None:
+                    pass
+                return
 
-    def collect() -> list[Any]:
-        feeder.join()  # the helper reads while it renders, so the last job is sent soon after its turn
+    def collect(self) -> list[Any]:
+        """Wait for the jobs sent; in order, the paths each wrote, or for a job the helper failed
+        on (or lost) what this process wrote running the job as it was sent."""
+        self._queue.put(None)
+        self._feeder.join()  # the helper reads while it renders, so the last job is sent soon after its turn
         replies: list[Any] = []
         try:
-            for _ in range(sent[0]):
-                replies.append(_receive(helper.stdout))
+            for _ in range(self._written):
+                replies.append(_receive(self._helper.stdout))
         except (EOFError, OSError, pickle.UnpicklingError) as exc:
-            replies += [exc] * (sent[0] - len(replies))
-        return replies + [RuntimeError("not sent to the figure helper")] * (len(jobs) - sent[0])
+            replies += [exc] * (self._written - len(replies))
+        replies += [RuntimeError("not sent to the figure helper")] * (len(self._jobs) - self._written)
+        return [_run(data) if isinstance(reply, BaseException) else reply for data, reply in zip(self._jobs, replies)]
 
-    return collect
+
+def _run(data: bytes) -> Any:
+    """Run a pickled job ``(save, *job)`` here."""
+    save, *job = pickle.loads(data)
+    return save(*job)
 
 
 def _serve() -> None:
     """The helper's loop: (save, figure, folder, stem) in, save's paths (or its exception) out."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
-    import matplotlib.backends.backend_agg  # noqa: F401  (what unpickling and saving a figure need)
+    from . import plotting  # noqa: F401  (what unpickling and saving a figure need: matplotlib's Agg, plotting.save)
 
     stdin, stdout = sys.stdin.buffer, sys.stdout.buffer
     while True:
