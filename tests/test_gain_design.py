@@ -18,7 +18,7 @@ from freefloat.parallel.five_bar import FiveBarParameters
 from freefloat.parallel.platform import platform_dynamics
 from freefloat.parallel.rsu_ppap import load_data, load_rsu_ppap
 from freefloat.parallel.rsu_ppap_masses import RsuPpapModel, with_masses
-from freefloat.parallel.sliding_mode import FiveBarModel, design_gains
+from freefloat.parallel.sliding_mode import FiveBarModel, PlatformControl, design_gains
 
 #: The 5R-only design's output (commit ac0848c) on the 3 cm grid with cond < 6 (60 points).
 REGRESSION = json.loads((Path(__file__).parent / "data" / "five_bar_gains_regression.json").read_text())
@@ -118,20 +118,21 @@ def test_infeasible_worst_case_is_refused():
 
 
 def test_sliding_condition_holds_on_the_2rsu_ppap(rsu):
-    """At the design points, for every one of the 128 extreme plants built by scaling the bodies
-    (not through the coefficients), eq 153 with f = sign gives s^T sdot <= -eta sum |s| (eq 144)
-    for random s, sigma and platform rates."""
+    """At the design points, for each of the 128 extreme plants built by scaling the bodies (not
+    through the coefficients), the sliding-mode law (PlatformControl, f = sign) with the designed
+    gains gives s^T sdot <= -eta sum |s| (eq 144), sdot = qddot# - sigma from the plant's own
+    dynamics, for random errors, error rates, reference accelerations and platform rates."""
     points = np.array([[0.03, 0.0, 0.40], [-0.02, 0.03, 0.43]])
     gains = gain_design.design_gains(rsu, points, eta=20.0)
     rng = np.random.default_rng(1)
-    est = rsu.mechanism
+    lam = 40.0
     for point in points:
         q = rsu.assemble(point)
-        for theta in gain_design.vertices(rsu)[::9]:
-            true = with_masses(est, rsu.data, dict(zip(rsu.names, theta)))
-            qd, sigma, s = rng.normal(size=3) * 0.3, rng.normal(size=3) * 5.0, rng.normal(size=3)
-            H, v, g, _ = platform_dynamics(true, q, qd)
-            H_hat, v_hat, g_hat, _ = platform_dynamics(est, q, qd)
-            u = v_hat + g_hat + H_hat @ (sigma - gains.k(sigma, qd) * np.sign(s))
-            sdot = np.linalg.solve(H, u - v - g) - sigma
+        for theta in gain_design.vertices(rsu):
+            rates, e, edot, qdd_d = (rng.normal(size=3) * w for w in (0.3, 0.01, 0.1, 5.0))
+            reference = lambda t: (q[:3] + e, rates + edot, qdd_d)  # noqa: E731
+            law = PlatformControl(rsu.mechanism, reference, lam, gains, "sign")
+            tau, _, s = law.law(0.0, q, rsu.mechanism.velocity_map(q) @ rates)
+            H, v, g, B = platform_dynamics(with_masses(rsu.mechanism, rsu.data, dict(zip(rsu.names, theta))), q, rates)
+            sdot = np.linalg.solve(H, B @ tau - v - g) - (qdd_d + lam * edot)
             assert s @ sdot <= -gains.eta * np.abs(s).sum() + 1e-9

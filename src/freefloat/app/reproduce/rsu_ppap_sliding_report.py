@@ -113,22 +113,22 @@ def markdown(report: dict) -> str:
 
 
 def figure(report: dict, path: Path) -> None:
-    """The platform error of every case, x, y, z side by side (symlog, mm)."""
+    """One panel per plant: the platform error's norm |e| (mm, log) under each law."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, axes = plt.subplots(1, 3, figsize=(14, 4), sharex=True)
-    for name, c in report["cases"].items():
-        e = np.array(c["e_mm"])
-        for i, ax in enumerate(axes):
-            ax.plot(c["t"], e[:, i], label=name, linestyle="-" if name.startswith("sliding") else "--")
-    for i, ax in enumerate(axes):
+    plants = list(report["settings"]["plant_errors"])
+    fig, axes = plt.subplots(1, len(plants), figsize=(4.5 * len(plants), 4), sharex=True, sharey=True)
+    for ax, plant in zip(axes, plants):
+        for name, c in report["cases"].items():
+            if name.endswith(f", {plant}"):
+                ax.semilogy(c["t"], np.linalg.norm(c["e_mm"], axis=1), label=name.split(",")[0])
+        ax.set_title(f"plant {plant}", fontsize=9)
         ax.set_xlabel("t (s)")
-        ax.set_ylabel(f"error {'xyz'[i]} (mm)")
-        ax.set_yscale("symlog", linthresh=1e-3)
-    axes[0].legend(fontsize=7)
+    axes[0].set_ylabel("|q#_d - q#| (mm)")
+    axes[0].legend(fontsize=8)
     fig.tight_layout()
     fig.savefig(path, dpi=120)
     plt.close(fig)
