@@ -165,3 +165,32 @@ def test_an_interrupted_approach_is_an_interrupt_not_a_missed_target(monkeypatch
     monkeypatch.setattr(simulation, "run", interrupted)
     with pytest.raises(KeyboardInterrupt):
         capture.capture_and_detumble(robot, target, "arm1_ee", [("arm1_ee", "wz")], None, approach_time=0.2)
+
+
+def test_grasp_mismatch_vanishes_on_the_weld_after_the_impact(setup):
+    """grasp_mismatch: zero gap on the fixture (grasp point on the hand), a relative speed that is
+    the twist difference before the impact and zero after it (the weld)."""
+    from freefloat.space.capture import grasp_mismatch
+
+    robot, q, v, body, q_t, v_t = setup
+    gap, before = grasp_mismatch(robot, "arm1_ee", q, v, body, q_t, v_t)
+    data = robot.model.createData()
+    pin.forwardKinematics(robot.model, data, q, v)
+    ee = pin.getFrameVelocity(robot.model, data, robot.model.getFrameId("arm1_ee"), pin.LOCAL_WORLD_ALIGNED).linear
+    pin.forwardKinematics(body.model, body.data, q_t, v_t)
+    grasp = pin.getFrameVelocity(body.model, body.data, body.grasp_id, pin.LOCAL_WORLD_ALIGNED).linear
+    assert gap < 1e-12 and before == pytest.approx(np.linalg.norm(ee - grasp), rel=1e-12) and before > 1e-3
+    hit = impact(robot, "arm1_ee", q, v, body, q_t, v_t)
+    assert grasp_mismatch(robot, "arm1_ee", q, hit.v_robot, body, q_t, hit.v_target)[1] < 1e-12
+
+
+def test_attitude_change_is_the_angle_between_first_and_last_quaternions():
+    """attitude_change: a turn of 0.3 rad about a tilted axis, whatever lies between."""
+    from freefloat.space.capture import attitude_change
+
+    axis = np.array([1.0, 2.0, -0.5]) / np.linalg.norm([1.0, 2.0, -0.5])
+    start = pin.Quaternion(pin.exp3(np.array([0.1, -0.4, 0.2])))
+    middle = pin.Quaternion(pin.exp3(np.array([2.0, 0.0, 0.0])))
+    end = pin.Quaternion(pin.exp3(0.3 * axis) @ start.matrix())
+    quats = np.array([start.coeffs(), middle.coeffs(), end.coeffs()])
+    assert attitude_change(quats) == pytest.approx(0.3, rel=1e-12)

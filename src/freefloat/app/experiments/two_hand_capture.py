@@ -18,13 +18,14 @@ from ...dynamics.simulation import RunResult
 from ...errors import FreefloatError, SceneError
 from ...robot.loading import FreefloatWarning
 from ...robot.conventions import momentum_about_origin
-from ...space.capture import TARGET_FRAME, Target, target_angular_speed
+from ...space.capture import TARGET_FRAME, target_angular_speed
 from ...space.dual_capture import capture_with_two_hands, loop_conditioning, loop_history, second_grasp_at_contact
 from ..scenes import Scene
 from .base import Checkpoint, Experiment, Outcome, Progress
+from .capture import CaptureSetup
 from .capture import prepare as prepare_one_hand
 from .detumbling import mission_joints, rows_spec
-from .robot_run import APPROACH_MARGIN, RobotSetup, control_steps, robot_outcome
+from .robot_run import APPROACH_MARGIN, control_steps, robot_outcome
 
 #: How the page draws the target (see-through, so that the loop inside shows), the grasp points (a
 #: green and a blue ball) and the loop's closing link through the target (a red bar between them).
@@ -40,12 +41,11 @@ SETTLED_SHARE = 1e-4
 
 
 @dataclass(kw_only=True)
-class TwoHandSetup(RobotSetup):
-    """A two-hand capture scene resolved before the loop: the robot's setup, the target (its first
-    grasp point meets the first hand at ``target.contact_time``), the two hands and the second
-    grasp point (target frame, m)."""
+class TwoHandSetup(CaptureSetup):
+    """A two-hand capture scene resolved before the loop: the one-hand capture's setup (the target's
+    first grasp point meets the first hand at ``target.contact_time``; no planned approach), the
+    two hands and the second grasp point (target frame, m)."""
 
-    target: Target
     hands: tuple[str, str]
     second_grasp: np.ndarray
 

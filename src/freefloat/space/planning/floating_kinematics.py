@@ -1,13 +1,15 @@
-"""Free-floating kinematics at conserved momentum: the base moves as the joints make it.
+r"""Free-floating kinematics at conserved momentum: the base moves as the joints make it.
 
-With no external wrench the total momentum ``[P; L about the inertial origin]`` is constant;
-about the base CoM it is ``M = [P; L_o - r_0 x P]`` and the base twist follows from the joint
-rates (dissertation eq 70/71):
+With no external wrench the total momentum ``[P; L_o]`` (about the inertial origin) is constant,
+and so is the centroidal momentum ``h_G = [P; L_o - c x P]`` (``c`` the system CoM). The base
+velocity follows from the joint rates through Pinocchio's centroidal momentum matrix
+``A_G = [A_b, A_j]``:
 
-.. math:: \\dot x_0 = J_0 \\dot q + H_0^{-1} M, \\qquad J_0 = -H_0^{-1} H_{0m}.
+.. math:: A_b\, v_b = h_G - A_j \dot q,
 
-A planner integrates this over its time grid (:func:`rollout`) to know where the base, and so the
-end-effector, will be.
+the same motion as the GJM's ``x0dot = J0 qdot + H0^-1 M`` (eq 71) in Pinocchio's local base
+velocity. A planner integrates it over its time grid (:func:`rollout`) to know where the base,
+and so the end-effector, will be.
 """
 
 from __future__ import annotations
@@ -19,11 +21,11 @@ import pinocchio as pin
 
 from ...dynamics import gjm
 from ...dynamics.gjm import GJMState
-from ...robot.conventions import PLANAR_ROWS, base_link_placement, cross3, inertial_to_local_twist, momentum_about_origin
+from ...robot.conventions import PLANAR_ROWS, cross3, momentum_about_origin
 from ...robot.robot import Robot
 
-#: Joint rates of a plan (n,) from time (s), configuration (nq,) and the GJM matrices there.
-Rates = Callable[[float, np.ndarray, GJMState], np.ndarray]
+#: Joint rates of a plan (n,) from time (s) and configuration (nq,).
+Rates = Callable[[float, np.ndarray], np.ndarray]
 
 
 class FloatingKinematics:
@@ -39,6 +41,8 @@ class FloatingKinematics:
         self.momentum_origin = np.asarray(momentum_origin, float)
         self._zero = np.zeros(robot.model.nv)
         self._gjm = gjm.model_of(robot)  # unchecked per call: the roll-out makes its own states
+        self._data = robot.model.createData()
+        self._rows = np.arange(6) if robot.base == "free" else PLANAR_ROWS
 
     @classmethod
     def at_state(cls, robot: Robot, q: np.ndarray, v: np.ndarray) -> "FloatingKinematics":
@@ -54,16 +58,13 @@ class FloatingKinematics:
         P, L = self.momentum_origin[:3], self.momentum_origin[3:]
         return np.concatenate((P, L - cross3(state.kinematics.r0, P)))
 
-    def base_twist(self, state: GJMState, qdot: np.ndarray) -> np.ndarray:
-        """``x0dot = J0 qdot + H0^-1 M``: base twist [v0; w0] of the base CoM, inertial (6,)."""
-        return state.J0 @ qdot + np.linalg.solve(state.H0, self.momentum_base(state))
-
-    def velocity(self, q: np.ndarray, state: GJMState, qdot: np.ndarray) -> np.ndarray:
-        """Pinocchio's velocity (nv,) with joint rates ``qdot`` (n,) at configuration ``q``."""
-        robot = self.robot
-        local = inertial_to_local_twist(base_link_placement(robot, q).rotation, robot.base_com,
-                                        self.base_twist(state, qdot))
-        return np.concatenate((local if robot.base == "free" else local[PLANAR_ROWS], qdot))
+    def velocity(self, q: np.ndarray, qdot: np.ndarray) -> np.ndarray:
+        """Pinocchio's velocity (nv,) with joint rates ``qdot`` (n,) at configuration ``q`` (nq,)."""
+        model, data, nb, rows = self.robot.model, self._data, self.robot.n_base, self._rows
+        A = pin.computeCentroidalMap(model, data, q)
+        P = self.momentum_origin[:3]
+        h = np.concatenate((P, self.momentum_origin[3:] - cross3(data.com[0], P)))
+        return np.concatenate((np.linalg.solve(A[rows, :nb], h[rows] - A[rows, nb:] @ qdot), qdot))
 
 
 def stage_times(times: np.ndarray) -> np.ndarray:
@@ -78,13 +79,12 @@ def rollout(kin: FloatingKinematics, q0: np.ndarray, rates: Rates, times: np.nda
 
     Returns:
         ``(qs, vs)``: (N, nq) and (N, nv); ``vs[k]`` is the velocity at ``qs[k]`` with
-        ``rates(times[k], qs[k], matrices)``.
+        ``rates(times[k], qs[k])``.
     """
     model = kin.robot.model
 
     def f(t: float, q: np.ndarray) -> np.ndarray:
-        state = kin.matrices(q)
-        return kin.velocity(q, state, rates(t, q, state))
+        return kin.velocity(q, rates(t, q))
 
     qs, vs = [np.asarray(q0, float)], [f(times[0], q0)]
     for k in range(len(times) - 1):

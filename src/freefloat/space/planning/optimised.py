@@ -36,8 +36,11 @@ from .request import ApproachRequest
 from .resolved_rate import resolved_rate_path
 
 
-def optimised_path(request: ApproachRequest, degree: int = 6, samples: int = 24, max_iterations: int = 60) -> JointPath:
-    """The SLSQP-optimised joint path (see the module docstring).
+def optimised_path(request: ApproachRequest, degree: int = 6, samples: int = 16, max_iterations: int = 100,
+                   ftol: float = 1e-5) -> JointPath:
+    """The SLSQP-optimised joint path (see the module docstring): Bernstein ``degree``, roll-outs
+    on ``samples`` intervals, SLSQP's ``max_iterations`` and ``ftol`` (on the objective scaled to
+    1 at the minimum-norm start: 1e-5 stops near a rotation sqrt(1e-5) of the minimum-norm one).
 
     Raises:
         InfeasiblePlan: when SLSQP ends without meeting the constraints (its message and the
@@ -51,9 +54,10 @@ def optimised_path(request: ApproachRequest, degree: int = 6, samples: int = 24,
                                     "jac": lambda x: problem.jacobian(x)[1:1 + eq]},
                                    {"type": "ineq", "fun": lambda x: problem.values(x)[1 + eq:],
                                     "jac": lambda x: problem.jacobian(x)[1 + eq:]}],
-                      options={"maxiter": max_iterations, "ftol": 1e-10})
+                      options={"maxiter": max_iterations, "ftol": ftol})
     values = problem.values(result.x)
-    violation = max(np.abs(values[1:1 + eq]).max(), -min(values[1 + eq:].min(), 0.0))
+    violation = max(np.abs(values[1:1 + eq] * problem.scale / problem.tolerances).max(),
+                    -min(values[1 + eq:].min() + problem.margin, 0.0))
     if not result.success and violation > 1.0:  # beyond a tolerance or a limit (the plan's check decides within)
         raise InfeasiblePlan(f"approach (optimised): SLSQP found no path that meets the grasp within the limits "
                              f"({result.message}; largest constraint violation {violation:.3g} in tolerances "
@@ -63,9 +67,17 @@ def optimised_path(request: ApproachRequest, degree: int = 6, samples: int = 24,
 
 
 class _Problem:
-    """The optimisation's unknowns, polynomial and scaled values: objective, grasp equalities
-    (position / tolerance, velocity / velocity tolerance, task components), limit inequalities
-    (1 - |value| / limit on the grid, rates then torques)."""
+    """The optimisation's unknowns, polynomial and scaled values: objective (1 at the start),
+    grasp equalities (position and velocity mismatches over the task components, in units of
+    :attr:`scale`), limit inequalities (1 - margin - |value| / limit on the grid, rates then torques)."""
+
+    #: The limits are kept this fraction inside on the optimiser's grid, so that the peaks
+    #: between its samples stay within them on the plan's finer grid (which checks them).
+    margin = 0.02
+
+    #: The grasp equalities' unit, m and m/s: O(1) values for SLSQP, which meets them far inside
+    #: the request's tolerances when it converges.
+    scale = 1e-2
 
     def __init__(self, request: ApproachRequest, degree: int, samples: int):
         robot = request.robot
@@ -78,7 +90,9 @@ class _Problem:
         step = self.T / degree
         self.fixed = np.array([start, start + rate0 * step, start + 2 * rate0 * step])  # zero acceleration
         self.line = start + rate0 * step * np.arange(degree + 1)[:, None]  # (d + 1, n): the joints at their rate
-        self.n_equalities = 2 * len(request.task_components())
+        components = len(request.task_components())
+        self.n_equalities = 2 * components
+        self.tolerances = np.repeat([request.tolerance, request.velocity_tolerance], components)
         self.data = robot.model.createData()
         self.reference = 1.0
         self._values: dict[bytes, np.ndarray] = {}
@@ -123,7 +137,7 @@ class _Problem:
         path = JointPath(self.poly(x))
         stages = stage_times(self.times)
         table = dict(zip(stages, path.rate(stages)))
-        q, v = rollout(self.kin, request.q0, lambda t, _q, _s: table[t], self.times)
+        q, v = rollout(self.kin, request.q0, lambda t, _q: table[t], self.times)
         angular = v[:, 3:6] if robot.base == "free" else v[:, 2:3]
         objective = self.T * np.trapezoid((angular**2).sum(axis=1), self.times)
         model, data = robot.model, self.data
@@ -138,9 +152,9 @@ class _Problem:
             H, bias = joint_space_dynamics(robot, data, q[k], v[k])
             torques[k] = H @ accelerations[k] + bias
         limits = request.limits
-        return np.concatenate(([objective], (p_E - p_g)[c] / request.tolerance, (v_E - v_g)[c] / request.velocity_tolerance,
-                               (1.0 - np.abs(rates) / limits.joint_rate).ravel(),
-                               (1.0 - np.abs(torques) / limits.torque).ravel()))
+        return np.concatenate(([objective], (p_E - p_g)[c] / self.scale, (v_E - v_g)[c] / self.scale,
+                               (1.0 - self.margin - np.abs(rates) / limits.joint_rate).ravel(),
+                               (1.0 - self.margin - np.abs(torques) / limits.torque).ravel()))
 
     def jacobian(self, x: np.ndarray) -> np.ndarray:
         """Forward differences of :meth:`values` (rows: values, columns: unknowns)."""

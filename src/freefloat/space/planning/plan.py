@@ -90,7 +90,7 @@ def evaluate(request: ApproachRequest, path: JointPath, method: str) -> Plan:
     grasp mismatch at T and the torques on the request's grid."""
     robot, times = request.robot, request.times
     kin = FloatingKinematics.at_state(robot, request.q0, request.v0)
-    q, v = rollout(kin, request.q0, lambda t, _q, _s: path(t)[1], times)
+    q, v = rollout(kin, request.q0, lambda t, _q: path(t)[1], times)
     model, data = robot.model, robot.model.createData()
     pin.forwardKinematics(model, data, q[-1], v[-1])
     frame = pin.updateFramePlacement(model, data, request.frame)

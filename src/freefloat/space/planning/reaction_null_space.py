@@ -29,7 +29,8 @@ import numpy as np
 from ...dynamics.gjm import GJMState
 from ...robot.robot import Robot
 
-#: Singular values below this fraction of the largest are dropped by the pseudo-inverses.
+#: Singular values below this fraction of the scale of their matrix's source (J* for the task,
+#: J0 for the attitude rows) are dropped by the pseudo-inverses.
 RCOND = 1e-10
 
 
@@ -72,6 +73,15 @@ def _task(state: GJMState, momentum_base: np.ndarray, task_velocity: np.ndarray,
     return state.Jstar[np.ix_(task.rows, task.joints)], task_velocity - state.J0E[task.rows] @ drift, drift
 
 
+def pinv(M: np.ndarray, scale: float) -> np.ndarray:
+    """Pseudo-inverse of M (r, s) dropping singular values up to ``RCOND * scale``: a cut fixed by
+    the source matrix, not by M itself (a projected ``J P`` or a coupling ``A`` made of round-off
+    would otherwise be inverted as if it were real, giving rates of 1e15)."""
+    U, sigma, Vt = np.linalg.svd(M, full_matrices=False)
+    keep = sigma > RCOND * scale
+    return (Vt[keep].T / sigma[keep]) @ U[:, keep].T
+
+
 def _full(state: GJMState, task: TaskRows, q_S: np.ndarray) -> np.ndarray:
     """Joint rates (n,) zero outside the mission joints."""
     qdot = np.zeros(state.Jstar.shape[1])
@@ -83,7 +93,7 @@ def min_norm_rates(state: GJMState, momentum_base: np.ndarray, task_velocity: np
                    task: TaskRows) -> np.ndarray:
     """The minimum-norm GJM solution ``J*{k,S}^+ (xdot_d - J0E{k} H0^-1 M)`` (n,)."""
     J, r, _ = _task(state, momentum_base, task_velocity, task)
-    return _full(state, task, np.linalg.pinv(J, rcond=RCOND) @ r)
+    return _full(state, task, pinv(J, max(np.abs(state.Jstar).max(), 1.0)) @ r)
 
 
 def reaction_null_space_rates(state: GJMState, momentum_base: np.ndarray, task_velocity: np.ndarray,
@@ -92,10 +102,10 @@ def reaction_null_space_rates(state: GJMState, momentum_base: np.ndarray, task_v
     module docstring."""
     J, r, drift = _task(state, momentum_base, task_velocity, task)
     A = state.J0[np.ix_(task.attitude, task.joints)]
-    A_pinv = np.linalg.pinv(A, rcond=RCOND)
+    A_pinv = pinv(A, max(np.abs(state.J0).max(), 1.0))
     particular = A_pinv @ -drift[task.attitude]
     P = np.eye(len(task.joints)) - A_pinv @ A
-    return _full(state, task, particular + np.linalg.pinv(J @ P, rcond=RCOND) @ (r - J @ particular))
+    return _full(state, task, particular + pinv(J @ P, max(np.abs(state.Jstar).max(), 1.0)) @ (r - J @ particular))
 
 
 #: The resolved-rate laws by scene name.

@@ -52,7 +52,8 @@ def resolved_rate_path(request: ApproachRequest, law: RateLaw) -> JointPath:
     coefficients = task_path(request)
     i, c = robot.end_effectors.index(request.end_effector), request.task_components()
 
-    def rates(t: float, _q: np.ndarray, state) -> np.ndarray:
+    def rates(t: float, q: np.ndarray) -> np.ndarray:
+        state = kin.matrices(q)
         powers = np.array([t**k for k in range(6)])
         speeds = np.array([k * t ** max(k - 1, 0) for k in range(6)])
         x_d, xdot_d = powers @ coefficients, speeds @ coefficients
