@@ -64,13 +64,16 @@ def _plane(context, locus) -> np.ndarray:
 
 
 def _overlay(context, ax) -> None:
-    """The scenes' start and path; the 5R's exact workspace boundary (task space)."""
-    from .mechanism_maps import scene_of
+    """The scenes' start (platform point, or actuated joints in joint space) and path; the 5R's
+    exact workspace boundary (task space)."""
+    from .mechanism_maps import scene_of, setup_of
 
-    if context.space != "task":
-        return
-    start, _, trajectory = scene_of(context.mechanism)
+    start, q0, trajectory = scene_of(context.mechanism)
     i, j = context.axes
+    if context.space != "task":
+        actuated = q0[setup_of(context.mechanism).nominal.actuated]
+        ax.plot(actuated[i], actuated[j], "o", color="orange", ms=5)
+        return
     ax.plot(start[i], start[j], "o", color="orange", ms=5)
     if trajectory.get("kind") == "circle":
         axes = trajectory.get("axes", [0, 1])

@@ -151,6 +151,13 @@ def full_coordinates(context: MechanismMapContext, points: np.ndarray) -> np.nda
     return full
 
 
+def held_values(context: MechanismMapContext) -> dict[str, float]:
+    """The coordinates not mapped and the value they are held at (the scenes' start)."""
+    names = MECHANISMS[context.mechanism].coordinates if context.space == "task" else actuated_names(context.mechanism)
+    values = full_coordinates(context, np.zeros((1, len(context.axes))))[0]
+    return {name: float(values[i]) for i, name in enumerate(names) if i not in context.axes}
+
+
 def evaluate(context: MechanismMapContext, points: np.ndarray) -> dict[str, np.ndarray]:
     """Per point (m rows): ``found`` (m, M) whether each mode exists; ``inverse``, ``direct``
     (m, M) the blocks' determinants; ``inverse_ratio``, ``direct_ratio`` (m, M) their
@@ -227,7 +234,7 @@ def summarise(context: MechanismMapContext, grid: Grid, result: dict[str, np.nda
     cell = float(np.prod([(a.high - a.low) / max(a.n - 1, 1) for a in grid.axes]))
     loci = loci_of(context, grid, result)
     out = {"mechanism": context.mechanism, "space": context.space, "axes": list(context.names),
-           "held": full_coordinates(context, grid.points(0, 1))[0].tolist(), "modes": list(labels(context)),
+           "held": held_values(context), "modes": list(labels(context)),
            "scene_mode": scene_mode(context), "points": grid.size, "any_mode": int(found.any(axis=1).sum()),
            "per_mode": dict(zip(labels(context), found.sum(axis=0).tolist())),
            "measure_any_mode": found.any(axis=1).sum() * cell}

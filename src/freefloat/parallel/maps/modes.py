@@ -76,7 +76,8 @@ def working_modes(mech: ParallelMechanism, points: np.ndarray, count: int = 16, 
     part = partition(mech)
     q0 = np.concatenate((np.repeat(points[:, None], count, axis=1),
                          np.broadcast_to(starts(mech, count, seed), (len(points), count, mech.n_q - mech.p))), axis=-1)
-    q = newton(mech, q0.reshape(-1, mech.n_q), part.joints)[0].reshape(q0.shape)
+    legs_free = [leg.columns - mech.p for leg in part.legs]
+    q = newton(mech, q0.reshape(-1, mech.n_q), part.joints, groups=legs_free)[0].reshape(q0.shape)
     residual, A = closure(mech, q)
     legs = singularity(part, A).legs
     labels = tuple("".join(s) for s in itertools.product("+-", repeat=len(part.legs)))

@@ -19,11 +19,13 @@ TOLERANCE = 1e-11
 
 
 def newton(mech: ParallelMechanism, q: np.ndarray, free: np.ndarray, tol: float = TOLERANCE,
-           iterations: int = 60) -> tuple[np.ndarray, np.ndarray]:
+           iterations: int = 60, groups: list[np.ndarray] | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Drive the closure residual to zero over the coordinates ``free`` (f,) of ``q`` (N, n_q),
     the others held; damped least-squares steps ``(J^T J + mu 1)^-1 J^T r`` (mu =
-    :data:`DAMPING`, so that singular poses do not stop the batch), each clipped to
-    :data:`MAX_STEP`.
+    :data:`DAMPING`, so that singular poses do not stop the batch), clipped to :data:`MAX_STEP`
+    group by group: ``groups`` are index sets into ``free`` that move independently (the legs'
+    joints in the inverse kinematics, so that one leg's long step does not shorten another's;
+    default: one group).
 
     Returns:
         ``(q, converged)``: the coordinates (N, n_q) (in :func:`canonical` form) and
@@ -31,6 +33,7 @@ def newton(mech: ParallelMechanism, q: np.ndarray, free: np.ndarray, tol: float 
         its least-squares point with ``converged`` False.
     """
     q = np.array(q, float)
+    groups = [np.arange(len(free))] if groups is None else groups
     active = np.arange(len(q))
     converged = np.zeros(len(q), bool)
     for _ in range(iterations):
@@ -43,7 +46,10 @@ def newton(mech: ParallelMechanism, q: np.ndarray, free: np.ndarray, tol: float 
         J = A[:, :, free]
         JT = J.swapaxes(1, 2)
         step = np.linalg.solve(JT @ J + DAMPING * np.eye(len(free)), JT @ residual[:, :, None])[..., 0]
-        step *= np.minimum(1.0, MAX_STEP / np.maximum(np.abs(step).max(axis=-1, keepdims=True), 1e-300))
+        for group in groups:
+            block = step[:, group]
+            block *= np.minimum(1.0, MAX_STEP / np.maximum(np.abs(block).max(axis=-1, keepdims=True), 1e-300))
+            step[:, group] = block
         q[active[:, None], free] -= step
     return canonical(mech, q), converged
 
