@@ -6,7 +6,8 @@ sec 5.5, eqs 141-170), and the computed-torque law it is compared with (eq 190).
 ``f = sign`` or its smooth ``tanh(100 s)``. The gain ``diag(k) = n + T |sigma| +
 sum_{i >= j} n_ij |qdot#_i| |qdot#_j|`` (eq 167) comes from the worst case, over a grid of the
 workspace and all extreme parameter combinations, of ``Delta = H^-1 H^ - 1``,
-``delta_0 = H^-1 (g^ - g)`` and ``delta_ij = H^-1 (delta^_ij - delta_ij)`` (eqs 155-170).
+``delta_0 = H^-1 (g^ - g)`` and ``delta_ij = H^-1 (delta^_ij - delta_ij)`` (eqs 155-170):
+:mod:`freefloat.parallel.gain_design`, here applied to the 5R (:class:`FiveBarModel`).
 """
 
 from __future__ import annotations
