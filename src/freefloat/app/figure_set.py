@@ -28,6 +28,7 @@ FIGURES: dict[str, str] = {
     "angular_rates": "base and end-effector spin decaying (capture and detumbling runs)",
     "angular_momentum": "L(t) about the CoM and the origin (capture and detumbling runs)",
     "closed_loop": "loop closure drift (and the two-hand capture's squeeze)",
+    "reaction_wheels": "reaction wheels' stored momentum and torque against their limits (runs with [[wheels]])",
     "platform_tracking": "mechanism platform path and tracking error",
     "efforts": "mechanism actuator efforts",
     "loop_closure_drift": "mechanism loop closure drift",
@@ -38,8 +39,8 @@ FIGURES: dict[str, str] = {
 #: The lean set a scene draws unless it says otherwise: each kind of run's own figures, less the
 #: robot's motion (base trajectory, end-effector paths and displacement), which the page shows.
 DEFAULT = ("joint_errors", "torques", "com_drift", "conservation_balance", "angular_rates", "angular_momentum",
-           "closed_loop", "platform_tracking", "efforts", "loop_closure_drift", "sliding_variables", "base_attitude",
-           "momentum")
+           "closed_loop", "reaction_wheels", "platform_tracking", "efforts", "loop_closure_drift", "sliding_variables",
+           "base_attitude", "momentum")
 #: The name that stands for every figure.
 ALL = "all"
 #: Formats a figure can be written in: PNG to look at, PDF (vector) to print.

@@ -29,6 +29,8 @@ from .robot import Robot
 
 #: Relative tolerance of the unit-axis and zero-length checks.
 AXIS_TOLERANCE = 1e-9
+#: Suffix of an added wheel's body (link) frame: the rotor of wheel ``w`` is the link ``w_rotor``.
+ROTOR = "_rotor"
 
 
 @dataclass(frozen=True)
@@ -221,8 +223,9 @@ def _check_declared(robot: Robot, model: pin.Model, spec: WheelSpec) -> str:
 
 
 def _add(robot: Robot, model: pin.Model, spec: WheelSpec) -> None:
-    """Add the wheel joint, its rotor body and its body frame to ``model`` (in place)."""
-    if model.existJointName(spec.name) or model.existFrame(spec.name):
+    """Add the wheel joint with its joint frame, and its rotor body with its body frame
+    ``<name>_rotor``, to ``model`` (in place)."""
+    if model.existJointName(spec.name) or model.existFrame(spec.name) or model.existFrame(f"{spec.name}{ROTOR}"):
         raise RobotModelError(f"{spec.key}.name: '{spec.name}' is already a joint or frame of "
                               f"{robot.urdf_path.name}; name the added wheel otherwise")
     axis = np.asarray(spec.axis, dtype=float)
@@ -241,7 +244,8 @@ def _add(robot: Robot, model: pin.Model, spec: WheelSpec) -> None:
     j = model.addJoint(1, pin.JointModelRUBZ(), placement, spec.name)
     model.appendBodyToJoint(j, pin.Inertia(spec.mass, np.zeros(3), np.diag([transverse, transverse, spec.inertia])),
                             pin.SE3.Identity())
-    model.addBodyFrame(spec.name, j, pin.SE3.Identity(), model.getFrameId("base"))
+    joint_frame = model.addJointFrame(j, model.getFrameId(model.names[1], pin.FrameType.JOINT))
+    model.addBodyFrame(f"{spec.name}{ROTOR}", j, pin.SE3.Identity(), joint_frame)
 
 
 def spin_frame(axis: np.ndarray) -> np.ndarray:
@@ -295,4 +299,4 @@ def _with_rotors(robot: Robot, specs: list[WheelSpec] | tuple[WheelSpec, ...]) -
     return visual
 
 
-__all__ = ["AXIS_TOLERANCE", "Wheel", "WheelSpec", "Wheels", "mount_wheels", "spin_frame"]
+__all__ = ["AXIS_TOLERANCE", "ROTOR", "Wheel", "WheelSpec", "Wheels", "mount_wheels", "spin_frame"]

@@ -146,15 +146,16 @@ def wheel_summary(wheels: Wheels, control: Controller | None, rows: WheelTelemet
 
 
 def wheel_figures(wheels: Wheels, rows: WheelTelemetry, folder: Path) -> list[Path]:
-    """The ``reaction_wheels`` figure (:func:`~freefloat.app.viz.wheel_figures.wheel_figure`)."""
+    """The ``reaction_wheels`` figure (:func:`~freefloat.app.viz.wheel_figures.wheel_figure`), when
+    the run chose it (:mod:`freefloat.app.figure_set`)."""
     if len(rows.t) < 2:
         return []
     from ..viz.plotting import save_all
     from ..viz.wheel_figures import wheel_figure
 
     names = [w.name for w in wheels.wheels]
-    figure = wheel_figure(rows.t, names, rows.momentum, wheels.max_momenta, rows.torque, wheels.max_torques)
-    return save_all({"reaction_wheels": figure}, folder)
+    return save_all({"reaction_wheels": lambda: wheel_figure(rows.t, names, rows.momentum, wheels.max_momenta,
+                                                              rows.torque, wheels.max_torques)}, folder)
 
 
 __all__ = ["HEADLINE", "WheelTelemetry", "attitude_control", "mount", "target_rotation", "wheel_figures",

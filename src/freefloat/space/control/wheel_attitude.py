@@ -20,10 +20,10 @@ how the arm joints move; the wheels decide how the base turns. Each control peri
 
    .. math:: \\alpha_d = K_p \\log(R^T R_d) - K_d\\, \\omega_0 .
 
-3. Each wheel's torque is limited to ``max_torque``, and a wheel at its stored-momentum limit
-   ``max_momentum`` gets no torque that would spin it faster; every period a limit acts is
-   counted and each start of a saturation is an event (:attr:`WheelAttitudeControl.events`),
-   never a silent clip.
+3. A wheel at its stored-momentum limit ``max_momentum`` that these torques would spin faster
+   is held at its speed instead (the other wheels do what they can), and each torque is limited
+   to ``max_torque``; every period a limit acts is counted and each start of a saturation is an
+   event (:attr:`WheelAttitudeControl.events`), never a silent clip.
 4. The arm torques are the inverse dynamics (RNEA) with the arm accelerations ``a_P`` and the
    base and wheel accelerations these wheel torques give: the arm moves as its law intends
    whatever the wheels do.
@@ -113,7 +113,6 @@ class WheelAttitudeControl:
     Attributes:
         events: each start of a saturation, in time order.
         saturated_periods: per wheel (nw,), the control periods in which a limit acted.
-        asked_torque: per wheel (nw,), the largest torque the attitude law asked, N m.
     """
 
     def __init__(self, wheels: Wheels, arm: Controller | None, target: np.ndarray | None, kp: float = 0.0,
@@ -131,7 +130,6 @@ class WheelAttitudeControl:
         self.tau_full = np.zeros(nv)
         self.events: list[SaturationEvent] = []
         self.saturated_periods = np.zeros(len(wheels.wheels), dtype=int)
-        self.asked_torque = np.zeros(len(wheels.wheels))
         self._saturated = np.zeros(len(wheels.wheels), dtype=bool)
         self._wheel_angles = np.zeros(len(wheels.wheels))
 
@@ -171,10 +169,8 @@ class WheelAttitudeControl:
         X = np.linalg.solve(M[np.ix_(F, F)], np.column_stack((rhs, unit)))
         tau_w = np.zeros(len(self.wheel_in_free))
         if self.attitude is not None:
-            rows = self.attitude.rows  # base rows come first in F
             alpha_d = self.kp * self.attitude.error(q) - self.kd * self.attitude.rate(v)
-            asked = np.linalg.pinv(X[rows, 1:], rcond=RCOND) @ (alpha_d - X[rows, 0])
-            tau_w = self._limited(t, asked, self.wheels.speeds(v))
+            tau_w = self.wheel_torques(t, X, alpha_d, self.wheels.speeds(v))
         a = np.zeros(model.nv)
         a[P] = a_P
         a[F] = X[:, 0] + X[:, 1:] @ tau_w
@@ -184,21 +180,41 @@ class WheelAttitudeControl:
         self._wheel_angles = self.coords.get(q)[self.wheels.columns]
         return tau[self.nb:]
 
-    def _limited(self, t: float, asked: np.ndarray, speeds: np.ndarray) -> np.ndarray:
-        """``asked`` within each wheel's torque limit, and zero where a wheel at its momentum limit
-        would spin faster; counts the periods and records each saturation's start."""
-        w = self.wheels
-        self.asked_torque = np.maximum(self.asked_torque, np.abs(asked))
-        tau = np.clip(asked, -w.max_torques, w.max_torques)
-        at_speed = (np.abs(speeds) * w.inertias >= w.max_momenta) & (tau * speeds > 0.0)
-        tau[at_speed] = 0.0
-        limited = at_speed | (np.abs(asked) > w.max_torques)
+    def wheel_torques(self, t: float, X: np.ndarray, alpha_d: np.ndarray, speeds: np.ndarray) -> np.ndarray:
+        """The wheel torques (nw,) for the base angular acceleration ``alpha_d`` within the limits.
+
+        ``X = [x0, Xw]`` gives the free coordinates' accelerations ``a_F = x0 + Xw tau_w``
+        (len(F), 1 + nw). The least-squares torques for ``alpha_d`` are asked first; a wheel
+        at its momentum limit that they would spin faster is held at its speed instead (its
+        acceleration relative to the base zero, the other wheels doing what they can for
+        ``alpha_d``: least squares in the null space of the holding rows); then each torque is
+        clipped to its limit. Each period a limit acts is counted, and each saturation's start
+        recorded as an event."""
+        w, rows = self.wheels, self.attitude.rows  # base rows come first in F
+        G, f = X[rows, 1:], X[rows, 0]
+        A, a0 = X[self.wheel_in_free, 1:], X[self.wheel_in_free, 0]  # wheel accelerations a0 + A tau
+        asked = np.linalg.pinv(G, rcond=RCOND) @ (alpha_d - f)
+        full = np.abs(speeds) * w.inertias >= w.max_momenta
+        at_speed = np.zeros(len(asked), dtype=bool)
+        tau = asked
+        for _ in w.wheels:  # holding some wheels may make another at its limit spin faster
+            faster = full & ~at_speed & ((a0 + A @ tau) * speeds > 0.0)
+            if not faster.any():
+                break
+            at_speed |= faster
+            C = A[at_speed]
+            held = np.linalg.pinv(C, rcond=RCOND) @ -a0[at_speed]
+            _, sv, Vt = np.linalg.svd(C)
+            N = Vt[np.count_nonzero(sv > RCOND * sv[0]):].T  # basis of C's null space (nw, nw - rank)
+            tau = held + N @ np.linalg.pinv(G @ N, rcond=RCOND) @ (alpha_d - f - G @ held) if N.size else held
+        clipped = np.clip(tau, -w.max_torques, w.max_torques)
+        limited = at_speed | (clipped != tau)
         for i in np.flatnonzero(limited & ~self._saturated):
             self.events.append(SaturationEvent(t, w.wheels[i].name, "momentum" if at_speed[i] else "torque",
                                                float(asked[i])))
         self.saturated_periods += limited
         self._saturated = limited
-        return tau
+        return clipped
 
 
 __all__ = ["RCOND", "BaseAttitude", "SaturationEvent", "WheelAttitudeControl"]
