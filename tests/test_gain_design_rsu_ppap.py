@@ -111,3 +111,21 @@ def test_data_file_uncertainty_table_is_checked(tmp_path, edit, match):
     (tmp_path / "d.toml").write_text(edit(PATH.read_text()))
     with pytest.raises(FreefloatError, match=match):
         load_data(tmp_path / "d.toml")
+
+
+def test_tree_inertias_are_the_regenerated_urdfs(loaded):
+    """The spanning tree's bodies scaled for the 50 % plant (what a moving-base scene simulates)
+    equal those of the URDF generated with the plant's masses (to the URDF's printed digits)."""
+    from freefloat.parallel.rsu_ppap_masses import tree_inertias
+
+    masses = plant_masses(DATA, "true_50")
+    model = pin.Model(loaded.model)
+    tree_inertias(DATA, masses, model)
+    data = copy.deepcopy(DATA)
+    for key, value in masses.items():
+        section, name = key.split(".")
+        data[section][name] = value
+    regenerated = pin.buildModelFromXML(urdf_xml(rsu_ppap_urdf(data)))
+    for j in range(1, model.njoints):
+        ours, ref = model.inertias[j], regenerated.inertias[regenerated.getJointId(model.names[j])]
+        np.testing.assert_allclose(ours.toDynamicParameters(), ref.toDynamicParameters(), rtol=1e-9, atol=1e-15)
