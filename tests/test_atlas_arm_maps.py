@@ -159,3 +159,31 @@ def test_cli_writes_a_singularity_map(tmp_path):
     assert paths["0_deg"]["condition_egjm_start"] > paths["0.1_deg"]["condition_egjm_start"] \
         > paths["1_deg"]["condition_egjm_start"]
     assert {"atlas.npz", "summary.json", "singularities_cond.png"} <= {p.name for p in out.iterdir()}
+
+
+def test_sigterm_keeps_the_finished_chunks_and_a_rerun_resumes(tmp_path):
+    """SIGTERM to ``freefloat atlas`` once two chunks are journaled: exit 1 saying so, the chunks
+    kept; the same command again finishes the map, equal to a direct evaluation."""
+    import signal
+    import time
+
+    from .conftest import cli_process
+
+    out = tmp_path / "out"
+    argv = ["atlas", "workspace", "two_arm_planar", "--grid", "19", "--quiet", "--out", str(out)]
+    proc = cli_process(*argv)
+    journal = out / "atlas-journal.jsonl"
+    deadline = time.monotonic() + 300
+    while time.monotonic() < deadline and proc.poll() is None:
+        if journal.is_file() and journal.read_text().count('"chunk"') >= 2:
+            break
+        time.sleep(0.05)
+    proc.send_signal(signal.SIGTERM)
+    _, err = proc.communicate(timeout=120)
+    assert proc.returncode == 1 and "chunks are journaled" in err and "Traceback" not in err, err
+    assert main(argv) == 0
+    with np.load(out / "atlas.npz") as data:
+        context = workspace.prepare("two_arm_planar", Options())
+        points = workspace.grid(context, Options(grid=19)).points()
+        assert np.allclose(data["radius_free"][::997], evaluate(context, points[::997])["radius_free"], rtol=1e-13)
+    assert not journal.exists()

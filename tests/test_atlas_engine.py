@@ -116,3 +116,10 @@ def test_register_adds_a_kind(monkeypatch):
     monkeypatch.setitem(KINDS, "other", kind)
     register(kind)
     assert KINDS["other"] is kind
+
+
+def test_dask_local_cluster_gives_the_serial_map(tmp_path):
+    """A local Dask cluster of 2 workers gives the serial numbers."""
+    pytest.importorskip("distributed")
+    done = run_atlas("toy", "t", Options(grid=9), tmp_path / "out", Workers(2, dask=True))
+    assert np.array_equal(done.result["f"], expected(9))
