@@ -210,11 +210,12 @@ struct Core {
   // (H, c) with tau + Q_q = H qddot + c, F the base rows' generalized force (gravity).
   py::tuple joint_space(const std::string& name, const Array& q, const Array& v, const Array& F, const Array& D) {
     const Variant variant = variant_of(name);
-    run(q, v);
+    compute_inertia(tree, checked(q, nq, "q"), checked(v, nv, "v"), state);
+    compute_generalized_inertia(tree, state);
     derivatives(tree, state, deriv);
     const Vec6 force = Eigen::Map<const Vec6>(checked(F, 6, "F"));
     const ModelResult r = model_terms(tree, state, deriv, variant, force, sensitivity_rows(D));
-    return py::make_tuple(matrix_out(state.Hstar), vector_out(r.c));
+    return py::make_tuple(take(state.Hstar), vector_out(r.c));
   }
 
   // NIDC's dxdot0/dq_k (n, 6) at (q, v) with the augmented partials of D.

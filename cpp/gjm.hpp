@@ -14,7 +14,8 @@
 //
 // Cost: everything a dynamics model needs (compute_inertia, derivatives) is O(n d^2) for a tree of
 // depth d, the joint derivatives kept as their nonzero entries and columns; only the dense outputs
-// of compute_outputs (Hm, H*, Jm, J*) and the dense derivative arrays handed to numpy grow as n^2
+// of compute_generalized_inertia (Hm, H*) and compute_jacobians (Jm, J*) and the dense derivative
+// arrays handed to numpy grow as n^2
 // (n^3 for dHm/dq).
 #pragma once
 
@@ -118,7 +119,8 @@ struct State {
   Kinematics kin;
   Mat6 H0;
   Mat6X H0m;
-  MatX Hm, Hstar, J0, Jm, J0E, Jstar, ee_position;  // compute_outputs only
+  MatX Hm, Hstar, J0;                    // compute_generalized_inertia only
+  MatX Jm, J0E, Jstar, ee_position;      // compute_jacobians only
   Vec6 momentum_base, momentum_origin, x0dot;
   VecX qdot;
   std::vector<Vec6> S;          // (n) joint motions about r0
@@ -265,13 +267,10 @@ inline void compute_inertia(const Tree& t, const double* q, const double* v, Sta
   s.momentum_origin.tail<3>() += r0.cross(s.momentum_base.head<3>());
 }
 
-// The dense outputs of GJM.compute after compute_inertia: Hm, the end-effector Jacobians, J0, H*
-// and J*. Hm is filled along the paths only; H* = Hm + H0m^T J0 row by row on and above the
-// diagonal, mirrored; J* = Jm + J0E J0 with J0E's blocks [[I, -(r_E - r0)x], [0, I]] written out.
-inline void compute_outputs(const Tree& t, State& s) {
-  const int n = t.n, k = static_cast<int>(t.ee_body.size());
-  const Kinematics& kin = s.kin;
-  const Vec3 r0 = kin.r0;
+// Hm, J0 and H* after compute_inertia: Hm filled along the paths only, H* = Hm + H0m^T J0 row by
+// row on and above the diagonal, mirrored.
+inline void compute_generalized_inertia(const Tree& t, State& s) {
+  const int n = t.n;
   s.Hm.setZero(n, n);
   for (int j = 0; j < n; ++j) {
     s.Hm(j, j) = s.S[j].dot(s.H0m.col(j));
@@ -283,7 +282,14 @@ inline void compute_outputs(const Tree& t, State& s) {
     s.Hstar.row(i).tail(n - i) = s.Hm.row(i).tail(n - i) + s.H0m.col(i).transpose() * s.J0.rightCols(n - i);
     for (int j = i + 1; j < n; ++j) s.Hstar(j, i) = s.Hstar(i, j);
   }
+}
 
+// The end-effector points, Jm, J0E and J* = Jm + J0E J0 with J0E's blocks [[I, -(r_E - r0)x],
+// [0, I]] written out, after compute_generalized_inertia (J0).
+inline void compute_jacobians(const Tree& t, State& s) {
+  const int n = t.n, k = static_cast<int>(t.ee_body.size());
+  const Kinematics& kin = s.kin;
+  const Vec3 r0 = kin.r0;
   s.ee_position.resize(k, 3);
   s.Jm.setZero(6 * k, n);
   s.J0E.setZero(6 * k, 6);
@@ -316,7 +322,8 @@ inline void compute_outputs(const Tree& t, State& s) {
 // All GJM quantities at (q, v) (numpy: GJM.compute).
 inline void compute(const Tree& t, const double* q, const double* v, State& s) {
   compute_inertia(t, q, v, s);
-  compute_outputs(t, s);
+  compute_generalized_inertia(t, s);
+  compute_jacobians(t, s);
 }
 
 // Joint derivatives at fixed base pose and twist, and time derivatives along the motion

@@ -10,6 +10,7 @@ import sys
 import pytest
 
 from freefloat.app.bench.suites import ALL, DEFAULT, SUITES, Suite, named
+from freefloat.app.bench.suites.growth import exponent
 from freefloat.app.bench.suites.locking import SCENES as LOCKING_SCENES
 from freefloat.app.bench.suites.robots import robot_names
 from freefloat.app.cli import main
@@ -172,11 +173,17 @@ def _gjm(r):
     for row in (r[name] for name in robot_names(r["settings"]["arm_counts"])):
         t = row["seconds_per_call"]
         assert row["ratios"]["compiled_over_pinocchio_calls"] == pytest.approx(t["compiled"] / t["pinocchio_calls"])
+    arms = [r[name] for name in robot_names(r["settings"]["arm_counts"]) if name.startswith("arms")]
+    assert r["growth"]["compiled"] == pytest.approx(
+        exponent([row["n_joints"] + 6 for row in arms], [row["seconds_per_call"]["compiled"] for row in arms]))
 
 
 def _models(r):
     for row in (r[name] for name in robot_names(r["settings"]["arm_counts"])):
         assert row["compiled_over_aba"] == pytest.approx({k: t / row["aba_s"] for k, t in row["compiled_s"].items()})
+    arms = [r[name] for name in robot_names(r["settings"]["arm_counts"]) if name.startswith("arms")]
+    assert r["growth"]["time"]["reduced"] == pytest.approx(
+        exponent([row["n_joints"] + 6 for row in arms], [row["compiled_s"]["reduced"] for row in arms]))
 
 
 def _locking(r):

@@ -113,8 +113,10 @@ for _suite in (
                         "base, a detumble scene's loops", ".simulation"),
     Suite("integrators", "every integrator's work against precision, observed orders, cost per step and momentum "
                          "drift over a long run", ".integrators"),
-    Suite("gjm", "the GJM quantities, compiled and numpy, against the Pinocchio floor, 8 to 64 joints", ".gjm"),
-    Suite("models", "every dynamics model's acceleration against pin.aba, 8 to 64 joints", ".models"),
+    Suite("gjm", "the GJM quantities, compiled and numpy, against the Pinocchio floor, 8 to 192 joints, growth "
+                 "exponents", ".gjm"),
+    Suite("models", "every dynamics model's acceleration against pin.aba, 8 to 192 joints, growth exponents",
+          ".models"),
     Suite("locking", 'joint locking and model = "auto" against the full exact plant', ".locking"),
     Suite("parallel", "the 5R's and the 2RSU+PPaP's dynamics against Pinocchio's constrained dynamics",
           ".parallel"),

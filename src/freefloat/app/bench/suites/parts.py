@@ -1,6 +1,7 @@
 """A suite measured in parts, run into the bench's folder: ``bench_<name>.json`` is rewritten
 after each part, so Ctrl-C, SIGTERM, SIGHUP or a kill keeps every part measured; once all are,
-``bench_<name>.png`` is drawn from it."""
+``bench_<name>.png`` is drawn from it, and the lines of the module's optional
+``summary(report) -> list[str]`` are printed."""
 
 from __future__ import annotations
 
@@ -46,4 +47,5 @@ def run_parts(name: str, module: ModuleType, options: Options, folder: RunFolder
     if report["status"] != "completed":
         return Ended(report["status"], [f"{name}: {report['status']}"])
     module.chart(report, folder.claim(drawing))
-    return Ended("completed", [f"{name}: {data}, {drawing}"])
+    summary = getattr(module, "summary", None)  # optional: lines printed beside the files
+    return Ended("completed", [f"{name}: {data}, {drawing}", *(summary(report) if summary else [])])

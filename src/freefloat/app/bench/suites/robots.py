@@ -1,5 +1,6 @@
 """The robots of the size sweeps (``gjm``, ``models``): the four-arm planar robot, the UR5
-dual-arm satellite and 2 to 16 spatial 4-link arms around one base, all on a free-flyer base."""
+dual-arm satellite and 2 to 48 spatial 4-link arms around one base (nv 14 to 198), all on a
+free-flyer base."""
 
 from __future__ import annotations
 
@@ -15,8 +16,8 @@ from ....robot.robot import Robot
 
 #: The URDF robots of every size sweep.
 NAMED = ("four_arm_planar", "dual_arm_satellite")
-#: Arm counts of a size sweep (4 joints per arm: 8 to 64 joints), full and quick.
-ARM_COUNTS = (2, 4, 8, 16)
+#: Arm counts of a size sweep (4 joints per arm: 8 to 192 joints), full and quick.
+ARM_COUNTS = (2, 4, 8, 16, 32, 48)
 QUICK_ARM_COUNTS = (2, 4)
 
 
