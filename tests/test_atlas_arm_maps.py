@@ -187,3 +187,30 @@ def test_sigterm_keeps_the_finished_chunks_and_a_rerun_resumes(tmp_path):
         points = workspace.grid(context, Options(grid=19)).points()
         assert np.allclose(data["radius_free"][::997], evaluate(context, points[::997])["radius_free"], rtol=1e-13)
     assert not journal.exists()
+
+
+def test_the_stretched_arm_is_a_dynamic_singularity_only_through_the_system_com():
+    """Stretched (joints 2-4 at zero) the four-arm robot's arm 1 is a kinematic singularity at every
+    joint-1 angle, but a dynamic one (J* from Pinocchio loses rank) exactly where the arm's line
+    passes through the system CoM: Vafa and Dubowsky's virtual manipulator, rooted at the CoM, is
+    then stretched too. The map flags the same points."""
+    context = workspace.prepare("four_arm_planar", Options())
+    robot = robot_of(context.target, context.base)
+    model, data = robot.model, robot.model.createData()
+    q1 = np.radians([0.0, 10.0, 45.0, 90.0, 135.0, 170.0, 180.0, -30.0])
+    points = np.column_stack([q1, np.zeros((len(q1), 3))])
+    result = evaluate(context, points)
+    for k, point in enumerate(points):
+        angles = np.array(context.posture)
+        angles[list(context.axis_index)] = point
+        Jstar, Jm, _ = pinocchio_blocks(context, angles)
+        q = robot.neutral()
+        JointCoordinates(robot).set(q, angles)
+        com = pin.centerOfMass(model, data, q)
+        root, tip = (data.oMi[model.getJointId(f"arm1_joint{i}")].translation for i in (1, 4))
+        along, to_com = (tip - root) / np.linalg.norm(tip - root), com - root
+        on_line = abs(along[0] * to_com[1] - along[1] * to_com[0]) < 1e-9
+        sv_free, sv_fixed = np.linalg.svd(Jstar, compute_uv=False), np.linalg.svd(Jm, compute_uv=False)
+        assert sv_fixed[-1] < 1e-12 * sv_fixed[0]
+        assert (sv_free[-1] < 1e-12 * sv_free[0]) == on_line == (result["sv_free"][k, -1] < 1e-12 * result["sv_free"][k, 0])
+    assert result["singular_fixed"].all()
