@@ -46,10 +46,12 @@ def joint_panel(ax, context: ArmMap, grid: Grid, values: np.ndarray, label: str,
 MAX_CLOUD = 30_000
 
 
-def cloud_page(context: ArmMap, clouds: list[tuple[str, np.ndarray, np.ndarray]], path: Path) -> Path:
+def cloud_page(context: ArmMap, clouds: list[tuple[str, np.ndarray, np.ndarray]],
+               spheres: list[tuple[str, int, np.ndarray, float]], path: Path) -> Path:
     """A self-contained meshcat page (no server) of the robot at the reference posture and point
     clouds about it: each ``(name, points (m, 3) in the inertial frame, m; colours (m, 3) in [0, 1])``,
-    thinned to :data:`MAX_CLOUD` points."""
+    thinned to :data:`MAX_CLOUD` points; each sphere ``(name, 0xRRGGBB, centre (3,), radius)`` drawn
+    as its three great circles on the inertial planes (the camera frames them all)."""
     import meshcat.geometry as mg
 
     from ..viz.meshcat_html import write_trajectory_html
@@ -61,5 +63,10 @@ def cloud_page(context: ArmMap, clouds: list[tuple[str, np.ndarray, np.ndarray]]
     for name, points, colours in clouds:
         kept = np.arange(0, len(points), max(1, int(np.ceil(len(points) / MAX_CLOUD))))
         geometry = mg.PointsGeometry(points[kept].T.astype(np.float32), colours[kept].T.astype(np.float32))
-        extra.append((name, mg.Points(geometry, mg.PointsMaterial(size=0.01)), np.eye(4)[None]))
-    return write_trajectory_html(robot, np.zeros(1), q[None], path, extra=extra)
+        extra.append((name, mg.Points(geometry, mg.PointsMaterial(size=0.004)), np.eye(4)[None]))
+    turn = np.linspace(0.0, 2 * np.pi, 121)
+    ring = np.column_stack((np.cos(turn), np.sin(turn), np.zeros_like(turn)))
+    lines = [(f"{name}_{plane}", colour, centre + radius * ring[:, order])
+             for name, colour, centre, radius in spheres
+             for plane, order in (("xy", [0, 1, 2]), ("xz", [0, 2, 1]), ("yz", [2, 0, 1]))]
+    return write_trajectory_html(robot, np.zeros(1), q[None], path, extra=extra, lines=lines)

@@ -129,15 +129,18 @@ def summarise(context: ArmMap, grid: Grid, result: dict[str, np.ndarray]) -> dic
 def _page(context: ArmMap, result: dict[str, np.ndarray], path: Path) -> Path:
     """The spatial map's points on a meshcat page: the free-floating positions about the system CoM
     of the reference posture (grey; dynamic singularities red) and the fixed-base ones (blue;
-    kinematic singularities orange), the robot at the reference posture."""
+    kinematic singularities orange), the greatest reach of each as a sphere's great circles (red
+    about the system CoM, blue about the base CoM), the robot at the reference posture."""
     from .arm_maps import reference_point
 
     com, r0 = reference_point(context)
     grey, red, blue, orange = (np.array(c) for c in ((0.6, 0.6, 0.6), (0.85, 0.15, 0.15), (0.2, 0.45, 0.8), (1.0, 0.6, 0.1)))
     free = np.where(result["singular_free"][:, None], red, grey)
     fixed = np.where(result["singular_fixed"][:, None], orange, blue)
+    spheres = [("reach_free", 0xD62728, com, float(result["radius_free"].max())),
+               ("reach_fixed", 0x1F77B4, r0, float(result["radius_fixed"].max()))]
     return cloud_page(context, [("free_floating", com + result["ee_from_com"], free),
-                                ("fixed_base", r0 + result["ee_from_base"], fixed)], path)
+                                ("fixed_base", r0 + result["ee_from_base"], fixed)], spheres, path)
 
 
 def figures(context: ArmMap, grid: Grid, result: dict[str, np.ndarray], out: Path) -> list[Path]:
