@@ -170,3 +170,30 @@ def test_the_attitude_goes_to_a_given_rpy(tmp_path, rpy):
     target = pin.Quaternion(pin.rpy.rpyToMatrix(*np.radians(rpy))).coeffs()
     turned = rotation_angle(outcome.telemetry.base_quaternion[-1:], target)[0]
     assert turned < 0.01 * np.radians(np.linalg.norm(rpy))
+
+
+def test_wheels_stop_a_tumble_with_the_arms_passive(tmp_path):
+    """Without an arm controller the arm joints get no torque, and the wheels alone stop the
+    base's tumble: its rate falls a hundredfold and the wheels take the momentum (their stored
+    momentum balancing the rest of the robot's to the drift's level)."""
+    scene = short_scene(tmp_path, wheels=UNLIMITED, controller={"kind": "none"},
+                        task={"kind": "none", "displacement": {}}, initial={"base_angular_velocity": [1.0, -0.5, 2.0]},
+                        attitude={"kp": 25.0, "kd": 10.0}, simulation={"duration": 1.5})
+    outcome = simulate(scene)
+    tel, summary, rows = outcome.telemetry, outcome.summary, outcome.extra_telemetry["wheels"]
+    assert np.abs(tel.tau[:, prepare(scene).wheels.arm_columns]).max() == 0.0
+    rate = np.linalg.norm(tel.base_twist[:, 3:], axis=1)
+    assert rate[-1] < 0.01 * rate[0]
+    drift = np.abs(tel.momentum - tel.momentum[0]).max()
+    assert summary["wheel_momentum_balance_max"] <= 2.0 * drift + 1e-13 * np.abs(rows.stored).max()
+    assert np.linalg.norm(rows.stored[-1]) > 0.5 * np.linalg.norm(tel.momentum[0, 3:])
+
+
+def test_a_wheel_scene_simulates_the_exact_plant(tmp_path):
+    """``simulation.model = "auto"`` picks the exact plant for a scene with wheels (the attitude
+    law is built on it), and says why."""
+    from freefloat.app.runner import resolved_setup
+
+    setup = resolved_setup(short_scene(tmp_path, simulation={"model": "auto"}))
+    assert setup.model.name == "exact"
+    assert "reaction wheels" in setup.model_choice["reason"]
