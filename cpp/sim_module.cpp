@@ -340,6 +340,14 @@ PYBIND11_MODULE(_sim, m) {
              return py::make_tuple(out(qdot), out(residual));
            },
            "(qdot, residual) of the detumbling solve at (q, v).")
+      .def_property(
+          "convention",
+          [](const PySimulation& s) { return s.sim->convention() == pinocchio::Convention::WORLD ? "world" : "local"; },
+          [](PySimulation& s, const std::string& name) {
+            if (name != "local" && name != "world") throw std::invalid_argument("convention must be 'local' or 'world'");
+            s.sim->set_convention(name == "world" ? pinocchio::Convention::WORLD : pinocchio::Convention::LOCAL);
+          },
+          "Pinocchio's convention of the plant's ABA and the law's CRBA, 'local' or 'world' (same numbers to round-off)")
       .def_property_readonly("q", [](const PySimulation& s) { return out(s.sim->q()); })
       .def_property_readonly("v", [](const PySimulation& s) { return out(s.sim->v()); })
       .def_property_readonly("periods_done", [](const PySimulation& s) { return s.sim->period(); })

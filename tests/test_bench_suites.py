@@ -151,6 +151,10 @@ def _simulation(r):
     walls = r["detumbling"]["wall_s_best"]
     assert r["detumbling"]["per_period_over_whole_chunks"] == pytest.approx(
         walls["compiled_per_period"] / walls["compiled_whole_chunks"])
+    for row in r["convention"].values():
+        step = row["seconds_per_step"]
+        assert row["world_over_local"] == pytest.approx(step["world"] / step["local"])
+        assert row["state_difference"] < 1e-12  # the same run to round-off
 
 
 def _integrators(r):

@@ -300,6 +300,36 @@ def test_wrench_profiles_in_the_compiled_loop_match_the_python_selection(monkeyp
     assert_same_telemetry(python.telemetry, compiled.telemetry)
 
 
+@pytest.mark.parametrize("base", ["free", "planar"])
+def test_world_and_local_conventions_give_the_same_run(monkeypatch, base):
+    """Pinocchio's WORLD and LOCAL conventions in the compiled loop (the plant's ABA, with and
+    without external wrenches, and the computed torque's CRBA) give the same trajectory to 1e-12."""
+    from freefloat.app.experiments import joint_space
+    from freefloat.app.experiments.robot_run import simulate
+    from freefloat.app.scenes import find_scene
+    from freefloat.dynamics import compiled
+
+    scene = find_scene("four_arm_joint_space")
+    short = replace(scene, robot=replace(scene.robot, base=base),
+                    simulation=replace(scene.simulation, duration=0.2, backend="compiled"))
+    robot = robot_named("two_arm_planar.urdf", base=base)
+    wrenches = (ExternalWrench("arm2_link3", force=(3.0, -1.0, 2.0), torque=(0.5, 0.0, -1.0), start=0.004, end=0.02),
+                *IMPULSE)
+    runs = {}
+    for convention in ("local", "world"):
+        monkeypatch.setattr(compiled, "CONVENTION", convention)
+        compiled.clear_loops()
+        controlled = simulate(joint_space.prepare(short), None, None)
+        wrenched = run(robot, robot.neutral(), np.full(robot.model.nv, 0.05), 0.03, 1e-3,
+                       make_integrator("dopri5", robot.model, rtol=1e-9), ExactModel(robot), wrenches=wrenches,
+                       backend="compiled")
+        runs[convention] = (controlled.telemetry, wrenched.telemetry)
+        assert CompiledLoop(robot, make_integrator("rkmk4", robot.model), 1e-3).sim.convention == convention
+    assert np.abs(runs["world"][0].tau).max() > 1e-3  # the law acts
+    for local, world in zip(runs["local"], runs["world"]):
+        assert_same_telemetry(local, world, tol=1e-12)
+
+
 def test_capture_scene_detumbles_alike_in_both_loops(monkeypatch):
     """The capture_planar scene (grasp, then min-norm detumbling of the merged robot, compiled
     after the grasp) gives the Python loop's post-capture telemetry and solver residual."""
@@ -383,9 +413,13 @@ def test_an_unsupported_joint_is_named():
         CompiledLoop(replace(robot, model=model), make_integrator("euler", model), 1e-3)
 
 
-def test_a_blow_up_keeps_every_row_of_its_chunk():
+def test_a_blow_up_keeps_every_row_of_its_chunk(monkeypatch):
     """A run that blows up in the middle of a compiled chunk keeps the rows before it and says
-    where, exactly as the Python loop does."""
+    where, exactly as the Python loop does (both on pin.aba's LOCAL convention: a diverging run
+    grows the two conventions' round-off difference to the message's third digit)."""
+    from freefloat.dynamics import compiled
+
+    monkeypatch.setattr(compiled, "CONVENTION", "local")
     robot = robot_named("two_arm_planar.urdf")
     q0, v0 = robot.neutral(), np.full(robot.model.nv, 1.0)  # Euler at 50 ms: blows up after ~15 periods
     python, compiled = (run(robot, q0, v0, 50.0, 0.05, make_integrator("euler", robot.model), ExactModel(robot),

@@ -64,6 +64,27 @@ def test_euler_is_first_order(tumbling):
     assert 1.7 < e[1] / e[2] < 2.3
 
 
+def test_rkmk3_is_third_order(tumbling):
+    """Halving the RKMK3 (Kutta) step divides the error by ~8: third order on SE(3) with the
+    chart correction."""
+    e = errors(tumbling, "rkmk3", [200, 400, 800])
+    assert 6.5 < e[1] / e[2] < 9.5
+
+
+def test_bs32_is_third_order_in_its_tolerance(tumbling):
+    """The Bogacki-Shampine 3(2) pair: its error falls as rtol^(3/3) = rtol (a 3rd-order method
+    whose steps follow the 2nd-order estimate: h ~ rtol^(1/3), error ~ h^3), so 1000x tighter
+    tolerances give about 1000x smaller errors, and it needs about three evaluations per step."""
+    robot, f, q0, v0, (q_ref, v_ref) = tumbling
+    out = []
+    for rtol in (1e-6, 1e-9):
+        solver = make_integrator("bs32", robot.model, rtol=rtol, atol=rtol / 100)
+        q, v = solver.advance(f, q0, v0, 1.0)
+        out.append(np.linalg.norm(np.concatenate((pin.difference(robot.model, q_ref, q), v - v_ref))))
+        assert solver.evaluations() <= 3 * (solver.accepted + solver.rejected) + 1
+    assert 300.0 < out[0] / out[1] < 5000.0
+
+
 def test_dopri5_meets_its_tolerance(tumbling):
     """The adaptive integrator at its default rtol 1e-10 lands within 1e-7 of the tight reference."""
     e = errors(tumbling, "dopri5", [1])  # substeps ignored; tolerance default 1e-10
@@ -118,9 +139,10 @@ def test_unknown_integrator_lists_the_valid_names():
     from freefloat.errors import UnknownName
 
     model = pin.buildSampleModelManipulator()
-    with pytest.raises(UnknownName, match="unknown integrator 'rk45'; valid: euler, explicit_euler, rkmk4, rk4_naive"):
+    with pytest.raises(UnknownName, match="unknown integrator 'rk45'; valid: euler, explicit_euler, rkmk3, rkmk4, "
+                                          "rk4_naive, rkmk6, rkmk8, dopri5, bs32, dop853$"):
         make_integrator("rk45", model)
-    assert len(INTEGRATORS) == 8
+    assert len(INTEGRATORS) == 10
 
 
 def test_the_compiled_loops_have_the_registrys_compiled_integrators():

@@ -69,12 +69,26 @@ class ChartCorrection {
   std::vector<Block> blocks_;
 };
 
-// An explicit tableau: rows[i] has i entries; b the weights; b_low an embedded lower order (or empty).
+// An explicit tableau: rows[i] has i entries; b the weights; b_low an embedded lower order (or
+// empty: fixed steps); the step-size control's exponent -1 / (lower order + 1).
 struct Tableau {
   std::vector<std::vector<double>> rows;
   std::vector<double> b, b_low;
   int series_degree;  // dexp^-1 terms kept: ad^(order - 2), at least 4
+  double error_exponent = -0.2;
 };
+
+inline Tableau rk3_tableau() {  // Kutta's 3rd order (explicit_rkmk.py)
+  return {{{}, {0.5}, {-1.0, 2.0}}, {1.0 / 6, 2.0 / 3, 1.0 / 6}, {}, 4};
+}
+
+inline Tableau bs32_tableau() {  // Bogacki-Shampine 3(2), first same as last (adaptive.py)
+  return {{{}, {0.5}, {0.0, 0.75}, {2.0 / 9, 1.0 / 3, 4.0 / 9}},
+          {2.0 / 9, 1.0 / 3, 4.0 / 9, 0.0},
+          {7.0 / 24, 1.0 / 4, 1.0 / 3, 1.0 / 8},
+          4,
+          -1.0 / 3};
+}
 
 inline Tableau rk4_tableau() {
   return {{{}, {0.5}, {0.0, 0.5}, {0.0, 0.0, 1.0}}, {1.0 / 6, 1.0 / 3, 1.0 / 3, 1.0 / 6}, {}, 4};
@@ -124,13 +138,15 @@ inline Tableau dopri5_tableau() {  // Dormand-Prince 5(4) (adaptive.py)
            {35.0 / 384, 0.0, 500.0 / 1113, 125.0 / 192, -2187.0 / 6784, 11.0 / 84}},
           {35.0 / 384, 0.0, 500.0 / 1113, 125.0 / 192, -2187.0 / 6784, 11.0 / 84, 0.0},
           {5179.0 / 57600, 0.0, 7571.0 / 16695, 393.0 / 640, -92097.0 / 339200, 187.0 / 2100, 1.0 / 40},
-          4};
+          4,
+          -0.2};
 }
 
 // The names LieIntegrator takes: freefloat.dynamics.integrators.INTEGRATORS' compiled entries
 // (exported as _sim.INTEGRATORS; tests/test_compiled.py checks the two lists agree).
 inline const std::vector<std::string>& integrator_names() {
-  static const std::vector<std::string> names{"euler", "rkmk4", "rk4_naive", "rkmk6", "rkmk8", "dopri5"};
+  static const std::vector<std::string> names{"euler", "rkmk3", "rkmk4", "rk4_naive", "rkmk6", "rkmk8", "dopri5",
+                                              "bs32"};
   return names;
 }
 
@@ -141,10 +157,12 @@ class LieIntegrator {
                 int max_steps = 100000)
       : model_(model), name_(name), substeps_(substeps), rtol_(rtol), atol_(atol), max_steps_(max_steps),
         chart_(model, name == "rkmk8" ? 6 : 4) {
-    if (name == "rkmk4" || name == "rk4_naive") tableau_ = rk4_tableau();
+    if (name == "rkmk3") tableau_ = rk3_tableau();
+    else if (name == "rkmk4" || name == "rk4_naive") tableau_ = rk4_tableau();
     else if (name == "rkmk6") tableau_ = rk6_tableau();
     else if (name == "rkmk8") tableau_ = rk8_tableau();
     else if (name == "dopri5") tableau_ = dopri5_tableau();
+    else if (name == "bs32") tableau_ = bs32_tableau();
     else if (name != "euler") throw std::invalid_argument("unknown integrator '" + name + "'");
     if (substeps < 1) throw std::invalid_argument("substeps must be >= 1");
     const size_t s = std::max<size_t>(tableau_.b.size(), 1);
@@ -164,7 +182,7 @@ class LieIntegrator {
 
   // (q, v) <- state after `duration` s.
   void advance(const Dynamics& f, Vec& q, Vec& v, double duration) {
-    if (name_ == "dopri5") return adaptive(f, q, v, duration);
+    if (!tableau_.b_low.empty()) return adaptive(f, q, v, duration);
     const double h = duration / substeps_;
     for (int i = 0; i < substeps_; ++i) {
       if (name_ == "euler") {
@@ -241,7 +259,7 @@ class LieIntegrator {
         sum += (err_theta[i] / st) * (err_theta[i] / st) + (err_v[i] / sv) * (err_v[i] / sv);
       }
       const double err = std::sqrt(sum / (2.0 * model_.nv));
-      const double factor = err > 0.0 ? 0.9 * std::pow(err, -0.2) : 5.0;
+      const double factor = err > 0.0 ? 0.9 * std::pow(err, tableau_.error_exponent) : 5.0;
       if (err <= 1.0) {
         pinocchio::integrate(model_, q, theta_, qs_);
         q = qs_;
@@ -258,7 +276,7 @@ class LieIntegrator {
         h = h_try * std::max(0.1, factor);
       }
     }
-    throw std::overflow_error("dopri5: " + std::to_string(max_steps_) + " steps did not cover " +
+    throw std::overflow_error(name_ + ": " + std::to_string(max_steps_) + " steps did not cover " +
                              std::to_string(duration) + " s (last step " + std::to_string(h) + " s)");
   }
 

@@ -80,7 +80,7 @@ class Simulation {
     dynamics_ = [this](const Vec& q, const Vec& v, Vec& a) {
       if (wrenches_.empty()) {
         if (!closed_.empty()) return closed_.solve(model_, data_, q, v, tau_full_, nullptr, a);
-        a = pinocchio::aba(model_, data_, ConstRef(q), ConstRef(v), ConstRef(tau_full_), pinocchio::Convention::LOCAL);
+        a = pinocchio::aba(model_, data_, ConstRef(q), ConstRef(v), ConstRef(tau_full_), convention_);
         return;
       }
       pinocchio::forwardKinematics(model_, data_, q);
@@ -92,7 +92,7 @@ class Simulation {
       }
       if (!closed_.empty()) return closed_.solve(model_, data_, q, v, tau_full_, &fext_, a);
       a = pinocchio::aba(model_, data_, ConstRef(q), ConstRef(v), ConstRef(tau_full_), fext_,
-                          pinocchio::Convention::LOCAL);
+                          convention_);
     };
   }
 
@@ -134,6 +134,11 @@ class Simulation {
     closed_.forget();
     mass_ = pinocchio::computeTotalMass(model_);
   }
+
+  // Pinocchio's convention for ABA and CRBA (the same numbers to round-off; WORLD or LOCAL is
+  // the faster one depending on the tree, see compiled.CONVENTION_NV). Kept across configure().
+  void set_convention(pinocchio::Convention convention) { convention_ = convention; }
+  pinocchio::Convention convention() const { return convention_; }
 
   void set_frames(int base_frame, std::vector<int> ee_frames) {
     base_frame_ = base_frame;
@@ -211,7 +216,7 @@ class Simulation {
 
   // The plant's ABA at (q, v, tau) (nv,), outside of any run.
   Vec acceleration(const Vec& q, const Vec& v, const Vec& tau) {
-    return pinocchio::aba(model_, data_, ConstRef(q), ConstRef(v), ConstRef(tau), pinocchio::Convention::LOCAL);
+    return pinocchio::aba(model_, data_, ConstRef(q), ConstRef(v), ConstRef(tau), convention_);
   }
 
   // The generalized Jacobian quantities at (q, v), outside of any run.
@@ -280,7 +285,7 @@ class Simulation {
 
   // H_ = H* and c_ = c* of tau = H* qddot + c* (the base eliminated through its rows) at the state.
   void joint_space() {
-    const Eigen::MatrixXd& M = pinocchio::crba(model_, data_, ConstRef(q_), pinocchio::Convention::LOCAL);
+    const Eigen::MatrixXd& M = pinocchio::crba(model_, data_, ConstRef(q_), convention_);
     M_ = M.selfadjointView<Eigen::Upper>();
     const Vec& b = pinocchio::nonLinearEffects(model_, data_, q_, v_);
     const int n = joints_.n;
@@ -359,6 +364,7 @@ class Simulation {
   Data data_, record_data_;
   JointMap joints_;
   int nb_;
+  pinocchio::Convention convention_ = pinocchio::Convention::LOCAL;
   std::optional<LieIntegrator> integrator_;  // set by configure()
   double period_ = 0.0, start_ = 0.0;
   int record_every_ = 1;

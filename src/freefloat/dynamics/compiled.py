@@ -54,7 +54,7 @@ from .integrators import INTEGRATORS
 from .telemetry import Telemetry
 from .wrenches import WrenchField
 
-__all__ = ["COMPILED_INTEGRATORS", "COMPILED_PLANTS", "MAX_IDLE", "CompiledEngine", "CompiledLoop", "DetumblingLaw",
+__all__ = ["COMPILED_INTEGRATORS", "COMPILED_PLANTS", "CONVENTION", "MAX_IDLE", "CompiledEngine", "CompiledLoop", "DetumblingLaw",
            "LoopDetumblingLaw", "clear_loops", "law_of", "unsupported"]
 
 if _sim.PINOCCHIO_VERSION != pin.__version__:  # the module is linked to the library it was built with
@@ -71,6 +71,12 @@ COMPILED_INTEGRATORS = tuple(name for name, spec in INTEGRATORS.items() if spec.
 COMPILED_PLANTS = ("exact", "exact_closed")
 #: ABA of the rebuilt model against ``pin.aba`` at a random state: largest relative difference.
 REBUILD_TOLERANCE = 1e-9
+#: Pinocchio's convention of the compiled plant's ABA and the law's CRBA (``_sim.Simulation.convention``):
+#: ``"world"`` (spatial quantities in the inertial frame) and ``"local"`` (in each joint's frame)
+#: give the same numbers to round-off (tested to 1e-12), and WORLD was the faster or as fast at
+#: every size measured side by side, RKMK4 steps taking turns (``freefloat bench --suite
+#: simulation``, part ``convention``: docs/bench.md), so every loop uses it.
+CONVENTION = "world"
 #: Idle compiled loops a process keeps for the next runs (each holds its model and two ``Data``
 #: without the nv^3 tensors: about 4 MB at nv 198), the least recently used dropped first.
 MAX_IDLE = 4
@@ -340,6 +346,7 @@ class CompiledLoop(CompiledEngine):
                                            ee_frames=list(range(1, n_ee + 1)))
         except ValueError as exc:
             raise InvalidArgument(f"{robot.urdf_path.name}: {exc}") from exc
+        self.sim.convention = CONVENTION
         if isinstance(law, DetumblingLaw):
             self.sim.set_detumbling([int(r) for r in law.rows], [int(j) for j in law.joints], law.method, law.secondary,
                                     law.rcond, law.start, law.kp, law.kd, law.period, law.hold, law.previous)

@@ -16,10 +16,10 @@ import pinocchio as pin
 
 from ...arguments import real_number, whole_number
 from ...errors import UnknownName
-from .adaptive import DormandPrince45
+from .adaptive import BogackiShampine32, DormandPrince45
 from .base import Acceleration, Integrator
 from .dop853 import DormandPrince853
-from .explicit_rkmk import RungeKuttaMuntheKaas6, RungeKuttaMuntheKaas8
+from .explicit_rkmk import RungeKuttaMuntheKaas3, RungeKuttaMuntheKaas6, RungeKuttaMuntheKaas8
 from .fixed_step import ExplicitEuler, RungeKutta4, SemiImplicitEuler
 from .momentum_projection import MomentumProjection
 
@@ -72,6 +72,9 @@ for _spec in (
     IntegratorSpec("explicit_euler", "explicit (forward) Euler, 1st order: the old rate moves q; not compiled",
                    order=1, stages=1, lie=True, adaptive=False, compiled=False, bench=(),
                    build=lambda m, n, rtol, atol: ExplicitEuler(m, n)),
+    IntegratorSpec("rkmk3", "Runge-Kutta-Munthe-Kaas 3 (Kutta's 3 stages), 3rd order on the Lie group", order=3,
+                   stages=3, lie=True, adaptive=False, compiled=True, bench=("compiled",),
+                   build=lambda m, n, rtol, atol: RungeKuttaMuntheKaas3(m, n)),
     IntegratorSpec("rkmk4", "Runge-Kutta-Munthe-Kaas 4, 4th order on the Lie group", order=4, stages=4, lie=True,
                    adaptive=False, compiled=True, bench=("python", "compiled"),
                    build=lambda m, n, rtol, atol: RungeKutta4(m, n)),
@@ -87,6 +90,9 @@ for _spec in (
     IntegratorSpec("dopri5", "adaptive Dormand-Prince 5(4) in the Munthe-Kaas chart, dense output", order=5,
                    stages=6, lie=True, adaptive=True, compiled=True, bench=("python", "compiled"),
                    build=lambda m, n, rtol, atol: DormandPrince45(m, rtol=rtol, atol=atol)),
+    IntegratorSpec("bs32", "adaptive Bogacki-Shampine 3(2) in the Munthe-Kaas chart: 3 evaluations a step, for "
+                   "loose tolerances", order=3, stages=3, lie=True, adaptive=True, compiled=True, bench=("compiled",),
+                   build=lambda m, n, rtol, atol: BogackiShampine32(m, rtol=rtol, atol=atol)),
     IntegratorSpec("dop853", "adaptive Dormand-Prince 8(5,3) (scipy's DOP853, the thesis's method) in the "
                    "Munthe-Kaas chart: a tight reference, not compiled", order=8, stages=12, lie=True, adaptive=True,
                    compiled=False, bench=(), build=lambda m, n, rtol, atol: DormandPrince853(m, rtol, atol)),
@@ -162,6 +168,7 @@ __all__ = [
     "MAX_SUBSTEPS",
     "MIN_RTOL",
     "Acceleration",
+    "BogackiShampine32",
     "DormandPrince45",
     "DormandPrince853",
     "ExplicitEuler",
@@ -169,6 +176,7 @@ __all__ = [
     "IntegratorSpec",
     "MomentumProjection",
     "RungeKutta4",
+    "RungeKuttaMuntheKaas3",
     "RungeKuttaMuntheKaas6",
     "RungeKuttaMuntheKaas8",
     "SemiImplicitEuler",

@@ -1,4 +1,6 @@
-"""Adaptive Dormand-Prince 5(4) in the Munthe-Kaas chart: error-controlled, 5th order on the group, dense output."""
+"""Adaptive embedded Runge-Kutta pairs in the Munthe-Kaas chart, error-controlled: Dormand-Prince
+5(4) (5th order on the group, dense output) and Bogacki-Shampine 3(2) (3rd order, three
+evaluations per accepted step: the cheap pair for loose tolerances)."""
 
 from __future__ import annotations
 
@@ -36,15 +38,16 @@ def _interpolate(y0: np.ndarray, y1: np.ndarray, K: np.ndarray, h: float, s: flo
     return y0 + s * (dy + (1.0 - s) * (c3 + s * (c4 + (1.0 - s) * h * (_D @ K))))
 
 
-class DormandPrince45:
-    """Adaptive RKMK Dormand-Prince 5(4) with standard step-size control and dense output.
+class EmbeddedRKMK:
+    """An adaptive explicit RKMK pair (``_ROWS``, ``_B``, ``_B_LOW``, first stage same as last) with
+    standard step-size control.
 
     Each step works in the exponential chart at its start point; the error estimate is the
-    difference of the 5th- and 4th-order solutions in the chart (theta) and in v, scaled by
-    ``atol + rtol * |x|``. The last stage is evaluated at the new state, so within one call it is
-    the next step's first (6 evaluations per accepted step). The step size carries over between
-    calls. :meth:`solve` samples one run at many times from the 4th-order continuous extension,
-    without shortening steps to land on them.
+    difference of the higher- and lower-order solutions in the chart (theta) and in v, scaled by
+    ``atol + rtol * |x|``, and the next step is ``0.9 err^(-1 / (low order + 1))`` times this one
+    (between 0.2x and 5x; a rejected step shrinks by at most 10x). The last stage is evaluated at
+    the new state, so within one call it is the next step's first. The step size carries over
+    between calls.
 
     Args:
         model: Pinocchio model.
@@ -53,8 +56,12 @@ class DormandPrince45:
         max_steps: steps allowed per call before giving up.
     """
 
-    name = "dopri5"
-    order = 5
+    name = ""
+    order = 0
+    _ROWS: tuple[np.ndarray, ...] = ()
+    _B = _B_LOW = np.zeros(0)
+    #: The step-size control's exponent, -1 / (lower order + 1).
+    _EXPONENT = -0.2
 
     def __init__(self, model: pin.Model, rtol: float = 1e-10, atol: float = 1e-12, max_steps: int = 100_000):
         if not (rtol > 0.0 and atol > 0.0):
@@ -74,6 +81,50 @@ class DormandPrince45:
         for _t, _h, q_new, v_new, _step in self._steps(f, q, v, duration):
             end = q_new, v_new
         return end
+
+    def _steps(self, f: Acceleration, q: np.ndarray, v: np.ndarray, duration: float) -> Iterator[tuple]:
+        """Accepted steps: ``(t, h, q_new, v_new, (q, v, theta, K, Acc))``, t the step's start."""
+        t, h, a0 = 0.0, self._h or duration, None
+        rows, b, b_error = self._ROWS, self._B, self._B - self._B_LOW
+        for _ in range(self.max_steps):
+            if t >= duration * (1.0 - 1e-12):
+                return
+            h_try = min(h, duration - t)
+            K, Acc = rkmk_stages(f, self.model, self._dexpinv, q, v, h_try, rows, a0)
+            self._calls += len(rows) - (a0 is not None)
+            a0 = Acc[0]
+            theta, v_new = h_try * (b @ K), v + h_try * (b @ Acc)
+            err = self._error(h_try * (b_error @ K), h_try * (b_error @ Acc), theta, v, v_new)
+            factor = 0.9 * err ** self._EXPONENT if err > 0.0 else 5.0
+            if err <= 1.0:
+                q_new = pin.integrate(self.model, q, theta)
+                yield t, h_try, q_new, v_new, (q, v, theta, K, Acc)
+                t, q, v, a0 = t + h_try, q_new, v_new, Acc[-1]
+                self.accepted += 1
+                h = h_try * min(5.0, max(0.2, factor))
+                self._h = h
+            else:
+                self.rejected += 1
+                h = h_try * max(0.1, factor)
+        raise SimulationDiverged(
+            f"{self.name}: {self.max_steps} steps did not cover {duration} s (last step {h:.3g} s)"
+        )
+
+    def _error(self, err_theta, err_v, theta, v, v_new) -> float:
+        """RMS of the error estimate scaled by ``atol + rtol * |x|`` (1 = at tolerance)."""
+        scale_v = self.atol + self.rtol * np.maximum(np.abs(v), np.abs(v_new))
+        scale_theta = self.atol + self.rtol * np.abs(theta)
+        return float(np.sqrt(np.mean(np.concatenate((err_theta / scale_theta, err_v / scale_v)) ** 2)))
+
+
+class DormandPrince45(EmbeddedRKMK):
+    """Adaptive RKMK Dormand-Prince 5(4) (6 evaluations per accepted step) with dense output:
+    :meth:`solve` samples one run at many times from the 4th-order continuous extension, without
+    shortening steps to land on them."""
+
+    name = "dopri5"
+    order = 5
+    _ROWS, _B, _B_LOW, _EXPONENT = _ROWS, _B, _B_LOW, -0.2
 
     def solve(
         self, f: Acceleration, q: np.ndarray, v: np.ndarray, times: np.ndarray
@@ -99,35 +150,15 @@ class DormandPrince45:
         Q[i:], V[i:] = q_new, v_new  # the last time, reached within round-off
         return Q, V
 
-    def _steps(self, f: Acceleration, q: np.ndarray, v: np.ndarray, duration: float) -> Iterator[tuple]:
-        """Accepted steps: ``(t, h, q_new, v_new, (q, v, theta, K, Acc))``, t the step's start."""
-        t, h, a0 = 0.0, self._h or duration, None
-        for _ in range(self.max_steps):
-            if t >= duration * (1.0 - 1e-12):
-                return
-            h_try = min(h, duration - t)
-            K, Acc = rkmk_stages(f, self.model, self._dexpinv, q, v, h_try, _ROWS, a0)
-            self._calls += len(_ROWS) - (a0 is not None)
-            a0 = Acc[0]
-            theta, v_new = h_try * (_B @ K), v + h_try * (_B @ Acc)
-            err = self._error(h_try * ((_B - _B_LOW) @ K), h_try * ((_B - _B_LOW) @ Acc), theta, v, v_new)
-            factor = 0.9 * err ** -0.2 if err > 0.0 else 5.0
-            if err <= 1.0:
-                q_new = pin.integrate(self.model, q, theta)
-                yield t, h_try, q_new, v_new, (q, v, theta, K, Acc)
-                t, q, v, a0 = t + h_try, q_new, v_new, Acc[6]
-                self.accepted += 1
-                h = h_try * min(5.0, max(0.2, factor))
-                self._h = h
-            else:
-                self.rejected += 1
-                h = h_try * max(0.1, factor)
-        raise SimulationDiverged(
-            f"dopri5: {self.max_steps} steps did not cover {duration} s (last step {h:.3g} s)"
-        )
 
-    def _error(self, err_theta, err_v, theta, v, v_new) -> float:
-        """RMS of the error estimate scaled by ``atol + rtol * |x|`` (1 = at tolerance)."""
-        scale_v = self.atol + self.rtol * np.maximum(np.abs(v), np.abs(v_new))
-        scale_theta = self.atol + self.rtol * np.abs(theta)
-        return float(np.sqrt(np.mean(np.concatenate((err_theta / scale_theta, err_v / scale_v)) ** 2)))
+class BogackiShampine32(EmbeddedRKMK):
+    """Adaptive RKMK Bogacki-Shampine 3(2) (Appl. Math. Lett. 2, 1989): 3rd order with a 2nd-order
+    estimate, three evaluations per accepted step (four stages, the last the next step's first).
+    Cheaper than ``dopri5`` where the tolerance is loose; no dense output."""
+
+    name = "bs32"
+    order = 3
+    _ROWS = tuple(np.array(r) for r in ((), (1 / 2,), (0.0, 3 / 4), (2 / 9, 1 / 3, 4 / 9)))
+    _B = np.array([2 / 9, 1 / 3, 4 / 9, 0.0])
+    _B_LOW = np.array([7 / 24, 1 / 4, 1 / 3, 1 / 8])
+    _EXPONENT = -1 / 3

@@ -1,4 +1,4 @@
-"""Fixed-step explicit Runge-Kutta-Munthe-Kaas methods of order 6 and 8, given by their tableaus."""
+"""Fixed-step explicit Runge-Kutta-Munthe-Kaas methods of order 3, 6 and 8, given by their tableaus."""
 
 from __future__ import annotations
 
@@ -14,7 +14,7 @@ _R21 = np.sqrt(21.0)
 class ExplicitRKMK(FixedStep):
     """An explicit RK tableau (``_ROWS``, ``_B``) run in the exponential chart at each step's start.
 
-    The ``dexp^{-1}`` series keeps ``ad`` up to ``order - 2`` (see
+    The ``dexp^{-1}`` series keeps ``ad`` up to ``order - 2``, at least 4 (see
     :mod:`~freefloat.dynamics.integrators.lie`), which is what the order needs.
     """
 
@@ -23,12 +23,21 @@ class ExplicitRKMK(FixedStep):
 
     def __init__(self, model: pin.Model, substeps: int = 1):
         super().__init__(model, substeps)
-        self._dexpinv = chart_velocity(model, degree=self.order - 2)
+        self._dexpinv = chart_velocity(model, degree=max(4, self.order - 2))
 
     def step(self, f, q, v, h):
         K, Acc = rkmk_stages(f, self.model, self._dexpinv, q, v, h, self._ROWS)
         self._calls += len(self._ROWS)
         return pin.integrate(self.model, q, h * (self._B @ K)), v + h * (self._B @ Acc)
+
+
+class RungeKuttaMuntheKaas3(ExplicitRKMK):
+    """RKMK3: Kutta's 3-stage 3rd-order method (Hairer, Norsett & Wanner, Solving ODEs I, II.1),
+    three evaluations a step: at loose accuracy fewer than RKMK4's four for the same error."""
+
+    name, order = "rkmk3", 3
+    _ROWS = tuple(np.array(r) for r in ((), (1 / 2,), (-1.0, 2.0)))
+    _B = np.array([1 / 6, 2 / 3, 1 / 6])
 
 
 class RungeKuttaMuntheKaas6(ExplicitRKMK):

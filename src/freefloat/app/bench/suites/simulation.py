@@ -13,6 +13,11 @@ ratios, not the absolute times: shared 2-core machines are noisy).
    profiles in C++), taking turns within each repeat; and, for the law's share, the same run in
    whole chunks without a controller (impulse only).
 
+4. Pinocchio's convention in the compiled loop: RKMK4 steps of a torque-free run with the plant's
+   ABA in the WORLD and in the LOCAL convention, taking turns, on the size sweep's robots (the
+   four-arm and dual-arm robots, 4 to 48 spatial arms: nv 18 to 198), and the largest difference
+   of their final states.
+
 The integrators' work against precision is the ``integrators`` suite's (and, against MuJoCo, the
 ``mujoco`` suite's).
 """
@@ -20,6 +25,7 @@ The integrators' work against precision is the ``integrators`` suite's (and, aga
 from __future__ import annotations
 
 import dataclasses
+import tempfile
 import time
 from collections.abc import Iterator
 from pathlib import Path
@@ -28,6 +34,7 @@ import numpy as np
 import pinocchio as pin
 
 from ....dynamics.compiled import CompiledLoop
+from ....dynamics.integrators import make_integrator
 from ....dynamics.integrators.lie import _dexpinv_se2
 from ....dynamics.simulation import run
 from ....dynamics.telemetry import Telemetry
@@ -36,23 +43,60 @@ from ...experiments.robot_run import RobotSetup
 from ...runner import prepare
 from ...scenes import DEFAULT_SCENE, Scene, find_scene
 from .drawing import save, subplots
+from .robots import robots
+from .timing import side_by_side
 
 #: The detumble scene of part 3.
 DETUMBLE_SCENE = "detumble_impulse_arm1_joint4"
+#: Arm counts of part 4's generated robots (nv = 6 + 4 arms), full and quick.
+CONVENTION_ARMS, QUICK_CONVENTION_ARMS = (4, 8, 16, 32, 48), (4,)
 
 
 def settings(quick: bool, repeats: int | None) -> dict:
     """Control steps of the default scene's runs (2000; 300 quick), repeats (best of; default 3,
     1 quick), the detumble scene and its simulated time (its own; 0.1 s quick)."""
     return {"steps": 300 if quick else 2000, "repeats": repeats or (1 if quick else 3),
-            "detumble_scene": DETUMBLE_SCENE, "detumble_duration_s": 0.1 if quick else None}
+            "detumble_scene": DETUMBLE_SCENE, "detumble_duration_s": 0.1 if quick else None,
+            "convention_arm_counts": QUICK_CONVENTION_ARMS if quick else CONVENTION_ARMS,
+            "convention_repeats": 3 if quick else 15}
 
 
 def measure(settings: dict) -> Iterator[tuple[str, dict]]:
-    """Parts ``loop_overhead``, ``base_kind`` and ``detumbling``."""
+    """Parts ``loop_overhead``, ``base_kind``, ``detumbling`` and ``convention``."""
     yield "loop_overhead", loop_overhead(settings["repeats"], settings["steps"])
     yield "base_kind", base_kind(settings["repeats"], settings["steps"])
     yield "detumbling", detumbling(settings["repeats"], settings["detumble_duration_s"])
+    yield "convention", convention(settings["convention_arm_counts"], settings["convention_repeats"])
+
+
+def convention(arm_counts: tuple[int, ...], repeats: int) -> dict:
+    """Per robot: seconds per RKMK4 step (1 ms, torque-free, telemetry at the ends) of the compiled
+    loop with Pinocchio's WORLD and LOCAL conventions, best of ``repeats`` taking turns, their
+    ratio, and the largest difference of their final states."""
+    out = {}
+    with tempfile.TemporaryDirectory() as folder:
+        for name, robot in robots(arm_counts, Path(folder)):
+            model = robot.model
+            q0, v0 = pin.neutral(model), np.random.default_rng(0).normal(0.0, 0.1, model.nv)
+            periods = max(40, 8000 // model.nv)
+            chunk = Telemetry.allocate(2, model.nq, model.nv, robot.n_joints, len(robot.end_effectors))
+            loops = {}
+            for kind in ("world", "local"):
+                loops[kind] = CompiledLoop(robot, make_integrator("rkmk4", model), 1e-3, record_every=periods)
+                loops[kind].sim.convention = kind
+
+            def steps(loop):
+                def call():
+                    loop.start(q0, v0)
+                    loop.run(periods, chunk, 0)
+                return call
+
+            best = side_by_side({kind: (steps(loop), 1) for kind, loop in loops.items()}, repeats)
+            (qw, vw), (ql, vl) = loops["world"].state, loops["local"].state
+            out[name] = {"nv": model.nv, "seconds_per_step": {k: t / periods for k, t in best.items()},
+                         "world_over_local": best["world"] / best["local"],
+                         "state_difference": float(max(np.abs(qw - ql).max(), np.abs(vw - vl).max()))}
+    return out
 
 
 def bare_loop(prepared: RobotSetup, steps: int, dt: float, telemetry: bool) -> float:
@@ -208,8 +252,9 @@ def detumbling(repeats: int, duration: float | None) -> dict:
 
 
 def chart(report: dict, path: Path) -> None:
-    """Loop-overhead bars (time per step, log scale) and the detumble scene's loops."""
-    fig, (ax1, ax2) = subplots(1, 2, (12, 4.5))
+    """Loop-overhead bars (time per step, log scale), the detumble scene's loops, and WORLD over
+    LOCAL per robot size."""
+    fig, (ax1, ax2, ax3) = subplots(1, 3, (17, 4.5))
     best = report["loop_overhead"]["seconds_per_step_best"]
     names = {"compiled": "freefloat\ncompiled", "cpp": "C++ floor\n(one call)", "python": "freefloat\nPython loop",
              "bare": "inline Python\nPinocchio loop"}
@@ -228,4 +273,10 @@ def chart(report: dict, path: Path) -> None:
     ax2.bar(list(labels.values()), [det["wall_s_best"][k] for k in labels], color=["C1", "C2", "C0", "C7"])
     ax2.set_ylabel("wall time of the run [s]")
     ax2.set_title(f"{report['settings']['detumble_scene']}: {det['steps']} periods")
+    rows = sorted(report["convention"].values(), key=lambda row: row["nv"])
+    ax3.plot([row["nv"] for row in rows], [row["world_over_local"] for row in rows], "o-")
+    ax3.axhline(1.0, color="grey", linestyle=":")
+    ax3.set_xlabel("nv")
+    ax3.set_ylabel("time per RKMK4 step, WORLD / LOCAL")
+    ax3.set_title("Pinocchio's convention in the compiled loop")
     save(fig, path)
