@@ -26,13 +26,22 @@ KEYS = ("base_rotation_max", "tracking_rms_overall", "wheel_momentum_max", "whee
         "momentum_balance_max", "external_impulse", "wheel_saturated", "detumbled_rows_speed_final", "sim_wall_time_s")
 
 
+#: A start tumbling as satellite_dual_arm's, for the scenes that start at rest (deg/s).
+TUMBLE = (1.0, -0.5, 2.0)
+
+
 def variants(name: str) -> dict:
-    """The scene held, with free wheels, and without wheels (no figures or page)."""
+    """The scene held, with free wheels, and without wheels (no figures or page); a scene that
+    starts at rest also held from a tumble at :data:`TUMBLE`, which the wheels stop and store."""
     scene = find_scene(name)
     scene = dataclasses.replace(scene, output=dataclasses.replace(scene.output, figures=False, html=False))
-    return {"held": scene,
+    runs = {"held": scene,
             "free wheels": dataclasses.replace(scene, attitude=AttitudeSection(kind="none")),
             "no wheels": dataclasses.replace(scene, wheels=(), attitude=None)}
+    if not any(scene.initial.base_angular_velocity) and scene.angle_unit == "deg":
+        tumbling = dataclasses.replace(scene.initial, base_angular_velocity=TUMBLE)
+        runs["held, tumbling at start"] = dataclasses.replace(scene, initial=tumbling)
+    return runs
 
 
 def main(names: list[str]) -> None:
@@ -45,6 +54,8 @@ def main(names: list[str]) -> None:
             tel = outcome.telemetry
             row = {k: outcome.summary[k] for k in KEYS if k in outcome.summary}
             row["base_rotation_final"] = float(rotation_angle(tel.base_quaternion[-1:], tel.base_quaternion[0])[0])
+            row["base_angular_velocity_start_final"] = [float(np.linalg.norm(tel.base_twist[i, 3:])) for i in (0, -1)]
+            row["angular_momentum_start"] = tel.momentum[0, 3:].tolist()
             report[f"{name} / {label}"] = row
             print(f"{name:24s} {label:12s} base rotation max {row['base_rotation_max']:.3g} rad, "
                   f"final {row['base_rotation_final']:.3g} rad; "

@@ -57,7 +57,8 @@ class SaturationEvent:
         wheel: the wheel's joint name.
         limit: ``"torque"`` (the law asked more than ``max_torque``) or ``"momentum"`` (the wheel
             is at ``max_momentum`` and the law asked it to spin faster).
-        asked: the torque the attitude law asked of the wheel, N m.
+        asked: the torque the law asked of the wheel, N m: before its torque limit (``"torque"``),
+            or what the attitude alone asked (``"momentum"``).
     """
 
     t: float
@@ -130,7 +131,7 @@ class WheelAttitudeControl:
         self.tau_full = np.zeros(nv)
         self.events: list[SaturationEvent] = []
         self.saturated_periods = np.zeros(len(wheels.wheels), dtype=int)
-        self._saturated = np.zeros(len(wheels.wheels), dtype=bool)
+        self._saturated = np.zeros((2, len(wheels.wheels)), dtype=bool)  # rows: torque, momentum
         self._wheel_angles = np.zeros(len(wheels.wheels))
 
     def reference(self, t: float) -> np.ndarray | None:
@@ -188,8 +189,8 @@ class WheelAttitudeControl:
         at its momentum limit that they would spin faster is held at its speed instead (its
         acceleration relative to the base zero, the other wheels doing what they can for
         ``alpha_d``: least squares in the null space of the holding rows); then each torque is
-        clipped to its limit. Each period a limit acts is counted, and each saturation's start
-        recorded as an event."""
+        clipped to its limit. Each period a limit acts is counted, and each start of a wheel's
+        torque or momentum saturation recorded as an event."""
         w, rows = self.wheels, self.attitude.rows  # base rows come first in F
         G, f = X[rows, 1:], X[rows, 0]
         A, a0 = X[self.wheel_in_free, 1:], X[self.wheel_in_free, 0]  # wheel accelerations a0 + A tau
@@ -208,11 +209,11 @@ class WheelAttitudeControl:
             N = Vt[np.count_nonzero(sv > RCOND * sv[0]):].T  # basis of C's null space (nw, nw - rank)
             tau = held + N @ np.linalg.pinv(G @ N, rcond=RCOND) @ (alpha_d - f - G @ held) if N.size else held
         clipped = np.clip(tau, -w.max_torques, w.max_torques)
-        limited = at_speed | (clipped != tau)
-        for i in np.flatnonzero(limited & ~self._saturated):
-            self.events.append(SaturationEvent(t, w.wheels[i].name, "momentum" if at_speed[i] else "torque",
-                                               float(asked[i])))
-        self.saturated_periods += limited
+        limited = np.array([clipped != tau, at_speed])
+        for kind, i in zip(*np.nonzero(limited & ~self._saturated)):
+            self.events.append(SaturationEvent(t, w.wheels[i].name, ("torque", "momentum")[kind],
+                                               float((tau, asked)[kind][i])))
+        self.saturated_periods += limited.any(axis=0)
         self._saturated = limited
         return clipped
 
