@@ -146,7 +146,8 @@ def _page(context: ArmMap, result: dict[str, np.ndarray], path: Path) -> Path:
 def figures(context: ArmMap, grid: Grid, result: dict[str, np.ndarray], out: Path) -> list[Path]:
     """``workspace_task_space.png`` (free-floating shells about the CoM beside the fixed-base
     points about the base CoM), ``workspace_radii.png`` (the radii of every point and of the
-    singular ones), for two or more axes ``workspace_joint_space.png``, and on a free base the
+    singular ones), for two or more axes ``workspace_joint_space.png`` (and with a momentum
+    ``workspace_hold_rate.png``), and on a free base the
     3-D points on a meshcat page, ``workspace_points.html``."""
     from ..viz.plotting import figure, finish, save
 
@@ -183,6 +184,13 @@ def figures(context: ArmMap, grid: Grid, result: dict[str, np.ndarray], out: Pat
                     {"singular J*": result["singular_free"], "singular Jm": result["singular_fixed"]})
         joint_panel(axes[1], context, grid, result["radius_fixed"], "distance from the base CoM (m)", {})
         paths += save(fig, out, "workspace_joint_space")
+        if "hold_rate" in result:
+            fig, (ax,) = figure(1, 1, (7, 5), f"{context.target}: joint rate holding {context.end_effector} "
+                                              "against the momentum's drift")
+            held = np.where(result["singular_free"], np.nan, result["hold_rate"])  # no rate holds it there
+            joint_panel(ax, context, grid, held, "hold rate (rad/s)",
+                        {"singular J*": result["singular_free"]}, log=True)
+            paths += save(fig, out, "workspace_hold_rate")
     if context.base == "free":
         paths.append(_page(context, result, out / "workspace_points.html"))
     return [p for p in paths if p.suffix == ".png"] + [p for p in paths if p.suffix != ".png"]
