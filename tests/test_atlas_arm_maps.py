@@ -7,6 +7,7 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 import pytest
+from hypothesis import given, settings
 
 from freefloat.app.atlas import singularities, workspace
 from freefloat.app.atlas.arm_maps import evaluate, robot_of
@@ -17,6 +18,8 @@ from freefloat.app.cli import main
 from freefloat.app.atlas.reach_check import drive_to
 from freefloat.errors import UnknownName
 from freefloat.robot.joints import JointCoordinates
+
+from .conftest import random_robots
 
 pytestmark = pytest.mark.filterwarnings("ignore")
 
@@ -62,6 +65,25 @@ def test_singular_values_match_svd_of_pinocchio_jacobians(target, axes):
             assert np.allclose(result[f"sv_{key}"][k], sv, rtol=1e-9, atol=1e-10 * sv[0])
             assert result[f"singular_{key}"][k] == (sv[-1] < context.tolerance * sv[0])
     assert result["singular_free"].any()  # the 5-point grid holds the stretched and folded arm
+
+
+@settings(max_examples=15, deadline=None)
+@given(random_robots(max_links=7))
+def test_random_trees_singular_values_match_pinocchio(tmp_path_factory, case):
+    """On random trees (prismatic, fixed, branching joints; free base) the map of the first
+    end-effector has the singular values of the J* and Jm blocks built from Pinocchio alone."""
+    seed, text = case
+    path = tmp_path_factory.mktemp("atlas") / "robot.urdf"
+    path.write_text(text)
+    context = singularities.prepare(str(path), Options())
+    points = np.random.default_rng(seed).uniform(-1.0, 1.0, (4, len(context.axes)))
+    result = evaluate(context, points)
+    for k, point in enumerate(points):
+        angles = np.array(context.posture)
+        angles[list(context.axis_index)] = point
+        for J, key in zip(pinocchio_blocks(context, angles)[:2], ("free", "fixed")):
+            sv = np.linalg.svd(J, compute_uv=False)
+            assert np.allclose(result[f"sv_{key}"][k], sv, rtol=1e-9, atol=1e-10 * max(sv[0], 1e-300))
 
 
 def test_stretched_arm_is_a_rank_loss_in_pinocchio_and_on_the_map():
