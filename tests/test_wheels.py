@@ -213,3 +213,17 @@ def test_attitude_without_wheels_is_refused(tmp_path):
     """``[attitude]`` in a scene without ``[[wheels]]`` is refused, naming both."""
     with pytest.raises(SceneError, match=r"\[attitude\] drives the reaction wheels: add \[\[wheels\]\]"):
         quiet_scene(tmp_path, attitude={"kind": "hold"})
+
+
+@pytest.mark.parametrize(("sections", "message"), [
+    ({"simulation": {"lock": "auto"}}, r"'robot.locked_joints' and 'simulation.lock' are not available with \[\[wheels\]\]"),
+    ({"task": {"kind": "detumble", "rows": ["left_tool0:wz"]}}, r"'task.mission_joints' must list the arm joints"),
+    ({"target": {"end_effector": "left_tool0"}}, r"\[target\] \(a capture\) is not available with \[\[wheels\]\]"),
+])
+def test_what_wheels_cannot_go_with_is_refused(tmp_path, sections, message):
+    """Wheels with joint locking, with a detumbling task that would count the wheels among its
+    mission joints, or in a capture scene are refused, naming the key."""
+    from .conftest import quiet_scene
+
+    with pytest.raises(SceneError, match=message):
+        prepare(quiet_scene(tmp_path, "satellite_wheels", **sections))

@@ -58,8 +58,8 @@ def mount(scene: Scene, robot: Robot) -> Wheels | None:
 
     Raises:
         SceneError: naming the file and ``wheels[i]`` key for a wheel that cannot be mounted, and
-            the keys wheels cannot be used with (closures, locked joints, a detumbling task whose
-            mission joints include a wheel or default to all joints).
+            the keys wheels cannot be used with (closures, a capture target, locked joints, a
+            detumbling task whose mission joints include a wheel or default to all joints).
     """
     if not scene.wheels:
         return None
@@ -74,6 +74,9 @@ def mount(scene: Scene, robot: Robot) -> Wheels | None:
         raise SceneError(f"{where}{exc}") from exc
     if scene.closures:
         raise SceneError(f"{where}[[closures]] are not available with [[wheels]] (the attitude law knows no loop)")
+    if scene.target is not None:
+        raise SceneError(f"{where}[target] (a capture) is not available with [[wheels]] yet: the capture's phases "
+                         "do not run the attitude law; detumble an impulse instead (detumble_impulse_wheel)")
     if scene.robot.locked_joints or scene.simulation.lock != "none":
         raise SceneError(f"{where}'robot.locked_joints' and 'simulation.lock' are not available with [[wheels]]")
     names = {w.name for w in wheels.wheels}
