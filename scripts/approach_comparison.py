@@ -18,7 +18,8 @@ import warnings
 from freefloat.app.runner import simulate
 from freefloat.app.scenes import find_scene
 
-SCENES = ("capture_planned_planar", "capture_planned_satellite")
+SCENES = ("capture_planned_planar", "capture_planned_satellite", "capture_planned_two_hands_planar",
+          "capture_planned_two_hands_satellite")
 METHODS = ("null_space", "min_norm", "optimised")
 KEYS = ("approach_plan_attitude_change", "approach_base_attitude_change", "grasp_position_mismatch",
         "grasp_velocity_mismatch", "grasp_impulse", "approach_plan_peak_joint_rate", "approach_plan_peak_torque",
@@ -42,7 +43,7 @@ def main() -> None:
                 warnings.simplefilter("ignore")
                 summary = simulate(variant).summary
             rows.append({"scene": name, "method": method, "wall_time_s": time.perf_counter() - start,
-                         **{key: summary[key] for key in KEYS}})
+                         **{key: summary.get(key) for key in KEYS}})
             print(" ".join(f"{k}={v:.3g}" if isinstance(v, float) else f"{k}={v}" for k, v in rows[-1].items()),
                   flush=True)
     with open(args.out, "w") as out:

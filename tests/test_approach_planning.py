@@ -3,6 +3,7 @@ planned approach met in a simulated run, the optimiser's limits, refusals and th
 
 from __future__ import annotations
 
+import dataclasses
 import warnings
 
 import numpy as np
@@ -62,8 +63,8 @@ def request_for(robot, q0, v0, end_effector: str, reach, T: float, spin: float =
     pin.framesForwardKinematics(robot.model, data, q0)
     point = data.oMf[robot.model.getFrameId(end_effector)].translation + np.asarray(reach, float)
     target = Target.meeting(point, T, 50.0, (2.0, 2.5, 3.0), (-0.25, 0.0, 0.0), (-0.1, 0.05, 0.0), (0.0, 0.0, spin))
-    return ApproachRequest(robot, q0, v0, end_effector, GraspMotion.of(target), T, Limits.of(robot, **limits), joints,
-                           steps=60)
+    return ApproachRequest(robot, q0, v0, (end_effector,), (GraspMotion.of(target),), T, Limits.of(robot, **limits),
+                           joints, steps=60)
 
 
 def pinocchio_base_velocity(robot, q: np.ndarray, qdot: np.ndarray, momentum_origin: np.ndarray) -> np.ndarray:
@@ -88,7 +89,7 @@ def test_null_space_rates_leave_no_base_rotation_on_random_trees(tmp_path_factor
     q, _ = random_state(robot, rng)
     kin = FloatingKinematics(robot, np.zeros(6))
     state = kin.matrices(q)
-    task = TaskRows.position(robot, robot.end_effectors[0])
+    task = TaskRows.position(robot, robot.end_effectors[:1])
     qdot = reaction_null_space_rates(state, np.zeros(6), rng.normal(size=len(task.rows)), task)
     base = pinocchio_base_velocity(robot, q, qdot, np.zeros(6))
     scale = max(1.0, np.abs(qdot).max())
@@ -106,7 +107,7 @@ def test_null_space_rates_meet_the_task_with_a_still_base_at_nonzero_momentum(fi
     momentum = FloatingKinematics.at_state(robot, q, v_start).momentum_origin
     kin = FloatingKinematics(robot, momentum)
     state = kin.matrices(q)
-    task = TaskRows.position(robot, robot.end_effectors[0])
+    task = TaskRows.position(robot, robot.end_effectors[:1])
     wanted = rng.normal(size=len(task.rows)) * 0.1
     qdot = reaction_null_space_rates(state, kin.momentum_base(state), wanted, task)
     v = np.concatenate((pinocchio_base_velocity(robot, q, qdot, momentum), qdot))
@@ -124,7 +125,7 @@ def test_min_norm_rates_turn_the_base(planar):
     robot, q, _ = planar
     kin = FloatingKinematics(robot, np.zeros(6))
     state = kin.matrices(q)
-    task = TaskRows.position(robot, "arm1_ee")
+    task = TaskRows.position(robot, ("arm1_ee",))
     qdot = RATE_LAWS["min_norm"](state, np.zeros(6), np.array([0.1, 0.1]), task)
     assert abs(pinocchio_base_velocity(robot, q, qdot, np.zeros(6))[2]) > 1e-3
 
@@ -178,7 +179,7 @@ def test_planned_approach_meets_the_grasp_in_a_simulated_run(planar):
     robot, q0, v0 = planar
     req = request_for(robot, q0, v0, "arm1_ee", (0.3, 0.4, 0.0), 1.0)
     plan = plan_approach(req, "null_space")
-    body = TargetBody(Target.meeting(req.grasp.at(1.0)[0], 1.0, 50.0, (2.0, 2.5, 3.0), (-0.25, 0.0, 0.0),
+    body = TargetBody(Target.meeting(req.grasps[0].at(1.0)[0], 1.0, 50.0, (2.0, 2.5, 3.0), (-0.25, 0.0, 0.0),
                                      (-0.1, 0.05, 0.0), (0.0, 0.0, 0.3)))
     pre, flight = approach(robot, body, ("arm1_ee",), 1e-3, 1.2, 1e-3, "rkmk4", q0, v0, 10.0, 100.0, "exact",
                            PlanTracking(robot, plan.path, 10.0, 100.0), not_before=1.0)
@@ -261,8 +262,8 @@ def test_an_unknown_method_is_named():
 
 
 def test_scene_approach_without_a_target_is_refused(tmp_path):
-    """An [approach] section needs a one-hand [target]."""
-    with pytest.raises(SceneError, match=r"\[approach\] plans a one-hand capture"):
+    """An [approach] section needs a [target]."""
+    with pytest.raises(SceneError, match=r"\[approach\] plans the approach to a \[target\]"):
         quiet_scene(tmp_path, "four_arm_joint_space", approach={"method": "null_space"})
 
 
@@ -290,3 +291,38 @@ def test_planned_capture_scene_runs_its_three_phases(tmp_path):
     assert 5 * s["approach_base_attitude_change"] < s["approach_min_norm_attitude_change"]
     assert s["target_angular_velocity_final"] < 1e-6
     assert out.extra_telemetry["pre_capture"].t[-1] == pytest.approx(scene.target.contact_time)
+
+
+def test_two_hand_plan_puts_both_hands_on_their_grasp_points(planar):
+    """Planned for both hands at once, the null-space path ends with each hand on its own grasp
+    point with its velocity (Pinocchio's frame placements and velocities at the plan's last state)
+    and the base still."""
+    robot, q0, v0 = planar
+    one = request_for(robot, q0, v0, "arm1_ee", (0.2, 0.3, 0.0), 1.5)
+    second = dataclasses.replace(one.grasps[0], grasp=one.grasps[0].grasp + np.array([0.0, 0.4, 0.0]))
+    data = robot.model.createData()
+    pin.framesForwardKinematics(robot.model, data, q0)
+    start_2 = data.oMf[robot.model.getFrameId("arm2_ee")].translation
+    second = dataclasses.replace(second, com=second.com + (start_2 + (0.2, 0.3, 0.0)) - second.at(1.5)[0])
+    req = dataclasses.replace(one, end_effectors=("arm1_ee", "arm2_ee"), grasps=(one.grasps[0], second))
+    plan = plan_approach(req, "null_space")
+    pin.forwardKinematics(robot.model, data, plan.q[-1], plan.v[-1])
+    for hand, grasp in zip(req.end_effectors, req.grasps):
+        fid = robot.model.getFrameId(hand)
+        p_g, v_g, _ = grasp.at(1.5)
+        assert np.linalg.norm(pin.updateFramePlacement(robot.model, data, fid).translation[:2] - p_g[:2]) < 1e-4
+        velocity = pin.getFrameVelocity(robot.model, data, fid, pin.LOCAL_WORLD_ALIGNED).linear
+        assert np.linalg.norm(velocity[:2] - v_g[:2]) < 1e-3
+    assert plan.attitude.max() < 1e-6
+
+
+def test_planned_two_hand_capture_scene_grasps_at_the_planned_instant(tmp_path):
+    """capture_planned_two_hands_planar, detumbling cut short: both hands grasp at the contact
+    time within the contact tolerance, the base turned far less than by the minimum-norm plan."""
+    from freefloat.app.runner import simulate
+
+    scene = quiet_scene(tmp_path, "capture_planned_two_hands_planar", simulation={"duration": 0.02})
+    s = simulate(scene).summary
+    assert s["impact_time"] == pytest.approx(scene.target.contact_time)
+    assert s["grasp_position_mismatch"] < scene.target.tolerance
+    assert 5 * s["approach_base_attitude_change"] < s["approach_min_norm_attitude_change"]

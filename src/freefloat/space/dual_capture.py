@@ -156,8 +156,10 @@ def capture_with_two_hands(robot: Robot, target: Target, hands: tuple[str, ...],
                            q0: np.ndarray | None = None, v0: np.ndarray | None = None, kp: float = 10.0,
                            kd: float = 100.0, baumgarte: float = 0.0, squeeze: float = 0.0,
                            torque_limit: float = 0.0, progress: Any = None, checkpoint: Any = None,
-                           backend: str = "auto") -> TwoHandCapture:
-    """Hold until both grasp points reach both hands, close both welds by one impulse, then
+                           backend: str = "auto", approach_controller: Any = None,
+                           grasp_time: float = 0.0) -> TwoHandCapture:
+    """Hold (or follow ``approach_controller``, a planned approach of both hands, not grasping
+    before ``grasp_time`` s) until both grasp points reach both hands, close both welds by one impulse, then
     detumble the merged robot through the loop (module docstring). ``backend``: the post-grasp
     run's loop (``dynamics.simulation.run``; ``"auto"``: the compiled loop, closures and law in C++).
 
@@ -171,7 +173,7 @@ def capture_with_two_hands(robot: Robot, target: Target, hands: tuple[str, ...],
 
     body = TargetBody(target, (np.asarray(second_grasp, float),))
     pre, flight = approach(robot, body, hands, control_period, approach_time, tolerance, integrator, q0, v0, kp, kd,
-                           "exact")
+                           "exact", approach_controller, grasp_time)
     t_hit = float(pre.telemetry.t[-1])
     q, v = pre.telemetry.q[-1], pre.telemetry.v[-1]
     hit = two_hand_impact(robot, hands, q, v, body, flight.q, flight.v)

@@ -18,7 +18,7 @@ from ...dynamics.metrics import spin_summary, summarize
 from ...dynamics.simulation import RunResult
 from ...errors import FreefloatError, SceneError
 from ...space.capture import Target, capture_and_detumble
-from ...space.planning import ApproachRequest, GraspMotion, Limits, Plan, plan_approach
+from ...space.planning import PLANNERS, ApproachRequest, GraspMotion, Limits, Plan, evaluate, plan_approach
 from ...space.planning.tracking import PlanTracking
 from ..scenes import Scene
 from .base import Checkpoint, Experiment, Outcome, Progress
@@ -63,27 +63,27 @@ def prepare(scene: Scene) -> CaptureSetup:
                                 np.multiply(tg.angular_velocity, s), np.multiply(tg.rpy_at_contact, s), tg.size)
     except Exception as exc:
         raise SceneError(f"scene '{scene.name}': [target] {exc}") from exc
-    if scene.approach is None:
+    if scene.approach is None or tg.second_end_effector:  # a two-hand plan is made once both grasps are known
         return CaptureSetup(**vars(setup), target=target)
-    return CaptureSetup(**vars(setup), target=target, **planned(scene, setup, target))
+    return CaptureSetup(**vars(setup), target=target,
+                        **planned(scene, setup, (tg.end_effector,), (GraspMotion.of(target),)))
 
 
-def planned(scene: Scene, setup, target: Target) -> dict[str, Plan | None]:
-    """The scene's approach plan (``plan``) and, with ``approach.compare``, the minimum-norm plan
-    of the same request (``min_norm``; unchecked, since it is only compared).
+def planned(scene: Scene, setup, hands: tuple[str, ...], grasps: tuple[GraspMotion, ...]) -> dict[str, Plan | None]:
+    """The scene's approach plan of ``hands`` onto ``grasps`` (``plan``) and, with
+    ``approach.compare``, the minimum-norm plan of the same request (``min_norm``; unchecked,
+    since it is only compared).
 
     Raises:
         SceneError: naming ``[approach]`` with what fails (out of reach, a limit, the deadline),
             or an unknown ``approach.mission_joints`` name.
     """
-    from ...space.planning import PLANNERS, evaluate
-
     ap, robot = scene.approach, setup.robot
+    joints = None if ap.mission_joints is None else mission_joint_indices(robot, ap.mission_joints)
+    rate = None if ap.max_joint_rate is None else ap.max_joint_rate * scene.angle_scale
     try:
-        joints = None if ap.mission_joints is None else mission_joint_indices(robot, ap.mission_joints)
-        rate = None if ap.max_joint_rate is None else ap.max_joint_rate * scene.angle_scale
-        request = ApproachRequest(robot, setup.q0, setup.v0, scene.target.end_effector, GraspMotion.of(target),
-                                  scene.target.contact_time, Limits.of(robot, rate, ap.max_torque), joints, ap.steps,
+        request = ApproachRequest(robot, setup.q0, setup.v0, hands, grasps, scene.target.contact_time,
+                                  Limits.of(robot, rate, ap.max_torque), joints, ap.steps,
                                   tolerance=0.1 * scene.target.tolerance)
         plan = plan_approach(request, ap.method)
     except FreefloatError as exc:

@@ -20,9 +20,11 @@ from ...robot.loading import FreefloatWarning
 from ...robot.conventions import momentum_about_origin
 from ...space.capture import TARGET_FRAME, target_angular_speed
 from ...space.dual_capture import capture_with_two_hands, loop_conditioning, loop_history, second_grasp_at_contact
+from ...space.planning import GraspMotion
+from ...space.planning.tracking import PlanTracking
 from ..scenes import Scene
 from .base import Checkpoint, Experiment, Outcome, Progress
-from .capture import CaptureSetup
+from .capture import CaptureSetup, approach_summary, planned
 from .capture import prepare as prepare_one_hand
 from .detumbling import mission_joints, rows_spec
 from .robot_run import APPROACH_MARGIN, control_steps, robot_outcome
@@ -83,7 +85,12 @@ def prepare(scene: Scene) -> TwoHandSetup:
         warnings.warn(f"{where}the hands' relative motion is singular at the grasp posture (conditioning "
                       f"{conditioning:.1e}): the loop's constraint loses a rank and the run loses accuracy; grasp "
                       "with the arms bent ([initial.joint_positions])", FreefloatWarning, stacklevel=2)
-    return TwoHandSetup(**vars(one), hands=hands, second_grasp=second)
+    plans = {}
+    if scene.approach is not None:  # both hands onto both grasp points, the second at the same instant
+        first = GraspMotion.of(one.target)
+        grasps = (first, dataclasses.replace(first, grasp=second))
+        plans = planned(scene, one, hands, grasps)
+    return TwoHandSetup(**{**vars(one), **plans}, hands=hands, second_grasp=second)
 
 
 def run(setup: TwoHandSetup, progress: Progress | None = None, checkpoint: Checkpoint | None = None) -> Outcome:
@@ -97,7 +104,9 @@ def run(setup: TwoHandSetup, progress: Progress | None = None, checkpoint: Check
         res = capture_with_two_hands(
             robot, setup.target, setup.hands, setup.second_grasp, _rows(setup), _joints(setup), sim.control_period,
             tg.contact_time + APPROACH_MARGIN, sim.duration, tg.tolerance, sim.integrator, setup.q0, setup.v0, ctrl.kp, ctrl.kd,
-            sim.baumgarte, ctrl.squeeze, ctrl.torque_limit or 0.0, progress, checkpoint, sim.backend)
+            sim.baumgarte, ctrl.squeeze, ctrl.torque_limit or 0.0, progress, checkpoint, sim.backend,
+            approach_controller=None if setup.plan is None else PlanTracking(robot, setup.plan.path, ctrl.kp, ctrl.kd),
+            grasp_time=0.0 if setup.plan is None else tg.contact_time)
     except FreefloatError as exc:
         raise SceneError(f"scene '{scene.name}': {exc}") from exc
     history = loop_history(res, setup.target, sim.baumgarte)
@@ -109,6 +118,8 @@ def run(setup: TwoHandSetup, progress: Progress | None = None, checkpoint: Check
     summary.update(_loop_summary(res, history, setup))
     summary.update(status=result.status, message=result.message, sim_wall_time_s=wall,
                    steps=len(res.pre.t) + len(tel.t) - 2, loop=result.backend)
+    if setup.plan is not None:
+        summary.update(approach_summary(setup), **approach_outcome(res, setup))
     both_t = np.concatenate((res.pre.t, res.impact_time + tel.t[1:]))
     both_q = np.concatenate((res.pre.q, tel.q[1:]))
     outcome = robot_outcome(
@@ -128,6 +139,27 @@ def run(setup: TwoHandSetup, progress: Progress | None = None, checkpoint: Check
 
     outcome.figures = figures
     return outcome
+
+
+def approach_outcome(res, setup: TwoHandSetup) -> dict:
+    """The simulated approach: the base attitude change from the start to the grasp (rad) and the
+    largest grasp mismatch of the two hands just before it (m, m/s), from the pre-capture telemetry
+    and the target's grasp poses (the grasp points' velocities from their last two poses, to
+    within their acceleration times the control period)."""
+    from ...space.capture import attitude_change
+
+    pre, robot = res.pre, setup.robot
+    model, data = robot.model, robot.model.createData()
+    pin.forwardKinematics(model, data, pre.q[-1], pre.v[-1])
+    row, dt = len(pre.t) - 1, pre.t[-1] - pre.t[-2]
+    gaps, speeds = [], []
+    for hand, grasp in zip(setup.hands, res.grasp_poses):
+        frame = model.getFrameId(hand)
+        gaps.append(np.linalg.norm(pin.updateFramePlacement(model, data, frame).translation - grasp[row, :3, 3]))
+        hand_velocity = pin.getFrameVelocity(model, data, frame, pin.LOCAL_WORLD_ALIGNED).linear
+        speeds.append(np.linalg.norm(hand_velocity - (grasp[row, :3, 3] - grasp[row - 1, :3, 3]) / dt))
+    return {"approach_base_attitude_change": attitude_change(pre.base_quaternion),
+            "grasp_position_mismatch": float(max(gaps)), "grasp_velocity_mismatch": float(max(speeds))}
 
 
 def _rows(setup: TwoHandSetup) -> np.ndarray:

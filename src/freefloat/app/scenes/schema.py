@@ -162,7 +162,7 @@ class AttitudeSection:
 @dataclass(frozen=True)
 class ApproachSection:
     """``[approach]`` (with a ``[target]``): plan the pre-capture motion of ``target.end_effector``
-    from t = 0 to ``target.contact_time`` (:mod:`freefloat.space.planning`) and track it by
+    (and ``second_end_effector``, onto its grasp point) from t = 0 to ``target.contact_time`` (:mod:`freefloat.space.planning`) and track it by
     computed torque (``[controller]`` gains and model). The target's grasp point meets the hand
     then at the hand's start position plus ``reach`` (inertial, m), with its own velocity.
     ``method``: ``"null_space"`` (reaction null space), ``"min_norm"`` (J*^+) or ``"optimised"``
@@ -325,9 +325,8 @@ def parse_robot_scene(raw: dict[str, Any], source: Path | None = None) -> Scene:
     kwargs["wheels"] = parse_wheels(where, raw)
     if "attitude" in kwargs and not kwargs["wheels"]:
         raise SceneError(f"{where}[attitude] drives the reaction wheels: add [[wheels]] or remove it")
-    if "approach" in kwargs and ("target" not in kwargs or kwargs["target"].second_end_effector):
-        raise SceneError(f"{where}[approach] plans a one-hand capture: it needs a [target] without "
-                         "'second_end_effector'")
+    if "approach" in kwargs and "target" not in kwargs:
+        raise SceneError(f"{where}[approach] plans the approach to a [target]: add one")
     scene = Scene(**kwargs, source=source)
     sim = scene.simulation
     whole_number_of(where, sim.duration, sim.control_period, "simulation.duration", "simulation.control_period")

@@ -21,7 +21,6 @@ squares, and differentiates by forward differences of one roll-out per unknown.
 from __future__ import annotations
 
 import numpy as np
-import pinocchio as pin
 from scipy.interpolate import BPoly
 from scipy.optimize import minimize
 from scipy.special import comb
@@ -68,8 +67,8 @@ def optimised_path(request: ApproachRequest, degree: int = 6, samples: int = 16,
 
 class _Problem:
     """The optimisation's unknowns, polynomial and scaled values: objective (1 at the start),
-    grasp equalities (position and velocity mismatches over the task components, in units of
-    :attr:`scale`), limit inequalities (1 - margin - |value| / limit on the grid, rates then torques)."""
+    grasp equalities (position and velocity mismatches over the task components, hand after
+    hand, in units of :attr:`scale`), limit inequalities (1 - margin - |value| / limit on the grid, rates then torques)."""
 
     #: The limits are kept this fraction inside on the optimiser's grid, so that the peaks
     #: between its samples stay within them on the plan's finer grid (which checks them).
@@ -91,8 +90,9 @@ class _Problem:
         self.fixed = np.array([start, start + rate0 * step, start + 2 * rate0 * step])  # zero acceleration
         self.line = start + rate0 * step * np.arange(degree + 1)[:, None]  # (d + 1, n): the joints at their rate
         components = len(request.task_components())
-        self.n_equalities = 2 * components
-        self.tolerances = np.repeat([request.tolerance, request.velocity_tolerance], components)
+        self.n_equalities = 2 * components * len(request.end_effectors)
+        self.tolerances = np.tile(np.repeat([request.tolerance, request.velocity_tolerance], components),
+                                  len(request.end_effectors))
         self.data = robot.model.createData()
         self.reference = 1.0
         self._values: dict[bytes, np.ndarray] = {}
@@ -140,19 +140,14 @@ class _Problem:
         q, v = rollout(self.kin, request.q0, lambda t, _q: table[t], self.times)
         angular = v[:, 3:6] if robot.base == "free" else v[:, 2:3]
         objective = self.T * np.trapezoid((angular**2).sum(axis=1), self.times)
-        model, data = robot.model, self.data
-        pin.forwardKinematics(model, data, q[-1], v[-1])
-        p_E = pin.updateFramePlacement(model, data, request.frame).translation
-        v_E = pin.getFrameVelocity(model, data, request.frame, pin.LOCAL_WORLD_ALIGNED).linear
-        p_g, v_g, _ = request.grasp.at(self.T)
-        c = request.task_components()
+        data = self.data
         rates, accelerations = path.rate(self.times), path.acceleration(self.times)
         torques = np.empty_like(rates)
         for k in range(len(self.times)):
             H, bias = joint_space_dynamics(robot, data, q[k], v[k])
             torques[k] = H @ accelerations[k] + bias
         limits = request.limits
-        return np.concatenate(([objective], (p_E - p_g)[c] / self.scale, (v_E - v_g)[c] / self.scale,
+        return np.concatenate(([objective], request.grasp_errors(q[-1], v[-1]).ravel() / self.scale,
                                (1.0 - self.margin - np.abs(rates) / limits.joint_rate).ravel(),
                                (1.0 - self.margin - np.abs(torques) / limits.torque).ravel()))
 

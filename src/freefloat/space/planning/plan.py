@@ -46,8 +46,8 @@ class Plan:
             conserved (Runge-Kutta 4 of the base motion), (N, nq), (N, nv).
         torque: ``H* qddot_d + c*`` on the grid, the exact joint-space dynamics (N, n), N m.
         joint_rate: ``qdot_d`` on the grid (N, n), rad/s.
-        position_error: |end-effector - grasp point| at T over the task components, m.
-        velocity_error: |their velocity difference| at T over the task components, m/s.
+        position_error: largest |end-effector - grasp point| at T over the task components, m.
+        velocity_error: largest |their velocity difference| at T over the task components, m/s.
         attitude: base attitude change from the start on the grid, the angle of
             ``R0(t) R0(0)^T`` (N,), rad.
         limits: the limits the plan was checked against.
@@ -91,12 +91,8 @@ def evaluate(request: ApproachRequest, path: JointPath, method: str) -> Plan:
     robot, times = request.robot, request.times
     kin = FloatingKinematics.at_state(robot, request.q0, request.v0)
     q, v = rollout(kin, request.q0, lambda t, _q: path(t)[1], times)
-    model, data = robot.model, robot.model.createData()
-    pin.forwardKinematics(model, data, q[-1], v[-1])
-    frame = pin.updateFramePlacement(model, data, request.frame)
-    p_g, v_g, _ = request.grasp.at(request.duration)
-    c = request.task_components()
-    v_E = pin.getFrameVelocity(model, data, request.frame, pin.LOCAL_WORLD_ALIGNED).linear
+    data = robot.model.createData()
+    errors = np.linalg.norm(request.grasp_errors(q[-1], v[-1]), axis=2).max(axis=0)
     R_start = base_state(robot, q[0], v[0])[1]
     attitude = np.array([np.linalg.norm(pin.log3(base_state(robot, qk, vk)[1] @ R_start.T)) for qk, vk in zip(q, v)])
     rates, torque = np.empty((len(times), robot.n_joints)), np.empty((len(times), robot.n_joints))
@@ -104,8 +100,7 @@ def evaluate(request: ApproachRequest, path: JointPath, method: str) -> Plan:
         _, rates[k], acceleration = path(t)
         H, bias = joint_space_dynamics(robot, data, q[k], v[k])
         torque[k] = H @ acceleration + bias
-    return Plan(method, path, times, q, v, torque, rates, float(np.linalg.norm((frame.translation - p_g)[c])),
-                float(np.linalg.norm((v_E - v_g)[c])), attitude, request.limits)
+    return Plan(method, path, times, q, v, torque, rates, float(errors[0]), float(errors[1]), attitude, request.limits)
 
 
 def check(plan: Plan, request: ApproachRequest) -> Plan:
@@ -116,12 +111,15 @@ def check(plan: Plan, request: ApproachRequest) -> Plan:
             mismatch at T, with the arm's reach), or the first joint and time where a joint-rate or
             torque limit is exceeded (with the hint that the deadline may be too short).
     """
-    ee, T = request.end_effector, request.duration
-    if plan.position_error > request.tolerance or plan.velocity_error > request.velocity_tolerance:
-        distance, reach = request.arm_reach()
+    T = request.duration
+    errors = np.linalg.norm(request.grasp_errors(plan.q[-1], plan.v[-1]), axis=2)  # (k, 2)
+    missed = np.flatnonzero((errors[:, 0] > request.tolerance) | (errors[:, 1] > request.velocity_tolerance))
+    if missed.size:
+        k = int(missed[0])
+        distance, reach = request.arm_reach(k)
         raise InfeasiblePlan(
-            f"approach ({plan.method}): the grasp point is out of reach of '{ee}' at t = {T:.4g} s: the plan ends "
-            f"{plan.position_error:.3g} m (tolerance {request.tolerance:.3g}) and {plan.velocity_error:.3g} m/s "
+            f"approach ({plan.method}): the grasp point is out of reach of '{request.end_effectors[k]}' at t = {T:.4g} "
+            f"s: the plan ends {errors[k, 0]:.3g} m (tolerance {request.tolerance:.3g}) and {errors[k, 1]:.3g} m/s "
             f"(tolerance {request.velocity_tolerance:.3g}) from it; it is {distance:.3g} m from the arm's first joint, "
             f"whose reach is {reach:.3g} m (or the path meets a singularity)")
     names = request.robot.joint_names

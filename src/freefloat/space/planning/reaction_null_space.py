@@ -50,12 +50,12 @@ class TaskRows:
     joints: np.ndarray
 
     @classmethod
-    def position(cls, robot: Robot, end_effector: str, joints: np.ndarray | None = None) -> "TaskRows":
-        """The end-effector's linear rows (vx, vy, vz; vx, vy on a planar base) and the base's
-        attitude rows, with ``joints`` (default all)."""
-        i = robot.end_effectors.index(end_effector)
+    def position(cls, robot: Robot, end_effectors: tuple[str, ...], joints: np.ndarray | None = None) -> "TaskRows":
+        """The end-effectors' linear rows (vx, vy, vz; vx, vy on a planar base), hand after hand,
+        and the base's attitude rows, with ``joints`` (default all)."""
         planar = robot.base == "planar"
-        rows = 6 * i + np.arange(2 if planar else 3)
+        components = np.arange(2 if planar else 3)
+        rows = np.concatenate([6 * robot.end_effectors.index(name) + components for name in end_effectors])
         attitude = np.array([5]) if planar else np.arange(3, 6)
         return cls(rows, attitude, np.arange(robot.n_joints) if joints is None else np.asarray(joints, int))
 

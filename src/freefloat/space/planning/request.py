@@ -46,28 +46,28 @@ class Limits:
 
 @dataclass(frozen=True)
 class ApproachRequest:
-    """A pre-capture approach: bring ``end_effector`` onto the grasp point at ``duration`` s with
-    the grasp point's velocity.
+    """A pre-capture approach: bring each of ``end_effectors`` onto its grasp point at
+    ``duration`` s with the grasp point's velocity (one hand, or two grasping one target at once).
 
     Attributes:
         robot: the free-floating robot.
         q0, v0: its state when the approach starts (t = 0), Pinocchio's (nq,), (nv,).
-        end_effector: the gripper's frame (one of ``robot.end_effectors``).
-        grasp: the grasp point's flight, time from the approach's start.
+        end_effectors: the grippers' frames (of ``robot.end_effectors``), one per grasp point.
+        grasps: each grasp point's flight, time from the approach's start.
         duration: the grasp instant T, s (the deadline).
         limits: joint-rate and torque limits.
         joints: the mission joints, indices into the actuated joints (None: all).
         steps: intervals of the planning grid over [0, T].
         gain: closed-loop gain of the resolved-rate laws on the task position error, 1/s.
-        tolerance: largest grasp-point position mismatch at T the plan may leave, m.
-        velocity_tolerance: largest grasp-point velocity mismatch at T, m/s.
+        tolerance: largest grasp-point position mismatch at T the plan may leave (each hand), m.
+        velocity_tolerance: largest grasp-point velocity mismatch at T (each hand), m/s.
     """
 
     robot: Robot
     q0: np.ndarray
     v0: np.ndarray
-    end_effector: str
-    grasp: GraspMotion
+    end_effectors: tuple[str, ...]
+    grasps: tuple[GraspMotion, ...]
     duration: float
     limits: Limits
     joints: np.ndarray | None = None
@@ -77,9 +77,13 @@ class ApproachRequest:
     velocity_tolerance: float = 1e-3
 
     def __post_init__(self):
-        if self.end_effector not in self.robot.end_effectors:
-            raise InvalidArgument(f"approach: '{self.end_effector}' is not an end-effector; end-effectors: "
-                                  f"{', '.join(self.robot.end_effectors)}")
+        for name in self.end_effectors:
+            if name not in self.robot.end_effectors:
+                raise InvalidArgument(f"approach: '{name}' is not an end-effector; end-effectors: "
+                                      f"{', '.join(self.robot.end_effectors)}")
+        if len(self.grasps) != len(self.end_effectors) or len(set(self.end_effectors)) != len(self.end_effectors):
+            raise InvalidArgument(f"approach: one grasp point per end-effector, each hand once; got hands "
+                                  f"{list(self.end_effectors)} and {len(self.grasps)} grasp points")
         if not self.duration > 0.0:
             raise InvalidArgument(f"approach: the grasp instant must be > 0 s after the start, got {self.duration}")
         if self.steps < 4:
@@ -91,22 +95,36 @@ class ApproachRequest:
         return np.linspace(0.0, self.duration, self.steps + 1)
 
     @property
-    def frame(self) -> int:
-        """Pinocchio frame id of the end-effector."""
-        return self.robot.model.getFrameId(self.end_effector)
+    def frames(self) -> tuple[int, ...]:
+        """Pinocchio frame ids of the end-effectors."""
+        return tuple(self.robot.model.getFrameId(name) for name in self.end_effectors)
 
     def task_components(self) -> np.ndarray:
         """The position components the plan matches: x, y on a planar base, x, y, z on a free one."""
         return np.arange(2 if self.robot.base == "planar" else 3)
 
-    def arm_reach(self) -> tuple[float, float]:
-        """``(distance, reach)`` at the start: from the end-effector arm's first joint to the grasp
+    def arm_reach(self, k: int) -> tuple[float, float]:
+        """``(distance, reach)`` of hand ``k`` at the start: from its arm's first joint to its grasp
         point at T, and the sum of the arm's joint-to-joint and joint-to-end-effector lengths (m),
         for the out-of-reach message."""
         model, data = self.robot.model, self.robot.model.createData()
         pin.framesForwardKinematics(model, data, self.q0)
-        arm = self.robot.arms[self.robot.end_effectors.index(self.end_effector)]
+        arm = self.robot.arms[self.robot.end_effectors.index(self.end_effectors[k])]
         points = [data.oMi[model.getJointId(name)].translation for name in arm.joints]
-        points.append(data.oMf[self.frame].translation)
+        points.append(data.oMf[self.frames[k]].translation)
         reach = float(sum(np.linalg.norm(b - a) for a, b in zip(points, points[1:])))
-        return float(np.linalg.norm(self.grasp.at(self.duration)[0] - points[0])), reach
+        return float(np.linalg.norm(self.grasps[k].at(self.duration)[0] - points[0])), reach
+
+    def grasp_errors(self, q: np.ndarray, v: np.ndarray) -> np.ndarray:
+        """Each hand's mismatch with its grasp point at T over the task components: rows
+        ``[p_E - p_g, v_E - v_g]`` per hand (k, 2, c), m and m/s, at the state (q, v)."""
+        model, data = self.robot.model, self.robot.model.createData()
+        pin.forwardKinematics(model, data, q, v)
+        c = self.task_components()
+        out = []
+        for frame, grasp in zip(self.frames, self.grasps):
+            p_g, v_g, _ = grasp.at(self.duration)
+            p_E = pin.updateFramePlacement(model, data, frame).translation
+            v_E = pin.getFrameVelocity(model, data, frame, pin.LOCAL_WORLD_ALIGNED).linear
+            out.append(((p_E - p_g)[c], (v_E - v_g)[c]))
+        return np.array(out)

@@ -32,14 +32,18 @@ def quintic(T: float, start: tuple[np.ndarray, ...], end: tuple[np.ndarray, ...]
 
 
 def task_path(request: ApproachRequest) -> np.ndarray:
-    """The quintic's coefficients (6, m) over the task components (see the module docstring)."""
+    """The quintic's coefficients (6, m) over the task components of every hand, hand after hand
+    (see the module docstring)."""
     model, data = request.robot.model, request.robot.model.createData()
     pin.forwardKinematics(model, data, request.q0, request.v0)
-    frame = pin.updateFramePlacement(model, data, request.frame)
-    velocity = pin.getFrameVelocity(model, data, request.frame, pin.LOCAL_WORLD_ALIGNED).linear
     c = request.task_components()
-    p_g, v_g, a_g = request.grasp.at(request.duration)
-    return quintic(request.duration, (frame.translation[c], velocity[c], np.zeros(len(c))), (p_g[c], v_g[c], a_g[c]))
+    start, end = [], []
+    for frame, grasp in zip(request.frames, request.grasps):
+        velocity = pin.getFrameVelocity(model, data, frame, pin.LOCAL_WORLD_ALIGNED).linear
+        start.append((pin.updateFramePlacement(model, data, frame).translation[c], velocity[c], np.zeros(len(c))))
+        end.append(tuple(value[c] for value in grasp.at(request.duration)))
+    return quintic(request.duration, tuple(np.concatenate(parts) for parts in zip(*start)),
+                   tuple(np.concatenate(parts) for parts in zip(*end)))
 
 
 def resolved_rate_path(request: ApproachRequest, law: RateLaw) -> JointPath:
@@ -48,16 +52,16 @@ def resolved_rate_path(request: ApproachRequest, law: RateLaw) -> JointPath:
     second derivative)."""
     robot = request.robot
     kin = FloatingKinematics.at_state(robot, request.q0, request.v0)
-    task = TaskRows.position(robot, request.end_effector, request.joints)
+    task = TaskRows.position(robot, request.end_effectors, request.joints)
     coefficients = task_path(request)
-    i, c = robot.end_effectors.index(request.end_effector), request.task_components()
+    hands, c = [robot.end_effectors.index(name) for name in request.end_effectors], request.task_components()
 
     def rates(t: float, q: np.ndarray) -> np.ndarray:
         state = kin.matrices(q)
         powers = np.array([t**k for k in range(6)])
         speeds = np.array([k * t ** max(k - 1, 0) for k in range(6)])
         x_d, xdot_d = powers @ coefficients, speeds @ coefficients
-        error = x_d - state.ee_position[i][c]
+        error = x_d - state.ee_position[hands][:, c].ravel()
         return law(state, kin.momentum_base(state), xdot_d + request.gain * error, task)
 
     times = request.times
