@@ -203,9 +203,11 @@ def evaluate(context: ArmMap, points: np.ndarray) -> dict[str, np.ndarray]:
     Jstar, Jm = np.empty((m, 6, robot.n_joints)), np.empty((m, 6, robot.n_joints))
     ee, r0, coms = np.empty((m, 3)), np.empty((m, 3)), np.empty((m, n_bodies, 3))
     J0E, H0 = (np.empty((m, 6, 6)), np.empty((m, 6, 6))) if context.momentum is not None else (None, None)
-    for k, point in enumerate(points):
-        angles[axes] = point
-        coords.set(q, angles)
+    angles = np.tile(angles, (m, 1))
+    angles[:, axes] = points
+    configurations = np.tile(q, (m, 1))
+    coords.set(configurations.T, angles.T)  # every row at once (columns of the transposed views)
+    for k, q in enumerate(configurations):
         raw = model.core.compute(q, v)  # GJMState's fields as a tuple (gjm.compute without the wrapping)
         Jstar[k], Jm[k] = raw[_JSTAR][block], raw[_JM][block]
         ee[k] = raw[_EE][context.index]
