@@ -187,16 +187,16 @@ def mount_wheels(robot: Robot, specs: list[WheelSpec] | tuple[WheelSpec, ...]) -
             value = getattr(spec, limit)
             if not (np.isfinite(value) and value > 0.0):
                 raise RobotModelError(f"{spec.key}.{limit}: must be a positive number, got {value!r}")
-    frames = [f for f in robot.end_effectors]
+    end_effectors = list(robot.end_effectors)
     for spec in specs:
         if spec.axis is None:
             link = _check_declared(robot, model, spec)
-            if link in frames:
-                frames.remove(link)
+            if link in end_effectors:
+                end_effectors.remove(link)
         else:
             _add(robot, model, spec)
-    mounted = dataclasses.replace(robot, model=model, end_effectors=tuple(frames),
-                                  arms=tuple(a for a in robot.arms if a.end_effector in frames))
+    mounted = dataclasses.replace(robot, model=model, end_effectors=tuple(end_effectors),
+                                  arms=tuple(a for a in robot.arms if a.end_effector in end_effectors))
     if mounted.model.nq != robot.model.nq and mounted.visual_model is not None:
         mounted = dataclasses.replace(mounted, visual_model=_with_rotors(mounted, specs))
     return Wheels(mounted, tuple(_wheel(mounted, spec) for spec in specs))
