@@ -63,7 +63,7 @@ def register(study: Study) -> Study:
 for _study in (
     Study("models", "which dynamics model matches the exact one, where", "models_report", options=("workers",),
           journal="parts.jsonl"),
-    Study("task_space", "sec 5.2 (Tables 2-5, figs 38-40)", "task_space_report"),
+    Study("task_space", "sec 5.2 (Tables 2-5, figs 20-40)", "task_space_report"),
     Study("phases", "one model per capture phase vs exact", "phases_report"),
     Study("five_bar", "the 5R's sliding-mode gains and tracking (thesis sec 5.6)", "five_bar_report"),
     Study("closure_stability", "loop-closure drift over step, integrator and Baumgarte lambda", "five_bar_report",

@@ -78,9 +78,10 @@ def finished(folder: Path, quick: bool) -> dict | None:
     return report if report.get("settings", {}).get("quick", quick) == quick else None
 
 
-def run_all(out: Path, overwrite: bool, quick: bool, options: dict, say: Callable[[str], None] = print) -> dict:
-    """Every study that can run here into ``out/<study>``, then the report (:data:`REPORT_FILES`)
-    into ``out``. Studies already finished there with the same ``quick`` are kept, not rerun.
+def run_all(out: Path, overwrite: bool, quick: bool, options: dict, say: Callable[[str], None] = print,
+            names: tuple[str, ...] | None = None) -> dict:
+    """Every study that can run here (or those ``names``) into ``out/<study>``, then the report
+    (:data:`REPORT_FILES`) into ``out``. Studies already finished there with the same ``quick`` are kept, not rerun.
     Returns ``{"studies": {name: wall time or why skipped}, "entries": n, "not_reproduced": [...]}``.
 
     Raises:
@@ -89,7 +90,7 @@ def run_all(out: Path, overwrite: bool, quick: bool, options: dict, say: Callabl
     from .report_pages import build, provenance
     from .report_results import Results, commit
 
-    names = list(STUDIES)
+    names = list(STUDIES if names is None else names)
     if overwrite:  # each study's folder cleared by its own record first, so the folders empty out
         for name in names:
             if (out / name).is_dir():
@@ -121,7 +122,7 @@ def run_all(out: Path, overwrite: bool, quick: bool, options: dict, say: Callabl
         try:
             settings = {"quick": quick, **options}
             record = provenance(out, settings, done, commit(), versions())
-            say(f"report: {len(STUDIES)} studies -> {', '.join(REPORT_FILES)}")
+            say(f"report: {len(names)} studies -> {', '.join(REPORT_FILES)}")
             start = time.perf_counter()
             built = build(Results(out), making, record)
             for made in sorted(making.iterdir()):

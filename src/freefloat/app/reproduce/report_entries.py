@@ -186,12 +186,12 @@ def tsc(r: Results) -> dict:
     return r.arrays(TS, "tsc")
 
 
-def _table5_rows(r: Results, arm: int, which: str) -> list[Row]:
+def _table5_rows(r: Results, run: str, arm: int, which: str) -> list[Row]:
     from .task_space_report import TABLE_5
 
     printed = TABLE_5[f"arm{arm + 1}"][0 if which == "start" else 1]
-    ours = r.report(TS)["table5"]["TSC"][which][arm]
-    return [row(f"arm {arm + 1} {which} {c}", p, o) for c, p, o in zip(("x (m)", "y (m)", "z-rotation (deg)"), printed, ours)]
+    ours = r.report(TS)["table5"][run][which][arm]
+    return [row(f"{run} arm {arm + 1} {which} {c}", p, o) for c, p, o in zip(("x (m)", "y (m)", "z-rotation (deg)"), printed, ours)]
 
 
 def _table_rows(r: Results, table: str, printed: dict, label: str) -> list[Row]:
@@ -230,15 +230,19 @@ for number, caption, draw in (
 def _table2_rows(r: Results) -> list[Row]:
     from .task_space_report import TABLE_2
 
+    low, high = r.report(TS)["tsc_condition_range"]
     return _table_rows(r, "table2", TABLE_2, "RMS error") + [
         row(f"overall, arm {k + 1}, analytic qddot_d", TABLE_2["overall"][k], v)
-        for k, v in enumerate(r.report(TS)["qddot_analytic"]["table2_analytic"]["overall"])]
+        for k, v in enumerate(r.report(TS)["qddot_analytic"]["table2_analytic"]["overall"])] + [
+        row("condition number of J* along the TSC run, min / max", None, f"{low:.4g} / {high:.4g}")]
 
 
 entry(DISSERTATION, "Table 2", "Task-space tracking: RMS of the end-effector pose error (x, y in m, z-rotation in deg), "
       "per arm and overall.", TS, None, _table2_rows,
       TS_NOTE + " The rows 'analytic qddot_d' differentiate eq 138 with dJ*/dt instead of the backward difference "
-      "(the printed rows use the backward difference, as the first rows do). Overall = RMS of the x, y and z-rotation rows.")
+      "(the printed rows use the backward difference, as the first rows do). Overall = RMS of the x, y and z-rotation rows. "
+      "The condition number is largest at the start (every joint 0.5 deg off the stretched arms) and falls as the arms "
+      "bend to 5.5 deg.")
 entry(DISSERTATION, "Fig 31", "End-effector z-rotation tracking error over time, TSC.", TS,
       lambda r: rf.tracking_errors(tsc(r), jsc(r), "Dissertation fig 31: end-effector z-rotation error, TSC", (2,),
                                    ("z-rotation error (deg)",)), None, TS_NOTE)
@@ -257,17 +261,21 @@ entry(DISSERTATION, "Fig 34", "Joint control torques, TSC.", TS,
 entry(DISSERTATION, "Fig 35", "Joint trajectories, TSC.", TS,
       lambda r: rf.per_arm({"TSC": tsc(r), "JSC": jsc(r)}, "joints", "Dissertation fig 35: joints, TSC", "q (deg)", np.degrees(1.0)),
       None, TS_NOTE)
+#: Table 4 as printed: per arm, joint angles (deg) at the start and the end of both runs.
+TABLE_4 = {1: ([0.5] * 4, [5.5] * 4), 2: ([89.5, -0.5, -0.5, -0.5], [84.5, -5.5, -5.5, -5.5]),
+           3: ([-0.5] * 4, [-5.5] * 4), 4: ([90.5, 0.5, 0.5, 0.5], [95.5, 5.5, 5.5, 5.5])}
 entry(DISSERTATION, "Table 4", "Joint angles (deg) at the start and end of the JSC and TSC runs.", TS, None,
-      lambda r: [row(f"{run} arm {k + 1} {which} (deg)", f"{'+' if s > 0 else '-'}0.5 -> {'+' if s > 0 else '-'}5.5 off the start"
-                     if run == "JSC" else "as JSC",
-                     ", ".join(f"{v:.4g}" for v in r.report(TS)["table4"][run][f"{which}_deg"][4 * k:4 * k + 4]))
-                 for run in ("JSC", "TSC") for k, s in enumerate(ARM_SIGNS) for which in ("start", "end")],
-      "Printed Table 4 lists each joint 0.5 deg off the stretched posture at the start and 5.5 deg at the end (joint 1 of "
-      "arms 2 and 4 from 90 deg).")
+      lambda r: [row(f"{run} arm {k} {which} (deg)", ", ".join(f"{v:g}" for v in TABLE_4[k][w]),
+                     ", ".join(f"{v:.4g}" for v in r.report(TS)["table4"][run][f"{which}_deg"][4 * k - 4:4 * k]))
+                 for run in ("JSC", "TSC") for k in TABLE_4 for w, which in enumerate(("start", "end"))],
+      "The quintic moves every joint 5 deg from 0.5 deg off the stretched posture; with --quick the runs last 0.5 s "
+      "of the 5 s task, so the end is not reached.")
 entry(DISSERTATION, "Table 5", "End-effector x, y (m) and z-rotation (deg) at the start and end of the runs.", TS, None,
-      lambda r: [x for arm in range(4) for which in ("start", "end") for x in _table5_rows(r, arm, which)],
-      "Printed values are rounded to two decimals (start y 0.13 is the 0.5 deg offset). Arms 3 and 4 print end "
-      "-7.78 where arms 1 and 2 print 7.34; compare the rows.")
+      lambda r: [x for run in ("JSC", "TSC") for arm in range(4) for which in ("start", "end")
+                 for x in _table5_rows(r, run, arm, which)],
+      "Printed values are rounded to two decimals (start y 0.13 is the 0.5 deg offset). Arms 3 and 4 end at -7.78 "
+      "where arms 1 and 2 end at 7.34: their -0.5 deg start breaks the mirror symmetry. Their z-rotations differ from "
+      "the printed ones by 180 deg: the dissertation measures them in the arm's base frame, turned 180 deg.")
 entry(DISSERTATION, "Fig 36", "Base trajectory, TSC.", TS,
       lambda r: rf.base_motion({"TSC": tsc(r), "JSC": jsc(r)}, "Dissertation fig 36: base, TSC"), None, TS_NOTE)
 entry(DISSERTATION, "Fig 37", "System CoM trajectory, TSC.", TS,
@@ -386,10 +394,10 @@ def _cases(r: Results, *names: str) -> dict[str, dict]:
 
 def _case_rows(r: Results, name: str, printed_error: tuple | None) -> list[Row]:
     c = r.report(FB)["cases"][name]
-    rows = [row(f"max |error| after 0.2 s, {axis} (mm)", None if printed_error is None else printed_error[i], c["error_after_0.2s_mm"][i])
-            for i, axis in enumerate("xy")]
+    rows = [row(f"{name}: max |error| after 0.2 s, {axis} (mm)", None if printed_error is None else printed_error[i],
+                c["error_after_0.2s_mm"][i]) for i, axis in enumerate("xy")]
     if name.startswith("sliding"):
-        rows.insert(0, row("reaching time of s_y, |s| < 0.02 (s)", 0.008, c["reaching_time_s"][1]))
+        rows.insert(0, row(f"{name}: reaching time of s_y, |s| < 0.02 (s)", 0.008, c["reaching_time_s"][1]))
     return rows
 
 
@@ -417,21 +425,31 @@ entry(THESIS, "Eq 187", "Worst-case sliding-mode gains over the non-singular gri
       "The gains depend on the grid and its singularity threshold, which the thesis does not state.")
 entry(THESIS, "Fig 9", "The saturation tanh(100 s) that replaces sign(s).", "", lambda r: rf.saturation("Thesis fig 9: tanh(100 s)"),
       lambda r: [row("f_sat(0.023)", 0.98, float(np.tanh(100 * 0.023))), row("f_sat'(0)", 100.0, float(100 * (1 - np.tanh(0.0) ** 2)))])
-for first, case, level, printed in ((10, "sliding mode, 15 %", "15 %", None), (16, "sliding mode, 50 %", "50 %", None),
-                                    (22, "computed torque, 15 %", "15 %", (12.0, 27.0))):
-    law = "computed torque (eq 190)" if case.startswith("computed") else "sliding mode"
+#: Thesis figs 10-25 by first figure: the cases drawn (the first is the thesis's), the parameter
+#: error of its plant, the printed peak errors x, y (mm) if any, and the note.
+FIVE_BAR_GROUPS = {
+    10: (("sliding mode, 15 %", "sliding mode, eq 187's gains, 15 %"), "15 %", None,
+         "Circle of eq 189 from (0.07, 0.17) at rest, lambda = 40, tanh(100 s): freefloat's gains over its grid, and "
+         "eq 187's printed gains, with which s_y is reached in the document's ~0.008 s."),
+    16: (("sliding mode, 50 %",), "50 %", None, "As figs 10-15 with the plant 50 % off; the errors stay in the "
+         "hundredths of a millimetre, as the document says."),
+    22: (("computed torque, 15 %", "computed torque, 50 %"), "15 %", (12.0, 27.0),
+         "Computed torque (eq 190, lambda = 40, critically damped). The document's peaks (12 / 27 mm) match freefloat's "
+         "run with the parameters 50 % off, not the 15 % the text states."),
+}
+for first, (cases, level, printed, note) in FIVE_BAR_GROUPS.items():
+    law = "computed torque (eq 190)" if cases[0].startswith("computed") else "sliding mode"
     numbers = [("torque_Nm", 0, "actuator 1 torque (N m)"), ("torque_Nm", 1, "actuator 2 torque (N m)"),
                ("e_mm", 0, "error x (mm)"), ("e_mm", 1, "error y (mm)")]
-    if not case.startswith("computed"):
+    if law == "sliding mode":
         numbers += [("s", 0, "s_x (m/s)"), ("s", 1, "s_y (m/s)")]
     for k, (key, col, what) in enumerate(numbers):
         entry(THESIS, f"Fig {first + k}", f"{what.split(' (')[0].capitalize()}, {law}, parameters {level} off."
               + (" (Printed caption says 'x' for fig 19.)" if first + k == 19 else ""), FB,
-              lambda r, key=key, col=col, what=what, case=case, n=first + k: rf.five_bar_series(
-                  _cases(r, case), key, col, f"Thesis fig {n}: {what}, {case}", what, symlog=1e-3 if key != "torque_Nm" else None),
-              (lambda r, case=case, printed=printed: _case_rows(r, case, printed)) if k == 0 else None,
-              "Circle of eq 189 from (0.07, 0.17) at rest, lambda = 40, tanh(100 s), freefloat's gains over its grid."
-              if k == 0 else "")
+              lambda r, key=key, col=col, what=what, cases=cases, n=first + k: rf.five_bar_series(
+                  _cases(r, *cases), key, col, f"Thesis fig {n}: {what}", what, symlog=1e-3 if key != "torque_Nm" else None),
+              (lambda r, cases=cases, printed=printed: [x for c in cases for x in _case_rows(r, c, printed)]) if k == 0 else None,
+              note if k == 0 else "")
 entry(THESIS, "Eq 142", "Tracking error printed as e = qddot_d - q.", FB, None,
       lambda r: [row("s(0) = -(edot + lambda e) at the start (m/s)", "[0, -2] (sec 5.6 text)",
                      ", ".join(f"{v:.3g}" for v in r.report(FB)["cases"]["sliding mode, 15 %"]["s"][0])),

@@ -1,0 +1,241 @@
+"""``freefloat reproduce all``: one report of the dissertation's chapters 4-5 and the thesis's sec
+5.6. The report is built once (quick studies) for the module; its numbers are checked against the
+documents' printed values, conservation laws and analytic cases with stated tolerances."""
+
+from __future__ import annotations
+
+import json
+import re
+
+import numpy as np
+import pytest
+
+from freefloat.app.reproduce import STUDIES
+from freefloat.app.reproduce import folders as folders_module
+from freefloat.app.reproduce.report_entries import DISSERTATION, ENTRIES, THESIS
+
+#: Every figure and table of dissertation chapters 4-5 (figs 6-56, tables 1-5) and thesis sec 5.6
+#: (figs 6-25, table 2), from the documents' lists of figures and tables.
+EXPECTED = ({(DISSERTATION, f"Fig {n}") for n in range(6, 57)} | {(DISSERTATION, f"Table {n}") for n in range(1, 6)}
+            | {(THESIS, f"Fig {n}") for n in range(6, 26)} | {(THESIS, "Table 2")})
+#: The studies most entries draw on (a subset of ``all``, to keep the test short; the others'
+#: reports are appended as they are, and eq 11's number is the ``models`` study's, tested there).
+NEEDED = ("task_space", "five_bar", "series")
+
+
+@pytest.fixture(scope="module")
+def report(tmp_path_factory):
+    """``reproduce all --quick`` restricted to the studies the entries need: the folder and
+    entries.json as a dict keyed by (document, number)."""
+    out = tmp_path_factory.mktemp("all")
+    lines: list[str] = []
+    folders_module.run_all(out, False, True, {"workers": 1}, say=lines.append, names=NEEDED)
+    record = json.loads((out / "entries.json").read_text())
+    return out, {(e["document"], e["number"]): e for e in record["entries"]}, record, lines
+
+
+def ours(entry: dict, quantity: str) -> list[float]:
+    """The numbers freefloat printed in the row ``quantity`` of ``entry``."""
+    (match,) = [r for r in entry["rows"] if r["quantity"] == quantity]
+    return [float(x) for x in re.findall(r"[-+]?\d*\.?\d+(?:e[-+]?\d+)?", match["ours"])]
+
+
+def test_every_figure_and_table_of_both_documents_has_an_entry():
+    """The registry lists each expected figure and table once, in the documents' order."""
+    keys = [(e.document, e.number) for e in ENTRIES if not e.erratum]
+    assert len(keys) == len(set(keys))
+    assert EXPECTED <= set(keys), sorted(EXPECTED - set(keys))
+    figures = [int(n.split()[1]) for d, n in keys if d == DISSERTATION and n.startswith("Fig")]
+    assert figures == sorted(figures)
+
+
+def test_every_entry_is_reproduced_with_its_numbers(report):
+    """No entry whose study ran is left 'not reproduced' (the others name their study); every row
+    carries a number or text of freefloat's."""
+    _, entries, _, _ = report
+    missing = {k: e["missing"] for k, e in entries.items() if e["missing"]}
+    assert all(e["study"] not in NEEDED and e["study"] in reason for e, reason in
+               ((entries[k], r) for k, r in missing.items()))
+    assert {entries[k]["study"] for k in missing} <= {"models"}
+    assert all(r["ours"] not in ("", "-") for e in entries.values() for r in e["rows"])
+
+
+def test_report_is_self_contained_html_and_a_pdf(report):
+    """The page embeds its figures (no network address anywhere) and the PDF is a PDF."""
+    out, entries, _, _ = report
+    page = (out / "report.html").read_text()
+    assert "http://" not in page and "https://" not in page and "<script" not in page
+    assert page.count("data:image/png;base64,") >= sum(e["figure"] for e in entries.values())
+    assert (out / "report.pdf").read_bytes()[:5] == b"%PDF-"
+
+
+def test_report_states_commit_versions_and_settings(report):
+    """Provenance: the commit (or why unknown), package versions and the --quick setting."""
+    _, _, record, _ = report
+    provenance = record["provenance"]
+    assert provenance["commit"]
+    assert provenance["versions"]["pin"] and provenance["settings"]["quick"] is True
+    assert set(provenance["studies"]) == set(NEEDED)
+
+
+def test_start_posture_is_the_printed_one(report):
+    """Fig 6: the end-effectors start at (7.75, 0), (0, 7.75), (-7.75, 0), (0, -7.75) m (sec 4.2)."""
+    _, entries, _, _ = report
+    e = entries[(DISSERTATION, "Fig 6")]
+    for k, printed in enumerate(((7.75, 0.0), (0.0, 7.75), (-7.75, 0.0), (0.0, -7.75))):
+        np.testing.assert_allclose(ours(e, f"arm {k + 1} end-effector x, y (m)"), printed, atol=1e-9)
+
+
+def test_joint_references_move_five_degrees(report):
+    """Fig 8: every joint's quintic reference moves +-5 deg (sec 4.2.2), to 1e-9 deg."""
+    _, entries, _, _ = report
+    e = entries[(DISSERTATION, "Fig 8")]
+    for k, sign in enumerate((1, -1, -1, 1)):
+        assert ours(e, f"arm {k + 1} reference displacement (deg)") == pytest.approx([5.0 * sign], abs=1e-9)
+
+
+def test_com_stays_put_and_base_moves_on_the_bisector_on_the_exact_plant(report):
+    """Figs 12, 14: with zero momentum the CoM is fixed (conservation, 1e-10 m) and the base
+    translates with x = y (the task's symmetry, 1e-9 m), without turning."""
+    _, entries, _, _ = report
+    assert ours(entries[(DISSERTATION, "Fig 14")], "max CoM drift (m), exact plant")[0] < 1e-10
+    dx, dy = ours(entries[(DISSERTATION, "Fig 12")], "base displacement x, y (m), exact plant")
+    assert dx == pytest.approx(dy, abs=1e-9) and dx < 0
+    assert ours(entries[(DISSERTATION, "Fig 12")], "largest |base yaw| (deg)")[0] < 1e-9
+
+
+def test_eq_140_sample_count_is_duration_over_step_plus_one(report):
+    """Eq 140's erratum: the run has duration / dt + 1 samples (5001 for 5 s at 1 ms, printed 500)."""
+    _, entries, record, _ = report
+    duration = 0.5 if record["provenance"]["settings"]["quick"] else 5.0
+    (samples,) = ours(entries[(DISSERTATION, "Eq 140")], "samples of a 5 s run at 1 ms (with t = 0)")
+    assert samples == round(duration / 1e-3) + 1
+
+
+def test_task_space_start_matches_table_5_to_its_printed_digits(report):
+    """Table 5's start (arm 1 at 7.75 m, 0.13 m, 2.0 deg) to the printed rounding (0.005 m, 0.05 deg)."""
+    _, entries, _, _ = report
+    e = entries[(DISSERTATION, "Table 5")]
+    assert ours(e, "TSC arm 1 start x (m)")[0] == pytest.approx(7.75, abs=0.005)
+    assert ours(e, "TSC arm 1 start y (m)")[0] == pytest.approx(0.13, abs=0.005)
+    assert ours(e, "TSC arm 1 start z-rotation (deg)")[0] == pytest.approx(2.0, abs=0.05)
+
+
+def test_plain_inversion_is_refused_at_the_stretched_posture(report):
+    """Fig 40: at 0 deg offset the E-GJM is singular and the plain inversion is refused."""
+    _, entries, _, _ = report
+    (inversion,) = [r for r in entries[(DISSERTATION, "Fig 40")]["rows"] if r["quantity"] == "plain inversion at 0 deg"]
+    assert inversion["ours"].startswith("refused")
+
+
+def test_detumbled_end_effectors_stop_and_the_baseline_keeps_spinning(report):
+    """Figs 44-54: with detumbling the mission end-effector's rate ends below 1e-6 rad/s; without
+    it both end-effectors keep one common rate above 1e-3 rad/s (the robot turns rigidly)."""
+    _, entries, _, _ = report
+    for fig, ee in (("45", "arm1_ee"), ("48", "arm1_ee"), ("51", "arm2_ee"), ("54", "arm1_ee"), ("54", "arm2_ee")):
+        assert abs(ours(entries[(DISSERTATION, f"Fig {fig}")], f"{ee} final angular rate (rad/s)")[0]) < 1e-6
+    baseline = entries[(DISSERTATION, "Fig 44")]
+    rates = [ours(baseline, f"{ee} final angular rate (rad/s)")[0] for ee in ("arm1_ee", "arm2_ee")]
+    assert min(rates) > 1e-3
+
+
+def test_baseline_joints_return_to_their_start(report):
+    """Fig 42: the held joints come back to the start after the impulse (within 0.05 deg)."""
+    _, entries, _, _ = report
+    assert ours(entries[(DISSERTATION, "Fig 42")], "largest |joint - start| at the end (deg)")[0] < 0.05
+
+
+def test_five_bar_drawing_closes_at_the_start_point(report):
+    """Thesis fig 6: both chains' tips meet at (0.07, 0.17) m (1e-9) with links of 0.12 and 0.15 m."""
+    _, entries, _, _ = report
+    tips = ours(entries[(THESIS, "Fig 6")], "tips of both chains (m)")
+    np.testing.assert_allclose(tips, [0.07, 0.17, 0.07, 0.17], atol=1e-6)  # printed to 6 decimals
+    np.testing.assert_allclose(ours(entries[(THESIS, "Fig 7")], "link lengths l1, l2 (m)"), [0.12, 0.15], atol=1e-9)
+
+
+def test_saturation_matches_the_printed_properties(report):
+    """Thesis fig 9: tanh(100 x 0.023) = 0.98 to the printed digits, slope 100 at 0."""
+    _, entries, _, _ = report
+    assert ours(entries[(THESIS, "Fig 9")], "f_sat(0.023)")[0] == pytest.approx(0.98, abs=5e-3)
+    assert ours(entries[(THESIS, "Fig 9")], "f_sat'(0)")[0] == pytest.approx(100.0)
+
+
+def test_sliding_variables_start_where_the_thesis_says(report):
+    """Eq 142's erratum: with e = q_d - q, s(0) = [0, -2] m/s as sec 5.6 states (to 1e-3)."""
+    _, entries, _, _ = report
+    s0 = ours(entries[(THESIS, "Eq 142")], "s(0) = -(edot + lambda e) at the start (m/s)")
+    np.testing.assert_allclose(s0, [0.0, -2.0], atol=1e-3)
+
+
+def test_workspace_map_marks_every_point_beyond_reach_out_of_reach(report):
+    """Thesis fig 8: a grid point farther than l1 + l2 from either base joint does not assemble."""
+    from freefloat.parallel.five_bar import FiveBarParameters
+
+    out, _, _, _ = report
+    p = FiveBarParameters()
+    w = json.loads((out / "five_bar" / "report.json").read_text())["workspace"]
+    for y, row in zip(w["y"], w["condition"]):
+        for x, c in zip(w["x"], row):
+            if max(np.hypot(x - p.l0, y), np.hypot(x + p.l0, y)) > p.l1 + p.l2 + 1e-9:
+                assert c is None
+
+
+def test_kinematic_consistency_is_small(report):
+    """Table 3: E-GJM rates agree with the differentiated motion (below 1e-4 m/s, deg/s)."""
+    _, entries, _, _ = report
+    values = [float(r["ours"]) for r in entries[(DISSERTATION, "Table 3")]["rows"]]
+    assert max(values) < 1e-4
+
+
+def test_an_entry_without_its_study_says_why(tmp_path):
+    """Built on an empty folder, an entry is 'not reproduced' with the missing study named."""
+    from freefloat.app.reproduce.report_pages import build_entry
+    from freefloat.app.reproduce.report_results import Results
+
+    entry = next(e for e in ENTRIES if e.study == "series" and e.draw is not None)
+    built = build_entry(entry, Results(tmp_path))
+    assert built.missing.startswith("not reproduced") and "series" in built.missing
+
+
+def test_interrupted_all_keeps_finished_studies_and_a_rerun_resumes(tmp_path, monkeypatch):
+    """Ctrl-C in the second study: the first study's folder stays; the rerun keeps it, runs the
+    second and builds the report."""
+    calls: list[str] = []
+
+    def fake_study(name, out, overwrite, quick, options):
+        calls.append(name)
+        if name == "five_bar" and calls.count("five_bar") == 1:
+            raise KeyboardInterrupt("SIGTERM")
+        out.mkdir(exist_ok=True)
+        (out / "report.json").write_text(json.dumps({"settings": {"quick": quick}, "wall_time_s": 0.0}))
+        return {}
+
+    monkeypatch.setattr(folders_module, "run_study", fake_study)
+    monkeypatch.setattr("freefloat.app.reproduce.report_pages.build", lambda results, out, record: [])
+    names = ("task_space", "five_bar")
+    with pytest.raises(KeyboardInterrupt, match="task_space"):
+        folders_module.run_all(tmp_path, False, True, {}, say=lambda line: None, names=names)
+    assert (tmp_path / "task_space" / "report.json").is_file()
+    lines: list[str] = []
+    folders_module.run_all(tmp_path, False, True, {}, say=lines.append, names=names)
+    assert calls == ["task_space", "five_bar", "five_bar"]
+    assert any("task_space: kept" in line for line in lines)
+
+
+def test_progress_names_each_study_in_order(report):
+    """One progress line per study as it starts, numbered, in the registry's order."""
+    _, _, _, lines = report
+    assert [line.split(":")[0] for line in lines if line.endswith("...")] == [f"[{k}/{len(NEEDED)}] {n}"
+                                                                            for k, n in enumerate(NEEDED, 1)]
+    assert set(NEEDED) <= set(STUDIES)
+
+
+def test_runs_start_at_table_4s_printed_angles(report):
+    """Table 4: both runs start at the printed joint angles (0.5 deg off the stretched arms, 1e-9 deg)."""
+    from freefloat.app.reproduce.report_entries import TABLE_4
+
+    _, entries, _, _ = report
+    e = entries[(DISSERTATION, "Table 4")]
+    for run in ("JSC", "TSC"):
+        for arm, (start, _) in TABLE_4.items():
+            np.testing.assert_allclose(ours(e, f"{run} arm {arm} start (deg)"), start, atol=1e-9)
