@@ -55,8 +55,9 @@ def test_process_pool_gives_the_serial_map(tmp_path):
     assert np.array_equal(done.result["f"], expected(9))
 
 
-def test_an_interrupted_map_resumes_from_its_journal(tmp_path):
-    """Ctrl-C after the second chunk keeps both journaled; the rerun evaluates only the rest."""
+def test_an_interrupted_map_resumes_from_its_journal(tmp_path, monkeypatch):
+    """Ctrl-C after the second chunk keeps both journaled; the rerun evaluates only the rest, in
+    the journal's chunks even where the rerun would cut others (another number of workers)."""
     def stop(done, total):
         if done >= 16:
             raise KeyboardInterrupt
@@ -71,6 +72,7 @@ def test_an_interrupted_map_resumes_from_its_journal(tmp_path):
         return original(kind, context, grid, start, stop)
 
     engine.evaluate_chunk = counting
+    monkeypatch.setattr(engine, "MIN_CHUNK", 5)
     try:
         done = run_atlas("toy", "t", Options(), tmp_path / "out")
     finally:

@@ -12,6 +12,7 @@ and the figures, and the chunks and the journal are removed.
 
 from __future__ import annotations
 
+import contextlib
 import json
 import math
 import time
@@ -98,12 +99,11 @@ def run_atlas(kind: str, target: str, options: Options, out: Path, workers: Work
     grid = module.grid(context, options)
     probe = module.evaluate(context, grid.points(0, 1))
     check_memory(grid, sum(a.nbytes for a in probe.values()))
-    size = chunk_size(grid, workers.count)
-    spans = grid.chunks(size)
-    settings = {"kind": kind, "target": target, "options": options.as_dict(), "grid": grid.describe(),
-                "chunk_size": size}
+    settings = {"kind": kind, "target": target, "options": options.as_dict(), "grid": grid.describe()}
     with RunFolder(out, overwrite, keep_foreign=False, resume=True) as folder:
-        done = _resumed(folder.path, settings)
+        size, done = _resumed(folder.path, settings, chunk_size(grid, workers.count))
+        settings["chunk_size"] = size
+        spans = grid.chunks(size)
         parts: dict[int, dict[str, np.ndarray]] = {i: _load_chunk(folder.path, i) for i in done}
         chunks_dir = folder.claim(f"{CHUNKS}/")
         chunks_dir.mkdir(exist_ok=True)
@@ -134,28 +134,31 @@ def run_atlas(kind: str, target: str, options: Options, out: Path, workers: Work
                                 lambda into: module.figures(context, grid, result, into))
         for i in range(len(spans)):
             (folder.path / CHUNKS / f"chunk-{i:05d}.npz").unlink(missing_ok=True)
-        chunks_dir.rmdir()
+        with contextlib.suppress(OSError):  # a file freefloat did not write stays, and so does the folder
+            chunks_dir.rmdir()
         (folder.path / JOURNAL).unlink()
     return AtlasRun(folder.path, grid, result, json.loads((folder.path / "summary.json").read_text()), written)
 
 
-def _resumed(folder: Path, settings: dict) -> list[int]:
-    """The chunks a previous run of the same atlas journaled in ``folder`` (none when it has no
-    journal).
+def _resumed(folder: Path, settings: dict, size: int) -> tuple[int, list[int]]:
+    """The chunk size and the chunks a previous run of the same atlas journaled in ``folder``
+    (``size`` and none when it has no journal; its own chunk size when it has, whatever the
+    number of workers now).
 
     Raises:
         FreefloatError: when the journal is of another atlas (kind, target, options or grid).
     """
     path = folder / JOURNAL
     if not path.is_file():
-        return []
+        return size, []
     lines = [json.loads(line) for line in path.read_text().splitlines() if line.strip().endswith("}")]
-    if not lines or lines[0].get("settings") != json.loads(json.dumps(settings)):
+    before = dict(lines[0].get("settings", {})) if lines else {}
+    size = before.pop("chunk_size", size)
+    if before != json.loads(json.dumps(settings)):
         raise FreefloatError(f"output folder '{folder}' holds the journal of another atlas "
-                             f"({lines[0]['settings'] if lines else 'unreadable'}); pass --overwrite or choose "
-                             "another --out")
-    return sorted({line["chunk"] for line in lines[1:]
-                   if "chunk" in line and (folder / CHUNKS / f"chunk-{line['chunk']:05d}.npz").is_file()})
+                             f"({before or 'unreadable'}); pass --overwrite or choose another --out")
+    return size, sorted({line["chunk"] for line in lines[1:]
+                         if "chunk" in line and (folder / CHUNKS / f"chunk-{line['chunk']:05d}.npz").is_file()})
 
 
 def _load_chunk(folder: Path, i: int) -> dict[str, np.ndarray]:
