@@ -1,9 +1,12 @@
-"""The 2RSU+PPaP's conditioning and holding efforts on a grid about its home pose.
+"""The 2RSU+PPaP's modes at home and its conditioning on a grid about home, from the mechanism maps.
 
 Usage: ``python3 scripts/rsu_ppap_workspace.py [--half 0.05] [--spacing 0.01]``. Prints, for the
-assumed geometry (``urdf/rsu_ppap.data.toml``), the range of cond(A°) and cond(C^T U) over the
-grid points that assemble, and the efforts that hold the home pose at rest against gravity.
-docs/parallel.md quotes its output.
+assumed geometry (``urdf/rsu_ppap.data.toml``): the working modes (inverse kinematics, one sign
+per leg) and assembly modes (direct kinematics) at the home pose, naming the one the scenes use;
+over the grid points that assemble in the scenes' mode, the condition numbers of the inverse
+block (type I), the direct block (type II) and the actuation map C^T U; the efforts that hold
+home at rest against gravity. The whole workspace and its singularity loci are
+``freefloat atlas mechanism rsu_ppap [--axes x,y,z]``. docs/parallel.md quotes its output.
 """
 
 from __future__ import annotations
@@ -13,6 +16,8 @@ import argparse
 import numpy as np
 
 from freefloat import FreefloatError
+from freefloat.parallel.maps.jacobians import closure, partition, singularity
+from freefloat.parallel.maps.modes import assembly_label, assembly_modes, working_label, working_modes
 from freefloat.parallel.rsu_ppap import assembly_guess, load_data, load_rsu_ppap
 
 
@@ -23,6 +28,16 @@ def main() -> None:
     args = cli.parse_args()
     data, mech = load_data(), load_rsu_ppap().mechanism
     home = np.array(data["home"])
+    q_home = mech.assemble(home, assembly_guess(data, home))
+    working = working_modes(mech, home[None], count=64)
+    assembly = assembly_modes(mech, q_home[None, mech.actuated], np.array([[-0.33, 0.12], [-0.25, 0.25], [0.05, 0.65]]),
+                              count=64)
+    print(f"home {home.tolist()} m: working modes {[m for m, f in zip(working.labels, working.found[0]) if f]} "
+          f"(the scenes': {working_label(mech, q_home)}); assembly modes "
+          f"{[m for m, f in zip(assembly.labels, assembly.found[0]) if f]} (the scenes': {assembly_label(mech, q_home)})")
+    for label, q in zip(working.labels, working.q[0]):
+        print(f"  working mode {label}: cranks {q[mech.actuated[0]]:+.3f}, {q[mech.actuated[1]]:+.3f} rad; "
+              f"parallelogram bar {q[-3]:+.3f} rad")
     axis = np.arange(-args.half, args.half + 1e-12, args.spacing)
     points = home + np.stack(np.meshgrid(axis, axis, axis, indexing="ij"), axis=-1).reshape(-1, 3)
     poses = []
@@ -32,13 +47,13 @@ def main() -> None:
         except FreefloatError:
             continue
     q = np.array(poses)
-    A = mech.terms(q, np.zeros_like(q))[0]
-    C = mech.velocity_map(q)
-    cond_a = np.linalg.cond(A[:, :, mech.p:])
-    cond_b = np.linalg.cond(C.swapaxes(-1, -2) @ mech.selection())
-    hold = mech.inverse(mech.assemble(home, assembly_guess(data, home)), np.zeros(3), np.zeros(3))[0]
+    s = singularity(partition(mech), closure(mech, q)[1])
+    cond_b = np.linalg.cond(mech.velocity_map(q).swapaxes(-1, -2) @ mech.selection())
+    hold = mech.inverse(q_home, np.zeros(3), np.zeros(3))[0]
     print(f"{len(q)} of {len(points)} grid points assemble (+-{args.half} m, {args.spacing} m spacing)")
-    print(f"cond(A°) {cond_a.min():.1f} to {cond_a.max():.1f}; cond(C^T U) {cond_b.min():.1f} to {cond_b.max():.1f}")
+    print(f"cond of the inverse block (type I) {1 / s.inverse_ratio.max():.1f} to {1 / s.inverse_ratio.min():.1f}; "
+          f"direct block (type II) {1 / s.direct_ratio.max():.1f} to {1 / s.direct_ratio.min():.1f}; "
+          f"C^T U {cond_b.min():.1f} to {cond_b.max():.1f}")
     print(f"holding the home pose: cranks {hold[0]:.3f}, {hold[1]:.3f} N m; rail {hold[2]:.3f} N")
 
 

@@ -264,6 +264,31 @@ def _min_jerk(a: np.ndarray, b: np.ndarray, T: float):
     return reference
 
 
+def test_rsu_ppap_workspace_is_where_every_leg_reaches(setups):
+    """On an (x, z) grid through the scenes' start, the 2RSU+PPaP's map has its eight working
+    modes exactly where each leg reaches the platform in closed form: the crank's circle within a
+    rod's length of the universal joint, the parallelogram's bars spanning x (the scene's
+    assembly guess, which raises otherwise)."""
+    from freefloat.parallel.rsu_ppap import assembly_guess, load_data
+
+    mech, data = setups["rsu_ppap"].nominal, load_data()
+    axis_x, axis_z = np.linspace(-0.33, 0.12, 8), np.linspace(0.05, 0.65, 8)
+    points = axes_grid([axis_x, np.array([0.0]), axis_z])
+    found = working_modes(mech, points, count=32).found
+
+    def reaches(x: np.ndarray) -> bool:
+        try:
+            assembly_guess(data, x)
+        except FreefloatError:
+            return False
+        return True
+
+    expected = np.array([reaches(x) for x in points])
+    assert 0 < expected.sum() < len(points)
+    np.testing.assert_array_equal(found.all(axis=1), expected)
+    np.testing.assert_array_equal(found.any(axis=1), expected)
+
+
 def test_bad_inputs_are_refused():
     """Points of the wrong width and a box of the wrong shape raise BadShape naming them; a
     redundantly actuated mechanism is refused."""

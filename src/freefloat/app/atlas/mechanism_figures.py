@@ -93,9 +93,10 @@ def _slices(context, grid: Grid, result: dict[str, np.ndarray], loci: dict, path
     import matplotlib.pyplot as plt
 
     a, b, c = grid.axes
-    levels = np.unique(np.linspace(0, c.n - 1, 3).round().astype(int))
-    fig, axes = plt.subplots(1, len(levels), figsize=(4.8 * len(levels), 4.4), squeeze=False)
     anywhere = result["found"].any(axis=1).reshape(grid.shape)
+    occupied = np.flatnonzero(anywhere.any(axis=(0, 1)))
+    levels = occupied[np.unique(np.linspace(0, len(occupied) - 1, 3).round().astype(int))] if len(occupied) else [c.n // 2]
+    fig, axes = plt.subplots(1, len(levels), figsize=(4.8 * len(levels), 4.4), squeeze=False)
     spacing = (c.high - c.low) / max(c.n - 1, 1)
     for ax, k in zip(axes[0], levels):
         ax.pcolormesh(a.values(), b.values(), anywhere[:, :, k].T, cmap="Blues", vmin=-0.6, vmax=1.6, shading="nearest")

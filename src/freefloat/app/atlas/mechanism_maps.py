@@ -30,6 +30,9 @@ from .grid import Axis, Grid
 from .kinds import Options
 
 OPTIONS = frozenset({"grid", "axes"})
+#: sigma_min / sigma_max of its block above which a bisected locus point is counted as unconfirmed
+#: (a mode that ended where Newton failed from every start rather than at a singularity).
+UNCONFIRMED = 1e-3
 
 
 @dataclass(frozen=True)
@@ -220,11 +223,27 @@ def _bisected(context: MechanismMapContext, grid: Grid, result: dict[str, np.nda
     return {locus.kind: locus for locus in found}
 
 
+def path_clearance(context: MechanismMapContext, locus) -> float | None:
+    """Least distance, m, from the scenes' circular path to the type II points of the scenes'
+    working mode (task space, the path in the mapped plane); None otherwise."""
+    trajectory = scene_of(context.mechanism)[2]
+    on = locus.mode == scene_mode(context)
+    if context.space != "task" or trajectory.get("kind") != "circle" or not on.any():
+        return None
+    plane = list(trajectory.get("axes", [0, 1]))
+    if plane != list(context.axes[:2]) or len(context.axes) != 2:
+        return None
+    offset = locus.coordinates[on][:, plane] - np.asarray(trajectory["center"], float)[plane]
+    return float(np.abs(np.linalg.norm(offset, axis=1) - trajectory["radius"]).min())
+
+
 def summarise(context: MechanismMapContext, grid: Grid, result: dict[str, np.ndarray]) -> dict:
     """The modes (and the scenes'), points per mode, points where any mode exists, the loci's
-    points per kind and how singular they are (largest sigma_min / sigma_max of their block), the
-    area or volume mapped; for the 5R's task space the closed-form area and the grid points that
-    disagree with the closed-form workspace."""
+    points per kind and how singular they are (largest sigma_min / sigma_max of their block, and
+    how many exceed :data:`UNCONFIRMED`), the
+    area or volume mapped, the scenes' path's clearance from the type II locus of their mode
+    (:func:`path_clearance`); for the 5R's task space the closed-form area and the grid points
+    that disagree with the closed-form workspace."""
     from ...parallel.maps import five_bar_exact
     from ...parallel.maps.jacobians import closure, partition
 
@@ -243,6 +262,10 @@ def summarise(context: MechanismMapContext, grid: Grid, result: dict[str, np.nda
         ratio = np.linalg.svd(closure(mech, locus.q)[1][..., columns], compute_uv=False) if len(locus.q) else np.ones((0, 1))
         out[f"type_{kind}_points"] = len(locus.q)
         out[f"type_{kind}_ratio_max"] = float((ratio[:, -1] / ratio[:, 0]).max()) if len(locus.q) else None
+        out[f"type_{kind}_unconfirmed"] = int((ratio[:, -1] / ratio[:, 0] > UNCONFIRMED).sum())
+    clearance = path_clearance(context, loci["II"])
+    if clearance is not None:
+        out["scene_path_type_II_clearance"] = clearance
     if context.mechanism == "five_bar" and context.space == "task":
         from ...parallel.five_bar import FiveBarParameters
 

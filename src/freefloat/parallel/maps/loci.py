@@ -44,7 +44,7 @@ class Locus(NamedTuple):
     q: np.ndarray
 
 
-def loci(mech: ParallelMechanism, grid_map: ModeMap, shape: tuple[int, ...], space: str, iterations: int = 40) -> list[Locus]:
+def loci(mech: ParallelMechanism, grid_map: ModeMap, shape: tuple[int, ...], space: str, iterations: int = 30) -> list[Locus]:
     """Type I and type II loci (one :class:`Locus` each) of a map over a tensor grid of ``shape``
     (C order), in ``space`` (``"task"``: working modes over platform points; ``"joint"``:
     assembly modes over actuated joints)."""
