@@ -282,8 +282,7 @@ def test_planned_capture_scene_runs_its_three_phases(tmp_path):
     the summary's ratio's aim (5x), the target stopped, one outcome with the pre-capture telemetry."""
     from freefloat.app.runner import simulate
 
-    scene = quiet_scene(tmp_path, "capture_planned_planar", simulation={"duration": 0.2}, target={"contact_time": 1.0},
-                        approach={"steps": 100})
+    scene = quiet_scene(tmp_path, "capture_planned_planar", simulation={"duration": 0.2})
     out = simulate(scene)
     s = out.summary
     assert s["impact_time"] == pytest.approx(scene.target.contact_time)
@@ -322,8 +321,7 @@ def test_planned_two_hand_capture_scene_grasps_at_the_planned_instant(tmp_path):
     time within the contact tolerance, the base turned far less than by the minimum-norm plan."""
     from freefloat.app.runner import simulate
 
-    scene = quiet_scene(tmp_path, "capture_planned_two_hands_planar", simulation={"duration": 0.02},
-                        target={"contact_time": 1.0}, approach={"steps": 100})
+    scene = quiet_scene(tmp_path, "capture_planned_two_hands_planar", simulation={"duration": 0.02})
     s = simulate(scene).summary
     assert s["impact_time"] == pytest.approx(scene.target.contact_time)
     assert s["grasp_position_mismatch"] < scene.target.tolerance
