@@ -236,3 +236,22 @@ def test_the_stretched_arm_is_a_dynamic_singularity_only_through_the_system_com(
         assert sv_fixed[-1] < 1e-12 * sv_fixed[0]
         assert (sv_free[-1] < 1e-12 * sv_free[0]) == on_line == (result["sv_free"][k, -1] < 1e-12 * result["sv_free"][k, 0])
     assert result["singular_fixed"].all()
+
+
+def test_posture_moves_the_held_joints(tmp_path):
+    """--posture sets a held joint (deg): the UR5's wrist at 0 deg is singular on the whole
+    shoulder-elbow plane for the fixed base, at 60 deg nowhere but at the stretched and folded
+    elbow; an unknown joint is refused with the robot's joints."""
+    axes = ("shoulder_lift_joint", "elbow_joint")
+    wrist = singularities.prepare("ur5", Options(axes=axes, posture=(("wrist_2_joint", 60.0),)))
+    assert wrist.posture[4] == pytest.approx(np.radians(60.0))
+    points = singularities.grid(wrist, Options(grid=9)).points()
+    bent = evaluate(wrist, points)
+    held = evaluate(singularities.prepare("ur5", Options(axes=axes)), points)
+    assert held["singular_fixed"].all()
+    elbow = np.isclose(np.abs(points[:, 1]) % np.pi, 0.0)
+    assert np.array_equal(bent["singular_fixed"], elbow)
+    with pytest.raises(UnknownName, match="wrist_2_joint"):
+        singularities.prepare("ur5", Options(posture=(("wrist", 1.0),)))
+    assert main(["atlas", "singularities", "ur5", "--posture", "wrist_2_joint:60", "--quiet",
+                 "--out", str(tmp_path / "out")]) == 2

@@ -170,6 +170,9 @@ def _atlas_parser(commands: Any) -> None:
     atl.add_argument("--base", choices=["free", "planar"], default=None,
                      help="floating base of a robot given by name or file (default: planar for freefloat's planar "
                           "robots, free otherwise)")
+    atl.add_argument("--posture", default=None, metavar="JOINT=VALUE,...",
+                     help="positions of the held joints, deg (revolute) or m (prismatic), comma-separated "
+                          "(default: the four-arm robot's Table 4 start, mid-range for other robots)")
     atl.add_argument("--workers", type=int, default=None, help="worker processes (default 1: this process)")
     atl.add_argument("--dask", action="store_true", help="evaluate on Dask: a local cluster of --workers (default 2) "
                                                          "processes, or --scheduler's workers")
@@ -196,7 +199,7 @@ def _atlas(args: argparse.Namespace) -> int:
     workers = Workers(args.workers or (2 if args.dask else 1), args.dask or args.scheduler is not None, args.scheduler)
     options = Options(grid=args.grid, axes=tuple(args.axes.split(",")) if args.axes else None,
                       end_effector=args.end_effector, momentum=tuple(args.momentum) if args.momentum else None,
-                      tolerance=args.tolerance, base=args.base)
+                      tolerance=args.tolerance, base=args.base, posture=_pairs(args.posture))
     out = args.out or default_folder(f"atlas-{args.kind}-{Path(args.target).stem}")
     with one_line_warnings(), tqdm(total=0, desc=args.kind, unit="pt", disable=args.quiet, delay=0.5) as bar:
         def progress(done: int, total: int) -> None:
@@ -211,6 +214,24 @@ def _atlas(args: argparse.Namespace) -> int:
             print(f"  {key}: {value}")
     print(f"  wrote: {', '.join(p.name for p in done.written)}")
     return 0
+
+
+def _pairs(text: str | None) -> tuple[tuple[str, float], ...] | None:
+    """``JOINT=VALUE,...`` as ``((joint, value), ...)``.
+
+    Raises:
+        FreefloatError: naming the item that is not NAME=NUMBER.
+    """
+    if not text:
+        return None
+    pairs = []
+    for item in text.split(","):
+        name, _, value = item.partition("=")
+        try:
+            pairs.append((name.strip(), float(value)))
+        except ValueError:
+            raise FreefloatError(f"--posture: '{item}' is not JOINT=VALUE (e.g. elbow_joint=30)") from None
+    return tuple(pairs)
 
 
 def _varies() -> dict[str, str]:

@@ -46,7 +46,7 @@ TOLERANCE = 1e-3
 _H0, _JM, _J0E, _JSTAR, _EE = (GJMState._fields.index(f) for f in ("H0", "Jm", "J0E", "Jstar", "ee_position"))
 _R0, _COM = (BodyKinematics._fields.index(f) for f in ("r0", "com"))
 #: The options both space-robot kinds read.
-OPTIONS = frozenset({"grid", "axes", "end_effector", "momentum", "tolerance", "base"})
+OPTIONS = frozenset({"grid", "axes", "end_effector", "momentum", "tolerance", "base", "posture"})
 
 
 @dataclass(frozen=True)
@@ -120,6 +120,26 @@ def joint_limits(robot: Robot) -> tuple[np.ndarray, np.ndarray]:
     return low, high
 
 
+def _posture(robot: Robot, target: str, given: tuple[tuple[str, float], ...] | None) -> np.ndarray:
+    """The reference posture with the ``--posture`` values (deg for revolute joints, m for
+    prismatic ones) put in.
+
+    Raises:
+        UnknownName: a joint that is not the robot's, listing its joints.
+        InvalidArgument: a value that is not finite.
+    """
+    posture = reference_posture(robot, target)
+    joints = robot.joint_names
+    for name, value in given or ():
+        if name not in joints:
+            raise UnknownName(f"joint of {target} (--posture)", name, joints)
+        if not np.isfinite(value):
+            raise InvalidArgument(f"--posture {name}={value}: needs a finite value")
+        revolute = gjm.model_of(robot).tree.revolute[joints.index(name)]
+        posture[joints.index(name)] = np.radians(value) if revolute else value
+    return posture
+
+
 def prepare(target: str, options: Options, all_arm_joints: bool) -> ArmMap:
     """The context of a map of ``target``; the default axes are all the arm's joints
     (``all_arm_joints``) or its first two.
@@ -154,7 +174,7 @@ def prepare(target: str, options: Options, all_arm_joints: bool) -> ArmMap:
     return ArmMap(target=str(target), base=base, end_effector=name, index=index, arm_joints=arm.joints,
                   columns=tuple(int(i) for i in arm.v_indices - robot.n_base), axes=tuple(axes),
                   axis_index=axis_index, limits=tuple((float(low[i]), float(high[i])) for i in axis_index),
-                  posture=tuple(float(x) for x in reference_posture(robot, target)),
+                  posture=tuple(float(x) for x in _posture(robot, target, options.posture)),
                   momentum=_momentum(options.momentum, base), tolerance=tolerance, rows=ROWS[base])
 
 

@@ -29,6 +29,8 @@ class Options:
         tolerance: the kind's threshold (e.g. sigma_min / sigma_max below which a Jacobian counts
             as singular).
         base: floating base of a robot loaded by name or file: ``"free"`` or ``"planar"``.
+        posture: ``(joint, value)`` pairs overriding the held joints' reference positions (deg
+            for a revolute joint, m for a prismatic one).
     """
 
     grid: int | None = None
@@ -37,6 +39,7 @@ class Options:
     momentum: tuple[float, ...] | None = None
     tolerance: float | None = None
     base: str | None = None
+    posture: tuple[tuple[str, float], ...] | None = None
 
     def given(self) -> list[str]:
         """Names of the fields set (not None)."""
@@ -44,7 +47,8 @@ class Options:
 
     def as_dict(self) -> dict:
         """The fields as JSON-able values (for the journal and the summary)."""
-        return {k: list(v) if isinstance(v, tuple) else v for k, v in dataclasses.asdict(self).items()}
+        return {k: [list(x) if isinstance(x, tuple) else x for x in v] if isinstance(v, tuple) else v
+                for k, v in dataclasses.asdict(self).items()}
 
 
 @dataclass(frozen=True)
