@@ -227,3 +227,30 @@ def test_what_wheels_cannot_go_with_is_refused(tmp_path, sections, message):
 
     with pytest.raises(SceneError, match=message):
         prepare(quiet_scene(tmp_path, "satellite_wheels", **sections))
+
+
+def test_declared_wheels_hold_the_base_in_a_scene(tmp_path):
+    """Three continuous joints of a URDF declared as ``[[wheels]] joint = ...`` are the wheels
+    the attitude law drives: their rotors are no end-effectors, and from a tumble the base's rate
+    falls a hundredfold, the wheels' stored momentum balancing the rest of the robot's change."""
+    from freefloat.app.runner import simulate
+    from freefloat.app.scenes import parse_scene
+
+    rng = np.random.default_rng(11)
+    rotors = "".join(wheel_urdf(f"rw{i}", axis, np.zeros(3), 1.0, 0.05, 0.03) for i, axis in enumerate(np.eye(3)))
+    (tmp_path / "robot.urdf").write_text(random_urdf(rng, 2, fixed_share=0.0).replace("</robot>", rotors + "</robot>"))
+    scene = parse_scene({
+        "name": "declared", "robot": {"urdf": "robot.urdf"},
+        "initial": {"base_angular_velocity": [2.0, -1.0, 3.0]},
+        "wheels": [{"joint": f"rw{i}", "max_momentum": 100.0, "max_torque": 100.0} for i in range(3)],
+        "attitude": {"kp": 100.0, "kd": 20.0},
+        "simulation": {"duration": 1.0, "model": "exact"}, "output": {"figures": False, "html": False},
+    }, source=tmp_path / "declared.toml")
+    setup = prepare(scene)
+    assert not any(ee.startswith("rw") for ee in setup.robot.end_effectors)
+    outcome = simulate(scene)
+    rate = np.linalg.norm(outcome.telemetry.base_twist[:, 3:], axis=1)
+    assert rate[-1] < 0.01 * rate[0] and not outcome.summary["wheel_saturated"]
+    momentum, stored = outcome.telemetry.momentum, outcome.extra_telemetry["wheels"].stored
+    drift = np.abs(momentum - momentum[0]).max()
+    assert outcome.summary["wheel_momentum_balance_max"] <= 2.0 * drift + 1e-13 * np.abs(stored).max()
