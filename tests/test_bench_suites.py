@@ -30,10 +30,10 @@ def toy(monkeypatch):
 
 
 def test_registry_lists_exactly_the_suites():
-    """The registry holds the MuJoCo scenes, the eight former scripts, the fixed-cost suite and the
-    two-hand capture's, in the order ``all`` runs them."""
+    """The registry holds the MuJoCo scenes, the eight former scripts, the fixed-cost suite, the
+    two-hand capture's and the atlas's, in the order ``all`` runs them."""
     assert list(SUITES) == [DEFAULT, "simulation", "integrators", "gjm", "models", "locking", "parallel", "batch",
-                            "figures", "setup", "two_hands"]
+                            "figures", "setup", "two_hands", "atlas"]
 
 
 def test_help_lists_every_registered_suite(toy, capsys):
@@ -239,10 +239,18 @@ def _two_hands(r):
     assert set(part["status"].values()) == {"completed"} and part["final_state_difference"] < 1e-10
 
 
+def _atlas(r):
+    part, points = r["evaluate"], r["settings"]["grid"] ** 2
+    assert part["points"] == r["command"]["points"] == points
+    assert part["evaluate_over_gjm_compute"] == pytest.approx(part["seconds"]["evaluate"] / part["seconds"]["gjm_compute"])
+    assert part["per_point_us"] == pytest.approx({k: t / points * 1e6 for k, t in part["seconds"].items()})
+    assert r["command"]["serial"]["singular_share_free"] == r["command"]["pool_of_2"]["singular_share_free"]
+
+
 #: Per suite, what its numbers must agree on (a new suite needs a check).
 CHECKS = {"simulation": _simulation, "integrators": _integrators, "gjm": _gjm, "models": _models,
           "locking": _locking, "parallel": _parallel, "batch": _batch, "figures": _figures, "setup": _setup,
-          "two_hands": _two_hands}
+          "two_hands": _two_hands, "atlas": _atlas}
 
 
 @pytest.mark.parametrize("name", PARTS_SUITES)

@@ -127,7 +127,7 @@ for _suite in (
                    "fresh or reused", ".setup"),
     Suite("two_hands", "the two-hand capture's post-grasp phase (loop closure and its law) in the Python and the "
                        "compiled loop, against the single-arm capture's, per simulated second", ".two_hands"),
-    Suite("atlas", "a 200 x 200 workspace-and-singularity map of the four-arm robot's arm against as many "
+    Suite("atlas", "a 200 x 200 workspace and singularity map of the four arm robot's arm against as many "
                    "gjm.compute calls, serial and on 2 processes", ".atlas"),
 ):
     register(_suite)
