@@ -126,6 +126,7 @@ struct State {
   std::vector<Vec6> S;          // (n) joint motions about r0
   std::vector<Mat6> Ic;         // (n + 1) composite inertias about r0
   Eigen::LDLT<Mat6> H0_ldlt;
+  Mat6 H0_inv;                  // H0^-1, for solve0
 };
 
 struct Derivatives {
@@ -261,10 +262,19 @@ inline void compute_inertia(const Tree& t, const double* q, const double* v, Sta
   s.H0m.resize(6, n);
   for (int j = 0; j < n; ++j) s.H0m.col(j) = s.Ic[j + 1] * s.S[j];
   s.H0_ldlt.compute(s.H0);
+  s.H0_inv = s.H0_ldlt.solve(Mat6::Identity());
   s.qdot = Eigen::Map<const VecX>(v + n_base, n);
   s.momentum_base = s.H0 * s.x0dot + s.H0m * s.qdot;
   s.momentum_origin = s.momentum_base;
   s.momentum_origin.tail<3>() += r0.cross(s.momentum_base.head<3>());
+}
+
+// H0^-1 X for X (6, n), column by column through H0^-1 (Eigen's dynamic-size solve packs and
+// blocks, which costs more than the products on these sizes).
+inline Mat6X solve0(const State& s, const Mat6X& X) {
+  Mat6X out(6, X.cols());
+  for (Eigen::Index j = 0; j < X.cols(); ++j) out.col(j).noalias() = s.H0_inv * X.col(j);
+  return out;
 }
 
 // Hm, J0 and H* after compute_inertia: Hm filled along the paths only, H* = Hm + H0m^T J0 row by
@@ -276,7 +286,7 @@ inline void compute_generalized_inertia(const Tree& t, State& s) {
     s.Hm(j, j) = s.S[j].dot(s.H0m.col(j));
     for (int i : t.above[j]) s.Hm(i, j) = s.Hm(j, i) = s.S[i].dot(s.H0m.col(j));
   }
-  s.J0 = -s.H0_ldlt.solve(s.H0m);  // (6, n), row-major: its rows are what H* and J* combine
+  s.J0 = -solve0(s, s.H0m);  // (6, n), row-major: its rows are what H* and J* combine
   s.Hstar.resize(n, n);
   for (int i = 0; i < n; ++i) {
     s.Hstar.row(i).tail(n - i) = s.Hm.row(i).tail(n - i) + s.H0m.col(i).transpose() * s.J0.rightCols(n - i);

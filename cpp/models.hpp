@@ -192,7 +192,7 @@ inline ModelResult underactuated(const Tree& t, const State& s, const Derivative
 // sum_k qdot_k dH*/dq_k uses the joint-only rates, and qdot^T dH*/dq_k qdot needs A qdot only.
 inline ModelResult generalized(const Tree& t, const State& s, const Derivatives& d, Variant variant) {
   const int n = t.n;
-  const Mat6X A = s.H0_ldlt.solve(s.H0m);  // (6, n)
+  const Mat6X A = solve0(s, s.H0m);  // (6, n)
   const VecX& qd = s.qdot;
   const Vec6 Aqd = A * qd;
   Mat6 H0dot_joints = Mat6::Zero();
