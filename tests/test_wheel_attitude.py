@@ -197,3 +197,15 @@ def test_a_wheel_scene_simulates_the_exact_plant(tmp_path):
     setup = resolved_setup(short_scene(tmp_path, simulation={"model": "auto"}))
     assert setup.model.name == "exact"
     assert "reaction wheels" in setup.model_choice["reason"]
+
+
+def test_tracking_error_counts_the_arm_joints_only(tmp_path):
+    """A wheel has no position reference (its telemetry row holds its own angle, a period behind
+    at the last sample): ``tracking_error_max`` is the arm joints' largest error, recomputed here
+    from the telemetry, not a spinning wheel's last period."""
+    scene = short_scene(tmp_path, wheels=UNLIMITED, initial={"base_angular_velocity": [1.0, -0.5, 2.0]})
+    outcome = simulate(scene)
+    tel = outcome.telemetry
+    errors = np.abs(tel.joint_reference - tel.joint_positions)
+    arm = prepare(scene).wheels.arm_columns
+    assert outcome.summary["tracking_error_max"] == errors[:, arm].max() < errors.max()

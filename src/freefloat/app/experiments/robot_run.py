@@ -300,7 +300,7 @@ def robot_outcome(setup: RobotSetup, robot: Robot, telemetry: Telemetry, result:
     extra_telemetry = dict(extra_telemetry or {})
     if wheels is not None:
         wheel_rows = extra_telemetry["wheels"] = wheel_run.wheel_telemetry(wheels, telemetry, wrenches, sim.control_period)
-        summary = {**summary, **wheel_run.wheel_summary(wheels, setup.wheel_control, wheel_rows)}
+        summary = {**summary, **wheel_run.wheel_summary(wheels, setup.wheel_control, wheel_rows, telemetry)}
     if setup.scene.output.figures and len(telemetry.t) >= 2:
         left_out = empty_figures(robot, telemetry, spin)
         if left_out:

@@ -123,11 +123,14 @@ def wheel_telemetry(wheels: Wheels, telemetry: Telemetry, wrenches: tuple[Extern
                           stored=stored, rest=rest, balance=total - total[0] - impulse)
 
 
-def wheel_summary(wheels: Wheels, control: Controller | None, rows: WheelTelemetry) -> dict[str, Any]:
+def wheel_summary(wheels: Wheels, control: Controller | None, rows: WheelTelemetry,
+                  telemetry: Telemetry) -> dict[str, Any]:
     """Summary keys of the wheels: stored momentum (final, largest, per wheel, N m s), the
     largest torque, the momentum balance (N m s), the arm's reaction and the wheels' momentum
     change at the end (inertial, N m s), and the saturations: ``wheel_saturated`` (any limit
-    reached), each event, and the control periods each wheel spent at a limit."""
+    reached), each event, and the control periods each wheel spent at a limit. With a joint
+    reference, ``tracking_error_max`` over the arm joints only (a wheel has no reference: its row
+    holds the wheel's own angle, a period behind at the last sample)."""
     names = [w.name for w in wheels.wheels]
     out: dict[str, Any] = {
         "wheel_momentum_final": dict(zip(names, rows.momentum[-1].tolist())),
@@ -138,6 +141,9 @@ def wheel_summary(wheels: Wheels, control: Controller | None, rows: WheelTelemet
         "arm_reaction_momentum": (rows.rest[-1] - rows.rest[0]).tolist(),
         "wheel_momentum_balance_max": float(np.linalg.norm(rows.balance, axis=1).max()),
     }
+    errors = (telemetry.joint_reference - telemetry.joint_positions)[:, wheels.arm_columns]
+    if errors.size and np.isfinite(errors).all():
+        out["tracking_error_max"] = float(np.abs(errors).max())
     if isinstance(control, WheelAttitudeControl):
         out.update(
             wheel_saturated=bool(control.events),
