@@ -57,7 +57,18 @@ class NotAssembled(FreefloatError):
 
 class InfeasiblePlan(FreefloatError):
     """A motion plan that cannot meet its request (a target out of reach, a limit violated, a
-    deadline too short); the message names what fails, where and by how much."""
+    deadline too short); the message names what fails, where and by how much.
+
+    Attributes:
+        reason: what fails, one of :data:`REASONS` (maps count refusals by it).
+    """
+
+    #: What can fail: the grasp point out of reach, a joint-rate limit, a torque limit, the optimiser.
+    REASONS = ("reach", "joint_rate", "torque", "optimiser")
+
+    def __init__(self, message: str, reason: str):
+        super().__init__(message)
+        self.reason = reason
 
 
 class TelemetryFileError(FreefloatError):

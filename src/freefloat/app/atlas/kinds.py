@@ -114,3 +114,6 @@ register(AtlasKind("feasibility", "where the worst-case sliding-mode gain design
                    "uncertainty set", "a closed-chain mechanism: five_bar or rsu_ppap", ".feasibility"))
 register(AtlasKind("mechanism", "a closed-chain mechanism's workspace, type I and type II singularity loci and its "
                    "working / assembly modes", "a closed-chain mechanism: five_bar or rsu_ppap", ".mechanism_maps"))
+register(AtlasKind("capture_envelope", "where a planned capture scene's target can be grasped within the limits "
+                   "(meeting points over a plane of reach offsets, each planned and checked)",
+                   "a one-hand capture scene with [approach]: name or file", ".capture_envelope"))

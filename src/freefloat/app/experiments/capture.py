@@ -42,31 +42,61 @@ class CaptureSetup(RobotSetup):
 
 def prepare(scene: Scene) -> CaptureSetup:
     """The robot, its start, the detumble task checked on it, and the target placed so that its
-    grasp point meets the end-effector at ``target.contact_time``.
+    grasp point meets the end-effector at ``target.contact_time`` (``approach.reach`` from where
+    the hand starts, with an ``[approach]``: then planned here).
 
     Raises:
-        SceneError: naming ``target.end_effector``, a ``[task]`` key or a bad ``[target]``.
+        SceneError: naming ``target.end_effector``, a ``[task]`` key, a bad ``[target]`` or an
+            approach that cannot be planned.
     """
     setup = prepare_robot(scene)
-    robot, tg, s = setup.robot, scene.target, scene.angle_scale
+    robot, tg = setup.robot, scene.target
     detumble_task(robot, scene)
     if tg.end_effector not in robot.end_effectors:
         raise SceneError(f"scene '{scene.name}': target.end_effector '{tg.end_effector}' is not an end-effector; "
                          f"end-effectors: {', '.join(robot.end_effectors)}")
-    data = robot.model.createData()
-    pin.framesForwardKinematics(robot.model, data, setup.q0)
-    point = data.oMf[robot.model.getFrameId(tg.end_effector)].translation
-    if scene.approach is not None:
-        point = point + np.asarray(scene.approach.reach)
-    try:
-        target = Target.meeting(point, tg.contact_time, tg.mass, tg.inertia, tg.grasp, tg.velocity,
-                                np.multiply(tg.angular_velocity, s), np.multiply(tg.rpy_at_contact, s), tg.size)
-    except Exception as exc:
-        raise SceneError(f"scene '{scene.name}': [target] {exc}") from exc
+    target = scene_target(scene, setup, (0.0, 0.0, 0.0) if scene.approach is None else scene.approach.reach)
     if scene.approach is None or tg.second_end_effector:  # a two-hand plan is made once both grasps are known
         return CaptureSetup(**vars(setup), target=target)
     return CaptureSetup(**vars(setup), target=target,
                         **planned(scene, setup, (tg.end_effector,), (GraspMotion.of(target),)))
+
+
+def scene_target(scene: Scene, setup, reach) -> Target:
+    """The scene's target, flying so that its grasp point meets ``target.end_effector`` at
+    ``target.contact_time`` at the hand's start position plus ``reach`` (inertial, m (3,)).
+
+    Raises:
+        SceneError: naming ``[target]`` when the target cannot be placed.
+    """
+    robot, tg, s = setup.robot, scene.target, scene.angle_scale
+    data = robot.model.createData()
+    pin.framesForwardKinematics(robot.model, data, setup.q0)
+    point = data.oMf[robot.model.getFrameId(tg.end_effector)].translation + np.asarray(reach, float)
+    try:
+        return Target.meeting(point, tg.contact_time, tg.mass, tg.inertia, tg.grasp, tg.velocity,
+                              np.multiply(tg.angular_velocity, s), np.multiply(tg.rpy_at_contact, s), tg.size)
+    except Exception as exc:
+        raise SceneError(f"scene '{scene.name}': [target] {exc}") from exc
+
+
+def approach_request(scene: Scene, setup, hands: tuple[str, ...], grasps: tuple[GraspMotion, ...]) -> ApproachRequest:
+    """The request of the scene's ``[approach]`` for ``hands`` onto ``grasps``: from the scene's
+    start to ``target.contact_time``, its limits (angle unit converted), mission joints and grid,
+    a tolerance of a tenth of ``target.tolerance``.
+
+    Raises:
+        SceneError: naming ``[approach]`` for a bad limit or an unknown ``approach.mission_joints``.
+    """
+    ap, robot = scene.approach, setup.robot
+    joints = None if ap.mission_joints is None else mission_joint_indices(robot, ap.mission_joints)
+    rate = None if ap.max_joint_rate is None else ap.max_joint_rate * scene.angle_scale
+    try:
+        return ApproachRequest(robot, setup.q0, setup.v0, hands, grasps, scene.target.contact_time,
+                               Limits.of(robot, rate, ap.max_torque), joints, ap.steps,
+                               tolerance=0.1 * scene.target.tolerance)
+    except FreefloatError as exc:
+        raise SceneError(f"scene '{scene.name}': [approach] {exc}") from exc
 
 
 def planned(scene: Scene, setup, hands: tuple[str, ...], grasps: tuple[GraspMotion, ...]) -> dict[str, Plan | None]:
@@ -76,19 +106,14 @@ def planned(scene: Scene, setup, hands: tuple[str, ...], grasps: tuple[GraspMoti
 
     Raises:
         SceneError: naming ``[approach]`` with what fails (out of reach, a limit, the deadline),
-            or an unknown ``approach.mission_joints`` name.
+            or a bad request (:func:`approach_request`).
     """
-    ap, robot = scene.approach, setup.robot
-    joints = None if ap.mission_joints is None else mission_joint_indices(robot, ap.mission_joints)
-    rate = None if ap.max_joint_rate is None else ap.max_joint_rate * scene.angle_scale
+    request = approach_request(scene, setup, hands, grasps)
     try:
-        request = ApproachRequest(robot, setup.q0, setup.v0, hands, grasps, scene.target.contact_time,
-                                  Limits.of(robot, rate, ap.max_torque), joints, ap.steps,
-                                  tolerance=0.1 * scene.target.tolerance)
-        plan = plan_approach(request, ap.method)
+        plan = plan_approach(request, scene.approach.method)
     except FreefloatError as exc:
         raise SceneError(f"scene '{scene.name}': [approach] {exc}") from exc
-    compared = evaluate(request, PLANNERS["min_norm"](request), "min_norm") if ap.compare else None
+    compared = evaluate(request, PLANNERS["min_norm"](request), "min_norm") if scene.approach.compare else None
     return {"plan": plan, "min_norm": compared}
 
 

@@ -61,7 +61,7 @@ def optimised_path(request: ApproachRequest, degree: int = 6, samples: int = 16,
         raise InfeasiblePlan(f"approach (optimised): SLSQP found no path that meets the grasp within the limits "
                              f"({result.message}; largest constraint violation {violation:.3g} in tolerances "
                              "of the grasp or fractions of a limit); the grasp point may be out of reach or the "
-                             "deadline too short")
+                             "deadline too short", "optimiser")
     return JointPath(problem.poly(result.x))
 
 

@@ -121,15 +121,15 @@ def check(plan: Plan, request: ApproachRequest) -> Plan:
             f"approach ({plan.method}): the grasp point is out of reach of '{request.end_effectors[k]}' at t = {T:.4g} "
             f"s: the plan ends {errors[k, 0]:.3g} m (tolerance {request.tolerance:.3g}) and {errors[k, 1]:.3g} m/s "
             f"(tolerance {request.velocity_tolerance:.3g}) from it; it is {distance:.3g} m from the arm's first joint, "
-            f"whose reach is {reach:.3g} m (or the path meets a singularity)")
+            f"whose reach is {reach:.3g} m (or the path meets a singularity)", "reach")
     names = request.robot.joint_names
-    for what, values, limit, unit in (("joint rate", plan.joint_rate, request.limits.joint_rate, "rad/s"),
+    for what, values, limit, unit in (("joint_rate", plan.joint_rate, request.limits.joint_rate, "rad/s"),
                                       ("torque", plan.torque, request.limits.torque, "N m")):
         excess = np.abs(values) / limit
         k, j = np.unravel_index(int(np.argmax(excess)), excess.shape)
         if excess[k, j] > 1.0:
             raise InfeasiblePlan(
-                f"approach ({plan.method}): {what} limit violated: joint '{names[j]}' needs {abs(values[k, j]):.4g} "
-                f"{unit} at t = {plan.times[k]:.4g} s (limit {limit[j]:.4g} {unit}); the deadline of {T:.4g} s is too "
-                "short for this approach, or the limit too tight")
+                f"approach ({plan.method}): {what.replace('_', ' ')} limit violated: joint '{names[j]}' needs "
+                f"{abs(values[k, j]):.4g} {unit} at t = {plan.times[k]:.4g} s (limit {limit[j]:.4g} {unit}); the "
+                f"deadline of {T:.4g} s is too short for this approach, or the limit too tight", what)
     return plan

@@ -105,15 +105,9 @@ class ApproachRequest:
 
     def arm_reach(self, k: int) -> tuple[float, float]:
         """``(distance, reach)`` of hand ``k`` at the start: from its arm's first joint to its grasp
-        point at T, and the sum of the arm's joint-to-joint and joint-to-end-effector lengths (m),
-        for the out-of-reach message."""
-        model, data = self.robot.model, self.robot.model.createData()
-        pin.framesForwardKinematics(model, data, self.q0)
-        arm = self.robot.arms[self.robot.end_effectors.index(self.end_effectors[k])]
-        points = [data.oMi[model.getJointId(name)].translation for name in arm.joints]
-        points.append(data.oMf[self.frames[k]].translation)
-        reach = float(sum(np.linalg.norm(b - a) for a, b in zip(points, points[1:])))
-        return float(np.linalg.norm(self.grasps[k].at(self.duration)[0] - points[0])), reach
+        point at T, and the arm's reach (:func:`arm_reach`), m, for the out-of-reach message."""
+        shoulder, reach = arm_reach(self.robot, self.q0, self.end_effectors[k])
+        return float(np.linalg.norm(self.grasps[k].at(self.duration)[0] - shoulder)), reach
 
     def grasp_errors(self, q: np.ndarray, v: np.ndarray) -> np.ndarray:
         """Each hand's mismatch with its grasp point at T over the task components: rows
@@ -128,3 +122,15 @@ class ApproachRequest:
             v_E = pin.getFrameVelocity(model, data, frame, pin.LOCAL_WORLD_ALIGNED).linear
             out.append(((p_E - p_g)[c], (v_E - v_g)[c]))
         return np.array(out)
+
+
+def arm_reach(robot: Robot, q: np.ndarray, end_effector: str) -> tuple[np.ndarray, float]:
+    """``(shoulder, reach)``: the position of the end-effector arm's first joint at configuration
+    q (inertial, m (3,)) and the sum of the arm's joint-to-joint and joint-to-end-effector lengths
+    (m)."""
+    model, data = robot.model, robot.model.createData()
+    pin.framesForwardKinematics(model, data, q)
+    arm = robot.arms[robot.end_effectors.index(end_effector)]
+    points = [data.oMi[model.getJointId(name)].translation for name in arm.joints]
+    points.append(data.oMf[model.getFrameId(end_effector)].translation)
+    return points[0].copy(), float(sum(np.linalg.norm(b - a) for a, b in zip(points, points[1:])))
