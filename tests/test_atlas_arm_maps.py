@@ -128,7 +128,8 @@ def test_shells_split_the_reachable_radii():
     singular = (np.abs(radius - 2.0) < 0.05) | (np.abs(radius - 2.3) < 0.05)
     split = workspace.shells(radius, singular, (401,), bins=40)
     assert split["reachable"] == [1.0, 5.0]
-    assert split["path_dependent"] == [[pytest.approx(1.9), pytest.approx(2.1)], [pytest.approx(2.2), pytest.approx(2.4)]]
+    assert split["path_dependent"] == [[pytest.approx(1.9), pytest.approx(2.1)],
+                                       [pytest.approx(2.2), pytest.approx(2.4)]]
     assert split["path_independent"] == [[1.0, pytest.approx(1.9)], [pytest.approx(2.1), pytest.approx(2.2)],
                                          [pytest.approx(2.4), 5.0]]
     across = workspace.shells(np.array([1.0, 3.0, 2.0, 5.0]), np.array([True, True, False, False]), (2, 2), 8)
@@ -234,7 +235,8 @@ def test_the_stretched_arm_is_a_dynamic_singularity_only_through_the_system_com(
         on_line = abs(along[0] * to_com[1] - along[1] * to_com[0]) < 1e-9
         sv_free, sv_fixed = np.linalg.svd(Jstar, compute_uv=False), np.linalg.svd(Jm, compute_uv=False)
         assert sv_fixed[-1] < 1e-12 * sv_fixed[0]
-        assert (sv_free[-1] < 1e-12 * sv_free[0]) == on_line == (result["sv_free"][k, -1] < 1e-12 * result["sv_free"][k, 0])
+        mapped = result["sv_free"][k]
+        assert (sv_free[-1] < 1e-12 * sv_free[0]) == on_line == (mapped[-1] < 1e-12 * mapped[0])
     assert result["singular_fixed"].all()
 
 

@@ -4,6 +4,7 @@ are known in closed form."""
 from __future__ import annotations
 
 import json
+import os
 
 import numpy as np
 import pytest
@@ -50,9 +51,11 @@ def test_serial_map_equals_the_closed_form_and_writes_the_folder(tmp_path):
 
 
 def test_process_pool_gives_the_serial_map(tmp_path):
-    """Two worker processes give the serial numbers."""
-    done = run_atlas("toy", "t", Options(grid=9), tmp_path / "out", Workers(2))
+    """Two processes (this one and a pool of one) give the serial numbers; this process takes
+    chunks from the back while the pool starts."""
+    done = run_atlas("toy", "slow", Options(grid=9), tmp_path / "out", Workers(2))
     assert np.array_equal(done.result["f"], expected(9))
+    assert done.result["process"][-1] == os.getpid()
 
 
 def test_an_interrupted_map_resumes_from_its_journal(tmp_path, monkeypatch):

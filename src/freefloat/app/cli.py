@@ -115,8 +115,8 @@ def main(argv: list[str] | None = None) -> int:
                      help="output folder (default: runs/bench-<time>; with --suite, runs/bench-<names>-<time>)")
     _atlas_parser(commands)
     args = parser.parse_args(argv)
-    commands_run = {"atlas": _atlas, "simulate": _simulate, "batch": _batch, "bench": _bench, "scenes": lambda _: _scenes(), "verify": _verify, "reproduce": _reproduce,
-                    "info": _info, "view": _view}
+    commands_run = {"simulate": _simulate, "batch": _batch, "bench": _bench, "scenes": lambda _: _scenes(), "verify": _verify, "reproduce": _reproduce,
+                    "info": _info, "view": _view, "atlas": _atlas}
     try:
         early_too = arrived_before_main()
         with signals_deferred() as early:  # Ctrl-C while importing: trimesh would swallow it
@@ -173,11 +173,13 @@ def _atlas_parser(commands: Any) -> None:
     atl.add_argument("--posture", default=None, metavar="JOINT=VALUE,...",
                      help="positions of the held joints, deg (revolute) or m (prismatic), comma-separated "
                           "(default: the four-arm robot's Table 4 start, mid-range for other robots)")
-    atl.add_argument("--workers", type=int, default=None, help="worker processes (default 1: this process)")
+    atl.add_argument("--workers", type=int, default=None,
+                     help="processes evaluating the map, this one included (default 1: this process alone)")
     atl.add_argument("--dask", action="store_true", help="evaluate on Dask: a local cluster of --workers (default 2) "
                                                          "processes, or --scheduler's workers")
     atl.add_argument("--scheduler", default=None, help="with --dask: a Dask scheduler's address (tcp://host:8786)")
-    atl.add_argument("--out", type=Path, default=None, help="output folder (default: runs/atlas-<kind>-<target>-<time>)")
+    atl.add_argument("--out", type=Path, default=None,
+                     help="output folder (default: runs/atlas-<kind>-<target>-<time>)")
     atl.add_argument("--overwrite", action="store_true",
                      help="replace the atlas freefloat wrote in --out (default: resume it from its journal)")
     atl.add_argument("--quiet", action="store_true", help="no progress bar")

@@ -17,7 +17,8 @@ def joint_slice(context: ArmMap, grid: Grid, values: np.ndarray) -> tuple[np.nda
     plane (n0, n1), the other axes at the grid value nearest their reference posture."""
     cube = values.reshape(grid.shape)
     index = [slice(None), slice(None)] + [
-        int(np.argmin(np.abs(axis.values() - context.posture[j]))) for axis, j in zip(grid.axes[2:], context.axis_index[2:])]
+        int(np.argmin(np.abs(axis.values() - context.posture[j])))
+        for axis, j in zip(grid.axes[2:], context.axis_index[2:])]
     return grid.axes[0].values(), grid.axes[1].values(), cube[tuple(index)]
 
 

@@ -190,7 +190,8 @@ def _momentum(values: tuple[float, ...] | None, base: str) -> tuple[float, ...] 
     if base == "planar" and m.size == 3:
         m = np.array([m[0], m[1], 0.0, 0.0, 0.0, m[2]])
     if m.size != 6 or not np.all(np.isfinite(m)):
-        raise InvalidArgument(f"--momentum takes 6 finite numbers [Px Py Pz Lx Ly Lz]{' or 3 [Px Py Lz]' if base == 'planar' else ''} "
+        planar = " or 3 [Px Py Lz]" if base == "planar" else ""
+        raise InvalidArgument(f"--momentum takes 6 finite numbers [Px Py Pz Lx Ly Lz]{planar} "
                               f"(N s, N m s, about the system CoM), got {list(values)}")
     return tuple(m) if np.any(m) else None
 

@@ -2,12 +2,14 @@
 
 :func:`run_atlas` resolves the kind and its target, checks that the grid's results fit in memory
 (one point is evaluated first to learn its size), then evaluates the chunks not yet finished in
-this process, on a process pool (:func:`freefloat.distributed.process_pool`) or on Dask (a local
-cluster or a scheduler's workers), as ``freefloat batch`` does. Each chunk is saved under
-``chunks/`` and a line appended to ``atlas-journal.jsonl`` as it finishes, so Ctrl-C, SIGTERM or
-a kill keeps the finished chunks and the same command again resumes from them (a folder holding
-another atlas's journal is refused). Once all are in, :mod:`.writer` writes the data, the summary
-and the figures, and the chunks and the journal are removed.
+this process, on ``--workers N`` processes (this one and a pool of N - 1,
+:func:`freefloat.distributed.process_pool`: the pool takes chunks from the front while this
+process takes them from the back, so the pool's start-up, a new interpreter per worker, costs no
+waiting) or on Dask (a local cluster or a scheduler's workers), as ``freefloat batch`` does. Each
+chunk is saved under ``chunks/`` and a line appended to ``atlas-journal.jsonl`` as it finishes,
+so Ctrl-C, SIGTERM or a kill keeps the finished chunks and the same command again resumes from
+them (a folder holding another atlas's journal is refused). Once all are in, :mod:`.writer`
+writes the data, the summary and the figures, and the chunks and the journal are removed.
 """
 
 from __future__ import annotations
@@ -182,15 +184,18 @@ def _execute(workers: Workers, kind: AtlasKind, context: Any, grid: Grid, spans:
             if missing:
                 raise FreefloatError(f"no Dask worker finished chunk {missing[0]} within {DASK_TIMEOUT:g} s")
     elif workers.count > 1 and len(todo) > 1:
-        pool = process_pool(workers.count)
+        pool = process_pool(workers.count - 1)  # this process is the last worker
         try:
-            pending: dict[Future, int] = {pool.submit(evaluate_chunk, kind, context, grid, *spans[i]): i for i in todo}
+            futures = {i: pool.submit(evaluate_chunk, kind, context, grid, *spans[i]) for i in todo}
+            pending = {future: i for i, future in futures.items()}
+            for i in reversed(todo):  # from the back while the pool starts (a new interpreter each) on the front
+                if not futures[i].cancel():
+                    break
+                del pending[futures[i]]
+                finished(i, evaluate_chunk(kind, context, grid, *spans[i]))
+                _drain(pending, finished, 0.0)
             while pending:
-                ready, _ = wait(pending, return_when=FIRST_COMPLETED)
-                for future in ready:
-                    i = pending.pop(future)
-                    exc = future.exception()
-                    _take(i, future.result() if exc is None else exc, finished)
+                _drain(pending, finished, None)
         except BaseException:
             _terminate(pool)
             raise
@@ -199,6 +204,16 @@ def _execute(workers: Workers, kind: AtlasKind, context: Any, grid: Grid, spans:
     else:
         for i in todo:
             finished(i, evaluate_chunk(kind, context, grid, *spans[i]))
+
+
+def _drain(pending: dict[Future, int], finished: Callable[[int, dict], None], timeout: float | None) -> None:
+    """Hand on the chunks of ``pending`` ({future: chunk}) that finish within ``timeout`` s (None:
+    at least one), removing them."""
+    ready, _ = wait(pending, timeout=timeout, return_when=FIRST_COMPLETED)
+    for future in ready:
+        i = pending.pop(future)
+        exc = future.exception()
+        _take(i, future.result() if exc is None else exc, finished)
 
 
 def _take(i: int, result: object, finished: Callable[[int, dict], None]) -> None:

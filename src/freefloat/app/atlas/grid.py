@@ -34,7 +34,8 @@ class Axis:
 
     def __post_init__(self) -> None:
         if not (isinstance(self.n, (int, np.integer)) and self.n >= 1):
-            raise InvalidArgument(f"grid axis '{self.name}': the number of points must be an integer >= 1, got {self.n!r}")
+            raise InvalidArgument(f"grid axis '{self.name}': the number of points must be an integer >= 1, "
+                                  f"got {self.n!r}")
         if not (np.isfinite(self.low) and np.isfinite(self.high)) or self.high < self.low:
             raise InvalidArgument(f"grid axis '{self.name}': needs finite low <= high, got [{self.low}, {self.high}]")
 

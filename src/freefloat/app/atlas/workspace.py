@@ -134,7 +134,8 @@ def _page(context: ArmMap, result: dict[str, np.ndarray], path: Path) -> Path:
     from .arm_maps import reference_point
 
     com, r0 = reference_point(context)
-    grey, red, blue, orange = (np.array(c) for c in ((0.6, 0.6, 0.6), (0.85, 0.15, 0.15), (0.2, 0.45, 0.8), (1.0, 0.6, 0.1)))
+    grey, red, blue, orange = (np.array(c) for c in ((0.6, 0.6, 0.6), (0.85, 0.15, 0.15), (0.2, 0.45, 0.8),
+                                                     (1.0, 0.6, 0.1)))
     free = np.where(result["singular_free"][:, None], red, grey)
     fixed = np.where(result["singular_fixed"][:, None], orange, blue)
     spheres = [("reach_free", 0xD62728, com, float(result["radius_free"].max())),
@@ -159,7 +160,8 @@ def figures(context: ArmMap, grid: Grid, result: dict[str, np.ndarray], out: Pat
         xy = result[key][::step, :2]
         ax.plot(xy[:, 0], xy[:, 1], ".", ms=1.5, color="0.6", label="grid points (this attitude)")
         bad = result[key][result[flags], :2]
-        ax.plot(bad[:, 0], bad[:, 1], ".", ms=2.5, color="#d62728", label="singular (J*)" if ax is left else "singular (Jm)")
+        ax.plot(bad[:, 0], bad[:, 1], ".", ms=2.5, color="#d62728",
+                label="singular (J*)" if ax is left else "singular (Jm)")
         ax.set_aspect("equal")
         finish(ax, "x (m)", "y (m)", f"{'free-floating' if ax is left else 'fixed base'}, about the {about}")
     angle = np.linspace(0, 2 * np.pi, 361)

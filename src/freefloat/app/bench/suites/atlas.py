@@ -47,7 +47,8 @@ def measure(settings: dict) -> Iterator[tuple[str, dict]]:
     times = side_by_side({"evaluate": (lambda: singularities.evaluate(context, points), 1),
                           "gjm_compute": (lambda: model.compute(q, v), len(points))}, settings["repeats"])
     times["gjm_compute"] *= len(points)  # per call -> the grid's count
-    yield "evaluate", {"points": len(points), "seconds": times, "per_point_us": {k: t / len(points) * 1e6 for k, t in times.items()},
+    yield "evaluate", {"points": len(points), "seconds": times,
+                       "per_point_us": {k: t / len(points) * 1e6 for k, t in times.items()},
                        "evaluate_over_gjm_compute": times["evaluate"] / times["gjm_compute"]}
     command = {}
     with tempfile.TemporaryDirectory() as folder:
