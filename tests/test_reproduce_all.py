@@ -239,3 +239,28 @@ def test_runs_start_at_table_4s_printed_angles(report):
     for run in ("JSC", "TSC"):
         for arm, (start, _) in TABLE_4.items():
             np.testing.assert_allclose(ours(e, f"{run} arm {arm} start (deg)"), start, atol=1e-9)
+
+
+def test_a_run_the_user_stops_stops_the_study():
+    """The loop returns an interrupted run (``simulate`` keeps its rows); a study's ``finished``
+    turns it back into KeyboardInterrupt, and passes a completed run through."""
+    from freefloat.app.reproduce.interrupts import finished
+    from freefloat.app.reproduce.task_space_report import load_robot
+    from freefloat.dynamics.integrators import make_integrator
+    from freefloat.dynamics.models import ExactModel
+    from freefloat.dynamics.simulation import run
+    from freefloat.paths import URDF_DIR
+
+    robot = load_robot(URDF_DIR / "two_arm_planar.urdf", base="planar", visuals=False)
+
+    def stop(k: int) -> None:
+        raise KeyboardInterrupt
+
+    args = (robot, robot.neutral(), np.zeros(robot.model.nv), 0.01, 1e-3, make_integrator("rkmk4", robot.model),
+            ExactModel(robot))
+    stopped = run(*args, progress=stop)
+    assert stopped.status == "interrupted"
+    with pytest.raises(KeyboardInterrupt):
+        finished(stopped)
+    completed = run(*args)
+    assert finished(completed) is completed

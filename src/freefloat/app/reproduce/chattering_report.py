@@ -22,6 +22,7 @@ from ...parallel.closed_loop import steps_per_period, track
 from ...parallel.sliding_mode import SWITCHES, PlatformControl, chattering, circle_reference
 from ..outputs import write_report
 from .five_bar_report import eq_187_gains
+from .interrupts import finished
 
 #: Control periods, s; None: the law at every RK4 stage.
 PERIODS = (1e-5, 2e-5, 5e-5, 1e-4, 2e-4, 5e-4, 1e-3, None)
@@ -38,7 +39,7 @@ def run_period(saturation: str, period: float | None, step: float, duration: flo
     point = np.array(START)
     q0 = plant.assemble(point, elbow_guess(TRUE_PARAMETERS, point))
     control = PlatformControl(five_bar(FiveBarParameters()), circle_reference, 40.0, eq_187_gains(), saturation)
-    result = track(plant, control, q0, duration, step, period)
+    result = finished(track(plant, control, q0, duration, step, period))
     tel = result.telemetry
     e, s = control.sliding_variables(tel.t, tel.q, tel.v)
     every = 1 if period is None else steps_per_period(period, step)

@@ -23,6 +23,7 @@ from ...parallel.closed_loop import track, track_five_bar
 from ...parallel.five_bar import TRUE_PARAMETERS, TRUE_PARAMETERS_50, FiveBarParameters, elbow_guess, five_bar
 from ...parallel.sliding_mode import PlatformControl, circle_reference, design_gains, printed_gains, workspace_grid
 from ..outputs import write_report
+from .interrupts import finished
 
 EQ_187 = {"n": [75.3, 108.0], "xdot2": [37.0, 54.1], "xdot_ydot": [22.7, 35.5], "ydot2": [17.5, 28.5],
           "T": [[1.25, 0.92], [1.68, 1.65]]}
@@ -76,7 +77,7 @@ def reaching_times(t: np.ndarray, s: np.ndarray, bound: float = 0.02) -> list[fl
 def run_case(gains, plant: FiveBarParameters, duration: float, step: float, html: Path | None = None) -> dict:
     """One closed-loop run; summary numbers; optionally its meshcat animation."""
     control = PlatformControl(five_bar(FiveBarParameters()), circle_reference, 40.0, gains)
-    tel = track_five_bar(plant, control, duration, step).telemetry
+    tel = finished(track_five_bar(plant, control, duration, step)).telemetry
     t_sim, qs = tel.t, tel.q
     if html is not None:
         animate(t_sim, qs, html)
@@ -193,7 +194,7 @@ def stability_map(duration: float = 0.5, steps=(1e-4, 2e-4, 5e-4, 1e-3, 2e-3),
         for h in steps:
             for lam in lambdas:
                 value = 1.0 / h if lam == "1/h" else lam
-                result = track(mech, None, q0, duration, h, h, value, method)
+                result = finished(track(mech, None, q0, duration, h, h, value, method))
                 rows.append({"method": method, "h": h, "lambda": value, "lambda_label": str(lam),
                              "diverged": result.status != "completed",
                              "max_drift_m": float(np.nanmax(result.telemetry.drift))})

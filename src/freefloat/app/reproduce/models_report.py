@@ -33,6 +33,7 @@ from ...robot import attitude
 from ...robot.loading import load_robot
 from ..outputs import write_report
 from ..runner import prepare
+from .interrupts import finished
 from .models_cases import EXACT_PLANT_CONTROLLERS, GRID_MODELS, REGIMES, TUMBLING_MODELS
 from .models_output import figures, markdown
 from .series_report import chapter_four_scene
@@ -74,7 +75,8 @@ def grid_cell(plant: str, controller: str, integrator: str, duration: float) -> 
     """One run of the chapter-5.1 task with the given plant, controller model and integrator."""
     scene = chapter_four_scene(plant, controller, integrator, duration)
     p = prepare(scene)
-    result = run(p.robot, p.q0, p.v0, duration, scene.simulation.control_period, p.integrator, p.model, p.controller)
+    result = finished(run(p.robot, p.q0, p.v0, duration, scene.simulation.control_period, p.integrator, p.model,
+                          p.controller))
     s = summarize(result.telemetry, p.robot)
     return {"plant": plant, "controller": controller, "integrator": integrator, "status": result.status,
             "tracking_rms_overall": s.get("tracking_rms_overall"),
@@ -93,7 +95,7 @@ def tumbling_run(model_name: str, case: str, duration: float, seed: int) -> dict
     results = {}
     for name in ("exact", model_name):
         integrator = make_integrator("rkmk4", robot.model)
-        results[name] = run(robot, q0, v0, duration, 1e-3, integrator, make_model(name, robot))
+        results[name] = finished(run(robot, q0, v0, duration, 1e-3, integrator, make_model(name, robot)))
     ref, tel = results["exact"].telemetry, results[model_name].telemetry
     rows = min(len(ref.t), len(tel.t))
     error = [float(np.linalg.norm(np.concatenate((pin.difference(robot.model, ref.q[k], tel.q[k]), tel.v[k] - ref.v[k]))))

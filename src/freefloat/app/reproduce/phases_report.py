@@ -30,6 +30,7 @@ from ...robot.loading import load_robot
 from ...space.control.detumbling_control import DetumblingController
 from ...space.detumbling import joint_indices, task_rows
 from ..outputs import write_report
+from .interrupts import finished
 
 PHASES = (("pre-capture", 0.0, 0.005), ("capture", 0.005, 0.015), ("post-capture", 0.015, None))
 SCHEDULES = {
@@ -49,8 +50,8 @@ def run_schedule(robot, models: tuple[str, str, str], duration: float, dt: float
     ends, walls, evaluations = [], [], []
     for (phase, t0, t1), name in zip(PHASES, models):
         t1 = duration if t1 is None else t1
-        res = run(robot, q, v, round((t1 - t0) / dt) * dt, dt, make_integrator("rkmk4", robot.model, substeps=10),
-                  make_model(name, robot), ctrl, wrenches=(impulse,), start_time=t0)
+        res = finished(run(robot, q, v, round((t1 - t0) / dt) * dt, dt, make_integrator("rkmk4", robot.model, substeps=10),
+                           make_model(name, robot), ctrl, wrenches=(impulse,), start_time=t0))
         q, v = res.telemetry.q[-1], res.telemetry.v[-1]
         ends.append((q.copy(), v.copy()))
         walls.append(res.wall_time_s)

@@ -27,6 +27,7 @@ from ..outputs import write_report
 from ..runner import prepare, simulate
 from ..scenes import DEFAULT_SCENE, find_scene
 from ..viz.figures import angular_momentum_about_com, base_attitude, skeleton
+from .interrupts import finished
 
 #: Sec 5.1's runs: name -> (plant, controller model, integrator).
 SEC_51 = {"sec51_exact_nidc": ("exact", "nidc", "rkmk4"), "sec51_exact_standard": ("exact", "standard", "rkmk4"),
@@ -85,7 +86,7 @@ SUMMARY_KEYS = ("status", "tracking_rms_overall", "tracking_rms_per_arm", "com_d
 def run_and_save(scene, out: Path, name: str) -> dict:
     """Run ``scene``, save its :func:`series_arrays` as ``out/<name>.npz``; its summary numbers."""
     robot = prepare(scene).robot
-    outcome = simulate(scene)
+    outcome = finished(simulate(scene))
     np.savez_compressed(out / f"{name}.npz", **series_arrays(robot, outcome.telemetry))
     return {k: outcome.summary[k] for k in SUMMARY_KEYS if k in outcome.summary}
 

@@ -36,6 +36,7 @@ from ...robot.conventions import state_from_base
 from ...robot.loading import load_robot
 from ..runner import simulate
 from ..scenes import find_scene
+from .interrupts import finished
 
 #: Relative bound on the energy and angular-momentum drift of a stable robot run.
 DRIFT_BOUND = 1e-2
@@ -112,8 +113,8 @@ class Tumbling(Case):
         recorded rows, relative to the start value)."""
         n, duration = whole_steps(self.duration, h)
         integrator = make_integrator(self.integrator, self._robot.model)
-        result = run(self._robot, self.q0, self.v0, duration, h, integrator, self._model,
-                     record_every=max(1, n // ROWS))
+        result = finished(run(self._robot, self.q0, self.v0, duration, h, integrator, self._model,
+                              record_every=max(1, n // ROWS)))
         tel = result.telemetry
         L = tel.momentum[:, 3:]
         return {"status": result.status, "steps": n,
@@ -162,7 +163,7 @@ class Detumbling(Case):
         n, duration = whole_steps(self.duration, h)
         sim = replace(self._scene.simulation, duration=duration, control_period=h, substeps=1,
                       integrator=self.integrator, record_every=1)
-        outcome = simulate(replace(self._scene, simulation=sim))
+        outcome = finished(simulate(replace(self._scene, simulation=sim)))
         tel = outcome.telemetry
         impulse = self.held_impulse(h, n)
         after = tel.t >= self._after
@@ -201,7 +202,7 @@ class ClosedChain(Case):
         n, duration = whole_steps(self.duration, h)
         lam = 1.0 / h if self.baumgarte is None else self.baumgarte
         sim = replace(self._scene.simulation, duration=duration, step=h, baumgarte=lam, integrator=self.integrator)
-        outcome = simulate(replace(self._scene, simulation=sim))
+        outcome = finished(simulate(replace(self._scene, simulation=sim)))
         return {"status": outcome.status, "steps": n,
                 "closure_drift": float(np.max(outcome.telemetry.drift, initial=0.0))}
 

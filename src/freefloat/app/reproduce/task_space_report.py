@@ -42,6 +42,7 @@ from ...space.control.task_space import TaskSpaceComputedTorque
 from ...space.detumbling import task_rows
 from ..outputs import write_report
 from ..viz.figures import base_attitude
+from .interrupts import finished
 from .series_report import series_arrays
 
 ROWS = [(f"arm{i}_ee", c) for i in range(1, 5) for c in ("vx", "vy", "wz")]
@@ -67,8 +68,8 @@ def joint_space_run(robot, offset_deg: float, duration: float, dt: float, record
     q0 = robot.neutral()
     JointCoordinates(robot).set(q0, start)
     ctrl = ComputedTorque(robot, QuinticTrajectory(start, start + np.radians(5.0) * DIRECTION, 5.0), 10.0, 100.0)
-    return run(robot, q0, np.zeros(robot.model.nv), duration, dt, make_integrator("rkmk4", robot.model),
-               ExactModel(robot), ctrl, record_every=record_every).telemetry
+    return finished(run(robot, q0, np.zeros(robot.model.nv), duration, dt, make_integrator("rkmk4", robot.model),
+                        ExactModel(robot), ctrl, record_every=record_every)).telemetry
 
 
 def end_effector_rates(robot, tel, rows: np.ndarray) -> np.ndarray:
@@ -106,8 +107,8 @@ def task_space_run(robot, jsc, rows, dt: float, duration: float, record_every: i
     reference = interpolated(jsc.t, end_effector_rates(robot, jsc, rows))
     ctrl = TaskSpaceComputedTorque(robot, InverseEGJM(rows), reference, jsc.joint_positions[0], dt,
                                    qddot=qddot, acceleration=acceleration)
-    tel = run(robot, jsc.q[0], jsc.v[0], duration, dt, make_integrator("rkmk4", robot.model), ExactModel(robot),
-              ctrl, record_every=record_every).telemetry
+    tel = finished(run(robot, jsc.q[0], jsc.v[0], duration, dt, make_integrator("rkmk4", robot.model),
+                       ExactModel(robot), ctrl, record_every=record_every)).telemetry
     return ctrl, tel
 
 
