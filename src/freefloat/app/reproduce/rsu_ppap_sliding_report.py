@@ -24,6 +24,7 @@ from ...parallel.rsu_ppap_masses import PLANT_ERRORS, RsuPpapModel
 from ..outputs import write_report
 from ..scenes import MechanismScene, builtin_scenes, load_scene
 from .five_bar_report import reaching_times
+from .interrupts import finished
 
 SCENE = "rsu_ppap_sliding_mode"
 #: The design box: half-width and grid spacing (m) about the home pose; the quick run's spacing.
@@ -56,7 +57,7 @@ def run_case(scene: MechanismScene) -> dict:
     errors (mm) and peak efforts, the reaching times, the error every 5 ms for the figure."""
     from ..runner import simulate
 
-    outcome = simulate(scene)
+    outcome = finished(simulate(scene))
     tel, summary = outcome.telemetry, outcome.summary
     e = tel.platform_reference - tel.platform
     return {"status": outcome.status, "loop": summary["loop"],
