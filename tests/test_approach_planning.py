@@ -282,7 +282,8 @@ def test_planned_capture_scene_runs_its_three_phases(tmp_path):
     the summary's ratio's aim (5x), the target stopped, one outcome with the pre-capture telemetry."""
     from freefloat.app.runner import simulate
 
-    scene = quiet_scene(tmp_path, "capture_planned_planar", simulation={"duration": 0.2})
+    scene = quiet_scene(tmp_path, "capture_planned_planar", simulation={"duration": 0.2}, target={"contact_time": 1.0},
+                        approach={"steps": 100})
     out = simulate(scene)
     s = out.summary
     assert s["impact_time"] == pytest.approx(scene.target.contact_time)
@@ -321,8 +322,48 @@ def test_planned_two_hand_capture_scene_grasps_at_the_planned_instant(tmp_path):
     time within the contact tolerance, the base turned far less than by the minimum-norm plan."""
     from freefloat.app.runner import simulate
 
-    scene = quiet_scene(tmp_path, "capture_planned_two_hands_planar", simulation={"duration": 0.02})
+    scene = quiet_scene(tmp_path, "capture_planned_two_hands_planar", simulation={"duration": 0.02},
+                        target={"contact_time": 1.0}, approach={"steps": 100})
     s = simulate(scene).summary
     assert s["impact_time"] == pytest.approx(scene.target.contact_time)
     assert s["grasp_position_mismatch"] < scene.target.tolerance
     assert 5 * s["approach_base_attitude_change"] < s["approach_min_norm_attitude_change"]
+
+
+def test_shifted_grasp_motion_moves_its_time_origin():
+    """GraspMotion.shifted(s).at(t) equals at(s + t): position, velocity and acceleration."""
+    target = Target.meeting((1.0, 0.5, 0.2), 1.0, 20.0, (1.0, 1.5, 2.0), (-0.3, 0.1, 0.05), (0.1, -0.2, 0.05),
+                            (0.0, 0.0, 0.7))
+    motion = GraspMotion.of(target)
+    for a, b in zip(motion.shifted(0.4).at(0.35), motion.at(0.75)):
+        np.testing.assert_allclose(a, b, atol=1e-14)
+
+
+def test_a_late_start_holds_the_posture_then_grasps_at_the_contact(tmp_path):
+    """approach.start = 0.5 s with contact at 1.2 s: the joints stay at the start posture until
+    0.5 s, move after it, and the hand grasps at the contact time within the tolerance."""
+    from freefloat.app.runner import simulate
+
+    scene = quiet_scene(tmp_path, "capture_planned_planar", simulation={"duration": 0.02}, target={"contact_time": 1.2},
+                        approach={"steps": 100, "start": 0.5})
+    out = simulate(scene)
+    pre = out.extra_telemetry["pre_capture"]
+    still = pre.t <= 0.5
+    assert np.abs(pre.q[still, 4:] - pre.q[0, 4:]).max() < 1e-12
+    assert np.abs(pre.q[-1, 4:] - pre.q[0, 4:]).max() > 0.01
+    assert out.summary["impact_time"] == pytest.approx(1.2)
+    assert out.summary["grasp_position_mismatch"] < scene.target.tolerance
+
+
+@pytest.mark.parametrize(("sections", "message"), [
+    ({"approach": {"start": 1.0}}, "must come before 'target.contact_time'"),
+    ({"approach": {"start": 0.5}, "initial": {"joint_velocities": {"arm1_joint1": 1.0}}}, "at rest"),
+])
+def test_a_bad_start_is_refused(tmp_path, sections, message):
+    """approach.start at or after the contact, or later than 0 from a moving robot, is refused."""
+    from freefloat.app.runner import prepare
+
+    sections.setdefault("target", {"contact_time": 1.0})
+    scene = quiet_scene(tmp_path, "capture_planned_planar", **sections)
+    with pytest.raises(SceneError, match=message):
+        prepare(scene)

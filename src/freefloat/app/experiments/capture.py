@@ -81,20 +81,29 @@ def scene_target(scene: Scene, setup, reach) -> Target:
 
 
 def approach_request(scene: Scene, setup, hands: tuple[str, ...], grasps: tuple[GraspMotion, ...]) -> ApproachRequest:
-    """The request of the scene's ``[approach]`` for ``hands`` onto ``grasps``: from the scene's
-    start to ``target.contact_time``, its limits (angle unit converted), mission joints and grid,
-    a tolerance of a tenth of ``target.tolerance``.
+    """The request of the scene's ``[approach]`` for ``hands`` onto ``grasps`` (flights in scene
+    time): from ``approach.start`` (the initial posture, at rest when later than 0) to
+    ``target.contact_time``, its limits (angle unit converted), mission joints and grid, a
+    tolerance of a tenth of ``target.tolerance``.
 
     Raises:
-        SceneError: naming ``[approach]`` for a bad limit or an unknown ``approach.mission_joints``.
+        SceneError: naming ``[approach]`` for a bad limit, an unknown ``approach.mission_joints``,
+            a start not before the contact or a late start from a moving robot.
     """
     ap, robot = scene.approach, setup.robot
     joints = None if ap.mission_joints is None else mission_joint_indices(robot, ap.mission_joints)
     rate = None if ap.max_joint_rate is None else ap.max_joint_rate * scene.angle_scale
+    where = f"scene '{scene.name}': [approach]"
+    if ap.start >= scene.target.contact_time:
+        raise SceneError(f"{where} 'start' {ap.start} s must come before 'target.contact_time' "
+                         f"{scene.target.contact_time} s")
+    if ap.start > 0.0 and np.abs(setup.v0).max() > 0.0:
+        raise SceneError(f"{where} 'start' {ap.start} s plans from the initial posture held at rest: the [initial] "
+                         "velocities must be zero (or start at 0)")
     try:
-        return ApproachRequest(robot, setup.q0, setup.v0, hands, grasps, scene.target.contact_time,
-                               Limits.of(robot, rate, ap.max_torque), joints, ap.steps,
-                               tolerance=0.1 * scene.target.tolerance)
+        return ApproachRequest(robot, setup.q0, setup.v0, hands, tuple(g.shifted(ap.start) for g in grasps),
+                               scene.target.contact_time - ap.start, Limits.of(robot, rate, ap.max_torque), joints,
+                               ap.steps, tolerance=0.1 * scene.target.tolerance)
     except FreefloatError as exc:
         raise SceneError(f"scene '{scene.name}': [approach] {exc}") from exc
 
@@ -129,6 +138,20 @@ def mission_joint_indices(robot, names: tuple[str, ...]) -> np.ndarray:
     return np.array([robot.joint_names.index(name) for name in names], dtype=int)
 
 
+def plan_tracking(setup: CaptureSetup) -> PlanTracking | None:
+    """Computed torque (``[controller]`` gains and model) on the setup's plan from
+    ``approach.start``; None without a plan (the capture holds its posture)."""
+    if setup.plan is None:
+        return None
+    ctrl = setup.scene.controller
+    return PlanTracking(setup.robot, setup.plan.path, ctrl.kp, ctrl.kd, ctrl.model, setup.scene.approach.start)
+
+
+def grasp_time(setup: CaptureSetup) -> float:
+    """When the hands may close: the planned contact time, or at once without a plan (s)."""
+    return 0.0 if setup.plan is None else setup.scene.target.contact_time
+
+
 def approach_summary(setup: CaptureSetup) -> dict:
     """The plan's figures of merit, the limits used and, when compared, the minimum-norm plan's
     base attitude change and the ratio of the two (min-norm / this plan)."""
@@ -152,9 +175,7 @@ def run(setup: CaptureSetup, progress: Progress | None = None, checkpoint: Check
                                scene.task.method, sim.control_period, tg.contact_time + APPROACH_MARGIN, sim.duration,
                                tg.tolerance, integrator=sim.integrator, q0=setup.q0, v0=setup.v0,
                                kp=ctrl.kp, kd=ctrl.kd, model=ctrl.model,
-                               approach_controller=None if setup.plan is None else
-                               PlanTracking(robot, setup.plan.path, ctrl.kp, ctrl.kd, ctrl.model),
-                               grasp_time=0.0 if setup.plan is None else tg.contact_time)
+                               approach_controller=plan_tracking(setup), grasp_time=grasp_time(setup))
     wall = time.perf_counter() - start
     merged = dataclasses.replace(res.merged, visual_model=robot.visual_model)
     tel = res.post

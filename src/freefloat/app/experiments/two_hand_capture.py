@@ -21,10 +21,9 @@ from ...robot.conventions import momentum_about_origin
 from ...space.capture import TARGET_FRAME, target_angular_speed
 from ...space.dual_capture import capture_with_two_hands, loop_conditioning, loop_history, second_grasp_at_contact
 from ...space.planning import GraspMotion
-from ...space.planning.tracking import PlanTracking
 from ..scenes import Scene
 from .base import Checkpoint, Experiment, Outcome, Progress
-from .capture import CaptureSetup, approach_summary, planned
+from .capture import CaptureSetup, approach_summary, grasp_time, plan_tracking, planned
 from .capture import prepare as prepare_one_hand
 from .detumbling import mission_joints, rows_spec
 from .robot_run import APPROACH_MARGIN, control_steps, robot_outcome
@@ -105,8 +104,7 @@ def run(setup: TwoHandSetup, progress: Progress | None = None, checkpoint: Check
             robot, setup.target, setup.hands, setup.second_grasp, _rows(setup), _joints(setup), sim.control_period,
             tg.contact_time + APPROACH_MARGIN, sim.duration, tg.tolerance, sim.integrator, setup.q0, setup.v0, ctrl.kp, ctrl.kd,
             sim.baumgarte, ctrl.squeeze, ctrl.torque_limit or 0.0, progress, checkpoint, sim.backend,
-            approach_controller=None if setup.plan is None else PlanTracking(robot, setup.plan.path, ctrl.kp, ctrl.kd),
-            grasp_time=0.0 if setup.plan is None else tg.contact_time)
+            approach_controller=plan_tracking(setup), grasp_time=grasp_time(setup))
     except FreefloatError as exc:
         raise SceneError(f"scene '{scene.name}': {exc}") from exc
     history = loop_history(res, setup.target, sim.baumgarte)

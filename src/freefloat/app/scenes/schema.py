@@ -168,7 +168,9 @@ class ApproachSection:
     ``method``: ``"null_space"`` (reaction null space), ``"min_norm"`` (J*^+) or ``"optimised"``
     (SLSQP); limits ``max_joint_rate`` (angle_unit/s) and ``max_torque`` (N m) for every joint
     (default each joint's URDF ``<limit>``); ``mission_joints`` (default all); ``steps`` of the
-    planning grid; ``compare``: also plan ``min_norm`` and report the attitude-change ratio."""
+    planning grid; ``compare``: also plan ``min_norm`` and report the attitude-change ratio;
+    ``start`` (s): the posture is held until then (from rest), then the approach runs to the
+    contact."""
 
     method: str = "null_space"
     reach: tuple[float, float, float] = (0.0, 0.0, 0.0)
@@ -177,6 +179,7 @@ class ApproachSection:
     mission_joints: tuple[str, ...] | None = None
     steps: int = 200
     compare: bool = True
+    start: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -291,7 +294,7 @@ POSITIVE = {
 }
 NON_NEGATIVE = {("controller", "kp"), ("controller", "kd"), ("task", "start"), ("wrenches", "start"),
                 ("attitude", "kp"), ("attitude", "kd"),
-                ("wrenches", "rise"), ("simulation", "baumgarte")}
+                ("wrenches", "rise"), ("simulation", "baumgarte"), ("approach", "start")}
 RULES = Rules(CHOICES, POSITIVE, NON_NEGATIVE)
 
 

@@ -50,6 +50,11 @@ class GraspMotion:
         return cls(np.asarray(target.position, float), np.asarray(target.velocity, float), w, R,
                    np.asarray(target.grasp, float))
 
+    def shifted(self, start: float) -> "GraspMotion":
+        """The same flight with its time origin at ``start`` s (``shifted(s).at(t) == at(s + t)``)."""
+        rotation = pin.exp3(self.angular_velocity * start) @ self.rotation
+        return GraspMotion(self.com + self.velocity * start, self.velocity, self.angular_velocity, rotation, self.grasp)
+
     def at(self, t: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Grasp point position, velocity and acceleration at ``t`` s, inertial frame, (3,) each:
         ``p``, ``v + w x r`` and ``w x (w x r)`` with ``r = R(t) g``."""
