@@ -289,6 +289,28 @@ def test_rsu_ppap_workspace_is_where_every_leg_reaches(setups):
     np.testing.assert_array_equal(found.any(axis=1), expected)
 
 
+def test_rsu_ppap_type_one_points_stretch_a_crank_and_rod_or_lay_the_bars_flat(setups):
+    """Every type I point of a 9 x 9 (x, z) map of the 2RSU+PPaP: the inverse block is rank
+    deficient (SVD) and, by the leg's geometry, either an RSU leg's rod lies in the plane of its
+    crank's motion direction and the crank axis (so the crank cannot change the rod's length:
+    crank and rod stretched or folded in projection) or the parallelogram's bars are horizontal."""
+    mech = setups["rsu_ppap"].nominal
+    points = axes_grid([np.linspace(-0.33, 0.12, 9), np.array([0.0]), np.linspace(0.05, 0.65, 9)])
+    locus = {l.kind: l for l in loci(mech, task_map(mech, points, count=32), (9, 1, 9), "task")}["I"]
+    assert len(locus.q) > 50
+    s = np.linalg.svd(closure(mech, locus.q)[1][:, :, partition(mech).joints], compute_uv=False)
+    assert (s[:, -1] / s[:, 0]).max() < 1e-5
+    measures = []
+    for chain, q in zip(mech.chains[:2], mech.split(locus.q)[:2]):
+        joints = chain.frames(q)[1][..., :3, 3]               # pivot, crank tip (spherical centre) ..., universal centre
+        pivot, tip, universal = joints[:, 0], joints[:, 1], joints[:, 4]
+        motion = np.cross([0.0, 1.0, 0.0], tip - pivot)        # the crank tip's direction of motion
+        rod = universal - tip
+        measures.append(np.abs(np.einsum("ij,ij->i", rod, motion)) / np.linalg.norm(rod, axis=1) / np.linalg.norm(motion, axis=1))
+    measures.append(np.abs(np.sin(mech.split(locus.q)[2][:, 1])))   # the parallelogram's bar angle
+    assert np.min(measures, axis=0).max() < 1e-4
+
+
 def test_bad_inputs_are_refused():
     """Points of the wrong width and a box of the wrong shape raise BadShape naming them; a
     redundantly actuated mechanism is refused."""
