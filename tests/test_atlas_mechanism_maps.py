@@ -63,6 +63,15 @@ def test_rsu_ppap_plane_holds_y_at_the_scenes_start(tmp_path):
     assert s["per_mode"][s["scene_mode"]] > 0
 
 
+def test_three_axes_give_slices_a_scatter_and_a_meshcat_page(tmp_path):
+    """A 3-D grid of the 2RSU+PPaP writes slices, a 3-D scatter and a self-contained meshcat page
+    (of the point cloud of the scenes' mode about the mechanism)."""
+    done = run_atlas("mechanism", "rsu_ppap", Options(grid=3, axes=("x", "y", "z")), tmp_path / "c")
+    names = {path.name for path in done.written}
+    assert {"slices.png", "workspace_3d.png", "workspace.html"} <= names
+    assert (tmp_path / "c" / "workspace.html").read_text().rstrip().endswith("</html>")
+
+
 @pytest.mark.parametrize("target, axes, error, match", [
     ("six_bar", None, UnknownName, "five_bar"),
     ("five_bar", ("x", "z"), InvalidArgument, "platform coordinates"),

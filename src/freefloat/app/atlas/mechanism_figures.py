@@ -1,5 +1,6 @@
 """Figures of the atlas kind ``mechanism`` (:mod:`.mechanism_maps`): a panel per mode over a 2-D
-grid, slices and a 3-D scatter of the scenes' mode over a 3-D one."""
+grid, slices, a 3-D scatter of the scenes' mode and (task space) a meshcat page of its point
+cloud with the mechanism over a 3-D one."""
 
 from __future__ import annotations
 
@@ -20,7 +21,10 @@ def draw(context, grid: Grid, result: dict[str, np.ndarray], loci: dict, out: Pa
     matplotlib.use("Agg")
     if len(grid.axes) == 2:
         return [_modes(context, grid, result, loci, out / "modes.png")]
-    return [_slices(context, grid, result, loci, out / "slices.png"), _cloud(context, grid, result, out / "workspace_3d.png")]
+    if context.space != "task":
+        return [_slices(context, grid, result, loci, out / "slices.png"), _cloud(context, grid, result, out / "workspace_3d.png")]
+    return [_slices(context, grid, result, loci, out / "slices.png"), _cloud(context, grid, result, out / "workspace_3d.png"),
+            _page(context, grid, result, out / "workspace.html")]
 
 
 def _modes(context, grid: Grid, result: dict[str, np.ndarray], loci: dict, path: Path) -> Path:
@@ -138,3 +142,25 @@ def _cloud(context, grid: Grid, result: dict[str, np.ndarray], path: Path) -> Pa
     fig.savefig(path, dpi=110)
     plt.close(fig)
     return path
+
+
+def _page(context, grid: Grid, result: dict[str, np.ndarray], path: Path) -> Path:
+    """A self-contained meshcat page: the mechanism at the scenes' start and the points where the
+    scenes' mode exists (task space: the platform points, inertial frame, m), coloured from red
+    (direct block's sigma ratio least on the map: nearest type II) to green (largest)."""
+    import meshcat.geometry as mg
+
+    from ..viz.mechanism import write_mechanism_html
+    from .mechanism_maps import labels, scene_mode, scene_of, setup_of
+
+    j = labels(context).index(scene_mode(context))
+    found = result["found"][:, j]
+    points = result["q"][found, j, :3]
+    ratio = np.log10(np.maximum(result["direct_ratio"][found, j], 1e-12))
+    shade = (ratio - ratio.min()) / max(np.ptp(ratio), 1e-12)
+    colours = np.column_stack((1.0 - shade, shade, np.full_like(shade, 0.2)))
+    cloud = mg.Points(mg.PointsGeometry(points.T.astype(np.float32), colours.T.astype(np.float32)),
+                      mg.PointsMaterial(size=0.008))
+    setup = setup_of(context.mechanism)
+    return write_mechanism_html(setup.display, np.zeros(1), scene_of(context.mechanism)[1][None], path, 30.0,
+                                extra=[("workspace", cloud, np.eye(4)[None])])

@@ -12,7 +12,7 @@ mode the built-in scenes run in, counts each mode's points and the loci's (grid 
 onto them, :mod:`freefloat.parallel.maps.loci`), and for the 5R compares the map with the
 closed-form workspace. Figures: one panel per mode (the scenes' marked), the mode's region, its
 type I and type II points, the scenes' path; for the 5R the exact boundary; a 3-D grid gives
-slices and a 3-D scatter of the scenes' mode.
+slices, a 3-D scatter of the scenes' mode and its point cloud on a meshcat page.
 """
 
 from __future__ import annotations
@@ -282,8 +282,9 @@ def figures(context: MechanismMapContext, grid: Grid, result: dict[str, np.ndarr
     """``modes.png``: one panel per mode over a 2-D grid (the mode's region, type I points black,
     type II red, the scenes' start and path, the 5R's exact boundary dashed), the scenes' mode
     named; a 3-D grid: ``slices.png`` (the workspace on three slices of the last axis, with its
-    loci near them) and ``workspace_3d.png`` (the scenes' mode's points, coloured by the direct
-    block's conditioning)."""
+    loci near them), ``workspace_3d.png`` (the scenes' mode's points, coloured by the direct
+    block's conditioning) and, in task space, ``workspace.html`` (the same points about the
+    mechanism at the scenes' start in a self-contained meshcat page)."""
     from . import mechanism_figures
 
     return mechanism_figures.draw(context, grid, result, loci_of(context, grid, result), out)

@@ -151,7 +151,8 @@ def _unit(kind: str) -> str:
 
 
 def write_mechanism_html(chain: ClosedChain, t: np.ndarray, q: np.ndarray, path: str | Path, fps: float,
-                         reference: np.ndarray | None = None, base: np.ndarray | None = None) -> Path:
+                         reference: np.ndarray | None = None, base: np.ndarray | None = None,
+                         extra: list | None = None) -> Path:
     """Self-contained meshcat page of a mechanism run: the linkage (:func:`linkage_bars`,
     :func:`joint_markers`), the platform point and its path, the closure points
     (:func:`closure_markers`) and the reference path; a planar mechanism (two platform
@@ -168,6 +169,8 @@ def write_mechanism_html(chain: ClosedChain, t: np.ndarray, q: np.ndarray, path:
         base: a moving base's placement at each sample (N, 4, 4), inertial frame: ``q`` and
             ``reference`` are then in the base frame, and the base, linkage, markers and paths
             are drawn where the base carries them; None: a fixed base.
+        extra: further bodies, as :func:`~.meshcat_html.write_trajectory_html` takes them
+            (e.g. a map's point cloud, ``(name, object, poses (N, 4, 4))``).
     """
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
@@ -189,7 +192,7 @@ def write_mechanism_html(chain: ClosedChain, t: np.ndarray, q: np.ndarray, path:
     markers = [m._replace(positions=carried(m.positions)) for m in joint_markers(chain, tree_q) + closure_markers(chain, tree_q)]
     bars = [b._replace(start=carried(b.start), end=carried(b.end)) for b in linkage_bars(chain, tree_q)]
     return write_trajectory_html(robot, t, configurations, path, fps=fps, markers=markers + [platform],
-                                 bars=bars, lines=lines, view=PLANE_VIEW if p < 3 else None)
+                                 bars=bars, lines=lines, view=PLANE_VIEW if p < 3 else None, extra=extra)
 
 
 def _carried(base: np.ndarray, points: np.ndarray) -> np.ndarray:
