@@ -31,8 +31,12 @@ def joint_panel(ax, context: ArmMap, grid: Grid, values: np.ndarray, label: str,
     shown = np.log10(np.clip(image, 1e-300, None)) if log else image
     shown = np.where(np.isfinite(shown), shown, np.nan)
     low, high = np.nanpercentile(shown, [1, 99]) if np.isfinite(shown).any() else (0.0, 1.0)
-    mesh = ax.pcolormesh(np.degrees(x), np.degrees(y), shown.T, shading="auto", cmap="viridis", vmin=low, vmax=high)
-    ax.figure.colorbar(mesh, ax=ax, label=f"log10 {label}" if log else label)
+    half = [0.5 * (np.degrees(v[-1] - v[0]) / (len(v) - 1) if len(v) > 1 else 0.5) for v in (x, y)]
+    extent = (np.degrees(x[0]) - half[0], np.degrees(x[-1]) + half[0], np.degrees(y[0]) - half[1],
+              np.degrees(y[-1]) + half[1])  # cells centred on the grid's evenly spaced values
+    image = ax.imshow(shown.T, origin="lower", extent=extent, aspect="auto", interpolation="nearest",
+                      cmap="viridis", vmin=low, vmax=high)
+    ax.figure.colorbar(image, ax=ax, label=f"log10 {label}" if log else label)
     for (name, flags), color, size in zip(loci.items(), ("#d62728", "#ffffff"), (4.0, 1.5)):
         _, _, mask = joint_slice(context, grid, flags)
         i, j = np.nonzero(mask)

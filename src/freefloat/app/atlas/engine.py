@@ -3,9 +3,9 @@
 :func:`run_atlas` resolves the kind and its target, checks that the grid's results fit in memory
 (one point is evaluated first to learn its size), then evaluates the chunks not yet finished in
 this process, on ``--workers N`` processes (this one and a pool of N - 1,
-:func:`freefloat.distributed.process_pool`: the pool takes chunks from the front while this
-process takes them from the back, so the pool's start-up, a new interpreter per worker, costs no
-waiting) or on Dask (a local cluster or a scheduler's workers), as ``freefloat batch`` does. Each
+:func:`freefloat.distributed.process_pool`: each pool worker is handed chunks from the front
+once it has started, a few at a time, while this process takes them from the back, so the pool's
+start-up, a new interpreter per worker, costs no waiting) or on Dask (a local cluster or a scheduler's workers), as ``freefloat batch`` does. Each
 chunk is saved under ``chunks/`` and a line appended to ``atlas-journal.jsonl`` as it finishes,
 so Ctrl-C, SIGTERM or a kill keeps the finished chunks and the same command again resumes from
 them (a folder holding another atlas's journal is refused). Once all are in, :mod:`.writer`
@@ -40,6 +40,8 @@ CHUNKS_PER_WORKER = 8
 #: ... each of at least this many points (the kind's per-call overhead amortised) and at most
 #: this many (memory in flight, and what an interrupt loses).
 MIN_CHUNK, MAX_CHUNK = 256, 20_000
+#: Chunks handed at a time to each pool worker that has started.
+IN_FLIGHT = 2
 #: With Dask, the map ends when no chunk finishes within this many seconds.
 DASK_TIMEOUT = 600.0
 
@@ -186,16 +188,19 @@ def _execute(workers: Workers, kind: AtlasKind, context: Any, grid: Grid, spans:
     elif workers.count > 1 and len(todo) > 1:
         pool = process_pool(workers.count - 1)  # this process is the last worker
         try:
-            futures = {i: pool.submit(evaluate_chunk, kind, context, grid, *spans[i]) for i in todo}
-            pending = {future: i for i, future in futures.items()}
-            for i in reversed(todo):  # from the back while the pool starts (a new interpreter each) on the front
-                if not futures[i].cancel():
-                    break
-                del pending[futures[i]]
-                finished(i, evaluate_chunk(kind, context, grid, *spans[i]))
-                _drain(pending, finished, 0.0)
-            while pending:
-                _drain(pending, finished, None)
+            started = [pool.submit(_start, kind) for _ in range(workers.count - 1)]
+            queue, pending = list(todo), {}
+            while queue or pending:
+                room = IN_FLIGHT * sum(_started(future) for future in started) - len(pending)
+                for _ in range(min(room, len(queue))):  # the front to the workers that have started
+                    i = queue.pop(0)
+                    pending[pool.submit(evaluate_chunk, kind, context, grid, *spans[i])] = i
+                if queue:  # the back here, meanwhile
+                    i = queue.pop()
+                    finished(i, evaluate_chunk(kind, context, grid, *spans[i]))
+                _drain(pending, finished, 0.0 if queue else None)
+            if not all(future.done() for future in started):
+                _terminate(pool)  # a worker still starting has no chunk left: do not wait for its imports
         except BaseException:
             _terminate(pool)
             raise
@@ -206,9 +211,29 @@ def _execute(workers: Workers, kind: AtlasKind, context: Any, grid: Grid, spans:
             finished(i, evaluate_chunk(kind, context, grid, *spans[i]))
 
 
+def _start(kind: AtlasKind) -> None:
+    """A pool worker's first task: import the kind's module (it has started once this returns)."""
+    kind.load()
+
+
+def _started(future: Future) -> bool:
+    """Whether the pool worker whose start-up task is ``future`` has started.
+
+    Raises:
+        FreefloatError: when it could not start (its interpreter died), with the reason.
+    """
+    if not future.done():
+        return False
+    if future.exception() is not None:
+        raise FreefloatError(f"an atlas worker process could not start: {future.exception()}")
+    return True
+
+
 def _drain(pending: dict[Future, int], finished: Callable[[int, dict], None], timeout: float | None) -> None:
     """Hand on the chunks of ``pending`` ({future: chunk}) that finish within ``timeout`` s (None:
     at least one), removing them."""
+    if not pending:
+        return
     ready, _ = wait(pending, timeout=timeout, return_when=FIRST_COMPLETED)
     for future in ready:
         i = pending.pop(future)

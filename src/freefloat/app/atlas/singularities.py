@@ -30,6 +30,8 @@ __all__ = ["OPTIONS", "evaluate", "figures", "figs_38_40", "grid", "prepare", "s
 POINTS_PER_AXIS = 101
 #: Start offsets of the dissertation's figs 38-40, deg, and the span of their paths, s.
 OFFSETS_DEG, PATH_S = (0.0, 0.1, 1.0), 1.0
+#: Half-width of the figs 38-40 figure's close-up about the reference posture, deg.
+ZOOM_DEG = 2.0
 
 
 def prepare(target: str, options: Options) -> ArmMap:
@@ -131,4 +133,35 @@ def figures(context: ArmMap, grid: Grid, result: dict[str, np.ndarray], out: Pat
             if marks:
                 ax.legend(loc="upper right", fontsize=7, markerscale=1.5)
         paths += save(fig, out, f"singularities_{key}")
+    if marks:
+        paths += _figs_38_40_figure(context, marks, out)
     return [p for p in paths if p.suffix == ".png"] + [p for p in paths if p.suffix != ".png"]
+
+
+def _figs_38_40_figure(context: ArmMap, marks: dict[float, dict[str, np.ndarray]], out: Path) -> list[Path]:
+    """``singularities_figs38_40.png``: left, cond(J*) of the mapped block on a fine grid of
+    :data:`ZOOM_DEG` about the stretched posture with the three paths on it (the map's cells are
+    far larger than the paths); right, the condition numbers along the paths over their first
+    :data:`PATH_S` s (the dissertation's figs 38-40, its E-GJM rows, beside the mapped block's)."""
+    from ..viz.plotting import figure, finish, save
+
+    fig, (left, right) = figure(1, 2, (12, 5), f"{context.target}: figs 38-40 placed on the map")
+    values = [context.posture[j] + np.radians(np.linspace(-ZOOM_DEG, ZOOM_DEG, 81)) for j in context.axis_index[:2]]
+    local = np.column_stack([v.ravel() for v in np.meshgrid(*values, indexing="ij")]
+                            + [np.full(81 * 81, context.posture[j]) for j in context.axis_index[2:]])
+    cond = np.log10(evaluate(context, local)["cond_free"].reshape(81, 81))
+    image = left.imshow(cond.T, origin="lower", aspect="auto", cmap="viridis",
+                        extent=(*np.degrees(values[0][[0, -1]]), *np.degrees(values[1][[0, -1]])),
+                        vmin=np.percentile(cond, 1), vmax=np.percentile(cond, 99))
+    fig.colorbar(image, ax=left, label="log10 condition number of J*")
+    t = np.linspace(0.0, PATH_S, len(next(iter(marks.values()))["cond_egjm"]))
+    for (offset, p), style in zip(marks.items(), ("o", "s", "^")):
+        left.plot(*np.degrees(p["on_axes"][:, :2]).T, style + "-", ms=4, mfc="none", color="#ff7f0e",
+                  label=f"{offset:g} deg")
+        right.semilogy(t, p["cond_egjm"], style + "-", ms=3, label=f"E-GJM (12 x 16), {offset:g} deg")
+        right.semilogy(t, p["cond_block"], style + ":", ms=3, label=f"mapped J* block, {offset:g} deg")
+    left.set_xlabel(f"{context.axes[0]} (deg)")
+    left.set_ylabel(f"{context.axes[1]} (deg)")
+    left.legend(loc="upper right", fontsize=7, title="start offset", title_fontsize=7)
+    finish(right, "time along the path (s)", "condition number", legend="inside")
+    return save(fig, out, "singularities_figs38_40")

@@ -8,7 +8,8 @@ Measured in this process, side by side:
   ``gjm_compute``: as many :func:`freefloat.gjm.compute` calls at one state (best of ``repeats``,
   taking turns), and their ratio;
 - ``command``: ``run_atlas`` end to end (kind resolved, robot loaded, chunks journaled, atlas.npz,
-  summary and the figures written) in this process and on a pool of 2 worker processes, once each.
+  summary and the figures written) in this process alone and with ``--workers 2`` (this process
+  and a pool of one, which takes chunks once its interpreter has started), once each.
 """
 
 from __future__ import annotations
