@@ -5,7 +5,9 @@
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
+#include <algorithm>
 #include <cmath>
+#include <initializer_list>
 #include <stdexcept>
 #include <string>
 
@@ -18,10 +20,7 @@ namespace py = pybind11;
 using namespace freefloat;
 using freefloat::py_arrays::Array;
 using freefloat::py_arrays::checked;
-using freefloat::py_arrays::copy_out;
 using freefloat::py_arrays::IntArray;
-using freefloat::py_arrays::matrix_out;
-using freefloat::py_arrays::vector_out;
 
 namespace freefloat {
 void bind_mechanism(py::module_& m);  // chains.cpp
@@ -29,15 +28,46 @@ void bind_mechanism(py::module_& m);  // chains.cpp
 
 namespace {
 
+// A new C-order float64 numpy array of shape `dims`, made through numpy's C API in one call
+// (pybind11's array_t(shape) also builds its shape and strides as vectors: on the small arrays of
+// gjm.compute, a good part of their cost). With `data`, the array views it and owns `base`.
+py::array_t<double> fresh(std::initializer_list<Py_intptr_t> dims, double* data = nullptr,
+                          py::handle base = py::handle()) {
+  auto& api = py::detail::npy_api::get();
+  PyObject* a = api.PyArray_NewFromDescr_(api.PyArray_Type_, api.PyArray_DescrFromType_(py::detail::npy_api::NPY_DOUBLE_),
+                                          static_cast<int>(dims.size()), dims.begin(), nullptr, data,
+                                          data ? py::detail::npy_api::NPY_ARRAY_WRITEABLE_ : 0, nullptr);
+  if (!a) throw py::error_already_set();
+  if (data && api.PyArray_SetBaseObject_(a, base.inc_ref().ptr()) != 0) {
+    Py_DECREF(a);
+    throw py::error_already_set();
+  }
+  return py::reinterpret_steal<py::array_t<double>>(a);
+}
+
+// Row-major copies of an Eigen vector (n,) and matrix (rows, cols) in fresh arrays.
+template <typename V>
+py::array_t<double> vector_copy(const V& x) {
+  py::array_t<double> out = fresh({static_cast<Py_intptr_t>(x.size())});
+  Eigen::Map<VecX>(out.mutable_data(), x.size()) = x;
+  return out;
+}
+template <typename M>
+py::array_t<double> matrix_copy(const M& m) {
+  py::array_t<double> out = fresh({static_cast<Py_intptr_t>(m.rows()), static_cast<Py_intptr_t>(m.cols())});
+  Eigen::Map<MatX>(out.mutable_data(), m.rows(), m.cols()) = m;
+  return out;
+}
+
 py::array_t<double> stack3(const std::vector<Vec3>& xs, size_t first = 0) {
-  py::array_t<double> out({static_cast<py::ssize_t>(xs.size() - first), py::ssize_t{3}});
+  py::array_t<double> out = fresh({static_cast<Py_intptr_t>(xs.size() - first), 3});
   double* p = out.mutable_data();
   for (size_t i = first; i < xs.size(); ++i, p += 3) Eigen::Map<Vec3>{p} = xs[i];
   return out;
 }
 
 py::array_t<double> stack33(const std::vector<Mat3>& xs) {
-  py::array_t<double> out({static_cast<py::ssize_t>(xs.size()), py::ssize_t{3}, py::ssize_t{3}});
+  py::array_t<double> out = fresh({static_cast<Py_intptr_t>(xs.size()), 3, 3});
   double* p = out.mutable_data();
   for (size_t i = 0; i < xs.size(); ++i, p += 9) Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>{p} = xs[i];
   return out;
@@ -102,8 +132,7 @@ Tree make_tree(const IntArray& parent, const Array& placement, const Array& axis
 py::array_t<double> take(MatX& m) {
   auto* owned = new MatX(std::move(m));
   py::capsule free(owned, [](void* p) { delete static_cast<MatX*>(p); });
-  return py::array_t<double>({static_cast<py::ssize_t>(owned->rows()), static_cast<py::ssize_t>(owned->cols())},
-                             owned->data(), free);
+  return fresh({static_cast<Py_intptr_t>(owned->rows()), static_cast<Py_intptr_t>(owned->cols())}, owned->data(), free);
 }
 
 // (H0, H0m, Hm, Hstar, J0, Jm, J0E, Jstar, momentum_base, momentum_origin, x0dot, qdot,
@@ -111,12 +140,12 @@ py::array_t<double> take(MatX& m) {
 // (n, n) and (6k, n) outputs are moved out of `s`.
 py::tuple state_out(State& s) {
   const Kinematics& k = s.kin;
-  py::tuple kin = py::make_tuple(vector_out(k.r0), matrix_out(k.R0), stack33(k.rotation), stack3(k.origin),
+  py::tuple kin = py::make_tuple(vector_copy(k.r0), matrix_copy(k.R0), stack33(k.rotation), stack3(k.origin),
                                  stack3(k.origin, 1), stack3(k.joint_axis), stack3(k.com), stack33(k.inertia));
-  return py::make_tuple(matrix_out(s.H0), matrix_out(s.H0m), take(s.Hm), take(s.Hstar), matrix_out(s.J0),
-                        take(s.Jm), matrix_out(s.J0E), take(s.Jstar), vector_out(s.momentum_base),
-                        vector_out(s.momentum_origin), vector_out(s.x0dot), vector_out(s.qdot),
-                        matrix_out(s.ee_position), kin);
+  return py::make_tuple(matrix_copy(s.H0), matrix_copy(s.H0m), take(s.Hm), take(s.Hstar), matrix_copy(s.J0),
+                        take(s.Jm), matrix_copy(s.J0E), take(s.Jstar), vector_copy(s.momentum_base),
+                        vector_copy(s.momentum_origin), vector_copy(s.x0dot), vector_copy(s.qdot),
+                        matrix_copy(s.ee_position), kin);
 }
 
 // A new zeroed numpy array of `shape` (calloc: the zeros cost nothing until written).
@@ -137,7 +166,9 @@ py::tuple derivatives_out(const Tree& t, const Derivatives& d, const VecX& qdot)
       if (e.i != e.j) rate[e.j * n + e.i] += qdot[k] * e.value;
     }
   }
-  return py::make_tuple(copy_out({n, 6, 6}, d.dH0.data()), dH0m, dHm, matrix_out(d.H0dot), matrix_out(d.H0mdot),
+  py::array_t<double> dH0 = fresh({n, 6, 6});
+  std::copy(d.dH0.begin(), d.dH0.end(), dH0.mutable_data());
+  return py::make_tuple(dH0, dH0m, dHm, matrix_copy(d.H0dot), matrix_copy(d.H0mdot),
                         Hmdot);
 }
 
@@ -199,7 +230,7 @@ struct Core {
                 Eigen::Map<const VecX>(checked(Q_q, n, "Q_q"), n) - r.c;
     solver.factor(state);
     solver.solve(z.data());
-    py::array_t<double> a(nv);
+    py::array_t<double> a = fresh({nv});
     Eigen::Map<VecX> qddot(a.mutable_data() + n_base, n);
     qddot = z.tail(n);
     const Vec6 xddot0 = -state.H0_ldlt.solve(state.H0m * qddot + r.base_bias);
@@ -215,14 +246,14 @@ struct Core {
     derivatives(tree, state, deriv);
     const Vec6 force = Eigen::Map<const Vec6>(checked(F, 6, "F"));
     const ModelResult r = model_terms(tree, state, deriv, variant, force, sensitivity_rows(D));
-    return py::make_tuple(take(state.Hstar), vector_out(r.c));
+    return py::make_tuple(take(state.Hstar), vector_copy(r.c));
   }
 
   // NIDC's dxdot0/dq_k (n, 6) at (q, v) with the augmented partials of D.
   py::array_t<double> sensitivity(const Array& q, const Array& v, bool translation, const Array& D) {
     run_dynamics(q, v);
     const Partials p = nidc_partials(tree, state, deriv, sensitivity_rows(D), translation);
-    return matrix_out(freefloat::sensitivity(state, p, tree.n));
+    return matrix_copy(freefloat::sensitivity(state, p, tree.n));
   }
 };
 

@@ -78,6 +78,7 @@ class GJM:
         ee_offset: each end-effector frame origin in its body's (parent-joint) frame, m (k, 3).
         moved: ``moved[i, j]`` whether joint j moves point i (n + 1 + k, n) bool; points ordered
             [base CoM; body CoMs; end-effector origins].
+        shapes: the shapes of q and v, ``((nq,), (nv,))``.
     """
 
     def __init__(self, robot: Robot):
@@ -88,6 +89,7 @@ class GJM:
         self.ee_body = np.array([f.parentJoint - 1 for f in frames], dtype=int)
         self.ee_offset = np.array([f.placement.translation for f in frames]).reshape(-1, 3)
         self.moved = np.vstack((self.tree.ancestor, self.tree.ancestor[self.ee_body]))
+        self.shapes = ((robot.model.nq,), (robot.model.nv,))
         self.core = compiled_core(robot, self.tree, self.ee_body, self.ee_offset)
 
     def __getstate__(self) -> dict:
@@ -104,9 +106,7 @@ class GJM:
     def admissible(self, q: np.ndarray, v: np.ndarray) -> bool:
         """Whether float arrays q (nq,), v (nv,) pass :func:`~freefloat.robot.state.check_state`,
         checked in the compiled core (a fraction of check_state's cost; False for wrong shapes)."""
-        model = self.robot.model
-        return q.shape == (model.nq,) and v.shape == (model.nv,) and \
-            self.core.admissible(q, v, UNIT_TOLERANCE, MAX_MAGNITUDE)
+        return (q.shape, v.shape) == self.shapes and self.core.admissible(q, v, UNIT_TOLERANCE, MAX_MAGNITUDE)
 
     def kinematics(self, q: np.ndarray) -> BodyKinematics:
         """Body kinematics at configuration q (nq,)."""
@@ -153,8 +153,9 @@ def compiled_core(robot: Robot, tree: TreeStructure, ee_body: np.ndarray, ee_off
 
 
 def state_of(out: tuple) -> GJMState:
-    """A :class:`GJMState` from the compiled core's tuple (fields in order, kinematics last)."""
-    return GJMState(*out[:-1], kinematics=BodyKinematics(*out[-1]))
+    """A :class:`GJMState` from the compiled core's tuple (fields in order, kinematics last);
+    ``tuple.__new__`` skips the named tuples' argument parsing (a third of this call)."""
+    return tuple.__new__(GJMState, (*out[:-1], tuple.__new__(BodyKinematics, out[-1])))
 
 
 def egjm_blocks(state: GJMState, robot: Robot) -> dict[tuple[int, int], np.ndarray]:
