@@ -264,3 +264,20 @@ def test_a_run_the_user_stops_stops_the_study():
         finished(stopped)
     completed = run(*args)
     assert finished(completed) is completed
+
+
+def test_workspace_grid_agrees_with_the_closed_form_workspace(report):
+    """Thesis fig 8: the area of the grid cells where the 5R assembles (doubled: the grid covers
+    y > 0) is the closed-form area of the two annuli's intersection within 10 % at the quick 3 cm
+    grid, and the reference circle lies inside the closed-form workspace."""
+    from freefloat.parallel.five_bar import FiveBarParameters
+    from freefloat.parallel.maps import five_bar_exact
+
+    from freefloat.app.reproduce.report_entries import CIRCLE
+
+    out, entries, _, _ = report
+    (area_row,) = [r for r in entries[(THESIS, "Fig 8")]["rows"] if r["quantity"].startswith("workspace area")]
+    exact, grid = (float(x) for x in area_row["ours"].split(" (")[0].split(" / "))
+    assert exact == pytest.approx(five_bar_exact.area(FiveBarParameters()), rel=1e-3)
+    assert grid == pytest.approx(exact, rel=0.1)
+    assert five_bar_exact.contains(FiveBarParameters(), CIRCLE).all()

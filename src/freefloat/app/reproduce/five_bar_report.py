@@ -7,7 +7,8 @@
    parameters 15 % and 50 % off the estimates: sliding mode and computed torque (eq 190).
    Reaching time (|s| < 0.02), tracking error after 0.2 s, peak actuator torques; the error,
    sliding-variable and torque series (every 10th step) for the report's figures.
-3. Fig 8's workspace as numbers: the conditioning map of :func:`conditioning_map`.
+3. Fig 8's workspace as numbers: the conditioning map of :func:`conditioning_map`, and the exact
+   boundary and singularity loci of :func:`singularity_map`.
 """
 
 from __future__ import annotations
@@ -68,6 +69,26 @@ def conditioning_map(p: FiveBarParameters, spacing: float) -> dict:
                                                               for row in condition]}
 
 
+def singularity_map(p: FiveBarParameters, spacing: float) -> dict:
+    """Thesis fig 8's exact counterpart (:mod:`freefloat.parallel.maps`): the workspace's boundary in
+    closed form (arcs where a leg is stretched or folded, points (n, 2) in m), its area (m^2), and
+    the type I and type II singularity loci of the working mode the circle of eq 189 runs in (the
+    outward elbows at (0.07, 0.17)), bisected from a ``spacing`` grid over the reach."""
+    from ...parallel.maps import five_bar_exact, grids, loci
+    from ...parallel.maps.modes import working_label
+
+    mech = five_bar(p)
+    start = np.array([0.07, 0.17])
+    mode = str(working_label(mech, mech.assemble(start, elbow_guess(p, start))[None])[0])
+    reach = p.l1 + p.l2 + p.l0
+    axes = [np.arange(-reach, reach + 1e-9, spacing)] * 2
+    found = loci.loci(mech, grids.task_map(mech, grids.axes_grid(axes)), (len(axes[0]), len(axes[1])), "task")
+    return {"mode": mode, "area_m2": five_bar_exact.area(p),
+            "boundary": [{"leg": arc.leg, "stretched": arc.stretched, "points": arc.points.tolist()}
+                         for arc in five_bar_exact.boundary(p, samples=400)],
+            "loci": {locus.kind: locus.coordinates[locus.mode == mode].tolist() for locus in found}}
+
+
 def reaching_times(t: np.ndarray, s: np.ndarray, bound: float = 0.02) -> list[float | None]:
     """First time (s) each sliding variable's |s| is below ``bound``, or None: ``t`` (N,), ``s`` (N, p)."""
     reached = np.abs(s) < bound
@@ -112,6 +133,7 @@ def reproduce(out: Path, quick: bool = False) -> dict:
         "settings": {"quick": quick, "duration": duration, "step": step, "lambda": 40.0, "eta": 20.0,
                      "grid_points": len(points), "max_condition": MAX_CONDITION},
         "workspace": conditioning_map(nominal, spacing),
+        "singularities": singularity_map(nominal, 0.03 if quick else 0.02),
         "gains": {"n": gains.n.tolist(), "T": gains.T.tolist(), "xdot2": gains.n_ij[(0, 0)].tolist(),
                   "xdot_ydot": gains.n_ij[(1, 0)].tolist(), "ydot2": gains.n_ij[(1, 1)].tolist()},
         "eq_187": EQ_187,

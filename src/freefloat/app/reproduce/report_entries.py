@@ -200,8 +200,11 @@ def _table_rows(r: Results, table: str, printed: dict, label: str) -> list[Row]:
             for k in range(4)]
 
 
-TS_NOTE = ("Exact plant, RKMK4 at 0.1 ms (the dissertation simulated FM-NIC-A). The start is every joint 0.5 deg "
-           "off the stretched posture along the motion (Table 4).")
+TS_NOTE = ("Exact plant, RKMK4 at 0.1 ms. The dissertation simulated FM-NIC-A, which describes the same motion as "
+           "the exact plant when the momentum is zero and the base does not turn (the models study: on sec 5.1's task every "
+           "plant gives the same tracking error with the same integrator; here the base yaw "
+           "stays below 3e-11 deg), so only the exact plant is run. The start is every joint 0.5 deg off the stretched "
+           "posture along the motion (Table 4).")
 for number, caption, draw in (
     ("20", "Joint trajectories, joint-space control (JSC).",
      lambda r: rf.per_arm({"JSC": jsc(r)}, "joints", "Dissertation fig 20: joints, JSC", "q (deg)", np.degrees(1.0))),
@@ -411,14 +414,37 @@ entry(THESIS, "Fig 7", "One RR serial chain (links l1, l2, joints q1, q2).", "",
 entry(THESIS, "Table 2", "Denavit-Hartenberg parameters of the RR chain: a = l_i, alpha = 0, d = 0, theta = q_i.", "", None,
       lambda r: [row("a1, a2 (m)", "l1, l2 = 0.12, 0.15", ", ".join(f"{np.linalg.norm(np.diff(five_bar_points()[0], axis=0), axis=1)[i]:.4g}" for i in range(2))),
                  row("alpha, d", "0, 0", "0, 0 (a planar chain)")])
+CIRCLE = np.column_stack((0.07 * np.cos(np.linspace(0, 2 * np.pi, 400)), 0.17 + 0.07 * np.sin(np.linspace(0, 2 * np.pi, 400))))
+
+
+def _distance(points: list, path: np.ndarray = CIRCLE) -> float:
+    """Smallest distance (m) from ``path`` (M, 2) to ``points`` (K, 2); inf without points."""
+    points = np.asarray(points, float).reshape(-1, 2)
+    return float(np.linalg.norm(path[:, None] - points[None], axis=2).min()) if len(points) else float("inf")
+
+
+def _workspace_rows(r: Results) -> list[Row]:
+    fb, threshold = r.report(FB), r.report(FB)["settings"]["max_condition"]
+    w, sing = fb["workspace"], fb["singularities"]
+    cell = (w["x"][1] - w["x"][0]) * (w["y"][1] - w["y"][0])
+    reached = sum(v is not None for rw in w["condition"] for v in rw)
+    return [row("workspace area (m^2), exact / grid cells reached", None,
+                f"{sing['area_m2']:.4g} / {2 * reached * cell:.4g} (the grid covers y > 0; doubled by symmetry)"),
+            row("non-singular grid points (condition < threshold)", None,
+                int(sum(v is not None and v < threshold for rw in w["condition"] for v in rw))),
+            row("threshold on cond(A°), cond(C^T U)", "not stated", threshold),
+            row(f"circle's distance to the type II locus of mode {sing['mode']} (m)", None, _distance(sing["loci"].get("II", []))),
+            row("circle's distance to the workspace boundary (m)", None,
+                _distance([pt for arc in sing["boundary"] for pt in arc["points"]]))]
+
+
 entry(THESIS, "Fig 8", "Workspace of the 5R: out of reach, near-singular and non-singular regions and the reference circle.", FB,
-      lambda r: rf.workspace(r.report(FB)["workspace"], r.report(FB)["settings"]["max_condition"],
-                             np.column_stack((0.07 * np.cos(np.linspace(0, 2 * np.pi, 200)), 0.17 + 0.07 * np.sin(np.linspace(0, 2 * np.pi, 200)))),
-                             "Thesis fig 8: 5R workspace (conditioning grid)"),
-      lambda r: [row("non-singular grid points (condition < threshold)", None,
-                     int(sum(v is not None and v < r.report(FB)["settings"]["max_condition"] for rw in r.report(FB)["workspace"]["condition"] for v in rw))),
-                 row("threshold on cond(A°), cond(C^T U)", "not stated", r.report(FB)["settings"]["max_condition"])],
-      "The thesis draws its near-singular region without a threshold; freefloat states its own (6). With --quick the grid is 3 cm, else 1 cm.")
+      lambda r: rf.workspace(r.report(FB)["workspace"], r.report(FB)["settings"]["max_condition"], CIRCLE,
+                             "Thesis fig 8: 5R workspace", r.report(FB)["singularities"]),
+      _workspace_rows,
+      "Exact boundary in closed form and the singularity loci of the circle's working mode bisected from a grid "
+      "(freefloat.parallel.maps), over the conditioning grid of the gain design. The thesis draws its near-singular "
+      "region without a threshold; freefloat's is 6. With --quick the grids are 3 cm, else 1 cm (loci from 2 cm).")
 entry(THESIS, "Eq 187", "Worst-case sliding-mode gains over the non-singular grid and the 64 extreme parameter sets (eta = 20).", FB, None,
       lambda r: [row(f"{key} {axis}", r.report(FB)["eq_187"][key][i], r.report(FB)["gains"][key][i])
                  for key in ("n", "xdot2", "xdot_ydot", "ydot2") for i, axis in enumerate("xy")],

@@ -197,18 +197,29 @@ def five_bar_linkage(points: list[np.ndarray], title: str, labels: Sequence[str]
     return fig
 
 
-def workspace(workspace_map: dict, threshold: float, path: np.ndarray, title: str) -> Figure:
+def workspace(workspace_map: dict, threshold: float, path: np.ndarray, title: str,
+              singularities: dict | None = None) -> Figure:
     """The 5R's conditioning grid: out of reach, near-singular (condition >= ``threshold``),
-    non-singular, and the reference ``path`` (M, 2) in m."""
+    non-singular, and the reference ``path`` (M, 2) in m; over it, from ``singularities``
+    (:func:`~.five_bar_report.singularity_map`), the exact boundary and the type I and type II
+    loci of the path's working mode."""
     from matplotlib.colors import ListedColormap
 
     x, y = np.asarray(workspace_map["x"]), np.asarray(workspace_map["y"])
     c = np.array([[np.nan if v is None else v for v in row] for row in workspace_map["condition"]])
     region = np.where(np.isnan(c), 0, np.where(c >= threshold, 1, 2))
-    fig, (ax,) = figure(1, 1, (7.0, 4.6), title)
+    fig, (ax,) = figure(1, 1, (9.0, 4.6), title)
     ax.pcolormesh(x, y, region, shading="nearest", vmin=0, vmax=2,
                   cmap=ListedColormap(["#08306b", "#fdd835", "#9ecae1"]))
     ax.plot(path[:, 0], path[:, 1], color="#d62728", linewidth=2, label="reference circle (eq 189)")
+    if singularities is not None:
+        for k, arc in enumerate(singularities["boundary"]):
+            points = np.asarray(arc["points"])
+            ax.plot(points[:, 0], points[:, 1], "k-", linewidth=1, label="exact boundary" if k == 0 else None)
+        for kind, style in (("I", "k."), ("II", "m.")):
+            points = np.asarray(singularities["loci"].get(kind, [])).reshape(-1, 2)
+            ax.plot(points[:, 0], points[:, 1], style, markersize=3,
+                    label=f"type {kind} locus, mode {singularities['mode']}")
     ax.plot([], [], "s", color="#08306b", label="out of reach")
     ax.plot([], [], "s", color="#fdd835", label=f"near-singular (condition >= {threshold:g})")
     ax.plot([], [], "s", color="#9ecae1", label="non-singular")

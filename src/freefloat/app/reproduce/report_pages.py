@@ -168,6 +168,7 @@ def write_pdf(built: list[Built], path: Path, provenance: dict) -> None:
                 top = max(0.1, 0.9 - 0.0125 * min(len(text), 40))
                 ax = fig.add_axes((0.05, 0.03, 0.9, top - 0.05))
                 ax.imshow(imread(io.BytesIO(b.png)))
+                ax.set_anchor("N")  # right under the text
                 ax.set_axis_off()
             pdf.savefig(fig)
 
