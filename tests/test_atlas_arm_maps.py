@@ -181,7 +181,8 @@ def test_cli_writes_a_singularity_map(tmp_path):
     paths = done.summary["summary"]["figs_38_40"]
     assert paths["0_deg"]["condition_egjm_start"] > paths["0.1_deg"]["condition_egjm_start"] \
         > paths["1_deg"]["condition_egjm_start"]
-    assert {"atlas.npz", "summary.json", "singularities_cond.png"} <= {p.name for p in out.iterdir()}
+    assert {"atlas.npz", "summary.json", "singularities_cond.png", "singularities_figs38_40.png"} \
+        <= {p.name for p in out.iterdir()}
 
 
 def test_sigterm_keeps_the_finished_chunks_and_a_rerun_resumes(tmp_path):
