@@ -63,11 +63,12 @@ def test_sweep_covers_every_integrator_and_step():
     """The sweep holds each fixed-step method at each step and dopri5 at each tolerance, in both
     of freefloat's loops, with the bare Pinocchio loop and MuJoCo."""
     points = methods((1e-2, 1e-3), (1e-6,))
-    assert len(points) == 3 * 2 + 1 + 4 * 2 + 1 + 2 + 3 * 2
+    assert len(points) == 3 * 2 + 1 + 5 * 2 + 2 + 2 + 3 * 2
     assert {p.label for p in points} == {
         "freefloat euler", "freefloat rkmk4", "freefloat rk4_naive", "freefloat dopri5", "freefloat euler compiled",
-        "freefloat rkmk4 compiled", "freefloat rkmk6 compiled", "freefloat rkmk8 compiled",
-        "freefloat dopri5 compiled", "pinocchio euler", "mujoco Euler", "mujoco implicitfast", "mujoco RK4"}
+        "freefloat rkmk3 compiled", "freefloat rkmk4 compiled", "freefloat rkmk6 compiled", "freefloat rkmk8 compiled",
+        "freefloat dopri5 compiled", "freefloat bs32 compiled", "pinocchio euler", "mujoco Euler",
+        "mujoco implicitfast", "mujoco RK4"}
 
 
 @pytest.mark.parametrize("integrator", ["euler", "rkmk4", "dopri5"])
