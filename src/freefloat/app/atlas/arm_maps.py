@@ -109,8 +109,9 @@ def reference_posture(robot: Robot, target: str) -> np.ndarray:
 
 
 def joint_limits(robot: Robot) -> tuple[np.ndarray, np.ndarray]:
-    """Each actuated joint's position range (n,), (n,), clipped to [-pi, pi] for a revolute joint
-    whose range is wider or absent."""
+    """Each actuated joint's position range (n,), (n,), clipped to [-pi, pi] where it is wider or
+    absent (rad; m for a prismatic joint, whose missing limits give [-pi, pi] m too); continuous
+    joints over [-pi, pi]."""
     model = robot.model
     low, high = np.full(robot.n_joints, -np.pi), np.full(robot.n_joints, np.pi)
     for k, joint in enumerate(range(2, model.njoints)):
@@ -215,8 +216,7 @@ def evaluate(context: ArmMap, points: np.ndarray) -> dict[str, np.ndarray]:
     ``drift`` (m, rows), ``hold_rate`` and ``drift_left`` (m,)."""
     robot = robot_of(context.target, context.base)
     model, coords = gjm.model_of(robot), JointCoordinates(robot)
-    q, v = robot.neutral(), np.zeros(robot.model.nv)
-    angles = np.array(context.posture)
+    v = np.zeros(robot.model.nv)
     block = slice(6 * context.index, 6 * context.index + 6)
     axes, m = np.array(context.axis_index), len(points)
     n_bodies = len(model.tree.mass)
@@ -224,9 +224,9 @@ def evaluate(context: ArmMap, points: np.ndarray) -> dict[str, np.ndarray]:
     Jstar, Jm = np.empty((m, 6, robot.n_joints)), np.empty((m, 6, robot.n_joints))
     ee, r0, coms = np.empty((m, 3)), np.empty((m, 3)), np.empty((m, n_bodies, 3))
     J0E, H0 = (np.empty((m, 6, 6)), np.empty((m, 6, 6))) if context.momentum is not None else (None, None)
-    angles = np.tile(angles, (m, 1))
+    angles = np.tile(np.array(context.posture), (m, 1))
     angles[:, axes] = points
-    configurations = np.tile(q, (m, 1))
+    configurations = np.tile(robot.neutral(), (m, 1))
     coords.set(configurations.T, angles.T)  # every row at once (columns of the transposed views)
     for k, q in enumerate(configurations):
         raw = model.core.compute(q, v)  # GJMState's fields as a tuple (gjm.compute without the wrapping)
@@ -252,8 +252,7 @@ def evaluate(context: ArmMap, points: np.ndarray) -> dict[str, np.ndarray]:
     for name, J in (("free", Jstar), ("fixed", Jm)):
         sv = np.linalg.svd(J, compute_uv=False)
         out[f"sv_{name}"] = sv
-        with np.errstate(divide="ignore"):
-            out[f"cond_{name}"] = np.where(sv[:, -1] > 0, sv[:, 0] / np.where(sv[:, -1] > 0, sv[:, -1], 1.0), np.inf)
+        out[f"cond_{name}"] = np.where(sv[:, -1] > 0, sv[:, 0] / np.where(sv[:, -1] > 0, sv[:, -1], 1.0), np.inf)
         out[f"manipulability_{name}"] = np.prod(sv, axis=1)
         out[f"singular_{name}"] = sv[:, -1] < context.tolerance * sv[:, 0]
     if drift is not None:
