@@ -168,12 +168,12 @@ def test_an_interrupted_approach_is_an_interrupt_not_a_missed_target(monkeypatch
 
 
 def test_grasp_mismatch_vanishes_on_the_weld_after_the_impact(setup):
-    """grasp_mismatch: zero gap on the fixture (grasp point on the hand), a relative speed that is
-    the twist difference before the impact and zero after it (the weld)."""
+    """grasp_mismatch: zero gap on the fixture (grasp point on the hand), relative linear and
+    angular speeds that are the twist differences before the impact and zero after it (the weld)."""
     from freefloat.space.capture import grasp_mismatch
 
     robot, q, v, body, q_t, v_t = setup
-    gap, before = grasp_mismatch(robot, "arm1_ee", q, v, body, q_t, v_t)
+    gap, before, spin_before = grasp_mismatch(robot, "arm1_ee", q, v, body, q_t, v_t)
     data = robot.model.createData()
     pin.forwardKinematics(robot.model, data, q, v)
     ee = pin.getFrameVelocity(robot.model, data, robot.model.getFrameId("arm1_ee"), pin.LOCAL_WORLD_ALIGNED).linear
@@ -181,7 +181,8 @@ def test_grasp_mismatch_vanishes_on_the_weld_after_the_impact(setup):
     grasp = pin.getFrameVelocity(body.model, body.data, body.grasp_id, pin.LOCAL_WORLD_ALIGNED).linear
     assert gap < 1e-12 and before == pytest.approx(np.linalg.norm(ee - grasp), rel=1e-12) and before > 1e-3
     hit = impact(robot, "arm1_ee", q, v, body, q_t, v_t)
-    assert grasp_mismatch(robot, "arm1_ee", q, hit.v_robot, body, q_t, hit.v_target)[1] < 1e-12
+    assert spin_before > 1e-3
+    assert max(grasp_mismatch(robot, "arm1_ee", q, hit.v_robot, body, q_t, hit.v_target)[1:]) < 1e-12
 
 
 def test_attitude_change_is_the_angle_between_first_and_last_quaternions():

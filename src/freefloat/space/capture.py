@@ -319,7 +319,7 @@ def capture_and_detumble(robot: Robot, target: Target, end_effector: str, rows_s
     t_hit = pre.telemetry.t[-1]
     q, v = pre.telemetry.q[-1], pre.telemetry.v[-1]
     hit = impact(robot, end_effector, q, v, body, state.q, state.v)
-    gap, relative_speed = grasp_mismatch(robot, end_effector, q, v, body, state.q, state.v)
+    gap, relative_speed, relative_spin = grasp_mismatch(robot, end_effector, q, v, body, state.q, state.v)
     merged = attach(robot, end_effector, q, body, state.q)
     merged_after = robot_momentum(merged, q, hit.v_robot)
     controller = DetumblingController(merged, task_rows(merged, rows_spec), joint_indices(merged, joints), start=0.0,
@@ -334,6 +334,7 @@ def capture_and_detumble(robot: Robot, target: Target, end_effector: str, rows_s
         "approach_base_attitude_change": attitude_change(pre.telemetry.base_quaternion),
         "grasp_position_mismatch": gap,
         "grasp_velocity_mismatch": relative_speed,
+        "grasp_angular_velocity_mismatch": relative_spin,
         "grasp_impulse": float(np.linalg.norm(hit.impulse[:3])),
         "momentum_before_impact": hit.momentum_before.tolist(),
         "momentum_after_impact": merged_after.tolist(),
@@ -355,18 +356,20 @@ def capture_and_detumble(robot: Robot, target: Target, end_effector: str, rows_s
 
 
 def grasp_mismatch(robot: Robot, end_effector: str, q: np.ndarray, v: np.ndarray, body: TargetBody,
-                   q_t: np.ndarray, v_t: np.ndarray) -> tuple[float, float]:
-    """``(|p_E - p_g|, |v_E - v_g|)``: the end-effector frame origin against the grasp point,
-    position (m) and linear velocity (m/s, inertial), just before the grasp."""
+                   q_t: np.ndarray, v_t: np.ndarray) -> tuple[float, float, float]:
+    """``(|p_E - p_g|, |v_E - v_g|, |w_E - w_t|)``: the end-effector frame origin against the grasp
+    point, position (m) and linear velocity (m/s, inertial), and the end-effector's angular
+    velocity against the target's (rad/s), just before the grasp."""
     model, data = robot.model, robot.model.createData()
     fid = model.getFrameId(end_effector)
     pin.forwardKinematics(model, data, q, v)
     p_E = pin.updateFramePlacement(model, data, fid).translation
-    v_E = pin.getFrameVelocity(model, data, fid, pin.LOCAL_WORLD_ALIGNED).linear
+    v_E = pin.getFrameVelocity(model, data, fid, pin.LOCAL_WORLD_ALIGNED)
     pin.forwardKinematics(body.model, body.data, q_t, v_t)
     p_g = pin.updateFramePlacement(body.model, body.data, body.grasp_id).translation
-    v_g = pin.getFrameVelocity(body.model, body.data, body.grasp_id, pin.LOCAL_WORLD_ALIGNED).linear
-    return float(np.linalg.norm(p_E - p_g)), float(np.linalg.norm(v_E - v_g))
+    v_g = pin.getFrameVelocity(body.model, body.data, body.grasp_id, pin.LOCAL_WORLD_ALIGNED)
+    return (float(np.linalg.norm(p_E - p_g)), float(np.linalg.norm(v_E.linear - v_g.linear)),
+            float(np.linalg.norm(v_E.angular - v_g.angular)))
 
 
 def attitude_change(quaternions: np.ndarray) -> float:

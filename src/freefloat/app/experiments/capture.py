@@ -100,12 +100,30 @@ def approach_request(scene: Scene, setup, hands: tuple[str, ...], grasps: tuple[
     if ap.start > 0.0 and np.abs(setup.v0).max() > 0.0:
         raise SceneError(f"{where} 'start' {ap.start} s plans from the initial posture held at rest: the [initial] "
                          "velocities must be zero (or start at 0)")
+    if ap.match == "pose":
+        grasps = handles(scene, setup, hands, grasps)
     try:
         return ApproachRequest(robot, setup.q0, setup.v0, hands, tuple(g.shifted(ap.start) for g in grasps),
                                scene.target.contact_time - ap.start, Limits.of(robot, rate, ap.max_torque), joints,
-                               ap.steps, tolerance=0.1 * scene.target.tolerance)
+                               ap.steps, tolerance=0.1 * scene.target.tolerance, match=ap.match)
     except FreefloatError as exc:
         raise SceneError(f"scene '{scene.name}': [approach] {exc}") from exc
+
+
+def handles(scene: Scene, setup, hands: tuple[str, ...], grasps: tuple[GraspMotion, ...]) -> tuple[GraspMotion, ...]:
+    """The grasp flights with their handles (``match = "pose"``): each hand's start orientation
+    turned by ``approach.turn`` (inertial rotation vector, angle unit) is the handle's orientation
+    at ``target.contact_time``, fixed on the target from there."""
+    robot, contact = setup.robot, scene.target.contact_time
+    data = robot.model.createData()
+    pin.framesForwardKinematics(robot.model, data, setup.q0)
+    turn = pin.exp3(np.multiply(scene.approach.turn, scene.angle_scale))
+    out = []
+    for hand, grasp in zip(hands, grasps):
+        target_then = pin.exp3(grasp.angular_velocity * contact) @ grasp.rotation
+        handle = target_then.T @ turn @ data.oMf[robot.model.getFrameId(hand)].rotation
+        out.append(dataclasses.replace(grasp, handle=handle))
+    return tuple(out)
 
 
 def planned(scene: Scene, setup, hands: tuple[str, ...], grasps: tuple[GraspMotion, ...]) -> dict[str, Plan | None]:

@@ -170,7 +170,10 @@ class ApproachSection:
     (default each joint's URDF ``<limit>``); ``mission_joints`` (default all); ``steps`` of the
     planning grid; ``compare``: also plan ``min_norm`` and report the attitude-change ratio;
     ``start`` (s): the posture is held until then (from rest), then the approach runs to the
-    contact."""
+    contact; ``match``: ``"position"`` (the grasp point's position and velocity) or ``"pose"``
+    (also each hand's orientation onto a handle turning with the target: the hand's start
+    orientation turned by ``turn``, a rotation vector in angle_unit about inertial axes, at the
+    contact, and the target's angular velocity)."""
 
     method: str = "null_space"
     reach: tuple[float, float, float] = (0.0, 0.0, 0.0)
@@ -180,6 +183,8 @@ class ApproachSection:
     steps: int = 200
     compare: bool = True
     start: float = 0.0
+    match: str = "position"
+    turn: tuple[float, float, float] = (0.0, 0.0, 0.0)
 
 
 @dataclass(frozen=True)
@@ -281,6 +286,7 @@ CHOICES = {
     ("closures", "kind"): lambda: (*KINDS, *ALIASES),
     ("", "angle_unit"): ("deg", "rad"),
     ("approach", "method"): ("null_space", "min_norm", "optimised"),
+    ("approach", "match"): ("position", "pose"),
     ("attitude", "kind"): ("hold", "none"),
 }
 POSITIVE = {

@@ -3,7 +3,7 @@ aims at)."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 import pinocchio as pin
@@ -24,6 +24,8 @@ class GraspMotion:
         angular_velocity: w, inertial frame, rad/s (3,).
         rotation: target frame orientation at t = 0, inertial frame (3, 3).
         grasp: grasp point in the target frame, from its CoM, m (3,).
+        handle: orientation of the grasp frame (the handle a hand aligns with) in the target
+            frame (3, 3).
     """
 
     com: np.ndarray
@@ -31,6 +33,7 @@ class GraspMotion:
     angular_velocity: np.ndarray
     rotation: np.ndarray
     grasp: np.ndarray
+    handle: np.ndarray = field(default_factory=lambda: np.eye(3))
 
     @classmethod
     def of(cls, target: Target) -> "GraspMotion":
@@ -53,7 +56,13 @@ class GraspMotion:
     def shifted(self, start: float) -> "GraspMotion":
         """The same flight with its time origin at ``start`` s (``shifted(s).at(t) == at(s + t)``)."""
         rotation = pin.exp3(self.angular_velocity * start) @ self.rotation
-        return GraspMotion(self.com + self.velocity * start, self.velocity, self.angular_velocity, rotation, self.grasp)
+        return GraspMotion(self.com + self.velocity * start, self.velocity, self.angular_velocity, rotation, self.grasp,
+                           self.handle)
+
+    def orientation(self, t: float) -> np.ndarray:
+        """The grasp frame's orientation at ``t`` s, inertial frame: ``R(t) handle`` (3, 3); it
+        turns at ``w``."""
+        return pin.exp3(self.angular_velocity * t) @ self.rotation @ self.handle
 
     def at(self, t: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Grasp point position, velocity and acceleration at ``t`` s, inertial frame, (3,) each:

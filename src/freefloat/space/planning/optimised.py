@@ -67,7 +67,7 @@ def optimised_path(request: ApproachRequest, degree: int = 6, samples: int = 16,
 
 class _Problem:
     """The optimisation's unknowns, polynomial and scaled values: objective (1 at the start),
-    grasp equalities (position and velocity mismatches over the task components, hand after
+    grasp equalities (the matched entries of :meth:`ApproachRequest.grasp_errors`, hand after
     hand, in units of :attr:`scale`), limit inequalities (1 - margin - |value| / limit on the grid, rates then torques)."""
 
     #: The limits are kept this fraction inside on the optimiser's grid, so that the peaks
@@ -89,10 +89,9 @@ class _Problem:
         step = self.T / degree
         self.fixed = np.array([start, start + rate0 * step, start + 2 * rate0 * step])  # zero acceleration
         self.line = start + rate0 * step * np.arange(degree + 1)[:, None]  # (d + 1, n): the joints at their rate
-        components = len(request.task_components())
-        self.n_equalities = 2 * components * len(request.end_effectors)
-        self.tolerances = np.tile(np.repeat([request.tolerance, request.velocity_tolerance], components),
-                                  len(request.end_effectors))
+        matched = np.broadcast_to(request.matched, (len(request.end_effectors), 4, 3))
+        self.n_equalities = int(matched.sum())
+        self.tolerances = np.broadcast_to(request.tolerances[:, None], matched.shape)[matched]
         self.data = robot.model.createData()
         self.reference = 1.0
         self._values: dict[bytes, np.ndarray] = {}
@@ -147,7 +146,7 @@ class _Problem:
             H, bias = joint_space_dynamics(robot, data, q[k], v[k])
             torques[k] = H @ accelerations[k] + bias
         limits = request.limits
-        return np.concatenate(([objective], request.grasp_errors(q[-1], v[-1]).ravel() / self.scale,
+        return np.concatenate(([objective], request.grasp_errors(q[-1], v[-1])[:, request.matched].ravel() / self.scale,
                                (1.0 - self.margin - np.abs(rates) / limits.joint_rate).ravel(),
                                (1.0 - self.margin - np.abs(torques) / limits.torque).ravel()))
 

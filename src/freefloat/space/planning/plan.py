@@ -51,6 +51,8 @@ class Plan:
         attitude: base attitude change from the start on the grid, the angle of
             ``R0(t) R0(0)^T`` (N,), rad.
         limits: the limits the plan was checked against.
+        angle_error: largest orientation mismatch with the handle at T (``"pose"``; else 0), rad.
+        angular_velocity_error: largest angular velocity mismatch at T (``"pose"``; else 0), rad/s.
     """
 
     method: str
@@ -64,6 +66,8 @@ class Plan:
     velocity_error: float
     attitude: np.ndarray
     limits: Limits
+    angle_error: float = 0.0
+    angular_velocity_error: float = 0.0
 
     @property
     def attitude_change(self) -> float:
@@ -78,6 +82,8 @@ class Plan:
             "approach_plan_attitude_max": float(self.attitude.max()),
             "approach_plan_position_error": self.position_error,
             "approach_plan_velocity_error": self.velocity_error,
+            "approach_plan_angle_error": self.angle_error,
+            "approach_plan_angular_velocity_error": self.angular_velocity_error,
             "approach_plan_peak_joint_rate": float(np.abs(self.joint_rate).max()),
             "approach_plan_peak_torque": float(np.abs(self.torque).max()),
             "approach_joint_rate_limits": self.limits.joint_rate.tolist(),
@@ -92,7 +98,7 @@ def evaluate(request: ApproachRequest, path: JointPath, method: str) -> Plan:
     kin = FloatingKinematics.at_state(robot, request.q0, request.v0)
     q, v = rollout(kin, request.q0, lambda t, _q: path(t)[1], times)
     data = robot.model.createData()
-    errors = np.linalg.norm(request.grasp_errors(q[-1], v[-1]), axis=2).max(axis=0)
+    errors = np.linalg.norm(request.grasp_errors(q[-1], v[-1]), axis=2).max(axis=0)  # (4,): the worst hand
     R_start = base_state(robot, q[0], v[0])[1]
     attitude = np.array([np.linalg.norm(pin.log3(base_state(robot, qk, vk)[1] @ R_start.T)) for qk, vk in zip(q, v)])
     rates, torque = np.empty((len(times), robot.n_joints)), np.empty((len(times), robot.n_joints))
@@ -100,7 +106,8 @@ def evaluate(request: ApproachRequest, path: JointPath, method: str) -> Plan:
         _, rates[k], acceleration = path(t)
         H, bias = joint_space_dynamics(robot, data, q[k], v[k])
         torque[k] = H @ acceleration + bias
-    return Plan(method, path, times, q, v, torque, rates, float(errors[0]), float(errors[1]), attitude, request.limits)
+    return Plan(method, path, times, q, v, torque, rates, float(errors[0]), float(errors[1]), attitude, request.limits,
+                float(errors[2]), float(errors[3]))
 
 
 def check(plan: Plan, request: ApproachRequest) -> Plan:
@@ -112,16 +119,18 @@ def check(plan: Plan, request: ApproachRequest) -> Plan:
             torque limit is exceeded (with the hint that the deadline may be too short).
     """
     T = request.duration
-    errors = np.linalg.norm(request.grasp_errors(plan.q[-1], plan.v[-1]), axis=2)  # (k, 2)
-    missed = np.flatnonzero((errors[:, 0] > request.tolerance) | (errors[:, 1] > request.velocity_tolerance))
+    errors = np.linalg.norm(request.grasp_errors(plan.q[-1], plan.v[-1]), axis=2)  # (k, 4)
+    missed = np.flatnonzero((errors > request.tolerances).any(axis=1))
     if missed.size:
         k = int(missed[0])
         distance, reach = request.arm_reach(k)
+        units = ("m", "m/s", "rad", "rad/s")[: 4 if request.match == "pose" else 2]
+        ends = " and ".join(f"{e:.3g} {u} (tolerance {t:.3g})" for e, u, t in zip(errors[k], units, request.tolerances))
         raise InfeasiblePlan(
-            f"approach ({plan.method}): the grasp point is out of reach of '{request.end_effectors[k]}' at t = {T:.4g} "
-            f"s: the plan ends {errors[k, 0]:.3g} m (tolerance {request.tolerance:.3g}) and {errors[k, 1]:.3g} m/s "
-            f"(tolerance {request.velocity_tolerance:.3g}) from it; it is {distance:.3g} m from the arm's first joint, "
-            f"whose reach is {reach:.3g} m (or the path meets a singularity)", "reach")
+            f"approach ({plan.method}): the grasp {'frame' if request.match == 'pose' else 'point'} is out of reach of "
+            f"'{request.end_effectors[k]}' at t = {T:.4g} s: the plan ends {ends} from it; the grasp point is "
+            f"{distance:.3g} m from the arm's first joint, whose reach is {reach:.3g} m (or the path meets a "
+            "singularity)", "reach")
     names = request.robot.joint_names
     for what, values, limit, unit in (("joint_rate", plan.joint_rate, request.limits.joint_rate, "rad/s"),
                                       ("torque", plan.torque, request.limits.torque, "N m")):

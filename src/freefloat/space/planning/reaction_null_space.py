@@ -50,11 +50,13 @@ class TaskRows:
     joints: np.ndarray
 
     @classmethod
-    def position(cls, robot: Robot, end_effectors: tuple[str, ...], joints: np.ndarray | None = None) -> "TaskRows":
-        """The end-effectors' linear rows (vx, vy, vz; vx, vy on a planar base), hand after hand,
-        and the base's attitude rows, with ``joints`` (default all)."""
+    def position(cls, robot: Robot, end_effectors: tuple[str, ...], joints: np.ndarray | None = None,
+                 angular: np.ndarray = np.arange(0)) -> "TaskRows":
+        """The end-effectors' linear rows (vx, vy, vz; vx, vy on a planar base) and then their
+        ``angular`` components (indices into wx, wy, wz), hand after hand, and the base's attitude
+        rows, with ``joints`` (default all)."""
         planar = robot.base == "planar"
-        components = np.arange(2 if planar else 3)
+        components = np.concatenate((np.arange(2 if planar else 3), 3 + np.asarray(angular, int)))
         rows = np.concatenate([6 * robot.end_effectors.index(name) + components for name in end_effectors])
         attitude = np.array([5]) if planar else np.arange(3, 6)
         return cls(rows, attitude, np.arange(robot.n_joints) if joints is None else np.asarray(joints, int))

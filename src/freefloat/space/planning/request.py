@@ -61,6 +61,10 @@ class ApproachRequest:
         gain: closed-loop gain of the resolved-rate laws on the task position error, 1/s.
         tolerance: largest grasp-point position mismatch at T the plan may leave (each hand), m.
         velocity_tolerance: largest grasp-point velocity mismatch at T (each hand), m/s.
+        match: ``"position"`` (the grasp point's position and velocity) or ``"pose"`` (also the
+            grasp frame's orientation and angular velocity: each hand's frame onto its handle).
+        angle_tolerance: largest orientation mismatch at T with ``"pose"``, rad.
+        angular_velocity_tolerance: largest angular velocity mismatch at T with ``"pose"``, rad/s.
     """
 
     robot: Robot
@@ -75,8 +79,13 @@ class ApproachRequest:
     gain: float = 20.0
     tolerance: float = 1e-4
     velocity_tolerance: float = 1e-3
+    match: str = "position"
+    angle_tolerance: float = 1e-3
+    angular_velocity_tolerance: float = 1e-2
 
     def __post_init__(self):
+        if self.match not in MATCHES:
+            raise InvalidArgument(f"approach: 'match' must be one of {', '.join(MATCHES)}, got {self.match!r}")
         for name in self.end_effectors:
             if name not in self.robot.end_effectors:
                 raise InvalidArgument(f"approach: '{name}' is not an end-effector; end-effectors: "
@@ -103,6 +112,27 @@ class ApproachRequest:
         """The position components the plan matches: x, y on a planar base, x, y, z on a free one."""
         return np.arange(2 if self.robot.base == "planar" else 3)
 
+    def angular_components(self) -> np.ndarray:
+        """The orientation components the plan matches: none for ``"position"``; z on a planar
+        base, x, y, z on a free one for ``"pose"``."""
+        if self.match == "position":
+            return np.arange(0)
+        return np.array([2]) if self.robot.base == "planar" else np.arange(3)
+
+    @property
+    def matched(self) -> np.ndarray:
+        """Which entries of :meth:`grasp_errors`' (4, 3) block per hand the plan must zero (4, 3)."""
+        mask = np.zeros((4, 3), bool)
+        mask[:2, self.task_components()] = True
+        mask[2:, self.angular_components()] = True
+        return mask
+
+    @property
+    def tolerances(self) -> np.ndarray:
+        """The tolerance of each row of :meth:`grasp_errors`' block (4,): m, m/s, rad, rad/s."""
+        return np.array([self.tolerance, self.velocity_tolerance, self.angle_tolerance,
+                         self.angular_velocity_tolerance])
+
     def arm_reach(self, k: int) -> tuple[float, float]:
         """``(distance, reach)`` of hand ``k`` at the start: from its arm's first joint to its grasp
         point at T, and the arm's reach (:func:`arm_reach`), m, for the out-of-reach message."""
@@ -110,18 +140,24 @@ class ApproachRequest:
         return float(np.linalg.norm(self.grasps[k].at(self.duration)[0] - shoulder)), reach
 
     def grasp_errors(self, q: np.ndarray, v: np.ndarray) -> np.ndarray:
-        """Each hand's mismatch with its grasp point at T over the task components: rows
-        ``[p_E - p_g, v_E - v_g]`` per hand (k, 2, c), m and m/s, at the state (q, v)."""
+        """Each hand's mismatch with its grasp frame at T, at the state (q, v): rows ``[p_E - p_g,
+        v_E - v_g, log(R_E R_g^T), w_E - w]`` per hand (k, 4, 3), m, m/s, rad, rad/s, inertial;
+        the entries the plan does not match (:attr:`matched`) are zero."""
         model, data = self.robot.model, self.robot.model.createData()
         pin.forwardKinematics(model, data, q, v)
-        c = self.task_components()
         out = []
         for frame, grasp in zip(self.frames, self.grasps):
             p_g, v_g, _ = grasp.at(self.duration)
-            p_E = pin.updateFramePlacement(model, data, frame).translation
-            v_E = pin.getFrameVelocity(model, data, frame, pin.LOCAL_WORLD_ALIGNED).linear
-            out.append(((p_E - p_g)[c], (v_E - v_g)[c]))
-        return np.array(out)
+            placement = pin.updateFramePlacement(model, data, frame)
+            twist = pin.getFrameVelocity(model, data, frame, pin.LOCAL_WORLD_ALIGNED)
+            out.append((placement.translation - p_g, twist.linear - v_g,
+                        pin.log3(placement.rotation @ grasp.orientation(self.duration).T),
+                        twist.angular - grasp.angular_velocity))
+        return np.where(self.matched, np.array(out), 0.0)
+
+
+#: What a plan matches at the grasp: see :class:`ApproachRequest`.
+MATCHES = ("position", "pose")
 
 
 def arm_reach(robot: Robot, q: np.ndarray, end_effector: str) -> tuple[np.ndarray, float]:

@@ -46,23 +46,52 @@ def task_path(request: ApproachRequest) -> np.ndarray:
                    tuple(np.concatenate(parts) for parts in zip(*end)))
 
 
+def orientation_paths(request: ApproachRequest) -> list[tuple[np.ndarray, np.ndarray]]:
+    """Per hand, ``(R_E0, coefficients (6, 3))`` of its orientation path for ``match = "pose"``:
+    ``R_d(t) = exp(phi(t)) R_E0`` with the quintic rotation vector ``phi`` (inertial) from 0 at the
+    hand's angular velocity to ``log(R_g(T) R_E0^T)`` at the grasp frame's, ``w = J_l(phi)
+    phi_dot`` (SO(3)'s left Jacobian, ``J_r(phi)^T``), zero ``phi_ddot`` at both ends."""
+    model, data = request.robot.model, request.robot.model.createData()
+    pin.forwardKinematics(model, data, request.q0, request.v0)
+    out = []
+    for frame, grasp in zip(request.frames, request.grasps):
+        start = pin.updateFramePlacement(model, data, frame).rotation
+        w_start = pin.getFrameVelocity(model, data, frame, pin.LOCAL_WORLD_ALIGNED).angular
+        end = pin.log3(grasp.orientation(request.duration) @ start.T)
+        end_rate = np.linalg.solve(pin.Jexp3(end).T, grasp.angular_velocity)
+        out.append((start, quintic(request.duration, (np.zeros(3), w_start, np.zeros(3)), (end, end_rate, np.zeros(3)))))
+    return out
+
+
 def resolved_rate_path(request: ApproachRequest, law: RateLaw) -> JointPath:
-    """The joint path of ``law`` following :func:`task_path` on the request's grid: the rolled-out
-    joint positions and rates joined by a cubic Hermite spline (C1; the accelerations are its
-    second derivative)."""
+    """The joint path of ``law`` following :func:`task_path` (and, with ``match = "pose"``,
+    :func:`orientation_paths`) on the request's grid, closed on the position and orientation
+    errors: the rolled-out joint positions and rates joined by a cubic Hermite spline (C1; the
+    accelerations are its second derivative)."""
     robot = request.robot
     kin = FloatingKinematics.at_state(robot, request.q0, request.v0)
-    task = TaskRows.position(robot, request.end_effectors, request.joints)
-    coefficients = task_path(request)
+    angular = request.angular_components()
+    task = TaskRows.position(robot, request.end_effectors, request.joints, angular)
+    coefficients, turns = task_path(request), orientation_paths(request) if angular.size else []
     hands, c = [robot.end_effectors.index(name) for name in request.end_effectors], request.task_components()
+    data = robot.model.createData()
 
     def rates(t: float, q: np.ndarray) -> np.ndarray:
         state = kin.matrices(q)
         powers = np.array([t**k for k in range(6)])
         speeds = np.array([k * t ** max(k - 1, 0) for k in range(6)])
         x_d, xdot_d = powers @ coefficients, speeds @ coefficients
-        error = x_d - state.ee_position[hands][:, c].ravel()
-        return law(state, kin.momentum_base(state), xdot_d + request.gain * error, task)
+        linear = (xdot_d + request.gain * (x_d - state.ee_position[hands][:, c].ravel())).reshape(len(hands), -1)
+        if not turns:
+            return law(state, kin.momentum_base(state), linear.ravel(), task)
+        pin.framesForwardKinematics(robot.model, data, q)
+        parts = []
+        for k, (frame, (start, phi)) in enumerate(zip(request.frames, turns)):
+            rotation_vector, rate = powers @ phi, speeds @ phi
+            w_d = pin.Jexp3(rotation_vector).T @ rate
+            error = pin.log3(pin.exp3(rotation_vector) @ start @ data.oMf[frame].rotation.T)
+            parts.append(np.concatenate((linear[k], (w_d + request.gain * error)[angular])))
+        return law(state, kin.momentum_base(state), np.concatenate(parts), task)
 
     times = request.times
     q, v = rollout(kin, request.q0, rates, times)
