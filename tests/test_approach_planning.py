@@ -241,7 +241,8 @@ def test_a_rate_limit_is_refused_naming_the_joint_and_the_deadline(planar):
     """A joint-rate limit the plan exceeds is refused with the joint, the time and the deadline."""
     robot, q0, v0 = planar
     req = request_for(robot, q0, v0, "arm1_ee", (0.3, 0.4, 0.0), 1.0, joint_rate=0.05)
-    with pytest.raises(InfeasiblePlan, match=r"joint rate limit violated: joint 'arm\d_joint\d'.*deadline of 1 s is too short"):
+    message = r"joint rate limit violated: joint 'arm\d_joint\d'.*deadline of 1 s is too short"
+    with pytest.raises(InfeasiblePlan, match=message):
         plan_approach(req, "null_space")
 
 

@@ -68,7 +68,8 @@ def optimised_path(request: ApproachRequest, degree: int = 6, samples: int = 16,
 class _Problem:
     """The optimisation's unknowns, polynomial and scaled values: objective (1 at the start),
     grasp equalities (the matched entries of :meth:`ApproachRequest.grasp_errors`, hand after
-    hand, in units of :attr:`scale`), limit inequalities (1 - margin - |value| / limit on the grid, rates then torques)."""
+    hand, in units of :attr:`scale`), limit inequalities (1 - margin - |value| / limit on the
+    grid, rates then torques)."""
 
     #: The limits are kept this fraction inside on the optimiser's grid, so that the peaks
     #: between its samples stay within them on the plan's finer grid (which checks them).

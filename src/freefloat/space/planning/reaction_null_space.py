@@ -51,7 +51,7 @@ class TaskRows:
 
     @classmethod
     def position(cls, robot: Robot, end_effectors: tuple[str, ...], joints: np.ndarray | None = None,
-                 angular: np.ndarray = np.arange(0)) -> "TaskRows":
+                 angular: tuple[int, ...] | np.ndarray = ()) -> "TaskRows":
         """The end-effectors' linear rows (vx, vy, vz; vx, vy on a planar base) and then their
         ``angular`` components (indices into wx, wy, wz), hand after hand, and the base's attitude
         rows, with ``joints`` (default all)."""

@@ -59,7 +59,8 @@ def orientation_paths(request: ApproachRequest) -> list[tuple[np.ndarray, np.nda
         w_start = pin.getFrameVelocity(model, data, frame, pin.LOCAL_WORLD_ALIGNED).angular
         end = pin.log3(grasp.orientation(request.duration) @ start.T)
         end_rate = np.linalg.solve(pin.Jexp3(end).T, grasp.angular_velocity)
-        out.append((start, quintic(request.duration, (np.zeros(3), w_start, np.zeros(3)), (end, end_rate, np.zeros(3)))))
+        ends = (np.zeros(3), w_start, np.zeros(3)), (end, end_rate, np.zeros(3))
+        out.append((start, quintic(request.duration, *ends)))
     return out
 
 
