@@ -5,9 +5,9 @@ in it, said so) with the robot drawn at start and end, log axes clipped to the d
 Each ``*_figure`` function returns a :class:`matplotlib.figure.Figure` on the Agg canvas (see
 :mod:`.plotting`), so tests can read the plotted data; :func:`write_figures` saves those the run
 chose (:mod:`freefloat.app.figure_set`), less those whose data is identically zero
-(:func:`empty_figures` says which and why, for the summary). Positions and momenta are in the inertial frame, as recorded in
-:class:`~freefloat.dynamics.telemetry.Telemetry`; joint errors in rad (m for prismatic
-joints), as in the summary.
+(:func:`empty_figures` says which and why, for the summary). Positions and momenta are in the
+inertial frame, as recorded in :class:`~freefloat.dynamics.telemetry.Telemetry`; joint errors
+in rad (m for prismatic joints), as in the summary.
 """
 
 from __future__ import annotations
@@ -62,8 +62,8 @@ def write_figures(robot: Robot, telemetry: Telemetry, out_dir: str | Path,
     Returns:
         The written files: ``joint_errors`` (only when the run has joint references),
         ``torques``, ``base_trajectory``, ``end_effector_paths``, ``end_effector_displacement``,
-        ``com_drift`` or ``conservation_balance``, ``angular_rates`` and ``angular_momentum``, each in the
-        chosen formats, less those not chosen and those :func:`empty_figures` names.
+        ``com_drift`` or ``conservation_balance``, ``angular_rates`` and ``angular_momentum``,
+        each in the chosen formats, less those not chosen and those :func:`empty_figures` names.
     """
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
@@ -138,8 +138,8 @@ def joint_error_figure(robot: Robot, telemetry: Telemetry, panels: ArmPanels | N
 def torque_figure(robot: Robot, telemetry: Telemetry, panels: ArmPanels | None = None) -> Figure:
     """Joint torques (N m; N for prismatic joints) vs t, one panel per arm, drawn as steps since
     ``tau[k]`` is held over [t_k, t_k+1), on ``panels`` (default: new ones)."""
-    return (panels or ArmPanels(robot, telemetry.t)).draw(telemetry.tau, "Joint torques, held over each control period",
-                                                          "torque (N m)", "N", steps=True)
+    return (panels or ArmPanels(robot, telemetry.t)).draw(
+        telemetry.tau, "Joint torques, held over each control period", "torque (N m)", "N", steps=True)
 
 
 def base_trajectory_figure(telemetry: Telemetry) -> Figure:

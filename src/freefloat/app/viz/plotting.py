@@ -134,10 +134,10 @@ def save_all(figures: dict[str, Drawing], out_dir: Path) -> list[Path]:
 
     Rendering is most of the cost (text layout, rasterising), so a helper process
     (:mod:`.rendering`: a new interpreter, not a fork) renders every other figure, from the
-    second, while this one draws every figure and renders the rest (a lone figure: here). A figure goes to the helper pickled as it is when sent,
-    so the next one may redraw the same Figure (see
-    :class:`~freefloat.app.viz.figures.ArmPanels`); a figure the helper fails on is rendered
-    here from that copy."""
+    second, while this one draws every figure and renders the rest (a lone figure: here). A
+    figure goes to the helper pickled as it is when sent, so the next one may redraw the same
+    Figure (see :class:`~freefloat.app.viz.figures.ArmPanels`); a figure the helper fails on is
+    rendered here from that copy."""
     names, formats = _CHOSEN.get()
     helper: Renderer | None = None
     stems: list[str] = []
@@ -148,7 +148,7 @@ def save_all(figures: dict[str, Drawing], out_dir: Path) -> list[Path]:
         if fig is None:
             continue
         sent = False
-        if len(stems) % 2 == 1:  # every other figure, from the second, to the helper (this process draws them all)
+        if len(stems) % 2 == 1:  # every other figure, from the second, to the helper
             helper = helper or Renderer(save)
             sent = helper.send(fig, out_dir, stem, formats)
         if not sent:
