@@ -143,3 +143,17 @@ def test_core_admits_exactly_the_states_check_state_accepts(tmp_path_factory, ca
     except InvalidArgument:
         accepted = False
     assert gjm.model_of(robot).admissible(q, v) == accepted
+
+
+def test_compute_results_are_not_overwritten_by_the_next_call():
+    """The dense outputs the core hands to numpy without a copy (Hm, H*, Jm, J*) belong to the
+    returned state: a second compute at another state leaves the first state's arrays as they
+    were, and they can be written to."""
+    robot = load_robot(REPO / "urdf" / "four_arm_planar.urdf", visuals=False)
+    rng = np.random.default_rng(4)
+    first = gjm.compute(robot, *random_state(robot, rng))
+    kept = {name: getattr(first, name).copy() for name in ("Hm", "Hstar", "Jm", "Jstar")}
+    second = gjm.compute(robot, *random_state(robot, rng))
+    for name, value in kept.items():
+        assert np.array_equal(getattr(first, name), value) and not np.array_equal(getattr(second, name), value), name
+        getattr(first, name)[0, 0] += 1.0
