@@ -33,11 +33,13 @@ from .scene_closures import assemble, scene_closures
 from . import wheel_run
 
 #: Summary keys the command line prints for a robot run (those it has: drifts without external
-#: wrenches, balances with them; the spin's settling for detumbling and capture runs).
+#: wrenches, balances with them; the spin's settling for detumbling and capture runs; a planned
+#: approach's base rotation, its ratio to the minimum-norm plan's and the grasp mismatch).
 HEADLINE = ("model_auto", "tracking_rms_overall", "com_drift_max", "momentum_drift_max", "energy_drift_max",
             "momentum_balance_max", "momentum_balance_relative", "energy_balance_max", "external_work",
             "settling_time", "base_angular_velocity_final", "base_displacement", "closure_drift_max",
-            "squeeze_max", "figures_not_drawn")
+            "squeeze_max", "approach_base_attitude_change", "approach_attitude_ratio", "grasp_position_mismatch",
+            "figures_not_drawn")
 
 
 @dataclass
