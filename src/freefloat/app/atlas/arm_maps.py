@@ -197,6 +197,17 @@ def _momentum(values: tuple[float, ...] | None, base: str) -> tuple[float, ...] 
     return tuple(m) if np.any(m) else None
 
 
+def described(context: ArmMap) -> dict:
+    """What a map's summary says of its setting: robot, base, end-effector, axes, tolerance and
+    the held posture (joint: position, deg for revolute joints, m for prismatic ones)."""
+    robot = robot_of(context.target, context.base)
+    revolute = gjm.model_of(robot).tree.revolute
+    return {"robot": context.target, "base": context.base, "end_effector": context.end_effector,
+            "axes": list(context.axes), "tolerance": context.tolerance,
+            "posture": {name: float(np.degrees(x) if turns else x) + 0.0  # no -0.0
+                        for name, x, turns in zip(robot.joint_names, context.posture, revolute)}}
+
+
 def reference_point(context: ArmMap) -> tuple[np.ndarray, np.ndarray]:
     """The system CoM and the base CoM (3,), (3,) at the reference posture, inertial frame, m."""
     robot = robot_of(context.target, context.base)

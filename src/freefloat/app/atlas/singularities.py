@@ -19,7 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from .arm_figures import joint_panel
-from .arm_maps import OPTIONS, ArmMap, evaluate, robot_of
+from .arm_maps import OPTIONS, ArmMap, described, evaluate, robot_of
 from .arm_maps import prepare as prepare_arm
 from .grid import Axis, Grid
 from .kinds import Options
@@ -55,8 +55,7 @@ def summarise(context: ArmMap, grid: Grid, result: dict[str, np.ndarray]) -> dic
     """Shares of singular points (dynamic only, kinematic only, both), the spreads of the condition
     numbers and manipulabilities, and (four-arm robot) the figs 38-40 paths."""
     free, fixed = result["singular_free"], result["singular_fixed"]
-    out = {"robot": context.target, "base": context.base, "end_effector": context.end_effector,
-           "axes": list(context.axes), "tolerance": context.tolerance,
+    out = {**described(context),
            "singular_share_free": float(free.mean()), "singular_share_fixed": float(fixed.mean()),
            "dynamic_only_share": float((free & ~fixed).mean()), "kinematic_only_share": float((fixed & ~free).mean()),
            "condition_free": _spread(result["cond_free"]), "condition_fixed": _spread(result["cond_fixed"]),

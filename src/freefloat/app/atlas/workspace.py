@@ -35,7 +35,7 @@ from pathlib import Path
 import numpy as np
 
 from .arm_figures import cloud_page, joint_panel
-from .arm_maps import OPTIONS, ArmMap, evaluate
+from .arm_maps import OPTIONS, ArmMap, described, evaluate
 from .arm_maps import prepare as prepare_arm
 from .grid import Axis, Grid
 from .kinds import Options
@@ -109,8 +109,7 @@ def summarise(context: ArmMap, grid: Grid, result: dict[str, np.ndarray]) -> dic
     free = shells(result["radius_free"], result["singular_free"], grid.shape)
     fixed = shells(result["radius_fixed"], result["singular_fixed"], grid.shape)
     out = {
-        "robot": context.target, "base": context.base, "end_effector": context.end_effector,
-        "axes": list(context.axes), "tolerance": context.tolerance,
+        **described(context),
         "reach_free_min_m": free["reachable"][0], "reach_free_max_m": free["reachable"][1],
         "reach_fixed_min_m": fixed["reachable"][0], "reach_fixed_max_m": fixed["reachable"][1],
         "pdw_share": share(free["path_dependent"], free["reachable"], power),
