@@ -54,6 +54,9 @@ def build_entry(entry: Entry, results: Results) -> Built:
         return Built(entry, rows, png, "")
     except FreefloatError as exc:
         return Built(entry, [], None, f"not reproduced: {exc}")
+    except KeyError as exc:  # a study's output without the key: made by an older freefloat
+        return Built(entry, [], None, f"not reproduced: the output of study '{entry.study}' has no {exc}; it was made by "
+                                      "an older freefloat: rerun with --overwrite")
 
 
 def build(results: Results, out: Path, provenance: dict, progress=lambda done, total: None) -> list[Built]:
