@@ -410,3 +410,26 @@ def test_matching_the_pose_shrinks_the_grasp_impulse(tmp_path):
     assert runs["pose"]["grasp_angular_velocity_mismatch"] < 1e-3 < runs["position"]["grasp_angular_velocity_mismatch"]
     assert runs["pose"]["grasp_impulse"] < runs["position"]["grasp_impulse"]
     assert runs["pose"]["grasp_position_mismatch"] < 1e-3
+
+
+def test_a_diverging_plan_is_refused_not_returned(planar, monkeypatch):
+    """A planner whose linear algebra fails, or whose path is not finite, is refused as out of reach
+    (the path met a singularity), never handed on with NaN."""
+    from scipy.interpolate import PPoly
+
+    from freefloat.space.planning import JointPath
+
+    robot, q0, v0 = planar
+    req = request_for(robot, q0, v0, "arm1_ee", (0.3, 0.4, 0.0), 1.0)
+
+    def failing(_request):
+        raise np.linalg.LinAlgError("SVD did not converge")
+
+    def not_finite(request_):
+        return JointPath(PPoly(np.full((4, 1, robot.n_joints), np.nan), [0.0, request_.duration]))
+
+    for planner in (failing, not_finite):
+        monkeypatch.setitem(PLANNERS, "null_space", planner)
+        with pytest.raises(InfeasiblePlan, match="out of reach: the plan diverged") as caught:
+            plan_approach(req, "null_space")
+        assert caught.value.reason == "reach"

@@ -92,8 +92,7 @@ def evaluate(context: EnvelopeContext, points: np.ndarray) -> dict[str, np.ndarr
     """Per point (m, 2): ``outcome`` (m,) int (index into :data:`OUTCOMES`), ``attitude_change``,
     ``position_error`` (m), ``rate_fraction``, ``torque_fraction`` (m,) (NaN where no plan came out:
     the optimiser's refusal)."""
-    from ...space.planning import PLANNERS, GraspMotion, check
-    from ...space.planning import evaluate as evaluate_plan
+    from ...space.planning import GraspMotion, check, planned_path
     from ..experiments.capture import approach_request, scene_target
 
     scene, setup = _setup(context.scene)
@@ -106,7 +105,7 @@ def evaluate(context: EnvelopeContext, points: np.ndarray) -> dict[str, np.ndarr
         target = scene_target(scene, setup, reach)
         request = approach_request(scene, setup, (hand,), (GraspMotion.of(target),))
         try:
-            plan = evaluate_plan(request, PLANNERS[method](request), method)
+            plan = planned_path(request, method)
             out["attitude_change"][k], out["position_error"][k] = plan.attitude_change, plan.position_error
             out["rate_fraction"][k] = float((np.abs(plan.joint_rate) / request.limits.joint_rate).max())
             out["torque_fraction"][k] = float((np.abs(plan.torque) / request.limits.torque).max())

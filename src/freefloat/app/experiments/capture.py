@@ -16,9 +16,9 @@ import pinocchio as pin
 
 from ...dynamics.metrics import spin_summary, summarize
 from ...dynamics.simulation import RunResult
-from ...errors import FreefloatError, SceneError
+from ...errors import FreefloatError, InfeasiblePlan, SceneError
 from ...space.capture import Target, capture_and_detumble
-from ...space.planning import PLANNERS, ApproachRequest, GraspMotion, Limits, Plan, evaluate, plan_approach
+from ...space.planning import ApproachRequest, GraspMotion, Limits, Plan, plan_approach, planned_path
 from ...space.planning.tracking import PlanTracking
 from ..scenes import Scene
 from .base import Checkpoint, Experiment, Outcome, Progress
@@ -140,7 +140,12 @@ def planned(scene: Scene, setup, hands: tuple[str, ...], grasps: tuple[GraspMoti
         plan = plan_approach(request, scene.approach.method)
     except FreefloatError as exc:
         raise SceneError(f"scene '{scene.name}': [approach] {exc}") from exc
-    compared = evaluate(request, PLANNERS["min_norm"](request), "min_norm") if scene.approach.compare else None
+    compared = None
+    if scene.approach.compare:
+        try:
+            compared = planned_path(request, "min_norm")
+        except InfeasiblePlan:  # only compared: a diverging minimum-norm plan leaves no ratio
+            compared = None
     return {"plan": plan, "min_norm": compared}
 
 

@@ -15,7 +15,9 @@ from __future__ import annotations
 
 from typing import Callable
 
-from ...errors import UnknownName
+import numpy as np
+
+from ...errors import InfeasiblePlan, UnknownName
 from .grasp_motion import GraspMotion
 from .plan import JointPath, Plan, check, evaluate
 from .reaction_null_space import RATE_LAWS, TaskRows
@@ -43,17 +45,34 @@ PLANNERS: dict[str, Callable[[ApproachRequest], JointPath]] = {
 }
 
 
+def planned_path(request: ApproachRequest, method: str) -> Plan:
+    """The evaluated, unchecked plan of ``method`` (see :data:`PLANNERS`).
+
+    Raises:
+        UnknownName: for a method not in :data:`PLANNERS`.
+        InfeasiblePlan: when the planner's linear algebra fails on the way (a singular path that
+            diverged: reason ``"reach"``).
+    """
+    if method not in PLANNERS:
+        raise UnknownName("approach method", method, PLANNERS)
+    try:
+        with np.errstate(all="ignore"):  # a diverging path is judged by plan.check, not by warnings
+            return evaluate(request, PLANNERS[method](request), method)
+    except np.linalg.LinAlgError as exc:
+        raise InfeasiblePlan(f"approach ({method}): the grasp point is out of reach: the plan diverged ({exc}) before "
+                             f"t = {request.duration:.4g} s, the path meeting a singularity", "reach") from exc
+
+
 def plan_approach(request: ApproachRequest, method: str = "null_space") -> Plan:
     """The checked plan of ``method`` (see :data:`PLANNERS`).
 
     Raises:
         UnknownName: for a method not in :data:`PLANNERS`.
-        InfeasiblePlan: when the plan misses the grasp or breaks a limit (:func:`.plan.check`).
+        InfeasiblePlan: when the plan diverges, misses the grasp or breaks a limit
+            (:func:`.plan.check`).
     """
-    if method not in PLANNERS:
-        raise UnknownName("approach method", method, PLANNERS)
-    return check(evaluate(request, PLANNERS[method](request), method), request)
+    return check(planned_path(request, method), request)
 
 
 __all__ = ["PLANNERS", "ApproachRequest", "GraspMotion", "JointPath", "Limits", "Plan", "TaskRows", "check",
-           "evaluate", "plan_approach"]
+           "evaluate", "plan_approach", "planned_path"]

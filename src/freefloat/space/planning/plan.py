@@ -114,11 +114,15 @@ def check(plan: Plan, request: ApproachRequest) -> Plan:
     """The plan if it meets the grasp within the request's tolerances and keeps the limits.
 
     Raises:
-        InfeasiblePlan: naming what fails: the grasp point out of reach (position or velocity
-            mismatch at T, with the arm's reach), or the first joint and time where a joint-rate or
-            torque limit is exceeded (with the hint that the deadline may be too short).
+        InfeasiblePlan: naming what fails: a plan that diverged, the grasp point out of reach
+            (position or velocity mismatch at T, with the arm's reach), or the first joint and time
+            where a joint-rate or torque limit is exceeded (with the hint that the deadline may be
+            too short).
     """
     T = request.duration
+    if not (np.isfinite(plan.q).all() and np.isfinite(plan.v).all() and np.isfinite(plan.torque).all()):
+        raise InfeasiblePlan(f"approach ({plan.method}): the grasp point is out of reach: the plan diverged (non-finite "
+                             f"joint rates or torques) before t = {T:.4g} s, the path meeting a singularity", "reach")
     errors = np.linalg.norm(request.grasp_errors(plan.q[-1], plan.v[-1]), axis=2)  # (k, 4)
     missed = np.flatnonzero((errors > request.tolerances).any(axis=1))
     if missed.size:

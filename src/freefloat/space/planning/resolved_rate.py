@@ -13,6 +13,7 @@ import numpy as np
 import pinocchio as pin
 from scipy.interpolate import CubicHermiteSpline
 
+from ...errors import InfeasiblePlan
 from ...robot.joints import JointCoordinates
 from .floating_kinematics import FloatingKinematics, rollout
 from .plan import JointPath
@@ -68,7 +69,11 @@ def resolved_rate_path(request: ApproachRequest, law: RateLaw) -> JointPath:
     """The joint path of ``law`` following :func:`task_path` (and, with ``match = "pose"``,
     :func:`orientation_paths`) on the request's grid, closed on the position and orientation
     errors: the rolled-out joint positions and rates joined by a cubic Hermite spline (C1; the
-    accelerations are its second derivative)."""
+    accelerations are its second derivative).
+
+    Raises:
+        InfeasiblePlan: when the roll-out diverges (reason ``"reach"``).
+    """
     robot = request.robot
     kin = FloatingKinematics.at_state(robot, request.q0, request.v0)
     angular = request.angular_components()
@@ -96,6 +101,9 @@ def resolved_rate_path(request: ApproachRequest, law: RateLaw) -> JointPath:
 
     times = request.times
     q, v = rollout(kin, request.q0, rates, times)
+    if not (np.isfinite(q).all() and np.isfinite(v).all()):
+        raise InfeasiblePlan("approach: the grasp point is out of reach: the plan diverged (non-finite joint rates) "
+                             f"before t = {request.duration:.4g} s, the path meeting a singularity", "reach")
     coords = JointCoordinates(robot)
     positions = np.array([coords.get(qk) for qk in q])
     positions[:, coords.circle_pos] = np.unwrap(positions[:, coords.circle_pos], axis=0)
