@@ -281,3 +281,28 @@ def test_workspace_grid_agrees_with_the_closed_form_workspace(report):
     assert exact == pytest.approx(five_bar_exact.area(FiveBarParameters()), rel=1e-3)
     assert grid == pytest.approx(exact, rel=0.1)
     assert five_bar_exact.contains(FiveBarParameters(), CIRCLE).all()
+
+
+def test_overwrite_refuses_before_clearing_anything_when_a_study_folder_holds_a_users_file(tmp_path, monkeypatch):
+    """``all --overwrite`` with a user's file in one study's folder is refused, and no other
+    study's folder is cleared."""
+    from freefloat.errors import FreefloatError
+
+    def fake_study(name, out, overwrite, quick, options):
+        from freefloat.app.run_folder import RunFolder
+
+        with RunFolder(out, overwrite, keep_foreign=False, resume=True) as folder:
+            folder.write_text("report.json", json.dumps({"settings": {"quick": quick}, "wall_time_s": 0.0}))
+        return {}
+
+    monkeypatch.setattr(folders_module, "run_study", fake_study)
+    monkeypatch.setattr("freefloat.app.reproduce.report_pages.build", lambda results, out, record: [])
+    names = ("task_space", "five_bar")
+    folders_module.run_all(tmp_path, False, True, {}, say=lambda line: None, names=names)
+    (tmp_path / "five_bar" / "mine.txt").write_text("a user's notes")
+    with pytest.raises(FreefloatError, match="mine.txt"):
+        folders_module.run_all(tmp_path, True, True, {}, say=lambda line: None, names=names)
+    assert (tmp_path / "task_space" / "report.json").is_file() and (tmp_path / "five_bar" / "mine.txt").is_file()
+    (tmp_path / "five_bar" / "mine.txt").unlink()
+    folders_module.run_all(tmp_path, True, True, {}, say=lambda line: None, names=names)
+    assert (tmp_path / "five_bar" / "report.json").is_file()

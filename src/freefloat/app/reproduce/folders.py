@@ -18,10 +18,10 @@ import warnings
 from pathlib import Path
 from typing import Callable
 
-from ...errors import MissingExtra
+from ...errors import FreefloatError, MissingExtra
 from ...extras import require
 from ..outputs import versions
-from ..run_folder import RunFolder
+from ..run_folder import LOCK, RECORD, RunFolder
 from . import STUDIES
 
 #: Files ``all`` writes into its folder besides one folder per study.
@@ -66,6 +66,14 @@ def available(name: str) -> str:
     return ""
 
 
+def foreign_files(folder: Path) -> list[str]:
+    """Names in ``folder`` that its ownership record (:data:`~..run_folder.RECORD`) does not list."""
+    record = folder / RECORD
+    lines = record.read_text(errors="replace").splitlines() if record.is_file() and not record.is_symlink() else []
+    owned = {line.split("/")[0] for line in lines if line.strip() and not line.startswith("#")}
+    return sorted(p.name for p in folder.iterdir() if p.name not in owned | {LOCK, RECORD})
+
+
 def finished(folder: Path, quick: bool) -> dict | None:
     """The report a study left in ``folder`` with the same ``quick``, or None."""
     path = folder / "report.json"
@@ -92,9 +100,13 @@ def run_all(out: Path, overwrite: bool, quick: bool, options: dict, say: Callabl
 
     names = list(STUDIES if names is None else names)
     if overwrite:  # each study's folder cleared by its own record first, so the folders empty out
-        for name in names:
-            if (out / name).is_dir():
-                RunFolder(out / name, overwrite=True, keep_foreign=False).close()
+        held = [out / name for name in names if (out / name).is_dir()]
+        for folder in held:  # all checked before any is cleared
+            if foreign := foreign_files(folder):
+                raise FreefloatError(f"output folder '{folder}' holds files freefloat did not write ({', '.join(foreign)}); "
+                                     "not clearing it or any other study's folder (move them away or choose another --out)")
+        for folder in held:
+            RunFolder(folder, overwrite=True, keep_foreign=False).close()
     done: dict[str, dict] = {}
     with RunFolder(out, overwrite, keep_foreign=False, resume=True) as folder:
         try:
