@@ -2,7 +2,8 @@
 
 ``control`` (quintic references, joint-space and task-space computed torque on any dynamics model,
 the guarded inverse E-GJM, the detumbling controller), ``detumbling`` (the post-capture solver,
-eqs 115-120, 134), ``capture`` (exact grasp of a tumbling target, the merged robot) and
+eqs 115-120, 134), ``capture`` (exact grasp of a tumbling target, the merged robot),
+``planning`` (the pre-capture approach: reaction null space, minimum norm, optimised) and
 ``force_propagation`` (end-effector wrenches -> joint torques).
 
 May import: :mod:`freefloat.dynamics`, :mod:`freefloat.robot`, :mod:`freefloat.errors`,

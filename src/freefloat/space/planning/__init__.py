@@ -32,6 +32,7 @@ def _resolved_rate(name: str) -> Callable[[ApproachRequest], JointPath]:
 
 
 def _optimised(request: ApproachRequest) -> JointPath:
+    """The SLSQP-optimised path with its default settings (:func:`.optimised.optimised_path`)."""
     from .optimised import optimised_path
 
     return optimised_path(request)
