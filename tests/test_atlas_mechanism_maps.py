@@ -1,7 +1,8 @@
 """Atlas kind ``mechanism`` (freefloat.app.atlas.mechanism_maps) through the engine: the 5R's task
 map agrees with its closed-form workspace and its loci are singular by SVD, joint-space maps
 come from --axes naming actuated joints, the scenes' mode is the one their start assembles in,
-and bad targets or axes are refused by name."""
+map points are reached by a simulated motion (mechanism_reach), and bad targets or axes are
+refused by name."""
 
 from __future__ import annotations
 
@@ -12,10 +13,13 @@ import pytest
 
 from freefloat.app.atlas.engine import run_atlas
 from freefloat.app.atlas.kinds import KINDS, Options
+from freefloat.app.atlas.mechanism_targets import scene_of, setup_of
+from freefloat.app.atlas.mechanism_reach import drive_to, targets
 from freefloat.errors import InvalidArgument, UnknownName
 from freefloat.parallel.five_bar import FiveBarParameters, elbow_guess, five_bar
 from freefloat.parallel.maps import five_bar_exact
 from freefloat.parallel.maps.modes import assembly_label, working_label
+from freefloat.parallel.maps.solve import wrap
 
 
 def test_the_kind_is_registered():
@@ -70,6 +74,22 @@ def test_three_axes_give_slices_a_scatter_and_a_meshcat_page(tmp_path):
     names = {path.name for path in done.written}
     assert {"slices.png", "workspace_3d.png", "workspace.html"} <= names
     assert (tmp_path / "c" / "workspace.html").read_text().rstrip().endswith("</html>")
+
+
+@pytest.mark.parametrize("name", ["five_bar", "rsu_ppap"])
+def test_workspace_points_are_reached_by_a_simulated_motion(name):
+    """Three map points in the scenes' working mode within 3 cm of the scenes' start are reached
+    by the plant (Orsino's coupled chains on the one loop, RKMK4) under computed torque along a
+    quintic line from the start (freefloat.app.atlas.mechanism_reach): it ends there, in the same
+    working mode, at the map's actuated joints (angles modulo 2 pi)."""
+    mech = setup_of(name).nominal
+    mode = str(working_label(mech, scene_of(name)[1]))
+    points, expected = targets(name, 3, seed=3, half=0.03)
+    for target, q_map in zip(points, expected):
+        arrival = drive_to(name, target)
+        assert arrival.status == "completed" and arrival.mode == mode
+        np.testing.assert_allclose(arrival.q[: mech.p], target, atol=1e-6)
+        np.testing.assert_allclose(wrap(mech, arrival.q - q_map)[mech.actuated], 0.0, atol=1e-6)
 
 
 @pytest.mark.parametrize("target, axes, error, match", [

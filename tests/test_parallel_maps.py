@@ -1,7 +1,7 @@
 """Mechanism maps (freefloat.parallel.maps): the 5R's workspace against its closed-form annuli,
 type I points at stretched or folded legs, type II points where the direct kinematics blows up,
-every assembly and working mode closed by Pinocchio's kinematics of the URDF, and workspace points
-reached by a simulated motion in the scenes' working mode."""
+and every assembly and working mode closed by Pinocchio's kinematics of the URDF (map points
+reached by a simulated motion: tests/test_atlas_mechanism_maps.py)."""
 
 from __future__ import annotations
 
@@ -10,7 +10,6 @@ import pinocchio as pin
 import pytest
 
 from freefloat.errors import BadShape, FreefloatError
-from freefloat.parallel.closed_loop import track
 from freefloat.parallel.five_bar import FiveBarParameters, elbow_guess, five_bar
 from freefloat.parallel.maps import five_bar_exact as exact
 from freefloat.parallel.maps.grids import axes_grid, boundary, joint_map, task_map
@@ -19,7 +18,6 @@ from freefloat.parallel.maps.loci import loci
 from freefloat.parallel.maps.modes import assembly_label, assembly_modes, working_label, working_modes
 from freefloat.parallel.maps.solve import newton
 from freefloat.parallel.registry import REGISTRY
-from freefloat.parallel.sliding_mode import PlatformControl
 from freefloat.paths import URDF_DIR
 
 P = FiveBarParameters()
@@ -226,42 +224,6 @@ def test_five_bar_working_modes_are_the_elbow_combinations(task):
             np.testing.assert_allclose(np.sort(np.unique(np.round(q[:, column], 9))), want, atol=1e-8)
         checked += 1
     assert checked > 300
-
-
-@pytest.mark.parametrize("name, start, duration", [("five_bar", [0.07, 0.17], 0.4), ("rsu_ppap", [0.03, 0.0, 0.40], 0.6)])
-def test_workspace_points_are_reached_by_a_simulated_motion(setups, name, start, duration):
-    """Points of the map in the scenes' working mode are reached by the plant (Orsino's coupled
-    chains on the one loop, RKMK4) under computed torque along a minimum-jerk line from the scenes'
-    start: it ends there, in the same working mode, at the map's actuated joints."""
-    setup = setups[name]
-    mech = setup.nominal
-    start = np.array(start)
-    q0 = mech.assemble(start, setup.guess(start))
-    label = str(working_label(mech, q0))
-    rng = np.random.default_rng(3)
-    targets = start + rng.uniform(-0.03, 0.03, (3, mech.p))
-    modes = working_modes(mech, targets, count=32)
-    q_map, found = modes.mode(label)
-    assert found.all()
-    for target, expected in zip(targets, q_map):
-        control = PlatformControl(mech, _min_jerk(start, target, 0.6 * duration), 40.0)
-        result = track(mech, control, q0, duration, 1e-3, None, integrator="rkmk4")
-        assert result.status == "completed"
-        q_end = result.telemetry.q[-1]
-        np.testing.assert_allclose(q_end[: mech.p], target, atol=1e-5)
-        assert str(working_label(mech, q_end)) == label
-        np.testing.assert_allclose(q_end[mech.actuated], expected[mech.actuated], atol=1e-4)
-
-
-def _min_jerk(a: np.ndarray, b: np.ndarray, T: float):
-    """Platform reference ``t -> (x, xd, xdd)`` from a to b along a line, minimum jerk over T s, then held."""
-    def reference(t: float):
-        s = min(max(t / T, 0.0), 1.0)
-        f, fd, fdd = 10 * s**3 - 15 * s**4 + 6 * s**5, (30 * s**2 - 60 * s**3 + 30 * s**4) / T, (60 * s - 180 * s**2 + 120 * s**3) / T**2
-        if t >= T:
-            fd = fdd = 0.0
-        return a + f * (b - a), fd * (b - a), fdd * (b - a)
-    return reference
 
 
 def test_rsu_ppap_workspace_is_where_every_leg_reaches(setups):

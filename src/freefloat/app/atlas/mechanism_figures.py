@@ -9,6 +9,7 @@ from pathlib import Path
 import numpy as np
 
 from .grid import Grid
+from .mechanism_targets import labels, scene_mode, scene_of, setup_of
 
 #: Colours of the loci: type I (legs stretched or folded), type II (platform free with the actuators locked).
 TYPE_COLOURS = {"I": "black", "II": "crimson"}
@@ -30,7 +31,6 @@ def draw(context, grid: Grid, result: dict[str, np.ndarray], loci: dict, out: Pa
 def _modes(context, grid: Grid, result: dict[str, np.ndarray], loci: dict, path: Path) -> Path:
     import matplotlib.pyplot as plt
 
-    from .mechanism_maps import labels, scene_mode, scene_of
 
     names, scene = labels(context), scene_mode(context)
     cols = 2 if len(names) <= 4 else 4
@@ -70,7 +70,6 @@ def _plane(context, locus) -> np.ndarray:
 def _overlay(context, ax) -> None:
     """The scenes' start (platform point, or actuated joints in joint space) and path; the 5R's
     exact workspace boundary (task space)."""
-    from .mechanism_maps import scene_of, setup_of
 
     start, q0, trajectory = scene_of(context.mechanism)
     i, j = context.axes
@@ -124,7 +123,6 @@ def _cloud(context, grid: Grid, result: dict[str, np.ndarray], path: Path) -> Pa
     sigma_min / sigma_max (log scale: dark where the platform nears a type II singularity)."""
     import matplotlib.pyplot as plt
 
-    from .mechanism_maps import labels, scene_mode
 
     j = labels(context).index(scene_mode(context))
     found = result["found"][:, j]
@@ -151,7 +149,6 @@ def _page(context, grid: Grid, result: dict[str, np.ndarray], path: Path) -> Pat
     import meshcat.geometry as mg
 
     from ..viz.mechanism import write_mechanism_html
-    from .mechanism_maps import labels, scene_mode, scene_of, setup_of
 
     j = labels(context).index(scene_mode(context))
     found = result["found"][:, j]

@@ -5,6 +5,9 @@ for any :class:`~freefloat.parallel.mechanism.ParallelMechanism` without redunda
 Modules: ``jacobians`` (the two partitions of the constraint Jacobian, Gosselin & Angeles'
 types), ``solve`` (batched Newton from many starts), ``modes`` (working and assembly modes),
 ``five_bar_exact`` (the 5R's workspace in closed form), ``grids`` (every mode over a grid of
-platform points or actuated joints, the workspace and its boundary), ``loci`` (points on the
-singularity loci, refined by bisection) and ``figures`` (matplotlib, imported lazily).
+platform points or actuated joints, the workspace and its boundary) and ``loci`` (points on the
+singularity loci, refined by bisection). The atlas kind ``mechanism``
+(:mod:`freefloat.app.atlas.mechanism_maps`) runs them over a grid and draws them.
+
+May import: :mod:`freefloat.parallel` (the mechanisms), :mod:`freefloat.errors`; nothing above.
 """

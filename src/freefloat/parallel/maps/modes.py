@@ -26,6 +26,8 @@ from .solve import TOLERANCE, newton, revolute
 
 #: Signs in the order of a mode's name characters.
 SIGNS = {"+": 1.0, "-": -1.0}
+#: The assembly modes' names: the direct block's sign.
+ASSEMBLY_NAMES = ("+", "-")
 
 
 class Modes(NamedTuple):
@@ -55,6 +57,11 @@ def starts(mech: ParallelMechanism, count: int, seed: int = 0) -> np.ndarray:
     return np.random.default_rng(seed).uniform(-np.pi, np.pi, (count, len(rev))) * rev
 
 
+def working_names(mech: ParallelMechanism) -> tuple[str, ...]:
+    """The working modes' names (2^n_legs): every combination of one sign per leg."""
+    return tuple("".join(s) for s in itertools.product("+-", repeat=len(partition(mech).legs)))
+
+
 def working_label(mech: ParallelMechanism, q: np.ndarray) -> np.ndarray:
     """The working-mode name of each assembled ``q`` (..., n_q): one sign per leg (str array (...,))."""
     legs = singularity(partition(mech), closure(mech, q)[1]).legs
@@ -80,7 +87,7 @@ def working_modes(mech: ParallelMechanism, points: np.ndarray, count: int = 16, 
     q = newton(mech, q0.reshape(-1, mech.n_q), part.joints, groups=legs_free)[0].reshape(q0.shape)
     residual, A = closure(mech, q)
     legs = singularity(part, A).legs
-    labels = tuple("".join(s) for s in itertools.product("+-", repeat=len(part.legs)))
+    labels = working_names(mech)
     out = np.repeat(q[:, :1], len(labels), axis=1)
     found = np.ones((len(points), len(labels)), bool)
     for j, label in enumerate(labels):
@@ -110,7 +117,7 @@ def assembly_modes(mech: ParallelMechanism, actuated: np.ndarray, box: np.ndarra
     q, ok = newton(mech, q0.reshape(-1, mech.n_q), part.unactuated)
     q, ok = q.reshape(q0.shape), ok.reshape(q0.shape[:2])
     direct = singularity(part, closure(mech, q)[1]).direct
-    labels = ("+", "-")
+    labels = ASSEMBLY_NAMES
     out = np.empty((len(actuated), 2, mech.n_q))
     found = np.empty((len(actuated), 2), bool)
     for j, label in enumerate(labels):
