@@ -118,16 +118,21 @@ def _slices(context, grid: Grid, result: dict[str, np.ndarray], loci: dict, path
     return path
 
 
+def _scene_points(context, grid: Grid, result: dict[str, np.ndarray]):
+    """The scenes' mode's name, and where it exists: the grid points (m, d), log10 of the direct
+    block's sigma_min / sigma_max there (m,) and the solutions (m, n_q)."""
+    name = scene_mode(context)
+    j = labels(context).index(name)
+    found = result["found"][:, j]
+    return name, grid.points()[found], np.log10(np.maximum(result["direct_ratio"][found, j], 1e-12)), result["q"][found, j]
+
+
 def _cloud(context, grid: Grid, result: dict[str, np.ndarray], path: Path) -> Path:
     """The points where the scenes' mode exists as a 3-D scatter, coloured by the direct block's
     sigma_min / sigma_max (log scale: dark where the platform nears a type II singularity)."""
     import matplotlib.pyplot as plt
 
-
-    j = labels(context).index(scene_mode(context))
-    found = result["found"][:, j]
-    points = grid.points()[found]
-    ratio = np.log10(np.maximum(result["direct_ratio"][found, j], 1e-6))
+    name, points, ratio, _ = _scene_points(context, grid, result)
     fig = plt.figure(figsize=(6.5, 5.5))
     ax = fig.add_subplot(projection="3d")
     shown = ax.scatter(*points.T, c=ratio, s=3, cmap="viridis")
@@ -135,7 +140,7 @@ def _cloud(context, grid: Grid, result: dict[str, np.ndarray], path: Path) -> Pa
     ax.set_xlabel(f"{grid.axes[0].name} ({grid.axes[0].unit})")
     ax.set_ylabel(f"{grid.axes[1].name} ({grid.axes[1].unit})")
     ax.set_zlabel(f"{grid.axes[2].name} ({grid.axes[2].unit})")
-    ax.set_title(f"{context.mechanism}: mode {labels(context)[j]} (the scenes')", fontsize=10)
+    ax.set_title(f"{context.mechanism}: mode {name} (the scenes')", fontsize=10)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
@@ -150,10 +155,8 @@ def _page(context, grid: Grid, result: dict[str, np.ndarray], path: Path) -> Pat
 
     from ..viz.mechanism import write_mechanism_html
 
-    j = labels(context).index(scene_mode(context))
-    found = result["found"][:, j]
-    points = result["q"][found, j, :3]
-    ratio = np.log10(np.maximum(result["direct_ratio"][found, j], 1e-12))
+    _, _, ratio, q = _scene_points(context, grid, result)
+    points = q[:, :3]
     shade = (ratio - ratio.min()) / max(np.ptp(ratio), 1e-12)
     colours = np.column_stack((1.0 - shade, shade, np.full_like(shade, 0.2)))
     cloud = mg.Points(mg.PointsGeometry(points.T.astype(np.float32), colours.T.astype(np.float32)),
