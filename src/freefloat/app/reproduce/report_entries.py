@@ -17,7 +17,10 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from . import report_figures as rf
+from .models_cases import TABLE_1
 from .report_results import Results
+from .series_report import DOCUMENT
+from .task_space_report import TABLE_2, TABLE_3, TABLE_5
 
 DISSERTATION, THESIS = "Dissertation", "Thesis"
 
@@ -79,6 +82,8 @@ def entry(*args, **kwargs) -> Entry:
 
 # ------------------------------------------------------------------ dissertation, chapter 4 / sec 5.1
 SEC51 = {"FM-NIC-A": ("sec51_exact_nidc", "sec51_nidc_nidc"), "FM-ST-A": ("sec51_exact_standard", "sec51_nidc_standard")}
+#: The dissertation's controller names -> freefloat's model names.
+CONTROLLER_MODELS = {"FM-NIC-A": "nidc", "FM-ST-A": "standard"}
 ARM_SIGNS = (1, -1, -1, 1)  # sec 4.2.2: arms 1 and 4 by +5 deg, arms 2 and 3 by -5 deg
 
 
@@ -94,7 +99,7 @@ def _summary(res: Results, run: str) -> dict:
 
 
 def _sec51_rms_rows(res: Results, controller: str) -> list[Row]:
-    printed = {"FM-NIC-A": 4.91e-7, "FM-ST-A": 1.16e-4}[controller]
+    printed = TABLE_1[CONTROLLER_MODELS[controller]][-1]
     exact, document = SEC51[controller]
     return [row("nested RMS overall (rad), exact plant", printed, _summary(res, exact)["tracking_rms_overall"]),
             row("nested RMS overall (rad), FM-NIC-A plant", printed, _summary(res, document)["tracking_rms_overall"])]
@@ -170,7 +175,7 @@ for number, controller, what in (("9", "FM-NIC-A", "errors"), ("10", "FM-NIC-A",
               lambda r: [row(f"{c}, {'overall' if k == 4 else f'arm {k + 1}'}", printed[k],
                              (_summary(r, SEC51[c][1])["tracking_rms_overall"] if k == 4 else
                               list(_summary(r, SEC51[c][1])["tracking_rms_per_arm"].values())[k]))
-                         for c, printed in (("FM-NIC-A", [4.91e-7] * 5), ("FM-ST-A", [1.18e-4, 1.18e-4, 1.13e-4, 1.13e-4, 1.16e-4]))
+                         for c, printed in ((c, TABLE_1[m]) for c, m in CONTROLLER_MODELS.items())
                          for k in range(5)] + _sec51_rms_rows(r, "FM-NIC-A")[:1],
               SEC51_NOTE)
 
@@ -187,8 +192,6 @@ def tsc(r: Results) -> dict:
 
 
 def _table5_rows(r: Results, run: str, arm: int, which: str) -> list[Row]:
-    from .task_space_report import TABLE_5
-
     printed = TABLE_5[f"arm{arm + 1}"][0 if which == "start" else 1]
     ours = r.report(TS)["table5"][run][which][arm]
     return [row(f"{run} arm {arm + 1} {which} {c}", p, o) for c, p, o in zip(("x (m)", "y (m)", "z-rotation (deg)"), printed, ours)]
@@ -231,8 +234,6 @@ for number, caption, draw in (
 
 
 def _table2_rows(r: Results) -> list[Row]:
-    from .task_space_report import TABLE_2
-
     low, high = r.report(TS)["tsc_condition_range"]
     return _table_rows(r, "table2", TABLE_2, "RMS error") + [
         row(f"overall, arm {k + 1}, analytic qddot_d", TABLE_2["overall"][k], v)
@@ -256,7 +257,7 @@ entry(DISSERTATION, "Fig 33", "Kinematic consistency of the E-GJM, angular rate,
       lambda r: rf.kjc(r.arrays(TS, "kjc"), "Dissertation fig 33: KJC angular, TSC", (2,), ("wz (deg/s)",)), None,
       "As fig 32.")
 entry(DISSERTATION, "Table 3", "KJC: RMS of the E-GJM rates minus the differentiated motion (m/s, deg/s), per arm.", TS, None,
-      lambda r: _table_rows(r, "table3", __import__(f"{__package__}.task_space_report", fromlist=["TABLE_3"]).TABLE_3, "KJC"),
+      lambda r: _table_rows(r, "table3", TABLE_3, "KJC"),
       "Central differences of the sampled pose (every 10th step of the run); what remains is the differences' "
       "truncation error, so it depends on the sampling, which the document does not state.")
 entry(DISSERTATION, "Fig 34", "Joint control torques, TSC.", TS,
@@ -310,8 +311,6 @@ def _moved(r: Results, scene: str) -> np.ndarray:
 def _spin_rows(r: Results, scene: str) -> list[Row]:
     """Final end-effector rates on the exact plant and on the document's (FM-NIC-A, Euler at 1 ms),
     and how well the latter keeps the momentum the impulse gave."""
-    from .series_report import DOCUMENT
-
     exact, document = _summary(r, scene), _summary(r, scene + DOCUMENT)
     return ([row(f"{ee} final angular rate (rad/s)", None, w) for ee, w in exact["end_effector_angular_velocity_final"].items()]
             + [row(f"{ee} final angular rate (rad/s), FM-NIC-A plant", None, w)
