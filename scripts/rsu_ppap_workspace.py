@@ -2,7 +2,8 @@
 
 Usage: ``python3 scripts/rsu_ppap_workspace.py [--half 0.05] [--spacing 0.01]``. Prints, for the
 assumed geometry (``urdf/rsu_ppap.data.toml``): the working modes (inverse kinematics, one sign
-per leg) and assembly modes (direct kinematics) at the home pose, naming the one the scenes use;
+per leg) and assembly modes (direct kinematics) at the home pose, naming the one the scenes use,
+and every distinct solution of the direct kinematics there;
 over the grid points that assemble in the scenes' mode, the condition numbers of the inverse
 block (type I), the direct block (type II) and the actuation map C^T U; the efforts that hold
 home at rest against gravity. The whole workspace and its singularity loci are
@@ -17,8 +18,17 @@ import numpy as np
 
 from freefloat import FreefloatError
 from freefloat.parallel.maps.jacobians import closure, partition, singularity
-from freefloat.parallel.maps.modes import assembly_label, assembly_modes, working_label, working_modes
+from freefloat.parallel.maps.modes import (
+    assembly_label,
+    assembly_modes,
+    direct_solutions,
+    working_label,
+    working_modes,
+)
 from freefloat.parallel.rsu_ppap import assembly_guess, load_data, load_rsu_ppap
+
+#: Where the direct kinematics' starts put the platform, m (x, y, z: lower, upper).
+BOX = np.array([[-0.33, 0.12], [-0.25, 0.25], [0.05, 0.65]])
 
 
 def main() -> None:
@@ -30,14 +40,18 @@ def main() -> None:
     home = np.array(data["home"])
     q_home = mech.assemble(home, assembly_guess(data, home))
     working = working_modes(mech, home[None], count=64)
-    assembly = assembly_modes(mech, q_home[None, mech.actuated], np.array([[-0.33, 0.12], [-0.25, 0.25], [0.05, 0.65]]),
-                              count=64)
+    assembly = assembly_modes(mech, q_home[None, mech.actuated], BOX, count=64)
     print(f"home {home.tolist()} m: working modes {[m for m, f in zip(working.labels, working.found[0]) if f]} "
           f"(the scenes': {working_label(mech, q_home)}); assembly modes "
           f"{[m for m, f in zip(assembly.labels, assembly.found[0]) if f]} (the scenes': {assembly_label(mech, q_home)})")
     for label, q in zip(working.labels, working.q[0]):
         print(f"  working mode {label}: cranks {q[mech.actuated[0]]:+.3f}, {q[mech.actuated[1]]:+.3f} rad; "
               f"parallelogram bar {q[-3]:+.3f} rad")
+    solutions = direct_solutions(mech, q_home[mech.actuated], BOX)
+    print(f"direct kinematics at home's actuated joints: {len(solutions)} distinct solutions")
+    for q in solutions:
+        print(f"  platform {np.round(q[:3], 4).tolist()} m, bar {q[-3]:+.3f} rad, assembly mode "
+              f"{assembly_label(mech, q)}, working mode {working_label(mech, q)}")
     axis = np.arange(-args.half, args.half + 1e-12, args.spacing)
     points = home + np.stack(np.meshgrid(axis, axis, axis, indexing="ij"), axis=-1).reshape(-1, 3)
     poses = []

@@ -15,7 +15,13 @@ from freefloat.parallel.maps import five_bar_exact as exact
 from freefloat.parallel.maps.grids import axes_grid, boundary, joint_map, task_map
 from freefloat.parallel.maps.jacobians import closure, partition
 from freefloat.parallel.maps.loci import loci
-from freefloat.parallel.maps.modes import assembly_label, assembly_modes, working_label, working_modes
+from freefloat.parallel.maps.modes import (
+    assembly_label,
+    assembly_modes,
+    direct_solutions,
+    working_label,
+    working_modes,
+)
 from freefloat.parallel.maps.solve import newton
 from freefloat.parallel.registry import REGISTRY
 from freefloat.paths import URDF_DIR
@@ -206,6 +212,24 @@ def test_assembly_modes_close_the_loops_by_pinocchio(setups, name, point, box):
         np.testing.assert_allclose(q[mech.actuated], scene[mech.actuated], atol=1e-14)
     mine = found.mode(str(assembly_label(mech, scene)))[0][0]
     np.testing.assert_allclose(mine[: mech.p], scene[: mech.p], atol=1e-9)
+
+
+@pytest.mark.parametrize("name, point, box, count", [("five_bar", [0.07, 0.17], FIVE_BAR_BOX, 2),
+                                                     ("rsu_ppap", [0.03, 0.0, 0.40], [[-0.3, 0.1], [-0.2, 0.2], [-0.7, 0.7]], 4)])
+def test_direct_kinematics_solutions_are_distinct_closed_poses(setups, name, point, box, count):
+    """Every distinct solution of the direct kinematics at the scenes' actuated joints closes the
+    loops by Pinocchio (1e-10) at those joints: the 5R's two (the platform on either side of the
+    line through its elbows), the 2RSU+PPaP's four (the platform above or below the cranks,
+    times the bars up or down); the scenes' pose is one of them."""
+    setup = setups[name]
+    mech = setup.nominal
+    scene = mech.assemble(np.array(point), setup.guess(np.array(point)))
+    found = direct_solutions(mech, scene[mech.actuated], np.array(box, float))
+    assert len(found) == count
+    for q in found:
+        assert pinocchio_closure(setup.display, q) < 1e-10
+        np.testing.assert_allclose(q[mech.actuated], scene[mech.actuated], atol=1e-14)
+    assert np.abs(found[:, : mech.p] - scene[: mech.p]).max(axis=1).min() < 1e-9
 
 
 def test_five_bar_working_modes_are_the_elbow_combinations(task):

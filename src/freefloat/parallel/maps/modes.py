@@ -126,6 +126,41 @@ def assembly_modes(mech: ParallelMechanism, actuated: np.ndarray, box: np.ndarra
     return Modes(labels, out, found)
 
 
+def distinct(mech: ParallelMechanism, q: np.ndarray, tol: float = 1e-6) -> np.ndarray:
+    """The physically distinct poses among assembled ``q`` (N, n_q): poses whose platform point
+    and joint origins (every chain's joint frames, m, inertial frame) agree within ``tol`` m are
+    one, represented by its member of least joint norm (as :func:`working_modes` picks); (K,
+    n_q). Two sets of joint angles of one pose (a spherical joint's second set) are one pose, and
+    so is a rod turned half a turn about its own axis (its joints sit where they were), which
+    the legs' signs can tell apart: the least norm picks the rod not turned."""
+    q = np.asarray(q, float)
+    q = q[np.argsort(np.linalg.norm(q[:, mech.p:], axis=1), kind="stable")]
+    points = np.concatenate([q[:, : mech.p]] + [c.frames(qi)[1][..., :3, 3].reshape(len(q), -1)
+                                                 for c, qi in zip(mech.chains, mech.split(q))], axis=1)
+    kept: list[int] = []
+    for i, x in enumerate(points):
+        if all(np.abs(x - points[j]).max() > tol for j in kept):
+            kept.append(i)
+    return q[kept]
+
+
+def direct_solutions(mech: ParallelMechanism, actuated: np.ndarray, box: np.ndarray, count: int = 256,
+                     seed: int = 0) -> np.ndarray:
+    """Every physically distinct solution of the direct kinematics found at one set of actuated
+    joints (k,) from ``count`` starts (platform uniform in ``box`` (p, 2), m): (K, n_q). The two
+    assembly-mode names pair them when there are more than two (the 2RSU+PPaP: the platform on
+    either side of the cranks' reach, times the parallelogram's bars up or down)."""
+    modes_box = np.asarray(box, float)
+    part = partition(mech)
+    rng = np.random.default_rng(seed)
+    q0 = np.empty((count, mech.n_q))
+    q0[:, mech.p:] = starts(mech, count, seed)
+    q0[:, : mech.p] = rng.uniform(modes_box[:, 0], modes_box[:, 1], (count, mech.p))
+    q0[:, part.actuated] = np.asarray(actuated, float)
+    q, ok = newton(mech, q0, part.unactuated)
+    return distinct(mech, q[ok])
+
+
 def _least_norm(values: np.ndarray, valid: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Index (N,) of the start of least norm of ``values`` (N, S, c) among ``valid`` (N, S), and
     whether any is valid (N,)."""
