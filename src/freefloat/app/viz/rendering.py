@@ -121,7 +121,8 @@ def _run(data: bytes) -> Any:
 def _serve() -> None:
     """The helper's loop: (save, figure, folder, stem) in, save's paths (or its exception) out."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
-    from . import plotting  # noqa: F401  (what unpickling and saving a figure need: matplotlib's Agg, plotting.save)
+    # warm up while the run simulates; unpickling the first job imports the plotting module itself
+    import matplotlib.backends.backend_agg  # noqa: F401
 
     stdin, stdout = sys.stdin.buffer, sys.stdout.buffer
     while True:
