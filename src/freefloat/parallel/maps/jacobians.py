@@ -50,7 +50,7 @@ class Partition(NamedTuple):
 
     Attributes:
         platform: the platform coordinates q# (p,).
-        actuated: the actuated joints (k,).
+        actuated: the actuated joints (k,), in the order of ``mech.actuated``.
         passive: the other chain joints (n° - k,).
         legs: per chain, its rows and columns (the inverse block's diagonal blocks).
     """
@@ -93,7 +93,7 @@ def partition(mech: ParallelMechanism) -> Partition:
             or constrained mechanism, which these maps do not cover).
     """
     p, n_q = mech.p, mech.n_q
-    actuated = np.sort(np.asarray(mech.actuated, int))
+    actuated = np.asarray(mech.actuated, int)
     passive = np.setdiff1d(np.arange(p, n_q), actuated)
     m = len(mech.d) + (0 if mech.angular is None else len(mech.angular.offset))
     if m != n_q - p or len(actuated) != p:

@@ -90,10 +90,10 @@ def working_modes(mech: ParallelMechanism, points: np.ndarray, count: int = 16, 
     labels = working_names(mech)
     out = np.repeat(q[:, :1], len(labels), axis=1)
     found = np.ones((len(points), len(labels)), bool)
+    converged = [np.abs(residual[..., block.rows]).max(axis=-1) < TOLERANCE for block in part.legs]  # each on its own
     for j, label in enumerate(labels):
         for leg, (sign, block) in enumerate(zip(label, part.legs)):
-            ok = np.abs(residual[..., block.rows]).max(axis=-1) < TOLERANCE   # legs converge on their own
-            best, exists = _least_norm(q[..., block.columns], ok & (np.sign(legs[..., leg]) == SIGNS[sign]))
+            best, exists = _least_norm(q[..., block.columns], converged[leg] & (np.sign(legs[..., leg]) == SIGNS[sign]))
             out[:, j][:, block.columns] = np.take_along_axis(q[..., block.columns], best[:, None, None], axis=1)[:, 0]
             found[:, j] &= exists
     return Modes(labels, out, found)
@@ -105,15 +105,7 @@ def assembly_modes(mech: ParallelMechanism, actuated: np.ndarray, box: np.ndarra
     (N, k) (rad or m, in the order of ``mech.actuated``): Newton over the platform and passive
     joints from ``count`` starts, the platform's uniform in ``box`` (p, 2) (lower, upper; m)."""
     part = partition(mech)
-    actuated = _rows(actuated, len(part.actuated), "actuated")
-    box = np.asarray(box, float)
-    if box.shape != (mech.p, 2):
-        raise BadShape(f"assembly_modes: box must be (p, 2) = ({mech.p}, 2), got {box.shape}")
-    rng = np.random.default_rng(seed)
-    q0 = np.empty((len(actuated), count, mech.n_q))
-    q0[..., mech.p:] = starts(mech, count, seed)
-    q0[..., :mech.p] = rng.uniform(box[:, 0], box[:, 1], (count, mech.p))
-    q0[..., part.actuated] = actuated[:, None]
+    q0 = _direct_starts(mech, actuated, box, count, seed)
     q, ok = newton(mech, q0.reshape(-1, mech.n_q), part.unactuated)
     q, ok = q.reshape(q0.shape), ok.reshape(q0.shape[:2])
     direct = singularity(part, closure(mech, q)[1]).direct
@@ -150,15 +142,27 @@ def direct_solutions(mech: ParallelMechanism, actuated: np.ndarray, box: np.ndar
     joints (k,) from ``count`` starts (platform uniform in ``box`` (p, 2), m): (K, n_q). The two
     assembly-mode names pair them when there are more than two (the 2RSU+PPaP: the platform on
     either side of the cranks' reach, times the parallelogram's bars up or down)."""
-    modes_box = np.asarray(box, float)
-    part = partition(mech)
-    rng = np.random.default_rng(seed)
-    q0 = np.empty((count, mech.n_q))
-    q0[:, mech.p:] = starts(mech, count, seed)
-    q0[:, : mech.p] = rng.uniform(modes_box[:, 0], modes_box[:, 1], (count, mech.p))
-    q0[:, part.actuated] = np.asarray(actuated, float)
-    q, ok = newton(mech, q0, part.unactuated)
+    q, ok = newton(mech, _direct_starts(mech, np.asarray(actuated, float)[None], box, count, seed)[0],
+                   partition(mech).unactuated)
     return distinct(mech, q[ok])
+
+
+def _direct_starts(mech: ParallelMechanism, actuated: np.ndarray, box: np.ndarray, count: int, seed: int) -> np.ndarray:
+    """Starts of the direct kinematics (N, count, n_q) at the actuated joints (N, k): the platform
+    uniform in ``box`` (p, 2), m, the other joints as :func:`starts`.
+
+    Raises:
+        BadShape: for actuated joints or a box of the wrong shape.
+    """
+    actuated = _rows(actuated, len(mech.actuated), "actuated")
+    box = np.asarray(box, float)
+    if box.shape != (mech.p, 2):
+        raise BadShape(f"assembly_modes: box must be (p, 2) = ({mech.p}, 2), got {box.shape}")
+    q0 = np.empty((len(actuated), count, mech.n_q))
+    q0[..., mech.p:] = starts(mech, count, seed)
+    q0[..., : mech.p] = np.random.default_rng(seed).uniform(box[:, 0], box[:, 1], (count, mech.p))
+    q0[..., mech.actuated] = actuated[:, None]
+    return q0
 
 
 def _least_norm(values: np.ndarray, valid: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
