@@ -8,6 +8,8 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from freefloat.errors import BadShape, FreefloatError
 from freefloat.parallel.five_bar import FiveBarParameters, elbow_guess, five_bar
@@ -107,6 +109,25 @@ def test_five_bar_area_matches_the_grid():
     axis = np.linspace(-0.33, 0.33, 1201)
     inside = exact.contains(P, axes_grid([axis, axis]))
     assert inside.mean() * 0.66**2 == pytest.approx(exact.area(P), rel=5e-3)
+
+
+@settings(max_examples=12, deadline=None)
+@given(l0=st.floats(0.01, 0.2), l1=st.floats(0.05, 0.3), l2=st.floats(0.05, 0.3),
+       seed=st.integers(0, 2**16))
+def test_random_five_bars_reach_their_annuli_in_four_modes(l0, l1, l2, seed):
+    """On random 5R geometries, random points have all four working modes where they lie in both
+    annuli (away from the circles by 1e-6 m) and none elsewhere, and every mode closes the loop."""
+    p = FiveBarParameters(l0=l0, l1=l1, l2=l2)
+    mech = five_bar(p)
+    reach = l0 + l1 + l2
+    points = np.random.default_rng(seed).uniform(-reach, reach, (40, 2))
+    r = np.linalg.norm(points[:, None] - exact.bases(p), axis=-1)
+    clear = (np.abs(r[..., None] - np.array(exact.radii(p))) > 1e-6).all(axis=(1, 2))
+    modes = working_modes(mech, points[clear], count=16)
+    inside = exact.contains(p, points[clear])
+    np.testing.assert_array_equal(modes.found.all(axis=1), inside)
+    np.testing.assert_array_equal(modes.found.any(axis=1), inside)
+    assert np.abs(closure(mech, modes.q[inside])[0]).max(initial=0.0) < 1e-10
 
 
 def test_grid_boundary_cells_are_inside_next_to_outside():
