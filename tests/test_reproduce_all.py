@@ -306,3 +306,12 @@ def test_overwrite_refuses_before_clearing_anything_when_a_study_folder_holds_a_
     (tmp_path / "five_bar" / "mine.txt").unlink()
     folders_module.run_all(tmp_path, True, True, {}, say=lambda line: None, names=names)
     assert (tmp_path / "five_bar" / "report.json").is_file()
+
+
+def test_eq_182_as_printed_misses_the_momentum_and_the_corrected_form_does_not(report):
+    """Eq 182's erratum: against Pinocchio's centroidal momentum moved to the origin, the printed
+    H0^C is off by more than 10 % and the corrected form agrees to 1e-12."""
+    _, entries, _, _ = report
+    (r,) = entries[(DISSERTATION, "Eq 182 (appendix B)")]["rows"]
+    printed, corrected = (float(x) for x in re.findall(r"[-+]?\d*\.?\d+(?:e[-+]?\d+)?", r["ours"]))
+    assert printed > 0.1 and corrected < 1e-12
