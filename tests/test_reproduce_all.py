@@ -315,3 +315,21 @@ def test_eq_182_as_printed_misses_the_momentum_and_the_corrected_form_does_not(r
     (r,) = entries[(DISSERTATION, "Eq 182 (appendix B)")]["rows"]
     printed, corrected = (float(x) for x in re.findall(r"[-+]?\d*\.?\d+(?:e[-+]?\d+)?", r["ours"]))
     assert printed > 0.1 and corrected < 1e-12
+
+
+def test_a_study_finished_with_the_other_quick_setting_is_made_again(tmp_path, monkeypatch):
+    """A rerun without --quick into a folder of --quick studies runs them again (with
+    --overwrite of their folders); with the same setting it keeps them."""
+    calls: list[tuple[str, bool, bool]] = []
+
+    def fake_study(name, out, overwrite, quick, options):
+        calls.append((name, overwrite, quick))
+        out.mkdir(exist_ok=True)
+        (out / "report.json").write_text(json.dumps({"settings": {"quick": quick}, "wall_time_s": 0.0}))
+        return {}
+
+    monkeypatch.setattr(folders_module, "run_study", fake_study)
+    monkeypatch.setattr("freefloat.app.reproduce.report_pages.build", lambda results, out, record: [])
+    for quick in (True, True, False):
+        folders_module.run_all(tmp_path, False, quick, {}, say=lambda line: None, names=("series",))
+    assert calls == [("series", False, True), ("series", True, False)]
