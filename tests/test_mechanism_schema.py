@@ -77,7 +77,7 @@ def test_robot_scenes_stay_robot_scenes():
     (lambda r: r["controller"].update(T=[[1.0, 2.0], [3.0]]), "'controller.T' must be a list of equally long rows"),
     (lambda r: r["controller"].update(n_ij={"0,0": "big"}), "'controller.n_ij.0,0' must be a list of one or more"),
     (lambda r: r["trajectory"].update(axes=[1, 1]), "'trajectory.axes' must be a list of 2 distinct integers"),
-    (lambda r: r["simulation"].update(integrator="rk45"), "'simulation.integrator' is 'rk45'; valid: rk4, euler, explicit_euler, rkmk4"),
+    (lambda r: r["simulation"].update(integrator="rk45"), "'simulation.integrator' is 'rk45'; valid: rk4, euler, explicit_euler, rkmk3, rkmk4"),
     (lambda r: r["simulation"].update(step=1.0), "'simulation.step' (1.0 s) is longer than 'simulation.duration'"),
     (lambda r: r["simulation"].update(baumgarte=-1.0), "'simulation.baumgarte' must be >= 0"),
     (lambda r: r.update(metrics={"reaching_phase": 1e3}), "'metrics.reaching_phase' (1000.0 s) is not shorter than"),

@@ -202,7 +202,7 @@ def test_simulate_closes_its_bar_before_writing_and_times_each_stage(tmp_path):
     assert done.returncode == 0, done.stderr
     lines = [line for line in done.stderr.splitlines() if line.startswith("writing ")]
     assert [line.split(" ...")[0] for line in lines] == [
-        "writing telemetry.npz, summary.json, scene.toml", "writing figures (PNG and PDF)", "writing the page trajectory.html"]
+        "writing telemetry.npz, summary.json, scene.toml", "writing figures", "writing the page trajectory.html"]
     assert all(re.fullmatch(r".* \.\.\. \d+\.\d\d s", line) for line in lines)
 
 
