@@ -2,6 +2,11 @@
 
 from __future__ import annotations
 
+import signal
+import subprocess
+import sys
+import time
+
 import numpy as np
 import pytest
 
@@ -110,3 +115,30 @@ def test_models_study_journals_each_part_and_resumes(tmp_path, monkeypatch):
     report = models_report.reproduce(tmp_path, quick=True, workers=1)
     assert len(report["grid"]) + len(report["tumbling"]) + 1 == len(journaled)
     assert report["attitude"] == {"rows": []} and (tmp_path / "report.json").is_file()
+
+
+def test_models_study_workers_print_no_warnings(tmp_path):
+    """The study's pool workers keep the robot's load-time notes to themselves, as the study does
+    in the command's process (each worker printed them with their source lines)."""
+    done = subprocess.run([sys.executable, "-m", "freefloat", "reproduce", "models", "--quick", "--workers", "2",
+                           "--out", str(tmp_path / "out")], capture_output=True, text=True, timeout=600)
+    assert done.returncode == 0, done.stderr
+    assert "Warning" not in done.stderr and "warning" not in done.stderr
+
+
+def test_robustness_stopped_by_sigterm_prints_no_dask_log(tmp_path):
+    """SIGTERM while the local Dask cluster runs samples: the interrupt's message, exit 1, and no
+    traceback or log line from the workers (cancelled tasks, lost heartbeats)."""
+    out = tmp_path / "out"
+    command = [sys.executable, "-m", "freefloat", "reproduce", "robustness", "--runs", "400", "--workers", "2",
+               "--out", str(out)]
+    with subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True) as process:
+        deadline = time.monotonic() + 300
+        while time.monotonic() < deadline and process.poll() is None and not (
+                (out / "samples.jsonl").is_file() and (out / "samples.jsonl").stat().st_size > 0):
+            time.sleep(0.2)
+        assert process.poll() is None, "the study ended before a sample was journaled"
+        process.send_signal(signal.SIGTERM)
+        _, stderr = process.communicate(timeout=120)
+    assert process.returncode == 1, stderr
+    assert "interrupted" in stderr and "Traceback" not in stderr and "distributed." not in stderr, stderr

@@ -9,6 +9,8 @@ Shared by the 5R sweeps (:mod:`freefloat.parallel.sweeps`) and the batches of ru
 
 from __future__ import annotations
 
+import logging
+
 import multiprocessing
 import os
 import signal
@@ -110,8 +112,10 @@ def client(address: str | None = None, workers: int = 2, processes: bool = True,
         _reachable(address, connect_timeout)
         return Client(address, timeout=connect_timeout)
     network = {"host": "127.0.0.1"} if processes else {}  # in-process clusters have no sockets
+    # our own workers: their failures reach us through the futures; their log would print
+    # tracebacks of lost heartbeats when the user stops the command
     return Client(LocalCluster(n_workers=workers, threads_per_worker=1, processes=processes,
-                               dashboard_address=None, **network))
+                               dashboard_address=None, silence_logs=logging.CRITICAL, **network))
 
 
 def _reachable(address: str, timeout: float) -> None:

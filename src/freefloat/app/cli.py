@@ -322,10 +322,12 @@ def _reproduce(args: argparse.Namespace) -> int:
     out = args.out or Path("runs") / f"reproduce-{args.study}-{time.strftime('%Y%m%d-%H%M%S')}"
     if args.study == ALL_STUDIES:
         start = time.perf_counter()
-        run_all(out, args.overwrite, args.quick, options)
+        with one_line_warnings():
+            run_all(out, args.overwrite, args.quick, options)
         print(f"wrote {out / 'report.html'} and {out / 'report.pdf'} in {time.perf_counter() - start:.0f} s")
         return 0
-    report = run_study(args.study, out, args.overwrite, args.quick, options)
+    with one_line_warnings():
+        report = run_study(args.study, out, args.overwrite, args.quick, options)
     print((out / "report.md").read_text())
     print(f"wrote {out} in {report['wall_time_s']:.0f} s")
     return 0

@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import json
 import time
+import warnings
 from concurrent.futures import as_completed
 from pathlib import Path
 
@@ -30,7 +31,7 @@ from ...dynamics.models import MODELS, make_model
 from ...dynamics.simulation import run
 from ...paths import URDF_DIR
 from ...robot import attitude
-from ...robot.loading import load_robot
+from ...robot.loading import FreefloatWarning, load_robot
 from ..outputs import write_report
 from ..runner import prepare
 from .interrupts import finished
@@ -38,6 +39,12 @@ from .models_cases import EXACT_PLANT_CONTROLLERS, GRID_MODELS, REGIMES, TUMBLIN
 from .models_output import figures, markdown
 from .series_report import chapter_four_scene
 from .states import state_with_momentum
+
+
+def robot_notes_silenced() -> None:
+    """In a pool worker: the robot's load-time notes silenced, as :func:`~freefloat.app.reproduce.folders.run_study`
+    silences them in this process (each worker printed them, with their source lines)."""
+    warnings.filterwarnings("ignore", category=FreefloatWarning)
 
 
 def four_arm_free():
@@ -177,7 +184,7 @@ def reproduce(out: Path, quick: bool = False, workers: int = 2, seed: int = 0, j
         cells = [(p, c, "euler") for p in GRID_MODELS for c in GRID_MODELS] + [("exact", c, "rkmk4") for c in EXACT_PLANT_CONTROLLERS]
         cases = [(m, case) for case in list(REGIMES)[1:] for m in TUMBLING_MODELS]
         keys = [["grid", *cell] for cell in cells] + [["tumbling", *case] for case in cases]
-        with process_pool(workers) as pool:
+        with process_pool(workers, initializer=robot_notes_silenced) as pool:
             futures = {pool.submit(grid_cell, *cell, duration): key for key, cell in zip(keys, cells)
                        if json.dumps(key) not in done}
             futures.update({pool.submit(tumbling_run, *case, 0.1 if quick else 1.0, seed): key
