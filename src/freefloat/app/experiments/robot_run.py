@@ -30,7 +30,8 @@ from .base import Checkpoint, Outcome, Progress
 from .budget import check_budget, seconds_per_call
 from .locked_run import full_telemetry, lock_for
 from .scene_closures import assemble, scene_closures
-from . import wheel_run
+from .wheel_run import HEADLINE as WHEEL_HEADLINE
+from .wheel_run import scene_wheels, wheel_attitude_control, wheel_figures, wheel_summary, wheel_telemetry
 
 #: Summary keys the command line prints for a robot run (those it has: drifts without external
 #: wrenches, balances with them; the spin's settling for detumbling and capture runs; a planned
@@ -91,7 +92,7 @@ def prepare_robot(scene: Scene) -> RobotSetup:
         end_effectors=scene.robot.end_effectors, gravity=scene.robot.gravity, visuals=scene.output.html,
         inertias=scene.robot.inertias,
     )
-    wheels = wheel_run.mount(scene, robot)
+    wheels = scene_wheels(scene, robot)
     robot = robot if wheels is None else wheels.robot
     s, ini = scene.angle_scale, scene.initial
     joint_q0 = joint_table(robot, ini.joint_positions, s, "initial.joint_positions")
@@ -251,7 +252,7 @@ def simulate(setup: RobotSetup, progress: Progress | None, checkpoint: Checkpoin
     q0, v0 = setup.plant_state()
     controller = setup.controller
     if setup.wheels is not None:
-        controller = setup.wheel_control = wheel_run.attitude_control(setup.scene, setup.wheels, controller, q0)
+        controller = setup.wheel_control = wheel_attitude_control(setup.scene, setup.wheels, controller, q0)
 
     def on_chunk(chunk: Telemetry) -> None:
         checkpoint(chunk if lock is None else full_telemetry(lock, chunk, setup.wrenches))
@@ -301,8 +302,8 @@ def robot_outcome(setup: RobotSetup, robot: Robot, telemetry: Telemetry, result:
     wheels = setup.wheels if robot is setup.robot and len(telemetry.t) else None
     extra_telemetry = dict(extra_telemetry or {})
     if wheels is not None:
-        wheel_rows = extra_telemetry["wheels"] = wheel_run.wheel_telemetry(wheels, telemetry, wrenches, sim.control_period)
-        summary = {**summary, **wheel_run.wheel_summary(wheels, setup.wheel_control, wheel_rows, telemetry)}
+        wheel_rows = extra_telemetry["wheels"] = wheel_telemetry(wheels, telemetry, wrenches, sim.control_period)
+        summary = {**summary, **wheel_summary(wheels, setup.wheel_control, wheel_rows, telemetry)}
     if setup.scene.output.figures and len(telemetry.t) >= 2:
         left_out = empty_figures(robot, telemetry, spin)
         if left_out:
@@ -318,11 +319,11 @@ def robot_outcome(setup: RobotSetup, robot: Robot, telemetry: Telemetry, result:
                          "control_period": sim.control_period,
                          "locked_joints": [] if setup.lock is None else list(setup.lock.names)},
         },
-        headline=HEADLINE if wheels is None else HEADLINE + wheel_run.HEADLINE,
+        headline=HEADLINE if wheels is None else HEADLINE + WHEEL_HEADLINE,
         extra_telemetry=extra_telemetry,
         figures=lambda folder: [*write_figures(robot, telemetry, folder, wrenches, sim.control_period, spin,
                                                settle_threshold), *closure_figures(closed, telemetry, folder),
-                                *([] if wheels is None else wheel_run.wheel_figures(wheels, wheel_rows, folder))],
+                                *([] if wheels is None else wheel_figures(wheels, wheel_rows, folder))],
         page=lambda path, fps: write_trajectory_html(robot, t, q, path, fps=fps, extra=extra_bodies or None,
                                                           events=events),
     )

@@ -53,7 +53,7 @@ class WheelTelemetry(Arrays):
     balance: np.ndarray
 
 
-def mount(scene: Scene, robot: Robot) -> Wheels | None:
+def scene_wheels(scene: Scene, robot: Robot) -> Wheels | None:
     """The scene's ``[[wheels]]`` on ``robot`` (None without any).
 
     Raises:
@@ -97,7 +97,7 @@ def target_rotation(scene: Scene, robot: Robot, q0: np.ndarray) -> np.ndarray:
     return pin.rpy.rpyToMatrix(*(np.multiply(rpy, scene.angle_scale))) @ robot.base_com_rotation.T
 
 
-def attitude_control(scene: Scene, wheels: Wheels, arm: Controller | None, q0: np.ndarray) -> Controller | None:
+def wheel_attitude_control(scene: Scene, wheels: Wheels, arm: Controller | None, q0: np.ndarray) -> Controller | None:
     """The controller of a scene with wheels: the attitude law composed with the arm's controller
     (``[attitude] kind = "hold"``, the default), or free wheels under the arm's controller
     (``"none"``: no wheel torque)."""
