@@ -11,6 +11,7 @@ from freefloat import RobotModelError, load_robot
 from freefloat.robot import urdf_checks
 from freefloat.robot.loading import FreefloatWarning, example_robot_data_share
 from freefloat.robot.urdf_checks import compare_parses
+from freefloat.robot.urdf_model import parse_urdf
 
 from .conftest import load_text
 
@@ -104,11 +105,9 @@ def test_non_utf8_files_are_refused(tmp_path):
 
 
 def test_parsers_that_disagree_are_refused(tmp_path):
-    """A body whose mass differs between Pinocchio's model and yourdfpy's parse is refused."""
-    import yourdfpy
-
+    """A body whose mass differs between Pinocchio's model and freefloat's parse is refused."""
     robot = load_text(tmp_path, two_link(), visuals=False)
-    parsed = yourdfpy.URDF.load(str(robot.urdf_path), build_scene_graph=False, load_meshes=False).robot
+    parsed = parse_urdf(robot.urdf_path, urdf_checks.read_urdf(robot.urdf_path))
     compare_parses(robot.urdf_path, robot.model, parsed)  # the loaded robot agrees
     robot.model.inertias[2].mass = 0.5 * robot.model.inertias[2].mass
     with pytest.raises(RobotModelError, match="joint 'j1' has mass 1 kg in Pinocchio's parse but 2 kg"):

@@ -31,17 +31,19 @@ model needs no fourth chain for it.
 from __future__ import annotations
 
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 import pinocchio as pin
-import yourdfpy
 
 from ..errors import FreefloatError
 from ..inputs import read_toml, reject_unknown
 from ..paths import URDF_DIR
-from ..robot.builders import JOINT_LIMIT, body_link, box_visual, pose, wrap_robot
 from .closed_chain import ClosedChain, chain_from_tree, read_closures
 from .mechanism import AngularConstraints, ParallelMechanism
+
+if TYPE_CHECKING:  # the URDF writer's types; yourdfpy (trimesh, networkx: 0.2-0.6 s) loads when it writes
+    import yourdfpy
 
 DATA = URDF_DIR / "rsu_ppap.data.toml"
 CLOSURE = URDF_DIR / "rsu_ppap.closure.toml"
@@ -49,7 +51,8 @@ LEGS = ("rsu1", "rsu2")
 #: Joints of each chain, base outwards, in Orsino's coordinate order after q#.
 CHAIN_JOINTS = tuple(tuple(f"{leg}_{j}" for j in ("crank", "s1", "s2", "s3", "u1", "u2")) for leg in LEGS) + (
     ("ppap_rail", "ppap_bar1", "ppap_coupler", "ppap_lift"),)
-SLIDE_LIMIT = yourdfpy.Limit(effort=1000.0, velocity=10.0, lower=-1.0, upper=1.0)
+#: The slides' limits (effort N, velocity m/s, position m) in the URDF :func:`rsu_ppap_urdf` writes.
+SLIDE_LIMIT = {"effort": 1000.0, "velocity": 10.0, "lower": -1.0, "upper": 1.0}
 #: Every key of the data file with its shape (``()``: a positive number).
 _KEYS = {"": {"home": (3,)},
          "platform": {"mass": (), "size": (3,), "attach": (2, 3)},
@@ -138,6 +141,10 @@ def _box_inertia(mass: float, size) -> list[float]:
 
 def _cylinder(radius: float, length: float, centre: np.ndarray) -> yourdfpy.Visual:
     """A cylinder centred at ``centre`` (3,) along the axis ``centre`` points on (x, y or z)."""
+    import yourdfpy
+
+    from ..robot.builders import pose
+
     axis = int(np.argmax(np.abs(centre)))
     rpy = [(0.0, np.pi / 2, 0.0), (np.pi / 2, 0.0, 0.0), (0.0, 0.0, 0.0)][axis]
     return yourdfpy.Visual(origin=pose(centre, rpy), geometry=yourdfpy.Geometry(cylinder=yourdfpy.Cylinder(radius, length)))
@@ -145,6 +152,11 @@ def _cylinder(radius: float, length: float, centre: np.ndarray) -> yourdfpy.Visu
 
 def rsu_ppap_urdf(data: dict) -> yourdfpy.URDF:
     """The spanning tree of the 2RSU+PPaP (module docstring) from :func:`load_data`'s numbers."""
+    import yourdfpy
+
+    from ..robot.builders import JOINT_LIMIT, body_link, box_visual, pose, wrap_robot
+
+    slide_limit = yourdfpy.Limit(**SLIDE_LIMIT)
     rsu, ppap, plat = data["rsu"], data["ppap"], data["platform"]
     links = [body_link("base", 1.0, (0.01, 0.01, 0.01), (0.0, 0.0, 0.0), box_visual((0.5, 0.7, 0.02)))]
     joints = []
@@ -155,7 +167,7 @@ def rsu_ppap_urdf(data: dict) -> yourdfpy.URDF:
         joints.append(yourdfpy.Joint(name=name if kind != "fixed" else f"{name}_fixed", type=kind, parent=parent,
                                      child=child.name, origin=pose(xyz, (0.0, 0.0, 0.0)),
                                      axis=None if axis is None else np.array(axis, float),
-                                     limit={"revolute": JOINT_LIMIT, "prismatic": SLIDE_LIMIT}.get(kind)))
+                                     limit={"revolute": JOINT_LIMIT, "prismatic": slide_limit}.get(kind)))
 
     m_j, r_j = rsu["joint_mass"], rsu["joint_radius"]
     sphere = [0.4 * m_j * r_j**2] * 3

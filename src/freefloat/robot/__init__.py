@@ -1,6 +1,7 @@
 """The robot layer: a URDF loaded into a Pinocchio model with a floating base, and its conventions.
 
-``loading`` (URDF -> :class:`Robot`, checks, end-effectors, arms, the base CoM frame), ``robot``
+``loading`` (URDF -> :class:`Robot`, checks, end-effectors, arms, the base CoM frame),
+``urdf_model`` (a URDF's links and joints read with the standard library), ``robot``
 (:class:`Robot`, :class:`Arm`), ``conventions`` (Pinocchio's base state <-> the dissertation's
 base twist [v0; w0] of the base CoM, inertial frame), ``joints`` (actuated joint coordinates <->
 Pinocchio q), ``locking`` (joints held still, removed from the model), ``attitude`` (the

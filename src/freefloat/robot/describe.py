@@ -5,16 +5,17 @@ from __future__ import annotations
 
 import numpy as np
 import pinocchio as pin
-import yourdfpy
 
 from .robot import Robot
+from .urdf_checks import read_urdf
+from .urdf_model import parse_urdf
 
 
 def describe(robot: Robot) -> str:
     """Joints (type, axis in the joint frame, limits), links with masses, the end-effectors and
     their arms, the base reference point, and the loader's notes."""
     model = robot.model
-    urdf = yourdfpy.URDF.load(str(robot.urdf_path), build_scene_graph=False, load_meshes=False).robot
+    urdf = parse_urdf(robot.urdf_path, read_urdf(robot.urdf_path))
     lines = [f"{robot.urdf_path}", f"  base: {robot.base} ({model.nv - robot.n_joints} DOF) on link "
              f"'{robot.base_link}'; reference point: its CoM at {_vector(robot.base_com)} m in the link frame",
              f"  total mass {pin.computeTotalMass(model):.6g} kg; nq = {model.nq}, nv = {model.nv}", "",
@@ -22,15 +23,14 @@ def describe(robot: Robot) -> str:
     for joint in urdf.joints:
         if joint.type == "fixed":
             continue
-        axis = np.array([1.0, 0.0, 0.0]) if joint.axis is None else np.asarray(joint.axis, float)
         limit = joint.limit
         bounds = ("unbounded" if limit is None or limit.lower is None or joint.type == "continuous"
                   else f"[{limit.lower:.6g}, {limit.upper:.6g}] {'m' if joint.type == 'prismatic' else 'rad'}")
-        lines.append(f"    {joint.name:<28} {joint.type:<10} axis {_vector(axis)}  {bounds}  "
+        lines.append(f"    {joint.name:<28} {joint.type:<10} axis {_vector(joint.axis)}  {bounds}  "
                      f"({joint.parent} -> {joint.child})")
     lines += ["", f"  links ({len(urdf.links)}):"]
     for link in urdf.links:
-        mass = 0.0 if link.inertial is None or link.inertial.mass is None else link.inertial.mass
+        mass = 0.0 if link.inertial is None else link.inertial.mass
         lines.append(f"    {link.name:<28} {mass:.6g} kg")
     lines += ["", f"  end-effectors ({len(robot.end_effectors)}):"]
     for arm in robot.arms:

@@ -1,7 +1,7 @@
 """Load any URDF as a free-floating robot.
 
-The URDF is parsed with yourdfpy and checked here (yourdfpy and urdfdom accept files that cannot
-be a floating-base tree); Pinocchio then builds the model with a floating root joint on the root
+The URDF is read by :mod:`.urdf_model` and checked here (urdfdom accepts files that cannot be a
+floating-base tree); Pinocchio then builds the model with a floating root joint on the root
 link. The base reference point is the root link's centre of mass, as in the dissertation (sec
 3.1.2) and in SPART.
 """
@@ -20,7 +20,6 @@ from pathlib import Path
 
 import numpy as np
 import pinocchio as pin
-import yourdfpy
 
 from ..arguments import MAX_MAGNITUDE, real_array
 from ..errors import InvalidArgument, RobotModelError
@@ -35,6 +34,7 @@ from .urdf_checks import (
     physics_notes,
     read_urdf,
 )
+from .urdf_model import Joint, UrdfModel, parse_urdf
 
 MOVABLE = {"revolute", "continuous", "prismatic"}
 SUPPORTED = MOVABLE | {"fixed"}
@@ -146,15 +146,12 @@ def _load(path: Path, base: str, end_effectors: list[str] | tuple[str, ...] | No
     tree = read_urdf(path)
     check_numbers(path, tree)
     check_joints(path, tree)
-    try:
-        urdf = yourdfpy.URDF.load(str(path), build_scene_graph=False, load_meshes=False)
-    except (Exception, RecursionError) as exc:  # yourdfpy raises many types on malformed URDFs
-        raise RobotModelError(f"{path}: not a readable URDF ({type(exc).__name__}: {exc})") from exc
+    urdf = parse_urdf(path, tree)
 
     notes: list[str] = []
-    root = _check_tree(path, urdf.robot)
-    _check_inertias(path, urdf.robot, root, notes)
-    notes += physics_notes(path, urdf.robot, triangle=inertias == "as_given")
+    root = _check_tree(path, urdf)
+    _check_inertias(path, urdf, root, notes)
+    notes += physics_notes(path, urdf, triangle=inertias == "as_given")
     xml, unlimited = _pinocchio_xml(tree)
     if unlimited:
         notes.append(
@@ -166,14 +163,14 @@ def _load(path: Path, base: str, end_effectors: list[str] | tuple[str, ...] | No
         model = pin.buildModelFromXML(xml, root_joint, ROOT_JOINT_NAME)
     except (RuntimeError, ValueError) as exc:
         raise RobotModelError(f"{path}: Pinocchio's URDF parser refuses it ({exc})") from exc
-    compare_parses(path, model, urdf.robot)
+    compare_parses(path, model, urdf)
     notes += check_mass_matrix(path, model)
     if inertias == "balanced":
         model = balanced(model)[0]
     model.gravity = pin.Motion(np.asarray(gravity, dtype=float), np.zeros(3))
 
     base_inertial = urdf.link_map[root].inertial
-    com_pose = np.eye(4) if base_inertial is None or base_inertial.origin is None else base_inertial.origin
+    com_pose = np.eye(4) if base_inertial is None else base_inertial.origin
     model.addFrame(
         pin.Frame(BASE_COM_FRAME, 1, 0, pin.SE3(com_pose[:3, :3], com_pose[:3, 3]), pin.FrameType.OP_FRAME)
     )
@@ -184,7 +181,7 @@ def _load(path: Path, base: str, end_effectors: list[str] | tuple[str, ...] | No
     for note in notes:
         warnings.warn(note, FreefloatWarning, stacklevel=3)
 
-    ee_names = _end_effectors(path, model, urdf.robot, end_effectors)
+    ee_names = _end_effectors(path, model, urdf, end_effectors)
     return Robot(
         model=model,
         visual_model=visual_model,
@@ -196,15 +193,14 @@ def _load(path: Path, base: str, end_effectors: list[str] | tuple[str, ...] | No
         end_effectors=ee_names,
         arms=tuple(arm_of(model, name) for name in ee_names),
         link_coms={
-            link.name: (link.inertial.origin[:3, 3].copy() if link.inertial is not None
-                        and link.inertial.origin is not None else np.zeros(3))
-            for link in urdf.robot.links
+            link.name: link.inertial.origin[:3, 3].copy() if link.inertial is not None else np.zeros(3)
+            for link in urdf.links
         },
         warnings=tuple(notes),
     )
 
 
-def _check_tree(path: Path, robot: yourdfpy.Robot) -> str:
+def _check_tree(path: Path, robot: UrdfModel) -> str:
     """Check that links and joints form one tree; return the root link name."""
     links = [link.name for link in robot.links]
     if not links:
@@ -228,7 +224,7 @@ def _check_tree(path: Path, robot: yourdfpy.Robot) -> str:
                 f"{path}: link '{joint.child}' is the child of joints '{parent_of[joint.child]}' and "
                 f"'{joint.name}': a loop. A URDF must be a tree; describe loop closures beside it"
             )
-        if joint.type in MOVABLE and np.linalg.norm(_axis(joint)) < 1e-12:
+        if joint.type in MOVABLE and np.linalg.norm(joint.axis) < 1e-12:
             raise RobotModelError(f"{path}: joint '{joint.name}' has a zero axis")
         parent_of[joint.child] = joint.name
     roots = [name for name in links if name not in parent_of]
@@ -249,11 +245,7 @@ def _check_tree(path: Path, robot: yourdfpy.Robot) -> str:
     return roots[0]
 
 
-def _axis(joint: yourdfpy.Joint) -> np.ndarray:
-    return np.array([1.0, 0.0, 0.0]) if joint.axis is None else np.asarray(joint.axis, dtype=float)
-
-
-def _check_inertias(path: Path, robot: yourdfpy.Robot, root: str, notes: list[str]) -> None:
+def _check_inertias(path: Path, robot: UrdfModel, root: str, notes: list[str]) -> None:
     """Reject negative masses and impossible inertias; note idealised (singular) ones.
 
     An inertia with a negative eigenvalue is rejected. A massive link whose inertia is only
@@ -262,9 +254,8 @@ def _check_inertias(path: Path, robot: yourdfpy.Robot, root: str, notes: list[st
     """
     singular = []
     for link in robot.links:
-        inertial = link.inertial
-        mass = 0.0 if inertial is None or inertial.mass is None else float(inertial.mass)
-        inertia = np.zeros((3, 3)) if inertial is None or inertial.inertia is None else inertial.inertia
+        mass = 0.0 if link.inertial is None else link.inertial.mass
+        inertia = np.zeros((3, 3)) if link.inertial is None else link.inertial.inertia
         if not np.isfinite(mass) or mass < 0.0:
             raise RobotModelError(f"{path}: link '{link.name}' has mass {mass}; a mass must be >= 0")
         eig = np.linalg.eigvalsh(0.5 * (inertia + inertia.T))
@@ -332,7 +323,7 @@ def _resolve_mesh(filename: str, urdf_dir: Path, package_dirs: list[str]) -> Pat
 
 
 def _end_effectors(
-    path: Path, model: pin.Model, robot: yourdfpy.Robot, names: list[str] | tuple[str, ...] | None
+    path: Path, model: pin.Model, robot: UrdfModel, names: list[str] | tuple[str, ...] | None
 ) -> tuple[str, ...]:
     """End-effector link names, checked or found as leaves behind a movable joint."""
     links = [link.name for link in robot.links]
@@ -352,7 +343,7 @@ def _end_effectors(
     return _merge_grippers(model, robot, leaves)
 
 
-def _merge_grippers(model: pin.Model, robot: yourdfpy.Robot, leaves: list[str]) -> tuple[str, ...]:
+def _merge_grippers(model: pin.Model, robot: UrdfModel, leaves: list[str]) -> tuple[str, ...]:
     """Leaves that hang below a common branching link behind a movable joint and look like a
     gripper's parts count as one end-effector: the only one of them fixed to that link when there
     is exactly one (a tool centre point), otherwise the link itself. A leaf looks like a gripper
@@ -360,7 +351,7 @@ def _merge_grippers(model: pin.Model, robot: yourdfpy.Robot, leaves: list[str]) 
     :data:`GRIPPER_JOINTS` prismatic joints below it, or joints or links named like fingers
     (:data:`GRIPPER_WORDS`). Two fingers as two end-effectors make the GJM singular (Panda:
     condition number 6e16); a Y-shaped arm with revolute branches keeps both ends."""
-    joint_to = {joint.child: joint for joint in robot.joints}
+    joint_to: dict[str, Joint] = {joint.child: joint for joint in robot.joints}
     children: dict[str, int] = {}
     for joint in robot.joints:
         children[joint.parent] = children.get(joint.parent, 0) + 1

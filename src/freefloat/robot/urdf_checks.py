@@ -4,7 +4,7 @@ file, link, joint and attribute named instead of loading as a different robot.
 Before: the text is UTF-8 XML without a DTD (no entity expansion, no external entities,
 whatever the XML libraries' defaults), every number is finite, joint names are unique, and the
 model fits in memory. After: Pinocchio's parse (urdfdom) carries the same masses and inertias as
-yourdfpy's, body by body, and the free-floating mass matrix is not singular.
+:mod:`.urdf_model`'s, body by body, and the free-floating mass matrix is not singular.
 """
 
 from __future__ import annotations
@@ -17,10 +17,10 @@ from pathlib import Path
 
 import numpy as np
 import pinocchio as pin
-import yourdfpy
 
 from ..errors import RobotModelError
 from ..paths import URDF_DIR
+from .urdf_model import UrdfModel
 
 #: Bytes of one Pinocchio ``Data`` per nv^3 (measured: 4.2 GB at nv = 406, 0.56 GB at nv = 206).
 DATA_BYTES_PER_NV3 = 65.0
@@ -131,14 +131,14 @@ def usable_memory() -> float:
     return MEMORY_SHARE * os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
 
 
-def physics_notes(path: Path, robot: yourdfpy.Robot, triangle: bool = True) -> list[str]:
+def physics_notes(path: Path, robot: UrdfModel, triangle: bool = True) -> list[str]:
     """Notes on what loads but no real robot has, each at most two lines saying what to do:
     inertias that break the triangle inequality (no rigid body can have them; MuJoCo refuses
     them; skipped with ``triangle=False``), joint limits with lower > upper."""
     notes = []
     broken = {}
     for link in robot.links if triangle else ():
-        if link.inertial is None or link.inertial.inertia is None:
+        if link.inertial is None:
             continue
         moments = np.linalg.eigvalsh(0.5 * (link.inertial.inertia + link.inertial.inertia.T))
         if moments.max() > 0 and moments[0] + moments[1] < moments[2] * (1 - 1e-9):
@@ -166,9 +166,9 @@ def few(names: Iterable[str], shown: int = 3) -> str:
     return ", ".join(names[:shown]) + (f" and {rest} more" if rest > 0 else "")
 
 
-def compare_parses(path: Path, model: pin.Model, robot: yourdfpy.Robot) -> None:
+def compare_parses(path: Path, model: pin.Model, robot: UrdfModel) -> None:
     """Pinocchio's bodies (links merged through fixed joints) have the masses and inertias that
-    yourdfpy read from the same file (urdfdom silently drops an inertia or a whole <inertial>
+    :func:`.urdf_model.parse_urdf` read from the same file (urdfdom silently drops an inertia or a whole <inertial>
     it cannot read).
 
     Raises:
@@ -181,19 +181,16 @@ def compare_parses(path: Path, model: pin.Model, robot: yourdfpy.Robot) -> None:
             continue
         frame = model.frames[model.getBodyId(link.name)]
         inertial = link.inertial
-        origin = np.eye(4) if inertial.origin is None else inertial.origin
-        inertia = np.zeros((3, 3)) if inertial.inertia is None else inertial.inertia
-        mass = 0.0 if inertial.mass is None else float(inertial.mass)
-        R = frame.placement.rotation @ origin[:3, :3]
-        com = frame.placement.act(origin[:3, 3])
-        merged[frame.parentJoint] += _moments(mass, com, R @ inertia @ R.T)
+        R = frame.placement.rotation @ inertial.origin[:3, :3]
+        com = frame.placement.act(inertial.origin[:3, 3])
+        merged[frame.parentJoint] += _moments(inertial.mass, com, R @ inertial.inertia @ R.T)
     for j in range(1, model.njoints):
         built = model.inertias[j]
         difference = np.abs(merged[j] - _moments(built.mass, built.lever, built.inertia)).max()
         if difference > 1e-9 * max(1.0, np.abs(merged[j]).max()):
             raise RobotModelError(
                 f"{path}: body of joint '{model.names[j]}' has mass {built.mass:.6g} kg in Pinocchio's parse but "
-                f"{merged[j][0]:.6g} kg in yourdfpy's (mass, CoM or inertia differ by {difference:.3g}): the two "
+                f"{merged[j][0]:.6g} kg in freefloat's (mass, CoM or inertia differ by {difference:.3g}): the two "
                 "URDF parsers read the file differently")
 
 
