@@ -39,6 +39,18 @@ def test_default_job_writes_every_artefact(default_run):
                      "torques.png", "com_drift.png"}
 
 
+def test_default_job_imports_no_library_it_does_not_use(tmp_path):
+    """The default job (figures and page included) leaves yourdfpy (its URDF is read by
+    freefloat.robot.urdf_model), pinocchio.visualize with viser and trimesh (the page draws its
+    primitives itself) and scipy (imported where a scene needs it) unimported: 1.1-1.6 s of CPU
+    at start-up before."""
+    unused = ("yourdfpy", "trimesh", "networkx", "viser", "pinocchio.visualize", "scipy")
+    code = (f"import sys\nfrom freefloat.app.cli import main\nmain(['simulate', '--out', {str(tmp_path)!r}, '--quiet'])\n"
+            f"print(sorted(m for m in {unused!r} if m in sys.modules))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    assert out.strip().splitlines()[-1] == "[]"
+
+
 def test_end_effectors_start_on_the_axes(default_run):
     """End-effectors start at (7.75, 0), (0, 7.75), (-7.75, 0), (0, -7.75) m (dissertation Table 5)."""
     start = default_run[2]["end_effectors_start"]

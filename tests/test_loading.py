@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-import subprocess
-import sys
 import warnings
 
 import numpy as np
@@ -242,12 +240,3 @@ def test_load_robot_refuses_a_path_or_gravity_that_is_none(path, gravity, messag
     with pytest.raises(InvalidArgument, match=message):
         load_robot(path, gravity=gravity, visuals=False)
 
-
-def test_loading_a_robot_imports_no_yourdfpy():
-    """The loader and the simulate command's modules leave yourdfpy (trimesh, networkx, lxml: 0.6 s
-    of start-up) unimported; the four-arm robot loads, cross-checked against freefloat.robot.urdf_model."""
-    code = ("import sys, warnings\nwarnings.simplefilter('ignore')\nimport freefloat.app.cli, freefloat.app.runner, "
-            "freefloat.app.scenes, freefloat.app.experiments\nfrom freefloat import load_robot\n"
-            "load_robot('four_arm_planar', visuals=False)\nprint('yourdfpy' in sys.modules)")
-    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
-    assert out.split() == ["False"]

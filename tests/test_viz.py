@@ -205,6 +205,22 @@ def test_primitive_geometry_placed_like_pinocchio(sc3, tmp_path):
             np.testing.assert_allclose(world[:3, :3], expected[:3, :3], atol=1e-12)
 
 
+def test_primitives_are_lowered_as_pinocchio_s_meshcat_visualizer_lowers_them(sc3):
+    """Boxes, spheres and cylinders become the meshcat geometry (and intrinsic rotation) that
+    Pinocchio's ``loadPrimitive`` makes, without importing ``pinocchio.visualize`` (viser, trimesh)."""
+    from pinocchio.visualize.meshcat_visualizer import loadPrimitive
+
+    from freefloat.app.viz.meshcat_html import _primitive
+
+    kinds = set()
+    for geometry in sc3.visual_model.geometryObjects:
+        ours, theirs = _primitive(geometry), loadPrimitive(geometry)
+        kinds.add(type(geometry.geometry).__name__)
+        assert {**ours.lower(None), "uuid": 0} == {**theirs.lower(None), "uuid": 0}, geometry.name
+        np.testing.assert_array_equal(ours.intrinsic_transform(), theirs.intrinsic_transform())
+    assert kinds == {"Box", "Sphere", "Cylinder"}
+
+
 def test_stick_figure_links_join_joints_and_end_effector(sc3_stick, tmp_path):
     """Without visuals, each link cylinder runs from a joint origin to its child joint or
     end-effector frame origin as placed by forward kinematics; the base box sits at the base CoM."""

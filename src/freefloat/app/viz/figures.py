@@ -18,7 +18,6 @@ from pathlib import Path
 import numpy as np
 import pinocchio as pin
 from matplotlib.figure import Figure
-from scipy.spatial.transform import Rotation
 
 from ...dynamics.balance import Balance, balance
 from ...dynamics.metrics import SETTLE_BAND, angular_speeds, band_settling_time, free_com_motion
@@ -166,6 +165,8 @@ def base_trajectory_figure(telemetry: Telemetry) -> Figure:
 def base_attitude(quaternions: np.ndarray) -> np.ndarray:
     """Roll, pitch, yaw (rad, unwrapped over time) with R = Rz(yaw) Ry(pitch) Rx(roll), from
     quaternions [qx, qy, qz, qw] (N, 4); returns (N, 3)."""
+    from scipy.spatial.transform import Rotation  # here: scipy is 0.3 s for the figures that need no attitude
+
     yaw_pitch_roll = Rotation.from_quat(quaternions).as_euler("ZYX")
     return np.unwrap(yaw_pitch_roll[:, ::-1], axis=0)
 

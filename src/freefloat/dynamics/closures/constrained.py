@@ -19,7 +19,6 @@ from dataclasses import dataclass
 
 import numpy as np
 import pinocchio as pin
-from scipy.linalg import cho_factor, cho_solve
 
 from ...errors import SimulationDiverged
 from ...robot.robot import Robot
@@ -53,6 +52,8 @@ def delassus_solve(D: np.ndarray, rhs: np.ndarray) -> tuple[np.ndarray, int]:
     """``D^+ rhs`` for a symmetric positive semi-definite ``D`` (m, m), and its rank: Cholesky when
     ``D`` is well conditioned, otherwise an eigen-decomposition whose directions under
     :data:`REDUNDANT` times the largest eigenvalue carry no force."""
+    from scipy.linalg import cho_factor, cho_solve  # here: scipy is 0.3 s of start-up for runs without closures
+
     if D.size == 0:
         return np.zeros(0), 0
     try:
@@ -75,6 +76,8 @@ def solve(model: pin.Model, data: pin.Data, q: np.ndarray, v: np.ndarray, tau: n
     Raises:
         SimulationDiverged: when ``M`` is not positive definite or the result is not finite.
     """
+    from scipy.linalg import cho_factor, cho_solve  # here: scipy is 0.3 s of start-up for runs without closures
+
     M = pin.crba(model, data, q)
     M = np.triu(M) + np.triu(M, 1).T
     zero = np.zeros(model.nv)

@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import numpy as np
 import pinocchio as pin
-from scipy.integrate import solve_ivp
 
 from ...errors import SimulationDiverged
 from .base import Acceleration
@@ -35,6 +34,8 @@ class DormandPrince853:
 
     def advance(self, f: Acceleration, q: np.ndarray, v: np.ndarray,
                 duration: float) -> tuple[np.ndarray, np.ndarray]:
+        from scipy.integrate import solve_ivp  # here: scipy.integrate is 0.4 s of every command's start-up
+
         nv = len(v)
         model, dexpinv = self.model, self._dexpinv
 

@@ -25,10 +25,15 @@ from .request import ApproachRequest, Limits
 
 
 def _resolved_rate(name: str) -> Callable[[ApproachRequest], JointPath]:
-    """The planner that follows the task quintic with the rate law ``name``."""
-    from .resolved_rate import resolved_rate_path
+    """The planner that follows the task quintic with the rate law ``name`` (its module, and
+    scipy.interpolate with it, imported when it first plans)."""
 
-    return lambda request: resolved_rate_path(request, RATE_LAWS[name])
+    def plan(request: ApproachRequest) -> JointPath:
+        from .resolved_rate import resolved_rate_path
+
+        return resolved_rate_path(request, RATE_LAWS[name])
+
+    return plan
 
 
 def _optimised(request: ApproachRequest) -> JointPath:
