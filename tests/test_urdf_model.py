@@ -5,6 +5,7 @@ link or joint, the element and the attribute."""
 
 from __future__ import annotations
 
+import dataclasses
 from pathlib import Path
 
 import numpy as np
@@ -93,6 +94,18 @@ def test_defaults_are_yourdfpy_s(tmp_path):
     assert ours.links[0].inertial is None and ours.joints[1].limit.lower is None
     np.testing.assert_array_equal(ours.joints[0].axis, [1.0, 0.0, 0.0])
     np.testing.assert_array_equal(ours.joints[0].origin, np.eye(4))
+
+
+def test_parsed_models_cannot_be_changed():
+    """Fields cannot be reassigned and the poses, inertias and axes are read-only arrays."""
+    path = robots()["four_arm_planar"]
+    model = parse_urdf(path, read_urdf(path))
+    link = next(link for link in model.links if link.inertial is not None)
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        link.inertial.mass = 0.0
+    for array in (link.inertial.origin, link.inertial.inertia, model.joints[0].origin, model.joints[0].axis):
+        with pytest.raises(ValueError, match="read-only"):
+            array[0] = 1.0
 
 
 LINK = ('<link name="{n}"><inertial><origin xyz="{o}"/><mass value="{m}"/>'

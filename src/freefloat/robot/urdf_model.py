@@ -35,11 +35,15 @@ MOMENTS = ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")
 @dataclasses.dataclass(frozen=True, eq=False)
 class Inertial:
     """A link's mass properties. ``origin``: 4x4 pose of the inertial frame (its origin the CoM)
-    in the link frame; ``mass`` kg; ``inertia``: 3x3 about the CoM in the inertial frame, kg m^2."""
+    in the link frame; ``mass`` kg; ``inertia``: 3x3 about the CoM in the inertial frame, kg m^2
+    (arrays read-only)."""
 
     mass: float
     origin: np.ndarray
     inertia: np.ndarray
+
+    def __post_init__(self) -> None:
+        _read_only(self.origin, self.inertia)
 
 
 @dataclasses.dataclass(frozen=True, eq=False)
@@ -74,7 +78,7 @@ class Mimic:
 class Joint:
     """A ``<joint>``. ``origin``: 4x4 pose of the joint frame in the parent link's frame (the
     child link's frame at zero position); ``axis``: (3,) in the joint frame, as written (not
-    normalised)."""
+    normalised); arrays read-only."""
 
     name: str
     type: str
@@ -84,6 +88,9 @@ class Joint:
     axis: np.ndarray
     limit: Limit | None
     mimic: Mimic | None
+
+    def __post_init__(self) -> None:
+        _read_only(self.origin, self.axis)
 
 
 @dataclasses.dataclass(frozen=True, eq=False)
@@ -98,6 +105,11 @@ class UrdfModel:
     def link_map(self) -> dict[str, Link]:
         """Links by name (the last of a repeated name; the loader refuses repeats)."""
         return {link.name: link for link in self.links}
+
+
+def _read_only(*arrays: np.ndarray) -> None:
+    for array in arrays:
+        array.flags.writeable = False
 
 
 def parse_urdf(path: Path, root: ET.Element) -> UrdfModel:
