@@ -1,5 +1,5 @@
-"""Batches of runs: the same numbers serially, on a pool and on Dask; failures kept as rows; an
-interrupted batch keeps its finished rows; the folder's table and record; bad flags named."""
+"""Batches of runs: the same numbers serially, on threads, on a pool and on Dask; failures kept as
+rows; an interrupted batch keeps its finished rows; the folder's table and record; bad flags named."""
 
 from __future__ import annotations
 
@@ -46,6 +46,33 @@ def test_serial_pool_and_dask_give_identical_rows(tmp_path):
     assert [r["status"] for r in serial] == ["completed"] * 4
     assert results(serial) == results(pool) == results(dask)
     assert len({r["tracking_rms_overall"] for r in serial}) == 4
+
+
+def test_threads_give_the_serial_rows_and_load_the_robot_once(tmp_path):
+    """The same seeds on 2 threads of this process give bit-identical rows to serial runs (the
+    compiled loop and the plant masses varied), and the threads share one loaded robot."""
+    from freefloat.app.batch import one_run
+
+    scene = short(tmp_path, "tumbling", 0.2)
+    bands = [Band("joint_rate", 2.0), Band("mass", 0.1)]
+    one_run.ROBOTS.clear()
+    threads = run_batch(scene, tmp_path / "threads", 6, bands, seed=3, workers=Workers(threads=2))
+    assert len(one_run.ROBOTS) == 1  # the first thread's load, reused by the other thread's runs
+    serial = run_batch(scene, tmp_path / "serial", 6, bands, seed=3)
+    assert [r["status"] for r in serial.rows] == ["completed"] * 6
+    assert results(threads.rows) == results(serial.rows) and threads.summary["workers"] == "threads of 2"
+    assert len({r["momentum_drift_max"] for r in serial.rows}) == 6
+
+
+def test_dask_workers_of_two_threads_give_the_serial_rows(tmp_path):
+    """A local Dask cluster of one worker of 2 threads runs the runs at once and gives the serial rows."""
+    pytest.importorskip("dask.distributed")
+    scene = short(tmp_path, "tumbling", 0.1)
+    bands = [Band("joint_rate", 2.0)]
+    dask = run_batch(scene, tmp_path / "dask", 4, bands, seed=2, workers=Workers(1, dask=True, threads=2))
+    serial = run_batch(scene, tmp_path / "serial", 4, bands, seed=2)
+    assert results(dask.rows) == results(serial.rows)
+    assert dask.summary["workers"] == "dask local cluster of 1 of 2 threads each"
 
 
 def test_a_pool_batch_never_forks(tmp_path, monkeypatch):
@@ -119,14 +146,14 @@ def test_a_folder_in_use_or_not_empty_is_refused_before_any_run(tmp_path):
     assert sorted(p.name for p in (tmp_path / "out").iterdir()) == ["mine.txt"]
 
 
-@pytest.mark.parametrize("workers", ["1", "2"])
-def test_sigterm_keeps_the_finished_rows(tmp_path, workers):
-    """SIGTERM to a running batch (serial or pool) exits 1 and writes every finished row, the
-    batch marked interrupted and the runs left counted as not run."""
+@pytest.mark.parametrize("where", [["--workers", "1"], ["--workers", "2"], ["--threads", "2"]])
+def test_sigterm_keeps_the_finished_rows(tmp_path, where):
+    """SIGTERM to a running batch (serial, pool or threads) exits 1 and writes every finished
+    row, the batch marked interrupted and the runs left counted as not run."""
     scene = scene_variant(tmp_path / "s.toml", "tumbling", simulation={"duration": 0.2})
     out = tmp_path / "out"
-    proc = subprocess.Popen([sys.executable, "-m", "freefloat", "batch", str(scene), "--runs", "400", "--workers",
-                             workers, "--quiet", "--out", str(out)], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+    proc = subprocess.Popen([sys.executable, "-m", "freefloat", "batch", str(scene), "--runs", "400", *where,
+                             "--quiet", "--out", str(out)], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                             text=True)
     deadline = time.monotonic() + 120
     while not (out / PARTIAL).is_file() or len((out / PARTIAL).read_text().splitlines()) < 2:
@@ -146,6 +173,9 @@ def test_sigterm_keeps_the_finished_rows(tmp_path, workers):
     (["--vary", "wobble=1"], "--vary 'wobble=1': unknown key 'wobble'"),
     (["--vary", "mass=2"], "--vary 'mass=2'"),
     (["--workers", "0"], "--workers must be >= 1, got 0"),
+    (["--threads", "0"], "--threads must be >= 1, got 0"),
+    (["--threads", "2", "--workers", "2"], "--threads 2 with --workers 2: choose"),
+    (["--dask", "--threads", "2", "--scheduler", "tcp://127.0.0.1:1"], "--threads sets the threads of a local Dask"),
     (["--dask", "--scheduler", "tcp://127.0.0.1:1"], "--scheduler 'tcp://127.0.0.1:1': no Dask scheduler answers"),
     (["--scheduler", "nonsense"], "--scheduler 'nonsense' is not a Dask address"),
     (["--scheduler", "tcp://127.0.0.1:1", "--workers", "2"], "--workers sets the size of a local cluster"),

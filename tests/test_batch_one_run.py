@@ -132,3 +132,38 @@ def test_a_remembered_robot_is_a_copy_with_the_same_warnings(tmp_path):
         copy.write_text(copy.read_text() + "\n")
         load_robot(copy, visuals=False)
     assert len(store) == 3
+
+
+def test_the_quiet_section_holds_until_the_last_thread_leaves_and_restores_the_filters():
+    """Thread A enters the quiet section, B enters, A leaves: B's warnings are still ignored;
+    once B leaves, the filters are exactly what they were (warnings.catch_warnings per thread
+    restored A's copy under B, and left B's filters behind after the batch)."""
+    import threading
+
+    from freefloat.app.batch.one_run import QUIET
+
+    before = list(warnings.filters)
+    steps = [threading.Event() for _ in range(3)]
+    caught: list[int] = []
+
+    def a() -> None:
+        with QUIET:
+            steps[0].set()
+            assert steps[1].wait(10)
+        steps[2].set()
+
+    def b() -> None:
+        assert steps[0].wait(10)
+        with QUIET:
+            steps[1].set()
+            assert steps[2].wait(10)
+            with warnings.catch_warnings(record=True) as seen:  # records what the filters let through
+                warnings.warn("should be ignored", UserWarning)
+            caught.append(len(seen))
+
+    threads = [threading.Thread(target=a), threading.Thread(target=b)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join(20)
+    assert caught == [0] and warnings.filters == before

@@ -1,15 +1,20 @@
-"""BLAS limited to one thread around the hot loops (freefloat.dynamics.threads)."""
+"""BLAS limited to one thread around the hot loops, and settings shared by threads
+(freefloat.dynamics.threads)."""
 
 from __future__ import annotations
 
+import contextlib
+import threading
+
 import numpy as np
+import pytest
 from threadpoolctl import threadpool_info
 
 from freefloat import load_robot
 from freefloat.dynamics.integrators import make_integrator
 from freefloat.dynamics.models import make_model
 from freefloat.dynamics.simulation import run
-from freefloat.dynamics.threads import single_blas_thread
+from freefloat.dynamics.threads import ONE_BLAS_THREAD, Shared, single_blas_thread
 
 from .conftest import REPO
 
@@ -44,3 +49,55 @@ def test_simulation_evaluates_the_model_on_one_blas_thread():
 
     run(robot, robot.neutral(), np.zeros(robot.model.nv), 0.002, 0.001, make_integrator("rkmk4", robot.model), Recording())
     assert seen and set(seen) == {1}
+
+
+def in_turns(first_in, second_in, first_out, second_out) -> None:
+    """Thread A does ``first_in``, thread B ``second_in``, A ``first_out``, B ``second_out``, in
+    that order (each a callable run on its own thread)."""
+    steps = [threading.Event() for _ in range(4)]
+
+    def thread(mine: tuple[int, int], calls) -> None:
+        for k, call in zip(mine, calls):
+            if k:
+                assert steps[k - 1].wait(10)
+            call()
+            steps[k].set()
+
+    a = threading.Thread(target=thread, args=((0, 2), (first_in, first_out)))
+    b = threading.Thread(target=thread, args=((1, 3), (second_in, second_out)))
+    a.start(), b.start()
+    a.join(20), b.join(20)
+    assert all(step.is_set() for step in steps)
+
+
+def test_a_shared_setting_is_entered_by_the_first_thread_in_and_left_by_the_last_out():
+    """Thread A enters, B enters, A leaves, B leaves: the setting is entered once (at A's entry)
+    and left once (at B's exit), with its holder count in between."""
+    log: list[str] = []
+
+    @contextlib.contextmanager
+    def setting():
+        log.append("enter")
+        yield
+        log.append("exit")
+
+    shared = Shared(setting)
+    in_turns(shared.__enter__, lambda: (shared.__enter__(), log.append(f"held {shared.holders}")),
+             lambda: (shared.__exit__(None, None, None), log.append(f"held {shared.holders}")),
+             lambda: shared.__exit__(None, None, None))
+    assert log == ["enter", "held 2", "held 1", "exit"] and shared.holders == 0
+
+
+def test_two_threads_overlapping_keep_one_blas_thread_until_the_last_leaves():
+    """Thread A enters the single-thread limit, B enters and A leaves: BLAS still has one thread
+    while B runs; when B leaves, the threads found before return (a threadpoolctl limit per
+    thread restored them under B)."""
+    before = blas_threads()
+    if max(before, default=1) < 2:
+        pytest.skip("BLAS runs one thread already here: the limit cannot be told apart")
+    seen: dict[str, list[int]] = {}
+    in_turns(ONE_BLAS_THREAD.__enter__, ONE_BLAS_THREAD.__enter__,
+             lambda: ONE_BLAS_THREAD.__exit__(None, None, None),
+             lambda: (seen.setdefault("b", blas_threads()), ONE_BLAS_THREAD.__exit__(None, None, None)))
+    assert seen["b"] and set(seen["b"]) == {1}
+    assert blas_threads() == before

@@ -96,9 +96,11 @@ def _end_with(parent: int) -> None:
     os._exit(1)
 
 
-def client(address: str | None = None, workers: int = 2, processes: bool = True, connect_timeout: float = 5.0):
+def client(address: str | None = None, workers: int = 2, processes: bool = True, connect_timeout: float = 5.0,
+           threads: int = 1):
     """A Dask client: connected to ``address`` (e.g. ``tcp://host:8786``) or to a new local cluster
-    of ``workers`` workers on this machine (loopback only, one thread each).
+    of ``workers`` workers on this machine (loopback only, ``threads`` threads each: several tasks
+    of a worker run at once where they release the GIL, as the compiled loop does).
 
     Raises:
         FreefloatError: naming the address when it is malformed or nothing answers there within
@@ -114,7 +116,7 @@ def client(address: str | None = None, workers: int = 2, processes: bool = True,
     network = {"host": "127.0.0.1"} if processes else {}  # in-process clusters have no sockets
     # our own workers: their failures reach us through the futures; their log would print
     # tracebacks of lost heartbeats when the user stops the command
-    return Client(LocalCluster(n_workers=workers, threads_per_worker=1, processes=processes,
+    return Client(LocalCluster(n_workers=workers, threads_per_worker=threads, processes=processes,
                                dashboard_address=None, silence_logs=logging.CRITICAL, **network))
 
 

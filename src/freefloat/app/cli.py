@@ -71,6 +71,9 @@ def main(argv: list[str] | None = None) -> int:
     bat.add_argument("--dask", action="store_true", help="run on Dask: a local cluster of --workers (default 2) "
                                                          "processes, or --scheduler's workers")
     bat.add_argument("--scheduler", default=None, help="with --dask: a Dask scheduler's address (tcp://host:8786)")
+    bat.add_argument("--threads", type=int, default=1,
+                     help="runs at once on threads of this process (default 1); with --dask, threads of each "
+                          "local worker")
     bat.add_argument("--out", type=Path, default=None, help="output folder (default: runs/batch-<scene>-<time>)")
     bat.add_argument("--overwrite", action="store_true", help="replace the previous batch in --out")
     bat.add_argument("--quiet", action="store_true", help="no progress bar")
@@ -255,7 +258,7 @@ def _batch(args: argparse.Namespace) -> int:
         raise FreefloatError("--workers sets the size of a local cluster; with --scheduler the scheduler's workers run")
     default = 2 if args.dask or args.scheduler else 1
     workers = Workers(default if args.workers is None else args.workers, args.dask or args.scheduler is not None,
-                      args.scheduler)
+                      args.scheduler, args.threads)
     bands = [parse_band(text) for text in args.vary]
     if not bands and args.runs > 1:
         print(f"freefloat: warning: no --vary: the {args.runs} runs start alike and give the same numbers "

@@ -17,7 +17,7 @@ from ..robot.loading import BASE_COM_FRAME
 from ..robot.robot import Robot
 from ..robot.state import check_state
 from ..robot.urdf_checks import usable_memory
-from . import compiled, compiled_chain
+from . import compiled, compiled_chain, stop_request
 from .integrators import Integrator
 from .models import DynamicsModel
 from .plant_periods import PlantPeriods
@@ -357,13 +357,15 @@ class PythonPeriods:
 
 def _run_compiled(loop: compiled.CompiledLoop, q0: np.ndarray, v0: np.ndarray, steps: int, control_period: float,
                   start_time: float, rows: Chunks, progress: Callable[[int], None] | None) -> RunResult:
-    """:func:`run` through the compiled loop: Python is entered once per chunk or progress report."""
+    """:func:`run` through the compiled loop: Python is entered once per chunk or progress report,
+    where a stop request (:mod:`.stop_request`) or Ctrl-C interrupts the run."""
     loop.start(q0, v0)
     report_every = max(1, steps // 200)
     status, message = "completed", ""
     start = time.perf_counter()
     try:
         while loop.periods_done < steps:
+            stop_request.check()  # a run on another thread is stopped here (Ctrl-C reaches the main one)
             chunk, row = rows.next_row()
             target = min(steps, (loop.periods_done // report_every + 1) * report_every)
             written, blow_up = loop.run(target, chunk, row)
@@ -391,7 +393,7 @@ def _run_periods(engine: PythonPeriods | compiled.CompiledLoop, steps: int, cont
                 start_time: float, rows: Chunks) -> RunResult:
     """:func:`run` one control period at a time: the controller, the wrench selection and the stop
     event here, each period's telemetry row and integration by ``engine`` (this module's Python,
-    or the compiled loop)."""
+    or the compiled loop); a stop request (:mod:`.stop_request`) or Ctrl-C interrupts it between periods."""
     reference = controller.reference if controller is not None else (lambda t: None)
     report_every = max(1, steps // 200)
     status, message, k = "completed", "", 0
@@ -408,6 +410,7 @@ def _run_periods(engine: PythonPeriods | compiled.CompiledLoop, steps: int, cont
     start = time.perf_counter()
     try:
         for k in range(steps):
+            stop_request.check()
             t = start_time + k * control_period
             if controller is not None:
                 engine.hold(controller.torque(t, *engine.state))

@@ -1,8 +1,9 @@
 """Batches: N seeded runs of one scene with its initial state or plant varied, run one after
-another, on a process pool or on Dask workers, into one table (``freefloat batch``).
+another, on threads of this process, on a process pool or on Dask workers, into one table
+(``freefloat batch``).
 
 Modules: ``bands`` (the keys and bands of ``--vary``), ``variations`` (each run's seeded draws), ``one_run`` (a run as a worker
-runs it, reduced to a row), ``executors`` (serial, pool, Dask), ``driver`` (the folder and the
+runs it, reduced to a row), ``executors`` (serial, threads, pool, Dask), ``driver`` (the folder and the
 table).
 """
 

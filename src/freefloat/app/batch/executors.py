@@ -1,21 +1,24 @@
-"""Where the runs of a batch run: one after another in this process, in a pool of worker
-processes, or on Dask workers (a local cluster or a scheduler's). The dynamics hold the GIL, so
-the parallel ones use processes.
+"""Where the runs of a batch run: one after another in this process, on threads of this process,
+in a pool of worker processes, or on Dask workers (a local cluster, whose workers may each run
+several threads, or a scheduler's). Threads pay off because the compiled loop, most of a run's
+time, releases the GIL; the rest of a run (its setup and summary) is Python and takes turns.
 
 :func:`executor` gives ``execute(plans, on_row)``, which calls ``on_row(row)`` as each run
 finishes, in the order they finish, and returns nothing; a ``KeyboardInterrupt`` (Ctrl-C, or
 SIGTERM turned into one by the caller) stops the work at once (pool workers are terminated,
-Dask's pending tasks cancelled) and propagates, after every row already finished was given.
+Dask's pending tasks cancelled, threads' runs stopped at their next chunk by
+:mod:`freefloat.dynamics.stop_request`) and propagates, after every row already finished was given.
 """
 
 from __future__ import annotations
 
 import contextlib
-from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
+from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, ThreadPoolExecutor, wait
 from dataclasses import dataclass
 from typing import Any, Callable, Iterator
 
 from ...distributed import client, process_pool, settle_futures
+from ...dynamics import stop_request
 from ...errors import FreefloatError
 from .one_run import run_one
 from .variations import RunPlan
@@ -31,27 +34,44 @@ DASK_TIMEOUT = 600.0
 @dataclass(frozen=True)
 class Workers:
     """Where the runs go: ``count`` processes (1 and not ``dask``: this process, one after
-    another), through Dask when ``dask`` (a local cluster of ``count``, or ``scheduler``'s).
+    another, or on ``threads`` threads), through Dask when ``dask`` (a local cluster of ``count``
+    workers of ``threads`` threads each, or ``scheduler``'s).
 
     Raises:
-        FreefloatError: naming ``--workers`` below 1, or ``--scheduler`` without ``--dask``.
+        FreefloatError: naming ``--workers`` or ``--threads`` below 1, ``--scheduler`` without
+            ``--dask``, ``--threads`` with a process pool (``--workers`` > 1 without ``--dask``) or
+            with ``--scheduler`` (its workers have their own threads).
     """
 
     count: int = 1
     dask: bool = False
     scheduler: str | None = None
+    threads: int = 1
 
     def __post_init__(self) -> None:
         if self.count < 1:
             raise FreefloatError(f"--workers must be >= 1, got {self.count}")
+        if self.threads < 1:
+            raise FreefloatError(f"--threads must be >= 1, got {self.threads}")
         if self.scheduler is not None and not self.dask:
             raise FreefloatError("--scheduler is a Dask scheduler's address; it needs --dask")
+        if self.threads > 1 and self.scheduler is not None:
+            raise FreefloatError("--threads sets the threads of a local Dask cluster's workers; with --scheduler "
+                                 "the scheduler's workers run with their own")
+        if self.threads > 1 and self.count > 1 and not self.dask:
+            raise FreefloatError(f"--threads {self.threads} with --workers {self.count}: choose threads of this "
+                                 "process or a pool of processes (or --dask for workers of several threads each)")
 
     @property
     def label(self) -> str:
-        """``serial``, ``pool of K`` or ``dask ...``, for reports."""
+        """``serial``, ``threads of K``, ``pool of K`` or ``dask ...``, for reports."""
         if self.dask:
-            return f"dask scheduler {self.scheduler}" if self.scheduler else f"dask local cluster of {self.count}"
+            if self.scheduler:
+                return f"dask scheduler {self.scheduler}"
+            each = f" of {self.threads} threads each" if self.threads > 1 else ""
+            return f"dask local cluster of {self.count}{each}"
+        if self.threads > 1:
+            return f"threads of {self.threads}"
         return "serial" if self.count == 1 else f"pool of {self.count}"
 
 
@@ -64,8 +84,10 @@ def executor(workers: Workers) -> Iterator[Execute]:
         FreefloatError: on entering, naming ``--scheduler`` when nothing answers there.
     """
     if workers.dask:
-        with client(workers.scheduler, workers.count) as dask_client:
+        with client(workers.scheduler, workers.count, threads=workers.threads) as dask_client:
             yield lambda plans, on_row: run_dask(dask_client, plans, on_row)
+    elif workers.threads > 1:
+        yield lambda plans, on_row: run_threads(plans, workers.threads, on_row)
     elif workers.count > 1:
         yield lambda plans, on_row: run_pool(plans, workers.count, on_row)
     else:
@@ -79,6 +101,41 @@ def run_serial(plans: list[RunPlan], on_row: OnRow) -> None:
         row = run_one(plan)
         if row["status"] == "interrupted":
             raise KeyboardInterrupt
+        on_row(row)
+
+
+def run_threads(plans: list[RunPlan], threads: int, on_row: OnRow) -> None:
+    """The runs on ``threads`` threads of this process. On ``KeyboardInterrupt`` (only the main
+    thread gets one), the runs not started are cancelled, the running ones asked to stop
+    (:func:`~freefloat.dynamics.stop_request.stopping`: each stops within one chunk of its loop)
+    and waited for, a second Ctrl-C included; those that finished are given, the interrupted ones
+    are not rows (as in :func:`run_serial`)."""
+    with ThreadPoolExecutor(threads, thread_name_prefix="freefloat-run") as pool:
+        pending: dict[Future, RunPlan] = {pool.submit(run_one, plan): plan for plan in plans}
+        try:
+            while pending:
+                done, _ = wait(pending, return_when=FIRST_COMPLETED)
+                for future in done:
+                    _give(pending.pop(future), future, on_row)
+        except KeyboardInterrupt:
+            with stop_request.stopping():
+                for future in pending:
+                    future.cancel()
+                while not all(future.done() for future in pending):
+                    with contextlib.suppress(KeyboardInterrupt):  # a second Ctrl-C: they are stopping
+                        wait(pending)
+            for future, plan in pending.items():
+                if not future.cancelled():
+                    _give(plan, future, on_row)
+            raise
+
+
+def _give(plan: RunPlan, future: Future, on_row: OnRow) -> None:
+    """``on_row`` of a finished ``future``'s row (a failed row if it raised), unless its run was
+    interrupted."""
+    exc = future.exception()
+    row = future.result() if exc is None else failed_row(plan, f"{type(exc).__name__}: {exc}")
+    if row["status"] != "interrupted":
         on_row(row)
 
 

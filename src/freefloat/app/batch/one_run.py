@@ -1,23 +1,28 @@
-"""One run of a batch, as a worker process runs it: prepare the varied scene, swap in the varied
+"""One run of a batch, as a worker process or thread runs it: prepare the varied scene, swap in the varied
 plant, run the loop, and reduce the outcome to one flat row.
 
 A worker loads and checks the scene's robot once (:func:`~freefloat.robot.loading.remembered_loads`
 over :data:`ROBOTS`, kept as long as the process) and runs every run on one compiled loop per
 robot structure (:mod:`freefloat.dynamics.compiled` keeps it), reset between runs: only the
-varied state and masses change from one run to the next."""
+varied state and masses change from one run to the next. Threads of one process may run
+:func:`run_one` at once: what it sets process-wide (the BLAS limit, the warning filters) is
+:class:`~freefloat.dynamics.threads.Shared` among them, and the loaded robots are remembered per
+process (:data:`ROBOTS`), each thread getting its own copy of the model."""
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import time
 import warnings
+from collections.abc import Iterator
 from typing import Any
 
 import pinocchio as pin
 
 from ...dynamics.integrators import make_integrator
 from ...dynamics.models import make_model
-from ...dynamics.threads import single_blas_thread
+from ...dynamics.threads import Shared, single_blas_thread
 from ...robot.loading import remembered_loads
 from ..experiments import experiment_for
 from ..experiments.robot_run import RobotSetup
@@ -26,8 +31,21 @@ from .variations import RunPlan
 
 #: Row keys that vary from one execution of the same run to the next (not results).
 TIMINGS = ("wall_time_s", "sim_wall_time_s")
-#: The robots this process has loaded for batch runs (see :func:`remembered_loads`).
+#: The robots this process has loaded for batch runs (see :func:`remembered_loads`), shared by its
+#: threads (two threads loading the same robot at once may both load it; either copy is kept).
 ROBOTS: dict = {}
+
+
+@contextlib.contextmanager
+def _ignoring_warnings() -> Iterator[None]:
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        yield
+
+
+#: Warnings ignored while any thread prepares a run (the batch showed the scene's warnings once):
+#: the filters are process-wide, so the first thread in sets them and the last out restores them.
+QUIET = Shared(_ignoring_warnings)
 
 
 @single_blas_thread
@@ -43,8 +61,7 @@ def run_one(plan: RunPlan) -> dict[str, Any]:
     row: dict[str, Any] = {"run": plan.index, "seed": plan.seed, "status": "failed", "message": "", **plan.varied}
     try:
         experiment = experiment_for(plan.scene)
-        with warnings.catch_warnings(), remembered_loads(ROBOTS):
-            warnings.simplefilter("ignore")  # the batch showed the scene's warnings once
+        with QUIET, remembered_loads(ROBOTS):
             setup = resolved_setup(plan.scene)  # model = "auto" chosen here as in freefloat simulate
         if plan.masses:
             with_plant_masses(setup, plan.masses)
