@@ -1,22 +1,25 @@
 """Build of the compiled parts (C++17, pybind11):
 
 - ``freefloat.dynamics._core``: the GJM layer (cpp/core.cpp) and the closed chains' core;
-- ``freefloat.dynamics._sim``: the simulation loop (cpp/sim_module.cpp; its plant with loop
-  closures and the two-hand law in cpp/closures.cpp, a unit of its own) and the closed-chain loop
-  on Pinocchio's C++ algorithms, compiled against the headers of the ``libpinocchio`` wheel (a
-  build requirement) and linked to its ``libpinocchio_default``, which holds the algorithms
-  already compiled (explicit template instantiation): instantiating them here was most of the
-  build.
+- ``freefloat.dynamics._sim``: the simulation loop (cpp/sim_unit.cpp: the loop and its bindings,
+  cpp/sim_module.cpp, with the plant with loop closures and the two-hand law, cpp/closures.cpp, in
+  one translation unit) and the closed-chain loop on Pinocchio's C++ algorithms, compiled against
+  the headers of the ``libpinocchio`` wheel (a build requirement) and linked to its
+  ``libpinocchio_default``, which holds the algorithms already compiled (explicit template
+  instantiation): instantiating them here was most of the build.
 
 The closed chains' bindings of both modules are one translation unit (cpp/chains.cpp), compiled
 once and linked into both (so both modules link to libpinocchio_default).
 
-Where the time goes (g++ 12, user seconds per translation unit, ``-ftime-report``): with the
-algorithms instantiated in the module, 266 s and 5.8 GB for the loop alone, two thirds of it in
-template instantiation; linked to the library, the three translation units below took 50, 45 and
-31 s, and they compile in parallel (one per core). cpp/closures.cpp (the loop's plant with loop
-closures and the two-hand law) is a fourth: 49 s and 1.9 GB, measured alone beside sim_module.cpp's
-65 s and 2.7 GB.
+Where the time goes (g++ 12, user seconds per translation unit, measured one after another on this
+2-core machine at load 1-2, which moves them by +-15 %): the robot loop with the closed plant, one
+unit, 98 s at -O3 and 59 s at -O1 (as two units at -O3: 69 + 61 s); the closed-chain loop 53 s; the
+core 27 s. Parsing and template instantiation are most of it: -O1 takes chains.cpp and core.cpp no
+faster, and a precompiled header of Pinocchio, Eigen and pybind11 (21 s to make) saved nothing. So
+the robot loop, whose time is in libpinocchio_default's algorithms, is compiled at -O1
+(:data:`OPTIMIZATION`), where every scene measured ran as fast as at -O3; the closed chains' own
+numerics stay at -O3 (12-49 % slower at -O2). The units compile in parallel, one per core, fewer
+when memory is short (:data:`UNIT_MEMORY`).
 
 Objects are kept in ``build/cpp/<configuration>/`` of the source tree (ignored by git), also by an
 editable install, whose own build folders are temporary: reinstalling with another extra, or
@@ -84,7 +87,12 @@ PINOCCHIO_FLAGS = ["-isystem", str(PINOCCHIO / "include"), "-DPINOCCHIO_ENABLE_T
                    "-DBOOST_MPL_LIMIT_LIST_SIZE=30", "-DBOOST_MPL_LIMIT_VECTOR_SIZE=30",
                    "-DBOOST_MPL_CFG_NO_PREPROCESSED_HEADERS", "-DBOOST_FUSION_INVOKE_MAX_ARITY=12"]
 # The heaviest translation units first, so that two cores finish together.
-ORDER = ["cpp/sim_module.cpp", "cpp/chains.cpp", "cpp/closures.cpp", "cpp/core.cpp"]
+ORDER = ["cpp/sim_unit.cpp", "cpp/chains.cpp", "cpp/core.cpp"]
+# Optimisation level per translation unit, after FLAGS' -O3 (see the module docstring).
+OPTIMIZATION = {"cpp/sim_unit.cpp": "-O1"}
+# Peak memory of the largest unit's compile (2.9 GB, sim_unit.cpp), with a margin: a build runs
+# no more units at once than the available memory holds.
+UNIT_MEMORY = 3.2e9
 
 
 class BuildExt(pybind11_build_ext):
@@ -97,7 +105,8 @@ class BuildExt(pybind11_build_ext):
         self.object_dir = ROOT / "build" / "cpp" / self.configuration()
         jobs = list({source: (ext, source) for ext in self.extensions for source in ext.sources}.values())
         jobs.sort(key=lambda job: ORDER.index(job[1]) if job[1] in ORDER else len(ORDER))
-        workers = int(os.environ.get("FREEFLOAT_BUILD_JOBS") or self.parallel or os.cpu_count() or 1)
+        workers = int(os.environ.get("FREEFLOAT_BUILD_JOBS") or self.parallel or
+                      min(os.cpu_count() or 1, max(1, int(available_memory() // UNIT_MEMORY))))
         with ThreadPoolExecutor(max_workers=max(1, workers)) as pool:
             list(pool.map(lambda job: self.object_of(*job), jobs))  # raises the first compile error
         for ext in self.extensions:
@@ -125,6 +134,7 @@ class BuildExt(pybind11_build_ext):
             "pybind11": version("pybind11"), "libpinocchio": version("libpinocchio"), "eigen": version("cmeel-eigen"),
             "extensions": [[ext.name, ext.define_macros, [a for a in ext.extra_compile_args if not a.startswith("/")]]
                            for ext in self.extensions],
+            "optimization": OPTIMIZATION,
         }
         digest = hashlib.sha1(json.dumps(description, sort_keys=True, default=str).encode()).hexdigest()[:12]
         return f"{sysconfig.get_platform()}-{sys.implementation.cache_tag}-{digest}"
@@ -143,7 +153,8 @@ class BuildExt(pybind11_build_ext):
             dep = Path(scratch) / "deps.d"
             [made] = self.compiler.compile([source], output_dir=scratch, macros=ext.define_macros,
                                            include_dirs=ext.include_dirs, debug=self.debug,
-                                           extra_postargs=ext.extra_compile_args + ["-MMD", "-MF", str(dep)])
+                                           extra_postargs=ext.extra_compile_args + OPTIMIZATION.get(source, "").split()
+                                           + ["-MMD", "-MF", str(dep)])
             os.replace(dep, deps)
             os.replace(made, obj)
         return str(obj)
@@ -157,6 +168,18 @@ class BuildExt(pybind11_build_ext):
         files = {ROOT / source} | {(ROOT / f).resolve() for f in listed if (ROOT / f).resolve().is_relative_to(ROOT)}
         built = obj.stat().st_mtime
         return all(f.is_file() and f.stat().st_mtime <= built for f in files)
+
+
+def available_memory() -> float:
+    """Bytes of memory available now (Linux's MemAvailable; elsewhere, enough for every core)."""
+    try:
+        with open("/proc/meminfo") as meminfo:
+            for line in meminfo:
+                if line.startswith("MemAvailable:"):
+                    return float(line.split()[1]) * 1024
+    except OSError:
+        pass
+    return UNIT_MEMORY * (os.cpu_count() or 1)
 
 
 def extension(name: str, sources: list[str], flags: list[str], **kwargs) -> Pybind11Extension:
@@ -173,7 +196,7 @@ LINK = {"libraries": ["pinocchio_default"], "library_dirs": [str(PINOCCHIO / "li
 setup(
     ext_modules=[
         extension("freefloat.dynamics._core", ["cpp/core.cpp", "cpp/chains.cpp"], FLAGS + PINOCCHIO_FLAGS, **LINK),
-        extension("freefloat.dynamics._sim", ["cpp/sim_module.cpp", "cpp/chains.cpp", "cpp/closures.cpp"],
+        extension("freefloat.dynamics._sim", ["cpp/sim_unit.cpp", "cpp/chains.cpp"],
                   FLAGS + PINOCCHIO_FLAGS, **LINK),
     ],
     install_requires=DEPENDENCIES + [f"libpinocchio=={version('libpinocchio')}"],

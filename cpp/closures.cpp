@@ -1,6 +1,5 @@
 // The definitions of closures.hpp (the constrained dynamics of a tree with loop closures) and of
-// loop_detumbling_law.hpp (the two-hand detumbling law): a translation unit of its own, compiled
-// beside cpp/sim_module.cpp, so that neither compiler holds both units' Eigen kernels.
+// loop_detumbling_law.hpp (the two-hand detumbling law), compiled in sim_unit.cpp's translation unit.
 #include <pinocchio/algorithm/crba.hpp>
 #include <pinocchio/algorithm/frames.hpp>
 #include <pinocchio/algorithm/kinematics.hpp>
