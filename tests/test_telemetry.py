@@ -160,3 +160,14 @@ def test_a_saved_file_is_numpy_s_npz(tmp_path):
     with np.load(tmp_path / "t.npz") as data:
         assert np.array_equal(data["t"], np.arange(4.0)) and str(data["meta_scene"]) == "x"
         assert data.zip.getinfo("t.npy").compress_type == zipfile.ZIP_DEFLATED
+
+
+def test_an_uncompressed_file_is_stored_and_reads_the_same(tmp_path):
+    """``compressed=False`` (the checkpoints) stores the arrays as they are; np.load and load read
+    the same numbers as from the compressed file."""
+    tiny(4).save(tmp_path / "c.npz")
+    tiny(4).save(tmp_path / "s.npz", compressed=False)
+    with np.load(tmp_path / "s.npz") as data:
+        assert data.zip.getinfo("t.npy").compress_type == zipfile.ZIP_STORED
+    stored, deflated = MechanismTelemetry.load(tmp_path / "s.npz"), MechanismTelemetry.load(tmp_path / "c.npz")
+    assert all(np.array_equal(getattr(stored, f), getattr(deflated, f)) for f in ("t", "platform", "joints", "efforts"))

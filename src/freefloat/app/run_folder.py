@@ -254,7 +254,7 @@ class RunFolder:
         path = self.claim(name)
         return Journal(path, open_own(path, os.O_WRONLY | os.O_CREAT | os.O_APPEND))
 
-    def save(self, name: str, arrays: Arrays, **metadata: object) -> Path:
+    def save(self, name: str, arrays: Arrays, *, compressed: bool = True, **metadata: object) -> Path:
         """Save telemetry as ``name`` (.npz, atomically, see ``Arrays.save``); returns its path.
 
         Raises:
@@ -262,7 +262,7 @@ class RunFolder:
         """
         final, _ = self._claim_file(name)
         try:
-            arrays.save(final, **metadata)
+            arrays.save(final, compressed=compressed, **metadata)
         except OSError as exc:
             raise FreefloatError(f"could not write '{final}': {exc.strerror or exc}") from exc
         return final
@@ -291,7 +291,7 @@ class RunFolder:
         parts.mkdir(exist_ok=True)
         last, index = self._last_part
         index = index if chunk is last else index + 1
-        self.save(f"{PARTS}/part-{index:05d}.npz", chunk)
+        self.save(f"{PARTS}/part-{index:05d}.npz", chunk, compressed=False)  # removed when the run ends
         self._last_part = (chunk, index)  # one assignment: an interrupt leaves the old pair or the new
 
     def drop_checkpoints(self) -> None:
