@@ -18,6 +18,7 @@ from pathlib import Path
 import numpy as np
 import pinocchio as pin
 from matplotlib.figure import Figure
+from matplotlib.ticker import FuncFormatter
 
 from ...dynamics.balance import Balance, balance
 from ...dynamics.metrics import SETTLE_BAND, angular_speeds, band_settling_time, free_com_motion
@@ -27,6 +28,7 @@ from ...robot.robot import Arm, Robot
 from .plotting import (
     STYLES,
     curve,
+    decade_label,
     figure,
     finish,
     finish_path,
@@ -271,6 +273,7 @@ def angular_rates_figure(robot: Robot, telemetry: Telemetry, threshold: float | 
     positive = positive[np.isfinite(positive) & (positive > 0.0)]
     if len(positive):
         log_ax.set_ylim(positive.min() / 2, positive.max() * 2)
+    log_ax.yaxis.set_major_formatter(FuncFormatter(decade_label))
     finish(log_ax, "t (s)", "|w| (rad/s)", "angular speeds, log axis: how far they settle", legend="outside")
     return fig
 
