@@ -31,9 +31,9 @@ def toy(monkeypatch):
 
 def test_registry_lists_exactly_the_suites():
     """The registry holds the MuJoCo scenes, the eight former scripts, the fixed-cost suite, the
-    two-hand capture's and the atlas's, in the order ``all`` runs them."""
+    two-hand capture's, the atlas's and the batch against mujoco.rollout, in the order ``all`` runs them."""
     assert list(SUITES) == [DEFAULT, "simulation", "integrators", "gjm", "models", "locking", "parallel", "batch",
-                            "figures", "setup", "two_hands", "atlas"]
+                            "figures", "setup", "two_hands", "atlas", "rollout"]
 
 
 def test_help_lists_every_registered_suite(toy, capsys):
@@ -247,10 +247,23 @@ def _atlas(r):
     assert r["command"]["serial"]["singular_share_free"] == r["command"]["pool_of_2"]["singular_share_free"]
 
 
+def _rollout(r):
+    row, threads = r["tumbling"], r["settings"]["threads"]
+    assert row["best_s"] == {k: min(t) for k, t in row["times_s"].items()}
+    rate = row["runs_per_second"]
+    for k in threads:
+        assert row["per_core_over_mujoco"][f"freefloat loop, {k}"] == pytest.approx(
+            rate[f"freefloat loop, {k}"] / rate[f"mujoco.rollout, {k}"])
+    assert row["scaling_per_repeat"]["mujoco.rollout"] == pytest.approx(
+        [a / b for a, b in zip(row["times_s"]["mujoco.rollout, 1"], row["times_s"]["mujoco.rollout, 2"])])
+    assert row["rows_identical"] and row["completed"] == row["runs"]
+    assert row["final_position_and_joints_difference"] < 1e-6  # RKMK4 and RK4 at 1 ms on a slow tumble
+
+
 #: Per suite, what its numbers must agree on (a new suite needs a check).
 CHECKS = {"simulation": _simulation, "integrators": _integrators, "gjm": _gjm, "models": _models,
           "locking": _locking, "parallel": _parallel, "batch": _batch, "figures": _figures, "setup": _setup,
-          "two_hands": _two_hands, "atlas": _atlas}
+          "two_hands": _two_hands, "atlas": _atlas, "rollout": _rollout}
 
 
 @pytest.mark.parametrize("name", PARTS_SUITES)

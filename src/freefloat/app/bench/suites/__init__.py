@@ -120,7 +120,7 @@ for _suite in (
     Suite("locking", 'joint locking and model = "auto" against the full exact plant', ".locking"),
     Suite("parallel", "the 5R's and the 2RSU+PPaP's dynamics against Pinocchio's constrained dynamics",
           ".parallel"),
-    Suite("batch", "freefloat batch's runs per second serially, on 2 processes and on Dask", ".batch",
+    Suite("batch", "freefloat batch's runs per second serially, on 2 threads, on 2 processes and on Dask", ".batch",
           (("distributed", "dask"),)),
     Suite("figures", "writing a run's figures against the simulation itself", ".figures"),
     Suite("setup", "a run's fixed cost against its loop, nv 22 to 198, and a batch's runs per second, each run "
@@ -129,6 +129,8 @@ for _suite in (
                        "compiled loop, against the single-arm capture's, per simulated second", ".two_hands"),
     Suite("atlas", "a 200 x 200 workspace and singularity map of the four arm robot's arm against as many "
                    "gjm.compute calls, serial and on 2 processes", ".atlas"),
+    Suite("rollout", "a batch's runs per second on 1 and 2 threads against mujoco.rollout's, same robot and runs",
+          ".rollout", (("mujoco", "bench"),)),
 ):
     register(_suite)
 

@@ -1,14 +1,14 @@
-"""``batch`` suite: ``freefloat batch``'s runs per second one after another, on a pool of 2
-processes and on a local Dask cluster of 2 workers, side by side in one run; and what parallelism
-the shared machine offers at the time.
+"""``batch`` suite: ``freefloat batch``'s runs per second one after another, on 2 threads of one
+process, on a pool of 2 processes and on a local Dask cluster of 2 workers, side by side in one
+run; and what parallelism the shared machine offers at the time.
 
 For each scene (the default computed-torque task, 5 s; torque-free tumbling, 2 s), the same seeded
 batch (joint rates +-2 deg/s and plant masses +-10 %) runs through
-:func:`freefloat.app.batch.run_batch` serially, on a 2-process pool and on a 2-worker local Dask
-cluster, the three taking turns ``repeats`` times so that load from other processes falls on all of
+:func:`freefloat.app.batch.run_batch` serially, on 2 threads, on a 2-process pool and on a 2-worker
+local Dask cluster, taking turns ``repeats`` times so that load from other processes falls on all of
 them alike. Each time is the whole batch as a user waits for it: pool or cluster start-up, the
 runs, the folder written (in a temporary folder; the scene's nominal preparation excluded). A
-fourth column runs the Dask batch on a cluster started (and its workers warmed by a first batch)
+fifth column runs the Dask batch on a cluster started (and its workers warmed by a first batch)
 before the clock starts, through its scheduler address: the rate once the cluster is up. The rows
 of all are checked identical (timings aside). The ceiling: a pure-Python busy loop of
 :data:`CEILING_S` s, twice one after another against once on each of 2 processes, taking turns
@@ -36,7 +36,8 @@ from .drawing import save, subplots
 
 SCENES = ("four_arm_joint_space", "tumbling")
 BANDS = [Band("joint_rate", 2.0), Band("mass", 0.1)]
-EXECUTORS = {"serial": Workers(1), "pool of 2": Workers(2), "dask local cluster of 2": Workers(2, dask=True)}
+EXECUTORS = {"serial": Workers(1), "threads of 2": Workers(threads=2), "pool of 2": Workers(2),
+             "dask local cluster of 2": Workers(2, dask=True)}
 #: The executor on the cluster started before the clock.
 WARM = "dask cluster already up"
 #: Length of one busy loop of the ceiling measurement, s (quick: a quarter).
