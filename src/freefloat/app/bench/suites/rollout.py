@@ -180,6 +180,8 @@ def chart(report: dict, path: Path) -> None:
         right.plot(r["scaling_per_repeat"][way], "o-", label=way)
     right.plot(r["ceiling_2_processes"], "k--", label="2-process ceiling (pure Python)")
     right.axhline(AIMS["scaling_1_to_2"], color="grey", lw=0.8, label=f"aim {AIMS['scaling_1_to_2']}x")
+    turns = range(len(r["ceiling_2_processes"]))
+    right.set_xticks(list(turns), [str(t + 1) for t in turns])
     right.set_xlabel("turn")
     right.set_ylabel("runs/s on 2 threads over 1")
     right.set_title(f"1 to 2 threads, {report['settings']['cores']} cores (shared machine)")
