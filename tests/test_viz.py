@@ -16,6 +16,7 @@ import pytest
 
 from freefloat.app.viz import frame_indices, write_figures, write_trajectory_html
 from freefloat.app.viz.figures import (
+    APPROACH_TITLE,
     END_COLOR,
     arm_name,
     base_trajectory_figure,
@@ -24,6 +25,7 @@ from freefloat.app.viz.figures import (
     joint_error_figure,
     skeleton,
     torque_figure,
+    write_approach_figure,
 )
 from freefloat.app.viz.meshcat_html import read_settings as _settings
 from freefloat.dynamics.metrics import free_com_motion, summarize
@@ -525,6 +527,15 @@ def test_error_figure_skipped_without_references(iiwa2, tmp_path):
     written = write_figures(iiwa2, _telemetry(iiwa2, references=False), tmp_path)
     assert sorted(p.name for p in tmp_path.iterdir()) == sorted(p.name for p in written)
     assert "joint_errors.png" not in [p.name for p in written] and len(written) == 5
+
+
+def test_an_approach_with_a_plan_gets_its_tracking_figure(iiwa2, tmp_path):
+    """A planned capture's approach (a phase with joint references) gets approach_joint_errors,
+    titled as the approach; one without references gets none."""
+    written = write_approach_figure(iiwa2, _telemetry(iiwa2), tmp_path / "planned")
+    assert [p.name for p in written] == ["approach_joint_errors.png"] and written[0].stat().st_size > 0
+    assert write_approach_figure(iiwa2, _telemetry(iiwa2, references=False), tmp_path / "none") == []
+    assert joint_error_figure(iiwa2, _telemetry(iiwa2), title=APPROACH_TITLE).get_suptitle() == APPROACH_TITLE
 
 
 def test_a_torque_free_run_writes_no_torque_figure(iiwa2, tmp_path):

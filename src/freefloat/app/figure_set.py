@@ -19,6 +19,7 @@ from ..errors import FreefloatError
 #: Every figure a run can draw, by file stem: what it shows.
 FIGURES: dict[str, str] = {
     "joint_errors": "joint tracking error per arm (runs with joint references)",
+    "approach_joint_errors": "joint tracking error of a planned capture's approach, against its plan",
     "torques": "joint torques per arm",
     "base_trajectory": "base CoM position, attitude and path",
     "end_effector_paths": "the robot at start and end with the end-effector and base CoM paths",
@@ -38,7 +39,7 @@ FIGURES: dict[str, str] = {
 }
 #: The lean set a scene draws unless it says otherwise: each kind of run's own figures, less the
 #: robot's motion (base trajectory, end-effector paths and displacement), which the page shows.
-DEFAULT = ("joint_errors", "torques", "com_drift", "conservation_balance", "angular_rates", "angular_momentum",
+DEFAULT = ("joint_errors", "approach_joint_errors", "torques", "com_drift", "conservation_balance", "angular_rates", "angular_momentum",
            "closed_loop", "reaction_wheels", "platform_tracking", "efforts", "loop_closure_drift", "sliding_variables",
            "base_attitude", "momentum")
 #: The name that stands for every figure.

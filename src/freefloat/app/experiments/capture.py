@@ -214,7 +214,8 @@ def run(setup: CaptureSetup, progress: Progress | None = None, checkpoint: Check
     return robot_outcome(setup, merged, tel, result, summary, animation=(both_t, both_q),
                          extra_bodies=[("target", mg.Mesh(mg.Box(list(tg.size)), TARGET_MATERIAL), poses)],
                          extra_telemetry={"pre_capture": res.pre}, events=[(res.impact_time, "grasp")], wrenches=(),
-                         spin=True, settle_threshold=res.summary["settle_threshold"])
+                         spin=True, settle_threshold=res.summary["settle_threshold"],
+                         approach=None if setup.plan is None else res.pre)
 
 
 EXPERIMENT = Experiment("capture", "a robot grasps a tumbling target and detumbles it",

@@ -284,15 +284,18 @@ def robot_outcome(setup: RobotSetup, robot: Robot, telemetry: Telemetry, result:
                   summary: dict[str, Any], animation: tuple[np.ndarray, np.ndarray] | None = None,
                   extra_bodies: list | None = None, extra_telemetry: dict[str, Telemetry] | None = None,
                   events: list[tuple[float, str]] | None = None, wrenches: tuple[ExternalWrench, ...] | None = None,
-                  spin: bool = False, settle_threshold: float | None = None) -> Outcome:
+                  spin: bool = False, settle_threshold: float | None = None,
+                  approach: Telemetry | None = None) -> Outcome:
     """The outcome of a robot run on ``robot`` (the scene's, or the merged one after a capture):
     telemetry named by its joints and end-effectors, provenance, the figures
     (:func:`~freefloat.app.viz.figures.write_figures`: the conservation balance when the run has
     ``wrenches``, default the scene's; the angular rates with ``spin``, against
     ``settle_threshold``) and the animation of ``animation = (t, q)`` (default: the telemetry)
-    with ``extra_bodies`` and the named moments ``events`` ((time s, label)). The figures left
-    out because their data is identically zero are named in the summary's ``figures_not_drawn``."""
-    from ..viz.figures import empty_figures, write_figures
+    with ``extra_bodies`` and the named moments ``events`` ((time s, label)); with ``approach``
+    (a planned capture's pre-capture phase on the scene's robot) also its joint tracking against the
+    plan. The figures left out because their data is identically zero are named in the summary's
+    ``figures_not_drawn``."""
+    from ..viz.figures import empty_figures, write_approach_figure, write_figures
     from ..viz.meshcat_html import write_trajectory_html
 
     t, q = animation or (telemetry.t, telemetry.q)
@@ -323,6 +326,7 @@ def robot_outcome(setup: RobotSetup, robot: Robot, telemetry: Telemetry, result:
         extra_telemetry=extra_telemetry,
         figures=lambda folder: [*write_figures(robot, telemetry, folder, wrenches, sim.control_period, spin,
                                                settle_threshold), *closure_figures(closed, telemetry, folder),
+                                *([] if approach is None else write_approach_figure(setup.robot, approach, folder)),
                                 *([] if wheels is None else wheel_figures(wheels, wheel_rows, folder))],
         page=lambda path, fps: write_trajectory_html(robot, t, q, path, fps=fps, extra=extra_bodies or None,
                                                           events=events),

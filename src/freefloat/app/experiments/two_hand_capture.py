@@ -124,7 +124,7 @@ def run(setup: TwoHandSetup, progress: Progress | None = None, checkpoint: Check
         setup, merged, tel, RunResult(tel, result.status, result.message, len(tel.t) - 1, wall, 0), summary,
         animation=(both_t, both_q), extra_bodies=_page_bodies(tg.size, res.target_poses, res.grasp_poses),
         extra_telemetry={"pre_capture": res.pre}, events=[(res.impact_time, "both hands grasp")], wrenches=(),
-        spin=True, settle_threshold=summary["settle_threshold"])
+        spin=True, settle_threshold=summary["settle_threshold"], approach=None if setup.plan is None else res.pre)
     robot_figures = outcome.figures
 
     def figures(folder):

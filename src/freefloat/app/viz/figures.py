@@ -39,6 +39,8 @@ from .plotting import (
     thin,
 )
 
+#: Title of a planned capture's approach tracking figure.
+APPROACH_TITLE = "Approach before the grasp: joint tracking error, plan - actual"
 #: Colours of the robot drawn at the start and at the end of a run.
 START_COLOR, END_COLOR = "#b0b0b0", "#303030"
 
@@ -125,15 +127,27 @@ def arm_name(arm: Arm, index: int) -> str:
     return prefix or f"arm {index + 1}"
 
 
-def joint_error_figure(robot: Robot, telemetry: Telemetry, panels: ArmPanels | None = None) -> Figure | None:
+def joint_error_figure(robot: Robot, telemetry: Telemetry, panels: ArmPanels | None = None,
+                       title: str = "Joint tracking error, reference - actual") -> Figure | None:
     """Joint tracking error ``joint_reference - joint_positions`` (rad; m for prismatic joints)
     vs t, one panel per arm, drawn on ``panels`` (default: new ones). Returns None when the run
     has no reference (all NaN)."""
     error = telemetry.joint_reference - telemetry.joint_positions
     if np.all(np.isnan(error)):
         return None
-    return (panels or ArmPanels(robot, telemetry.t)).draw(error, "Joint tracking error, reference - actual",
-                                                          "error (rad)", "m", steps=False)
+    return (panels or ArmPanels(robot, telemetry.t)).draw(error, title, "error (rad)", "m", steps=False)
+
+
+def write_approach_figure(robot: Robot, approach: Telemetry, out_dir: str | Path) -> list[Path]:
+    """``approach_joint_errors``: the joint tracking error of a planned capture's approach
+    (``approach``: the pre-capture phase, its joint reference the plan), as :func:`joint_error_figure`
+    draws it, when chosen (:func:`.plotting.choose`) and not identically zero or absent."""
+    if "joint_errors" in empty_figures(robot, approach):
+        return []
+    out_dir = Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    draw = lambda: joint_error_figure(robot, approach, title=APPROACH_TITLE)  # noqa: E731  -- drawn when chosen
+    return save_all({"approach_joint_errors": draw}, out_dir)
 
 
 def torque_figure(robot: Robot, telemetry: Telemetry, panels: ArmPanels | None = None) -> Figure:
