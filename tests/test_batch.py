@@ -17,7 +17,7 @@ import pytest
 from freefloat import FreefloatError
 from freefloat.app.batch import Band, Workers, run_batch
 from freefloat.app.batch.driver import PARTIAL
-from freefloat.app.batch.one_run import TIMINGS
+from freefloat.app.batch.one_run import TIMINGS, run_one
 from freefloat.app.cli import main
 from freefloat.app.scenes import load_scene
 
@@ -62,6 +62,20 @@ def test_threads_give_the_serial_rows_and_load_the_robot_once(tmp_path):
     assert [r["status"] for r in serial.rows] == ["completed"] * 6
     assert results(threads.rows) == results(serial.rows) and threads.summary["workers"] == "threads of 2"
     assert len({r["momentum_drift_max"] for r in serial.rows}) == 6
+
+
+def test_a_batch_on_threads_leaves_the_blas_threads_as_it_found_them(tmp_path):
+    """After a batch on 2 threads, BLAS has the threads it had before (restored from a run's
+    thread, OpenBLAS kept one)."""
+    from threadpoolctl import threadpool_info
+
+    def blas_threads() -> list[int]:
+        return [lib["num_threads"] for lib in threadpool_info() if lib["user_api"] == "blas"]
+
+    before = blas_threads()
+    run_batch(short(tmp_path, "tumbling", 0.05), tmp_path / "out", 4, [Band("joint_rate", 1.0)],
+              workers=Workers(threads=2))
+    assert blas_threads() == before
 
 
 def test_dask_workers_of_two_threads_give_the_serial_rows(tmp_path):
@@ -271,3 +285,23 @@ def test_a_batch_onto_a_full_disk_exits_2_naming_the_file(tmp_path, monkeypatch,
     scene = short(tmp_path)
     assert main(["batch", str(scene.source), "--runs", "2", "--out", str(tmp_path / "out"), "--quiet"]) == 2
     assert f"{PARTIAL}': No space left on device" in capsys.readouterr().err
+
+
+def test_threads_stop_the_runs_left_when_a_row_cannot_be_kept(tmp_path, monkeypatch):
+    """When keeping a row fails (a full disk), the thread executor raises that error at once:
+    the runs not started are never run and the running ones stop (it ran every run first)."""
+    from freefloat.app.batch import executors
+    from freefloat.app.batch.variations import plan_runs
+    from freefloat.app.runner import prepare
+
+    scene = short(tmp_path, "tumbling", 1.0)
+    plans = plan_runs(scene, prepare(scene), [Band("base_rate", 1.0)], 40, 0)
+    started = []
+    monkeypatch.setattr(executors, "run_one", lambda plan: started.append(plan.index) or run_one(plan))
+
+    def full(row: dict) -> None:
+        raise OSError("No space left on device")
+
+    with pytest.raises(OSError, match="No space left"):
+        executors.run_threads(plans, 2, full)
+    assert len(started) < 10

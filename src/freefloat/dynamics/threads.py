@@ -10,7 +10,11 @@ the GIL), all of them under the one limit.
 
 The limit is process-wide (threadpoolctl sets it in the BLAS library), so it is :class:`Shared`:
 the first thread to enter sets it and the last to leave restores what the first found; a thread
-leaving early never lifts it under another one still running.
+leaving early never lifts it under another one still running. OpenBLAS (0.3.31 here) ignores, in
+some orders, a raise of its thread count made from a thread other than the main one (a batch on
+2 threads left BLAS at one thread when its last run's thread restored two), so an executor of
+threads enters the limit in its own thread first and leaves it last
+(:func:`freefloat.app.batch.executors.run_threads`).
 
 Finding the BLAS libraries (threadpoolctl scans every loaded library) cost 0.75 to 7 ms, each
 time; the controller that found them is kept and scanned again only when modules were imported

@@ -19,6 +19,7 @@ from typing import Any, Callable, Iterator
 
 from ...distributed import client, process_pool, settle_futures
 from ...dynamics import stop_request
+from ...dynamics.threads import ONE_BLAS_THREAD
 from ...errors import FreefloatError
 from .one_run import run_one
 from .variations import RunPlan
@@ -106,28 +107,37 @@ def run_serial(plans: list[RunPlan], on_row: OnRow) -> None:
 
 def run_threads(plans: list[RunPlan], threads: int, on_row: OnRow) -> None:
     """The runs on ``threads`` threads of this process. On ``KeyboardInterrupt`` (only the main
-    thread gets one), the runs not started are cancelled, the running ones asked to stop
-    (:func:`~freefloat.dynamics.stop_request.stopping`: each stops within one chunk of its loop)
-    and waited for, a second Ctrl-C included; those that finished are given, the interrupted ones
-    are not rows (as in :func:`run_serial`)."""
-    with ThreadPoolExecutor(threads, thread_name_prefix="freefloat-run") as pool:
-        pending: dict[Future, RunPlan] = {pool.submit(run_one, plan): plan for plan in plans}
-        try:
-            while pending:
-                done, _ = wait(pending, return_when=FIRST_COMPLETED)
-                for future in done:
-                    _give(pending.pop(future), future, on_row)
-        except KeyboardInterrupt:
-            with stop_request.stopping():
-                for future in pending:
-                    future.cancel()
-                while not all(future.done() for future in pending):
-                    with contextlib.suppress(KeyboardInterrupt):  # a second Ctrl-C: they are stopping
-                        wait(pending)
+    thread gets one) or any error of ``on_row``, the runs not started are cancelled, the running
+    ones asked to stop (:func:`~freefloat.dynamics.stop_request.stopping`: each stops within one
+    chunk of its loop) and waited for, a second Ctrl-C included; on an interrupt, those that
+    finished are given, the interrupted ones are not rows (as in :func:`run_serial`)."""
+    with ONE_BLAS_THREAD:  # set and restored by this thread: see freefloat.dynamics.threads
+        _run_threads(plans, threads, on_row)
+
+
+def _run_threads(plans: list[RunPlan], threads: int, on_row: OnRow) -> None:
+    """:func:`run_threads` inside the BLAS limit."""
+    pool = ThreadPoolExecutor(threads, thread_name_prefix="freefloat-run")
+    pending: dict[Future, RunPlan] = {pool.submit(run_one, plan): plan for plan in plans}
+    try:
+        while pending:
+            done, _ = wait(pending, return_when=FIRST_COMPLETED)
+            for future in done:
+                _give(pending.pop(future), future, on_row)
+    except BaseException as exc:
+        with stop_request.stopping():
+            for future in pending:
+                future.cancel()
+            while not all(future.done() for future in pending):
+                with contextlib.suppress(KeyboardInterrupt):  # a second Ctrl-C: they are stopping
+                    wait(pending)
+        if isinstance(exc, KeyboardInterrupt):
             for future, plan in pending.items():
                 if not future.cancelled():
                     _give(plan, future, on_row)
-            raise
+        raise
+    finally:
+        pool.shutdown(wait=True)
 
 
 def _give(plan: RunPlan, future: Future, on_row: OnRow) -> None:
