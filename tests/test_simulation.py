@@ -216,3 +216,32 @@ def test_a_sample_interrupted_half_way_is_not_kept(monkeypatch):
                  make_integrator("rkmk4", robot.model), make_model("exact", robot), backend="python")
     assert result.status == "interrupted" and len(result.telemetry.t) == 6
     assert np.allclose(np.linalg.norm(result.telemetry.base_quaternion, axis=1), 1.0)
+
+
+def test_without_progress_the_compiled_loop_returns_to_python_every_thousand_periods(monkeypatch):
+    """With no progress to report, the compiled loop returns to Python at most every
+    UNREPORTED_PERIODS periods (and at each full telemetry chunk), not 200 times a run, and the
+    run is the same bit for bit as one reporting progress."""
+    from freefloat import load_robot
+    from freefloat.dynamics import compiled, simulation
+
+    from .conftest import REPO
+
+    robot = load_robot(REPO / "urdf" / "four_arm_planar.urdf", visuals=False)
+    q0, v0 = random_state(robot, np.random.default_rng(6), speed=0.5)
+    calls = []
+    original = compiled.CompiledLoop.run
+    monkeypatch.setattr(compiled.CompiledLoop, "run", lambda loop, *a: calls.append(a[0]) or original(loop, *a))
+
+    def tumble(progress):
+        calls.clear()
+        return run(robot, q0, v0, 2.5, 0.001, make_integrator("rkmk4", robot.model), ExactModel(robot),
+                   backend="compiled", record_every=10, progress=progress).telemetry
+
+    reported = tumble(lambda k: None)
+    assert len(calls) >= 200
+    quiet = tumble(None)
+    assert calls == [1000, 2000, 2500]
+    assert simulation.UNREPORTED_PERIODS == 1000
+    for field in ("q", "v", "momentum", "energy"):
+        assert np.array_equal(getattr(quiet, field), getattr(reported, field))

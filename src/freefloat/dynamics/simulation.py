@@ -37,6 +37,12 @@ MAX_POSITION = 1e12
 BACKENDS = ("auto", "compiled", "python")
 #: Telemetry rows per chunk (what ``checkpoint`` receives at a time).
 CHUNK_ROWS = 1024
+#: Periods the compiled loop runs between two returns to Python when no progress is reported (a
+#: progress bar makes it 1/200 of the run): each return costs a few microseconds, so Ctrl-C and a
+#: stop request still act within this many periods. One call per 1 s run at 1 ms instead of 200
+#: made 24 tumbling runs of the four-arm robot 1.10x as fast on one thread (52.2 against 47.6
+#: runs/s, best of five turns; the same final states).
+UNREPORTED_PERIODS = 1000
 
 
 class Controller(Protocol):
@@ -357,10 +363,11 @@ class PythonPeriods:
 
 def _run_compiled(loop: compiled.CompiledLoop, q0: np.ndarray, v0: np.ndarray, steps: int, control_period: float,
                   start_time: float, rows: Chunks, progress: Callable[[int], None] | None) -> RunResult:
-    """:func:`run` through the compiled loop: Python is entered once per chunk or progress report,
-    where a stop request (:mod:`.stop_request`) or Ctrl-C interrupts the run."""
+    """:func:`run` through the compiled loop: Python is entered once per chunk or progress report
+    (without ``progress``: at least every :data:`UNREPORTED_PERIODS`), where a stop request
+    (:mod:`.stop_request`) or Ctrl-C interrupts the run."""
     loop.start(q0, v0)
-    report_every = max(1, steps // 200)
+    report_every = max(1, steps // 200) if progress is not None else UNREPORTED_PERIODS
     status, message = "completed", ""
     start = time.perf_counter()
     try:
