@@ -11,15 +11,16 @@
 The closed chains' bindings of both modules are one translation unit (cpp/chains.cpp), compiled
 once and linked into both (so both modules link to libpinocchio_default).
 
-Where the time goes (g++ 12, user seconds per translation unit, measured one after another on this
-2-core machine at load 1-2, which moves them by +-15 %): the robot loop with the closed plant, one
-unit, 98 s at -O3 and 59 s at -O1 (as two units at -O3: 69 + 61 s); the closed-chain loop 53 s; the
-core 27 s. Parsing and template instantiation are most of it: -O1 takes chains.cpp and core.cpp no
-faster, and a precompiled header of Pinocchio, Eigen and pybind11 (21 s to make) saved nothing. So
-the robot loop, whose time is in libpinocchio_default's algorithms, is compiled at -O1
-(:data:`OPTIMIZATION`), where every scene measured ran as fast as at -O3; the closed chains' own
-numerics stay at -O3 (12-49 % slower at -O2). The units compile in parallel, one per core, fewer
-when memory is short (:data:`UNIT_MEMORY`).
+Where the time goes (g++ 12, user seconds per translation unit, two at a time as the build runs
+them, at load 1.3-1.8): the robot loop with the closed plant, one unit, 46-47 s at -O1 (as two
+units at -O3: 46-48 + 35-36 s); the closed-chain loop 37-38 s; the core 20 s: 61 s of wall time
+where the four units of before took 77-79 s. Parsing and template instantiation are most of it:
+-O1 takes chains.cpp 32 s instead of 38 s but its loop runs slower, and a precompiled header of
+Pinocchio, Eigen and pybind11 (21 s to make) saved nothing. So the robot loop, whose time is in
+libpinocchio_default's algorithms, is compiled at -O1 (:data:`OPTIMIZATION`), where every scene
+measured ran as fast as at -O3 (docs/bench.md, "The build"); the closed chains' own numerics stay
+at -O3 (12-49 % slower at -O2). The units compile in parallel, one per core, fewer when memory is
+short (:data:`UNIT_MEMORY`).
 
 Objects are kept in ``build/cpp/<configuration>/`` of the source tree (ignored by git), also by an
 editable install, whose own build folders are temporary: reinstalling with another extra, or
