@@ -295,6 +295,23 @@ def test_planned_capture_scene_runs_its_three_phases(tmp_path):
     assert out.extra_telemetry["pre_capture"].t[-1] == pytest.approx(scene.target.contact_time)
 
 
+def test_a_planned_capture_draws_its_approach_tracking(tmp_path):
+    """A planned capture written to a folder has the approach's joint tracking figure, whose
+    data is the pre-capture phase's plan minus its positions, and its summary points there for the
+    joint errors the phase after the grasp cannot have."""
+    from freefloat.app.runner import run_scene
+
+    scene = quiet_scene(tmp_path, "capture_planned_planar", simulation={"duration": 0.02}, target={"contact_time": 1.0},
+                        approach={"steps": 100}, output={"figures": ["joint_errors", "approach_joint_errors"],
+                                                         "html": False})
+    done = run_scene(scene, tmp_path / "out")
+    pre = done.outcome.extra_telemetry["pre_capture"]
+    assert np.abs(pre.joint_reference - pre.joint_positions).max() > 0.0
+    assert (tmp_path / "out" / "approach_joint_errors.png").is_file()
+    assert not (tmp_path / "out" / "joint_errors.png").exists()
+    assert "approach_joint_errors" in done.outcome.summary["figures_not_drawn"]["joint_errors"]
+
+
 def test_two_hand_plan_puts_both_hands_on_their_grasp_points(planar):
     """Planned for both hands at once, the null-space path ends with each hand on its own grasp
     point with its velocity (Pinocchio's frame placements and velocities at the plan's last state)

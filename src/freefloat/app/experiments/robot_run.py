@@ -309,6 +309,8 @@ def robot_outcome(setup: RobotSetup, robot: Robot, telemetry: Telemetry, result:
         summary = {**summary, **wheel_summary(wheels, setup.wheel_control, wheel_rows, telemetry)}
     if setup.scene.output.figures and len(telemetry.t) >= 2:
         left_out = empty_figures(robot, telemetry, spin)
+        if approach is not None and "joint_errors" in left_out:
+            left_out["joint_errors"] = "the phase after the grasp has no joint reference (the approach's: approach_joint_errors)"
         if left_out:
             summary = {**summary, "figures_not_drawn": left_out}
     return Outcome(
