@@ -16,7 +16,8 @@ them, at load 1.3-1.8): the robot loop with the closed plant, one unit, 46-47 s 
 units at -O3: 46-48 + 35-36 s); the closed-chain loop 37-38 s; the core 20 s: 61 s of wall time
 where the four units of before took 77-79 s. Parsing and template instantiation are most of it:
 -O1 takes chains.cpp 32 s instead of 38 s but its loop runs slower, and a precompiled header of
-Pinocchio, Eigen and pybind11 (21 s to make) saved nothing. So the robot loop, whose time is in
+Pinocchio, Eigen and pybind11 did not pay (21 s to make before any unit starts; closures.cpp
+compiled no faster with it). So the robot loop, whose time is in
 libpinocchio_default's algorithms, is compiled at -O1 (:data:`OPTIMIZATION`), where every scene
 measured ran as fast as at -O3 (docs/bench.md, "The build"); the closed chains' own numerics stay
 at -O3 (12-49 % slower at -O2). The units compile in parallel, one per core, fewer when memory is
