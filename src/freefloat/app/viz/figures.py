@@ -97,11 +97,9 @@ def empty_figures(robot: Robot, telemetry: Telemetry, spin: bool = False) -> dic
     (or, for ``joint_errors``, absent), each with the reason, as the summary says it."""
     tel = telemetry
     out = {}
-    errors = tel.joint_reference - tel.joint_positions
-    if np.all(np.isnan(errors)):
-        out["joint_errors"] = "the run has no joint reference"
-    elif not np.any(np.nan_to_num(errors)):
-        out["joint_errors"] = "every joint tracking error is zero"
+    missing = why_no_joint_errors(tel)
+    if missing is not None:
+        out["joint_errors"] = missing
     if not np.any(tel.tau):
         out["torques"] = "every joint torque is zero (a torque-free run)"
     if not (np.any(tel.base_position) or np.any(base_attitude(tel.base_quaternion))):
@@ -115,6 +113,17 @@ def empty_figures(robot: Robot, telemetry: Telemetry, spin: bool = False) -> dic
     if spin and not np.any(tel.momentum[:, 3:]):
         out["angular_momentum"] = "the angular momentum is zero throughout"
     return out
+
+
+def why_no_joint_errors(telemetry: Telemetry) -> str | None:
+    """Why a run's joint tracking error is not worth a figure (no reference, or an error of zero
+    throughout), or None when it is."""
+    errors = telemetry.joint_reference - telemetry.joint_positions
+    if np.all(np.isnan(errors)):
+        return "the run has no joint reference"
+    if not np.any(np.nan_to_num(errors)):
+        return "every joint tracking error is zero"
+    return None
 
 
 def arm_name(arm: Arm, index: int) -> str:
@@ -142,7 +151,7 @@ def write_approach_figure(robot: Robot, approach: Telemetry, out_dir: str | Path
     """``approach_joint_errors``: the joint tracking error of a planned capture's approach
     (``approach``: the pre-capture phase, its joint reference the plan), as :func:`joint_error_figure`
     draws it, when chosen (:func:`.plotting.choose`) and not identically zero or absent."""
-    if "joint_errors" in empty_figures(robot, approach):
+    if why_no_joint_errors(approach) is not None:
         return []
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
