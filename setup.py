@@ -173,7 +173,8 @@ class BuildExt(pybind11_build_ext):
 
 
 def available_memory() -> float:
-    """Bytes of memory available now (Linux's MemAvailable; elsewhere, enough for every core)."""
+    """Bytes of memory available now (Linux's MemAvailable; elsewhere, enough for every core).
+    freefloat.app.atlas.grid has its own reading of it: the build cannot import the package."""
     try:
         with open("/proc/meminfo") as meminfo:
             for line in meminfo:
