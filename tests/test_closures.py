@@ -93,15 +93,25 @@ def test_accelerations_equal_pinocchio_constraint_dynamics(tmp_path_factory, kin
     tau = rng.normal(size=model.nv)
     ours = solve(model, model.createData(), q, v, tau, [closure]).acceleration
     reference = constraint_dynamics(model, q, v, tau, pinocchio_constraints(model, closure))
+    assert_equal_to_pinocchio_or_closer(model, closure, q, v, ours, reference, 1e-9)
+
+
+def assert_equal_to_pinocchio_or_closer(model, closure, q, v, ours, reference, tolerance):
+    """Accelerations ``ours`` equal Pinocchio's ``reference`` to ``tolerance`` relative, or, on a
+    nearly rigid or ill-conditioned loop where the two solves part by the conditioning (seen: 1.3e-8
+    and 2.2e-9 relative, Pinocchio's proximal solver stopping short or both rows met to 1e-12),
+    within 1e-6 and meeting the closure's acceleration rows ``J a + gamma = 0`` as closely as
+    Pinocchio's does, or to 1e-11 of their scale."""
     scale = max(1.0, np.abs(reference).max())
     difference = np.abs(ours - reference).max()
-    if difference <= 1e-9 * scale:
+    if difference <= tolerance * scale:
         return
     assert difference <= 1e-6 * scale
     data = model.createData()
     kinematics(model, data, q, v)
     _, J, gamma = stacked([closure], model, data)
-    assert np.abs(J @ ours + gamma).max() <= np.abs(J @ reference + gamma).max()
+    rows_scale = max(1.0, np.abs(gamma).max(), np.abs(J).max() * np.abs(ours).max())
+    assert np.abs(J @ ours + gamma).max() <= max(np.abs(J @ reference + gamma).max(), 1e-11 * rows_scale)
 
 
 @pytest.mark.parametrize("kind", ["point", "weld", "revolute"])
