@@ -11,6 +11,7 @@
 #include <utility>
 #include <vector>
 
+#include "sim/batch.hpp"
 #include "sim/loop.hpp"
 #include "sim/py_sim.hpp"
 
@@ -126,6 +127,43 @@ std::vector<Closure> closures_of(const Model& m, const std::vector<ClosureTuple>
   std::vector<Closure> out;
   for (const ClosureTuple& c : closures) out.push_back(closure_of(m, c));
   return out;
+}
+
+// A Batch with what it reads and writes kept alive: the loops, the inputs (converted arrays), the rows.
+struct PyBatch {
+  py::list loops;
+  Array q0, v0;
+  std::optional<Array> start, delta;
+  py::tuple arrays;
+  std::unique_ptr<Batch> batch;  // last: destroyed (its threads joined) before what they use
+};
+
+std::unique_ptr<PyBatch> make_batch(py::list loops, Array q0, Array v0, long last, std::optional<Array> start,
+                                    std::optional<Array> delta, py::tuple arrays, int rows_per_run, int slots) {
+  if (loops.empty()) throw std::invalid_argument("a batch needs at least one loop");
+  std::vector<Simulation*> sims;
+  const PySimulation& first = loops[0].cast<PySimulation&>();
+  const Model& m = first.sim->model();
+  for (py::handle h : loops) {
+    PySimulation& s = h.cast<PySimulation&>();
+    if (s.sim->model().nq != m.nq || s.sim->model().nv != m.nv || s.n_joints != first.n_joints || s.n_ee != first.n_ee)
+      throw std::invalid_argument("the batch's loops must simulate one robot");
+    sims.push_back(s.sim.get());
+  }
+  if (q0.size() % m.nq != 0) throw std::invalid_argument("q0: expected (runs, nq) numbers");
+  const int runs = static_cast<int>(q0.size() / m.nq);
+  checked(v0, static_cast<py::ssize_t>(runs) * m.nv, "v0");
+  if (start.has_value() != delta.has_value()) throw std::invalid_argument("start and delta go together");
+  if (start) {
+    checked(*start, static_cast<py::ssize_t>(runs) * first.n_joints, "start");
+    checked(*delta, static_cast<py::ssize_t>(runs) * first.n_joints, "delta");
+  }
+  if (last < 1 || rows_per_run < 1) throw std::invalid_argument("last and rows_per_run must be >= 1");
+  auto b = std::make_unique<PyBatch>(PyBatch{loops, q0, v0, start, delta, arrays, nullptr});
+  b->batch = std::make_unique<Batch>(std::move(sims), runs, last, b->q0.data(), b->v0.data(),
+                                     start ? b->start->data() : nullptr, delta ? b->delta->data() : nullptr,
+                                     first.rows(arrays), rows_per_run, slots);
+  return b;
 }
 
 }  // namespace
@@ -353,5 +391,30 @@ PYBIND11_MODULE(_sim, m) {
       .def_property_readonly("periods_done", [](const PySimulation& s) { return s.sim->period(); })
       .def_property_readonly("work", [](const PySimulation& s) { return s.sim->work(); })
       .def_property_readonly("evaluations", [](const PySimulation& s) { return s.sim->evaluations(); });
+  py::class_<PyBatch>(m, "Batch")
+      .def(py::init(&make_batch), py::arg("loops"), py::arg("q0"), py::arg("v0"), py::arg("last"), py::arg("start"),
+           py::arg("delta"), py::arg("arrays"), py::arg("rows_per_run"), py::arg("slots"),
+           "Starts the runs from q0 (runs, nq), v0 (runs, nv) to period `last` on one C++ thread per loop "
+           "(each configured alike, with no detumbling law), with the quintics' start and delta (runs, n) "
+           "under computed torque (else None), writing each run's rows into a free slot of `rows_per_run` "
+           "rows of the telemetry arrays (`slots` of them).")
+      .def("wait",
+           [](PyBatch& b, double seconds) {
+             py::gil_scoped_release release;
+             return b.batch->wait(seconds);
+           },
+           "Waits up to `seconds` (Python's lock released) for a run to finish; True when every thread has ended.")
+      .def("take",
+           [](PyBatch& b) {
+             py::list out;
+             for (const Batch::Done& d : b.batch->take())
+               out.append(py::make_tuple(d.run, d.slot, d.rows, d.periods, d.evaluations, d.wall,
+                                         d.error.empty() ? py::object(py::none()) : py::object(py::str(d.error))));
+             return out;
+           },
+           "The runs finished since the last call: (run, slot, rows, periods, evaluations, wall s, blow-up "
+           "message or None).")
+      .def("release", [](PyBatch& b, int slot) { b.batch->release(slot); }, "The slot's rows are read.")
+      .def("stop", [](PyBatch& b) { b.batch->stop(); }, "Every run stops at its next slice of periods.");
   bind_chain(m);
 }

@@ -207,9 +207,30 @@ class Simulation {
     work_ = work;
   }
 
+  // A new run from (q, v) at period 0 with the law, wrenches and settings kept (batch.hpp): the
+  // state, work, integrator and the closed plant's warm start are reset as configure() resets
+  // them. Only a law without a state of its own can be kept (not the detumbling laws).
+  void restart(const Vec& q, const Vec& v) {
+    if (has_law_state()) throw std::invalid_argument("a detumbling law keeps a state: its runs cannot share a loop");
+    set_state(q, v, 0, 0.0);
+    closed_.forget();
+  }
+  bool has_law_state() const { return detumbling_.has_value() || loop_law_.has_value(); }
+
+  // The computed-torque reference's start and displacement (n,) for the next run; the duration
+  // and gains stay (set_computed_torque first).
+  void set_reference(const Vec& start, const Vec& delta) {
+    if (!reference_) throw std::invalid_argument("set_reference: no computed-torque law is set");
+    reference_->start = start;
+    reference_->delta = delta;
+  }
+  bool has_reference() const { return reference_.has_value(); }
+  int n_joints() const { return joints_.n; }
+
   const Vec& q() const { return q_; }
   const Vec& v() const { return v_; }
   long period() const { return k_; }
+  double time() const { return start_ + k_ * period_; }  // of the current period, s
   double work() const { return work_; }
   long evaluations() const { return integrator_->evaluations(); }
   const Model& model() const { return model_; }

@@ -55,7 +55,7 @@ from .telemetry import Telemetry
 from .wrenches import WrenchField
 
 __all__ = ["COMPILED_INTEGRATORS", "COMPILED_PLANTS", "CONVENTION", "MAX_IDLE", "CompiledEngine", "CompiledLoop", "DetumblingLaw",
-           "LoopDetumblingLaw", "clear_loops", "law_of", "unsupported"]
+           "LoopDetumblingLaw", "chunk_arrays", "clear_loops", "law_of", "unsupported"]
 
 if _sim.PINOCCHIO_VERSION != pin.__version__:  # the module is linked to the library it was built with
     raise ImportError(f"freefloat's compiled loop was built against Pinocchio {_sim.PINOCCHIO_VERSION} but "
@@ -244,7 +244,7 @@ def _model_arrays(robot: Robot) -> dict[str, Any]:
     )
 
 
-def _arrays(chunk: Telemetry) -> tuple[np.ndarray, ...]:
+def chunk_arrays(chunk: Telemetry) -> tuple[np.ndarray, ...]:
     """The chunk's arrays in field order, not copied (the compiled loop fills them in place)."""
     return tuple(getattr(chunk, f.name) for f in fields(chunk))
 
@@ -264,11 +264,11 @@ class CompiledEngine:
         Returns the rows written and, when the state blew up, the Python loop's message (None
         otherwise); the run then stopped at the last good period, its rows kept.
         """
-        return self.sim.run(last_period, _arrays(chunk), row)
+        return self.sim.run(last_period, chunk_arrays(chunk), row)
 
     def bind(self, chunk: Any) -> None:
         """The chunk :meth:`record` writes into."""
-        self.sim.bind(_arrays(chunk))
+        self.sim.bind(chunk_arrays(chunk))
 
     def record(self, row: int, reference: np.ndarray | None = None) -> None:
         """Row ``row`` of the bound chunk at the current state, with the controller's ``reference``

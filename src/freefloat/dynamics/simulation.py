@@ -185,8 +185,7 @@ def run(
             loop = compiled.CompiledLoop(robot, integrator, control_period, start_time, record_every,
                                          law if whole_chunks else None,
                                          field_of(robot, wrenches) if whole_chunks else None,
-                                         data=getattr(model, "data", None) if getattr(model, "model", None) is robot.model else None,
-                                         plant=model)
+                                         data=plant_data(robot, model), plant=model)
             try:
                 if whole_chunks:
                     return _run_compiled(loop, q0, v0, steps, control_period, start_time, rows, progress)
@@ -271,6 +270,11 @@ def run_plant(
     engine.start(q0, v0)
     return single_blas_thread(_run_periods)(engine, steps, control_period, controller, None, record_every, progress,
                                             stop, start_time, rows)
+
+
+def plant_data(robot: Robot, model: DynamicsModel) -> pin.Data | None:
+    """The plant model's own ``pin.Data`` of ``robot.model`` (for the compiled loop's check), or None."""
+    return getattr(model, "data", None) if getattr(model, "model", None) is robot.model else None
 
 
 def field_of(robot: Robot, wrenches: tuple[ExternalWrench, ...]) -> WrenchField | None:

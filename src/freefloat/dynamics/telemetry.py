@@ -22,7 +22,15 @@ class Arrays:
 
     def truncated(self: A, rows: int) -> A:
         """The first ``rows`` samples (what a run had when it stopped)."""
-        return type(self)(**{f.name: getattr(self, f.name)[:rows] for f in fields(self)})
+        return self.window(0, rows)
+
+    def window(self: A, start: int, stop: int) -> A:
+        """Samples ``start`` to ``stop - 1``, as views of these arrays (not copies)."""
+        return type(self)(**{f.name: getattr(self, f.name)[start:stop] for f in fields(self)})
+
+    def copied(self: A) -> A:
+        """The same samples in arrays of their own."""
+        return type(self)(**{f.name: getattr(self, f.name).copy() for f in fields(self)})
 
     def save(self, path: str | Path, *, compressed: bool = True, **metadata: object) -> None:
         """Write all arrays to ``path`` (.npz); ``metadata`` values are stored as arrays too.

@@ -1,0 +1,167 @@
+// Many runs of one scene in one call, on C++ threads: each thread drives a loop of its own
+// (loop.hpp, with its own Pinocchio Data) through runs it takes in turn, each from its initial
+// state (and, under computed torque, its own quintic), writing the run's telemetry rows into a
+// free slot of one shared block of rows. The caller waits without Python's lock, takes the runs
+// as they finish and frees their slots; a stop request ends every run at its next slice of
+// periods. No thread touches Python.
+#pragma once
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <deque>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "loop.hpp"
+
+namespace freefloat::sim {
+
+class Batch {
+ public:
+  // Periods a run does between two looks at the stop request (a few ms at nv 22).
+  static constexpr long kSlice = 1000;
+
+  // A finished run: its index, the slot holding its rows, rows written, periods done, dynamics
+  // evaluations, loop wall time (s), and the blow-up message (empty: none).
+  struct Done {
+    int run, slot, rows;
+    long periods, evaluations;
+    double wall;
+    std::string error;
+  };
+
+  // The runs' inputs, row-major: q0 (runs, nq), v0 (runs, nv), and for a computed-torque law the
+  // quintics' start and delta (runs, n) (null without one). `rows` holds `slots` slots of
+  // `rows_per_run` rows each. The loops must outlive the batch.
+  Batch(std::vector<Simulation*> loops, int runs, long last, const double* q0, const double* v0, const double* start,
+        const double* delta, Rows rows, int rows_per_run, int slots)
+      : loops_(std::move(loops)), runs_(runs), last_(last), q0_(q0), v0_(v0), start_(start), delta_(delta),
+        rows_(rows), per_run_(rows_per_run) {
+    for (Simulation* s : loops_) {
+      if (s->has_law_state()) throw std::invalid_argument("a detumbling law keeps a state: its runs cannot share a loop");
+      if ((start_ != nullptr) != s->has_reference())
+        throw std::invalid_argument("the quintics' start and delta go with a computed-torque law, and only with one");
+    }
+    if (slots < 1 || static_cast<long>(slots) * per_run_ > rows_.rows) throw std::invalid_argument("slots out of range");
+    for (int i = 0; i < slots; ++i) free_.push_back(i);
+    in_use_.assign(slots, false);
+    running_ = static_cast<int>(loops_.size());
+    for (Simulation* s : loops_) threads_.emplace_back([this, s] { work(*s); });
+  }
+
+  ~Batch() {
+    stop();
+    for (std::thread& t : threads_) t.join();
+  }
+
+  // Wait up to `seconds` for a run to finish or every thread to end; true when they have ended.
+  bool wait(double seconds) {
+    std::unique_lock<std::mutex> lock(mutex_);
+    changed_.wait_for(lock, std::chrono::duration<double>(seconds), [this] { return running_ == 0 || !done_.empty(); });
+    return running_ == 0;
+  }
+
+  // The runs finished since the last call.
+  std::vector<Done> take() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    std::vector<Done> out(done_.begin(), done_.end());
+    done_.clear();
+    return out;
+  }
+
+  // The slot's rows are read: a next run may write there.
+  void release(int slot) {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (slot < 0 || slot >= static_cast<int>(in_use_.size()) || !in_use_[slot])
+        throw std::invalid_argument("release: slot " + std::to_string(slot) + " holds no finished run");
+      in_use_[slot] = false;
+      free_.push_back(slot);
+    }
+    changed_.notify_all();
+  }
+
+  // Every run stops at its next slice (its rows so far kept); no run starts.
+  void stop() {
+    stopping_ = true;
+    changed_.notify_all();
+  }
+
+ private:
+  void work(Simulation& sim) {
+    const int nq = sim.model().nq, nv = sim.model().nv, n = sim.n_joints();
+    for (int run; !stopping_ && (run = next_++) < runs_;) {
+      const int slot = take_slot();
+      if (slot < 0) break;
+      Done d{run, slot, 0, 0, 0, 0.0, {}};
+      const auto begin = std::chrono::steady_clock::now();
+      const long evaluations = sim.evaluations();
+      Rows slot_rows = rows_;
+      slot_rows.rows = (slot + 1) * per_run_;
+      const int first = slot * per_run_;
+      try {
+        sim.restart(Eigen::Map<const Vec>(q0_ + static_cast<long>(nq) * run, nq),
+                    Eigen::Map<const Vec>(v0_ + static_cast<long>(nv) * run, nv));
+        if (start_ != nullptr)
+          sim.set_reference(Eigen::Map<const Vec>(start_ + static_cast<long>(n) * run, n),
+                            Eigen::Map<const Vec>(delta_ + static_cast<long>(n) * run, n));
+        while (sim.period() < last_ && d.error.empty() && !stopping_) {
+          const long before = sim.period();
+          d.rows += sim.run(std::min(last_, before + kSlice), slot_rows, first + d.rows, d.error);
+          if (sim.period() == before && d.error.empty()) d.error = "the loop made no progress (its rows are full)";
+        }
+        if (d.error.empty() && sim.period() == last_) sim.record_now(slot_rows, first + d.rows++, nullptr);
+      } catch (const std::exception& e) {  // Pinocchio refusing a degenerate state, as simulation.run reports it
+        char when[64];
+        std::snprintf(when, sizeof when, "at t = %.6g s: ", sim.time());
+        d.error = when + std::string(e.what());
+      }
+      d.periods = sim.period();
+      d.evaluations = sim.evaluations() - evaluations;
+      d.wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
+      {
+        std::lock_guard<std::mutex> lock(mutex_);
+        done_.push_back(std::move(d));
+      }
+      changed_.notify_all();
+    }
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      --running_;
+    }
+    changed_.notify_all();
+  }
+
+  // A free slot, waiting for one; -1 when stopped first.
+  int take_slot() {
+    std::unique_lock<std::mutex> lock(mutex_);
+    changed_.wait(lock, [this] { return stopping_ || !free_.empty(); });
+    if (stopping_) return -1;
+    const int slot = free_.front();
+    free_.pop_front();
+    in_use_[slot] = true;
+    return slot;
+  }
+
+  std::vector<Simulation*> loops_;
+  int runs_;
+  long last_;
+  const double *q0_, *v0_, *start_, *delta_;
+  Rows rows_;
+  int per_run_;
+  std::atomic<int> next_{0};
+  std::atomic<bool> stopping_{false};
+  std::mutex mutex_;
+  std::condition_variable changed_;
+  std::deque<int> free_;
+  std::vector<bool> in_use_;  // by a run, or by its rows until released
+  std::deque<Done> done_;
+  int running_ = 0;
+  std::vector<std::thread> threads_;
+};
+
+}  // namespace freefloat::sim

@@ -1,0 +1,208 @@
+"""Many runs of one robot scene in one compiled call, on C++ threads (``_sim.Batch``).
+
+Runs that differ only in their initial state (and, under computed torque, in the quintic that
+starts from it) need no Python between their periods. :func:`start_runs` hands their states, as
+arrays, to ``threads`` C++ threads, each driving a compiled loop of its own
+(:class:`~freefloat.dynamics.compiled.CompiledLoop`, with its own Pinocchio ``Data``) through the
+runs it takes in turn; every run writes its telemetry rows into a slot of one block of rows.
+They run without Python's lock while this thread does other work (prepares the next runs,
+summarises the finished ones); :meth:`ManyRuns.finish` then hands each run, as it finishes, to
+its caller. A stop request (:mod:`.stop_request`) or Ctrl-C ends every run within
+:data:`SLICE_PERIODS` periods; the finished runs are kept, the others end ``"interrupted"``.
+
+Each run gives the numbers of :func:`~freefloat.dynamics.simulation.run` with the same inputs,
+bit for bit (tested), on any number of threads.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from typing import Any
+
+import numpy as np
+
+from ..arguments import whole_number
+from ..errors import InvalidArgument
+from ..robot.robot import Robot
+from ..robot.state import check_state
+from . import _sim, compiled, stop_request
+from .integrators import Integrator
+from .models import DynamicsModel
+from .simulation import Controller, RunResult, control_periods, field_of, plant_data
+from .telemetry import Telemetry
+from .wrenches import ExternalWrench
+
+__all__ = ["SLICE_PERIODS", "ManyRuns", "run_many", "start_runs"]
+
+#: Periods a run does between two looks at the stop request (``Batch::kSlice`` in cpp/sim/batch.hpp).
+SLICE_PERIODS = 1000
+#: Longest wait for a run to finish before this thread looks at Ctrl-C and the stop request, s.
+WAIT = 0.05
+
+OnResult = Callable[[int, RunResult], None]
+
+
+class ManyRuns:
+    """Runs started by :func:`start_runs`, running on their threads until :meth:`finish`."""
+
+    def __init__(self, loops: list[compiled.CompiledLoop], batch: Any, runs: int, block: Telemetry,
+                 rows_per_run: int, steps: int, control_period: float, keep: bool):
+        self._loops, self._batch, self._runs, self._block = loops, batch, runs, block
+        self._rows_per_run, self._steps, self._period, self._keep = rows_per_run, steps, control_period, keep
+        self.interrupted = False  # stopped by stop(), Ctrl-C or a stop request
+
+    def stop(self) -> None:
+        """Stop the runs within :data:`SLICE_PERIODS` periods (no run starts); :meth:`finish` gives
+        those that finished."""
+        self.interrupted = True
+        self._batch.stop()
+
+    def finish(self, on_result: OnResult | None = None) -> list[RunResult | None]:
+        """Wait for every run, giving ``on_result(index, result)`` each as it finishes (in this
+        thread; the telemetry is its run's alone). Ctrl-C or a stop request stops the runs: those
+        cut short end ``"interrupted"``, those not started stay None. An error of ``on_result``
+        stops the runs and propagates.
+
+        Returns:
+            the results by run index (None for a run that never started); without ``keep``
+            (:func:`start_runs`), an empty list: the results went to ``on_result`` only.
+        """
+        results: list[RunResult | None] = [None] * (self._runs if self._keep else 0)
+        runs = self._batch
+
+        def give(done: tuple) -> None:
+            index, slot, rows, periods, evaluations, wall, error = done
+            first = slot * self._rows_per_run
+            telemetry = self._block.window(first, first + rows)
+            if not self._keep:
+                telemetry = telemetry.copied()
+                runs.release(slot)
+            status = "diverged" if error else "completed" if periods == self._steps else "interrupted"
+            message = error or ("" if status == "completed" else
+                                f"interrupted by the user at t = {periods * self._period:.6g} s")
+            result = RunResult(telemetry, status, message, periods, wall, evaluations, "compiled")
+            if self._keep:
+                results[index] = result
+            if on_result is not None:
+                on_result(index, result)
+
+        try:
+            try:
+                while True:
+                    ended = runs.wait(WAIT)
+                    for done in runs.take():
+                        give(done)
+                    if ended:
+                        break
+                    stop_request.check()  # raises KeyboardInterrupt as Ctrl-C does
+            except KeyboardInterrupt:
+                self.stop()
+                _wait_out(runs)
+                for done in runs.take():
+                    give(done)
+        except BaseException:
+            runs.stop()
+            _wait_out(runs)
+            raise
+        finally:
+            for loop in self._loops:
+                loop.release()
+        return results
+
+
+def _wait_out(runs: Any) -> None:
+    """Wait until the stopped runs' threads end (a second Ctrl-C does not cut it short: they are stopping)."""
+    while True:
+        try:
+            if runs.wait(WAIT):
+                return
+        except KeyboardInterrupt:
+            continue
+
+
+def start_runs(robot: Robot, q0: np.ndarray, v0: np.ndarray, duration: float, control_period: float,
+               integrator: Integrator, model: DynamicsModel, controllers: Sequence[Controller] | None = None,
+               wrenches: tuple[ExternalWrench, ...] = (), record_every: int = 1, threads: int = 1,
+               keep: bool = True) -> ManyRuns:
+    """Start one run per row of ``q0``, ``v0`` on ``threads`` C++ threads; they run on while this
+    thread goes on, until :meth:`ManyRuns.finish`.
+
+    Args:
+        robot: the robot.
+        q0, v0: initial Pinocchio states, one run per row (runs, nq), (runs, nv).
+        duration, control_period, integrator, model, wrenches, record_every: as in
+            :func:`~freefloat.dynamics.simulation.run`, the same for every run (the plant
+            ``model`` must be one the compiled loop runs, the integrator a compiled one).
+        controllers: None (torque-free), or one computed-torque controller per run on a quintic
+            (``ComputedTorque``), all with the same duration and gains.
+        threads: C++ threads (at most one per run).
+        keep: keep every run's telemetry in one block for the returned results; otherwise each
+            run's rows are copied out for ``on_result`` and their slot reused (memory for
+            ``2 threads`` runs, whatever their number).
+
+    Raises:
+        InvalidArgument: naming the run for a state of the wrong size or not finite, the reason the
+            compiled loop cannot run the plant or integrator, a controller without a compiled
+            quintic or with other gains or duration than the first run's, or ``threads`` < 1.
+    """
+    steps = control_periods(duration, control_period)
+    q0, v0 = np.atleast_2d(np.asarray(q0, dtype=float)), np.atleast_2d(np.asarray(v0, dtype=float))
+    if q0.ndim != 2 or v0.ndim != 2 or len(q0) != len(v0) or len(q0) == 0:
+        raise InvalidArgument(f"q0 and v0 must hold one state per run, as (runs, nq) and (runs, nv) arrays; got shapes "
+                              f"{q0.shape} and {v0.shape}")
+    for i, (q, v) in enumerate(zip(q0, v0)):
+        try:
+            check_state(robot, q, v)
+        except InvalidArgument as exc:
+            raise InvalidArgument(f"run {i}: {exc}") from None
+    record_every = min(whole_number("record_every", record_every), steps)
+    threads = min(whole_number("threads", threads), len(q0))
+    reason = compiled.unsupported(model, integrator)
+    if reason is not None:
+        raise InvalidArgument(f"many runs in one call take the compiled loop, which cannot run this: {reason}")
+    law, start, delta = _quintics(controllers, len(q0))
+    rows_per_run = (steps - 1) // record_every + 2  # one row every record_every periods, and the last
+    slots = len(q0) if keep else min(len(q0), 2 * threads)
+    block = Telemetry.allocate(slots * rows_per_run, robot.model.nq, robot.model.nv, robot.n_joints,
+                               len(robot.end_effectors))
+    field = field_of(robot, wrenches)
+    loops: list[compiled.CompiledLoop] = []
+    try:
+        for _ in range(threads):
+            loops.append(compiled.CompiledLoop(robot, integrator, control_period, 0.0, record_every, law, field,
+                                               data=plant_data(robot, model), plant=model))
+        batch = _sim.Batch([loop.sim for loop in loops], q0, v0, steps, start, delta, compiled.chunk_arrays(block),
+                           rows_per_run, slots)
+    except BaseException:
+        for loop in loops:
+            loop.release()
+        raise
+    return ManyRuns(loops, batch, len(q0), block, rows_per_run, steps, control_period, keep)
+
+
+def run_many(robot: Robot, q0: np.ndarray, v0: np.ndarray, duration: float, control_period: float,
+             integrator: Integrator, model: DynamicsModel, controllers: Sequence[Controller] | None = None,
+             wrenches: tuple[ExternalWrench, ...] = (), record_every: int = 1, threads: int = 1,
+             on_result: OnResult | None = None, keep: bool = True) -> list[RunResult | None]:
+    """:func:`start_runs` then :meth:`ManyRuns.finish`: the runs' results by index (see both)."""
+    return start_runs(robot, q0, v0, duration, control_period, integrator, model, controllers, wrenches,
+                      record_every, threads, keep).finish(on_result)
+
+
+def _quintics(controllers: Sequence[Controller] | None,
+              runs: int) -> tuple[tuple | None, np.ndarray | None, np.ndarray | None]:
+    """The first run's compiled law, and every run's quintic start and delta (runs, n), or Nones."""
+    if controllers is None:
+        return None, None, None
+    if len(controllers) != runs:
+        raise InvalidArgument(f"controllers: one per run expected ({runs}), got {len(controllers)}")
+    laws = [compiled.law_of(c) for c in controllers]
+    first = laws[0]
+    for i, law in enumerate(laws):
+        if not isinstance(law, tuple):
+            raise InvalidArgument(f"run {i}: its controller has no compiled quintic (a computed torque on a quintic "
+                                  "runs in one call; others run one by one with simulation.run)")
+        if law[2:] != first[2:]:
+            raise InvalidArgument(f"run {i}: its quintic's duration and gains (kp, kd) differ from run 0's; runs in "
+                                  "one call share them")
+    return first, np.array([law[0] for law in laws], dtype=float), np.array([law[1] for law in laws], dtype=float)

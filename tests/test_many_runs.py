@@ -1,0 +1,169 @@
+"""Many runs in one compiled call on C++ threads (freefloat.dynamics.many_runs): each run equals
+simulation.run of the same inputs bit for bit (random trees, computed torque with each run's own
+quintic, wrench profiles, the closed plant, adaptive steps), a blow-up stays in its run, a stop
+request keeps the finished rows, and what cannot share one call is refused with the reason."""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from freefloat.app.runner import resolved_setup
+from freefloat.app.scenes import find_scene
+from freefloat.dynamics import stop_request
+from freefloat.dynamics.compiled import clear_loops
+from freefloat.dynamics.integrators import make_integrator
+from freefloat.dynamics.many_runs import run_many, start_runs
+from freefloat.dynamics.models import ExactModel
+from freefloat.dynamics.simulation import run
+from freefloat.errors import InvalidArgument
+from freefloat.space.control import ComputedTorque, QuinticTrajectory
+
+from .conftest import random_robots, random_state, robot_from_case
+from .test_compiled_reuse import IMPULSE, assert_identical, robot_named
+
+
+@pytest.fixture(autouse=True)
+def no_kept_loops():
+    clear_loops()
+    yield
+    clear_loops()
+
+
+def states(robot, runs: int, seed: int, speed: float = 1.0) -> tuple[np.ndarray, np.ndarray]:
+    rng = np.random.default_rng(seed)
+    pairs = [random_state(robot, rng, speed) for _ in range(runs)]
+    return np.array([q for q, _ in pairs]), np.array([v for _, v in pairs])
+
+
+def one_by_one(robot, q0, v0, duration, integrator, model, controllers=None, **kwargs):
+    return [run(robot, q, v, duration, 1e-3, integrator, model, None if controllers is None else controllers[i],
+                backend="compiled", **kwargs) for i, (q, v) in enumerate(zip(q0, v0))]
+
+
+@settings(max_examples=6, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(case=random_robots(max_links=6), integrator=st.sampled_from(["rkmk4", "dopri5", "euler"]),
+       threads=st.integers(1, 3))
+def test_each_run_equals_its_own_run_on_random_trees(tmp_path_factory, case, integrator, threads):
+    """Five torque-free runs from random states on 1-3 threads, their slots reused (keep=False):
+    every run's telemetry, steps and evaluations are simulation.run's, bit for bit."""
+    robot, _ = robot_from_case(tmp_path_factory, case, visuals=False)
+    q0, v0 = states(robot, 5, case[0] % 1000)
+    steps = make_integrator(integrator, robot.model)
+    got: dict[int, object] = {}
+    run_many(robot, q0, v0, 0.03, 1e-3, steps, ExactModel(robot), threads=threads, record_every=2,
+             on_result=got.__setitem__, keep=False)
+    expected = one_by_one(robot, q0, v0, 0.03, steps, ExactModel(robot), record_every=2)
+    assert sorted(got) == list(range(5))
+    for i, result in got.items():
+        assert_identical(result, expected[i])
+
+
+def test_computed_torque_runs_each_follow_their_own_quintic():
+    """Computed torque from four different starts, each run's quintic from its own start, with the
+    wrench profiles of an impulse: equal to each run alone, and the runs differ."""
+    robot = robot_named("four_arm_planar.urdf")
+    rng = np.random.default_rng(5)
+    q0 = np.array([robot.neutral() for _ in range(4)])
+    q0[:, robot.model.nqs[1]:] = rng.uniform(-0.5, 0.5, (4, robot.n_joints))
+    v0 = np.zeros((4, robot.model.nv))
+    model = ExactModel(robot)
+    controllers = [ComputedTorque(robot, QuinticTrajectory(q[robot.model.nqs[1]:], q[robot.model.nqs[1]:] + 0.3, 0.04),
+                                  100.0, 20.0, "exact") for q in q0]
+    steps = make_integrator("rkmk4", robot.model)
+    results = run_many(robot, q0, v0, 0.05, 1e-3, steps, model, controllers, IMPULSE, threads=2)
+    expected = one_by_one(robot, q0, v0, 0.05, steps, model, controllers, wrenches=IMPULSE)
+    for got, alone in zip(results, expected):
+        assert_identical(got, alone)
+    assert not np.array_equal(results[0].telemetry.tau, results[1].telemetry.tau)
+
+
+def test_runs_of_the_closed_plant_equal_their_own_runs():
+    """The two hands joined by a weld (the constrained dynamics with Baumgarte): three runs from
+    the scene's start with other joint rates, equal to each run alone."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        setup = resolved_setup(find_scene("satellite_hands_joined"))
+    q, v = setup.plant_state()
+    q0 = np.array([q] * 3)
+    v0 = np.array([v] * 3) * np.array([1.0, 0.5, -1.0])[:, None]
+    results = run_many(setup.plant, q0, v0, 0.02, 1e-3, setup.integrator, setup.model, threads=2)
+    expected = one_by_one(setup.plant, q0, v0, 0.02, setup.integrator, setup.model)
+    for got, alone in zip(results, expected):
+        assert_identical(got, alone)
+
+
+def test_a_run_that_blows_up_is_diverged_and_leaves_the_others():
+    """One run at absurd joint rates blows up with simulation.run's message and rows; the others
+    complete as alone."""
+    robot = robot_named("four_arm_planar.urdf")
+    q0, v0 = states(robot, 3, 7, speed=0.5)
+    v0[1, robot.n_base:] = 1e5
+    steps = make_integrator("rkmk4", robot.model)
+    results = run_many(robot, q0, v0, 0.05, 1e-3, steps, ExactModel(robot), threads=2)
+    expected = one_by_one(robot, q0, v0, 0.05, steps, ExactModel(robot))
+    assert [r.status for r in results] == ["completed", "diverged", "completed"]
+    assert results[1].message == expected[1].message
+    for got, alone in zip(results, expected):
+        assert_identical(got, alone)
+
+
+def test_a_stop_request_ends_the_runs_and_keeps_their_rows():
+    """Runs of 50 s stopped by a stop request: each started run ends 'interrupted' within a slice of
+    periods, its rows those of the same run alone up to there; none started after."""
+    robot = robot_named("four_arm_planar.urdf")
+    q0, v0 = states(robot, 4, 2, speed=0.3)
+    steps = make_integrator("rkmk4", robot.model)
+    runs = start_runs(robot, q0, v0, 50.0, 1e-3, steps, ExactModel(robot), threads=2)
+    with stop_request.stopping():
+        results = runs.finish()
+    started = [r for r in results if r is not None]
+    assert runs.interrupted and 1 <= len(started) <= 2
+    for i, got in enumerate(results):
+        if got is None:
+            continue
+        assert got.status == "interrupted" and 0 < got.steps < 50_000 and "interrupted by the user" in got.message
+        alone = run(robot, q0[i], v0[i], got.steps * 1e-3, 1e-3, steps, ExactModel(robot), backend="compiled")
+        for name in ("q", "v", "momentum", "energy"):
+            np.testing.assert_array_equal(getattr(got.telemetry, name), getattr(alone.telemetry, name)[:-1])
+
+
+def test_an_error_of_the_caller_stops_the_runs_and_propagates():
+    """on_result raising stops the other runs and raises; the loops are free for the next call."""
+    robot = robot_named("four_arm_planar.urdf")
+    q0, v0 = states(robot, 6, 4, speed=0.3)
+    steps = make_integrator("rkmk4", robot.model)
+
+    def fail(index, result):
+        raise RuntimeError("caller's error")
+
+    with pytest.raises(RuntimeError, match="caller's error"):
+        run_many(robot, q0, v0, 0.5, 1e-3, steps, ExactModel(robot), threads=2, on_result=fail)
+    again = run_many(robot, q0[:2], v0[:2], 0.01, 1e-3, steps, ExactModel(robot), threads=2)
+    assert [r.status for r in again] == ["completed", "completed"]
+
+
+@pytest.mark.parametrize("change, message", [
+    (dict(q0=np.zeros((2, 3))), "run 0"),
+    (dict(v0=np.full((2, 22), np.nan)), "run 0"),
+    (dict(v0=np.zeros((3, 22))), "one state per run"),
+    (dict(integrator="momentum"), "cannot run this"),
+    (dict(gains=(100.0, 30.0)), "run 1: its quintic's duration and gains"),
+    (dict(threads=0), "threads"),
+])
+def test_what_cannot_share_one_call_is_refused_with_the_reason(change, message):
+    robot = robot_named("four_arm_planar.urdf")
+    q0 = np.array([robot.neutral()] * 2)
+    v0 = np.zeros((2, robot.model.nv))
+    gains = [(100.0, 20.0), change.pop("gains", (100.0, 20.0))]
+    start = np.zeros(robot.n_joints)
+    controllers = [ComputedTorque(robot, QuinticTrajectory(start, start + 0.1, 0.04), kp, kd, "exact") for kp, kd in gains]
+    integrator = make_integrator("rkmk4", robot.model, project_momentum=change.pop("integrator", None) == "momentum")
+    arguments = dict(q0=q0, v0=v0, threads=2) | change
+    with pytest.raises(InvalidArgument, match=message):
+        run_many(robot, arguments["q0"], arguments["v0"], 0.01, 1e-3, integrator, ExactModel(robot), controllers,
+                 threads=arguments["threads"])
