@@ -21,6 +21,7 @@ from ...distributed import client, process_pool, settle_futures
 from ...dynamics import stop_request
 from ...dynamics.threads import ONE_BLAS_THREAD
 from ...errors import FreefloatError
+from . import compiled_runs
 from .one_run import run_one
 from .variations import RunPlan
 
@@ -96,8 +97,12 @@ def executor(workers: Workers) -> Iterator[Execute]:
 
 
 def run_serial(plans: list[RunPlan], on_row: OnRow) -> None:
-    """Each run in this process, in order. A run the loop reports ``interrupted`` stops the
-    batch (its row is not kept: the run did not finish)."""
+    """Each run in this process, in order (runs that can share one compiled call: in groups of
+    one call, :mod:`.compiled_runs`). A run the loop reports ``interrupted`` stops the batch (its
+    row is not kept: the run did not finish)."""
+    if compiled_runs.can_run(plans):
+        with ONE_BLAS_THREAD:
+            return compiled_runs.run_in_groups(plans, 1, on_row)
     for plan in plans:
         row = run_one(plan)
         if row["status"] == "interrupted":
@@ -112,6 +117,8 @@ def run_threads(plans: list[RunPlan], threads: int, on_row: OnRow) -> None:
     chunk of its loop) and waited for, a second Ctrl-C included; on an interrupt, those that
     finished are given, the interrupted ones are not rows (as in :func:`run_serial`)."""
     with ONE_BLAS_THREAD:  # set and restored by this thread: see freefloat.dynamics.threads
+        if compiled_runs.can_run(plans):  # on C++ threads, in groups of one call (.compiled_runs)
+            return compiled_runs.run_in_groups(plans, threads, on_row)
         _run_threads(plans, threads, on_row)
 
 

@@ -24,7 +24,7 @@ from ...dynamics.integrators import make_integrator
 from ...dynamics.models import make_model
 from ...dynamics.threads import Shared, single_blas_thread
 from ...robot.loading import remembered_loads
-from ..experiments import experiment_for
+from ..experiments import Outcome, experiment_for
 from ..experiments.robot_run import RobotSetup
 from ..runner import fail_if_not_finite, note_model_choice, resolved_setup
 from .variations import RunPlan
@@ -58,20 +58,41 @@ def run_one(plan: RunPlan) -> dict[str, Any]:
     raises but for ``KeyboardInterrupt`` outside the loop (inside, the loop returns what it
     computed with ``status = "interrupted"``)."""
     start = time.perf_counter()
-    row: dict[str, Any] = {"run": plan.index, "seed": plan.seed, "status": "failed", "message": "", **plan.varied}
+    row = new_row(plan)
     try:
-        experiment = experiment_for(plan.scene)
-        with QUIET, remembered_loads(ROBOTS):
-            setup = resolved_setup(plan.scene)  # model = "auto" chosen here as in freefloat simulate
-        if plan.masses:
-            with_plant_masses(setup, plan.masses)
-        outcome = fail_if_not_finite(note_model_choice(experiment.run(setup, None, None), setup))
-        row.update(flatten(outcome.summary))
-        row.update(status=outcome.status, message=outcome.message)
+        setup = prepared(plan)
+        fill_row(row, experiment_for(plan.scene).run(setup, None, None), setup)
     except Exception as exc:  # the run's own failure, recorded in its row
         row["message"] = f"{type(exc).__name__}: {exc}"
     row["wall_time_s"] = time.perf_counter() - start
     return row
+
+
+def new_row(plan: RunPlan) -> dict[str, Any]:
+    """The row of ``plan`` before its run: ``run``, ``seed``, ``status`` failed, no message, the drawn values."""
+    return {"run": plan.index, "seed": plan.seed, "status": "failed", "message": "", **plan.varied}
+
+
+def prepared(plan: RunPlan) -> Any:
+    """The setup of ``plan``'s run: its scene resolved (the robot loaded once per process,
+    ``model = "auto"`` chosen as in ``freefloat simulate``), with the varied plant masses.
+
+    Raises:
+        FreefloatError: naming what the varied scene gets wrong.
+    """
+    with QUIET, remembered_loads(ROBOTS):
+        setup = resolved_setup(plan.scene)
+    if plan.masses:
+        with_plant_masses(setup, plan.masses)
+    return setup
+
+
+def fill_row(row: dict[str, Any], outcome: Outcome, setup: Any) -> None:
+    """``row`` with the outcome's summary flattened, its status and message (non-finite
+    results make it ``diverged``) and the plant choice of ``setup``."""
+    outcome = fail_if_not_finite(note_model_choice(outcome, setup))
+    row.update(flatten(outcome.summary))
+    row.update(status=outcome.status, message=outcome.message)
 
 
 def with_plant_masses(setup: RobotSetup, factors: dict[str, float]) -> None:

@@ -4,6 +4,7 @@ torque-free (``task.kind = "none"``, ``controller.kind = "none"``)."""
 
 from __future__ import annotations
 
+from ...dynamics.simulation import RunResult
 from ...errors import SceneError
 from ...space.control import ComputedTorque, QuinticTrajectory
 from ..scenes import Scene
@@ -42,7 +43,12 @@ def prepare(scene: Scene) -> RobotSetup:
 
 def run(setup: RobotSetup, progress: Progress | None = None, checkpoint: Checkpoint | None = None) -> Outcome:
     """The loop, the summary (tracking, drifts, base motion) and the run's drawings."""
-    result = simulate(setup, progress, checkpoint)
+    return outcome_of(setup, simulate(setup, progress, checkpoint))
+
+
+def outcome_of(setup: RobotSetup, result: RunResult) -> Outcome:
+    """The outcome of the loop's ``result`` (a run of ``setup``'s loop, here or in a batch of many
+    runs in one call): the summary (tracking, drifts, base motion) and the run's drawings."""
     return robot_outcome(setup, setup.robot, result.telemetry, result, summary_of(setup, result))
 
 
