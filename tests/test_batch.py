@@ -295,7 +295,7 @@ def test_threads_stop_the_runs_left_when_a_row_cannot_be_kept(tmp_path, monkeypa
     from freefloat.app.runner import prepare
 
     scene = short(tmp_path, "tumbling", 1.0)
-    plans = plan_runs(scene, prepare(scene), [Band("base_rate", 1.0)], 40, 0)
+    plans = plan_runs(scene, prepare(scene), [Band("mass", 0.1)], 40, 0)  # one plant per run: run by run
     started = []
     monkeypatch.setattr(executors, "run_one", lambda plan: started.append(plan.index) or run_one(plan))
 
@@ -305,3 +305,19 @@ def test_threads_stop_the_runs_left_when_a_row_cannot_be_kept(tmp_path, monkeypa
     with pytest.raises(OSError, match="No space left"):
         executors.run_threads(plans, 2, full)
     assert len(started) < 10
+
+
+@pytest.mark.parametrize("runs, workers, sizes", [
+    (24, 2, [3] * 8),  # 4 tasks a worker
+    (1000, 2, [8] * 125),  # at most a compiled group a task
+    (5, 2, [1] * 5),
+    (9, 1, [2] * 4 + [1]),
+])
+def test_pool_and_dask_tasks_hold_consecutive_runs(runs, workers, sizes):
+    """Tasks of a pool or Dask batch: every run once, in order, at most a compiled group per task
+    and at least four tasks per worker when there are runs enough."""
+    from freefloat.app.batch.executors import task_groups
+
+    plans = list(range(runs))
+    groups = task_groups(plans, workers)  # type: ignore[arg-type]  # any items group alike
+    assert [len(g) for g in groups] == sizes and [p for g in groups for p in g] == plans

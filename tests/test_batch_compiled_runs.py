@@ -64,3 +64,19 @@ def test_an_interrupt_gives_the_finished_rows_and_propagates(tmp_path):
     with stop_request.stopping(), pytest.raises(KeyboardInterrupt):
         compiled_runs.run_in_groups(plans, 2, rows.append)
     assert all(row["status"] == "completed" for row in rows)
+
+
+def test_an_error_keeping_a_row_stops_the_groups_and_propagates(tmp_path, monkeypatch):
+    """Keeping the first row fails (a full disk): the error propagates at once, and of the three
+    groups of 40 runs no more than the running one and the one prepared beside it were started."""
+    plans = plans_of(tmp_path, "tumbling", [Band("joint_rate", 1.0)], 40, duration=1.0)
+    started = []
+    start_runs = compiled_runs.start_runs
+    monkeypatch.setattr(compiled_runs, "start_runs", lambda *a, **k: started.append(1) or start_runs(*a, **k))
+
+    def full(row: dict) -> None:
+        raise OSError("No space left on device")
+
+    with pytest.raises(OSError, match="No space left"):
+        compiled_runs.run_in_groups(plans, 2, full)
+    assert len(started) <= 2

@@ -13,6 +13,7 @@ they finish. A run whose setup cannot share the group's loop (another plant chos
 
 from __future__ import annotations
 
+import contextlib
 import time
 from dataclasses import dataclass
 from typing import Any, Callable
@@ -77,8 +78,9 @@ def run_in_groups(plans: list[RunPlan], threads: int, on_row: OnRow) -> None:
         for group in live:
             if group.runs is not None:
                 group.runs.stop()
-        for group in live:
-            _finish(group, on_row, raise_interrupt=False)
+        for group in live:  # their finished rows (a failing on_row fails again: the first error propagates)
+            with contextlib.suppress(Exception):
+                _finish(group, on_row, raise_interrupt=False)
         raise
 
 

@@ -1,7 +1,11 @@
 """Where the runs of a batch run: one after another in this process, on threads of this process,
 in a pool of worker processes, or on Dask workers (a local cluster, whose workers may each run
-several threads, or a scheduler's). Threads pay off because the compiled loop, most of a run's
-time, releases the GIL; the rest of a run (its setup and summary) is Python and takes turns.
+several threads, or a scheduler's). Runs that can share one compiled call
+(:mod:`.compiled_runs`: a ``joint_space`` scene varying its initial state) run in groups of one
+call each, here on C++ threads (one per ``--threads``), in a pool or on Dask as tasks of several
+runs (:func:`run_group`); the others run one by one (:func:`~.one_run.run_one`), on Python threads
+with ``--threads``: the compiled loop, most of a run's time, releases the GIL, while the rest of
+a run (its setup and summary) is Python and takes turns.
 
 :func:`executor` gives ``execute(plans, on_row)``, which calls ``on_row(row)`` as each run
 finishes, in the order they finish, and returns nothing; a ``KeyboardInterrupt`` (Ctrl-C, or
@@ -87,7 +91,7 @@ def executor(workers: Workers) -> Iterator[Execute]:
     """
     if workers.dask:
         with client(workers.scheduler, workers.count, threads=workers.threads) as dask_client:
-            yield lambda plans, on_row: run_dask(dask_client, plans, on_row)
+            yield lambda plans, on_row: run_dask(dask_client, plans, on_row, workers.count)
     elif workers.threads > 1:
         yield lambda plans, on_row: run_threads(plans, workers.threads, on_row)
     elif workers.count > 1:
@@ -157,18 +161,21 @@ def _give(plan: RunPlan, future: Future, on_row: OnRow) -> None:
 
 
 def run_pool(plans: list[RunPlan], workers: int, on_row: OnRow) -> None:
-    """The runs on a pool of ``workers`` processes (:func:`freefloat.distributed.process_pool`). Workers ignore
-    Ctrl-C; this process stops them. A worker that dies (killed, crashed) fails the runs it
-    leaves, each recorded with the reason."""
+    """The runs on a pool of ``workers`` processes (:func:`freefloat.distributed.process_pool`), in
+    tasks of several runs (:func:`run_group`). Workers ignore Ctrl-C; this process stops them. A
+    worker that dies (killed, crashed) fails the runs it leaves, each recorded with the reason."""
+    groups = task_groups(plans, workers)
     pool = process_pool(workers)
     try:
-        pending: dict[Future, RunPlan] = {pool.submit(run_one, plan): plan for plan in plans}
+        pending: dict[Future, list[RunPlan]] = {pool.submit(run_group, group): group for group in groups}
         while pending:
             done, _ = wait(pending, return_when=FIRST_COMPLETED)
             for future in done:
-                plan = pending.pop(future)
+                group = pending.pop(future)
                 exc = future.exception()
-                on_row(future.result() if exc is None else failed_row(plan, f"worker process lost: {exc}"))
+                for row in future.result() if exc is None else [failed_row(p, f"worker process lost: {exc}")
+                                                                 for p in group]:
+                    on_row(row)
     except BaseException:
         _terminate(pool)
         raise
@@ -176,17 +183,45 @@ def run_pool(plans: list[RunPlan], workers: int, on_row: OnRow) -> None:
         pool.shutdown(wait=True, cancel_futures=True)
 
 
-def run_dask(dask_client, plans: list[RunPlan], on_row: OnRow) -> None:
-    """The runs as tasks of ``dask_client`` (a local cluster's or a scheduler's workers)."""
-    futures = {i: dask_client.submit(run_one, plan, pure=False) for i, plan in enumerate(plans)}
+def run_dask(dask_client, plans: list[RunPlan], on_row: OnRow, workers: int = 1) -> None:
+    """The runs as tasks of several runs each (:func:`run_group`) on ``dask_client``'s workers (a
+    local cluster's or a scheduler's; ``workers``: how many, for the tasks' size)."""
+    groups = task_groups(plans, workers)
+    futures = {i: dask_client.submit(run_group, group, pure=False) for i, group in enumerate(groups)}
 
     def finished(i: int, result: object) -> None:
-        on_row(result if isinstance(result, dict) else failed_row(plans[i], f"{type(result).__name__}: {result}"))
+        for row in result if isinstance(result, list) else [failed_row(p, f"{type(result).__name__}: {result}")
+                                                             for p in groups[i]]:
+            on_row(row)
 
     settled = settle_futures(futures, "batch", True, DASK_TIMEOUT, finished)
-    for i, plan in enumerate(plans):
+    for i, group in enumerate(groups):
         if i not in settled:
-            on_row(failed_row(plan, f"no Dask worker finished a run within {DASK_TIMEOUT:g} s"))
+            for plan in group:
+                on_row(failed_row(plan, f"no Dask worker finished a run within {DASK_TIMEOUT:g} s"))
+
+
+#: Tasks per worker a pool or Dask batch aims at (more tasks balance the load; fewer share more
+#: runs in one compiled call).
+TASKS_PER_WORKER = 4
+
+
+def task_groups(plans: list[RunPlan], workers: int) -> list[list[RunPlan]]:
+    """``plans`` in consecutive tasks of at most :data:`~.compiled_runs.GROUP_PER_THREAD` runs,
+    at least :data:`TASKS_PER_WORKER` tasks per worker when there are runs enough."""
+    size = max(1, min(compiled_runs.GROUP_PER_THREAD, len(plans) // (TASKS_PER_WORKER * workers)))
+    return [plans[i:i + size] for i in range(0, len(plans), size)]
+
+
+def run_group(plans: list[RunPlan]) -> list[dict[str, Any]]:
+    """The rows of ``plans`` run in a worker: in one compiled call when they can share one
+    (:mod:`.compiled_runs`), one by one otherwise."""
+    rows: list[dict[str, Any]] = []
+    if compiled_runs.can_run(plans):
+        with ONE_BLAS_THREAD:
+            compiled_runs.run_in_groups(plans, 1, rows.append)
+        return rows
+    return [run_one(plan) for plan in plans]
 
 
 def failed_row(plan: RunPlan, message: str) -> dict[str, Any]:
