@@ -258,6 +258,7 @@ def _rollout(r):
         [a / b for a, b in zip(row["times_s"]["mujoco.rollout, 1"], row["times_s"]["mujoco.rollout, 2"])])
     assert row["rows_identical"] and row["completed"] == row["runs"]
     assert row["final_position_and_joints_difference"] < 1e-6  # RKMK4 and RK4 at 1 ms on a slow tumble
+    assert row["run_many_equals_loop"]  # the compiled batch's run 0 ends where simulation.run's does
 
 
 #: Per suite, what its numbers must agree on (a new suite needs a check).

@@ -65,6 +65,20 @@ def _readme_scene(ns: dict) -> None:
     assert len(Telemetry.load(run.folder / "telemetry.npz").t) == summary["steps"] + 1
 
 
+def _readme_many_runs(ns: dict) -> None:
+    """Each of the runs in one call ends where simulation.run from its own start ends, and
+    conserves its momentum."""
+    from freefloat import run
+
+    robot, results = ns["robot"], ns["results"]
+    for i in (0, 5):
+        alone = run(robot, ns["q0"][i], ns["v0"][i], 1.0, 1e-3, ns["make_integrator"]("rkmk4", robot.model),
+                    ns["make_model"]("exact", robot))
+        np.testing.assert_array_equal(results[i].telemetry.q, alone.telemetry.q)
+        momentum = results[i].telemetry.momentum
+        assert np.abs(momentum - momentum[0]).max() < 1e-12 * max(1.0, np.abs(momentum).max())
+
+
 def _readme_tumbling(ns: dict) -> None:
     """The torque-free tumbling run conserves its momentum (a conservation law) and ends where an
     independent integration (dopri5 at rtol 1e-12) ends."""
@@ -140,7 +154,7 @@ def _first_hour(ns: dict) -> None:
 
 #: What each Python snippet of the pages claims, checked against a reference of its own.
 SNIPPET_CHECKS = {"README.md#python0": _readme_scene, "README.md#python1": _readme_tumbling,
-                  "README.md#python2": _readme_closed_chain,
+                  "README.md#python2": _readme_closed_chain, "README.md#python3": _readme_many_runs,
                   "gjm.md#python0": _gjm_page,
                   "integrators.md#python0": _integrators_page, "first_hour.md#python0": _first_hour}
 

@@ -41,6 +41,7 @@ _PUBLIC = {
     "PLANTS": "freefloat.dynamics.plants", "CoupledChainPlant": "freefloat.dynamics.plants",
     "ConstraintDynamicsPlant": "freefloat.dynamics.plants",
     "run": "freefloat.dynamics.simulation", "run_plant": "freefloat.dynamics.simulation",
+    "run_many": "freefloat.dynamics.many_runs",
     "RunResult": "freefloat.dynamics.simulation", "Sampled": "freefloat.dynamics.sampled",
     "Telemetry": "freefloat.dynamics.telemetry", "PlantTelemetry": "freefloat.dynamics.telemetry",
     "MechanismTelemetry": "freefloat.dynamics.telemetry",

@@ -5,12 +5,16 @@ MuJoCo's, and >= 1.8x from 1 to 2 cores).
 The work: ``runs`` runs of 1 s of torque-free tumbling at 1 ms (1000 steps) of the four-arm robot
 (nv 22; its inertias balanced on both sides, as MuJoCo refuses the URDF's), each from its own
 initial state: the ``tumbling`` scene's, joint rates varied within +-2 deg/s (the batch's seeded
-plans). Three ways, each on 1 and on 2 threads, taking turns ``repeats`` times so that load from
+plans). Four ways, each on 1 and on 2 threads, taking turns ``repeats`` times so that load from
 other processes falls on all alike:
 
 - ``freefloat batch``: :func:`freefloat.app.batch.run_batch` with ``Workers(threads=K)``, the
   whole batch as a user waits for it (scene checked, plans, each run prepared, simulated (compiled
-  RKMK4, one telemetry row per step) and reduced to its row, the folder written).
+  RKMK4, one telemetry row per step; the runs many at a time in one call on K C++ threads,
+  :mod:`freefloat.app.batch.compiled_runs`) and reduced to its row, the folder written).
+- ``freefloat run_many``: the bare compiled batch, :func:`freefloat.dynamics.many_runs.run_many`
+  of the prepared initial states (prepared outside the clock) on K C++ threads, every run's
+  telemetry kept: the call that compares with ``mujoco.rollout``.
 - ``freefloat loop``: the bare per-run loop, :func:`freefloat.dynamics.simulation.run` of each
   plan's prepared setup (prepared outside the clock) on a pool of K threads: what a batch costs
   without its per-run setup and summary.
@@ -40,6 +44,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ....dynamics.many_runs import run_many
 from ....dynamics.simulation import run
 from ...batch import Band, Workers, run_batch
 from ...batch.one_run import TIMINGS
@@ -53,7 +58,8 @@ from .drawing import save, subplots
 
 BANDS = [Band("joint_rate", 2.0)]
 THREADS = (1, 2)
-WAYS = ("freefloat batch", "freefloat loop", "mujoco.rollout")
+WAYS = ("freefloat batch", "freefloat run_many", "freefloat loop", "mujoco.rollout")
+FREEFLOAT = WAYS[:-1]
 #: Issue 23's aims: runs/s per core over MuJoCo's, and 2-thread over 1-thread runs/s.
 AIMS = {"per_core_over_mujoco": 1.5, "scaling_1_to_2": 1.8}
 
@@ -102,6 +108,13 @@ def compare(settings: dict) -> dict:
         data.qpos[:], data.qvel[:] = to_mujoco(setup.q0, setup.v0)
         mujoco.mj_getState(model, data, initial[i], spec)
 
+    q0, v0 = np.array([s.q0 for s in setups]), np.array([s.v0 for s in setups])
+
+    def many(k: int) -> list:
+        first = setups[0]
+        return run_many(first.robot, q0, v0, settings["duration_s"], settings["control_period_s"], first.integrator,
+                        first.model, threads=k)
+
     def loop(setup):
         return run(setup.robot, setup.q0, setup.v0, settings["duration_s"], settings["control_period_s"],
                    setup.integrator, setup.model, backend="compiled")
@@ -128,6 +141,11 @@ def compare(settings: dict) -> dict:
                 rows[k] = [{key: v for key, v in r.items() if key not in TIMINGS} for r in done.rows]
 
                 start = time.perf_counter()
+                many_results = many(k)
+                times[f"freefloat run_many, {k}"].append(time.perf_counter() - start)
+                finals["run_many"] = many_results[0].telemetry.q[-1]
+
+                start = time.perf_counter()
                 with ThreadPoolExecutor(k) as threads:
                     results = list(threads.map(loop, setups))
                 times[f"freefloat loop, {k}"].append(time.perf_counter() - start)
@@ -149,12 +167,13 @@ def compare(settings: dict) -> dict:
     return {
         "runs": runs, "steps": steps, "times_s": times, "best_s": best, "runs_per_second": rate,
         "per_core_over_mujoco": {f"{way}, {k}": rate[f"{way}, {k}"] / rate[f"mujoco.rollout, {k}"]
-                                 for way in WAYS[:2] for k in THREADS},
+                                 for way in FREEFLOAT for k in THREADS},
         "scaling_1_to_2": scaling,
         "scaling_per_repeat": {way: [one / two for one, two in zip(times[f"{way}, 1"], times[f"{way}, 2"])]
                                for way in WAYS},
         "rows_identical": rows[1] == rows[2], "completed": sum(r["status"] == "completed" for r in rows[1]),
         "final_position_and_joints_difference": float(np.max(np.abs(gap))),
+        "run_many_equals_loop": bool(np.array_equal(finals["run_many"], finals["freefloat"])),
         "ceiling_2_processes": ceilings, "load_average": loads,
     }
 
@@ -163,12 +182,12 @@ def chart(report: dict, path: Path) -> None:
     """Left: runs per second per way on 1 and 2 threads (labels: over MuJoCo at equal threads).
     Right: each way's 2-thread over 1-thread speed-up per turn, the aim and the ceilings drawn."""
     r = report["tumbling"]
-    fig, (left, right) = subplots(1, 2, (11, 4))
+    fig, (left, right) = subplots(1, 2, (13, 4))
     width = 0.8 / len(THREADS)
     for j, k in enumerate(THREADS):
         bars = left.bar([i + j * width for i in range(len(WAYS))], [r["runs_per_second"][f"{w}, {k}"] for w in WAYS],
                         width, label=f"{k} thread{'s' if k > 1 else ''}")
-        for bar, way in zip(bars, WAYS[:2]):
+        for bar, way in zip(bars, FREEFLOAT):
             left.annotate(f"{r['per_core_over_mujoco'][f'{way}, {k}']:.2f}x", (bar.get_x() + bar.get_width() / 2,
                           bar.get_height()), ha="center", va="bottom", fontsize=8)
     left.set_xticks([i + width / 2 for i in range(len(WAYS))], list(WAYS))
