@@ -50,7 +50,13 @@ class Batch {
     for (int i = 0; i < slots; ++i) free_.push_back(i);
     in_use_.assign(slots, false);
     running_ = static_cast<int>(loops_.size());
-    for (Simulation* s : loops_) threads_.emplace_back([this, s] { work(*s); });
+    try {
+      for (Simulation* s : loops_) threads_.emplace_back([this, s] { work(*s); });
+    } catch (...) {  // a thread could not start: stop those that did (the destructor will not run)
+      stop();
+      for (std::thread& t : threads_) t.join();
+      throw;
+    }
   }
 
   ~Batch() {
