@@ -201,10 +201,27 @@ def _closure(closure: Any) -> tuple:
             list(closure.kind.rotation_rows))
 
 
-def law_of(controller: Any) -> tuple | DetumblingLaw | LoopDetumblingLaw | None:
+def law_of(controller: Any, plant: Robot | None = None) -> tuple | DetumblingLaw | LoopDetumblingLaw | None:
     """The controller's ``compiled_law()`` (see ``ComputedTorque.compiled_law`` and
-    ``DetumblingController.compiled_law``), or None."""
-    return getattr(controller, "compiled_law", lambda: None)() if controller is not None else None
+    ``DetumblingController.compiled_law``), or None. Given the ``plant``, also None when the
+    controller's robot has other inertias, placements, armature or gravity than the plant's: the
+    compiled law computes ``H*`` and ``c*`` on the loop's model, the plant's, so a controller with a
+    model of its own (a batch's varied masses: the controller keeps the nominal robot) runs in Python."""
+    law = getattr(controller, "compiled_law", lambda: None)() if controller is not None else None
+    own = getattr(getattr(controller, "robot", None), "model", None)
+    if law is None or plant is None or own is None or own is plant.model or same_numbers(own, plant.model):
+        return law
+    return None
+
+
+def same_numbers(a: pin.Model, b: pin.Model) -> bool:
+    """Whether two models of one structure have the same bodies (mass, CoM, rotational inertia),
+    joint placements, armature and gravity, exactly (False for another structure)."""
+    if (a.njoints, a.nv) != (b.njoints, b.nv):
+        return False
+    return (all(np.array_equal(x.toDynamicParameters(), y.toDynamicParameters()) for x, y in zip(a.inertias, b.inertias))
+            and all(np.array_equal(x.homogeneous, y.homogeneous) for x, y in zip(a.jointPlacements, b.jointPlacements))
+            and np.array_equal(a.armature, b.armature) and np.array_equal(a.gravity.linear, b.gravity.linear))
 
 
 def _model_arrays(robot: Robot) -> dict[str, Any]:

@@ -160,7 +160,7 @@ def start_runs(robot: Robot, q0: np.ndarray, v0: np.ndarray, duration: float, co
     reason = compiled.unsupported(model, integrator)
     if reason is not None:
         raise InvalidArgument(f"many runs in one call take the compiled loop, which cannot run this: {reason}")
-    law, start, delta = _quintics(controllers, len(q0))
+    law, start, delta = _quintics(controllers, len(q0), robot)
     rows_per_run = (steps - 1) // record_every + 2  # one row every record_every periods, and the last
     slots = len(q0) if keep else min(len(q0), 2 * threads)
     block = Telemetry.allocate(slots * rows_per_run, robot.model.nq, robot.model.nv, robot.n_joints,
@@ -189,19 +189,20 @@ def run_many(robot: Robot, q0: np.ndarray, v0: np.ndarray, duration: float, cont
                       record_every, threads, keep).finish(on_result)
 
 
-def _quintics(controllers: Sequence[Controller] | None,
-              runs: int) -> tuple[tuple | None, np.ndarray | None, np.ndarray | None]:
+def _quintics(controllers: Sequence[Controller] | None, runs: int,
+              robot: Robot) -> tuple[tuple | None, np.ndarray | None, np.ndarray | None]:
     """The first run's compiled law, and every run's quintic start and delta (runs, n), or Nones."""
     if controllers is None:
         return None, None, None
     if len(controllers) != runs:
         raise InvalidArgument(f"controllers: one per run expected ({runs}), got {len(controllers)}")
-    laws = [compiled.law_of(c) for c in controllers]
+    laws = [compiled.law_of(c, robot) for c in controllers]
     first = laws[0]
     for i, law in enumerate(laws):
         if not isinstance(law, tuple):
-            raise InvalidArgument(f"run {i}: its controller has no compiled quintic (a computed torque on a quintic "
-                                  "runs in one call; others run one by one with simulation.run)")
+            raise InvalidArgument(f"run {i}: its controller has no compiled quintic (a computed torque on a quintic, "
+                                  "with the exact model of this robot, runs in one call; others run one by one "
+                                  "with simulation.run)")
         if law[2:] != first[2:]:
             raise InvalidArgument(f"run {i}: its quintic's duration and gains (kp, kd) differ from run 0's; runs in "
                                   "one call share them")

@@ -180,7 +180,7 @@ def run(
     if backend != "python":
         reason = compiled.unsupported(model, integrator)
         if reason is None:
-            law = compiled.law_of(controller)
+            law = compiled.law_of(controller, robot)
             whole_chunks = (controller is None or law is not None) and stop is None
             loop = compiled.CompiledLoop(robot, integrator, control_period, start_time, record_every,
                                          law if whole_chunks else None,

@@ -39,7 +39,7 @@ def shares_loop(plan: RunPlan, setup: Any) -> bool:
     return (not plan.masses and plan.scene.kind == "joint_space" and isinstance(setup, RobotSetup)
             and setup.lock is None and setup.wheels is None and setup.scene.simulation.backend != "python"
             and compiled.unsupported(setup.model, setup.integrator) is None
-            and (setup.controller is None or isinstance(compiled.law_of(setup.controller), tuple)))
+            and (setup.controller is None or isinstance(compiled.law_of(setup.controller, setup.plant), tuple)))
 
 
 def can_run(plans: list[RunPlan]) -> bool:
