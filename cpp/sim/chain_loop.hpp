@@ -1,7 +1,7 @@
 // The simulation loop of freefloat.dynamics.simulation.run_plant for a closed chain by Orsino's
 // coupling (freefloat.dynamics.plants.CoupledChainPlant), in C++: zero-order-hold control periods
 // (or the law at every stage), eq 129 with Baumgarte as the plant (parallel.hpp), an integrator of
-// lie_rk.hpp on the Euclidean coordinates q = [q#; q°], the platform control of
+// rkmk.hpp on the Euclidean coordinates q = [q#; q°], the platform control of
 // freefloat.parallel.sliding_mode.PlatformControl (computed torque, eq 190, or sliding mode,
 // eq 153) on a nominal model, and the telemetry row of plant_periods.PlantPeriods.
 #pragma once
@@ -14,19 +14,10 @@
 #include <vector>
 
 #include "../parallel.hpp"
-#include "lie_rk.hpp"
 #include "periods.hpp"
+#include "rkmk.hpp"
 
 namespace freefloat::sim {
-
-// R^n as a Pinocchio model (plants/vector_space.py): n prismatic joints in series.
-inline Model vector_space(int n) {
-  Model m;
-  JointIndex parent = 0;
-  for (int i = 0; i < n; ++i)
-    parent = m.addJoint(parent, pinocchio::JointModelPX(), SE3::Identity(), "x" + std::to_string(i));
-  return m;
-}
 
 // platform_control.CircleReference: q#_d = center + radius (cos(rate t) e_a + sin(rate t) e_b).
 struct Circle {
@@ -115,9 +106,8 @@ class ChainSimulation {
                   double rtol, double atol, double control_period, double start_time, int record_every,
                   bool per_stage)
       : plant_(std::move(plant)), baumgarte_(baumgarte), max_drift_(max_drift), per_stage_(per_stage),
-        space_(vector_space(plant_.n_q + (per_stage ? 1 : 0))),
-        integrator_(space_, integrator, substeps, rtol, atol), period_(control_period), start_(start_time),
-        record_every_(record_every) {
+        integrator_(euclidean_space(plant_.n_q + (per_stage ? 1 : 0)), integrator, substeps, rtol, atol),
+        period_(control_period), start_(start_time), record_every_(record_every) {
     const int n = plant_.n_q;
     q_ = DVec::Zero(n);
     v_ = DVec::Zero(n);
@@ -247,8 +237,7 @@ class ChainSimulation {
   Mechanism plant_;
   double baumgarte_, max_drift_;
   bool per_stage_;
-  Model space_;
-  LieIntegrator integrator_;
+  RkmkIntegrator integrator_;
   double period_, start_;
   int record_every_;
   Dynamics dynamics_;

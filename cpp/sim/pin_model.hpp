@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "eigen_types.hpp"
+
 namespace freefloat::sim {
 
 using pinocchio::Data;
@@ -17,10 +19,6 @@ using pinocchio::JointIndex;
 using pinocchio::JointModel;
 using pinocchio::Model;
 using pinocchio::SE3;
-using Vec = Eigen::VectorXd;
-using Vec3 = Eigen::Vector3d;
-using Mat3 = Eigen::Matrix3d;
-using Vec6 = Eigen::Matrix<double, 6, 1>;
 
 // The pin wheel's libpinocchio_default holds Pinocchio's algorithms compiled for double, the
 // default joints and Eigen::Ref<const VectorXd> arguments (explicit instantiation); this module is
