@@ -133,13 +133,14 @@ std::vector<Closure> closures_of(const Model& m, const std::vector<ClosureTuple>
 struct PyBatch {
   py::list loops;
   Array q0, v0;
-  std::optional<Array> start, delta;
+  std::optional<Array> start, delta, bodies;
   py::tuple arrays;
   std::unique_ptr<Batch> batch;  // last: destroyed (its threads joined) before what they use
 };
 
 std::unique_ptr<PyBatch> make_batch(py::list loops, Array q0, Array v0, long last, std::optional<Array> start,
-                                    std::optional<Array> delta, py::tuple arrays, int rows_per_run, int slots) {
+                                    std::optional<Array> delta, std::optional<Array> bodies, py::tuple arrays,
+                                    int rows_per_run, int slots) {
   if (loops.empty()) throw std::invalid_argument("a batch needs at least one loop");
   std::vector<Simulation*> sims;
   const PySimulation& first = loops[0].cast<PySimulation&>();
@@ -158,11 +159,12 @@ std::unique_ptr<PyBatch> make_batch(py::list loops, Array q0, Array v0, long las
     checked(*start, static_cast<py::ssize_t>(runs) * first.n_joints, "start");
     checked(*delta, static_cast<py::ssize_t>(runs) * first.n_joints, "delta");
   }
+  if (bodies) checked(*bodies, static_cast<py::ssize_t>(runs) * (m.njoints - 1) * 13, "bodies");
   if (last < 1 || rows_per_run < 1) throw std::invalid_argument("last and rows_per_run must be >= 1");
-  auto b = std::make_unique<PyBatch>(PyBatch{loops, q0, v0, start, delta, arrays, nullptr});
+  auto b = std::make_unique<PyBatch>(PyBatch{loops, q0, v0, start, delta, bodies, arrays, nullptr});
   b->batch = std::make_unique<Batch>(std::move(sims), runs, last, b->q0.data(), b->v0.data(),
                                      start ? b->start->data() : nullptr, delta ? b->delta->data() : nullptr,
-                                     first.rows(arrays), rows_per_run, slots);
+                                     bodies ? b->bodies->data() : nullptr, first.rows(arrays), rows_per_run, slots);
   return b;
 }
 
@@ -393,11 +395,12 @@ PYBIND11_MODULE(_sim, m) {
       .def_property_readonly("evaluations", [](const PySimulation& s) { return s.sim->evaluations(); });
   py::class_<PyBatch>(m, "Batch")
       .def(py::init(&make_batch), py::arg("loops"), py::arg("q0"), py::arg("v0"), py::arg("last"), py::arg("start"),
-           py::arg("delta"), py::arg("arrays"), py::arg("rows_per_run"), py::arg("slots"),
+           py::arg("delta"), py::arg("bodies"), py::arg("arrays"), py::arg("rows_per_run"), py::arg("slots"),
            "Starts the runs from q0 (runs, nq), v0 (runs, nv) to period `last` on one C++ thread per loop "
            "(each configured alike, with no detumbling law), with the quintics' start and delta (runs, n) "
-           "under computed torque (else None), writing each run's rows into a free slot of `rows_per_run` "
-           "rows of the telemetry arrays (`slots` of them).")
+           "under computed torque (else None) and each run's plant bodies (runs, njoints - 1, 13: mass, "
+           "CoM (3,), rotational inertia (3, 3); None: the loops'), writing each run's rows into a free slot "
+           "of `rows_per_run` rows of the telemetry arrays (`slots` of them).")
       .def("wait",
            [](PyBatch& b, double seconds) {
              py::gil_scoped_release release;

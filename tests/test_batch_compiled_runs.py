@@ -33,6 +33,7 @@ def without_timings(row: dict) -> dict:
 
 @pytest.mark.parametrize("builtin, bands", [
     ("tumbling", [Band("joint_rate", 2.0), Band("base_rate", 1.0)]),
+    ("tumbling", [Band("joint_rate", 2.0), Band("mass", 0.1)]),  # each run its own plant
     ("four_arm_joint_space", [Band("joint_angle", 5.0)]),  # computed torque: each run's own quintic
 ])
 def test_rows_are_those_of_each_run_alone(tmp_path, monkeypatch, builtin, bands):
@@ -49,11 +50,13 @@ def test_rows_are_those_of_each_run_alone(tmp_path, monkeypatch, builtin, bands)
         assert without_timings(row) == without_timings(alone[row["run"]])
 
 
-def test_runs_of_a_varied_plant_do_not_share_a_call(tmp_path):
-    """Varied masses make one plant per run: the batch keeps its runs one by one."""
-    plans = plans_of(tmp_path, "tumbling", [Band("mass", 0.1)], 2, duration=0.01)
-    assert not compiled_runs.can_run(plans)
-    assert compiled_runs.can_run(plans_of(tmp_path, "tumbling", [Band("joint_rate", 1.0)], 2, duration=0.01))
+def test_controlled_runs_of_a_varied_plant_do_not_share_a_call(tmp_path):
+    """Under computed torque, varied masses leave the controller on the nominal robot, whose law
+    runs in Python: the batch keeps those runs one by one. Torque-free, they share a call."""
+    assert not compiled_runs.can_run(plans_of(tmp_path, "four_arm_joint_space", [Band("mass", 0.1)], 2, duration=0.01))
+    assert compiled_runs.can_run(plans_of(tmp_path, "four_arm_joint_space", [Band("joint_angle", 1.0)], 2,
+                                          duration=0.01))
+    assert compiled_runs.can_run(plans_of(tmp_path, "tumbling", [Band("mass", 0.1)], 2, duration=0.01))
 
 
 def test_an_interrupt_gives_the_finished_rows_and_propagates(tmp_path):

@@ -8,6 +8,7 @@ from __future__ import annotations
 import warnings
 
 import numpy as np
+import pinocchio as pin
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
@@ -82,6 +83,32 @@ def test_computed_torque_runs_each_follow_their_own_quintic():
     assert not np.array_equal(results[0].telemetry.tau, results[1].telemetry.tau)
 
 
+def test_runs_of_other_masses_each_equal_their_plant_alone():
+    """Torque-free runs whose plants have their own masses and inertias (a batch's --vary mass):
+    each equals simulation.run of its own plant, and the loops kept after them give the nominal
+    robot's run again."""
+    from dataclasses import replace
+
+    robot = robot_named("four_arm_planar.urdf")
+    rng = np.random.default_rng(8)
+    plants = []
+    for _ in range(4):
+        model = pin.Model(robot.model)
+        for j in range(1, model.njoints):
+            f = rng.uniform(0.8, 1.2)
+            model.inertias[j] = pin.Inertia(f * model.inertias[j].mass, model.inertias[j].lever, f * model.inertias[j].inertia)
+        plants.append(model)
+    q0, v0 = states(robot, 4, 9, speed=0.5)
+    steps = make_integrator("rkmk4", robot.model)
+    results = run_many(robot, q0, v0, 0.05, 1e-3, steps, ExactModel(robot), threads=2, plants=plants)
+    for i, got in enumerate(results):
+        plant = replace(robot, model=plants[i])
+        assert_identical(got, run(plant, q0[i], v0[i], 0.05, 1e-3, steps, ExactModel(plant), backend="compiled"))
+    nominal = run_many(robot, q0[:2], v0[:2], 0.05, 1e-3, steps, ExactModel(robot), threads=2)
+    for got, alone in zip(nominal, one_by_one(robot, q0[:2], v0[:2], 0.05, steps, ExactModel(robot))):
+        assert_identical(got, alone)
+
+
 def test_runs_of_the_closed_plant_equal_their_own_runs():
     """The two hands joined by a weld (the constrained dynamics with Baumgarte): three runs from
     the scene's start with other joint rates, equal to each run alone."""
@@ -154,6 +181,8 @@ def test_an_error_of_the_caller_stops_the_runs_and_propagates():
     (dict(integrator="momentum"), "cannot run this"),
     (dict(gains=(100.0, 30.0)), "run 1: its quintic's duration and gains"),
     (dict(threads=0), "threads"),
+    (dict(plants="controlled"), "take no controller"),
+    (dict(plants="moved"), "run 1: its plant differs"),
 ])
 def test_what_cannot_share_one_call_is_refused_with_the_reason(change, message):
     robot = robot_named("four_arm_planar.urdf")
@@ -163,7 +192,14 @@ def test_what_cannot_share_one_call_is_refused_with_the_reason(change, message):
     start = np.zeros(robot.n_joints)
     controllers = [ComputedTorque(robot, QuinticTrajectory(start, start + 0.1, 0.04), kp, kd, "exact") for kp, kd in gains]
     integrator = make_integrator("rkmk4", robot.model, project_momentum=change.pop("integrator", None) == "momentum")
+    plants = None
+    if "plants" in change:
+        moved = pin.Model(robot.model)
+        moved.jointPlacements[3] = pin.SE3(np.eye(3), np.array([0.0, 0.0, 0.1]))
+        plants = [robot.model, moved]
+        if change.pop("plants") == "moved":
+            controllers = None
     arguments = dict(q0=q0, v0=v0, threads=2) | change
     with pytest.raises(InvalidArgument, match=message):
         run_many(robot, arguments["q0"], arguments["v0"], 0.01, 1e-3, integrator, ExactModel(robot), controllers,
-                 threads=arguments["threads"])
+                 threads=arguments["threads"], plants=plants)

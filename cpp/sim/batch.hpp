@@ -34,13 +34,14 @@ class Batch {
     std::string error;
   };
 
-  // The runs' inputs, row-major: q0 (runs, nq), v0 (runs, nv), and for a computed-torque law the
-  // quintics' start and delta (runs, n) (null without one). `rows` holds `slots` slots of
-  // `rows_per_run` rows each. The loops must outlive the batch.
+  // The runs' inputs, row-major: q0 (runs, nq), v0 (runs, nv), for a computed-torque law the
+  // quintics' start and delta (runs, n) (null without one), and each run's plant bodies (runs,
+  // njoints - 1, 13: see Simulation::set_bodies; null: the loops' own). `rows` holds `slots` slots
+  // of `rows_per_run` rows each. The loops must outlive the batch.
   Batch(std::vector<Simulation*> loops, int runs, long last, const double* q0, const double* v0, const double* start,
-        const double* delta, Rows rows, int rows_per_run, int slots)
+        const double* delta, const double* bodies, Rows rows, int rows_per_run, int slots)
       : loops_(std::move(loops)), runs_(runs), last_(last), q0_(q0), v0_(v0), start_(start), delta_(delta),
-        rows_(rows), per_run_(rows_per_run) {
+        bodies_(bodies), rows_(rows), per_run_(rows_per_run) {
     for (Simulation* s : loops_) {
       if (s->has_law_state()) throw std::invalid_argument("a detumbling law keeps a state: its runs cannot share a loop");
       if ((start_ != nullptr) != s->has_reference())
@@ -110,6 +111,7 @@ class Batch {
       slot_rows.rows = (slot + 1) * per_run_;
       const int first = slot * per_run_;
       try {
+        if (bodies_ != nullptr) sim.set_bodies(bodies_ + 13L * (sim.model().njoints - 1) * run);
         sim.restart(Eigen::Map<const Vec>(q0_ + static_cast<long>(nq) * run, nq),
                     Eigen::Map<const Vec>(v0_ + static_cast<long>(nv) * run, nv));
         if (start_ != nullptr)
@@ -156,7 +158,7 @@ class Batch {
   std::vector<Simulation*> loops_;
   int runs_;
   long last_;
-  const double *q0_, *v0_, *start_, *delta_;
+  const double *q0_, *v0_, *start_, *delta_, *bodies_;
   Rows rows_;
   int per_run_;
   std::atomic<int> next_{0};

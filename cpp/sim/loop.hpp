@@ -217,6 +217,23 @@ class Simulation {
   }
   bool has_law_state() const { return detumbling_.has_value() || loop_law_.has_value(); }
 
+  // The plant's bodies for the next run (batch.hpp): per joint 1..njoints-1, mass (kg), CoM in the
+  // joint frame (3, m) and rotational inertia about it (3, 3 row-major, kg m^2), 13 numbers each,
+  // set with build_model's very operations (the body appended to a zero inertia, then each
+  // frame's inertia, zero, appended as addFrame does: a model equal to the rebuilt one bit for
+  // bit); placements, armature and gravity stay.
+  void set_bodies(const double* bodies) {
+    for (JointIndex j = 1; j < model_.njoints; ++j, bodies += 13) {
+      const Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> I(bodies + 4);
+      model_.inertias[j] = Inertia::Zero();
+      model_.inertias[j] += Inertia(bodies[0], Eigen::Map<const Vec3>(bodies + 1), Mat3(I)).se3Action(SE3::Identity());
+    }
+    for (const pinocchio::Frame& frame : model_.frames)
+      if (frame.parentJoint > 0) model_.inertias[frame.parentJoint] += frame.placement.act(frame.inertia);
+    closed_.forget();
+    mass_ = pinocchio::computeTotalMass(model_);
+  }
+
   // The computed-torque reference's start and displacement (n,) for the next run; the duration
   // and gains stay (set_computed_torque first).
   void set_reference(const Vec& start, const Vec& delta) {

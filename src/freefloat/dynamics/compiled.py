@@ -404,15 +404,17 @@ class CompiledLoop(CompiledEngine):
             sim.set_model(**arrays)
         return sim
 
-    def release(self) -> None:
+    def release(self, numbers_changed: bool = False) -> None:
         """Hand the loop back for the next run on a robot of this structure (its run is over: this
-        object must not be used after). Called by :func:`~freefloat.dynamics.simulation.run`."""
+        object must not be used after). Called by :func:`~freefloat.dynamics.simulation.run`.
+        ``numbers_changed``: its plant's bodies were set since (runs of other masses,
+        :mod:`.many_runs`), so the next run gives it its numbers."""
         if self._released:
             return
         self._released = True
         self.sim.configure("euler", 1, 1e-10, 1e-12, 1.0, 0.0, 1)  # drops the law and the chunk it held
         with _lock:
-            _idle.setdefault(self._structure, []).append((self.sim, self._numbers))
+            _idle.setdefault(self._structure, []).append((self.sim, b"" if numbers_changed else self._numbers))
             _idle.move_to_end(self._structure)
             while sum(len(v) for v in _idle.values()) > MAX_IDLE:
                 oldest = next(iter(_idle))

@@ -1,7 +1,8 @@
 """Many runs of one robot scene in one compiled call, on C++ threads (``_sim.Batch``).
 
 Runs that differ only in their initial state (and, under computed torque, in the quintic that
-starts from it) need no Python between their periods. :func:`start_runs` hands their states, as
+starts from it, or, torque-free, in the plant's masses and inertias) need no Python between
+their periods. :func:`start_runs` hands their states, as
 arrays, to ``threads`` C++ threads, each driving a compiled loop of its own
 (:class:`~freefloat.dynamics.compiled.CompiledLoop`, with its own Pinocchio ``Data``) through the
 runs it takes in turn; every run writes its telemetry rows into a slot of one block of rows.
@@ -20,6 +21,7 @@ from collections.abc import Callable, Sequence
 from typing import Any
 
 import numpy as np
+import pinocchio as pin
 
 from ..arguments import whole_number
 from ..errors import InvalidArgument
@@ -46,8 +48,8 @@ class ManyRuns:
     """Runs started by :func:`start_runs`, running on their threads until :meth:`finish`."""
 
     def __init__(self, loops: list[compiled.CompiledLoop], batch: Any, runs: int, block: Telemetry,
-                 rows_per_run: int, steps: int, control_period: float, keep: bool):
-        self._loops, self._batch, self._runs, self._block = loops, batch, runs, block
+                 rows_per_run: int, steps: int, control_period: float, keep: bool, bodies_set: bool):
+        self._loops, self._batch, self._runs, self._block, self._bodies_set = loops, batch, runs, block, bodies_set
         self._rows_per_run, self._steps, self._period, self._keep = rows_per_run, steps, control_period, keep
         self.interrupted = False  # stopped by stop(), Ctrl-C or a stop request
 
@@ -106,7 +108,7 @@ class ManyRuns:
             raise
         finally:
             for loop in self._loops:
-                loop.release()
+                loop.release(numbers_changed=self._bodies_set)
         return results
 
 
@@ -123,7 +125,7 @@ def _wait_out(runs: Any) -> None:
 def start_runs(robot: Robot, q0: np.ndarray, v0: np.ndarray, duration: float, control_period: float,
                integrator: Integrator, model: DynamicsModel, controllers: Sequence[Controller] | None = None,
                wrenches: tuple[ExternalWrench, ...] = (), record_every: int = 1, threads: int = 1,
-               keep: bool = True) -> ManyRuns:
+               keep: bool = True, plants: Sequence[pin.Model] | None = None) -> ManyRuns:
     """Start one run per row of ``q0``, ``v0`` on ``threads`` C++ threads; they run on while this
     thread goes on, until :meth:`ManyRuns.finish`.
 
@@ -139,11 +141,15 @@ def start_runs(robot: Robot, q0: np.ndarray, v0: np.ndarray, duration: float, co
         keep: keep every run's telemetry in one block for the returned results; otherwise each
             run's rows are copied out for ``on_result`` and their slot reused (memory for
             ``2 threads`` runs, whatever their number).
+        plants: torque-free only: one Pinocchio model per run, ``robot.model`` with other bodies
+            (masses, CoMs, rotational inertias; joints, placements, armature and gravity the
+            same), each run's plant; None: ``robot.model`` for every run.
 
     Raises:
         InvalidArgument: naming the run for a state of the wrong size or not finite, the reason the
             compiled loop cannot run the plant or integrator, a controller without a compiled
-            quintic or with other gains or duration than the first run's, or ``threads`` < 1.
+            quintic or with other gains or duration than the first run's, ``plants`` with a
+            controller or differing from ``robot.model`` in more than bodies, or ``threads`` < 1.
     """
     steps = control_periods(duration, control_period)
     q0, v0 = np.atleast_2d(np.asarray(q0, dtype=float)), np.atleast_2d(np.asarray(v0, dtype=float))
@@ -161,6 +167,7 @@ def start_runs(robot: Robot, q0: np.ndarray, v0: np.ndarray, duration: float, co
     if reason is not None:
         raise InvalidArgument(f"many runs in one call take the compiled loop, which cannot run this: {reason}")
     law, start, delta = _quintics(controllers, len(q0), robot)
+    bodies = None if plants is None else _bodies(robot, plants, len(q0), controllers is not None)
     rows_per_run = (steps - 1) // record_every + 2  # one row every record_every periods, and the last
     slots = len(q0) if keep else min(len(q0), 2 * threads)
     block = Telemetry.allocate(slots * rows_per_run, robot.model.nq, robot.model.nv, robot.n_joints,
@@ -171,22 +178,50 @@ def start_runs(robot: Robot, q0: np.ndarray, v0: np.ndarray, duration: float, co
         for _ in range(threads):
             loops.append(compiled.CompiledLoop(robot, integrator, control_period, 0.0, record_every, law, field,
                                                data=plant_data(robot, model), plant=model))
-        batch = _sim.Batch([loop.sim for loop in loops], q0, v0, steps, start, delta, compiled.chunk_arrays(block),
-                           rows_per_run, slots)
+        batch = _sim.Batch([loop.sim for loop in loops], q0, v0, steps, start, delta, bodies,
+                           compiled.chunk_arrays(block), rows_per_run, slots)
     except BaseException:
         for loop in loops:
             loop.release()
         raise
-    return ManyRuns(loops, batch, len(q0), block, rows_per_run, steps, control_period, keep)
+    return ManyRuns(loops, batch, len(q0), block, rows_per_run, steps, control_period, keep, bodies is not None)
 
 
 def run_many(robot: Robot, q0: np.ndarray, v0: np.ndarray, duration: float, control_period: float,
              integrator: Integrator, model: DynamicsModel, controllers: Sequence[Controller] | None = None,
              wrenches: tuple[ExternalWrench, ...] = (), record_every: int = 1, threads: int = 1,
-             on_result: OnResult | None = None, keep: bool = True) -> list[RunResult | None]:
+             on_result: OnResult | None = None, keep: bool = True,
+             plants: Sequence[pin.Model] | None = None) -> list[RunResult | None]:
     """:func:`start_runs` then :meth:`ManyRuns.finish`: the runs' results by index (see both)."""
     return start_runs(robot, q0, v0, duration, control_period, integrator, model, controllers, wrenches,
-                      record_every, threads, keep).finish(on_result)
+                      record_every, threads, keep, plants).finish(on_result)
+
+
+def _bodies(robot: Robot, plants: Sequence[pin.Model], runs: int, controlled: bool) -> np.ndarray:
+    """Each run's plant bodies (runs, njoints - 1, 13): mass (kg), CoM in the joint frame (3, m),
+    rotational inertia about it (3, 3 row-major, kg m^2)."""
+    if controlled:
+        raise InvalidArgument("plants: runs with other masses take no controller in one call (the controller keeps "
+                              "its own model: they run one by one with simulation.run)")
+    if len(plants) != runs:
+        raise InvalidArgument(f"plants: one per run expected ({runs}), got {len(plants)}")
+    model = robot.model
+    for i, plant in enumerate(plants):
+        if not compiled.same_numbers(plant, _with_bodies_of(model, plant)):
+            raise InvalidArgument(f"run {i}: its plant differs from the robot's model in more than its bodies' masses "
+                                  "and inertias (joints, placements, armature or gravity)")
+    return np.array([[np.r_[body.mass, body.lever, body.inertia.ravel()] for body in plant.inertias[1:]]
+                     for plant in plants], dtype=float)
+
+
+def _with_bodies_of(model: pin.Model, plant: pin.Model) -> pin.Model:
+    """``model`` with ``plant``'s bodies (``model`` itself when their structures differ)."""
+    if (plant.njoints, plant.nv) != (model.njoints, model.nv) or list(plant.parents) != list(model.parents):
+        return model
+    out = pin.Model(model)
+    for j in range(1, model.njoints):
+        out.inertias[j] = plant.inertias[j]
+    return out
 
 
 def _quintics(controllers: Sequence[Controller] | None, runs: int,

@@ -1,7 +1,8 @@
 """A batch's runs many at a time in one compiled call (:mod:`freefloat.dynamics.many_runs`), on
-C++ threads, where they can share one: runs of a ``joint_space`` scene (torque-free, or computed
-torque on its quintic) on the exact plant (its loop closures included) with a compiled
-integrator, that vary only their initial state (not the plant's masses).
+C++ threads, where they can share one: runs of a ``joint_space`` scene on the exact plant (its
+loop closures included) with a compiled integrator that vary their initial state, and, torque
+free, the plant's masses; under computed torque on its quintic, the initial state only (with
+varied masses the controller keeps the nominal robot, and its law runs in Python).
 
 The runs go in groups of :data:`GROUP_PER_THREAD` per thread. While one group runs without
 Python's lock, this thread prepares the next one (each run's scene resolved as
@@ -36,7 +37,7 @@ GROUP_PER_THREAD = 8
 
 def shares_loop(plan: RunPlan, setup: Any) -> bool:
     """Whether ``plan``'s run (prepared as ``setup``) can run in one call with others."""
-    return (not plan.masses and plan.scene.kind == "joint_space" and isinstance(setup, RobotSetup)
+    return (plan.scene.kind == "joint_space" and isinstance(setup, RobotSetup)
             and setup.lock is None and setup.wheels is None and setup.scene.simulation.backend != "python"
             and compiled.unsupported(setup.model, setup.integrator) is None
             and (setup.controller is None or isinstance(compiled.law_of(setup.controller, setup.plant), tuple)))
@@ -104,9 +105,10 @@ def _start(plans: list[RunPlan], threads: int, on_row: OnRow) -> _Group:
         first, sim = group.setups[0], group.setups[0].scene.simulation
         states = [s.plant_state() for s in group.setups]
         controllers = None if first.controller is None else [s.controller for s in group.setups]
+        plants = [s.plant.model for s in group.setups] if any(p.masses for p in group.plans) else None
         group.runs = start_runs(first.plant, np.array([q for q, _ in states]), np.array([v for _, v in states]),
                                 sim.duration, sim.control_period, first.integrator, first.model, controllers,
-                                first.wrenches, sim.record_every, threads, keep=False)
+                                first.wrenches, sim.record_every, threads, keep=False, plants=plants)
     return group
 
 
