@@ -181,6 +181,7 @@ def test_an_error_of_the_caller_stops_the_runs_and_propagates():
     (dict(integrator="momentum"), "cannot run this"),
     (dict(gains=(100.0, 30.0)), "run 1: its quintic's duration and gains"),
     (dict(threads=0), "threads"),
+    (dict(threads=1000), "threads must be at most 256"),
     (dict(plants="controlled"), "take no controller"),
     (dict(plants="moved"), "run 1: its plant differs"),
 ])
@@ -203,3 +204,12 @@ def test_what_cannot_share_one_call_is_refused_with_the_reason(change, message):
     with pytest.raises(InvalidArgument, match=message):
         run_many(robot, arguments["q0"], arguments["v0"], 0.01, 1e-3, integrator, ExactModel(robot), controllers,
                  threads=arguments["threads"], plants=plants)
+
+
+def test_runs_whose_telemetry_cannot_fit_are_refused_before_any_starts():
+    """A million kept runs of 100 s at 1 ms would need petabytes: refused naming the way out."""
+    robot = robot_named("four_arm_planar.urdf")
+    q0 = np.broadcast_to(robot.neutral(), (10**6, robot.model.nq))
+    v0 = np.zeros((10**6, robot.model.nv))
+    with pytest.raises(InvalidArgument, match="keep=False"):
+        run_many(robot, q0, v0, 100.0, 1e-3, make_integrator("rkmk4", robot.model), ExactModel(robot))

@@ -17,7 +17,9 @@ bit for bit (tested), on any number of threads.
 
 from __future__ import annotations
 
+import os
 from collections.abc import Callable, Sequence
+from dataclasses import fields
 from typing import Any
 
 import numpy as np
@@ -27,6 +29,7 @@ from ..arguments import whole_number
 from ..errors import InvalidArgument
 from ..robot.robot import Robot
 from ..robot.state import check_state
+from ..robot.urdf_checks import usable_memory
 from . import _sim, compiled, stop_request
 from .integrators import Integrator
 from .models import DynamicsModel
@@ -40,6 +43,9 @@ __all__ = ["SLICE_PERIODS", "ManyRuns", "run_many", "start_runs"]
 SLICE_PERIODS = 1000
 #: Longest wait for a run to finish before this thread looks at Ctrl-C and the stop request, s.
 WAIT = 0.05
+#: Most C++ threads one call starts (each has a compiled loop of its own; more than the cores
+#: only take turns).
+MAX_THREADS = 256
 
 OnResult = Callable[[int, RunResult], None]
 
@@ -149,27 +155,33 @@ def start_runs(robot: Robot, q0: np.ndarray, v0: np.ndarray, duration: float, co
         InvalidArgument: naming the run for a state of the wrong size or not finite, the reason the
             compiled loop cannot run the plant or integrator, a controller without a compiled
             quintic or with other gains or duration than the first run's, ``plants`` with a
-            controller or differing from ``robot.model`` in more than bodies, or ``threads`` < 1.
+            controller or differing from ``robot.model`` in more than bodies, ``threads`` below 1 or
+            above :data:`MAX_THREADS`, or telemetry that would not fit in memory.
     """
     steps = control_periods(duration, control_period)
     q0, v0 = np.atleast_2d(np.asarray(q0, dtype=float)), np.atleast_2d(np.asarray(v0, dtype=float))
     if q0.ndim != 2 or v0.ndim != 2 or len(q0) != len(v0) or len(q0) == 0:
         raise InvalidArgument(f"q0 and v0 must hold one state per run, as (runs, nq) and (runs, nv) arrays; got shapes "
                               f"{q0.shape} and {v0.shape}")
+    record_every = min(whole_number("record_every", record_every), steps)
+    threads = whole_number("threads", threads)
+    if threads > MAX_THREADS:
+        raise InvalidArgument(f"threads must be at most {MAX_THREADS} (this machine has {os.cpu_count()} cores), "
+                              f"got {threads}")
+    threads = min(threads, len(q0))
+    rows_per_run = (steps - 1) // record_every + 2  # one row every record_every periods, and the last
+    slots = len(q0) if keep else min(len(q0), 2 * threads)
+    _check_memory(robot, slots * rows_per_run, len(q0), duration, record_every, keep)
     for i, (q, v) in enumerate(zip(q0, v0)):
         try:
             check_state(robot, q, v)
         except InvalidArgument as exc:
             raise InvalidArgument(f"run {i}: {exc}") from None
-    record_every = min(whole_number("record_every", record_every), steps)
-    threads = min(whole_number("threads", threads), len(q0))
     reason = compiled.unsupported(model, integrator)
     if reason is not None:
         raise InvalidArgument(f"many runs in one call take the compiled loop, which cannot run this: {reason}")
     law, start, delta = _quintics(controllers, len(q0), robot)
     bodies = None if plants is None else _bodies(robot, plants, len(q0), controllers is not None)
-    rows_per_run = (steps - 1) // record_every + 2  # one row every record_every periods, and the last
-    slots = len(q0) if keep else min(len(q0), 2 * threads)
     block = Telemetry.allocate(slots * rows_per_run, robot.model.nq, robot.model.nv, robot.n_joints,
                                len(robot.end_effectors))
     field = field_of(robot, wrenches)
@@ -195,6 +207,17 @@ def run_many(robot: Robot, q0: np.ndarray, v0: np.ndarray, duration: float, cont
     """:func:`start_runs` then :meth:`ManyRuns.finish`: the runs' results by index (see both)."""
     return start_runs(robot, q0, v0, duration, control_period, integrator, model, controllers, wrenches,
                       record_every, threads, keep, plants).finish(on_result)
+
+
+def _check_memory(robot: Robot, rows: int, runs: int, duration: float, record_every: int, keep: bool) -> None:
+    """Refuse up front a block of ``rows`` telemetry rows that would not fit in memory."""
+    one = Telemetry.allocate(1, robot.model.nq, robot.model.nv, robot.n_joints, len(robot.end_effectors))
+    need = rows * sum(getattr(one, f.name).nbytes for f in fields(one))
+    if need > (allowed := usable_memory()):
+        raise InvalidArgument(f"{runs} runs of {duration} s recording every {record_every} periods: their telemetry "
+                              f"needs about {need / 1e9:.3g} GB{' (keep=True holds every run)' if keep else ''}, more "
+                              f"than {allowed / 1e9:.3g} GB that runs may take here; fewer runs, keep=False, or a "
+                              "larger record_every")
 
 
 def _bodies(robot: Robot, plants: Sequence[pin.Model], runs: int, controlled: bool) -> np.ndarray:
