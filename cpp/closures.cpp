@@ -77,8 +77,10 @@ int delassus_solve(const Eigen::MatrixXd& D, const Vec& rhs, Vec& out) {
   }
   const Eigen::LLT<Eigen::MatrixXd> llt(D);
   if (llt.info() == Eigen::Success) {
-    const double pivot = llt.matrixLLT().diagonal().minCoeff();
-    if (pivot * pivot > kRedundant * D.diagonal().maxCoeff()) {
+    // 1 / trace(D^-1) <= lambda_min and trace(D) >= lambda_max: well conditioned for sure (a small
+    // pivot is no bound: a singular D factored with a pivot^2 of 1.8e-12 times its diagonal).
+    const double trace_inverse = llt.solve(Eigen::MatrixXd::Identity(m, m)).trace();
+    if (trace_inverse > 0.0 && 1.0 / trace_inverse > kRedundant * D.trace()) {
       out = llt.solve(rhs);
       return m;
     }

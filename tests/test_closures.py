@@ -5,12 +5,12 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 import pytest
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 
 from freefloat.dynamics.closures import KINDS, Closure, closing_impulse, closure_kind, kinematics, solve, stacked
 from freefloat.robot.conventions import momentum_about_origin
 
-from .conftest import random_robots, random_state, robot_from_case
+from .conftest import random_robots, random_state, random_urdf, robot_from_case
 
 PROXIMAL = pin.ProximalSettings(1e-14, 1e-12, 200)
 PINOCCHIO_TYPES = {"point": pin.ContactType.CONTACT_3D, "weld": pin.ContactType.CONTACT_6D}
@@ -117,6 +117,7 @@ def assert_equal_to_pinocchio_or_closer(model, closure, q, v, ours, reference, t
 @pytest.mark.parametrize("kind", ["point", "weld", "revolute"])
 @settings(max_examples=10, deadline=None)
 @given(case=random_robots(min_links=2, max_links=7))
+@example(case=(1994051, random_urdf(np.random.default_rng(1994051), 2)))  # a point closure across two joints
 def test_closure_forces_are_internal(tmp_path_factory, kind, case):
     """Without gravity, under any joint torques and at any state (the loop open or not, Baumgarte
     on), the momentum of a floating tree with a closure between two bodies does not change: its

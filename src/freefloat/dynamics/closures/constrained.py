@@ -50,15 +50,19 @@ class ConstrainedSolution:
 
 def delassus_solve(D: np.ndarray, rhs: np.ndarray) -> tuple[np.ndarray, int]:
     """``D^+ rhs`` for a symmetric positive semi-definite ``D`` (m, m), and its rank: Cholesky when
-    ``D`` is well conditioned, otherwise an eigen-decomposition whose directions under
-    :data:`REDUNDANT` times the largest eigenvalue carry no force."""
+    ``D`` is surely well conditioned (``1 / trace(D^-1)``, at most its least eigenvalue, above
+    :data:`REDUNDANT` times ``trace(D)``, at least its largest), otherwise an eigen-decomposition
+    whose directions under :data:`REDUNDANT` times the largest eigenvalue carry no force. (A
+    small Cholesky pivot is no bound: a singular ``D`` factored with a least pivot^2 of 1.8e-12
+    times its largest diagonal, and the force came out at 1e18 N.)"""
     from scipy.linalg import cho_factor, cho_solve  # here: scipy is 0.3 s of start-up for runs without closures
 
     if D.size == 0:
         return np.zeros(0), 0
     try:
         factor = cho_factor(D)
-        if np.min(np.diag(factor[0])) ** 2 > REDUNDANT * np.max(np.diag(D)):
+        trace_inverse = np.trace(cho_solve(factor, np.eye(len(D))))
+        if trace_inverse > 0.0 and 1.0 / trace_inverse > REDUNDANT * np.trace(D):
             return cho_solve(factor, rhs), len(rhs)
     except np.linalg.LinAlgError:
         pass
