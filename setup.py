@@ -9,12 +9,15 @@
   instantiation): instantiating them here was most of the build.
 
 The closed chains' bindings of both modules are one translation unit (cpp/chains.cpp), compiled
-once and linked into both (so both modules link to libpinocchio_default).
+once and linked into both. It includes no Pinocchio header: the closed-chain loop's integrators
+(cpp/sim/rkmk.hpp) step on R^n without Pinocchio's configuration space (cpp/sim/lie_rk.hpp, the
+robot loop's).
 
 Where the time goes (g++ 12, user seconds per translation unit, two at a time as the build runs
-them, at load 1.3-1.8): the robot loop with the closed plant, one unit, 46-47 s at -O1 (as two
-units at -O3: 46-48 + 35-36 s); the closed-chain loop 37-38 s; the core 20 s: 61 s of wall time
-where the four units of before took 77-79 s. Parsing and template instantiation are most of it:
+them): the robot loop with the closed plant, one unit, 42-45 s at -O1 (as two units at -O3:
+46-48 + 35-36 s); the closed-chain loop 29.5-30 s (35-38 s, and 2.25 GB instead of 1.6 GB, while
+it parsed Pinocchio's headers); the core 18-19 s: 49 s of wall time on an idle machine, where the
+four units of before took 77-79 s. Parsing and template instantiation are most of it:
 -O1 takes chains.cpp 32 s instead of 38 s but its loop runs slower, and a precompiled header of
 Pinocchio, Eigen and pybind11 did not pay (21 s to make before any unit starts; closures.cpp
 compiled no faster with it). So the robot loop, whose time is in
