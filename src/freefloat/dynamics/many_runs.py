@@ -2,10 +2,10 @@
 
 Runs that differ only in their initial state (and, under computed torque, in the quintic that
 starts from it, or, torque-free, in the plant's masses and inertias) need no Python between
-their periods. :func:`start_runs` hands their states, as
-arrays, to ``threads`` C++ threads, each driving a compiled loop of its own
-(:class:`~freefloat.dynamics.compiled.CompiledLoop`, with its own Pinocchio ``Data``) through the
-runs it takes in turn; every run writes its telemetry rows into a slot of one block of rows.
+their periods. :func:`start_runs` hands their states, as arrays, to ``threads`` C++ threads,
+each driving a compiled loop of its own (:class:`~freefloat.dynamics.compiled.CompiledLoop`,
+with its own Pinocchio ``Data``) through the runs it takes in turn; every run writes its
+telemetry rows into a slot of one block of rows.
 They run without Python's lock while this thread does other work (prepares the next runs,
 summarises the finished ones); :meth:`ManyRuns.finish` then hands each run, as it finishes, to
 its caller. A stop request (:mod:`.stop_request`) or Ctrl-C ends every run within
@@ -51,13 +51,17 @@ OnResult = Callable[[int, RunResult], None]
 
 
 class ManyRuns:
-    """Runs started by :func:`start_runs`, running on their threads until :meth:`finish`."""
+    """Runs started by :func:`start_runs`, running on their threads until :meth:`finish`.
+
+    Attributes:
+        interrupted: the runs were stopped (:meth:`stop`, Ctrl-C or a stop request).
+    """
 
     def __init__(self, loops: list[compiled.CompiledLoop], batch: Any, runs: int, block: Telemetry,
                  rows_per_run: int, steps: int, control_period: float, keep: bool, bodies_set: bool):
         self._loops, self._batch, self._runs, self._block, self._bodies_set = loops, batch, runs, block, bodies_set
         self._rows_per_run, self._steps, self._period, self._keep = rows_per_run, steps, control_period, keep
-        self.interrupted = False  # stopped by stop(), Ctrl-C or a stop request
+        self.interrupted = False
 
     def stop(self) -> None:
         """Stop the runs within :data:`SLICE_PERIODS` periods (no run starts); :meth:`finish` gives

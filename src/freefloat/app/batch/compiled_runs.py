@@ -1,6 +1,6 @@
 """A batch's runs many at a time in one compiled call (:mod:`freefloat.dynamics.many_runs`), on
 C++ threads, where they can share one: runs of a ``joint_space`` scene on the exact plant (its
-loop closures included) with a compiled integrator that vary their initial state, and, torque
+loop closures included) with a compiled integrator that vary their initial state, and, torque-
 free, the plant's masses; under computed torque on its quintic, the initial state only (with
 varied masses the controller keeps the nominal robot, and its law runs in Python).
 
