@@ -16,12 +16,12 @@ robot loop's).
 Where the time goes (g++ 12, user seconds per translation unit, two at a time as the build runs
 them): the robot loop with the closed plant, one unit, 42-45 s at -O1 (as two units at -O3:
 46-48 + 35-36 s); the closed-chain loop 29.5-30 s (35-38 s, and 2.25 GB instead of 1.6 GB, while
-it parsed Pinocchio's headers); the core 18-19 s: 49 s of wall time on an idle machine, where the
-four units of before took 77-79 s. Parsing and template instantiation are most of it:
--O1 takes chains.cpp 32 s instead of 38 s but its loop runs slower, and a precompiled header of
-Pinocchio, Eigen and pybind11 did not pay (21 s to make before any unit starts; closures.cpp
-compiled no faster with it). So the robot loop, whose time is in
-libpinocchio_default's algorithms, is compiled at -O1 (:data:`OPTIMIZATION`), where every scene
+it parsed Pinocchio's headers); the core 18-19 s: 49-58 s of wall time with no other work on the
+machine (56-71 s before, taking turns), where the four units of before took 77-79 s. Parsing and
+template instantiation are most of it: -O1 takes chains.cpp 32 s instead of 38 s but its loop
+runs slower, and a precompiled header of Pinocchio, Eigen and pybind11 did not pay (21 s to make
+before any unit starts; closures.cpp compiled no faster with it). So the robot loop, whose time is
+in libpinocchio_default's algorithms, is compiled at -O1 (:data:`OPTIMIZATION`), where every scene
 measured ran as fast as at -O3 (docs/bench.md, "The build"); the closed chains' own numerics stay
 at -O3 (12-49 % slower at -O2). The units compile in parallel, one per core, fewer when memory is
 short (:data:`UNIT_MEMORY`).
