@@ -223,7 +223,7 @@ class Simulation {
   // frame's inertia, zero, appended as addFrame does: a model equal to the rebuilt one bit for
   // bit); placements, armature and gravity stay.
   void set_bodies(const double* bodies) {
-    for (JointIndex j = 1; j < model_.njoints; ++j, bodies += 13) {
+    for (JointIndex j = 1; j < static_cast<JointIndex>(model_.njoints); ++j, bodies += 13) {
       const Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> I(bodies + 4);
       model_.inertias[j] = Inertia::Zero();
       model_.inertias[j] += Inertia(bodies[0], Eigen::Map<const Vec3>(bodies + 1), Mat3(I)).se3Action(SE3::Identity());
