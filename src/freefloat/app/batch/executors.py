@@ -23,6 +23,7 @@ from typing import Any, Callable, Iterator
 
 from ...distributed import client, process_pool, settle_futures
 from ...dynamics import stop_request
+from ...dynamics.many_runs import MAX_THREADS
 from ...dynamics.threads import ONE_BLAS_THREAD
 from ...errors import FreefloatError
 from . import compiled_runs
@@ -44,7 +45,8 @@ class Workers:
     workers of ``threads`` threads each, or ``scheduler``'s).
 
     Raises:
-        FreefloatError: naming ``--workers`` or ``--threads`` below 1, ``--scheduler`` without
+        FreefloatError: naming ``--workers`` below 1 or ``--threads`` outside [1,
+            :data:`~freefloat.dynamics.many_runs.MAX_THREADS`], ``--scheduler`` without
             ``--dask``, ``--threads`` with a process pool (``--workers`` > 1 without ``--dask``) or
             with ``--scheduler`` (its workers have their own threads).
     """
@@ -57,8 +59,8 @@ class Workers:
     def __post_init__(self) -> None:
         if self.count < 1:
             raise FreefloatError(f"--workers must be >= 1, got {self.count}")
-        if self.threads < 1:
-            raise FreefloatError(f"--threads must be >= 1, got {self.threads}")
+        if not 1 <= self.threads <= MAX_THREADS:
+            raise FreefloatError(f"--threads must be from 1 to {MAX_THREADS}, got {self.threads}")
         if self.scheduler is not None and not self.dask:
             raise FreefloatError("--scheduler is a Dask scheduler's address; it needs --dask")
         if self.threads > 1 and self.scheduler is not None:
