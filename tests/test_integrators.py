@@ -146,7 +146,7 @@ def test_unknown_integrator_lists_the_valid_names():
 
 
 def test_the_compiled_loops_have_the_registrys_compiled_integrators():
-    """The C++ side's integrator names (cpp/sim/lie_rk.hpp) are the registry's compiled ones."""
+    """The C++ side's integrator names (cpp/sim/rkmk.hpp) are the registry's compiled ones."""
     from freefloat.dynamics import _sim
     from freefloat.dynamics.integrators import INTEGRATORS
 

@@ -39,7 +39,7 @@ class IntegratorSpec:
         lie: True when stage velocities are corrected by ``dexp^-1`` (full order on SE(3)).
         adaptive: True for step-size control (``rtol``, ``atol``); False for fixed steps
             (``substeps`` per control period).
-        compiled: True when the compiled loops (``cpp/sim/lie_rk.hpp``) have it under the same name.
+        compiled: True when the compiled loops (``cpp/sim/rkmk.hpp``) have it under the same name.
         build: makes it for a configuration space.
         bench: the loops ``freefloat bench`` sweeps it in (``"python"``, ``"compiled"``).
     """
