@@ -399,7 +399,8 @@ PYBIND11_MODULE(_sim, m) {
            "Starts the runs from q0 (runs, nq), v0 (runs, nv) to period `last` on one C++ thread per loop "
            "(each configured alike, with no detumbling law), with the quintics' start and delta (runs, n) "
            "under computed torque (else None) and each run's plant bodies (runs, njoints - 1, 13: mass, "
-           "CoM (3,), rotational inertia (3, 3); None: the loops'), writing each run's rows into a free slot "
+           "CoM (3,) in the joint frame, rotational inertia (3, 3) about it in joint-frame axes; None: the "
+           "loops'), writing each run's rows into a free slot "
            "of `rows_per_run` rows of the telemetry arrays (`slots` of them).")
       .def("wait",
            [](PyBatch& b, double seconds) {

@@ -218,7 +218,8 @@ class Simulation {
   bool has_law_state() const { return detumbling_.has_value() || loop_law_.has_value(); }
 
   // The plant's bodies for the next run (batch.hpp): per joint 1..njoints-1, mass (kg), CoM in the
-  // joint frame (3, m) and rotational inertia about it (3, 3 row-major, kg m^2), 13 numbers each,
+  // joint frame (3, m) and rotational inertia about the CoM in joint-frame axes (3, 3 row-major,
+  // kg m^2), 13 numbers each,
   // set with build_model's very operations (the body appended to a zero inertia, then each
   // frame's inertia, zero, appended as addFrame does: a model equal to the rebuilt one bit for
   // bit); placements, armature and gravity stay.

@@ -214,12 +214,14 @@ def law_of(controller: Any, plant: Robot | None = None) -> tuple | DetumblingLaw
     return None
 
 
-def same_numbers(a: pin.Model, b: pin.Model) -> bool:
-    """Whether two models of one structure have the same bodies (mass, CoM, rotational inertia),
-    joint placements, armature and gravity, exactly (False for another structure)."""
-    if (a.njoints, a.nv) != (b.njoints, b.nv):
+def same_numbers(a: pin.Model, b: pin.Model, bodies: bool = True) -> bool:
+    """Whether two models of one structure (joints, parents, nv) have the same joint placements,
+    armature and gravity and, with ``bodies``, the same bodies (mass, CoM, rotational inertia),
+    exactly (False for another structure)."""
+    if (a.njoints, a.nv) != (b.njoints, b.nv) or list(a.parents) != list(b.parents):
         return False
-    return (all(np.array_equal(x.toDynamicParameters(), y.toDynamicParameters()) for x, y in zip(a.inertias, b.inertias))
+    return ((not bodies or all(np.array_equal(x.toDynamicParameters(), y.toDynamicParameters())
+                               for x, y in zip(a.inertias, b.inertias)))
             and all(np.array_equal(x.homogeneous, y.homogeneous) for x, y in zip(a.jointPlacements, b.jointPlacements))
             and np.array_equal(a.armature, b.armature) and np.array_equal(a.gravity.linear, b.gravity.linear))
 

@@ -225,30 +225,20 @@ def _check_memory(robot: Robot, rows: int, runs: int, duration: float, record_ev
 
 
 def _bodies(robot: Robot, plants: Sequence[pin.Model], runs: int, controlled: bool) -> np.ndarray:
-    """Each run's plant bodies (runs, njoints - 1, 13): mass (kg), CoM in the joint frame (3, m),
-    rotational inertia about it (3, 3 row-major, kg m^2)."""
+    """Each run's plant bodies (runs, njoints - 1, 13), joints 1.. in order: mass (kg), CoM in the
+    joint frame (3, m), rotational inertia about the CoM in joint-frame axes (3, 3 row-major,
+    kg m^2)."""
     if controlled:
         raise InvalidArgument("plants: runs with other masses take no controller in one call (the controller keeps "
                               "its own model: they run one by one with simulation.run)")
     if len(plants) != runs:
         raise InvalidArgument(f"plants: one per run expected ({runs}), got {len(plants)}")
-    model = robot.model
     for i, plant in enumerate(plants):
-        if not compiled.same_numbers(plant, _with_bodies_of(model, plant)):
+        if not compiled.same_numbers(plant, robot.model, bodies=False):
             raise InvalidArgument(f"run {i}: its plant differs from the robot's model in more than its bodies' masses "
                                   "and inertias (joints, placements, armature or gravity)")
     return np.array([[np.r_[body.mass, body.lever, body.inertia.ravel()] for body in plant.inertias[1:]]
                      for plant in plants], dtype=float)
-
-
-def _with_bodies_of(model: pin.Model, plant: pin.Model) -> pin.Model:
-    """``model`` with ``plant``'s bodies (``model`` itself when their structures differ)."""
-    if (plant.njoints, plant.nv) != (model.njoints, model.nv) or list(plant.parents) != list(model.parents):
-        return model
-    out = pin.Model(model)
-    for j in range(1, model.njoints):
-        out.inertias[j] = plant.inertias[j]
-    return out
 
 
 def _quintics(controllers: Sequence[Controller] | None, runs: int,
