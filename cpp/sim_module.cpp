@@ -68,6 +68,25 @@ Model model_of(const std::vector<int>& parent, const std::vector<std::string>& k
   return model;
 }
 
+// Binds method `name`(parent, kind, name, subspace, placement, mass, lever, rotational, armature,
+// gravity, frame_parent, frame_placement) of Simulation: the Pinocchio model of these arrays (as the
+// constructor's) handed to `use`.
+template <typename Use>
+void def_with_model(py::class_<PySimulation>& cls, const char* method, Use use, const char* doc) {
+  cls.def(
+      method,
+      [use](PySimulation& s, std::vector<int> parent, std::vector<std::string> kind, std::vector<std::string> name,
+            const Array& subspace, const Array& placement, const Array& mass, const Array& lever,
+            const Array& rotational, const Array& armature, const Array& gravity, std::vector<int> frame_parent,
+            const Array& frame_placement) {
+        use(*s.sim, model_of(parent, kind, name, subspace, placement, mass, lever, rotational, armature, gravity,
+                             frame_parent, frame_placement));
+      },
+      py::arg("parent"), py::arg("kind"), py::arg("name"), py::arg("subspace"), py::arg("placement"), py::arg("mass"),
+      py::arg("lever"), py::arg("rotational"), py::arg("armature"), py::arg("gravity"), py::arg("frame_parent"),
+      py::arg("frame_placement"), doc);
+}
+
 PySimulation make(std::vector<int> parent, std::vector<std::string> kind, std::vector<std::string> name,
                   const Array& subspace, const Array& placement, const Array& mass, const Array& lever,
                   const Array& rotational, const Array& armature, const Array& gravity, std::vector<int> frame_parent,
@@ -179,7 +198,8 @@ PYBIND11_MODULE(_sim, m) {
              return JointMap{sq, sp, cq, cp, n};
            }),
            py::arg("scalar_q"), py::arg("scalar_pos"), py::arg("circle_q"), py::arg("circle_pos"), py::arg("n"));
-  py::class_<PySimulation>(m, "Simulation")
+  py::class_<PySimulation> simulation(m, "Simulation");
+  simulation
       .def(py::init(&make), py::arg("parent"), py::arg("kind"), py::arg("name"), py::arg("subspace"),
            py::arg("placement"), py::arg("mass"), py::arg("lever"), py::arg("rotational"), py::arg("armature"),
            py::arg("gravity"), py::arg("frame_parent"), py::arg("frame_placement"), py::arg("joints"),
@@ -198,19 +218,6 @@ PYBIND11_MODULE(_sim, m) {
            py::arg("start_time"), py::arg("record_every"),
            "A new run on this loop's model and Data: the integrator's settings, the period, the start time and "
            "the recording rate; no law, torques, wrenches, work or bound chunk; period 0; evaluations from 0.")
-      .def("set_model",
-           [](PySimulation& s, std::vector<int> parent, std::vector<std::string> kind, std::vector<std::string> name,
-              const Array& subspace, const Array& placement, const Array& mass, const Array& lever,
-              const Array& rotational, const Array& armature, const Array& gravity, std::vector<int> frame_parent,
-              const Array& frame_placement) {
-             s.sim->set_model(model_of(parent, kind, name, subspace, placement, mass, lever, rotational, armature,
-                                       gravity, frame_parent, frame_placement));
-           },
-           py::arg("parent"), py::arg("kind"), py::arg("name"), py::arg("subspace"), py::arg("placement"),
-           py::arg("mass"), py::arg("lever"), py::arg("rotational"), py::arg("armature"), py::arg("gravity"),
-           py::arg("frame_parent"), py::arg("frame_placement"),
-           "The plant's numbers from these arrays (as the constructor's), for a model of the same joints and "
-           "frames (ValueError otherwise); the loop's Data are kept.")
       .def("acceleration",
            [](PySimulation& s, const Array& q, const Array& v, const Array& tau) {
              const Model& m = s.sim->model();
@@ -393,6 +400,15 @@ PYBIND11_MODULE(_sim, m) {
       .def_property_readonly("periods_done", [](const PySimulation& s) { return s.sim->period(); })
       .def_property_readonly("work", [](const PySimulation& s) { return s.sim->work(); })
       .def_property_readonly("evaluations", [](const PySimulation& s) { return s.sim->evaluations(); });
+  def_with_model(simulation, "set_model", [](Simulation& sim, Model model) { sim.set_model(std::move(model)); },
+                 "The plant's numbers from these arrays (as the constructor's), for a model of the same joints and "
+                 "frames (ValueError otherwise); the loop's Data are kept.");
+  def_with_model(simulation, "set_law_model",
+                 [](Simulation& sim, Model model) { sim.set_law_model(std::move(model)); },
+                 "The model the computed-torque and detumbling laws compute on when it is not the plant's (a "
+                 "controller that keeps the nominal robot), from these arrays (as the constructor's); until the "
+                 "next configure(). ValueError for a model of other joints or frames.");
+
   py::class_<PyBatch>(m, "Batch")
       .def(py::init(&make_batch), py::arg("loops"), py::arg("q0"), py::arg("v0"), py::arg("last"), py::arg("start"),
            py::arg("delta"), py::arg("bodies"), py::arg("arrays"), py::arg("rows_per_run"), py::arg("slots"),

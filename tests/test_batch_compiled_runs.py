@@ -35,6 +35,7 @@ def without_timings(row: dict) -> dict:
     ("tumbling", [Band("joint_rate", 2.0), Band("base_rate", 1.0)]),
     ("tumbling", [Band("joint_rate", 2.0), Band("mass", 0.1)]),  # each run its own plant
     ("four_arm_joint_space", [Band("joint_angle", 5.0)]),  # computed torque: each run's own quintic
+    ("four_arm_joint_space", [Band("mass", 0.2)]),  # computed torque on the nominal robot, plants varied
 ])
 def test_rows_are_those_of_each_run_alone(tmp_path, monkeypatch, builtin, bands):
     """Eleven runs on two threads, in groups of a call each (two groups and a part): every row
@@ -50,13 +51,16 @@ def test_rows_are_those_of_each_run_alone(tmp_path, monkeypatch, builtin, bands)
         assert without_timings(row) == without_timings(alone[row["run"]])
 
 
-def test_controlled_runs_of_a_varied_plant_do_not_share_a_call(tmp_path):
-    """Under computed torque, varied masses leave the controller on the nominal robot, whose law
-    runs in Python: the batch keeps those runs one by one. Torque-free, they share a call."""
-    assert not compiled_runs.can_run(plans_of(tmp_path, "four_arm_joint_space", [Band("mass", 0.1)], 2, duration=0.01))
+def test_what_shares_a_call(tmp_path):
+    """Varied masses under computed torque (the controller on the nominal robot, its compiled law on
+    that robot's model), varied angles, varied masses torque-free: each batch shares calls; a
+    momentum-projecting integrator (not compiled) does not."""
+    assert compiled_runs.can_run(plans_of(tmp_path, "four_arm_joint_space", [Band("mass", 0.1)], 2, duration=0.01))
     assert compiled_runs.can_run(plans_of(tmp_path, "four_arm_joint_space", [Band("joint_angle", 1.0)], 2,
                                           duration=0.01))
     assert compiled_runs.can_run(plans_of(tmp_path, "tumbling", [Band("mass", 0.1)], 2, duration=0.01))
+    assert not compiled_runs.can_run(plans_of(tmp_path, "tumbling", [Band("mass", 0.1)], 2, duration=0.01,
+                                              project_momentum=True))
 
 
 def test_an_interrupt_gives_the_finished_rows_and_propagates(tmp_path):

@@ -110,28 +110,68 @@ def test_computed_torque_matches_the_python_controller():
     np.testing.assert_allclose(runs[1].telemetry.joint_reference, runs[0].telemetry.joint_reference, atol=1e-15)
 
 
+def heavier(model: pin.Model, factor: float = 1.2) -> pin.Model:
+    """``model`` with every body's mass and rotational inertia times ``factor`` (a batch's varied masses)."""
+    model = pin.Model(model)
+    for j in range(1, model.njoints):
+        body = model.inertias[j]
+        model.inertias[j] = pin.Inertia(factor * body.mass, body.lever, factor * body.inertia)
+    return model
+
+
 def test_a_controller_on_other_masses_than_the_plant_keeps_its_own_model():
-    """Computed torque designed on the nominal robot driving a plant 20 % heavier (a batch's
-    varied masses): the compiled run gives the Python loop's torques and states, where the law on
-    the plant's own masses tracks over 10x closer (16x here; the compiled run did so before: its
-    law took the plant's model)."""
+    """Computed torque designed on the nominal robot driving a plant 20 % heavier: the compiled
+    run, its law in C++ on the nominal model (the controller's Python torque is never called),
+    gives the Python loop's torques and states, where the law on the plant's own masses tracks over
+    10x closer (16x here)."""
     from freefloat.space.control import ComputedTorque, QuinticTrajectory
 
     nominal = robot_named("four_arm_planar.urdf")
-    model = pin.Model(nominal.model)
-    for j in range(1, model.njoints):
-        body = model.inertias[j]
-        model.inertias[j] = pin.Inertia(1.2 * body.mass, body.lever, 1.2 * body.inertia)
-    plant = replace(nominal, model=model)
+    plant = replace(nominal, model=heavier(nominal.model))
     start = np.zeros(nominal.n_joints)
     law = ComputedTorque(nominal, QuinticTrajectory(start, start + 0.1, 1.0), 100.0, 20.0, "exact")
-    runs = [run(plant, plant.neutral(), np.zeros(model.nv), 0.1, 1e-3, make_integrator("rkmk4", model),
-                ExactModel(plant), law, backend=backend) for backend in ("python", "compiled")]
+    runs = []
+    for backend in ("python", "compiled"):
+        if backend == "compiled":
+            law.torque = never
+        runs.append(run(plant, plant.neutral(), np.zeros(nominal.model.nv), 0.1, 1e-3,
+                        make_integrator("rkmk4", plant.model), ExactModel(plant), law, backend=backend))
     assert_same_telemetry(runs[0].telemetry, runs[1].telemetry, tol=1e-9)
-    own = run(plant, plant.neutral(), np.zeros(model.nv), 0.1, 1e-3, make_integrator("rkmk4", model),
+    own = run(plant, plant.neutral(), np.zeros(nominal.model.nv), 0.1, 1e-3, make_integrator("rkmk4", plant.model),
               ExactModel(plant), ComputedTorque(plant, law.trajectory, 100.0, 20.0, "exact"))
     error = [np.abs(r.telemetry.joint_positions - r.telemetry.joint_reference).max() for r in (runs[1], own)]
     assert error[0] > 10 * error[1]
+
+
+def test_a_detumbling_controller_on_other_masses_than_the_plant_keeps_its_own_model():
+    """The detumbling law designed on the nominal robot, the plant 20 % heavier: the compiled run
+    (the law in C++, H*, c* and the generalized Jacobian on the nominal model) gives the Python
+    loop's telemetry and solver residuals, and differs from a run whose law knows the plant."""
+    from freefloat.app.experiments import experiment_for
+    from freefloat.app.experiments.robot_run import simulate
+    from freefloat.app.scenes import find_scene
+    from freefloat.space.control.detumbling_control import DetumblingController
+
+    scene = find_scene(DETUMBLE_SCENES[0])
+    runs, controllers = [], []
+    for backend, knows_plant in (("python", False), ("compiled", False), ("compiled", True)):
+        sim = replace(scene.simulation, backend=backend, model="exact", duration=1.0)
+        setup = experiment_for(scene).prepare(replace(scene, simulation=sim))
+        plant = replace(setup.robot, model=heavier(setup.robot.model))
+        setup = replace(setup, robot=plant, model=ExactModel(plant))
+        if knows_plant:
+            c = setup.controller
+            setup = replace(setup, controller=DetumblingController(plant, c.rows, c.joints, c.start, c.T, c.method,
+                                                                   c.kp, c.kd))
+        elif backend == "compiled":
+            setup.controller.torque = never
+        runs.append(simulate(setup, None, None))
+        controllers.append(setup.controller)
+    python, compiled, knowing = runs
+    assert np.abs(compiled.telemetry.tau).max() > 1.0  # the law acts
+    assert_same_telemetry(python.telemetry, compiled.telemetry, tol=1e-9)
+    np.testing.assert_allclose(controllers[1].residuals, controllers[0].residuals, atol=1e-12)
+    assert np.abs(knowing.telemetry.tau - compiled.telemetry.tau).max() > 1e-3
 
 
 @settings(max_examples=25, deadline=None)

@@ -6,6 +6,7 @@ request keeps the finished rows, and what cannot share one call is refused with 
 from __future__ import annotations
 
 import warnings
+from dataclasses import replace
 
 import numpy as np
 import pinocchio as pin
@@ -83,21 +84,26 @@ def test_computed_torque_runs_each_follow_their_own_quintic():
     assert not np.array_equal(results[0].telemetry.tau, results[1].telemetry.tau)
 
 
-def test_runs_of_other_masses_each_equal_their_plant_alone():
-    """Torque-free runs whose plants have their own masses and inertias (a batch's --vary mass):
-    each equals simulation.run of its own plant, and the loops kept after them give the nominal
-    robot's run again."""
-    from dataclasses import replace
-
-    robot = robot_named("four_arm_planar.urdf")
-    rng = np.random.default_rng(8)
+def varied_plants(robot, count: int, seed: int) -> list[pin.Model]:
+    """``count`` copies of ``robot.model``, each body's mass and rotational inertia times a seeded
+    factor in [0.8, 1.2] (a batch's --vary mass)."""
+    rng = np.random.default_rng(seed)
     plants = []
-    for _ in range(4):
+    for _ in range(count):
         model = pin.Model(robot.model)
         for j in range(1, model.njoints):
             f = rng.uniform(0.8, 1.2)
             model.inertias[j] = pin.Inertia(f * model.inertias[j].mass, model.inertias[j].lever, f * model.inertias[j].inertia)
         plants.append(model)
+    return plants
+
+
+def test_runs_of_other_masses_each_equal_their_plant_alone():
+    """Torque-free runs whose plants have their own masses and inertias (a batch's --vary mass):
+    each equals simulation.run of its own plant, and the loops kept after them give the nominal
+    robot's run again."""
+    robot = robot_named("four_arm_planar.urdf")
+    plants = varied_plants(robot, 4, seed=8)
     q0, v0 = states(robot, 4, 9, speed=0.5)
     steps = make_integrator("rkmk4", robot.model)
     results = run_many(robot, q0, v0, 0.05, 1e-3, steps, ExactModel(robot), threads=2, plants=plants)
@@ -107,6 +113,29 @@ def test_runs_of_other_masses_each_equal_their_plant_alone():
     nominal = run_many(robot, q0[:2], v0[:2], 0.05, 1e-3, steps, ExactModel(robot), threads=2)
     for got, alone in zip(nominal, one_by_one(robot, q0[:2], v0[:2], 0.05, steps, ExactModel(robot))):
         assert_identical(got, alone)
+
+
+def test_controlled_runs_of_other_masses_keep_the_nominal_law():
+    """Computed torque designed on the nominal robot over plants of their own masses (a batch's
+    --vary mass under control): each run equals simulation.run of its plant with the nominal
+    controller, whose law computes on the nominal model (a law on the plant's masses gives other
+    torques)."""
+    robot = robot_named("four_arm_planar.urdf")
+    plants = varied_plants(robot, 3, seed=11)
+    q0, v0 = np.array([robot.neutral()] * 3), np.zeros((3, robot.model.nv))
+    start = np.zeros(robot.n_joints)
+    controllers = [ComputedTorque(robot, QuinticTrajectory(start, start + 0.1 * (i + 1), 0.04), 100.0, 20.0, "exact")
+                   for i in range(3)]
+    steps = make_integrator("rkmk4", robot.model)
+    results = run_many(robot, q0, v0, 0.05, 1e-3, steps, ExactModel(robot), controllers, threads=2, plants=plants)
+    for i, got in enumerate(results):
+        plant = replace(robot, model=plants[i])
+        assert_identical(got, run(plant, q0[i], v0[i], 0.05, 1e-3, steps, ExactModel(plant), controllers[i],
+                                  backend="compiled"))
+    own = run(replace(robot, model=plants[0]), q0[0], v0[0], 0.05, 1e-3, steps,
+              ExactModel(replace(robot, model=plants[0])),
+              ComputedTorque(replace(robot, model=plants[0]), controllers[0].trajectory, 100.0, 20.0, "exact"))
+    assert np.abs(own.telemetry.tau - results[0].telemetry.tau).max() > 1e-6
 
 
 def test_runs_of_the_closed_plant_equal_their_own_runs():
@@ -182,7 +211,7 @@ def test_an_error_of_the_caller_stops_the_runs_and_propagates():
     (dict(gains=(100.0, 30.0)), "run 1: its quintic's duration and gains"),
     (dict(threads=0), "threads"),
     (dict(threads=1000), "threads must be at most 256"),
-    (dict(plants="controlled"), "take no controller"),
+    (dict(plants="controlled"), "run 1: its controller's robot has other numbers"),
     (dict(plants="moved"), "run 1: its plant differs"),
 ])
 def test_what_cannot_share_one_call_is_refused_with_the_reason(change, message):
@@ -200,6 +229,13 @@ def test_what_cannot_share_one_call_is_refused_with_the_reason(change, message):
         plants = [robot.model, moved]
         if change.pop("plants") == "moved":
             controllers = None
+        else:  # run 1's controller designed on a heavier robot
+            plants = [robot.model, robot.model]
+            heavier = pin.Model(robot.model)
+            heavier.inertias[2] = pin.Inertia(2.0 * heavier.inertias[2].mass, heavier.inertias[2].lever,
+                                              2.0 * heavier.inertias[2].inertia)
+            controllers[1] = ComputedTorque(replace(robot, model=heavier), controllers[1].trajectory, 100.0, 20.0,
+                                            "exact")
     arguments = dict(q0=q0, v0=v0, threads=2) | change
     with pytest.raises(InvalidArgument, match=message):
         run_many(robot, arguments["q0"], arguments["v0"], 0.01, 1e-3, integrator, ExactModel(robot), controllers,

@@ -110,6 +110,7 @@ class Simulation {
     reference_.reset();
     detumbling_.reset();
     loop_law_.reset();
+    own_law_model_ = false;  // its storage and Data stay for the next set_law_model()
     closed_.closures.clear();
     closed_.forget();
     controlled_ = false;
@@ -133,6 +134,22 @@ class Simulation {
     model_ = std::move(model);  // in place: the integrator refers to model_
     closed_.forget();
     mass_ = pinocchio::computeTotalMass(model_);
+  }
+
+  // The model the computed-torque and detumbling laws compute H*, c* and the generalized Jacobian
+  // on, when it is not the plant's: a controller that keeps the nominal robot while the plant has
+  // other numbers (a batch's varied masses). `model` must have this loop's structure; until the
+  // next configure(). Its Data are made once and kept, as set_model() keeps the plant's.
+  void set_law_model(Model model) {
+    if (!same_structure(model_, model))
+      throw std::invalid_argument("set_law_model: the model's joints or frames differ from the loop's");
+    if (law_model_) {
+      *law_model_ = std::move(model);
+    } else {
+      law_model_.emplace(std::move(model));
+      law_data_.emplace(lean_data(*law_model_));
+    }
+    own_law_model_ = true;
   }
 
   // Pinocchio's convention for ABA and CRBA (the same numbers to round-off; WORLD or LOCAL is
@@ -305,7 +322,7 @@ class Simulation {
       if (!law.detumbling(t)) {
         tau_ = law.hold_torque(pos_, v_.tail(n), H_, c_);
       } else {
-        generalized_jacobian(model_, data_, q_, v_, base_frame_, ee_frames_, n, law.at_state);
+        generalized_jacobian(law_model(), law_data(), q_, v_, base_frame_, ee_frames_, n, law.at_state);
         const std::string error = law.track(v_.tail(n), H_, c_, tau_);
         if (!error.empty()) {
           char when[64];
@@ -322,11 +339,16 @@ class Simulation {
     loop_law_->torque(model_, data_, closed_, q, v, nb_, t, tau);
   }
 
-  // H_ = H* and c_ = c* of tau = H* qddot + c* (the base eliminated through its rows) at the state.
+  // The laws' model and its Data: set_law_model()'s, else the plant's.
+  const Model& law_model() const { return own_law_model_ ? *law_model_ : model_; }
+  Data& law_data() { return own_law_model_ ? *law_data_ : data_; }
+
+  // H_ = H* and c_ = c* of tau = H* qddot + c* (the base eliminated through its rows) at the state,
+  // on the laws' model.
   void joint_space() {
-    const Eigen::MatrixXd& M = pinocchio::crba(model_, data_, ConstRef(q_), convention_);
+    const Eigen::MatrixXd& M = pinocchio::crba(law_model(), law_data(), ConstRef(q_), convention_);
     M_ = M.selfadjointView<Eigen::Upper>();
-    const Vec& b = pinocchio::nonLinearEffects(model_, data_, q_, v_);
+    const Vec& b = pinocchio::nonLinearEffects(law_model(), law_data(), q_, v_);
     const int n = joints_.n;
     Eigen::MatrixXd rhs(nb_, n + 1);
     rhs.leftCols(n) = M_.topRightCorner(nb_, n);
@@ -401,6 +423,9 @@ class Simulation {
 
   Model model_;
   Data data_, record_data_;
+  std::optional<Model> law_model_;  // set_law_model()'s, used while own_law_model_
+  std::optional<Data> law_data_;
+  bool own_law_model_ = false;
   JointMap joints_;
   int nb_;
   pinocchio::Convention convention_ = pinocchio::Convention::LOCAL;

@@ -204,14 +204,35 @@ def _closure(closure: Any) -> tuple:
 def law_of(controller: Any, plant: Robot | None = None) -> tuple | DetumblingLaw | LoopDetumblingLaw | None:
     """The controller's ``compiled_law()`` (see ``ComputedTorque.compiled_law`` and
     ``DetumblingController.compiled_law``), or None. Given the ``plant``, also None when the
-    controller's robot has other inertias, placements, armature or gravity than the plant's: the
-    compiled law computes ``H*`` and ``c*`` on the loop's model, the plant's, so a controller with a
-    model of its own (a batch's varied masses: the controller keeps the nominal robot) runs in Python."""
+    controller's robot has another structure than the plant's, or when a two-hand law's robot has
+    other numbers (that law works on the plant's closures). A controller whose robot has the plant's
+    structure and other numbers (a batch's varied masses: the controller keeps the nominal robot)
+    keeps its compiled law, which then computes on that robot's model (:func:`law_robot`)."""
     law = getattr(controller, "compiled_law", lambda: None)() if controller is not None else None
-    own = getattr(getattr(controller, "robot", None), "model", None)
-    if law is None or plant is None or own is None or own is plant.model or same_numbers(own, plant.model):
+    own = law_robot(controller, plant) if law is not None and plant is not None else None
+    if own is None:
         return law
-    return None
+    return None if isinstance(law, LoopDetumblingLaw) or structure_of(own) != structure_of(plant) else law
+
+
+def law_robot(controller: Any, plant: Robot) -> Robot | None:
+    """The controller's robot when its model has other numbers than the ``plant``'s (inertias,
+    placements, armature or gravity): the robot a compiled law computes ``H*``, ``c*`` and the
+    generalized Jacobian on (:class:`CompiledLoop`'s ``law_robot``); None when it has the plant's."""
+    own = getattr(controller, "robot", None)
+    if own is None or own.model is plant.model or same_numbers(own.model, plant.model):
+        return None
+    return own
+
+
+def structure_of(robot: Robot, arrays: dict[str, Any] | None = None) -> bytes:
+    """A digest of what a compiled loop's model and joint map are built from apart from numbers:
+    joints, parents, frames, base and end-effector counts, joint coordinates (``arrays``: the
+    robot's :func:`_model_arrays`, if at hand)."""
+    arrays = _model_arrays(robot) if arrays is None else arrays
+    coords = JointCoordinates(robot)
+    return _digest(*(arrays[k] for k in _STRUCTURE), robot.n_base, len(robot.end_effectors), coords.scalar_q,
+                   coords.scalar_pos, coords.circle_q, coords.circle_pos, robot.n_joints)
 
 
 def same_numbers(a: pin.Model, b: pin.Model, bodies: bool = True) -> bool:
@@ -333,6 +354,9 @@ class CompiledLoop(CompiledEngine):
             plant's; default: a new one, which costs as much as the loop's own at large nv).
         plant: the run's plant model; a ``ClosedModel`` (:data:`COMPILED_PLANTS`) hands its
             closures and Baumgarte rate to the loop, which then integrates the constrained dynamics.
+        law_robot: the robot the computed-torque or detumbling ``law`` computes on when it is not
+            ``robot`` (:func:`law_robot`: a controller that keeps the nominal robot); it must have
+            ``robot``'s structure.
 
     Raises:
         InvalidArgument: for a joint kind or integrator the compiled loop does not have, or when
@@ -343,7 +367,8 @@ class CompiledLoop(CompiledEngine):
 
     def __init__(self, robot: Robot, integrator: Any, control_period: float, start_time: float = 0.0,
                  record_every: int = 1, law: tuple | DetumblingLaw | LoopDetumblingLaw | None = None,
-                 wrenches: WrenchField | None = None, data: pin.Data | None = None, plant: Any = None):
+                 wrenches: WrenchField | None = None, data: pin.Data | None = None, plant: Any = None,
+                 law_robot: Robot | None = None):
         self.robot = robot
         self.law = law
         n_ee = len(robot.end_effectors)
@@ -351,8 +376,7 @@ class CompiledLoop(CompiledEngine):
         coords = JointCoordinates(robot)
         joints = _sim.JointMap(coords.scalar_q.tolist(), coords.scalar_pos.tolist(), coords.circle_q.tolist(),
                                coords.circle_pos.tolist(), robot.n_joints)
-        self._structure = (_digest(*(arrays[k] for k in _STRUCTURE), robot.n_base, n_ee, coords.scalar_q,
-                                   coords.scalar_pos, coords.circle_q, coords.circle_pos, robot.n_joints),)
+        self._structure = (structure_of(robot, arrays),)
         numbers = {k: v for k, v in arrays.items() if k not in _STRUCTURE}
         self._numbers = _digest(*numbers.values())
         settings = dict(integrator=integrator.name, substeps=getattr(integrator, "substeps", 1),
@@ -378,6 +402,8 @@ class CompiledLoop(CompiledEngine):
         elif law is not None:
             start, delta, duration, kp, kd = law
             self.sim.set_computed_torque(start, delta, duration, kp, kd)
+        if law_robot is not None:
+            self.sim.set_law_model(**_model_arrays(law_robot))
         if wrenches is not None:
             self.sim.set_wrench_profiles(*wrenches.profiles())
         if getattr(plant, "closures", None):

@@ -1,8 +1,8 @@
 """Many runs of one robot scene in one compiled call, on C++ threads (``_sim.Batch``).
 
-Runs that differ only in their initial state (and, under computed torque, in the quintic that
-starts from it, or, torque-free, in the plant's masses and inertias) need no Python between
-their periods. :func:`start_runs` hands their states, as arrays, to ``threads`` C++ threads,
+Runs that differ only in their initial state, under computed torque in the quintic that starts
+from it, and in the plant's masses and inertias (the controller keeping its own robot) need no
+Python between their periods. :func:`start_runs` hands their states, as arrays, to ``threads`` C++ threads,
 each driving a compiled loop of its own (:class:`~freefloat.dynamics.compiled.CompiledLoop`,
 with its own Pinocchio ``Data``) through the runs it takes in turn; every run writes its
 telemetry rows into a slot of one block of rows.
@@ -151,15 +151,17 @@ def start_runs(robot: Robot, q0: np.ndarray, v0: np.ndarray, duration: float, co
         keep: keep every run's telemetry in one block for the returned results; otherwise each
             run's rows are copied out for ``on_result`` and their slot reused (memory for
             ``2 threads`` runs, whatever their number).
-        plants: torque-free only: one Pinocchio model per run, ``robot.model`` with other bodies
-            (masses, CoMs, rotational inertias; joints, placements, armature and gravity the
-            same), each run's plant; None: ``robot.model`` for every run.
+        plants: one Pinocchio model per run, ``robot.model`` with other bodies (masses, CoMs,
+            rotational inertias; joints, placements, armature and gravity the same), each run's
+            plant; None: ``robot.model`` for every run. The controllers keep their own robot (one
+            for every run): their law computes on its model, whatever the plant's bodies.
 
     Raises:
         InvalidArgument: naming the run for a state of the wrong size or not finite, the reason the
             compiled loop cannot run the plant or integrator, a controller without a compiled
-            quintic or with other gains or duration than the first run's, ``plants`` with a
-            controller or differing from ``robot.model`` in more than bodies, ``threads`` below 1 or
+            quintic or with other gains or duration than the first run's, controllers whose robots
+            have other numbers than the first run's, ``plants`` differing from ``robot.model`` in
+            more than bodies, ``threads`` below 1 or
             above :data:`MAX_THREADS`, or telemetry that would not fit in memory.
     """
     steps = control_periods(duration, control_period)
@@ -185,7 +187,8 @@ def start_runs(robot: Robot, q0: np.ndarray, v0: np.ndarray, duration: float, co
     if reason is not None:
         raise InvalidArgument(f"many runs in one call take the compiled loop, which cannot run this: {reason}")
     law, start, delta = _quintics(controllers, len(q0), robot)
-    bodies = None if plants is None else _bodies(robot, plants, len(q0), controllers is not None)
+    bodies = None if plants is None else _bodies(robot, plants, len(q0))
+    law_robot = _law_robot(controllers, robot, plants is not None)
     block = Telemetry.allocate(slots * rows_per_run, robot.model.nq, robot.model.nv, robot.n_joints,
                                len(robot.end_effectors))
     field = field_of(robot, wrenches)
@@ -193,7 +196,7 @@ def start_runs(robot: Robot, q0: np.ndarray, v0: np.ndarray, duration: float, co
     try:
         for _ in range(threads):
             loops.append(compiled.CompiledLoop(robot, integrator, control_period, 0.0, record_every, law, field,
-                                               data=plant_data(robot, model), plant=model))
+                                               data=plant_data(robot, model), plant=model, law_robot=law_robot))
         batch = _sim.Batch([loop.sim for loop in loops], q0, v0, steps, start, delta, bodies,
                            compiled.chunk_arrays(block), rows_per_run, slots)
     except BaseException:
@@ -224,13 +227,10 @@ def _check_memory(robot: Robot, rows: int, runs: int, duration: float, record_ev
                               "larger record_every")
 
 
-def _bodies(robot: Robot, plants: Sequence[pin.Model], runs: int, controlled: bool) -> np.ndarray:
+def _bodies(robot: Robot, plants: Sequence[pin.Model], runs: int) -> np.ndarray:
     """Each run's plant bodies (runs, njoints - 1, 13), joints 1.. in order: mass (kg), CoM in the
     joint frame (3, m), rotational inertia about the CoM in joint-frame axes (3, 3 row-major,
     kg m^2)."""
-    if controlled:
-        raise InvalidArgument("plants: runs with other masses take no controller in one call (the controller keeps "
-                              "its own model: they run one by one with simulation.run)")
     if len(plants) != runs:
         raise InvalidArgument(f"plants: one per run expected ({runs}), got {len(plants)}")
     for i, plant in enumerate(plants):
@@ -239,6 +239,22 @@ def _bodies(robot: Robot, plants: Sequence[pin.Model], runs: int, controlled: bo
                                   "and inertias (joints, placements, armature or gravity)")
     return np.array([[np.r_[body.mass, body.lever, body.inertia.ravel()] for body in plant.inertias[1:]]
                      for plant in plants], dtype=float)
+
+
+def _law_robot(controllers: Sequence[Controller] | None, robot: Robot, plants_vary: bool) -> Robot | None:
+    """The robot the runs' compiled law computes on when it is not the loop's plant (see
+    :func:`~freefloat.dynamics.compiled.law_robot`): the controllers' own, one for every run, when
+    its numbers differ from ``robot``'s or the runs' plants vary."""
+    if controllers is None:
+        return None
+    own = [getattr(c, "robot", None) for c in controllers]
+    if not plants_vary and all(compiled.law_robot(c, robot) is None for c in controllers):
+        return None
+    for i, other in enumerate(own):
+        if other is None or not (other is own[0] or compiled.same_numbers(other.model, own[0].model)):
+            raise InvalidArgument(f"run {i}: its controller's robot has other numbers than run 0's controller's; runs "
+                                  "in one call share the model their law computes on")
+    return own[0]
 
 
 def _quintics(controllers: Sequence[Controller] | None, runs: int,
@@ -253,8 +269,8 @@ def _quintics(controllers: Sequence[Controller] | None, runs: int,
     for i, law in enumerate(laws):
         if not isinstance(law, tuple):
             raise InvalidArgument(f"run {i}: its controller has no compiled quintic (a computed torque on a quintic, "
-                                  "with the exact model of this robot, runs in one call; others run one by one "
-                                  "with simulation.run)")
+                                  "on a robot of this one's joints and frames, runs in one call; others run one "
+                                  "by one with simulation.run)")
         if law[2:] != first[2:]:
             raise InvalidArgument(f"run {i}: its quintic's duration and gains (kp, kd) differ from run 0's; runs in "
                                   "one call share them")

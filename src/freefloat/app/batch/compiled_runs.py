@@ -1,8 +1,8 @@
 """A batch's runs many at a time in one compiled call (:mod:`freefloat.dynamics.many_runs`), on
 C++ threads, where they can share one: runs of a ``joint_space`` scene on the exact plant (its
-loop closures included) with a compiled integrator that vary their initial state, and, torque-
-free, the plant's masses; under computed torque on its quintic, the initial state only (with
-varied masses the controller keeps the nominal robot, and its law runs in Python).
+loop closures included) with a compiled integrator, torque-free or under computed torque on its
+quintic, that vary their initial state and the plant's masses (the controller keeping the
+nominal robot: its compiled law computes on that robot's model).
 
 The runs go in groups of :data:`GROUP_PER_THREAD` per thread. While one group runs without
 Python's lock, this thread prepares the next one (each run's scene resolved as
