@@ -2,8 +2,8 @@
 
 Runs that differ only in their initial state, under computed torque in the quintic that starts
 from it, and in the plant's masses and inertias (the controller keeping its own robot) need no
-Python between their periods. :func:`start_runs` hands their states, as arrays, to ``threads`` C++ threads,
-each driving a compiled loop of its own (:class:`~freefloat.dynamics.compiled.CompiledLoop`,
+Python between their periods. :func:`start_runs` hands their states, as arrays, to ``threads``
+C++ threads, each driving a compiled loop of its own (:class:`~freefloat.dynamics.compiled.CompiledLoop`,
 with its own Pinocchio ``Data``) through the runs it takes in turn; every run writes its
 telemetry rows into a slot of one block of rows.
 They run without Python's lock while this thread does other work (prepares the next runs,
@@ -161,8 +161,8 @@ def start_runs(robot: Robot, q0: np.ndarray, v0: np.ndarray, duration: float, co
             compiled loop cannot run the plant or integrator, a controller without a compiled
             quintic or with other gains or duration than the first run's, controllers whose robots
             have other numbers than the first run's, ``plants`` differing from ``robot.model`` in
-            more than bodies, ``threads`` below 1 or
-            above :data:`MAX_THREADS`, or telemetry that would not fit in memory.
+            more than bodies, ``threads`` below 1 or above :data:`MAX_THREADS`, or telemetry that
+            would not fit in memory.
     """
     steps = control_periods(duration, control_period)
     q0, v0 = np.atleast_2d(np.asarray(q0, dtype=float)), np.atleast_2d(np.asarray(v0, dtype=float))
