@@ -15,7 +15,7 @@ from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 from freefloat.dynamics import gjm
-from freefloat.dynamics.compiled import COMPILED_INTEGRATORS, CompiledLoop
+from freefloat.dynamics.compiled import COMPILED_INTEGRATORS, CompiledLoop, law_of, law_robot
 from freefloat.dynamics.integrators import make_integrator
 from freefloat.dynamics.models import ExactModel, make_model
 from freefloat.dynamics.simulation import run
@@ -141,6 +141,24 @@ def test_a_controller_on_other_masses_than_the_plant_keeps_its_own_model():
               ExactModel(plant), ComputedTorque(plant, law.trajectory, 100.0, 20.0, "exact"))
     error = [np.abs(r.telemetry.joint_positions - r.telemetry.joint_reference).max() for r in (runs[1], own)]
     assert error[0] > 10 * error[1]
+
+
+def test_a_law_compiles_on_its_own_model_only_for_the_plants_structure():
+    """law_of keeps a computed-torque law whose robot has the plant's joints and frames and other
+    masses (law_robot then names that robot), and gives None for a robot of another structure
+    (its law runs in Python); with the plant's own robot, law_robot is None."""
+    from freefloat.space.control import ComputedTorque, QuinticTrajectory
+
+    four, two = robot_named("four_arm_planar.urdf"), robot_named("two_arm_planar.urdf")
+    plant = replace(four, model=heavier(four.model))
+
+    def controller(robot):
+        start = np.zeros(robot.n_joints)
+        return ComputedTorque(robot, QuinticTrajectory(start, start + 0.1, 1.0), 100.0, 20.0, "exact")
+
+    assert isinstance(law_of(controller(four), plant), tuple) and law_robot(controller(four), plant) is four
+    assert law_robot(controller(plant), plant) is None
+    assert law_of(controller(two), plant) is None
 
 
 def test_a_detumbling_controller_on_other_masses_than_the_plant_keeps_its_own_model():
