@@ -55,9 +55,9 @@ struct ClosureRows {
 
 // constrained.delassus_solve: D^+ rhs for a symmetric positive semi-definite D, and its rank.
 // Cholesky when D is surely well conditioned (1 / trace(D^-1) > kRedundant trace(D)), otherwise
-// the pseudo-inverse whose directions under
-// kRedundant times the largest eigenvalue carry no force (for such a D its singular values are
-// its eigenvalues: the SVD of pinv() gives numpy.linalg.eigh's cut, and no eigensolver is compiled).
+// the pseudo-inverse whose directions under kRedundant times the largest eigenvalue carry no force
+// (for such a D its singular values are its eigenvalues: the SVD of pinv() gives
+// numpy.linalg.eigh's cut, and no eigensolver is compiled).
 int delassus_solve(const Eigen::MatrixXd& D, const Vec& rhs, Vec& out);
 
 // constrained.solve with scratch kept between calls: the plant of a robot with loop closures. The

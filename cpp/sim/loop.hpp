@@ -110,7 +110,7 @@ class Simulation {
     reference_.reset();
     detumbling_.reset();
     loop_law_.reset();
-    own_law_model_ = false;  // its storage and Data stay for the next set_law_model()
+    law_model_.reset();  // its Data stay for the next set_law_model()
     closed_.closures.clear();
     closed_.forget();
     controlled_ = false;
@@ -143,13 +143,8 @@ class Simulation {
   void set_law_model(Model model) {
     if (!same_structure(model_, model))
       throw std::invalid_argument("set_law_model: the model's joints or frames differ from the loop's");
-    if (law_model_) {
-      *law_model_ = std::move(model);
-    } else {
-      law_model_.emplace(std::move(model));
-      law_data_.emplace(lean_data(*law_model_));
-    }
-    own_law_model_ = true;
+    law_model_ = std::move(model);
+    if (!law_data_) law_data_.emplace(lean_data(*law_model_));
   }
 
   // Pinocchio's convention for ABA and CRBA (the same numbers to round-off; WORLD or LOCAL is
@@ -236,8 +231,7 @@ class Simulation {
 
   // The plant's bodies for the next run (batch.hpp): per joint 1..njoints-1, mass (kg), CoM in the
   // joint frame (3, m) and rotational inertia about the CoM in joint-frame axes (3, 3 row-major,
-  // kg m^2), 13 numbers each,
-  // set with build_model's very operations (the body appended to a zero inertia, then each
+  // kg m^2), 13 numbers each, set with build_model's very operations (the body appended to a zero inertia, then each
   // frame's inertia, zero, appended as addFrame does: a model equal to the rebuilt one bit for
   // bit); placements, armature and gravity stay.
   void set_bodies(const double* bodies) {
@@ -340,8 +334,8 @@ class Simulation {
   }
 
   // The laws' model and its Data: set_law_model()'s, else the plant's.
-  const Model& law_model() const { return own_law_model_ ? *law_model_ : model_; }
-  Data& law_data() { return own_law_model_ ? *law_data_ : data_; }
+  const Model& law_model() const { return law_model_ ? *law_model_ : model_; }
+  Data& law_data() { return law_model_ ? *law_data_ : data_; }
 
   // H_ = H* and c_ = c* of tau = H* qddot + c* (the base eliminated through its rows) at the state,
   // on the laws' model.
@@ -423,9 +417,8 @@ class Simulation {
 
   Model model_;
   Data data_, record_data_;
-  std::optional<Model> law_model_;  // set_law_model()'s, used while own_law_model_
-  std::optional<Data> law_data_;
-  bool own_law_model_ = false;
+  std::optional<Model> law_model_;  // set_law_model()'s, until configure()
+  std::optional<Data> law_data_;    // its Data, kept across runs (the loop's structure never changes)
   JointMap joints_;
   int nb_;
   pinocchio::Convention convention_ = pinocchio::Convention::LOCAL;

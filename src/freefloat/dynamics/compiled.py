@@ -212,7 +212,7 @@ def law_of(controller: Any, plant: Robot | None = None) -> tuple | DetumblingLaw
     own = law_robot(controller, plant) if law is not None and plant is not None else None
     if own is None:
         return law
-    return None if isinstance(law, LoopDetumblingLaw) or structure_of(own) != structure_of(plant) else law
+    return None if isinstance(law, LoopDetumblingLaw) or not same_structure(own, plant) else law
 
 
 def law_robot(controller: Any, plant: Robot) -> Robot | None:
@@ -225,14 +225,17 @@ def law_robot(controller: Any, plant: Robot) -> Robot | None:
     return own
 
 
-def structure_of(robot: Robot, arrays: dict[str, Any] | None = None) -> bytes:
-    """A digest of what a compiled loop's model and joint map are built from apart from numbers:
-    joints, parents, frames, base and end-effector counts, joint coordinates (``arrays``: the
-    robot's :func:`_model_arrays`, if at hand)."""
-    arrays = _model_arrays(robot) if arrays is None else arrays
-    coords = JointCoordinates(robot)
-    return _digest(*(arrays[k] for k in _STRUCTURE), robot.n_base, len(robot.end_effectors), coords.scalar_q,
-                   coords.scalar_pos, coords.circle_q, coords.circle_pos, robot.n_joints)
+def same_structure(a: Robot, b: Robot) -> bool:
+    """Whether two robots rebuild into compiled loops of one structure: the same joints (kinds,
+    axes, parents), base, actuated joints and end-effectors (by frame name and parent joint), as
+    :class:`CompiledLoop` keys its loops but for joint names, without rebuilding their arrays."""
+    ma, mb = a.model, b.model
+    if ((ma.nq, ma.nv, a.n_base, a.n_joints, a.end_effectors) != (mb.nq, mb.nv, b.n_base, b.n_joints, b.end_effectors)
+            or list(ma.parents) != list(mb.parents)):
+        return False
+    return (all(x == y for x, y in zip(ma.joints, mb.joints))
+            and all(ma.frames[ma.getFrameId(e)].parentJoint == mb.frames[mb.getFrameId(e)].parentJoint
+                    for e in a.end_effectors))
 
 
 def same_numbers(a: pin.Model, b: pin.Model, bodies: bool = True) -> bool:
@@ -376,7 +379,8 @@ class CompiledLoop(CompiledEngine):
         coords = JointCoordinates(robot)
         joints = _sim.JointMap(coords.scalar_q.tolist(), coords.scalar_pos.tolist(), coords.circle_q.tolist(),
                                coords.circle_pos.tolist(), robot.n_joints)
-        self._structure = (structure_of(robot, arrays),)
+        self._structure = (_digest(*(arrays[k] for k in _STRUCTURE), robot.n_base, n_ee, coords.scalar_q,
+                                   coords.scalar_pos, coords.circle_q, coords.circle_pos, robot.n_joints),)
         numbers = {k: v for k, v in arrays.items() if k not in _STRUCTURE}
         self._numbers = _digest(*numbers.values())
         settings = dict(integrator=integrator.name, substeps=getattr(integrator, "substeps", 1),
