@@ -43,7 +43,7 @@ import subprocess
 import sys
 import sysconfig
 import tempfile
-from concurrent.futures import ThreadPoolExecutor
+from concurrent.futures import FIRST_COMPLETED, ThreadPoolExecutor, wait
 from importlib.metadata import version
 from pathlib import Path
 
@@ -92,28 +92,31 @@ PINOCCHIO_FLAGS = ["-isystem", str(PINOCCHIO / "include"), "-DPINOCCHIO_ENABLE_T
                    "-DBOOST_MPL_LIMIT_LIST_SIZE=30", "-DBOOST_MPL_LIMIT_VECTOR_SIZE=30",
                    "-DBOOST_MPL_CFG_NO_PREPROCESSED_HEADERS", "-DBOOST_FUSION_INVOKE_MAX_ARITY=12"]
 # The heaviest translation units first, so that two cores finish together.
-ORDER = ["cpp/sim_unit.cpp", "cpp/chains.cpp", "cpp/core.cpp"]
+ORDER = ["cpp/sim_unit.cpp", "cpp/chains.cpp", "cpp/core.cpp", "cpp/sim_module.cpp", "cpp/detumbling.cpp"]
 # Optimisation level per translation unit, after FLAGS' -O3 (see the module docstring).
-OPTIMIZATION = {"cpp/sim_unit.cpp": "-O1"}
-# Peak memory of the largest unit's compile (2.9 GB, sim_unit.cpp), with a margin: a build runs
-# no more units at once than the available memory holds.
-UNIT_MEMORY = 3.2e9
+OPTIMIZATION = {"cpp/sim_unit.cpp": "-O1", "cpp/sim_module.cpp": "-O1"}
+# Peak memory of each unit's compile at its flags (g++ 12, the compiler's maximum resident set,
+# bytes, docs/bench.md "The build"); a unit not listed counts as the largest.
+UNIT_MEMORY = {"cpp/sim_unit.cpp": 1.90e9, "cpp/chains.cpp": 1.60e9, "cpp/core.cpp": 1.20e9,
+               "cpp/sim_module.cpp": 0.91e9, "cpp/detumbling.cpp": 0.67e9}
+# The memory the units compiling at once may take together (bytes): FREEFLOAT_BUILD_MEMORY, else
+# this, and never more than the memory available. A unit larger than the budget compiles alone.
+MEMORY_BUDGET = 2.0e9
 
 
 class BuildExt(pybind11_build_ext):
     """Compiles the objects of every extension in one pool (one job per core, or
-    ``FREEFLOAT_BUILD_JOBS``), keeps them in ``build/cpp/<configuration>/`` and reuses the fresh
-    ones; then links each extension."""
+    ``FREEFLOAT_BUILD_JOBS``, within the memory budget), keeps them in
+    ``build/cpp/<configuration>/`` and reuses the fresh ones; then links each extension."""
 
     def build_extensions(self) -> None:
         self.check_extensions_list(self.extensions)
         self.object_dir = ROOT / "build" / "cpp" / self.configuration()
         jobs = list({source: (ext, source) for ext in self.extensions for source in ext.sources}.values())
         jobs.sort(key=lambda job: ORDER.index(job[1]) if job[1] in ORDER else len(ORDER))
-        workers = int(os.environ.get("FREEFLOAT_BUILD_JOBS") or self.parallel or
-                      min(os.cpu_count() or 1, max(1, int(available_memory() // UNIT_MEMORY))))
-        with ThreadPoolExecutor(max_workers=max(1, workers)) as pool:
-            list(pool.map(lambda job: self.object_of(*job), jobs))  # raises the first compile error
+        workers = int(os.environ.get("FREEFLOAT_BUILD_JOBS") or self.parallel or os.cpu_count() or 1)
+        budget = min(float(os.environ.get("FREEFLOAT_BUILD_MEMORY") or MEMORY_BUDGET), available_memory())
+        run_within(jobs, lambda job: self.object_of(*job), lambda job: unit_memory(job[1]), max(1, workers), budget)
         for ext in self.extensions:
             self.build_extension(ext)
 
@@ -175,8 +178,32 @@ class BuildExt(pybind11_build_ext):
         return all(f.is_file() and f.stat().st_mtime <= built for f in files)
 
 
+def unit_memory(source: str) -> float:
+    """The peak memory of ``source``'s compile (bytes, :data:`UNIT_MEMORY`)."""
+    return UNIT_MEMORY.get(source, max(UNIT_MEMORY.values()))
+
+
+def run_within(jobs: list, work, memory, workers: int, budget: float) -> None:
+    """``work(job)`` for every job on up to ``workers`` threads, starting the first job in order
+    whose ``memory(job)`` fits in ``budget`` beside the running ones (one that never fits runs
+    alone); raises the first error, after the running jobs end."""
+    pending, running = list(jobs), {}
+    with ThreadPoolExecutor(max_workers=workers) as pool:
+        while pending or running:
+            used = sum(running.values())
+            fits = [job for job in pending if not running or used + memory(job) <= budget]
+            if fits and len(running) < workers:
+                pending.remove(fits[0])
+                running[pool.submit(work, fits[0])] = memory(fits[0])
+                continue
+            done, _ = wait(running, return_when=FIRST_COMPLETED)
+            for future in done:
+                del running[future]
+                future.result()
+
+
 def available_memory() -> float:
-    """Bytes of memory available now (Linux's MemAvailable; elsewhere, enough for every core).
+    """Bytes of memory available now (Linux's MemAvailable; elsewhere, the default budget).
     freefloat.app.atlas.grid has its own reading of it: the build cannot import the package."""
     try:
         with open("/proc/meminfo") as meminfo:
@@ -185,7 +212,7 @@ def available_memory() -> float:
                     return float(line.split()[1]) * 1024
     except OSError:
         pass
-    return UNIT_MEMORY * (os.cpu_count() or 1)
+    return MEMORY_BUDGET
 
 
 def extension(name: str, sources: list[str], flags: list[str], **kwargs) -> Pybind11Extension:
@@ -202,7 +229,8 @@ LINK = {"libraries": ["pinocchio_default"], "library_dirs": [str(PINOCCHIO / "li
 setup(
     ext_modules=[
         extension("freefloat.dynamics._core", ["cpp/core.cpp", "cpp/chains.cpp"], FLAGS + PINOCCHIO_FLAGS, **LINK),
-        extension("freefloat.dynamics._sim", ["cpp/sim_unit.cpp", "cpp/chains.cpp"],
+        extension("freefloat.dynamics._sim",
+                  ["cpp/sim_unit.cpp", "cpp/sim_module.cpp", "cpp/detumbling.cpp", "cpp/chains.cpp"],
                   FLAGS + PINOCCHIO_FLAGS, **LINK),
     ],
     install_requires=DEPENDENCIES + [f"libpinocchio=={version('libpinocchio')}"],

@@ -126,11 +126,11 @@ void ConstrainedDynamics::solve(const Model& m, Data& d, const Vec& q, const Vec
 
 void LoopDetumblingLaw::torque(const Model& m, Data& d, ConstrainedDynamics& plant, const Vec& q, const Vec& v, int nb, double t,
             Vec& tau) {
-  const int n = m.nv - nb, mc = closure[0].size();
+  const int n = m.nv - nb, mc = closure_[0].size();
   plant.prepare(m, d, q, v);
   const Eigen::MatrixXd& M = plant.M;
   const Vec& h = plant.h;  // RNEA(q, v, 0): the nonlinear effects
-  rows_.evaluate(closure, m, d, true);
+  rows_.evaluate(closure_, m, d, true);
   const Eigen::MatrixXd& Jc = rows_.J;
   Eigen::MatrixXd rhs(nb, n + 2 + mc);
   rhs.leftCols(n) = M.topRightCorner(nb, n);
@@ -148,14 +148,14 @@ void LoopDetumblingLaw::torque(const Model& m, Data& d, ConstrainedDynamics& pla
   projector_.compute(Jc_star_, 1e-10);
   H_ = M.bottomRightCorner(n, n) - M.topRightCorner(nb, n).transpose() * to_base;
   c_ = h.tail(n) - M.topRightCorner(nb, n).transpose() * bias;
-  frame_motion(m, d, target_joint, target_placement, target_);
-  const SE3 hand = d.oMi[closure[0].joint1] * closure[0].placement1;
+  frame_motion(m, d, target_joint, target_frame_, target_);
+  const SE3 hand = d.oMi[closure_[0].joint1] * closure_[0].placement1;
   hand_rotation_ = hand.rotation();
-  grasp_ = (d.oMi[closure[0].joint2] * closure[0].placement2).translation();
-  const Vec3 other = (d.oMi[first_joint] * first_placement).translation();
+  grasp_ = (d.oMi[closure_[0].joint2] * closure_[0].placement2).translation();
+  const Vec3 other = (d.oMi[first_joint] * first_hand_).translation();
   squeeze_axis_ = (other - grasp_) / std::max((other - grasp_).norm(), 1e-12);
   const Mat3& R = target_.pose.rotation();
-  inertia_world_ = R * inertia * R.transpose();
+  inertia_world_ = R * inertia_body_ * R.transpose();
   const Vec target = -rows_.gamma - 2.0 * baumgarte * (Jc * v) - baumgarte * baumgarte * rows_.e;
   tau = torques(qddot_d, target, Jc.leftCols(nb), to_base, reaction, bias);
   const bool saturates = limit > 0.0 && tau.cwiseAbs().maxCoeff() > limit;

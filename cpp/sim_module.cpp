@@ -1,7 +1,8 @@
 // freefloat.dynamics._sim: the compiled simulation loop (sim/loop.hpp) on Pinocchio's own C++
 // algorithms, behind a small pybind11 interface. The model is handed over as arrays and rebuilt;
-// telemetry chunks are numpy arrays filled in place. The closed-chain loop is bound in
-// chains.cpp, a translation unit of its own (shared with _core) that compiles in parallel.
+// telemetry chunks are numpy arrays filled in place. This unit sees the loop through
+// sim/simulation.hpp only (no Pinocchio header); the closed-chain loop is bound in chains.cpp.
+// Each is a translation unit of its own, and they compile in parallel.
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -12,8 +13,9 @@
 #include <vector>
 
 #include "sim/batch.hpp"
-#include "sim/loop.hpp"
 #include "sim/py_sim.hpp"
+#include "sim/rkmk.hpp"  // integrator_names
+#include "sim/simulation.hpp"
 
 namespace py = pybind11;
 using namespace freefloat::sim;
@@ -22,13 +24,13 @@ using namespace freefloat::sim::py_sim;
 namespace {
 
 // Wrenches of `k` rows: joint, CoM in its frame, inertial force and torque.
-std::vector<Wrench> wrenches_of(const Model& m, const std::vector<int>& joints, const Array& com, const Array& force,
+std::vector<Wrench> wrenches_of(const Simulation& sim, const std::vector<int>& joints, const Array& com, const Array& force,
                                 const Array& torque) {
   const py::ssize_t k = static_cast<py::ssize_t>(joints.size());
   const double *c = checked(com, 3 * k, "com"), *f = checked(force, 3 * k, "force"), *t = checked(torque, 3 * k, "torque");
   std::vector<Wrench> w;
   for (py::ssize_t i = 0; i < k; ++i) {
-    if (joints[i] < 1 || joints[i] >= static_cast<int>(m.njoints)) throw std::invalid_argument("wrench joint out of range");
+    if (joints[i] < 1 || joints[i] >= sim.njoints()) throw std::invalid_argument("wrench joint out of range");
     w.push_back({joints[i], Eigen::Map<const Vec3>(c + 3 * i), Eigen::Map<const Vec3>(f + 3 * i),
                  Eigen::Map<const Vec3>(t + 3 * i)});
   }
@@ -37,8 +39,8 @@ std::vector<Wrench> wrenches_of(const Model& m, const std::vector<int>& joints, 
 
 // The telemetry fields in Telemetry's order: (t, q, v, tau, joint_positions, joint_reference,
 // base_position, base_quaternion, base_twist, ee_position, ee_quaternion, com, momentum, energy, work).
-Rows rows_of(const Model& m, int n_joints, int n_ee, py::tuple arrays) {
-  const auto [rows, d] = fields_of(arrays, {1, m.nq, m.nv, n_joints, n_joints, n_joints, 3, 4, 6, 3L * n_ee, 4L * n_ee,
+Rows rows_of(const Simulation& sim, int n_joints, int n_ee, py::tuple arrays) {
+  const auto [rows, d] = fields_of(arrays, {1, sim.nq(), sim.nv(), n_joints, n_joints, n_joints, 3, 4, 6, 3L * n_ee, 4L * n_ee,
                                             3, 6, 1, 1}, "Telemetry");
   return Rows{rows, d[0], d[1], d[2], d[3], d[4], d[5], d[6], d[7], d[8], d[9], d[10], d[11], d[12], d[13], d[14]};
 }
@@ -49,28 +51,25 @@ struct PySimulation {
   Rows bound{};             // the chunk bind() gave, for record()
   py::object bound_arrays;  // keeps its arrays alive (null until bind())
 
-  Rows rows(py::tuple arrays) const { return rows_of(sim->model(), n_joints, n_ee, arrays); }
+  Rows rows(py::tuple arrays) const { return rows_of(*sim, n_joints, n_ee, arrays); }
 };
 
-// The Pinocchio model of the arrays of compiled._model_arrays.
-Model model_of(const std::vector<int>& parent, const std::vector<std::string>& kind,
-               const std::vector<std::string>& name, const Array& subspace, const Array& placement, const Array& mass,
-               const Array& lever, const Array& rotational, const Array& armature, const Array& gravity,
-               const std::vector<int>& frame_parent, const Array& frame_placement) {
+// The arrays of compiled._model_arrays, checked against the joints' and frames' counts (the
+// rest is checked as the model is built).
+ModelArrays arrays_of(const std::vector<int>& parent, const std::vector<std::string>& kind,
+                      const std::vector<std::string>& name, const Array& subspace, const Array& placement,
+                      const Array& mass, const Array& lever, const Array& rotational, const Array& armature,
+                      const Array& gravity, const std::vector<int>& frame_parent, const Array& frame_placement) {
   const py::ssize_t n = static_cast<py::ssize_t>(parent.size()), f = static_cast<py::ssize_t>(frame_parent.size());
-  if (kind.size() != parent.size() || name.size() != parent.size())
-    throw std::invalid_argument("parent, kind, name: expected one entry per joint");
-  ModelArrays a{parent, kind, name, checked(subspace, 6 * n, "subspace"), checked(placement, 16 * n, "placement"),
-                checked(mass, n, "mass"), checked(lever, 3 * n, "lever"), checked(rotational, 9 * n, "rotational"),
-                armature.data(), checked(gravity, 3, "gravity"), frame_parent, checked(frame_placement, 16 * f, "frame_placement")};
-  Model model = build_model(a);
-  if (armature.size() != model.nv) throw std::invalid_argument("armature: expected one entry per velocity");
-  return model;
+  return ModelArrays{parent, kind, name, checked(subspace, 6 * n, "subspace"), checked(placement, 16 * n, "placement"),
+                     checked(mass, n, "mass"), checked(lever, 3 * n, "lever"), checked(rotational, 9 * n, "rotational"),
+                     armature.data(), static_cast<long>(armature.size()), checked(gravity, 3, "gravity"), frame_parent,
+                     checked(frame_placement, 16 * f, "frame_placement")};
 }
 
 // Binds method `name`(parent, kind, name, subspace, placement, mass, lever, rotational, armature,
-// gravity, frame_parent, frame_placement) of Simulation: the Pinocchio model of these arrays (as the
-// constructor's) handed to `use`.
+// gravity, frame_parent, frame_placement) of Simulation: the model arrays (as the constructor's)
+// handed to `use`.
 template <typename Use>
 void def_with_model(py::class_<PySimulation>& cls, const char* method, Use use, const char* doc) {
   cls.def(
@@ -79,8 +78,8 @@ void def_with_model(py::class_<PySimulation>& cls, const char* method, Use use, 
             const Array& subspace, const Array& placement, const Array& mass, const Array& lever,
             const Array& rotational, const Array& armature, const Array& gravity, std::vector<int> frame_parent,
             const Array& frame_placement) {
-        use(*s.sim, model_of(parent, kind, name, subspace, placement, mass, lever, rotational, armature, gravity,
-                             frame_parent, frame_placement));
+        use(*s.sim, arrays_of(parent, kind, name, subspace, placement, mass, lever, rotational, armature, gravity,
+                              frame_parent, frame_placement));
       },
       py::arg("parent"), py::arg("kind"), py::arg("name"), py::arg("subspace"), py::arg("placement"), py::arg("mass"),
       py::arg("lever"), py::arg("rotational"), py::arg("armature"), py::arg("gravity"), py::arg("frame_parent"),
@@ -93,18 +92,13 @@ PySimulation make(std::vector<int> parent, std::vector<std::string> kind, std::v
                   const Array& frame_placement, JointMap joints, int n_base, const std::string& integrator,
                   int substeps, double rtol, double atol, double control_period, double start_time, int record_every,
                   int base_frame, std::vector<int> ee_frames) {
-  Model model = model_of(parent, kind, name, subspace, placement, mass, lever, rotational, armature, gravity,
-                         frame_parent, frame_placement);
-  if (record_every < 1) throw std::invalid_argument("record_every must be >= 1");
-  const int frames = static_cast<int>(frame_parent.size());
-  for (int id : ee_frames)
-    if (id < 0 || id >= frames) throw std::invalid_argument("ee frame index out of range");
-  if (base_frame < 0 || base_frame >= frames) throw std::invalid_argument("base frame index out of range");
-  auto sim = std::make_unique<Simulation>(std::move(model), joints, n_base, integrator, substeps, rtol, atol,
-                                          control_period, start_time, record_every);
-  for (int& id : ee_frames) id += 1;  // frame 0 is the universe
-  sim->set_frames(base_frame + 1, ee_frames);
-  return PySimulation{std::move(sim), joints.n, static_cast<int>(ee_frames.size())};
+  const int n_joints = joints.n, n_ee = static_cast<int>(ee_frames.size());
+  std::unique_ptr<Simulation> sim = make_simulation(
+      arrays_of(parent, kind, name, subspace, placement, mass, lever, rotational, armature, gravity, frame_parent,
+                frame_placement),
+      std::move(joints), n_base, integrator, substeps, rtol, atol, control_period, start_time, record_every, base_frame,
+      std::move(ee_frames));
+  return PySimulation{std::move(sim), n_joints, n_ee};
 }
 
 // A detumbling task's rows (into the 6 n_ee end-effector rows) and mission joints, checked.
@@ -131,21 +125,10 @@ DetumblingTask task_of(const PySimulation& s, std::vector<int> rows, std::vector
 // rotation rows), see compiled._closure.
 using ClosureTuple = std::tuple<int, Array, int, Array, std::vector<int>>;
 
-Closure closure_of(const Model& m, const ClosureTuple& c) {
+ClosureSpec closure_of(const ClosureTuple& c) {
   const auto& [joint1, placement1, joint2, placement2, rotation_rows] = c;
-  for (int j : {joint1, joint2})
-    if (j < 0 || j >= static_cast<int>(m.njoints)) throw std::invalid_argument("closure joint out of range");
-  for (int r : rotation_rows)
-    if (r < 0 || r > 2) throw std::invalid_argument("closure rotation rows must be 0, 1 or 2");
-  return Closure{static_cast<JointIndex>(joint1), static_cast<JointIndex>(joint2),
-                 se3_at(checked(placement1, 16, "placement1")), se3_at(checked(placement2, 16, "placement2")),
-                 rotation_rows};
-}
-
-std::vector<Closure> closures_of(const Model& m, const std::vector<ClosureTuple>& closures) {
-  std::vector<Closure> out;
-  for (const ClosureTuple& c : closures) out.push_back(closure_of(m, c));
-  return out;
+  return ClosureSpec{joint1, joint2, Eigen::Map<const Pose>(checked(placement1, 16, "placement1")),
+                     Eigen::Map<const Pose>(checked(placement2, 16, "placement2")), rotation_rows};
 }
 
 // A Batch with what it reads and writes kept alive: the loops, the inputs (converted arrays), the rows.
@@ -163,22 +146,22 @@ std::unique_ptr<PyBatch> make_batch(py::list loops, Array q0, Array v0, long las
   if (loops.empty()) throw std::invalid_argument("a batch needs at least one loop");
   std::vector<Simulation*> sims;
   const PySimulation& first = loops[0].cast<PySimulation&>();
-  const Model& m = first.sim->model();
+  const Simulation& m = *first.sim;
   for (py::handle h : loops) {
     PySimulation& s = h.cast<PySimulation&>();
-    if (s.sim->model().nq != m.nq || s.sim->model().nv != m.nv || s.n_joints != first.n_joints || s.n_ee != first.n_ee)
+    if (s.sim->nq() != m.nq() || s.sim->nv() != m.nv() || s.n_joints != first.n_joints || s.n_ee != first.n_ee)
       throw std::invalid_argument("the batch's loops must simulate one robot");
     sims.push_back(s.sim.get());
   }
-  if (q0.size() % m.nq != 0) throw std::invalid_argument("q0: expected (runs, nq) numbers");
-  const int runs = static_cast<int>(q0.size() / m.nq);
-  checked(v0, static_cast<py::ssize_t>(runs) * m.nv, "v0");
+  if (q0.size() % m.nq() != 0) throw std::invalid_argument("q0: expected (runs, nq) numbers");
+  const int runs = static_cast<int>(q0.size() / m.nq());
+  checked(v0, static_cast<py::ssize_t>(runs) * m.nv(), "v0");
   if (start.has_value() != delta.has_value()) throw std::invalid_argument("start and delta go together");
   if (start) {
     checked(*start, static_cast<py::ssize_t>(runs) * first.n_joints, "start");
     checked(*delta, static_cast<py::ssize_t>(runs) * first.n_joints, "delta");
   }
-  if (bodies) checked(*bodies, static_cast<py::ssize_t>(runs) * (m.njoints - 1) * 13, "bodies");
+  if (bodies) checked(*bodies, static_cast<py::ssize_t>(runs) * (m.njoints() - 1) * 13, "bodies");
   if (last < 1 || rows_per_run < 1) throw std::invalid_argument("last and rows_per_run must be >= 1");
   auto b = std::make_unique<PyBatch>(PyBatch{loops, q0, v0, start, delta, bodies, arrays, nullptr});
   b->batch = std::make_unique<Batch>(std::move(sims), runs, last, b->q0.data(), b->v0.data(),
@@ -192,7 +175,7 @@ std::unique_ptr<PyBatch> make_batch(py::list loops, Array q0, Array v0, long las
 PYBIND11_MODULE(_sim, m) {
   m.doc() = "The compiled simulation loop on Pinocchio's C++ algorithms (see freefloat.dynamics.compiled).";
   m.attr("INTEGRATORS") = integrator_names();
-  m.attr("PINOCCHIO_VERSION") = PINOCCHIO_VERSION;  // the libpinocchio this module is linked to
+  m.attr("PINOCCHIO_VERSION") = pinocchio_version();  // the libpinocchio this module is linked to
   py::class_<JointMap>(m, "JointMap")
       .def(py::init([](std::vector<int> sq, std::vector<int> sp, std::vector<int> cq, std::vector<int> cp, int n) {
              return JointMap{sq, sp, cq, cp, n};
@@ -220,8 +203,8 @@ PYBIND11_MODULE(_sim, m) {
            "the recording rate; no law, torques, wrenches, work or bound chunk; period 0; evaluations from 0.")
       .def("acceleration",
            [](PySimulation& s, const Array& q, const Array& v, const Array& tau) {
-             const Model& m = s.sim->model();
-             return out(s.sim->acceleration(vec(q, m.nq, "q"), vec(v, m.nv, "v"), vec(tau, m.nv, "tau")));
+             const Simulation& m = *s.sim;
+             return out(s.sim->acceleration(vec(q, m.nq(), "q"), vec(v, m.nv(), "v"), vec(tau, m.nv(), "tau")));
            })
       .def("set_computed_torque",
            [](PySimulation& s, const Array& start, const Array& delta, double duration, double kp, double kd) {
@@ -230,8 +213,8 @@ PYBIND11_MODULE(_sim, m) {
            })
       .def("set_state",
            [](PySimulation& s, const Array& q, const Array& v, long period, double work) {
-             const Model& m = s.sim->model();
-             s.sim->set_state(vec(q, m.nq, "q"), vec(v, m.nv, "v"), period, work);
+             const Simulation& m = *s.sim;
+             s.sim->set_state(vec(q, m.nq(), "q"), vec(v, m.nv(), "v"), period, work);
            })
       .def("run",
            [](PySimulation& s, long last, py::tuple arrays, int row) { return run_chunk(*s.sim, last, s.rows(arrays), row); },
@@ -259,13 +242,13 @@ PYBIND11_MODULE(_sim, m) {
            "One control period; OverflowError with the Python loop's message on a blow-up.")
       .def("set_wrenches",
            [](PySimulation& s, std::vector<int> joints, const Array& com, const Array& force, const Array& torque) {
-             s.sim->set_wrenches(wrenches_of(s.sim->model(), joints, com, force, torque));
+             s.sim->set_wrenches(wrenches_of(*s.sim, joints, com, force, torque));
            },
            "Wrenches held from now on (joint, CoM in its frame, inertial force and torque, scaled).")
       .def("set_wrench_profiles",
            [](PySimulation& s, std::vector<int> joints, const Array& com, const Array& force, const Array& torque,
               const Array& start, const Array& end, const Array& rise) {
-             const std::vector<Wrench> full = wrenches_of(s.sim->model(), joints, com, force, torque);
+             const std::vector<Wrench> full = wrenches_of(*s.sim, joints, com, force, torque);
              const py::ssize_t k = static_cast<py::ssize_t>(full.size());
              const double *t0 = checked(start, k, "start"), *t1 = checked(end, k, "end"), *r = checked(rise, k, "rise");
              std::vector<WrenchProfile> profiles;
@@ -288,18 +271,18 @@ PYBIND11_MODULE(_sim, m) {
            "The detumbling law (see DetumblingController), with its state so far (hold, previous: None or (n,)).")
       .def("set_closures",
            [](PySimulation& s, const std::vector<ClosureTuple>& closures, double baumgarte) {
-             s.sim->set_closures(closures_of(s.sim->model(), closures), baumgarte);
+             std::vector<ClosureSpec> specs;
+             for (const ClosureTuple& c : closures) specs.push_back(closure_of(c));
+             s.sim->set_closures(specs, baumgarte);
            },
            py::arg("closures"), py::arg("baumgarte"),
            "The plant's loop closures, each (joint1, placement1 (4, 4), joint2, placement2 (4, 4), rotation "
            "rows), and Baumgarte rate (1/s): the constrained dynamics of closures.ClosedModel replace ABA.")
       .def("closure_solve",
            [](PySimulation& s, const Array& q, const Array& v, const Array& tau) {
-             const Model& m = s.sim->model();
-             ConstrainedDynamics& c = s.sim->closed();
-             Vec a;
-             c.solve(m, s.sim->scratch_data(), vec(q, m.nq, "q"), vec(v, m.nv, "v"), vec(tau, m.nv, "tau"), nullptr, a);
-             return py::make_tuple(out(a), out(c.force), out(c.rows.e), c.rank);
+             const Simulation& m = *s.sim;
+             const ClosureSolution c = s.sim->closure_solve(vec(q, m.nq(), "q"), vec(v, m.nv(), "v"), vec(tau, m.nv(), "tau"));
+             return py::make_tuple(out(c.a), out(c.force), out(c.e), c.rank);
            },
            "(a, lambda, e, rank) of the constrained dynamics at (q, v, tau) (closures.solve); "
            "OverflowError when M is not positive definite.")
@@ -308,13 +291,10 @@ PYBIND11_MODULE(_sim, m) {
               double baumgarte, double squeeze, double torque_limit, const ClosureTuple& closure, int target_joint,
               const Array& target_placement, double mass, const Array& inertia, int first_joint,
               const Array& first_placement, std::optional<Array> previous, const Array& force) {
-             const Model& m = s.sim->model();
-             LoopDetumblingLaw law;
-             law.closure = {closure_of(m, closure)};
-             if (law.closure[0].size() != 6) throw std::invalid_argument("a two-hand grasp is a weld (6 rows)");
+             LoopDetumblingSettings law;
+             law.grasp = closure_of(closure);
+             if (law.grasp.size() != 6) throw std::invalid_argument("a two-hand grasp is a weld (6 rows)");
              check_task_indices(s, rows, joints);
-             for (int j : {target_joint, first_joint})
-               if (j < 0 || j >= static_cast<int>(m.njoints)) throw std::invalid_argument("frame joint out of range");
              law.rows = std::move(rows);
              law.joints = std::move(joints);
              law.kd = kd;
@@ -322,15 +302,16 @@ PYBIND11_MODULE(_sim, m) {
              law.baumgarte = baumgarte;
              law.squeeze = squeeze;
              law.limit = torque_limit;
-             law.target_joint = static_cast<JointIndex>(target_joint);
-             law.target_placement = se3_at(checked(target_placement, 16, "target_placement"));
+             law.target_joint = target_joint;
+             law.target_placement = Eigen::Map<const Pose>(checked(target_placement, 16, "target_placement"));
              law.mass = mass;
-             law.inertia = Eigen::Map<const Vec3>(checked(inertia, 3, "inertia")).asDiagonal();
-             law.first_joint = static_cast<JointIndex>(first_joint);
-             law.first_placement = se3_at(checked(first_placement, 16, "first_placement"));
-             if (previous) law.previous = vec(*previous, s.n_joints, "previous");
-             law.force = Eigen::Map<const Vec6>(checked(force, 6, "force"));
-             s.sim->set_loop_detumbling(std::move(law));
+             law.inertia = Eigen::Map<const Vec3>(checked(inertia, 3, "inertia"));
+             law.first_joint = first_joint;
+             law.first_placement = Eigen::Map<const Pose>(checked(first_placement, 16, "first_placement"));
+             LoopDetumblingState state;
+             if (previous) state.previous = vec(*previous, s.n_joints, "previous");
+             state.force = Eigen::Map<const Vec6>(checked(force, 6, "force"));
+             s.sim->set_loop_detumbling(law, std::move(state));
            },
            py::arg("rows"), py::arg("joints"), py::arg("kd"), py::arg("period"), py::arg("baumgarte"),
            py::arg("squeeze"), py::arg("torque_limit"), py::arg("closure"), py::arg("target_joint"),
@@ -340,22 +321,17 @@ PYBIND11_MODULE(_sim, m) {
            "rates: None or (n,); the closure force lambda (6,)).")
       .def("loop_detumbling_torque",
            [](PySimulation& s, double t, const Array& q, const Array& v) {
-             if (s.sim->loop_detumbling() == nullptr) throw std::invalid_argument("no two-hand law is set");
-             const Model& m = s.sim->model();
-             return out(s.sim->loop_detumbling_torque(t, vec(q, m.nq, "q"), vec(v, m.nv, "v")));
+             if (!s.sim->has_loop_detumbling()) throw std::invalid_argument("no two-hand law is set");
+             const Simulation& m = *s.sim;
+             return out(s.sim->loop_detumbling_torque(t, vec(q, m.nq(), "q"), vec(v, m.nv(), "v")));
            },
            "The two-hand law's torques (n,) at time t and (q, v); its state advances as in a run.")
       .def("take_loop_detumbling_state",
            [](PySimulation& s) {
-             LoopDetumblingLaw* law = s.sim->loop_detumbling();
-             if (law == nullptr) throw std::invalid_argument("no two-hand law is set");
-             const py::tuple state = py::make_tuple(maybe(law->previous), out(Vec(law->force)),
-                                                    py::cast(law->times), py::cast(law->residuals),
-                                                    py::cast(law->saturated));
-             law->times.clear();
-             law->residuals.clear();
-             law->saturated.clear();
-             return state;
+             if (!s.sim->has_loop_detumbling()) throw std::invalid_argument("no two-hand law is set");
+             const LoopDetumblingState state = s.sim->take_loop_detumbling_state();
+             return py::make_tuple(maybe(state.previous), out(Vec(state.force)), py::cast(state.times),
+                                   py::cast(state.residuals), py::cast(state.saturated));
            },
            "(previous rates, closure force, and the log since the last call: period times, rows' residuals, "
            "saturated flags).")
@@ -371,16 +347,16 @@ PYBIND11_MODULE(_sim, m) {
            "(hold, previous rates, residual max of each detumbling period since the last call).")
       .def("generalized_jacobian",
            [](PySimulation& s, const Array& q, const Array& v) {
-             const Model& m = s.sim->model();
-             const GeneralizedJacobian g = s.sim->generalized_jacobian_at(vec(q, m.nq, "q"), vec(v, m.nv, "v"));
+             const Simulation& m = *s.sim;
+             const GeneralizedJacobian g = s.sim->generalized_jacobian_at(vec(q, m.nq(), "q"), vec(v, m.nv(), "v"));
              return py::make_tuple(out(g.Jstar), out(g.J0), out(g.drift), out(Vec(g.base_twist)));
            },
            "(J*, J0, J0E H0^-1 M, H0^-1 M) at (q, v).")
       .def("detumbling_solve",
            [](PySimulation& s, const Array& q, const Array& v, std::vector<int> rows, std::vector<int> joints,
               const std::string& method, const std::string& secondary, double rcond) {
-             const Model& m = s.sim->model();
-             const GeneralizedJacobian g = s.sim->generalized_jacobian_at(vec(q, m.nq, "q"), vec(v, m.nv, "v"));
+             const Simulation& m = *s.sim;
+             const GeneralizedJacobian g = s.sim->generalized_jacobian_at(vec(q, m.nq(), "q"), vec(v, m.nv(), "v"));
              Vec qdot, residual;
              const std::string error = solve(g, task_of(s, rows, joints, method, secondary, rcond), qdot, residual);
              if (!error.empty()) throw std::invalid_argument(error);
@@ -389,10 +365,10 @@ PYBIND11_MODULE(_sim, m) {
            "(qdot, residual) of the detumbling solve at (q, v).")
       .def_property(
           "convention",
-          [](const PySimulation& s) { return s.sim->convention() == pinocchio::Convention::WORLD ? "world" : "local"; },
+          [](const PySimulation& s) { return s.sim->convention() == Simulation::Convention::world ? "world" : "local"; },
           [](PySimulation& s, const std::string& name) {
             if (name != "local" && name != "world") throw std::invalid_argument("convention must be 'local' or 'world'");
-            s.sim->set_convention(name == "world" ? pinocchio::Convention::WORLD : pinocchio::Convention::LOCAL);
+            s.sim->set_convention(name == "world" ? Simulation::Convention::world : Simulation::Convention::local);
           },
           "Pinocchio's convention of the plant's ABA and the law's CRBA, 'local' or 'world' (same numbers to round-off)")
       .def_property_readonly("q", [](const PySimulation& s) { return out(s.sim->q()); })
@@ -400,11 +376,11 @@ PYBIND11_MODULE(_sim, m) {
       .def_property_readonly("periods_done", [](const PySimulation& s) { return s.sim->period(); })
       .def_property_readonly("work", [](const PySimulation& s) { return s.sim->work(); })
       .def_property_readonly("evaluations", [](const PySimulation& s) { return s.sim->evaluations(); });
-  def_with_model(simulation, "set_model", [](Simulation& sim, Model model) { sim.set_model(std::move(model)); },
+  def_with_model(simulation, "set_model", [](Simulation& sim, const ModelArrays& model) { sim.set_model(model); },
                  "The plant's numbers from these arrays (as the constructor's), for a model of the same joints and "
                  "frames (ValueError otherwise); the loop's Data are kept.");
   def_with_model(simulation, "set_law_model",
-                 [](Simulation& sim, Model model) { sim.set_law_model(std::move(model)); },
+                 [](Simulation& sim, const ModelArrays& model) { sim.set_law_model(model); },
                  "The model the computed-torque and detumbling laws compute on when it is not the plant's (a "
                  "controller that keeps the nominal robot), from these arrays (as the constructor's); until the "
                  "next configure(). ValueError for a model of other joints or frames.");

@@ -1,5 +1,5 @@
 // Many runs of one scene in one call, on C++ threads: each thread drives a loop of its own
-// (loop.hpp, with its own Pinocchio Data) through runs it takes in turn, each from its initial
+// (simulation.hpp, with its own Pinocchio Data) through runs it takes in turn, each from its initial
 // state (and, under computed torque, its own quintic), writing the run's telemetry rows into a
 // free slot of one shared block of rows. The caller waits without Python's lock, takes the runs
 // as they finish and frees their slots; a stop request ends every run at its next slice of
@@ -10,13 +10,14 @@
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
+#include <cstdio>
 #include <deque>
 #include <mutex>
 #include <string>
 #include <thread>
 #include <vector>
 
-#include "loop.hpp"
+#include "simulation.hpp"
 
 namespace freefloat::sim {
 
@@ -100,7 +101,7 @@ class Batch {
 
  private:
   void work(Simulation& sim) {
-    const int nq = sim.model().nq, nv = sim.model().nv, n = sim.n_joints();
+    const int nq = sim.nq(), nv = sim.nv(), n = sim.n_joints();
     for (int run; !stopping_ && (run = next_++) < runs_;) {
       const int slot = take_slot();
       if (slot < 0) break;
@@ -111,7 +112,7 @@ class Batch {
       slot_rows.rows = (slot + 1) * per_run_;
       const int first = slot * per_run_;
       try {
-        if (bodies_ != nullptr) sim.set_bodies(bodies_ + 13L * (sim.model().njoints - 1) * run);
+        if (bodies_ != nullptr) sim.set_bodies(bodies_ + 13L * (sim.njoints() - 1) * run);
         sim.restart(Eigen::Map<const Vec>(q0_ + static_cast<long>(nq) * run, nq),
                     Eigen::Map<const Vec>(v0_ + static_cast<long>(nv) * run, nv));
         if (start_ != nullptr)

@@ -25,52 +25,19 @@
 #include "lie_rk.hpp"
 #include "loop_detumbling_law.hpp"
 #include "periods.hpp"
+#include "pin_generalized_jacobian.hpp"
+#include "simulation.hpp"
 #include "wrench_field.hpp"
 
 namespace freefloat::sim {
 
-// Where the actuated joint positions sit in q: plain coordinates (q index, position index) and
-// continuous joints stored as (cos, sin) (q index of cos, position index).
-struct JointMap {
-  std::vector<int> scalar_q, scalar_pos, circle_q, circle_pos;
-  int n = 0;
-
-  void get(const Vec& q, Vec& out) const {
-    for (size_t i = 0; i < scalar_q.size(); ++i) out[scalar_pos[i]] = q[scalar_q[i]];
-    for (size_t i = 0; i < circle_q.size(); ++i) out[circle_pos[i]] = std::atan2(q[circle_q[i] + 1], q[circle_q[i]]);
-  }
-};
-
-// q_d(t) = start + delta (10 s^3 - 15 s^4 + 6 s^5), s = t / T clipped to [0, 1].
-struct Quintic {
-  Vec start, delta;
-  double duration;
-
-  void at(double t, Vec& qd, Vec& qdd, Vec& qddd) const {
-    const double T = duration, s = std::min(std::max(t / T, 0.0), 1.0);
-    const double p = s * s * s * (10.0 - 15.0 * s + 6.0 * s * s);
-    const double dp = 30.0 * s * s * (1.0 - s) * (1.0 - s) / T;
-    const double ddp = 60.0 * s * (1.0 - s) * (1.0 - 2.0 * s) / (T * T);
-    qd = start + p * delta;
-    qdd = dp * delta;
-    qddd = ddp * delta;
-  }
-};
-
-// Telemetry arrays of one chunk (row-major, `rows` rows), filled in place; shapes as in
-// freefloat.dynamics.telemetry.Telemetry.
-struct Rows {
-  int rows = 0;
-  double *t, *q, *v, *tau, *joint_positions, *joint_reference, *base_position, *base_quaternion, *base_twist,
-      *ee_position, *ee_quaternion, *com, *momentum, *energy, *work;
-};
-
-class Simulation {
+// The loop of simulation.hpp's interface on a Pinocchio model (compiled in cpp/sim_unit.cpp only).
+class Loop final : public Simulation {
  public:
   static constexpr double kMaxSpeed = 1e6, kMaxPosition = 1e12;  // simulation.MAX_SPEED, MAX_POSITION
 
-  Simulation(Model model, JointMap joints, int n_base, const std::string& integrator, int substeps, double rtol,
-             double atol, double control_period, double start_time, int record_every)
+  Loop(Model model, JointMap joints, int n_base, const std::string& integrator, int substeps, double rtol,
+       double atol, double control_period, double start_time, int record_every)
       : model_(std::move(model)), data_(lean_data(model_)), record_data_(data_), joints_(std::move(joints)),
         nb_(n_base) {
     qn_.resize(model_.nq);
@@ -101,7 +68,7 @@ class Simulation {
   // state, evaluations counted from zero. Everything a run leaves behind is reset here, so a loop
   // reused after a finished, failed or interrupted run starts as a new one does.
   void configure(const std::string& integrator, int substeps, double rtol, double atol, double control_period,
-                 double start_time, int record_every) {
+                 double start_time, int record_every) override {
     { const LieIntegrator check(model_, integrator, substeps, rtol, atol); }  // throws first, nothing changed
     integrator_.emplace(model_, integrator, substeps, rtol, atol);
     period_ = control_period;
@@ -128,7 +95,8 @@ class Simulation {
 
   // The plant's numbers (inertias, placements, armature, gravity, frame placements) from `model`,
   // which must have this loop's structure (same_structure): its Data serve it unchanged.
-  void set_model(Model model) {
+  void set_model(const ModelArrays& arrays) override {
+    Model model = build_model(arrays);
     if (!same_structure(model_, model))
       throw std::invalid_argument("set_model: the model's joints or frames differ from the loop's");
     model_ = std::move(model);  // in place: the integrator refers to model_
@@ -140,7 +108,8 @@ class Simulation {
   // on, when it is not the plant's: a controller that keeps the nominal robot while the plant has
   // other numbers (a batch's varied masses). `model` must have this loop's structure; until the
   // next configure(). Its Data are made once and kept, as set_model() keeps the plant's.
-  void set_law_model(Model model) {
+  void set_law_model(const ModelArrays& arrays) override {
+    Model model = build_model(arrays);
     if (!same_structure(model_, model))
       throw std::invalid_argument("set_law_model: the model's joints or frames differ from the loop's");
     law_model_ = std::move(model);
@@ -149,59 +118,80 @@ class Simulation {
 
   // Pinocchio's convention for ABA and CRBA (the same numbers to round-off; WORLD or LOCAL is
   // the faster one depending on the tree, see compiled.CONVENTION_NV). Kept across configure().
-  void set_convention(pinocchio::Convention convention) { convention_ = convention; }
-  pinocchio::Convention convention() const { return convention_; }
+  void set_convention(Convention convention) override {
+    convention_ = convention == Convention::world ? pinocchio::Convention::WORLD : pinocchio::Convention::LOCAL;
+  }
+  Convention convention() const override {
+    return convention_ == pinocchio::Convention::WORLD ? Convention::world : Convention::local;
+  }
 
   void set_frames(int base_frame, std::vector<int> ee_frames) {
     base_frame_ = base_frame;
     ee_frames_ = std::move(ee_frames);
   }
 
-  void set_computed_torque(Quintic reference, double kp, double kd) {
+  void set_computed_torque(Quintic reference, double kp, double kd) override {
     controlled_ = true;
     reference_ = std::move(reference);
     kp_ = kp;
     kd_ = kd;
   }
 
-  void set_detumbling(DetumblingLaw law) {
+  void set_detumbling(DetumblingLaw law) override {
     controlled_ = true;
     detumbling_ = std::move(law);
   }
-  // The detumbling law with its state (held posture, previous rates, residuals), if set.
-  DetumblingLaw* detumbling() { return detumbling_ ? &*detumbling_ : nullptr; }
+  DetumblingLaw* detumbling() override { return detumbling_ ? &*detumbling_ : nullptr; }
 
   // The plant's loop closures and Baumgarte rate (none: ABA, the exact tree).
-  void set_closures(std::vector<Closure> closures, double baumgarte) {
-    closed_.closures = std::move(closures);
+  void set_closures(const std::vector<ClosureSpec>& closures, double baumgarte) override {
+    std::vector<Closure> checked;  // all or nothing: a bad closure leaves the plant as it was
+    for (const ClosureSpec& c : closures) checked.push_back(closure_of(c));
+    closed_.closures = std::move(checked);
     closed_.baumgarte = baumgarte;
     closed_.forget();
   }
-  ConstrainedDynamics& closed() { return closed_; }
-  Data& scratch_data() { return data_; }  // the plant's Data, for evaluations outside of a run
 
-  void set_loop_detumbling(LoopDetumblingLaw law) {
-    controlled_ = true;
-    loop_law_ = std::move(law);
+  ClosureSolution closure_solve(const Vec& q, const Vec& v, const Vec& tau) override {
+    ClosureSolution out;
+    closed_.solve(model_, data_, q, v, tau, nullptr, out.a);
+    out.force = closed_.force;
+    out.e = closed_.rows.e;
+    out.rank = closed_.rank;
+    return out;
   }
-  // The two-hand law with its state (previous rates and force, the log since last taken), if set.
-  LoopDetumblingLaw* loop_detumbling() { return loop_law_ ? &*loop_law_ : nullptr; }
 
-  // The two-hand law's torques at (q, v) and time t (its state advances), outside of any run.
-  Vec loop_detumbling_torque(double t, const Vec& q, const Vec& v) {
+  void set_loop_detumbling(const LoopDetumblingSettings& settings, LoopDetumblingState state) override {
+    check_joint(settings.target_joint, "frame joint");
+    check_joint(settings.first_joint, "frame joint");
+    controlled_ = true;
+    loop_law_.emplace(settings, closure_of(settings.grasp), std::move(state));
+  }
+  bool has_loop_detumbling() const override { return loop_law_.has_value(); }
+
+  Vec loop_detumbling_torque(double t, const Vec& q, const Vec& v) override {
     Vec tau(joints_.n);
     loop_law_torque(t, q, v, tau);
     return tau;
   }
 
+  LoopDetumblingState take_loop_detumbling_state() override {
+    LoopDetumblingState& state = *loop_law_;
+    LoopDetumblingState taken = state;
+    state.times.clear();
+    state.residuals.clear();
+    state.saturated.clear();
+    return taken;
+  }
+
   // Wrenches held over the next periods (already scaled by their profile); empty: none.
-  void set_wrenches(std::vector<Wrench> wrenches) { wrenches_ = std::move(wrenches); }
+  void set_wrenches(std::vector<Wrench> wrenches) override { wrenches_ = std::move(wrenches); }
 
   // Wrenches with profiles, selected by run() at the start of each period (replaces set_wrenches).
-  void set_wrench_profiles(std::vector<WrenchProfile> profiles) { profiles_ = std::move(profiles); }
+  void set_wrench_profiles(std::vector<WrenchProfile> profiles) override { profiles_ = std::move(profiles); }
 
   // Hold the joint torques `tau` (n,) from the current period on (a controller outside the loop).
-  void hold(const Vec& tau) {
+  void hold(const Vec& tau) override {
     tau_ = tau;
     tau_full_.tail(joints_.n) = tau;
     controlled_ = true;
@@ -209,9 +199,9 @@ class Simulation {
 
   // One control period from the current state, torques and wrenches held. Throws
   // std::overflow_error with the Python loop's message on a blow-up (the state stays).
-  void step_period() { step(start_ + k_ * period_); }
+  void step_period() override { step(start_ + k_ * period_); }
 
-  void set_state(const Vec& q, const Vec& v, long period, double work) {
+  void set_state(const Vec& q, const Vec& v, long period, double work) override {
     integrator_->restart();
     q_ = q;
     v_ = v;
@@ -222,19 +212,19 @@ class Simulation {
   // A new run from (q, v) at period 0 with the law, wrenches and settings kept (batch.hpp): the
   // state, work, integrator and the closed plant's warm start are reset as configure() resets
   // them. Only a law without a state of its own can be kept (not the detumbling laws).
-  void restart(const Vec& q, const Vec& v) {
+  void restart(const Vec& q, const Vec& v) override {
     if (has_law_state()) throw std::invalid_argument("a detumbling law keeps a state: its runs cannot share a loop");
     set_state(q, v, 0, 0.0);
     closed_.forget();
   }
-  bool has_law_state() const { return detumbling_.has_value() || loop_law_.has_value(); }
+  bool has_law_state() const override { return detumbling_.has_value() || loop_law_.has_value(); }
 
   // The plant's bodies for the next run (batch.hpp): per joint 1..njoints-1, mass (kg), CoM in the
   // joint frame (3, m) and rotational inertia about the CoM in joint-frame axes (3, 3 row-major,
   // kg m^2), 13 numbers each, set with build_model's very operations (the body appended to a zero inertia, then each
   // frame's inertia, zero, appended as addFrame does: a model equal to the rebuilt one bit for
   // bit); placements, armature and gravity stay.
-  void set_bodies(const double* bodies) {
+  void set_bodies(const double* bodies) override {
     for (JointIndex j = 1; j < static_cast<JointIndex>(model_.njoints); ++j, bodies += 13) {
       const Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> I(bodies + 4);
       model_.inertias[j] = Inertia::Zero();
@@ -248,29 +238,31 @@ class Simulation {
 
   // The computed-torque reference's start and displacement (n,) for the next run; the duration
   // and gains stay (set_computed_torque first).
-  void set_reference(const Vec& start, const Vec& delta) {
+  void set_reference(const Vec& start, const Vec& delta) override {
     if (!reference_) throw std::invalid_argument("set_reference: no computed-torque law is set");
     reference_->start = start;
     reference_->delta = delta;
   }
-  bool has_reference() const { return reference_.has_value(); }
-  int n_joints() const { return joints_.n; }
+  bool has_reference() const override { return reference_.has_value(); }
 
-  const Vec& q() const { return q_; }
-  const Vec& v() const { return v_; }
-  long period() const { return k_; }
-  double time() const { return start_ + k_ * period_; }  // of the current period, s
-  double work() const { return work_; }
-  long evaluations() const { return integrator_->evaluations(); }
-  const Model& model() const { return model_; }
+  const Vec& q() const override { return q_; }
+  const Vec& v() const override { return v_; }
+  long period() const override { return k_; }
+  double time() const override { return start_ + k_ * period_; }
+  double work() const override { return work_; }
+  long evaluations() const override { return integrator_->evaluations(); }
+  int nq() const override { return model_.nq; }
+  int nv() const override { return model_.nv; }
+  int njoints() const override { return model_.njoints; }
+  int n_joints() const override { return joints_.n; }
 
   // The plant's ABA at (q, v, tau) (nv,), outside of any run.
-  Vec acceleration(const Vec& q, const Vec& v, const Vec& tau) {
+  Vec acceleration(const Vec& q, const Vec& v, const Vec& tau) override {
     return pinocchio::aba(model_, data_, ConstRef(q), ConstRef(v), ConstRef(tau), convention_);
   }
 
   // The generalized Jacobian quantities at (q, v), outside of any run.
-  GeneralizedJacobian generalized_jacobian_at(const Vec& q, const Vec& v) {
+  GeneralizedJacobian generalized_jacobian_at(const Vec& q, const Vec& v) override {
     GeneralizedJacobian g;
     generalized_jacobian(model_, data_, q, v, base_frame_, ee_frames_, joints_.n, g);
     return g;
@@ -279,7 +271,7 @@ class Simulation {
   // Runs until period `last` (exclusive) or until `rows` has no free row for a period that
   // records; writes rows from `row`. Returns the rows written; when the state blows up, stops
   // there (the state stays at the last good period) and puts the Python loop's message in `error`.
-  int run(long last, Rows& out, int row, std::string& error) {
+  int run(long last, Rows& out, int row, std::string& error) override {
     return run_periods(k_, last, start_, period_, record_every_, out.rows, row, error,
                        [&](double t, bool records, int& r) {
                          control(t);  // throws std::overflow_error when a detumbling solve fails
@@ -291,9 +283,24 @@ class Simulation {
 
   // Row `row` of `out` at the current state and time, with the torques held; the joint reference
   // from `reference` if given, else from the compiled law (or NaN).
-  void record_now(Rows& out, int row, const Vec* reference) { record(out, row, start_ + k_ * period_, reference); }
+  void record_now(Rows& out, int row, const Vec* reference) override { record(out, row, start_ + k_ * period_, reference); }
 
  private:
+  void check_joint(int joint, const char* what) const {
+    if (joint < 0 || joint >= static_cast<int>(model_.njoints))
+      throw std::invalid_argument(std::string(what) + " out of range");
+  }
+
+  // The closure of `spec` on this loop's joints.
+  Closure closure_of(const ClosureSpec& spec) const {
+    check_joint(spec.joint1, "closure joint");
+    check_joint(spec.joint2, "closure joint");
+    for (int r : spec.rotation_rows)
+      if (r < 0 || r > 2) throw std::invalid_argument("closure rotation rows must be 0, 1 or 2");
+    return Closure{static_cast<JointIndex>(spec.joint1), static_cast<JointIndex>(spec.joint2), se3_of(spec.placement1),
+                   se3_of(spec.placement2), spec.rotation_rows};
+  }
+
   // The law's torques at time t for the current state; throws std::overflow_error with the
   // Python loop's message when the detumbling solve fails.
   void control(double t) {

@@ -15,22 +15,19 @@
 
 #include "closures.hpp"
 #include "detumbling.hpp"
+#include "generalized_jacobian.hpp"
+#include "simulation.hpp"
 
 namespace freefloat::sim {
 
-struct LoopDetumblingLaw {
-  std::vector<int> rows, joints;  // task rows into the 6k rows [v_E; w_E]; mission joints
-  double kd = 0.0, period = 0.0, baumgarte = 0.0, squeeze = 0.0, limit = 0.0;  // 1/s, s, 1/s, N, N m (0: none)
-  std::vector<Closure> closure;   // the weld between the second hand (frame 1) and its grasp on the target
-  JointIndex target_joint = 0, first_joint = 0;
-  SE3 target_placement = SE3::Identity(), first_placement = SE3::Identity();  // target CoM frame, first hand
-  double mass = 0.0;               // kg
-  Mat3 inertia = Mat3::Zero();     // principal moments, target frame axes
-  // State carried from period to period (handed back to Python after each chunk).
-  std::optional<Vec> previous;     // qdot_d of the previous period (n,)
-  Vec6 force = Vec6::Zero();       // lambda of the previous period
-  std::vector<double> times, residuals;  // LoopLog.t, LoopLog.rows_residual since last taken
-  std::vector<bool> saturated;           // LoopLog.saturated
+// The law of `settings` with its state so far; the grasp weld, frames and inertia in Pinocchio's
+// types.
+struct LoopDetumblingLaw : LoopDetumblingSettings, LoopDetumblingState {
+  LoopDetumblingLaw(const LoopDetumblingSettings& settings, Closure grasp, LoopDetumblingState state)
+      : LoopDetumblingSettings(settings), LoopDetumblingState(std::move(state)), closure_{std::move(grasp)},
+        target_frame_(se3_of(settings.target_placement)), first_hand_(se3_of(settings.first_placement)),
+        inertia_body_(settings.inertia.asDiagonal()) {}
+
   GeneralizedJacobian at_state;    // filled by the loop for the state before torque()
 
   // Joint torques (n,) at time t for (q, v); `at_state` must hold the state's generalized Jacobian.
@@ -53,6 +50,10 @@ struct LoopDetumblingLaw {
   // LoopDetumblingController._within_limit: hold + s (full - hold), the largest s in [0, 1] within
   // the limit; `hold` scaled down to it when it already exceeds it.
   Vec within_limit(const Vec& hold, const Vec& full) const;
+
+  std::vector<Closure> closure_;  // the grasp weld, as the plant's closures
+  SE3 target_frame_, first_hand_;  // target CoM frame on target_joint, first hand on first_joint
+  Mat3 inertia_body_;              // the target's inertia about its CoM, target frame axes
 
   // Scratch of one period.
   ClosureRows rows_;

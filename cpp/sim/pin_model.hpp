@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "eigen_types.hpp"
+#include "model_arrays.hpp"
 
 namespace freefloat::sim {
 
@@ -50,22 +51,9 @@ inline JointModel make_joint(const std::string& kind, const Vec6& S, const std::
   throw std::invalid_argument("joint '" + name + "': kind " + kind + " is not supported by the compiled simulation");
 }
 
-// Joints 1..n of the Python model: parent[j], kind[j], subspace (n, 6), placement (n, 4, 4)
-// row-major, inertia mass (n,), lever (n, 3) (CoM in the joint frame), rotational inertia about
-// the CoM (n, 3, 3); armature (nv,), gravity (3,), frames: parent joint (f,), placement (f, 4, 4).
-struct ModelArrays {
-  std::vector<int> parent;
-  std::vector<std::string> kind, name;
-  const double *subspace, *placement, *mass, *lever, *rotational;
-  const double *armature, *gravity;
-  std::vector<int> frame_parent;
-  const double* frame_placement;
-};
-
-inline SE3 se3_at(const double* p) {
-  Eigen::Map<const Eigen::Matrix<double, 4, 4, Eigen::RowMajor>> H(p);
-  return SE3(Mat3(H.topLeftCorner<3, 3>()), Vec3(H.topRightCorner<3, 1>()));
-}
+// The placement of the homogeneous transform H (4, 4).
+inline SE3 se3_of(const Pose& H) { return SE3(Mat3(H.topLeftCorner<3, 3>()), Vec3(H.topRightCorner<3, 1>())); }
+inline SE3 se3_at(const double* p) { return se3_of(Eigen::Map<const Pose>(p)); }
 
 // A Data for `model` without Pinocchio's second-order tensors (kinematic Hessians 6 x nv x nv and
 // the four nv x nv x nv d2tau tensors, about 250 MB at nv 198): the loop computes no second-order
@@ -93,7 +81,10 @@ inline bool same_structure(const Model& a, const Model& b) {
   return true;
 }
 
+// The model of `a`; std::invalid_argument naming the joint or array at fault.
 inline Model build_model(const ModelArrays& a) {
+  if (a.kind.size() != a.parent.size() || a.name.size() != a.parent.size())
+    throw std::invalid_argument("parent, kind, name: expected one entry per joint");
   Model m;
   const size_t n = a.parent.size();
   for (size_t j = 0; j < n; ++j) {
@@ -106,6 +97,7 @@ inline Model build_model(const ModelArrays& a) {
     Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> I(a.rotational + 9 * j);
     m.appendBodyToJoint(id, Inertia(a.mass[j], Eigen::Map<const Vec3>(a.lever + 3 * j), Mat3(I)), SE3::Identity());
   }
+  if (a.armature_size != m.nv) throw std::invalid_argument("armature: expected one entry per velocity");
   m.armature = Eigen::Map<const Vec>(a.armature, m.nv);
   m.gravity.linear(Eigen::Map<const Vec3>(a.gravity));
   for (size_t f = 0; f < a.frame_parent.size(); ++f)

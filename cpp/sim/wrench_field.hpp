@@ -6,7 +6,7 @@
 #include <algorithm>
 #include <vector>
 
-#include "pin_model.hpp"
+#include "eigen_types.hpp"
 
 namespace freefloat::sim {
 
