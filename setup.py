@@ -37,13 +37,13 @@ The wheel requires the exact ``libpinocchio`` it was built against (the module l
 library); everything else about the package is in pyproject.toml."""
 
 import hashlib
+import importlib.util
 import json
 import os
 import subprocess
 import sys
 import sysconfig
 import tempfile
-from concurrent.futures import FIRST_COMPLETED, ThreadPoolExecutor, wait
 from importlib.metadata import version
 from pathlib import Path
 
@@ -52,6 +52,17 @@ from pybind11.setup_helpers import build_ext as pybind11_build_ext
 from setuptools import setup
 
 ROOT = Path(__file__).resolve().parent
+
+
+def load_schedule():
+    """setup_schedule.py beside this file (a build does not put this folder on sys.path)."""
+    spec = importlib.util.spec_from_file_location("setup_schedule", ROOT / "setup_schedule.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+run_within = load_schedule().run_within
 
 # The runtime dependencies are listed here rather than in pyproject.toml because one of them is
 # only known at build time: the libpinocchio this build links to.
@@ -181,25 +192,6 @@ class BuildExt(pybind11_build_ext):
 def unit_memory(source: str) -> float:
     """The peak memory of ``source``'s compile (bytes, :data:`UNIT_MEMORY`)."""
     return UNIT_MEMORY.get(source, max(UNIT_MEMORY.values()))
-
-
-def run_within(jobs: list, work, memory, workers: int, budget: float) -> None:
-    """``work(job)`` for every job on up to ``workers`` threads, starting the first job in order
-    whose ``memory(job)`` fits in ``budget`` beside the running ones (one that never fits runs
-    alone); raises the first error, after the running jobs end."""
-    pending, running = list(jobs), {}
-    with ThreadPoolExecutor(max_workers=workers) as pool:
-        while pending or running:
-            used = sum(running.values())
-            fits = [job for job in pending if not running or used + memory(job) <= budget]
-            if fits and len(running) < workers:
-                pending.remove(fits[0])
-                running[pool.submit(work, fits[0])] = memory(fits[0])
-                continue
-            done, _ = wait(running, return_when=FIRST_COMPLETED)
-            for future in done:
-                del running[future]
-                future.result()
 
 
 def available_memory() -> float:
