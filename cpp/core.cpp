@@ -1,7 +1,9 @@
 // freefloat.dynamics._core: the compiled GJM (gjm.hpp) behind a small pybind11 interface. The tree
 // is handed over as arrays (no C++ object is shared with pin's bindings); outputs are new C-order
-// numpy arrays with the shapes of the numpy reference. The closed chains' MechanismCore is bound
-// in chains.cpp, a translation unit of its own (shared with _sim) that compiles in parallel.
+// numpy arrays with the shapes of the numpy reference. This unit holds the bindings only: the GJM
+// quantities (gjm.cpp) and the models with their solver (models.cpp) are translation units of
+// their own without pybind11, and the closed chains' MechanismCore is bound in chains.cpp (shared
+// with _sim); all compile in parallel.
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
@@ -252,8 +254,7 @@ struct Core {
   // NIDC's dxdot0/dq_k (n, 6) at (q, v) with the augmented partials of D.
   py::array_t<double> sensitivity(const Array& q, const Array& v, bool translation, const Array& D) {
     run_dynamics(q, v);
-    const Partials p = nidc_partials(tree, state, deriv, sensitivity_rows(D), translation);
-    return matrix_copy(freefloat::sensitivity(state, p, tree.n));
+    return matrix_copy(nidc_sensitivity(tree, state, deriv, sensitivity_rows(D), translation));
   }
 };
 
