@@ -103,15 +103,15 @@ PINOCCHIO_FLAGS = ["-isystem", str(PINOCCHIO / "include"), "-DPINOCCHIO_ENABLE_T
                    "-DBOOST_MPL_LIMIT_LIST_SIZE=30", "-DBOOST_MPL_LIMIT_VECTOR_SIZE=30",
                    "-DBOOST_MPL_CFG_NO_PREPROCESSED_HEADERS", "-DBOOST_FUSION_INVOKE_MAX_ARITY=12"]
 # The heaviest translation units first, so that two cores finish together.
-ORDER = ["cpp/sim_unit.cpp", "cpp/chains.cpp", "cpp/sim_module.cpp", "cpp/core.cpp", "cpp/detumbling.cpp",
-         "cpp/models.cpp", "cpp/gjm.cpp"]
+ORDER = ["cpp/sim_unit.cpp", "cpp/sim/chain_unit.cpp", "cpp/sim_module.cpp", "cpp/core.cpp", "cpp/chains.cpp",
+         "cpp/parallel_inverse.cpp", "cpp/detumbling.cpp", "cpp/models.cpp", "cpp/gjm.cpp"]
 # Optimisation level per translation unit, after FLAGS' -O3 (see the module docstring).
 OPTIMIZATION = {"cpp/sim_unit.cpp": "-O1", "cpp/sim_module.cpp": "-O1"}
 # Peak memory of each unit's compile at its flags (g++ 12, the compiler's maximum resident set,
 # bytes, docs/bench.md "The build"); a unit not listed counts as the largest.
-UNIT_MEMORY = {"cpp/sim_unit.cpp": 1.90e9, "cpp/chains.cpp": 1.60e9, "cpp/sim_module.cpp": 0.91e9,
-               "cpp/core.cpp": 0.75e9, "cpp/detumbling.cpp": 0.67e9, "cpp/models.cpp": 0.51e9,
-               "cpp/gjm.cpp": 0.48e9}
+UNIT_MEMORY = {"cpp/sim_unit.cpp": 1.90e9, "cpp/sim/chain_unit.cpp": 0.78e9, "cpp/sim_module.cpp": 0.91e9,
+               "cpp/core.cpp": 0.75e9, "cpp/chains.cpp": 0.73e9, "cpp/parallel_inverse.cpp": 0.78e9,
+               "cpp/detumbling.cpp": 0.67e9, "cpp/models.cpp": 0.51e9, "cpp/gjm.cpp": 0.48e9}
 # The memory the units compiling at once may take together (bytes): FREEFLOAT_BUILD_MEMORY, else
 # this, and never more than the memory available. A unit larger than the budget compiles alone.
 MEMORY_BUDGET = 2.0e9
@@ -214,6 +214,8 @@ def extension(name: str, sources: list[str], flags: list[str], **kwargs) -> Pybi
     return Pybind11Extension(name, sources, include_dirs=["cpp"], cxx_std=17, extra_compile_args=flags, **kwargs)
 
 
+# The closed chains' units, in both modules: the bindings (chains.cpp) and the numerics they call.
+CHAINS = ["cpp/chains.cpp", "cpp/sim/chain_unit.cpp", "cpp/parallel_inverse.cpp"]
 # One set of flags for every translation unit: cpp/chains.cpp is shared by both modules.
 LINK = {"libraries": ["pinocchio_default"], "library_dirs": [str(PINOCCHIO / "lib")],
         # where the wheel's package sits beside pin's cmeel.prefix; an editable install finds the
@@ -222,10 +224,9 @@ LINK = {"libraries": ["pinocchio_default"], "library_dirs": [str(PINOCCHIO / "li
 
 setup(
     ext_modules=[
-        extension("freefloat.dynamics._core", ["cpp/core.cpp", "cpp/gjm.cpp", "cpp/models.cpp", "cpp/chains.cpp"],
+        extension("freefloat.dynamics._core", ["cpp/core.cpp", "cpp/gjm.cpp", "cpp/models.cpp"] + CHAINS,
                   FLAGS + PINOCCHIO_FLAGS, **LINK),
-        extension("freefloat.dynamics._sim",
-                  ["cpp/sim_unit.cpp", "cpp/sim_module.cpp", "cpp/detumbling.cpp", "cpp/chains.cpp"],
+        extension("freefloat.dynamics._sim", ["cpp/sim_unit.cpp", "cpp/sim_module.cpp", "cpp/detumbling.cpp"] + CHAINS,
                   FLAGS + PINOCCHIO_FLAGS, **LINK),
     ],
     install_requires=DEPENDENCIES + [f"libpinocchio=={version('libpinocchio')}"],

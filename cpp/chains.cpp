@@ -2,7 +2,9 @@
 // closed chain, parallel.hpp, built from ParallelMechanism.core's dicts by py_mechanism.hpp) and
 // ChainSimulation of freefloat.dynamics._sim (the closed-chain loop, sim/chain_loop.hpp, with its
 // platform law). One translation unit, compiled once and linked into both modules: compiled once
-// per module, the chain code they share cost 36 s more of the build's CPU (g++ 12, -O3).
+// per module, the chain code they share cost 36 s more of the build's CPU (g++ 12, -O3). Bindings
+// only: the numerics are units of their own without pybind11 (sim/chain_unit.cpp,
+// parallel_inverse.cpp); the one unit of both took 1.6 GB of compiler memory.
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -60,7 +62,7 @@ PlatformLaw platform_law(const py::list& chains, const py::dict& coupling, const
   law.sign = sign;
   if (sliding) {
     law.n = vec(n, p, "n");
-    law.T = Eigen::Map<const freefloat::py_arrays::RowMat>(checked(T, p * p, "T"), p, p);
+    law.T = Eigen::Map<const RowMat>(checked(T, p * p, "T"), p, p);
     if (pairs.size() != n_ij.size()) throw std::invalid_argument("n_ij: one array per pair");
     for (size_t i = 0; i < pairs.size(); ++i) {
       if (pairs[i].first < 0 || pairs[i].first >= p || pairs[i].second < 0 || pairs[i].second >= p)
@@ -163,7 +165,7 @@ void bind_mechanism(py::module_& m) {
              DMat A, M;
              me.closure(checked(q, me.n_q, "q"), residual, A);
              me.dynamics(checked(qd, me.n_q, "qd"), b, M, v, g);
-             const DMat C = me.velocity_map(A, me.passive_lu(A));
+             const DMat C = me.velocity_map(A);
              return py::make_tuple(matrix_out(A), vector_out(b), matrix_out(C), matrix_out(M), vector_out(v), vector_out(g));
            }, "(A, b, C, M', v', g') at (q, qd), as ParallelMechanism.terms.")
       .def("inverse", [](Mechanism& me, const Array& q, const Array& qd_sharp, const Array& qdd_sharp) {
@@ -182,40 +184,16 @@ void bind_mechanism(py::module_& m) {
              return py::make_tuple(vector_out(q), ok);
            }, "(q, converged): Newton on the closure from [q_sharp; guess].")
       .def("trajectory", [](Mechanism& me, const Array& x, const Array& xd, const Array& xdd, const Array& guess,
-                            double jump, double tol, int iterations) -> py::tuple {
+                            double jump, double tol, int iterations) {
              const py::ssize_t N = x.size() / me.p, nq = me.n_q, p = me.p;
              const double* xs = checked(x, N * p, "positions");
              const double* xds = checked(xd, N * p, "rates");
              const double* xdds = checked(xdd, N * p, "accelerations");
+             const double* start = checked(guess, nq - p, "guess");
              py::array_t<double> q_out({N, nq}), tau_out({N, static_cast<py::ssize_t>(me.U.cols())});
-             Eigen::Map<RowMat> Q(q_out.mutable_data(), N, nq), T(tau_out.mutable_data(), N, me.U.cols());
-             DVec anchor(nq), q(nq), tau, qd, qdd;
-             DMat C, A;
-             anchor << Eigen::Map<const DVec>(xs, p), Eigen::Map<const DVec>(checked(guess, nq - p, "guess"), nq - p);
-             int status = 0;
-             py::ssize_t i = 0;
-             if (!me.assemble(anchor, tol, iterations, A)) {
-               Q.row(0) = anchor.transpose();
-               return py::make_tuple(tau_out, q_out, 1, py::ssize_t{0});
-             }
-             C = me.velocity_map(A, me.passive_lu(A));
-             for (; i < N; ++i) {
-               const Eigen::Map<const DVec> xi(xs + i * p, p);
-               q << xi, anchor.tail(nq - p) + C.bottomRows(nq - p) * (xi - anchor.head(p));
-               const DVec predicted = q.tail(nq - p);
-               if (!me.assemble(q, tol, iterations, A)) {
-                 q.tail(nq - p) = predicted;
-                 status = 1;
-               } else if ((q.tail(nq - p) - predicted).cwiseAbs().maxCoeff() > jump) {
-                 status = 2;
-               }
-               Q.row(i) = q.transpose();
-               if (status) break;
-               me.inverse_at(A, xds + i * p, xdds + i * p, tau, qd, qdd, C);
-               T.row(i) = tau.transpose();
-               anchor = q;
-             }
-             return py::make_tuple(tau_out, q_out, status, i);
+             const auto [status, index] = me.trajectory(N, xs, xds, xdds, start, jump, tol, iterations,
+                                                        q_out.mutable_data(), tau_out.mutable_data());
+             return py::make_tuple(tau_out, q_out, status, py::ssize_t{index});
            }, "(tau (N, k), q (N, n_q), status, index): inverse dynamics along a path by continuation; status 1 = no "
               "assembly at index (q holds the prediction), 2 = a jump larger than `jump` at index.");
 }

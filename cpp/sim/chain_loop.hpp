@@ -3,18 +3,16 @@
 // (or the law at every stage), eq 129 with Baumgarte as the plant (parallel.hpp), an integrator of
 // rkmk.hpp on the Euclidean coordinates q = [q#; q°], the platform control of
 // freefloat.parallel.sliding_mode.PlatformControl (computed torque, eq 190, or sliding mode,
-// eq 153) on a nominal model, and the telemetry row of plant_periods.PlantPeriods.
+// eq 153) on a nominal model, and the telemetry row of plant_periods.PlantPeriods. Declarations:
+// the loop and the law are defined in chain_loop.cpp (compiled in sim/chain_unit.cpp).
 #pragma once
 
-#include <cstdio>
 #include <optional>
-#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "../parallel.hpp"
-#include "periods.hpp"
 #include "rkmk.hpp"
 
 namespace freefloat::sim {
@@ -25,18 +23,7 @@ struct Circle {
   double radius = 0.0, rate = 0.0;
   int a = 0, b = 1;
 
-  void at(double t, DVec& q, DVec& qd, DVec& qdd) const {
-    const double c = std::cos(rate * t), s = std::sin(rate * t), r = radius, w = rate;
-    q = center;
-    qd = DVec::Zero(center.size());
-    qdd = DVec::Zero(center.size());
-    q[a] += r * c;
-    q[b] += r * s;
-    qd[a] = -r * w * s;
-    qd[b] = r * w * c;
-    qdd[a] = -r * w * w * c;
-    qdd[b] = -r * w * w * s;
-  }
+  void at(double t, DVec& q, DVec& qd, DVec& qdd) const;
 };
 
 // sliding_mode.PlatformControl.law on the nominal `model`: computed torque (no gains) or sliding
@@ -53,45 +40,10 @@ struct PlatformLaw {
   std::vector<DVec> n_ij;
 
   // Efforts (k) at time t for the measured state (q, qd) (n_q).
-  DVec efforts(double t, const DVec& q, const DVec& qd) {
-    const int p = model.p;
-    DVec q_d, qd_d, qdd_d;
-    reference.at(t, q_d, qd_d, qdd_d);
-    const DVec e = q_d - q.head(p), edot = qd_d - qd.head(p);
-    // platform.platform_dynamics at (q, qd#): H, v_M, g_M, B
-    DVec residual, b, v, g;
-    DMat A, M;
-    model.closure(q.data(), residual, A);
-    const Eigen::PartialPivLU<DMat> lu = model.passive_lu(A);
-    const DMat C = model.velocity_map(A, lu);
-    const DVec qd_full = C * qd.head(p);
-    model.dynamics(qd_full.data(), b, M, v, g);
-    DVec c = DVec::Zero(model.n_q);
-    c.tail(model.n_q - p) = lu.solve(b);
-    const DMat CT = C.transpose();
-    const DMat H = CT * M * C;
-    const DVec h = CT * (M * c + v) + CT * g;
-    const DMat B = CT * model.U;
-    DVec acceleration;
-    if (!sliding) {
-      acceleration = qdd_d + 2.0 * lam * edot + lam * lam * e;
-    } else {
-      const DVec s = -(edot + lam * e), sigma = qdd_d + lam * edot;
-      DVec k = n + T * sigma.cwiseAbs();
-      for (size_t i = 0; i < pairs.size(); ++i)
-        k += n_ij[i] * std::abs(qd[pairs[i].first]) * std::abs(qd[pairs[i].second]);
-      DVec sw(p);
-      for (int i = 0; i < p; ++i) sw[i] = sign ? double((s[i] > 0) - (s[i] < 0)) : std::tanh(100.0 * s[i]);
-      acceleration = sigma - k.cwiseProduct(sw);
-    }
-    return B.partialPivLu().solve(h + H * acceleration);
-  }
+  DVec efforts(double t, const DVec& q, const DVec& qd);
 
-  DVec target(double t) const {
-    DVec q, qd, qdd;
-    reference.at(t, q, qd, qdd);
-    return q;
-  }
+  // The reference q#_d (p) at time t.
+  DVec target(double t) const;
 };
 
 // Telemetry arrays of one chunk, row-major; shapes as in freefloat.dynamics.telemetry.PlantTelemetry.
@@ -104,43 +56,14 @@ class ChainSimulation {
  public:
   ChainSimulation(Mechanism plant, double baumgarte, double max_drift, const std::string& integrator, int substeps,
                   double rtol, double atol, double control_period, double start_time, int record_every,
-                  bool per_stage)
-      : plant_(std::move(plant)), baumgarte_(baumgarte), max_drift_(max_drift), per_stage_(per_stage),
-        integrator_(euclidean_space(plant_.n_q + (per_stage ? 1 : 0)), integrator, substeps, rtol, atol),
-        period_(control_period), start_(start_time), record_every_(record_every) {
-    const int n = plant_.n_q;
-    q_ = DVec::Zero(n);
-    v_ = DVec::Zero(n);
-    u_ = DVec::Zero(plant_.U.cols());
-    dynamics_ = [this, n](const Vec& q, const Vec& v, Vec& a) {
-      if (!per_stage_) {
-        a = plant_.forward(q.data(), v.data(), u_.data(), baumgarte_);
-        return;
-      }
-      const DVec qs = q.head(n), vs = v.head(n);  // [q; t], [v; 1]
-      const DVec u = law_->efforts(q[n], qs, vs);
-      a.resize(n + 1);
-      a.head(n) = plant_.forward(qs.data(), vs.data(), u.data(), baumgarte_);
-      a[n] = 0.0;
-    };
-  }
+                  bool per_stage);
 
-  void set_law(PlatformLaw law) {
-    if (law.model.n_q != plant_.n_q || law.model.U.cols() != plant_.U.cols())
-      throw std::invalid_argument("the controller's model and the plant differ in size");
-    law_ = std::move(law);
-  }
+  void set_law(PlatformLaw law);
   bool has_law() const { return law_.has_value(); }
 
   void hold(const DVec& u) { u_ = u; }
 
-  void set_state(const DVec& q, const DVec& v, long period) {
-    integrator_.restart();
-    q_ = q;
-    v_ = v;
-    k_ = period;
-    drift_ = drift(q_);
-  }
+  void set_state(const DVec& q, const DVec& v, long period);
 
   const DVec& q() const { return q_; }
   const DVec& v() const { return v_; }
@@ -148,91 +71,26 @@ class ChainSimulation {
   long evaluations() const { return integrator_.evaluations(); }
 
   // The law's efforts at (t, q, v), outside of any run.
-  DVec law_efforts(double t, const DVec& q, const DVec& v) { return law_->efforts(t, q, v); }
+  DVec law_efforts(double t, const DVec& q, const DVec& v);
 
   // One control period from the current state, efforts held (or the law per stage). Throws
   // std::overflow_error with the Python loop's message on a blow-up (the state stays).
-  void step_period() { step(start_ + k_ * period_); }
+  void step_period();
 
   // Runs until period `last` (exclusive) or until `out` has no free row for a period that records;
   // writes rows from `row`. Returns the rows written; on a blow-up stops there with the message in `error`.
-  int run(long last, ChainRows& out, int row, std::string& error) {
-    return run_periods(k_, last, start_, period_, record_every_, out.rows, row, error,
-                       [&](double t, bool records, int& r) {
-                         try {
-                           if (law_ && k_ % law_->every == 0) u_ = law_->efforts(t, q_, v_);
-                           if (records) record(out, r++, nullptr);
-                           step(t);
-                         } catch (const MechanismError& singular) {
-                           char when[96];
-                           std::snprintf(when, sizeof when,
-                                         "at t = %.6g s (step %ld): singular pose, eq 129 has no solution: ", t, k_ + 1);
-                           throw std::overflow_error(when + std::string(singular.what()));
-                         }
-                       });
-  }
+  int run(long last, ChainRows& out, int row, std::string& error);
 
   // Row `row` of `out` at the current state and time with the efforts held; the reference from
   // `reference` if given, else from the compiled law (or left as it is: NaN).
-  void record(ChainRows& out, int row, const DVec* reference) {
-    const int n = plant_.n_q, k = static_cast<int>(u_.size());
-    const double t = start_ + k_ * period_;
-    out.t[row] = t;
-    Eigen::Map<DVec>(out.q + n * row, n) = q_;
-    Eigen::Map<DVec>(out.v + n * row, n) = v_;
-    Eigen::Map<DVec>(out.efforts + k * row, k) = u_;
-    if (reference != nullptr) {
-      Eigen::Map<DVec>(out.reference + reference->size() * row, reference->size()) = *reference;
-    } else if (law_) {
-      const DVec target = law_->target(t);
-      Eigen::Map<DVec>(out.reference + target.size() * row, target.size()) = target;
-    }
-    out.drift[row] = drift_.first;
-    out.orientation_drift[row] = drift_.second;
-  }
+  void record(ChainRows& out, int row, const DVec* reference);
 
  private:
-  std::pair<double, double> drift(const DVec& q) {
-    DVec residual;
-    DMat A;
-    plant_.closure(q.data(), residual, A);
-    const double position = plant_.m_lin ? residual.head(plant_.m_lin).cwiseAbs().maxCoeff() : 0.0;
-    const double orientation = plant_.m_ang ? residual.tail(plant_.m_ang).cwiseAbs().maxCoeff() : 0.0;
-    return {position, orientation};
-  }
+  // The closure's residuals at q: (max |position rows|, max |orientation rows|).
+  std::pair<double, double> drift(const DVec& q);
 
-  void step(double t) {
-    const int n = plant_.n_q;
-    if (per_stage_) {
-      qn_.resize(n + 1);
-      vn_.resize(n + 1);
-      qn_ << q_, t;
-      vn_ << v_, 1.0;
-    } else {
-      qn_ = q_;
-      vn_ = v_;
-    }
-    integrator_.advance(dynamics_, qn_, vn_, period_);
-    const double t_end = t + period_;
-    if (!(qn_.allFinite() && vn_.allFinite())) {
-      char text[128];
-      std::snprintf(text, sizeof text, "the state is not finite at t = %.6g s (step %ld)", t_end, k_ + 1);
-      throw std::overflow_error(text);
-    }
-    const DVec q = qn_.head(n);
-    const auto next = drift(q);
-    if (!(std::max(next.first, next.second) <= max_drift_)) {
-      char text[256];
-      std::snprintf(text, sizeof text,
-                    "loop-closure residual %.3g m (orientation %.3g rad) at t = %.6g s (step %ld): the mechanism came "
-                    "apart", next.first, next.second, t_end, k_ + 1);
-      throw std::overflow_error(text);
-    }
-    q_ = q;
-    v_ = vn_.head(n);
-    drift_ = next;
-    ++k_;
-  }
+  // One control period from time t; throws std::overflow_error on a blow-up (the state stays).
+  void step(double t);
 
   Mechanism plant_;
   double baumgarte_, max_drift_;
