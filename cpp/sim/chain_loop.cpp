@@ -1,7 +1,6 @@
 // The closed-chain loop and its platform law (chain_loop.hpp): ChainSimulation's periods, steps
 // and telemetry rows, PlatformLaw's efforts. Compiled in one translation unit with the plant it
 // calls at every stage, parallel.cpp (sim/chain_unit.cpp).
-#include <Eigen/Geometry>  // the cross products of rkmk.hpp's chart correction
 #include <Eigen/LU>
 #include <algorithm>
 #include <cmath>

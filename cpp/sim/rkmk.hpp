@@ -6,6 +6,8 @@
 // lie_rk.hpp puts a Pinocchio model's configuration space under it.
 #pragma once
 
+#include <Eigen/Geometry>  // cross products of the se(3) chart correction
+
 #include <algorithm>
 #include <cmath>
 #include <functional>
