@@ -1,30 +1,25 @@
 """Build of the compiled parts (C++17, pybind11):
 
-- ``freefloat.dynamics._core``: the GJM layer (cpp/core.cpp) and the closed chains' core;
-- ``freefloat.dynamics._sim``: the simulation loop (cpp/sim_unit.cpp: the loop and its bindings,
-  cpp/sim_module.cpp, with the plant with loop closures and the two-hand law, cpp/closures.cpp, in
-  one translation unit) and the closed-chain loop on Pinocchio's C++ algorithms, compiled against
-  the headers of the ``libpinocchio`` wheel (a build requirement) and linked to its
-  ``libpinocchio_default``, which holds the algorithms already compiled (explicit template
-  instantiation): instantiating them here was most of the build.
+- ``freefloat.dynamics._core``: the GJM layer (bindings cpp/core.cpp, numerics cpp/gjm.cpp and
+  cpp/models.cpp) and the closed chains;
+- ``freefloat.dynamics._sim``: the robot loop on Pinocchio's C++ algorithms (cpp/sim_unit.cpp:
+  the loop, the plant with loop closures and the two-hand law; its bindings cpp/sim_module.cpp
+  and the detumbling solver cpp/detumbling.cpp see it through cpp/sim/simulation.hpp, which names
+  no Pinocchio type) and the closed chains;
+- the closed chains, linked into both (bindings cpp/chains.cpp, plant and loop
+  cpp/sim/chain_unit.cpp, inverse dynamics cpp/parallel_inverse.cpp), include no Pinocchio header.
 
-The closed chains' bindings of both modules are one translation unit (cpp/chains.cpp), compiled
-once and linked into both. It includes no Pinocchio header: the closed-chain loop's integrators
-(cpp/sim/rkmk.hpp) step on R^n without Pinocchio's configuration space (cpp/sim/lie_rk.hpp, the
-robot loop's).
-
-Where the time goes (g++ 12, user seconds per translation unit, two at a time as the build runs
-them): the robot loop with the closed plant, one unit, 42-45 s at -O1 (as two units at -O3:
-46-48 + 35-36 s); the closed-chain loop 29.5-30 s (35-38 s, and 2.25 GB instead of 1.6 GB, while
-it parsed Pinocchio's headers); the core 18-19 s: 49-58 s of wall time with no other work on the
-machine (56-71 s before, taking turns), where the four units of before took 77-79 s. Parsing and
-template instantiation are most of it: -O1 takes chains.cpp 32 s instead of 38 s but its loop
-runs slower, and a precompiled header of Pinocchio, Eigen and pybind11 did not pay (21 s to make
-before any unit starts; closures.cpp compiled no faster with it). So the robot loop, whose time is
-in libpinocchio_default's algorithms, is compiled at -O1 (:data:`OPTIMIZATION`), where every scene
-measured ran as fast as at -O3 (docs/bench.md, "The build"); the closed chains' own numerics stay
-at -O3 (12-49 % slower at -O2). The units compile in parallel, one per core, fewer when memory is
-short (:data:`UNIT_MEMORY`).
+The robot loop is compiled against the headers of the ``libpinocchio`` wheel (a build requirement)
+and linked to its ``libpinocchio_default``, which holds the algorithms already compiled (explicit
+template instantiation). What remains of the compile is parsing and instantiating Pinocchio's model
+classes, Eigen and pybind11, and the compiler keeps all of it in memory until a unit ends: each
+unit holds one concern, so that each peaks under 1 GB but the one that includes Pinocchio (1.9 GB,
+whose headers alone take 0.9-1.1 GB). The units run one per core, started only while their
+measured peaks (:data:`UNIT_MEMORY`) fit in the memory budget (``FREEFLOAT_BUILD_MEMORY``, else
+:data:`MEMORY_SHARE` of the memory available; setup_schedule.py). The robot loop's
+units are compiled at -O1 (:data:`OPTIMIZATION`): its time is in libpinocchio_default, and every
+scene measured ran as fast as at -O3; the numerics stay at -O3 (the closed chains 12-49 % slower
+at -O2). docs/bench.md, "The build", has the measurements.
 
 Objects are kept in ``build/cpp/<configuration>/`` of the source tree (ignored by git), also by an
 editable install, whose own build folders are temporary: reinstalling with another extra, or
@@ -112,9 +107,12 @@ OPTIMIZATION = {"cpp/sim_unit.cpp": "-O1", "cpp/sim_module.cpp": "-O1"}
 UNIT_MEMORY = {"cpp/sim_unit.cpp": 1.90e9, "cpp/sim/chain_unit.cpp": 0.78e9, "cpp/sim_module.cpp": 0.91e9,
                "cpp/core.cpp": 0.75e9, "cpp/chains.cpp": 0.73e9, "cpp/parallel_inverse.cpp": 0.78e9,
                "cpp/detumbling.cpp": 0.67e9, "cpp/models.cpp": 0.51e9, "cpp/gjm.cpp": 0.48e9}
-# The memory the units compiling at once may take together (bytes): FREEFLOAT_BUILD_MEMORY, else
-# this, and never more than the memory available. A unit larger than the budget compiles alone.
-MEMORY_BUDGET = 2.0e9
+# The share of the memory available that the units compiling at once may take together, unless
+# FREEFLOAT_BUILD_MEMORY (bytes) sets the budget (at most the memory available). A unit larger
+# than the budget compiles alone. With 2 GB (a machine of 2.5 GB available, or
+# FREEFLOAT_BUILD_MEMORY=2e9) the build peaks at 1.9 GB, the robot loop's unit compiling alone;
+# with more it runs that unit beside the others, 2.6 GB at most, about 10 s sooner on 2 cores.
+MEMORY_SHARE = 0.8
 
 
 class BuildExt(pybind11_build_ext):
@@ -127,8 +125,10 @@ class BuildExt(pybind11_build_ext):
         self.object_dir = ROOT / "build" / "cpp" / self.configuration()
         jobs = list({source: (ext, source) for ext in self.extensions for source in ext.sources}.values())
         jobs.sort(key=lambda job: ORDER.index(job[1]) if job[1] in ORDER else len(ORDER))
-        workers = int(os.environ.get("FREEFLOAT_BUILD_JOBS") or self.parallel or os.cpu_count() or 1)
-        budget = min(float(os.environ.get("FREEFLOAT_BUILD_MEMORY") or MEMORY_BUDGET), available_memory())
+        workers = int(setting("FREEFLOAT_BUILD_JOBS", "a number of compiler processes, e.g. 2") or self.parallel
+                      or os.cpu_count() or 1)
+        available = available_memory()
+        budget = min(setting("FREEFLOAT_BUILD_MEMORY", "bytes, e.g. 2e9") or MEMORY_SHARE * available, available)
         run_within(jobs, lambda job: self.object_of(*job), lambda job: unit_memory(job[1]), max(1, workers), budget)
         for ext in self.extensions:
             self.build_extension(ext)
@@ -191,13 +191,28 @@ class BuildExt(pybind11_build_ext):
         return all(f.is_file() and f.stat().st_mtime <= built for f in files)
 
 
+def setting(name: str, expected: str) -> float | None:
+    """The positive number in environment variable ``name`` (None when unset or empty); a clear
+    error naming the variable otherwise."""
+    text = os.environ.get(name, "").strip()
+    if not text:
+        return None
+    try:
+        value = float(text)
+    except ValueError:
+        value = 0.0
+    if not value > 0:
+        raise SystemExit(f"{name}={text!r}: expected {expected}")
+    return value
+
+
 def unit_memory(source: str) -> float:
     """The peak memory of ``source``'s compile (bytes, :data:`UNIT_MEMORY`)."""
     return UNIT_MEMORY.get(source, max(UNIT_MEMORY.values()))
 
 
 def available_memory() -> float:
-    """Bytes of memory available now (Linux's MemAvailable; elsewhere, the default budget).
+    """Bytes of memory available now (Linux's MemAvailable; elsewhere, enough for every unit at once).
     freefloat.app.atlas.grid has its own reading of it: the build cannot import the package."""
     try:
         with open("/proc/meminfo") as meminfo:
@@ -206,7 +221,7 @@ def available_memory() -> float:
                     return float(line.split()[1]) * 1024
     except OSError:
         pass
-    return MEMORY_BUDGET
+    return sum(UNIT_MEMORY.values())
 
 
 def extension(name: str, sources: list[str], flags: list[str], **kwargs) -> Pybind11Extension:
