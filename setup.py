@@ -13,8 +13,8 @@ The robot loop is compiled against the headers of the ``libpinocchio`` wheel (a 
 and linked to its ``libpinocchio_default``, which holds the algorithms already compiled (explicit
 template instantiation). What remains of the compile is parsing and instantiating Pinocchio's model
 classes, Eigen and pybind11, and the compiler keeps all of it in memory until a unit ends: each
-unit holds one concern, so that each peaks under 1 GB but the one that includes Pinocchio (1.9 GB,
-whose headers alone take 0.9-1.1 GB). The units run one per core, started only while their
+unit holds one concern, so that each peaks under 0.9 GiB but the one that includes Pinocchio (1.81
+GiB, whose headers alone take 0.8-0.9 GiB). The units run one per core, started only while their
 measured peaks (:data:`UNIT_MEMORY`) fit in the memory budget (``FREEFLOAT_BUILD_MEMORY``, else
 :data:`MEMORY_SHARE` of the memory available; setup_schedule.py). The robot loop's
 units are compiled at -O1 (:data:`OPTIMIZATION`): its time is in libpinocchio_default, and every
@@ -102,16 +102,16 @@ ORDER = ["cpp/sim_unit.cpp", "cpp/sim/chain_unit.cpp", "cpp/sim_module.cpp", "cp
          "cpp/parallel_inverse.cpp", "cpp/detumbling.cpp", "cpp/models.cpp", "cpp/gjm.cpp"]
 # Optimisation level per translation unit, after FLAGS' -O3 (see the module docstring).
 OPTIMIZATION = {"cpp/sim_unit.cpp": "-O1", "cpp/sim_module.cpp": "-O1"}
-# Peak memory of each unit's compile at its flags (g++ 12, the compiler's maximum resident set,
-# bytes, docs/bench.md "The build"); a unit not listed counts as the largest.
-UNIT_MEMORY = {"cpp/sim_unit.cpp": 1.90e9, "cpp/sim/chain_unit.cpp": 0.78e9, "cpp/sim_module.cpp": 0.91e9,
-               "cpp/core.cpp": 0.75e9, "cpp/chains.cpp": 0.73e9, "cpp/parallel_inverse.cpp": 0.78e9,
-               "cpp/detumbling.cpp": 0.67e9, "cpp/models.cpp": 0.51e9, "cpp/gjm.cpp": 0.48e9}
+# Peak memory of each unit's compile at its flags (bytes: g++ 12's maximum resident set, measured
+# alone, docs/bench.md "The build"); a unit not listed counts as the largest.
+UNIT_MEMORY = {"cpp/sim_unit.cpp": 1.95e9, "cpp/sim_module.cpp": 0.93e9, "cpp/sim/chain_unit.cpp": 0.80e9,
+               "cpp/core.cpp": 0.76e9, "cpp/chains.cpp": 0.75e9, "cpp/parallel_inverse.cpp": 0.70e9,
+               "cpp/detumbling.cpp": 0.68e9, "cpp/models.cpp": 0.52e9, "cpp/gjm.cpp": 0.49e9}
 # The share of the memory available that the units compiling at once may take together, unless
 # FREEFLOAT_BUILD_MEMORY (bytes) sets the budget (at most the memory available). A unit larger
 # than the budget compiles alone. With 2 GB (a machine of 2.5 GB available, or
-# FREEFLOAT_BUILD_MEMORY=2e9) the build peaks at 1.9 GB, the robot loop's unit compiling alone;
-# with more it runs that unit beside the others, 2.6 GB at most, about 10 s sooner on 2 cores.
+# FREEFLOAT_BUILD_MEMORY=2e9) the compilers peak at 1.82 GiB, the robot loop's unit compiling
+# alone; with more, that unit compiles beside the others: 2.54 GiB at most, 9-10 s sooner on 2 cores.
 MEMORY_SHARE = 0.8
 
 
