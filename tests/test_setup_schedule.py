@@ -51,8 +51,17 @@ def test_a_job_larger_than_the_budget_runs_alone():
 
 
 def test_jobs_that_fit_run_at_once():
-    barrier = threading.Barrier(2, timeout=10)  # breaks unless both jobs run at the same time
-    setup_schedule.run_within(["a", "b"], lambda job: barrier.wait(), lambda job: 1.0, workers=2, budget=2.0)
+    barrier = threading.Barrier(2, timeout=5)  # passes only when both jobs wait on it at the same time
+    arrivals = []
+
+    def work(job: str) -> None:
+        try:
+            arrivals.append(barrier.wait())  # 0 and 1: the order the two jobs arrived in
+        except threading.BrokenBarrierError:
+            arrivals.append("alone")
+
+    setup_schedule.run_within(["a", "b"], work, lambda job: 1.0, workers=2, budget=2.0)
+    assert sorted(arrivals, key=str) == [0, 1]
 
 
 def test_jobs_start_in_order_when_one_fits_at_a_time():
