@@ -93,26 +93,20 @@ class Loop final : public Simulation {
     pos_ = Vec::Zero(joints_.n);
   }
 
-  // The plant's numbers (inertias, placements, armature, gravity, frame placements) from `model`,
-  // which must have this loop's structure (same_structure): its Data serve it unchanged.
+  // The plant's numbers (inertias, placements, armature, gravity, frame placements) from `arrays`,
+  // a model of this loop's structure (same_structure): its Data serve it unchanged.
   void set_model(const ModelArrays& arrays) override {
-    Model model = build_model(arrays);
-    if (!same_structure(model_, model))
-      throw std::invalid_argument("set_model: the model's joints or frames differ from the loop's");
-    model_ = std::move(model);  // in place: the integrator refers to model_
+    model_ = model_like_this(arrays, "set_model");  // in place: the integrator refers to model_
     closed_.forget();
     mass_ = pinocchio::computeTotalMass(model_);
   }
 
   // The model the computed-torque and detumbling laws compute H*, c* and the generalized Jacobian
   // on, when it is not the plant's: a controller that keeps the nominal robot while the plant has
-  // other numbers (a batch's varied masses). `model` must have this loop's structure; until the
-  // next configure(). Its Data are made once and kept, as set_model() keeps the plant's.
+  // other numbers (a batch's varied masses), of this loop's structure; until the next
+  // configure(). Its Data are made once and kept, as set_model() keeps the plant's.
   void set_law_model(const ModelArrays& arrays) override {
-    Model model = build_model(arrays);
-    if (!same_structure(model_, model))
-      throw std::invalid_argument("set_law_model: the model's joints or frames differ from the loop's");
-    law_model_ = std::move(model);
+    law_model_ = model_like_this(arrays, "set_law_model");
     if (!law_data_) law_data_.emplace(lean_data(*law_model_));
   }
 
@@ -286,6 +280,15 @@ class Loop final : public Simulation {
   void record_now(Rows& out, int row, const Vec* reference) override { record(out, row, start_ + k_ * period_, reference); }
 
  private:
+  // The model of `arrays`, which must have this loop's joints and frames (`method` names the caller
+  // in the error).
+  Model model_like_this(const ModelArrays& arrays, const char* method) const {
+    Model model = build_model(arrays);
+    if (!same_structure(model_, model))
+      throw std::invalid_argument(std::string(method) + ": the model's joints or frames differ from the loop's");
+    return model;
+  }
+
   void check_joint(int joint, const char* what) const {
     if (joint < 0 || joint >= static_cast<int>(model_.njoints))
       throw std::invalid_argument(std::string(what) + " out of range");

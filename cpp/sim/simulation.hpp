@@ -55,8 +55,9 @@ struct Rows {
       *ee_position, *ee_quaternion, *com, *momentum, *energy, *work;
 };
 
-// One loop closure (closure.Closure): frame 1 = placement1 on joint1, frame 2 = placement2 on
-// joint2; rotation_rows: the stopped rows of the relative angular velocity in frame 1's axes.
+// One loop closure (closure.Closure): frame 1 = placement1 in joint1's frame, frame 2 = placement2
+// in joint2's frame (joints by Pinocchio index, 0 the universe); rotation_rows: the stopped rows
+// of the relative angular velocity in frame 1's axes (0, 1, 2: x, y, z).
 struct ClosureSpec {
   int joint1 = 0, joint2 = 0;
   Pose placement1 = Pose::Identity(), placement2 = Pose::Identity();
@@ -66,7 +67,8 @@ struct ClosureSpec {
 };
 
 // The constrained dynamics at one state (closures.solve): accelerations a (nv,), closure forces
-// lambda (m,), the closures' residual e (m,) and the rank of the Delassus matrix.
+// lambda (m,) and residual e (m,), the closures' rows stacked in order (each the position of frame
+// 2 from frame 1 in frame 1's axes, then its rotation rows), and the rank of the Delassus matrix.
 struct ClosureSolution {
   Vec a, force, e;
   int rank = 0;
@@ -79,8 +81,9 @@ struct LoopDetumblingSettings {
   std::vector<int> rows, joints;
   double kd = 0.0, period = 0.0, baumgarte = 0.0, squeeze = 0.0, limit = 0.0;  // 1/s, s, 1/s, N, N m (0: none)
   ClosureSpec grasp;               // the weld between the second hand (frame 1) and its grasp on the target
-  int target_joint = 0, first_joint = 0;
-  Pose target_placement = Pose::Identity(), first_placement = Pose::Identity();  // target CoM frame, first hand
+  int target_joint = 0, first_joint = 0;  // Pinocchio joint indices
+  // The target's CoM frame in target_joint's frame, the first hand's frame in first_joint's frame.
+  Pose target_placement = Pose::Identity(), first_placement = Pose::Identity();
   double mass = 0.0;               // kg
   Vec3 inertia = Vec3::Zero();     // principal moments, target frame axes, kg m^2
 };
@@ -88,7 +91,9 @@ struct LoopDetumblingSettings {
 // The two-hand law's state, carried from period to period and handed back to Python.
 struct LoopDetumblingState {
   std::optional<Vec> previous;           // qdot_d of the previous period (n,)
-  Vec6 force = Vec6::Zero();             // lambda of the previous period
+  // The closure force lambda of the previous period (LoopDetumblingController._shared_force):
+  // [force (N); torque about the grasp point (N m)] in the second hand's axes.
+  Vec6 force = Vec6::Zero();
   std::vector<double> times, residuals;  // LoopLog.t, LoopLog.rows_residual since last taken
   std::vector<bool> saturated;           // LoopLog.saturated
 };
