@@ -15,7 +15,7 @@ from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 from freefloat.dynamics import gjm
-from freefloat.dynamics.compiled import COMPILED_INTEGRATORS, CompiledLoop, law_of, law_robot
+from freefloat.dynamics.compiled import COMPILED_INTEGRATORS, CompiledLoop, law_and_robot, law_of, law_robot
 from freefloat.dynamics.integrators import make_integrator
 from freefloat.dynamics.models import ExactModel, make_model
 from freefloat.dynamics.simulation import run
@@ -145,8 +145,8 @@ def test_a_controller_on_other_masses_than_the_plant_keeps_its_own_model():
 
 def test_a_law_compiles_on_its_own_model_only_for_the_plants_structure():
     """law_of keeps a computed-torque law whose robot has the plant's joints and frames and other
-    masses (law_robot then names that robot), and gives None for a robot of another structure
-    (its law runs in Python); with the plant's own robot, law_robot is None."""
+    masses (law_robot and law_and_robot then name that robot), and gives None for a robot of
+    another structure (its law runs in Python); with the plant's own robot, law_robot is None."""
     from freefloat.space.control import ComputedTorque, QuinticTrajectory
 
     four, two = robot_named("four_arm_planar.urdf"), robot_named("two_arm_planar.urdf")
@@ -159,6 +159,7 @@ def test_a_law_compiles_on_its_own_model_only_for_the_plants_structure():
     assert isinstance(law_of(controller(four), plant), tuple) and law_robot(controller(four), plant) is four
     assert law_robot(controller(plant), plant) is None
     assert law_of(controller(two), plant) is None
+    assert law_and_robot(controller(four), plant)[1] is four and law_and_robot(controller(two), plant) == (None, None)
 
 
 def test_a_detumbling_controller_on_other_masses_than_the_plant_keeps_its_own_model():

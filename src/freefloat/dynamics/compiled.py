@@ -208,11 +208,18 @@ def law_of(controller: Any, plant: Robot | None = None) -> tuple | DetumblingLaw
     other numbers (that law works on the plant's closures). A controller whose robot has the plant's
     structure and other numbers (a batch's varied masses: the controller keeps the nominal robot)
     keeps its compiled law, which then computes on that robot's model (:func:`law_robot`)."""
+    return law_and_robot(controller, plant)[0]
+
+
+def law_and_robot(controller: Any, plant: Robot | None = None) -> tuple[tuple | DetumblingLaw | LoopDetumblingLaw | None,
+                                                                       Robot | None]:
+    """:func:`law_of` and, when the law computes on a robot of its own, that robot
+    (:func:`law_robot`; None otherwise), the controller's model compared with the plant's once."""
     law = getattr(controller, "compiled_law", lambda: None)() if controller is not None else None
     own = law_robot(controller, plant) if law is not None and plant is not None else None
-    if own is None:
-        return law
-    return None if isinstance(law, LoopDetumblingLaw) or not same_structure(own, plant) else law
+    if own is not None and (isinstance(law, LoopDetumblingLaw) or not same_structure(own, plant)):
+        return None, None
+    return law, own
 
 
 def law_robot(controller: Any, plant: Robot) -> Robot | None:

@@ -180,13 +180,13 @@ def run(
     if backend != "python":
         reason = compiled.unsupported(model, integrator)
         if reason is None:
-            law = compiled.law_of(controller, robot)
+            law, law_robot = compiled.law_and_robot(controller, robot)
             whole_chunks = (controller is None or law is not None) and stop is None
-            law_robot = compiled.law_robot(controller, robot) if whole_chunks and law is not None else None
             loop = compiled.CompiledLoop(robot, integrator, control_period, start_time, record_every,
                                          law if whole_chunks else None,
                                          field_of(robot, wrenches) if whole_chunks else None,
-                                         data=plant_data(robot, model), plant=model, law_robot=law_robot)
+                                         data=plant_data(robot, model), plant=model,
+                                         law_robot=law_robot if whole_chunks else None)
             try:
                 if whole_chunks:
                     return _run_compiled(loop, q0, v0, steps, control_period, start_time, rows, progress)
