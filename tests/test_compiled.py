@@ -486,6 +486,19 @@ def test_interrupted_compiled_run_keeps_whole_rows():
     np.testing.assert_allclose(result.telemetry.t, np.arange(result.steps) * 1e-3, atol=1e-12)
 
 
+def test_a_run_stopped_by_sigterm_names_it():
+    """A run stopped by SIGTERM (KeyboardInterrupt carrying the signal's name, as freefloat's handler
+    raises it) says so instead of "interrupted by the user"."""
+    robot = robot_named("two_arm_planar.urdf")
+
+    def progress(done):
+        raise KeyboardInterrupt("SIGTERM")
+
+    result = run(robot, robot.neutral(), np.full(robot.model.nv, 0.1), 1.0, 1e-3,
+                 make_integrator("rkmk4", robot.model), ExactModel(robot), progress=progress, backend="compiled")
+    assert result.status == "interrupted" and result.message.startswith(f"stopped by SIGTERM at t = {result.steps * 1e-3:.6g} s")
+
+
 def test_an_unsupported_joint_is_named():
     """A joint kind the compiled loop does not rebuild (a 3-dof translation) is refused with its name."""
     robot = robot_named("two_arm_planar.urdf")

@@ -386,8 +386,8 @@ def _run_compiled(loop: compiled.CompiledLoop, q0: np.ndarray, v0: np.ndarray, s
                 raise OverflowError(blow_up)
             if progress is not None and loop.periods_done % report_every == 0:
                 progress(loop.periods_done)
-    except KeyboardInterrupt:
-        status, message = "interrupted", f"interrupted by the user at t = {start_time + loop.periods_done * control_period:.6g} s"
+    except KeyboardInterrupt as stop:
+        status, message = "interrupted", f"{stopped_by(stop)} at t = {start_time + loop.periods_done * control_period:.6g} s"
     except OverflowError as exc:  # blow-up detected in the loop, with the Python loop's message
         status, message = "diverged", str(exc)
     else:
@@ -441,14 +441,20 @@ def _run_periods(engine: PythonPeriods | compiled.CompiledLoop, steps: int, cont
             k = steps
     except (SimulationDiverged, OverflowError) as exc:  # a blow-up (OverflowError: the compiled loop's)
         status, message = "diverged", str(exc)
-    except KeyboardInterrupt:
-        status, message = "interrupted", f"interrupted by the user at t = {start_time + k * control_period:.6g} s"
+    except KeyboardInterrupt as stop:
+        status, message = "interrupted", f"{stopped_by(stop)} at t = {start_time + k * control_period:.6g} s"
     except (RuntimeError, ValueError) as exc:  # Pinocchio rejects non-finite or degenerate states
         status, message = "diverged", f"at t = {start_time + k * control_period:.6g} s: {exc}"
     else:
         record(start_time + k * control_period)
     wall = time.perf_counter() - start
     return RunResult(rows.collect(), status, message, k, wall, engine.evaluations(), engine.backend)
+
+
+def stopped_by(stop: KeyboardInterrupt) -> str:
+    """What stopped a run: Ctrl-C ("interrupted by the user"), or the signal that freefloat's
+    handlers turned into ``KeyboardInterrupt`` (its name as the argument, e.g. "stopped by SIGTERM")."""
+    return f"stopped by {stop.args[0]}" if stop.args else "interrupted by the user"
 
 
 def check_memory(rows: Chunks, steps: int, record_every: int, duration: float, control_period: float) -> None:
