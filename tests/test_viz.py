@@ -15,6 +15,7 @@ import pinocchio as pin
 import pytest
 
 from freefloat.app.viz import frame_indices, write_figures, write_trajectory_html
+from freefloat.app.viz.camera import ASPECT, FIELD_OF_VIEW
 from freefloat.app.viz.figures import (
     APPROACH_TITLE,
     END_COLOR,
@@ -312,6 +313,28 @@ def test_camera_sees_every_joint_at_every_frame(sc3, tmp_path):
         for m in data.oMi[1:]:
             ray = m.translation - position
             assert np.arccos(ray @ axis / np.linalg.norm(ray)) < np.radians(75.0) / 2
+
+
+def test_camera_sees_every_corner_of_an_extra_box(sc3, tmp_path):
+    """A box drawn beside the robot (a capture's target) is framed whole: its corners, not only its
+    centre, are inside the picture (vertical field of view, and the narrowest aspect framed)."""
+    t, q = _run(sc3)
+    size = np.array([3.0, 2.0, 2.5])  # several times the robot
+    poses = np.tile(np.eye(4), (len(t), 1, 1))
+    poses[:, :3, 3] = [4.0, 0.0, 0.0]
+    page = write_trajectory_html(sc3, t, q, tmp_path / "run.html", fps=10.0,
+                                 extra=[("target", mg.Mesh(mg.Box(size.tolist())), poses)])
+    camera = _settings(page)["camera"]
+    position, target = np.array(camera["position"]), np.array(camera["target"])
+    axis = (target - position) / np.linalg.norm(target - position)
+    right = np.cross(axis, [0.0, 0.0, 1.0])
+    right /= np.linalg.norm(right)
+    up = np.cross(right, axis)
+    corners = poses[0, :3, 3] + size / 2 * np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)])
+    rays = corners - position
+    depth = rays @ axis
+    assert np.all(np.abs(rays @ up) <= depth * np.tan(FIELD_OF_VIEW / 2))
+    assert np.all(np.abs(rays @ right) <= depth * ASPECT * np.tan(FIELD_OF_VIEW / 2))
 
 
 def test_markers_follow_robot_com_and_end_effectors(sc3, tmp_path):

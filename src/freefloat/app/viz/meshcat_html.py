@@ -153,7 +153,7 @@ def write_trajectory_html(
         poses[k] = [m.homogeneous for m in data.oMi]
     framing = frame_motion(np.concatenate(
         [poses[:, 1:, :3, 3].reshape(-1, 3), _geometry_points(robot, poses)]
-        + [b[2][:, :3, 3] for b in bodies] + [m.positions for m in markers]
+        + [_body_points(obj, body_poses) for _, obj, body_poses in bodies] + [m.positions for m in markers]
         + [p for b in bars for p in (b.start, b.end)] + [np.asarray(points, float) for _, _, points in lines or []]),
         **({} if view is None else {"direction": view}))
 
@@ -217,12 +217,30 @@ def _geometry_points(robot: Robot, poses: np.ndarray) -> np.ndarray:
     points = []
     for g in robot.visual_model.geometryObjects:
         g.geometry.computeLocalAABB()
-        low, high = g.geometry.aabb_local.min_, g.geometry.aabb_local.max_
-        corners = np.array([[x, y, z, 1.0] for x in (low[0], high[0]) for y in (low[1], high[1])
-                            for z in (low[2], high[2])])
-        in_joint = corners @ g.placement.homogeneous.T
-        points.append(np.einsum("mij,kj->mki", poses[:, g.parentJoint], in_joint)[..., :3].reshape(-1, 3))
+        in_joint = _box_corners(g.geometry.aabb_local.min_, g.geometry.aabb_local.max_) @ g.placement.homogeneous.T
+        points.append(_posed(poses[:, g.parentJoint], in_joint))
     return np.concatenate(points) if points else np.empty((0, 3))
+
+
+def _body_points(obj: mg.Geometry | mg.Object, poses: np.ndarray) -> np.ndarray:
+    """Points an extra body covers at every shown frame, inertial frame, m (K, 3): the corners of a
+    box (a meshcat ``Box``, or a mesh of one), else its origin; ``poses`` (M, 4, 4)."""
+    box = getattr(obj, "geometry", obj)
+    if not isinstance(box, mg.Box):
+        return poses[:, :3, 3]
+    half = np.asarray(box.lengths, dtype=float) / 2
+    return _posed(poses, _box_corners(-half, half))
+
+
+def _box_corners(low: np.ndarray, high: np.ndarray) -> np.ndarray:
+    """The 8 corners of the axis-aligned box from ``low`` to ``high`` (3,), homogeneous (8, 4)."""
+    return np.array([[x, y, z, 1.0] for x in (low[0], high[0]) for y in (low[1], high[1]) for z in (low[2], high[2])])
+
+
+def _posed(poses: np.ndarray, points: np.ndarray) -> np.ndarray:
+    """Homogeneous ``points`` (K, 4) of a body placed at each of ``poses`` (M, 4, 4), inertial frame
+    (M K, 3)."""
+    return np.einsum("mij,kj->mki", poses, points)[..., :3].reshape(-1, 3)
 
 
 def _checked_poses(name: str, poses: np.ndarray, n: int) -> np.ndarray:
