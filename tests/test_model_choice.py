@@ -71,7 +71,8 @@ def test_the_choice_is_written_to_the_summary(tmp_path):
     done = runner.run_scene(auto, tmp_path / "out")
     summary = json.loads((tmp_path / "out" / "summary.json").read_text())
     assert summary["model_choice"]["model"] == "exact" and summary["model_choice"]["lock"] in ("none", "auto")
-    assert summary["model_auto"].startswith("exact") and "tolerance 1e-05" in summary["model_auto"]
+    # which line depends on the pilots' wall time (a cheaper plant may or may not pay): both name the tolerance
+    assert summary["model_auto"].startswith("exact") and "1e-05" in summary["model_auto"]
     assert "model_auto" in done.outcome.headline  # the command line prints it
 
 
