@@ -233,7 +233,8 @@ def _body_points(obj: mg.Geometry | mg.Object, poses: np.ndarray) -> np.ndarray:
 
 
 def _box_corners(low: np.ndarray, high: np.ndarray) -> np.ndarray:
-    """The 8 corners of the axis-aligned box from ``low`` to ``high`` (3,), homogeneous (8, 4)."""
+    """The 8 corners of the box from ``low`` to ``high`` (3,), axis-aligned in the frame those are
+    given in, homogeneous in that frame (8, 4), m."""
     return np.array([[x, y, z, 1.0] for x in (low[0], high[0]) for y in (low[1], high[1]) for z in (low[2], high[2])])
 
 
