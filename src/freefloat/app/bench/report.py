@@ -103,8 +103,10 @@ def _into(built: list[BenchScene], repeats: int, quick: bool, seed: int, out: Ru
 def _measure(out: RunFolder, journal: Journal, built: list[BenchScene], repeats: int, quick: bool, seed: int,
              progress) -> dict:
     """The sweeps of :func:`bench` into the held folder ``out``, each point journaled as measured."""
+    import mujoco  # the bench extra, checked before any work (suites.Suite.needs)
+
     report = {"settings": {"repeats": repeats, "quick": quick, "seed": seed},
-              "versions": {"freefloat": version("freefloat"), "pin": version("pin"), "mujoco": version("mujoco"),
+              "versions": {"freefloat": version("freefloat"), "pin": version("pin"), "mujoco": mujoco.__version__,
                            "python": platform.python_version()},
               "status": "running", "scenes": {}}
     points: dict[str, list[Point]] = {}
