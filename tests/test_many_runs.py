@@ -188,6 +188,22 @@ def test_a_stop_request_ends_the_runs_and_keeps_their_rows():
             np.testing.assert_array_equal(getattr(got.telemetry, name), getattr(alone.telemetry, name)[:-1])
 
 
+def test_runs_stopped_by_sigterm_name_it(monkeypatch):
+    """Runs stopped by SIGTERM (KeyboardInterrupt carrying the signal's name, as freefloat's handler
+    raises it in the waiting thread) say so instead of "interrupted by the user"."""
+    robot = robot_named("four_arm_planar.urdf")
+    q0, v0 = states(robot, 2, 5, speed=0.3)
+    runs = start_runs(robot, q0, v0, 50.0, 1e-3, make_integrator("rkmk4", robot.model), ExactModel(robot), threads=2)
+
+    def sigterm() -> None:
+        raise KeyboardInterrupt("SIGTERM")
+
+    monkeypatch.setattr(stop_request, "check", sigterm)
+    stopped = [r for r in runs.finish() if r is not None]
+    assert stopped and all(r.status == "interrupted" and r.message.startswith("stopped by SIGTERM at t = ")
+                           for r in stopped)
+
+
 def test_an_error_of_the_caller_stops_the_runs_and_propagates():
     """on_result raising stops the other runs and raises; the loops are free for the next call."""
     robot = robot_named("four_arm_planar.urdf")

@@ -33,7 +33,7 @@ from ..robot.urdf_checks import usable_memory
 from . import _sim, compiled, stop_request
 from .integrators import Integrator
 from .models import DynamicsModel
-from .simulation import Controller, RunResult, control_periods, field_of, plant_data
+from .simulation import Controller, RunResult, control_periods, field_of, plant_data, stopped_by
 from .telemetry import Telemetry
 from .wrenches import ExternalWrench
 
@@ -62,11 +62,13 @@ class ManyRuns:
         self._loops, self._batch, self._runs, self._block, self._bodies_set = loops, batch, runs, block, bodies_set
         self._rows_per_run, self._steps, self._period, self._keep = rows_per_run, steps, control_period, keep
         self.interrupted = False
+        self._stopped_by = "interrupted by the user"
 
-    def stop(self) -> None:
+    def stop(self, stopped_by: str = "interrupted by the user") -> None:
         """Stop the runs within :data:`SLICE_PERIODS` periods (no run starts); :meth:`finish` gives
-        those that finished."""
+        those that finished. ``stopped_by`` starts the interrupted runs' messages."""
         self.interrupted = True
+        self._stopped_by = stopped_by
         self._batch.stop()
 
     def finish(self, on_result: OnResult | None = None) -> list[RunResult | None]:
@@ -91,7 +93,7 @@ class ManyRuns:
                 runs.release(slot)
             status = "diverged" if error else "completed" if periods == self._steps else "interrupted"
             message = error or ("" if status == "completed" else
-                                f"interrupted by the user at t = {periods * self._period:.6g} s")
+                                f"{self._stopped_by} at t = {periods * self._period:.6g} s")
             result = RunResult(telemetry, status, message, periods, wall, evaluations, "compiled")
             if self._keep:
                 results[index] = result
@@ -107,8 +109,8 @@ class ManyRuns:
                     if ended:
                         break
                     stop_request.check()  # raises KeyboardInterrupt as Ctrl-C does
-            except KeyboardInterrupt:
-                self.stop()
+            except KeyboardInterrupt as stop:
+                self.stop(stopped_by(stop))
                 _wait_out(runs)
                 for done in runs.take():
                     give(done)
