@@ -42,6 +42,14 @@ def test_csv_and_json_hold_the_same_points(quick_run):
     assert all(float(r["wall_time_s"]) > 0.0 and float(r["state_error"]) >= 0.0 for r in rows)
 
 
+def test_the_report_records_the_mujoco_that_ran(quick_run):
+    """bench.json records the version of the MuJoCo imported, also where only mujoco-core (the
+    bench extra) is installed and the meta package ``mujoco`` is not."""
+    mujoco = pytest.importorskip("mujoco")
+    _, out = quick_run
+    assert json.loads((out / "bench.json").read_text())["versions"]["mujoco"] == mujoco.__version__
+
+
 def test_summary_has_one_line_per_band(quick_run):
     """The summary names, per accuracy band, the cheapest method of each package."""
     _, out = quick_run
