@@ -126,3 +126,29 @@ def test_a_killed_bench_keeps_every_point_measured(tmp_path):
     proc.communicate(timeout=60)
     rows = [json.loads(line) for line in (out / JOURNAL).read_text().splitlines()]
     assert len(rows) >= 2 and all(r["scene"] == "dual_arm" and r["wall_time_s"] > 0 for r in rows)
+
+
+def test_a_signal_while_a_chart_is_drawn_waits_for_the_drawing(tmp_path, monkeypatch):
+    """SIGINT arriving in the middle of a chart's drawing stops the bench after that drawing: the
+    report says interrupted and the chart is whole (a drawing cut half-way failed the final one)."""
+    import os
+
+    from matplotlib.lines import Line2D
+
+    draw = Line2D.draw
+    events = []
+
+    def draw_and_interrupt(self, renderer):
+        if not events:
+            events.append("sent")
+            os.kill(os.getpid(), signal.SIGINT)
+            time.sleep(0.01)  # the handler runs here, inside the drawing
+            events.append("drawing went on")
+        return draw(self, renderer)
+
+    monkeypatch.setattr(Line2D, "draw", draw_and_interrupt)
+    out = tmp_path / "out"
+    main(["bench", "dual_arm", "--quick", "--out", str(out)])
+    report = json.loads((out / "bench.json").read_text())
+    assert events == ["sent", "drawing went on"] and report["status"].startswith("interrupted (SIGINT)")
+    assert (out / "dual_arm.png").stat().st_size > 0

@@ -7,7 +7,7 @@ import signal
 
 import pytest
 
-from freefloat.app.signals import signals_deferred, stop_once
+from freefloat.app.signals import signals_deferred, signals_held, stop_once
 
 
 def test_only_the_first_interrupt_raises():
@@ -34,3 +34,15 @@ def test_deferred_signals_set_the_event():
         os.kill(os.getpid(), signal.SIGINT)
         os.kill(os.getpid(), signal.SIGTERM)
     assert received.is_set()
+
+
+def test_held_signals_raise_when_the_block_ends():
+    """Inside signals_held, SIGTERM then SIGINT let the block finish; leaving it raises
+    KeyboardInterrupt naming the first."""
+    finished = False
+    with pytest.raises(KeyboardInterrupt, match="SIGTERM"):
+        with signals_held():
+            os.kill(os.getpid(), signal.SIGTERM)
+            os.kill(os.getpid(), signal.SIGINT)
+            finished = True
+    assert finished

@@ -98,6 +98,18 @@ def signals_deferred() -> Iterator[threading.Event]:
 
 
 @contextlib.contextmanager
+def signals_held() -> Iterator[None]:
+    """Ctrl-C, SIGTERM and SIGHUP wait until the block ends (a file or a figure being written is
+    finished: matplotlib left half-way through a drawing fails on the next one), then raise
+    ``KeyboardInterrupt`` carrying the first one's name."""
+    arrived: list[int] = []
+    with handling(lambda signum, frame: arrived.append(signum), ALL_SIGNALS):
+        yield
+    if arrived:
+        raise KeyboardInterrupt(signal.Signals(arrived[0]).name)
+
+
+@contextlib.contextmanager
 def handling(handler: Callable[[int, object], None], signums: tuple[int, ...]) -> Iterator[None]:
     """``handler`` for ``signums`` inside the block (main thread only; elsewhere a no-op)."""
     if threading.current_thread() is not threading.main_thread():

@@ -14,7 +14,7 @@ from typing import Callable
 from ...dynamics.threads import single_blas_thread
 from ...errors import UnknownName
 from ..run_folder import Journal, RunFolder
-from ..runner import signals_raise_keyboard_interrupt
+from ..signals import signals_deferred, signals_held, signals_raise_keyboard_interrupt
 from .free_floating import NOTES, free_floating_scene
 from .floating_mechanisms import FLOATING_SCENES, floating_mechanism_scene
 from .two_hand_capture import CAPTURE_SCENES, two_hand_capture_scene
@@ -121,7 +121,8 @@ def _measure(out: RunFolder, journal: Journal, built: list[BenchScene], repeats:
                 for point in sweep(scene, ref, repeats):
                     points[scene.name].append(point)
                     journal.append(json.dumps(point.record(scene.name)))
-                _write(out, report, built, points, scene.name)
+                with signals_held():  # a drawing cut by a signal would fail the final one
+                    _write(out, report, built, points, scene.name)
                 progress(f"{scene.name}: {len(points[scene.name])} points")
         report["status"] = "completed"
     except KeyboardInterrupt as stop:
@@ -129,7 +130,8 @@ def _measure(out: RunFolder, journal: Journal, built: list[BenchScene], repeats:
         done = sum(len(p) for p in points.values())
         report["status"] = f"interrupted ({str(stop) or 'SIGINT'}) after {done} points, in scene {current}"
         charted = current if points[current] else None
-    _write(out, report, built, points, charted)
+    with signals_deferred():  # a second signal does not cut what the first kept
+        _write(out, report, built, points, charted)
     return report
 
 
