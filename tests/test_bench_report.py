@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import csv
 import json
+import os
 import signal
 import time
 
@@ -131,8 +132,6 @@ def test_a_killed_bench_keeps_every_point_measured(tmp_path):
 def test_a_signal_while_a_chart_is_drawn_waits_for_the_drawing(tmp_path, monkeypatch):
     """SIGINT arriving in the middle of a chart's drawing stops the bench after that drawing: the
     report says interrupted and the chart is whole (a drawing cut half-way failed the final one)."""
-    import os
-
     from matplotlib.lines import Line2D
 
     draw = Line2D.draw

@@ -62,13 +62,14 @@ class ManyRuns:
         self._loops, self._batch, self._runs, self._block, self._bodies_set = loops, batch, runs, block, bodies_set
         self._rows_per_run, self._steps, self._period, self._keep = rows_per_run, steps, control_period, keep
         self.interrupted = False
-        self._stopped_by = "interrupted by the user"
+        self._cause = KeyboardInterrupt()  # Ctrl-C, unless stop() is given the signal's
 
-    def stop(self, stopped_by: str = "interrupted by the user") -> None:
+    def stop(self, cause: KeyboardInterrupt | None = None) -> None:
         """Stop the runs within :data:`SLICE_PERIODS` periods (no run starts); :meth:`finish` gives
-        those that finished. ``stopped_by`` starts the interrupted runs' messages."""
+        those that finished. ``cause``, the interrupt carrying a signal's name, names it in the
+        interrupted runs' messages (:func:`~.simulation.stopped_by`)."""
         self.interrupted = True
-        self._stopped_by = stopped_by
+        self._cause = cause or self._cause
         self._batch.stop()
 
     def finish(self, on_result: OnResult | None = None) -> list[RunResult | None]:
@@ -93,7 +94,7 @@ class ManyRuns:
                 runs.release(slot)
             status = "diverged" if error else "completed" if periods == self._steps else "interrupted"
             message = error or ("" if status == "completed" else
-                                f"{self._stopped_by} at t = {periods * self._period:.6g} s")
+                                f"{stopped_by(self._cause)} at t = {periods * self._period:.6g} s")
             result = RunResult(telemetry, status, message, periods, wall, evaluations, "compiled")
             if self._keep:
                 results[index] = result
@@ -110,7 +111,7 @@ class ManyRuns:
                         break
                     stop_request.check()  # raises KeyboardInterrupt as Ctrl-C does
             except KeyboardInterrupt as stop:
-                self.stop(stopped_by(stop))
+                self.stop(stop)
                 _wait_out(runs)
                 for done in runs.take():
                     give(done)
