@@ -3,9 +3,10 @@
 - ``freefloat.dynamics._core``: the GJM layer (bindings cpp/core.cpp, numerics cpp/gjm.cpp and
   cpp/models.cpp) and the closed chains;
 - ``freefloat.dynamics._sim``: the robot loop on Pinocchio's C++ algorithms (cpp/sim_unit.cpp:
-  the loop, the plant with loop closures and the two-hand law; its bindings cpp/sim_module.cpp
-  and the detumbling solver cpp/detumbling.cpp see it through cpp/sim/simulation.hpp, which names
-  no Pinocchio type) and the closed chains;
+  the loop, the plant with loop closures and the two-hand law, which call Pinocchio through
+  cpp/sim/pin_plant.hpp, defined in cpp/pin_plant.cpp, the one unit that includes Pinocchio's
+  headers; its bindings cpp/sim_module.cpp and the detumbling solver cpp/detumbling.cpp see it
+  through cpp/sim/simulation.hpp, which names no Pinocchio type) and the closed chains;
 - the closed chains, linked into both (bindings cpp/chains.cpp, plant and loop
   cpp/sim/chain_unit.cpp, inverse dynamics cpp/parallel_inverse.cpp), include no Pinocchio header.
 
@@ -13,13 +14,13 @@ The robot loop is compiled against the headers of the ``libpinocchio`` wheel (a 
 and linked to its ``libpinocchio_default``, which holds the algorithms already compiled (explicit
 template instantiation). What remains of the compile is parsing and instantiating Pinocchio's model
 classes, Eigen and pybind11, and the compiler keeps all of it in memory until a unit ends: each
-unit holds one concern, so that each peaks under 0.9 GiB but the one that includes Pinocchio (1.81
-GiB, whose headers alone take 0.8-0.9 GiB). The units run one per core, started only while their
+unit holds one concern, so that each peaks under 0.9 GiB but the one that includes Pinocchio (1.3
+GiB, whose headers alone take 0.6 GiB). The units run one per core, started only while their
 measured peaks (:data:`UNIT_MEMORY`) fit in the memory budget (``FREEFLOAT_BUILD_MEMORY``, else
-:data:`MEMORY_SHARE` of the memory available; setup_schedule.py). The robot loop's
-units are compiled at -O1 (:data:`OPTIMIZATION`): its time is in libpinocchio_default, and every
-scene measured ran as fast as at -O3; the numerics stay at -O3 (the closed chains 12-49 % slower
-at -O2). docs/bench.md, "The build", has the measurements.
+:data:`MEMORY_PER_JOB` per compiler process within :data:`MEMORY_SHARE` of the memory available;
+setup_schedule.py). The robot loop's units are compiled at -O1 (:data:`OPTIMIZATION`): its time
+is in libpinocchio_default, and every scene measured ran as fast as at -O3; the numerics stay at
+-O3 (the closed chains 12-49 % slower at -O2). docs/bench.md, "The build", has the measurements.
 
 Objects are kept in ``build/cpp/<configuration>/`` of the source tree (ignored by git), also by an
 editable install, whose own build folders are temporary: reinstalling with another extra, or
@@ -98,20 +99,21 @@ PINOCCHIO_FLAGS = ["-isystem", str(PINOCCHIO / "include"), "-DPINOCCHIO_ENABLE_T
                    "-DBOOST_MPL_LIMIT_LIST_SIZE=30", "-DBOOST_MPL_LIMIT_VECTOR_SIZE=30",
                    "-DBOOST_MPL_CFG_NO_PREPROCESSED_HEADERS", "-DBOOST_FUSION_INVOKE_MAX_ARITY=12"]
 # The heaviest translation units first, so that two cores finish together.
-ORDER = ["cpp/sim_unit.cpp", "cpp/sim/chain_unit.cpp", "cpp/sim_module.cpp", "cpp/core.cpp", "cpp/chains.cpp",
-         "cpp/parallel_inverse.cpp", "cpp/detumbling.cpp", "cpp/models.cpp", "cpp/gjm.cpp"]
+ORDER = ["cpp/pin_plant.cpp", "cpp/sim/chain_unit.cpp", "cpp/sim_unit.cpp", "cpp/sim_module.cpp", "cpp/chains.cpp",
+         "cpp/core.cpp", "cpp/detumbling.cpp", "cpp/parallel_inverse.cpp", "cpp/models.cpp", "cpp/gjm.cpp"]
 # Optimisation level per translation unit, after FLAGS' -O3 (see the module docstring).
-OPTIMIZATION = {"cpp/sim_unit.cpp": "-O1", "cpp/sim_module.cpp": "-O1"}
+OPTIMIZATION = {"cpp/pin_plant.cpp": "-O1", "cpp/sim_unit.cpp": "-O1", "cpp/sim_module.cpp": "-O1"}
 # Peak memory of each unit's compile at its flags (bytes: g++ 12's maximum resident set, measured
 # alone, docs/bench.md "The build"); a unit not listed counts as the largest.
-UNIT_MEMORY = {"cpp/sim_unit.cpp": 1.95e9, "cpp/sim_module.cpp": 0.93e9, "cpp/sim/chain_unit.cpp": 0.80e9,
+UNIT_MEMORY = {"cpp/pin_plant.cpp": 1.38e9, "cpp/sim_module.cpp": 0.93e9, "cpp/sim_unit.cpp": 0.89e9, "cpp/sim/chain_unit.cpp": 0.80e9,
                "cpp/core.cpp": 0.76e9, "cpp/chains.cpp": 0.75e9, "cpp/parallel_inverse.cpp": 0.70e9,
                "cpp/detumbling.cpp": 0.68e9, "cpp/models.cpp": 0.52e9, "cpp/gjm.cpp": 0.49e9}
-# The share of the memory available that the units compiling at once may take together, unless
-# FREEFLOAT_BUILD_MEMORY (bytes) sets the budget (at most the memory available). A unit larger
-# than the budget compiles alone. With 2 GB (a machine of 2.5 GB available, or
-# FREEFLOAT_BUILD_MEMORY=2e9) the compilers peak at 1.82 GiB, the robot loop's unit compiling
-# alone; with more, that unit compiles beside the others: 2.54 GiB at most, 9-10 s sooner on 2 cores.
+# The memory budget of the units compiling at once, unless FREEFLOAT_BUILD_MEMORY (bytes) sets it:
+# MEMORY_PER_JOB per compiler process, within MEMORY_SHARE of the memory available (never more than
+# the memory available). A unit larger than the budget compiles alone. On 2 cores the budget is
+# 2 GB: Pinocchio's unit compiles beside the two smallest, and the build takes as long as with no
+# budget (docs/bench.md, "The build").
+MEMORY_PER_JOB = 1e9
 MEMORY_SHARE = 0.8
 
 
@@ -125,11 +127,12 @@ class BuildExt(pybind11_build_ext):
         self.object_dir = ROOT / "build" / "cpp" / self.configuration()
         jobs = list({source: (ext, source) for ext in self.extensions for source in ext.sources}.values())
         jobs.sort(key=lambda job: ORDER.index(job[1]) if job[1] in ORDER else len(ORDER))
-        workers = int(setting("FREEFLOAT_BUILD_JOBS", "a number of compiler processes, e.g. 2") or self.parallel
-                      or os.cpu_count() or 1)
+        workers = max(1, int(setting("FREEFLOAT_BUILD_JOBS", "a number of compiler processes, e.g. 2")
+                             or self.parallel or os.cpu_count() or 1))
         available = available_memory()
-        budget = min(setting("FREEFLOAT_BUILD_MEMORY", "bytes, e.g. 2e9") or MEMORY_SHARE * available, available)
-        run_within(jobs, lambda job: self.object_of(*job), lambda job: unit_memory(job[1]), max(1, workers), budget)
+        budget = min(setting("FREEFLOAT_BUILD_MEMORY", "bytes, e.g. 2e9")
+                     or min(MEMORY_PER_JOB * workers, MEMORY_SHARE * available), available)
+        run_within(jobs, lambda job: self.object_of(*job), lambda job: unit_memory(job[1]), workers, budget)
         for ext in self.extensions:
             self.build_extension(ext)
 
@@ -241,7 +244,8 @@ setup(
     ext_modules=[
         extension("freefloat.dynamics._core", ["cpp/core.cpp", "cpp/gjm.cpp", "cpp/models.cpp"] + CHAINS,
                   FLAGS + PINOCCHIO_FLAGS, **LINK),
-        extension("freefloat.dynamics._sim", ["cpp/sim_unit.cpp", "cpp/sim_module.cpp", "cpp/detumbling.cpp"] + CHAINS,
+        extension("freefloat.dynamics._sim", ["cpp/pin_plant.cpp", "cpp/sim_unit.cpp", "cpp/sim_module.cpp", "cpp/detumbling.cpp"]
+                  + CHAINS,
                   FLAGS + PINOCCHIO_FLAGS, **LINK),
     ],
     install_requires=DEPENDENCIES + [f"libpinocchio=={version('libpinocchio')}"],

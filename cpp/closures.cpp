@@ -1,11 +1,6 @@
 // The definitions of closures.hpp (the constrained dynamics of a tree with loop closures) and of
-// loop_detumbling_law.hpp (the two-hand detumbling law), compiled in sim_unit.cpp's translation unit.
-#include <pinocchio/algorithm/crba.hpp>
-#include <pinocchio/algorithm/frames.hpp>
-#include <pinocchio/algorithm/kinematics.hpp>
-#include <pinocchio/algorithm/rnea.hpp>
-#include <pinocchio/spatial.hpp>  // log3
-
+// loop_detumbling_law.hpp (the two-hand detumbling law), compiled in sim_unit.cpp's translation
+// unit; their Pinocchio calls are pin_plant.hpp's.
 #include <algorithm>
 #include <stdexcept>
 
@@ -15,44 +10,32 @@
 
 namespace freefloat::sim {
 
-void frame_motion(const Model& m, Data& d, JointIndex joint, const SE3& placement, FrameMotion& out) {
-  out.pose = d.oMi[joint] * placement;
-  const Mat3& R = out.pose.rotation();
-  const pinocchio::Motion velocity = placement.actInv(d.v[joint]), acc = placement.actInv(d.a[joint]);
-  out.velocity = R * velocity.linear();
-  out.angular_velocity = R * velocity.angular();
-  out.acceleration = R * (acc.linear() + velocity.angular().cross(velocity.linear()));
-  out.angular_acceleration = R * acc.angular();
-  out.jacobian.setZero(6, m.nv);
-  pinocchio::getFrameJacobian(m, d, joint, placement, pinocchio::LOCAL_WORLD_ALIGNED, out.jacobian);
-}
-
 static Mat3 skew(const Vec3& x) {
   Mat3 s;
   s << 0.0, -x.z(), x.y(), x.z(), 0.0, -x.x(), -x.y(), x.x(), 0.0;
   return s;
 }
 
-void ClosureRows::evaluate(const std::vector<Closure>& closures, const Model& m, Data& d, bool drift) {
+void ClosureRows::evaluate(const std::vector<ClosureSpec>& closures, const Model& m, Workspace& w, bool drift) {
   int rows = 0;
-  for (const Closure& c : closures) rows += c.size();
+  for (const ClosureSpec& c : closures) rows += c.size();
   e.resize(rows);
-  J.resize(rows, m.nv);
+  J.resize(rows, nv(m));
   gamma.resize(drift ? rows : 0);
   int r = 0;
-  for (const Closure& c : closures) {
-    frame_motion(m, d, c.joint1, c.placement1, one);
-    frame_motion(m, d, c.joint2, c.placement2, two);
-    const Mat3 R1t = one.pose.rotation().transpose();
-    const Vec3 dp = two.pose.translation() - one.pose.translation(), dp_dot = two.velocity - one.velocity;
+  for (const ClosureSpec& c : closures) {
+    frame_motion(m, w, c.joint1, c.placement1, one);
+    frame_motion(m, w, c.joint2, c.placement2, two);
+    const Mat3 R1t = one.rotation.transpose();
+    const Vec3 dp = two.position - one.position, dp_dot = two.velocity - one.velocity;
     const Vec3 e_p = R1t * dp;
     e.segment<3>(r) = e_p;
     J.middleRows(r, 3) = R1t * (two.jacobian.topRows<3>() - one.jacobian.topRows<3>()) +
                          skew(e_p) * R1t * one.jacobian.bottomRows<3>();
     const Eigen::MatrixXd J_r = R1t * (two.jacobian.bottomRows<3>() - one.jacobian.bottomRows<3>());
-    const Mat3 relative = R1t * two.pose.rotation();
+    const Mat3 relative = R1t * two.rotation;
     const int k = static_cast<int>(c.rotation_rows.size());
-    const Vec3 angle = k == 3 ? Vec3(pinocchio::log3(relative)) : Vec3(Vec3::UnitZ().cross(Vec3(relative.col(2))));
+    const Vec3 angle = k == 3 ? log3(relative) : Vec3(Vec3::UnitZ().cross(Vec3(relative.col(2))));
     for (int i = 0; i < k; ++i) {
       e[r + 3 + i] = angle[c.rotation_rows[i]];
       J.row(r + 3 + i) = J_r.row(c.rotation_rows[i]);
@@ -90,33 +73,29 @@ int delassus_solve(const Eigen::MatrixXd& D, const Vec& rhs, Vec& out) {
   return rank;
 }
 
-void ConstrainedDynamics::prepare(const Model& m, Data& d, const Vec& q, const Vec& v,
-                                const std::vector<pinocchio::Force>* fext) {
+void ConstrainedDynamics::prepare(const Model& m, Workspace& w, const Vec& q, const Vec& v, bool with_wrenches) {
   kept = false;
-  zero.setZero(m.nv);
+  zero.setZero(nv(m));
   // CRBA in the WORLD convention also leaves the joint Jacobians (data.J) as
   // computeJointJacobians does, so that only the velocities and accelerations remain to compute.
-  M = pinocchio::crba(m, d, ConstRef(q), pinocchio::Convention::WORLD).selfadjointView<Eigen::Upper>();
-  if (fext == nullptr)
-    h = pinocchio::rnea(m, d, ConstRef(q), ConstRef(v), ConstRef(zero));
-  else
-    h = pinocchio::rnea(m, d, ConstRef(q), ConstRef(v), ConstRef(zero), *fext);
-  pinocchio::forwardKinematics(m, d, ConstRef(q), ConstRef(v), ConstRef(zero));
-  rows.evaluate(closures, m, d, true);
+  mass_matrix(m, w, q, true, M);
+  rnea(m, w, q, v, zero, with_wrenches, h);
+  forward_kinematics(m, w, q, v, zero);
+  rows.evaluate(closures, m, w, true);
   llt.compute(M);
   if (llt.info() != Eigen::Success) throw std::overflow_error("the mass matrix is not positive definite");
   MinvJt = llt.solve(rows.J.transpose());
   D.noalias() = rows.J * MinvJt;
-  if (fext == nullptr) {
+  if (!with_wrenches) {
     state_q = q;
     state_v = v;
     kept = true;
   }
 }
 
-void ConstrainedDynamics::solve(const Model& m, Data& d, const Vec& q, const Vec& v, const Vec& tau,
-           const std::vector<pinocchio::Force>* fext, Vec& a) {
-  if (!(fext == nullptr && kept && q == state_q && v == state_v)) prepare(m, d, q, v, fext);
+void ConstrainedDynamics::solve(const Model& m, Workspace& w, const Vec& q, const Vec& v, const Vec& tau,
+                                bool with_wrenches, Vec& a) {
+  if (with_wrenches || !(kept && q == state_q && v == state_v)) prepare(m, w, q, v, with_wrenches);
   a_free = llt.solve(tau - h);
   rhs = -rows.gamma - 2.0 * baumgarte * (rows.J * v) - baumgarte * baumgarte * rows.e - rows.J * a_free;
   rank = delassus_solve(D, rhs, force);
@@ -124,13 +103,13 @@ void ConstrainedDynamics::solve(const Model& m, Data& d, const Vec& q, const Vec
   if (!a.allFinite()) throw std::overflow_error("constrained dynamics: accelerations are not finite");
 }
 
-void LoopDetumblingLaw::torque(const Model& m, Data& d, ConstrainedDynamics& plant, const Vec& q, const Vec& v, int nb, double t,
-            Vec& tau) {
-  const int n = m.nv - nb, mc = closure_[0].size();
-  plant.prepare(m, d, q, v);
+void LoopDetumblingLaw::torque(const Model& m, Workspace& w, ConstrainedDynamics& plant, const Vec& q, const Vec& v, int nb,
+                               double t, Vec& tau) {
+  const int n = nv(m) - nb, mc = closure_[0].size();
+  plant.prepare(m, w, q, v);
   const Eigen::MatrixXd& M = plant.M;
   const Vec& h = plant.h;  // RNEA(q, v, 0): the nonlinear effects
-  rows_.evaluate(closure_, m, d, true);
+  rows_.evaluate(closure_, m, w, true);
   const Eigen::MatrixXd& Jc = rows_.J;
   Eigen::MatrixXd rhs(nb, n + 2 + mc);
   rhs.leftCols(n) = M.topRightCorner(nb, n);
@@ -148,13 +127,14 @@ void LoopDetumblingLaw::torque(const Model& m, Data& d, ConstrainedDynamics& pla
   projector_.compute(Jc_star_, 1e-10);
   H_ = M.bottomRightCorner(n, n) - M.topRightCorner(nb, n).transpose() * to_base;
   c_ = h.tail(n) - M.topRightCorner(nb, n).transpose() * bias;
-  frame_motion(m, d, target_joint, target_frame_, target_);
-  const SE3 hand = d.oMi[closure_[0].joint1] * closure_[0].placement1;
-  hand_rotation_ = hand.rotation();
-  grasp_ = (d.oMi[closure_[0].joint2] * closure_[0].placement2).translation();
-  const Vec3 other = (d.oMi[first_joint] * first_hand_).translation();
+  frame_motion(m, w, target_joint, target_placement, target_);
+  Mat3 rotation;
+  Vec3 other;
+  frame_pose(w, closure_[0].joint1, closure_[0].placement1, hand_rotation_, other);
+  frame_pose(w, closure_[0].joint2, closure_[0].placement2, rotation, grasp_);
+  frame_pose(w, first_joint, first_placement, rotation, other);
   squeeze_axis_ = (other - grasp_) / std::max((other - grasp_).norm(), 1e-12);
-  const Mat3& R = target_.pose.rotation();
+  const Mat3& R = target_.rotation;
   inertia_world_ = R * inertia_body_ * R.transpose();
   const Vec target = -rows_.gamma - 2.0 * baumgarte * (Jc * v) - baumgarte * baumgarte * rows_.e;
   tau = torques(qddot_d, target, Jc.leftCols(nb), to_base, reaction, bias);
@@ -208,7 +188,7 @@ Vec6 LoopDetumblingLaw::shared_force(const Vec& a) const {
   const Vec3 angular = inertia_world_ * (target_.jacobian.bottomRows<3>() * a + target_.angular_acceleration) +
                        w.cross(inertia_world_ * w);
   const Vec3 f = 0.5 * linear + squeeze * squeeze_axis_;
-  const Vec3 n_grasp = 0.5 * angular - (grasp_ - target_.pose.translation()).cross(f);
+  const Vec3 n_grasp = 0.5 * angular - (grasp_ - target_.position).cross(f);
   Vec6 out;
   out << hand_rotation_.transpose() * f, hand_rotation_.transpose() * n_grasp;
   return out;

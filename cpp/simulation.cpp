@@ -25,6 +25,4 @@ std::unique_ptr<Simulation> make_simulation(const ModelArrays& model, JointMap j
   return loop;
 }
 
-const char* pinocchio_version() { return PINOCCHIO_VERSION; }
-
 }  // namespace freefloat::sim

@@ -3,54 +3,31 @@
 // constrained dynamics through the Delassus matrix (constrained.py: solve, delassus_solve),
 //   M a + h = tau + J^T lambda,   J a = -gamma - 2 beta J v - beta^2 e,
 //   lambda = D^+ (rhs - J M^-1 (tau - h)),  D = J M^-1 J^T,
-// on Pinocchio's CRBA, RNEA (with the external wrenches) and joint Jacobians, solved with Eigen:
-// no constraint-dynamics header (they are heavy to compile), the same numbers as the reference.
-// Declarations: the definitions are in cpp/closures.cpp, a translation unit of its own that
-// compiles beside cpp/sim_module.cpp (the Eigen kernels they need doubled that unit's time).
+// on Pinocchio's CRBA, RNEA (with the external wrenches) and joint Jacobians (pin_plant.hpp),
+// solved with Eigen: no constraint-dynamics header (they are heavy to compile), the same numbers
+// as the reference. Declarations: the definitions are in cpp/closures.cpp.
 #pragma once
 
 #include <Eigen/Cholesky>
 
 #include <vector>
 
-#include "pin_model.hpp"
+#include "pin_plant.hpp"
+#include "simulation.hpp"  // ClosureSpec
 
 namespace freefloat::sim {
-
-using Matrix6x = Data::Matrix6x;
 
 // closures.constrained.REDUNDANT: relative eigenvalue below which a Delassus direction carries no force.
 constexpr double kRedundant = 1e-12;
 
-// One closure (closure.Closure): frame 1 = placement1 on joint1, frame 2 = placement2 on joint2;
-// rotation_rows: the stopped rows of the relative angular velocity in frame 1's axes (ClosureKind).
-struct Closure {
-  JointIndex joint1 = 0, joint2 = 0;
-  SE3 placement1 = SE3::Identity(), placement2 = SE3::Identity();
-  std::vector<int> rotation_rows;
-
-  int size() const { return 3 + static_cast<int>(rotation_rows.size()); }
-};
-
-// closure.FrameMotion: world axes, accelerations at zero joint acceleration, jacobian [linear; angular].
-struct FrameMotion {
-  SE3 pose;
-  Vec3 velocity, angular_velocity, acceleration, angular_acceleration;
-  Matrix6x jacobian;
-};
-
-// closure.frame_motion; `d` must hold what closure.kinematics leaves: placements, velocities,
-// accelerations at zero joint acceleration and the joint Jacobians (ConstrainedDynamics::prepare).
-void frame_motion(const Model& m, Data& d, JointIndex joint, const SE3& placement, FrameMotion& out);
-
 // The closures' rows stacked (closure.stacked): residual e (m,), Jacobian J (m, nv) and, when
-// `drift`, gamma (m,), at the state kinematics() left in `d`.
+// `drift`, gamma (m,), at the state ConstrainedDynamics::prepare() left in `w`.
 struct ClosureRows {
   Vec e, gamma;
   Eigen::MatrixXd J;
   FrameMotion one, two;  // scratch
 
-  void evaluate(const std::vector<Closure>& closures, const Model& m, Data& d, bool drift);
+  void evaluate(const std::vector<ClosureSpec>& closures, const Model& m, Workspace& w, bool drift);
 };
 
 // constrained.delassus_solve: D^+ rhs for a symmetric positive semi-definite D, and its rank.
@@ -65,7 +42,7 @@ int delassus_solve(const Eigen::MatrixXd& D, const Vec& rhs, Vec& out);
 // computed at without external wrenches: a law that prepare()s the state at the start of a period
 // saves the integrator's first evaluation there that work (the same numbers: same q, v, model).
 struct ConstrainedDynamics {
-  std::vector<Closure> closures;
+  std::vector<ClosureSpec> closures;  // checked by the loop (Loop::closure_of)
   double baumgarte = 0.0;  // beta, 1/s
   // Results of the last solve: closure forces lambda (m,), rank of D.
   Vec force;
@@ -82,17 +59,16 @@ struct ConstrainedDynamics {
   // Forget the kept state (the model's numbers or the closures changed).
   void forget() { kept = false; }
 
-  // M (symmetric), h = RNEA(q, v, 0, fext), the closures' rows, the Cholesky factor of M, M^-1 J^T
-  // and D at (q, v), `d` left with what frame_motion reads; kept for solve() when `fext` is null.
-  // Throws std::overflow_error when M is not positive definite.
-  void prepare(const Model& m, Data& d, const Vec& q, const Vec& v,
-               const std::vector<pinocchio::Force>* fext = nullptr);
+  // M (symmetric), h = RNEA(q, v, 0) (with the wrenches set_wrenches() left in `w` when
+  // `with_wrenches`), the closures' rows, the Cholesky factor of M, M^-1 J^T and D at (q, v), `w`
+  // left with what frame_motion reads; kept for solve() without wrenches. Throws
+  // std::overflow_error when M is not positive definite.
+  void prepare(const Model& m, Workspace& w, const Vec& q, const Vec& v, bool with_wrenches = false);
 
-  // The accelerations `a` at (q, v) under generalized forces tau (nv,) and the external wrenches
-  // `fext` (one per joint, joint frames; null: none). Throws std::overflow_error with the
-  // reference's message when M is not positive definite or `a` is not finite.
-  void solve(const Model& m, Data& d, const Vec& q, const Vec& v, const Vec& tau,
-             const std::vector<pinocchio::Force>* fext, Vec& a);
+  // The accelerations `a` at (q, v) under generalized forces tau (nv,), with the wrenches of `w`
+  // when `with_wrenches`. Throws std::overflow_error with the reference's message when M is not
+  // positive definite or `a` is not finite.
+  void solve(const Model& m, Workspace& w, const Vec& q, const Vec& v, const Vec& tau, bool with_wrenches, Vec& a);
 };
 
 }  // namespace freefloat::sim

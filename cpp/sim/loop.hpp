@@ -5,16 +5,10 @@
 // detumbling_law.hpp, or the two-hand law of loop_detumbling_law.hpp), and the telemetry row of
 // simulation.Recorder. With loop closures (closures.hpp) the plant is the constrained dynamics of
 // closures.ClosedModel instead of ABA.
+// Pinocchio is called through pin_plant.hpp, whose definitions compile in a unit of their own.
 #pragma once
 
-#include <pinocchio/algorithm/aba.hpp>
-#include <pinocchio/algorithm/center-of-mass.hpp>
-#include <pinocchio/algorithm/centroidal.hpp>
-#include <pinocchio/algorithm/crba.hpp>
-#include <pinocchio/algorithm/energy.hpp>
-#include <pinocchio/algorithm/frames.hpp>
-#include <pinocchio/algorithm/kinematics.hpp>
-#include <pinocchio/algorithm/rnea.hpp>
+#include <Eigen/Geometry>  // the telemetry's quaternions
 
 #include <cstdio>
 #include <memory>
@@ -25,41 +19,31 @@
 #include "lie_rk.hpp"
 #include "loop_detumbling_law.hpp"
 #include "periods.hpp"
-#include "pin_generalized_jacobian.hpp"
+#include "pin_plant.hpp"
 #include "simulation.hpp"
 #include "wrench_field.hpp"
 
 namespace freefloat::sim {
 
 // The loop of simulation.hpp's interface on a Pinocchio model (compiled in cpp/sim_unit.cpp only).
+// The integrator refers to *model_, whose address never changes (set_model() replaces its numbers).
 class Loop final : public Simulation {
  public:
   static constexpr double kMaxSpeed = 1e6, kMaxPosition = 1e12;  // simulation.MAX_SPEED, MAX_POSITION
 
-  Loop(Model model, JointMap joints, int n_base, const std::string& integrator, int substeps, double rtol,
+  Loop(ModelPtr model, JointMap joints, int n_base, const std::string& integrator, int substeps, double rtol,
        double atol, double control_period, double start_time, int record_every)
-      : model_(std::move(model)), data_(lean_data(model_)), record_data_(data_), joints_(std::move(joints)),
-        nb_(n_base) {
-    qn_.resize(model_.nq);
-    vn_.resize(model_.nv);
-    mass_ = pinocchio::computeTotalMass(model_);
+      : model_(std::move(model)), data_(make_workspace(*model_)), record_data_(copy_workspace(*data_)),
+        joints_(std::move(joints)), nb_(n_base) {
+    qn_.resize(this->nq());
+    vn_.resize(this->nv());
+    refresh_numbers();
     configure(integrator, substeps, rtol, atol, control_period, start_time, record_every);
     dynamics_ = [this](const Vec& q, const Vec& v, Vec& a) {
-      if (wrenches_.empty()) {
-        if (!closed_.empty()) return closed_.solve(model_, data_, q, v, tau_full_, nullptr, a);
-        a = pinocchio::aba(model_, data_, ConstRef(q), ConstRef(v), ConstRef(tau_full_), convention_);
-        return;
-      }
-      pinocchio::forwardKinematics(model_, data_, q);
-      for (auto& f : fext_) f.setZero();
-      for (const Wrench& w : wrenches_) {  // WrenchField.forces: inertial [f; n] at the link CoM
-        const Mat3& R = data_.oMi[w.joint].rotation();
-        const Vec3 f = R.transpose() * w.force;
-        fext_[w.joint] += pinocchio::Force(f, R.transpose() * w.torque + w.com.cross(f));
-      }
-      if (!closed_.empty()) return closed_.solve(model_, data_, q, v, tau_full_, &fext_, a);
-      a = pinocchio::aba(model_, data_, ConstRef(q), ConstRef(v), ConstRef(tau_full_), fext_,
-                          convention_);
+      const bool with_wrenches = !wrenches_.empty();
+      if (with_wrenches) freefloat::sim::set_wrenches(*model_, *data_, q, wrenches_);
+      if (!closed_.empty()) return closed_.solve(*model_, *data_, q, v, tau_full_, with_wrenches, a);
+      aba(*model_, *data_, q, v, tau_full_, with_wrenches, world(), a);
     };
   }
 
@@ -69,8 +53,8 @@ class Loop final : public Simulation {
   // reused after a finished, failed or interrupted run starts as a new one does.
   void configure(const std::string& integrator, int substeps, double rtol, double atol, double control_period,
                  double start_time, int record_every) override {
-    { const LieIntegrator check(model_, integrator, substeps, rtol, atol); }  // throws first, nothing changed
-    integrator_.emplace(model_, integrator, substeps, rtol, atol);
+    { const LieIntegrator check(*model_, integrator, substeps, rtol, atol); }  // throws first, nothing changed
+    integrator_.emplace(*model_, integrator, substeps, rtol, atol);
     period_ = control_period;
     start_ = start_time;
     record_every_ = record_every;
@@ -83,12 +67,11 @@ class Loop final : public Simulation {
     controlled_ = false;
     wrenches_.clear();
     profiles_.clear();
-    fext_.assign(model_.njoints, pinocchio::Force::Zero());
     kp_ = kd_ = work_ = 0.0;
     k_ = 0;
-    q_ = pinocchio::neutral(model_);
-    v_ = Vec::Zero(model_.nv);
-    tau_full_ = Vec::Zero(model_.nv);
+    q_ = neutral(*model_);
+    v_ = Vec::Zero(this->nv());
+    tau_full_ = Vec::Zero(this->nv());
     tau_ = Vec::Zero(joints_.n);
     pos_ = Vec::Zero(joints_.n);
   }
@@ -96,9 +79,9 @@ class Loop final : public Simulation {
   // The plant's numbers (inertias, placements, armature, gravity, frame placements) from `arrays`,
   // a model of this loop's structure (same_structure): its Data serve it unchanged.
   void set_model(const ModelArrays& arrays) override {
-    model_ = model_like_this(arrays, "set_model");  // in place: the integrator refers to model_
+    replace(*model_, model_like_this(arrays, "set_model"));
     closed_.forget();
-    mass_ = pinocchio::computeTotalMass(model_);
+    refresh_numbers();
   }
 
   // The model the computed-torque and detumbling laws compute H*, c* and the generalized Jacobian
@@ -107,17 +90,13 @@ class Loop final : public Simulation {
   // configure(). Its Data are made once and kept, as set_model() keeps the plant's.
   void set_law_model(const ModelArrays& arrays) override {
     law_model_ = model_like_this(arrays, "set_law_model");
-    if (!law_data_) law_data_.emplace(lean_data(*law_model_));
+    if (!law_data_) law_data_ = make_workspace(*law_model_);
   }
 
   // Pinocchio's convention for ABA and CRBA (the same numbers to round-off; WORLD or LOCAL is
   // the faster one depending on the tree, see compiled.CONVENTION_NV). Kept across configure().
-  void set_convention(Convention convention) override {
-    convention_ = convention == Convention::world ? pinocchio::Convention::WORLD : pinocchio::Convention::LOCAL;
-  }
-  Convention convention() const override {
-    return convention_ == pinocchio::Convention::WORLD ? Convention::world : Convention::local;
-  }
+  void set_convention(Convention convention) override { convention_ = convention; }
+  Convention convention() const override { return convention_; }
 
   void set_frames(int base_frame, std::vector<int> ee_frames) {
     base_frame_ = base_frame;
@@ -139,8 +118,8 @@ class Loop final : public Simulation {
 
   // The plant's loop closures and Baumgarte rate (none: ABA, the exact tree).
   void set_closures(const std::vector<ClosureSpec>& closures, double baumgarte) override {
-    std::vector<Closure> checked;  // all or nothing: a bad closure leaves the plant as it was
-    for (const ClosureSpec& c : closures) checked.push_back(closure_of(c));
+    std::vector<ClosureSpec> checked;  // all or nothing: a bad closure leaves the plant as it was
+    for (const ClosureSpec& c : closures) checked.push_back(check_closure(c));
     closed_.closures = std::move(checked);
     closed_.baumgarte = baumgarte;
     closed_.forget();
@@ -148,7 +127,7 @@ class Loop final : public Simulation {
 
   ClosureSolution closure_solve(const Vec& q, const Vec& v, const Vec& tau) override {
     ClosureSolution out;
-    closed_.solve(model_, data_, q, v, tau, nullptr, out.a);
+    closed_.solve(*model_, *data_, q, v, tau, false, out.a);
     out.force = closed_.force;
     out.e = closed_.rows.e;
     out.rank = closed_.rank;
@@ -158,8 +137,9 @@ class Loop final : public Simulation {
   void set_loop_detumbling(const LoopDetumblingSettings& settings, LoopDetumblingState state) override {
     check_joint(settings.target_joint, "frame joint");
     check_joint(settings.first_joint, "frame joint");
+    check_closure(settings.grasp);
     controlled_ = true;
-    loop_law_.emplace(settings, closure_of(settings.grasp), std::move(state));
+    loop_law_.emplace(settings, std::move(state));
   }
   bool has_loop_detumbling() const override { return loop_law_.has_value(); }
 
@@ -215,19 +195,12 @@ class Loop final : public Simulation {
 
   // The plant's bodies for the next run (batch.hpp): per joint 1..njoints-1, mass (kg), CoM in the
   // joint frame (3, m) and rotational inertia about the CoM in joint-frame axes (3, 3 row-major,
-  // kg m^2), 13 numbers each, set with build_model's very operations (the body appended to a zero inertia, then each
-  // frame's inertia, zero, appended as addFrame does: a model equal to the rebuilt one bit for
+  // kg m^2), 13 numbers each (pin_plant.hpp's set_bodies: a model equal to the rebuilt one bit for
   // bit); placements, armature and gravity stay.
   void set_bodies(const double* bodies) override {
-    for (JointIndex j = 1; j < static_cast<JointIndex>(model_.njoints); ++j, bodies += 13) {
-      const Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> I(bodies + 4);
-      model_.inertias[j] = Inertia::Zero();
-      model_.inertias[j] += Inertia(bodies[0], Eigen::Map<const Vec3>(bodies + 1), Mat3(I)).se3Action(SE3::Identity());
-    }
-    for (const pinocchio::Frame& frame : model_.frames)
-      if (frame.parentJoint > 0) model_.inertias[frame.parentJoint] += frame.placement.act(frame.inertia);
+    freefloat::sim::set_bodies(*model_, bodies);
     closed_.forget();
-    mass_ = pinocchio::computeTotalMass(model_);
+    refresh_numbers();
   }
 
   // The computed-torque reference's start and displacement (n,) for the next run; the duration
@@ -245,20 +218,22 @@ class Loop final : public Simulation {
   double time() const override { return start_ + k_ * period_; }
   double work() const override { return work_; }
   long evaluations() const override { return integrator_->evaluations(); }
-  int nq() const override { return model_.nq; }
-  int nv() const override { return model_.nv; }
-  int njoints() const override { return model_.njoints; }
+  int nq() const override { return freefloat::sim::nq(*model_); }
+  int nv() const override { return freefloat::sim::nv(*model_); }
+  int njoints() const override { return freefloat::sim::njoints(*model_); }
   int n_joints() const override { return joints_.n; }
 
   // The plant's ABA at (q, v, tau) (nv,), outside of any run.
   Vec acceleration(const Vec& q, const Vec& v, const Vec& tau) override {
-    return pinocchio::aba(model_, data_, ConstRef(q), ConstRef(v), ConstRef(tau), convention_);
+    Vec a;
+    aba(*model_, *data_, q, v, tau, false, world(), a);
+    return a;
   }
 
   // The generalized Jacobian quantities at (q, v), outside of any run.
   GeneralizedJacobian generalized_jacobian_at(const Vec& q, const Vec& v) override {
     GeneralizedJacobian g;
-    generalized_jacobian(model_, data_, q, v, base_frame_, ee_frames_, joints_.n, g);
+    generalized_jacobian(*model_, *data_, q, v, base_frame_, ee_frames_, joints_.n, g);
     return g;
   }
 
@@ -282,27 +257,34 @@ class Loop final : public Simulation {
  private:
   // The model of `arrays`, which must have this loop's joints and frames (`method` names the caller
   // in the error).
-  Model model_like_this(const ModelArrays& arrays, const char* method) const {
-    Model model = build_model(arrays);
-    if (!same_structure(model_, model))
+  ModelPtr model_like_this(const ModelArrays& arrays, const char* method) const {
+    ModelPtr model = build_model(arrays);
+    if (!same_structure(*model_, *model))
       throw std::invalid_argument(std::string(method) + ": the model's joints or frames differ from the loop's");
     return model;
   }
 
   void check_joint(int joint, const char* what) const {
-    if (joint < 0 || joint >= static_cast<int>(model_.njoints))
+    if (joint < 0 || joint >= this->njoints())
       throw std::invalid_argument(std::string(what) + " out of range");
   }
 
-  // The closure of `spec` on this loop's joints.
-  Closure closure_of(const ClosureSpec& spec) const {
+  // `spec`, a closure on this loop's joints (std::invalid_argument otherwise).
+  const ClosureSpec& check_closure(const ClosureSpec& spec) const {
     check_joint(spec.joint1, "closure joint");
     check_joint(spec.joint2, "closure joint");
     for (int r : spec.rotation_rows)
       if (r < 0 || r > 2) throw std::invalid_argument("closure rotation rows must be 0, 1 or 2");
-    return Closure{static_cast<JointIndex>(spec.joint1), static_cast<JointIndex>(spec.joint2), se3_of(spec.placement1),
-                   se3_of(spec.placement2), spec.rotation_rows};
+    return spec;
   }
+
+  // The total mass and gravity of the plant's model, after it changed.
+  void refresh_numbers() {
+    mass_ = total_mass(*model_);
+    gravity_ = gravity(*model_);
+  }
+
+  bool world() const { return convention_ == Convention::world; }
 
   // The law's torques at time t for the current state; throws std::overflow_error with the
   // Python loop's message when the detumbling solve fails.
@@ -339,27 +321,26 @@ class Loop final : public Simulation {
   }
 
   void loop_law_torque(double t, const Vec& q, const Vec& v, Vec& tau) {
-    generalized_jacobian(model_, data_, q, v, base_frame_, ee_frames_, joints_.n, loop_law_->at_state);
-    loop_law_->torque(model_, data_, closed_, q, v, nb_, t, tau);
+    generalized_jacobian(*model_, *data_, q, v, base_frame_, ee_frames_, joints_.n, loop_law_->at_state);
+    loop_law_->torque(*model_, *data_, closed_, q, v, nb_, t, tau);
   }
 
   // The laws' model and its Data: set_law_model()'s, else the plant's.
-  const Model& law_model() const { return law_model_ ? *law_model_ : model_; }
-  Data& law_data() { return law_model_ ? *law_data_ : data_; }
+  const Model& law_model() const { return law_model_ ? *law_model_ : *model_; }
+  Workspace& law_data() { return law_model_ ? *law_data_ : *data_; }
 
   // H_ = H* and c_ = c* of tau = H* qddot + c* (the base eliminated through its rows) at the state,
   // on the laws' model.
   void joint_space() {
-    const Eigen::MatrixXd& M = pinocchio::crba(law_model(), law_data(), ConstRef(q_), convention_);
-    M_ = M.selfadjointView<Eigen::Upper>();
-    const Vec& b = pinocchio::nonLinearEffects(law_model(), law_data(), q_, v_);
+    mass_matrix(law_model(), law_data(), q_, world(), M_);
+    nonlinear_effects(law_model(), law_data(), q_, v_, b_);
     const int n = joints_.n;
     Eigen::MatrixXd rhs(nb_, n + 1);
     rhs.leftCols(n) = M_.topRightCorner(nb_, n);
-    rhs.col(n) = b.head(nb_);
+    rhs.col(n) = b_.head(nb_);
     const Eigen::MatrixXd coupling = M_.topLeftCorner(nb_, nb_).partialPivLu().solve(rhs);
     H_ = M_.bottomRightCorner(n, n) - M_.bottomLeftCorner(n, nb_) * coupling.leftCols(n);
-    c_ = b.tail(n) - M_.bottomLeftCorner(n, nb_) * coupling.col(n);
+    c_ = b_.tail(n) - M_.bottomLeftCorner(n, nb_) * coupling.col(n);
   }
 
   void step(double t) {
@@ -374,7 +355,7 @@ class Loop final : public Simulation {
     if (!(qmax < kMaxPosition))
       fail("configuration left the finite range at t = %.6g s (step %ld): max |q| = %.3g (limit %g)", t_end, qmax,
            kMaxPosition);
-    if (controlled_) work_ += tau_.dot(pinocchio::difference(model_, q_, qn_).tail(joints_.n));
+    if (controlled_) work_ += tau_.dot(difference(*model_, q_, qn_).tail(joints_.n));
     q_.swap(qn_);
     v_.swap(vn_);
     ++k_;
@@ -388,13 +369,10 @@ class Loop final : public Simulation {
 
   // Row `row` at time t; the joint reference from `reference` if given, else from the compiled law.
   void record(Rows& out, int row, double t, const Vec* reference) {
-    const int nq = model_.nq, nv = model_.nv, n = joints_.n, ne = static_cast<int>(ee_frames_.size());
-    Data& d = record_data_;
-    const pinocchio::Force& hg = pinocchio::computeCentroidalMomentum(model_, d, q_, v_);
-    const Vec3 com = d.com[0];
-    Eigen::Map<Vec6> momentum(out.momentum + 6 * row);
-    momentum.head<3>() = hg.linear();
-    momentum.tail<3>() = hg.angular() + com.cross(hg.linear());
+    const int nq = this->nq(), nv = this->nv(), n = joints_.n, ne = static_cast<int>(ee_frames_.size());
+    Snapshot& s = snapshot_;
+    snapshot(*model_, *record_data_, q_, v_, base_frame_, ee_frames_, s);
+    Eigen::Map<Vec6>(out.momentum + 6 * row) = s.momentum;
     out.t[row] = t;
     Eigen::Map<Vec>(out.q + nq * row, nq) = q_;
     Eigen::Map<Vec>(out.v + nv * row, nv) = v_;
@@ -410,28 +388,25 @@ class Loop final : public Simulation {
     } else if (detumbling_ && !detumbling_->detumbling(t)) {  // DetumblingController.reference
       Eigen::Map<Vec>(out.joint_reference + n * row, n) = *detumbling_->hold;
     }
-    Eigen::Map<Vec3>(out.com + 3 * row) = com;
-    out.energy[row] = pinocchio::computeKineticEnergy(model_, d) - mass_ * model_.gravity.linear().dot(com);
+    Eigen::Map<Vec3>(out.com + 3 * row) = s.com;
+    out.energy[row] = s.kinetic_energy - mass_ * gravity_.dot(s.com);
     out.work[row] = work_;
-    const SE3& base = pinocchio::updateFramePlacement(model_, d, base_frame_);
-    Eigen::Map<Vec3>(out.base_position + 3 * row) = base.translation();
-    Eigen::Map<Eigen::Vector4d>(out.base_quaternion + 4 * row) = Eigen::Quaterniond(base.rotation()).coeffs();
-    Eigen::Map<Vec6>(out.base_twist + 6 * row) =
-        pinocchio::getFrameVelocity(model_, d, base_frame_, pinocchio::LOCAL_WORLD_ALIGNED).toVector();
+    Eigen::Map<Vec3>(out.base_position + 3 * row) = s.base_position;
+    Eigen::Map<Eigen::Vector4d>(out.base_quaternion + 4 * row) = Eigen::Quaterniond(s.base_rotation).coeffs();
+    Eigen::Map<Vec6>(out.base_twist + 6 * row) = s.base_twist;
     for (int e = 0; e < ne; ++e) {
-      const SE3& frame = pinocchio::updateFramePlacement(model_, d, ee_frames_[e]);
-      Eigen::Map<Vec3>(out.ee_position + 3 * (row * ne + e)) = frame.translation();
-      Eigen::Map<Eigen::Vector4d>(out.ee_quaternion + 4 * (row * ne + e)) = Eigen::Quaterniond(frame.rotation()).coeffs();
+      Eigen::Map<Vec3>(out.ee_position + 3 * (row * ne + e)) = s.ee_position[e];
+      Eigen::Map<Eigen::Vector4d>(out.ee_quaternion + 4 * (row * ne + e)) = Eigen::Quaterniond(s.ee_rotation[e]).coeffs();
     }
   }
 
-  Model model_;
-  Data data_, record_data_;
-  std::optional<Model> law_model_;  // set_law_model()'s, until configure()
-  std::optional<Data> law_data_;    // its Data, kept across runs (the loop's structure never changes)
+  ModelPtr model_;
+  WorkspacePtr data_, record_data_;
+  ModelPtr law_model_;     // set_law_model()'s, until configure()
+  WorkspacePtr law_data_;  // its Data, kept across runs (the loop's structure never changes)
   JointMap joints_;
   int nb_;
-  pinocchio::Convention convention_ = pinocchio::Convention::LOCAL;
+  Convention convention_ = Convention::local;
   std::optional<LieIntegrator> integrator_;  // set by configure()
   double period_ = 0.0, start_ = 0.0;
   int record_every_ = 1;
@@ -443,14 +418,15 @@ class Loop final : public Simulation {
   bool controlled_ = false;  // torques are held (a law or hold()): the work is accumulated
   std::vector<Wrench> wrenches_;
   std::vector<WrenchProfile> profiles_;
-  std::vector<pinocchio::Force> fext_;
   double kp_ = 0.0, kd_ = 0.0, mass_ = 0.0, work_ = 0.0;
+  Vec3 gravity_ = Vec3::Zero();  // m/s^2, inertial frame
   long k_ = 0;
   int base_frame_ = 0;
   std::vector<int> ee_frames_;
   Vec q_, v_, qn_, vn_, tau_full_, tau_, pos_;
   Eigen::MatrixXd M_, H_;
-  Vec c_;
+  Vec b_, c_;  // b_: the nonlinear effects (nv,)
+  Snapshot snapshot_;  // the telemetry row's quantities
 };
 
 }  // namespace freefloat::sim

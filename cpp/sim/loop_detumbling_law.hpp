@@ -20,12 +20,10 @@
 
 namespace freefloat::sim {
 
-// The law of `settings` with its state so far; the grasp weld, frames and inertia in Pinocchio's
-// types.
+// The law of `settings` (its grasp checked by the loop) with its state so far.
 struct LoopDetumblingLaw : LoopDetumblingSettings, LoopDetumblingState {
-  LoopDetumblingLaw(const LoopDetumblingSettings& settings, Closure grasp, LoopDetumblingState state)
-      : LoopDetumblingSettings(settings), LoopDetumblingState(std::move(state)), closure_{std::move(grasp)},
-        target_frame_(se3_of(settings.target_placement)), first_hand_(se3_of(settings.first_placement)),
+  LoopDetumblingLaw(const LoopDetumblingSettings& settings, LoopDetumblingState state)
+      : LoopDetumblingSettings(settings), LoopDetumblingState(std::move(state)), closure_{settings.grasp},
         inertia_body_(settings.inertia.asDiagonal()) {}
 
   GeneralizedJacobian at_state;    // filled by the loop for the state before torque()
@@ -33,7 +31,7 @@ struct LoopDetumblingLaw : LoopDetumblingSettings, LoopDetumblingState {
   // Joint torques (n,) at time t for (q, v); `at_state` must hold the state's generalized Jacobian.
   // M, h and the kinematics come from the plant's prepare() at (q, v), which the plant's first
   // evaluation of the period then reuses.
-  void torque(const Model& m, Data& d, ConstrainedDynamics& plant, const Vec& q, const Vec& v, int nb, double t,
+  void torque(const Model& m, Workspace& w, ConstrainedDynamics& plant, const Vec& q, const Vec& v, int nb, double t,
               Vec& tau);
 
  private:
@@ -51,9 +49,8 @@ struct LoopDetumblingLaw : LoopDetumblingSettings, LoopDetumblingState {
   // the limit; `hold` scaled down to it when it already exceeds it.
   Vec within_limit(const Vec& hold, const Vec& full) const;
 
-  std::vector<Closure> closure_;  // the grasp weld, as the plant's closures
-  SE3 target_frame_, first_hand_;  // target CoM frame on target_joint, first hand on first_joint
-  Mat3 inertia_body_;              // the target's inertia about its CoM, target frame axes
+  std::vector<ClosureSpec> closure_;  // the grasp weld, as the plant's closures
+  Mat3 inertia_body_;                 // the target's inertia about its CoM, target frame axes
 
   // Scratch of one period.
   ClosureRows rows_;
