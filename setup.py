@@ -14,7 +14,7 @@ The robot loop is compiled against the headers of the ``libpinocchio`` wheel (a 
 and linked to its ``libpinocchio_default``, which holds the algorithms already compiled (explicit
 template instantiation). What remains of the compile is parsing and instantiating Pinocchio's model
 classes, Eigen and pybind11, and the compiler keeps all of it in memory until a unit ends: each
-unit holds one concern, so that each peaks under 0.9 GiB but the one that includes Pinocchio (1.3
+unit holds one concern, so that each peaks under 0.9 GiB but the one that includes Pinocchio (1.15
 GiB, whose headers alone take 0.6 GiB). The units run one per core, started only while their
 measured peaks (:data:`UNIT_MEMORY`) fit in the memory budget (``FREEFLOAT_BUILD_MEMORY``, else
 :data:`MEMORY_PER_JOB` per compiler process within :data:`MEMORY_SHARE` of the memory available;
@@ -58,7 +58,7 @@ def load_schedule():
     return module
 
 
-run_within = load_schedule().run_within
+schedule = load_schedule()
 
 # The runtime dependencies are listed here rather than in pyproject.toml because one of them is
 # only known at build time: the libpinocchio this build links to.
@@ -98,21 +98,24 @@ FLAGS = ["-O3", "-DEIGEN_NO_DEBUG", "-DNDEBUG", "-isystem", str(EIGEN)]
 PINOCCHIO_FLAGS = ["-isystem", str(PINOCCHIO / "include"), "-DPINOCCHIO_ENABLE_TEMPLATE_INSTANTIATION",
                    "-DBOOST_MPL_LIMIT_LIST_SIZE=30", "-DBOOST_MPL_LIMIT_VECTOR_SIZE=30",
                    "-DBOOST_MPL_CFG_NO_PREPROCESSED_HEADERS", "-DBOOST_FUSION_INVOKE_MAX_ARITY=12"]
-# The heaviest translation units first, so that two cores finish together.
-ORDER = ["cpp/pin_plant.cpp", "cpp/sim/chain_unit.cpp", "cpp/sim_unit.cpp", "cpp/sim_module.cpp", "cpp/chains.cpp",
-         "cpp/core.cpp", "cpp/detumbling.cpp", "cpp/parallel_inverse.cpp", "cpp/models.cpp", "cpp/gjm.cpp"]
+# The order units start in: the order whose schedule (setup_schedule.run_within, 2 compilers within
+# 2 GB) ends soonest with the units' measured times, each varied by up to 12 %; Pinocchio's unit
+# first, beside the small ones that fit with it.
+ORDER = ["cpp/pin_plant.cpp", "cpp/core.cpp", "cpp/sim/chain_unit.cpp", "cpp/detumbling.cpp", "cpp/gjm.cpp",
+         "cpp/models.cpp", "cpp/sim_unit.cpp", "cpp/chains.cpp", "cpp/sim_module.cpp", "cpp/parallel_inverse.cpp"]
 # Optimisation level per translation unit, after FLAGS' -O3 (see the module docstring).
 OPTIMIZATION = {"cpp/pin_plant.cpp": "-O1", "cpp/sim_unit.cpp": "-O1", "cpp/sim_module.cpp": "-O1"}
 # Peak memory of each unit's compile at its flags (bytes: g++ 12's maximum resident set, measured
 # alone, docs/bench.md "The build"); a unit not listed counts as the largest.
-UNIT_MEMORY = {"cpp/pin_plant.cpp": 1.38e9, "cpp/sim_module.cpp": 0.93e9, "cpp/sim_unit.cpp": 0.89e9, "cpp/sim/chain_unit.cpp": 0.80e9,
-               "cpp/core.cpp": 0.76e9, "cpp/chains.cpp": 0.75e9, "cpp/parallel_inverse.cpp": 0.70e9,
-               "cpp/detumbling.cpp": 0.68e9, "cpp/models.cpp": 0.52e9, "cpp/gjm.cpp": 0.49e9}
+UNIT_MEMORY = {"cpp/pin_plant.cpp": 1.24e9, "cpp/sim_module.cpp": 0.95e9, "cpp/sim_unit.cpp": 0.92e9,
+               "cpp/sim/chain_unit.cpp": 0.80e9, "cpp/chains.cpp": 0.78e9, "cpp/core.cpp": 0.77e9,
+               "cpp/parallel_inverse.cpp": 0.70e9, "cpp/detumbling.cpp": 0.69e9, "cpp/models.cpp": 0.52e9,
+               "cpp/gjm.cpp": 0.50e9}
 # The memory budget of the units compiling at once, unless FREEFLOAT_BUILD_MEMORY (bytes) sets it:
 # MEMORY_PER_JOB per compiler process, within MEMORY_SHARE of the memory available (never more than
 # the memory available). A unit larger than the budget compiles alone. On 2 cores the budget is
-# 2 GB: Pinocchio's unit compiles beside the two smallest, and the build takes as long as with no
-# budget (docs/bench.md, "The build").
+# 2 GB: Pinocchio's unit compiles beside the small units that fit with it, and the build takes as
+# long as with no budget (docs/bench.md, "The build").
 MEMORY_PER_JOB = 1e9
 MEMORY_SHARE = 0.8
 
@@ -129,10 +132,9 @@ class BuildExt(pybind11_build_ext):
         jobs.sort(key=lambda job: ORDER.index(job[1]) if job[1] in ORDER else len(ORDER))
         workers = max(1, int(setting("FREEFLOAT_BUILD_JOBS", "a number of compiler processes, e.g. 2")
                              or self.parallel or os.cpu_count() or 1))
-        available = available_memory()
-        budget = min(setting("FREEFLOAT_BUILD_MEMORY", "bytes, e.g. 2e9")
-                     or min(MEMORY_PER_JOB * workers, MEMORY_SHARE * available), available)
-        run_within(jobs, lambda job: self.object_of(*job), lambda job: unit_memory(job[1]), workers, budget)
+        budget = schedule.memory_budget(workers, available_memory(), MEMORY_PER_JOB, MEMORY_SHARE,
+                                        setting("FREEFLOAT_BUILD_MEMORY", "bytes, e.g. 2e9"))
+        schedule.run_within(jobs, lambda job: self.object_of(*job), lambda job: unit_memory(job[1]), workers, budget)
         for ext in self.extensions:
             self.build_extension(ext)
 

@@ -28,3 +28,10 @@ def run_within(jobs: Iterable[Job], work: Callable[[Job], object], memory: Calla
             for future in done:
                 del running[future]
                 future.result()  # the pool ends the running jobs before the error leaves it
+
+
+def memory_budget(workers: int, available: float, per_job: float, share: float, requested: float | None) -> float:
+    """Bytes the compilers running at once may take together: ``requested`` if given, else
+    ``per_job`` per compiler process within ``share`` of the memory ``available``; never more
+    than ``available``."""
+    return min(requested or min(per_job * workers, share * available), available)

@@ -19,7 +19,6 @@
 #include <utility>
 
 #include "sim/pin_plant.hpp"
-#include "sim/simulation.hpp"  // pinocchio_version
 
 namespace freefloat::sim {
 
@@ -244,45 +243,29 @@ void snapshot(const Model& model, Workspace& w, const Vec& q, const Vec& v, int 
   }
 }
 
-// generalized_jacobian.hpp's quantities of one state (dissertation eqs 69-89, the same numbers as
-// freefloat.dynamics.gjm.GJMState) from Pinocchio's algorithms: the centroidal momentum matrix
-// (ccrba) and the frame Jacobians. The base is treated as a free rigid body in 3-D whatever the
-// root joint (a planar root is embedded in 3-D, as in gjm.compute): H0 is the locked robot's
-// spatial inertia about the base CoM, H0m the momentum of unit joint rates at a still base link.
-void generalized_jacobian(const Model& m, Workspace& w, const Vec& q, const Vec& v, int base_frame,
-                          const std::vector<int>& ee_frames, int n, GeneralizedJacobian& out) {
+void centroidal_frames(const Model& m, Workspace& w, const Vec& q, const Vec& v, int base_frame,
+                       const std::vector<int>& ee_frames, int n, CentroidalFrames& out) {
   Data& d = w.data;
-  const int k = static_cast<int>(ee_frames.size());
   pinocchio::ccrba(m, d, q, v);  // Ag, hg about the CoM (inertial axes), Ig, com
   pinocchio::computeJointJacobians(m, d, q);
-  const Vec3 r0 = pinocchio::updateFramePlacement(m, d, base_frame).translation();
-  const Vec3 c = d.com[0] - r0;  // system CoM from the base CoM
-  // Columns [H0m | M]: [P; L about r0] of unit joint rates (still base link), then of the state.
-  Eigen::MatrixXd momentum(6, n + 1);
-  momentum.leftCols(n) = d.Ag.rightCols(n);
-  momentum.col(n) = d.hg.toVector();
-  for (int j = 0; j <= n; ++j) momentum.col(j).tail<3>() += c.cross(Vec3(momentum.col(j).head<3>()));
-  const Eigen::Matrix<double, 6, 6> H0 = Inertia(d.Ig.mass(), c, d.Ig.inertia()).matrix();  // eq 23
-  const Eigen::MatrixXd Y = H0.ldlt().solve(momentum);  // H0^-1 [H0m | M]
-  out.J0 = -Y.leftCols(n);
-  out.base_twist = Y.col(n);
-  out.Jstar.resize(6 * k, n);
-  out.drift.resize(6 * k);
-  Matrix6x J = Matrix6x::Zero(6, m.nv);
-  Eigen::MatrixXd G(6, n + 1);  // J0E{e} Y, eq 78: v_E = v0 + w0 x (r_E - r0), w_E = w0
-  for (int e = 0; e < k; ++e) {
-    const Vec3 arm = pinocchio::updateFramePlacement(m, d, ee_frames[e]).translation() - r0;
-    J.setZero();
-    pinocchio::getFrameJacobian(m, d, ee_frames[e], pinocchio::LOCAL_WORLD_ALIGNED, J);
-    for (int j = 0; j <= n; ++j) {
-      G.col(j).head<3>() = Y.col(j).head<3>() + Vec3(Y.col(j).tail<3>()).cross(arm);
-      G.col(j).tail<3>() = Y.col(j).tail<3>();
-    }
-    out.Jstar.middleRows(6 * e, 6) = J.rightCols(n) - G.leftCols(n);  // Jm: the joint columns, eq 76
-    out.drift.segment<6>(6 * e) = G.col(n);
+  out.base_position = pinocchio::updateFramePlacement(m, d, base_frame).translation();
+  const Vec3 c = d.com[0] - out.base_position;  // system CoM from the base CoM
+  out.momentum.resize(6, n + 1);
+  out.momentum.leftCols(n) = d.Ag.rightCols(n);
+  out.momentum.col(n) = d.hg.toVector();
+  for (int j = 0; j <= n; ++j) out.momentum.col(j).tail<3>() += c.cross(Vec3(out.momentum.col(j).head<3>()));
+  out.H0 = Inertia(d.Ig.mass(), c, d.Ig.inertia()).matrix();
+  const size_t k = ee_frames.size();
+  out.ee_position.resize(k);
+  out.ee_jacobian.resize(k);
+  for (size_t e = 0; e < k; ++e) {
+    out.ee_position[e] = pinocchio::updateFramePlacement(m, d, ee_frames[e]).translation();
+    out.ee_jacobian[e].setZero(6, m.nv);
+    pinocchio::getFrameJacobian(m, d, ee_frames[e], pinocchio::LOCAL_WORLD_ALIGNED, out.ee_jacobian[e]);
   }
 }
 
+// Declared in simulation.hpp, which the loop's bindings include without Pinocchio's headers.
 const char* pinocchio_version() { return PINOCCHIO_VERSION; }
 
 }  // namespace freefloat::sim

@@ -82,3 +82,12 @@ def test_an_error_is_raised_and_no_job_starts_after_it():
     with pytest.raises(RuntimeError, match="compile error in bad"):
         setup_schedule.run_within(["bad", "next", "last"], work, lambda job: 1.5, workers=2, budget=2.0)
     assert started == ["bad"]
+
+
+def test_the_budget_is_a_share_per_compiler_within_the_memory_available():
+    budget = setup_schedule.memory_budget
+    assert budget(2, 64e9, 1e9, 0.8, None) == 2e9  # 2 cores, plenty of memory: 1 GB each
+    assert budget(8, 64e9, 1e9, 0.8, None) == 8e9  # more cores, more compilers at once
+    assert budget(2, 2e9, 1e9, 0.8, None) == 1.6e9  # little memory: its share
+    assert budget(2, 64e9, 1e9, 0.8, 5e9) == 5e9  # FREEFLOAT_BUILD_MEMORY
+    assert budget(2, 3e9, 1e9, 0.8, 5e9) == 3e9  # never more than is available

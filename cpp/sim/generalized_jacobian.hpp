@@ -1,6 +1,6 @@
 // The generalized Jacobian quantities of one state (dissertation eqs 69-89, the same numbers as
 // freefloat.dynamics.gjm.GJMState), as the compiled loop's laws and its Python interface take them;
-// pin_generalized_jacobian.hpp computes them with Pinocchio.
+// pin_generalized_jacobian.hpp computes them on a Pinocchio model.
 #pragma once
 
 #include "eigen_types.hpp"

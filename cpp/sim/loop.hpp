@@ -19,6 +19,7 @@
 #include "lie_rk.hpp"
 #include "loop_detumbling_law.hpp"
 #include "periods.hpp"
+#include "pin_generalized_jacobian.hpp"
 #include "pin_plant.hpp"
 #include "simulation.hpp"
 #include "wrench_field.hpp"

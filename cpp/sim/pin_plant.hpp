@@ -1,8 +1,8 @@
 // The robot loop's calls to Pinocchio, declared on Pinocchio's forward declarations and Eigen types
 // only: the definitions are in cpp/pin_plant.cpp, the one translation unit of freefloat.dynamics._sim
-// that includes Pinocchio's headers. Its headers take 0.5 GB and 4 s of a compile, the loop's own
-// Eigen code as much again; in one unit they peaked at 1.8 GiB, in two each stays near 1 GB, so
-// that two compilers run at once within 2 GB (setup.py, docs/bench.md "The build").
+// that includes Pinocchio's headers (0.6 GiB and 4 s of a compile by themselves). With the loop's
+// own code in one unit they peaked at 1.81 GiB; apart, at 1.15 and 0.85 GiB, so that two compilers
+// run at once within 2 GB (setup.py, docs/bench.md "The build").
 //
 // Every vector is in the order Pinocchio gives it: q (nq,), v and accelerations (nv,), twists and
 // wrenches [linear; angular]. A placement is a homogeneous transform (4, 4), as numpy hands it over.
@@ -14,7 +14,6 @@
 #include <vector>
 
 #include "eigen_types.hpp"
-#include "generalized_jacobian.hpp"
 #include "model_arrays.hpp"
 #include "rkmk.hpp"
 #include "wrench_field.hpp"
@@ -111,10 +110,22 @@ struct Snapshot {
 void snapshot(const Model& model, Workspace& w, const Vec& q, const Vec& v, int base_frame,
               const std::vector<int>& ee_frames, Snapshot& out);
 
-// generalized_jacobian.hpp's quantities at (q, v) (pin_plant.cpp has the equations): `base_frame`
-// is the base CoM frame, `ee_frames` the end-effector frames (their origins are the points E), n
-// the actuated joints (the last n velocities).
-void generalized_jacobian(const Model& model, Workspace& w, const Vec& q, const Vec& v, int base_frame,
-                          const std::vector<int>& ee_frames, int n, GeneralizedJacobian& out);
+// What generalized_jacobian() (generalized_jacobian.hpp) takes from Pinocchio at (q, v): from the
+// centroidal momentum matrix (ccrba), the columns [H0m | M] (6, n + 1), [P; L about the base CoM]
+// of unit joint rates at a still base link, then of the state; H0 (6, 6), the locked robot's
+// spatial inertia about the base CoM (eq 23); the base CoM position r0; per end-effector frame its
+// origin r_E and Jacobian [v_E; w_E] (6, nv), world axes. The base is treated as a free rigid body
+// in 3-D whatever the root joint (a planar root is embedded in 3-D, as in gjm.compute).
+struct CentroidalFrames {
+  Eigen::MatrixXd momentum;
+  Eigen::Matrix<double, 6, 6> H0;
+  Vec3 base_position;
+  std::vector<Vec3> ee_position;
+  std::vector<Matrix6x> ee_jacobian;
+};
+// `base_frame` is the base CoM frame, `ee_frames` the end-effector frames, n the actuated joints
+// (the last n velocities).
+void centroidal_frames(const Model& model, Workspace& w, const Vec& q, const Vec& v, int base_frame,
+                       const std::vector<int>& ee_frames, int n, CentroidalFrames& out);
 
 }  // namespace freefloat::sim
