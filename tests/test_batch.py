@@ -121,7 +121,10 @@ def test_a_pool_worker_that_dies_fails_the_runs_left_and_the_batch_ends(tmp_path
     def kill_the_workers(row: dict) -> None:
         for child in psutil.Process().children(recursive=True):
             with contextlib.suppress(psutil.NoSuchProcess):  # one already ending (another test's cluster)
-                child.kill()
+                if not any("resource_tracker" in part for part in child.cmdline()):
+                    # multiprocessing's resource tracker outlives a crashed worker; killed, its
+                    # successor printed a KeyError traceback for every semaphore released later
+                    child.kill()
 
     done = run_batch(short(tmp_path, "tumbling", 1.0), tmp_path / "out", 6, [Band("base_rate", 1.0)],
                      workers=Workers(2), progress=kill_the_workers)
