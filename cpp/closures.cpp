@@ -128,11 +128,9 @@ void LoopDetumblingLaw::torque(const Model& m, Workspace& w, ConstrainedDynamics
   H_ = M.bottomRightCorner(n, n) - M.topRightCorner(nb, n).transpose() * to_base;
   c_ = h.tail(n) - M.topRightCorner(nb, n).transpose() * bias;
   frame_motion(m, w, target_joint, target_placement, target_);
-  Mat3 rotation;
-  Vec3 other;
-  frame_pose(w, closure_[0].joint1, closure_[0].placement1, hand_rotation_, other);
-  frame_pose(w, closure_[0].joint2, closure_[0].placement2, rotation, grasp_);
-  frame_pose(w, first_joint, first_placement, rotation, other);
+  hand_rotation_ = frame_pose(w, closure_[0].joint1, closure_[0].placement1).rotation;
+  grasp_ = frame_pose(w, closure_[0].joint2, closure_[0].placement2).position;
+  const Vec3 other = frame_pose(w, first_joint, first_placement).position;
   squeeze_axis_ = (other - grasp_) / std::max((other - grasp_).norm(), 1e-12);
   const Mat3& R = target_.rotation;
   inertia_world_ = R * inertia_body_ * R.transpose();

@@ -213,10 +213,9 @@ void frame_motion(const Model& model, Workspace& w, int joint, const Pose& place
                               out.jacobian);
 }
 
-void frame_pose(const Workspace& w, int joint, const Pose& placement, Mat3& rotation, Vec3& position) {
+FramePose frame_pose(const Workspace& w, int joint, const Pose& placement) {
   const SE3 pose = w.data.oMi[joint] * se3_of(placement);
-  rotation = pose.rotation();
-  position = pose.translation();
+  return {pose.rotation(), pose.translation()};
 }
 
 Vec3 log3(const Mat3& R) { return pinocchio::log3(R); }

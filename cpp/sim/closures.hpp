@@ -42,7 +42,7 @@ int delassus_solve(const Eigen::MatrixXd& D, const Vec& rhs, Vec& out);
 // computed at without external wrenches: a law that prepare()s the state at the start of a period
 // saves the integrator's first evaluation there that work (the same numbers: same q, v, model).
 struct ConstrainedDynamics {
-  std::vector<ClosureSpec> closures;  // checked by the loop (Loop::closure_of)
+  std::vector<ClosureSpec> closures;  // checked by the loop (Loop::check_closure)
   double baumgarte = 0.0;  // beta, 1/s
   // Results of the last solve: closure forces lambda (m,), rank of D.
   Vec force;

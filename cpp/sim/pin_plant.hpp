@@ -92,20 +92,26 @@ struct FrameMotion {
 
 // The frame `placement` (4, 4) on `joint` after forward_kinematics() and the joint Jacobians.
 void frame_motion(const Model& model, Workspace& w, int joint, const Pose& placement, FrameMotion& out);
-// Its rotation and position only, after forward kinematics.
-void frame_pose(const Workspace& w, int joint, const Pose& placement, Mat3& rotation, Vec3& position);
+
+// A frame's orientation (its axes in world axes) and origin (world frame, m).
+struct FramePose {
+  Mat3 rotation;
+  Vec3 position;
+};
+// The frame `placement` (4, 4) on `joint`, after forward kinematics.
+FramePose frame_pose(const Workspace& w, int joint, const Pose& placement);
 // The rotation vector of R (3, 3): pinocchio::log3.
 Vec3 log3(const Mat3& R);
 
-// A telemetry row's quantities at (q, v): momentum [P; L about the inertial origin], system CoM,
-// kinetic energy (J), base frame pose and twist [v; w] (LOCAL_WORLD_ALIGNED), end-effector frames.
+// A telemetry row's quantities at (q, v), world frame.
 struct Snapshot {
-  Vec6 momentum, base_twist;
-  Vec3 com, base_position;
-  Mat3 base_rotation;
-  double kinetic_energy = 0.0;
-  std::vector<Vec3> ee_position;
-  std::vector<Mat3> ee_rotation;
+  Vec6 momentum;               // [P; L], L about the world origin (kg m/s, kg m^2/s)
+  Vec6 base_twist;             // [v; w] of the base frame's origin, world axes (LOCAL_WORLD_ALIGNED)
+  Vec3 com, base_position;     // system CoM and base frame origin (m)
+  Mat3 base_rotation;          // base frame axes in world axes
+  double kinetic_energy = 0.0; // J
+  std::vector<Vec3> ee_position;  // end-effector frame origins (m), in ee_frames' order
+  std::vector<Mat3> ee_rotation;  // their axes in world axes
 };
 void snapshot(const Model& model, Workspace& w, const Vec& q, const Vec& v, int base_frame,
               const std::vector<int>& ee_frames, Snapshot& out);
