@@ -81,13 +81,15 @@ void nonlinear_effects(const Model& model, Workspace& w, const Vec& q, const Vec
 // Placements, velocities and accelerations of the joints at (q, v, a).
 void forward_kinematics(const Model& model, Workspace& w, const Vec& q, const Vec& v, const Vec& a);
 
-// A frame fixed to a joint, in world axes (closure.FrameMotion): accelerations at the joint
-// accelerations forward_kinematics() was given, jacobian [linear; angular] (6, nv) at the frame's
-// origin.
+// A frame fixed to a joint, in world axes (closure.FrameMotion), at the joint accelerations
+// forward_kinematics() was given.
 struct FrameMotion {
-  Mat3 rotation;
-  Vec3 position, velocity, angular_velocity, acceleration, angular_acceleration;
-  Matrix6x jacobian;
+  Mat3 rotation;                      // the frame's axes in world axes
+  Vec3 position;                      // its origin, world frame (m)
+  Vec3 velocity, angular_velocity;    // of its origin (m/s, rad/s)
+  Vec3 acceleration;                  // classical acceleration of its origin (m/s^2)
+  Vec3 angular_acceleration;          // rad/s^2
+  Matrix6x jacobian;                  // [linear; angular] (6, nv) at its origin (LOCAL_WORLD_ALIGNED)
 };
 
 // The frame `placement` (4, 4) on `joint` after forward_kinematics() and the joint Jacobians.
