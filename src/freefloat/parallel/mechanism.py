@@ -19,7 +19,10 @@ Inverse dynamics (eqs 130-140): ``q`` by solving ``qbar = 0``, ``qdot = C qdot#`
 Angular-velocity constraints (eq 101, optional): ``P qdot# - Q w(q°) - R qdot° = 0`` with ``w``
 the chain tips' (last links') angular velocities in N, stacked (3n,); they add the rows
 ``[P, -(Q J_w + R)]`` to A and ``Q dw°`` to b (eqs 104-113) and, in eq 129, the velocity-level
-term ``lambda A_w qdot`` only (the document gives them no position-level term).
+term ``lambda A_w qdot`` only (the document gives them no position-level term). ``P != 0``
+(eq 102's platform with orientation coordinates, e.g. the angle of a planar platform) makes the
+angular rows tie those coordinates to the tips' orientations; with constant ``P``, an orientation
+coordinate is an angle about a fixed axis of N.
 """
 
 from __future__ import annotations
@@ -38,17 +41,21 @@ from .serial import SerialChain
 class AngularConstraints:
     """Angular-velocity constraints ``P qdot# - Q w(q°) - R qdot° = 0`` (eq 101).
 
-    Their position form, used to assemble the mechanism and to report orientation drift, needs
-    ``P = 0``: ``Q phi(q°) + R q° = offset`` with ``phi`` the tips' rotation vectors
-    ``log(R_tip R_ref^T)`` (3n,) in N against the reference orientations ``reference``
-    (it differentiates to ``Q w + R qdot°`` where the tips sit at their references).
+    Their position form, used to assemble the mechanism and to report orientation drift:
+    ``P q# + offset - Q phi(q°) - R q° = 0`` with ``phi`` the tips' rotation vectors
+    ``log(R_tip R_ref^T)`` (3n,) in N against the reference orientations ``reference``. It
+    differentiates to the velocity form where ``d phi / dt = w``: where the tips sit at their
+    references (``P = 0``, the platform only translates), and wherever each row's tips turn about
+    one fixed axis of N that the row's Q reads (a planar platform, ``P != 0``: the row ties its
+    angle coordinate in q# to the tips' angle about the plane's normal, eq 102). An angle is
+    recovered within (-pi, pi) only (``log``).
 
     Attributes:
-        P: (m_w, p); must be zero (a platform that rotates would need orientation coordinates).
+        P: (m_w, p) on the platform rates (eq 102); zero for a platform that only translates.
         Q: (m_w, 3n) on the stacked tip angular velocities in N.
         R: (m_w, n°) on the chains' joint rates.
         reference: tip reference orientations in N (n, 3, 3).
-        offset: ``Q phi + R q°`` on the constraint manifold (m_w,).
+        offset: ``Q phi + R q° - P q#`` on the constraint manifold (m_w,).
     """
 
     P: np.ndarray
@@ -58,12 +65,9 @@ class AngularConstraints:
     offset: np.ndarray
 
     def __post_init__(self) -> None:
-        if np.any(self.P != 0.0):
-            raise FreefloatError("angular constraints: P must be zero (the platform coordinates q# are translations; "
-                                 "a rotating platform would need orientation coordinates)")
         rows = len(self.offset)
         n_tips = len(self.reference)
-        if self.P.shape[0] != rows or self.Q.shape != (rows, 3 * n_tips) or self.R.shape[0] != rows \
+        if self.P.ndim != 2 or self.P.shape[0] != rows or self.Q.shape != (rows, 3 * n_tips) or self.R.shape[0] != rows \
                 or self.reference.shape != (n_tips, 3, 3):
             raise FreefloatError(f"angular constraints: shapes do not agree: P {self.P.shape}, Q {self.Q.shape}, "
                                  f"R {self.R.shape}, reference {self.reference.shape}, offset {self.offset.shape} "
@@ -101,13 +105,27 @@ class ParallelMechanism:
     def __post_init__(self) -> None:
         if self.backend not in BACKENDS:
             raise UnknownName("mechanism backend", self.backend, BACKENDS)
+        if self.angular is not None:
+            expected = {"P": (self.p,), "Q": (3 * len(self.chains),), "R": (sum(c.dof for c in self.chains),)}
+            for name, columns in expected.items():
+                if getattr(self.angular, name).shape[1:] != columns:
+                    raise FreefloatError(f"angular constraints: {name} has {getattr(self.angular, name).shape[1]} columns; "
+                                         f"this mechanism needs {columns[0]} ({self.p} platform coordinates, "
+                                         f"{len(self.chains)} chains of {sum(c.dof for c in self.chains)} joints)")
 
     @functools.cached_property
     def core(self) -> MechanismCore | None:
-        """The compiled core of this mechanism, or None (numpy backend, or a non-square A°)."""
-        if self.backend != "compiled" or not self.square:
+        """The compiled core of this mechanism, or None: numpy backend, a non-square A°, or
+        angular constraints with ``P != 0`` (the compiled closure residual has no ``P q#`` term:
+        ``cpp/parallel.cpp``'s ``evaluate_closure``)."""
+        if self.backend != "compiled" or not self.square or self.rotates:
             return None
         return MechanismCore(*self.core_arrays())
+
+    @property
+    def rotates(self) -> bool:
+        """True when angular constraints tie orientation coordinates of q# to the tips (``P != 0``)."""
+        return self.angular is not None and bool(np.any(self.angular.P != 0.0))
 
     @property
     def square(self) -> bool:
@@ -182,8 +200,8 @@ class ParallelMechanism:
         return residual[..., : len(self.d)], residual[..., len(self.d):]
 
     def orientation_residual(self, q: np.ndarray) -> np.ndarray:
-        """Position form of the angular constraints, ``offset - Q phi - R q°`` (..., m_w), rad;
-        empty without angular constraints."""
+        """Position form of the angular constraints, ``P q# + offset - Q phi - R q°`` (..., m_w),
+        rad; empty without angular constraints."""
         return self._closure(q)[0][..., len(self.d):]
 
     def terms(self, q: np.ndarray, qd: np.ndarray):
@@ -246,7 +264,8 @@ class ParallelMechanism:
         if self.angular is not None:
             ang = self.angular
             phi = np.concatenate([log3(t[1] @ ref.T) for t, ref in zip(tips, ang.reference)], axis=-1)
-            residual = np.concatenate((residual, ang.offset - phi @ ang.Q.T - q[..., self.p:] @ ang.R.T), axis=-1)
+            residual = np.concatenate((residual, q[..., : self.p] @ ang.P.T + ang.offset - phi @ ang.Q.T
+                                       - q[..., self.p:] @ ang.R.T), axis=-1)
         return residual, self._constraint_jacobian(kins)
 
     def passive_solve(self, A: np.ndarray, rhs: np.ndarray, least_squares: bool = False) -> np.ndarray:
