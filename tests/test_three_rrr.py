@@ -14,7 +14,13 @@ from freefloat.parallel.closed_chain import load_closed_chain
 from freefloat.parallel.closed_loop import track
 from freefloat.parallel.platform_control import CircleReference
 from freefloat.parallel.sliding_mode import PlatformControl
-from freefloat.parallel.three_rrr import CLOSURE, ThreeRRRParameters, assembly_guess, load_three_rrr, three_rrr_spec
+from freefloat.parallel.three_rrr import (
+    CLOSURE,
+    ThreeRRRParameters,
+    assembly_guess,
+    load_three_rrr,
+    three_rrr_spec,
+)
 from freefloat.robot.builders import build_urdf, urdf_xml
 
 from .conftest import REPO
@@ -150,8 +156,8 @@ def test_a_rotating_platform_runs_on_the_numpy_core(loaded):
 
 @pytest.mark.parametrize(("edit", "message"), [
     (lambda s: s.replace('coordinates = ["x", "y", "rz"]', 'coordinates = ["x", "y"]'),
-     "'closures\\[0\\].kind' is a weld; tip-to-tip mechanisms take point or planar revolute closures, or weld closures "
-     "of a platform whose angle 'rz'"),
+     ("'closures\\[0\\].kind' is a weld; tip-to-tip mechanisms take point or planar revolute closures, or weld "
+      "closures of a platform whose angle 'rz'")),
     (lambda s: s.replace('kind = "weld"', 'kind = "point"'),
      "'platform.coordinates' has 'rz', the platform's angle, but 'closures\\[0\\].kind' is point"),
     (lambda s: s.replace('coordinates = ["x", "y", "rz"]', 'coordinates = ["x", "rz", "rz"]'),
