@@ -14,7 +14,10 @@ complement ``C = [I; -A°^+ A#]`` (eq 120) gives ``qdot = C qdot#`` and the coup
 
 Inverse dynamics (eqs 130-140): ``q`` by solving ``qbar = 0``, ``qdot = C qdot#``,
 ``qddot = C qddot# + [0; A°^+ b]``, then the actuator efforts
-``tau = (C^T U)^-1 C^T (M' qddot + v' + g')`` with ``U`` the actuated coordinates.
+``tau = (C^T U)^-1 C^T (M' qddot + v' + g')`` with ``U`` the actuated coordinates. With more
+actuators than platform coordinates (redundant actuation, ``Z^T = C^T U`` wide) the efforts are
+shared by the mechanism's :class:`~freefloat.parallel.redundancy.EffortDistribution` (minimum norm
+unless it says otherwise).
 
 Angular-velocity constraints (eq 101, optional): ``P qdot# - Q w(q°) - R qdot° = 0`` with ``w``
 the chain tips' (last links') angular velocities in N, stacked (3n,); they add the rows
@@ -34,6 +37,7 @@ import numpy as np
 
 from ..dynamics._core import MechanismCore
 from ..errors import FreefloatError, UnknownName
+from .redundancy import EffortDistribution
 from .serial import SerialChain
 
 
@@ -85,6 +89,9 @@ class ParallelMechanism:
         D, d, E, F: constant constraint matrices of eq 96 ((m, p), (m,), (m, 3n), (m, n°)).
         actuated: indices of the actuated coordinates in ``q`` (k,).
         angular: the angular-velocity constraints, if any.
+        distribution: how :meth:`inverse` (and the platform laws) share a required platform force
+            among the actuators; None: the square solve when there are as many actuators as
+            platform coordinates, the minimum-norm efforts when there are more.
         backend: ``"compiled"`` (default): one point at a time (:meth:`forward`, :meth:`inverse`
             and :meth:`assemble` at one q, :meth:`inverse_trajectory`) runs in the compiled core
             (``cpp/parallel.hpp``) when A° is square; ``"numpy"``: everything in this module and
@@ -100,6 +107,7 @@ class ParallelMechanism:
     F: np.ndarray
     actuated: np.ndarray
     angular: AngularConstraints | None = None
+    distribution: EffortDistribution | None = None
     backend: str = "compiled"
 
     def __post_init__(self) -> None:
@@ -121,6 +129,11 @@ class ParallelMechanism:
         if self.backend != "compiled" or not self.square or self.rotates:
             return None
         return MechanismCore(*self.core_arrays())
+
+    @property
+    def redundant(self) -> bool:
+        """True when there are more actuators than platform coordinates (k > p)."""
+        return len(self.actuated) > self.p
 
     @property
     def rotates(self) -> bool:
@@ -317,13 +330,43 @@ class ParallelMechanism:
     def inverse(self, q: np.ndarray, qd_sharp: np.ndarray, qdd_sharp: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Actuator efforts for platform motion (eqs 130-140) at assembled ``q`` (..., n_q), from
         the platform rates ``qd_sharp`` and accelerations ``qdd_sharp`` (..., p); any leading
-        batch axes (a whole trajectory at once).
+        batch axes (a whole trajectory at once). Shared by :attr:`distribution` (:meth:`efforts`).
 
         Returns:
             ``(tau, qd, qdd)``: efforts (..., k) and the full velocity and acceleration (..., n_q).
+
+        Raises:
+            InfeasiblePlan: where the distribution's effort limits cannot give the motion.
         """
-        if (core := self._point_core(q)) is not None:
+        if self.square_actuation and (core := self._point_core(q)) is not None:
             return core.inverse(q, qd_sharp, qdd_sharp)
+        u, ZT, qd, qdd = self.required_force(q, qd_sharp, qdd_sharp)
+        return self.efforts(ZT, u), qd, qdd
+
+    @property
+    def square_actuation(self) -> bool:
+        """As many actuators as platform coordinates and no distribution: efforts by ``(C^T U)^-1``
+        (what the compiled core's inverse dynamics and platform law do)."""
+        return not self.redundant and self.distribution is None
+
+    def efforts(self, ZT: np.ndarray, u: np.ndarray) -> np.ndarray:
+        """Actuator efforts (..., k) giving the platform forces ``u`` (..., p) through the actuation
+        maps ``Z^T = C^T U`` (..., p, k) (eq 136): the square solve, or :attr:`distribution`'s
+        sharing (minimum norm when it is None and k > p).
+
+        Raises:
+            InfeasiblePlan: where the distribution's effort limits cannot give ``u``.
+        """
+        if self.square_actuation:
+            return np.linalg.solve(ZT, u[..., None])[..., 0]
+        return (self.distribution or EffortDistribution()).efforts(ZT, u)
+
+    def required_force(self, q: np.ndarray, qd_sharp: np.ndarray,
+                       qdd_sharp: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """What platform motion asks of the actuators (eqs 130-136) at assembled ``q`` (..., n_q),
+        platform rates and accelerations (..., p): ``(u*, Z^T, qd, qdd)`` with ``u* = C^T (M'
+        qddot + v' + g')`` (..., p), ``Z^T = C^T U`` (..., p, k) and the full velocity and
+        acceleration (..., n_q); any efforts with ``Z^T tau = u*`` produce the motion."""
         frames = self._frames(q)
         A = self._closure(q, frames)[1]
         C = self._velocity_map(A)
@@ -333,8 +376,7 @@ class ParallelMechanism:
         qdd = _matvec(C, qdd_sharp) + np.concatenate((np.zeros(passive.shape[:-1] + (self.p,)), passive), axis=-1)
         Mqdd = np.concatenate([_matvec(M, x) for M, x in zip(blocks, [qdd[..., : self.p]] + self.split(qdd))], axis=-1)
         CT = C.swapaxes(-1, -2)
-        tau = np.linalg.solve(CT @ self.selection(), _matvec(CT, Mqdd + v + g)[..., None])[..., 0]
-        return tau, qd, qdd
+        return _matvec(CT, Mqdd + v + g), CT @ self.selection(), qd, qdd
 
     def assemble(self, q_sharp: np.ndarray, guess: np.ndarray, tol: float = 1e-12, iterations: int = 50) -> np.ndarray:
         """Solve ``qbar = 0`` (and the angular constraints' position form) for the chains' joints
@@ -396,7 +438,7 @@ class ParallelMechanism:
         if not len(q_sharp) or not q_sharp.shape == qd_sharp.shape == qdd_sharp.shape == (len(q_sharp), self.p):
             raise FreefloatError(f"inverse_trajectory: positions, rates and accelerations must be non-empty arrays of shape "
                                  f"(N, {self.p}); got {q_sharp.shape}, {qd_sharp.shape}, {qdd_sharp.shape}")
-        if self.core is not None:
+        if self.core is not None and self.square_actuation:
             return self._compiled_trajectory(q_sharp, qd_sharp, qdd_sharp, np.asarray(guess, float), jump)
         q = np.empty((len(q_sharp), self.p + len(guess)))
         tau = np.empty((len(q_sharp), len(self.actuated)))
