@@ -60,6 +60,7 @@ import numpy as np
 import pinocchio as pin
 
 from ..errors import BadShape, InvalidArgument, UnknownName
+from .conventions import cross3
 
 #: Pinocchio joints whose motion subspace S is constant in the child frame (what the composition
 #: below assumes), by ``JointModel.shortname()``.
@@ -106,9 +107,9 @@ def poisson_jerk(jerk_o: np.ndarray, w: np.ndarray, alpha: np.ndarray, alpha_dot
     """
     if form not in POISSON_FORMS:
         raise UnknownName("Poisson jerk form", form, POISSON_FORMS)
-    wr = np.cross(w, r)
-    middle = np.cross(alpha, wr) + (np.cross(alpha, wr) if form == "eq5" else np.cross(alpha, np.cross(alpha, r)))
-    return jerk_o + np.cross(alpha_dot, r) + middle + np.cross(w, np.cross(alpha, r)) + np.cross(w, np.cross(w, wr))
+    wr = cross3(w, r)
+    middle = cross3(alpha, wr) + (cross3(alpha, wr) if form == "eq5" else cross3(alpha, cross3(alpha, r)))
+    return jerk_o + cross3(alpha_dot, r) + middle + cross3(w, cross3(alpha, r)) + cross3(w, cross3(w, wr))
 
 
 #: The forms of the Poisson jerk formula :func:`poisson_jerk` takes.
@@ -120,9 +121,9 @@ def point_of(body: Motion, point: np.ndarray, form: str = "eq5") -> Motion:
     at ``point`` (3,) in N (eqs 1, 3, 5); the body's angular quantities carried over."""
     r = np.asarray(point, float) - body.position
     w, alpha = body.angular_velocity, body.angular_acceleration
-    wr = np.cross(w, r)
+    wr = cross3(w, r)
     return body._replace(position=body.position + r, velocity=body.velocity + wr,
-                         acceleration=body.acceleration + np.cross(alpha, r) + np.cross(w, wr),
+                         acceleration=body.acceleration + cross3(alpha, r) + cross3(w, wr),
                          jerk=poisson_jerk(body.jerk, w, alpha, body.angular_jerk, r, form))
 
 
@@ -142,13 +143,13 @@ def compose(drag: Motion, relative: Motion) -> Motion:
     return Motion(
         position=relative.position, rotation=relative.rotation,
         velocity=drag.velocity + v_rel,                                                    # eq 15
-        acceleration=drag.acceleration + a_rel + 2.0 * np.cross(w, v_rel),               # eq 18
-        jerk=drag.jerk + relative.jerk + 3.0 * (np.cross(alpha, v_rel) + np.cross(w, np.cross(w, v_rel))
-                                                + np.cross(w, a_rel)),                   # eq 21
+        acceleration=drag.acceleration + a_rel + 2.0 * cross3(w, v_rel),               # eq 18
+        jerk=drag.jerk + relative.jerk + 3.0 * (cross3(alpha, v_rel) + cross3(w, cross3(w, v_rel))
+                                                + cross3(w, a_rel)),                   # eq 21
         angular_velocity=w + w_rel,                                                        # eq 37
-        angular_acceleration=alpha + alpha_rel + np.cross(w, w_rel),                      # eq 53
-        angular_jerk=drag.angular_jerk + relative.angular_jerk + 2.0 * np.cross(w, alpha_rel)
-        + np.cross(alpha, w_rel) + np.cross(w, np.cross(w, w_rel)))
+        angular_acceleration=alpha + alpha_rel + cross3(w, w_rel),                      # eq 53
+        angular_jerk=drag.angular_jerk + relative.angular_jerk + 2.0 * cross3(w, alpha_rel)
+        + cross3(alpha, w_rel) + cross3(w, cross3(w, w_rel)))
 
 
 def joint_motions(model: pin.Model, q: np.ndarray, v: np.ndarray, a: np.ndarray, j: np.ndarray,
@@ -181,9 +182,9 @@ def joint_motions(model: pin.Model, q: np.ndarray, v: np.ndarray, a: np.ndarray,
         nu, nu_d, nu_dd = (S @ x[rows] for x in (v, a, j))
         lin, ang, lin_d, ang_d, lin_dd, ang_dd = nu[:3], nu[3:], nu_d[:3], nu_d[3:], nu_dd[:3], nu_dd[3:]
         R, origin = data.oMi[i].rotation, data.oMi[i].translation.copy()
-        relative = Motion(origin, R @ lin, R @ (np.cross(ang, lin) + lin_d),
-                          R @ (np.cross(ang_d, lin) + 2.0 * np.cross(ang, lin_d) + np.cross(ang, np.cross(ang, lin)) + lin_dd),
-                          R.copy(), R @ ang, R @ ang_d, R @ (np.cross(ang, ang_d) + ang_dd))
+        relative = Motion(origin, R @ lin, R @ (cross3(ang, lin) + lin_d),
+                          R @ (cross3(ang_d, lin) + 2.0 * cross3(ang, lin_d) + cross3(ang, cross3(ang, lin)) + lin_dd),
+                          R.copy(), R @ ang, R @ ang_d, R @ (cross3(ang, ang_d) + ang_dd))
         parent = out[model.parents[i]]
         out.append(compose(point_of(parent, origin, form), relative))
     return out
