@@ -11,8 +11,9 @@ load the closed chain without moving it, the internal forces. :class:`EffortDist
 
 Without limits, ``tau = W^-1 Z (Z^T W^-1 Z)^-1 u*``; with unit weights it is the minimum-norm
 solution ``(Z^T)^+ u*``, which has no internal part. With limits it is a strictly convex
-quadratic programme: scipy's ``linprog`` (HiGHS) finds a point within the limits or proves there
-is none, then a primal active-set method on the limits ends on the optimum, which is computed
+quadratic programme: a start within the limits (the efforts past a limit held at it, the rest
+solving the equality; where that start leaves the limits, scipy's ``linprog`` (HiGHS) finds one or
+proves there is none), then a primal active-set method on the limits ends on the optimum, computed
 exactly from its active set (the free efforts solve the equality with the active ones at their
 limits), so ``Z^T tau = u*`` holds to round-off.
 """
@@ -151,15 +152,21 @@ def _active_set(ZT: np.ndarray, u: np.ndarray, winv: np.ndarray, lower: np.ndarr
     free_optimum = _equality_solution(ZT, u, winv, np.zeros(k, bool), np.zeros(k))
     if np.all(free_optimum >= lower) and np.all(free_optimum <= upper):
         return free_optimum
-    start = linprog(np.zeros(k), A_eq=ZT, b_eq=u, bounds=list(zip(lower, upper)), method="highs")
-    if start.status != 0:
-        nearest = lsq_linear(ZT, u, bounds=(lower, upper))
-        raise InfeasiblePlan(f"effort distribution: no efforts within the limits (lower {lower.tolist()}, upper "
-                             f"{upper.tolist()}) give the platform force u* = {np.round(u, 6).tolist()}; the nearest "
-                             f"within them misses it by {np.linalg.norm(ZT @ nearest.x - u):.3g}", "torque")
-    tau = np.clip(start.x, lower, upper)
+    # a start within the limits: the efforts past a limit held at it, the others solving the
+    # equality (usually within the limits too); else whatever point linprog finds
+    at_lower, at_upper = free_optimum < lower, free_optimum > upper
+    tau = _equality_solution(ZT, u, winv, at_lower | at_upper, np.clip(free_optimum, lower, upper))
     tol = 1e-12 * max(1.0, np.abs(tau).max())
-    at_lower, at_upper = tau <= lower + tol, tau >= upper - tol
+    if np.any(tau < lower - tol) or np.any(tau > upper + tol) or np.abs(ZT @ tau - u).max() > tol * np.abs(ZT).max():
+        start = linprog(np.zeros(k), A_eq=ZT, b_eq=u, bounds=list(zip(lower, upper)), method="highs")
+        if start.status != 0:
+            nearest = lsq_linear(ZT, u, bounds=(lower, upper))
+            raise InfeasiblePlan(f"effort distribution: no efforts within the limits (lower {lower.tolist()}, upper "
+                                 f"{upper.tolist()}) give the platform force u* = {np.round(u, 6).tolist()}; the "
+                                 f"nearest within them misses it by {np.linalg.norm(ZT @ nearest.x - u):.3g}", "torque")
+        tau = np.clip(start.x, lower, upper)
+        tol = 1e-12 * max(1.0, np.abs(tau).max())
+        at_lower, at_upper = tau <= lower + tol, tau >= upper - tol
     for _ in range(MAX_ITERATIONS):
         fixed = at_lower | at_upper
         tau = np.where(at_lower, lower, np.where(at_upper, upper, tau))
