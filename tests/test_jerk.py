@@ -121,8 +121,8 @@ def test_serial_chains_of_the_5r_match_finite_differences():
     model = pin.buildModelFromUrdf(str(REPO / "urdf" / "five_bar.urdf"))
     rng = np.random.default_rng(1)
     q, v, a, j = (rng.normal(size=model.nv) for _ in range(4))
-    lever = [pin.Frame(f"com{i}", i, model.frames[model.getFrameId(model.names[i])].parentFrame,
-                       pin.SE3(np.eye(3), model.inertias[i].lever), pin.FrameType.OP_FRAME) for i in range(1, model.njoints)]
+    lever = [pin.Frame(f"com{i}", i, model.getFrameId(model.names[i]), pin.SE3(np.eye(3), model.inertias[i].lever),
+                       pin.FrameType.OP_FRAME) for i in range(1, model.njoints)]
     frames = [model.addFrame(f) for f in lever]
     data, h = model.createData(), 1e-3
     at = lambda t: (q + v * t + a * t**2 / 2 + j * t**3 / 6, v + a * t + j * t**2 / 2, a + j * t)
