@@ -27,7 +27,6 @@ from freefloat.parallel.sliding_mode import (
     PlatformControl,
     circle_reference,
     design_gains,
-    extreme_parameters,
 )
 
 from .conftest import REPO
@@ -208,28 +207,6 @@ def test_the_gain_design_model_does_not_see_the_actuation():
         for a, b in zip(square[:3], redundant[:3]):
             np.testing.assert_allclose(a, b, atol=1e-13 * max(1.0, np.abs(a).max()))
         assert square[3].shape == (2, 2) and redundant[3].shape == (2, 3)
-
-
-def test_the_sliding_condition_holds_with_shared_efforts_for_every_extreme_plant():
-    """With the designed gains and the law's force shared among three actuators (weighted, limited
-    at 8 N m), every extreme plant of the 2^6 meets s^T sdot <= -eta sum |s| (eq 144) at the design
-    points for random s, sigma and platform rates: the shared efforts give the true plant the
-    force the law asked for."""
-    gains = design_gains(NOMINAL, POINTS[:2], eta=20.0)
-    distribution = EffortDistribution(weights=np.array([1.0, 1.0, 4.0]), lower=np.full(3, -8.0), upper=np.full(3, 8.0))
-    model = redundant_five_bar(NOMINAL, distribution)
-    rng = np.random.default_rng(7)
-    for point in POINTS[:2]:
-        q = model.assemble(point, elbow_guess(NOMINAL, point))
-        for params in extreme_parameters(NOMINAL):
-            true = redundant_five_bar(params)
-            for _ in range(2):
-                qd, sigma, s = rng.normal(size=2) * 0.5, rng.normal(size=2) * 20, rng.normal(size=2)
-                H_hat, v_hat, g_hat, B = platform_dynamics(model, q, qd)
-                tau = model.efforts(B, v_hat + g_hat + H_hat @ (sigma - gains.k(sigma, qd) * np.sign(s)))
-                H, v, g, B_true = platform_dynamics(true, q, qd)
-                sdot = np.linalg.solve(H, B_true @ tau - v - g) - sigma
-                assert s @ sdot <= -gains.eta * np.abs(s).sum() + 1e-9
 
 
 def closed_loop(plant, model, period, duration, gains):
