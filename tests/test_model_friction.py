@@ -61,7 +61,7 @@ def test_accelerations_equal_crba_and_rnea_with_the_same_terms(robot):
 def test_a_tumbling_run_loses_what_friction_dissipates(robot):
     """0.5 s torque-free from a random state (Python loop: the compiled one has no friction; RK4
     at 1 ms): 1/2 v^T M v (armature included) falls by the work of friction (Simpson's rule on the
-    recorded rates) to 1e-6 of it, and the momentum is kept (internal forces) to 1e-11."""
+    recorded rates) to 1e-8 of it (7.6e-10 measured), and the momentum is kept (internal forces) to 1e-11."""
     friction = friction_of(robot)
     q0, v0 = state(robot, 1)
     result = run(robot, q0, v0, 0.5, 1e-3, make_integrator("rkmk4", robot.model), WithFriction(ExactModel(robot), friction))
@@ -70,7 +70,7 @@ def test_a_tumbling_run_loses_what_friction_dissipates(robot):
     kinetic = np.array([pin.computeKineticEnergy(robot.model, data, q, v) for q, v in zip(tel.q, tel.v)])
     lost = simpson(friction.power(tel.v), x=tel.t)
     assert lost > 1e-3 * kinetic[0]
-    assert abs(kinetic[0] - kinetic[-1] - lost) < 1e-6 * lost
+    assert abs(kinetic[0] - kinetic[-1] - lost) < 1e-8 * lost
     assert np.abs(tel.momentum - tel.momentum[0]).max() < 1e-11 * np.abs(tel.momentum[0]).max()
 
 

@@ -93,7 +93,7 @@ def test_the_5r_driven_by_its_motors_balances_electrical_and_mechanical_energy()
 def test_a_robot_joint_driven_by_a_motor_balances_its_energy():
     """A motor on the first joint of the two-arm planar robot (free-floating, rotor as Pinocchio's
     armature, drive-train friction), 5 V for 0.05 s: the same balance on a Lie group (RK4 at
-    10 us), to 1e-8 of the energy drawn; the base rows' momentum (Pinocchio's, which leaves out
+    10 us), to 1e-8 of the energy drawn (2.8e-10 measured); the base rows' momentum (Pinocchio's, which leaves out
     the rotor's spin as the armature model does) is kept."""
     import warnings
 
