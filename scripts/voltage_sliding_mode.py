@@ -11,10 +11,10 @@ torque input with the rotors' and the friction's only), lambda = 40, eta = 20, t
 voltage through :class:`freefloat.dynamics.voltage_drive.VoltageDrive`. One integrator step (RK4) per
 control period, the law held over it, the same step for every input.
 
-    python3 scripts/voltage_sliding_mode.py [--quick] [--out DIR]
+    python3 scripts/voltage_sliding_mode.py [--quick] [--out DIR] [--figure FILE] [--sweep 2000 5000]
 
-writes ``voltage_sliding_mode.json`` and ``.md`` (the tables) and, with ``--figure PATH``, the
-figure. Seconds to minutes: the plants with armature and friction run their rigid-body terms in the
+writes ``voltage_sliding_mode.json`` and ``.md`` (the tables), with ``--figure`` the figure, with
+``--sweep`` the 5R's voltage-input sliding mode at those current-loop bandwidths (1/s). Seconds to minutes: the plants with armature and friction run their rigid-body terms in the
 compiled core and the rest in Python.
 """
 
@@ -31,18 +31,30 @@ from freefloat.dynamics.plants import CoupledChainPlant
 from freefloat.dynamics.simulation import run_plant
 from freefloat.dynamics.voltage_drive import VoltageDrive
 from freefloat.parallel import drive_gain_design
-from freefloat.parallel.drives import five_bar_motors, motor_driven, motorised, off_nominal, rsu_ppap_motors
+from freefloat.parallel.drives import (
+    five_bar_motors,
+    motor_driven,
+    motorised,
+    off_nominal,
+    rsu_ppap_motors,
+)
 from freefloat.parallel.five_bar import TRUE_PARAMETERS, FiveBarParameters, elbow_guess, five_bar
 from freefloat.parallel.gain_design import box_grid, spectral_radius
 from freefloat.parallel.platform_control import CircleReference
 from freefloat.parallel.registry import rsu_ppap_setup
 from freefloat.parallel.rsu_ppap import CLOSURE, load_data
 from freefloat.parallel.rsu_ppap_masses import RsuPpapModel
-from freefloat.parallel.sliding_mode import FiveBarModel, PlatformControl, chattering, circle_reference
+from freefloat.parallel.sliding_mode import (
+    FiveBarModel,
+    PlatformControl,
+    chattering,
+    circle_reference,
+)
 
 LAMBDA, ETA, ERROR = 40.0, 20.0, 0.15
-#: The drive's current-loop rate, 1/s (the winding's R/L is 3850 1/s).
-BANDWIDTH = 5000.0
+#: The drive's current-loop rate, 1/s: just below the winding's own R/L (3850 1/s), the best of
+#: the sweep this script runs (``--sweep``), the supply never reached.
+BANDWIDTH = 3500.0
 
 
 def five_bar_case():
@@ -131,18 +143,19 @@ def study(quick: bool) -> dict:
         runs = [run_case(case, "sliding_mode", False, gains_t, quick), run_case(case, "sliding_mode", True, gains_v, quick),
                 run_case(case, "computed_torque", False, None, quick), run_case(case, "computed_torque", True, None, quick),
                 {**run_case(case, "sliding_mode", False, gains_v, quick), "law": "sliding_mode (voltage design's gains)"}]
-        report[case["name"]] = {"design": {"voltage": design_v, "torque": design_t}, "runs": runs}
+        report[case["name"]] = {"design": {"voltage": design_v, "torque": design_t}, "runs": runs,
+                                "motors": [case["motors"].motors[j] for j in range(len(case["motors"].motors))]}
     return report
 
 
 def table(report: dict) -> str:
     lines = []
     for name, part in report.items():
-        lines += [f"### {name}", "", "| law | input | max error after the reaching phase (per axis, mm) | max |e| (mm) | "
-                  "RMS (mm) | peak effort | peak voltage (V) | peak current (A) | median effort/voltage jump | "
-                  "sign changes of s per s |", "|---|---|---|---|---|---|---|---|---|---|"]
+        lines += [f"### {name}", "", ("| law | input | max error after the reaching phase (per axis, mm) | max norm of e "
+                                      "(mm) | RMS (mm) | peak effort | peak voltage (V) | peak current (A) | median "
+                                      "effort/voltage jump | sign changes of s per s |"), "|---|---|---|---|---|---|---|---|---|---|"]
         for r in part["runs"]:
-            fmt = lambda xs, k=1e3: " / ".join(f"{k * x:.3g}" for x in xs)  # noqa: E731
+            fmt = lambda xs, k=1e3: " / ".join(f"{k * x:.3g}" for x in xs)
             lines.append(f"| {r['law']} | {r['input']} | {fmt(r['error_max'])} | {1e3 * r['error_norm_max']:.3g} | "
                          f"{fmt(r['error_rms'])} | {fmt(r['effort_peak'], 1)} | "
                          f"{fmt(r['voltage_peak'], 1) if 'voltage_peak' in r else '-'} | "
@@ -153,28 +166,61 @@ def table(report: dict) -> str:
 
 
 def figure(report: dict, path: Path) -> None:
+    """Top: each mechanism's error norm under the four laws. Bottom left: the 5R's first motor over
+    20 ms, its current under voltage-input sliding mode against the current the torque-input law's
+    effort would take (tau / (N k_t)), and its terminal voltage. Bottom right: the 2RSU+PPaP's
+    voltages and currents under voltage-input sliding mode."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, axes = plt.subplots(2, 2, figsize=(11, 7), sharex="col")
+    fig, axes = plt.subplots(2, 2, figsize=(11, 7))
     for column, (name, part) in enumerate(report.items()):
         for r in part["runs"][:4]:
             series = r["_series"]
-            label = f"{r['law'].replace('_', ' ')}, {r['input']}"
-            axes[0, column].semilogy(series["t"], 1e3 * np.linalg.norm(series["e"], axis=1) + 1e-9, label=label, lw=0.8)
-        axes[0, column].set(title=f"{name}: tracking error |e|", ylabel="mm")
+            axes[0, column].semilogy(series["t"], 1e3 * np.linalg.norm(series["e"], axis=1) + 1e-9, lw=0.8,
+                                     label=f"{r['law'].replace('_', ' ')}, {r['input']} input")
+        axes[0, column].set(title=f"{name}: tracking error", ylabel="|e| (mm)", xlabel="t (s)", ylim=(1e-4, 1e2))
         axes[0, column].legend(fontsize=7)
-        voltage = next(r for r in part["runs"] if r["law"] == "sliding_mode" and r["input"] == "voltage")["_series"]
-        ax = axes[1, column]
-        ax.plot(voltage["t"], voltage["efforts"], lw=0.6)
-        ax.set(xlabel="t (s)", ylabel="terminal voltage (V)", title=f"{name}: sliding mode, voltage input")
-        twin = ax.twinx()
-        twin.plot(voltage["t"], voltage["current"], lw=0.6, ls=":")
-        twin.set_ylabel("current (A), dotted")
+    runs = report["5R"]["runs"]
+    voltage, torque = runs[1]["_series"], runs[0]["_series"]
+    window = (voltage["t"] >= 0.30) & (voltage["t"] <= 0.32)
+    motor = report["5R"]["motors"][0]
+    ax = axes[1, 0]
+    ax.plot(voltage["t"][window], voltage["current"][window, 0], lw=0.8, label="current, voltage input")
+    ax.plot(torque["t"][window], torque["efforts"][window, 0] / (motor.gear_ratio * motor.torque_constant), lw=0.8,
+            label="tau / (N k_t), torque input")
+    ax.set(xlabel="t (s)", ylabel="motor 1 current (A)", title="5R, sliding mode: motor 1 over 20 ms")
+    twin = ax.twinx()
+    twin.plot(voltage["t"][window], voltage["efforts"][window, 0], lw=0.5, color="grey", alpha=0.6)
+    twin.set_ylabel("terminal voltage (V), grey")
+    ax.legend(fontsize=7, loc="upper left")
+    series = report["2RSU+PPaP"]["runs"][1]["_series"]
+    ax = axes[1, 1]
+    for j, name in enumerate(("crank 1", "crank 2", "rail")):
+        line, = ax.plot(series["t"], series["efforts"][:, j], lw=0.8, label=f"{name}: V")
+        ax.plot(series["t"], series["current"][:, j], lw=0.8, ls=":", color=line.get_color(), label=f"{name}: A")
+    ax.set(xlabel="t (s)", ylabel="V (solid), A (dotted)", title="2RSU+PPaP, sliding mode, voltage input")
+    ax.legend(fontsize=7, ncol=3)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
+
+
+def sweep(bandwidths: list[float]) -> list[dict]:
+    """The 5R's voltage-input sliding mode at each current-loop bandwidth (1/s)."""
+    global BANDWIDTH
+    case, out = five_bar_case(), []
+    gains = design(case, True)[0]
+    kept = BANDWIDTH
+    for bandwidth in bandwidths:
+        BANDWIDTH = bandwidth
+        r = run_case(case, "sliding_mode", True, gains, False)
+        out.append({"bandwidth": bandwidth, **{k: r[k] for k in ("error_max", "error_norm_max", "voltage_peak",
+                                                                "current_peak")},
+                    "s_sign_changes_per_s": r["chattering"]["s_sign_changes_per_s"]})
+    BANDWIDTH = kept
+    return out
 
 
 def main() -> None:
@@ -182,14 +228,18 @@ def main() -> None:
     parser.add_argument("--quick", action="store_true", help="half the durations")
     parser.add_argument("--out", type=Path, default=Path("."))
     parser.add_argument("--figure", type=Path, default=None)
+    parser.add_argument("--sweep", type=float, nargs="*", default=(), help="the 5R's bandwidths to sweep, 1/s")
     args = parser.parse_args()
     report = study(args.quick)
     args.out.mkdir(parents=True, exist_ok=True)
     clean = {name: {"design": part["design"], "runs": [{k: v for k, v in r.items() if k != "_series"} for r in part["runs"]]}
              for name, part in report.items()}
+    if args.sweep:
+        clean["5R bandwidth sweep"] = sweep(list(args.sweep))
+        print(json.dumps(clean["5R bandwidth sweep"], indent=1))
     (args.out / "voltage_sliding_mode.json").write_text(json.dumps(clean, indent=1))
     (args.out / "voltage_sliding_mode.md").write_text(table(report))
-    print(json.dumps({n: p["design"] for n, p in clean.items()}, indent=1))
+    print(json.dumps({n: report[n]["design"] for n in report}, indent=1))
     print(table(report))
     if args.figure is not None:
         figure(report, args.figure)

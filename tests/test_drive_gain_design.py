@@ -12,7 +12,12 @@ import pytest
 
 from freefloat.dynamics.motors import DCMotor
 from freefloat.parallel import gain_design
-from freefloat.parallel.drive_gain_design import DrivenModel, design_gains, drive_bounds, largest_over_box
+from freefloat.parallel.drive_gain_design import (
+    DrivenModel,
+    design_gains,
+    drive_bounds,
+    largest_over_box,
+)
 from freefloat.parallel.drives import five_bar_motors, motorised
 from freefloat.parallel.five_bar import FiveBarParameters, elbow_guess, five_bar
 from freefloat.parallel.platform import platform_dynamics

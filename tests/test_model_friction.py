@@ -81,7 +81,7 @@ def test_tree_plant_follows_the_robot_loop(robot):
 
     model = WithFriction(ExactModel(robot), friction_of(robot))
     q0, v0 = state(robot, 2)
-    torques = lambda t, q, v: np.sin(10.0 * t + np.arange(robot.n_joints))  # noqa: E731
+    torques = lambda t, q, v: np.sin(10.0 * t + np.arange(robot.n_joints))
     ours = run_plant(TreePlant(robot, model), q0, v0, 0.05, 1e-3, "rkmk4", Law(torques)).telemetry
     theirs = run(robot, q0, v0, 0.05, 1e-3, make_integrator("rkmk4", robot.model), model, Law(torques)).telemetry
     np.testing.assert_allclose(ours.q, theirs.q, atol=1e-12)

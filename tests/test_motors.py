@@ -8,7 +8,12 @@ import pytest
 
 from freefloat import FreefloatError, InvalidArgument
 from freefloat.dynamics.motors import DCMotor, add_armature, read_motors
-from freefloat.parallel.drives import FIVE_BAR_JOINTS, FIVE_BAR_MOTORS, RSU_PPAP_JOINTS, RSU_PPAP_MOTORS
+from freefloat.parallel.drives import (
+    FIVE_BAR_JOINTS,
+    FIVE_BAR_MOTORS,
+    RSU_PPAP_JOINTS,
+    RSU_PPAP_MOTORS,
+)
 
 MOTOR = DCMotor(resistance=0.317, inductance=0.0823e-3, torque_constant=0.0302, back_emf_constant=0.0302,
                 gear_ratio=12.0, rotor_inertia=1.42e-5, voltage_limit=24.0, current_limit=30.0)

@@ -190,7 +190,7 @@ def point_worst_case(model: DrivenModel, q: np.ndarray, extremes: np.ndarray) ->
     HB = Hinv @ B                                                            # (V, p, k)
     # Gamma X = sum_j rho_j B_j (B^-1 X)_j: slopes of H^-1 Gamma X on rho (V, ..., k)
     Delta = largest_over_box(-np.eye(p), np.einsum("vrj,jc->vrcj", HB, Binv @ H_hat), bounds.rho).max(axis=0)
-    affine = lambda x, true: largest_over_box(-np.einsum("vrc,vc->vr", Hinv, true), HB * (Binv @ x), bounds.rho)  # noqa: E731
+    affine = lambda x, true: largest_over_box(-np.einsum("vrc,vc->vr", Hinv, true), HB * (Binv @ x), bounds.rho)
     gamma = np.abs(bounds.gamma).max(axis=0)
     delta0 = (affine(g_hat, pis @ g_c) + np.abs(HB) @ gamma).max(axis=0)
     deltaij = {key: affine(quad_hat[key], pis @ c).max(axis=0) for key, c in quad_c.items()}

@@ -8,7 +8,8 @@ RNEA include (:func:`freefloat.dynamics.motors.add_armature`).
 
 from __future__ import annotations
 
-from typing import Any, Sequence
+from collections.abc import Sequence
+from typing import Any
 
 import numpy as np
 import pinocchio as pin
