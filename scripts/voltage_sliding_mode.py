@@ -191,7 +191,8 @@ def figure(report: dict, path: Path) -> None:
     ax.plot(voltage["t"][window], voltage["current"][window, 0], lw=0.8, label="current, voltage input")
     ax.plot(torque["t"][window], torque["efforts"][window, 0] / (motor.gear_ratio * motor.torque_constant), lw=0.8,
             label="tau / (N k_t), torque input")
-    ax.set(xlabel="t (s)", ylabel="motor 1 current (A)", title="5R, sliding mode: motor 1 over 20 ms")
+    ax.set(xlabel="t (s)", ylabel="motor 1 current (A)", title="5R, sliding mode: motor 1 over 20 ms",
+           xticks=np.linspace(0.30, 0.32, 5))
     twin = ax.twinx()
     twin.plot(voltage["t"][window], voltage["efforts"][window, 0], lw=0.5, color="grey", alpha=0.6)
     twin.set_ylabel("terminal voltage (V), grey")
