@@ -114,6 +114,13 @@ def test_a_record_that_excites_nothing_is_refused(captured):
         identify_target(robot, HAND, np.repeat(tel.q[:1], 30, axis=0), np.repeat(tel.v[:1], 30, axis=0))
 
 
+def test_a_planar_base_is_refused():
+    """A planar base conserves only its in-plane momentum: the error says to load a free base."""
+    planar = load_robot("two_arm_planar", base="planar", visuals=False)
+    with pytest.raises(InvalidArgument, match="base='free'"):
+        identify_target(planar, "arm1_ee", np.zeros((20, planar.model.nq)), np.zeros((20, planar.model.nv)))
+
+
 def test_an_unknown_hand_is_named(captured):
     """A frame that is not an end-effector: the error lists the end-effectors."""
     robot, _, tel = captured

@@ -42,7 +42,7 @@ from ..dynamics.identification.least_squares import Estimate, fit
 from ..dynamics.identification.measurements import smooth, smooth_configurations
 from ..dynamics.identification.parameters import PARAMETER_NAMES, about_com, body_parameters
 from ..dynamics.identification.regressors import body_momentum_regressor
-from ..errors import BadShape, UnknownName
+from ..errors import BadShape, InvalidArgument, UnknownName
 from ..robot.conventions import momentum_about_origin
 from ..robot.robot import Robot
 
@@ -124,8 +124,12 @@ def identify_target(robot: Robot, end_effector: str, q: np.ndarray, v: np.ndarra
     Raises:
         UnknownName: for an end-effector frame the robot does not have.
         BadShape: for records of other shapes than the robot's.
-        InvalidArgument: when the record does not excite every parameter (rank-deficient eq (1)).
+        InvalidArgument: for a robot on a planar base (it does not conserve the whole momentum),
+            or a record that does not excite every parameter (rank-deficient eq (1)).
     """
+    if robot.base != "free":
+        raise InvalidArgument(f"identify_target: the robot's base is '{robot.base}'; eq (1) needs a free-flyer base "
+                              "(a planar base conserves only its in-plane momentum: load the robot with base='free')")
     q, v = np.atleast_2d(np.asarray(q, float)), np.atleast_2d(np.asarray(v, float))
     if q.shape[1:] != (robot.model.nq,) or v.shape != (len(q), robot.model.nv):
         raise BadShape(f"identify_target: q must be (N, {robot.model.nq}) and v (N, {robot.model.nv}) of the "
