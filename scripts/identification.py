@@ -28,7 +28,13 @@ from freefloat.parallel.closed_chain import load_closed_chain
 from freefloat.parallel.closed_loop import track_five_bar
 from freefloat.parallel.five_bar import TRUE_PARAMETERS, FiveBarParameters, elbow_guess, five_bar
 from freefloat.parallel.registry import five_bar_inertias
-from freefloat.parallel.sliding_mode import PlatformControl, chattering, circle_reference, design_gains, workspace_grid
+from freefloat.parallel.sliding_mode import (
+    PlatformControl,
+    chattering,
+    circle_reference,
+    design_gains,
+    workspace_grid,
+)
 from freefloat.paths import URDF_DIR
 from freefloat.robot.catalog import find_robot
 from freefloat.space.after_capture import detumble, manoeuvre
@@ -62,7 +68,7 @@ def robot_part(draws: int) -> dict:
 
     start = excitation.random_trajectory(np.zeros(6), 5, 10.0, 1.0, 2.0, np.random.default_rng(3))
     began = time.perf_counter()
-    best, best_cost = excitation.optimise(start, cost, 1.0, 2.0, iterations=15)
+    _, best_cost = excitation.optimise(start, cost, 1.0, 2.0, iterations=15)
     optimise_s = time.perf_counter() - began
     _, (q, v, a) = start.sample(400)
     tau = np.array([pin.rnea(model, data, *s) for s in zip(q, v, a)])

@@ -15,7 +15,12 @@ from freefloat.errors import InvalidArgument, UnknownName
 from freefloat.robot.conventions import momentum_about_origin
 from freefloat.space.after_capture import detumble, manoeuvre
 from freefloat.space.capture import Target, grasp
-from freefloat.space.target_identification import held_parameters, identify_target, momentum_rows, with_target
+from freefloat.space.target_identification import (
+    held_parameters,
+    identify_target,
+    momentum_rows,
+    with_target,
+)
 
 HAND = "left_tool0"
 
