@@ -592,6 +592,16 @@ def test_angular_rate_curves_are_the_angular_speeds(iiwa2):
     np.testing.assert_allclose(_lines(base_ax)["w0 z"][:, 1], tel.base_twist[:, 5])
 
 
+def test_the_threshold_label_gives_three_significant_digits_and_its_unit(iiwa2):
+    """A threshold computed by the run (1.02706e-05 rad/s) is labelled to 3 digits, with rad/s."""
+    from freefloat.app.viz.figures import angular_rates_figure
+
+    tel = _telemetry(iiwa2)
+    tel.base_twist[:, 3:] = np.random.default_rng(4).normal(size=(len(tel.t), 3))
+    _, log_ax = angular_rates_figure(iiwa2, tel, threshold=1.0270612e-05).axes
+    assert "threshold 1.03e-05 rad/s" in _lines(log_ax)
+
+
 def test_balance_curves_are_the_summary_balances(iiwa2):
     """With a wrench, the balance figure's residual curves peak at the summary's balances, and
     its momentum panel draws the change next to the impulse applied."""

@@ -291,7 +291,7 @@ def angular_rates_figure(robot: Robot, telemetry: Telemetry, threshold: float | 
         shown = thin(rate)
         log_ax.semilogy(t[shown], np.where(rate > 0.0, rate, np.nan)[shown], label=label)
     if threshold is not None:
-        log_ax.axhline(threshold, color="grey", linestyle=":", linewidth=1.0, label=f"threshold {threshold:g} rad/s")
+        log_ax.axhline(threshold, color="grey", linestyle=":", linewidth=1.0, label=f"threshold {threshold:.3g} rad/s")
     positive = np.concatenate([ends.ravel(), base, [threshold] if threshold is not None else []])
     positive = positive[np.isfinite(positive) & (positive > 0.0)]
     if len(positive):
