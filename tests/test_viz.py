@@ -196,7 +196,7 @@ def test_primitive_geometry_placed_like_pinocchio(sc3, tmp_path):
     visual, visual_data = sc3.visual_model, pin.GeometryData(sc3.visual_model)
     pin.forwardKinematics(model, data, q[50])
     pin.updateGeometryPlacements(model, data, visual, visual_data)
-    assert len([n for n in objects if n.split("/")[3] not in ("markers", "paths")]) == visual.ngeoms
+    assert len([n for n in objects if n.startswith(ROOT) and n.split("/")[3] not in ("markers", "paths")]) == visual.ngeoms
     for g, g_id in ((g, visual.getGeometryId(g.name)) for g in visual.geometryObjects):
         node = f"{ROOT}/{model.names[g.parentJoint]}"
         world = _node_pose(tracks[node], 5) @ _intrinsic(objects[f"{node}/{g.name}"])
@@ -313,6 +313,36 @@ def test_camera_sees_every_joint_at_every_frame(sc3, tmp_path):
         for m in data.oMi[1:]:
             ray = m.translation - position
             assert np.arccos(ray @ axis / np.linalg.norm(ray)) < np.radians(75.0) / 2
+
+
+def _grid_ends(page: Path) -> np.ndarray:
+    """The ends of a page's grid lines (2 K, 3), inertial frame, m: its ``/Grid`` object, or
+    meshcat's own grid (20 m wide, 40 cells, at z = 0) when the page leaves that in place."""
+    grid = _objects(page).get("/Grid")
+    if grid is None:
+        ticks = np.linspace(-10.0, 10.0, 41)
+        return np.array([[(x, -10.0, 0.0), (x, 10.0, 0.0)] for x in ticks]
+                        + [[(-10.0, y, 0.0), (10.0, y, 0.0)] for y in ticks]).reshape(-1, 3)
+    (geometry,) = grid["geometries"]
+    return np.frombuffer(geometry["data"]["attributes"]["position"]["array"].data, np.float32).reshape(-1, 3)
+
+
+def test_the_grid_lies_under_a_3d_motion_and_in_front_of_the_camera(sc3, tmp_path):
+    """A robot tumbling in 3-D: the grid is one plane under every joint origin of every shown frame,
+    under the camera's target, and every line's ends lie in front of the camera (lines crossing
+    the camera's plane were dropped by the browser, leaving a few far ones above the robot)."""
+    t, q = _run(sc3)
+    page = write_trajectory_html(sc3, t, q, tmp_path / "run.html", fps=10.0)
+    camera = _settings(page)["camera"]
+    position, target = np.array(camera["position"]), np.array(camera["target"])
+    axis = (target - position) / np.linalg.norm(target - position)
+    ends = _grid_ends(page)
+    data = sc3.model.createData()
+    shown = q[frame_indices(t, 10.0)]
+    lowest = min(m.translation[2] for qk in shown for m in (pin.forwardKinematics(sc3.model, data, qk), data.oMi)[1][1:])
+    assert np.ptp(ends[:, 2]) == 0.0 and ends[0, 2] <= lowest
+    assert (ends[:, :2].min(axis=0) <= target[:2]).all() and (target[:2] <= ends[:, :2].max(axis=0)).all()
+    assert ((ends - position) @ axis).min() > 0.04 * np.linalg.norm(target - position)
 
 
 def test_camera_sees_every_corner_of_an_extra_box(sc3, tmp_path):

@@ -4,8 +4,9 @@ A page is meshcat's bundled viewer (``meshcat/viewer/dist/main.min.js``) followe
 command packets (msgpack, base64) lowered here from ``meshcat.commands`` objects, and the
 embedded mesh files (:mod:`.assets`: each once, gzipped, only from allowed folders). The page
 (:mod:`.page_template`) replays them in order, so it needs neither network nor server, frames
-the camera on the motion (:mod:`.camera`), loops the animation and shows play/pause, a time
-slider and the run's events.
+the camera on the motion (:mod:`.camera`), draws a grid just under it (:mod:`.floor`, in place of
+meshcat's own at ``/Grid``), loops the animation and shows play/pause, a time slider and the
+run's events.
 
 Scene layout: one meshcat node per Pinocchio joint, ``/meshcat/freefloat/<joint name>``, whose
 animated pose is the joint frame in the inertial frame (``data.oMi``). Geometry hangs below it,
@@ -41,6 +42,7 @@ from meshcat.path import Path as MeshcatPath
 from ...robot.robot import Robot
 from .assets import AssetTable, allowed_folders
 from .camera import frame_motion
+from .floor import floor, grid_object
 from .markers import Bar, Marker, robot_markers
 from .page_template import PAGE
 
@@ -48,6 +50,8 @@ from .page_template import PAGE
 VIEWER_JS = Path(meshcat.__file__).parent / "viewer" / "dist" / "main.min.js"
 #: Meshcat node under which the whole run is drawn.
 ROOT = MeshcatPath(("meshcat", "freefloat"))
+#: Meshcat's grid node, which a page redraws under the motion (:mod:`.floor`).
+GRID = MeshcatPath(("Grid",))
 
 #: An extra animated body: (name, meshcat geometry or object, poses in the inertial frame
 #: (N, 4, 4) at the same samples as ``q``).
@@ -151,11 +155,12 @@ def write_trajectory_html(
     for k, i in enumerate(shown):
         pin.forwardKinematics(model, data, q[i])
         poses[k] = [m.homogeneous for m in data.oMi]
-    framing = frame_motion(np.concatenate(
+    visited = np.concatenate(
         [poses[:, 1:, :3, 3].reshape(-1, 3), _geometry_points(robot, poses)]
         + [_body_points(obj, body_poses) for _, obj, body_poses in bodies] + [m.positions for m in markers]
-        + [p for b in bars for p in (b.start, b.end)] + [np.asarray(points, float) for _, _, points in lines or []]),
-        **({} if view is None else {"direction": view}))
+        + [p for b in bars for p in (b.start, b.end)] + [np.asarray(points, float) for _, _, points in lines or []])
+    framing = frame_motion(visited, **({} if view is None else {"direction": view}))
+    packets.append(SetObject(grid_object(floor(visited, framing)), path=GRID).lower())
 
     animation = Animation(default_framerate=fps)
     for j in range(1, model.njoints):
