@@ -273,6 +273,23 @@ def test_mesh_files_are_embedded(ur5, tmp_path):
         assert lowered["resources"] == {}
 
 
+def test_a_missing_mesh_leaves_the_other_meshes_and_a_stick_for_its_link(ur5, tmp_path):
+    """UR5 with wrist2's mesh file missing: the page draws every other link's mesh, and on
+    wrist2's joint the stick figure's pieces (its sphere, its link to the next joint); no other
+    joint gets any."""
+    path = tmp_path / "ur5_no_wrist2.urdf"
+    path.write_text(ur5.urdf_path.read_text().replace("visual/wrist2.dae", "visual/wrist2_gone.dae"))
+    robot = _load(path)
+    t, q = _run(robot, n=11, duration=1.0)
+    objects = _objects(write_trajectory_html(robot, t, q, tmp_path / "ur5.html"))
+    meshes = {n for n, o in objects.items() if o["object"]["type"] == "_meshfile_object"}
+    assert len(meshes) == ur5.visual_model.ngeoms - 1 and not any("wrist2" in n for n in meshes)
+    wrist2 = robot.model.frames[robot.model.getFrameId("wrist_2_link")].parentJoint
+    sticks = {n for n in objects if n.startswith(ROOT) and n.split("/")[3] not in ("markers", "paths")} - meshes
+    assert sticks and {n.split("/")[3] for n in sticks} == {robot.model.names[wrist2]}
+    assert f"{ROOT}/{robot.model.names[wrist2]}/joint_sphere" in sticks
+
+
 def test_each_mesh_file_is_embedded_once(tmp_path):
     """The dual-arm satellite uses each UR5 mesh twice but embeds it once; its page stays under 5 MB."""
     robot = _load(Path(__file__).resolve().parents[1] / "urdf" / "dual_arm_satellite.urdf")

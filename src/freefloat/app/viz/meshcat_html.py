@@ -109,7 +109,8 @@ def write_trajectory_html(
 
     Args:
         robot: the robot; its visual geometry is drawn when it has any, otherwise a stick
-            figure built from the model (base box, joint spheres, links, end-effectors).
+            figure built from the model (base box, joint spheres, links, end-effectors); a
+            link whose mesh is missing gets its pieces of the stick figure.
         t: sample times, s (N,).
         q: Pinocchio configurations at those times (N, nq).
         path: output ``.html`` file.
@@ -333,15 +334,30 @@ def _object_packet(node: MeshcatPath, obj: mg.Object | dict, placement: np.ndarr
 
 def _robot_objects(robot: Robot, table: AssetTable,
                    base_only: bool = False) -> list[tuple[int, str, mg.Object | dict, np.ndarray]]:
-    """(joint id, name, meshcat object, placement in the joint frame incl. scale (4, 4)); with
+    """(joint id, name, meshcat object, placement in the joint frame incl. scale (4, 4)): the
+    robot's visual geometry, and the stick figure's pieces on each joint that lost a geometry (a
+    mesh file the loader did not find, :attr:`~freefloat.robot.robot.Robot.missing_meshes`, or
+    one the page may not embed); the whole stick figure when no geometry is drawn. With
     ``base_only`` the root link's geometry alone (nothing when it has none), half transparent
     so that the bars' pivots on it show."""
-    visual = robot.visual_model
+    visual, model = robot.visual_model, robot.model
     geometries = [] if visual is None else [g for g in visual.geometryObjects
                                             if not base_only or g.parentJoint <= 1]
     opacity = _BASE_OPACITY if base_only else 1.0
-    objects = [o for o in (_visual_object(g, table, opacity) for g in geometries) if o is not None]
-    return objects if objects or base_only else _stick_figure(robot)
+    objects, bare = [], set()
+    for geometry in geometries:
+        drawn = _visual_object(geometry, table, opacity)
+        if drawn is None:
+            bare.add(geometry.parentJoint)
+        else:
+            objects.append(drawn)
+    if base_only:
+        return objects
+    if not objects:
+        return _stick_figure(robot)
+    bare |= {model.frames[model.getFrameId(link)].parentJoint for link, _ in robot.missing_meshes
+             if model.existFrame(link)}
+    return objects + [piece for piece in _stick_figure(robot) if piece[0] in bare]
 
 
 def _visual_object(
