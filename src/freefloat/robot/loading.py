@@ -23,7 +23,7 @@ import pinocchio as pin
 
 from ..arguments import MAX_MAGNITUDE, real_array
 from ..errors import InvalidArgument, RobotModelError
-from .catalog import example_robot_data_share, find_robot, is_name  # noqa: F401  (the first: used from here)
+from .catalog import example_robot_data_share, find_robot, is_name  # noqa: F401  (the share: imported from here)
 from .inertias import balanced
 from .robot import BASE_DOFS, Arm, Robot
 from .urdf_checks import (
