@@ -65,7 +65,7 @@ def write_run(folder: RunFolder, scene: Scene | MechanismScene, outcome: Outcome
     """Write ``telemetry.npz`` (with the outcome's names), any further telemetry,
     ``summary.json`` (summary, scene, provenance, versions; strict JSON), ``scene.toml`` (the
     scene as it ran: :func:`~.scenes.as_run.scene_as_run`),
-    the figures the scene chose (``[output] figures``, :mod:`.figure_set`) and
+    the figures the scene chose and its task calls for (:func:`.figure_set.drawn`) and
     ``trajectory.html``, each file atomically.
 
     Written whatever the run's status, so a diverged or interrupted run keeps what it computed;
@@ -105,10 +105,11 @@ def write_run(folder: RunFolder, scene: Scene | MechanismScene, outcome: Outcome
 
 
 def _figures(outcome: Outcome, scene: Scene | MechanismScene, into: Path) -> list[Path]:
-    """The run's figures that ``[output] figures`` chose, in its ``figure_formats``."""
+    """The run's figures that ``[output] figures`` chose and its task calls for
+    (:func:`.figure_set.drawn`), in its ``figure_formats``."""
     from .viz.plotting import choose
 
-    with choose(figure_set.selected(scene.output.figures), scene.output.figure_formats):
+    with choose(frozenset(figure_set.drawn(scene)), scene.output.figure_formats):
         return outcome.figures(into)
 
 
