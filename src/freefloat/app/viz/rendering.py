@@ -1,17 +1,22 @@
-"""A helper process that renders figures while this one renders others. It is a new
-interpreter (``python -m freefloat.app.viz.rendering``) fed pickled figures through a pipe:
-never a fork, since this process has threads (BLAS, progress bars) and a fork of a threaded
-process can deadlock (Python 3.12 warns at every ``os.fork()`` there), and not
-multiprocessing's spawn, which reruns the user's script in the child.
+"""A helper process that draws and renders figures while this one does other work. It is a new
+interpreter (``python -m freefloat.app.viz.rendering``) fed pickled jobs through a pipe: never
+a fork, since this process has threads (BLAS, progress bars) and a fork of a threaded process
+can deadlock (Python 3.12 warns at every ``os.fork()`` there), and not multiprocessing's spawn,
+which reruns the user's script in the child.
 
-Starting it costs an interpreter and matplotlib's import (~1 s), so a run starts it before it
-simulates (:func:`warm_up`) and the start overlaps the simulation. It ignores Ctrl-C (the run
-decides) and ends when this process closes the pipe or ends.
+A job is a function and its arguments: a figure to render (:func:`.plotting.save`), or a run's
+whole set of figures to draw and render (:func:`draw_chosen` of a picklable figure job such as
+:class:`.figure_job.RobotFigures`), which spares the run importing matplotlib at all. Starting
+the helper costs an interpreter and the import of matplotlib and the figure modules
+(:data:`PRELOAD`, ~1 s of CPU), so a run starts it before it simulates (:func:`warm_up`) and the
+start overlaps the simulation. It ignores Ctrl-C (the run decides) and ends when this process
+closes the pipe or ends.
 """
 
 from __future__ import annotations
 
 import atexit
+import importlib
 import pickle
 import queue
 import signal
@@ -21,13 +26,16 @@ import sys
 import threading
 from collections.abc import Callable
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, BinaryIO
+from typing import Any, BinaryIO
 
-if TYPE_CHECKING:
-    from matplotlib.figure import Figure
+#: Modules the helper imports as it starts, before its first job: the plotting stack and the
+#: robot run's figures (Pinocchio, freefloat's robot and dynamics).
+PRELOAD = ("matplotlib.backends.backend_agg", "freefloat.app.viz.figures")
 
 _helper: subprocess.Popen | None = None
 _HEADER = struct.Struct("<Q")
+#: True in the helper process itself (its figures are rendered there, never sent on).
+_in_helper = False
 
 
 def _send(stream: BinaryIO, message: Any) -> None:
@@ -50,6 +58,21 @@ def warm_up() -> None:
         _helper = subprocess.Popen([sys.executable, "-m", __name__], stdin=subprocess.PIPE, stdout=subprocess.PIPE,
                                    stderr=subprocess.DEVNULL)
         atexit.register(_stop, _helper)
+
+
+def in_helper() -> bool:
+    """Whether this process is the figure helper."""
+    return _in_helper
+
+
+def draw_chosen(figures: Callable[[Path], list[Path]], names: frozenset[str] | None, formats: tuple[str, ...],
+                into: Path) -> list[Path]:
+    """A run's figures: ``figures(into)`` with ``names`` chosen in ``formats``
+    (:func:`.plotting.choose`); the paths written. The job a run sends with :meth:`Renderer.send`."""
+    from .plotting import choose
+
+    with choose(names, formats):
+        return figures(into)
 
 
 def _stop(helper: subprocess.Popen) -> None:
@@ -97,6 +120,20 @@ class Renderer:
                     pass
                 return
 
+    def close(self) -> None:
+        """End the feeder of a renderer that sent nothing (the helper stays for others)."""
+        self._queue.put(None)
+        self._feeder.join()
+
+    def abandon(self) -> None:
+        """Stop waiting for the jobs sent: the helper is ended (its replies would otherwise be read
+        by the next renderer) and the next :func:`warm_up` starts another."""
+        self._helper.kill()
+        self._helper.wait()
+        self._queue.put(None)
+        self._feeder.join()  # a write to the ended helper fails: the feeder drops the rest and returns
+        _stop(self._helper)
+
     def collect(self) -> list[Any]:
         """Wait for the jobs sent; in order, the paths each wrote, or for a job the helper failed
         on (or lost) what this process wrote running the job as it was sent."""
@@ -119,10 +156,12 @@ def _run(data: bytes) -> Any:
 
 
 def _serve() -> None:
-    """The helper's loop: (save, figure, folder, stem) in, save's paths (or its exception) out."""
+    """The helper's loop: (function, *arguments) in, the function's result (or its exception) out."""
+    global _in_helper
+    _in_helper = True
     signal.signal(signal.SIGINT, signal.SIG_IGN)
-    # warm up while the run simulates; unpickling the first job imports the plotting module itself
-    import matplotlib.backends.backend_agg  # noqa: F401
+    for module in PRELOAD:  # while the run simulates
+        importlib.import_module(module)
 
     stdin, stdout = sys.stdin.buffer, sys.stdout.buffer
     while True:
