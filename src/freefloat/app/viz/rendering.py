@@ -177,4 +177,5 @@ def _serve() -> None:
 
 
 if __name__ == "__main__":
-    _serve()
+    # serve from the module as imported by name, so that the figure modules see in_helper() true
+    importlib.import_module("freefloat.app.viz.rendering")._serve()
