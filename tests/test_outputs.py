@@ -80,3 +80,16 @@ def test_quiet_scene_runs_draw_nothing(tmp_path):
     with RunFolder(tmp_path / "out") as folder:
         written, skipped = write_run(folder, scene, runner.simulate(scene))
     assert [p.name for p in written] == ["telemetry.npz", "scene.toml", "summary.json"] and not skipped
+
+
+def test_a_job_too_large_for_the_helper_is_drawn_here(tmp_path, monkeypatch):
+    """Above the size limit the figures are drawn in the run's process, the same files."""
+    from freefloat.app import outputs
+
+    monkeypatch.setattr(outputs, "JOB_BYTES", 1000)
+    scene = _short(tmp_path)
+    stages: list[str] = []
+    with RunFolder(tmp_path / "out") as folder:
+        written, _ = write_run(folder, scene, runner.simulate(scene), stage=stages.append)
+    assert stages == ["data", "figures"] and [p.name for p in written][3:] == ["joint_errors.png", "torques.png",
+                                                                               "com_drift.png"]

@@ -120,18 +120,25 @@ def write_run(folder: RunFolder, scene: Scene | MechanismScene, outcome: Outcome
     return written, skipped
 
 
+#: Largest figure job sent to the figure helper, bytes pickled (the default job's: 5.7 MB); a
+#: larger run's figures are drawn in its own process, from the telemetry it already holds.
+JOB_BYTES = 64 * 2**20
+
+
 class _Meanwhile:
     """A run's figures sent to the figure helper, to be drawn there while this process writes the
-    rest (:attr:`sent`; False when the outcome's figures do not pickle: they are then drawn here)."""
+    rest (:attr:`sent`; False when the outcome's figures do not pickle or exceed
+    :data:`JOB_BYTES`: they are then drawn here)."""
 
     def __init__(self, folder: RunFolder, outcome: Outcome, scene: Scene | MechanismScene) -> None:
         from .viz import rendering
+        from .viz.figure_job import draw_chosen
 
         self.folder = folder
-        self.into = folder.private_dir()
-        self.renderer = rendering.Renderer(rendering.draw_chosen)
+        self.into = folder.private_dir().absolute()  # the helper's working folder may be another
+        self.renderer = rendering.Renderer(draw_chosen)
         self.sent = self.renderer.send(outcome.figures, frozenset(figure_set.drawn(scene)),
-                                       scene.output.figure_formats, self.into)
+                                       scene.output.figure_formats, self.into, max_bytes=JOB_BYTES)
         if not self.sent:
             self.renderer.close()
             shutil.rmtree(self.into, ignore_errors=True)

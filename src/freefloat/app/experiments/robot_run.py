@@ -296,7 +296,8 @@ def robot_outcome(setup: RobotSetup, robot: Robot, telemetry: Telemetry, result:
     (a planned capture's pre-capture phase on the scene's robot) also its joint tracking against the
     plan. The figures left out because their data is identically zero are named in the summary's
     ``figures_not_drawn``."""
-    from ..viz.figure_job import ClosedLoop, RobotFigures, WheelRows, empty_figures
+    from ..viz.figure_data import empty_figures
+    from ..viz.figure_job import ClosedLoop, RobotFigures, WheelRows
     from ..viz.meshcat_html import write_trajectory_html
 
     t, q = animation or (telemetry.t, telemetry.q)

@@ -5,7 +5,7 @@ in it, said so) with the robot drawn at start and end, log axes clipped to the d
 Each ``*_figure`` function returns a :class:`matplotlib.figure.Figure` on the Agg canvas (see
 :mod:`.plotting`), so tests can read the plotted data; :func:`write_figures` saves those the run
 chose (:mod:`freefloat.app.figure_set`), less those whose data is identically zero
-(:func:`.figure_job.empty_figures` says which and why, for the summary). Positions and momenta
+(:func:`.figure_data.empty_figures` says which and why, for the summary). Positions and momenta
 are in the inertial frame, as recorded in :class:`~freefloat.dynamics.telemetry.Telemetry`; joint
 errors in rad (m for prismatic joints), as in the summary.
 """
@@ -25,7 +25,7 @@ from ...dynamics.metrics import SETTLE_BAND, angular_speeds, band_settling_time,
 from ...dynamics.telemetry import Telemetry
 from ...dynamics.wrenches import ExternalWrench
 from ...robot.robot import Arm, Robot
-from .figure_job import base_attitude, empty_figures, why_no_joint_errors
+from .figure_data import base_attitude, empty_figures, why_no_joint_errors
 from .plotting import (
     STYLES,
     curve,
@@ -68,7 +68,7 @@ def write_figures(robot: Robot, telemetry: Telemetry, out_dir: str | Path,
         ``torques``, ``base_trajectory``, ``end_effector_paths``, ``end_effector_displacement``,
         ``com_drift`` or ``conservation_balance``, ``angular_rates`` and ``angular_momentum``,
         each in the chosen formats, less those not chosen and those
-        :func:`.figure_job.empty_figures` names.
+        :func:`.figure_data.empty_figures` names.
     """
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)

@@ -167,7 +167,7 @@ def save_all(figures: dict[str, Drawing], out_dir: Path) -> list[Path]:
         sent = False
         if len(stems) % 2 == 1 and not in_helper():  # every other figure, from the second, to the helper
             helper = helper or Renderer(save)
-            sent = helper.send(fig, out_dir, stem, formats)
+            sent = helper.send(fig, out_dir.absolute(), stem, formats)  # the helper's working folder may be another
         if not sent:
             save(fig, out_dir, stem, formats)
         stems.append(stem)

@@ -5,8 +5,8 @@ can deadlock (Python 3.12 warns at every ``os.fork()`` there), and not multiproc
 which reruns the user's script in the child.
 
 A job is a function and its arguments: a figure to render (:func:`.plotting.save`), or a run's
-whole set of figures to draw and render (:func:`draw_chosen` of a picklable figure job such as
-:class:`.figure_job.RobotFigures`), which spares the run importing matplotlib at all. Starting
+whole set of figures to draw and render (:func:`.figure_job.draw_chosen` of a picklable figure job
+such as :class:`.figure_job.RobotFigures`), which spares the run importing matplotlib at all. Starting
 the helper costs an interpreter and the import of matplotlib and the figure modules
 (:data:`PRELOAD`, ~1 s of CPU), so a run starts it before it simulates (:func:`warm_up`) and the
 start overlaps the simulation. It ignores Ctrl-C (the run decides) and ends when this process
@@ -65,16 +65,6 @@ def in_helper() -> bool:
     return _in_helper
 
 
-def draw_chosen(figures: Callable[[Path], list[Path]], names: frozenset[str] | None, formats: tuple[str, ...],
-                into: Path) -> list[Path]:
-    """A run's figures: ``figures(into)`` with ``names`` chosen in ``formats``
-    (:func:`.plotting.choose`); the paths written. The job a run sends with :meth:`Renderer.send`."""
-    from .plotting import choose
-
-    with choose(names, formats):
-        return figures(into)
-
-
 def _stop(helper: subprocess.Popen) -> None:
     """End ``helper`` and close its pipes (at this process's exit)."""
     helper.kill()
@@ -97,12 +87,15 @@ class Renderer:
         self._feeder = threading.Thread(target=self._feed, daemon=True)
         self._feeder.start()
 
-    def send(self, *job: Any) -> bool:
+    def send(self, *job: Any, max_bytes: int | None = None) -> bool:
         """Queue ``save(*job)`` for the helper; False (nothing queued) when the job cannot be
-        pickled."""
+        pickled, or pickles to more than ``max_bytes`` (a copy in each process, and one kept
+        here until collected)."""
         try:
             data = pickle.dumps((self._save, *job), protocol=pickle.HIGHEST_PROTOCOL)
         except (pickle.PicklingError, TypeError, AttributeError):
+            return False
+        if max_bytes is not None and len(data) > max_bytes:
             return False
         self._jobs.append(data)
         self._queue.put(data)
