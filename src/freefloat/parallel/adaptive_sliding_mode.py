@@ -187,18 +187,21 @@ def five_bar_box(nominal: FiveBarParameters, spread: float) -> tuple[np.ndarray,
 
 
 def five_bar_law(chain: ClosedChain, trajectory: Reference, period: float, lam: float = 40.0, gamma: float = 3000.0,
-                 damping: float = 1000.0, switching: float = 6.0, spread: float = 0.6,
+                 damping: float = 10.0, switching: float = 10.0, spread: float = 0.6,
                  nominal: FiveBarParameters = FiveBarParameters()) -> AdaptiveSlidingMode:
     """The 5R's adaptive law as docs/control_laws.md runs it: the estimate starts at the nominal
     base parameters theta^_0, ``Gamma = gamma diag(theta^_0)^2`` (each parameter adapted relative
-    to its size: gamma in 1/(N m s) per unit of u*), ``K_D = damping I`` (N s/m), ``k_s =
-    switching`` (N; 6 N is eq 144's reaching rate eta = 20 m/s^2 times the largest eigenvalue of
-    H^, about 0.3 kg, near the sec 5.6 circle) and the projection box of :func:`five_bar_box`.
+    to its size: gamma in 1/(N m s) per unit of u*), ``K_D = damping I`` (N s/m; 10 is about
+    lambda H^, H^ near 0.25 kg on the sec 5.6 circle), ``k_s = switching`` (N) and the projection
+    box of :func:`five_bar_box`.
 
-    Within the zero-order hold the gains have limits: with ``period`` = 0.1 ms, ``damping`` 1000
-    and ``gamma`` 3000 the estimates settle; ``gamma`` 10 000 with the same damping made them
-    diverge (without the box) on the 50 % plant. A larger damping slows the parameters'
-    convergence (s ~ K_D^-1 W theta~ feeds the update law)."""
+    Near the surface ``k_s tanh(100 s)`` acts as a gain of ``100 k_s`` (1000 N s/m), far from it
+    it is bounded by ``k_s``: the law is stiff on the surface without asking large efforts in the
+    reaching phase (with ``K_D = 1000 I`` and no switching term instead, the same stiffness asked
+    234 N m at the start, s = 2 m/s). The zero-order hold limits the gains: at ``period`` = 0.1 ms,
+    ``gamma`` 10 000 with 1000 N s/m made the estimates diverge (without the box) on the 50 %
+    plant; 3000 settles. A stiffer surface slows the parameters' convergence (``s ~ W theta~ /
+    gain`` feeds the update law)."""
     theta0 = five_bar_theta(nominal)
     lower, upper = five_bar_box(nominal, spread)
     return AdaptiveSlidingMode(five_bar_regressor(chain), trajectory, lam, theta0, gamma * theta0**2,
