@@ -7,6 +7,7 @@ import json
 import math
 import sys
 
+import numpy as np
 import pytest
 
 from freefloat.app.bench.suites import ALL, DEFAULT, SUITES, Suite, named
@@ -219,6 +220,7 @@ def _laws(r):
         adaptive = runs["adaptive_sliding_mode"]
         assert adaptive["estimate_over_true"][0] == pytest.approx(
             list(five_bar_theta(FiveBarParameters()) / adaptive["true"]))
+        assert adaptive["lyapunov_largest_rise"] == pytest.approx(max(np.diff(adaptive["lyapunov"])))
 
 
 def _batch(r):

@@ -17,8 +17,9 @@ eq 153's sliding feedback (same gains).
   from rest at (0.07, 0.17) m, RK4, the law held over each step (:func:`~freefloat.parallel.
   closed_loop.track_five_bar`): the largest and RMS error after 0.2 s, the largest over the last
   turn of the circle (the steady error), the peak effort, the error over time and, for the
-  adaptive law, its estimates over time against the plant's base parameters and the persistent
-  excitation of the circle (condition number of the scaled regressor over one turn).
+  adaptive law, its estimates over time against the plant's base parameters, its Lyapunov
+  function over time and the persistent excitation of the circle (condition number of the
+  scaled regressor over one turn).
 """
 
 from __future__ import annotations
@@ -147,10 +148,26 @@ def tracking(chain, gains, settings: dict, law: str, plant: FiveBarParameters) -
         t, estimates = control.estimates()
         truth = five_bar_theta(plant)
         pick = np.arange(0, len(t), every)
+        lyapunov = [lyapunov_function(control, tel, t[k], estimates[k], truth) for k in pick]
         out |= {"names": list(control.regressor.names), "true": truth.tolist(), "estimate_t": t[pick].tolist(),
                 "estimate_over_true": (estimates[pick] / truth).tolist(),
-                "final_over_true": (estimates[-1] / truth).tolist(), "excitation_condition": excitation(control, truth)}
+                "final_over_true": (estimates[-1] / truth).tolist(), "excitation_condition": excitation(control, truth),
+                "lyapunov": lyapunov, "lyapunov_largest_rise": float(np.diff(lyapunov).max())}
     return out
+
+
+def lyapunov_function(control, tel, t: float, estimate: np.ndarray, truth: np.ndarray) -> float:
+    """``V = s^T H s / 2 + (theta^ - theta)^T Gamma^-1 (theta^ - theta) / 2`` at the recorded row
+    of time ``t``, H the plant's (its base parameters ``truth`` in the regressor)."""
+    row = int(np.argmin(np.abs(tel.t - t)))
+    q, qd, p = tel.q[row], tel.v[row], control.regressor.p
+    x_d, xd_d, _ = circle_reference(tel.t[row])
+    s = qd[:p] - xd_d - control.lam * (x_d - q[:p])
+    zero = np.zeros(p)
+    static = control.regressor.platform(q, zero, zero) @ truth
+    H = np.stack([control.regressor.platform(q, zero, unit) @ truth - static for unit in np.eye(p)], axis=1)
+    error = estimate - truth
+    return float(0.5 * s @ H @ s + 0.5 * error @ (error / control.gamma))
 
 
 def excitation(control, truth: np.ndarray) -> float:
