@@ -56,7 +56,7 @@ def test_efforts_use_the_estimate_the_law_holds(chain):
     those rebuilt from the regressor at the same state."""
     law = five_bar_law(chain, circle_reference, 1e-3)
     q, qd = state(chain, 1)
-    tau, e, s = law.law(0.01, q, qd)
+    tau, _, s = law.law(0.01, q, qd)
     x_d, xd_d, xdd_d = circle_reference(0.01)
     W = law.regressor.slotine_li(q, qd[:2], xd_d + 40.0 * (x_d - q[:2]), xdd_d + 40.0 * (xd_d - qd[:2]))
     u = W @ law.estimate - law.damping @ s - law.switching * np.tanh(100.0 * s)
@@ -158,7 +158,7 @@ def test_estimates_converge_to_the_true_parameters(adaptive_run):
 def test_tracking_error_falls_below_the_fixed_gain_laws(adaptive_run):
     """Over the last turn of the circle the error stays below 1.5e-5 m on both axes, under half
     of eq 153's with eq 167's gains on this plant (3.3e-5 / 6.3e-5 m, docs/control_laws.md)."""
-    law, tel = adaptive_run
+    _, tel = adaptive_run
     e = np.array([circle_reference(t)[0] for t in tel.t]) - tel.q[:, :2]
     late = tel.t > tel.t[-1] - 2 * np.pi / 28.57
     assert np.abs(e[late]).max() < 1.5e-5

@@ -55,7 +55,8 @@ def test_on_the_reference_the_law_is_its_feedback_linearising_twin(model, table,
     computed torque's (eq 190) and the sliding law's equal eq 153's (same gains) to 1e-10: the
     model terms at the reference are the measured state's. Off it (1 mm, 1 cm/s) they differ."""
     chosen = gains if sliding else None
-    law, twin = FeedforwardControl(table, circle_reference, 40.0, chosen), PlatformControl(model, circle_reference, 40.0, chosen)
+    twin = PlatformControl(model, circle_reference, 40.0, chosen)
+    law = FeedforwardControl(twin, table)
     for i in (3, 17, 40):
         t = 0.001 * i
         x, xd, _ = circle_reference(t)
@@ -90,7 +91,8 @@ def test_redundant_actuation_is_refused():
                                0.01, 1e-3)
 
 
-def test_unknown_switch_is_refused(table):
-    """Only tanh and sign."""
-    with pytest.raises(FreefloatError, match="saturation must be one of"):
-        FeedforwardControl(table, circle_reference, 40.0, saturation="sat")
+def test_along_tabulates_the_twins_model_and_reference(model, table):
+    """FeedforwardControl.along builds the same table from the twin's model and reference."""
+    law = FeedforwardControl.along(PlatformControl(model, circle_reference, 40.0), elbow_guess(FiveBarParameters(), START),
+                                   0.05, 1e-3)
+    assert np.array_equal(law.table.efforts, table.efforts) and np.array_equal(law.table.inertia, table.inertia)

@@ -13,10 +13,20 @@ import pytest
 from freefloat.dynamics.identification.parameters import model_parameters
 from freefloat.errors import BadShape, FreefloatError
 from freefloat.parallel.closed_chain import load_closed_chain
-from freefloat.parallel.five_bar import TRUE_PARAMETERS, TRUE_PARAMETERS_50, FiveBarParameters, elbow_guess, five_bar
+from freefloat.parallel.five_bar import (
+    TRUE_PARAMETERS,
+    TRUE_PARAMETERS_50,
+    FiveBarParameters,
+    elbow_guess,
+    five_bar,
+)
 from freefloat.parallel.identification import structural_base
 from freefloat.parallel.platform import platform_dynamics
-from freefloat.parallel.platform_regressor import PlatformRegressor, five_bar_regressor, five_bar_theta
+from freefloat.parallel.platform_regressor import (
+    PlatformRegressor,
+    five_bar_regressor,
+    five_bar_theta,
+)
 from freefloat.parallel.registry import five_bar_inertias
 from freefloat.parallel.sliding_mode import workspace_grid
 from freefloat.paths import URDF_DIR

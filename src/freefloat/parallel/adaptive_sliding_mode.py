@@ -188,12 +188,12 @@ def five_bar_box(nominal: FiveBarParameters, spread: float) -> tuple[np.ndarray,
 
 def five_bar_law(chain: ClosedChain, trajectory: Reference, period: float, lam: float = 40.0, gamma: float = 3000.0,
                  damping: float = 10.0, switching: float = 10.0, spread: float = 0.6,
-                 nominal: FiveBarParameters = FiveBarParameters()) -> AdaptiveSlidingMode:
+                 nominal: FiveBarParameters | None = None) -> AdaptiveSlidingMode:
     """The 5R's adaptive law as docs/control_laws.md runs it: the estimate starts at the nominal
     base parameters theta^_0, ``Gamma = gamma diag(theta^_0)^2`` (each parameter adapted relative
     to its size: gamma in 1/(N m s) per unit of u*), ``K_D = damping I`` (N s/m; 10 is about
     lambda H^, H^ near 0.25 kg on the sec 5.6 circle), ``k_s = switching`` (N) and the projection
-    box of :func:`five_bar_box`.
+    box of :func:`five_bar_box` (``nominal``: the model's parameters, sec 5.6's by default).
 
     Near the surface ``k_s tanh(100 s)`` acts as a gain of ``100 k_s`` (1000 N s/m), far from it
     it is bounded by ``k_s``: the law is stiff on the surface without asking large efforts in the
@@ -202,6 +202,7 @@ def five_bar_law(chain: ClosedChain, trajectory: Reference, period: float, lam: 
     ``gamma`` 10 000 with 1000 N s/m made the estimates diverge (without the box) on the 50 %
     plant; 3000 settles. A stiffer surface slows the parameters' convergence (``s ~ W theta~ /
     gain`` feeds the update law)."""
+    nominal = FiveBarParameters() if nominal is None else nominal
     theta0 = five_bar_theta(nominal)
     lower, upper = five_bar_box(nominal, spread)
     return AdaptiveSlidingMode(five_bar_regressor(chain), trajectory, lam, theta0, gamma * theta0**2,

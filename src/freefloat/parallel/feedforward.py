@@ -27,9 +27,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import FreefloatError
-from .gain_design import SlidingModeGains
 from .mechanism import ParallelMechanism
-from .sliding_mode import SWITCHES, Reference
+from .sliding_mode import PlatformControl, Reference
 
 
 @dataclass(frozen=True)
@@ -68,7 +67,7 @@ class FeedforwardTable:
         times = t0 + dt * np.arange(int(np.floor(duration / dt + 1e-9)) + 1)
         reference = np.array([np.array(trajectory(t)) for t in times])          # (N, 3, p)
         tau, q = model.inverse_trajectory(reference[:, 0], reference[:, 1], reference[:, 2], guess)
-        A, _, C, M, _, _ = model.reference().terms(q, np.zeros_like(q))
+        _, _, C, M, _, _ = model.reference().terms(q, np.zeros_like(q))
         CT = C.swapaxes(-1, -2)
         inertia = np.linalg.solve(CT @ model.selection(), CT @ M @ C)
         return cls(float(t0), float(dt), reference, tau, inertia)
@@ -97,35 +96,33 @@ class FeedforwardControl:
     ``q = [q#; q°]`` that reads only the platform coordinates and rates.
 
     Attributes:
+        twin: the feedback-linearising law it stands for (:class:`~.sliding_mode.PlatformControl`:
+            eq 190 without gains, eq 153 with them): its reference, lambda, gains and switch; its
+            model is the one the table holds.
         table: the reference and its feedforward.
-        trajectory: the same reference as a function (what the run records as the reference).
-        lam: lambda, 1/s.
-        gains: eq 167's gains (the sliding feedback); None: the PD feedback of eq 190.
-        saturation: ``"tanh"`` (``tanh(100 s)``) or ``"sign"``.
     """
 
+    twin: PlatformControl
     table: FeedforwardTable
-    trajectory: Reference
-    lam: float
-    gains: SlidingModeGains | None = None
-    saturation: str = "tanh"
 
-    def __post_init__(self) -> None:
-        if self.saturation not in SWITCHES:
-            raise FreefloatError(f"feedforward control: saturation must be one of {SWITCHES}, got '{self.saturation}'")
+    @classmethod
+    def along(cls, twin: PlatformControl, guess: np.ndarray, duration: float, dt: float,
+              t0: float = 0.0) -> FeedforwardControl:
+        """``twin`` with its model tabulated along its reference (:meth:`FeedforwardTable.along`)."""
+        return cls(twin, FeedforwardTable.along(twin.model, twin.trajectory, guess, duration, dt, t0))
 
     def law(self, t: float, q: np.ndarray, qd: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """``(tau, e, s)``: actuator efforts (k,), ``e = q#_d - q#`` and ``s = -(edot + lam e)``
         (p,) for the measured q and qd (n_q,)."""
         (q_d, qd_d, qdd_d), tau, G = self.table.at(t)
-        p, lam = len(q_d), self.lam
+        p, lam, gains = len(q_d), self.twin.lam, self.twin.gains
         e, edot = q_d - q[:p], qd_d - qd[:p]
         s = -(edot + lam * e)
-        if self.gains is None:
+        if gains is None:
             a = 2.0 * lam * edot + lam * lam * e
         else:
-            switch = np.sign(s) if self.saturation == "sign" else np.tanh(100.0 * s)
-            a = lam * edot - self.gains.k(qdd_d + lam * edot, qd[:p]) * switch
+            switch = np.sign(s) if self.twin.saturation == "sign" else np.tanh(100.0 * s)
+            a = lam * edot - gains.k(qdd_d + lam * edot, qd[:p]) * switch
         return tau + G @ a, e, s
 
     def torque(self, t: float, q: np.ndarray, qd: np.ndarray) -> np.ndarray:
@@ -134,4 +131,4 @@ class FeedforwardControl:
 
     def reference(self, t: float) -> np.ndarray:
         """The platform reference ``q#_d`` (p,) at ``t`` s."""
-        return self.trajectory(t)[0]
+        return self.twin.trajectory(t)[0]

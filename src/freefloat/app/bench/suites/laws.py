@@ -35,9 +35,20 @@ from ....parallel.adaptive_sliding_mode import five_bar_law
 from ....parallel.closed_chain import load_closed_chain
 from ....parallel.closed_loop import track_five_bar
 from ....parallel.feedforward import FeedforwardControl, FeedforwardTable
-from ....parallel.five_bar import TRUE_PARAMETERS, TRUE_PARAMETERS_50, FiveBarParameters, elbow_guess, five_bar
+from ....parallel.five_bar import (
+    TRUE_PARAMETERS,
+    TRUE_PARAMETERS_50,
+    FiveBarParameters,
+    elbow_guess,
+    five_bar,
+)
 from ....parallel.platform_regressor import five_bar_theta
-from ....parallel.sliding_mode import PlatformControl, circle_reference, design_gains, workspace_grid
+from ....parallel.sliding_mode import (
+    PlatformControl,
+    circle_reference,
+    design_gains,
+    workspace_grid,
+)
 from ....paths import URDF_DIR
 from .drawing import save, subplots
 from .timing import side_by_side
@@ -83,10 +94,11 @@ def build(chain, gains, settings: dict, law: str, table: FeedforwardTable | None
         return PlatformControl(nominal, circle_reference, lam, gains if law == "sliding_mode" else None)
     if law == "adaptive_sliding_mode":
         return five_bar_law(chain, circle_reference, step, lam)
+    twin = PlatformControl(nominal, circle_reference, lam, gains if law == "feedforward_sliding" else None)
     if table is None:
-        table = FeedforwardTable.along(nominal, circle_reference, elbow_guess(FiveBarParameters(), circle_reference(0.0)[0]),
-                                       settings["duration_s"], step)
-    return FeedforwardControl(table, circle_reference, lam, gains if law == "feedforward_sliding" else None)
+        return FeedforwardControl.along(twin, elbow_guess(FiveBarParameters(), circle_reference(0.0)[0]),
+                                        settings["duration_s"], step)
+    return FeedforwardControl(twin, table)
 
 
 def cost(chain, gains, settings: dict) -> dict:
