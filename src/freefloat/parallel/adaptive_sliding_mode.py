@@ -62,7 +62,7 @@ class AdaptiveSlidingMode:
         trajectory: ``t -> (q#_d, qdot#_d, qddot#_d)``, each (p,).
         lam: lambda, 1/s.
         estimate: theta^ (l,), the start estimate; the law's current one as it runs.
-        gamma: ``Gamma``'s diagonal (l,), units of theta^2 / (N m s) per unit of u* (kept positive).
+        gamma: ``Gamma``'s diagonal (l,), theta^2 / (N m) each (u* in N and s in m/s for a point platform).
         damping: ``K_D`` (p, p), N s/m for a point platform.
         switching: ``k_s`` (p,), N (0: no switching term).
         period: the control period, s: the estimate is updated once per period.
@@ -191,7 +191,7 @@ def five_bar_law(chain: ClosedChain, trajectory: Reference, period: float, lam: 
                  nominal: FiveBarParameters | None = None) -> AdaptiveSlidingMode:
     """The 5R's adaptive law as docs/control_laws.md runs it: the estimate starts at the nominal
     base parameters theta^_0, ``Gamma = gamma diag(theta^_0)^2`` (each parameter adapted relative
-    to its size: gamma in 1/(N m s) per unit of u*), ``K_D = damping I`` (N s/m; 10 is about
+    to its size: gamma in 1/(N m)), ``K_D = damping I`` (N s/m; 10 is about
     lambda H^, H^ near 0.25 kg on the sec 5.6 circle), ``k_s = switching`` (N) and the projection
     box of :func:`five_bar_box` (``nominal``: the model's parameters, sec 5.6's by default).
 
