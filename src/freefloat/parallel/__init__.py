@@ -13,7 +13,9 @@ through the coupling, and the design's model on the identified intervals), ``sli
 printed gains), ``closed_loop`` (a
 mechanism and its law wired into the one loop of :mod:`freefloat.dynamics`: the law held over a
 control period or evaluated at every stage), ``platform_control`` (circle references), ``sweeps``
-(Dask), ``registry`` (mechanisms by name for scenes) and ``free_base`` (a mechanism's tree on a
+(Dask), ``drives`` (a mechanism driven by DC motors: rotors, drive trains, the motor-driven
+plant), ``drive_gain_design`` (the worst-case gains with the motors' uncertainty, voltage or
+torque input), ``registry`` (mechanisms by name for scenes) and ``free_base`` (a mechanism's tree on a
 planar or free base, Pinocchio's ``constraintDynamics`` as its plant, the law in the base frame). No time loop of its own: the plant is
 :class:`freefloat.dynamics.plants.CoupledChainPlant`, run by ``dynamics.simulation.run_plant``.
 

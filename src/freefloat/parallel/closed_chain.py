@@ -15,6 +15,17 @@ what the tree leaves out:
     [[closures]]
     frames = ["c1_ee", "c2_ee"]               # these two points coincide (3-D point contact)
     kind = "point"                            # or "revolute" (5-D: origins and z axes), "weld" (6-D; alias "frame")
+    slip_speed = 0.01                         # optional: Coulomb friction's tanh(qdot / v_s), rad/s (m/s)
+    [joints.c1_joint1]                        # optional, per joint: overrides the URDF's <dynamics>
+    armature = 2.0e-3                         # rotor inertia x gear ratio^2, kg m^2 (kg on a slide)
+    damping = 1.0e-3                          # viscous friction, N m s/rad (N s/m)
+    friction = 0.04                           # Coulomb friction, N m (N)
+
+A joint's friction is read from the URDF's ``<dynamics damping friction>`` (Pinocchio's
+``model.damping`` and ``model.friction``) unless ``[joints]`` gives it; its armature (which a
+URDF cannot state) from ``[joints]`` only. Both go into Pinocchio's model (``model.armature``,
+``damping``, ``friction``) and into Orsino's chains, so the two models carry the same terms
+(:mod:`freefloat.dynamics.friction` for the friction law).
 
 :func:`read_closures` turns it into Pinocchio's fixed-base model with one
 ``RigidConstraintModel`` per closure (CONTACT_3D for a point, CONTACT_6D for a frame), the
@@ -28,6 +39,7 @@ frame closures build theirs from the same tree (:mod:`freefloat.parallel.rsu_ppa
 
 from __future__ import annotations
 
+import difflib
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -35,6 +47,7 @@ import numpy as np
 import pinocchio as pin
 
 from ..dynamics.closures import ALIASES, KINDS, Closure, closure_kind
+from ..dynamics.friction import SLIP_SPEED, JointFriction
 from ..errors import FreefloatError
 from ..inputs import read_toml, reject_unknown
 from ..robot.urdf_checks import check_joints, check_numbers, read_urdf
@@ -48,6 +61,8 @@ ROTATION = "rz"
 #: Joint types a chain takes, with the axis they turn about or slide along (in the joint frame).
 AXIS_JOINTS = {"JointModelRX": (False, 0), "JointModelRY": (False, 1), "JointModelRZ": (False, 2),
                "JointModelPX": (True, 0), "JointModelPY": (True, 1), "JointModelPZ": (True, 2)}
+#: The ``[joints.<name>]`` keys of a closure file and the Pinocchio model field each sets.
+JOINT_TERMS = {"armature": "armature", "damping": "damping", "friction": "friction"}
 #: Rotations taking z onto x, y, z: a joint about axis a is ``T Rz(q) T^-1``.
 Z_TO_AXIS = (pin.rpy.rpyToMatrix(0.0, np.pi / 2, 0.0), pin.rpy.rpyToMatrix(-np.pi / 2, 0.0, 0.0), np.eye(3))
 
@@ -78,6 +93,20 @@ class Closures:
     closures: list[Closure] = field(default_factory=list)
 
     @property
+    def slip_speed(self) -> float:
+        """The Coulomb friction's slip speed (``slip_speed``; default
+        :data:`~freefloat.dynamics.friction.SLIP_SPEED`), rad/s or m/s."""
+        return float(self.spec.get("slip_speed", SLIP_SPEED))
+
+    @property
+    def friction(self) -> JointFriction | None:
+        """The tree's joint friction over its velocity coordinates (nv,), or None without any
+        (what Pinocchio's plants take beside the model: it ignores ``model.damping`` and
+        ``model.friction``)."""
+        friction = JointFriction.of_model(self.model, self.slip_speed)
+        return friction if friction else None
+
+    @property
     def urdf(self) -> Path:
         """The spanning tree's URDF file (the ``urdf`` key, beside the closure file)."""
         return self.path.parent / self.spec["urdf"]
@@ -105,6 +134,7 @@ class ClosedChain:
         actuated: Pinocchio joint ids of the actuated joints.
         urdf: the spanning tree's URDF file.
         closures: the closures, one :class:`~freefloat.dynamics.closures.Closure` each.
+        friction: the tree's joint friction (nv,), or None (the file's, as :attr:`Closures.friction`).
     """
 
     mechanism: ParallelMechanism
@@ -114,6 +144,7 @@ class ClosedChain:
     actuated: list[int]
     urdf: Path
     closures: list[Closure] = field(default_factory=list)
+    friction: JointFriction | None = None
 
     def pinocchio_q(self, q: np.ndarray) -> np.ndarray:
         """Pinocchio configuration (nq,) from Orsino's ``q`` (the platform coordinates dropped);
@@ -150,6 +181,7 @@ def read_closures(path: str | Path, root_joint: pin.JointModel | None = None) ->
     except (RuntimeError, ValueError) as exc:
         raise FreefloatError(f"{urdf}: Pinocchio's URDF parser refuses it ({exc})") from exc
     model.gravity = pin.Motion(np.asarray(spec.get("gravity", [0.0, 0.0, 0.0]), float), np.zeros(3))
+    _set_joint_terms(path, spec.get("joints", {}), model)
     out = Closures(path, spec, model, [], [], [])
     for name in spec["actuated"]:
         if not model.existJointName(name):
@@ -172,6 +204,30 @@ def read_closures(path: str | Path, root_joint: pin.JointModel | None = None) ->
         out.constraints.extend(pinocchio_constraints(model, out.closures[-1]))
         out.frames.append(tuple(frames))
     return out
+
+
+def _set_joint_terms(path: Path, joints: dict, model: pin.Model) -> None:
+    """Write the closure file's ``[joints.<name>]`` armature, damping and friction into the model's
+    fields (over the URDF's ``<dynamics>``).
+
+    Raises:
+        FreefloatError: naming the file and the key for an unknown joint (with the nearest name),
+            a joint with more than one coordinate, or a value that is not a finite number >= 0.
+    """
+    names = [model.names[j] for j in range(1, model.njoints)]
+    for name, terms in joints.items():
+        if not model.existJointName(name):
+            close = difflib.get_close_matches(name, names, n=1)
+            hint = f" (did you mean '{close[0]}'?)" if close else ""
+            raise FreefloatError(f"{path}: '[joints.{name}]' names no joint of the URDF{hint}; joints: {', '.join(names)}")
+        j = model.getJointId(name)
+        if model.nvs[j] != 1:
+            raise FreefloatError(f"{path}: '[joints.{name}]': joint '{name}' has {model.nvs[j]} coordinates; armature "
+                                 "and friction are for joints of one")
+        for key, value in terms.items():
+            if not (isinstance(value, (int, float)) and not isinstance(value, bool) and np.isfinite(value) and value >= 0):
+                raise FreefloatError(f"{path}: 'joints.{name}.{key}' must be a finite number >= 0, got {value!r}")
+            getattr(model, JOINT_TERMS[key])[model.idx_vs[j]] = float(value)
 
 
 #: Pinocchio's contact for each closure kind it has; a revolute closure is two point contacts on its
@@ -198,7 +254,7 @@ def _check_types(path: Path, spec: dict) -> None:
     Raises:
         FreefloatError: naming the file and the key.
     """
-    reject_unknown(f"{path}: ", spec, ("urdf", "gravity", "actuated", "platform", "closures"))
+    reject_unknown(f"{path}: ", spec, ("urdf", "gravity", "actuated", "platform", "closures", "slip_speed", "joints"))
     for key in ("urdf", "actuated", "platform", "closures"):
         if key not in spec:
             raise FreefloatError(f"{path}: missing key '{key}'")
@@ -220,6 +276,14 @@ def _check_types(path: Path, spec: dict) -> None:
             raise FreefloatError(f"{path}: 'closures[{i}]' must be a table with 'frames' (two frame names) and "
                                  f"'kind' (a name), got {closure!r}")
         reject_unknown(f"{path}: ", closure, ("frames", "kind"), f"closures[{i}]")
+    joints = spec.get("joints", {})
+    if not isinstance(joints, dict) or not all(isinstance(t, dict) for t in joints.values()):
+        raise FreefloatError(f"{path}: 'joints' must be a table of tables ([joints.<joint name>]), got {joints!r}")
+    for name, terms in joints.items():
+        reject_unknown(f"{path}: ", terms, JOINT_TERMS, f"joints.{name}")
+    slip = spec.get("slip_speed", SLIP_SPEED)
+    if not (isinstance(slip, (int, float)) and not isinstance(slip, bool) and np.isfinite(slip) and slip > 0):
+        raise FreefloatError(f"{path}: 'slip_speed' must be a positive speed (rad/s or m/s), got {slip!r}")
     gravity = spec.get("gravity", [0.0, 0.0, 0.0])
     if not (isinstance(gravity, list) and len(gravity) == 3 and all(
             isinstance(g, (int, float)) and not isinstance(g, bool) and np.isfinite(g) for g in gravity)):
@@ -258,7 +322,7 @@ def load_closed_chain(path: str | Path) -> ClosedChain:
         for name in pair:
             if name not in tips:
                 tips.append(name)
-                chain, joints = chain_from_tree(model, model.getFrameId(name))
+                chain, joints = chain_from_tree(model, model.getFrameId(name), closures.slip_speed)
                 chains.append(chain)
                 chain_joints.append(joints)
     order = [j for joints in chain_joints for j in joints]
@@ -296,7 +360,7 @@ def load_closed_chain(path: str | Path) -> ClosedChain:
                              D=D, d=np.zeros(len(D)), E=E, F=np.zeros((len(D), len(order))),
                              actuated=np.array([p + order.index(j) for j in closures.actuated]), angular=angular)
     return ClosedChain(mech, model, closures.constraints, {j: p + i for i, j in enumerate(order)}, closures.actuated,
-                       closures.urdf, closures.closures)
+                       closures.urdf, closures.closures, closures.friction)
 
 
 def _check_planar_hinge(closures: Closures, closure: Closure, joints: list[int]) -> None:
@@ -340,9 +404,11 @@ def _check_tips_turn_about_z(closures: Closures, tips: list[str]) -> None:
                                  f"tips of a platform with an angle '{ROTATION}' need N's z axis (0, 0, 1) as theirs")
 
 
-def chain_from_tree(model: pin.Model, frame: int) -> tuple[SerialChain, list[int]]:
+def chain_from_tree(model: pin.Model, frame: int, slip_speed: float = SLIP_SPEED) -> tuple[SerialChain, list[int]]:
     """The serial chain from the root to ``frame``'s joint: placements from the tree, inertias
-    in the joint frames, the tip at the frame's origin. Revolute and prismatic joints along x,
+    in the joint frames, the tip at the frame's origin, each joint's armature, damping and
+    friction from ``model.armature``, ``damping``, ``friction`` (Coulomb regularised with
+    ``slip_speed``). Revolute and prismatic joints along x,
     y or z of their frames; an x or y axis is turned onto Orsino's z by ``P_i = placement T``,
     ``L_i = T^-1`` (``T`` in :data:`Z_TO_AXIS`).
 
@@ -367,9 +433,13 @@ def chain_from_tree(model: pin.Model, frame: int) -> tuple[SerialChain, list[int
         link.append(turn.inverse().homogeneous)
         prismatic.append(slides)
     inertias = [model.inertias[j] for j in joints]
+    rows = [model.idx_vs[j] for j in joints]
+    armature = np.array(model.armature)[rows]
+    friction = JointFriction.of_model(model, slip_speed)[rows]
     chain = SerialChain(placement=np.array(placement), link=np.array(link), prismatic=np.array(prismatic),
                         mass=np.array([I.mass for I in inertias]), com=np.array([I.lever for I in inertias]),
                         inertia=np.array([I.inertia for I in inertias]), base=np.eye(4),
                         tip_point=model.frames[frame].placement.translation.copy(),
-                        gravity=model.gravity.linear.copy())
+                        gravity=model.gravity.linear.copy(), armature=armature if armature.any() else None,
+                        friction=friction if friction else None)
     return chain, joints

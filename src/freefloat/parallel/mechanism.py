@@ -26,6 +26,14 @@ term ``lambda A_w qdot`` only (the document gives them no position-level term). 
 (eq 102's platform with orientation coordinates, e.g. the angle of a planar platform) makes the
 angular rows tie those coordinates to the tips' orientations; with constant ``P``, an orientation
 coordinate is an angle about a fixed axis of N.
+
+Actuator inertias and joint friction (the chains' ``armature`` and ``friction``,
+:class:`~freefloat.parallel.serial.SerialChain`): the armature is part of ``M'``; the friction
+``f(qdot)`` (zero on q#) is a generalised force beside the actuators', ``u' = U tau - f``, so
+eq 129 reads ``C^T (M' qddot + v' + g' + f) = C^T U tau`` and the inverse dynamics gives the
+efforts that overcome it too. The compiled core has neither: a mechanism with them runs its
+rigid-body terms (``M'`` without armature, ``v'``, ``g'``, A, b, the closure) in the compiled core
+and adds them here (:attr:`ParallelMechanism.rigid`).
 """
 
 from __future__ import annotations
@@ -121,14 +129,41 @@ class ParallelMechanism:
                                          f"this mechanism needs {columns[0]} ({self.p} platform coordinates, "
                                          f"{len(self.chains)} chains of {sum(c.dof for c in self.chains)} joints)")
 
-    @functools.cached_property
+    @property
     def core(self) -> MechanismCore | None:
-        """The compiled core of this mechanism, or None: numpy backend, a non-square A°, or
+        """The compiled core of this mechanism, or None: numpy backend, a non-square A°,
         angular constraints with ``P != 0`` (the compiled closure residual has no ``P q#`` term:
-        ``cpp/parallel.cpp``'s ``evaluate_closure``)."""
+        ``cpp/parallel.cpp``'s ``evaluate_closure``), or armature or friction on a joint (the
+        core has neither; see :attr:`rigid`)."""
+        return self._compiled if self.rigid else None
+
+    @functools.cached_property
+    def _compiled(self) -> MechanismCore | None:
+        """The compiled core of the rigid-body terms (no armature, no friction), or None."""
         if self.backend != "compiled" or not self.square or self.rotates:
             return None
         return MechanismCore(*self.core_arrays())
+
+    @property
+    def rigid(self) -> bool:
+        """True when no joint has armature or friction: everything :attr:`core` computes."""
+        return all(c.rigid for c in self.chains)
+
+    def joint_friction(self, qd: np.ndarray) -> np.ndarray:
+        """The chains' joint friction forces ``f`` (..., n_q) at rates ``qd`` (..., n_q), zero on
+        the platform coordinates, N m or N."""
+        qd = np.asarray(qd, dtype=float)
+        return np.concatenate([np.zeros(qd.shape[:-1] + (self.p,))]
+                              + [c.joint_friction(x) for c, x in zip(self.chains, self.split(qd))], axis=-1)
+
+    def frictionless(self) -> ParallelMechanism:
+        """The same mechanism without joint friction (armature kept)."""
+        return replace(self, chains=tuple(replace(c, friction=None) for c in self.chains))
+
+    def _armature(self) -> np.ndarray:
+        """``M'``'s armature diagonal (n_q,), zero on q#."""
+        return np.concatenate([np.zeros(self.p)] + [np.zeros(c.dof) if c.armature is None else c.armature
+                                                    for c in self.chains])
 
     @property
     def redundant(self) -> bool:
@@ -161,7 +196,7 @@ class ParallelMechanism:
         """Pickled without the compiled core (rebuilt on first use), so mechanisms travel to
         worker processes."""
         state = self.__dict__.copy()
-        state.pop("core", None)
+        state.pop("_compiled", None)
         return state
 
     def reference(self) -> ParallelMechanism:
@@ -181,8 +216,8 @@ class ParallelMechanism:
         return replace(self, chains=tuple(replace(c, gravity=gravity.copy()) for c in self.chains))
 
     def _point_core(self, q: np.ndarray) -> MechanismCore | None:
-        """The compiled core when ``q`` is one point, else None."""
-        return self.core if np.ndim(q) == 1 else None
+        """The compiled core of the rigid-body terms when ``q`` is one point, else None."""
+        return self._compiled if np.ndim(q) == 1 else None
 
     @property
     def p(self) -> int:
@@ -221,9 +256,11 @@ class ParallelMechanism:
         """``(A, b, C, M', v', g')`` at (q, qd) (..., n_q): constraint Jacobian (..., m, n_q) and
         bias (..., m) with ``A qdd = b`` (linear rows first, then angular); velocity map
         (..., n_q, p) with ``qd = C qd#``; mass matrix (..., n_q, n_q), velocity and gravity
-        terms (..., n_q). Coordinates ordered [q#; chain 1; chain 2; ...]; any leading batch axes."""
+        terms (..., n_q). Coordinates ordered [q#; chain 1; chain 2; ...]; any leading batch axes.
+        M' includes the armature; v' has no friction (:meth:`joint_friction`)."""
         if (core := self._point_core(q)) is not None:
-            return core.terms(q, qd)
+            A, b, C, M, v, g = core.terms(q, qd)
+            return A, b, C, M + np.diag(self._armature()), v, g
         kins = self._kinematics(q, qd)
         A = self._constraint_jacobian(kins)
         b, blocks, v, g = self._dynamics_terms(kins, np.shape(q)[:-1])
@@ -312,20 +349,25 @@ class ParallelMechanism:
         return U
 
     def forward(self, q: np.ndarray, qd: np.ndarray, tau: np.ndarray, baumgarte: float = 0.0) -> np.ndarray:
-        """``qddot`` (n_q,) under actuator efforts ``tau`` (k,), eq 129 with lambda = ``baumgarte``."""
+        """``qddot`` (n_q,) under actuator efforts ``tau`` (k,), eq 129 with lambda = ``baumgarte``
+        (joint friction, if any, beside the efforts)."""
         if (core := self._point_core(q)) is not None:
-            return core.forward(q, qd, tau, baumgarte)
-        frames = self._frames(q)
-        residual, A = self._closure(q, frames)
-        b, blocks, v, g = self._dynamics_terms(self._kinematics(q, qd, frames), ())
-        C = self._velocity_map(A)
-        u = self.selection() @ tau
+            if self.rigid:
+                return core.forward(q, qd, tau, baumgarte)
+            A, b, C, M, v, g = self.terms(q, qd)
+            residual = core.closure(q)[0]
+        else:
+            frames = self._frames(q)
+            residual, A = self._closure(q, frames)
+            b, blocks, v, g = self._dynamics_terms(self._kinematics(q, qd, frames), ())
+            C, M = self._velocity_map(A), _block_diag(blocks)
+        u = self.selection() @ tau - self.joint_friction(qd)
         m = len(self.d)
         rates = A @ qd
         rates[:m] *= 2.0
         rhs_c = b - baumgarte * rates
         rhs_c[:m] -= baumgarte**2 * residual[:m]
-        return np.linalg.solve(np.vstack((C.T @ _block_diag(blocks), A)), np.concatenate((C.T @ (u - v - g), rhs_c)))
+        return np.linalg.solve(np.vstack((C.T @ M, A)), np.concatenate((C.T @ (u - v - g), rhs_c)))
 
     def inverse(self, q: np.ndarray, qd_sharp: np.ndarray, qdd_sharp: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Actuator efforts for platform motion (eqs 130-140) at assembled ``q`` (..., n_q), from
@@ -338,7 +380,7 @@ class ParallelMechanism:
         Raises:
             InfeasiblePlan: where the distribution's effort limits cannot give the motion.
         """
-        if self.square_actuation and (core := self._point_core(q)) is not None:
+        if self.square_actuation and self.rigid and (core := self._point_core(q)) is not None:
             return core.inverse(q, qd_sharp, qdd_sharp)
         u, ZT, qd, qdd = self.required_force(q, qd_sharp, qdd_sharp)
         return self.efforts(ZT, u), qd, qdd
@@ -365,8 +407,9 @@ class ParallelMechanism:
                        qdd_sharp: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """What platform motion asks of the actuators (eqs 130-136) at assembled ``q`` (..., n_q),
         platform rates and accelerations (..., p): ``(u*, Z^T, qd, qdd)`` with ``u* = C^T (M'
-        qddot + v' + g')`` (..., p), ``Z^T = C^T U`` (..., p, k) and the full velocity and
-        acceleration (..., n_q); any efforts with ``Z^T tau = u*`` produce the motion."""
+        qddot + v' + g' + f)`` (..., p) (``f`` the joint friction), ``Z^T = C^T U`` (..., p, k) and
+        the full velocity and acceleration (..., n_q); any efforts with ``Z^T tau = u*`` produce
+        the motion."""
         frames = self._frames(q)
         A = self._closure(q, frames)[1]
         C = self._velocity_map(A)
@@ -376,7 +419,7 @@ class ParallelMechanism:
         qdd = _matvec(C, qdd_sharp) + np.concatenate((np.zeros(passive.shape[:-1] + (self.p,)), passive), axis=-1)
         Mqdd = np.concatenate([_matvec(M, x) for M, x in zip(blocks, [qdd[..., : self.p]] + self.split(qdd))], axis=-1)
         CT = C.swapaxes(-1, -2)
-        return _matvec(CT, Mqdd + v + g), CT @ self.selection(), qd, qdd
+        return _matvec(CT, Mqdd + v + g + self.joint_friction(qd)), CT @ self.selection(), qd, qdd
 
     def assemble(self, q_sharp: np.ndarray, guess: np.ndarray, tol: float = 1e-12, iterations: int = 50) -> np.ndarray:
         """Solve ``qbar = 0`` (and the angular constraints' position form) for the chains' joints

@@ -207,10 +207,11 @@ class PlatformControl:
     def compiled_law(self) -> dict | None:
         """This law as the compiled closed-chain loop takes it (``ChainSimulation.set_platform_law``):
         for a circle reference (:class:`~.platform_control.CircleReference`) on a model with a
-        compiled core and square actuation (the compiled law inverts ``C^T U``); None otherwise
-        (the loop then calls :meth:`torque` from Python)."""
+        compiled core and square actuation (the compiled law inverts ``C^T U``) and gains without
+        rate terms (``n_rate``, which the compiled law lacks); None otherwise (the loop then calls
+        :meth:`torque` from Python)."""
         circle = self.trajectory
-        if self.model.core is None or not self.model.square_actuation or \
+        if self.model.core is None or not self.model.square_actuation or (self.gains is not None and self.gains.n_rate) or \
                 not all(hasattr(circle, k) for k in ("center", "radius", "rate", "axes")):
             return None
         p = self.model.p

@@ -30,6 +30,7 @@ from .urdf_checks import (
     check_joints,
     check_mass_matrix,
     check_numbers,
+    compare_friction,
     compare_parses,
     physics_notes,
     read_urdf,
@@ -166,6 +167,7 @@ def _load(path: Path, base: str, end_effectors: list[str] | tuple[str, ...] | No
     except (RuntimeError, ValueError) as exc:
         raise RobotModelError(f"{path}: Pinocchio's URDF parser refuses it ({exc})") from exc
     compare_parses(path, model, urdf)
+    compare_friction(path, model, urdf)
     notes += check_mass_matrix(path, model)
     if inertias == "balanced":
         model = balanced(model)[0]

@@ -194,6 +194,26 @@ def compare_parses(path: Path, model: pin.Model, robot: UrdfModel) -> None:
                 "URDF parsers read the file differently")
 
 
+def compare_friction(path: Path, model: pin.Model, robot: UrdfModel) -> None:
+    """Pinocchio's ``model.damping`` and ``model.friction`` hold each movable joint's
+    ``<dynamics>`` as :func:`.urdf_model.parse_urdf` read it (0 where absent).
+
+    Raises:
+        RobotModelError: naming the joint and both readings.
+    """
+    for joint in robot.joints:
+        if not model.existJointName(joint.name):
+            continue
+        j = model.getJointId(joint.name)
+        rows = slice(model.idx_vs[j], model.idx_vs[j] + model.nvs[j])
+        read = (0.0, 0.0) if joint.dynamics is None else (joint.dynamics.damping, joint.dynamics.friction)
+        built = (model.damping[rows], model.friction[rows])
+        if not all(np.allclose(b, r, rtol=1e-12, atol=0.0) for b, r in zip(built, read)):
+            raise RobotModelError(f"{path}: joint '{joint.name}' has <dynamics damping friction> {read} in freefloat's "
+                                  f"parse but {[b.tolist() for b in built]} in Pinocchio's: the two URDF parsers read the "
+                                  "file differently")
+
+
 def _moments(mass: float, com: np.ndarray, inertia_at_com: np.ndarray) -> np.ndarray:
     """[m, m c (3), I about the origin (9, row-major)] of a body: mass kg, CoM m, inertia about
     its CoM kg m^2, all in one frame."""
