@@ -6,7 +6,6 @@ from __future__ import annotations
 
 import pytest
 
-from freefloat.app import figure_set
 from freefloat.app.cli import main
 from freefloat.app.run_folder import RECORD
 from freefloat.app.scenes import load_scene
@@ -35,7 +34,8 @@ def test_scene_refuses_an_unknown_figure_listing_the_choices(tmp_path, value):
     with pytest.raises(SceneError, match=r"'output\.figures'") as error:
         load_scene(_scene(tmp_path, figures=value))
     if value[-1] == "torqes":
-        assert "unknown figure 'torqes'; valid: all, " + ", ".join(figure_set.FIGURES) in str(error.value)
+        assert "unknown figure 'torqes'; did you mean 'torques'? (valid: all, " in str(error.value)
+        assert "listed by docs/commands.md" in str(error.value)
 
 
 def test_scene_refuses_an_unknown_format(tmp_path):
@@ -47,7 +47,7 @@ def test_the_command_refuses_an_unknown_figure(tmp_path, capsys):
     """--figures with an unknown name: exit 2, the message lists the names, no folder."""
     assert main(["simulate", str(_scene(tmp_path)), "--out", str(tmp_path / "out"), "--quiet",
                  "--figures", "torques,paths"]) == 2
-    assert "--figures: unknown figure 'paths'; valid: all, joint_errors" in capsys.readouterr().err
+    assert "--figures: unknown figure 'paths'; valid: all, joint_errors" in capsys.readouterr().err  # none near
     assert not (tmp_path / "out").exists()
 
 

@@ -14,7 +14,7 @@ from __future__ import annotations
 
 from typing import Union
 
-from ..errors import FreefloatError
+from ..errors import FreefloatError, did_you_mean
 
 #: Every figure a run can draw, by file stem: what it shows.
 FIGURES: dict[str, str] = {
@@ -72,7 +72,7 @@ def check_choice(value: object, where: str, error: type[FreefloatError]) -> Figu
         raise error(f"{where} must be true, false or a list of figure names, got {value!r}")
     unknown = [x for x in value if x not in FIGURES and x != ALL]
     if unknown:
-        raise error(f"{where}: unknown figure '{unknown[0]}'; valid: {ALL}, {', '.join(FIGURES)}")
+        raise error(f"{where}: unknown figure '{unknown[0]}'{did_you_mean(unknown[0], (ALL, *FIGURES), full_list='docs/commands.md')}")
     return tuple(dict.fromkeys(value))
 
 

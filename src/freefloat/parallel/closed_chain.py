@@ -34,7 +34,7 @@ import numpy as np
 import pinocchio as pin
 
 from ..dynamics.closures import ALIASES, KINDS, Closure, closure_kind
-from ..errors import FreefloatError
+from ..errors import FreefloatError, did_you_mean
 from ..inputs import read_toml, reject_unknown
 from ..robot.urdf_checks import check_joints, check_numbers, read_urdf
 from .mechanism import ParallelMechanism
@@ -86,7 +86,8 @@ class Closures:
             FreefloatError: naming the file, the key and the URDF when there is no such frame.
         """
         if not self.model.existFrame(name):
-            raise FreefloatError(f"{self.path}: '{key}' names frame '{name}', which is not in {self.spec['urdf']}")
+            raise FreefloatError(f"{self.path}: '{key}' names frame '{name}', which is not in {self.spec['urdf']}"
+                                 f"{did_you_mean(name, [f.name for f in self.model.frames], 'frames')}")
         return self.model.getFrameId(name)
 
 
@@ -150,7 +151,8 @@ def read_closures(path: str | Path, root_joint: pin.JointModel | None = None) ->
     out = Closures(path, spec, model, [], [], [])
     for name in spec["actuated"]:
         if not model.existJointName(name):
-            raise FreefloatError(f"{path}: 'actuated' names joint '{name}', which is not in {urdf.name}")
+            raise FreefloatError(f"{path}: 'actuated' names joint '{name}', which is not in {urdf.name}"
+                                 f"{did_you_mean(name, model.names[1:], 'joints')}")
         out.actuated.append(model.getJointId(name))
     out.frame_id(spec["platform"].get("frame", ""), "platform.frame")
     for i, closure in enumerate(spec["closures"]):
@@ -158,8 +160,8 @@ def read_closures(path: str | Path, root_joint: pin.JointModel | None = None) ->
         if len(frames) != 2:
             raise FreefloatError(f"{path}: 'closures[{i}].frames' must name two frames, got {frames}")
         if kind is None:
-            raise FreefloatError(f"{path}: 'closures[{i}].kind' must be one of {[*KINDS, *ALIASES]}, got "
-                                 f"'{closure['kind']}'")
+            raise FreefloatError(f"{path}: 'closures[{i}].kind' is '{closure['kind']}'"
+                                 f"{did_you_mean(closure['kind'], (*KINDS, *ALIASES))}")
         if frames[0] == frames[1]:
             raise FreefloatError(f"{path}: 'closures[{i}].frames' joins frame '{frames[0]}' to itself; a closure "
                                  "joins two different frames")
