@@ -44,7 +44,10 @@ class Robot:
         end_effectors: end-effector frame names, in the order used by every stacked quantity.
         arms: one :class:`Arm` per end-effector, same order.
         link_coms: CoM of every URDF link in its own link frame, m (3,) each.
-        warnings: what the loader had to say about the file (also emitted as Python warnings).
+        warnings: what the loader had to say about the file, to check (also emitted as
+            :class:`~freefloat.errors.FreefloatWarning`).
+        notes: what the loader states about the file that is so on purpose (freefloat's own
+            robots' inertias; also emitted as :class:`~freefloat.errors.FreefloatNote`).
     """
 
     model: pin.Model
@@ -58,6 +61,7 @@ class Robot:
     arms: tuple[Arm, ...]
     link_coms: dict[str, np.ndarray]
     warnings: tuple[str, ...] = field(default=())
+    notes: tuple[str, ...] = field(default=())
 
     @property
     def n_base(self) -> int:
