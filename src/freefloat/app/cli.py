@@ -421,10 +421,10 @@ def _simulate(args: argparse.Namespace) -> int:
         if early.is_set():
             raise KeyboardInterrupt("before the run started; nothing was written")
         live = _live_view(scene, setup) if args.view else None
+        stages = _Stages(args.quiet, held)
+        stages.bar = LoopBar(total_steps(scene), scene.name, "step", args.quiet, started=held.release,
+                             ended=lambda: stages.begin("summarising the run"))
         try:
-            stages = _Stages(args.quiet, held)
-            stages.bar = LoopBar(total_steps(scene), scene.name, "step", args.quiet, started=held.release,
-                                 ended=lambda: stages.begin("summarising the run"))
             done = run_scene(scene, out, progress=stages.bar, overwrite=args.overwrite, setup=setup,
                              watch=live.show if live else None, stage=stages)
             stages.finish()
@@ -440,6 +440,7 @@ def _simulate(args: argparse.Namespace) -> int:
 
                 webbrowser.open((out / "trajectory.html").resolve().as_uri())
         finally:
+            stages.bar.close()
             if live is not None:
                 live.close()
     return status
