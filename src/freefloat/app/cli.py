@@ -399,7 +399,6 @@ def _simulate(args: argparse.Namespace) -> int:
     import dataclasses
 
     from .experiments import experiment_for
-    from .runner import prepare, run_scene, total_steps
     from .scenes import DEFAULT_SCENE, ROBOT_SCENE, find_scene, with_robot
 
     scene = find_scene(args.scene or (ROBOT_SCENE if args.robot else DEFAULT_SCENE))
@@ -414,6 +413,12 @@ def _simulate(args: argparse.Namespace) -> int:
         output = dataclasses.replace(scene.output, figures=scene.output.figures and not args.no_figures,
                                      html=scene.output.html and not args.no_html)
         scene = dataclasses.replace(scene, output=output)
+    if scene.output.figures:
+        from .viz import rendering
+
+        rendering.warm_up()  # the figure helper starts while this process imports, prepares and simulates
+    from .runner import prepare, run_scene, total_steps
+
     out = args.out or default_folder(scene.name)
     with shown_warnings() as held:
         with signals_deferred() as early:

@@ -11,7 +11,7 @@ what the tree leaves out:
     actuated = ["c1_joint1", "c2_joint1"]     # joint names
     [platform]
     frame = "c1_ee"                           # the point whose coordinates are q#
-    coordinates = ["x", "y"]                  # which of its inertial coordinates
+    coordinates = ["x", "y"]                  # which of its inertial coordinates (and "rz", its angle)
     [[closures]]
     frames = ["c1_ee", "c2_ee"]               # these two points coincide (3-D point contact)
     kind = "point"                            # or "revolute" (5-D: origins and z axes), "weld" (6-D; alias "frame")
@@ -21,8 +21,9 @@ what the tree leaves out:
 independent reference. :func:`load_closed_chain` also builds Orsino's :class:`ParallelMechanism`
 for mechanisms whose closures are points joining chain tips (the 5R): chains read from the tree,
 one per closure frame, the platform a massless point whose listed coordinates every tip must
-match. Mechanisms with frame closures build theirs from the same tree
-(:mod:`freefloat.parallel.rsu_ppap`).
+match; or, with the platform's angle ``rz`` among the coordinates, a planar platform whose tips
+are welded to each other (the 3-RRR, :mod:`freefloat.parallel.three_rrr`). Other mechanisms with
+frame closures build theirs from the same tree (:mod:`freefloat.parallel.rsu_ppap`).
 """
 
 from __future__ import annotations
@@ -37,10 +38,12 @@ from ..dynamics.closures import ALIASES, KINDS, Closure, closure_kind
 from ..errors import FreefloatError, did_you_mean
 from ..inputs import read_toml, reject_unknown
 from ..robot.urdf_checks import check_joints, check_numbers, read_urdf
-from .mechanism import ParallelMechanism
+from .mechanism import AngularConstraints, ParallelMechanism
 from .serial import SerialChain
 
 AXES = {"x": 0, "y": 1, "z": 2}
+#: The platform coordinate of a planar platform's angle about N's z axis, rad.
+ROTATION = "rz"
 
 #: Joint types a chain takes, with the axis they turn about or slide along (in the joint frame).
 AXIS_JOINTS = {"JointModelRX": (False, 0), "JointModelRY": (False, 1), "JointModelRZ": (False, 2),
@@ -226,21 +229,32 @@ def _check_types(path: Path, spec: dict) -> None:
 
 
 def load_closed_chain(path: str | Path) -> ClosedChain:
-    """Both models of a mechanism whose closures join chain tips at the platform point (the 5R).
+    """Both models of a mechanism whose closures join chain tips at the platform point (the 5R),
+    or weld chain tips to each other in a planar loop about N's z axis with the platform's angle
+    ``rz`` among its coordinates (a rotating platform, the 3-RRR): one angular row per tip,
+    ``P`` on ``rz`` and ``Q`` on the tip's angular velocity about z (eqs 101-102), the angle of
+    every tip frame's x axis from N's x axis.
 
     Raises:
-        FreefloatError: as :func:`read_closures`, and for a weld closure, a revolute closure of a
-            loop that is not planar, or a platform coordinate not x/y/z.
+        FreefloatError: as :func:`read_closures`, and for a weld closure without ``rz`` (or ``rz``
+            with another closure kind), a revolute or welded loop that is not planar, a welded tip
+            frame whose z axis is not N's, or a platform coordinate not x/y/z/rz.
     """
     closures = read_closures(path)
     model, spec = closures.model, closures.spec
     coords = spec["platform"].get("coordinates", ["x", "y", "z"])
-    if not coords or any(c not in AXES for c in coords):
-        raise FreefloatError(f"{closures.path}: 'platform.coordinates' must be a list of x, y, z; got {coords}")
+    if not coords or any(c not in AXES and c != ROTATION for c in coords) or coords.count(ROTATION) > 1:
+        raise FreefloatError(f"{closures.path}: 'platform.coordinates' must be a list of x, y, z (and at most one "
+                             f"'{ROTATION}', the platform's angle about z, with weld closures); got {coords}")
+    rotates = ROTATION in coords
     for closure in closures.closures:
-        if closure.kind.name == "weld":
-            raise FreefloatError(f"{closures.path}: '{closure.name}.kind' is a weld; tip-to-tip mechanisms take point "
-                                 "or planar revolute closures (weld closures need their own builder, see rsu_ppap)")
+        if (closure.kind.name == "weld") != rotates:
+            raise FreefloatError(
+                f"{closures.path}: '{closure.name}.kind' is a weld; tip-to-tip mechanisms take point or planar revolute "
+                "closures, or weld closures of a platform whose angle 'rz' is among 'platform.coordinates'"
+                if not rotates else f"{closures.path}: 'platform.coordinates' has '{ROTATION}', the platform's angle, but "
+                f"'{closure.name}.kind' is {closure.kind.name}: a rotating platform's tips are welded to each other "
+                "(kind = \"weld\")")
     chains, chain_joints, tips = [], [], []
     for pair in closures.frames:
         for name in pair:
@@ -259,43 +273,73 @@ def load_closed_chain(path: str | Path) -> ClosedChain:
         raise FreefloatError(f"{closures.path}: joints {', '.join(loose)} of {closures.urdf.name} lie on no chain from "
                              "the root to a closure frame ('closures' frames)")
     for closure in closures.closures:
-        if closure.kind.name == "revolute":
-            _check_planar_hinge(closures, closure, [j for joints in chain_joints for j in joints])
-    axes = [AXES[c] for c in coords]
-    p, n_tips = len(axes), len(chains)
-    D = np.vstack([np.eye(p)] * n_tips)
-    E = np.zeros((p * n_tips, 3 * n_tips))
+        if closure.kind.name != "point":
+            _check_planar_hinge(closures, closure, order)
+    if rotates:
+        _check_tips_turn_about_z(closures, tips)
+    p, n_tips = len(coords), len(chains)
+    moves = [i for i, c in enumerate(coords) if c in AXES]
+    D = np.vstack([np.eye(p)[moves]] * n_tips)
+    E = np.zeros((len(moves) * n_tips, 3 * n_tips))
     for t in range(n_tips):
-        for r, axis in enumerate(axes):
-            E[p * t + r, 3 * t + axis] = 1.0
+        for r, i in enumerate(moves):
+            E[len(moves) * t + r, 3 * t + AXES[coords[i]]] = 1.0
+    angular = None
+    if rotates:  # eq 101: P rz' - Q w = 0 per tip, Q reading the tip's angular velocity about z
+        P = np.zeros((n_tips, p))
+        P[:, coords.index(ROTATION)] = 1.0
+        Q = np.zeros((n_tips, 3 * n_tips))
+        Q[np.arange(n_tips), 3 * np.arange(n_tips) + 2] = 1.0
+        # the chain's last link turned by the tip frame's fixed rotation is the tip frame, Rz(rz)
+        reference = np.array([model.frames[model.getFrameId(name)].placement.rotation.T for name in tips])
+        angular = AngularConstraints(P=P, Q=Q, R=np.zeros((n_tips, len(order))), reference=reference,
+                                     offset=np.zeros(n_tips))
     mech = ParallelMechanism(chains=tuple(chains), platform_mass=np.zeros((p, p)), platform_gravity=np.zeros(p),
-                             D=D, d=np.zeros(p * n_tips), E=E, F=np.zeros((p * n_tips, len(order))),
-                             actuated=np.array([p + order.index(j) for j in closures.actuated]))
+                             D=D, d=np.zeros(len(D)), E=E, F=np.zeros((len(D), len(order))),
+                             actuated=np.array([p + order.index(j) for j in closures.actuated]), angular=angular)
     return ClosedChain(mech, model, closures.constraints, {j: p + i for i, j in enumerate(order)}, closures.actuated,
                        closures.urdf, closures.closures)
 
 
 def _check_planar_hinge(closures: Closures, closure: Closure, joints: list[int]) -> None:
-    """A revolute closure of a tip-to-tip mechanism must close a planar loop: every revolute joint
-    of its chains turns about the hinge's direction and every prismatic one slides across it
-    (checked at the neutral pose, which these joints keep). Its three extra rows are then always
-    met, and Orsino's point model of the tips is exact.
+    """A revolute or weld closure of a tip-to-tip mechanism must close a planar loop: every
+    revolute joint of its chains turns about the plane's normal (the hinge's direction, or N's z
+    for a weld) and every prismatic one slides across it (checked at the neutral pose, which these
+    joints keep). Its rows out of the plane (three of a revolute's five, three of a weld's six) are
+    then always met, and Orsino's point (and angle) model of the tips is exact.
 
     Raises:
         FreefloatError: naming the closure and the first joint out of the plane.
     """
     model, data = closures.model, closures.model.createData()
     pin.forwardKinematics(model, data, pin.neutral(model))
-    hinge = (data.oMi[closure.joint1] * closure.placement1).rotation[:, 2]
+    revolute = closure.kind.name == "revolute"
+    normal = (data.oMi[closure.joint1] * closure.placement1).rotation[:, 2] if revolute else np.array([0.0, 0.0, 1.0])
     for j in joints:
         slides, axis = AXIS_JOINTS[model.joints[j].shortname()]
         direction = data.oMi[j].rotation[:, axis]
-        off = abs(direction @ hinge) if slides else np.linalg.norm(np.cross(direction, hinge))
+        off = abs(direction @ normal) if slides else np.linalg.norm(np.cross(direction, normal))
         if off > 1e-9:
-            raise FreefloatError(f"{closures.path}: '{closure.name}' is a revolute closure, but joint "
+            raise FreefloatError(f"{closures.path}: '{closure.name}' is a {closure.kind.name} closure, but joint "
                                  f"'{model.names[j]}' {'slides along' if slides else 'turns about'} a direction "
-                                 "out of its hinge's plane; tip-to-tip mechanisms take revolute closures of planar "
-                                 "loops only")
+                                 f"out of {'its hinge' if revolute else 'the xy plane'}'s plane; tip-to-tip mechanisms "
+                                 f"take {closure.kind.name} closures of planar loops only")
+
+
+def _check_tips_turn_about_z(closures: Closures, tips: list[str]) -> None:
+    """Each welded tip frame of a rotating platform has N's z as its z axis (at the neutral pose,
+    which the planar loop keeps): its orientation is then ``Rz(angle)``, the angle the ``rz`` rows read.
+
+    Raises:
+        FreefloatError: naming the first tip frame whose z axis is not N's z.
+    """
+    model, data = closures.model, closures.model.createData()
+    pin.framesForwardKinematics(model, data, pin.neutral(model))
+    for name in tips:
+        z = data.oMf[model.getFrameId(name)].rotation[:, 2]
+        if abs(z[2] - 1.0) > 1e-9:
+            raise FreefloatError(f"{closures.path}: frame '{name}' has its z axis along {np.round(z, 6).tolist()}; the "
+                                 f"tips of a platform with an angle '{ROTATION}' need N's z axis (0, 0, 1) as theirs")
 
 
 def chain_from_tree(model: pin.Model, frame: int) -> tuple[SerialChain, list[int]]:

@@ -171,11 +171,16 @@ class FloatingMechanism:
         actuated: velocity index in ``model`` of each actuator, in the closure file's order (k,).
 
     Raises:
-        FreefloatError: as :func:`read_closures`.
+        FreefloatError: as :func:`read_closures`; for a platform with an angle among its
+            coordinates (the law here reads translations of the platform frame only).
     """
 
     def __init__(self, chain: ClosedChain, closure: str | Path, base: BaseBody,
                  tree_inertias: Callable[[pin.Model], None] = lambda model: None):
+        if chain.mechanism.rotates:
+            raise FreefloatError(f"{closure}: the platform's coordinates include its angle ('rz'); a mechanism on a base "
+                                 "body takes translational platform coordinates only (its law reads the platform "
+                                 "frame's x, y, z)")
         moving = base.kind in ROOT_JOINTS
         closures = read_closures(closure, ROOT_JOINTS[base.kind]() if moving else None)
         model = closures.model

@@ -21,6 +21,12 @@ so an interior parameter set may be worse than every vertex. Beyond :data:`MAX_V
 vertices the design refuses, unless asked to sample: ``sample`` distinct vertices drawn uniformly
 (seeded), which gives a worst case no larger than the full one.
 
+The box may come from an identification: :class:`~freefloat.parallel.identification.RegressorModel`
+is a mechanism's Pinocchio regressor as such a model, its parameters the base parameters, its
+nominal values an estimate and its half-widths the estimate's confidence box
+(:meth:`~freefloat.parallel.identification.RegressorModel.identified`): the design then covers
+the uncertainty the measurements leave instead of a stated one.
+
 Eq 161 (``diag(k) = (1 - |Delta|_max)^-1 (...)``) has a solution only when
 ``(1 - |Delta|_max)^-1`` exists and is non-negative; for the non-negative matrix
 ``|Delta|_max`` that holds exactly when its spectral radius is below 1 (``1 - |Delta|_max`` is
@@ -140,22 +146,20 @@ def vertices(model: LinearParameterModel, sample: int | None = None, seed: int =
 def point_worst_case(model: LinearParameterModel, q: np.ndarray, extremes: np.ndarray) -> WorstCase:
     """The worst cases at one assembled pose q (n_q,) over the parameter sets ``extremes`` (V, r)
     (eqs 156, 164, 165): H, g_M and delta_ij from the coefficients at q, the estimates at the
-    nominal parameters."""
+    nominal parameters; all parameter sets at once (a batch of p x p inverses)."""
     H_c, g_c, quad_c = model.coefficients(q)
     pi_hat = model.linear_parameters(model.nominal)
     H_hat = np.tensordot(pi_hat, H_c, 1)
     p = H_hat.shape[0]
-    Dmax, d0max = np.zeros((p, p)), np.zeros(p)
-    dijmax = {key: np.zeros(p) for key in quad_c}
-    g_hat = pi_hat @ g_c
-    for theta in extremes:
-        pi = model.linear_parameters(theta)
-        Hinv = np.linalg.inv(np.tensordot(pi, H_c, 1))
-        Dmax = np.maximum(Dmax, np.abs(Hinv @ H_hat - np.eye(p)))
-        d0max = np.maximum(d0max, np.abs(Hinv @ (g_hat - pi @ g_c)))
-        for key, c in quad_c.items():
-            dijmax[key] = np.maximum(dijmax[key], np.abs(Hinv @ ((pi_hat - pi) @ c)))
-    return WorstCase(Dmax, d0max, dijmax)
+    pis = np.array([model.linear_parameters(theta) for theta in extremes])          # (V, l)
+    Hinv = np.linalg.inv(np.einsum("vl,lij->vij", pis, H_c))                       # (V, p, p)
+
+    def worst(x: np.ndarray) -> np.ndarray:
+        """max over the sets of |H^-1 x| for x (V, p): (p,)."""
+        return np.abs(np.einsum("vij,vj->vi", Hinv, x)).max(axis=0)
+
+    return WorstCase(np.abs(Hinv @ H_hat - np.eye(p)).max(axis=0), worst(pi_hat @ g_c - pis @ g_c),
+                     {key: worst((pi_hat - pis) @ c) for key, c in quad_c.items()})
 
 
 def box_grid(center: np.ndarray, half_width: float, spacing: float) -> np.ndarray:

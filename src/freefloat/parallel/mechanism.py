@@ -14,12 +14,18 @@ complement ``C = [I; -A°^+ A#]`` (eq 120) gives ``qdot = C qdot#`` and the coup
 
 Inverse dynamics (eqs 130-140): ``q`` by solving ``qbar = 0``, ``qdot = C qdot#``,
 ``qddot = C qddot# + [0; A°^+ b]``, then the actuator efforts
-``tau = (C^T U)^-1 C^T (M' qddot + v' + g')`` with ``U`` the actuated coordinates.
+``tau = (C^T U)^-1 C^T (M' qddot + v' + g')`` with ``U`` the actuated coordinates. With more
+actuators than platform coordinates (redundant actuation, ``Z^T = C^T U`` wide) the efforts are
+shared by the mechanism's :class:`~freefloat.parallel.redundancy.EffortDistribution` (minimum norm
+unless it says otherwise).
 
 Angular-velocity constraints (eq 101, optional): ``P qdot# - Q w(q°) - R qdot° = 0`` with ``w``
 the chain tips' (last links') angular velocities in N, stacked (3n,); they add the rows
 ``[P, -(Q J_w + R)]`` to A and ``Q dw°`` to b (eqs 104-113) and, in eq 129, the velocity-level
-term ``lambda A_w qdot`` only (the document gives them no position-level term).
+term ``lambda A_w qdot`` only (the document gives them no position-level term). ``P != 0``
+(eq 102's platform with orientation coordinates, e.g. the angle of a planar platform) makes the
+angular rows tie those coordinates to the tips' orientations; with constant ``P``, an orientation
+coordinate is an angle about a fixed axis of N.
 """
 
 from __future__ import annotations
@@ -31,6 +37,7 @@ import numpy as np
 
 from ..dynamics._core import MechanismCore
 from ..errors import FreefloatError, UnknownName
+from .redundancy import EffortDistribution
 from .serial import SerialChain
 
 
@@ -38,17 +45,21 @@ from .serial import SerialChain
 class AngularConstraints:
     """Angular-velocity constraints ``P qdot# - Q w(q°) - R qdot° = 0`` (eq 101).
 
-    Their position form, used to assemble the mechanism and to report orientation drift, needs
-    ``P = 0``: ``Q phi(q°) + R q° = offset`` with ``phi`` the tips' rotation vectors
-    ``log(R_tip R_ref^T)`` (3n,) in N against the reference orientations ``reference``
-    (it differentiates to ``Q w + R qdot°`` where the tips sit at their references).
+    Their position form, used to assemble the mechanism and to report orientation drift:
+    ``P q# + offset - Q phi(q°) - R q° = 0`` with ``phi`` the tips' rotation vectors
+    ``log(R_tip R_ref^T)`` (3n,) in N against the reference orientations ``reference``. It
+    differentiates to the velocity form where ``d phi / dt = w``: where the tips sit at their
+    references (``P = 0``, the platform only translates), and wherever each row's tips turn about
+    one fixed axis of N that the row's Q reads (a planar platform, ``P != 0``: the row ties its
+    angle coordinate in q# to the tips' angle about the plane's normal, eq 102). An angle is
+    recovered within (-pi, pi) only (``log``).
 
     Attributes:
-        P: (m_w, p); must be zero (a platform that rotates would need orientation coordinates).
+        P: (m_w, p) on the platform rates (eq 102); zero for a platform that only translates.
         Q: (m_w, 3n) on the stacked tip angular velocities in N.
         R: (m_w, n°) on the chains' joint rates.
         reference: tip reference orientations in N (n, 3, 3).
-        offset: ``Q phi + R q°`` on the constraint manifold (m_w,).
+        offset: ``Q phi + R q° - P q#`` on the constraint manifold (m_w,).
     """
 
     P: np.ndarray
@@ -58,12 +69,9 @@ class AngularConstraints:
     offset: np.ndarray
 
     def __post_init__(self) -> None:
-        if np.any(self.P != 0.0):
-            raise FreefloatError("angular constraints: P must be zero (the platform coordinates q# are translations; "
-                                 "a rotating platform would need orientation coordinates)")
         rows = len(self.offset)
         n_tips = len(self.reference)
-        if self.P.shape[0] != rows or self.Q.shape != (rows, 3 * n_tips) or self.R.shape[0] != rows \
+        if self.P.ndim != 2 or self.P.shape[0] != rows or self.Q.shape != (rows, 3 * n_tips) or self.R.shape[0] != rows \
                 or self.reference.shape != (n_tips, 3, 3):
             raise FreefloatError(f"angular constraints: shapes do not agree: P {self.P.shape}, Q {self.Q.shape}, "
                                  f"R {self.R.shape}, reference {self.reference.shape}, offset {self.offset.shape} "
@@ -81,6 +89,9 @@ class ParallelMechanism:
         D, d, E, F: constant constraint matrices of eq 96 ((m, p), (m,), (m, 3n), (m, n°)).
         actuated: indices of the actuated coordinates in ``q`` (k,).
         angular: the angular-velocity constraints, if any.
+        distribution: how :meth:`inverse` (and the platform laws) share a required platform force
+            among the actuators; None: the square solve when there are as many actuators as
+            platform coordinates, the minimum-norm efforts when there are more.
         backend: ``"compiled"`` (default): one point at a time (:meth:`forward`, :meth:`inverse`
             and :meth:`assemble` at one q, :meth:`inverse_trajectory`) runs in the compiled core
             (``cpp/parallel.hpp``) when A° is square; ``"numpy"``: everything in this module and
@@ -96,18 +107,38 @@ class ParallelMechanism:
     F: np.ndarray
     actuated: np.ndarray
     angular: AngularConstraints | None = None
+    distribution: EffortDistribution | None = None
     backend: str = "compiled"
 
     def __post_init__(self) -> None:
         if self.backend not in BACKENDS:
             raise UnknownName("mechanism backend", self.backend, BACKENDS)
+        if self.angular is not None:
+            expected = {"P": (self.p,), "Q": (3 * len(self.chains),), "R": (sum(c.dof for c in self.chains),)}
+            for name, columns in expected.items():
+                if getattr(self.angular, name).shape[1:] != columns:
+                    raise FreefloatError(f"angular constraints: {name} has {getattr(self.angular, name).shape[1]} columns; "
+                                         f"this mechanism needs {columns[0]} ({self.p} platform coordinates, "
+                                         f"{len(self.chains)} chains of {sum(c.dof for c in self.chains)} joints)")
 
     @functools.cached_property
     def core(self) -> MechanismCore | None:
-        """The compiled core of this mechanism, or None (numpy backend, or a non-square A°)."""
-        if self.backend != "compiled" or not self.square:
+        """The compiled core of this mechanism, or None: numpy backend, a non-square A°, or
+        angular constraints with ``P != 0`` (the compiled closure residual has no ``P q#`` term:
+        ``cpp/parallel.cpp``'s ``evaluate_closure``)."""
+        if self.backend != "compiled" or not self.square or self.rotates:
             return None
         return MechanismCore(*self.core_arrays())
+
+    @property
+    def redundant(self) -> bool:
+        """True when there are more actuators than platform coordinates (k > p)."""
+        return len(self.actuated) > self.p
+
+    @property
+    def rotates(self) -> bool:
+        """True when angular constraints tie orientation coordinates of q# to the tips (``P != 0``)."""
+        return self.angular is not None and bool(np.any(self.angular.P != 0.0))
 
     @property
     def square(self) -> bool:
@@ -182,8 +213,8 @@ class ParallelMechanism:
         return residual[..., : len(self.d)], residual[..., len(self.d):]
 
     def orientation_residual(self, q: np.ndarray) -> np.ndarray:
-        """Position form of the angular constraints, ``offset - Q phi - R q°`` (..., m_w), rad;
-        empty without angular constraints."""
+        """Position form of the angular constraints, ``P q# + offset - Q phi - R q°`` (..., m_w),
+        rad; empty without angular constraints."""
         return self._closure(q)[0][..., len(self.d):]
 
     def terms(self, q: np.ndarray, qd: np.ndarray):
@@ -246,7 +277,8 @@ class ParallelMechanism:
         if self.angular is not None:
             ang = self.angular
             phi = np.concatenate([log3(t[1] @ ref.T) for t, ref in zip(tips, ang.reference)], axis=-1)
-            residual = np.concatenate((residual, ang.offset - phi @ ang.Q.T - q[..., self.p:] @ ang.R.T), axis=-1)
+            residual = np.concatenate((residual, q[..., : self.p] @ ang.P.T + ang.offset - phi @ ang.Q.T
+                                       - q[..., self.p:] @ ang.R.T), axis=-1)
         return residual, self._constraint_jacobian(kins)
 
     def passive_solve(self, A: np.ndarray, rhs: np.ndarray, least_squares: bool = False) -> np.ndarray:
@@ -298,13 +330,43 @@ class ParallelMechanism:
     def inverse(self, q: np.ndarray, qd_sharp: np.ndarray, qdd_sharp: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Actuator efforts for platform motion (eqs 130-140) at assembled ``q`` (..., n_q), from
         the platform rates ``qd_sharp`` and accelerations ``qdd_sharp`` (..., p); any leading
-        batch axes (a whole trajectory at once).
+        batch axes (a whole trajectory at once). Shared by :attr:`distribution` (:meth:`efforts`).
 
         Returns:
             ``(tau, qd, qdd)``: efforts (..., k) and the full velocity and acceleration (..., n_q).
+
+        Raises:
+            InfeasiblePlan: where the distribution's effort limits cannot give the motion.
         """
-        if (core := self._point_core(q)) is not None:
+        if self.square_actuation and (core := self._point_core(q)) is not None:
             return core.inverse(q, qd_sharp, qdd_sharp)
+        u, ZT, qd, qdd = self.required_force(q, qd_sharp, qdd_sharp)
+        return self.efforts(ZT, u), qd, qdd
+
+    @property
+    def square_actuation(self) -> bool:
+        """As many actuators as platform coordinates and no distribution: efforts by ``(C^T U)^-1``
+        (what the compiled core's inverse dynamics and platform law do)."""
+        return not self.redundant and self.distribution is None
+
+    def efforts(self, ZT: np.ndarray, u: np.ndarray) -> np.ndarray:
+        """Actuator efforts (..., k) giving the platform forces ``u`` (..., p) through the actuation
+        maps ``Z^T = C^T U`` (..., p, k) (eq 136): the square solve, or :attr:`distribution`'s
+        sharing (minimum norm when it is None and k > p).
+
+        Raises:
+            InfeasiblePlan: where the distribution's effort limits cannot give ``u``.
+        """
+        if self.square_actuation:
+            return np.linalg.solve(ZT, u[..., None])[..., 0]
+        return (self.distribution or EffortDistribution()).efforts(ZT, u)
+
+    def required_force(self, q: np.ndarray, qd_sharp: np.ndarray,
+                       qdd_sharp: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """What platform motion asks of the actuators (eqs 130-136) at assembled ``q`` (..., n_q),
+        platform rates and accelerations (..., p): ``(u*, Z^T, qd, qdd)`` with ``u* = C^T (M'
+        qddot + v' + g')`` (..., p), ``Z^T = C^T U`` (..., p, k) and the full velocity and
+        acceleration (..., n_q); any efforts with ``Z^T tau = u*`` produce the motion."""
         frames = self._frames(q)
         A = self._closure(q, frames)[1]
         C = self._velocity_map(A)
@@ -314,8 +376,7 @@ class ParallelMechanism:
         qdd = _matvec(C, qdd_sharp) + np.concatenate((np.zeros(passive.shape[:-1] + (self.p,)), passive), axis=-1)
         Mqdd = np.concatenate([_matvec(M, x) for M, x in zip(blocks, [qdd[..., : self.p]] + self.split(qdd))], axis=-1)
         CT = C.swapaxes(-1, -2)
-        tau = np.linalg.solve(CT @ self.selection(), _matvec(CT, Mqdd + v + g)[..., None])[..., 0]
-        return tau, qd, qdd
+        return _matvec(CT, Mqdd + v + g), CT @ self.selection(), qd, qdd
 
     def assemble(self, q_sharp: np.ndarray, guess: np.ndarray, tol: float = 1e-12, iterations: int = 50) -> np.ndarray:
         """Solve ``qbar = 0`` (and the angular constraints' position form) for the chains' joints
@@ -377,7 +438,7 @@ class ParallelMechanism:
         if not len(q_sharp) or not q_sharp.shape == qd_sharp.shape == qdd_sharp.shape == (len(q_sharp), self.p):
             raise FreefloatError(f"inverse_trajectory: positions, rates and accelerations must be non-empty arrays of shape "
                                  f"(N, {self.p}); got {q_sharp.shape}, {qd_sharp.shape}, {qdd_sharp.shape}")
-        if self.core is not None:
+        if self.core is not None and self.square_actuation:
             return self._compiled_trajectory(q_sharp, qd_sharp, qdd_sharp, np.asarray(guess, float), jump)
         q = np.empty((len(q_sharp), self.p + len(guess)))
         tau = np.empty((len(q_sharp), len(self.actuated)))

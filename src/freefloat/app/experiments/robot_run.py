@@ -33,7 +33,7 @@ from .locked_run import full_telemetry, lock_for
 from .scene_closures import assemble, scene_closures
 from .wheel_run import HEADLINE as WHEEL_HEADLINE
 from .wheel_run import UNITS as WHEEL_UNITS
-from .wheel_run import scene_wheels, wheel_attitude_control, wheel_figures, wheel_summary, wheel_telemetry
+from .wheel_run import scene_wheels, wheel_attitude_control, wheel_summary, wheel_telemetry
 
 #: Summary keys the command line prints for every robot run (those it has: drifts without
 #: external wrenches, balances with them), then those of its task (``task_headline`` of
@@ -296,15 +296,17 @@ def robot_outcome(setup: RobotSetup, robot: Robot, telemetry: Telemetry, result:
                   spin: bool = False, settle_threshold: float | None = None, task_headline: tuple[str, ...] = (),
                   approach: Telemetry | None = None) -> Outcome:
     """The outcome of a robot run on ``robot`` (the scene's, or the merged one after a capture):
-    telemetry named by its joints and end-effectors, provenance, the figures
-    (:func:`~freefloat.app.viz.figures.write_figures`: the conservation balance when the run has
-    ``wrenches``, default the scene's; the angular rates with ``spin``, against
-    ``settle_threshold``) and the animation of ``animation = (t, q)`` (default: the telemetry)
+    telemetry named by its joints and end-effectors, provenance, the figures as one picklable job
+    (:class:`~freefloat.app.viz.figure_job.RobotFigures`, which the figure helper draws while the
+    run writes the rest: :func:`~freefloat.app.viz.figures.write_figures`, the conservation
+    balance when the run has ``wrenches``, default the scene's; the angular rates with ``spin``,
+    against ``settle_threshold``; the closures' drift) and the animation of ``animation = (t, q)`` (default: the telemetry)
     with ``extra_bodies`` and the named moments ``events`` ((time s, label)); with ``approach``
     (a planned capture's pre-capture phase on the scene's robot) also its joint tracking against the
     plan. The figures left out because their data is identically zero are named in the summary's
     ``figures_not_drawn``."""
-    from ..viz.figures import empty_figures, write_approach_figure, write_figures
+    from ..viz.figure_data import empty_figures
+    from ..viz.figure_job import ClosedLoop, RobotFigures, WheelRows
     from ..viz.meshcat_html import write_trajectory_html
 
     t, q = animation or (telemetry.t, telemetry.q)
@@ -335,10 +337,13 @@ def robot_outcome(setup: RobotSetup, robot: Robot, telemetry: Telemetry, result:
         },
         headline=headline_of(task_headline, wheels is not None),
         extra_telemetry=extra_telemetry,
-        figures=lambda folder: [*write_figures(robot, telemetry, folder, wrenches, sim.control_period, spin,
-                                               settle_threshold), *closure_figures(closed, telemetry, folder),
-                                *([] if approach is None else write_approach_figure(setup.robot, approach, folder)),
-                                *([] if wheels is None else wheel_figures(wheels, wheel_rows, folder))],
+        figures=RobotFigures(
+            robot, telemetry, wrenches, sim.control_period, spin, settle_threshold,
+            loop=None if closed is None else ClosedLoop(telemetry.t, None, None, *closure_drifts(closed, telemetry.q)),
+            approach=approach, approach_robot=setup.robot,
+            wheels=None if wheels is None else WheelRows(wheel_rows.t, [w.name for w in wheels.wheels],
+                                                            wheel_rows.momentum, wheels.max_momenta,
+                                                            wheel_rows.torque, wheels.max_torques)),
         page=lambda path, fps: write_trajectory_html(robot, t, q, path, fps=fps, extra=extra_bodies or None,
                                                           events=events),
     )
@@ -354,17 +359,6 @@ def closure_drifts(model: ClosedModel, qs: np.ndarray) -> tuple[np.ndarray, np.n
     """Largest closure position (m) and rotation (rad) residual at each sample of ``qs`` (N,), (N,)."""
     drifts = np.array([model.drift(q) for q in qs])
     return drifts[:, 0], drifts[:, 1]
-
-
-def closure_figures(model: ClosedModel | None, telemetry: Telemetry, folder: Path) -> list[Path]:
-    """The ``closed_loop`` figure (closure drift over the run) of a run with closures; none without."""
-    if model is None or len(telemetry.t) < 2:
-        return []
-    from ..viz.loop_figures import loop_figure
-    from ..viz.plotting import save_all
-
-    position, rotation = closure_drifts(model, telemetry.q)
-    return save_all({"closed_loop": loop_figure(telemetry.t, None, None, position, rotation)}, folder)
 
 
 __all__ = ["APPROACH_MARGIN", "HEADLINE", "LAST_HEADLINE", "SPIN_HEADLINE", "UNITS", "RobotSetup", "approach_periods",

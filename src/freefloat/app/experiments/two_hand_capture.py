@@ -142,17 +142,10 @@ def run(setup: TwoHandSetup, progress: Progress | None = None, checkpoint: Check
         extra_telemetry={"pre_capture": res.pre}, events=[(res.impact_time, "both hands grasp")], wrenches=(),
         spin=True, settle_threshold=summary["settle_threshold"], approach=None if setup.plan is None else res.pre,
         task_headline=TASK_HEADLINE)
-    robot_figures = outcome.figures
+    from ..viz.figure_job import ClosedLoop
 
-    def figures(folder):
-        from ..viz.loop_figures import loop_figure
-        from ..viz.plotting import save_all
-
-        loop = save_all({"closed_loop": loop_figure(history.t, history.squeeze, history.internal,
-                                                    history.drift_position, history.drift_rotation)}, folder)
-        return [*robot_figures(folder), *loop]
-
-    outcome.figures = figures
+    outcome.figures = dataclasses.replace(outcome.figures, loop=ClosedLoop(
+        history.t, history.squeeze, history.internal, history.drift_position, history.drift_rotation))
     return outcome
 
 
