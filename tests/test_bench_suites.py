@@ -7,6 +7,7 @@ import json
 import math
 import sys
 
+import numpy as np
 import pytest
 
 from freefloat.app.bench.options import SMOKE
@@ -31,9 +32,10 @@ def toy(monkeypatch):
 
 
 def test_registry_lists_exactly_the_suites():
-    """The registry holds the MuJoCo scenes, the eight former scripts, the fixed-cost suite, the
-    two-hand capture's, the atlas's and the batch against mujoco.rollout, in the order ``all`` runs them."""
-    assert list(SUITES) == [DEFAULT, "simulation", "integrators", "gjm", "models", "locking", "parallel", "batch",
+    """The registry holds the MuJoCo scenes, the eight former scripts, the platform laws', the
+    fixed-cost suite, the two-hand capture's, the atlas's and the batch against mujoco.rollout, in
+    the order ``all`` runs them."""
+    assert list(SUITES) == [DEFAULT, "simulation", "integrators", "gjm", "models", "locking", "parallel", "laws", "batch",
                             "figures", "setup", "two_hands", "atlas", "rollout"]
 
 
@@ -226,6 +228,23 @@ def _parallel(r):
     assert [row["turns"] for row in r["coarse_paths"]] == [1, 2, 4, 8]
 
 
+def _laws(r):
+    from freefloat.parallel.five_bar import FiveBarParameters
+    from freefloat.parallel.platform_regressor import five_bar_theta
+
+    cost = r["cost"]
+    assert cost["over_computed_torque"] == pytest.approx({k: v / cost["seconds_per_call"]["computed_torque"]
+                                                          for k, v in cost["seconds_per_call"].items()})
+    for plant in ("15", "50"):
+        runs = r[f"tracking_{plant}"]
+        for law in runs.values():  # the last turn lies after 0.2 s
+            assert max(law["steady_error_max_m"]) <= max(law["error_max_after_0.2s_m"])
+        adaptive = runs["adaptive_sliding_mode"]
+        assert adaptive["estimate_over_true"][0] == pytest.approx(
+            list(five_bar_theta(FiveBarParameters()) / adaptive["true"]))
+        assert adaptive["lyapunov_largest_rise"] == pytest.approx(max(np.diff(adaptive["lyapunov"])))
+
+
 def _batch(r):
     for name in r["settings"]["scenes"]:
         row = r[name]
@@ -285,7 +304,7 @@ def _rollout(r):
 
 #: Per suite, what its numbers must agree on (a new suite needs a check).
 CHECKS = {"simulation": _simulation, "integrators": _integrators, "gjm": _gjm, "models": _models,
-          "locking": _locking, "parallel": _parallel, "batch": _batch, "figures": _figures, "setup": _setup,
+          "locking": _locking, "parallel": _parallel, "laws": _laws, "batch": _batch, "figures": _figures, "setup": _setup,
           "two_hands": _two_hands, "atlas": _atlas, "rollout": _rollout}
 
 

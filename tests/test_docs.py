@@ -152,11 +152,28 @@ def _first_hour(ns: dict) -> None:
     assert np.abs(momentum - momentum[0]).max() < 1e-12 * max(1.0, np.abs(momentum).max())
 
 
+def _control_laws_page(ns: dict) -> None:
+    """The adaptive run completes; its estimates move towards the plant's base parameters
+    (five_bar_theta, checked against Orsino's dynamics) and the platform follows the circle
+    (computed here from eq 189) within 5e-5 m over the last 0.1 s."""
+    from freefloat.parallel.five_bar import TRUE_PARAMETERS_50
+    from freefloat.parallel.platform_regressor import five_bar_theta
+
+    tel, truth = ns["result"].telemetry, five_bar_theta(TRUE_PARAMETERS_50)
+    assert ns["result"].status == "completed" and len(ns["t"]) == len(tel.t) - 1
+    first, last = np.abs(ns["estimates"][0] / truth - 1).max(), np.abs(ns["estimates"][-1] / truth - 1).max()
+    assert last < first / 3
+    late = tel.t > 0.4
+    circle = np.array([[0.07 * np.cos(28.57 * t), 0.17 + 0.07 * np.sin(28.57 * t)] for t in tel.t[late]])
+    assert np.abs(tel.q[late, :2] - circle).max() < 5e-5
+
+
 #: What each Python snippet of the pages claims, checked against a reference of its own.
 SNIPPET_CHECKS = {"README.md#python0": _readme_scene, "README.md#python1": _readme_tumbling,
                   "README.md#python2": _readme_closed_chain, "README.md#python3": _readme_many_runs,
                   "gjm.md#python0": _gjm_page,
-                  "integrators.md#python0": _integrators_page, "first_hour.md#python0": _first_hour}
+                  "integrators.md#python0": _integrators_page,
+                  "control_laws.md#python0": _control_laws_page, "first_hour.md#python0": _first_hour}
 
 
 @pytest.mark.parametrize(("where", "code"), blocks("python"), ids=[w for w, _ in blocks("python")])
