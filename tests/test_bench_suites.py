@@ -10,6 +10,7 @@ import sys
 import numpy as np
 import pytest
 
+from freefloat.app.bench.options import SMOKE
 from freefloat.app.bench.suites import ALL, DEFAULT, SUITES, Suite, named
 from freefloat.app.bench.suites.growth import exponent
 from freefloat.app.bench.suites.locking import SCENES as LOCKING_SCENES
@@ -52,6 +53,8 @@ def test_unknown_suite_exits_2_naming_the_valid_ones(toy, tmp_path, capsys):
     assert main(["bench", "--suite", "nope", "--out", str(tmp_path / "o")]) == 2
     valid = ", ".join([*SUITES, ALL])
     assert f"unknown bench suite 'nope'; valid: {valid}" in capsys.readouterr().err
+    assert main(["bench", "--suite", "simulaton", "--out", str(tmp_path / "o")]) == 2
+    assert "unknown bench suite 'simulaton'; did you mean 'simulation'?" in capsys.readouterr().err
     assert "toy" in valid and not (tmp_path / "o").exists()
 
 
@@ -66,7 +69,26 @@ def test_a_registered_toy_suite_runs_with_no_other_edit(toy, tmp_path):
     report = json.loads((tmp_path / "bench_toy.json").read_text())
     assert report["status"] == "completed" and report["settings"] == {"quick": False, "repeats": 2}
     assert report["first"]["a_over_b"] == 4.0 and "second" in report and "freefloat" in report["versions"]
-    assert (tmp_path / "bench_toy.png").read_text() == "first second"
+    assert toy_suite.DRAWN == ["first", "second"] and (tmp_path / "bench_toy.png").read_bytes()[1:4] == b"PNG"
+    assert "smoke_test" not in report
+
+
+def test_a_suite_without_a_summary_prints_its_ratios(toy, tmp_path, capsys):
+    """A suite with no summary() of its own prints each part's ratios (it printed no number)."""
+    assert main(["bench", "--suite", "toy", "--out", str(tmp_path)]) == 0
+    out = capsys.readouterr().out
+    assert "toy: first: a_over_b 4\n" in out and "toy: second: a_over_b 4\n" in out
+
+
+def test_a_quick_suite_says_it_is_a_smoke_test(toy, tmp_path, capsys):
+    """--quick: the printed lines, the JSON and the chart (a band above it) say it is a smoke test."""
+    import matplotlib.pyplot as plt
+
+    assert main(["bench", "--suite", "toy", "--quick", "--out", str(tmp_path)]) == 0
+    assert f"toy: {SMOKE}" in capsys.readouterr().out
+    assert json.loads((tmp_path / "bench_toy.json").read_text())["smoke_test"] == SMOKE
+    chart = plt.imread(tmp_path / "bench_toy.png")
+    assert chart.shape[0] == 240 + 28 and chart[2, chart.shape[1] // 2, 0] > 0.6 > chart[2, chart.shape[1] // 2, 1]
 
 
 def test_a_suite_without_mujoco_runs_when_mujoco_is_missing(toy, tmp_path, monkeypatch):
@@ -301,3 +323,17 @@ def test_mujoco_suite_runs_its_scenes_through_suite(tmp_path):
     reached = [b for b in bands if b["mujoco_speedup"] is not None]
     assert reached and all(b["mujoco_speedup"] == pytest.approx(b["freefloat"]["wall_time"] / b["mujoco"]["wall_time"])
                            for b in reached)
+
+
+def test_the_simulation_suite_prints_its_headline_ratios(quick):
+    """``--suite simulation`` prints its headline ratios, one line per part, as measured (it
+    printed no number)."""
+    from freefloat.app.bench.suites import simulation
+
+    _, _, report = quick("simulation")
+    lines = simulation.summary(report)
+    assert len(lines) == 4 and all(line.startswith("simulation: ") for line in lines)
+    assert f"{report['loop_overhead']['compiled_over_cpp_floor_full_telemetry']:.3g}x the C++ floor" in lines[0]
+    assert lines[1].endswith(f"{report['base_kind']['ratio_free_over_planar']:.3g}")
+    assert f"{report['detumbling']['python_over_whole_chunks']:.3g}x whole compiled chunks" in lines[2]
+    assert all(f"nv {r['nv']} {r['world_over_local']:.3g}" in lines[3] for r in report["convention"].values())

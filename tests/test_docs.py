@@ -210,7 +210,7 @@ def test_command_parses(where, argv, monkeypatch):
         assert (REPO / argv[1]).is_file(), f"{where}: no {argv[1]}"
         return
     seen = []
-    for name in ("_simulate", "_batch", "_verify", "_reproduce", "_scenes", "_view", "_info", "_bench", "_atlas"):
+    for name in ("_simulate", "_batch", "_verify", "_reproduce", "_scenes", "_robots", "_view", "_info", "_bench", "_atlas"):
         monkeypatch.setattr(cli, name, lambda *args, name=name: seen.append(name) or 0)
     assert cli.main(argv[1:]) == 0 and seen, f"{where}: {' '.join(argv)}"
 

@@ -12,7 +12,7 @@ from freefloat.app import figure_set
 from freefloat.app.cli import main
 from freefloat.app.run_folder import RECORD
 from freefloat.app.scenes import load_scene
-from freefloat.errors import SceneError
+from freefloat.errors import LISTED, SceneError
 
 from .conftest import scene_variant
 
@@ -37,7 +37,10 @@ def test_scene_refuses_an_unknown_figure_listing_the_choices(tmp_path, value):
     with pytest.raises(SceneError, match=r"'output\.figures'") as error:
         load_scene(_scene(tmp_path, figures=value))
     if value[-1] == "torqes":
-        assert "unknown figure 'torqes'; valid: all, " + ", ".join(figure_set.FIGURES) in str(error.value)
+        message = str(error.value)
+        assert "unknown figure 'torqes'; did you mean 'torques'? (valid: all, " in message
+        whole = message.endswith(", ".join(figure_set.FIGURES) + ")")
+        assert whole if len(figure_set.FIGURES) < LISTED else message.endswith("listed by docs/commands.md)")
 
 
 def test_scene_refuses_an_unknown_format(tmp_path):
@@ -49,7 +52,7 @@ def test_the_command_refuses_an_unknown_figure(tmp_path, capsys):
     """--figures with an unknown name: exit 2, the message lists the names, no folder."""
     assert main(["simulate", str(_scene(tmp_path)), "--out", str(tmp_path / "out"), "--quiet",
                  "--figures", "torques,paths"]) == 2
-    assert "--figures: unknown figure 'paths'; valid: all, joint_errors" in capsys.readouterr().err
+    assert "--figures: unknown figure 'paths'; valid: all, joint_errors" in capsys.readouterr().err  # none near
     assert not (tmp_path / "out").exists()
 
 

@@ -68,8 +68,9 @@ def test_the_page_prints_the_run_s_warning_bar_and_stages(run):
     writing stages in the run's order."""
     lines, _ = run
     printed = _printed()
-    warning = [line for line in lines if line.startswith("freefloat: warning:") or line.startswith("  Pinocchio")]
-    assert [line for line in printed if line.startswith("freefloat: warning:") or line.startswith("  Pinocchio")] == warning
+    said = ("freefloat: warning:", "freefloat: note:", "  Pinocchio")
+    warning = [line for line in lines if line.startswith(said)]
+    assert [line for line in printed if line.startswith(said)] == warning
     (bar,) = _starting(printed, f"{DEFAULT_SCENE}: 100%")
     assert "5000/5000" in bar and any(line.startswith(f"{DEFAULT_SCENE}: 100%") and "5000/5000" in line for line in lines)
     stage = re.compile(r"^(writing .*) \.\.\. [\d.]+ s$")

@@ -159,7 +159,7 @@ def test_unreachable_pose_is_refused_naming_the_leg():
 
 
 @pytest.mark.parametrize(("edit", "message"), [
-    (lambda s: s.replace("rod_length", "rod_len"), r"unknown \[rsu\] key 'rod_len' \(did you mean 'rod_length'\?\)"),
+    (lambda s: s.replace("rod_length", "rod_len"), r"unknown \[rsu\] key 'rod_len'; did you mean 'rod_length'\?"),
     (lambda s: s.replace("rod_length = 0.36", ""), r"missing key 'rsu\.rod_length'"),
     (lambda s: s.replace("rod_length = 0.36", 'rod_length = "0.36"'), r"'rsu\.rod_length' must be numeric"),
     (lambda s: s.replace("rod_length = 0.36", "rod_length = -0.36"), r"'rsu\.rod_length' must be a positive number"),

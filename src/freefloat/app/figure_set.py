@@ -17,7 +17,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Any, NamedTuple, Union
 
-from ..errors import FreefloatError
+from ..errors import FreefloatError, did_you_mean
 
 #: Scene kinds of the robot runs that capture or detumble (their spin is drawn).
 SPINNING = ("detumbling", "capture", "two_hand_capture")
@@ -129,7 +129,7 @@ def check_choice(value: object, where: str, error: type[FreefloatError]) -> Figu
         raise error(f"{where} must be true, false or a list of figure names, got {value!r}")
     unknown = [x for x in value if x not in FIGURES and x != ALL]
     if unknown:
-        raise error(f"{where}: unknown figure '{unknown[0]}'; valid: {ALL}, {', '.join(FIGURES)}")
+        raise error(f"{where}: unknown figure '{unknown[0]}'{did_you_mean(unknown[0], (ALL, *FIGURES), full_list='docs/commands.md')}")
     return tuple(dict.fromkeys(value))
 
 

@@ -39,7 +39,6 @@ frame closures build theirs from the same tree (:mod:`freefloat.parallel.rsu_ppa
 
 from __future__ import annotations
 
-import difflib
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -48,7 +47,7 @@ import pinocchio as pin
 
 from ..dynamics.closures import ALIASES, KINDS, Closure, closure_kind
 from ..dynamics.friction import SLIP_SPEED, JointFriction
-from ..errors import FreefloatError
+from ..errors import FreefloatError, did_you_mean
 from ..inputs import read_toml, reject_unknown
 from ..robot.urdf_checks import check_joints, check_numbers, read_urdf
 from .mechanism import AngularConstraints, ParallelMechanism
@@ -118,7 +117,8 @@ class Closures:
             FreefloatError: naming the file, the key and the URDF when there is no such frame.
         """
         if not self.model.existFrame(name):
-            raise FreefloatError(f"{self.path}: '{key}' names frame '{name}', which is not in {self.spec['urdf']}")
+            raise FreefloatError(f"{self.path}: '{key}' names frame '{name}', which is not in {self.spec['urdf']}"
+                                 f"{did_you_mean(name, [f.name for f in self.model.frames], 'frames')}")
         return self.model.getFrameId(name)
 
 
@@ -185,7 +185,8 @@ def read_closures(path: str | Path, root_joint: pin.JointModel | None = None) ->
     out = Closures(path, spec, model, [], [], [])
     for name in spec["actuated"]:
         if not model.existJointName(name):
-            raise FreefloatError(f"{path}: 'actuated' names joint '{name}', which is not in {urdf.name}")
+            raise FreefloatError(f"{path}: 'actuated' names joint '{name}', which is not in {urdf.name}"
+                                 f"{did_you_mean(name, model.names[1:], 'joints')}")
         out.actuated.append(model.getJointId(name))
     out.frame_id(spec["platform"].get("frame", ""), "platform.frame")
     for i, closure in enumerate(spec["closures"]):
@@ -193,8 +194,8 @@ def read_closures(path: str | Path, root_joint: pin.JointModel | None = None) ->
         if len(frames) != 2:
             raise FreefloatError(f"{path}: 'closures[{i}].frames' must name two frames, got {frames}")
         if kind is None:
-            raise FreefloatError(f"{path}: 'closures[{i}].kind' must be one of {[*KINDS, *ALIASES]}, got "
-                                 f"'{closure['kind']}'")
+            raise FreefloatError(f"{path}: 'closures[{i}].kind' is '{closure['kind']}'"
+                                 f"{did_you_mean(closure['kind'], (*KINDS, *ALIASES))}")
         if frames[0] == frames[1]:
             raise FreefloatError(f"{path}: 'closures[{i}].frames' joins frame '{frames[0]}' to itself; a closure "
                                  "joins two different frames")
@@ -217,9 +218,8 @@ def _set_joint_terms(path: Path, joints: dict, model: pin.Model) -> None:
     names = [model.names[j] for j in range(1, model.njoints)]
     for name, terms in joints.items():
         if not model.existJointName(name):
-            close = difflib.get_close_matches(name, names, n=1)
-            hint = f" (did you mean '{close[0]}'?)" if close else ""
-            raise FreefloatError(f"{path}: '[joints.{name}]' names no joint of the URDF{hint}; joints: {', '.join(names)}")
+            raise FreefloatError(f"{path}: '[joints.{name}]' names no joint of the URDF"
+                                 f"{did_you_mean(name, names, 'joints')}")
         j = model.getJointId(name)
         if model.nvs[j] != 1:
             raise FreefloatError(f"{path}: '[joints.{name}]': joint '{name}' has {model.nvs[j]} coordinates; armature "

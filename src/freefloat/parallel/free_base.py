@@ -48,7 +48,7 @@ from ..dynamics.integrators import INTEGRATORS, make_integrator
 from ..dynamics.plants import ClosedTreePlant, ConstraintDynamicsPlant
 from ..dynamics.simulation import RunResult, run, run_plant
 from ..dynamics.telemetry import Arrays, PlantTelemetry, Telemetry
-from ..errors import FreefloatError, InvalidArgument
+from ..errors import FreefloatError, InvalidArgument, did_you_mean
 from ..robot.loading import BASE_COM_FRAME
 from ..robot.robot import Robot
 from .closed_chain import AXES, ClosedChain, read_closures
@@ -81,7 +81,7 @@ def base_problem(kind: str, mass: float | None = None, inertia: Sequence[float] 
     com) describe a moving base; a fixed base takes none.
     """
     if kind not in BASES:
-        return "kind", f"is {kind!r}; valid: {', '.join(BASES)}"
+        return "kind", f"is {kind!r}{did_you_mean(kind, BASES)}"
     if kind == "fixed":
         given = [name for name, value in (("mass", mass), ("inertia", inertia), ("com", com)) if value is not None]
         if given:

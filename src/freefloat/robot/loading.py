@@ -22,7 +22,7 @@ import numpy as np
 import pinocchio as pin
 
 from ..arguments import MAX_MAGNITUDE, real_array
-from ..errors import InvalidArgument, RobotModelError
+from ..errors import FreefloatNote, FreefloatWarning, InvalidArgument, RobotModelError, did_you_mean
 from .catalog import example_robot_data_share, find_robot, is_name  # noqa: F401  (the share: imported from here)
 from .inertias import balanced
 from .robot import BASE_DOFS, Arm, Robot
@@ -67,10 +67,6 @@ def remembered_loads(store: dict) -> Iterator[None]:
         yield
     finally:
         _remembered.reset(token)
-
-
-class FreefloatWarning(UserWarning):
-    """Something in a URDF was loaded with a stated assumption (missing limits, meshes...)."""
 
 
 def load_robot(
@@ -136,6 +132,8 @@ def load_robot(
             robot = store[key]
             for note in robot.warnings:
                 warnings.warn(note, FreefloatWarning, stacklevel=2)
+            for note in robot.notes:
+                warnings.warn(note, FreefloatNote, stacklevel=2)
             return dataclasses.replace(robot, model=pin.Model(robot.model))
     robot = _load(path, base, end_effectors, gravity, visuals, inertias)
     if store is not None:
@@ -154,7 +152,8 @@ def _load(path: Path, base: str, end_effectors: list[str] | tuple[str, ...] | No
     notes: list[str] = []
     root = _check_tree(path, urdf)
     _check_inertias(path, urdf, root, notes)
-    notes += physics_notes(path, urdf, triangle=inertias == "as_given")
+    physics, facts = physics_notes(path, urdf, triangle=inertias == "as_given")
+    notes += physics
     xml, unlimited = _pinocchio_xml(tree)
     if unlimited:
         notes.append(
@@ -185,6 +184,8 @@ def _load(path: Path, base: str, end_effectors: list[str] | tuple[str, ...] | No
     visual_model = build_visuals(path, model, ET.fromstring(xml), missing, notes) if visuals else None
     for note in notes:
         warnings.warn(note, FreefloatWarning, stacklevel=3)
+    for note in facts:
+        warnings.warn(note, FreefloatNote, stacklevel=3)
 
     ee_names = _end_effectors(path, model, urdf, end_effectors)
     return Robot(
@@ -202,6 +203,7 @@ def _load(path: Path, base: str, end_effectors: list[str] | tuple[str, ...] | No
             for link in urdf.links
         },
         warnings=tuple(notes),
+        notes=tuple(facts),
         missing_meshes=tuple(missing),
     )
 
@@ -304,7 +306,7 @@ def _end_effectors(
     if names is not None:
         for name in names:
             if name not in links:
-                raise RobotModelError(f"{path}: end-effector '{name}' is not a link; links: {links}")
+                raise RobotModelError(f"{path}: end-effector '{name}' is not a link{did_you_mean(name, links, 'links')}")
         return tuple(names)
     parents = {joint.parent for joint in robot.joints}
     leaves = [

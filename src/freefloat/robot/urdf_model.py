@@ -25,7 +25,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import RobotModelError
+from ..errors import RobotModelError, did_you_mean
 
 #: The joint types URDF defines.
 JOINT_TYPES = ("revolute", "continuous", "prismatic", "fixed", "floating", "planar")
@@ -218,7 +218,7 @@ class _Reader:
         self.owner = f"joint '{name}'"
         kind = self.required(element, "type")
         if kind not in JOINT_TYPES:
-            raise self.error(element, f"'{kind}' is no URDF joint type ({', '.join(JOINT_TYPES)})", "type")
+            raise self.error(element, f"'{kind}' is no URDF joint type{did_you_mean(kind, JOINT_TYPES)}", "type")
         parent, child = (self.required(self.child(element, tag), "link") for tag in ("parent", "child"))
         axis = element.find("axis")
         if axis is not None and axis.get("xyz") is None:

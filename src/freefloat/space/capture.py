@@ -30,6 +30,17 @@ from ..robot.conventions import momentum_about_origin, skew
 from ..robot.robot import Robot
 
 TARGET_FRAME = "captured_target"
+#: The unit of each key of a capture's summary (:func:`capture_and_detumble`; "" for a pure number
+#: or a text); momenta ``[P; L about the origin]`` in N s and N m s.
+SUMMARY_UNITS = {
+    "impact_time": "s", "approach_base_attitude_change": "rad", "grasp_position_mismatch": "m",
+    "grasp_velocity_mismatch": "m/s", "grasp_angular_velocity_mismatch": "rad/s", "grasp_impulse": "N s",
+    "momentum_before_impact": "N s, N m s", "momentum_after_impact": "N s, N m s", "momentum_balance_error": "N s or N m s",
+    "momentum_drift_after_impact": "N s or N m s", "target_angular_velocity_at_impact": "rad/s",
+    "target_angular_velocity_final": "rad/s", "settling_time": "s", "settle_threshold": "rad/s",
+    "peak_joint_torque": "N m", "base_angular_velocity_final": "rad/s", "base_angular_velocity_max": "rad/s",
+    "solver_residual_max": "m/s or rad/s", "status": "",
+}
 
 
 @dataclass(frozen=True)
@@ -368,7 +379,7 @@ def capture_and_detumble(robot: Robot, target: Target, end_effector: str, rows_s
     tel = post.telemetry
     w = target_angular_speed(merged, tel.q, tel.v)
     settled = settling_time(tel.t, w, settle_below)
-    summary = {
+    summary = {  # units: SUMMARY_UNITS
         "impact_time": float(t_hit),
         "approach_base_attitude_change": attitude_change(pre.telemetry.base_quaternion),
         "grasp_position_mismatch": gap,

@@ -24,6 +24,13 @@ from ..scenes.schema import AttitudeSection
 
 #: Summary keys about the wheels the command line prints.
 HEADLINE = ("wheel_saturated", "wheel_momentum_max", "wheel_momentum_balance_max")
+#: The unit of each key of :func:`wheel_summary` ("" for a pure number, a count or a record).
+UNITS = {
+    "wheel_momentum_final": "N m s", "wheel_momentum_max": "N m s", "wheel_momentum_limit": "N m s",
+    "wheel_torque_max": "N m", "wheel_stored_momentum_change": "N m s", "arm_reaction_momentum": "N m s",
+    "wheel_momentum_balance_max": "N m s", "tracking_error_max": "rad", "wheel_saturated": "",
+    "wheel_saturation_events": "", "wheel_saturated_periods": "",
+}
 
 
 @dataclass
