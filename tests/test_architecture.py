@@ -28,7 +28,7 @@ LAYERS = {
 FACADE = 5
 #: The base: single modules that form one family (they may import each other).
 BASE = {"freefloat.errors", "freefloat.paths", "freefloat.distributed", "freefloat.inputs", "freefloat.lazy",
-        "freefloat.extras", "freefloat.arguments"}
+        "freefloat.extras", "freefloat.arguments", "freefloat.registry"}
 
 
 def module_files() -> dict[str, Path]:
