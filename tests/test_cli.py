@@ -279,10 +279,10 @@ def test_reproduce_writes_its_folder_and_a_rerun_resumes_into_it(tmp_path):
 def test_an_interrupted_study_keeps_its_journal_and_nothing_half_made(tmp_path, monkeypatch, capsys):
     """Ctrl-C in a study leaves its journal, in the folder's record, and none of the files it had
     begun (report.json cut short and unrecorded: a rerun refused the folder as not freefloat's)."""
-    from freefloat.app.reproduce import STUDIES
+    from freefloat.lab.reproduce import STUDIES
 
     class Halfway:
-        help, journal, extras = "a study stopped half-way", "parts.jsonl", ()
+        name, help, journal, extras = "phases", "a study stopped half-way", "parts.jsonl", ()
 
         def run(self, out, quick, journal, **options):
             journal.write_text('{"part": 1}\n')

@@ -204,3 +204,19 @@ def test_use_refuses_what_it_cannot_import(toys, tmp_path):
     with pytest.raises(PluginError, match=r"bad_law.py failed to import: ZeroDivisionError"):
         use("bad_law.py", base=tmp_path)
     assert "bad_law" not in sys.modules
+
+
+def test_a_test_adds_and_removes_a_toy_by_item(monkeypatch):
+    """monkeypatch.setitem registers a toy (replacing one of its name) and removes it afterwards;
+    the name must be the entry's own."""
+    toys = Registry("toy")
+    toys.register(Toy("pd"))
+    with monkeypatch.context() as patch:
+        patch.setitem(toys, "lqr", Toy("lqr"))
+        patch.setitem(toys, "pd", Toy("pd", 9.0))
+        assert toys.names() == ("pd", "lqr") and toys["pd"].gain == 9.0
+    assert toys.names() == ("pd",) and toys["pd"].gain == 1.0
+    with pytest.raises(InvalidArgument, match="under its own name"):
+        toys["pid"] = Toy("pd")
+    with pytest.raises(UnknownName):
+        del toys["pid"]

@@ -5,8 +5,8 @@ from __future__ import annotations
 import csv
 import json
 
-from freefloat.app.reproduce import stability_report
-from freefloat.app.reproduce.stability_cases import Case
+from freefloat.lab.reproduce import stability_report
+from freefloat.lab.reproduce.stability_cases import Case
 
 
 class Threshold(Case):

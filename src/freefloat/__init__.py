@@ -57,7 +57,7 @@ _PUBLIC = {
     # scenes, runs, bench
     "load_scene": "freefloat.app.scenes", "find_scene": "freefloat.app.scenes",
     "simulate": "freefloat.app.runner", "run_scene": "freefloat.app.runner",
-    "bench": "freefloat.app.bench.report",
+    "use": "freefloat.registry",
 }
 
 

@@ -4,8 +4,8 @@ suites, commands, ...) is one :class:`Registry`, and the plug-ins that add to th
 A registry maps a name to an entry, an object that carries its own ``name`` (a spec record, a
 class): ``register`` adds one, ``get`` (or ``registry[name]``) finds it or raises
 :class:`~freefloat.errors.UnknownName` with the nearest names, ``names()`` lists them in the order
-they were registered, and a registry reads like a read-only mapping (``in``, ``len``, iteration,
-``items()``).
+they were registered, and a registry reads like a mapping (``in``, ``len``, iteration,
+``items()``; ``registry[name] = entry`` and ``del registry[name]`` for a test's toy).
 
 A module outside freefloat extends a family by registering into it, either when the user imports
 it (:func:`use`: a file or a module) or through an entry point of group :data:`GROUP` declared by
@@ -99,6 +99,21 @@ class Registry(Mapping[str, Entry], Generic[Entry]):
 
     def __getitem__(self, name: str) -> Entry:
         return self.get(name)
+
+    def __setitem__(self, name: str, entry: Entry) -> None:
+        """``registry[name] = entry``: register ``entry``, replacing the one of that name (a test's
+        toy, through ``monkeypatch.setitem``); ``name`` must be the entry's.
+
+        Raises:
+            InvalidArgument: ``name`` is not ``entry.name``.
+        """
+        if getattr(entry, "name", None) != name:
+            raise InvalidArgument(f"a {self.family} is registered under its own name, not {name!r}")
+        self.register(entry, replace=True)
+
+    def __delitem__(self, name: str) -> None:
+        """``del registry[name]``: remove the entry (what ``monkeypatch.setitem`` undoes)."""
+        del self._entries[self.get(name).name]
 
     def __contains__(self, name: object) -> bool:
         load_plugins()

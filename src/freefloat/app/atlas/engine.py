@@ -30,7 +30,7 @@ from ...errors import FreefloatError
 from ..batch import Workers
 from ..run_folder import RunFolder
 from .grid import Grid, check_memory
-from .kinds import AtlasKind, Options, find_kind
+from .kinds import KINDS, AtlasKind, Options
 from .writer import write_outputs
 
 JOURNAL = "atlas-journal.jsonl"
@@ -98,7 +98,7 @@ def run_atlas(kind: str, target: str, options: Options, out: Path, workers: Work
             that is not free or holds another atlas.
     """
     started = time.perf_counter()
-    entry = find_kind(kind)
+    entry = KINDS.get(kind)
     module = entry.check_options(options)
     context = module.prepare(target, options)
     grid = module.grid(context, options)
