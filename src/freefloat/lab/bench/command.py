@@ -14,12 +14,14 @@ from ...app.shown_warnings import HeldWarnings, shown_warnings
 
 def arguments(parser: argparse.ArgumentParser) -> None:
     """The command's arguments; the suites' and scenes' names and help come from their registries."""
+    from .scenes import SCENES
     from .suites import ALL, DEFAULT, SUITES
 
+    default = [entry.name for entry in SCENES.values() if entry.default]
+    others = [entry.name for entry in SCENES.values() if not entry.default]
     parser.add_argument("scenes", nargs="*", metavar="SCENE",
-                        help=f"the {DEFAULT} suite's scenes: four_arm, dual_arm, controlled, detumbling, five_bar, "
-                             "rsu_ppap (default: these six), and five_bar_free_base, rsu_ppap_free_base, "
-                             "capture_two_hands_satellite")
+                        help=f"the {DEFAULT} suite's scenes: {', '.join(default)} (default: these {len(default)}), "
+                             f"and {', '.join(others)}")
     parser.add_argument("--suite", nargs="+", default=None, metavar="NAME",
                         help="; ".join(f"{name}: {suite.help}" for name, suite in SUITES.items()).replace("%", "%%")
                              + f"; {ALL}: every suite (default: {DEFAULT})")

@@ -67,7 +67,7 @@ def available(name: str) -> str:
 
 
 def foreign_files(folder: Path) -> list[str]:
-    """Names in ``folder`` that its ownership record (:data:`~..run_folder.RECORD`) does not list."""
+    """Names in ``folder`` that its ownership record (:data:`~...app.run_folder.RECORD`) does not list."""
     record = folder / RECORD
     lines = record.read_text(errors="replace").splitlines() if record.is_file() and not record.is_symlink() else []
     owned = {line.split("/")[0] for line in lines if line.strip() and not line.startswith("#")}

@@ -5,7 +5,7 @@ generalized forces on the actuated joints.
 Each control period the state is read from MuJoCo (``qpos``, ``qvel``: one coordinate per hinge
 or slide, matched to the tree's joints by name; a moving base's root joint mapped to Pinocchio's
 convention, :class:`RootMap`), the law evaluated at the tree's state (a controller with
-``torque(t, q, v)`` on the tree: :class:`~.mechanism_plants.ObservedController` on a fixed base,
+``torque(t, q, v)`` on the tree: :class:`~..scenes.mechanism_plants.ObservedController` on a fixed base,
 :class:`~freefloat.parallel.free_base.BaseFrameControl` on a moving one) and its efforts written
 to ``qfrc_applied`` for ``hold`` calls of ``mj_step``.
 """
@@ -35,7 +35,7 @@ class RootMap:
 
     Planar: Pinocchio ``q = [x, y, cos t, sin t]``, ``v = [v_local (2,); w]`` (the root frame's
     origin velocity in its own axes); MuJoCo ``qpos = [x, y, t]``, ``qvel = [xdot, ydot, tdot]``
-    (inertial). Free flyer: :mod:`.mujoco_state`'s map. Fixed base: nothing (``nq = nv = 0``).
+    (inertial). Free flyer: :mod:`.state`'s map. Fixed base: nothing (``nq = nv = 0``).
 
     Attributes:
         kind: ``"planar"``, ``"free"`` or ``"fixed"``.
@@ -104,7 +104,7 @@ class MujocoMechanism:
     Args:
         tree: the Pinocchio tree with its closures: ``model`` (fixed base, or a planar or
             free-flyer root joint), ``constraints`` (``RigidConstraintModel`` s) and ``actuated``
-            (velocity index of each effort) (:class:`~.mechanism_plants.SpanningTree`,
+            (velocity index of each effort) (:class:`~..scenes.mechanism_plants.SpanningTree`,
             :class:`~freefloat.parallel.free_base.FloatingMechanism`).
 
     Attributes:

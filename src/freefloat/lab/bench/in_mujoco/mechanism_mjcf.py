@@ -6,7 +6,7 @@ joint frame), carrying that joint's inertia; one hinge or slide joint per body, 
 armature or damping; gravity the model's; contacts off. A moving base (:mod:`freefloat.parallel.free_base`)
 is Pinocchio's root joint: a planar root is written as three joints of the root body (slides
 along x and y, then a hinge about z, named ``<root>_x``, ``<root>_y``, ``<root>_yaw``), a
-free-flyer root as a ``<freejoint>`` (:data:`ROOT_JOINTS`; :mod:`.mechanism_mujoco` maps the
+free-flyer root as a ``<freejoint>`` (:data:`ROOT_JOINTS`; :mod:`.mechanism` maps the
 states). A point closure (``CONTACT_3D``) is a
 ``<connect>`` of two sites at its two placements, a frame closure (``CONTACT_6D``) a ``<weld>``
 (the site frames coincide). MuJoCo's constraints are soft: each gets ``solref`` and ``solimp``

@@ -1,8 +1,8 @@
 """What ``freefloat bench`` needs of a scene: the methods it sweeps, a run per method, a tight
 reference and the errors of a run against it.
 
-Every bench scene (free-floating robots in :mod:`.free_floating`, closed-chain mechanisms in
-:mod:`.mechanisms`) is a :class:`BenchScene`; :mod:`.sweep` times the runs and :mod:`.report`
+Every bench scene (free-floating robots in :mod:`..scenes.free_floating`, closed-chain mechanisms in
+:mod:`..scenes.mechanisms`) is a :class:`BenchScene`; :mod:`.sweep` times the runs and :mod:`.report`
 writes the folder, neither knowing what a scene simulates.
 """
 

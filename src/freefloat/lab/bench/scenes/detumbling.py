@@ -2,12 +2,12 @@
 (dissertation sec 5.3, scenario 4: 500 N m capture impulses on both arms' last links from 5 to
 15 ms, then both end-effectors' rotation stopped with all joints, min-norm solution, computed
 torque on the exact model held over 1 ms) on a **free** base, its inertias balanced (MuJoCo
-refuses the URDF's, see :func:`.mjcf.balanced_model`), so MuJoCo's free joint and the MJCF
-of :mod:`.mjcf` take it as they are; the same scene on its planar base is the smaller model of the
+refuses the URDF's, see :func:`..in_mujoco.mjcf.balanced_model`), so MuJoCo's free joint and the MJCF
+of :mod:`..in_mujoco.mjcf` take it as they are; the same scene on its planar base is the smaller model of the
 sweep (:func:`.free_floating.planar_to_free` maps its states for the errors).
 
 MuJoCo is stepped by freefloat's detumbling controller (state mapped each period) with the
-impulses as ``xfrc_applied`` (:mod:`.mujoco_wrenches`); the law has no form on MuJoCo's own
+impulses as ``xfrc_applied`` (:mod:`..in_mujoco.wrenches`); the law has no form on MuJoCo's own
 matrices here (it needs the generalized Jacobian of the end-effector rows).
 """
 

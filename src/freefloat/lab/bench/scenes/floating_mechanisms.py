@@ -11,9 +11,9 @@ while the plant is integrated at a step that divides the period. Methods:
   root joint (``closed_tree``: :meth:`~freefloat.parallel.free_base.FloatingMechanism.closed_model`,
   Baumgarte the scene's lambda) in the compiled robot loop, as a scene runs it
   (:func:`~freefloat.parallel.free_base.run_compiled`), Euler, RKMK4 and RKMK8, one row per period;
-* ``mujoco``: the same tree as MJCF (:mod:`.mechanism_mjcf`: the planar root as two slides and a
+* ``mujoco``: the same tree as MJCF (:mod:`..in_mujoco.mechanism_mjcf`: the planar root as two slides and a
   hinge, the free root as a free joint) with the closures as stiff soft equalities, Euler,
-  implicitfast and RK4 (:mod:`.mechanism_mujoco`).
+  implicitfast and RK4 (:mod:`..in_mujoco.mechanism`).
 
 The reference is the same held-law loop with each period integrated by scipy's DOP853 (rtol and
 atol :data:`~.mechanisms.REFERENCE_TOL`) on freefloat's plant in the Python loop
@@ -85,7 +85,7 @@ def swept_methods(steps: dict[str, tuple[float, ...]], loop: str, model: str,
 
 @dataclass(frozen=True)
 class ClosedTree:
-    """A tree with its closures, as :class:`.mechanism_mujoco.MujocoMechanism` takes it.
+    """A tree with its closures, as :class:`..in_mujoco.mechanism.MujocoMechanism` takes it.
 
     Attributes:
         model: the Pinocchio tree (a planar or free-flyer root joint, or a fixed base).
@@ -117,10 +117,10 @@ def tree_errors(model: pin.Model, constraints: list, result: MechanismResult,
 
 
 class FloatingMechanismBench:
-    """A moving-base mechanism bench scene (a :class:`~.scene.BenchScene`).
+    """A moving-base mechanism bench scene (a :class:`~..race.scene.BenchScene`).
 
     Attributes:
-        name, note, secondary, settings: see :class:`~.scene.BenchScene`.
+        name, note, secondary, settings: see :class:`~..race.scene.BenchScene`.
         floating: the mechanism on its base (tree, closures, plant, base-frame kinematics).
         law: the fixed-base law read in the base frame.
         q0, v0: the tree's start (the base at rest at the origin).

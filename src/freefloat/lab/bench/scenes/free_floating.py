@@ -1,7 +1,7 @@
-"""The free-floating bench scenes as :class:`~.scene.BenchScene`: what each sweeps and how its
+"""The free-floating bench scenes as :class:`~..race.scene.BenchScene`: what each sweeps and how its
 errors are measured.
 
-``four_arm`` and ``dual_arm`` tumble torque-free with non-zero momentum (:mod:`.scenes`),
+``four_arm`` and ``dual_arm`` tumble torque-free with non-zero momentum (:mod:`.tumbling`),
 ``controlled`` follows a quintic under computed torque (:mod:`.controlled`), ``detumbling`` is the
 post-capture detumbling (:mod:`.detumbling`). Errors are taken at the end of the run against
 freefloat's dopri5 at rtol 1e-13: the state (Pinocchio's ``difference``), the momentum ``[P; L]``

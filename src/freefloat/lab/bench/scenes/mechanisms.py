@@ -14,7 +14,7 @@ while the plant is integrated at a step that divides the period (:data:`SWEEPS`)
   (:class:`~freefloat.dynamics.plants.ConstraintDynamicsPlant`, Baumgarte 100) in the same Python
   loop, Euler and RKMK4;
 * ``mujoco``: MuJoCo on the same tree with the closures as soft equality constraints
-  (:mod:`.mechanism_mjcf`, :mod:`.mechanism_mujoco`), Euler, implicitfast and RK4.
+  (:mod:`..in_mujoco.mechanism_mjcf`, :mod:`..in_mujoco.mechanism`), Euler, implicitfast and RK4.
 
 The reference is the same held-law loop with each period integrated by the registry's ``dop853``
 (scipy's DOP853, rtol and atol :data:`REFERENCE_TOL`) on Orsino's compiled model, Baumgarte 100. Errors
@@ -126,10 +126,10 @@ def held_run(plant: Plant, control: Any, q0: np.ndarray, v0: np.ndarray, duratio
 
 
 class MechanismBench:
-    """A closed-chain bench scene (a :class:`~.scene.BenchScene`).
+    """A closed-chain bench scene (a :class:`~..race.scene.BenchScene`).
 
     Attributes:
-        name, note, secondary, settings: see :class:`~.scene.BenchScene`.
+        name, note, secondary, settings: see :class:`~..race.scene.BenchScene`.
         prepared: the scene file resolved (plant, nominal controller, assembled start).
         tree: the plant's spanning tree (shared coordinates, drift).
         duration: simulated time per run, s.

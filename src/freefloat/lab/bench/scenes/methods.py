@@ -1,6 +1,6 @@
 """The methods a bench sweeps: freefloat's integrators in its Python and compiled loops, a bare
 Python loop of Pinocchio calls, and MuJoCo's integrators; each a callable that runs a
-:class:`.scenes.TumblingScene` from its initial state and returns the final Pinocchio state."""
+:class:`.tumbling.TumblingScene` from its initial state and returns the final Pinocchio state."""
 
 from __future__ import annotations
 

@@ -20,7 +20,7 @@ class TumblingScene:
     Attributes:
         name: scene name.
         robot: the robot both sides simulate, with a balanced copy of its model when the URDF's
-            inertias break the triangle inequality (see :func:`.mjcf.balanced_model`).
+            inertias break the triangle inequality (see :func:`..in_mujoco.mjcf.balanced_model`).
         q0: initial configuration (nq,), Pinocchio's convention.
         v0: initial velocity (nv,), Pinocchio's convention (base twist local).
         duration: simulated time, s.

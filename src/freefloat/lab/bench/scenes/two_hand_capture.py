@@ -15,10 +15,10 @@ step that divides it. Methods:
   :class:`~freefloat.dynamics.closures.ClosedModel` (Baumgarte the scene's), in the compiled loop
   of :func:`~freefloat.dynamics.simulation.run` (plant, integrator and the loop law in C++), every
   fixed-step integrator the registry compiles;
-* ``mujoco``: the same tree as MJCF (:mod:`.mechanism_mjcf`: a free joint, the box's inertia on
+* ``mujoco``: the same tree as MJCF (:mod:`..in_mujoco.mechanism_mjcf`: a free joint, the box's inertia on
   the left hand's body, the weld a stiff soft ``<weld>`` equality), Euler, implicitfast and RK4;
   the law evaluated in Python each period on the merged robot's Pinocchio state read from
-  MuJoCo's ``qpos``/``qvel`` (:mod:`.mechanism_mujoco`).
+  MuJoCo's ``qpos``/``qvel`` (:mod:`..in_mujoco.mechanism`).
 
 The reference is the same held-law loop with each period integrated by scipy's DOP853 (rtol and
 atol :data:`~.mechanisms.REFERENCE_TOL`) on the same plant in the Python loop. Errors are those of
@@ -103,11 +103,11 @@ def post_grasp(name: str) -> PostGrasp:
 
 
 class TwoHandCaptureBench:
-    """The two-hand capture's post-grasp phase as a bench scene (a :class:`~.scene.BenchScene`).
+    """The two-hand capture's post-grasp phase as a bench scene (a :class:`~..race.scene.BenchScene`).
 
     Attributes:
-        name, note, secondary, settings: see :class:`~.scene.BenchScene`.
-        turns: the methods take turns, one run each per round (:func:`.sweep.sweep`).
+        name, note, secondary, settings: see :class:`~..race.scene.BenchScene`.
+        turns: the methods take turns, one run each per round (:func:`..race.sweep.sweep`).
         start: the post-grasp state and the law.
         tree: the merged robot and its weld as MuJoCo is written from (efforts on every joint but
             the base's).

@@ -28,8 +28,7 @@ from collections.abc import Iterator
 from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
-from ....app.batch import Band, Workers, run_batch
-from ....app.batch.one_run import TIMINGS
+from ....app.batch import TIMINGS, Band, Workers, run_batch
 from ....app.scenes import find_scene
 from ....distributed import client
 from .drawing import save, subplots

@@ -1,15 +1,15 @@
 """``integrators`` suite: the Lie-group integrators of :data:`freefloat.dynamics.integrators.INTEGRATORS`,
 measured side by side in one run (quote the ratios, not the absolute times).
 
-On the bench's two tumbling scenes (:mod:`..scenes`: the four-arm robot and the UR5 dual-arm
+On the bench's two tumbling scenes (:mod:`..scenes.tumbling`: the four-arm robot and the UR5 dual-arm
 satellite, free base, torque-free from a seeded state with non-zero momentum), in freefloat's
 Python loop on Pinocchio's ABA:
 
 1. Work against precision over 1 s: every fixed-step integrator at halving steps (observed order
    ``log2(e(h) / e(h/2))``; the 6th- and 8th-order ones from coarser steps, as they reach the
-   floor sooner), every adaptive one over tolerances; the bench's one sweep (:func:`..sweep.sweep`:
+   floor sooner), every adaptive one over tolerances; the bench's one sweep (:func:`..race.sweep.sweep`:
    median wall time of ``repeats`` runs, errors against dopri5 at rtol 1e-13), and per accuracy
-   band each integrator's least time to reach it (:func:`..summary.times_to_reach`).
+   band each integrator's least time to reach it (:func:`..race.summary.times_to_reach`).
 2. Cost per step: wall time of one 1 ms step of each fixed-step integrator and of one accepted
    dopri5 step (rtol 1e-9), and their dynamics evaluations, taking turns in one process, as ratios
    to rkmk4.
@@ -86,8 +86,8 @@ def methods(settings: dict) -> list[Method]:
 
 
 def work_precision(scene: TumblingScene, settings: dict) -> dict:
-    """The sweep's points (records of :class:`..sweep.Point`), each fixed-step integrator's
-    observed orders (from consecutive halvings) and, per band of :data:`..summary.BANDS`, each
+    """The sweep's points (records of :class:`..race.sweep.Point`), each fixed-step integrator's
+    observed orders (from consecutive halvings) and, per band of :data:`..race.summary.BANDS`, each
     integrator's least time to reach it (s), the fastest and its lead over the next."""
     bench = FreeFloatingBench(scene, NOTES[scene.name], tuple(methods(settings)), settings)
     ref, _ = timed_reference(bench)
@@ -149,7 +149,7 @@ def long_run(scene: TumblingScene, duration: float) -> dict:
 
 
 def chart(report: dict, path: Path) -> None:
-    """Per robot: work against precision (:func:`..chart.draw_curves`), and the long run's drifts."""
+    """Per robot: work against precision (:func:`..race.chart.draw_curves`), and the long run's drifts."""
     robots = report["settings"]["robots"]
     fig, axes = subplots(len(robots), 3, (16, 4.5 * len(robots)), squeeze=False)
     for row, name in zip(axes, robots):

@@ -44,9 +44,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ....app.batch import Band, Workers, run_batch
-from ....app.batch.one_run import TIMINGS
-from ....app.batch.variations import plan_runs
+from ....app.batch import TIMINGS, Band, Workers, plan_runs, run_batch
 from ....app.runner import prepare, resolved_setup
 from ....app.scenes import find_scene
 from ....dynamics.many_runs import run_many

@@ -27,9 +27,7 @@ from pathlib import Path
 import numpy as np
 import pinocchio as pin
 
-from ....app.batch import Band
-from ....app.batch import one_run
-from ....app.batch.variations import plan_runs
+from ....app.batch import TIMINGS, Band, forget_robots, plan_runs, run_one
 from ....app.runner import prepare
 from ....app.scenes import find_scene
 from ....dynamics import compiled, threads
@@ -95,7 +93,7 @@ def per_run(robot, settings: dict) -> dict:
 
 def _fresh() -> None:
     """Forget what a worker keeps between runs: loaded robots, compiled loops, the BLAS scan."""
-    one_run.ROBOTS.clear()
+    forget_robots()
     compiled.clear_loops()
     threads._found[1] = -1
 
@@ -106,7 +104,7 @@ def per_batch(name: str, settings: dict) -> dict:
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         plans = plan_runs(scene, prepare(scene), BANDS, settings["runs"], settings["seed"])
-    one_run.run_one(plans[0])  # imports and first calls, outside the clock
+    run_one(plans[0])  # imports and first calls, outside the clock
     times: dict[str, list[float]] = {"fresh": [], "reused": []}
     rows: dict[str, list[dict]] = {}
     for _ in range(settings["repeats"]):
@@ -117,9 +115,9 @@ def per_batch(name: str, settings: dict) -> dict:
             for plan in plans:
                 if mode == "fresh":
                     _fresh()
-                done.append(one_run.run_one(plan))
+                done.append(run_one(plan))
             times[mode].append(time.perf_counter() - start)
-            rows[mode] = [{k: v for k, v in r.items() if k not in one_run.TIMINGS} for r in done]
+            rows[mode] = [{k: v for k, v in r.items() if k not in TIMINGS} for r in done]
     best = {mode: min(t) for mode, t in times.items()}
     simulated = statistics.fmean(r["sim_wall_time_s"] for r in done)
     return {"runs": len(plans), "times_s": times, "best_s": best,

@@ -1,7 +1,7 @@
 """The report's figures (``freefloat reproduce all``), drawn from what the studies saved: the
-planar robots' runs as :func:`~.series_report.series_arrays` dictionaries, the 5R's series from
+planar robots' runs as :func:`~..series_report.series_arrays` dictionaries, the 5R's series from
 ``five_bar``'s report. Each function returns one Agg :class:`~matplotlib.figure.Figure` (not
-registered with pyplot), with the project's margins and curve styles (:mod:`..viz.plotting`).
+registered with pyplot), with the project's margins and curve styles (:mod:`....app.viz.plotting`).
 
 Conventions of the inputs: ``t`` (N,) s; joints (N, n) rad, four joints per arm, arm-major;
 end-effector poses (N, k, 3) as x, y in m and the z-rotation in deg, inertial frame.
@@ -201,7 +201,7 @@ def workspace(workspace_map: dict, threshold: float, path: np.ndarray, title: st
               singularities: dict | None = None) -> Figure:
     """The 5R's conditioning grid: out of reach, near-singular (condition >= ``threshold``),
     non-singular, and the reference ``path`` (M, 2) in m; over it, from ``singularities``
-    (:func:`~.five_bar_report.singularity_map`), the exact boundary and the type I and type II
+    (:func:`~..five_bar_report.singularity_map`), the exact boundary and the type I and type II
     loci of the path's working mode."""
     from matplotlib.colors import ListedColormap
 
