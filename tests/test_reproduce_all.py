@@ -14,7 +14,8 @@ import pytest
 
 from freefloat.lab.reproduce import STUDIES
 from freefloat.lab.reproduce import folders as folders_module
-from freefloat.lab.reproduce.report.entries import DISSERTATION, ENTRIES, THESIS
+from freefloat.lab.reproduce.report.entries import ENTRIES
+from freefloat.lab.reproduce.report.entry import DISSERTATION, THESIS
 
 #: Every figure and table of dissertation chapters 4-5 (figs 6-56, tables 1-5) and thesis sec 5.6
 #: (figs 6-25, table 2), from the documents' lists of figures and tables.
@@ -279,7 +280,7 @@ def test_progress_names_each_study_in_order(report):
 
 def test_runs_start_at_table_4s_printed_angles(report):
     """Table 4: both runs start at the printed joint angles (0.5 deg off the stretched arms, 1e-9 deg)."""
-    from freefloat.lab.reproduce.report.entries import TABLE_4
+    from freefloat.lab.reproduce.printed import TABLE_4
 
     _, entries, _, _ = report
     e = entries[(DISSERTATION, "Table 4")]
@@ -320,7 +321,7 @@ def test_workspace_grid_agrees_with_the_closed_form_workspace(report):
     from freefloat.parallel.five_bar import FiveBarParameters
     from freefloat.parallel.maps import five_bar_exact
 
-    from freefloat.lab.reproduce.report.entries import CIRCLE
+    from freefloat.lab.reproduce.report.checks import CIRCLE
 
     out, entries, _, _ = report
     (area_row,) = [r for r in entries[(THESIS, "Fig 8")]["rows"] if r["quantity"].startswith("workspace area")]

@@ -109,7 +109,7 @@ def main(argv: list[str] | None = None) -> int:
     ver.add_argument("--json", type=Path, default=None, help="also write the report as JSON here")
     for command in plugged:
         command.arguments(commands.add_parser(command.name, help=command.help))
-    _atlas_parser(commands)
+    _atlas_parser(commands, listed="atlas" in argv)
     args = parser.parse_args(argv)
     commands_run = {"simulate": _simulate, "batch": _batch, "scenes": lambda _: _scenes(),
                     "robots": lambda _: _robots(), "verify": _verify, "info": _info, "view": _view, "atlas": _atlas,
@@ -151,12 +151,13 @@ def _plugged(argv: list[str]) -> list[Command]:
     return [COMMANDS[name] for name in COMMANDS]
 
 
-def _atlas_parser(commands: Any) -> None:
-    """The ``atlas`` subcommand's arguments (the kinds' names and help from their registry)."""
+def _atlas_parser(commands: Any, listed: bool) -> None:
+    """The ``atlas`` subcommand's arguments; with ``listed`` (the command line names it), the kinds'
+    names and help from their registry (a lookup loads the plug-ins, which may add kinds)."""
     atl = commands.add_parser("atlas", help="a map over a grid: free-floating workspace, dynamic singularities, ... "
                                             "(data, summary and figures into one folder)")
     atl.add_argument("kind", metavar="KIND", help="; ".join(f"{k.name}: {k.help} (TARGET: {k.target})"
-                                                          for k in ATLAS_KINDS.values()))
+                                                          for k in ATLAS_KINDS.values()) if listed else "the map")
     atl.add_argument("target", metavar="TARGET", help="what the kind maps: a robot's name or URDF file, a mechanism")
     atl.add_argument("--grid", type=int, default=None, help="points per grid axis (default: the kind's)")
     atl.add_argument("--axes", default=None, metavar="A,B,...",

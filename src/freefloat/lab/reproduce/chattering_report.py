@@ -23,13 +23,13 @@ from ...parallel.five_bar import TRUE_PARAMETERS, FiveBarParameters, elbow_guess
 from ...parallel.sliding_mode import SWITCHES, PlatformControl, chattering, circle_reference
 from .five_bar_report import eq_187_gains
 from .interrupts import finished
+from .printed import START
 
 #: Control periods, s; None: the law at every RK4 stage.
 PERIODS = (1e-5, 2e-5, 5e-5, 1e-4, 2e-4, 5e-4, 1e-3, None)
 QUICK_PERIODS = (1e-4, 1e-3, None)
 #: Start of the window the measures are taken over, s.
 AFTER = 0.2
-START = (0.07, 0.17)
 
 
 def run_period(saturation: str, period: float | None, step: float, duration: float) -> dict:

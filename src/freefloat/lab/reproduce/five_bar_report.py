@@ -25,10 +25,7 @@ from ...parallel.closed_loop import track, track_five_bar
 from ...parallel.five_bar import TRUE_PARAMETERS, TRUE_PARAMETERS_50, FiveBarParameters, elbow_guess, five_bar
 from ...parallel.sliding_mode import PlatformControl, circle_reference, design_gains, printed_gains, workspace_grid
 from .interrupts import finished
-
-EQ_187 = {"n": [75.3, 108.0], "xdot2": [37.0, 54.1], "xdot_ydot": [22.7, 35.5], "ydot2": [17.5, 28.5],
-          "T": [[1.25, 0.92], [1.68, 1.65]]}
-
+from .printed import EQ_187, START
 
 def eq_187_gains():
     """Eq 187's printed sliding-mode gains."""
@@ -78,7 +75,7 @@ def singularity_map(p: FiveBarParameters, spacing: float) -> dict:
     from ...parallel.maps.modes import working_label
 
     mech = five_bar(p)
-    start = np.array([0.07, 0.17])
+    start = np.array(START)
     mode = str(working_label(mech, mech.assemble(start, elbow_guess(p, start))[None])[0])
     reach = p.l1 + p.l2 + p.l0
     axes = [np.arange(-reach, reach + 1e-9, spacing)] * 2
@@ -210,7 +207,7 @@ def stability_map(duration: float = 0.5, steps=(1e-4, 2e-4, 5e-4, 1e-3, 2e-3),
     """Loop-closure drift of the free-falling 5R over (integrator, h, Baumgarte lambda)."""
     p = FiveBarParameters()
     mech = five_bar(p)
-    q0 = mech.assemble(np.array([0.07, 0.17]), elbow_guess(p, np.array([0.07, 0.17])))
+    q0 = mech.assemble(np.array(START), elbow_guess(p, np.array(START)))
     rows = []
     for method in methods:
         for h in steps:
@@ -231,7 +228,7 @@ def reproduce_stability(out: Path, quick: bool = False) -> dict:
     lambdas = (0.0, 100.0, "1/h") if quick else (0.0, 10.0, 100.0, "1/h", 1000.0)
     rows = stability_map(duration=0.2 if quick else 0.5, steps=steps, lambdas=lambdas)
     report = {"rows": rows,
-              "settings": {"quick": quick, "mechanism": "5R falling freely from (0.07, 0.17) at rest, zero torques"}}
+              "settings": {"quick": quick, "mechanism": f"5R falling freely from {START} at rest, zero torques"}}
     lines = ["# Loop-closure drift of the 5R over step and Baumgarte lambda", "",
              f"{report['settings']['mechanism']}; max |qbar| (m) over the run; 'diverged' when it exceeds 1 m.", "",
              "| method | h (s) | " + " | ".join(f"lambda = {lam}" for lam in lambdas) + " |",

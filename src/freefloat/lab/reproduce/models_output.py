@@ -6,7 +6,8 @@ from pathlib import Path
 
 import numpy as np
 
-from .models_cases import GRID_MODELS, REGIMES, TABLE_1
+from .models_cases import GRID_MODELS, REGIMES
+from .printed import TABLE_1
 
 
 def _fmt(x) -> str:

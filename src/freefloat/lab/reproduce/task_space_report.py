@@ -44,15 +44,10 @@ from ...space.control.inverse_egjm import InverseEGJM
 from ...space.control.task_space import TaskSpaceComputedTorque
 from ...space.detumbling import task_rows
 from .interrupts import finished
+from .printed import TABLE_2, TABLE_3, TABLE_5
 from .series_report import series_arrays
 
 ROWS = [(f"arm{i}_ee", c) for i in range(1, 5) for c in ("vx", "vy", "wz")]
-TABLE_2 = {"x": [1.09e-5, 2.84e-5, 2.24e-6, 2.84e-5], "y": [2.84e-5, 1.09e-5, 2.84e-5, 2.24e-6],
-           "z_deg": [5.3e-4] * 4, "overall": [3.1e-4] * 4}
-TABLE_3 = {"x": [3.85e-6, 4.34e-7, 4.16e-6, 4.34e-7], "y": [4.34e-7, 3.85e-6, 4.33e-7, 4.16e-6],
-           "z_deg": [0.0] * 4, "overall": [2.23e-6, 2.23e-6, 2.41e-6, 2.41e-6]}
-TABLE_5 = {"arm1": ((7.75, 0.13, 2.0), (7.34, 1.2, 22.0)), "arm2": ((0.13, 7.75, 88.0), (1.2, 7.34, 68.0)),
-           "arm3": ((-7.75, 0.13, -2.0), (-7.78, 1.2, -22.0)), "arm4": ((0.13, -7.75, 92.0), (1.2, -7.78, 112.0))}
 
 
 def joint_space_run(robot, offset_deg: float, duration: float, dt: float, record_every: int):

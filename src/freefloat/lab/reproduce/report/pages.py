@@ -27,7 +27,8 @@ from matplotlib.lines import Line2D
 
 from ....app.outputs import strict_json
 from ....errors import FreefloatError
-from .entries import ENTRIES, Entry, Row
+from .entries import ENTRIES
+from .entry import Entry, Row
 from .results import Results
 
 A4 = (8.27, 11.69)
