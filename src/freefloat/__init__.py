@@ -42,7 +42,7 @@ _PUBLIC = {
     "ConstraintDynamicsPlant": "freefloat.dynamics.plants",
     "run": "freefloat.dynamics.simulation", "run_plant": "freefloat.dynamics.simulation",
     "run_many": "freefloat.dynamics.many_runs",
-    "RunResult": "freefloat.dynamics.simulation", "Sampled": "freefloat.dynamics.sampled",
+    "Result": "freefloat.dynamics.result", "Sampled": "freefloat.dynamics.sampled",
     "Telemetry": "freefloat.dynamics.telemetry", "PlantTelemetry": "freefloat.dynamics.telemetry",
     "MechanismTelemetry": "freefloat.dynamics.telemetry",
     # space-robot controllers and tasks

@@ -46,7 +46,7 @@ import pinocchio as pin
 from ..dynamics.closures import ClosedModel
 from ..dynamics.integrators import INTEGRATORS, make_integrator
 from ..dynamics.plants import ClosedTreePlant, ConstraintDynamicsPlant
-from ..dynamics.simulation import RunResult, run, run_plant
+from ..dynamics.simulation import Result, run, run_plant
 from ..dynamics.telemetry import Arrays, PlantTelemetry, Telemetry
 from ..errors import FreefloatError, InvalidArgument, did_you_mean
 from ..robot.loading import BASE_COM_FRAME
@@ -428,7 +428,7 @@ class JointEfforts:
 def track(mechanism: FloatingMechanism, law: Any, q0: np.ndarray, v0: np.ndarray, duration: float, step: float,
           baumgarte: float = 100.0, integrator: str = "rkmk4", dynamics: str = ConstraintDynamicsPlant.name,
           backend: str = "auto", substeps: int = 1, rtol: float = 1e-10, atol: float = 1e-12,
-          control: Any = None, **kwargs: Any) -> RunResult:
+          control: Any = None, **kwargs: Any) -> Result:
     """The closed loop on the moving base from the tree's ``(q0, v0)``: the law (through
     :class:`BaseFrameControl`) evaluated every ``step`` s and held, one telemetry row per step.
 
@@ -464,7 +464,7 @@ def track(mechanism: FloatingMechanism, law: Any, q0: np.ndarray, v0: np.ndarray
 
 def run_compiled(mechanism: FloatingMechanism, control: Any, q0: np.ndarray, v0: np.ndarray, duration: float,
                  period: float, baumgarte: float, integrator: str, substeps: int = 1, rtol: float = 1e-10,
-                 atol: float = 1e-12, **kwargs: Any) -> RunResult:
+                 atol: float = 1e-12, **kwargs: Any) -> Result:
     """The compiled robot loop of :func:`track` (``closed_tree`` on a moving base): ``control``'s
     efforts (on the tree's state) held over each ``period`` s, ``substeps`` steps of
     ``integrator`` per period, the robot's telemetry
