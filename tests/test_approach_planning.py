@@ -299,17 +299,17 @@ def test_a_planned_capture_draws_its_approach_tracking(tmp_path):
     """A planned capture written to a folder has the approach's joint tracking figure, whose
     data is the pre-capture phase's plan minus its positions, and its summary points there for the
     joint errors the phase after the grasp cannot have."""
-    from freefloat.app.runner import run_scene
+    from freefloat.app.runner import simulate
 
     scene = quiet_scene(tmp_path, "capture_planned_planar", simulation={"duration": 0.02}, target={"contact_time": 1.0},
                         approach={"steps": 100}, output={"figures": ["joint_errors", "approach_joint_errors"],
                                                          "html": False})
-    done = run_scene(scene, tmp_path / "out")
-    pre = done.outcome.extra_telemetry["pre_capture"]
+    done = simulate(scene, out=tmp_path / "out")
+    pre = done.extra_telemetry["pre_capture"]
     assert np.abs(pre.joint_reference - pre.joint_positions).max() > 0.0
     assert (tmp_path / "out" / "approach_joint_errors.png").is_file()
     assert not (tmp_path / "out" / "joint_errors.png").exists()
-    assert "approach_joint_errors" in done.outcome.summary["figures_not_drawn"]["joint_errors"]
+    assert "approach_joint_errors" in done.summary["figures_not_drawn"]["joint_errors"]
 
 
 def test_two_hand_plan_puts_both_hands_on_their_grasp_points(planar):

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from freefloat.app.cli import main
-from freefloat.app.runner import run_scene
+from freefloat.app.runner import simulate
 from freefloat.app.scenes import find_scene
 from freefloat.app.view import run_page
 from freefloat.dynamics.telemetry import Telemetry
@@ -23,7 +23,7 @@ def _run(folder, html: bool):
     scene = find_scene("four_arm_joint_space")
     scene = dataclasses.replace(scene, simulation=dataclasses.replace(scene.simulation, duration=0.1),
                                 output=dataclasses.replace(scene.output, figures=False, html=html))
-    run_scene(scene, folder)
+    simulate(scene, out=folder)
     return folder
 
 

@@ -26,7 +26,7 @@ from .shown_warnings import HeldWarnings, shown_warnings
 from .signals import arrived_before_main, signals_deferred, signals_raise_keyboard_interrupt
 
 if TYPE_CHECKING:
-    from .runner import SceneRun
+    from .experiments import Outcome
     from .viz.live import LiveView
 
 #: What ``freefloat --help`` says first (plain text: the terminal shows no markup).
@@ -417,7 +417,7 @@ def _simulate(args: argparse.Namespace) -> int:
         from .viz import rendering
 
         rendering.warm_up()  # the figure helper starts while this process imports, prepares and simulates
-    from .runner import prepare, run_scene, total_steps
+    from .runner import prepare, simulate, total_steps
 
     out = args.out or default_folder(scene.name)
     with shown_warnings() as held:
@@ -430,12 +430,12 @@ def _simulate(args: argparse.Namespace) -> int:
         stages.bar = LoopBar(total_steps(scene), scene.name, "step", args.quiet, started=held.release,
                              ended=lambda: stages.begin("summarising the run"))
         try:
-            done = run_scene(scene, out, progress=stages.bar, overwrite=args.overwrite, setup=setup,
-                             watch=live.show if live else None, stage=stages)
+            done = simulate(scene, out=out, overwrite=args.overwrite, progress=stages.bar, setup=setup,
+                            checkpoint=live.show if live else None, stage=stages)
             stages.finish()
             status = _report(done, experiment_for(scene).units)
             if live is not None:
-                tel = done.outcome.telemetry
+                tel = done.telemetry
                 print("replaying the run in the live viewer")
                 live.replay(tel.t, tel.q)
                 if sys.stdin.isatty():
@@ -510,23 +510,23 @@ def _released(held: HeldWarnings, show: Callable[[str], None]) -> Callable[[str]
     return show_line
 
 
-def _report(done: SceneRun, units: dict[str, str]) -> int:
-    """Print a run's outcome and its headline summary keys (:func:`~.summary_text.shown`, in
-    ``units``); the exit status (1 when it stopped early, or an interrupt cut its drawings short)."""
+def _report(outcome: Outcome, units: dict[str, str]) -> int:
+    """Print a written run's outcome and its headline summary keys (:func:`~.summary_text.shown`,
+    in ``units``); the exit status (1 when it stopped early, or an interrupt cut its drawings short)."""
     from .summary_text import shown
 
-    outcome, out = done.outcome, done.folder
+    out = outcome.folder
     print(f"{outcome.status}: {outcome.steps} steps in {outcome.wall_time_s:.2f} s -> {out}")
     for key in outcome.headline:
         if key in outcome.summary:
             print(f"  {key}: {shown(outcome.summary[key], units.get(key, ''))}")
-    print(f"  wrote: {', '.join(p.name for p in done.written)}")
-    if done.skipped:
-        print(f"  skipped: {', '.join(done.skipped)}")
+    print(f"  wrote: {', '.join(p.name for p in outcome.written)}")
+    if outcome.skipped:
+        print(f"  skipped: {', '.join(outcome.skipped)}")
     if not outcome.completed:
         print(f"freefloat: run stopped early: {outcome.message} (partial results kept in {out})", file=sys.stderr)
         return 1
-    if done.interrupted_writing:
+    if outcome.interrupted_writing:
         print(f"freefloat: interrupted while writing {out}: the data are whole, the drawings listed as skipped are "
               "not there", file=sys.stderr)
         return 1

@@ -102,3 +102,7 @@ def resolve_file(scene: Scene | MechanismScene, value: str, key: str) -> Path:
 
 __all__ = ["DEFAULT_SCENE", "ROBOT_SCENE", "MechanismScene", "Scene", "builtin_scenes", "find_scene", "load_scene",
            "parse_scene", "resolve_file", "with_robot"]
+
+from ...lazy import lazy_modules  # noqa: E402
+
+__getattr__ = lazy_modules(__name__)  # its modules, imported on first use as attributes

@@ -186,3 +186,7 @@ __all__ = [
     "register",
     "swept",
 ]
+
+from ...lazy import lazy_modules  # noqa: E402
+
+__getattr__ = lazy_modules(__name__)  # its modules, imported on first use as attributes
