@@ -29,3 +29,44 @@ def test_unknown_name_suggests_the_nearest():
     assert error.choices == ("euler", "rkmk4", "rkmk6")
     with pytest.raises(KeyError):
         raise error
+
+
+def test_a_message_names_the_argument_as_the_caller_spells_it():
+    """Outside the command line a message names the Python argument; inside it, the option."""
+    from freefloat.errors import command_line, spelled
+
+    assert spelled("out=", "--out") == "out="
+    with command_line():
+        assert spelled("out=", "--out") == "--out"
+    assert spelled("overwrite=True", "--overwrite") == "overwrite=True"
+
+
+#: Where a message may name a command-line option as such: the command line itself, the parser of
+#: its ``--vary`` text, and the lab (moving out of the product, issue 37).
+OPTIONS_SPOKEN = ("app/cli.py", "app/batch/bands.py", "app/bench/", "app/reproduce/", "app/atlas/")
+
+
+def test_messages_outside_the_command_line_spell_options_for_their_caller():
+    """No string of the package outside :data:`OPTIONS_SPOKEN` names a ``--option`` in a raise or
+    a warning except through ``spelled`` (a Python call into a used folder answered ``--out``)."""
+    import ast
+    import re
+    from pathlib import Path
+
+    import freefloat
+
+    root = Path(freefloat.__file__).parent
+    found = []
+    for path in sorted(root.rglob("*.py")):
+        where = path.relative_to(root).as_posix()
+        if where.startswith(OPTIONS_SPOKEN):
+            continue
+        tree = ast.parse(path.read_text())
+        spelt = {id(c) for node in ast.walk(tree) if isinstance(node, ast.Call) and getattr(node.func, "id", "") == "spelled"
+                 for c in ast.walk(node)}
+        for node in ast.walk(tree):
+            if isinstance(node, ast.Raise) or (isinstance(node, ast.Call) and getattr(node.func, "attr", "") == "warn"):
+                found += [f"{where}:{part.lineno}: {part.value!r}" for part in ast.walk(node)
+                          if isinstance(part, ast.Constant) and isinstance(part.value, str) and id(part) not in spelt
+                          and re.search(r"--[a-z]", part.value)]
+    assert not found, "\n".join(found)

@@ -49,6 +49,16 @@ def test_an_unwritable_folder_is_refused_before_the_run(tmp_path):
     assert time.perf_counter() - started < 5.0
 
 
+def test_a_python_call_into_a_used_folder_names_python_arguments(tmp_path):
+    """simulate into a folder of someone's files is refused naming ``out=``, not the command
+    line's ``--out``, before anything is simulated."""
+    (tmp_path / "mine").mkdir()
+    (tmp_path / "mine" / "notes.txt").write_text("mine")
+    with pytest.raises(FreefloatError, match=r"choose another out= \(a new or empty folder\)") as refused:
+        runner.simulate("tumbling", out=tmp_path / "mine")
+    assert "--" not in str(refused.value) and (tmp_path / "mine" / "notes.txt").read_text() == "mine"
+
+
 @pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM, signal.SIGHUP])
 def test_sigint_sigterm_and_sighup_keep_what_was_computed(tmp_path, signum):
     """A run stopped by Ctrl-C (SIGINT), SIGTERM or SIGHUP exits 1 and writes its samples."""

@@ -3,8 +3,10 @@ an unknown name the nearest valid ones (:func:`did_you_mean`)."""
 
 from __future__ import annotations
 
+import contextlib
 import difflib
-from collections.abc import Iterable
+from collections.abc import Iterable, Iterator
+from contextvars import ContextVar
 
 #: Most valid names an error message lists; the rest are counted.
 LISTED = 20
@@ -48,6 +50,29 @@ def did_you_mean(name: object, choices: Iterable[object], label: str = "valid", 
     quoted = [f"'{c}'" for c in close]
     nearest = quoted[0] if len(quoted) == 1 else f"{', '.join(quoted[:-1])} or {quoted[-1]}"
     return f"; did you mean {nearest}? ({label}: {listing})"
+
+
+#: True while the command line runs a command: messages then name its options (``--out``),
+#: else the Python arguments (``out=``) of the call that raised them (:func:`spelled`).
+_COMMAND_LINE: ContextVar[bool] = ContextVar("freefloat_command_line", default=False)
+
+
+def spelled(python: str, option: str) -> str:
+    """How a message names an argument: as the Python call takes it (``"out="``,
+    ``"overwrite=True"``), or, inside :func:`command_line`, as the ``freefloat`` command does
+    (``"--out"``, ``"--overwrite"``)."""
+    return option if _COMMAND_LINE.get() else python
+
+
+@contextlib.contextmanager
+def command_line() -> Iterator[None]:
+    """Messages raised inside name the command line's options (:func:`spelled`): what the
+    ``freefloat`` command runs its commands in."""
+    token = _COMMAND_LINE.set(True)
+    try:
+        yield
+    finally:
+        _COMMAND_LINE.reset(token)
 
 
 class FreefloatError(Exception):

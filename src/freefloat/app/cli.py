@@ -14,7 +14,7 @@ from importlib.metadata import version
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from ..errors import FreefloatError, SceneError, did_you_mean
+from ..errors import FreefloatError, SceneError, command_line, did_you_mean
 from .atlas.kinds import KINDS as ATLAS_KINDS
 from .bench.suites import ALL as ALL_SUITES
 from .bench.suites import DEFAULT as DEFAULT_SUITE
@@ -141,7 +141,7 @@ def main(argv: list[str] | None = None) -> int:
                 importlib.import_module(HEAVY[args.command], __package__)
         if early.is_set() or early_too:
             raise KeyboardInterrupt("while starting; nothing was written")
-        with signals_raise_keyboard_interrupt():  # SIGTERM and SIGHUP are Ctrl-C to the very end
+        with signals_raise_keyboard_interrupt(), command_line():  # SIGTERM, SIGHUP: Ctrl-C; messages name options
             return commands_run[args.command](args)
     except FreefloatError as exc:
         print(f"freefloat: error: {exc}", file=sys.stderr)

@@ -19,7 +19,7 @@ from pathlib import Path, PurePosixPath
 from typing import Iterator
 
 from ..dynamics.telemetry import Arrays
-from ..errors import LISTED, FreefloatError, few
+from ..errors import LISTED, FreefloatError, few, spelled
 
 #: Subfolder where telemetry is saved chunk by chunk while a run goes; removed once
 #: ``telemetry.npz`` is written. A run killed outright (SIGKILL, power loss) leaves it behind:
@@ -31,11 +31,18 @@ LOCK = ".freefloat.lock"
 RECORD = ".freefloat-files"
 #: The record rewritten, before it is renamed over :data:`RECORD` (see :meth:`RunFolder.close`).
 RECORD_NEW = ".freefloat-files.new"
-_HEADER = "# freefloat: the files its runs wrote in this folder; --overwrite removes these and nothing else\n"
+_HEADER = ("# freefloat: the files its runs wrote in this folder; overwriting (--overwrite, overwrite=True) removes "
+           "these and nothing else\n")
 #: Name prefix of :meth:`RunFolder.private_dir` folders.
 _PRIVATE = ".drawing-"
 #: Opening flags of freefloat's own files: never through a symbolic link, not inherited.
 _NOFOLLOW = os.O_NOFOLLOW | os.O_CLOEXEC
+
+
+def _another_folder() -> str:
+    """The remedy for a folder holding files freefloat did not write, naming the argument as the
+    caller gave it (:func:`~freefloat.errors.spelled`)."""
+    return f"choose another {spelled('out=', '--out')} (a new or empty folder)"
 
 
 def open_own(path: Path, flags: int, mode: int = 0o644) -> int:
@@ -131,28 +138,29 @@ class RunFolder:
                         _remove(self.path / name.rstrip("/"), folder=True)
                 return
             raise FreefloatError(f"output folder '{self.path}' holds files freefloat did not write "
-                                 f"({few(foreign, LISTED)}); choose another --out (a new or empty folder)")
+                                 f"({few(foreign, LISTED)}); {_another_folder()}")
         owned = self.owned()
         foreign = sorted(p.name for p in held if p.name not in {n.split("/")[0] for n in owned})
-        if not owned:  # --overwrite would not clear it either: say only what works
+        if not owned:  # overwriting would not clear it either: say only what works
             raise FreefloatError(f"output folder '{self.path}' holds files freefloat did not write "
-                                 f"({few(foreign, LISTED)}); choose another --out (a new or empty folder)")
+                                 f"({few(foreign, LISTED)}); {_another_folder()}")
         if foreign and not keep_foreign:
             raise FreefloatError(f"output folder '{self.path}' holds files freefloat did not write ({few(foreign, LISTED)}) "
-                                 "and this command writes files whose names it does not know up front; choose "
-                                 "another --out (a new or empty folder)")
+                                 "and this command writes files whose names it does not know up front; "
+                                 f"{_another_folder()}")
         if not overwrite:
-            raise FreefloatError(f"output folder '{self.path}' holds a previous run; choose another --out, or pass "
-                                 "--overwrite to replace that run" + (f" (your files there stay: {few(foreign, LISTED)})"
-                                                                       if foreign else ""))
+            raise FreefloatError(f"output folder '{self.path}' holds a previous run; choose another "
+                                 f"{spelled('out=', '--out')}, or pass {spelled('overwrite=True', '--overwrite')} to "
+                                 "replace that run" + (f" (your files there stay: {few(foreign, LISTED)})"
+                                                       if foreign else ""))
         for name in sorted(set(owned), key=lambda n: -n.rstrip("/").count("/")):  # a folder's contents before it
             _remove(self.path / name.rstrip("/"), folder=name.endswith("/"))
         with contextlib.suppress(FileNotFoundError):
             (self.path / RECORD).unlink()
         kept = sorted(p.name for p in self.path.iterdir() if p.name != LOCK)
         if kept:
-            warnings.warn(f"--overwrite kept {len(kept)} file(s) in '{self.path}' that freefloat did not write: "
-                          f"{', '.join(kept)}", stacklevel=2)
+            warnings.warn(f"{spelled('overwrite=True', '--overwrite')} kept {len(kept)} file(s) in '{self.path}' that "
+                          f"freefloat did not write: {', '.join(kept)}", stacklevel=2)
 
     def claim(self, name: str) -> Path:
         """Record ``name`` (relative to the folder; a folder ends with ``/``) as freefloat's before
@@ -168,7 +176,7 @@ class RunFolder:
             reusable = name.endswith("/") and path.is_dir() and not path.is_symlink()  # its files are claimed one by one
             if os.path.lexists(path) and not reusable:
                 raise FreefloatError(f"'{path}' exists and freefloat did not write it; not replacing it "
-                                     "(move it away or choose another --out)")
+                                     f"(move it away or choose another {spelled('out=', '--out')})")
             fd = open_own(self.path / RECORD, os.O_WRONLY | os.O_CREAT | os.O_APPEND)
             try:
                 if os.fstat(fd).st_size == 0:

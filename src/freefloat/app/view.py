@@ -14,7 +14,7 @@ import warnings
 from pathlib import Path
 
 from ..dynamics.telemetry import Telemetry
-from ..errors import FreefloatError
+from ..errors import FreefloatError, spelled
 from ..robot.loading import load_robot
 from .viz.meshcat_html import write_trajectory_html
 
@@ -39,7 +39,7 @@ def run_page(run_dir: str | Path, fps: float = 30.0) -> Path:
     summary = json.loads(summary_file.read_text())
     if "robot" not in summary or "impact_time" in summary:
         raise FreefloatError(f"'{run_dir}' has no {PAGE}, and only a robot run's page can be rebuilt; "
-                             "run the scene again without --no-html")
+                             f"run the scene again {spelled('with [output] html = true', 'without --no-html')}")
     described = summary["robot"]
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # the run already reported the loader's notes
