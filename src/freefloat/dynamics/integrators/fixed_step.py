@@ -30,6 +30,9 @@ class FixedStep:
         self.model = model
         self.substeps = substeps
         self._calls = 0
+        #: The stage times of one step as fractions of it, ``c_i`` (:meth:`flow` asks the
+        #: velocity at ``t + c_i h``).
+        self.nodes = tuple(float(row.sum()) for row in self._ROWS)
 
     def advance(
         self, f: Acceleration, q: np.ndarray, v: np.ndarray, duration: float
@@ -45,12 +48,6 @@ class FixedStep:
     def step(self, f: Acceleration, q: np.ndarray, v: np.ndarray, h: float) -> tuple[np.ndarray, np.ndarray]:
         raise NotImplementedError
 
-    @property
-    def nodes(self) -> tuple[float, ...]:
-        """The stage times of one step as fractions of it, ``c_i`` (:meth:`flow` asks the
-        velocity at ``t + c_i h``)."""
-        return tuple(float(row.sum()) for row in self._ROWS)
-
     def flow(self, velocity: Velocity, q: np.ndarray, t: float, duration: float,
              v: np.ndarray | None = None) -> np.ndarray:
         """The configuration (nq,) after ``duration`` s of the first-order system
@@ -59,9 +56,10 @@ class FixedStep:
         the group as :attr:`order`). ``v`` is ``velocity(t, q)`` when already known."""
         h = duration / self.substeps
         dexpinv = self._dexpinv or (lambda theta, velocity: velocity)
+        nodes = self.nodes
         for k in range(self.substeps):
-            self._calls += len(self._ROWS) - (k == 0 and v is not None)
-            q = rkmk_flow_step(velocity, self.model, dexpinv, q, t + k * h, h, self._ROWS, self._B,
+            self._calls += len(nodes) - (k == 0 and v is not None)
+            q = rkmk_flow_step(velocity, self.model, dexpinv, q, t + k * h, h, self._ROWS, self._B, nodes,
                                v if k == 0 else None)
         return q
 

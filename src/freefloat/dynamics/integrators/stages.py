@@ -58,6 +58,7 @@ def rkmk_flow_step(
     h: float,
     rows: Sequence[np.ndarray],
     weights: np.ndarray,
+    nodes: Sequence[float],
     v0: np.ndarray | None = None,
 ) -> np.ndarray:
     """One step of an s-stage explicit tableau for the first-order system ``q' = velocity(t, q)``
@@ -65,13 +66,13 @@ def rkmk_flow_step(
     configuration (nq,) at ``t + h``.
 
     Stage i sits at ``q * exp(theta_i)``, ``theta_i = h sum_j rows[i][j] K[j]``, at time
-    ``t + c_i h`` (``c_i = sum_j rows[i][j]``); ``K[i] = dexp^{-1}_{-theta_i}(velocity(t + c_i h,
-    q * exp(theta_i)))``; the step ends at ``q * exp(h sum_i weights[i] K[i])``. ``v0`` is
-    ``velocity(t, q)`` when already known, so that it costs no call.
+    ``t + nodes[i] h`` (``nodes[i] = sum_j rows[i][j]``); ``K[i] = dexp^{-1}_{-theta_i}(velocity(
+    t + nodes[i] h, q * exp(theta_i)))``; the step ends at ``q * exp(h sum_i weights[i] K[i])``.
+    ``v0`` is ``velocity(t, q)`` when already known, so that it costs no call.
     """
     K = np.empty((len(rows), model.nv))
     K[0] = velocity(t, q) if v0 is None else v0
     for i in range(1, len(rows)):
         theta = h * (rows[i] @ K[:i])
-        K[i] = dexpinv(theta, velocity(t + h * rows[i].sum(), pin.integrate(model, q, theta)))
+        K[i] = dexpinv(theta, velocity(t + h * nodes[i], pin.integrate(model, q, theta)))
     return pin.integrate(model, q, h * (weights @ K))
