@@ -70,3 +70,60 @@ def test_messages_outside_the_command_line_spell_options_for_their_caller():
                           if isinstance(part, ast.Constant) and isinstance(part.value, str) and id(part) not in spelt
                           and re.search(r"--[a-z]", part.value)]
     assert not found, "\n".join(found)
+
+
+#: Folders whose raises other work moves or owns (the lab, leaving the product, and the atlas).
+ELSEWHERE = ("app/bench/", "app/reproduce/", "app/atlas/")
+
+
+def test_every_bare_base_class_raise_is_justified():
+    """Every ``raise FreefloatError(...)`` in the package carries ``# base class: <why>`` on its
+    line or the line before; everywhere else a specific class applies (InvalidArgument,
+    NotAssembled, ClosureFileError, RunFolderError, ...), so that ``except`` can tell them apart."""
+    import ast
+    from pathlib import Path
+
+    import freefloat
+
+    root = Path(freefloat.__file__).parent
+    bare = []
+    for path in sorted(root.rglob("*.py")):
+        where = path.relative_to(root).as_posix()
+        if where.startswith(ELSEWHERE):
+            continue
+        lines = path.read_text().splitlines()
+        for node in ast.walk(ast.parse(path.read_text())):
+            if (isinstance(node, ast.Raise) and isinstance(node.exc, ast.Call)
+                    and getattr(node.exc.func, "id", "") == "FreefloatError"
+                    and "# base class:" not in " ".join(lines[node.lineno - 2:node.lineno])):
+                bare.append(f"{where}:{node.lineno}: {lines[node.lineno - 1].strip()}")
+    assert not bare, "\n".join(bare)
+
+
+def test_every_error_class_is_exported_and_documented():
+    """Every error and warning class of freefloat.errors is ``freefloat.<name>``, and the API
+    reference documents the module that defines them."""
+    import inspect
+
+    import freefloat
+    from freefloat import errors
+
+    from .conftest import REPO
+
+    classes = {name for name, value in vars(errors).items()
+               if inspect.isclass(value) and issubclass(value, (errors.FreefloatError, errors.FreefloatWarning))}
+    assert {"NotAssembled", "InfeasiblePlan", "ClosureFileError", "DataFileError", "RunFolderError"} <= classes
+    assert classes <= set(freefloat.__all__) and all(getattr(freefloat, name) is getattr(errors, name) for name in classes)
+    assert "::: freefloat.errors" in (REPO / "docs" / "api.md").read_text()
+
+
+@pytest.mark.parametrize("specific, base", [("ClosureFileError", "RobotModelError"), ("DataFileError", "RobotModelError"),
+                                            ("NotAssembled", "FreefloatError"), ("RunFolderError", "FreefloatError"),
+                                            ("TargetMissed", "FreefloatError"), ("BadShape", "InvalidArgument")])
+def test_a_specific_error_is_still_caught_by_its_family(specific, base):
+    """Each specific class subclasses its family's, so an ``except`` written for the family (or
+    for FreefloatError) still catches it."""
+    from freefloat import errors
+
+    assert issubclass(getattr(errors, specific), getattr(errors, base))
+    assert issubclass(getattr(errors, specific), errors.FreefloatError)

@@ -19,15 +19,21 @@ from __future__ import annotations
 
 from .errors import (
     BadShape,
+    ClosureFileError,
+    DataFileError,
     FreefloatError,
+    FreefloatNote,
+    FreefloatWarning,
     InfeasiblePlan,
     InvalidArgument,
     MissingExtra,
     NotAssembled,
     RobotModelError,
+    RunFolderError,
     SceneError,
     SimulationDiverged,
     SingularityError,
+    TargetMissed,
     TelemetryFileError,
     UnknownName,
 )
@@ -74,8 +80,9 @@ def __dir__() -> list[str]:
     return sorted([*__all__, *(m.name for m in pkgutil.iter_modules(__path__) if not m.name.startswith("_"))])
 
 
-__all__ = sorted([
-    *_PUBLIC, "BadShape", "FreefloatError", "InfeasiblePlan", "InvalidArgument", "MissingExtra", "NotAssembled",
-    "RobotModelError", "SceneError", "SimulationDiverged", "SingularityError", "TelemetryFileError", "UnknownName",
-    "__version__",
-])
+#: The error and warning types, defined in freefloat.errors (every one is exported).
+_ERRORS = ("BadShape", "ClosureFileError", "DataFileError", "FreefloatError", "FreefloatNote", "FreefloatWarning",
+           "InfeasiblePlan", "InvalidArgument", "MissingExtra", "NotAssembled", "RobotModelError", "RunFolderError",
+           "SceneError", "SimulationDiverged", "SingularityError", "TargetMissed", "TelemetryFileError", "UnknownName")
+
+__all__ = sorted([*_PUBLIC, *_ERRORS, "__version__"])

@@ -22,7 +22,7 @@ from typing import Any, Callable
 
 from tqdm import tqdm
 
-from .errors import FreefloatError, spelled
+from .errors import InvalidArgument, spelled
 from .extras import require
 
 
@@ -103,7 +103,7 @@ def client(address: str | None = None, workers: int = 2, processes: bool = True,
     of a worker run at once where they release the GIL, as the compiled loop does).
 
     Raises:
-        FreefloatError: naming the address when it is malformed or nothing answers there within
+        InvalidArgument: naming the address when it is malformed or nothing answers there within
             ``connect_timeout`` s.
         MissingExtra: without Dask.
     """
@@ -125,7 +125,7 @@ def _reachable(address: str, timeout: float) -> None:
     its whole timeout and leaves a half-made client behind).
 
     Raises:
-        FreefloatError: naming the address and what is wrong with it.
+        InvalidArgument: naming the address and what is wrong with it.
     """
     from distributed.comm.addressing import parse_address, parse_host_port
 
@@ -133,15 +133,15 @@ def _reachable(address: str, timeout: float) -> None:
         scheme, location = parse_address(address, strict=True)
         host, port = parse_host_port(location)
     except (ValueError, TypeError) as exc:
-        raise FreefloatError(f"{_scheduler()} '{address}' is not a Dask address such as tcp://host:8786 "
-                             f"({exc})") from exc
+        raise InvalidArgument(f"{_scheduler()} '{address}' is not a Dask address such as tcp://host:8786 "
+                              f"({exc})") from exc
     if scheme not in ("tcp", "tls"):
-        raise FreefloatError(f"{_scheduler()} '{address}': scheme '{scheme}' is not supported here; use "
-                             "tcp://host:port")
+        raise InvalidArgument(f"{_scheduler()} '{address}': scheme '{scheme}' is not supported here; use "
+                              "tcp://host:port")
     try:
         socket.create_connection((host, port), timeout=timeout).close()
     except OSError as exc:
-        raise FreefloatError(f"{_scheduler()} '{address}': no Dask scheduler answers ({exc.strerror or exc})") from exc
+        raise InvalidArgument(f"{_scheduler()} '{address}': no Dask scheduler answers ({exc.strerror or exc})") from exc
 
 
 def _scheduler() -> str:

@@ -80,7 +80,21 @@ class FreefloatError(Exception):
 
 
 class RobotModelError(FreefloatError):
-    """A URDF or robot description that cannot be a floating-base tree."""
+    """A URDF or robot description that cannot be a floating-base tree, or that a model of
+    freefloat cannot take (a joint kind, a base kind); or a file beside it that does not describe
+    it (:class:`ClosureFileError`, :class:`DataFileError`)."""
+
+
+class ClosureFileError(RobotModelError):
+    """A closure file (``*.closure.toml``: a closed chain's URDF, loop closures, platform and
+    actuators) with a missing, mistyped or unknown key, a frame or joint its URDF lacks, or
+    closures the mechanism models cannot take; the message names the file and the key."""
+
+
+class DataFileError(RobotModelError):
+    """A data file beside a robot or mechanism (``*.motors.toml``: its DC motors and actuators;
+    ``*.data.toml``: a mechanism's dimensions and uncertain masses) with a missing or mistyped key
+    or an impossible value; the message names the file and the key."""
 
 
 class SceneError(FreefloatError):
@@ -144,6 +158,18 @@ class InfeasiblePlan(FreefloatError):
     def __init__(self, message: str, reason: str):
         super().__init__(message)
         self.reason = reason
+
+
+class RunFolderError(FreefloatError):
+    """An output folder that cannot be used (it holds files freefloat did not write, another run
+    holds it, a symbolic link stands in the way, the disk refuses a file), or a folder that holds
+    no run; the message names the folder or file and what to do."""
+
+
+class TargetMissed(FreefloatError):
+    """A capture whose target's grasp points never all came within the contact tolerance of the
+    hands during the approach; the message names the end-effectors and gives the closest approach
+    and when."""
 
 
 class TelemetryFileError(FreefloatError):

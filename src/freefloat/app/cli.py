@@ -14,7 +14,7 @@ from importlib.metadata import version
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from ..errors import FreefloatError, SceneError, command_line, did_you_mean
+from ..errors import FreefloatError, InvalidArgument, SceneError, command_line, did_you_mean
 from .atlas.kinds import KINDS as ATLAS_KINDS
 from .bench.suites import ALL as ALL_SUITES
 from .bench.suites import DEFAULT as DEFAULT_SUITE
@@ -214,7 +214,7 @@ def _atlas(args: argparse.Namespace) -> int:
     if args.dask or args.scheduler is not None:
         require("dask", "freefloat atlas --dask")
     if args.scheduler is not None and args.workers is not None:
-        raise FreefloatError("--workers sets the size of a local cluster; with --scheduler the scheduler's workers run")
+        raise InvalidArgument("--workers sets the size of a local cluster; with --scheduler the scheduler's workers run")
     workers = Workers(args.workers or (2 if args.dask else 1), args.dask or args.scheduler is not None, args.scheduler)
     options = Options(grid=args.grid, axes=tuple(args.axes.split(",")) if args.axes else None,
                       end_effector=args.end_effector, momentum=tuple(args.momentum) if args.momentum else None,
@@ -251,7 +251,7 @@ def _pairs(text: str | None) -> tuple[tuple[str, float], ...] | None:
         try:
             pairs.append((name.strip(), float(value)))
         except ValueError:
-            raise FreefloatError(f"--posture: '{item}' is not JOINT=VALUE (e.g. elbow_joint=30)") from None
+            raise InvalidArgument(f"--posture: '{item}' is not JOINT=VALUE (e.g. elbow_joint=30)") from None
     return tuple(pairs)
 
 
@@ -271,7 +271,7 @@ def _batch(args: argparse.Namespace) -> int:
     if args.dask or args.scheduler is not None:
         require("dask", "freefloat batch --dask" if args.dask else "freefloat batch --scheduler")
     if args.scheduler is not None and args.workers is not None:
-        raise FreefloatError("--workers sets the size of a local cluster; with --scheduler the scheduler's workers run")
+        raise InvalidArgument("--workers sets the size of a local cluster; with --scheduler the scheduler's workers run")
     default = 2 if args.dask or args.scheduler else 1
     workers = Workers(default if args.workers is None else args.workers, args.dask or args.scheduler is not None,
                       args.scheduler, args.threads)
@@ -378,11 +378,11 @@ def _verify(args: argparse.Namespace) -> int:
     from ..robot.loading import load_robot
 
     if not 1 <= args.samples <= MAX_SAMPLES:
-        raise FreefloatError(f"--samples must be from 1 to {MAX_SAMPLES}, got {args.samples}")
+        raise InvalidArgument(f"--samples must be from 1 to {MAX_SAMPLES}, got {args.samples}")
     if args.seed < 0:
-        raise FreefloatError(f"--seed must be >= 0, got {args.seed}")
+        raise InvalidArgument(f"--seed must be >= 0, got {args.seed}")
     if args.json is not None and (args.json.is_dir() or not args.json.parent.is_dir()):
-        raise FreefloatError(f"--json {args.json}: must be a file in an existing folder")
+        raise InvalidArgument(f"--json {args.json}: must be a file in an existing folder")
     with shown_warnings():
         robot = load_robot(args.urdf, visuals=False)
     report = check_robot(robot, samples=args.samples, seed=args.seed)
@@ -391,7 +391,7 @@ def _verify(args: argparse.Namespace) -> int:
         try:
             write_report(report, args.json)
         except OSError as exc:
-            raise FreefloatError(f"--json {args.json}: cannot write ({exc.strerror or exc})") from exc
+            raise InvalidArgument(f"--json {args.json}: cannot write ({exc.strerror or exc})") from exc
     return 0 if report.passed else 1
 
 

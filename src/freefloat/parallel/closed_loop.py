@@ -17,7 +17,7 @@ import numpy as np
 from ..dynamics.plants import CoupledChainPlant
 from ..dynamics.sampled import Sampled
 from ..dynamics.simulation import Result, run_plant
-from ..errors import FreefloatError
+from ..errors import InvalidArgument
 from .five_bar import FiveBarParameters, elbow_guess, five_bar
 from .mechanism import ParallelMechanism
 
@@ -30,7 +30,7 @@ def steps_per_period(period: float, step: float) -> int:
     """
     n = round(period / step)
     if n < 1 or abs(n * step - period) > 1e-9 * period:
-        raise FreefloatError(f"control period {period} s must be a whole number of integration steps ({step} s)")
+        raise InvalidArgument(f"control period {period} s must be a whole number of integration steps ({step} s)")
     return n
 
 

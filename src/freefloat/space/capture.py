@@ -25,7 +25,7 @@ import numpy as np
 import pinocchio as pin
 
 from ..dynamics.metrics import momentum_drift, settling_time
-from ..errors import FreefloatError
+from ..errors import InvalidArgument, SimulationDiverged, TargetMissed
 from ..robot.conventions import momentum_about_origin, skew
 from ..robot.robot import Robot
 
@@ -69,7 +69,7 @@ class Target:
 
     def __post_init__(self):
         if not self.mass > 0.0 or min(self.inertia) <= 0.0:
-            raise FreefloatError(f"target: mass {self.mass} and inertia {self.inertia} must be positive")
+            raise InvalidArgument(f"target: mass {self.mass} and inertia {self.inertia} must be positive")
 
     @classmethod
     def meeting(cls, point, time: float, mass: float, inertia, grasp, velocity, angular_velocity,
@@ -80,13 +80,13 @@ class Target:
         (then it is constant): CoM ``c(t) = c_c + v (t - time)``, ``R(t) = exp(w (t - time)) R_c``.
 
         Raises:
-            FreefloatError: when the spin is not along a principal axis at contact.
+            InvalidArgument: when the spin is not along a principal axis at contact.
         """
         R_c = pin.rpy.rpyToMatrix(*rpy_at_contact)
         w = np.asarray(angular_velocity, float)
         w_body = R_c.T @ w
         if np.linalg.norm(w_body) > 0 and np.linalg.norm(np.cross(w_body, np.diag(inertia) @ w_body)) > 1e-9 * np.linalg.norm(w_body) ** 2 * max(inertia):
-            raise FreefloatError("Target.meeting: the spin must lie along a principal axis of the target (it precesses otherwise)")
+            raise InvalidArgument("Target.meeting: the spin must lie along a principal axis of the target (it precesses otherwise)")
         com_c = np.asarray(point, float) - R_c @ np.asarray(grasp, float)
         R0 = pin.exp3(-w * time) @ R_c
         return cls(mass=mass, inertia=tuple(inertia), grasp=tuple(grasp), position=tuple(com_c - np.asarray(velocity, float) * time),
@@ -251,9 +251,9 @@ def approach(robot: Robot, body: TargetBody, end_effectors: tuple[str, ...], con
     control period), and the robot's run's stop event reads the target's pose at its period.
 
     Raises:
-        FreefloatError: when the grasp points do not all come within ``tolerance`` in ``duration`` s
-            (the message names the end-effectors and gives the closest approach and when), or the
-            approach diverged.
+        TargetMissed: when the grasp points do not all come within ``tolerance`` in ``duration`` s
+            (the message names the end-effectors and gives the closest approach and when).
+        SimulationDiverged: when the approach (or the target's flight) diverged.
         KeyboardInterrupt: when the approach was interrupted (Ctrl-C, SIGTERM).
     """
     from ..dynamics.integrators import make_integrator
@@ -266,7 +266,7 @@ def approach(robot: Robot, body: TargetBody, end_effectors: tuple[str, ...], con
     if free.status == "interrupted":  # Ctrl-C or SIGTERM during the approach stops the whole run
         raise KeyboardInterrupt(free.message)
     if free.status != "completed":
-        raise FreefloatError(f"the target's free flight {free.status}: {free.message}")
+        raise SimulationDiverged(f"the target's free flight {free.status}: {free.message}")
     path = free.telemetry
     frames = [robot.model.getFrameId(name) for name in end_effectors]
     data = robot.model.createData()
@@ -294,9 +294,9 @@ def approach(robot: Robot, body: TargetBody, end_effectors: tuple[str, ...], con
         gap, when = closest
         names = "' and '".join(end_effectors)
         if pre.status != "completed":
-            raise FreefloatError(f"the approach to '{names}' {pre.status}: {pre.message}")
-        raise FreefloatError(f"target never reaches '{names}' within {tolerance} m in "
-                             f"{duration} s (closest approach {gap:.4g} m at t = {when:.4g} s)")
+            raise SimulationDiverged(f"the approach to '{names}' {pre.status}: {pre.message}")
+        raise TargetMissed(f"target never reaches '{names}' within {tolerance} m in "
+                           f"{duration} s (closest approach {gap:.4g} m at t = {when:.4g} s)")
     k = len(pre.telemetry.t) - 1  # the contact's period
     poses = np.array([pin.XYZQUATToSE3(q).homogeneous for q in path.q[: k + 1]])
     return pre, FlyingTarget(path.q[k].copy(), path.v[k].copy(), poses, (closest[0], closest[1]))
@@ -333,7 +333,7 @@ def grasp(robot: Robot, target: Target, end_effector: str, control_period: float
     it into the robot (:func:`attach`).
 
     Raises:
-        FreefloatError: as :func:`approach`.
+        TargetMissed, SimulationDiverged: as :func:`approach`.
     """
     body = TargetBody(target)
     pre, flight = approach(robot, body, (end_effector,), control_period, approach_time, tolerance, integrator, q0, v0,
@@ -381,7 +381,7 @@ def capture_and_detumble(robot: Robot, target: Target, end_effector: str, rows_s
     start to contact) and the grasp mismatch at contact (:func:`grasp_mismatch`).
 
     Raises:
-        FreefloatError: when the target does not come within ``tolerance`` of the end-effector
+        TargetMissed: when the target does not come within ``tolerance`` of the end-effector
             in ``approach_time`` (the message gives the closest approach and when).
     """
     from ..dynamics.integrators import make_integrator

@@ -67,8 +67,8 @@ def prepare(scene: MechanismScene) -> PreparedMechanism:
         setup = setup._replace(nominal=setup.nominal.with_gravity(gravity), plant=setup.plant.with_gravity(gravity))
     p = setup.nominal.p
     if len(setup.nominal.actuated) != p:
-        raise FreefloatError(f"mechanism '{scene.mechanism.name}': {len(setup.nominal.actuated)} actuators for "
-                             f"{p} platform coordinates; platform control needs as many")
+        raise SceneError(f"mechanism '{scene.mechanism.name}': {len(setup.nominal.actuated)} actuators for "
+                         f"{p} platform coordinates; platform control needs as many")
 
     def sized(key: str, value, shape: tuple[int, ...]) -> np.ndarray:
         array = np.asarray(value, float)
