@@ -89,9 +89,8 @@ class MomentumEstimator:
     """
 
     def __init__(self, robot: Robot, settings: MomentumKalman, velocity_noise: np.ndarray, tangent_noise: np.ndarray):
-        from scipy.special import (
-            chdtri,  # the chi-square quantile; scipy.special costs 0.1-0.7 s to import
-        )
+        # the chi-square quantile, imported here: scipy.special costs 0.1-0.7 s to import
+        from scipy.special import chdtri
 
         self.model, self.data, self.n_base = robot.model, robot.model.createData(), robot.n_base
         self.settings, self.rows = settings, CONSERVED[robot.base]

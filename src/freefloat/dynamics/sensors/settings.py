@@ -14,6 +14,7 @@ from ...errors import InvalidArgument
 #: joint positions (the tangent of the actuated joints' configuration) and the joint rates.
 GROUPS = ("base_pose", "base_twist", "joint_position", "joint_rate")
 
+
 @dataclass(frozen=True)
 class Channel:
     """One channel group's sensor, in the group's coordinates (see :data:`GROUPS`): Pinocchio's
