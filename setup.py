@@ -18,7 +18,8 @@ unit holds one concern, so that each peaks under 0.9 GiB but the one that includ
 GiB, whose headers alone take 0.6 GiB). The units run one per core, started only while their
 measured peaks (:data:`UNIT_MEMORY`) fit in the memory budget (``FREEFLOAT_BUILD_MEMORY``, else
 :data:`MEMORY_PER_JOB` per compiler process within :data:`MEMORY_SHARE` of the memory available;
-setup_schedule.py). The robot loop's units are compiled at -O1 (:data:`OPTIMIZATION`): its time
+setup_schedule.py), which also prints each unit as it starts and ends, with its time, where the
+user sees it (pip and uv hide a build's own output). The robot loop's units are compiled at -O1 (:data:`OPTIMIZATION`): its time
 is in libpinocchio_default, and every scene measured ran as fast as at -O3; the numerics stay at
 -O3 (the closed chains 12-49 % slower at -O2). docs/bench.md, "The build", has the measurements.
 
@@ -40,6 +41,7 @@ import subprocess
 import sys
 import sysconfig
 import tempfile
+import time
 from importlib.metadata import version
 from pathlib import Path
 
@@ -130,16 +132,37 @@ class BuildExt(pybind11_build_ext):
         self.object_dir = ROOT / "build" / "cpp" / self.configuration()
         jobs = list({source: (ext, source) for ext in self.extensions for source in ext.sources}.values())
         jobs.sort(key=lambda job: ORDER.index(job[1]) if job[1] in ORDER else len(ORDER))
+        stale = [job for job in jobs if self.force or not self.fresh(job[1], self.object_of(job[1]))]
         workers = max(1, int(setting("FREEFLOAT_BUILD_JOBS", "a number of compiler processes, e.g. 2")
                              or self.parallel or os.cpu_count() or 1))
         budget = schedule.memory_budget(workers, available_memory(), MEMORY_PER_JOB, MEMORY_SHARE,
                                         setting("FREEFLOAT_BUILD_MEMORY", "bytes, e.g. 2e9"))
-        schedule.run_within(jobs, lambda job: self.object_of(*job), lambda job: unit_memory(job[1]), workers, budget)
-        for ext in self.extensions:
-            self.build_extension(ext)
+        out = schedule.terminal()
+        try:
+            progress = schedule.Progress(out, budget, workers)
+            progress.plan(len(stale), len(jobs) - len(stale))
+
+            def compile_timed(job) -> None:
+                begin = time.perf_counter()
+                try:
+                    self.compile_unit(*job)
+                except BaseException:
+                    progress.ended(job[1], time.perf_counter() - begin, failed=True)
+                    raise
+                progress.ended(job[1], time.perf_counter() - begin)
+
+            schedule.run_within(stale, compile_timed, lambda job: unit_memory(job[1]), workers, budget,
+                                lambda job, in_use: progress.started(job[1], unit_memory(job[1]), in_use))
+            begin = time.perf_counter()
+            for ext in self.extensions:
+                self.build_extension(ext)
+            progress.linked(len(self.extensions), time.perf_counter() - begin)
+        finally:
+            if out is not sys.stderr:
+                out.close()
 
     def build_extension(self, ext) -> None:
-        objects = [self.object_of(ext, source) for source in ext.sources]
+        objects = [str(self.object_of(source)) for source in ext.sources]
         self.compiler.force = True  # linking takes a second; an old .so never survives a reconfiguration
         self.compiler.link_shared_object(
             objects, self.get_ext_fullpath(ext.name), libraries=self.get_libraries(ext),
@@ -165,13 +188,14 @@ class BuildExt(pybind11_build_ext):
         digest = hashlib.sha1(json.dumps(description, sort_keys=True, default=str).encode()).hexdigest()[:12]
         return f"{sysconfig.get_platform()}-{sys.implementation.cache_tag}-{digest}"
 
-    def object_of(self, ext, source: str) -> str:
-        """The object of ``source`` in the kept folder, compiled unless it is fresh (every extension
-        has the same flags, so a source shared by two is compiled once)."""
-        obj = self.object_dir / Path(source).with_suffix(".o")
-        deps = obj.with_suffix(".d")
-        if not self.force and self.fresh(source, obj, deps):
-            return str(obj)
+    def object_of(self, source: str) -> Path:
+        """The object of ``source`` in the kept folder (every extension has the same flags, so a
+        source shared by two is compiled once)."""
+        return self.object_dir / Path(source).with_suffix(".o")
+
+    def compile_unit(self, ext, source: str) -> None:
+        """Compiles ``source`` into :meth:`object_of`, with its dependency file beside it."""
+        obj = self.object_of(source)
         obj.parent.mkdir(parents=True, exist_ok=True)
         # Compile into a folder of its own and move the result in place: a build running in the same
         # tree at the same time never links a half-written object.
@@ -181,13 +205,13 @@ class BuildExt(pybind11_build_ext):
                                            include_dirs=ext.include_dirs, debug=self.debug,
                                            extra_postargs=ext.extra_compile_args + OPTIMIZATION.get(source, "").split()
                                            + ["-MMD", "-MF", str(dep)])
-            os.replace(dep, deps)
+            os.replace(dep, obj.with_suffix(".d"))
             os.replace(made, obj)
-        return str(obj)
 
     @staticmethod
-    def fresh(source: str, obj: Path, deps: Path) -> bool:
-        """``obj`` is newer than ``source`` and every project file its dependency file lists."""
+    def fresh(source: str, obj: Path) -> bool:
+        """``obj`` is newer than ``source`` and every project file its dependency file (beside it) lists."""
+        deps = obj.with_suffix(".d")
         if not (obj.is_file() and deps.is_file()):
             return False
         listed = deps.read_text().replace("\\\n", " ").split(":", 1)[-1].split()
