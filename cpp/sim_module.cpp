@@ -404,12 +404,11 @@ PYBIND11_MODULE(_sim, m) {
            [](PyBatch& b) {
              py::list out;
              for (const Batch::Done& d : b.batch->take())
-               out.append(py::make_tuple(d.run, d.slot, d.rows, d.periods, d.evaluations, d.wall,
-                                         d.error.empty() ? py::object(py::none()) : py::object(py::str(d.error))));
+               out.append(py::make_tuple(d.run, d.slot, d.rows, d.periods, d.evaluations, d.wall, d.blow_up, d.failure));
              return out;
            },
-           "The runs finished since the last call: (run, slot, rows, periods, evaluations, wall s, blow-up "
-           "message or None).")
+           "The runs finished since the last call: (run, slot, rows, periods, evaluations, wall s, the loop's "
+           "blow-up message or None, the text of an error the loop threw or None).")
       .def("release", [](PyBatch& b, int slot) { b.batch->release(slot); }, "The slot's rows are read.")
       .def("stop", [](PyBatch& b) { b.batch->stop(); }, "Every run stops at its next slice of periods.");
   bind_chain(m);
