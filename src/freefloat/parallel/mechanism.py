@@ -83,7 +83,7 @@ class ParallelMechanism:
         angular: the angular-velocity constraints, if any.
         backend: ``"compiled"`` (default): one point at a time (:meth:`forward`, :meth:`inverse`
             and :meth:`assemble` at one q, :meth:`inverse_trajectory`) runs in the compiled core
-            (``cpp/parallel.hpp``) when A° is square; ``"numpy"``: everything in this module and
+            (``cpp/chains/mechanism.hpp``) when A° is square; ``"numpy"``: everything in this module and
             serial.py, the reference. Batched calls always use numpy.
     """
 

@@ -2,7 +2,7 @@
 // algorithms, behind a small pybind11 interface. The model is handed over as arrays and rebuilt;
 // telemetry chunks are numpy arrays filled in place. This unit sees the loop through
 // sim/simulation.hpp only (no Pinocchio header); the closed-chain loop is bound in chains.cpp.
-// Each is a translation unit of its own, and they compile in parallel.
+// Bindings only: the loop's numerics are the translation units of cpp/sim/.
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -12,8 +12,8 @@
 #include <utility>
 #include <vector>
 
+#include "py_sim.hpp"
 #include "sim/batch.hpp"
-#include "sim/py_sim.hpp"
 #include "sim/rkmk.hpp"  // integrator_names
 #include "sim/simulation.hpp"
 
