@@ -111,27 +111,27 @@ PINOCCHIO_FLAGS = ["-isystem", str(PINOCCHIO / "include"), "-DPINOCCHIO_ENABLE_T
 # The order units start in: the order whose schedule (setup_schedule.run_within, 2 compilers within
 # 2 GB) ends soonest with the units' measured times, each varied by up to 12 %; Pinocchio's unit
 # first, beside the small ones that fit with it.
-ORDER = ["cpp/sim/pin_plant.cpp", "cpp/bindings/core.cpp", "cpp/chains/mechanism.cpp", "cpp/sim/chain_loop.cpp",
-         "cpp/sim/detumbling.cpp", "cpp/gjm/gjm.cpp", "cpp/gjm/models.cpp", "cpp/sim/simulation.cpp",
-         "cpp/sim/closures.cpp", "cpp/sim/loop_detumbling_law.cpp", "cpp/sim/pin_generalized_jacobian.cpp",
-         "cpp/bindings/chains.cpp", "cpp/bindings/sim.cpp", "cpp/chains/inverse.cpp"]
+ORDER = ["cpp/sim/pin_plant.cpp", "cpp/bindings/core.cpp", "cpp/chains/mechanism.cpp", "cpp/sim/detumbling.cpp",
+         "cpp/sim/closures.cpp", "cpp/sim/chain_loop.cpp", "cpp/bindings/sim.cpp", "cpp/sim/pin_generalized_jacobian.cpp",
+         "cpp/bindings/chains.cpp", "cpp/chains/inverse.cpp", "cpp/sim/loop_detumbling_law.cpp", "cpp/gjm/models.cpp",
+         "cpp/gjm/gjm.cpp", "cpp/sim/simulation.cpp"]
 # Optimisation level per translation unit, after FLAGS' -O3 (see the module docstring).
 OPTIMIZATION = {"cpp/sim/pin_plant.cpp": "-O1", "cpp/sim/simulation.cpp": "-O1", "cpp/sim/closures.cpp": "-O1",
                 "cpp/sim/loop_detumbling_law.cpp": "-O1", "cpp/sim/pin_generalized_jacobian.cpp": "-O1",
                 "cpp/bindings/sim.cpp": "-O1"}
-# Peak memory of each unit's compile at its flags (bytes: g++ 12's maximum resident set, measured
-# alone, docs/bench.md "The build"); a unit not listed counts as the largest.
-UNIT_MEMORY = {"cpp/sim/pin_plant.cpp": 1.24e9, "cpp/bindings/sim.cpp": 0.95e9, "cpp/sim/simulation.cpp": 0.92e9,
-               "cpp/sim/closures.cpp": 0.92e9, "cpp/sim/loop_detumbling_law.cpp": 0.92e9,
-               "cpp/sim/pin_generalized_jacobian.cpp": 0.92e9, "cpp/chains/mechanism.cpp": 0.80e9,
-               "cpp/sim/chain_loop.cpp": 0.80e9, "cpp/bindings/chains.cpp": 0.78e9, "cpp/bindings/core.cpp": 0.77e9,
-               "cpp/chains/inverse.cpp": 0.70e9, "cpp/sim/detumbling.cpp": 0.69e9, "cpp/gjm/models.cpp": 0.52e9,
-               "cpp/gjm/gjm.cpp": 0.50e9}
+# Peak memory of each unit's compile at its flags (bytes: g++ 12's maximum resident set, as the
+# build ran it, docs/bench.md "The build"); a unit not listed counts as the largest.
+UNIT_MEMORY = {"cpp/sim/pin_plant.cpp": 1.25e9, "cpp/bindings/sim.cpp": 0.95e9, "cpp/bindings/chains.cpp": 0.78e9,
+               "cpp/chains/inverse.cpp": 0.71e9, "cpp/sim/detumbling.cpp": 0.69e9, "cpp/chains/mechanism.cpp": 0.66e9,
+               "cpp/bindings/core.cpp": 0.64e9, "cpp/sim/loop_detumbling_law.cpp": 0.62e9, "cpp/gjm/models.cpp": 0.57e9,
+               "cpp/sim/closures.cpp": 0.51e9, "cpp/gjm/gjm.cpp": 0.50e9, "cpp/sim/chain_loop.cpp": 0.50e9,
+               "cpp/sim/simulation.cpp": 0.50e9, "cpp/sim/pin_generalized_jacobian.cpp": 0.37e9}
 # The memory budget of the units compiling at once, unless FREEFLOAT_BUILD_MEMORY (bytes) sets it:
 # MEMORY_PER_JOB per compiler process, within MEMORY_SHARE of the memory available (never more than
 # the memory available). A unit larger than the budget compiles alone. On 2 cores the budget is
-# 2 GB: Pinocchio's unit compiles beside the small units that fit with it, and the compile took
-# 50.6 s on 2 cores in a `pip install .` (docs/bench.md, "The build").
+# 2 GB: Pinocchio's unit compiles beside the units that fit with it (all but bindings/sim.cpp and
+# bindings/chains.cpp), and the compile of the ten units before the layout by concept took 50.6 s
+# on 2 idle cores in a `pip install .` (docs/bench.md, "The build").
 MEMORY_PER_JOB = 1e9
 MEMORY_SHARE = 0.8
 
