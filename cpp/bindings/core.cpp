@@ -1,4 +1,4 @@
-// freefloat.dynamics._core: the compiled GJM (gjm.hpp) behind a small pybind11 interface. The tree
+// freefloat.dynamics._core: the compiled GJM (gjm/gjm.hpp) behind a small pybind11 interface. The tree
 // is handed over as arrays (no C++ object is shared with pin's bindings); outputs are new C-order
 // numpy arrays with the shapes of the numpy reference. This unit holds the bindings only: the GJM
 // quantities (gjm/gjm.cpp) and the models with their solver (gjm/models.cpp) are translation
@@ -8,7 +8,6 @@
 #include <pybind11/pybind11.h>
 
 #include <algorithm>
-#include <cmath>
 #include <initializer_list>
 #include <stdexcept>
 #include <string>
