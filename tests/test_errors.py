@@ -41,9 +41,28 @@ def test_a_message_names_the_argument_as_the_caller_spells_it():
     assert spelled("overwrite=True", "--overwrite") == "overwrite=True"
 
 
-#: Where a message may name a command-line option as such: the command line itself, the parser of
-#: its ``--vary`` text, and the lab (moving out of the product, issue 37).
-OPTIONS_SPOKEN = ("app/cli.py", "app/batch/bands.py", "app/bench/", "app/reproduce/", "app/atlas/")
+#: Folders whose messages and raises other work moves or owns (the lab, leaving the product, and
+#: the atlas).
+ELSEWHERE = ("app/bench/", "app/reproduce/", "app/atlas/")
+#: Where a message may name a command-line option as such: the command line itself and the parser
+#: of its ``--vary`` text.
+OPTIONS_SPOKEN = ("app/cli.py", "app/batch/bands.py")
+
+
+def package_sources(skip: tuple[str, ...]):
+    """``(where, tree, lines)`` of every module of the package but those under ``skip``: its path
+    in the package, its syntax tree and its lines."""
+    import ast
+    from pathlib import Path
+
+    import freefloat
+
+    root = Path(freefloat.__file__).parent
+    for path in sorted(root.rglob("*.py")):
+        where = path.relative_to(root).as_posix()
+        if not where.startswith(skip):
+            text = path.read_text()
+            yield where, ast.parse(text), text.splitlines()
 
 
 def test_messages_outside_the_command_line_spell_options_for_their_caller():
@@ -51,17 +70,9 @@ def test_messages_outside_the_command_line_spell_options_for_their_caller():
     a warning except through ``spelled`` (a Python call into a used folder answered ``--out``)."""
     import ast
     import re
-    from pathlib import Path
 
-    import freefloat
-
-    root = Path(freefloat.__file__).parent
     found = []
-    for path in sorted(root.rglob("*.py")):
-        where = path.relative_to(root).as_posix()
-        if where.startswith(OPTIONS_SPOKEN):
-            continue
-        tree = ast.parse(path.read_text())
+    for where, tree, _ in package_sources(ELSEWHERE + OPTIONS_SPOKEN):
         spelt = {id(c) for node in ast.walk(tree) if isinstance(node, ast.Call) and getattr(node.func, "id", "") == "spelled"
                  for c in ast.walk(node)}
         for node in ast.walk(tree):
@@ -72,31 +83,18 @@ def test_messages_outside_the_command_line_spell_options_for_their_caller():
     assert not found, "\n".join(found)
 
 
-#: Folders whose raises other work moves or owns (the lab, leaving the product, and the atlas).
-ELSEWHERE = ("app/bench/", "app/reproduce/", "app/atlas/")
-
-
 def test_every_bare_base_class_raise_is_justified():
     """Every ``raise FreefloatError(...)`` in the package carries ``# base class: <why>`` on its
     line or the line before; everywhere else a specific class applies (InvalidArgument,
     NotAssembled, ClosureFileError, RunFolderError, ...), so that ``except`` can tell them apart."""
     import ast
-    from pathlib import Path
 
-    import freefloat
-
-    root = Path(freefloat.__file__).parent
     bare = []
-    for path in sorted(root.rglob("*.py")):
-        where = path.relative_to(root).as_posix()
-        if where.startswith(ELSEWHERE):
-            continue
-        lines = path.read_text().splitlines()
-        for node in ast.walk(ast.parse(path.read_text())):
-            if (isinstance(node, ast.Raise) and isinstance(node.exc, ast.Call)
-                    and getattr(node.exc.func, "id", "") == "FreefloatError"
-                    and "# base class:" not in " ".join(lines[node.lineno - 2:node.lineno])):
-                bare.append(f"{where}:{node.lineno}: {lines[node.lineno - 1].strip()}")
+    for where, tree, lines in package_sources(ELSEWHERE):
+        bare += [f"{where}:{node.lineno}: {lines[node.lineno - 1].strip()}" for node in ast.walk(tree)
+                 if isinstance(node, ast.Raise) and isinstance(node.exc, ast.Call)
+                 and getattr(node.exc.func, "id", "") == "FreefloatError"
+                 and "# base class:" not in " ".join(lines[node.lineno - 2:node.lineno])]
     assert not bare, "\n".join(bare)
 
 
