@@ -3,10 +3,8 @@ an unknown name the nearest valid ones (:func:`did_you_mean`)."""
 
 from __future__ import annotations
 
-import contextlib
 import difflib
-from collections.abc import Iterable, Iterator
-from contextvars import ContextVar
+from collections.abc import Iterable
 
 #: Most valid names an error message lists; the rest are counted.
 LISTED = 20
@@ -52,27 +50,34 @@ def did_you_mean(name: object, choices: Iterable[object], label: str = "valid", 
     return f"; did you mean {nearest}? ({label}: {listing})"
 
 
-#: True while the command line runs a command: messages then name its options (``--out``),
-#: else the Python arguments (``out=``) of the call that raised them (:func:`spelled`).
-_COMMAND_LINE: ContextVar[bool] = ContextVar("freefloat_command_line", default=False)
+#: How many :func:`command_line` contexts are open: while one is (the command line runs a
+#: command), messages name its options (``--out``), else the Python arguments (``out=``) of the
+#: call that raised them (:func:`spelled`). A plain count: the command line runs in one thread.
+_COMMAND_LINE = [0]
 
 
 def spelled(python: str, option: str) -> str:
     """How a message names an argument: as the Python call takes it (``"out="``,
     ``"overwrite=True"``), or, inside :func:`command_line`, as the ``freefloat`` command does
     (``"--out"``, ``"--overwrite"``)."""
-    return option if _COMMAND_LINE.get() else python
+    return option if _COMMAND_LINE[0] else python
 
 
-@contextlib.contextmanager
-def command_line() -> Iterator[None]:
-    """Messages raised inside name the command line's options (:func:`spelled`): what the
+class _CommandLine:
+    """The context of :func:`command_line` (a class: contextlib would cost ``import freefloat``
+    a millisecond)."""
+
+    def __enter__(self) -> None:
+        _COMMAND_LINE[0] += 1
+
+    def __exit__(self, *exc: object) -> None:
+        _COMMAND_LINE[0] -= 1
+
+
+def command_line() -> _CommandLine:
+    """A context in which messages name the command line's options (:func:`spelled`): what the
     ``freefloat`` command runs its commands in."""
-    token = _COMMAND_LINE.set(True)
-    try:
-        yield
-    finally:
-        _COMMAND_LINE.reset(token)
+    return _CommandLine()
 
 
 class FreefloatError(Exception):
