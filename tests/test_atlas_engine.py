@@ -50,6 +50,7 @@ def test_serial_map_equals_the_closed_form_and_writes_the_folder(tmp_path):
     assert not (tmp_path / "out" / engine.JOURNAL).exists() and not (tmp_path / "out" / engine.CHUNKS).exists()
 
 
+@pytest.mark.slow
 def test_process_pool_gives_the_serial_map(tmp_path):
     """Two processes (this one and a pool of one) give the serial numbers; this process takes
     chunks from the back while the pool starts."""
@@ -123,6 +124,7 @@ def test_register_adds_a_kind(monkeypatch):
     assert KINDS["other"] is kind
 
 
+@pytest.mark.slow
 def test_dask_local_cluster_gives_the_serial_map(tmp_path):
     """A local Dask cluster of 2 workers gives the serial numbers."""
     pytest.importorskip("distributed")

@@ -109,6 +109,7 @@ def test_pinocchio_plant_has_the_plants_dynamics(scenes, name):
     np.testing.assert_allclose(a_pin, orsino.acceleration(q, qd, u)[to_tree], atol=1e-9 * np.abs(a_pin).max())
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", list(MECHANISM_SCENES))
 def test_quick_sweep_points_are_all_finite(name):
     """Every method of the quick sweep ends with finite errors, the loop held closed to 0.1 mm."""

@@ -73,6 +73,7 @@ def test_non_empty_folder_is_refused(tmp_path, capsys):
     assert {p.name for p in tmp_path.iterdir()} == {"keep.txt"}
 
 
+@pytest.mark.slow
 def test_controlled_quick_bench_compares_both_controllers(tmp_path):
     """``freefloat bench controlled --quick`` measures freefloat's compiled loop and MuJoCo with
     both controllers, and its summary names a cheapest method per band."""
@@ -89,6 +90,7 @@ def test_controlled_quick_bench_compares_both_controllers(tmp_path):
     assert len((out / "summary.txt").read_text().splitlines()) == len(BANDS)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM])
 def test_interrupted_bench_keeps_the_points_measured(tmp_path, signum):
     """Ctrl-C or SIGTERM during a sweep: exit 1, and bench.json (status "interrupted") and
@@ -108,6 +110,7 @@ def test_interrupted_bench_keeps_the_points_measured(tmp_path, signum):
     assert 1 <= len(rows) == len(report["scenes"]["four_arm"]["points"]) < len(free_floating_scene("four_arm").methods())
 
 
+@pytest.mark.slow
 def test_a_killed_bench_keeps_every_point_measured(tmp_path):
     """SIGKILL mid-bench leaves each point measured so far in the journal, one JSON row each (it
     kept none)."""
@@ -129,6 +132,7 @@ def test_a_killed_bench_keeps_every_point_measured(tmp_path):
     assert len(rows) >= 2 and all(r["scene"] == "dual_arm" and r["wall_time_s"] > 0 for r in rows)
 
 
+@pytest.mark.slow
 def test_a_signal_while_a_chart_is_drawn_waits_for_the_drawing(tmp_path, monkeypatch):
     """SIGINT arriving in the middle of a chart's drawing stops the bench after that drawing: the
     report says interrupted and the chart is whole (a drawing cut half-way failed the final one)."""

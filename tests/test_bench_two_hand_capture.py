@@ -91,6 +91,7 @@ def test_freefloat_runs_the_compiled_loop(scene):
     assert result.status == "completed" and result.backend == "compiled"
 
 
+@pytest.mark.slow
 def test_quick_sweep_taking_turns_gives_every_point():
     """The quick sweep, the methods taking turns over two rounds, gives one point per method, freefloat and
     MuJoCo, each with finite errors, the loop closed to 1e-6 m and a positive time."""

@@ -39,6 +39,7 @@ def test_default_job_writes_every_artefact(default_run):
                      "torques.png", "com_drift.png"}
 
 
+@pytest.mark.slow
 def test_default_job_imports_no_library_it_does_not_use(tmp_path):
     """The default job (figures and page included) leaves yourdfpy (its URDF is read by
     freefloat.robot.urdf_model), pinocchio.visualize with viser and trimesh (the page draws its
@@ -381,6 +382,7 @@ def test_simulate_any_known_robot_by_name(tmp_path):
     assert summary["robot"]["urdf"].endswith("solo12.urdf") and summary["momentum_drift_max"] < 1e-12
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("delay", [0.2, 0.4, 0.8])
 def test_ctrl_c_while_starting_stops_cleanly(tmp_path, delay):
     """Ctrl-C in the first second (imports, robot loading) is never swallowed by a library and

@@ -29,6 +29,7 @@ def computed_torque() -> PlatformControl:
     return PlatformControl(five_bar(FiveBarParameters()), circle_reference, 40.0)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("period", [1e-4, None], ids=["held over 10 steps", "per stage"])
 @pytest.mark.parametrize("saturation", ["tanh", "sign"])
 def test_compiled_loop_equals_the_python_loop(plant_q0, period, saturation):

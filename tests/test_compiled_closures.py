@@ -187,6 +187,7 @@ def replay_law(controller):
     return law, loop
 
 
+@pytest.mark.slow
 def test_law_torques_equal_the_python_law_along_the_scene(two_hands):
     """Along the scene's post-grasp states (0.3 s, Python loop), the compiled law's torques equal
     LoopDetumblingController's period by period (1e-9 relative), with the same log."""
@@ -232,6 +233,7 @@ def test_law_torques_equal_the_python_law_at_random_states(two_hands, seed):
         assert any(law.log.saturated) == (limit > 0.0)  # the limit is met at these rates
 
 
+@pytest.mark.slow
 def test_compiled_law_hands_its_state_back(two_hands):
     """compiled_law() carries the controller's state in, and a compiled run's chunks hand it back:
     the log has one entry per period and the post phase equals the Python loop's (1e-10)."""
@@ -247,6 +249,7 @@ def test_compiled_law_hands_its_state_back(two_hands):
     assert isinstance(law, LoopDetumblingLaw) and law.previous is compiled.controller._qdot_prev
 
 
+@pytest.mark.slow
 def test_scene_summary_is_the_same_with_either_loop(two_hands):
     """freefloat simulate capture_two_hands_satellite: the summary with backend python and
     compiled agree to round-off (1e-9 relative or 1e-12 absolute), the compiled one says so."""

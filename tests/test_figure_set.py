@@ -51,6 +51,7 @@ def test_the_command_refuses_an_unknown_figure(tmp_path, capsys):
     assert not (tmp_path / "out").exists()
 
 
+@pytest.mark.slow
 def test_the_chosen_figures_are_written_in_the_chosen_formats(tmp_path):
     """A scene's list of figures and formats: those figures, PNG and PDF, and no other."""
     out = tmp_path / "out"
@@ -59,6 +60,7 @@ def test_the_chosen_figures_are_written_in_the_chosen_formats(tmp_path):
     assert _figures(out) == {"torques.png", "torques.pdf", "base_trajectory.png", "base_trajectory.pdf"}
 
 
+@pytest.mark.slow
 def test_the_command_line_choice_replaces_the_scene_s(tmp_path):
     """--figures NAME,... overrides the scene's set; 'all' draws every figure the run has."""
     scene = _scene(tmp_path, figures=["torques"])
@@ -78,6 +80,7 @@ def test_an_empty_set_writes_no_figure(tmp_path, how):
     assert _figures(tmp_path / "out") == set()
 
 
+@pytest.mark.slow
 def test_the_default_set_is_lean_and_true_means_it(tmp_path):
     """With no [output] figures (or true) the default job draws the default set: its tracking,
     torques and conservation figures."""
