@@ -278,6 +278,7 @@ def test_scene_with_an_unreachable_grasp_is_refused_before_running(tmp_path):
         prepare(scene)
 
 
+@pytest.mark.slow
 def test_planned_capture_scene_runs_its_three_phases(tmp_path):
     """capture_planned_planar, detumbling shortened: the grasp at the planned instant within the
     contact tolerance, the approach's simulated base rotation below the minimum-norm plan's by
@@ -360,6 +361,7 @@ def test_shifted_grasp_motion_moves_its_time_origin():
         np.testing.assert_allclose(a, b, atol=1e-14)
 
 
+@pytest.mark.slow
 def test_a_late_start_holds_the_posture_then_grasps_at_the_contact(tmp_path):
     """approach.start = 0.5 s with contact at 1.2 s: the joints stay at the start posture until
     0.5 s, move after it, and the hand grasps at the contact time within the tolerance."""

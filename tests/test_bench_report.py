@@ -25,6 +25,7 @@ def quick_run(tmp_path_factory):
     return main(["bench", "dual_arm", "--quick", "--out", str(out)]), out
 
 
+@pytest.mark.slow
 def test_quick_bench_writes_every_file(quick_run):
     """Exit 0 and bench.json, bench.csv, dual_arm.png and summary.txt are written."""
     status, out = quick_run
@@ -33,6 +34,7 @@ def test_quick_bench_writes_every_file(quick_run):
                                                                   "summary.txt"}
 
 
+@pytest.mark.slow
 def test_csv_and_json_hold_the_same_points(quick_run):
     """Every JSON point is a CSV row, with a positive time and a finite error."""
     _, out = quick_run
@@ -43,6 +45,7 @@ def test_csv_and_json_hold_the_same_points(quick_run):
     assert all(float(r["wall_time_s"]) > 0.0 and float(r["state_error"]) >= 0.0 for r in rows)
 
 
+@pytest.mark.slow
 def test_the_report_records_the_mujoco_that_ran(quick_run):
     """bench.json records the version of the MuJoCo imported, also where only mujoco-core (the
     bench extra) is installed and the meta package ``mujoco`` is not."""
@@ -51,6 +54,7 @@ def test_the_report_records_the_mujoco_that_ran(quick_run):
     assert json.loads((out / "bench.json").read_text())["versions"]["mujoco"] == mujoco.__version__
 
 
+@pytest.mark.slow
 def test_summary_has_one_line_per_band(quick_run):
     """The summary names, per accuracy band, the cheapest method of each package."""
     _, out = quick_run

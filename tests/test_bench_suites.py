@@ -20,10 +20,6 @@ from . import toy_suite
 
 #: The suites measured in parts (``bench_<name>.json``); the default one writes bench.json.
 PARTS_SUITES = [name for name, suite in SUITES.items() if not suite.takes_scenes]
-#: Each suite a case; the quick subset keeps the quickest (gjm: 1.5 s in a full run on busy cores),
-#: the others are marked slow.
-SUITE_CASES = [name if name == "gjm" else pytest.param(name, marks=pytest.mark.slow)
-               for name in PARTS_SUITES]
 TOY = Suite("toy", "a toy suite of tests/toy_suite.py", "tests.toy_suite")
 
 
@@ -129,7 +125,8 @@ def _values(value, key=""):
         yield key, value
 
 
-@pytest.mark.parametrize("name", SUITE_CASES)
+@pytest.mark.slow
+@pytest.mark.parametrize("name", PARTS_SUITES)
 def test_quick_suite_writes_its_json_and_chart(quick, name):
     """Exit 0, a completed report with settings and versions, its chart, and no other file."""
     status, out, report = quick(name)
@@ -138,7 +135,8 @@ def test_quick_suite_writes_its_json_and_chart(quick, name):
     assert {p.name for p in out.iterdir()} == {f"bench_{name}.json", f"bench_{name}.png", RECORD}
 
 
-@pytest.mark.parametrize("name", SUITE_CASES)
+@pytest.mark.slow
+@pytest.mark.parametrize("name", PARTS_SUITES)
 def test_quick_suite_numbers_are_finite(quick, name):
     """Every number is finite; the only nulls are accuracy bands no method reached."""
     _, _, report = quick(name)
@@ -271,7 +269,8 @@ CHECKS = {"simulation": _simulation, "integrators": _integrators, "gjm": _gjm, "
           "two_hands": _two_hands, "atlas": _atlas, "rollout": _rollout}
 
 
-@pytest.mark.parametrize("name", SUITE_CASES)
+@pytest.mark.slow
+@pytest.mark.parametrize("name", PARTS_SUITES)
 def test_quick_suite_numbers_agree(quick, name):
     """Each ratio the suite reports is the quotient of the two times it reports (and likewise)."""
     assert name in CHECKS, f"add a check of the {name} suite's numbers to CHECKS"

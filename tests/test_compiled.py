@@ -415,6 +415,7 @@ def test_world_and_local_conventions_give_the_same_run(monkeypatch, base):
         assert_same_telemetry(local, world, tol=1e-12)
 
 
+@pytest.mark.slow
 def test_capture_scene_detumbles_alike_in_both_loops(monkeypatch):
     """The capture_planar scene (grasp, then min-norm detumbling of the merged robot, compiled
     after the grasp) gives the Python loop's post-capture telemetry and solver residual."""

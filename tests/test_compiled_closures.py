@@ -97,6 +97,7 @@ def delassus_sensitivity(model, data, q, J, unmet, force):
     return float(kappa + kappa**2 * rho)
 
 
+@pytest.mark.slow
 @settings(max_examples=6, deadline=None)
 @given(case=random_robots(min_links=3, max_links=7))
 def test_random_closed_trees_run_alike_in_both_loops(tmp_path_factory, case):
@@ -206,6 +207,7 @@ def test_law_torques_equal_the_python_law_along_the_scene(two_hands):
     assert np.abs(force - law._force).max() <= 1e-9 * max(1.0, np.abs(law._force).max())
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("seed", [0, 1, 2, "stretched"])
 def test_law_torques_equal_the_python_law_at_random_states(two_hands, seed):
     """At random postures and rates of the scene's merged robot (loop held closed), with and

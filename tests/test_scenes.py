@@ -31,10 +31,11 @@ def test_default_scene_is_the_dissertation_chapter_4_task():
 
 
 ROBOT_SCENES = sorted(name for name, path in builtin_scenes().items() if isinstance(load_scene(path), Scene))
-#: The scenes that take over 1.5 s to prepare in a full run on busy cores (the satellite's meshes, a
-#: planned approach): marked slow, the other scenes stay in the quick subset.
-SLOW_TO_PREPARE = {"capture_planned_satellite", "capture_planned_two_hands_satellite", "capture_satellite",
-                   "capture_two_hands_satellite", "satellite_dual_arm", "satellite_wheels"}
+#: The scenes that take over 1 s to prepare on busy cores (the satellite's meshes, a planned
+#: approach): marked slow, the other scenes stay in the quick subset.
+SLOW_TO_PREPARE = {"capture_planned_planar", "capture_planned_planar_pose", "capture_planned_satellite",
+                   "capture_planned_two_hands_planar", "capture_planned_two_hands_satellite", "capture_satellite",
+                   "capture_two_hands_satellite", "satellite_dual_arm", "satellite_hands_joined", "satellite_wheels"}
 
 
 @pytest.mark.parametrize("name", [pytest.param(n, marks=pytest.mark.slow) if n in SLOW_TO_PREPARE else n
