@@ -155,7 +155,7 @@ def test_sliding_condition_holds_on_the_2rsu_ppap(rsu):
         q = rsu.assemble(point)
         for theta in gain_design.vertices(rsu):
             rates, e, edot, qdd_d = (rng.normal(size=3) * w for w in (0.3, 0.01, 0.1, 5.0))
-            reference = lambda t: (q[:3] + e, rates + edot, qdd_d)  # noqa: E731
+            reference = lambda t: (q[:3] + e, rates + edot, qdd_d)
             law = PlatformControl(rsu.mechanism, reference, lam, gains, "sign")
             tau, _, s = law.law(0.0, q, rsu.mechanism.velocity_map(q) @ rates)
             H, v, g, B = platform_dynamics(with_masses(rsu.mechanism, rsu.data, dict(zip(rsu.names, theta))), q, rates)

@@ -37,7 +37,8 @@ def unsupported(plant: Any, integrator: str, controller: Any, stop: Any) -> str 
     if type(plant).acceleration is not CoupledChainPlant.acceleration:
         return "the plant's acceleration is overridden in Python"
     if getattr(plant.mechanism, "core", None) is None:
-        return "the mechanism has no compiled core (numpy backend, or a non-square A°)"
+        return ("the mechanism has no compiled core (numpy backend, a non-square A°, a turning platform, or joint "
+                "armature or friction)")
     if controller is not None and _law(controller) is None:
         return "the controller has no compiled law"
     if stop is not None:

@@ -152,7 +152,8 @@ def run(
         controller: joint torques, or None for a torque-free run.
         wrenches: external wrenches on links.
         record_every: record one telemetry row every this many periods (and the last one).
-        progress: called with the number of periods done, about 200 times per run.
+        progress: called with the number of periods done: 0 as the loop starts (when its wall time
+            starts), then about 200 times, the last one at the end of the loop.
         stop: ``stop(t, q, v)`` after each period; True ends the run there with status
             ``"stopped"`` (an event such as a contact, not a failure).
         start_time: time of the first sample, s (to chain runs, e.g. one per model phase).
@@ -376,6 +377,8 @@ def _run_compiled(loop: compiled.CompiledLoop, q0: np.ndarray, v0: np.ndarray, s
     status, message = "completed", ""
     start = time.perf_counter()
     try:
+        if progress is not None:
+            progress(0)
         while loop.periods_done < steps:
             stop_request.check()  # a run on another thread is stopped here (Ctrl-C reaches the main one)
             chunk, row = rows.next_row()
@@ -384,7 +387,7 @@ def _run_compiled(loop: compiled.CompiledLoop, q0: np.ndarray, v0: np.ndarray, s
             rows.commit(written)
             if blow_up is not None:
                 raise OverflowError(blow_up)
-            if progress is not None and loop.periods_done % report_every == 0:
+            if progress is not None and (loop.periods_done % report_every == 0 or loop.periods_done == steps):
                 progress(loop.periods_done)
     except KeyboardInterrupt as stop:
         status, message = "interrupted", f"{stopped_by(stop)} at t = {start_time + loop.periods_done * control_period:.6g} s"
@@ -421,6 +424,8 @@ def _run_periods(engine: PythonPeriods | compiled.CompiledLoop, steps: int, cont
 
     start = time.perf_counter()
     try:
+        if progress is not None:
+            progress(0)
         for k in range(steps):
             stop_request.check()
             t = start_time + k * control_period
@@ -431,7 +436,7 @@ def _run_periods(engine: PythonPeriods | compiled.CompiledLoop, steps: int, cont
             if k % record_every == 0:
                 record(t)
             engine.step()
-            if progress is not None and (k + 1) % report_every == 0:
+            if progress is not None and ((k + 1) % report_every == 0 or k + 1 == steps):
                 progress(k + 1)
             if stop is not None and stop(start_time + (k + 1) * control_period, *engine.state):
                 status = "stopped"
