@@ -65,6 +65,7 @@ def test_summary_has_one_line_per_band(quick_run):
     assert all(line.startswith("dual_arm error <= ") and line.endswith("(smoke test)") for line in lines)
 
 
+@pytest.mark.slow
 def test_a_quick_bench_is_marked_a_smoke_test(quick_run):
     """--quick: bench.json says it is a smoke test, and so does the chart, in a band above it."""
     import matplotlib.pyplot as plt

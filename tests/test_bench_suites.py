@@ -329,6 +329,7 @@ def test_mujoco_suite_runs_its_scenes_through_suite(tmp_path):
                            for b in reached)
 
 
+@pytest.mark.slow
 def test_the_simulation_suite_prints_its_headline_ratios(quick):
     """``--suite simulation`` prints its headline ratios, one line per part, as measured (it
     printed no number)."""

@@ -151,6 +151,7 @@ def test_mechanism_scene_writes_every_artefact(mechanism_run):
                                                 "sliding_variables.png"}
 
 
+@pytest.mark.slow
 def test_mechanism_summary_records_provenance(mechanism_run):
     """The summary holds the metrics, the mechanism, the scene, the settings and the versions."""
     summary = mechanism_run[2]

@@ -137,6 +137,7 @@ def test_every_builtin_scene_calls_for_the_figures_of_its_task_and_controller():
         assert set(figure_set.called_for(load_scene(path))) == CALLED_FOR[name], name
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", ["rsu_ppap_computed_torque", "five_bar_free_base", "tumbling"])
 def test_a_run_writes_the_figures_its_task_calls_for(tmp_path, name):
     """With every figure chosen, a short run writes those its scene calls for, less those the

@@ -210,6 +210,7 @@ def _texts(fig) -> list[str]:
     return [t.get_text() for t in fig.texts] + [t.get_text() for ax in fig.axes for t in ax.texts]
 
 
+@pytest.mark.slow
 def test_the_pdf_opens_with_a_title_page_holding_the_provenance_as_a_table(report):
     """Page 1: the title and one table row per provenance item (commit, settings, each version,
     each study), its name in one column and its value in the other (no 'versions.pin: 4.1.0'
@@ -230,6 +231,7 @@ def test_the_pdf_opens_with_a_title_page_holding_the_provenance_as_a_table(repor
     assert pdf.count(b"/Type /Page") - pdf.count(b"/Type /Pages") == len(entries) + 1
 
 
+@pytest.mark.slow
 def test_a_quick_report_is_marked_on_its_title_every_page_and_every_figure(report):
     """--quick: the HTML page and the PDF's title and entry pages carry the quick mark, and each
     figure's picture carries it (bottom right, in red), which a full report's does not."""

@@ -274,6 +274,7 @@ def test_mesh_files_are_embedded(ur5, tmp_path):
         assert lowered["resources"] == {}
 
 
+@pytest.mark.slow
 def test_a_missing_mesh_leaves_the_other_meshes_and_a_stick_for_its_link(ur5, tmp_path):
     """UR5 with wrist2's mesh file missing: the page draws every other link's mesh, and on
     wrist2's joint the stick figure's pieces (its sphere, its link to the next joint); no other
