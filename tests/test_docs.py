@@ -183,13 +183,24 @@ def _control_laws_page(ns: dict) -> None:
     assert np.abs(tel.q[late, :2] - circle).max() < 5e-5
 
 
+def _sensors_page(ns: dict) -> None:
+    """The sensed detumbling run completes, the law read one recorded row per period, and the
+    estimated momentum ends within 4 of its standard deviations of the telemetry's (Pinocchio's
+    centroidal momentum) on the components a planar base conserves, closer than the readings' map."""
+    result, seen = ns["result"], ns["seen"]
+    assert result.status == "completed" and len(seen.t) == len(result.telemetry.t) - 1 == 500
+    truth, rows = result.telemetry.momentum[-2], [0, 1, 5]
+    assert np.all(np.abs(seen.estimate[-1, rows] - truth[rows]) < 4 * seen.spread[-1, rows])
+    assert np.all(seen.spread[-1, rows] < np.sqrt(np.mean((seen.momentum[100:] - truth) ** 2, axis=0))[rows])
+
+
 #: What each Python snippet of the pages claims, checked against a reference of its own.
 SNIPPET_CHECKS = {"README.md#python0": _readme_scene, "README.md#python1": _readme_tumbling,
                   "README.md#python2": _readme_closed_chain, "README.md#python3": _readme_many_runs,
                   "gjm.md#python0": _gjm_page,
                   "integrators.md#python0": _integrators_page,
                   "control_laws.md#python0": _control_laws_page, "first_hour.md#python0": _first_hour,
-                  "parallel.md#python0": _parallel_page}
+                  "parallel.md#python0": _parallel_page, "sensors.md#python0": _sensors_page}
 
 
 @pytest.mark.slow

@@ -102,7 +102,7 @@ class ParallelMechanism:
             platform coordinates, the minimum-norm efforts when there are more.
         backend: ``"compiled"`` (default): one point at a time (:meth:`forward`, :meth:`inverse`
             and :meth:`assemble` at one q, :meth:`inverse_trajectory`) runs in the compiled core
-            (``cpp/parallel.hpp``) when A° is square; ``"numpy"``: everything in this module and
+            (``cpp/chains/mechanism.hpp``) when A° is square; ``"numpy"``: everything in this module and
             serial.py, the reference. Batched calls always use numpy.
     """
 
@@ -133,7 +133,7 @@ class ParallelMechanism:
     def core(self) -> MechanismCore | None:
         """The compiled core of this mechanism, or None: numpy backend, a non-square A°,
         angular constraints with ``P != 0`` (the compiled closure residual has no ``P q#`` term:
-        ``cpp/parallel.cpp``'s ``evaluate_closure``), or armature or friction on a joint (the
+        ``cpp/chains/mechanism.cpp``'s ``evaluate_closure``), or armature or friction on a joint (the
         core has neither; see :attr:`rigid`)."""
         return self._compiled if self.rigid else None
 
