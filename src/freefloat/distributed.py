@@ -26,6 +26,8 @@ from .errors import FreefloatError
 from .extras import require
 
 
+tqdm.monitor_interval = 0  # no monitor thread: a signal at exit made its atexit hook print a traceback
+
 #: Seconds between a pool worker's looks at whether the process that made it is still there.
 PARENT_WATCH_S = 0.5
 

@@ -25,7 +25,6 @@ of the registry steps it unchanged.
 
 from __future__ import annotations
 
-import difflib
 from collections.abc import Sequence
 from dataclasses import dataclass, fields, replace
 from pathlib import Path
@@ -34,7 +33,7 @@ from typing import NamedTuple
 import numpy as np
 import pinocchio as pin
 
-from ..errors import FreefloatError, InvalidArgument
+from ..errors import FreefloatError, InvalidArgument, did_you_mean
 from ..inputs import read_toml, reject_unknown
 from .friction import SLIP_SPEED, JointFriction
 
@@ -182,9 +181,8 @@ def read_motors(path: str | Path, joints: Sequence[str]) -> MotorFile:
     out, names = [], []
     for joint in joints:
         if joint not in spec["actuators"]:
-            close = difflib.get_close_matches(joint, list(spec["actuators"]), n=1)
-            hint = f" (the file has '{close[0]}')" if close else ""
-            raise FreefloatError(f"{path}: no '[actuators.{joint}]' for joint '{joint}'{hint}")
+            raise FreefloatError(f"{path}: no '[actuators.{joint}]' for joint '{joint}'"
+                                 f"{did_you_mean(joint, spec['actuators'], 'actuators in the file')}")
         table = spec["actuators"][joint]
         reject_unknown(f"{path}: ", table, ACTUATOR_KEYS, f"actuators.{joint}")
         for key in ("motor", "gear_ratio"):
@@ -192,10 +190,8 @@ def read_motors(path: str | Path, joints: Sequence[str]) -> MotorFile:
                 raise FreefloatError(f"{path}: '[actuators.{joint}]' lacks '{key}'")
         model = table["motor"]
         if model not in motors:
-            close = difflib.get_close_matches(str(model), list(motors), n=1)
-            hint = f" (did you mean '{close[0]}'?)" if close else ""
-            raise FreefloatError(f"{path}: 'actuators.{joint}.motor' names '{model}', which is no [motors] entry{hint}; "
-                                 f"motors: {', '.join(motors)}")
+            raise FreefloatError(f"{path}: 'actuators.{joint}.motor' names '{model}', which is no [motors] entry"
+                                 f"{did_you_mean(model, motors, 'motors')}")
         drive = {k: _number(path, f"actuators.{joint}.{k}", table[k]) for k in ACTUATOR_KEYS[1:] if k in table}
         try:
             out.append(DCMotor(**motors[model], **drive))
