@@ -109,6 +109,7 @@ def test_inverse_dynamics_efforts_give_the_platform_motion_in_pinocchio(loaded):
         np.testing.assert_allclose([linear[0], linear[1], angular[2]], qdd_sharp, atol=1e-10)
 
 
+@pytest.mark.slow
 def test_free_motion_agrees_with_pinocchio(loaded):
     """Falling and turning for 0.1 s from a turned pose with the platform spinning at 2 rad/s (RK4,
     1 ms, no stabilisation), Orsino's 3-RRR and Pinocchio's constrained dynamics follow the same
@@ -123,6 +124,7 @@ def test_free_motion_agrees_with_pinocchio(loaded):
     assert max(np.abs(p - loaded.pinocchio_q(o)).max() for p, o in zip(pinocchio, orsino)) < 1e-8
 
 
+@pytest.mark.slow
 def test_computed_torque_on_the_angle_follows_its_closed_form(loaded):
     """The platform law (eq 190, lambda = 40, exact model, evaluated at every RK4 stage) on the
     rotating platform's coordinates, a 2 cm circle in (x, y) with rz held at 0.2 rad, from rest
