@@ -76,10 +76,10 @@ DEPENDENCIES = [
     "pin>=4.1,<5",
     "example-robot-data>=6.0",
     "yourdfpy>=0.0.56",
-    "numpy>=1.24",
-    "scipy>=1.10",
+    "numpy>=2.0",
+    "scipy>=1.13",
     "meshcat>=0.3.2",
-    "matplotlib>=3.7",
+    "matplotlib>=3.10.7",
     "tqdm>=4.60",
     "threadpoolctl>=3.1",
 ]

@@ -257,6 +257,7 @@ def test_null_space_turns_the_base_far_less_than_min_norm(satellite):
     assert mn.attitude_change > 5 * rns.attitude_change
 
 
+@pytest.mark.slow
 def test_optimised_plan_keeps_the_limits_where_min_norm_breaks_them(planar):
     """With a torque limit the minimum-norm plan exceeds, the optimised plan meets the grasp
     within tolerance, keeps every joint rate and torque within the limits on the fine grid, and
@@ -325,6 +326,7 @@ def test_scene_with_an_unreachable_grasp_is_refused_before_running(tmp_path):
         prepare(scene)
 
 
+@pytest.mark.slow
 def test_planned_capture_scene_runs_its_three_phases(tmp_path):
     """capture_planned_planar, detumbling shortened: the grasp at the planned instant within the
     contact tolerance, the approach's simulated base rotation below the minimum-norm plan's by
@@ -343,6 +345,7 @@ def test_planned_capture_scene_runs_its_three_phases(tmp_path):
     assert out.extra_telemetry["pre_capture"].t[-1] == pytest.approx(scene.target.contact_time)
 
 
+@pytest.mark.slow
 def test_a_planned_capture_draws_its_approach_tracking(tmp_path):
     """A planned capture written to a folder has the approach's joint tracking figure, whose
     data is the pre-capture phase's plan minus its positions, and its summary points there for the
@@ -383,6 +386,7 @@ def test_two_hand_plan_puts_both_hands_on_their_grasp_points(planar):
     assert plan.attitude.max() < 1e-6
 
 
+@pytest.mark.slow
 def test_planned_two_hand_capture_scene_grasps_at_the_planned_instant(tmp_path):
     """capture_planned_two_hands_planar, detumbling cut short: both hands grasp at the contact
     time within the contact tolerance, the base turned far less than by the minimum-norm plan."""
@@ -405,6 +409,7 @@ def test_shifted_grasp_motion_moves_its_time_origin():
         np.testing.assert_allclose(a, b, atol=1e-14)
 
 
+@pytest.mark.slow
 def test_a_late_start_holds_the_posture_then_grasps_at_the_contact(tmp_path):
     """approach.start = 0.5 s with contact at 1.2 s: the joints stay at the start posture until
     0.5 s, move after it, and the hand grasps at the contact time within the tolerance."""
@@ -460,6 +465,7 @@ def test_a_pose_plan_puts_the_hand_on_its_handle(fixture, request):
     assert plan.position_error < req.tolerance and plan.attitude.max() < 1e-6
 
 
+@pytest.mark.slow
 def test_matching_the_pose_shrinks_the_grasp_impulse(tmp_path):
     """capture_planned_planar with match = "pose": the hand turns with the target at the grasp
     (angular velocity mismatch below 1e-3 rad/s, against the target's 17 deg/s with position

@@ -162,6 +162,7 @@ def test_a_law_compiles_on_its_own_model_only_for_the_plants_structure():
     assert law_and_robot(controller(four), plant)[1] is four and law_and_robot(controller(two), plant) == (None, None)
 
 
+@pytest.mark.slow
 def test_a_detumbling_controller_on_other_masses_than_the_plant_keeps_its_own_model():
     """The detumbling law designed on the nominal robot, the plant 20 % heavier: the compiled run
     (the law in C++, H*, c* and the generalized Jacobian on the nominal model) gives the Python
@@ -272,6 +273,7 @@ def never(*args, **kwargs):
     raise AssertionError("the compiled run called Python between periods")
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", DETUMBLE_SCENES)
 def test_detumble_scene_runs_whole_chunks_like_the_python_loop(name, monkeypatch):
     """A detumble_impulse scene (a ramped 500 N m impulse, then the detumbling law) gives the
@@ -413,6 +415,7 @@ def test_world_and_local_conventions_give_the_same_run(monkeypatch, base):
         assert_same_telemetry(local, world, tol=1e-12)
 
 
+@pytest.mark.slow
 def test_capture_scene_detumbles_alike_in_both_loops(monkeypatch):
     """The capture_planar scene (grasp, then min-norm detumbling of the merged robot, compiled
     after the grasp) gives the Python loop's post-capture telemetry and solver residual."""

@@ -205,6 +205,7 @@ SNIPPET_CHECKS = {"README.md#python0": _readme_scene, "README.md#python1": _read
                   "parallel.md#python0": _parallel_page, "sensors.md#python0": _sensors_page}
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize(("where", "code"), blocks("python"), ids=[w for w, _ in blocks("python")])
 def test_python_snippet_runs_and_its_numbers_hold(where, code, tmp_path, monkeypatch):
     """The snippet executes (from a fresh folder) and what it computes agrees with an independent
@@ -269,6 +270,7 @@ def site(tmp_path_factory):
     return done, folder
 
 
+@pytest.mark.slow
 def test_site_builds_with_warnings_as_errors(site):
     """``mkdocs build --strict`` succeeds (skipped without the docs extra)."""
     done, folder = site
@@ -276,6 +278,7 @@ def test_site_builds_with_warnings_as_errors(site):
     assert (folder / "index.html").is_file()
 
 
+@pytest.mark.slow
 def test_api_reference_renders_sphinx_roles_as_links(site):
     """No Sphinx role of the docstrings (``:func:`run```) reaches the API reference as text; one
     naming a documented object is a link to it (``:func:`run``` in ``freefloat.dynamics.simulation``,

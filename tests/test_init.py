@@ -63,6 +63,7 @@ def test_an_unknown_name_is_an_attribute_error():
         freefloat.dynamics.integrator  # noqa: B018
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("argv", [["--version"], ["--help"], ["batch", "--help"], ["reproduce", "--help"],
                                   ["bench", "--help"]])
 def test_the_command_line_answers_without_heavy_libraries(argv):

@@ -47,6 +47,7 @@ def one_by_one(robot, q0, v0, duration, integrator, model, controllers=None, **k
                 backend="compiled", **kwargs) for i, (q, v) in enumerate(zip(q0, v0))]
 
 
+@pytest.mark.slow
 @settings(max_examples=6, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
 @given(case=random_robots(max_links=6), integrator=st.sampled_from(["rkmk4", "dopri5", "euler"]),
        threads=st.integers(1, 3))
@@ -138,6 +139,7 @@ def test_controlled_runs_of_other_masses_keep_the_nominal_law():
     assert np.abs(own.telemetry.tau - results[0].telemetry.tau).max() > 1e-6
 
 
+@pytest.mark.slow
 def test_runs_of_the_closed_plant_equal_their_own_runs():
     """The two hands joined by a weld (the constrained dynamics with Baumgarte): three runs from
     the scene's start with other joint rates, equal to each run alone."""

@@ -37,6 +37,7 @@ def test_auto_locks_the_held_arms_when_the_error_stays_under_the_tolerance(tmp_p
     assert ((resolved.simulation.model, resolved.simulation.lock) == ("exact", "auto")) == faster
 
 
+@pytest.mark.slow
 def test_a_tolerance_below_the_locking_error_keeps_the_full_plant(tmp_path):
     """With a 1e-12 tolerance the locked plant's pilot error is too large, and the full exact plant is kept."""
     tight = quiet_scene(tmp_path, task=ONE_ARM_TASK, simulation={"duration": 1.0, "model": "auto", "tolerance": 1e-12})

@@ -59,6 +59,7 @@ def test_a_python_call_into_a_used_folder_names_python_arguments(tmp_path):
     assert "--" not in str(refused.value) and (tmp_path / "mine" / "notes.txt").read_text() == "mine"
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM, signal.SIGHUP])
 def test_sigint_sigterm_and_sighup_keep_what_was_computed(tmp_path, signum):
     """A run stopped by Ctrl-C (SIGINT), SIGTERM or SIGHUP exits 1 and writes its samples."""
@@ -84,6 +85,7 @@ def _start(tmp_path, duration: float) -> tuple[subprocess.Popen, "os.PathLike"]:
     return proc, out
 
 
+@pytest.mark.slow
 def test_a_killed_run_leaves_loadable_checkpoints(tmp_path):
     """SIGKILL mid-run leaves the telemetry checkpointed so far, readable and in order."""
     from freefloat.app.run_folder import PARTS
@@ -173,6 +175,7 @@ def test_an_interrupt_during_the_model_pilot_stops_the_run(tmp_path, monkeypatch
     assert 0 < len(Telemetry.load(tmp_path / "out" / "telemetry.npz").t) < 5001
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("gap", [0.0, 0.05, 0.3])
 def test_a_second_ctrl_c_keeps_the_telemetry_and_summary(tmp_path, gap):
     """Ctrl-C twice in a row (``gap`` s apart) stops the run once and still writes its
@@ -190,6 +193,7 @@ def test_a_second_ctrl_c_keeps_the_telemetry_and_summary(tmp_path, gap):
     assert len(t) > 1 and np.all(np.diff(t) > 0)
 
 
+@pytest.mark.slow
 def test_writing_stages_come_after_the_simulation_in_order(tmp_path):
     """simulate reports every simulated step before its first writing stage, then the stages in
     the order they write (data, page, then the figures the helper drew meanwhile): a progress bar
@@ -203,6 +207,7 @@ def test_writing_stages_come_after_the_simulation_in_order(tmp_path):
     assert [name for _, name in events[first_stage:]] == ["data", "trajectory.html", "figures_meanwhile"]
 
 
+@pytest.mark.slow
 def test_simulate_closes_its_bar_before_writing_and_times_each_stage(tmp_path):
     """The command's bar ends at the last step, then one line per writing stage with its time."""
     path = scene_variant(tmp_path / "s.toml", "four_arm_joint_space", simulation={"duration": 0.05})
@@ -231,6 +236,7 @@ def test_simulate_takes_a_path_and_writes_only_into_out(tmp_path, monkeypatch):
     assert alone.summary["tracking_rms_overall"] == done.summary["tracking_rms_overall"]
 
 
+@pytest.mark.slow
 def test_an_interrupt_while_writing_exits_1_with_the_data_whole(tmp_path):
     """SIGTERM while the page is written (the helper drawing the figures): exit 1 saying so (it
     was 0, as if all were written), telemetry and summary whole, the figures listed as skipped."""

@@ -40,6 +40,7 @@ def test_torque_free_motion_conserves_momentum_and_energy(tmp_path_factory, back
     np.testing.assert_allclose(tel.com, tel.com[0] + np.outer(tel.t, tel.momentum[0, :3]) / pin.computeTotalMass(robot.model), atol=1e-7)
 
 
+@pytest.mark.slow
 @BOTH
 @settings(max_examples=10, deadline=None)
 @given(random_robots(max_links=6))

@@ -148,7 +148,7 @@ void Mechanism::evaluate_closure(const double* q, DVec& residual, DMat& A) {
   A.topLeftCorner(m_lin, p) = D;
   A.topRightCorner(m_lin, n_q - p) = -(E * Jv + F);
   if (angular) {
-    residual.tail(m_ang) = offset - Q * phi - R * qo;
+    residual.tail(m_ang) = offset + P * qs - Q * phi - R * qo;
     A.bottomLeftCorner(m_ang, p) = P;
     A.bottomRightCorner(m_ang, n_q - p) = -(Q * Jw + R);
   }

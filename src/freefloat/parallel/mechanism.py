@@ -138,16 +138,14 @@ class ParallelMechanism:
 
     @property
     def core(self) -> MechanismCore | None:
-        """The compiled core of this mechanism, or None: numpy backend, a non-square A°,
-        angular constraints with ``P != 0`` (the compiled closure residual has no ``P q#`` term:
-        ``cpp/chains/mechanism.cpp``'s ``evaluate_closure``), or armature or friction on a joint (the
-        core has neither; see :attr:`rigid`)."""
+        """The compiled core of this mechanism, or None: numpy backend, a non-square A°, or
+        armature or friction on a joint (the core has neither; see :attr:`rigid`)."""
         return self._compiled if self.rigid else None
 
     @functools.cached_property
     def _compiled(self) -> MechanismCore | None:
         """The compiled core of the rigid-body terms (no armature, no friction), or None."""
-        if self.backend != "compiled" or not self.square or self.rotates:
+        if self.backend != "compiled" or not self.square:
             return None
         return MechanismCore(*self.core_arrays())
 
