@@ -38,6 +38,7 @@ def test_importing_freefloat_loads_no_public_module():
 LAB = ("freefloat.app.atlas.", "freefloat.app.bench.", "freefloat.app.reproduce.")
 
 
+@pytest.mark.slow
 def test_every_module_is_an_attribute_after_importing_freefloat():
     """After ``import freefloat`` alone, every subpackage and module is reachable as an attribute
     chain (``freefloat.gjm.compute``, ``freefloat.dynamics.integrators``), imported on first use
