@@ -58,8 +58,8 @@ def _readme_scene(ns: dict) -> None:
     from freefloat import Telemetry
 
     run, outcome = ns["run"], ns["outcome"]
-    summary = run.outcome.summary
-    assert run.outcome.status == "completed" and summary["tracking_rms_overall"] <= 4.91e-7
+    summary = run.summary
+    assert run.status == "completed" and summary["tracking_rms_overall"] <= 4.91e-7
     assert summary["com_drift_max"] < 1e-8 and outcome.summary["momentum_drift_max"] < 1e-12
     assert json.loads((run.folder / "summary.json").read_text())["tracking_rms_overall"] == summary["tracking_rms_overall"]
     assert len(Telemetry.load(run.folder / "telemetry.npz").t) == summary["steps"] + 1
@@ -82,13 +82,14 @@ def _readme_many_runs(ns: dict) -> None:
 def _readme_tumbling(ns: dict) -> None:
     """The torque-free tumbling run conserves its momentum (a conservation law) and ends where an
     independent integration (dopri5 at rtol 1e-12) ends."""
+    from freefloat import make_model
     from freefloat.dynamics.integrators import make_integrator
 
     result, robot = ns["result"], ns["robot"]
     momentum = result.telemetry.momentum
     assert result.status == "completed"
     assert np.abs(momentum - momentum[0]).max() < 1e-12 * max(1.0, np.abs(momentum).max())
-    model = ns["make_model"]("exact", robot)
+    model = make_model("exact", robot)
     f = lambda q, v: model.acceleration(q, v, np.zeros(robot.model.nv))  # noqa: E731
     q, v = make_integrator("dopri5", robot.model, rtol=1e-12, atol=1e-14).advance(f, ns["q0"], ns["v0"], 1.0)
     assert np.abs(v - result.telemetry.v[-1]).max() < 1e-8
@@ -125,7 +126,7 @@ def _integrators_page(ns: dict) -> None:
 def _readme_closed_chain(ns: dict) -> None:
     """The compiled RKMK6 run ends where scipy's DOP853 (rtol 1e-12, the Python loop, another
     integrator and loop) ends, with the loop held closed."""
-    from freefloat import track
+    from freefloat.parallel.closed_loop import track
 
     result = ns["result"]
     assert result.status == "completed" and result.backend == "compiled"
@@ -141,10 +142,10 @@ def _first_hour(ns: dict) -> None:
     CoM still and the momentum constant (no external force, at rest at the start: conservation
     laws checked on the telemetry itself); the unwritten tumbling run conserves its momentum."""
     run, saved, on_disk, outcome = ns["run"], ns["saved"], ns["on_disk"], ns["outcome"]
-    telemetry = run.outcome.telemetry
-    assert run.outcome.status == "completed" and run.folder.name == "first"
+    telemetry = run.telemetry
+    assert run.status == "completed" and run.folder.name == "first"
     assert np.array_equal(saved.q, telemetry.q) and np.array_equal(saved.tau, telemetry.tau)
-    assert on_disk["tracking_rms_overall"] == run.outcome.summary["tracking_rms_overall"] <= 4.91e-7
+    assert on_disk["tracking_rms_overall"] == run.summary["tracking_rms_overall"] <= 4.91e-7
     assert np.abs(telemetry.com - telemetry.com[0]).max() < 1e-12
     assert np.abs(telemetry.momentum).max() < 1e-12
     assert outcome.status == "completed" and not (Path.cwd() / "runs" / "tumbling").exists()
@@ -156,13 +157,14 @@ def _parallel_page(ns: dict) -> None:
     """The motor-driven 5R under the voltage drive ends where the same closed loop integrated by
     DOP853 (rtol 1e-12, a fresh drive) ends, to RK4's error on the windings at 0.1 ms (L/R =
     0.26 ms), with the loop held closed."""
-    from freefloat.dynamics.simulation import run_plant
+    from freefloat import run
     from freefloat.dynamics.voltage_drive import VoltageDrive
 
     result, plant, motors = ns["result"], ns["plant"], ns["motors"]
     assert result.status == "completed" and result.telemetry.drift.max() < 1e-9
     drive = VoltageDrive(ns["law"], plant, motors.motors, bandwidth=3500.0, period=1e-4)
-    reference = run_plant(plant, ns["q0"], np.zeros(plant.space.nv), 0.01, 1e-4, "dop853", drive, rtol=1e-12, atol=1e-12)
+    reference = run(plant, ns["q0"], np.zeros(plant.space.nv), 0.01, 1e-4, "dop853", controller=drive, rtol=1e-12,
+                    atol=1e-12)
     np.testing.assert_allclose(result.telemetry.q[-1], reference.telemetry.q[-1], atol=2e-5)  # 1.9e-6 measured
     np.testing.assert_allclose(result.telemetry.v[-1], reference.telemetry.v[-1], atol=1e-3)  # 1.1e-4 A measured
 

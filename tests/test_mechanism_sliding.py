@@ -46,8 +46,8 @@ def test_recorded_s_is_the_law_definition_from_the_platform_error_and_its_rate(t
 def test_s_is_saved_and_drawn(tmp_path):
     """telemetry.npz carries ``sliding`` (N, 2) and the run folder has the figure sliding_variables."""
     out = tmp_path / "run"
-    runner.run_scene(load_scene(scene_variant(tmp_path / "s.toml", "five_bar_sliding_mode",
-                                              simulation={"duration": 0.01})), out)
+    runner.simulate(load_scene(scene_variant(tmp_path / "s.toml", "five_bar_sliding_mode",
+                                             simulation={"duration": 0.01})), out=out)
     saved = MechanismTelemetry.load(out / "telemetry.npz")
     assert saved.sliding.shape == saved.platform.shape
     assert (out / "sliding_variables.png").is_file()

@@ -33,8 +33,8 @@ def test_a_robot_run_writes_its_figures_without_importing_matplotlib(tmp_path):
     """The default job's figures are written, in the run's order, and the run's process has not
     imported matplotlib (the helper drew them)."""
     code = ("import sys, warnings; warnings.simplefilter('ignore')\n"
-            "from freefloat.app.runner import run_scene\n"
-            f"done = run_scene({str(tmp_path / 'scene.toml')!r}, {str(tmp_path / 'out')!r})\n"
+            "from freefloat.app.runner import simulate\n"
+            f"done = simulate({str(tmp_path / 'scene.toml')!r}, out={str(tmp_path / 'out')!r})\n"
             "print(' '.join(p.name for p in done.written))\n"
             "print(any(m == 'matplotlib' or m.startswith('matplotlib.') for m in sys.modules))\n")
     scene_variant(tmp_path / "scene.toml", "four_arm_joint_space", **SHORT)

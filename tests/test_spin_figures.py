@@ -46,7 +46,7 @@ def test_capture_and_detumble_scenes_write_the_angular_momentum_figure(tmp_path)
     """capture_planar (after the grasp) and a detumble impulse scene write angular_momentum."""
     for name in ("capture_planar", "detumble_impulse_arm1_joint4"):
         out = tmp_path / name
-        runner.run_scene(load_scene(scene_variant(tmp_path / f"{name}.toml", name, simulation={"duration": 0.6})), out)
+        runner.simulate(load_scene(scene_variant(tmp_path / f"{name}.toml", name, simulation={"duration": 0.6})), out=out)
         assert (out / "angular_momentum.png").is_file()
 
 

@@ -82,13 +82,14 @@ def test_a_rerun_resumes_from_the_finished_samples(dask_client):
 
 @pytest.mark.parametrize("address", ["tcp://127.0.0.1:1", "foo", "udp://x:1"])
 def test_bad_or_dead_schedulers_are_named_quickly(address):
-    """A malformed address or one where nothing listens is an error naming it, within seconds."""
+    """A malformed address or one where nothing listens is an error naming it (as the Python
+    argument ``scheduler``), within seconds."""
     import time
 
-    from freefloat import FreefloatError
+    from freefloat import InvalidArgument
 
     start = time.perf_counter()
-    with pytest.raises(FreefloatError, match=f"--scheduler '{address}'"):
+    with pytest.raises(InvalidArgument, match=f"^scheduler '{address}'"):
         client(address, connect_timeout=2.0)
     assert time.perf_counter() - start < 5.0
 

@@ -12,7 +12,7 @@ import pinocchio as pin
 import pytest
 
 from freefloat.app.experiments.joint_space import prepare
-from freefloat.app.runner import run_scene, simulate
+from freefloat.app.runner import simulate
 from freefloat.dynamics.metrics import rotation_angle
 from freefloat.robot.wheels import Wheels
 from freefloat.space.control.wheel_attitude import WheelAttitudeControl
@@ -153,12 +153,12 @@ def test_a_wheel_run_writes_its_telemetry_and_figure(tmp_path):
     """A wheel scene's run folder holds ``telemetry_wheels.npz`` (one row per sample) and the
     ``reaction_wheels`` figure, and its summary the wheels' keys."""
     scene = short_scene(tmp_path, output={"figures": True})
-    run = run_scene(scene, tmp_path / "run")
+    run = simulate(scene, out=tmp_path / "run")
     folder = run.folder
     data = np.load(folder / "telemetry_wheels.npz")
     assert data["momentum"].shape == (len(np.load(folder / "telemetry.npz")["t"]), 3)
     assert (folder / "reaction_wheels.png").is_file()
-    assert "wheel_saturated" in run.outcome.summary
+    assert "wheel_saturated" in run.summary
 
 
 @pytest.mark.slow

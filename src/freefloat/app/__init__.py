@@ -10,3 +10,7 @@ seeded varied runs of a scene, serially, on a process pool or on Dask) and ``cli
 May import every layer below: :mod:`freefloat.space`, :mod:`freefloat.parallel`,
 :mod:`freefloat.dynamics`, :mod:`freefloat.robot`. Nothing imports it but the command line.
 """
+
+from ..lazy import lazy_modules  # noqa: E402
+
+__getattr__ = lazy_modules(__name__)  # its modules, imported on first use as attributes

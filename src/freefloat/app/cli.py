@@ -14,7 +14,7 @@ from importlib.metadata import version
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from ..errors import FreefloatError, SceneError, did_you_mean
+from ..errors import FreefloatError, InvalidArgument, SceneError, command_line, did_you_mean
 from .atlas.kinds import KINDS as ATLAS_KINDS
 from .bench.suites import ALL as ALL_SUITES
 from .bench.suites import DEFAULT as DEFAULT_SUITE
@@ -26,7 +26,7 @@ from .shown_warnings import HeldWarnings, shown_warnings
 from .signals import arrived_before_main, signals_deferred, signals_raise_keyboard_interrupt
 
 if TYPE_CHECKING:
-    from .runner import SceneRun
+    from .experiments import Outcome
     from .viz.live import LiveView
 
 #: What ``freefloat --help`` says first (plain text: the terminal shows no markup).
@@ -141,7 +141,7 @@ def main(argv: list[str] | None = None) -> int:
                 importlib.import_module(HEAVY[args.command], __package__)
         if early.is_set() or early_too:
             raise KeyboardInterrupt("while starting; nothing was written")
-        with signals_raise_keyboard_interrupt():  # SIGTERM and SIGHUP are Ctrl-C to the very end
+        with signals_raise_keyboard_interrupt(), command_line():  # SIGTERM, SIGHUP: Ctrl-C; messages name options
             return commands_run[args.command](args)
     except FreefloatError as exc:
         print(f"freefloat: error: {exc}", file=sys.stderr)
@@ -214,7 +214,7 @@ def _atlas(args: argparse.Namespace) -> int:
     if args.dask or args.scheduler is not None:
         require("dask", "freefloat atlas --dask")
     if args.scheduler is not None and args.workers is not None:
-        raise FreefloatError("--workers sets the size of a local cluster; with --scheduler the scheduler's workers run")
+        raise InvalidArgument("--workers sets the size of a local cluster; with --scheduler the scheduler's workers run")
     workers = Workers(args.workers or (2 if args.dask else 1), args.dask or args.scheduler is not None, args.scheduler)
     options = Options(grid=args.grid, axes=tuple(args.axes.split(",")) if args.axes else None,
                       end_effector=args.end_effector, momentum=tuple(args.momentum) if args.momentum else None,
@@ -251,7 +251,7 @@ def _pairs(text: str | None) -> tuple[tuple[str, float], ...] | None:
         try:
             pairs.append((name.strip(), float(value)))
         except ValueError:
-            raise FreefloatError(f"--posture: '{item}' is not JOINT=VALUE (e.g. elbow_joint=30)") from None
+            raise InvalidArgument(f"--posture: '{item}' is not JOINT=VALUE (e.g. elbow_joint=30)") from None
     return tuple(pairs)
 
 
@@ -271,7 +271,7 @@ def _batch(args: argparse.Namespace) -> int:
     if args.dask or args.scheduler is not None:
         require("dask", "freefloat batch --dask" if args.dask else "freefloat batch --scheduler")
     if args.scheduler is not None and args.workers is not None:
-        raise FreefloatError("--workers sets the size of a local cluster; with --scheduler the scheduler's workers run")
+        raise InvalidArgument("--workers sets the size of a local cluster; with --scheduler the scheduler's workers run")
     default = 2 if args.dask or args.scheduler else 1
     workers = Workers(default if args.workers is None else args.workers, args.dask or args.scheduler is not None,
                       args.scheduler, args.threads)
@@ -378,11 +378,11 @@ def _verify(args: argparse.Namespace) -> int:
     from ..robot.loading import load_robot
 
     if not 1 <= args.samples <= MAX_SAMPLES:
-        raise FreefloatError(f"--samples must be from 1 to {MAX_SAMPLES}, got {args.samples}")
+        raise InvalidArgument(f"--samples must be from 1 to {MAX_SAMPLES}, got {args.samples}")
     if args.seed < 0:
-        raise FreefloatError(f"--seed must be >= 0, got {args.seed}")
+        raise InvalidArgument(f"--seed must be >= 0, got {args.seed}")
     if args.json is not None and (args.json.is_dir() or not args.json.parent.is_dir()):
-        raise FreefloatError(f"--json {args.json}: must be a file in an existing folder")
+        raise InvalidArgument(f"--json {args.json}: must be a file in an existing folder")
     with shown_warnings():
         robot = load_robot(args.urdf, visuals=False)
     report = check_robot(robot, samples=args.samples, seed=args.seed)
@@ -391,7 +391,7 @@ def _verify(args: argparse.Namespace) -> int:
         try:
             write_report(report, args.json)
         except OSError as exc:
-            raise FreefloatError(f"--json {args.json}: cannot write ({exc.strerror or exc})") from exc
+            raise InvalidArgument(f"--json {args.json}: cannot write ({exc.strerror or exc})") from exc
     return 0 if report.passed else 1
 
 
@@ -417,7 +417,7 @@ def _simulate(args: argparse.Namespace) -> int:
         from .viz import rendering
 
         rendering.warm_up()  # the figure helper starts while this process imports, prepares and simulates
-    from .runner import prepare, run_scene, total_steps
+    from .runner import prepare, simulate, total_steps
 
     out = args.out or default_folder(scene.name)
     with shown_warnings() as held:
@@ -430,12 +430,12 @@ def _simulate(args: argparse.Namespace) -> int:
         stages.bar = LoopBar(total_steps(scene), scene.name, "step", args.quiet, started=held.release,
                              ended=lambda: stages.begin("summarising the run"))
         try:
-            done = run_scene(scene, out, progress=stages.bar, overwrite=args.overwrite, setup=setup,
-                             watch=live.show if live else None, stage=stages)
+            done = simulate(scene, out=out, overwrite=args.overwrite, progress=stages.bar, setup=setup,
+                            checkpoint=live.show if live else None, stage=stages)
             stages.finish()
             status = _report(done, experiment_for(scene).units)
             if live is not None:
-                tel = done.outcome.telemetry
+                tel = done.telemetry
                 print("replaying the run in the live viewer")
                 live.replay(tel.t, tel.q)
                 if sys.stdin.isatty():
@@ -510,23 +510,23 @@ def _released(held: HeldWarnings, show: Callable[[str], None]) -> Callable[[str]
     return show_line
 
 
-def _report(done: SceneRun, units: dict[str, str]) -> int:
-    """Print a run's outcome and its headline summary keys (:func:`~.summary_text.shown`, in
-    ``units``); the exit status (1 when it stopped early, or an interrupt cut its drawings short)."""
+def _report(outcome: Outcome, units: dict[str, str]) -> int:
+    """Print a written run's outcome and its headline summary keys (:func:`~.summary_text.shown`,
+    in ``units``); the exit status (1 when it stopped early, or an interrupt cut its drawings short)."""
     from .summary_text import shown
 
-    outcome, out = done.outcome, done.folder
+    out = outcome.folder
     print(f"{outcome.status}: {outcome.steps} steps in {outcome.wall_time_s:.2f} s -> {out}")
     for key in outcome.headline:
         if key in outcome.summary:
             print(f"  {key}: {shown(outcome.summary[key], units.get(key, ''))}")
-    print(f"  wrote: {', '.join(p.name for p in done.written)}")
-    if done.skipped:
-        print(f"  skipped: {', '.join(done.skipped)}")
+    print(f"  wrote: {', '.join(p.name for p in outcome.written)}")
+    if outcome.skipped:
+        print(f"  skipped: {', '.join(outcome.skipped)}")
     if not outcome.completed:
         print(f"freefloat: run stopped early: {outcome.message} (partial results kept in {out})", file=sys.stderr)
         return 1
-    if done.interrupted_writing:
+    if outcome.interrupted_writing:
         print(f"freefloat: interrupted while writing {out}: the data are whole, the drawings listed as skipped are "
               "not there", file=sys.stderr)
         return 1

@@ -18,3 +18,7 @@ May import: :mod:`freefloat.robot`, :mod:`freefloat.errors`, :mod:`freefloat.pat
 # The compiled loop (``_sim``) is linked to the pin wheel's libpinocchio_default; importing
 # pinocchio loads that library, which is how an editable install's ``_sim`` finds it.
 import pinocchio as _pinocchio  # noqa: E402, F401
+
+from ..lazy import lazy_modules  # noqa: E402
+
+__getattr__ = lazy_modules(__name__)  # its modules, imported on first use as attributes

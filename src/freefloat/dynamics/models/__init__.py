@@ -112,3 +112,7 @@ def make_model(name: str, robot: Robot, backend: str = "compiled") -> DynamicsMo
 
 
 __all__ = ["MODELS", "DynamicsModel", "ExactModel", "ModelSpec", "make_model", "register"]
+
+from ...lazy import lazy_modules  # noqa: E402
+
+__getattr__ = lazy_modules(__name__)  # its modules, imported on first use as attributes
