@@ -8,7 +8,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from freefloat.dynamics.simulation import RunResult
+from freefloat.dynamics.result import Result
 from freefloat.parallel.closed_loop import track
 
 
@@ -26,6 +26,6 @@ class Law:
 
 
 def simulate(mechanism, q0: np.ndarray, qd0: np.ndarray, efforts, duration: float, step: float,
-             baumgarte: float = 0.0, integrator: str = "rkmk4", backend: str = "auto") -> RunResult:
+             baumgarte: float = 0.0, integrator: str = "rkmk4", backend: str = "auto") -> Result:
     """The mechanism under ``efforts`` held over each ``step`` s."""
     return track(mechanism, Law(efforts), q0, duration, step, step, baumgarte, integrator, qd0, backend=backend)

@@ -142,6 +142,7 @@ def test_circle_excites_every_base_parameter(chain):
     assert np.linalg.cond(np.vstack(rows)) < 50.0
 
 
+@pytest.mark.slow
 def test_estimates_converge_to_the_true_parameters(adaptive_run):
     """Starting at the nominal values, 22 % to 66 % below the 50 % plant's base parameters
     (five_bar_theta, itself checked against Orsino's dynamics), the estimates end within 5 % of
@@ -155,6 +156,7 @@ def test_estimates_converge_to_the_true_parameters(adaptive_run):
     assert np.all(end < start / 4.0)
 
 
+@pytest.mark.slow
 def test_tracking_error_falls_below_the_fixed_gain_laws(adaptive_run):
     """Over the last turn of the circle the error stays below 1.5e-5 m on both axes, under half
     of eq 153's with eq 167's gains on this plant (3.3e-5 / 6.3e-5 m, docs/control_laws.md)."""

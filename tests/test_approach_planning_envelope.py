@@ -28,6 +28,7 @@ def envelope(tmp_path_factory):
     return scene, run_atlas("capture_envelope", str(scene), Options(grid=3), folder / "out")
 
 
+@pytest.mark.slow
 def test_every_outcome_is_the_scenes_own_verdict_at_that_point(envelope):
     """Preparing the scene with each mapped reach succeeds exactly where the map says graspable,
     and is refused for the reason the map names elsewhere."""
@@ -47,6 +48,7 @@ def test_every_outcome_is_the_scenes_own_verdict_at_that_point(envelope):
                 prepare(variant)
 
 
+@pytest.mark.slow
 def test_a_graspable_point_is_grasped_in_a_simulated_run(envelope):
     """The graspable point farthest from the hand's start, run as the scene through the one loop:
     the hand meets the grasp point at the contact time within the contact tolerance."""

@@ -194,4 +194,4 @@ def test_the_public_names_stay():
     assert freefloat.load_robot is loading.load_robot
     assert freefloat.gjm.compute is gjm.compute and freefloat.gjm.derivatives is gjm.derivatives
     assert freefloat.models.make_model is models.make_model and freefloat.models.MODELS is models.MODELS
-    assert freefloat.simulation.run is simulation.run and freefloat.simulation.RunResult is simulation.RunResult
+    assert freefloat.simulation.run is simulation.run and freefloat.simulation.Result is simulation.Result

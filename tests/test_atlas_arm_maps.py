@@ -172,6 +172,7 @@ def test_unknown_end_effector_lists_the_robot_s():
         workspace.prepare("four_arm_planar", Options(end_effector="hand"))
 
 
+@pytest.mark.slow
 def test_cli_writes_a_singularity_map(tmp_path):
     """freefloat atlas singularities writes the data, summary and figures; the figs 38-40 paths'
     condition numbers grow as the offset shrinks."""
@@ -185,6 +186,7 @@ def test_cli_writes_a_singularity_map(tmp_path):
         <= {p.name for p in out.iterdir()}
 
 
+@pytest.mark.slow
 def test_sigterm_keeps_the_finished_chunks_and_a_rerun_resumes(tmp_path):
     """SIGTERM to ``freefloat atlas`` once two chunks are journaled: exit 1 saying so, the chunks
     kept; the same command again finishes the map, equal to a direct evaluation."""

@@ -65,6 +65,7 @@ def test_the_map_reports_its_last_point_before_the_files_and_figures(tmp_path, m
     assert re.search(r"toy of t: 56 points in [\d.]+ s \(serial\) -> ", capsys.readouterr().out)
 
 
+@pytest.mark.slow
 def test_process_pool_gives_the_serial_map(tmp_path):
     """Two processes (this one and a pool of one) give the serial numbers; this process takes
     chunks from the back while the pool starts."""
@@ -142,6 +143,7 @@ def test_register_adds_a_kind():
         del KINDS["other"]
 
 
+@pytest.mark.slow
 def test_dask_local_cluster_gives_the_serial_map(tmp_path):
     """A local Dask cluster of 2 workers gives the serial numbers."""
     pytest.importorskip("distributed")

@@ -107,6 +107,7 @@ def test_pooled_radius_is_the_designs_over_those_points(wide_map):
     assert np.isnan(region_radius(wide_map.Delta, np.zeros(len(POINTS), bool)))
 
 
+@pytest.mark.slow
 def test_atlas_kind_maps_the_2rsu_ppap(tmp_path):
     """``freefloat atlas feasibility rsu_ppap --axes x y --grid 4`` through the engine: the arrays
     on the grid, every assembled point feasible at the stated +-15 % masses (critical scale up to

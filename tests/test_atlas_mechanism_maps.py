@@ -27,6 +27,7 @@ def test_the_kind_is_registered():
     assert KINDS["mechanism"].load().__name__.endswith("mechanism_maps")
 
 
+@pytest.mark.slow
 def test_five_bar_task_map_through_the_engine(tmp_path):
     """A 21 x 21 task map of the 5R: every point agrees with the annuli, the type I points sit on
     the circles and both loci's blocks are singular by SVD, the scenes' mode is the outward-elbow
@@ -46,6 +47,7 @@ def test_five_bar_task_map_through_the_engine(tmp_path):
     assert json.loads((tmp_path / "a" / "summary.json").read_text())
 
 
+@pytest.mark.slow
 def test_joint_space_map_from_actuated_axes(tmp_path):
     """--axes c1_joint1,c2_joint1 maps both assembly modes over the actuated joints; the scenes'
     mode is the sign of their start's direct block."""
@@ -58,6 +60,7 @@ def test_joint_space_map_from_actuated_axes(tmp_path):
     assert done.result["found"].shape == (15 * 15, 2) and done.result["found"].any()
 
 
+@pytest.mark.slow
 def test_rsu_ppap_plane_holds_y_at_the_scenes_start(tmp_path):
     """The 2RSU+PPaP's default plane (x, z) holds y at the scenes' start, and the start's own
     grid neighbourhood has the scenes' mode."""
@@ -67,6 +70,7 @@ def test_rsu_ppap_plane_holds_y_at_the_scenes_start(tmp_path):
     assert s["per_mode"][s["scene_mode"]] > 0
 
 
+@pytest.mark.slow
 def test_three_axes_give_slices_a_scatter_and_a_meshcat_page(tmp_path):
     """A 3-D grid of the 2RSU+PPaP writes slices, a 3-D scatter and a self-contained meshcat page
     (of the point cloud of the scenes' mode about the mechanism)."""
@@ -76,6 +80,7 @@ def test_three_axes_give_slices_a_scatter_and_a_meshcat_page(tmp_path):
     assert (tmp_path / "c" / "workspace.html").read_text().rstrip().endswith("</html>")
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", ["five_bar", "rsu_ppap"])
 def test_workspace_points_are_reached_by_a_simulated_motion(name):
     """Three map points in the scenes' working mode within 3 cm of the scenes' start are reached

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pinocchio as pin
+import pytest
 
 from freefloat.robot.attitude import (
     euler_rate_matrix,
@@ -37,6 +38,7 @@ def test_printed_eq_11_is_wrong_away_from_zero_angles():
     assert np.abs(printed_zyx[::-1] - truth).max() > 0.1
 
 
+@pytest.mark.slow
 def test_euler_angles_fail_near_pitch_90_where_the_lie_group_does_not():
     """A spin passing 3e-4 rad from theta = 90 deg: Euler-angle RK4 loses ~1e-3 rad, the Lie group 1e-14."""
     def run(eps):

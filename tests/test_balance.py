@@ -91,6 +91,7 @@ def test_profile_scales_sample_the_ramp_like_the_loop():
     np.testing.assert_array_equal(profile_scales([w, step], t), [[w.scale(x), step.scale(x)] for x in t])
 
 
+@pytest.mark.slow
 def test_a_force_on_a_moving_link_balances_in_3d(satellite_run):
     """A force at a moving link CoM and a torque on a link whose axis turns: momentum (the
     force's moment integrated on the Hermite cubic) and energy (the torque's work by Magnus'
@@ -102,6 +103,7 @@ def test_a_force_on_a_moving_link_balances_in_3d(satellite_run):
     assert np.abs(res.applied.work[-1]) > 0.1 and np.linalg.norm(res.applied.impulse[-1, 3:]) > 0.1
 
 
+@pytest.mark.slow
 def test_the_moment_of_the_force_is_not_negligible(satellite_run):
     """The angular momentum changes by far more than the torque's impulse alone: the force's
     moment about the origin, which the balance integrates, matters (so the test above can fail)."""

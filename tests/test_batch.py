@@ -35,6 +35,7 @@ def results(rows: list[dict]) -> list[dict]:
     return [{k: v for k, v in row.items() if k not in TIMINGS} for row in rows]
 
 
+@pytest.mark.slow
 def test_serial_pool_and_dask_give_identical_rows(tmp_path):
     """The same seeds give bit-identical rows one after another, on a 2-process pool and on a
     local Dask cluster of 2 worker processes."""
@@ -79,6 +80,7 @@ def test_a_batch_on_threads_leaves_the_blas_threads_as_it_found_them(tmp_path):
     assert blas_threads() == before
 
 
+@pytest.mark.slow
 def test_dask_workers_of_two_threads_give_the_serial_rows(tmp_path):
     """A local Dask cluster of one worker of 2 threads runs the runs at once and gives the serial rows."""
     pytest.importorskip("dask.distributed")
@@ -90,6 +92,7 @@ def test_dask_workers_of_two_threads_give_the_serial_rows(tmp_path):
     assert dask.summary["workers"] == "dask local cluster of 1 of 2 threads each"
 
 
+@pytest.mark.slow
 def test_a_pool_batch_never_forks(tmp_path, monkeypatch):
     """Pool workers are new interpreters: the runs complete with os.fork made to fail (a fork of
     this threaded process can deadlock, and Python 3.12 warns at each)."""
@@ -103,6 +106,7 @@ def test_a_pool_batch_never_forks(tmp_path, monkeypatch):
     assert [r["status"] for r in done.rows] == ["completed", "completed"]
 
 
+@pytest.mark.slow
 def test_a_failing_run_is_recorded_and_the_batch_goes_on(tmp_path):
     """Starts where the 5R cannot be assembled fail with the reason in their rows, on a pool; the
     other runs complete."""
@@ -114,6 +118,7 @@ def test_a_failing_run_is_recorded_and_the_batch_goes_on(tmp_path):
     assert done.summary["by_status"] == {s: statuses.count(s) for s in set(statuses)} and not done.completed
 
 
+@pytest.mark.slow
 def test_a_pool_worker_that_dies_fails_the_runs_left_and_the_batch_ends(tmp_path):
     """Worker processes killed mid-batch (as a crash would end them) break the pool: every run
     left is a failed row naming the lost worker, and the batch ends instead of hanging."""
@@ -165,6 +170,7 @@ def test_a_folder_in_use_or_not_empty_is_refused_before_any_run(tmp_path):
     assert sorted(p.name for p in (tmp_path / "out").iterdir()) == ["mine.txt"]
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("where", [["--workers", "1"], ["--workers", "2"], ["--threads", "2"]])
 def test_sigterm_keeps_the_finished_rows(tmp_path, where):
     """SIGTERM to a running batch (serial, pool or threads) exits 1 and writes every finished

@@ -152,30 +152,36 @@ def test_a_mass_band_reads_a_percentage():
 
 
 @pytest.mark.parametrize("scene_name, band, message", [
-    ("tumbling", Band("platform", 0.1), "--vary platform: not a key of joint_space scene"),
-    ("five_bar_sliding_mode", Band("base_rate", 1.0), "--vary base_rate: not a key of mechanism scene"),
-    ("capture_planar", Band("mass", 0.1), "--vary mass: scene 'capture_planar' is a capture scene"),
+    ("tumbling", Band("platform", 0.1), "band platform: not a key of joint_space scene"),
+    ("five_bar_sliding_mode", Band("base_rate", 1.0), "band base_rate: not a key of mechanism scene"),
+    ("capture_planar", Band("mass", 0.1), "band mass: scene 'capture_planar' is a capture scene"),
 ])
 def test_keys_the_scene_cannot_take_are_refused(scene_name, band, message):
-    """A key of the other scene family, or mass on a capture, is refused naming --vary and the key."""
+    """A key of the other scene family, or mass on a capture, is refused naming the band and the
+    key (``--vary`` on the command line)."""
     scene = find_scene(scene_name)
     with pytest.raises(FreefloatError, match=message):
         plan_runs(scene, None, [band], 1, 0)
 
 
 def test_runs_below_one_and_negative_seeds_are_refused(tumbling):
-    """--runs 0 and --seed -1 are errors naming the flag."""
+    """runs 0 and seed -1 are errors naming the argument, as the Python call or the command line
+    (``--runs``, ``--seed``) spells it."""
+    from freefloat.errors import command_line
+
     scene, nominal = tumbling
-    with pytest.raises(FreefloatError, match="--runs must be from 1 to .*, got 0"):
+    with pytest.raises(FreefloatError, match="^runs must be from 1 to .*, got 0"):
         plan_runs(scene, nominal, [], 0, 0)
-    with pytest.raises(FreefloatError, match="--seed must be >= 0"):
+    with pytest.raises(FreefloatError, match="^seed must be >= 0"):
+        plan_runs(scene, nominal, [], 1, -1)
+    with pytest.raises(FreefloatError, match="^--seed must be >= 0"), command_line():
         plan_runs(scene, nominal, [], 1, -1)
 
 
 def test_a_key_given_twice_is_refused(tumbling):
     """Two bands for one key are an error naming it."""
     scene, nominal = tumbling
-    with pytest.raises(FreefloatError, match="--vary base_rate: given twice"):
+    with pytest.raises(FreefloatError, match="band base_rate: given twice"):
         plan_runs(scene, nominal, [Band("base_rate", 1.0), Band("base_rate", 2.0)], 1, 0)
 
 
@@ -183,5 +189,5 @@ def test_a_batch_of_a_trillion_runs_is_refused_up_front(tumbling):
     """--runs 10**12 is refused at once naming the bound (planning every run grew memory until it
     ran out)."""
     scene, nominal = tumbling
-    with pytest.raises(FreefloatError, match=f"--runs must be from 1 to {MAX_RUNS}, got 1000000000000"):
+    with pytest.raises(FreefloatError, match=f"runs must be from 1 to {MAX_RUNS}, got 1000000000000"):
         plan_runs(scene, nominal, [], 10**12, 0)

@@ -61,6 +61,7 @@ def test_state_map_goes_both_ways(scenes, name):
     np.testing.assert_allclose(back_v, v, atol=1e-14)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", list(FLOATING_SCENES))
 def test_closures_hold_at_the_start_on_both_sides(scenes, name):
     """At the scene's start every closure is closed: in freefloat's tree and in MuJoCo's equality residuals."""
@@ -74,6 +75,7 @@ def test_closures_hold_at_the_start_on_both_sides(scenes, name):
     assert scene.errors(type(start)(start.q[:1], scene.v0), start)["constraint_drift"] < 1e-12
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", list(FLOATING_SCENES))
 def test_both_sides_converge_to_the_reference(scenes, name):
     """freefloat's RK4 at half the period ends within 1e-8 of the DOP853 reference, and MuJoCo's RK4 (soft
@@ -88,6 +90,7 @@ def test_both_sides_converge_to_the_reference(scenes, name):
     assert theirs[1] < theirs[0], theirs
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", list(FLOATING_SCENES))
 def test_quick_sweep_rows_are_consistent(name):
     """The quick sweep has freefloat and MuJoCo rows, each with finite errors and a loop held closed to 0.1 mm,

@@ -69,6 +69,7 @@ def test_baumgarte_holds_the_loop_tighter_with_euler(scenes):
     assert drift["orsino"] > 1.5 * drift[STABILISED] > 0.0, drift
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", list(MECHANISM_SCENES))
 def test_pinocchio_baumgarte_gains_match_eq_129(scenes, name):
     """Pinocchio's correctors at Kp = lambda^2, Kd = 2 lambda open the loop as far as Orsino's eq 129 with the same
@@ -109,6 +110,7 @@ def test_pinocchio_plant_has_the_plants_dynamics(scenes, name):
     np.testing.assert_allclose(a_pin, orsino.acceleration(q, qd, u)[to_tree], atol=1e-9 * np.abs(a_pin).max())
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", list(MECHANISM_SCENES))
 def test_quick_sweep_points_are_all_finite(name):
     """Every method of the quick sweep ends with finite errors, the loop held closed to 0.1 mm."""

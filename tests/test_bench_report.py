@@ -26,6 +26,7 @@ def quick_run(tmp_path_factory):
     return main(["bench", "dual_arm", "--quick", "--out", str(out)]), out
 
 
+@pytest.mark.slow
 def test_quick_bench_writes_every_file(quick_run):
     """Exit 0 and bench.json, bench.csv, dual_arm.png and summary.txt are written."""
     status, out = quick_run
@@ -34,6 +35,7 @@ def test_quick_bench_writes_every_file(quick_run):
                                                                   "summary.txt"}
 
 
+@pytest.mark.slow
 def test_csv_and_json_hold_the_same_points(quick_run):
     """Every JSON point is a CSV row, with a positive time and a finite error."""
     _, out = quick_run
@@ -44,6 +46,7 @@ def test_csv_and_json_hold_the_same_points(quick_run):
     assert all(float(r["wall_time_s"]) > 0.0 and float(r["state_error"]) >= 0.0 for r in rows)
 
 
+@pytest.mark.slow
 def test_the_report_records_the_mujoco_that_ran(quick_run):
     """bench.json records the version of the MuJoCo imported, also where only mujoco-core (the
     bench extra) is installed and the meta package ``mujoco`` is not."""
@@ -52,6 +55,7 @@ def test_the_report_records_the_mujoco_that_ran(quick_run):
     assert json.loads((out / "bench.json").read_text())["versions"]["mujoco"] == mujoco.__version__
 
 
+@pytest.mark.slow
 def test_summary_has_one_line_per_band(quick_run):
     """The summary names, per accuracy band, the cheapest method of each package; a --quick run's
     says first, and on each line, that it is a smoke test."""
@@ -61,6 +65,7 @@ def test_summary_has_one_line_per_band(quick_run):
     assert all(line.startswith("dual_arm error <= ") and line.endswith("(smoke test)") for line in lines)
 
 
+@pytest.mark.slow
 def test_a_quick_bench_is_marked_a_smoke_test(quick_run):
     """--quick: bench.json says it is a smoke test, and so does the chart, in a band above it."""
     import matplotlib.pyplot as plt
@@ -86,6 +91,7 @@ def test_non_empty_folder_is_refused(tmp_path, capsys):
     assert {p.name for p in tmp_path.iterdir()} == {"keep.txt"}
 
 
+@pytest.mark.slow
 def test_controlled_quick_bench_compares_both_controllers(tmp_path):
     """``freefloat bench controlled --quick`` measures freefloat's compiled loop and MuJoCo with
     both controllers, and its summary names a cheapest method per band."""
@@ -102,6 +108,7 @@ def test_controlled_quick_bench_compares_both_controllers(tmp_path):
     assert len((out / "summary.txt").read_text().splitlines()) == 1 + len(BANDS)  # the smoke note, a line per band
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM])
 def test_interrupted_bench_keeps_the_points_measured(tmp_path, signum):
     """Ctrl-C or SIGTERM during a sweep: exit 1, and bench.json (status "interrupted") and
@@ -121,6 +128,7 @@ def test_interrupted_bench_keeps_the_points_measured(tmp_path, signum):
     assert 1 <= len(rows) == len(report["scenes"]["four_arm"]["points"]) < len(free_floating_scene("four_arm").methods())
 
 
+@pytest.mark.slow
 def test_a_killed_bench_keeps_every_point_measured(tmp_path):
     """SIGKILL mid-bench leaves each point measured so far in the journal, one JSON row each (it
     kept none)."""
@@ -142,6 +150,7 @@ def test_a_killed_bench_keeps_every_point_measured(tmp_path):
     assert len(rows) >= 2 and all(r["scene"] == "dual_arm" and r["wall_time_s"] > 0 for r in rows)
 
 
+@pytest.mark.slow
 def test_a_signal_while_a_chart_is_drawn_waits_for_the_drawing(tmp_path, monkeypatch):
     """SIGINT arriving in the middle of a chart's drawing stops the bench after that drawing: the
     report says interrupted and the chart is whole (a drawing cut half-way failed the final one)."""

@@ -149,6 +149,7 @@ def _values(value, key=""):
         yield key, value
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", PARTS_SUITES)
 def test_quick_suite_writes_its_json_and_chart(quick, name):
     """Exit 0, a completed report with settings and versions, its chart, and no other file."""
@@ -158,6 +159,7 @@ def test_quick_suite_writes_its_json_and_chart(quick, name):
     assert {p.name for p in out.iterdir()} == {f"bench_{name}.json", f"bench_{name}.png", RECORD}
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", PARTS_SUITES)
 def test_quick_suite_numbers_are_finite(quick, name):
     """Every number is finite; the only nulls are accuracy bands no method reached."""
@@ -308,6 +310,7 @@ CHECKS = {"simulation": _simulation, "integrators": _integrators, "gjm": _gjm, "
           "two_hands": _two_hands, "atlas": _atlas, "rollout": _rollout}
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", PARTS_SUITES)
 def test_quick_suite_numbers_agree(quick, name):
     """Each ratio the suite reports is the quotient of the two times it reports (and likewise)."""
@@ -315,6 +318,7 @@ def test_quick_suite_numbers_agree(quick, name):
     CHECKS[name](quick(name)[2])
 
 
+@pytest.mark.slow
 def test_mujoco_suite_runs_its_scenes_through_suite(tmp_path):
     """``freefloat bench dual_arm --suite mujoco --quick`` writes bench.json whose speed-ups are
     freefloat's time over MuJoCo's in each band."""
@@ -325,6 +329,7 @@ def test_mujoco_suite_runs_its_scenes_through_suite(tmp_path):
                            for b in reached)
 
 
+@pytest.mark.slow
 def test_the_simulation_suite_prints_its_headline_ratios(quick):
     """``--suite simulation`` prints its headline ratios, one line per part, as measured (it
     printed no number)."""

@@ -34,6 +34,7 @@ def reference(scene):
     return scene.reference()
 
 
+@pytest.mark.slow
 def test_mujoco_has_the_merged_robots_mass_matrix_and_free_motion(scene):
     """At the post-grasp state MuJoCo's joint-space mass matrix equals Pinocchio's CRBA of the merged robot
     (the box's inertia on the left hand's body), and with the weld off its acceleration under efforts on
@@ -61,6 +62,7 @@ def test_the_weld_holds_at_the_start_on_both_sides(scene):
     assert np.abs(sim.data.efc_pos).max() < 1e-12 and np.abs(sim.data.efc_vel).max() < 1e-12
 
 
+@pytest.mark.slow
 def test_both_sides_converge_to_the_reference(scene, reference):
     """freefloat's compiled Euler comes closer as its step shrinks and its RKMK4 at the period ends within
     1e-11; MuJoCo's RK4 and Euler come closer as their steps shrink."""
@@ -91,6 +93,7 @@ def test_freefloat_runs_the_compiled_loop(scene):
     assert result.status == "completed" and result.backend == "compiled"
 
 
+@pytest.mark.slow
 def test_quick_sweep_taking_turns_gives_every_point():
     """The quick sweep, the methods taking turns over two rounds, gives one point per method, freefloat and
     MuJoCo, each with finite errors, the loop closed to 1e-6 m and a positive time."""
@@ -105,6 +108,7 @@ def test_quick_sweep_taking_turns_gives_every_point():
         assert p.wall_time > 0.0
 
 
+@pytest.mark.slow
 def test_unknown_scene_bad_duration_and_unknown_method_are_refused(scene):
     """An unknown name lists the valid one; a duration that is not whole periods and a method the scene
     does not sweep are named."""

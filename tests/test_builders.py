@@ -137,6 +137,7 @@ def test_base_inertia_matches_dissertation(four_arm):
     np.testing.assert_allclose(base.inertia, np.diag(BASE_INERTIA), atol=1e-12)
 
 
+@pytest.mark.slow
 def test_satellite_has_two_tools_twelve_joints_and_meshes(satellite):
     """The satellite loads with end-effectors left_tool0 and right_tool0, 12 joints and visuals."""
     assert satellite.end_effectors == ("left_tool0", "right_tool0")
@@ -145,6 +146,7 @@ def test_satellite_has_two_tools_twelve_joints_and_meshes(satellite):
     assert satellite.visual_model is not None and satellite.visual_model.ngeoms > 0
 
 
+@pytest.mark.slow
 def test_satellite_mass_is_bus_plus_two_original_ur5(satellite):
     """The satellite's mass is the 500 kg bus plus twice the mass of example-robot-data's UR5."""
     share = importlib.metadata.distribution("example-robot-data").locate_file("cmeel.prefix/share")
@@ -175,6 +177,7 @@ def test_satellite_bus_is_a_homogeneous_cube():
         assert float(inertia.get(key)) == pytest.approx(value, abs=1e-9), key
 
 
+@pytest.mark.slow
 def test_satellite_arms_are_mounted_on_the_plus_x_face(satellite):
     """Each arm base sits at (0.5, +-0.3, 0) m on the bus with its z axis along the bus's +x."""
     model = satellite.model

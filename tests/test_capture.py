@@ -167,6 +167,30 @@ def test_an_interrupted_approach_is_an_interrupt_not_a_missed_target(monkeypatch
         capture.capture_and_detumble(robot, target, "arm1_ee", [("arm1_ee", "wz")], None, approach_time=0.2)
 
 
+def test_the_target_flies_in_the_engine_as_it_flew_beside_it():
+    """The target as a plant of the engine (run on its own before the approach, which reads it)
+    takes the steps the former stop event took (the registry's RKMK4 once per control period, to
+    1e-15), and with its spin on a principal axis keeps the closed-form torque-free motion
+    (Target.meeting's: the CoM on its line, R(t) = exp(w t) R0) to 1e-12."""
+    from freefloat import run
+    from freefloat.dynamics.integrators import make_integrator
+
+    _, target = planar_capture_setup()
+    body = TargetBody(target)
+    q0, v0 = body.initial_state()
+    flight = run(body, q0, v0, 0.5, 1e-3, "rkmk4")
+    assert flight.status == "completed" and flight.telemetry.q.shape == (501, 7)
+    step, q, v = make_integrator("rkmk4", body.model), q0, v0
+    for k in range(500):  # the former per-period integration inside the approach's stop event
+        q, v = step.advance(lambda qs, vs: pin.aba(body.model, body.data, qs, vs, np.zeros(6)), q, v, 1e-3)
+    np.testing.assert_allclose(flight.telemetry.q[-1], q, rtol=0, atol=1e-15)
+    np.testing.assert_allclose(flight.telemetry.v[-1], v, rtol=0, atol=1e-15)
+    R0, w = pin.rpy.rpyToMatrix(*target.rpy), np.array(target.angular_velocity)
+    pose = pin.XYZQUATToSE3(flight.telemetry.q[-1])
+    np.testing.assert_allclose(pose.translation, np.array(target.position) + 0.5 * np.array(target.velocity), atol=1e-12)
+    np.testing.assert_allclose(pose.rotation, pin.exp3(0.5 * w) @ R0, atol=1e-12)
+
+
 def test_grasp_mismatch_vanishes_on_the_weld_after_the_impact(setup):
     """grasp_mismatch: zero gap on the fixture (grasp point on the hand), relative linear and
     angular speeds that are the twist differences before the impact and zero after it (the weld)."""

@@ -20,6 +20,7 @@ def test_tanh_chatters_when_held_and_not_when_continuous():
     assert max(continuous["error_after_0.2s_mm"]) < max(held["error_after_0.2s_mm"]) / 2
 
 
+@pytest.mark.slow
 def test_study_writes_its_table_and_figure(tmp_path, monkeypatch):
     """One held period and both switches: report, CSV (a row per run) and figure are written."""
     monkeypatch.setattr(chattering_report, "QUICK_PERIODS", (1e-3,))

@@ -31,6 +31,7 @@ def default_run(tmp_path_factory):
     return status, out, json.loads((out / "summary.json").read_text())
 
 
+@pytest.mark.slow
 def test_default_job_writes_every_artefact(default_run):
     """Telemetry, summary, scene, the default set's three figures and a self-contained HTML
     animation are written."""
@@ -41,6 +42,7 @@ def test_default_job_writes_every_artefact(default_run):
                      "torques.png", "com_drift.png"}
 
 
+@pytest.mark.slow
 def test_default_job_imports_no_library_it_does_not_use(tmp_path):
     """The default job (figures and page included) leaves yourdfpy (its URDF is read by
     freefloat.robot.urdf_model), pinocchio.visualize with viser and trimesh (the page draws its
@@ -53,6 +55,7 @@ def test_default_job_imports_no_library_it_does_not_use(tmp_path):
     assert out.strip().splitlines()[-1] == "[]"
 
 
+@pytest.mark.slow
 def test_end_effectors_start_on_the_axes(default_run):
     """End-effectors start at (7.75, 0), (0, 7.75), (-7.75, 0), (0, -7.75) m (dissertation Table 5)."""
     start = default_run[2]["end_effectors_start"]
@@ -60,11 +63,13 @@ def test_end_effectors_start_on_the_axes(default_run):
     np.testing.assert_allclose([start[f"arm{i}_ee"] for i in range(1, 5)], expected, atol=1e-9)
 
 
+@pytest.mark.slow
 def test_system_com_stays_put(default_run):
     """The system CoM drifts less than 1e-8 m (no external force; 4th-order integrator)."""
     assert default_run[2]["com_drift_max"] < 1e-8
 
 
+@pytest.mark.slow
 def test_base_moves_along_the_negative_bisector_without_turning(default_run):
     """The base translates along (-x, -y) with equal components and negligible rotation."""
     dx, dy, dz = default_run[2]["base_displacement"]
@@ -72,16 +77,19 @@ def test_base_moves_along_the_negative_bisector_without_turning(default_run):
     assert default_run[2]["base_rotation_max"] < 1e-10
 
 
+@pytest.mark.slow
 def test_tracking_is_at_least_as_good_as_the_dissertation(default_run):
     """Nested-RMS tracking error is at or below FM-NIC-A's 4.91e-7 rad (Table 1)."""
     assert default_run[2]["tracking_rms_overall"] <= 4.91e-7
 
 
+@pytest.mark.slow
 def test_energy_balances_the_joint_work(default_run):
     """Kinetic energy changes exactly by the work of the held joint torques."""
     assert default_run[2]["energy_drift_max"] < 1e-9
 
 
+@pytest.mark.slow
 def test_summary_records_provenance(default_run):
     """The summary holds the scene, versions and settings that made it."""
     summary = default_run[2]
@@ -90,6 +98,7 @@ def test_summary_records_provenance(default_run):
     assert summary["settings"]["integrator"] == "rkmk4" and summary["steps"] == 5000
 
 
+@pytest.mark.slow
 def test_telemetry_has_every_step(default_run):
     """telemetry.npz has 5001 samples from 0 to 5 s with q, v, tau and references."""
     tel = Telemetry.load(default_run[1] / "telemetry.npz")
@@ -132,6 +141,7 @@ def mechanism_run(tmp_path_factory):
     return status, folder / "out", json.loads((folder / "out" / "summary.json").read_text())
 
 
+@pytest.mark.slow
 def test_mechanism_scene_writes_every_artefact(mechanism_run):
     """A mechanism scene writes telemetry, summary, scene, four figures and the HTML page; exit 0."""
     status, out, _ = mechanism_run
@@ -141,6 +151,7 @@ def test_mechanism_scene_writes_every_artefact(mechanism_run):
                                                 "sliding_variables.png"}
 
 
+@pytest.mark.slow
 def test_mechanism_summary_records_provenance(mechanism_run):
     """The summary holds the metrics, the mechanism, the scene, the settings and the versions."""
     summary = mechanism_run[2]
@@ -264,6 +275,7 @@ def test_reproduce_never_writes_over_the_user_s_report(tmp_path, capsys, overwri
     assert (tmp_path / "report.md").read_text() == "my report" and (tmp_path / "report.json").read_text() == "{}"
 
 
+@pytest.mark.slow
 def test_reproduce_writes_its_folder_and_a_rerun_resumes_into_it(tmp_path):
     """reproduce exits 0 with each file it wrote whole and in the folder's record, and the same
     command again takes that folder (it exited 2 on its own report.json: 'exists and freefloat
@@ -383,6 +395,7 @@ def test_simulate_any_known_robot_by_name(tmp_path):
     assert summary["robot"]["urdf"].endswith("solo12.urdf") and summary["momentum_drift_max"] < 1e-12
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("delay", [0.2, 0.4, 0.8])
 def test_ctrl_c_while_starting_stops_cleanly(tmp_path, delay):
     """Ctrl-C in the first second (imports, robot loading) is never swallowed by a library and

@@ -293,6 +293,7 @@ def test_inverse_dynamics_overcomes_the_friction(with_terms):
     assert np.abs(tau - mech.frictionless().inverse(q, qd[:2], qdd_sharp)[0]).min() > 1e-3
 
 
+@pytest.mark.slow
 def test_falling_with_friction_loses_what_friction_dissipates(with_terms):
     """Falling from a moving start for 0.3 s (RK4 at 0.1 ms, Baumgarte 0), the energy Pinocchio
     computes on the tree (1/2 v^T M v with its armature, plus the potential) falls by the work of

@@ -29,6 +29,7 @@ def computed_torque() -> PlatformControl:
     return PlatformControl(five_bar(FiveBarParameters()), circle_reference, 40.0)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("period", [1e-4, None], ids=["held over 10 steps", "per stage"])
 @pytest.mark.parametrize("saturation", ["tanh", "sign"])
 def test_compiled_loop_equals_the_python_loop(plant_q0, period, saturation):
@@ -101,6 +102,7 @@ def test_a_plant_that_comes_apart_stops_early_keeping_its_samples(plant_q0, back
     assert 1 <= len(run.telemetry.t) < 101 and np.isfinite(run.telemetry.q).all()
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("integrator", ["euler", "rkmk4", "rk4_naive", "rkmk6", "rkmk8", "dopri5"])
 def test_every_compiled_integrator_steps_the_chain_as_the_python_one(plant_q0, integrator):
     """Computed torque held over 1 ms, 2 substeps a period (dopri5 at rtol 1e-9): the compiled

@@ -157,6 +157,7 @@ def test_jacobian_and_drift_are_the_rows_derivatives(tmp_path_factory, kind, cas
     assert np.abs((position[0][:3] - position[1][:3]) / (2 * h) - J0[:3] @ v).max() <= 1e-6 * max(1.0, np.abs(J0 @ v).max())
 
 
+@pytest.mark.slow
 def test_baumgarte_closes_a_point_gap_as_a_critically_damped_system():
     """The dual-arm satellite's two tool frames joined by a point closure opened by 1 cm, at rest:
     the gap closes as (1 + beta t) exp(-beta t) under the constrained dynamics (beta = 20/s),

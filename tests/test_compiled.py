@@ -97,12 +97,12 @@ def test_computed_torque_matches_the_python_controller():
     """The default scene's computed torque (quintic reference, exact H* and c*, planar base)
     gives the Python loop's torques, states and work."""
     from freefloat.app.experiments import joint_space
-    from freefloat.app.experiments.robot_run import simulate
+    from freefloat.app.experiments.robot_run import run_loop
     from freefloat.app.scenes import find_scene
 
     scene = find_scene("four_arm_joint_space")
     short = replace(scene, simulation=replace(scene.simulation, duration=0.3))
-    runs = [simulate(joint_space.prepare(replace(short, simulation=replace(short.simulation, backend=b))), None, None)
+    runs = [run_loop(joint_space.prepare(replace(short, simulation=replace(short.simulation, backend=b))), None, None)
             for b in ("python", "compiled")]
     assert [r.backend for r in runs] == ["python", "compiled"]
     assert np.abs(runs[0].telemetry.tau).max() > 1e-3  # the law acts
@@ -162,12 +162,13 @@ def test_a_law_compiles_on_its_own_model_only_for_the_plants_structure():
     assert law_and_robot(controller(four), plant)[1] is four and law_and_robot(controller(two), plant) == (None, None)
 
 
+@pytest.mark.slow
 def test_a_detumbling_controller_on_other_masses_than_the_plant_keeps_its_own_model():
     """The detumbling law designed on the nominal robot, the plant 20 % heavier: the compiled run
     (the law in C++, H*, c* and the generalized Jacobian on the nominal model) gives the Python
     loop's telemetry and solver residuals, and differs from a run whose law knows the plant."""
     from freefloat.app.experiments import experiment_for
-    from freefloat.app.experiments.robot_run import simulate
+    from freefloat.app.experiments.robot_run import run_loop
     from freefloat.app.scenes import find_scene
     from freefloat.space.control.detumbling_control import DetumblingController
 
@@ -184,7 +185,7 @@ def test_a_detumbling_controller_on_other_masses_than_the_plant_keeps_its_own_mo
                                                                    c.kp, c.kd))
         elif backend == "compiled":
             setup.controller.torque = never
-        runs.append(simulate(setup, None, None))
+        runs.append(run_loop(setup, None, None))
         controllers.append(setup.controller)
     python, compiled, knowing = runs
     assert np.abs(compiled.telemetry.tau).max() > 1.0  # the law acts
@@ -272,13 +273,14 @@ def never(*args, **kwargs):
     raise AssertionError("the compiled run called Python between periods")
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", DETUMBLE_SCENES)
 def test_detumble_scene_runs_whole_chunks_like_the_python_loop(name, monkeypatch):
     """A detumble_impulse scene (a ramped 500 N m impulse, then the detumbling law) gives the
     Python loop's telemetry and solver residuals with the law and the wrench profiles in C++ (the
     Python controller and wrench selection are never called)."""
     from freefloat.app.experiments import experiment_for
-    from freefloat.app.experiments.robot_run import simulate
+    from freefloat.app.experiments.robot_run import run_loop
     from freefloat.app.scenes import find_scene
     from freefloat.dynamics.wrenches import WrenchField
 
@@ -290,7 +292,7 @@ def test_detumble_scene_runs_whole_chunks_like_the_python_loop(name, monkeypatch
         if backend == "compiled":
             setup.controller.torque = never
             monkeypatch.setattr(WrenchField, "activate", never)
-        runs.append(simulate(setup, None, None))
+        runs.append(run_loop(setup, None, None))
         controllers.append(setup.controller)
     python, compiled = runs
     assert [python.status, compiled.status] == ["completed", "completed"]
@@ -388,7 +390,7 @@ def test_world_and_local_conventions_give_the_same_run(monkeypatch, base):
     """Pinocchio's WORLD and LOCAL conventions in the compiled loop (the plant's ABA, with and
     without external wrenches, and the computed torque's CRBA) give the same trajectory to 1e-12."""
     from freefloat.app.experiments import joint_space
-    from freefloat.app.experiments.robot_run import simulate
+    from freefloat.app.experiments.robot_run import run_loop
     from freefloat.app.scenes import find_scene
     from freefloat.dynamics import compiled
 
@@ -402,7 +404,7 @@ def test_world_and_local_conventions_give_the_same_run(monkeypatch, base):
     for convention in ("local", "world"):
         monkeypatch.setattr(compiled, "CONVENTION", convention)
         compiled.clear_loops()
-        controlled = simulate(joint_space.prepare(short), None, None)
+        controlled = run_loop(joint_space.prepare(short), None, None)
         wrenched = run(robot, robot.neutral(), np.full(robot.model.nv, 0.05), 0.03, 1e-3,
                        make_integrator("dopri5", robot.model, rtol=1e-9), ExactModel(robot), wrenches=wrenches,
                        backend="compiled")
@@ -413,6 +415,7 @@ def test_world_and_local_conventions_give_the_same_run(monkeypatch, base):
         assert_same_telemetry(local, world, tol=1e-12)
 
 
+@pytest.mark.slow
 def test_capture_scene_detumbles_alike_in_both_loops(monkeypatch):
     """The capture_planar scene (grasp, then min-norm detumbling of the merged robot, compiled
     after the grasp) gives the Python loop's post-capture telemetry and solver residual."""

@@ -97,6 +97,7 @@ def delassus_sensitivity(model, data, q, J, unmet, force):
     return float(kappa + kappa**2 * rho)
 
 
+@pytest.mark.slow
 @settings(max_examples=6, deadline=None)
 @given(case=random_robots(min_links=3, max_links=7))
 def test_random_closed_trees_run_alike_in_both_loops(tmp_path_factory, case):
@@ -187,6 +188,7 @@ def replay_law(controller):
     return law, loop
 
 
+@pytest.mark.slow
 def test_law_torques_equal_the_python_law_along_the_scene(two_hands):
     """Along the scene's post-grasp states (0.3 s, Python loop), the compiled law's torques equal
     LoopDetumblingController's period by period (1e-9 relative), with the same log."""
@@ -205,6 +207,7 @@ def test_law_torques_equal_the_python_law_along_the_scene(two_hands):
     assert np.abs(force - law._force).max() <= 1e-9 * max(1.0, np.abs(law._force).max())
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("seed", [0, 1, 2, "stretched"])
 def test_law_torques_equal_the_python_law_at_random_states(two_hands, seed):
     """At random postures and rates of the scene's merged robot (loop held closed), with and
@@ -232,6 +235,7 @@ def test_law_torques_equal_the_python_law_at_random_states(two_hands, seed):
         assert any(law.log.saturated) == (limit > 0.0)  # the limit is met at these rates
 
 
+@pytest.mark.slow
 def test_compiled_law_hands_its_state_back(two_hands):
     """compiled_law() carries the controller's state in, and a compiled run's chunks hand it back:
     the log has one entry per period and the post phase equals the Python loop's (1e-10)."""
@@ -247,6 +251,7 @@ def test_compiled_law_hands_its_state_back(two_hands):
     assert isinstance(law, LoopDetumblingLaw) and law.previous is compiled.controller._qdot_prev
 
 
+@pytest.mark.slow
 def test_scene_summary_is_the_same_with_either_loop(two_hands):
     """freefloat simulate capture_two_hands_satellite: the summary with backend python and
     compiled agree to round-off (1e-9 relative or 1e-12 absolute), the compiled one says so."""

@@ -22,6 +22,7 @@ def run_scene(name, tmp_path):
     return out, json.loads((out / "summary.json").read_text())
 
 
+@pytest.mark.slow
 def test_capture_scene_grasps_and_stops_the_target(tmp_path):
     """capture_planar: exact momentum balance at the grasp, target rotation below 1e-6 rad/s, target in the HTML."""
     out, s = run_scene("capture_planar", tmp_path)
@@ -40,6 +41,7 @@ def test_capture_scene_grasps_and_stops_the_target(tmp_path):
     assert abs(np.linalg.norm(last - tel.ee_position[-1, 0]) - 0.25) <= 1e-3  # grasp offset, within the contact tolerance
 
 
+@pytest.mark.slow
 def test_impulse_scene_stops_the_chosen_end_effector(tmp_path):
     """Sec 5.3 scenario 1: after the 500 N m impulse, arm 1's rotation stops with joint 4 alone."""
     out, s = run_scene("detumble_impulse_arm1_joint4", tmp_path)
@@ -51,6 +53,7 @@ def test_impulse_scene_stops_the_chosen_end_effector(tmp_path):
     assert s["momentum_balance_relative"] < 1e-7 and "momentum_drift_max" not in s  # a balance, not a drift
 
 
+@pytest.mark.slow
 def test_impulse_scene_draws_spin_decay_and_balance_not_drift(tmp_path):
     """A detumbling run with a wrench draws its angular rates and its conservation balance, no
     CoM and momentum drift; the base spin settles (2 % band) well before the run ends."""

@@ -10,6 +10,8 @@ import sys
 import time
 from pathlib import Path
 
+import pytest
+
 #: A process that makes a pool of one worker, prints the worker's id, then waits to be killed.
 _PARENT = """
 import os, sys, time
@@ -76,6 +78,7 @@ def test_ctrl_c_while_a_worker_is_launched_waits_for_the_launch():
         pool.shutdown()
 
 
+@pytest.mark.slow
 def test_a_worker_ignores_ctrl_c_and_an_interrupted_block_cancels_what_waits():
     """A worker ignores Ctrl-C (a terminal sends it to the whole group; the caller decides), and
     leaving the pool's block by an exception cancels the calls not started instead of running

@@ -60,8 +60,8 @@ def _readme_scene(ns: dict) -> None:
     from freefloat import Telemetry
 
     run, outcome = ns["run"], ns["outcome"]
-    summary = run.outcome.summary
-    assert run.outcome.status == "completed" and summary["tracking_rms_overall"] <= 4.91e-7
+    summary = run.summary
+    assert run.status == "completed" and summary["tracking_rms_overall"] <= 4.91e-7
     assert summary["com_drift_max"] < 1e-8 and outcome.summary["momentum_drift_max"] < 1e-12
     assert json.loads((run.folder / "summary.json").read_text())["tracking_rms_overall"] == summary["tracking_rms_overall"]
     assert len(Telemetry.load(run.folder / "telemetry.npz").t) == summary["steps"] + 1
@@ -84,13 +84,14 @@ def _readme_many_runs(ns: dict) -> None:
 def _readme_tumbling(ns: dict) -> None:
     """The torque-free tumbling run conserves its momentum (a conservation law) and ends where an
     independent integration (dopri5 at rtol 1e-12) ends."""
+    from freefloat import make_model
     from freefloat.dynamics.integrators import make_integrator
 
     result, robot = ns["result"], ns["robot"]
     momentum = result.telemetry.momentum
     assert result.status == "completed"
     assert np.abs(momentum - momentum[0]).max() < 1e-12 * max(1.0, np.abs(momentum).max())
-    model = ns["make_model"]("exact", robot)
+    model = make_model("exact", robot)
     f = lambda q, v: model.acceleration(q, v, np.zeros(robot.model.nv))  # noqa: E731
     q, v = make_integrator("dopri5", robot.model, rtol=1e-12, atol=1e-14).advance(f, ns["q0"], ns["v0"], 1.0)
     assert np.abs(v - result.telemetry.v[-1]).max() < 1e-8
@@ -127,7 +128,7 @@ def _integrators_page(ns: dict) -> None:
 def _readme_closed_chain(ns: dict) -> None:
     """The compiled RKMK6 run ends where scipy's DOP853 (rtol 1e-12, the Python loop, another
     integrator and loop) ends, with the loop held closed."""
-    from freefloat import track
+    from freefloat.parallel.closed_loop import track
 
     result = ns["result"]
     assert result.status == "completed" and result.backend == "compiled"
@@ -143,10 +144,10 @@ def _first_hour(ns: dict) -> None:
     CoM still and the momentum constant (no external force, at rest at the start: conservation
     laws checked on the telemetry itself); the unwritten tumbling run conserves its momentum."""
     run, saved, on_disk, outcome = ns["run"], ns["saved"], ns["on_disk"], ns["outcome"]
-    telemetry = run.outcome.telemetry
-    assert run.outcome.status == "completed" and run.folder.name == "first"
+    telemetry = run.telemetry
+    assert run.status == "completed" and run.folder.name == "first"
     assert np.array_equal(saved.q, telemetry.q) and np.array_equal(saved.tau, telemetry.tau)
-    assert on_disk["tracking_rms_overall"] == run.outcome.summary["tracking_rms_overall"] <= 4.91e-7
+    assert on_disk["tracking_rms_overall"] == run.summary["tracking_rms_overall"] <= 4.91e-7
     assert np.abs(telemetry.com - telemetry.com[0]).max() < 1e-12
     assert np.abs(telemetry.momentum).max() < 1e-12
     assert outcome.status == "completed" and not (Path.cwd() / "runs" / "tumbling").exists()
@@ -158,13 +159,14 @@ def _parallel_page(ns: dict) -> None:
     """The motor-driven 5R under the voltage drive ends where the same closed loop integrated by
     DOP853 (rtol 1e-12, a fresh drive) ends, to RK4's error on the windings at 0.1 ms (L/R =
     0.26 ms), with the loop held closed."""
-    from freefloat.dynamics.simulation import run_plant
+    from freefloat import run
     from freefloat.dynamics.voltage_drive import VoltageDrive
 
     result, plant, motors = ns["result"], ns["plant"], ns["motors"]
     assert result.status == "completed" and result.telemetry.drift.max() < 1e-9
     drive = VoltageDrive(ns["law"], plant, motors.motors, bandwidth=3500.0, period=1e-4)
-    reference = run_plant(plant, ns["q0"], np.zeros(plant.space.nv), 0.01, 1e-4, "dop853", drive, rtol=1e-12, atol=1e-12)
+    reference = run(plant, ns["q0"], np.zeros(plant.space.nv), 0.01, 1e-4, "dop853", controller=drive, rtol=1e-12,
+                    atol=1e-12)
     np.testing.assert_allclose(result.telemetry.q[-1], reference.telemetry.q[-1], atol=2e-5)  # 1.9e-6 measured
     np.testing.assert_allclose(result.telemetry.v[-1], reference.telemetry.v[-1], atol=1e-3)  # 1.1e-4 A measured
 
@@ -185,15 +187,27 @@ def _control_laws_page(ns: dict) -> None:
     assert np.abs(tel.q[late, :2] - circle).max() < 5e-5
 
 
+def _sensors_page(ns: dict) -> None:
+    """The sensed detumbling run completes, the law read one recorded row per period, and the
+    estimated momentum ends within 4 of its standard deviations of the telemetry's (Pinocchio's
+    centroidal momentum) on the components a planar base conserves, closer than the readings' map."""
+    result, seen = ns["result"], ns["seen"]
+    assert result.status == "completed" and len(seen.t) == len(result.telemetry.t) - 1 == 500
+    truth, rows = result.telemetry.momentum[-2], [0, 1, 5]
+    assert np.all(np.abs(seen.estimate[-1, rows] - truth[rows]) < 4 * seen.spread[-1, rows])
+    assert np.all(seen.spread[-1, rows] < np.sqrt(np.mean((seen.momentum[100:] - truth) ** 2, axis=0))[rows])
+
+
 #: What each Python snippet of the pages claims, checked against a reference of its own.
 SNIPPET_CHECKS = {"README.md#python0": _readme_scene, "README.md#python1": _readme_tumbling,
                   "README.md#python2": _readme_closed_chain, "README.md#python3": _readme_many_runs,
                   "gjm.md#python0": _gjm_page,
                   "integrators.md#python0": _integrators_page,
                   "control_laws.md#python0": _control_laws_page, "first_hour.md#python0": _first_hour,
-                  "parallel.md#python0": _parallel_page}
+                  "parallel.md#python0": _parallel_page, "sensors.md#python0": _sensors_page}
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize(("where", "code"), blocks("python"), ids=[w for w, _ in blocks("python")])
 def test_python_snippet_runs_and_its_numbers_hold(where, code, tmp_path, monkeypatch):
     """The snippet executes (from a fresh folder) and what it computes agrees with an independent
@@ -260,6 +274,7 @@ def site(tmp_path_factory):
     return done, folder
 
 
+@pytest.mark.slow
 def test_site_builds_with_warnings_as_errors(site):
     """``mkdocs build --strict`` succeeds (skipped without the docs extra)."""
     done, folder = site
@@ -267,6 +282,7 @@ def test_site_builds_with_warnings_as_errors(site):
     assert (folder / "index.html").is_file()
 
 
+@pytest.mark.slow
 def test_api_reference_renders_sphinx_roles_as_links(site):
     """No Sphinx role of the docstrings (``:func:`run```) reaches the API reference as text; one
     naming a documented object is a link to it (``:func:`run``` in ``freefloat.dynamics.simulation``,

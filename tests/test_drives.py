@@ -62,6 +62,7 @@ def test_motors_must_match_the_actuators():
         motorised(five_bar(), DCMotor.stack([MOTORS.motors[0]] * 3))
 
 
+@pytest.mark.slow
 def test_voltage_input_sliding_mode_tracks_within_twice_torque_input():
     """Sec 5.6's circle, the 5R 15 % off and its motors 15 % off (warm), 0.3 s at 0.1 ms (RK4, the
     law held over each step), each law with the gains of its own design over the start and 12

@@ -21,6 +21,7 @@ def without(extra: str, *argv: str) -> subprocess.CompletedProcess:
     return subprocess.run([sys.executable, "-c", code, *argv], capture_output=True, text=True, timeout=300)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("argv", [["batch", "--dask", "--runs", "2", "--vary", "joint_rate=1"],
                                   ["reproduce", "robustness", "--quick"]], ids=["batch", "reproduce"])
 def test_a_command_without_dask_names_the_extra_before_any_work(tmp_path, argv):

@@ -99,6 +99,7 @@ def _example(n: int):
                     phases=(Phase.explicit, Phase.generate))
 
 
+@pytest.mark.slow
 @_example(EXAMPLES["simulate"])
 @given(signum=faults, fraction=instants)
 def test_simulate_survives_a_fault_at_any_instant(tmp_path_factory, scenes, signum, fraction):
@@ -116,6 +117,7 @@ def test_simulate_survives_a_fault_at_any_instant(tmp_path_factory, scenes, sign
     assert (out / "telemetry.npz").is_file() and not (out / "telemetry-parts").exists()
 
 
+@pytest.mark.slow
 @_example(EXAMPLES["batch"])
 @given(signum=faults, fraction=instants)
 def test_batch_survives_a_fault_at_any_instant(tmp_path_factory, scenes, signum, fraction):
@@ -131,6 +133,7 @@ def test_batch_survives_a_fault_at_any_instant(tmp_path_factory, scenes, signum,
     assert not folder_problems(out) and not (out / "runs-partial.jsonl").exists()
 
 
+@pytest.mark.slow
 @_example(EXAMPLES["bench"])
 @given(signum=faults, fraction=instants)
 def test_bench_survives_a_fault_at_any_instant(tmp_path_factory, signum, fraction):
@@ -155,6 +158,7 @@ def _contents(folder: Path) -> dict[Path, bytes]:
     return {p: p.read_bytes() for p in folder.rglob("*") if p.is_file() and p.name != LOCK}
 
 
+@pytest.mark.slow
 @_example(EXAMPLES["reproduce"])
 @given(signum=faults, fraction=instants)
 def test_reproduce_survives_a_fault_at_any_instant(tmp_path_factory, signum, fraction):

@@ -56,6 +56,7 @@ def test_the_command_refuses_an_unknown_figure(tmp_path, capsys):
     assert not (tmp_path / "out").exists()
 
 
+@pytest.mark.slow
 def test_the_chosen_figures_are_written_in_the_chosen_formats(tmp_path):
     """A scene's list of figures and formats: those figures, PNG and PDF, and no other."""
     out = tmp_path / "out"
@@ -64,6 +65,7 @@ def test_the_chosen_figures_are_written_in_the_chosen_formats(tmp_path):
     assert _figures(out) == {"torques.png", "torques.pdf", "base_trajectory.png", "base_trajectory.pdf"}
 
 
+@pytest.mark.slow
 def test_the_command_line_choice_replaces_the_scene_s(tmp_path):
     """--figures NAME,... overrides the scene's set; 'all' draws every figure the run has."""
     scene = _scene(tmp_path, figures=["torques"])
@@ -83,6 +85,7 @@ def test_an_empty_set_writes_no_figure(tmp_path, how):
     assert _figures(tmp_path / "out") == set()
 
 
+@pytest.mark.slow
 def test_the_default_set_is_lean_and_true_means_it(tmp_path):
     """With no [output] figures (or true) the default job draws the default set: its tracking,
     torques and conservation figures."""
@@ -134,6 +137,7 @@ def test_every_builtin_scene_calls_for_the_figures_of_its_task_and_controller():
         assert set(figure_set.called_for(load_scene(path))) == CALLED_FOR[name], name
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", ["rsu_ppap_computed_torque", "five_bar_free_base", "tumbling"])
 def test_a_run_writes_the_figures_its_task_calls_for(tmp_path, name):
     """With every figure chosen, a short run writes those its scene calls for, less those the

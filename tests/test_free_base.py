@@ -35,14 +35,16 @@ def closure(name: str):
 
 
 @functools.cache
-def setup(name: str, plant: str = "nominal"):
+def built(name: str, plant: str = "nominal"):
+    """The registry's mechanism ``name`` built for ``plant`` (not ``setup``: pytest before 8.1
+    calls a module's ``setup`` before its tests, nose's way)."""
     return REGISTRY[name].build(closure(name), plant)
 
 
 @functools.cache
 def floating(name: str, kind: str, gravity: tuple | None = None, plant: str = "nominal", **body) -> FloatingMechanism:
     """The registry's mechanism on a base of ``kind`` (a 7 kg satellite unless ``body`` says)."""
-    s = setup(name, plant)
+    s = built(name, plant)
     return FloatingMechanism(s.display, closure(name), BaseBody(kind, gravity=gravity, **(body or SATELLITE)),
                              s.tree_inertias)
 
@@ -51,7 +53,7 @@ def consistent_state(fm: FloatingMechanism, name: str, offset, rates, base_pose,
     """A tree state meeting the closures (positions and velocities): the mechanism assembled at
     the case's point + ``offset`` with platform ``rates``, the base at ``base_pose`` (6,: xyz and
     a rotation vector; planar: x, y, yaw) moving at ``base_twist`` (root joint's velocity)."""
-    s, home = setup(name), CASES[(name, fm.base.kind)]
+    s, home = built(name), CASES[(name, fm.base.kind)]
     point = home + np.asarray(offset)[:len(home)]
     q_o = s.plant.assemble(point, s.guess(point))
     q, v = fm.tree_state(q_o, s.plant.velocity_map(q_o) @ np.asarray(rates)[:len(home)])
@@ -162,7 +164,7 @@ def test_relative_coordinates_are_orsinos_wherever_the_base_is(case):
     """The tree's state built from Orsino's (q, qd), the base then moved, turned and set moving,
     reads back as the same Orsino coordinates relative to the base."""
     name, kind = case
-    fm, s = floating(name, kind), setup(name)
+    fm, s = floating(name, kind), built(name)
     point = CASES[case] + 0.005
     q_o = s.plant.assemble(point, s.guess(point))
     rates = np.array([0.1, -0.2, 0.15])
@@ -178,7 +180,7 @@ def test_law_on_the_base_ignores_where_the_base_is_and_how_it_moves():
     """The adapted law's efforts depend on the joints alone: the same joint state with the base
     elsewhere, turned and moving gives the same efforts, equal to the fixed-base law's at
     Orsino's coordinates (its numpy form exactly, its compiled form to round-off)."""
-    fm, s = floating("rsu_ppap", "free"), setup("rsu_ppap")
+    fm, s = floating("rsu_ppap", "free"), built("rsu_ppap")
     law = PlatformControl(s.nominal, CircleReference(np.array([0.0, 0.0, 0.4]), 0.03, 6.28), 40.0)
     control, numpy_law = BaseFrameControl(law, fm), BaseFrameControl(law, fm, compiled=False)
     still = consistent_state(fm, "rsu_ppap", (0.004, 0.0, -0.003), (0.1, 0.2, 0.0), np.zeros(6), np.zeros(6))
@@ -198,7 +200,7 @@ def test_compiled_law_equals_the_numpy_law(case, offset, rates, t):
     """Both thesis laws (computed torque, sliding mode with sign or tanh) evaluated by their
     compiled form give the numpy law's efforts to 1e-12 of their size at random states."""
     name, kind = case
-    fm, s = floating(name, kind), setup(name)
+    fm, s = floating(name, kind), built(name)
     center = CASES[case]
     p = len(center)
     q, v = consistent_state(fm, name, offset, rates, np.zeros(6), np.zeros(6))
@@ -218,7 +220,7 @@ def test_compiled_loop_is_the_python_loop(case):
     rows are rank-deficient, the Delassus solve's cut directions at 1e-22 of the largest: its rates
     differ by up to 3e-10 of their size, the 5R's by 4e-16)."""
     name, kind = case
-    fm, s = floating(name, kind), setup(name)
+    fm, s = floating(name, kind), built(name)
     center = CASES[case]
     law = PlatformControl(s.nominal, CircleReference(center, 0.01, 6.28), 40.0)
     q, v = consistent_state(fm, name, (0.002, -0.001, 0.001), (0.1, 0.2, -0.1), (0.1, -0.2, 0.05, 0.3, -0.2, 0.4),
@@ -241,7 +243,7 @@ def test_drift_from_placements_is_closure_drift():
     """The mechanism's closure drift from the placements alone equals the closures module's
     (Jacobians and all) at random configurations, points, welds and a revolute."""
     rng = np.random.default_rng(3)
-    revolute = FloatingMechanism(setup("five_bar").display, URDF_DIR / "five_bar_revolute.closure.toml",
+    revolute = FloatingMechanism(built("five_bar").display, URDF_DIR / "five_bar_revolute.closure.toml",
                                  BaseBody("free", **SATELLITE))
     for fm in (floating("five_bar", "planar"), floating("rsu_ppap", "free"), revolute):
         q0 = fm.tree_state(*[np.zeros(fm.chain.mechanism.n_q)] * 2)[0]
@@ -254,7 +256,7 @@ def test_drift_from_placements_is_closure_drift():
 def test_compiled_loop_refuses_what_it_cannot_run():
     """backend='compiled' names why: Pinocchio's plant, or a fixed base."""
     fm = floating("five_bar", "planar")
-    law = PlatformControl(setup("five_bar").nominal, CircleReference(CASES[("five_bar", "planar")], 0.01, 6.28), 40.0)
+    law = PlatformControl(built("five_bar").nominal, CircleReference(CASES[("five_bar", "planar")], 0.01, 6.28), 40.0)
     q, v = consistent_state(fm, "five_bar", (0.0, 0.0, 0.0), (0.0, 0.0, 0.0), np.zeros(6), np.zeros(6))
     with pytest.raises(InvalidArgument, match="the plant is 'constraint_dynamics', not 'closed_tree'"):
         track(fm, law, q, v, 1e-3, 1e-4, dynamics="constraint_dynamics", backend="compiled")
@@ -267,7 +269,7 @@ def test_compiled_loop_refuses_what_it_cannot_run():
 def test_true_5r_inertias_give_the_true_5r_on_the_ground():
     """The registry's 15 % 5R written into the tree (fixed base) has the forward dynamics of
     Orsino's 15 % 5R: the tree's inertias are the plant's, not the URDF's."""
-    s = setup("five_bar", "true_15")
+    s = built("five_bar", "true_15")
     closures = read_closures(closure("five_bar"))
     s.tree_inertias(closures.model)
     plant = ConstraintDynamicsPlant(closures.model, closures.constraints,
@@ -301,5 +303,5 @@ def test_base_body_replaces_the_urdf_root_link():
     assert given.model.inertias[1].mass == 7.0
     np.testing.assert_allclose(given.model.inertias[1].lever, SATELLITE["com"])
     np.testing.assert_allclose(np.diag(given.model.inertias[1].inertia), SATELLITE["inertia"])
-    urdf = FloatingMechanism(setup("five_bar").display, closure("five_bar"), BaseBody("planar"))
+    urdf = FloatingMechanism(built("five_bar").display, closure("five_bar"), BaseBody("planar"))
     assert urdf.model.inertias[1].mass == 1.0  # five_bar.urdf's base_link

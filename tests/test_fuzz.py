@@ -26,6 +26,7 @@ SLICES = {"urdf": (range(10_000, 10_150), {"refused", "completed"}),
           "api": (range(10_000, 10_060), {"refused", "completed"})}
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("kind", list(SLICES))
 def test_a_slice_of_the_corpus_is_handled(tmp_path, kind):
     """Every case of the class's slice ends in one of the good outcomes, and the slice shows the

@@ -27,6 +27,7 @@ def gjm_state(robot, rng, backend="compiled"):
     return q, v, gjm.compute(robot, q, v, backend), reference(robot, q, v)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("backend", gjm.BACKENDS)
 @settings(max_examples=40, deadline=None)
 @given(random_robots())

@@ -43,6 +43,7 @@ def test_exact_data_give_the_base_parameters_to_round_off(ur5):
     assert np.abs(est.values - beta).max() < 1e-12 * np.abs(beta).max()
 
 
+@pytest.mark.slow
 def test_intervals_hold_the_truth_95_percent_of_the_time(ur5):
     """Seeded Monte-Carlo, 60 data sets of 400 samples with 1 % noise on q, v and the torques
     (accelerations from the known trajectory): each base parameter's 95 % interval holds its

@@ -6,6 +6,7 @@ from __future__ import annotations
 import importlib
 import subprocess
 import sys
+from pathlib import Path
 
 import pytest
 
@@ -33,12 +34,37 @@ def test_importing_freefloat_loads_no_public_module():
     assert loaded == "[]"
 
 
+#: Packages whose own modules are not attributes: the lab's (beside the product) and the atlas's.
+LAB = ("freefloat.lab.", "freefloat.app.atlas.")
+
+
+@pytest.mark.slow
+def test_every_module_is_an_attribute_after_importing_freefloat():
+    """After ``import freefloat`` alone, every subpackage and module is reachable as an attribute
+    chain (``freefloat.gjm.compute``, ``freefloat.dynamics.integrators``), imported on first use
+    (or it is a function of the same name that its package exports, ``gjm.derivatives``)."""
+    root = Path(freefloat.__file__).parent
+    names = sorted(".".join(("freefloat", *p.relative_to(root).with_suffix("").parts)).removesuffix(".__init__")
+                   for p in root.rglob("*.py") if p.name != "__main__.py")
+    names = [n for n in names if n != "freefloat" and not n.startswith(LAB)]
+    code = ("import functools, sys, types, warnings\nwarnings.simplefilter('ignore')\nimport freefloat\n"
+            f"for name in {names!r}:\n"
+            "    found = functools.reduce(getattr, name.split('.')[1:], freefloat)\n"
+            "    assert found is sys.modules[name] or callable(found) and not isinstance(found, types.ModuleType), name\n"
+            "print(freefloat.gjm.compute is sys.modules['freefloat.dynamics.gjm'].compute, len(sys.modules) > 0)")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0 and done.stdout.split() == ["True", "True"], done.stderr[-2000:]
+
+
 def test_an_unknown_name_is_an_attribute_error():
     """A name the package does not have raises AttributeError naming it."""
     with pytest.raises(AttributeError, match="no attribute 'load_robbot'"):
         freefloat.load_robbot  # noqa: B018
+    with pytest.raises(AttributeError, match="'freefloat.dynamics' has no attribute 'integrator'"):
+        freefloat.dynamics.integrator  # noqa: B018
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("argv", [["--version"], ["--help"], ["batch", "--help"], ["reproduce", "--help"],
                                   ["bench", "--help"]])
 def test_the_command_line_answers_without_heavy_libraries(argv):

@@ -45,6 +45,7 @@ _values = st.recursive(_scalars, lambda inner: st.lists(inner, max_size=3) | st.
                                                                                                max_size=3), max_leaves=8)
 
 
+@pytest.mark.slow
 @given(st.dictionaries(st.text(max_size=8), _values | st.dictionaries(st.text(max_size=8), _values, max_size=4),
                        max_size=5))
 def test_toml_text_reads_back_equal(table):

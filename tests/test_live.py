@@ -46,6 +46,7 @@ def test_the_server_holds_the_robot_and_follows_each_chunk(live):
     assert moved != before and view.viewer.static_html() == moved
 
 
+@pytest.mark.slow
 def test_simulate_view_runs_live_then_replays(tmp_path, monkeypatch, capsys):
     """--view shows a joint-space run live, replays it, closes the server and exits 0; the viewer's
     address is printed once (meshcat printed it too, and the replay a third time)."""

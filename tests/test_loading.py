@@ -54,6 +54,7 @@ def test_spart_joint_order_matches_spart(spart_dir):
     assert list(robot.joint_names) == ref["q_names"]
 
 
+@pytest.mark.slow
 @settings(max_examples=25, deadline=None)
 @given(random_robots())
 def test_total_mass_equals_urdf_masses(tmp_path_factory, case):
@@ -198,6 +199,7 @@ def test_example_robot_data_meshes_resolve():
     assert robot.visual_model is not None and robot.visual_model.ngeoms > 0
 
 
+@pytest.mark.slow
 def test_package_paths_with_three_slashes_resolve():
     """talos' 'package:///talos_data/...' meshes resolve (Pinocchio's own loader finds all 53)."""
     from freefloat.robot.loading import example_robot_data_share

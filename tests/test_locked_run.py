@@ -51,7 +51,7 @@ def test_a_locked_joint_with_an_initial_rate_is_refused(tmp_path):
 def test_locked_run_keeps_the_full_joint_vector_with_the_locked_angles_constant(tmp_path):
     """The written telemetry has every joint; the locked ones keep their initial angles and zero rates."""
     locked = quiet_scene(tmp_path, task=ONE_ARM_TASK, simulation={"duration": 0.05, "lock": "auto"})
-    runner.run_scene(locked, tmp_path / "out")
+    runner.simulate(locked, out=tmp_path / "out")
     tel = Telemetry.load(tmp_path / "out" / "telemetry.npz")
     assert tel.joint_positions.shape[1] == 16 and tel.q.shape[1] == 20
     held = tel.joint_positions[:, 4:]

@@ -47,6 +47,7 @@ def one_by_one(robot, q0, v0, duration, integrator, model, controllers=None, **k
                 backend="compiled", **kwargs) for i, (q, v) in enumerate(zip(q0, v0))]
 
 
+@pytest.mark.slow
 @settings(max_examples=6, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
 @given(case=random_robots(max_links=6), integrator=st.sampled_from(["rkmk4", "dopri5", "euler"]),
        threads=st.integers(1, 3))
@@ -138,6 +139,7 @@ def test_controlled_runs_of_other_masses_keep_the_nominal_law():
     assert np.abs(own.telemetry.tau - results[0].telemetry.tau).max() > 1e-6
 
 
+@pytest.mark.slow
 def test_runs_of_the_closed_plant_equal_their_own_runs():
     """The two hands joined by a weld (the constrained dynamics with Baumgarte): three runs from
     the scene's start with other joint rates, equal to each run alone."""
@@ -163,7 +165,7 @@ def test_a_run_that_blows_up_is_diverged_and_leaves_the_others():
     results = run_many(robot, q0, v0, 0.05, 1e-3, steps, ExactModel(robot), threads=2)
     expected = one_by_one(robot, q0, v0, 0.05, steps, ExactModel(robot))
     assert [r.status for r in results] == ["completed", "diverged", "completed"]
-    assert results[1].message == expected[1].message
+    assert [(r.status, r.message) for r in results] == [(r.status, r.message) for r in expected]
     for got, alone in zip(results, expected):
         assert_identical(got, alone)
 
@@ -186,6 +188,31 @@ def test_a_stop_request_ends_the_runs_and_keeps_their_rows():
         alone = run(robot, q0[i], v0[i], got.steps * 1e-3, 1e-3, steps, ExactModel(robot), backend="compiled")
         for name in ("q", "v", "momentum", "energy"):
             np.testing.assert_array_equal(getattr(got.telemetry, name), getattr(alone.telemetry, name)[:-1])
+
+
+@pytest.mark.parametrize("cause", [KeyboardInterrupt(), KeyboardInterrupt("SIGTERM")], ids=["ctrl-c", "sigterm"])
+def test_an_interrupted_run_says_what_the_same_run_interrupted_alone_says(monkeypatch, cause):
+    """A run stopped in run_many (by Ctrl-C, or SIGTERM as freefloat's handler raises it) and the
+    same run stopped alone in simulation.run at the same period end with one status and message."""
+    robot = robot_named("four_arm_planar.urdf")
+    q0, v0 = states(robot, 1, 3, speed=0.3)
+    steps = make_integrator("rkmk4", robot.model)
+
+    def stop(*args) -> None:
+        raise cause
+
+    with monkeypatch.context() as patched:
+        patched.setattr(stop_request, "check", stop)
+        [got] = start_runs(robot, q0, v0, 50.0, 1e-3, steps, ExactModel(robot), threads=1).finish()
+    assert got is not None and 0 < got.steps < 50_000
+
+    def progress(periods: int) -> None:
+        if periods == got.steps:
+            raise cause
+
+    alone = run(robot, q0[0], v0[0], 50.0, 1e-3, steps, ExactModel(robot), progress=progress, backend="compiled")
+    assert (got.status, got.message, got.steps) == (alone.status, alone.message, alone.steps)
+    assert got.status == "interrupted" and got.message.startswith("stopped by SIGTERM" if cause.args else "interrupted")
 
 
 def test_runs_stopped_by_sigterm_name_it(monkeypatch):

@@ -51,6 +51,7 @@ def test_batched_terms_and_inverse_equal_point_by_point(rsu_ppap):
             np.testing.assert_allclose(tau[i, j], rsu_ppap.inverse(q[i, j], qd[i, j, :3], qdd_sharp[i, j])[0], rtol=1e-12)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("backend", BACKENDS)
 def test_path_through_a_stretched_pose_follows_point_by_point_continuation(rsu_ppap, backend):
     """A path that touches the parallelogram's stretched pose (radius 8 cm, 2000 points; numpy:
@@ -135,6 +136,7 @@ def test_simulation_keeps_its_samples_when_a_singular_pose_stops_it(monkeypatch)
     assert np.isfinite(tel.q).all()
 
 
+@pytest.mark.slow
 def test_blocks_grow_back_after_successes_on_a_coarse_path(monkeypatch):
     """On eq 189's circle wound 8 times in 4000 points, inverse_trajectory assembles fewer than
     twice the points asked (resetting to 512 after each block assembled 7.7 times as many), and

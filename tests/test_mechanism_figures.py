@@ -171,6 +171,7 @@ def test_mechanism_page_draws_no_link_geometry_of_the_urdf(five_bar, tmp_path):
     assert f"{ROOT}/paths/platform" in drawn and f"{ROOT}/lines/platform_reference" in drawn
 
 
+@pytest.mark.slow
 def test_base_figures_show_the_attitude_and_the_momentum(tmp_path):
     """A moving base's run writes base_attitude (rotation vector, angle turned, displacement) and
     momentum (linear and angular components, and the drift on a log axis), as PNG."""

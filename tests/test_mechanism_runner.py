@@ -151,6 +151,7 @@ def test_fixed_base_key_reproduces_todays_run_exactly(tmp_path):
     assert not fixed.extra_telemetry and "base_rotation_max" not in fixed.summary
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", FREE_BASE_SCENES)
 def test_a_very_heavy_base_is_the_ground(tmp_path, name):
     """With a 1e8 kg base of 1e8 kg m^2, the free-base run (freefloat's constrained dynamics on the

@@ -18,6 +18,7 @@ from .loops import simulate
 CENTER, RADIUS, RATE, LAM = np.array([0.0, 0.17]), 0.07, 28.57, 40.0
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", ["five_bar_sliding_mode", "five_bar_computed_torque"])
 def test_recorded_s_is_the_law_definition_from_the_platform_error_and_its_rate(tmp_path, name):
     """s = -(edot + lambda e), e = q#_d - q#, recomputed from the recorded error and the platform
@@ -45,8 +46,8 @@ def test_recorded_s_is_the_law_definition_from_the_platform_error_and_its_rate(t
 def test_s_is_saved_and_drawn(tmp_path):
     """telemetry.npz carries ``sliding`` (N, 2) and the run folder has the figure sliding_variables."""
     out = tmp_path / "run"
-    runner.run_scene(load_scene(scene_variant(tmp_path / "s.toml", "five_bar_sliding_mode",
-                                              simulation={"duration": 0.01})), out)
+    runner.simulate(load_scene(scene_variant(tmp_path / "s.toml", "five_bar_sliding_mode",
+                                             simulation={"duration": 0.01})), out=out)
     saved = MechanismTelemetry.load(out / "telemetry.npz")
     assert saved.sliding.shape == saved.platform.shape
     assert (out / "sliding_variables.png").is_file()
@@ -61,6 +62,7 @@ def rsu_ppap_study():
     return design(), load_scene(builtin_scenes()[SCENE])
 
 
+@pytest.mark.slow
 def test_rsu_ppap_scene_prints_the_worst_case_design(rsu_ppap_study):
     """The scene's n, T and n_ij are the design's rounded to 4 significant digits."""
     gains, scene = rsu_ppap_study
@@ -72,6 +74,7 @@ def test_rsu_ppap_scene_prints_the_worst_case_design(rsu_ppap_study):
         np.testing.assert_allclose(ctrl.n_ij[f"{i},{j}"], value, rtol=5e-4)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("plant", ["true_15", "true_50"])
 def test_rsu_ppap_sliding_mode_out_tracks_computed_torque(rsu_ppap_study, plant):
     """On the plant 15 % or 50 % off, the scene under sliding mode (the designed gains) keeps each

@@ -37,6 +37,7 @@ def test_auto_locks_the_held_arms_when_the_error_stays_under_the_tolerance(tmp_p
     assert ((resolved.simulation.model, resolved.simulation.lock) == ("exact", "auto")) == faster
 
 
+@pytest.mark.slow
 def test_a_tolerance_below_the_locking_error_keeps_the_full_plant(tmp_path):
     """With a 1e-12 tolerance the locked plant's pilot error is too large, and the full exact plant is kept."""
     tight = quiet_scene(tmp_path, task=ONE_ARM_TASK, simulation={"duration": 1.0, "model": "auto", "tolerance": 1e-12})
@@ -68,12 +69,12 @@ def test_a_model_wrong_for_the_scene_is_refused_by_the_error_check(tmp_path):
 def test_the_choice_is_written_to_the_summary(tmp_path):
     """A run with ``model = "auto"`` writes the choice, its speed-up and error into summary.json and prints it."""
     auto = quiet_scene(tmp_path, task=ONE_ARM_TASK, simulation={"duration": 0.2, "model": "auto", "tolerance": 1e-5})
-    done = runner.run_scene(auto, tmp_path / "out")
+    done = runner.simulate(auto, out=tmp_path / "out")
     summary = json.loads((tmp_path / "out" / "summary.json").read_text())
     assert summary["model_choice"]["model"] == "exact" and summary["model_choice"]["lock"] in ("none", "auto")
     # which line depends on the pilots' wall time (a cheaper plant may or may not pay): both name the tolerance
     assert summary["model_auto"].startswith("exact") and "1e-05" in summary["model_auto"]
-    assert "model_auto" in done.outcome.headline  # the command line prints it
+    assert "model_auto" in done.headline  # the command line prints it
 
 
 def test_a_choice_with_nothing_piloted_says_so():

@@ -216,6 +216,7 @@ def with_gravity_and_wrenches(robot, rng):
     return [pin.Force(rng.normal(size=6)) for _ in range(robot.model.njoints)]
 
 
+@pytest.mark.slow
 @settings(max_examples=15, deadline=None)
 @given(random_robots(max_links=6))
 def test_compiled_models_equal_the_numpy_reference(tmp_path_factory, case):
@@ -248,7 +249,7 @@ def test_unknown_model_backend_is_refused(four_arm):
 
 
 def test_the_compiled_core_has_the_registrys_compiled_models():
-    """The C++ core's model names (cpp/models.hpp) are the registry's compiled hand-built models."""
+    """The C++ core's model names (cpp/gjm/models.hpp) are the registry's compiled hand-built models."""
     from freefloat.dynamics import _core
     from freefloat.dynamics.models import MODELS
 
@@ -293,6 +294,7 @@ def as_chain(text: str) -> str:
                   text)
 
 
+@pytest.mark.slow
 @settings(max_examples=8, deadline=None)
 @given(st.integers(0, 2**32 - 1), st.integers(12, 40), st.booleans())
 def test_tree_sparse_models_equal_the_dense_reference_and_aba_on_large_trees(tmp_path_factory, seed, links, chain):

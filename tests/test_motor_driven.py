@@ -67,6 +67,7 @@ def balance(t, voltage, charge, current, motors, mechanical_energy, friction_pow
     return drawn - joule - magnetic - (mechanical_energy[-1] - mechanical_energy[0]) - lost, abs(drawn)
 
 
+@pytest.mark.slow
 def test_the_5r_driven_by_its_motors_balances_electrical_and_mechanical_energy():
     """The 5R with its motor file's rotors and drive trains, 3 and -2 V held for 0.04 s (RK4 at
     20 us): the electrical energy drawn equals Joule heat + magnetic energy + the mechanism's
@@ -90,6 +91,7 @@ def test_the_5r_driven_by_its_motors_balances_electrical_and_mechanical_energy()
     assert drawn > 0.1 and abs(left) < 5e-8 * drawn
 
 
+@pytest.mark.slow
 def test_a_robot_joint_driven_by_a_motor_balances_its_energy():
     """A motor on the first joint of the two-arm planar robot (free-floating, rotor as Pinocchio's
     armature, drive-train friction), 5 V for 0.05 s: the same balance on a Lie group (RK4 at

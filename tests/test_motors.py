@@ -64,9 +64,9 @@ def test_the_mechanisms_motor_files_read(path, joints):
 
 
 @pytest.mark.parametrize(("edit", "message"), [
-    (lambda s: s.replace("resistance = 0.317", "resistence = 0.317"), "unknown \\[motors.re40\\] key 'resistence' \\(did you mean 'resistance'\\?\\)"),
-    (lambda s: s.replace('motor = "re40"', 'motor = "re04"', 1), "names 're04', which is no \\[motors\\] entry \\(did you mean 're40'\\?\\)"),
-    (lambda s: s.replace("[actuators.c1_joint1]", "[actuators.c1_joint]"), "no '\\[actuators.c1_joint1\\]' for joint 'c1_joint1' \\(the file has 'c1_joint'\\)"),
+    (lambda s: s.replace("resistance = 0.317", "resistence = 0.317"), "unknown \\[motors.re40\\] key 'resistence'; did you mean 'resistance'\\?"),
+    (lambda s: s.replace('motor = "re40"', 'motor = "re04"', 1), "names 're04', which is no \\[motors\\] entry; did you mean 're40'\\?"),
+    (lambda s: s.replace("[actuators.c1_joint1]", "[actuators.c1_joint]"), "no '\\[actuators.c1_joint1\\]' for joint 'c1_joint1'; did you mean 'c1_joint'"),
     (lambda s: s.replace("gear_ratio = 12.0", 'gear_ratio = "12"', 1), "'actuators.c1_joint1.gear_ratio' must be a finite number >= 0"),
     (lambda s: s.replace("gear_ratio = 12.0", "gear_ratio = 0.0", 1), "'\\[actuators.c1_joint1\\]' with motor 're40': DC motor: 'gear_ratio' must be > 0"),
     (lambda s: s.replace("torque_constant = 0.15", "torque_constant = 1.5"), "'uncertainty.torque_constant' must be below 1"),

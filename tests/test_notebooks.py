@@ -18,6 +18,7 @@ def test_there_is_a_notebook_per_experiment():
                                            "capture_detumbling", "five_bar_sliding_mode", "rsu_ppap", "work_precision"}
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("path", NOTEBOOKS, ids=[p.stem for p in NOTEBOOKS])
 def test_notebook_executes_and_its_checks_pass(path, tmp_path, monkeypatch):
     """Every cell runs without error in the short mode (FREEFLOAT_NOTEBOOK_QUICK=1), so every

@@ -9,6 +9,8 @@ import dataclasses
 import subprocess
 import sys
 
+import pytest
+
 from freefloat.app import runner
 from freefloat.app.outputs import write_run
 from freefloat.app.run_folder import RunFolder
@@ -26,12 +28,13 @@ def _short(tmp_path):
     return load_scene(scene_variant(tmp_path / "short.toml", "four_arm_joint_space", **SHORT))
 
 
+@pytest.mark.slow
 def test_a_robot_run_writes_its_figures_without_importing_matplotlib(tmp_path):
     """The default job's figures are written, in the run's order, and the run's process has not
     imported matplotlib (the helper drew them)."""
     code = ("import sys, warnings; warnings.simplefilter('ignore')\n"
-            "from freefloat.app.runner import run_scene\n"
-            f"done = run_scene({str(tmp_path / 'scene.toml')!r}, {str(tmp_path / 'out')!r})\n"
+            "from freefloat.app.runner import simulate\n"
+            f"done = simulate({str(tmp_path / 'scene.toml')!r}, out={str(tmp_path / 'out')!r})\n"
             "print(' '.join(p.name for p in done.written))\n"
             "print(any(m == 'matplotlib' or m.startswith('matplotlib.') for m in sys.modules))\n")
     scene_variant(tmp_path / "scene.toml", "four_arm_joint_space", **SHORT)
@@ -57,6 +60,7 @@ def test_figures_that_do_not_pickle_are_drawn_in_the_run_s_process(tmp_path):
     assert stages == ["data", "figures"]
 
 
+@pytest.mark.slow
 def test_an_interrupt_while_the_helper_draws_drops_the_figures_and_the_next_run_draws(tmp_path):
     """A second Ctrl-C (``interrupted()`` true) once the job is sent: no figure is placed, none is
     left half-made, the figures are listed as skipped; the next run's helper draws them."""
@@ -82,6 +86,7 @@ def test_quiet_scene_runs_draw_nothing(tmp_path):
     assert [p.name for p in written] == ["telemetry.npz", "scene.toml", "summary.json"] and not skipped
 
 
+@pytest.mark.slow
 def test_a_job_too_large_for_the_helper_is_drawn_here(tmp_path, monkeypatch):
     """Above the size limit the figures are drawn in the run's process, the same files."""
     from freefloat.app import outputs

@@ -58,6 +58,7 @@ def freefloat_from(installed: Path, *args: str, cwd: Path) -> subprocess.Complet
                      stderr=subprocess.PIPE)
 
 
+@pytest.mark.slow
 def test_wheel_ships_every_builtin_robot_mechanism_and_scene(installed):
     """Every file of urdf/ and every built-in scene is inside the wheel."""
     wheel = next((installed / "dist").glob("freefloat-*.whl"))
@@ -68,6 +69,7 @@ def test_wheel_ships_every_builtin_robot_mechanism_and_scene(installed):
     assert any(n.endswith("licenses/LICENSE") for n in names)
 
 
+@pytest.mark.slow
 def test_default_scene_runs_from_an_empty_folder(installed, tmp_path):
     """The main job runs from a folder that is not the repository and writes its run folder."""
     done = freefloat_from(installed, "simulate", "--quiet", "--no-html", "--no-figures", "--out", "out",
@@ -76,6 +78,7 @@ def test_default_scene_runs_from_an_empty_folder(installed, tmp_path):
     assert (tmp_path / "out" / "summary.json").is_file()
 
 
+@pytest.mark.slow
 def test_mechanism_closure_file_is_found_from_an_empty_folder(installed, tmp_path):
     """A mechanism scene naming the built-in closure file by name finds it inside the package."""
     scene = builtin_scenes()["five_bar_computed_torque"].read_text()

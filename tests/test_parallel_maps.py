@@ -73,6 +73,7 @@ def pinocchio_closure(chain, q: np.ndarray) -> float:
     return worst
 
 
+@pytest.mark.slow
 def test_five_bar_workspace_is_the_annuli_intersection(task):
     """A point has a working mode exactly where it lies in both annuli (|l1 - l2| <= |P - A_i| <= l1 + l2)."""
     _, grid, _ = task
@@ -111,6 +112,7 @@ def test_five_bar_area_matches_the_grid():
     assert inside.mean() * 0.66**2 == pytest.approx(exact.area(P), rel=5e-3)
 
 
+@pytest.mark.slow
 @settings(max_examples=12, deadline=None)
 @given(l0=st.floats(0.01, 0.2), l1=st.floats(0.05, 0.3), l2=st.floats(0.05, 0.3),
        seed=st.integers(0, 2**16))
@@ -140,6 +142,7 @@ def test_grid_boundary_cells_are_inside_next_to_outside():
     assert not boundary(np.ones((5, 5), bool)).any()
 
 
+@pytest.mark.slow
 def test_type_one_points_are_stretched_or_folded_legs(task):
     """Every type I point of the task map: A[:, joints] is rank deficient (SVD), and one leg
     reaches exactly l1 + l2 or |l1 - l2| from its base (analytic)."""
@@ -153,6 +156,7 @@ def test_type_one_points_are_stretched_or_folded_legs(task):
     assert gap.max() < 1e-9
 
 
+@pytest.mark.slow
 def test_type_two_points_align_the_distal_links_and_blow_up_the_direct_kinematics(task):
     """Every type II point of the task map: [A_platform, A_passive] is rank deficient (SVD), the
     elbows and the platform point are collinear, and the direct kinematics' Jacobian
@@ -186,6 +190,7 @@ def test_type_two_points_align_the_distal_links_and_blow_up_the_direct_kinematic
     assert max(near) < regular / 100
 
 
+@pytest.mark.slow
 def test_joint_space_loci_swap_the_types(joint):
     """In actuated-joint space type I points still fold or stretch a leg (SVD of A[:, joints]) and
     type II points end an assembly mode with the distal links aligned (SVD of the direct block)."""
@@ -253,6 +258,7 @@ def test_direct_kinematics_solutions_are_distinct_closed_poses(setups, name, poi
     assert np.abs(found[:, : mech.p] - scene[: mech.p]).max(axis=1).min() < 1e-9
 
 
+@pytest.mark.slow
 def test_five_bar_working_modes_are_the_elbow_combinations(task):
     """The 5R's working modes at a point hold, per leg, the two closed-form base angles
     ``atan2(y, x) -+ atan2(l2 sin q2, l1 + l2 cos q2)``, ``q2 = +-arccos(c)`` (chain 2 mirrored)."""
@@ -271,6 +277,7 @@ def test_five_bar_working_modes_are_the_elbow_combinations(task):
     assert checked > 300
 
 
+@pytest.mark.slow
 def test_rsu_ppap_workspace_is_where_every_leg_reaches(setups):
     """On an (x, z) grid through the scenes' start, the 2RSU+PPaP's map has its eight working
     modes exactly where each leg reaches the platform in closed form: the crank's circle within a
@@ -296,6 +303,7 @@ def test_rsu_ppap_workspace_is_where_every_leg_reaches(setups):
     np.testing.assert_array_equal(found.any(axis=1), expected)
 
 
+@pytest.mark.slow
 def test_rsu_ppap_type_one_points_stretch_a_crank_and_rod_or_lay_the_bars_flat(setups):
     """Every type I point of a 9 x 9 (x, z) map of the 2RSU+PPaP: the inverse block is rank
     deficient (SVD) and, by the leg's geometry, either an RSU leg's rod lies in the plane of its

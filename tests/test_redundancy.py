@@ -222,6 +222,7 @@ def gains():
     return design_gains(NOMINAL, POINTS[:2], eta=20.0)
 
 
+@pytest.mark.slow
 def test_a_law_at_every_stage_moves_the_redundant_5r_as_the_square_one(gains):
     """Sliding mode (designed gains, 15 % plant errors) evaluated at every RK4 stage: the redundant
     5R (minimum-norm sharing) follows the square 5R's platform path to round-off (1e-12 m) for
@@ -232,6 +233,7 @@ def test_a_law_at_every_stage_moves_the_redundant_5r_as_the_square_one(gains):
     assert np.abs(shared.efforts).max() < np.abs(square.efforts).max()
 
 
+@pytest.mark.slow
 def test_the_redundant_5r_tracks_the_circle_as_the_square_one_under_a_held_law(gains):
     """Sec 5.6's closed loop (law held over 0.2 ms, 15 % plant errors, 0.3 s): the redundant 5R
     with effort limits of 3 N m (below the square 5R's peak) tracks the circle after 0.2 s within

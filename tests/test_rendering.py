@@ -6,6 +6,7 @@ from __future__ import annotations
 import os
 
 import numpy as np
+import pytest
 
 from freefloat.app.viz import plotting, rendering
 
@@ -51,6 +52,7 @@ def test_a_lost_helper_costs_no_figure(tmp_path, monkeypatch):
     assert len(paths) == 3 and all(path.is_file() for path in paths)
 
 
+@pytest.mark.slow
 def test_a_figure_redrawn_after_it_was_sent_is_rendered_as_sent(tmp_path, monkeypatch):
     """The helper renders a figure as it was when sent, and so does this process when the helper
     failed on it: a later change to the same Figure (the next figure redrawing it) reaches neither."""

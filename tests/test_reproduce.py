@@ -23,6 +23,7 @@ def test_tumbling_routhian_follows_exact_and_mono_state_does_not():
     assert mono["final_state_error"] > 1e-7
 
 
+@pytest.mark.slow
 def test_attitude_study_shows_the_singularity_and_the_printed_eq_11():
     """Euler-angle error grows toward theta = 90 deg; eq 11 as printed is off by O(1)."""
     study = attitude_study()
@@ -32,6 +33,7 @@ def test_attitude_study_shows_the_singularity_and_the_printed_eq_11():
     assert study["eq11_printed_max_relative_error"] > 0.1
 
 
+@pytest.mark.slow
 def test_task_space_run_follows_the_joint_space_path(tmp_path):
     """Sec 5.2 (short run): the task-space run tracks the joint-space path and KJC is tiny."""
     from freefloat.lab.reproduce.task_space_report import reproduce
@@ -54,6 +56,7 @@ def test_corrected_phase_schedule_matches_exact_and_the_printed_one_does_not(tmp
     assert printed["state_error_at_phase_ends"][1] > 1e-6
 
 
+@pytest.mark.slow
 def test_robustness_study_keeps_its_samples_and_resumes(tmp_path):
     """Each finished sample is journaled; a rerun into the same folder resumes instead of
     recomputing (issue 13 item 15)."""
@@ -90,6 +93,7 @@ def _recomputed(*args) -> dict:
     raise AssertionError(f"part recomputed: {args}")
 
 
+@pytest.mark.slow
 def test_models_study_journals_each_part_and_resumes(tmp_path, monkeypatch):
     """An interrupted models study keeps every finished part in its journal, and a rerun into the
     same folder takes them instead of recomputing (it wrote only at the end)."""
@@ -117,6 +121,7 @@ def test_models_study_journals_each_part_and_resumes(tmp_path, monkeypatch):
     assert report["attitude"] == {"rows": []} and (tmp_path / "report.json").is_file()
 
 
+@pytest.mark.slow
 def test_models_study_workers_print_no_warnings(tmp_path):
     """The study's pool workers keep the robot's load-time notes to themselves, as the study does
     in the command's process (each worker printed them with their source lines)."""
@@ -126,6 +131,7 @@ def test_models_study_workers_print_no_warnings(tmp_path):
     assert "Warning" not in done.stderr and "warning" not in done.stderr
 
 
+@pytest.mark.slow
 def test_robustness_stopped_by_sigterm_prints_no_dask_log(tmp_path):
     """SIGTERM while the local Dask cluster runs samples: the interrupt's message, exit 1, and no
     traceback or log line from the workers (cancelled tasks, lost heartbeats)."""

@@ -52,6 +52,7 @@ def test_every_figure_and_table_of_both_documents_has_an_entry():
     assert figures == sorted(figures)
 
 
+@pytest.mark.slow
 def test_every_entry_is_reproduced_with_its_numbers(report):
     """No entry whose study ran is left 'not reproduced' (the others name their study); every row
     carries a number or text of freefloat's."""
@@ -63,6 +64,7 @@ def test_every_entry_is_reproduced_with_its_numbers(report):
     assert all(r["ours"] not in ("", "-") for e in entries.values() for r in e["rows"])
 
 
+@pytest.mark.slow
 def test_report_is_self_contained_html_and_a_pdf(report):
     """The page embeds its figures (no network address anywhere) and the PDF is a PDF."""
     out, entries, _, _ = report
@@ -72,6 +74,7 @@ def test_report_is_self_contained_html_and_a_pdf(report):
     assert (out / "report.pdf").read_bytes()[:5] == b"%PDF-"
 
 
+@pytest.mark.slow
 def test_report_states_commit_versions_and_settings(report):
     """Provenance: the commit (or why unknown), package versions and the --quick setting."""
     _, _, record, _ = report
@@ -81,6 +84,7 @@ def test_report_states_commit_versions_and_settings(report):
     assert set(provenance["studies"]) == set(NEEDED)
 
 
+@pytest.mark.slow
 def test_start_posture_is_the_printed_one(report):
     """Fig 6: the end-effectors start at (7.75, 0), (0, 7.75), (-7.75, 0), (0, -7.75) m (sec 4.2)."""
     _, entries, _, _ = report
@@ -89,6 +93,7 @@ def test_start_posture_is_the_printed_one(report):
         np.testing.assert_allclose(ours(e, f"arm {k + 1} end-effector x, y (m)"), printed, atol=1e-9)
 
 
+@pytest.mark.slow
 def test_joint_references_move_five_degrees(report):
     """Fig 8: every joint's quintic reference moves +-5 deg (sec 4.2.2), to 1e-9 deg."""
     _, entries, _, _ = report
@@ -97,6 +102,7 @@ def test_joint_references_move_five_degrees(report):
         assert ours(e, f"arm {k + 1} reference displacement (deg)") == pytest.approx([5.0 * sign], abs=1e-9)
 
 
+@pytest.mark.slow
 def test_com_stays_put_and_base_moves_on_the_bisector_on_the_exact_plant(report):
     """Figs 12, 14: with zero momentum the CoM is fixed (conservation, 1e-10 m) and the base
     translates with x = y (the task's symmetry, 1e-9 m), without turning."""
@@ -107,6 +113,7 @@ def test_com_stays_put_and_base_moves_on_the_bisector_on_the_exact_plant(report)
     assert ours(entries[(DISSERTATION, "Fig 12")], "largest |base yaw| (deg)")[0] < 1e-9
 
 
+@pytest.mark.slow
 def test_eq_140_sample_count_is_duration_over_step_plus_one(report):
     """Eq 140's erratum: the run has duration / dt + 1 samples (5001 for 5 s at 1 ms, printed 500)."""
     _, entries, record, _ = report
@@ -115,6 +122,7 @@ def test_eq_140_sample_count_is_duration_over_step_plus_one(report):
     assert samples == round(duration / 1e-3) + 1
 
 
+@pytest.mark.slow
 def test_task_space_start_matches_table_5_to_its_printed_digits(report):
     """Table 5's start (arm 1 at 7.75 m, 0.13 m, 2.0 deg) to the printed rounding (0.005 m, 0.05 deg)."""
     _, entries, _, _ = report
@@ -124,6 +132,7 @@ def test_task_space_start_matches_table_5_to_its_printed_digits(report):
     assert ours(e, "TSC arm 1 start z-rotation (deg)")[0] == pytest.approx(2.0, abs=0.05)
 
 
+@pytest.mark.slow
 def test_plain_inversion_is_refused_at_the_stretched_posture(report):
     """Fig 40: at 0 deg offset the E-GJM is singular and the plain inversion is refused."""
     _, entries, _, _ = report
@@ -131,6 +140,7 @@ def test_plain_inversion_is_refused_at_the_stretched_posture(report):
     assert inversion["ours"].startswith("refused")
 
 
+@pytest.mark.slow
 def test_detumbled_end_effectors_stop_and_the_baseline_keeps_spinning(report):
     """Figs 44-54: with detumbling the mission end-effector's rate ends below 1e-6 rad/s; without
     it both end-effectors keep one common rate above 1e-3 rad/s (the robot turns rigidly)."""
@@ -142,12 +152,14 @@ def test_detumbled_end_effectors_stop_and_the_baseline_keeps_spinning(report):
     assert min(rates) > 1e-3
 
 
+@pytest.mark.slow
 def test_baseline_joints_return_to_their_start(report):
     """Fig 42: the held joints come back to the start after the impulse (within 0.05 deg)."""
     _, entries, _, _ = report
     assert ours(entries[(DISSERTATION, "Fig 42")], "largest |joint - start| at the end (deg)")[0] < 0.05
 
 
+@pytest.mark.slow
 def test_five_bar_drawing_closes_at_the_start_point(report):
     """Thesis fig 6: both chains' tips meet at (0.07, 0.17) m (1e-9) with links of 0.12 and 0.15 m."""
     _, entries, _, _ = report
@@ -156,6 +168,7 @@ def test_five_bar_drawing_closes_at_the_start_point(report):
     np.testing.assert_allclose(ours(entries[(THESIS, "Fig 7")], "link lengths l1, l2 (m)"), [0.12, 0.15], atol=1e-9)
 
 
+@pytest.mark.slow
 def test_saturation_matches_the_printed_properties(report):
     """Thesis fig 9: tanh(100 x 0.023) = 0.98 to the printed digits, slope 100 at 0."""
     _, entries, _, _ = report
@@ -163,6 +176,7 @@ def test_saturation_matches_the_printed_properties(report):
     assert ours(entries[(THESIS, "Fig 9")], "f_sat'(0)")[0] == pytest.approx(100.0)
 
 
+@pytest.mark.slow
 def test_sliding_variables_start_where_the_thesis_says(report):
     """Eq 142's erratum: with e = q_d - q, s(0) = [0, -2] m/s as sec 5.6 states (to 1e-3)."""
     _, entries, _, _ = report
@@ -170,6 +184,7 @@ def test_sliding_variables_start_where_the_thesis_says(report):
     np.testing.assert_allclose(s0, [0.0, -2.0], atol=1e-3)
 
 
+@pytest.mark.slow
 def test_workspace_map_marks_every_point_beyond_reach_out_of_reach(report):
     """Thesis fig 8: a grid point farther than l1 + l2 from either base joint does not assemble."""
     from freefloat.parallel.five_bar import FiveBarParameters
@@ -183,6 +198,7 @@ def test_workspace_map_marks_every_point_beyond_reach_out_of_reach(report):
                 assert c is None
 
 
+@pytest.mark.slow
 def test_kinematic_consistency_is_small(report):
     """Table 3: E-GJM rates agree with the differentiated motion (below 1e-4 m/s, deg/s)."""
     _, entries, _, _ = report
@@ -195,6 +211,7 @@ def _texts(fig) -> list[str]:
     return [t.get_text() for t in fig.texts] + [t.get_text() for ax in fig.axes for t in ax.texts]
 
 
+@pytest.mark.slow
 def test_the_pdf_opens_with_a_title_page_holding_the_provenance_as_a_table(report):
     """Page 1: the title and one table row per provenance item (commit, settings, each version,
     each study), its name in one column and its value in the other (no 'versions.pin: 4.1.0'
@@ -215,6 +232,7 @@ def test_the_pdf_opens_with_a_title_page_holding_the_provenance_as_a_table(repor
     assert pdf.count(b"/Type /Page") - pdf.count(b"/Type /Pages") == len(entries) + 1
 
 
+@pytest.mark.slow
 def test_a_quick_report_is_marked_on_its_title_every_page_and_every_figure(report):
     """--quick: the HTML page and the PDF's title and entry pages carry the quick mark, and each
     figure's picture carries it (bottom right, in red), which a full report's does not."""
@@ -270,6 +288,7 @@ def test_interrupted_all_keeps_finished_studies_and_a_rerun_resumes(tmp_path, mo
     assert any("task_space: kept" in line for line in lines)
 
 
+@pytest.mark.slow
 def test_progress_names_each_study_in_order(report):
     """One progress line per study as it starts, numbered, in the registry's order."""
     _, _, _, lines = report
@@ -278,6 +297,7 @@ def test_progress_names_each_study_in_order(report):
     assert set(NEEDED) <= set(STUDIES)
 
 
+@pytest.mark.slow
 def test_runs_start_at_table_4s_printed_angles(report):
     """Table 4: both runs start at the printed joint angles (0.5 deg off the stretched arms, 1e-9 deg)."""
     from freefloat.lab.reproduce.printed import TABLE_4
@@ -314,6 +334,7 @@ def test_a_run_the_user_stops_stops_the_study():
     assert finished(completed) is completed
 
 
+@pytest.mark.slow
 def test_workspace_grid_agrees_with_the_closed_form_workspace(report):
     """Thesis fig 8: the area of the grid cells where the 5R assembles (doubled: the grid covers
     y > 0) is the closed-form area of the two annuli's intersection within 10 % at the quick 3 cm
@@ -356,6 +377,7 @@ def test_overwrite_refuses_before_clearing_anything_when_a_study_folder_holds_a_
     assert (tmp_path / "five_bar" / "report.json").is_file()
 
 
+@pytest.mark.slow
 def test_eq_182_as_printed_misses_the_momentum_and_the_corrected_form_does_not(report):
     """Eq 182's erratum: against Pinocchio's centroidal momentum moved to the origin, the printed
     H0^C is off by more than 10 % and the corrected form agrees to 1e-12."""

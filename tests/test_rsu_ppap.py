@@ -115,6 +115,7 @@ def held(loaded, q0):
     return lambda q_a, qd_a: tau0 - 50.0 * (q_a - q_a0) - 1.0 * qd_a
 
 
+@pytest.mark.slow
 def test_motion_follows_pinocchio_for_one_second(loaded):
     """From a pushed start with PD-held actuators (efforts held over each step), RK4 at 2 ms, no stabilisation, the two models'
     trajectories stay together to 1e-9 over 1 s (both integrate the same ODE the same way)."""

@@ -38,10 +38,17 @@ def previous_run(folder, *names: str) -> None:
 
 
 def test_a_folder_that_is_not_empty_needs_overwrite(tmp_path):
-    """A folder with a previous run is refused without overwrite, naming --overwrite; with it, the
+    """A folder with a previous run is refused without overwrite, naming the argument as the caller
+    spells it (``overwrite=True`` from Python, ``--overwrite`` on the command line); with it, the
     previous run is cleared."""
+    from freefloat.errors import command_line
+
     previous_run(tmp_path / "out", "summary.json", "old_figure.png")
-    with pytest.raises(FreefloatError, match="holds a previous run.*--overwrite"):
+    with pytest.raises(FreefloatError, match="holds a previous run; choose another out=, or pass overwrite=True") as python:
+        RunFolder(tmp_path / "out")
+    assert "--" not in str(python.value)
+    with pytest.raises(FreefloatError, match="holds a previous run; choose another --out, or pass --overwrite"), \
+            command_line():
         RunFolder(tmp_path / "out")
     with RunFolder(tmp_path / "out", overwrite=True):
         assert not (tmp_path / "out" / "old_figure.png").exists()
@@ -50,24 +57,24 @@ def test_a_folder_that_is_not_empty_needs_overwrite(tmp_path):
 
 @pytest.mark.parametrize("overwrite", [False, True])
 def test_a_folder_that_holds_no_run_is_refused_with_a_hint_that_works(tmp_path, overwrite):
-    """A folder of someone's files (no ownership record) is refused with or without --overwrite,
-    naming the files, and the hint is another folder, never --overwrite (which would not clear
+    """A folder of someone's files (no ownership record) is refused with or without overwrite,
+    naming the files, and the hint is another folder, never overwriting (which would not clear
     it either); the files are left."""
     (tmp_path / "thesis").mkdir()
     (tmp_path / "thesis" / "chapter1.tex").write_text("precious")
     with pytest.raises(FreefloatError, match=r"holds files freefloat did not write \(chapter1.tex\); choose another "
-                                             r"--out \(a new or empty folder\)") as refused:
+                                             r"out= \(a new or empty folder\)") as refused:
         RunFolder(tmp_path / "thesis", overwrite=overwrite)
-    assert "--overwrite" not in str(refused.value)
+    assert "overwrite" not in str(refused.value)
     assert (tmp_path / "thesis" / "chapter1.tex").read_text() == "precious"
 
 
 def test_the_overwrite_hint_names_the_files_it_would_keep(tmp_path):
-    """A previous run beside the user's file: --overwrite is suggested (it works), saying that the
+    """A previous run beside the user's file: overwriting is suggested (it works), saying that the
     user's file stays; with it, it does."""
     previous_run(tmp_path / "out", "summary.json")
     (tmp_path / "out" / "notes.txt").write_text("mine")
-    with pytest.raises(FreefloatError, match=r"--overwrite to replace that run \(your files there stay: notes.txt\)"):
+    with pytest.raises(FreefloatError, match=r"overwrite=True to replace that run \(your files there stay: notes.txt\)"):
         RunFolder(tmp_path / "out")
     with pytest.warns(UserWarning, match="kept 1 file"), RunFolder(tmp_path / "out", overwrite=True):
         pass

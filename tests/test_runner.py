@@ -23,19 +23,19 @@ from freefloat.dynamics.telemetry import Telemetry
 from .conftest import cli_process, scene_variant
 
 
-def test_run_scene_writes_exactly_what_the_bare_loop_computes(tmp_path):
+def test_simulate_writes_exactly_what_the_bare_loop_computes(tmp_path):
     """The pipeline adds nothing to the numbers: its telemetry equals dynamics.simulation.run on
     the prepared setup, bit for bit."""
     scene = load_scene(scene_variant(tmp_path / "s.toml", "four_arm_joint_space", simulation={"duration": 0.05},
                                      output={"figures": False, "html": False}))
-    done = runner.run_scene(scene, tmp_path / "out")
+    done = runner.simulate(scene, out=tmp_path / "out")
     setup = runner.prepare(scene)
     bare = run(setup.robot, setup.q0, setup.v0, 0.05, scene.simulation.control_period, setup.integrator,
                setup.model, setup.controller)
     written = Telemetry.load(tmp_path / "out" / "telemetry.npz")
     for name in ("t", "q", "v", "tau", "momentum", "energy"):
         assert np.array_equal(getattr(written, name), getattr(bare.telemetry, name)), name
-    assert done.outcome.status == json.loads((tmp_path / "out" / "summary.json").read_text())["status"] == "completed"
+    assert done.status == json.loads((tmp_path / "out" / "summary.json").read_text())["status"] == "completed"
 
 
 def test_an_unwritable_folder_is_refused_before_the_run(tmp_path):
@@ -45,10 +45,21 @@ def test_an_unwritable_folder_is_refused_before_the_run(tmp_path):
     scene = load_scene(scene_variant(tmp_path / "s.toml", "four_arm_joint_space"))
     started = time.perf_counter()
     with pytest.raises(FreefloatError, match="output folder .*file/out.* cannot be written"):
-        runner.run_scene(scene, blocker / "out")
+        runner.simulate(scene, out=blocker / "out")
     assert time.perf_counter() - started < 5.0
 
 
+def test_a_python_call_into_a_used_folder_names_python_arguments(tmp_path):
+    """simulate into a folder of someone's files is refused naming ``out=``, not the command
+    line's ``--out``, before anything is simulated."""
+    (tmp_path / "mine").mkdir()
+    (tmp_path / "mine" / "notes.txt").write_text("mine")
+    with pytest.raises(FreefloatError, match=r"choose another out= \(a new or empty folder\)") as refused:
+        runner.simulate("tumbling", out=tmp_path / "mine")
+    assert "--" not in str(refused.value) and (tmp_path / "mine" / "notes.txt").read_text() == "mine"
+
+
+@pytest.mark.slow
 @pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM, signal.SIGHUP])
 def test_sigint_sigterm_and_sighup_keep_what_was_computed(tmp_path, signum):
     """A run stopped by Ctrl-C (SIGINT), SIGTERM or SIGHUP exits 1 and writes its samples."""
@@ -74,6 +85,7 @@ def _start(tmp_path, duration: float) -> tuple[subprocess.Popen, "os.PathLike"]:
     return proc, out
 
 
+@pytest.mark.slow
 def test_a_killed_run_leaves_loadable_checkpoints(tmp_path):
     """SIGKILL mid-run leaves the telemetry checkpointed so far, readable and in order."""
     from freefloat.app.run_folder import PARTS
@@ -157,12 +169,13 @@ def test_an_interrupt_during_the_model_pilot_stops_the_run(tmp_path, monkeypatch
     scene = load_scene(scene_variant(tmp_path / "s.toml", "four_arm_joint_space",
                                      simulation={"duration": 5.0, "model": "auto"},
                                      output={"figures": False, "html": False}))
-    result = runner.run_scene(scene, tmp_path / "out")
+    result = runner.simulate(scene, out=tmp_path / "out")
     summary = json.loads((tmp_path / "out" / "summary.json").read_text())
-    assert result.outcome.status == summary["status"] == "interrupted"
+    assert result.status == summary["status"] == "interrupted"
     assert 0 < len(Telemetry.load(tmp_path / "out" / "telemetry.npz").t) < 5001
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("gap", [0.0, 0.05, 0.3])
 def test_a_second_ctrl_c_keeps_the_telemetry_and_summary(tmp_path, gap):
     """Ctrl-C twice in a row (``gap`` s apart) stops the run once and still writes its
@@ -180,19 +193,21 @@ def test_a_second_ctrl_c_keeps_the_telemetry_and_summary(tmp_path, gap):
     assert len(t) > 1 and np.all(np.diff(t) > 0)
 
 
+@pytest.mark.slow
 def test_writing_stages_come_after_the_simulation_in_order(tmp_path):
-    """run_scene reports every simulated step before its first writing stage, then the stages in
+    """simulate reports every simulated step before its first writing stage, then the stages in
     the order they write (data, page, then the figures the helper drew meanwhile): a progress bar
     can close when the writing starts."""
     events: list[tuple[str, object]] = []
     scene = load_scene(scene_variant(tmp_path / "s.toml", "four_arm_joint_space", simulation={"duration": 0.05}))
-    runner.run_scene(scene, tmp_path / "out", progress=lambda k: events.append(("step", k)),
-                     stage=lambda name: events.append(("stage", name)))
+    runner.simulate(scene, out=tmp_path / "out", progress=lambda k: events.append(("step", k)),
+                    stage=lambda name: events.append(("stage", name)))
     first_stage = next(i for i, (kind, _) in enumerate(events) if kind == "stage")
     assert events[first_stage - 1] == ("step", 50) and all(kind == "stage" for kind, _ in events[first_stage:])
     assert [name for _, name in events[first_stage:]] == ["data", "trajectory.html", "figures_meanwhile"]
 
 
+@pytest.mark.slow
 def test_simulate_closes_its_bar_before_writing_and_times_each_stage(tmp_path):
     """The command's bar ends at the last step, then one line per writing stage with its time."""
     path = scene_variant(tmp_path / "s.toml", "four_arm_joint_space", simulation={"duration": 0.05})
@@ -206,18 +221,22 @@ def test_simulate_closes_its_bar_before_writing_and_times_each_stage(tmp_path):
     assert all(re.fullmatch(r".* \.\.\. \d+\.\d\d s", line) for line in lines)
 
 
-def test_run_scene_takes_a_name_and_writes_where_the_command_would(tmp_path, monkeypatch):
-    """The Python entry takes a scene file's path (or a built-in name) and, without a folder,
-    writes runs/<scene>-<time> as ``freefloat simulate`` does; its result holds the summary."""
+def test_simulate_takes_a_path_and_writes_only_into_out(tmp_path, monkeypatch):
+    """The Python entry takes a scene file's path (or a built-in name); without ``out`` it writes
+    nothing (folder None), with ``out`` it writes there the summary it returns."""
     path = scene_variant(tmp_path / "short.toml", "four_arm_joint_space", simulation={"duration": 0.02},
                          output={"figures": False, "html": False})
     monkeypatch.chdir(tmp_path)
-    done = runner.run_scene(str(path))
-    assert done.folder.parent == Path("runs") and done.folder.name.startswith("four_arm_joint_space-")
-    assert json.loads((done.folder / "summary.json").read_text())["steps"] == done.outcome.summary["steps"] == 20
-    assert runner.simulate(str(path)).summary["tracking_rms_overall"] == done.outcome.summary["tracking_rms_overall"]
+    alone = runner.simulate(str(path))
+    assert alone.folder is None and alone.written == [] and sorted(p.name for p in tmp_path.iterdir()) == ["short.toml"]
+    done = runner.simulate(str(path), out="written")
+    assert done.folder == Path("written") and [p.name for p in done.written] == ["telemetry.npz", "scene.toml",
+                                                                                  "summary.json"]
+    assert json.loads((done.folder / "summary.json").read_text())["steps"] == done.summary["steps"] == 20
+    assert alone.summary["tracking_rms_overall"] == done.summary["tracking_rms_overall"]
 
 
+@pytest.mark.slow
 def test_an_interrupt_while_writing_exits_1_with_the_data_whole(tmp_path):
     """SIGTERM while the page is written (the helper drawing the figures): exit 1 saying so (it
     was 0, as if all were written), telemetry and summary whole, the figures listed as skipped."""

@@ -46,6 +46,7 @@ def test_a_user_file_is_named_by_its_absolute_path(tmp_path, monkeypatch):
     assert tomllib.loads(scene_as_run(find_scene("tumbling")))["robot"]["urdf"] == "four_arm_planar.urdf"
 
 
+@pytest.mark.slow
 def test_a_robot_run_reruns_from_its_saved_scene(tmp_path):
     """``simulate --robot ur5`` writes a scene.toml naming ur5 (it named the tumbling scene's
     four-arm robot); rerunning that file gives the same summary."""
@@ -56,6 +57,7 @@ def test_a_robot_run_reruns_from_its_saved_scene(tmp_path):
     assert results(again) == results(first)
 
 
+@pytest.mark.slow
 def test_the_model_auto_chose_is_written_and_reruns_alike(tmp_path):
     """A scene with ``model = "auto"`` is saved with the model and lock it chose, and the rerun
     runs that plant with the same results."""

@@ -60,6 +60,7 @@ def test_bad_closures_are_refused_naming_the_file_and_the_closure(tmp_path, clos
     assert str(path) in str(error.value)
 
 
+@pytest.mark.slow
 def test_a_loop_that_cannot_close_is_refused(tmp_path):
     """A weld between the base and a tool 0.6 m away with the arm's joints locked out of reach:
     the error names the closure, its frames and the residual."""

@@ -29,6 +29,7 @@ def test_changed_and_extent_measure_the_differing_pixels():
     assert changed(a, a) == 0.0 and extent(a, a) == 0.0
 
 
+@pytest.mark.slow
 @needs_browser
 def test_robot_page_frames_the_robot_and_moves(tmp_path):
     """The four-arm robot (arms to 7.75 m) spans over a tenth of the picture, and the picture
@@ -43,6 +44,7 @@ def test_robot_page_frames_the_robot_and_moves(tmp_path):
     assert seen["extent"] > 0.1 and seen["motion"] > 0.002
 
 
+@pytest.mark.slow
 @needs_browser
 def test_mechanism_page_frames_the_mechanism_and_moves(tmp_path):
     """The 5R (links of 0.12-0.15 m) spans over a tenth of the picture and moves, drawn as thin

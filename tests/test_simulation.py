@@ -7,8 +7,9 @@ import pinocchio as pin
 import pytest
 from hypothesis import given, settings
 
-from freefloat.dynamics.integrators import make_integrator
+from freefloat.dynamics.integrators import RungeKutta4, make_integrator
 from freefloat.dynamics.models import ExactModel
+from freefloat.dynamics.plants import vector_space
 from freefloat.dynamics.simulation import run
 from freefloat.dynamics.wrenches import ExternalWrench
 from freefloat.robot.conventions import base_state
@@ -39,6 +40,7 @@ def test_torque_free_motion_conserves_momentum_and_energy(tmp_path_factory, back
     np.testing.assert_allclose(tel.com, tel.com[0] + np.outer(tel.t, tel.momentum[0, :3]) / pin.computeTotalMass(robot.model), atol=1e-7)
 
 
+@pytest.mark.slow
 @BOTH
 @settings(max_examples=10, deadline=None)
 @given(random_robots(max_links=6))
@@ -262,3 +264,35 @@ def test_progress_reports_the_loop_s_start_and_its_end(backend):
                  make_integrator("rkmk4", robot.model), ExactModel(robot), progress=calls.append, backend=backend)
     assert result.steps == 403 and result.backend == backend
     assert calls[0] == 0 and calls[-1] == 403 and calls == sorted(set(calls)) and len(calls) > 100
+
+
+def test_one_call_runs_a_robot_and_a_plant_alike():
+    """``run`` on a robot's tree wrapped as a plant (the plant loop) ends where ``run`` on the
+    robot (its own loop) ends, both with the integrator and model given by name."""
+    from freefloat import load_robot
+    from freefloat.dynamics.plants.tree import TreePlant
+    from freefloat.paths import URDF_DIR
+
+    robot = load_robot(URDF_DIR / "dual_arm_satellite.urdf", visuals=False)
+    q0, v0 = robot.neutral(), np.full(robot.model.nv, 0.2)
+    alone = run(robot, q0, v0, 0.05, 1e-3, "rkmk4", "exact", backend="python")
+    plant = run(TreePlant(robot, ExactModel(robot)), q0, v0, 0.05, 1e-3, "rkmk4", backend="python")
+    assert alone.status == plant.status == "completed" and len(alone.telemetry.t) == len(plant.telemetry.t) == 51
+    np.testing.assert_allclose(plant.telemetry.q, alone.telemetry.q, rtol=0, atol=1e-12)
+    assert alone.summary == alone.loop_summary() and alone.summary["steps"] == 50 and alone.folder is None
+
+
+@pytest.mark.parametrize("given, named", [({"model": "exact"}, "model"), ({"wrenches": (None,)}, "wrenches"),
+                                          ({"integrator": RungeKutta4(vector_space(1))}, "integrator")])
+def test_an_argument_a_plant_does_not_take_is_named(given, named):
+    """A robot's argument handed with a plant is refused naming it, not ignored."""
+    from freefloat import InvalidArgument
+
+    class Still:  # the smallest plant: one coordinate, no force
+        name, space, n_efforts, max_drift = "still", vector_space(1), 0, np.inf
+
+        def acceleration(self, q, v, u):
+            return np.zeros(1)
+
+    with pytest.raises(InvalidArgument, match=f"^{named}: "):
+        run(Still(), np.zeros(1), np.zeros(1), 0.01, 1e-3, **given)

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 import pinocchio as pin
+import pytest
 
 from freefloat.app import runner
 from freefloat.app.experiments.robot_run import prepare_robot
@@ -40,11 +41,12 @@ def test_angular_momentum_figure_draws_pinocchios_centroidal_momentum_after_a_ca
                                atol=1e-10 * scale)
 
 
+@pytest.mark.slow
 def test_capture_and_detumble_scenes_write_the_angular_momentum_figure(tmp_path):
     """capture_planar (after the grasp) and a detumble impulse scene write angular_momentum."""
     for name in ("capture_planar", "detumble_impulse_arm1_joint4"):
         out = tmp_path / name
-        runner.run_scene(load_scene(scene_variant(tmp_path / f"{name}.toml", name, simulation={"duration": 0.6})), out)
+        runner.simulate(load_scene(scene_variant(tmp_path / f"{name}.toml", name, simulation={"duration": 0.6})), out=out)
         assert (out / "angular_momentum.png").is_file()
 
 
@@ -55,6 +57,7 @@ def _end_effector_spin(name: str) -> tuple[np.ndarray, np.ndarray]:
     return run.telemetry.t, angular_speeds(robot, run.telemetry)[1][:, 0]
 
 
+@pytest.mark.slow
 def test_without_detumbling_the_end_effector_keeps_turning():
     """Baseline (joints held): arm 1's end-effector turns at the same rate from 0.5 s (posture
     back) to the end, within 1 %; with detumbling (scenario 1) the same rate falls below 1e-6 of

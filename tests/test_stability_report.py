@@ -5,6 +5,8 @@ from __future__ import annotations
 import csv
 import json
 
+import pytest
+
 from freefloat.lab.reproduce import stability_report
 from freefloat.lab.reproduce.stability_cases import Case
 
@@ -29,6 +31,7 @@ def fake_cases(quick: bool):
              Threshold(10.0), (1e-4, 1.0))]
 
 
+@pytest.mark.slow
 def test_study_reports_each_bracket_and_open_ones(tmp_path, monkeypatch):
     """Limits 0.01 and 0.001 s and blow-ups from 0.1 and 0.001 s are bracketed; a case stable up to
     the top is written as '> high'."""

@@ -46,6 +46,7 @@ def captured():
     return robot, held, run.telemetry
 
 
+@pytest.mark.slow
 def test_held_parameters_are_the_target_and_with_target_rebuilds_the_merged_robot(captured):
     """What the merged robot carries at the hand has the target's mass and principal moments;
     the robot given those parameters at the hand has the merged robot's bodies."""
@@ -58,6 +59,7 @@ def test_held_parameters_are_the_target_and_with_target_rebuilds_the_merged_robo
     np.testing.assert_allclose(model_parameters(rebuilt.model), model_parameters(held.merged.model), atol=1e-12)
 
 
+@pytest.mark.slow
 def test_momentum_rows_hold_at_the_true_parameters(captured):
     """Eq (1) with the true target and the merged robot's momentum (Pinocchio's centroidal
     momentum, at the first sample) as h_0 holds on every 100th sample of the record (1e-9 of the
@@ -69,6 +71,7 @@ def test_momentum_rows_hold_at_the_true_parameters(captured):
     assert np.abs(A @ x - b).max() < 1e-9 * np.abs(h0).max()
 
 
+@pytest.mark.slow
 def test_exact_records_give_the_target_to_near_round_off(captured):
     """No noise: the ten parameters within 1e-9 of the largest (momentum drift about 1e-10)."""
     robot, held, tel = captured
@@ -77,6 +80,7 @@ def test_exact_records_give_the_target_to_near_round_off(captured):
     assert np.abs(estimate.parameters - truth).max() < 1e-9 * np.abs(truth).max()
 
 
+@pytest.mark.slow
 def test_one_percent_noise_meets_the_issues_aim_within_its_intervals(captured):
     """1 % seeded noise on q and v at 1 kHz over 10 s, smoothed over 0.1 s windows: mass within
     1 %, inertia about the CoM within 5 % (Frobenius norm), the CoM within 1 mm, and the true
@@ -97,6 +101,7 @@ def test_one_percent_noise_meets_the_issues_aim_within_its_intervals(captured):
     assert 0.0 < m_std < 0.01 * m and np.all(c_std > 0.0) and I_std.shape == (3, 3)
 
 
+@pytest.mark.slow
 def test_physical_std_is_the_propagated_covariance(captured):
     """The mass, CoM and inertia standard deviations equal the spread of (m, c, I_C) over
     samples drawn from the estimate's covariance (20 000 draws: within 5 %)."""
@@ -112,6 +117,7 @@ def test_physical_std_is_the_propagated_covariance(captured):
     np.testing.assert_allclose(np.std([p[2] for p in physical], axis=0), I_std, rtol=0.05)
 
 
+@pytest.mark.slow
 def test_a_record_that_excites_nothing_is_refused(captured):
     """One state repeated: eq (1) is rank-deficient, and the error says so."""
     robot, _, tel = captured
@@ -126,6 +132,7 @@ def test_a_planar_base_is_refused():
         identify_target(planar, "arm1_ee", np.zeros((20, planar.model.nq)), np.zeros((20, planar.model.nv)))
 
 
+@pytest.mark.slow
 def test_an_unknown_hand_is_named(captured):
     """A frame that is not an end-effector: the error lists the end-effectors."""
     robot, _, tel = captured
@@ -133,6 +140,7 @@ def test_an_unknown_hand_is_named(captured):
         identify_target(robot, "left_tool", tel.q[:20], tel.v[:20])
 
 
+@pytest.mark.slow
 def test_detumbling_on_the_identified_model_settles_as_on_the_true_one(captured):
     """From the end of the manoeuvre, detumbling (eq 134, min-norm, all joints) on the model
     identified with 1 % noise stops the target (below 1e-6 rad/s) within 2 ms of the true model's

@@ -44,6 +44,7 @@ def test_egjm_rates_match_the_simulated_end_effector_motion(joint_space_run):
     assert overall < 1e-5 * speed and len(per_ee) == 4
 
 
+@pytest.mark.slow
 def test_task_space_controller_tracks_end_effector_rates(joint_space_run):
     """Tracking the joint-space run's end-effector rates, the task-space law stays on its path."""
     robot, tel = joint_space_run
@@ -65,6 +66,7 @@ def test_task_space_controller_tracks_end_effector_rates(joint_space_run):
     assert max(ctrl.condition_numbers) < 1e4
 
 
+@pytest.mark.slow
 def test_analytic_qddot_tracks_closer_than_the_backward_difference(tmp_path):
     """Sec 5.2 at 1 ms (quick): qddot_d from dJ*/dt tracks the joint-space path closer than the
     dissertation's backward difference, which the report's Table 2 keeps."""

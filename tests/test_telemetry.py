@@ -129,6 +129,7 @@ def test_load_parts_names_the_damaged_part(tmp_path):
         MechanismTelemetry.load_parts(tmp_path)
 
 
+@pytest.mark.slow
 def test_an_interrupt_while_saving_leaves_nothing_to_complain_later(tmp_path, monkeypatch):
     """Ctrl-C as a telemetry file's archive is closed leaves the previous file, and no archive
     that Python closes again at garbage collection (it printed 'Exception ignored ... seek of

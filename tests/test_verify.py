@@ -23,6 +23,7 @@ from freefloat.robot.loading import example_robot_data_share
 from .conftest import REPO
 
 
+@pytest.mark.slow
 def test_verify_four_arm_robot_is_clean(tmp_path, capsys):
     """The four-arm robot passes every check; the JSON report says so check by check."""
     status = main(["verify", str(REPO / "urdf" / "four_arm_planar.urdf"), "--samples", "3", "--json", str(tmp_path / "v.json")])
@@ -75,6 +76,7 @@ def test_column_error_of_a_tiny_column_is_judged_at_the_rounding_floor():
     assert column_error(fd + 1e3 * noise, fd, H, FD_STEP) > DERIVATIVE_TOLERANCE
 
 
+@pytest.mark.slow
 @pytest.mark.skipif(example_robot_data_share() is None, reason="example-robot-data is not installed")
 def test_verify_passes_pr2_gripper_columns():
     """PR2's derivatives pass (the former 2nd-order differences with h = 1e-6 failed dH0 at 2.9e-4:

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from freefloat.app.cli import main
-from freefloat.app.runner import run_scene
+from freefloat.app.runner import simulate
 from freefloat.app.scenes import find_scene
 from freefloat.app.view import run_page
 from freefloat.dynamics.telemetry import Telemetry
@@ -23,7 +23,7 @@ def _run(folder, html: bool):
     scene = find_scene("four_arm_joint_space")
     scene = dataclasses.replace(scene, simulation=dataclasses.replace(scene.simulation, duration=0.1),
                                 output=dataclasses.replace(scene.output, figures=False, html=html))
-    run_scene(scene, folder)
+    simulate(scene, out=folder)
     return folder
 
 
@@ -54,11 +54,16 @@ def test_a_folder_without_a_run_is_named(tmp_path):
 
 
 def test_a_capture_run_without_page_is_not_rebuilt(tmp_path):
-    """A run whose summary is a capture's (the target is not in the telemetry) asks for a rerun."""
+    """A run whose summary is a capture's (the target is not in the telemetry) asks for a rerun
+    with its page: the scene's key from Python, the option on the command line."""
+    from freefloat.errors import command_line
+
     folder = _run(tmp_path / "run", html=False)
     summary = json.loads((folder / "summary.json").read_text())
     (folder / "summary.json").write_text(json.dumps(dict(summary, impact_time=0.5)))
-    with pytest.raises(FreefloatError, match="without --no-html"):
+    with pytest.raises(FreefloatError, match=r"again with \[output\] html = true"):
+        run_page(folder)
+    with pytest.raises(FreefloatError, match="without --no-html"), command_line():
         run_page(folder)
 
 

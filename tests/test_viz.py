@@ -259,6 +259,7 @@ def test_stick_figure_links_join_joints_and_end_effector(sc3_stick, tmp_path):
     np.testing.assert_allclose(box[:3, 3], data.oMi[1].act(model.inertias[1].lever), atol=1e-12)
 
 
+@pytest.mark.slow
 def test_mesh_files_are_embedded(ur5, tmp_path):
     """UR5's Collada meshes are embedded verbatim, one object per visual geometry naming its
     file's entry, with no external texture."""
@@ -273,6 +274,7 @@ def test_mesh_files_are_embedded(ur5, tmp_path):
         assert lowered["resources"] == {}
 
 
+@pytest.mark.slow
 def test_a_missing_mesh_leaves_the_other_meshes_and_a_stick_for_its_link(ur5, tmp_path):
     """UR5 with wrist2's mesh file missing: the page draws every other link's mesh, and on
     wrist2's joint the stick figure's pieces (its sphere, its link to the next joint); no other
@@ -290,6 +292,7 @@ def test_a_missing_mesh_leaves_the_other_meshes_and_a_stick_for_its_link(ur5, tm
     assert f"{ROOT}/{robot.model.names[wrist2]}/joint_sphere" in sticks
 
 
+@pytest.mark.slow
 def test_each_mesh_file_is_embedded_once(tmp_path):
     """The dual-arm satellite uses each UR5 mesh twice but embeds it once; its page stays under 5 MB."""
     robot = _load(Path(__file__).resolve().parents[1] / "urdf" / "dual_arm_satellite.urdf")
@@ -577,6 +580,7 @@ def test_log_axes_are_clipped_to_the_data():
     assert 1e-12 < low < 1e-11 and 3e-11 < high < 1e-10
 
 
+@pytest.mark.slow
 def test_write_figures_writes_png_and_pdf(iiwa2, tmp_path):
     """With references, all six figures are written, as PNG (the default) and, when chosen, as
     PNG and PDF files."""
@@ -592,6 +596,7 @@ def test_write_figures_writes_png_and_pdf(iiwa2, tmp_path):
     assert all(p.read_bytes().startswith(b"%PDF") for p in written if p.suffix == ".pdf")
 
 
+@pytest.mark.slow
 def test_error_figure_skipped_without_references(iiwa2, tmp_path):
     """A run without joint references (NaN) gets no joint error figure and the five others."""
     written = write_figures(iiwa2, _telemetry(iiwa2, references=False), tmp_path)
@@ -608,6 +613,7 @@ def test_an_approach_with_a_plan_gets_its_tracking_figure(iiwa2, tmp_path):
     assert joint_error_figure(iiwa2, _telemetry(iiwa2), title=APPROACH_TITLE).get_suptitle() == APPROACH_TITLE
 
 
+@pytest.mark.slow
 def test_a_torque_free_run_writes_no_torque_figure(iiwa2, tmp_path):
     """Zero joint torques throughout: no torque figure is written, and empty_figures says why."""
     from freefloat.app.viz.figures import empty_figures
@@ -671,6 +677,7 @@ def test_balance_curves_are_the_summary_balances(iiwa2):
     assert impulse[-1] == pytest.approx(np.linalg.norm(s["external_impulse"][:3]))
 
 
+@pytest.mark.slow
 def test_figures_rendered_in_two_processes_are_all_written(tmp_path, monkeypatch):
     """save_all writes every figure, half of them from the helper process; when the helper cannot
     take them (here a save function it cannot import), this process writes its share itself."""

@@ -12,7 +12,7 @@ import pinocchio as pin
 import pytest
 
 from freefloat.app.experiments.joint_space import prepare
-from freefloat.app.runner import run_scene, simulate
+from freefloat.app.runner import simulate
 from freefloat.dynamics.metrics import rotation_angle
 from freefloat.robot.wheels import Wheels
 from freefloat.space.control.wheel_attitude import WheelAttitudeControl
@@ -70,6 +70,7 @@ def test_the_law_gives_the_attitude_acceleration_and_keeps_the_arms_law(tmp_path
     assert np.allclose(a[6:][columns], intended, rtol=0.0, atol=1e-9 * max(1.0, np.abs(intended).max()))
 
 
+@pytest.mark.slow
 def test_momentum_is_conserved_with_the_wheels_torqued(tmp_path):
     """The wheel torques are internal: over a run with the attitude held, the momentum about the
     origin drifts only by the integrator's error (it falls at least 8x when the step is halved:
@@ -91,6 +92,7 @@ def test_momentum_is_conserved_with_the_wheels_torqued(tmp_path):
     assert drifts[1] < drifts[0] / 8.0
 
 
+@pytest.mark.slow
 def test_the_wheels_hold_the_attitude_that_free_wheels_let_drift(tmp_path):
     """On the same arm motion, the base turns under free wheels (``[attitude] kind = "none"``) by
     more than ten times what it turns with the attitude held; the arms track as well either way."""
@@ -101,6 +103,7 @@ def test_the_wheels_hold_the_attitude_that_free_wheels_let_drift(tmp_path):
     assert held["tracking_rms_overall"] < 2.0 * free["tracking_rms_overall"]
 
 
+@pytest.mark.slow
 def test_a_torque_limit_is_reported_and_kept(tmp_path):
     """Wheels whose torque limit is below what the law asks keep it, and the run says so: an
     event per wheel (its time and what was asked), periods counted, ``wheel_saturated``."""
@@ -114,6 +117,7 @@ def test_a_torque_limit_is_reported_and_kept(tmp_path):
     assert sum(summary["wheel_saturated_periods"].values()) > 0
 
 
+@pytest.mark.slow
 def test_a_momentum_limit_stops_the_wheel_spinning_up(tmp_path):
     """A wheel at its stored-momentum limit gets no torque that would spin it faster: the event
     is reported and its momentum stays within one period's growth of the limit."""
@@ -125,6 +129,7 @@ def test_a_momentum_limit_stops_the_wheel_spinning_up(tmp_path):
     assert np.abs(rows.momentum).max() <= limit + growth
 
 
+@pytest.mark.slow
 def test_detumbling_with_a_wheel_leaves_the_capture_in_the_wheel(tmp_path):
     """After the capture impulse, with the detumbling law solving the arm's GJM net of the wheel's
     momentum, the wheel holds the base yaw: the base turns less than with a free wheel, the
@@ -143,18 +148,20 @@ def test_detumbling_with_a_wheel_leaves_the_capture_in_the_wheel(tmp_path):
         <= 2.0 * s["momentum_balance_max"] + 1e-12 * impulse
 
 
+@pytest.mark.slow
 def test_a_wheel_run_writes_its_telemetry_and_figure(tmp_path):
     """A wheel scene's run folder holds ``telemetry_wheels.npz`` (one row per sample) and the
     ``reaction_wheels`` figure, and its summary the wheels' keys."""
     scene = short_scene(tmp_path, output={"figures": True})
-    run = run_scene(scene, tmp_path / "run")
+    run = simulate(scene, out=tmp_path / "run")
     folder = run.folder
     data = np.load(folder / "telemetry_wheels.npz")
     assert data["momentum"].shape == (len(np.load(folder / "telemetry.npz")["t"]), 3)
     assert (folder / "reaction_wheels.png").is_file()
-    assert "wheel_saturated" in run.outcome.summary
+    assert "wheel_saturated" in run.summary
 
 
+@pytest.mark.slow
 def test_free_wheels_get_no_torque(tmp_path):
     """``[attitude] kind = "none"``: the wheels are free (zero torque) while the arms move."""
     outcome = simulate(short_scene(tmp_path, attitude={"kind": "none"}))
@@ -162,6 +169,7 @@ def test_free_wheels_get_no_torque(tmp_path):
     assert not outcome.summary["wheel_saturated"]
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("rpy", [[0.0, 0.0, 3.0]])
 def test_the_attitude_goes_to_a_given_rpy(tmp_path, rpy):
     """``attitude.rpy`` is the base CoM frame's target: the base turns there (to 1 % of the turn)."""

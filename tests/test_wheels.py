@@ -168,6 +168,7 @@ def scene_with(tmp_path, *wheels: dict):
     return load_scene(path)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize(("table", "message"), [
     ({"joint": "no_such_joint", "max_momentum": 1.0, "max_torque": 1.0}, r"wheels\[0\]\.joint: 'no_such_joint' is not a joint"),
     ({"joint": "left_elbow_joint", "max_momentum": 1.0, "max_torque": 1.0}, r"wheels\[0\]\.joint: 'left_elbow_joint' is a .*continuous"),

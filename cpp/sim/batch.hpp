@@ -3,16 +3,19 @@
 // state (and, under computed torque, its own quintic), writing the run's telemetry rows into a
 // free slot of one shared block of rows. The caller waits without Python's lock, takes the runs
 // as they finish and frees their slots; a stop request ends every run at its next slice of
-// periods. No thread touches Python.
+// periods. No thread touches Python, nor words a run's status: each run reports what ended it (the
+// loop's blow-up message, or the text of an error it threw), which Python words as
+// simulation.run does (freefloat.dynamics.simulation.ended_by).
 #pragma once
 
 #include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
-#include <cstdio>
 #include <deque>
 #include <mutex>
+#include <optional>
+#include <stdexcept>
 #include <string>
 #include <thread>
 #include <vector>
@@ -27,12 +30,14 @@ class Batch {
   static constexpr long kSlice = 1000;
 
   // A finished run: its index, the slot holding its rows, rows written, periods done, dynamics
-  // evaluations, loop wall time (s), and the blow-up message (empty: none).
+  // evaluations, loop wall time (s), and what ended it early, if anything: the loop's blow-up
+  // message (Simulation::run's), or the text of an error the loop threw (e.g. Pinocchio refusing a
+  // degenerate state).
   struct Done {
     int run, slot, rows;
     long periods, evaluations;
     double wall;
-    std::string error;
+    std::optional<std::string> blow_up, failure;
   };
 
   // The runs' inputs, row-major: q0 (runs, nq), v0 (runs, nv), for a computed-torque law the
@@ -105,7 +110,8 @@ class Batch {
     for (int run; !stopping_ && (run = next_++) < runs_;) {
       const int slot = take_slot();
       if (slot < 0) break;
-      Done d{run, slot, 0, 0, 0, 0.0, {}};
+      Done d{run, slot, 0, 0, 0, 0.0, std::nullopt, std::nullopt};
+      std::string blow_up;
       const auto begin = std::chrono::steady_clock::now();
       const long evaluations = sim.evaluations();
       Rows slot_rows = rows_;
@@ -118,16 +124,16 @@ class Batch {
         if (start_ != nullptr)
           sim.set_reference(Eigen::Map<const Vec>(start_ + static_cast<long>(n) * run, n),
                             Eigen::Map<const Vec>(delta_ + static_cast<long>(n) * run, n));
-        while (sim.period() < last_ && d.error.empty() && !stopping_) {
+        while (sim.period() < last_ && blow_up.empty() && !stopping_) {
           const long before = sim.period();
-          d.rows += sim.run(std::min(last_, before + kSlice), slot_rows, first + d.rows, d.error);
-          if (sim.period() == before && d.error.empty()) d.error = "the loop made no progress (its rows are full)";
+          d.rows += sim.run(std::min(last_, before + kSlice), slot_rows, first + d.rows, blow_up);
+          if (sim.period() == before && blow_up.empty())
+            throw std::logic_error("the loop made no progress (its rows are full)");
         }
-        if (d.error.empty() && sim.period() == last_) sim.record_now(slot_rows, first + d.rows++, nullptr);
-      } catch (const std::exception& e) {  // Pinocchio refusing a degenerate state, as simulation.run reports it
-        char when[64];
-        std::snprintf(when, sizeof when, "at t = %.6g s: ", sim.time());
-        d.error = when + std::string(e.what());
+        if (!blow_up.empty()) d.blow_up = blow_up;
+        else if (sim.period() == last_) sim.record_now(slot_rows, first + d.rows++, nullptr);
+      } catch (const std::exception& e) {
+        d.failure = e.what();
       }
       d.periods = sim.period();
       d.evaluations = sim.evaluations() - evaluations;

@@ -26,7 +26,7 @@
 
 namespace freefloat::sim {
 
-// The loop of simulation.hpp's interface on a Pinocchio model (compiled in cpp/sim_unit.cpp only).
+// The loop of simulation.hpp's interface on a Pinocchio model (compiled in simulation.cpp only).
 // The integrator refers to *model_, whose address never changes (set_model() replaces its numbers).
 class Loop final : public Simulation {
  public:

@@ -3,25 +3,38 @@ closed-chain parallel mechanisms, on Pinocchio.
 
 The public API, from one place::
 
-    from freefloat import load_robot, make_model, make_integrator, run, ComputedTorque
-    from freefloat import five_bar, PlatformControl, track, load_scene, simulate
+    from freefloat import load_robot, run, ComputedTorque, five_bar, PlatformControl, simulate
 
-Names are imported when first used (``import freefloat`` stays cheap); the subpackages hold
-the rest (layers: robot < dynamics < space | parallel < app, see docs/architecture.md).
+One call runs a scene (:func:`simulate`: a built-in name, a scene file or a ``Scene``; a folder
+written only when ``out`` is given), one runs the engine (:func:`run`: a robot or a plant, an
+integrator, a model, a controller), and both return a :class:`Result` (summary, telemetry,
+status, message, folder). Names are imported when first used (``import freefloat`` stays
+cheap), and so are the subpackages, reachable as attributes (``freefloat.gjm.compute``,
+``freefloat.dynamics``, ``freefloat.space``, ``freefloat.parallel``, ``freefloat.robot``,
+``freefloat.app``), which hold the rest (layers: robot < dynamics < space | parallel < app, see
+docs/architecture.md).
 """
 
 from __future__ import annotations
 
 from .errors import (
     BadShape,
+    ClosureFileError,
+    DataFileError,
     FreefloatError,
+    FreefloatNote,
+    FreefloatWarning,
+    InfeasiblePlan,
     InvalidArgument,
     MissingExtra,
     NotAssembled,
+    PluginError,
     RobotModelError,
+    RunFolderError,
     SceneError,
     SimulationDiverged,
     SingularityError,
+    TargetMissed,
     TelemetryFileError,
     UnknownName,
 )
@@ -40,9 +53,7 @@ _PUBLIC = {
     "INTEGRATORS": "freefloat.dynamics.integrators", "make_integrator": "freefloat.dynamics.integrators",
     "PLANTS": "freefloat.dynamics.plants", "CoupledChainPlant": "freefloat.dynamics.plants",
     "ConstraintDynamicsPlant": "freefloat.dynamics.plants",
-    "run": "freefloat.dynamics.simulation", "run_plant": "freefloat.dynamics.simulation",
-    "run_many": "freefloat.dynamics.many_runs",
-    "RunResult": "freefloat.dynamics.simulation", "Sampled": "freefloat.dynamics.sampled",
+    "run": "freefloat.dynamics.simulation", "Result": "freefloat.dynamics.result", "Sampled": "freefloat.dynamics.sampled",
     "Telemetry": "freefloat.dynamics.telemetry", "PlantTelemetry": "freefloat.dynamics.telemetry",
     "MechanismTelemetry": "freefloat.dynamics.telemetry",
     # space-robot controllers and tasks
@@ -53,10 +64,10 @@ _PUBLIC = {
     "ParallelMechanism": "freefloat.parallel.mechanism", "five_bar": "freefloat.parallel.five_bar",
     "load_rsu_ppap": "freefloat.parallel.rsu_ppap", "load_closed_chain": "freefloat.parallel.closed_chain",
     "MECHANISMS": ("freefloat.parallel.registry", "REGISTRY"), "PlatformControl": "freefloat.parallel.sliding_mode",
-    "design_gains": "freefloat.parallel.sliding_mode", "track": "freefloat.parallel.closed_loop",
+    "design_gains": "freefloat.parallel.sliding_mode",
     # scenes, runs, bench
     "load_scene": "freefloat.app.scenes", "find_scene": "freefloat.app.scenes",
-    "simulate": "freefloat.app.runner", "run_scene": "freefloat.app.runner",
+    "simulate": "freefloat.app.runner",
     "use": "freefloat.registry",
 }
 
@@ -65,10 +76,15 @@ __getattr__ = lazy_exports(__name__, _PUBLIC, globals())
 
 
 def __dir__() -> list[str]:
-    return sorted(__all__)
+    import pkgutil  # the subpackages and modules too (reachable as attributes), without importing them
+
+    return sorted([*__all__, *(m.name for m in pkgutil.iter_modules(__path__) if not m.name.startswith("_"))])
 
 
-__all__ = sorted([
-    *_PUBLIC, "BadShape", "FreefloatError", "InvalidArgument", "MissingExtra", "NotAssembled", "RobotModelError",
-    "SceneError", "SimulationDiverged", "SingularityError", "TelemetryFileError", "UnknownName", "__version__",
-])
+#: The error and warning types, defined in freefloat.errors (every one is exported).
+_ERRORS = ("BadShape", "ClosureFileError", "DataFileError", "FreefloatError", "FreefloatNote", "FreefloatWarning",
+           "InfeasiblePlan", "InvalidArgument", "MissingExtra", "NotAssembled", "PluginError", "RobotModelError",
+           "RunFolderError", "SceneError", "SimulationDiverged", "SingularityError", "TargetMissed",
+           "TelemetryFileError", "UnknownName")
+
+__all__ = sorted([*_PUBLIC, *_ERRORS, "__version__"])

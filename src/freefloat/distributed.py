@@ -22,9 +22,11 @@ from typing import Any, Callable
 
 from tqdm import tqdm
 
-from .errors import FreefloatError
+from .errors import InvalidArgument, spelled
 from .extras import require
 
+
+tqdm.monitor_interval = 0  # no monitor thread: a signal at exit made its atexit hook print a traceback
 
 #: Seconds between a pool worker's looks at whether the process that made it is still there.
 PARENT_WATCH_S = 0.5
@@ -117,7 +119,7 @@ def client(address: str | None = None, workers: int = 2, processes: bool = True,
     of a worker run at once where they release the GIL, as the compiled loop does).
 
     Raises:
-        FreefloatError: naming the address when it is malformed or nothing answers there within
+        InvalidArgument: naming the address when it is malformed or nothing answers there within
             ``connect_timeout`` s.
         MissingExtra: without Dask.
     """
@@ -139,7 +141,7 @@ def _reachable(address: str, timeout: float) -> None:
     its whole timeout and leaves a half-made client behind).
 
     Raises:
-        FreefloatError: naming the address and what is wrong with it.
+        InvalidArgument: naming the address and what is wrong with it.
     """
     from distributed.comm.addressing import parse_address, parse_host_port
 
@@ -147,13 +149,20 @@ def _reachable(address: str, timeout: float) -> None:
         scheme, location = parse_address(address, strict=True)
         host, port = parse_host_port(location)
     except (ValueError, TypeError) as exc:
-        raise FreefloatError(f"--scheduler '{address}' is not a Dask address such as tcp://host:8786 ({exc})") from exc
+        raise InvalidArgument(f"{_scheduler()} '{address}' is not a Dask address such as tcp://host:8786 "
+                              f"({exc})") from exc
     if scheme not in ("tcp", "tls"):
-        raise FreefloatError(f"--scheduler '{address}': scheme '{scheme}' is not supported here; use tcp://host:port")
+        raise InvalidArgument(f"{_scheduler()} '{address}': scheme '{scheme}' is not supported here; use "
+                              "tcp://host:port")
     try:
         socket.create_connection((host, port), timeout=timeout).close()
     except OSError as exc:
-        raise FreefloatError(f"--scheduler '{address}': no Dask scheduler answers ({exc.strerror or exc})") from exc
+        raise InvalidArgument(f"{_scheduler()} '{address}': no Dask scheduler answers ({exc.strerror or exc})") from exc
+
+
+def _scheduler() -> str:
+    """The scheduler's argument as the caller spells it (:func:`~freefloat.errors.spelled`)."""
+    return spelled("scheduler", "--scheduler")
 
 
 def settle_futures(futures: dict, label: str, quiet: bool, timeout: float,

@@ -50,12 +50,56 @@ def did_you_mean(name: object, choices: Iterable[object], label: str = "valid", 
     return f"; did you mean {nearest}? ({label}: {listing})"
 
 
+#: How many :func:`command_line` contexts are open: while one is (the command line runs a
+#: command), messages name its options (``--out``), else the Python arguments (``out=``) of the
+#: call that raised them (:func:`spelled`). A plain count: the command line runs in one thread.
+_COMMAND_LINE = [0]
+
+
+def spelled(python: str, option: str) -> str:
+    """How a message names an argument: as the Python call takes it (``"out="``,
+    ``"overwrite=True"``), or, inside :func:`command_line`, as the ``freefloat`` command does
+    (``"--out"``, ``"--overwrite"``)."""
+    return option if _COMMAND_LINE[0] else python
+
+
+class _CommandLine:
+    """The context of :func:`command_line` (a class: contextlib would cost ``import freefloat``
+    a millisecond)."""
+
+    def __enter__(self) -> None:
+        _COMMAND_LINE[0] += 1
+
+    def __exit__(self, *exc: object) -> None:
+        _COMMAND_LINE[0] -= 1
+
+
+def command_line() -> _CommandLine:
+    """A context in which messages name the command line's options (:func:`spelled`): what the
+    ``freefloat`` command runs its commands in."""
+    return _CommandLine()
+
+
 class FreefloatError(Exception):
     """Base class of every error freefloat raises on purpose."""
 
 
 class RobotModelError(FreefloatError):
-    """A URDF or robot description that cannot be a floating-base tree."""
+    """A URDF or robot description that cannot be a floating-base tree, or that a model of
+    freefloat cannot take (a joint kind, a base kind); or a file beside it that does not describe
+    it (:class:`ClosureFileError`, :class:`DataFileError`)."""
+
+
+class ClosureFileError(RobotModelError):
+    """A closure file (``*.closure.toml``: a closed chain's URDF, loop closures, platform and
+    actuators) with a missing, mistyped or unknown key, a frame or joint its URDF lacks, or
+    closures the mechanism models cannot take; the message names the file and the key."""
+
+
+class DataFileError(RobotModelError):
+    """A data file beside a robot or mechanism (``*.motors.toml``: its DC motors and actuators;
+    ``*.data.toml``: a mechanism's dimensions and uncertain masses) with a missing or mistyped key
+    or an impossible value; the message names the file and the key."""
 
 
 class SceneError(FreefloatError):
@@ -119,6 +163,18 @@ class InfeasiblePlan(FreefloatError):
     def __init__(self, message: str, reason: str):
         super().__init__(message)
         self.reason = reason
+
+
+class RunFolderError(FreefloatError):
+    """An output folder that cannot be used (it holds files freefloat did not write, another run
+    holds it, a symbolic link stands in the way, the disk refuses a file), or a folder that holds
+    no run; the message names the folder or file and what to do."""
+
+
+class TargetMissed(FreefloatError):
+    """A capture whose target's grasp points never all came within the contact tolerance of the
+    hands during the approach; the message names the end-effectors and gives the closest approach
+    and when."""
 
 
 class TelemetryFileError(FreefloatError):

@@ -7,14 +7,15 @@ seeded varied runs of a scene, serially, on a process pool or on Dask), ``atlas`
 grid), ``commands`` (the commands plug-ins add) and ``cli`` (the ``freefloat`` command).
 
 May import every layer below: :mod:`freefloat.space`, :mod:`freefloat.parallel`,
-:mod:`freefloat.dynamics`, :mod:`freefloat.robot`. Only :mod:`freefloat.lab` imports it.
+:mod:`freefloat.dynamics`, :mod:`freefloat.robot`. Only the front door and :mod:`freefloat.lab`
+import it.
 """
 
 from __future__ import annotations
 
 from ..lazy import lazy_exports
 
-#: The app's registries (imported on first use): the atlas's kinds and the plug-ins' commands.
+#: The app's registries (imported on first use): the atlas's kinds and the plug-ins' commands; its
+#: modules are attributes too, imported on first use.
 _EXPORTS = {"ATLAS_KINDS": ("freefloat.app.atlas.kinds", "KINDS"), "COMMANDS": "freefloat.app.commands"}
 __getattr__ = lazy_exports(__name__, _EXPORTS, globals())
-__all__ = sorted(_EXPORTS)

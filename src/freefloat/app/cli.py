@@ -14,7 +14,7 @@ from importlib.metadata import version
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from ..errors import FreefloatError, SceneError, did_you_mean
+from ..errors import FreefloatError, InvalidArgument, PluginError, SceneError, command_line, did_you_mean
 from .atlas.kinds import KINDS as ATLAS_KINDS
 from .commands import COMMANDS, Command
 from .folder_names import default_folder
@@ -23,7 +23,7 @@ from .shown_warnings import HeldWarnings, shown_warnings
 from .signals import arrived_before_main, signals_deferred, signals_raise_keyboard_interrupt
 
 if TYPE_CHECKING:
-    from .runner import SceneRun
+    from .experiments import Outcome
     from .viz.live import LiveView
 
 #: What ``freefloat --help`` says first (plain text: the terminal shows no markup).
@@ -122,7 +122,7 @@ def main(argv: list[str] | None = None) -> int:
                 importlib.import_module(heavy[args.command], __package__)
         if early.is_set() or early_too:
             raise KeyboardInterrupt("while starting; nothing was written")
-        with signals_raise_keyboard_interrupt():  # SIGTERM and SIGHUP are Ctrl-C to the very end
+        with signals_raise_keyboard_interrupt(), command_line():  # SIGTERM, SIGHUP: Ctrl-C; messages name options
             return commands_run[args.command](args)
     except FreefloatError as exc:
         print(f"freefloat: error: {exc}", file=sys.stderr)
@@ -139,15 +139,14 @@ def _plugged(argv: list[str]) -> list[Command]:
     which start without reading the installed packages' entry points.
 
     Raises:
-        PluginError: a plug-in failed to import.
-        FreefloatError: a plug-in's command named like a built-in one.
+        PluginError: a plug-in failed to import, or named its command like a built-in one.
     """
     first = next((k for k, arg in enumerate(argv) if not arg.startswith("-")), len(argv))
     if "--version" in argv[:first] or (first < len(argv) and argv[first] in BUILT_IN):
         return []
     taken = [name for name in COMMANDS if name in BUILT_IN]
     if taken:
-        raise FreefloatError(f"a plug-in registers the command '{taken[0]}', which is freefloat's own")
+        raise PluginError(f"a plug-in registers the command '{taken[0]}', which is freefloat's own")
     return [COMMANDS[name] for name in COMMANDS]
 
 
@@ -197,7 +196,7 @@ def _atlas(args: argparse.Namespace) -> int:
     if args.dask or args.scheduler is not None:
         require("dask", "freefloat atlas --dask")
     if args.scheduler is not None and args.workers is not None:
-        raise FreefloatError("--workers sets the size of a local cluster; with --scheduler the scheduler's workers run")
+        raise InvalidArgument("--workers sets the size of a local cluster; with --scheduler the scheduler's workers run")
     workers = Workers(args.workers or (2 if args.dask else 1), args.dask or args.scheduler is not None, args.scheduler)
     options = Options(grid=args.grid, axes=tuple(args.axes.split(",")) if args.axes else None,
                       end_effector=args.end_effector, momentum=tuple(args.momentum) if args.momentum else None,
@@ -234,7 +233,7 @@ def _pairs(text: str | None) -> tuple[tuple[str, float], ...] | None:
         try:
             pairs.append((name.strip(), float(value)))
         except ValueError:
-            raise FreefloatError(f"--posture: '{item}' is not JOINT=VALUE (e.g. elbow_joint=30)") from None
+            raise InvalidArgument(f"--posture: '{item}' is not JOINT=VALUE (e.g. elbow_joint=30)") from None
     return tuple(pairs)
 
 
@@ -254,7 +253,7 @@ def _batch(args: argparse.Namespace) -> int:
     if args.dask or args.scheduler is not None:
         require("dask", "freefloat batch --dask" if args.dask else "freefloat batch --scheduler")
     if args.scheduler is not None and args.workers is not None:
-        raise FreefloatError("--workers sets the size of a local cluster; with --scheduler the scheduler's workers run")
+        raise InvalidArgument("--workers sets the size of a local cluster; with --scheduler the scheduler's workers run")
     default = 2 if args.dask or args.scheduler else 1
     workers = Workers(default if args.workers is None else args.workers, args.dask or args.scheduler is not None,
                       args.scheduler, args.threads)
@@ -338,11 +337,11 @@ def _verify(args: argparse.Namespace) -> int:
     from ..robot.loading import load_robot
 
     if not 1 <= args.samples <= MAX_SAMPLES:
-        raise FreefloatError(f"--samples must be from 1 to {MAX_SAMPLES}, got {args.samples}")
+        raise InvalidArgument(f"--samples must be from 1 to {MAX_SAMPLES}, got {args.samples}")
     if args.seed < 0:
-        raise FreefloatError(f"--seed must be >= 0, got {args.seed}")
+        raise InvalidArgument(f"--seed must be >= 0, got {args.seed}")
     if args.json is not None and (args.json.is_dir() or not args.json.parent.is_dir()):
-        raise FreefloatError(f"--json {args.json}: must be a file in an existing folder")
+        raise InvalidArgument(f"--json {args.json}: must be a file in an existing folder")
     with shown_warnings():
         robot = load_robot(args.urdf, visuals=False)
     report = check_robot(robot, samples=args.samples, seed=args.seed)
@@ -351,7 +350,7 @@ def _verify(args: argparse.Namespace) -> int:
         try:
             write_report(report, args.json)
         except OSError as exc:
-            raise FreefloatError(f"--json {args.json}: cannot write ({exc.strerror or exc})") from exc
+            raise InvalidArgument(f"--json {args.json}: cannot write ({exc.strerror or exc})") from exc
     return 0 if report.passed else 1
 
 
@@ -377,7 +376,7 @@ def _simulate(args: argparse.Namespace) -> int:
         from .viz import rendering
 
         rendering.warm_up()  # the figure helper starts while this process imports, prepares and simulates
-    from .runner import prepare, run_scene, total_steps
+    from .runner import prepare, simulate, total_steps
 
     out = args.out or default_folder(scene.name)
     with shown_warnings() as held:
@@ -390,12 +389,12 @@ def _simulate(args: argparse.Namespace) -> int:
         stages.bar = LoopBar(total_steps(scene), scene.name, "step", args.quiet, started=held.release,
                              ended=lambda: stages.begin("summarising the run"))
         try:
-            done = run_scene(scene, out, progress=stages.bar, overwrite=args.overwrite, setup=setup,
-                             watch=live.show if live else None, stage=stages)
+            done = simulate(scene, out=out, overwrite=args.overwrite, progress=stages.bar, setup=setup,
+                            checkpoint=live.show if live else None, stage=stages)
             stages.finish()
             status = _report(done, experiment_for(scene).units)
             if live is not None:
-                tel = done.outcome.telemetry
+                tel = done.telemetry
                 print("replaying the run in the live viewer")
                 live.replay(tel.t, tel.q)
                 if sys.stdin.isatty():
@@ -460,23 +459,23 @@ def _live_view(scene, setup) -> LiveView | None:
     return live
 
 
-def _report(done: SceneRun, units: dict[str, str]) -> int:
-    """Print a run's outcome and its headline summary keys (:func:`~.summary_text.shown`, in
-    ``units``); the exit status (1 when it stopped early, or an interrupt cut its drawings short)."""
+def _report(outcome: Outcome, units: dict[str, str]) -> int:
+    """Print a written run's outcome and its headline summary keys (:func:`~.summary_text.shown`,
+    in ``units``); the exit status (1 when it stopped early, or an interrupt cut its drawings short)."""
     from .summary_text import shown
 
-    outcome, out = done.outcome, done.folder
+    out = outcome.folder
     print(f"{outcome.status}: {outcome.steps} steps in {outcome.wall_time_s:.2f} s -> {out}")
     for key in outcome.headline:
         if key in outcome.summary:
             print(f"  {key}: {shown(outcome.summary[key], units.get(key, ''))}")
-    print(f"  wrote: {', '.join(p.name for p in done.written)}")
-    if done.skipped:
-        print(f"  skipped: {', '.join(done.skipped)}")
+    print(f"  wrote: {', '.join(p.name for p in outcome.written)}")
+    if outcome.skipped:
+        print(f"  skipped: {', '.join(outcome.skipped)}")
     if not outcome.completed:
         print(f"freefloat: run stopped early: {outcome.message} (partial results kept in {out})", file=sys.stderr)
         return 1
-    if done.interrupted_writing:
+    if outcome.interrupted_writing:
         print(f"freefloat: interrupted while writing {out}: the data are whole, the drawings listed as skipped are "
               "not there", file=sys.stderr)
         return 1

@@ -15,7 +15,7 @@ from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
 from typing import Callable
 
-from ..errors import FreefloatError
+from ..errors import FreefloatError, RunFolderError
 from . import figure_set
 from .experiments.base import Outcome
 from .run_folder import RunFolder
@@ -150,7 +150,7 @@ class _Meanwhile:
             (paths,) = self.renderer.collect()
             return [self.folder.place(path) for path in paths]
         except OSError as exc:
-            raise FreefloatError(f"could not write into '{self.folder.path}': {exc.strerror or exc}") from exc
+            raise RunFolderError(f"could not write into '{self.folder.path}': {exc.strerror or exc}") from exc
         finally:
             shutil.rmtree(self.into, ignore_errors=True)
 
@@ -176,7 +176,7 @@ def _draw(folder: RunFolder, draw: Callable[[Path], list[Path]]) -> list[Path]:
     try:
         return [folder.place(path) for path in draw(into)]
     except OSError as exc:
-        raise FreefloatError(f"could not write into '{folder.path}': {exc.strerror or exc}") from exc
+        raise RunFolderError(f"could not write into '{folder.path}': {exc.strerror or exc}") from exc
     finally:
         shutil.rmtree(into, ignore_errors=True)
 

@@ -32,6 +32,9 @@ class LoopBar:
         self.started, self.ended = started, ended
         from tqdm import tqdm  # imported here, not in the loop's time
 
+        # No monitor thread: at exit it sets an event, and a signal landing there printed a
+        # KeyboardInterrupt traceback from tqdm's atexit hook after the command had finished.
+        tqdm.monitor_interval = 0
         self.tqdm = tqdm
         self.bar = None
         self.last = 0.0

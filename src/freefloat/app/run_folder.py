@@ -19,7 +19,7 @@ from pathlib import Path, PurePosixPath
 from typing import Iterator
 
 from ..dynamics.telemetry import Arrays
-from ..errors import LISTED, FreefloatError, few
+from ..errors import LISTED, FreefloatError, RunFolderError, few, spelled
 
 #: Subfolder where telemetry is saved chunk by chunk while a run goes; removed once
 #: ``telemetry.npz`` is written. A run killed outright (SIGKILL, power loss) leaves it behind:
@@ -31,26 +31,33 @@ LOCK = ".freefloat.lock"
 RECORD = ".freefloat-files"
 #: The record rewritten, before it is renamed over :data:`RECORD` (see :meth:`RunFolder.close`).
 RECORD_NEW = ".freefloat-files.new"
-_HEADER = "# freefloat: the files its runs wrote in this folder; --overwrite removes these and nothing else\n"
+_HEADER = ("# freefloat: the files its runs wrote in this folder; overwriting (--overwrite, overwrite=True) removes "
+           "these and nothing else\n")
 #: Name prefix of :meth:`RunFolder.private_dir` folders.
 _PRIVATE = ".drawing-"
 #: Opening flags of freefloat's own files: never through a symbolic link, not inherited.
 _NOFOLLOW = os.O_NOFOLLOW | os.O_CLOEXEC
 
 
+def _another_folder() -> str:
+    """The remedy for a folder holding files freefloat did not write, naming the argument as the
+    caller gave it (:func:`~freefloat.errors.spelled`)."""
+    return f"choose another {spelled('out=', '--out')} (a new or empty folder)"
+
+
 def open_own(path: Path, flags: int, mode: int = 0o644) -> int:
     """``os.open(path, flags)`` that refuses a symbolic link at ``path`` (a file descriptor).
 
     Raises:
-        FreefloatError: naming ``path`` when it is a symbolic link (or cannot be opened).
+        RunFolderError: naming ``path`` when it is a symbolic link (or cannot be opened).
     """
     try:
         return os.open(path, flags | _NOFOLLOW, mode)
     except OSError as exc:
         if exc.errno == errno.ELOOP or os.path.islink(path):
-            raise FreefloatError(f"'{path}' is a symbolic link; freefloat does not follow links for its own "
+            raise RunFolderError(f"'{path}' is a symbolic link; freefloat does not follow links for its own "
                                  "files (remove it)") from None
-        raise FreefloatError(f"'{path}' cannot be written: {exc.strerror or exc}") from exc
+        raise RunFolderError(f"'{path}' cannot be written: {exc.strerror or exc}") from exc
 
 
 class RunFolder:
@@ -67,7 +74,7 @@ class RunFolder:
             (a command that continues from its journal), instead of refusing it.
 
     Raises:
-        FreefloatError: naming the folder when it is a file, sits under one, cannot be written,
+        RunFolderError: naming the folder when it is a file, sits under one, cannot be written,
             is in use by another run, or is not empty (and ``overwrite`` is not given, or it holds
             no record of freefloat's files); naming the lock when it is a symbolic link.
     """
@@ -80,13 +87,13 @@ class RunFolder:
         try:
             self.path.mkdir(parents=True, exist_ok=True)
         except OSError as exc:
-            raise FreefloatError(f"output folder '{self.path}' cannot be written: {exc.strerror or exc}") from exc
+            raise RunFolderError(f"output folder '{self.path}' cannot be written: {exc.strerror or exc}") from exc
         self._lock = open_own(self.path / LOCK, os.O_RDWR | os.O_CREAT)
         try:
             fcntl.flock(self._lock, fcntl.LOCK_EX | fcntl.LOCK_NB)
         except OSError:
             os.close(self._lock)
-            raise FreefloatError(f"output folder '{self.path}' is in use by another freefloat run") from None
+            raise RunFolderError(f"output folder '{self.path}' is in use by another freefloat run") from None
         try:
             self._clear(overwrite, keep_foreign, resume)
             self.write_text(".freefloat-write-check", "")
@@ -100,7 +107,7 @@ class RunFolder:
         """The names the ownership record lists (each checked to name a path inside the folder).
 
         Raises:
-            FreefloatError: naming the record when it lists a path outside the folder.
+            RunFolderError: naming the record when it lists a path outside the folder.
         """
         record = self.path / RECORD
         if not os.path.lexists(record):
@@ -111,7 +118,7 @@ class RunFolder:
         for name in names:
             parts = PurePosixPath(name).parts
             if not parts or parts[0] == "/" or ".." in parts or len(parts) > 2:
-                raise FreefloatError(f"'{record}' names '{name}', which is not a path inside the folder; "
+                raise RunFolderError(f"'{record}' names '{name}', which is not a path inside the folder; "
                                      "not clearing it")
         return names
 
@@ -130,36 +137,37 @@ class RunFolder:
                     if name.startswith(_PRIVATE):
                         _remove(self.path / name.rstrip("/"), folder=True)
                 return
-            raise FreefloatError(f"output folder '{self.path}' holds files freefloat did not write "
-                                 f"({few(foreign, LISTED)}); choose another --out (a new or empty folder)")
+            raise RunFolderError(f"output folder '{self.path}' holds files freefloat did not write "
+                                 f"({few(foreign, LISTED)}); {_another_folder()}")
         owned = self.owned()
         foreign = sorted(p.name for p in held if p.name not in {n.split("/")[0] for n in owned})
-        if not owned:  # --overwrite would not clear it either: say only what works
-            raise FreefloatError(f"output folder '{self.path}' holds files freefloat did not write "
-                                 f"({few(foreign, LISTED)}); choose another --out (a new or empty folder)")
+        if not owned:  # overwriting would not clear it either: say only what works
+            raise RunFolderError(f"output folder '{self.path}' holds files freefloat did not write "
+                                 f"({few(foreign, LISTED)}); {_another_folder()}")
         if foreign and not keep_foreign:
-            raise FreefloatError(f"output folder '{self.path}' holds files freefloat did not write ({few(foreign, LISTED)}) "
-                                 "and this command writes files whose names it does not know up front; choose "
-                                 "another --out (a new or empty folder)")
+            raise RunFolderError(f"output folder '{self.path}' holds files freefloat did not write ({few(foreign, LISTED)}) "
+                                 "and this command writes files whose names it does not know up front; "
+                                 f"{_another_folder()}")
         if not overwrite:
-            raise FreefloatError(f"output folder '{self.path}' holds a previous run; choose another --out, or pass "
-                                 "--overwrite to replace that run" + (f" (your files there stay: {few(foreign, LISTED)})"
-                                                                       if foreign else ""))
+            raise RunFolderError(f"output folder '{self.path}' holds a previous run; choose another "
+                                 f"{spelled('out=', '--out')}, or pass {spelled('overwrite=True', '--overwrite')} to "
+                                 "replace that run" + (f" (your files there stay: {few(foreign, LISTED)})"
+                                                       if foreign else ""))
         for name in sorted(set(owned), key=lambda n: -n.rstrip("/").count("/")):  # a folder's contents before it
             _remove(self.path / name.rstrip("/"), folder=name.endswith("/"))
         with contextlib.suppress(FileNotFoundError):
             (self.path / RECORD).unlink()
         kept = sorted(p.name for p in self.path.iterdir() if p.name != LOCK)
         if kept:
-            warnings.warn(f"--overwrite kept {len(kept)} file(s) in '{self.path}' that freefloat did not write: "
-                          f"{', '.join(kept)}", stacklevel=2)
+            warnings.warn(f"{spelled('overwrite=True', '--overwrite')} kept {len(kept)} file(s) in '{self.path}' that "
+                          f"freefloat did not write: {', '.join(kept)}", stacklevel=2)
 
     def claim(self, name: str) -> Path:
         """Record ``name`` (relative to the folder; a folder ends with ``/``) as freefloat's before
         it is created, and return its path.
 
         Raises:
-            FreefloatError: naming the file when it exists and is not freefloat's (not written by
+            RunFolderError: naming the file when it exists and is not freefloat's (not written by
                 this run), or when the record cannot be written.
         """
         bare = name.rstrip("/")
@@ -167,8 +175,8 @@ class RunFolder:
         if bare not in self._mine:
             reusable = name.endswith("/") and path.is_dir() and not path.is_symlink()  # its files are claimed one by one
             if os.path.lexists(path) and not reusable:
-                raise FreefloatError(f"'{path}' exists and freefloat did not write it; not replacing it "
-                                     "(move it away or choose another --out)")
+                raise RunFolderError(f"'{path}' exists and freefloat did not write it; not replacing it "
+                                     f"(move it away or choose another {spelled('out=', '--out')})")
             fd = open_own(self.path / RECORD, os.O_WRONLY | os.O_CREAT | os.O_APPEND)
             try:
                 if os.fstat(fd).st_size == 0:
@@ -229,18 +237,18 @@ class RunFolder:
         normally, removed otherwise, so no half-written file ever carries the name.
 
         Raises:
-            FreefloatError: naming the file when the disk refuses it (full, read-only), or when a
+            RunFolderError: naming the file when the disk refuses it (full, read-only), or when a
                 file of that name exists that freefloat did not write.
         """
         try:
             final, partial = self._claim_file(name)
         except OSError as exc:
-            raise FreefloatError(f"could not write '{self.path / name}': {exc.strerror or exc}") from exc
+            raise RunFolderError(f"could not write '{self.path / name}': {exc.strerror or exc}") from exc
         try:
             yield partial
             os.replace(partial, final)
         except OSError as exc:
-            raise FreefloatError(f"could not write '{final}': {exc.strerror or exc}") from exc
+            raise RunFolderError(f"could not write '{final}': {exc.strerror or exc}") from exc
         finally:
             with contextlib.suppress(OSError):
                 partial.unlink()
@@ -260,13 +268,13 @@ class RunFolder:
         """Save telemetry as ``name`` (.npz, atomically, see ``Arrays.save``); returns its path.
 
         Raises:
-            FreefloatError: naming the file when the disk refuses it.
+            RunFolderError: naming the file when the disk refuses it.
         """
         final, _ = self._claim_file(name)
         try:
             arrays.save(final, compressed=compressed, **metadata)
         except OSError as exc:
-            raise FreefloatError(f"could not write '{final}': {exc.strerror or exc}") from exc
+            raise RunFolderError(f"could not write '{final}': {exc.strerror or exc}") from exc
         return final
 
     def private_dir(self) -> Path:
@@ -289,7 +297,7 @@ class RunFolder:
         row is ever saved twice."""
         parts = self.claim(f"{PARTS}/")
         if parts.is_symlink():
-            raise FreefloatError(f"'{parts}' is a symbolic link; freefloat does not follow links for its own files")
+            raise RunFolderError(f"'{parts}' is a symbolic link; freefloat does not follow links for its own files")
         parts.mkdir(exist_ok=True)
         last, index = self._last_part
         index = index if chunk is last else index + 1
@@ -314,7 +322,7 @@ class Journal:
     (unbuffered), so that a kill keeps every line appended before it.
 
     Raises:
-        FreefloatError: naming the file when the disk refuses a line (full, read-only).
+        RunFolderError: naming the file when the disk refuses a line (full, read-only).
     """
 
     def __init__(self, path: Path, fd: int):
@@ -327,7 +335,7 @@ class Journal:
             while data:
                 data = data[os.write(self._fd, data):]
         except OSError as exc:
-            raise FreefloatError(f"could not write '{self.path}': {exc.strerror or exc}") from None
+            raise RunFolderError(f"could not write '{self.path}': {exc.strerror or exc}") from None
 
     def close(self) -> None:
         """Close the file."""
@@ -355,4 +363,4 @@ def _remove(path: Path, folder: bool) -> None:
             with contextlib.suppress(OSError):
                 path.rmdir()  # it still holds files freefloat did not write
     except OSError as exc:
-        raise FreefloatError(f"could not remove '{path}': {exc.strerror or exc}") from exc
+        raise RunFolderError(f"could not remove '{path}': {exc.strerror or exc}") from exc

@@ -17,39 +17,25 @@ The runner owns a run's life cycle:
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Callable
 
 from .experiments import Outcome, Progress, experiment_for
 from .experiments.model_choice import describe, resolve, with_plant
-from .folder_names import default_folder
 from .outputs import write_run
 from .run_folder import RunFolder
 from .scenes import DEFAULT_SCENE, MechanismScene, Scene, find_scene
 from .signals import STOP_SIGNALS, signals_deferred, signals_raise_keyboard_interrupt, stop_once
 
-__all__ = ["STOP_SIGNALS", "SceneRun", "choose_plant", "fail_if_not_finite", "note_model_choice", "prepare",
-           "run_scene", "signals_deferred", "signals_raise_keyboard_interrupt", "simulate", "total_steps"]
+__all__ = ["STOP_SIGNALS", "choose_plant", "fail_if_not_finite", "note_model_choice", "prepare", "resolved_setup",
+           "signals_deferred", "signals_raise_keyboard_interrupt", "simulate", "total_steps"]
 
-
-
-@dataclass
-class SceneRun:
-    """A finished run: its outcome, the files written to ``folder``, the drawings skipped, and
-    whether an interrupt (Ctrl-C, SIGTERM, SIGHUP) came while the folder was written."""
-
-    outcome: Outcome
-    folder: Path
-    written: list[Path]
-    skipped: list[str]
-    interrupted_writing: bool = False
 
 
 def prepare(scene: Scene | MechanismScene) -> Any:
     """Everything ``scene`` resolves to before its loop, by its experiment kind. A robot scene
-    with ``simulation.model = "auto"`` is prepared with the exact plant here; :func:`run_scene`
-    and :func:`simulate` then choose its plant by a pilot run (:func:`choose_plant`).
+    with ``simulation.model = "auto"`` is prepared with the exact plant here; :func:`simulate`
+    then chooses its plant by a pilot run (:func:`choose_plant`).
 
     Raises:
         SceneError: naming the key of whatever the scene gets wrong.
@@ -74,7 +60,7 @@ def choose_plant(scene: Scene | MechanismScene, setup: Any) -> Any:
 def resolved_setup(scene: Scene | MechanismScene) -> Any:
     """The setup of ``scene`` with its plant chosen: :func:`prepare`, then :func:`choose_plant`.
     The one place ``simulation.model = "auto"`` is resolved, for every driver that runs a scene
-    (:func:`simulate`, :func:`run_scene` through the same two steps, ``freefloat batch``'s runs).
+    (:func:`simulate`, ``freefloat batch``'s runs).
 
     Raises:
         SceneError: naming the key of whatever the scene gets wrong.
@@ -100,56 +86,60 @@ def total_steps(scene: Scene | MechanismScene) -> int:
     return experiment_for(scene).steps(scene)
 
 
-def simulate(scene: Scene | MechanismScene | str | Path = DEFAULT_SCENE, progress: Progress | None = None,
-             checkpoint: Callable[[Any], None] | None = None) -> Outcome:
-    """Prepare and run ``scene`` (a scene, a built-in scene's name or a scene file; default: the
-    default job's): its outcome (``summary``, ``telemetry``, ``status``), nothing written
-    (``checkpoint`` gets the telemetry chunk by chunk). :func:`run_scene` also writes the folder."""
-    scene = _scene(scene)
-    setup = resolved_setup(scene)
-    with signals_raise_keyboard_interrupt():
-        outcome = experiment_for(scene).run(setup, progress, checkpoint)
-    return fail_if_not_finite(note_model_choice(outcome, setup))
-
-
-def run_scene(scene: Scene | MechanismScene | str | Path = DEFAULT_SCENE, folder: Path | None = None,
-              progress: Progress | None = None, overwrite: bool = False, setup: Any = None,
-              watch: Callable[[Any], None] | None = None, stage: Callable[[str], None] = lambda name: None) -> SceneRun:
-    """Run ``scene`` into ``folder`` (telemetry, summary, scene, figures, page), whatever the
-    run's status: what ``freefloat simulate`` does. The result holds the outcome (``summary``,
-    ``telemetry``), the folder and the files written.
+def simulate(scene: Scene | MechanismScene | str | Path = DEFAULT_SCENE, *, out: str | Path | None = None,
+             overwrite: bool = False, progress: Progress | None = None,
+             checkpoint: Callable[[Any], None] | None = None, setup: Any = None,
+             stage: Callable[[str], None] = lambda name: None) -> Outcome:
+    """Prepare and run ``scene``: the one way to run a scene, from Python as from
+    ``freefloat simulate``. Nothing is written unless ``out`` is given; then ``out`` receives
+    the run folder (telemetry, summary, the scene as run, figures, page), whatever the run's
+    status, its telemetry checkpointed chunk by chunk as the run goes.
 
     Args:
         scene: a scene, a built-in scene's name or a scene file (default: the default job's).
-        folder: the output folder (default: ``runs/<scene>-<time>``, as the command line).
+        out: the run folder to write (a new or empty folder, or one of freefloat's runs with
+            ``overwrite``), or None to write nothing.
+        overwrite: replace the previous run freefloat wrote in ``out``.
+        progress: as :data:`~.experiments.Progress`.
+        checkpoint: given the telemetry chunk by chunk as the run goes (a live viewer).
         setup: the scene already prepared (:func:`prepare`), or None to prepare it here.
-        watch: also given each telemetry chunk as it is checkpointed (a live viewer).
-        stage: called as each writing stage starts (:data:`~.outputs.STAGES`), the first one when
-            the simulation has ended.
+        stage: with ``out``, called as each writing stage starts (:data:`~.outputs.STAGES`), the
+            first one when the simulation has ended.
+
+    Returns:
+        The :class:`~freefloat.dynamics.result.Result` (an :class:`~.experiments.Outcome`):
+        ``summary``, ``telemetry``, ``status``, ``message``; with ``out`` also ``folder``, the
+        files ``written`` and the drawings ``skipped``.
 
     Raises:
         FreefloatError: before anything is simulated, when the scene is wrong (``SceneError``) or
-            the folder cannot be used; after the run, when the disk refuses a file.
+            ``out`` cannot be used; after the run, when the disk refuses a file.
     """
     scene = _scene(scene)
-    folder = default_folder(scene.name) if folder is None else Path(folder)
+    if out is None:
+        setup = resolved_setup(scene) if setup is None else choose_plant(scene, setup)
+        with signals_raise_keyboard_interrupt():
+            outcome = experiment_for(scene).run(setup, progress, checkpoint)
+        return fail_if_not_finite(note_model_choice(outcome, setup))
+    folder = Path(out)
     setup = prepare(scene) if setup is None else setup
     if scene.output.figures:
         from .viz import rendering
 
         rendering.warm_up()  # the figure helper starts while the run simulates
-    with RunFolder(folder, overwrite) as out, stop_once() as interrupts:
+    with RunFolder(folder, overwrite) as written, stop_once() as interrupts:
         try:
             setup = choose_plant(scene, setup)
         except KeyboardInterrupt:  # during the pilot: stop the run at its first report instead
             progress = _stop_at_first_report
-        checkpoint = out.checkpoint if watch is None else lambda chunk: (out.checkpoint(chunk), watch(chunk))
-        outcome = experiment_for(scene).run(setup, progress, checkpoint)
+        save = written.checkpoint if checkpoint is None else lambda chunk: (written.checkpoint(chunk), checkpoint(chunk))
+        outcome = experiment_for(scene).run(setup, progress, save)
         seen = interrupts.defer()  # from here on an interrupt only skips the drawings, as a second one does
         outcome = fail_if_not_finite(note_model_choice(outcome, setup))
         interrupted = lambda: interrupts.count >= 2 or interrupts.count > seen  # noqa: E731
-        written, skipped = write_run(out, scene, outcome, interrupted, stage)
-    return SceneRun(outcome, folder, written, skipped, interrupted())
+        outcome.written, outcome.skipped = write_run(written, scene, outcome, interrupted, stage)
+    outcome.folder, outcome.interrupted_writing = folder, interrupted()
+    return outcome
 
 
 def _scene(scene: Scene | MechanismScene | str | Path) -> Scene | MechanismScene:

@@ -12,7 +12,7 @@ import sys
 import warnings
 from collections.abc import Iterator
 
-from ..errors import FreefloatNote
+from ..errors import FreefloatNote, FreefloatWarning
 
 #: The warnings this process has shown (their text): each is shown once.
 SHOWN: set[str] = set()
@@ -58,7 +58,9 @@ def shown_warnings() -> Iterator[HeldWarnings]:
     without an error; an error or an interrupt before then drops them."""
     held = HeldWarnings()
     with warnings.catch_warnings():  # restores showwarning too
-        warnings.simplefilter("default")
+        # freefloat's own warnings each time (SHOWN keeps them once per process); other packages'
+        # as Python's defaults have them (their DeprecationWarnings are not the user's business)
+        warnings.simplefilter("always", FreefloatWarning)
         warnings.showwarning = lambda message, category, *args, **kwargs: held.take(message, category)
         yield held
         held.release()

@@ -14,7 +14,7 @@ import warnings
 from pathlib import Path
 
 from ..dynamics.telemetry import Telemetry
-from ..errors import FreefloatError
+from ..errors import RunFolderError, spelled
 from ..robot.loading import load_robot
 from .viz.meshcat_html import write_trajectory_html
 
@@ -26,7 +26,7 @@ def run_page(run_dir: str | Path, fps: float = 30.0) -> Path:
     ``fps`` frames per simulated second when the folder has none.
 
     Raises:
-        FreefloatError: naming the folder when it holds no run, or when its page cannot be
+        RunFolderError: naming the folder when it holds no run, or when its page cannot be
             rebuilt (a capture or mechanism run written with ``--no-html``).
     """
     run_dir = Path(run_dir)
@@ -35,11 +35,11 @@ def run_page(run_dir: str | Path, fps: float = 30.0) -> Path:
         return page
     summary_file, telemetry_file = run_dir / "summary.json", run_dir / "telemetry.npz"
     if not (summary_file.is_file() and telemetry_file.is_file()):
-        raise FreefloatError(f"'{run_dir}' is not a run folder: it has no {PAGE}, summary.json or telemetry.npz")
+        raise RunFolderError(f"'{run_dir}' is not a run folder: it has no {PAGE}, summary.json or telemetry.npz")
     summary = json.loads(summary_file.read_text())
     if "robot" not in summary or "impact_time" in summary:
-        raise FreefloatError(f"'{run_dir}' has no {PAGE}, and only a robot run's page can be rebuilt; "
-                             "run the scene again without --no-html")
+        raise RunFolderError(f"'{run_dir}' has no {PAGE}, and only a robot run's page can be rebuilt; "
+                             f"run the scene again {spelled('with [output] html = true', 'without --no-html')}")
     described = summary["robot"]
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # the run already reported the loader's notes

@@ -8,8 +8,9 @@ its :class:`~freefloat.dynamics.simulation.Controller` interface), ``telemetry``
 ``balance`` (momentum and energy against the impulse and work of external wrenches),
 ``stability`` (the largest stable step, by bisection), ``friction`` (joint friction, viscous and
 regularised Coulomb), ``motors`` (DC motors and their data files; a plant driven by them is
-``plants.motor_driven``, a robot tree as a plant ``plants.tree``) and ``voltage_drive`` (a torque
-law's efforts as motor voltages).
+``plants.motor_driven``, a robot tree as a plant ``plants.tree``), ``voltage_drive`` (a torque
+law's efforts as motor voltages) and ``sensors`` (noise, bias, delay and sampling on what a law
+reads, and the momentum estimated from it: ``Sensed(controller, sensors)``).
 
 May import: :mod:`freefloat.robot`, :mod:`freefloat.errors`, :mod:`freefloat.paths`.
 """
@@ -17,3 +18,7 @@ May import: :mod:`freefloat.robot`, :mod:`freefloat.errors`, :mod:`freefloat.pat
 # The compiled loop (``_sim``) is linked to the pin wheel's libpinocchio_default; importing
 # pinocchio loads that library, which is how an editable install's ``_sim`` finds it.
 import pinocchio as _pinocchio  # noqa: E402, F401
+
+from ..lazy import lazy_modules  # noqa: E402
+
+__getattr__ = lazy_modules(__name__)  # its modules, imported on first use as attributes

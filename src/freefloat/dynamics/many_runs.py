@@ -33,7 +33,7 @@ from ..robot.urdf_checks import usable_memory
 from . import _sim, compiled, stop_request
 from .integrators import Integrator
 from .models import DynamicsModel
-from .simulation import Controller, RunResult, control_periods, field_of, plant_data, stopped_by
+from .simulation import Controller, Result, control_periods, ended_by, field_of, plant_data
 from .telemetry import Telemetry
 from .wrenches import ExternalWrench
 
@@ -47,7 +47,7 @@ WAIT = 0.05
 #: only take turns).
 MAX_THREADS = 256
 
-OnResult = Callable[[int, RunResult], None]
+OnResult = Callable[[int, Result], None]
 
 
 class ManyRuns:
@@ -67,12 +67,12 @@ class ManyRuns:
     def stop(self, cause: KeyboardInterrupt | None = None) -> None:
         """Stop the runs within :data:`SLICE_PERIODS` periods (no run starts); :meth:`finish` gives
         those that finished. ``cause``, the interrupt carrying a signal's name, names it in the
-        interrupted runs' messages (:func:`~.simulation.stopped_by`)."""
+        interrupted runs' messages (:func:`~.simulation.ended_by`)."""
         self.interrupted = True
         self._cause = cause or self._cause
         self._batch.stop()
 
-    def finish(self, on_result: OnResult | None = None) -> list[RunResult | None]:
+    def finish(self, on_result: OnResult | None = None) -> list[Result | None]:
         """Wait for every run, giving ``on_result(index, result)`` each as it finishes (in this
         thread; the telemetry is its run's alone). Ctrl-C or a stop request stops the runs: those
         cut short end ``"interrupted"``, those not started stay None. An error of ``on_result``
@@ -82,20 +82,22 @@ class ManyRuns:
             the results by run index (None for a run that never started); without ``keep``
             (:func:`start_runs`), an empty list: the results went to ``on_result`` only.
         """
-        results: list[RunResult | None] = [None] * (self._runs if self._keep else 0)
+        results: list[Result | None] = [None] * (self._runs if self._keep else 0)
         runs = self._batch
 
         def give(done: tuple) -> None:
-            index, slot, rows, periods, evaluations, wall, error = done
+            index, slot, rows, periods, evaluations, wall, blow_up, failure = done
             first = slot * self._rows_per_run
             telemetry = self._block.window(first, first + rows)
             if not self._keep:
                 telemetry = telemetry.copied()
                 runs.release(slot)
-            status = "diverged" if error else "completed" if periods == self._steps else "interrupted"
-            message = error or ("" if status == "completed" else
-                                f"{stopped_by(self._cause)} at t = {periods * self._period:.6g} s")
-            result = RunResult(telemetry, status, message, periods, wall, evaluations, "compiled")
+            # what ended the run, as simulation.run would have met it: the loop's blow-up, an error
+            # the C++ thread caught (its text), or the stop
+            cause = (OverflowError(blow_up) if blow_up is not None else RuntimeError(failure) if failure is not None
+                     else None if periods == self._steps else self._cause)
+            status, message = ("completed", "") if cause is None else ended_by(cause, periods * self._period)
+            result = Result(telemetry, status, message, periods, wall, evaluations, "compiled")
             if self._keep:
                 results[index] = result
             if on_result is not None:
@@ -213,7 +215,7 @@ def run_many(robot: Robot, q0: np.ndarray, v0: np.ndarray, duration: float, cont
              integrator: Integrator, model: DynamicsModel, controllers: Sequence[Controller] | None = None,
              wrenches: tuple[ExternalWrench, ...] = (), record_every: int = 1, threads: int = 1,
              on_result: OnResult | None = None, keep: bool = True,
-             plants: Sequence[pin.Model] | None = None) -> list[RunResult | None]:
+             plants: Sequence[pin.Model] | None = None) -> list[Result | None]:
     """:func:`start_runs` then :meth:`ManyRuns.finish`: the runs' results by index (see both)."""
     return start_runs(robot, q0, v0, duration, control_period, integrator, model, controllers, wrenches,
                       record_every, threads, keep, plants).finish(on_result)

@@ -25,7 +25,6 @@ of the registry steps it unchanged.
 
 from __future__ import annotations
 
-import difflib
 from collections.abc import Sequence
 from dataclasses import dataclass, fields, replace
 from pathlib import Path
@@ -34,7 +33,7 @@ from typing import NamedTuple
 import numpy as np
 import pinocchio as pin
 
-from ..errors import FreefloatError, InvalidArgument
+from ..errors import DataFileError, InvalidArgument, did_you_mean
 from ..inputs import read_toml, reject_unknown
 from .friction import SLIP_SPEED, JointFriction
 
@@ -162,7 +161,7 @@ def read_motors(path: str | Path, joints: Sequence[str]) -> MotorFile:
         resistance = 0.15
 
     Raises:
-        FreefloatError: naming the file and the key: a missing or unknown key (with the nearest
+        DataFileError: naming the file and the key: a missing or unknown key (with the nearest
             valid one), a joint without an actuator, an unknown motor, a value of the wrong type
             or out of its range.
     """
@@ -171,45 +170,42 @@ def read_motors(path: str | Path, joints: Sequence[str]) -> MotorFile:
     reject_unknown(f"{path}: ", spec, ("motors", "actuators", "uncertainty"))
     for key in ("motors", "actuators"):
         if not isinstance(spec.get(key), dict) or not all(isinstance(v, dict) for v in spec[key].values()):
-            raise FreefloatError(f"{path}: '{key}' must be a table of tables ([{key}.<name>])")
+            raise DataFileError(f"{path}: '{key}' must be a table of tables ([{key}.<name>])")
     motors = {}
     for name, table in spec["motors"].items():
         reject_unknown(f"{path}: ", table, MOTOR_KEYS, f"motors.{name}")
         missing = [k for k in MOTOR_KEYS if k not in table]
         if missing:
-            raise FreefloatError(f"{path}: '[motors.{name}]' lacks {', '.join(missing)}")
+            raise DataFileError(f"{path}: '[motors.{name}]' lacks {', '.join(missing)}")
         motors[name] = {k: _number(path, f"motors.{name}.{k}", table[k]) for k in MOTOR_KEYS}
     out, names = [], []
     for joint in joints:
         if joint not in spec["actuators"]:
-            close = difflib.get_close_matches(joint, list(spec["actuators"]), n=1)
-            hint = f" (the file has '{close[0]}')" if close else ""
-            raise FreefloatError(f"{path}: no '[actuators.{joint}]' for joint '{joint}'{hint}")
+            raise DataFileError(f"{path}: no '[actuators.{joint}]' for joint '{joint}'"
+                                f"{did_you_mean(joint, spec['actuators'], 'actuators in the file')}")
         table = spec["actuators"][joint]
         reject_unknown(f"{path}: ", table, ACTUATOR_KEYS, f"actuators.{joint}")
         for key in ("motor", "gear_ratio"):
             if key not in table:
-                raise FreefloatError(f"{path}: '[actuators.{joint}]' lacks '{key}'")
+                raise DataFileError(f"{path}: '[actuators.{joint}]' lacks '{key}'")
         model = table["motor"]
         if model not in motors:
-            close = difflib.get_close_matches(str(model), list(motors), n=1)
-            hint = f" (did you mean '{close[0]}'?)" if close else ""
-            raise FreefloatError(f"{path}: 'actuators.{joint}.motor' names '{model}', which is no [motors] entry{hint}; "
-                                 f"motors: {', '.join(motors)}")
+            raise DataFileError(f"{path}: 'actuators.{joint}.motor' names '{model}', which is no [motors] entry"
+                                f"{did_you_mean(model, motors, 'motors')}")
         drive = {k: _number(path, f"actuators.{joint}.{k}", table[k]) for k in ACTUATOR_KEYS[1:] if k in table}
         try:
             out.append(DCMotor(**motors[model], **drive))
         except InvalidArgument as exc:
-            raise FreefloatError(f"{path}: '[actuators.{joint}]' with motor '{model}': {exc}") from None
+            raise DataFileError(f"{path}: '[actuators.{joint}]' with motor '{model}': {exc}") from None
         names.append(model)
     uncertainty = spec.get("uncertainty", {})
     if not isinstance(uncertainty, dict):
-        raise FreefloatError(f"{path}: 'uncertainty' must be a table of relative half-widths")
+        raise DataFileError(f"{path}: 'uncertainty' must be a table of relative half-widths")
     reject_unknown(f"{path}: ", uncertainty, UNCERTAIN, "uncertainty")
     relative = {k: _number(path, f"uncertainty.{k}", uncertainty.get(k, 0.0)) for k in UNCERTAIN}
     for key, value in relative.items():
         if not value < 1.0:
-            raise FreefloatError(f"{path}: 'uncertainty.{key}' must be below 1 (a relative half-width), got {value}")
+            raise DataFileError(f"{path}: 'uncertainty.{key}' must be below 1 (a relative half-width), got {value}")
     return MotorFile(DCMotor.stack(out), relative, tuple(names))
 
 
@@ -217,10 +213,10 @@ def _number(path: Path, key: str, value: object) -> float:
     """``value`` as a float >= 0.
 
     Raises:
-        FreefloatError: naming the file and the key for anything else.
+        DataFileError: naming the file and the key for anything else.
     """
     if isinstance(value, bool) or not isinstance(value, (int, float)) or not np.isfinite(value) or value < 0:
-        raise FreefloatError(f"{path}: '{key}' must be a finite number >= 0, got {value!r}")
+        raise DataFileError(f"{path}: '{key}' must be a finite number >= 0, got {value!r}")
     return float(value)
 
 

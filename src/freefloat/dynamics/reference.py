@@ -17,7 +17,7 @@ from typing import NamedTuple
 import numpy as np
 import pinocchio as pin
 
-from ..errors import FreefloatError
+from ..errors import InvalidArgument
 from ..robot.conventions import base_link_placement, base_state, momentum_about_origin, twist_map
 from ..robot.robot import Robot
 
@@ -45,7 +45,7 @@ def reference(robot: Robot, q: np.ndarray, v: np.ndarray, data: pin.Data | None 
         FreefloatError: for a planar base (its 3 base coordinates cannot give the 6x6 H0).
     """
     if robot.base != "free":
-        raise FreefloatError("the Pinocchio reference of H0 needs a free-flyer base: load with base='free'")
+        raise InvalidArgument("the Pinocchio reference of H0 needs a free-flyer base: load with base='free'")
     model = robot.model
     data = data or model.createData()
     nb = robot.n_base

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, fields
+from dataclasses import fields
 from typing import Callable, Protocol
 
 import numpy as np
@@ -18,16 +18,17 @@ from ..robot.robot import Robot
 from ..robot.state import check_state
 from ..robot.urdf_checks import usable_memory
 from . import compiled, compiled_chain, stop_request
-from .integrators import Integrator
-from .models import DynamicsModel
+from .integrators import Integrator, make_integrator
+from .models import DynamicsModel, make_model
 from .plant_periods import PlantPeriods
 from .plants import Plant
+from .result import Result
 from .telemetry import Chunks, PlantTelemetry, Telemetry
 from .threads import single_blas_thread
 from .wrenches import ExternalWrench, WrenchField
 
-__all__ = ["BACKENDS", "CHUNK_ROWS", "MAX_POSITION", "MAX_SPEED", "Controller", "PythonPeriods", "Recorder", "RunResult",
-           "check_memory", "control_periods", "run", "run_plant"]
+__all__ = ["BACKENDS", "CHUNK_ROWS", "MAX_POSITION", "MAX_SPEED", "Controller", "PythonPeriods", "Recorder", "Result",
+           "check_memory", "control_periods", "ended_by", "run", "run_plant"]
 
 #: A generalized velocity component above this (m/s or rad/s) counts as a blow-up.
 MAX_SPEED = 1e6
@@ -53,32 +54,6 @@ class Controller(Protocol):
     def reference(self, t: float) -> np.ndarray | None:
         """Reference joint positions (n_joints,) or None."""
         ...
-
-
-@dataclass
-class RunResult:
-    """Outcome of :func:`run`.
-
-    Attributes:
-        telemetry: recorded samples (truncated to what was computed if the run stopped early):
-            :class:`Telemetry` for :func:`run`, :class:`PlantTelemetry` for :func:`run_plant`.
-        status: ``"completed"``, ``"stopped"`` (by the ``stop`` callback), ``"diverged"`` or
-            ``"interrupted"``.
-        message: why the run stopped early (empty when completed).
-        steps: control periods simulated.
-        wall_time_s: wall-clock time of the loop, s.
-        evaluations: dynamics-model calls made by the integrator.
-        backend: the loop that ran: ``"compiled"`` (:mod:`freefloat.dynamics.compiled`) or
-            ``"python"``.
-    """
-
-    telemetry: Telemetry | PlantTelemetry
-    status: str
-    message: str
-    steps: int
-    wall_time_s: float
-    evaluations: int
-    backend: str = "python"
 
 
 class Recorder:
@@ -119,13 +94,13 @@ class Recorder:
 
 
 def run(
-    robot: Robot,
+    system: Robot | Plant,
     q0: np.ndarray,
     v0: np.ndarray,
     duration: float,
     control_period: float,
-    integrator: Integrator,
-    model: DynamicsModel,
+    integrator: str | Integrator = "rkmk4",
+    model: str | DynamicsModel | None = None,
     controller: Controller | None = None,
     wrenches: tuple[ExternalWrench, ...] = (),
     record_every: int = 1,
@@ -134,23 +109,36 @@ def run(
     start_time: float = 0.0,
     checkpoint: Callable[[Telemetry], None] | None = None,
     backend: str = "auto",
-) -> RunResult:
-    """Simulate ``duration`` s in control periods of ``control_period`` s.
+    *,
+    substeps: int = 1,
+    rtol: float = 1e-10,
+    atol: float = 1e-12,
+    per_stage: bool = False,
+) -> Result:
+    """The engine: simulate ``system`` for ``duration`` s in control periods of ``control_period`` s.
 
-    At the start of each period the controller's torques are computed and held (zero-order hold),
-    active external wrenches selected, and the integrator advances the state with ``model``.
-    A run that diverges (non-finite or > MAX_SPEED state) or is interrupted (Ctrl-C) stops and
-    returns what it recorded, with the status and a message.
+    At the start of each period the controller's efforts are computed and held (zero-order hold),
+    active external wrenches selected, and the integrator advances the state. A run that diverges
+    (non-finite or > MAX_SPEED state) or is interrupted (Ctrl-C) stops and returns what it
+    recorded, with the status and a message. A robot records :class:`~.telemetry.Telemetry`
+    (kinematics, momentum, energy, end-effectors); a plant (a closed chain, a motor-driven tree:
+    :mod:`freefloat.dynamics.plants`) :class:`~.telemetry.PlantTelemetry`, through
+    :func:`run_plant`.
 
     Args:
-        robot: the robot.
-        q0, v0: initial Pinocchio state (nq,), (nv,).
+        system: a robot (its tree, with any ``model``), or a plant.
+        q0, v0: initial Pinocchio state (nq,), (nv,) (a plant's: in its own coordinates).
         duration: simulated time, s.
         control_period: zero-order-hold period, s.
-        integrator: advances the state over each period.
-        model: gives the accelerations.
-        controller: joint torques, or None for a torque-free run.
-        wrenches: external wrenches on links.
+        integrator: a name of :data:`freefloat.dynamics.integrators.INTEGRATORS`, built with
+            ``substeps`` (fixed-step) or ``rtol``, ``atol`` (adaptive), or (robots) an integrator
+            already built (:func:`~freefloat.dynamics.integrators.make_integrator`).
+        model: (robots) a name of :data:`freefloat.dynamics.models.MODELS` or a model already
+            built (:func:`~freefloat.dynamics.models.make_model`); default ``"exact"``
+            (Pinocchio's ABA). A plant carries its own dynamics: None.
+        controller: joint torques (a plant: its efforts) ``torque(t, q, v)`` and
+            ``reference(t)``, or None for a torque-free run.
+        wrenches: (robots) external wrenches on links.
         record_every: record one telemetry row every this many periods (and the last one).
         progress: called with the number of periods done: 0 as the loop starts (when its wall time
             starts), then about 200 times, the last one at the end of the loop.
@@ -162,15 +150,32 @@ def run(
         backend: ``"compiled"``: the same loop in compiled code (:mod:`freefloat.dynamics.compiled`;
             the exact plant and an integrator of the registry without momentum projection; a
             controller without a compiled law and the stop event are then evaluated in Python
-            between compiled periods, with the wrenches selected there too); ``"python"``: this
-            module's loop; ``"auto"`` (default): compiled when the plant and integrator allow it.
+            between compiled periods, with the wrenches selected there too; a plant: see
+            :func:`run_plant`); ``"python"``: this module's loop; ``"auto"`` (default): compiled
+            when the plant and integrator allow it.
+        substeps, rtol, atol: the settings of an integrator given by name.
+        per_stage: (plants on a vector space) evaluate the controller at every integrator stage
+            instead of holding its efforts over the period.
 
     Raises:
         InvalidArgument: for a state of the wrong size or not finite, a non-unit base quaternion,
             a duration that is not a positive whole number of control periods, an unknown
-            backend, or ``"compiled"`` for a run it cannot do (with the reason).
+            backend, an argument the system does not take (naming it), or ``"compiled"`` for a
+            run it cannot do (with the reason).
+        UnknownName: for an unknown integrator or model name.
     """
     steps = control_periods(duration, control_period)
+    if not isinstance(system, Robot):
+        return _run_on_plant(system, q0, v0, duration, control_period, integrator, model, controller, wrenches,
+                             record_every, progress, stop, start_time, checkpoint, backend, substeps, rtol, atol,
+                             per_stage)
+    robot = system
+    if per_stage:
+        raise InvalidArgument("per_stage: a robot's controller is held over each control period (per-stage control "
+                              "is for plants on a vector space)")
+    integrator = _integrator(integrator, robot.model, substeps, rtol, atol)
+    if model is None or isinstance(model, str):
+        model = make_model(model or "exact", robot)
     check_state(robot, q0, reals("v0", v0))
     record_every = min(whole_number("record_every", record_every), steps)  # more records as many rows
     if backend not in BACKENDS:
@@ -204,6 +209,40 @@ def run(
                                             record_every, progress, stop, start_time, rows)
 
 
+def _integrator(integrator: str | Integrator, space: pin.Model, substeps: int, rtol: float,
+                atol: float) -> Integrator:
+    """``integrator`` built on ``space`` when it is a name; refused settings for one already built."""
+    if isinstance(integrator, str):
+        return make_integrator(integrator, space, substeps, rtol, atol)
+    if (substeps, rtol, atol) != (1, 1e-10, 1e-12):
+        raise InvalidArgument(f"substeps, rtol, atol: settings of an integrator given by name; '{integrator.name}' "
+                              "is built already (pass its name, or build it with them)")
+    return integrator
+
+
+def _run_on_plant(plant: Plant, q0: np.ndarray, v0: np.ndarray, duration: float, control_period: float,
+                  integrator: str | Integrator, model: object, controller: Controller | None,
+                  wrenches: tuple[ExternalWrench, ...], record_every: int, progress: Callable[[int], None] | None,
+                  stop: Callable[[float, np.ndarray, np.ndarray], bool] | None, start_time: float,
+                  checkpoint: Callable[[PlantTelemetry], None] | None, backend: str, substeps: int, rtol: float,
+                  atol: float, per_stage: bool) -> Result:
+    """:func:`run` on a plant: the arguments a plant does not take refused by name, then
+    :func:`run_plant`."""
+    if not (hasattr(plant, "acceleration") and hasattr(plant, "space")):
+        raise InvalidArgument(f"system: a Robot or a plant (freefloat.dynamics.plants) is simulated, got "
+                              f"{type(plant).__name__} (a ParallelMechanism runs as CoupledChainPlant(mechanism), "
+                              "or through freefloat.parallel.track)")
+    if model is not None:
+        raise InvalidArgument(f"model: plant '{plant.name}' carries its own dynamics; model is for robots")
+    if wrenches:
+        raise InvalidArgument(f"wrenches: plant '{plant.name}' takes no external wrenches (robots do)")
+    if not isinstance(integrator, str):
+        raise InvalidArgument(f"integrator: a plant's integrator is given by name (with substeps, rtol, atol), got "
+                              f"{type(integrator).__name__}")
+    return run_plant(plant, q0, v0, duration, control_period, integrator, controller, substeps, rtol, atol, per_stage,
+                     record_every, progress, stop, start_time, checkpoint, backend)
+
+
 def run_plant(
     plant: Plant,
     q0: np.ndarray,
@@ -222,10 +261,11 @@ def run_plant(
     start_time: float = 0.0,
     checkpoint: Callable[[PlantTelemetry], None] | None = None,
     backend: str = "auto",
-) -> RunResult:
-    """Simulate a plant of :mod:`freefloat.dynamics.plants` (a closed chain) for ``duration`` s in
-    control periods of ``control_period`` s: the same loop as :func:`run` (zero-order hold, one
-    status, checkpoints, progress, Ctrl-C), with any integrator of the registry.
+) -> Result:
+    """:func:`run` on a plant of :mod:`freefloat.dynamics.plants` (what ``run(plant, ...)`` calls):
+    ``duration`` s in control periods of ``control_period`` s, the same loop as a robot's
+    (zero-order hold, one status, checkpoints, progress, Ctrl-C), with any integrator of the
+    registry. Internal: call :func:`run`.
 
     Args:
         plant: what is integrated.
@@ -368,7 +408,7 @@ class PythonPeriods:
 
 
 def _run_compiled(loop: compiled.CompiledLoop, q0: np.ndarray, v0: np.ndarray, steps: int, control_period: float,
-                  start_time: float, rows: Chunks, progress: Callable[[int], None] | None) -> RunResult:
+                  start_time: float, rows: Chunks, progress: Callable[[int], None] | None) -> Result:
     """:func:`run` through the compiled loop: Python is entered once per chunk or progress report
     (without ``progress``: at least every :data:`UNREPORTED_PERIODS`), where a stop request
     (:mod:`.stop_request`) or Ctrl-C interrupts the run."""
@@ -389,23 +429,21 @@ def _run_compiled(loop: compiled.CompiledLoop, q0: np.ndarray, v0: np.ndarray, s
                 raise OverflowError(blow_up)
             if progress is not None and (loop.periods_done % report_every == 0 or loop.periods_done == steps):
                 progress(loop.periods_done)
-    except KeyboardInterrupt as stop:
-        status, message = "interrupted", f"{stopped_by(stop)} at t = {start_time + loop.periods_done * control_period:.6g} s"
-    except OverflowError as exc:  # blow-up detected in the loop, with the Python loop's message
-        status, message = "diverged", str(exc)
+    except ENDINGS as cause:
+        status, message = ended_by(cause, start_time + loop.periods_done * control_period)
     else:
         chunk, row = rows.next_row()
         loop.bind(chunk)
         loop.record(row)
         rows.commit()
     wall = time.perf_counter() - start
-    return RunResult(rows.collect(), status, message, loop.periods_done, wall, loop.evaluations(), "compiled")
+    return Result(rows.collect(), status, message, loop.periods_done, wall, loop.evaluations(), "compiled")
 
 
 def _run_periods(engine: PythonPeriods | compiled.CompiledLoop, steps: int, control_period: float,
                 controller: Controller | None, field: WrenchField | None, record_every: int,
                 progress: Callable[[int], None] | None, stop: Callable[[float, np.ndarray, np.ndarray], bool] | None,
-                start_time: float, rows: Chunks) -> RunResult:
+                start_time: float, rows: Chunks) -> Result:
     """:func:`run` one control period at a time: the controller, the wrench selection and the stop
     event here, each period's telemetry row and integration by ``engine`` (this module's Python,
     or the compiled loop); a stop request (:mod:`.stop_request`) or Ctrl-C interrupts it between periods."""
@@ -444,16 +482,33 @@ def _run_periods(engine: PythonPeriods | compiled.CompiledLoop, steps: int, cont
                 break
         else:
             k = steps
-    except (SimulationDiverged, OverflowError) as exc:  # a blow-up (OverflowError: the compiled loop's)
-        status, message = "diverged", str(exc)
-    except KeyboardInterrupt as stop:
-        status, message = "interrupted", f"{stopped_by(stop)} at t = {start_time + k * control_period:.6g} s"
-    except (RuntimeError, ValueError) as exc:  # Pinocchio rejects non-finite or degenerate states
-        status, message = "diverged", f"at t = {start_time + k * control_period:.6g} s: {exc}"
+    except ENDINGS as cause:
+        status, message = ended_by(cause, start_time + k * control_period)
     else:
         record(start_time + k * control_period)
     wall = time.perf_counter() - start
-    return RunResult(rows.collect(), status, message, k, wall, engine.evaluations(), engine.backend)
+    return Result(rows.collect(), status, message, k, wall, engine.evaluations(), engine.backend)
+
+
+#: What ends a run early with a status rather than an error (:func:`ended_by`).
+ENDINGS = (KeyboardInterrupt, SimulationDiverged, OverflowError, RuntimeError, ValueError)
+
+
+def ended_by(cause: BaseException, t: float) -> tuple[str, str]:
+    """The status and message of a run that ``cause``, one of :data:`ENDINGS`, ended in the period
+    starting at ``t`` s: the one wording of every loop (:func:`run`, :func:`run_plant`, and each
+    run of :func:`~.many_runs.run_many`, whose C++ threads report what ended their runs).
+
+    ``"interrupted"`` by Ctrl-C or a signal (:func:`stopped_by`) at ``t``; ``"diverged"`` on a
+    blow-up (:class:`~freefloat.errors.SimulationDiverged`, or ``OverflowError`` from the compiled
+    loops: the message gives its time and quantity) or when Pinocchio or a law refuses the state
+    (``RuntimeError``, ``ValueError``: their message after ``t``).
+    """
+    if isinstance(cause, KeyboardInterrupt):
+        return "interrupted", f"{stopped_by(cause)} at t = {t:.6g} s"
+    if isinstance(cause, (SimulationDiverged, OverflowError)):
+        return "diverged", str(cause)
+    return "diverged", f"at t = {t:.6g} s: {cause}"
 
 
 def stopped_by(stop: KeyboardInterrupt) -> str:

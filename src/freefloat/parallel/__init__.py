@@ -23,3 +23,7 @@ May import: :mod:`freefloat.dynamics` (plants, the loop, the compiled core), :mo
 (builders, conventions), :mod:`freefloat.errors`, :mod:`freefloat.paths`. Not
 :mod:`freefloat.space` (a sibling) nor :mod:`freefloat.app`.
 """
+
+from ..lazy import lazy_modules  # noqa: E402
+
+__getattr__ = lazy_modules(__name__)  # its modules, imported on first use as attributes

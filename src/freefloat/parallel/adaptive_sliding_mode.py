@@ -41,7 +41,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from ..errors import BadShape, FreefloatError
+from ..errors import BadShape, FreefloatError, InvalidArgument
 from .closed_chain import ClosedChain
 from .five_bar import FiveBarParameters
 from .platform_regressor import PlatformRegressor, five_bar_regressor, five_bar_theta
@@ -104,12 +104,12 @@ class AdaptiveSlidingMode:
                 raise BadShape(f"adaptive sliding mode: {name} must have shape {shape} ({l} parameters "
                                f"{self.regressor.names}, {p} platform coordinates), got {value.shape}")
         if self.saturation not in SWITCHES:
-            raise FreefloatError(f"adaptive sliding mode: saturation must be one of {SWITCHES}, got '{self.saturation}'")
+            raise InvalidArgument(f"adaptive sliding mode: saturation must be one of {SWITCHES}, got '{self.saturation}'")
         if not (np.all(self.gamma > 0.0) and self.lam > 0.0 and self.period > 0.0 and np.all(self.switching >= 0.0)):
-            raise FreefloatError(f"adaptive sliding mode: gamma ({self.gamma}), lam ({self.lam}) and period "
-                                 f"({self.period}) must be positive and switching ({self.switching}) non-negative")
+            raise InvalidArgument(f"adaptive sliding mode: gamma ({self.gamma}), lam ({self.lam}) and period "
+                                  f"({self.period}) must be positive and switching ({self.switching}) non-negative")
         if not np.all(np.linalg.eigvalsh(0.5 * (self.damping + self.damping.T)) > 0.0):
-            raise FreefloatError(f"adaptive sliding mode: damping K_D must be positive definite, got {self.damping.tolist()}")
+            raise InvalidArgument(f"adaptive sliding mode: damping K_D must be positive definite, got {self.damping.tolist()}")
         if self.projected(self.estimate) is not None and not np.array_equal(self.projected(self.estimate), self.estimate):
             raise BadShape(f"adaptive sliding mode: the start estimate {self.estimate.tolist()} is outside the bounds "
                            f"[{self.lower}, {self.upper}]")
@@ -133,7 +133,7 @@ class AdaptiveSlidingMode:
         if self._sample is None:
             return
         t_k, W, s = self._sample
-        if t < t_k:
+        if t < t_k:  # base class: inside the loop, a ValueError is a diverged state
             raise FreefloatError(f"adaptive sliding mode: called at t = {t} s after t = {t_k} s; call reset() before "
                                  "a new run")
         if t - t_k < self.period * (1.0 - 1e-9):

@@ -47,7 +47,7 @@ import pinocchio as pin
 
 from ..dynamics.closures import ALIASES, KINDS, Closure, closure_kind
 from ..dynamics.friction import SLIP_SPEED, JointFriction
-from ..errors import FreefloatError, did_you_mean
+from ..errors import ClosureFileError, RobotModelError, did_you_mean
 from ..inputs import read_toml, reject_unknown
 from ..robot.urdf_checks import check_joints, check_numbers, read_urdf
 from .mechanism import AngularConstraints, ParallelMechanism
@@ -114,11 +114,11 @@ class Closures:
         """Frame id of ``name``, which the file's ``key`` gave.
 
         Raises:
-            FreefloatError: naming the file, the key and the URDF when there is no such frame.
+            ClosureFileError: naming the file, the key and the URDF when there is no such frame.
         """
         if not self.model.existFrame(name):
-            raise FreefloatError(f"{self.path}: '{key}' names frame '{name}', which is not in {self.spec['urdf']}"
-                                 f"{did_you_mean(name, [f.name for f in self.model.frames], 'frames')}")
+            raise ClosureFileError(f"{self.path}: '{key}' names frame '{name}', which is not in {self.spec['urdf']}"
+                                   f"{did_you_mean(name, [f.name for f in self.model.frames], 'frames')}")
         return self.model.getFrameId(name)
 
 
@@ -164,7 +164,7 @@ def read_closures(path: str | Path, root_joint: pin.JointModel | None = None) ->
             ``root_joint``; :mod:`freefloat.parallel.free_base`).
 
     Raises:
-        FreefloatError: naming the file and the key for a missing URDF, an unknown frame or
+        ClosureFileError: naming the file and the key for a missing URDF, an unknown frame or
             joint, a closure that is not a pair of frames, or an unknown closure kind.
     """
     path = Path(path)
@@ -172,33 +172,33 @@ def read_closures(path: str | Path, root_joint: pin.JointModel | None = None) ->
     _check_types(path, spec)
     urdf = path.parent / spec["urdf"]
     if not urdf.is_file():
-        raise FreefloatError(f"{path}: 'urdf' file {urdf} does not exist")
+        raise ClosureFileError(f"{path}: 'urdf' file {urdf} does not exist")
     tree = read_urdf(urdf)
     check_numbers(urdf, tree)
     check_joints(urdf, tree)
     try:
         model = pin.buildModelFromUrdf(str(urdf)) if root_joint is None else pin.buildModelFromUrdf(str(urdf), root_joint)
     except (RuntimeError, ValueError) as exc:
-        raise FreefloatError(f"{urdf}: Pinocchio's URDF parser refuses it ({exc})") from exc
+        raise RobotModelError(f"{urdf}: Pinocchio's URDF parser refuses it ({exc})") from exc
     model.gravity = pin.Motion(np.asarray(spec.get("gravity", [0.0, 0.0, 0.0]), float), np.zeros(3))
     _set_joint_terms(path, spec.get("joints", {}), model)
     out = Closures(path, spec, model, [], [], [])
     for name in spec["actuated"]:
         if not model.existJointName(name):
-            raise FreefloatError(f"{path}: 'actuated' names joint '{name}', which is not in {urdf.name}"
-                                 f"{did_you_mean(name, model.names[1:], 'joints')}")
+            raise ClosureFileError(f"{path}: 'actuated' names joint '{name}', which is not in {urdf.name}"
+                                   f"{did_you_mean(name, model.names[1:], 'joints')}")
         out.actuated.append(model.getJointId(name))
     out.frame_id(spec["platform"].get("frame", ""), "platform.frame")
     for i, closure in enumerate(spec["closures"]):
         frames, kind = closure.get("frames", []), closure_kind(closure.get("kind", "point"))
         if len(frames) != 2:
-            raise FreefloatError(f"{path}: 'closures[{i}].frames' must name two frames, got {frames}")
+            raise ClosureFileError(f"{path}: 'closures[{i}].frames' must name two frames, got {frames}")
         if kind is None:
-            raise FreefloatError(f"{path}: 'closures[{i}].kind' is '{closure['kind']}'"
-                                 f"{did_you_mean(closure['kind'], (*KINDS, *ALIASES))}")
+            raise ClosureFileError(f"{path}: 'closures[{i}].kind' is '{closure['kind']}'"
+                                   f"{did_you_mean(closure['kind'], (*KINDS, *ALIASES))}")
         if frames[0] == frames[1]:
-            raise FreefloatError(f"{path}: 'closures[{i}].frames' joins frame '{frames[0]}' to itself; a closure "
-                                 "joins two different frames")
+            raise ClosureFileError(f"{path}: 'closures[{i}].frames' joins frame '{frames[0]}' to itself; a closure "
+                                   "joins two different frames")
         placements = [model.frames[out.frame_id(name, f"closures[{i}].frames")] for name in frames]
         out.closures.append(Closure(f"closures[{i}]", kind, placements[0].parentJoint, placements[0].placement,
                                     placements[1].parentJoint, placements[1].placement, tuple(frames)))
@@ -212,21 +212,21 @@ def _set_joint_terms(path: Path, joints: dict, model: pin.Model) -> None:
     fields (over the URDF's ``<dynamics>``).
 
     Raises:
-        FreefloatError: naming the file and the key for an unknown joint (with the nearest name),
+        ClosureFileError: naming the file and the key for an unknown joint (with the nearest name),
             a joint with more than one coordinate, or a value that is not a finite number >= 0.
     """
     names = [model.names[j] for j in range(1, model.njoints)]
     for name, terms in joints.items():
         if not model.existJointName(name):
-            raise FreefloatError(f"{path}: '[joints.{name}]' names no joint of the URDF"
-                                 f"{did_you_mean(name, names, 'joints')}")
+            raise ClosureFileError(f"{path}: '[joints.{name}]' names no joint of the URDF"
+                                   f"{did_you_mean(name, names, 'joints')}")
         j = model.getJointId(name)
         if model.nvs[j] != 1:
-            raise FreefloatError(f"{path}: '[joints.{name}]': joint '{name}' has {model.nvs[j]} coordinates; armature "
-                                 "and friction are for joints of one")
+            raise ClosureFileError(f"{path}: '[joints.{name}]': joint '{name}' has {model.nvs[j]} coordinates; armature "
+                                   "and friction are for joints of one")
         for key, value in terms.items():
             if not (isinstance(value, (int, float)) and not isinstance(value, bool) and np.isfinite(value) and value >= 0):
-                raise FreefloatError(f"{path}: 'joints.{name}.{key}' must be a finite number >= 0, got {value!r}")
+                raise ClosureFileError(f"{path}: 'joints.{name}.{key}' must be a finite number >= 0, got {value!r}")
             getattr(model, JOINT_TERMS[key])[model.idx_vs[j]] = float(value)
 
 
@@ -252,42 +252,42 @@ def _check_types(path: Path, spec: dict) -> None:
     """The closure file's keys have the types :func:`read_closures` reads.
 
     Raises:
-        FreefloatError: naming the file and the key.
+        ClosureFileError: naming the file and the key.
     """
     reject_unknown(f"{path}: ", spec, ("urdf", "gravity", "actuated", "platform", "closures", "slip_speed", "joints"))
     for key in ("urdf", "actuated", "platform", "closures"):
         if key not in spec:
-            raise FreefloatError(f"{path}: missing key '{key}'")
+            raise ClosureFileError(f"{path}: missing key '{key}'")
     expected = {"urdf": (str, "a file name"), "platform": (dict, "a table"), "closures": (list, "an array of tables")}
     for key, (kind, what) in expected.items():
         if not isinstance(spec[key], kind):
-            raise FreefloatError(f"{path}: '{key}' must be {what}, got {spec[key]!r}")
+            raise ClosureFileError(f"{path}: '{key}' must be {what}, got {spec[key]!r}")
     if not isinstance(spec["actuated"], list) or not all(isinstance(n, str) for n in spec["actuated"]):
-        raise FreefloatError(f"{path}: 'actuated' must be a list of joint names, got {spec['actuated']!r}")
+        raise ClosureFileError(f"{path}: 'actuated' must be a list of joint names, got {spec['actuated']!r}")
     reject_unknown(f"{path}: ", spec["platform"], ("frame", "coordinates"), "platform")
     if not isinstance(spec["platform"].get("frame", ""), str):
-        raise FreefloatError(f"{path}: 'platform.frame' must be a frame name, got {spec['platform']['frame']!r}")
+        raise ClosureFileError(f"{path}: 'platform.frame' must be a frame name, got {spec['platform']['frame']!r}")
     coordinates = spec["platform"].get("coordinates", ["x", "y", "z"])
     if not isinstance(coordinates, list) or not all(isinstance(c, str) for c in coordinates):
-        raise FreefloatError(f"{path}: 'platform.coordinates' must be a list of axis names, got {coordinates!r}")
+        raise ClosureFileError(f"{path}: 'platform.coordinates' must be a list of axis names, got {coordinates!r}")
     for i, closure in enumerate(spec["closures"]):
         if not isinstance(closure, dict) or not isinstance(closure.get("kind", "point"), str) or not (
                 isinstance(closure.get("frames", []), list) and all(isinstance(f, str) for f in closure.get("frames", []))):
-            raise FreefloatError(f"{path}: 'closures[{i}]' must be a table with 'frames' (two frame names) and "
-                                 f"'kind' (a name), got {closure!r}")
+            raise ClosureFileError(f"{path}: 'closures[{i}]' must be a table with 'frames' (two frame names) and "
+                                   f"'kind' (a name), got {closure!r}")
         reject_unknown(f"{path}: ", closure, ("frames", "kind"), f"closures[{i}]")
     joints = spec.get("joints", {})
     if not isinstance(joints, dict) or not all(isinstance(t, dict) for t in joints.values()):
-        raise FreefloatError(f"{path}: 'joints' must be a table of tables ([joints.<joint name>]), got {joints!r}")
+        raise ClosureFileError(f"{path}: 'joints' must be a table of tables ([joints.<joint name>]), got {joints!r}")
     for name, terms in joints.items():
         reject_unknown(f"{path}: ", terms, JOINT_TERMS, f"joints.{name}")
     slip = spec.get("slip_speed", SLIP_SPEED)
     if not (isinstance(slip, (int, float)) and not isinstance(slip, bool) and np.isfinite(slip) and slip > 0):
-        raise FreefloatError(f"{path}: 'slip_speed' must be a positive speed (rad/s or m/s), got {slip!r}")
+        raise ClosureFileError(f"{path}: 'slip_speed' must be a positive speed (rad/s or m/s), got {slip!r}")
     gravity = spec.get("gravity", [0.0, 0.0, 0.0])
     if not (isinstance(gravity, list) and len(gravity) == 3 and all(
             isinstance(g, (int, float)) and not isinstance(g, bool) and np.isfinite(g) for g in gravity)):
-        raise FreefloatError(f"{path}: 'gravity' must be three finite numbers (m/s^2), got {gravity!r}")
+        raise ClosureFileError(f"{path}: 'gravity' must be three finite numbers (m/s^2), got {gravity!r}")
 
 
 def load_closed_chain(path: str | Path) -> ClosedChain:
@@ -298,7 +298,7 @@ def load_closed_chain(path: str | Path) -> ClosedChain:
     every tip frame's x axis from N's x axis.
 
     Raises:
-        FreefloatError: as :func:`read_closures`, and for a weld closure without ``rz`` (or ``rz``
+        ClosureFileError: as :func:`read_closures`, and for a weld closure without ``rz`` (or ``rz``
             with another closure kind), a revolute or welded loop that is not planar, a welded tip
             frame whose z axis is not N's, or a platform coordinate not x/y/z/rz.
     """
@@ -306,12 +306,12 @@ def load_closed_chain(path: str | Path) -> ClosedChain:
     model, spec = closures.model, closures.spec
     coords = spec["platform"].get("coordinates", ["x", "y", "z"])
     if not coords or any(c not in AXES and c != ROTATION for c in coords) or coords.count(ROTATION) > 1:
-        raise FreefloatError(f"{closures.path}: 'platform.coordinates' must be a list of x, y, z (and at most one "
-                             f"'{ROTATION}', the platform's angle about z, with weld closures); got {coords}")
+        raise ClosureFileError(f"{closures.path}: 'platform.coordinates' must be a list of x, y, z (and at most one "
+                               f"'{ROTATION}', the platform's angle about z, with weld closures); got {coords}")
     rotates = ROTATION in coords
     for closure in closures.closures:
         if (closure.kind.name == "weld") != rotates:
-            raise FreefloatError(
+            raise ClosureFileError(
                 f"{closures.path}: '{closure.name}.kind' is a weld; tip-to-tip mechanisms take point or planar revolute "
                 "closures, or weld closures of a platform whose angle 'rz' is among 'platform.coordinates'"
                 if not rotates else f"{closures.path}: 'platform.coordinates' has '{ROTATION}', the platform's angle, but "
@@ -328,12 +328,12 @@ def load_closed_chain(path: str | Path) -> ClosedChain:
     order = [j for joints in chain_joints for j in joints]
     shared = sorted({model.names[j] for j in order if order.count(j) > 1})
     if shared:
-        raise FreefloatError(f"{closures.path}: joints {', '.join(shared)} lie on more than one chain to a closure "
-                             "frame; tip-to-tip mechanisms need chains that share no joint")
+        raise ClosureFileError(f"{closures.path}: joints {', '.join(shared)} lie on more than one chain to a closure "
+                               "frame; tip-to-tip mechanisms need chains that share no joint")
     loose = [model.names[j] for j in range(1, model.njoints) if j not in order]
     if loose:
-        raise FreefloatError(f"{closures.path}: joints {', '.join(loose)} of {closures.urdf.name} lie on no chain from "
-                             "the root to a closure frame ('closures' frames)")
+        raise ClosureFileError(f"{closures.path}: joints {', '.join(loose)} of {closures.urdf.name} lie on no chain from "
+                               "the root to a closure frame ('closures' frames)")
     for closure in closures.closures:
         if closure.kind.name != "point":
             _check_planar_hinge(closures, closure, order)
@@ -371,7 +371,7 @@ def _check_planar_hinge(closures: Closures, closure: Closure, joints: list[int])
     then always met, and Orsino's point (and angle) model of the tips is exact.
 
     Raises:
-        FreefloatError: naming the closure and the first joint out of the plane.
+        ClosureFileError: naming the closure and the first joint out of the plane.
     """
     model, data = closures.model, closures.model.createData()
     pin.forwardKinematics(model, data, pin.neutral(model))
@@ -382,10 +382,10 @@ def _check_planar_hinge(closures: Closures, closure: Closure, joints: list[int])
         direction = data.oMi[j].rotation[:, axis]
         off = abs(direction @ normal) if slides else np.linalg.norm(np.cross(direction, normal))
         if off > 1e-9:
-            raise FreefloatError(f"{closures.path}: '{closure.name}' is a {closure.kind.name} closure, but joint "
-                                 f"'{model.names[j]}' {'slides along' if slides else 'turns about'} a direction "
-                                 f"out of {'its hinge' if revolute else 'the xy plane'}'s plane; tip-to-tip mechanisms "
-                                 f"take {closure.kind.name} closures of planar loops only")
+            raise ClosureFileError(f"{closures.path}: '{closure.name}' is a {closure.kind.name} closure, but joint "
+                                   f"'{model.names[j]}' {'slides along' if slides else 'turns about'} a direction "
+                                   f"out of {'its hinge' if revolute else 'the xy plane'}'s plane; tip-to-tip mechanisms "
+                                   f"take {closure.kind.name} closures of planar loops only")
 
 
 def _check_tips_turn_about_z(closures: Closures, tips: list[str]) -> None:
@@ -393,15 +393,15 @@ def _check_tips_turn_about_z(closures: Closures, tips: list[str]) -> None:
     which the planar loop keeps): its orientation is then ``Rz(angle)``, the angle the ``rz`` rows read.
 
     Raises:
-        FreefloatError: naming the first tip frame whose z axis is not N's z.
+        ClosureFileError: naming the first tip frame whose z axis is not N's z.
     """
     model, data = closures.model, closures.model.createData()
     pin.framesForwardKinematics(model, data, pin.neutral(model))
     for name in tips:
         z = data.oMf[model.getFrameId(name)].rotation[:, 2]
         if abs(z[2] - 1.0) > 1e-9:
-            raise FreefloatError(f"{closures.path}: frame '{name}' has its z axis along {np.round(z, 6).tolist()}; the "
-                                 f"tips of a platform with an angle '{ROTATION}' need N's z axis (0, 0, 1) as theirs")
+            raise ClosureFileError(f"{closures.path}: frame '{name}' has its z axis along {np.round(z, 6).tolist()}; the "
+                                   f"tips of a platform with an angle '{ROTATION}' need N's z axis (0, 0, 1) as theirs")
 
 
 def chain_from_tree(model: pin.Model, frame: int, slip_speed: float = SLIP_SPEED) -> tuple[SerialChain, list[int]]:
@@ -413,7 +413,7 @@ def chain_from_tree(model: pin.Model, frame: int, slip_speed: float = SLIP_SPEED
     ``L_i = T^-1`` (``T`` in :data:`Z_TO_AXIS`).
 
     Raises:
-        FreefloatError: naming a joint of another type.
+        ClosureFileError: naming a joint of another type.
     """
     joints = []
     j = model.frames[frame].parentJoint
@@ -425,8 +425,8 @@ def chain_from_tree(model: pin.Model, frame: int, slip_speed: float = SLIP_SPEED
     for j in joints:
         kind = model.joints[j].shortname()
         if kind not in AXIS_JOINTS:
-            raise FreefloatError(f"joint '{model.names[j]}' is {kind}: closed-chain models take revolute or prismatic "
-                                 f"joints along x, y or z of their frames")
+            raise RobotModelError(f"joint '{model.names[j]}' is {kind}: closed-chain models take revolute or prismatic "
+                                  f"joints along x, y or z of their frames")
         slides, axis = AXIS_JOINTS[kind]
         turn = pin.SE3(Z_TO_AXIS[axis], np.zeros(3))
         placement.append((model.jointPlacements[j] * turn).homogeneous)

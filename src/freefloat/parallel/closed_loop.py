@@ -16,8 +16,8 @@ import numpy as np
 
 from ..dynamics.plants import CoupledChainPlant
 from ..dynamics.sampled import Sampled
-from ..dynamics.simulation import RunResult, run_plant
-from ..errors import FreefloatError
+from ..dynamics.simulation import Result, run_plant
+from ..errors import InvalidArgument
 from .five_bar import FiveBarParameters, elbow_guess, five_bar
 from .mechanism import ParallelMechanism
 
@@ -30,13 +30,13 @@ def steps_per_period(period: float, step: float) -> int:
     """
     n = round(period / step)
     if n < 1 or abs(n * step - period) > 1e-9 * period:
-        raise FreefloatError(f"control period {period} s must be a whole number of integration steps ({step} s)")
+        raise InvalidArgument(f"control period {period} s must be a whole number of integration steps ({step} s)")
     return n
 
 
 def track(plant: ParallelMechanism, control: Any, q0: np.ndarray, duration: float, step: float,
           period: float | None, baumgarte: float = 100.0, integrator: str = "rkmk4", qd0: np.ndarray | None = None,
-          **run: Any) -> RunResult:
+          **run: Any) -> Result:
     """Closed loop from ``q0`` (n_q,) (at rest, or at rates ``qd0``) for ``duration`` s: one
     ``integrator`` step of ``step`` s per recorded row, the law (``control.torque(t, q, qd)``)
     held over ``period`` s or, for None, evaluated at every stage.
@@ -57,7 +57,7 @@ def track(plant: ParallelMechanism, control: Any, q0: np.ndarray, duration: floa
 
 
 def track_five_bar(plant: FiveBarParameters, control: Any, duration: float, step: float,
-                   start: tuple[float, float] = (0.07, 0.17), **run: Any) -> RunResult:
+                   start: tuple[float, float] = (0.07, 0.17), **run: Any) -> Result:
     """Sec 5.6's closed loop: the 5R with parameters ``plant``, assembled with outward elbows at
     ``start`` (m) at rest, the law held over each ``step`` s, RK4 (``rkmk4``), Baumgarte 100."""
     mechanism = five_bar(plant)

@@ -14,7 +14,7 @@ from ..dynamics.friction import SLIP_SPEED, JointFriction
 from ..dynamics.motors import DCMotor, MotorFile, read_motors
 from ..dynamics.plants import CoupledChainPlant
 from ..dynamics.plants.motor_driven import MotorDrivenPlant
-from ..errors import FreefloatError
+from ..errors import InvalidArgument
 from ..paths import URDF_DIR
 from .mechanism import ParallelMechanism
 
@@ -38,7 +38,7 @@ def motorised(mech: ParallelMechanism, motors: DCMotor, slip_speed: float = SLIP
             another slip speed.
     """
     if len(motors) != len(mech.actuated):
-        raise FreefloatError(f"motorised: {len(motors)} motors for {len(mech.actuated)} actuators")
+        raise InvalidArgument(f"motorised: {len(motors)} motors for {len(mech.actuated)} actuators")
     armature = np.atleast_1d(motors.armature)
     drive = motors.friction(slip_speed)
     chains, start = list(mech.chains), mech.p
@@ -53,8 +53,8 @@ def motorised(mech: ParallelMechanism, motors: DCMotor, slip_speed: float = SLIP
                 viscous[joint] += drive.viscous[a]
                 coulomb[joint] += drive.coulomb[a]
             if chain.friction is not None and chain.friction.slip_speed != slip_speed and any(chain.friction.coulomb):
-                raise FreefloatError(f"motorised: chain {c + 1}'s joint friction has slip speed "
-                                     f"{chain.friction.slip_speed}, the drives' {slip_speed}")
+                raise InvalidArgument(f"motorised: chain {c + 1}'s joint friction has slip speed "
+                                      f"{chain.friction.slip_speed}, the drives' {slip_speed}")
             base = np.zeros(chain.dof) if chain.armature is None else chain.armature
             chains[c] = replace(chain, armature=base + added, friction=JointFriction(viscous, coulomb, slip_speed))
         start += chain.dof

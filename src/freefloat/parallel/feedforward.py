@@ -26,7 +26,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import FreefloatError
+from ..errors import FreefloatError, InvalidArgument
 from .mechanism import ParallelMechanism
 from .sliding_mode import PlatformControl, Reference
 
@@ -60,10 +60,10 @@ class FeedforwardTable:
                 cannot follow (where it does not assemble or its joint path jumps).
         """
         if not model.square_actuation:
-            raise FreefloatError("feedforward table: the model must have as many actuators as platform coordinates "
-                                 "and no effort distribution (the table holds (C^T U)^-1)")
+            raise InvalidArgument("feedforward table: the model must have as many actuators as platform coordinates "
+                                  "and no effort distribution (the table holds (C^T U)^-1)")
         if not (duration > 0.0 and dt > 0.0):
-            raise FreefloatError(f"feedforward table: duration ({duration} s) and dt ({dt} s) must be positive")
+            raise InvalidArgument(f"feedforward table: duration ({duration} s) and dt ({dt} s) must be positive")
         times = t0 + dt * np.arange(int(np.floor(duration / dt + 1e-9)) + 1)
         reference = np.array([np.array(trajectory(t)) for t in times])          # (N, 3, p)
         tau, q = model.inverse_trajectory(reference[:, 0], reference[:, 1], reference[:, 2], guess)
@@ -81,7 +81,7 @@ class FeedforwardTable:
         x = (t - self.t0) / self.dt
         i = int(np.floor(x + 1e-9))
         last = len(self.efforts) - 1
-        if i < 0 or i > last or (i == last and x - i > 1e-9):
+        if i < 0 or i > last or (i == last and x - i > 1e-9):  # base class: inside the loop, a ValueError is a diverged state
             raise FreefloatError(f"feedforward table: t = {t} s is outside the table "
                                  f"[{self.t0}, {self.t0 + last * self.dt}] s; tabulate a longer span")
         w = x - i

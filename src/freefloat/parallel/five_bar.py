@@ -13,7 +13,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from ..errors import FreefloatError
+from ..errors import NotAssembled
 from .mechanism import ParallelMechanism
 from .redundancy import EffortDistribution
 from .serial import SerialChain
@@ -80,14 +80,14 @@ def elbow_guess(p: FiveBarParameters, point: np.ndarray) -> np.ndarray:
     """Joint angles of both chains reaching ``point`` (x, y) with the elbows outward (4,).
 
     Raises:
-        FreefloatError: when the point is out of either chain's reach.
+        NotAssembled: when the point is out of either chain's reach.
     """
     out = []
     for side, c in ((+1, chain(p, +1)), (-1, chain(p, -1))):
         local = np.linalg.solve(c.base, np.array([point[0], point[1], 0.0, 1.0]))[:2]
         cos2 = (local @ local - p.l1**2 - p.l2**2) / (2 * p.l1 * p.l2)
         if abs(cos2) > 1.0:
-            raise FreefloatError(f"5R: point {np.round(point, 4).tolist()} m is out of reach of chain {1 if side > 0 else 2}")
+            raise NotAssembled(f"5R: point {np.round(point, 4).tolist()} m is out of reach of chain {1 if side > 0 else 2}")
         q2 = np.arccos(cos2)
         q1 = np.arctan2(local[1], local[0]) - np.arctan2(p.l2 * np.sin(q2), p.l1 + p.l2 * np.cos(q2))
         out += [q1, q2]

@@ -46,9 +46,9 @@ import pinocchio as pin
 from ..dynamics.closures import ClosedModel
 from ..dynamics.integrators import INTEGRATORS, make_integrator
 from ..dynamics.plants import ClosedTreePlant, ConstraintDynamicsPlant
-from ..dynamics.simulation import RunResult, run, run_plant
+from ..dynamics.simulation import Result, run, run_plant
 from ..dynamics.telemetry import Arrays, PlantTelemetry, Telemetry
-from ..errors import FreefloatError, InvalidArgument, did_you_mean
+from ..errors import InvalidArgument, did_you_mean
 from ..robot.loading import BASE_COM_FRAME
 from ..robot.robot import Robot
 from .closed_chain import AXES, ClosedChain, read_closures
@@ -125,7 +125,7 @@ class BaseBody:
     def __post_init__(self) -> None:
         problem = base_problem(self.kind, self.mass, self.inertia, self.com, self.gravity)
         if problem is not None:
-            raise FreefloatError(f"BaseBody '{problem[0]}' {problem[1]}")
+            raise InvalidArgument(f"BaseBody '{problem[0]}' {problem[1]}")
 
 
 @dataclass
@@ -178,9 +178,9 @@ class FloatingMechanism:
     def __init__(self, chain: ClosedChain, closure: str | Path, base: BaseBody,
                  tree_inertias: Callable[[pin.Model], None] = lambda model: None):
         if chain.mechanism.rotates:
-            raise FreefloatError(f"{closure}: the platform's coordinates include its angle ('rz'); a mechanism on a base "
-                                 "body takes translational platform coordinates only (its law reads the platform "
-                                 "frame's x, y, z)")
+            raise InvalidArgument(f"{closure}: the platform's coordinates include its angle ('rz'); a mechanism on a base "
+                                  "body takes translational platform coordinates only (its law reads the platform "
+                                  "frame's x, y, z)")
         moving = base.kind in ROOT_JOINTS
         closures = read_closures(closure, ROOT_JOINTS[base.kind]() if moving else None)
         model = closures.model
@@ -199,7 +199,7 @@ class FloatingMechanism:
         fixed = chain.model
         for j in range(1, fixed.njoints):  # the same URDF: its joints follow the root, in the same order
             if model.idx_qs[model.getJointId(fixed.names[j])] != self.root_nq + fixed.idx_qs[j]:
-                raise FreefloatError(f"{closure}: joint '{fixed.names[j]}' is ordered differently on a moving base")
+                raise InvalidArgument(f"{closure}: joint '{fixed.names[j]}' is ordered differently on a moving base")
         p, n_q = chain.mechanism.p, chain.mechanism.n_q
         owner = {i: j for j, i in sorted(chain.joint_coordinates.items(), reverse=True)}  # the first joint of each
         #: Orsino's chain coordinate q°_i is the fixed tree's coordinate ``joint_index[i]``.
@@ -223,7 +223,7 @@ class FloatingMechanism:
         """
         if self._robot is None:
             if not self.root_nv:
-                raise FreefloatError("a mechanism on a fixed base is no robot: its tree has no root joint")
+                raise InvalidArgument("a mechanism on a fixed base is no robot: its tree has no root joint")
             model = pin.Model(self.model)
             root = model.inertias[1]
             model.addFrame(pin.Frame(BASE_COM_FRAME, 1, 0, pin.SE3(np.eye(3), root.lever), pin.FrameType.OP_FRAME))
@@ -428,7 +428,7 @@ class JointEfforts:
 def track(mechanism: FloatingMechanism, law: Any, q0: np.ndarray, v0: np.ndarray, duration: float, step: float,
           baumgarte: float = 100.0, integrator: str = "rkmk4", dynamics: str = ConstraintDynamicsPlant.name,
           backend: str = "auto", substeps: int = 1, rtol: float = 1e-10, atol: float = 1e-12,
-          control: Any = None, **kwargs: Any) -> RunResult:
+          control: Any = None, **kwargs: Any) -> Result:
     """The closed loop on the moving base from the tree's ``(q0, v0)``: the law (through
     :class:`BaseFrameControl`) evaluated every ``step`` s and held, one telemetry row per step.
 
@@ -464,7 +464,7 @@ def track(mechanism: FloatingMechanism, law: Any, q0: np.ndarray, v0: np.ndarray
 
 def run_compiled(mechanism: FloatingMechanism, control: Any, q0: np.ndarray, v0: np.ndarray, duration: float,
                  period: float, baumgarte: float, integrator: str, substeps: int = 1, rtol: float = 1e-10,
-                 atol: float = 1e-12, **kwargs: Any) -> RunResult:
+                 atol: float = 1e-12, **kwargs: Any) -> Result:
     """The compiled robot loop of :func:`track` (``closed_tree`` on a moving base): ``control``'s
     efforts (on the tree's state) held over each ``period`` s, ``substeps`` steps of
     ``integrator`` per period, the robot's telemetry

@@ -43,7 +43,7 @@ from typing import Any, Protocol
 
 import numpy as np
 
-from ..errors import FreefloatError, InvalidArgument
+from ..errors import InvalidArgument, NotAssembled
 
 #: Most vertices (2^r) the design evaluates exhaustively (r = 12 parameters).
 MAX_VERTICES = 4096
@@ -193,7 +193,8 @@ def worst_case(model: LinearParameterModel, points: np.ndarray, sample: int | No
     point's by ``at(model, q, vertices)`` (default :func:`point_worst_case`).
 
     Raises:
-        FreefloatError: for no points, or a point where the mechanism does not assemble (named).
+        InvalidArgument: for no points.
+        NotAssembled: for a point where the mechanism does not assemble (named).
     """
     if len(points) == 0:
         raise InvalidArgument("gain design: no workspace points")
@@ -202,8 +203,8 @@ def worst_case(model: LinearParameterModel, points: np.ndarray, sample: int | No
     for point in np.asarray(points, float):
         try:
             q = model.assemble(point)
-        except FreefloatError as exc:
-            raise FreefloatError(f"gain design: point {np.round(point, 6).tolist()}: {exc}") from exc
+        except NotAssembled as exc:
+            raise NotAssembled(f"gain design: point {np.round(point, 6).tolist()}: {exc}") from exc
         here = (at or point_worst_case)(model, q, extremes)
         out = here if out is None else out.combine(here)
     return out

@@ -35,7 +35,7 @@ import pinocchio as pin
 from ..dynamics.identification.base import BaseParameters, base_parameters, preferred_order
 from ..dynamics.identification.least_squares import Estimate, fit
 from ..dynamics.identification.parameters import parameter_names, with_parameters
-from ..errors import FreefloatError
+from ..errors import InvalidArgument
 from .closed_chain import ClosedChain, chain_from_tree
 from .mechanism import ParallelMechanism
 
@@ -49,8 +49,8 @@ def effort_map(chain: ClosedChain) -> np.ndarray:
     """
     mech, model = chain.mechanism, chain.model
     if np.any(mech.platform_mass != 0.0) or np.any(mech.platform_gravity != 0.0):
-        raise FreefloatError("closed-chain regressor: the platform has mass; this regressor covers tip-to-tip "
-                             "mechanisms whose platform is a massless point")
+        raise InvalidArgument("closed-chain regressor: the platform has mass; this regressor covers tip-to-tip "
+                              "mechanisms whose platform is a massless point")
     S = np.zeros((mech.n_q, model.nv))
     for joint, coordinate in chain.joint_coordinates.items():
         S[coordinate, model.idx_vs[joint]] += 1.0

@@ -44,7 +44,14 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from ..dynamics._core import MechanismCore
-from ..errors import FreefloatError, UnknownName
+from ..errors import (
+    BadShape,
+    FreefloatError,
+    InvalidArgument,
+    NotAssembled,
+    SingularityError,
+    UnknownName,
+)
 from .redundancy import EffortDistribution
 from .serial import SerialChain
 
@@ -81,9 +88,9 @@ class AngularConstraints:
         n_tips = len(self.reference)
         if self.P.ndim != 2 or self.P.shape[0] != rows or self.Q.shape != (rows, 3 * n_tips) or self.R.shape[0] != rows \
                 or self.reference.shape != (n_tips, 3, 3):
-            raise FreefloatError(f"angular constraints: shapes do not agree: P {self.P.shape}, Q {self.Q.shape}, "
-                                 f"R {self.R.shape}, reference {self.reference.shape}, offset {self.offset.shape} "
-                                 f"(Q needs 3 columns per tip reference, every matrix one row per offset)")
+            raise BadShape(f"angular constraints: shapes do not agree: P {self.P.shape}, Q {self.Q.shape}, "
+                           f"R {self.R.shape}, reference {self.reference.shape}, offset {self.offset.shape} "
+                           f"(Q needs 3 columns per tip reference, every matrix one row per offset)")
 
 
 @dataclass(frozen=True)
@@ -102,7 +109,7 @@ class ParallelMechanism:
             platform coordinates, the minimum-norm efforts when there are more.
         backend: ``"compiled"`` (default): one point at a time (:meth:`forward`, :meth:`inverse`
             and :meth:`assemble` at one q, :meth:`inverse_trajectory`) runs in the compiled core
-            (``cpp/parallel.hpp``) when A° is square; ``"numpy"``: everything in this module and
+            (``cpp/chains/mechanism.hpp``) when A° is square; ``"numpy"``: everything in this module and
             serial.py, the reference. Batched calls always use numpy.
     """
 
@@ -125,22 +132,20 @@ class ParallelMechanism:
             expected = {"P": (self.p,), "Q": (3 * len(self.chains),), "R": (sum(c.dof for c in self.chains),)}
             for name, columns in expected.items():
                 if getattr(self.angular, name).shape[1:] != columns:
-                    raise FreefloatError(f"angular constraints: {name} has {getattr(self.angular, name).shape[1]} columns; "
-                                         f"this mechanism needs {columns[0]} ({self.p} platform coordinates, "
-                                         f"{len(self.chains)} chains of {sum(c.dof for c in self.chains)} joints)")
+                    raise BadShape(f"angular constraints: {name} has {getattr(self.angular, name).shape[1]} columns; "
+                                   f"this mechanism needs {columns[0]} ({self.p} platform coordinates, "
+                                   f"{len(self.chains)} chains of {sum(c.dof for c in self.chains)} joints)")
 
     @property
     def core(self) -> MechanismCore | None:
-        """The compiled core of this mechanism, or None: numpy backend, a non-square A°,
-        angular constraints with ``P != 0`` (the compiled closure residual has no ``P q#`` term:
-        ``cpp/parallel.cpp``'s ``evaluate_closure``), or armature or friction on a joint (the
-        core has neither; see :attr:`rigid`)."""
+        """The compiled core of this mechanism, or None: numpy backend, a non-square A°, or
+        armature or friction on a joint (the core has neither; see :attr:`rigid`)."""
         return self._compiled if self.rigid else None
 
     @functools.cached_property
     def _compiled(self) -> MechanismCore | None:
         """The compiled core of the rigid-body terms (no armature, no friction), or None."""
-        if self.backend != "compiled" or not self.square or self.rotates:
+        if self.backend != "compiled" or not self.square:
             return None
         return MechanismCore(*self.core_arrays())
 
@@ -211,7 +216,7 @@ class ParallelMechanism:
                 given by a vector alone.
         """
         if np.any(self.platform_mass != 0.0):
-            raise FreefloatError("a mechanism whose platform has mass cannot take another gravity here")
+            raise InvalidArgument("a mechanism whose platform has mass cannot take another gravity here")
         gravity = np.asarray(gravity, dtype=float)
         return replace(self, chains=tuple(replace(c, gravity=gravity.copy()) for c in self.chains))
 
@@ -334,8 +339,8 @@ class ParallelMechanism:
             return np.linalg.solve(A_passive, rhs)
         except np.linalg.LinAlgError:
             if not least_squares:
-                raise FreefloatError("the passive joints' constraint Jacobian A° is singular: the mechanism is at a "
-                                     "singular pose (C and the inverse dynamics are undefined there)") from None
+                raise SingularityError("the passive joints' constraint Jacobian A° is singular: the mechanism is at a "
+                                       "singular pose (C and the inverse dynamics are undefined there)") from None
             return np.linalg.pinv(A_passive) @ rhs
 
     def _velocity_map(self, A: np.ndarray) -> np.ndarray:
@@ -427,8 +432,9 @@ class ParallelMechanism:
         all points at once); returns the assembled ``q`` (..., n_q).
 
         Raises:
-            FreefloatError: when it does not converge (pose out of reach or singular), with the
+            NotAssembled: when it does not converge (pose out of reach or singular), with the
                 residual and the (first failing) platform coordinates.
+            BadShape: for coordinates or a guess of the wrong size.
         """
         if (core := self._point_core(q_sharp)) is not None and np.ndim(guess) == 1:
             try:
@@ -441,10 +447,10 @@ class ParallelMechanism:
         q_sharp, guess = np.asarray(q_sharp, float), np.asarray(guess, float)
         n_passive = sum(c.dof for c in self.chains)
         if q_sharp.shape[-1:] != (self.p,) or guess.shape[-1:] != (n_passive,):
-            raise FreefloatError(f"assemble: platform coordinates need {self.p} entries and the guess {n_passive} "
-                                 f"(got shapes {q_sharp.shape} and {guess.shape})")
+            raise BadShape(f"assemble: platform coordinates need {self.p} entries and the guess {n_passive} "
+                           f"(got shapes {q_sharp.shape} and {guess.shape})")
         if not (np.isfinite(q_sharp).all() and np.isfinite(guess).all()):
-            raise FreefloatError("assemble: the platform coordinates or the guess are not finite")
+            raise InvalidArgument("assemble: the platform coordinates or the guess are not finite")
         q = np.concatenate((q_sharp, np.broadcast_to(guess, q_sharp.shape[:-1] + guess.shape[-1:])), axis=-1)
         for _ in range(iterations):
             residual, A = self._closure(q)
@@ -452,9 +458,9 @@ class ParallelMechanism:
                 return q
             q[..., self.p:] -= self.passive_solve(A, residual[..., None], least_squares=True)[..., 0]
         worst = np.unravel_index(np.argmax(np.abs(residual).max(axis=-1)), residual.shape[:-1])
-        raise FreefloatError(f"cannot assemble the mechanism at platform coordinates {np.round(q_sharp[worst], 6).tolist()}: "
-                             f"loop-closure residual {np.abs(self.constraint(q[worst])).max():.3g} m, orientation "
-                             f"{np.abs(self.orientation_residual(q[worst])).max(initial=0.0):.3g} rad after {iterations} Newton steps")
+        raise NotAssembled(f"cannot assemble the mechanism at platform coordinates {np.round(q_sharp[worst], 6).tolist()}: "
+                           f"loop-closure residual {np.abs(self.constraint(q[worst])).max():.3g} m, orientation "
+                           f"{np.abs(self.orientation_residual(q[worst])).max(initial=0.0):.3g} rad after {iterations} Newton steps")
 
     def inverse_trajectory(self, q_sharp: np.ndarray, qd_sharp: np.ndarray, qdd_sharp: np.ndarray, guess: np.ndarray,
                            block: int = 512, jump: float = 0.5) -> tuple[np.ndarray, np.ndarray]:
@@ -479,8 +485,8 @@ class ParallelMechanism:
         """
         q_sharp, qd_sharp, qdd_sharp = (np.asarray(a, float) for a in (q_sharp, qd_sharp, qdd_sharp))
         if not len(q_sharp) or not q_sharp.shape == qd_sharp.shape == qdd_sharp.shape == (len(q_sharp), self.p):
-            raise FreefloatError(f"inverse_trajectory: positions, rates and accelerations must be non-empty arrays of shape "
-                                 f"(N, {self.p}); got {q_sharp.shape}, {qd_sharp.shape}, {qdd_sharp.shape}")
+            raise BadShape(f"inverse_trajectory: positions, rates and accelerations must be non-empty arrays of shape "
+                           f"(N, {self.p}); got {q_sharp.shape}, {qd_sharp.shape}, {qdd_sharp.shape}")
         if self.core is not None and self.square_actuation:
             return self._compiled_trajectory(q_sharp, qd_sharp, qdd_sharp, np.asarray(guess, float), jump)
         q = np.empty((len(q_sharp), self.p + len(guess)))
@@ -500,9 +506,9 @@ class ParallelMechanism:
                 strays = True
             if strays:
                 if size == 1:
-                    raise FreefloatError(f"inverse_trajectory: at platform coordinates {np.round(x[0], 6).tolist()} the "
-                                         f"joint path jumps (another assembly mode, or a turn near a singular pose): "
-                                         f"the joints move more than {jump} from the prediction in one step")
+                    raise NotAssembled(f"inverse_trajectory: at platform coordinates {np.round(x[0], 6).tolist()} the "
+                                       f"joint path jumps (another assembly mode, or a turn near a singular pose): "
+                                       f"the joints move more than {jump} from the prediction in one step")
                 size = max(1, size // 2)
                 continue
             tau[rows] = self.inverse(q[rows], qd_sharp[rows], qdd_sharp[rows])[0]
@@ -516,9 +522,9 @@ class ParallelMechanism:
         if status == 1:  # the numpy Newton from the same start raises, naming the pose
             self.reference().assemble(x[index], q[index, self.p:])
         if status:
-            raise FreefloatError(f"inverse_trajectory: at platform coordinates {np.round(x[index], 6).tolist()} the "
-                                 f"joint path jumps (another assembly mode, or a turn near a singular pose): "
-                                 f"the joints move more than {jump} from the prediction in one step")
+            raise NotAssembled(f"inverse_trajectory: at platform coordinates {np.round(x[index], 6).tolist()} the "
+                               f"joint path jumps (another assembly mode, or a turn near a singular pose): "
+                               f"the joints move more than {jump} from the prediction in one step")
         return tau, q
 
 

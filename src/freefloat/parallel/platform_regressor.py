@@ -36,7 +36,7 @@ import pinocchio as pin
 
 from ..dynamics.identification.base import BaseParameters
 from ..dynamics.identification.parameters import PARAMETER_NAMES
-from ..errors import BadShape, FreefloatError
+from ..errors import BadShape, RobotModelError
 from .closed_chain import ClosedChain
 from .five_bar import FiveBarParameters
 from .identification import effort_map
@@ -168,7 +168,7 @@ def five_bar_regressor(chain: ClosedChain) -> PlatformRegressor:
         for link in (1, 2):
             name = f"{arm}_joint{link}"
             if not model.existJointName(name):
-                raise FreefloatError(f"5R regressor: the tree has no joint '{name}' (joints: {list(model.names)[1:]})")
+                raise RobotModelError(f"5R regressor: the tree has no joint '{name}' (joints: {list(model.names)[1:]})")
             first = 10 * (model.getJointId(name) - 1)
             P[first + PARAMETER_NAMES.index("mcx"), 2 * (link - 1)] = 1.0
             P[first + PARAMETER_NAMES.index("Izz"), 2 * (link - 1) + 1] = 1.0

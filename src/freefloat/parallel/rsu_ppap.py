@@ -36,7 +36,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 import pinocchio as pin
 
-from ..errors import FreefloatError
+from ..errors import ClosureFileError, DataFileError, NotAssembled
 from ..inputs import read_toml, reject_unknown
 from ..paths import URDF_DIR
 from .closed_chain import ClosedChain, chain_from_tree, read_closures
@@ -69,7 +69,7 @@ def load_data(path: str | Path = DATA) -> dict:
     """The assumed numbers of the 2RSU+PPaP (see the file's comments).
 
     Raises:
-        FreefloatError: naming the file and the key that is missing, not numeric, of the wrong
+        DataFileError: naming the file and the key that is missing, not numeric, of the wrong
             shape, not positive (masses, lengths), a crank direction that is not +-x or +-z, or
             an ``[uncertainty]`` table that is missing, names no mass, or gives a half-width not
             in (0, nominal mass).
@@ -79,23 +79,23 @@ def load_data(path: str | Path = DATA) -> dict:
     for section, keys in _KEYS.items():
         table = data.get(section, {}) if section else data
         if not isinstance(table, dict):
-            raise FreefloatError(f"{path}: '{section}' must be a table, got {table!r}")
+            raise DataFileError(f"{path}: '{section}' must be a table, got {table!r}")
         tables = [] if section else [*(s for s in _KEYS if s), "uncertainty"]
         reject_unknown(f"{path}: ", table, [*keys, *tables], section)
         for key, shape in keys.items():
             name = f"{section}.{key}" if section else key
             if key not in table:
-                raise FreefloatError(f"{path}: missing key '{name}'")
+                raise DataFileError(f"{path}: missing key '{name}'")
             if not _numeric(table[key]):
-                raise FreefloatError(f"{path}: '{name}' must be numeric, got {table[key]!r}")
+                raise DataFileError(f"{path}: '{name}' must be numeric, got {table[key]!r}")
             value = np.asarray(table[key], dtype=float)
             if value.shape != shape or not np.isfinite(value).all() or (shape == () and value <= 0.0):
                 what = "a positive number" if shape == () else f"finite numbers of shape {shape}"
-                raise FreefloatError(f"{path}: '{name}' must be {what}, got {table[key]!r}")
+                raise DataFileError(f"{path}: '{name}' must be {what}, got {table[key]!r}")
     for i, crank in enumerate(np.asarray(data["rsu"]["crank"], float)):
         if sorted(np.abs(crank)) != [0.0, 0.0, 1.0] or crank[1] != 0.0:
-            raise FreefloatError(f"{path}: 'rsu.crank' [{i}] must be a unit vector along x or z (perpendicular to the "
-                                 f"crank axis y), got {crank.tolist()}")
+            raise DataFileError(f"{path}: 'rsu.crank' [{i}] must be a unit vector along x or z (perpendicular to the "
+                                f"crank axis y), got {crank.tolist()}")
     _check_uncertainty(path, data)
     return data
 
@@ -110,13 +110,13 @@ def _check_uncertainty(path: Path, data: dict) -> None:
     """``[uncertainty]``: half-widths (kg) of some of :data:`MASSES`, each in (0, nominal)."""
     table = data.get("uncertainty")
     if not isinstance(table, dict) or not table:
-        raise FreefloatError(f"{path}: missing table 'uncertainty' (half-widths of the uncertain masses, kg, keyed by "
-                             f"any of {', '.join(MASSES)})")
+        raise DataFileError(f"{path}: missing table 'uncertainty' (half-widths of the uncertain masses, kg, keyed by "
+                            f"any of {', '.join(MASSES)})")
     reject_unknown(f"{path}: ", table, MASSES, "uncertainty")
     for key, value in table.items():
         if not _numeric(value) or isinstance(value, list) or not 0.0 < value < mass(data, key):
-            raise FreefloatError(f"{path}: 'uncertainty.\"{key}\"' must be a number in (0, {mass(data, key)}) kg "
-                                 f"(the nominal mass: a mass stays positive), got {value!r}")
+            raise DataFileError(f"{path}: 'uncertainty.\"{key}\"' must be a number in (0, {mass(data, key)}) kg "
+                                f"(the nominal mass: a mass stays positive), got {value!r}")
 
 
 def _numeric(value) -> bool:
@@ -219,7 +219,7 @@ def load_rsu_ppap(closure: str | Path = CLOSURE) -> ClosedChain:
     frames ``platform_a<i>``).
 
     Raises:
-        FreefloatError: as :func:`read_closures`; naming the chain or frame when the tree is not
+        ClosureFileError: as :func:`read_closures`; naming the chain or frame when the tree is not
             the 2RSU+PPaP's (joints, or a platform not parallel to the inertial frame).
     """
     closures = read_closures(closure)
@@ -234,15 +234,15 @@ def load_rsu_ppap(closure: str | Path = CLOSURE) -> ClosedChain:
     for tip, names in zip(tips, CHAIN_JOINTS):
         chain, joints = chain_from_tree(model, tip, closures.slip_speed)
         if [model.names[j] for j in joints] != list(names):
-            raise FreefloatError(f"{closures.path}: the chain to frame '{model.frames[tip].name}' has joints "
-                                 f"{[model.names[j] for j in joints]}, expected {list(names)}")
+            raise ClosureFileError(f"{closures.path}: the chain to frame '{model.frames[tip].name}' has joints "
+                                   f"{[model.names[j] for j in joints]}, expected {list(names)}")
         chains.append(chain)
         order += joints
     data = model.createData()
     pin.framesForwardKinematics(model, data, pin.neutral(model))
     if not np.allclose(data.oMf[platform].rotation, np.eye(3), atol=1e-12):
-        raise FreefloatError(f"{closures.path}: frame '{model.frames[platform].name}' must be parallel to the inertial "
-                             "frame when the parallelogram is closed (zero joint angles)")
+        raise ClosureFileError(f"{closures.path}: frame '{model.frames[platform].name}' must be parallel to the inertial "
+                               "frame when the parallelogram is closed (zero joint angles)")
     attach = np.array([(data.oMf[platform].inverse() * data.oMf[closures.frame_id(f"platform_a{i}", "closures")]).translation
                        for i in (1, 2)])
     p, n, legs = 3, len(order), 3 * len(LEGS)
@@ -271,7 +271,7 @@ def assembly_guess(data: dict, q_sharp: np.ndarray) -> np.ndarray:
     the rest of the orientation).
 
     Raises:
-        FreefloatError: when a leg cannot reach ``q_sharp``, naming the leg.
+        NotAssembled: when a leg cannot reach ``q_sharp``, naming the leg.
     """
     rsu, ppap = data["rsu"], data["ppap"]
     lc, lr = rsu["crank_length"], rsu["rod_length"]
@@ -286,7 +286,7 @@ def assembly_guess(data: dict, q_sharp: np.ndarray) -> np.ndarray:
         k = (delta @ delta + lc**2 - lr**2) / (2.0 * lc)
         rho, phi = np.hypot(delta @ c0, delta @ c1), np.arctan2(delta @ c1, delta @ c0)
         if abs(k) > rho:
-            raise FreefloatError(f"2RSU+PPaP: leg {leg} cannot reach the platform at {np.round(q_sharp, 4).tolist()} m")
+            raise NotAssembled(f"2RSU+PPaP: leg {leg} cannot reach the platform at {np.round(q_sharp, 4).tolist()} m")
         crank = min((phi + s * np.arccos(k / rho) for s in (1.0, -1.0)), key=lambda t: abs(np.angle(np.exp(1j * t))))
         tip = lc * (c0 * np.cos(crank) + c1 * np.sin(crank))
         rod = pin.rpy.rpyToMatrix(0.0, crank, 0.0).T @ (delta - tip) / lr
@@ -295,7 +295,7 @@ def assembly_guess(data: dict, q_sharp: np.ndarray) -> np.ndarray:
     rail = np.asarray(ppap["rail"])
     cos_bar = (q_sharp[0] - rail[0] - ppap["lift_offset"]) / ppap["bar_length"]
     if abs(cos_bar) > 1.0:
-        raise FreefloatError(f"2RSU+PPaP: the parallelogram cannot reach x = {q_sharp[0]:.4f} m")
+        raise NotAssembled(f"2RSU+PPaP: the parallelogram cannot reach x = {q_sharp[0]:.4f} m")
     bar = -np.arccos(cos_bar)
     out += [q_sharp[1] - rail[1], bar, -bar, q_sharp[2] - rail[2] + ppap["bar_length"] * np.sin(bar)]
     return np.array(out)

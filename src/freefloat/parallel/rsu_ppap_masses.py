@@ -18,7 +18,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 import pinocchio as pin
 
-from ..errors import FreefloatError
+from ..errors import DataFileError
 from .mechanism import ParallelMechanism
 from .platform import platform_dynamics, quadratic_coefficients
 from .rsu_ppap import CHAIN_JOINTS, assembly_guess, mass
@@ -61,8 +61,8 @@ def with_masses(mech: ParallelMechanism, data: dict, masses: dict[str, float]) -
             key = BODY_MASS[joint]
             expected = mass(data, key) * (2.0 if joint == "ppap_bar1" else 1.0)
             if not np.isclose(chain.mass[i], expected, rtol=1e-12):
-                raise FreefloatError(f"2RSU+PPaP: the body of joint '{joint}' has {chain.mass[i]} kg, the data file's "
-                                     f"'{key}' gives {expected} kg: regenerate urdf/rsu_ppap.urdf (scripts/generate_urdfs.py)")
+                raise DataFileError(f"2RSU+PPaP: the body of joint '{joint}' has {chain.mass[i]} kg, the data file's "
+                                    f"'{key}' gives {expected} kg: regenerate urdf/rsu_ppap.urdf (scripts/generate_urdfs.py)")
             if key in masses:
                 scale[i] = masses[key] / mass(data, key)
         chains.append(replace(chain, mass=chain.mass * scale, inertia=chain.inertia * scale[:, None, None]))

@@ -21,7 +21,7 @@ import numpy as np
 
 from ..dynamics.compiled_chain import CompiledChainLoop
 from ..dynamics.plants import CoupledChainPlant
-from ..errors import FreefloatError
+from ..errors import InvalidArgument
 from . import gain_design
 from .five_bar import FiveBarParameters, elbow_guess, five_bar
 from .gain_design import SlidingModeGains, WorstCase
@@ -169,7 +169,7 @@ class PlatformControl:
 
     def __post_init__(self) -> None:
         if self.saturation not in SWITCHES:
-            raise FreefloatError(f"sliding mode: saturation must be one of {SWITCHES}, got '{self.saturation}'")
+            raise InvalidArgument(f"sliding mode: saturation must be one of {SWITCHES}, got '{self.saturation}'")
 
     def law(self, t: float, q: np.ndarray, qd: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """``(tau, e, s)``: actuator efforts (k,), N m or N, the error ``e = q#_d - q#`` and the
@@ -249,8 +249,8 @@ def chattering(t: np.ndarray, efforts: np.ndarray, s: np.ndarray, after: float,
     effort_times = t if effort_times is None else effort_times
     late, late_u = t > after, effort_times > after
     if late.sum() < 2 or late_u.sum() < 2:
-        raise FreefloatError(f"chattering: fewer than two samples or control updates after t = {after} s "
-                             f"(the run ends at {t[-1]} s)")
+        raise InvalidArgument(f"chattering: fewer than two samples or control updates after t = {after} s "
+                              f"(the run ends at {t[-1]} s)")
     span, span_u = t[late][-1] - t[late][0], effort_times[late_u][-1] - effort_times[late_u][0]
     jumps = np.abs(np.diff(efforts[late_u], axis=0))
     return {"effort_jump_median": np.median(jumps, axis=0).tolist(),

@@ -20,7 +20,7 @@ from typing import Callable
 import numpy as np
 
 from ..distributed import client, settle_futures
-from ..errors import FreefloatError
+from ..errors import FreefloatError, InvalidArgument
 from .closed_loop import track_five_bar
 from .five_bar import FiveBarParameters, five_bar
 from .gain_design import LinearParameterModel, SlidingModeGains, WorstCase, gains_from_worst_case, worst_case
@@ -48,6 +48,7 @@ def design_gains_distributed(dask_client, model: LinearParameterModel | FiveBarP
     failed = [i for i in range(len(parts)) if not isinstance(settled.get(i), WorstCase)]
     if failed:
         reasons = {str(settled.get(i, f"no result within {timeout:g} s")) for i in failed}
+        # base class: the chunks' failures, of any kind, gathered
         raise FreefloatError(f"gain design: {len(failed)} of {len(parts)} chunks failed ({'; '.join(sorted(reasons))})")
     worst = settled[0]
     for i in range(1, len(parts)):
@@ -79,9 +80,9 @@ def monte_carlo(dask_client, gains: SlidingModeGains | None, runs: int, relative
         FreefloatError: for ``runs`` < 1 or ``relative_error`` outside [0, 1).
     """
     if runs < 1:
-        raise FreefloatError(f"runs must be >= 1, got {runs}")
+        raise InvalidArgument(f"runs must be >= 1, got {runs}")
     if not 0.0 <= relative_error < 1.0:
-        raise FreefloatError(f"relative_error must be in [0, 1) (parameters stay positive), got {relative_error}")
+        raise InvalidArgument(f"relative_error must be in [0, 1) (parameters stay positive), got {relative_error}")
     rng = np.random.default_rng(seed)
     nominal = FiveBarParameters()
     plants = [replace(nominal, **{n: getattr(nominal, n) * (1 + rng.uniform(-relative_error, relative_error)) for n in UNCERTAINTY})

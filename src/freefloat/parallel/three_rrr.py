@@ -23,7 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import FreefloatError
+from ..errors import NotAssembled
 from ..paths import URDF_DIR
 from .closed_chain import ClosedChain, load_closed_chain
 
@@ -84,7 +84,7 @@ def assembly_guess(p: ThreeRRRParameters, pose: np.ndarray, elbows: tuple[int, i
     two-link inverse kinematics to the attachment point and the third joint turning the platform.
 
     Raises:
-        FreefloatError: when an attachment point is out of its chain's reach, naming the chain.
+        NotAssembled: when an attachment point is out of its chain's reach, naming the chain.
     """
     x, y, rz = (float(c) for c in pose)
     out = []
@@ -94,7 +94,7 @@ def assembly_guess(p: ThreeRRRParameters, pose: np.ndarray, elbows: tuple[int, i
         d = attach - pivot
         cos2 = (d @ d - p.l1**2 - p.l2**2) / (2.0 * p.l1 * p.l2)
         if abs(cos2) > 1.0:
-            raise FreefloatError(f"3-RRR: the platform pose {np.round(pose, 4).tolist()} is out of reach of chain c{k + 1}")
+            raise NotAssembled(f"3-RRR: the platform pose {np.round(pose, 4).tolist()} is out of reach of chain c{k + 1}")
         q2 = elbows[k] * np.arccos(cos2)
         q1 = np.arctan2(d[1], d[0]) - np.arctan2(p.l2 * np.sin(q2), p.l1 + p.l2 * np.cos(q2))
         q3 = np.angle(np.exp(1j * (theta + np.pi + rz - q1 - q2)))

@@ -15,3 +15,7 @@ from .loading import BASE_COM_FRAME, load_robot
 from .robot import Arm, Robot
 
 __all__ = ["Arm", "BASE_COM_FRAME", "Robot", "load_robot"]
+
+from ..lazy import lazy_modules  # noqa: E402
+
+__getattr__ = lazy_modules(__name__)  # its modules, imported on first use as attributes

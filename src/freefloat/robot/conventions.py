@@ -19,7 +19,7 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 
-from ..errors import FreefloatError
+from ..errors import InvalidArgument
 from .robot import Robot
 
 PLANAR_ROWS = np.array([0, 1, 5])  # rows of a 6-D local twist that a planar joint moves
@@ -171,7 +171,7 @@ def state_from_base(
         off_plane = np.delete(v_local, PLANAR_ROWS)
         tilt = np.linalg.norm(link_rotation[2] - [0.0, 0.0, 1.0])
         if abs(link_position[2]) > 1e-12 or tilt > 1e-12 or np.abs(off_plane).max() > 1e-12:
-            raise FreefloatError(
+            raise InvalidArgument(
                 "planar base: the base pose and twist must stay in the inertial xy-plane "
                 f"(z offset {link_position[2]:.3g} m, tilt {tilt:.3g}, out-of-plane twist "
                 f"{np.abs(off_plane).max():.3g}); load the robot with base='free'"

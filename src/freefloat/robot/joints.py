@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..errors import FreefloatError
+from ..errors import RobotModelError
 from .robot import Robot
 
 
@@ -37,7 +37,7 @@ class JointCoordinates:
                 circle_q.append(iq)
                 circle_pos.append(iv)
             else:
-                raise FreefloatError(f"joint '{model.names[j]}': nq={nq}, nv={nv} is not supported")
+                raise RobotModelError(f"joint '{model.names[j]}': nq={nq}, nv={nv} is not supported")
         self.n = robot.n_joints
         nbq = model.nqs[1]
         self._plain = not circle_q and scalar_q == list(range(nbq, model.nq))

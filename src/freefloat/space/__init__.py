@@ -11,3 +11,7 @@ optimised) and ``force_propagation`` (end-effector wrenches -> joint torques).
 May import: :mod:`freefloat.dynamics`, :mod:`freefloat.robot`, :mod:`freefloat.errors`,
 :mod:`freefloat.paths`. Not :mod:`freefloat.parallel` (a sibling) nor :mod:`freefloat.app`.
 """
+
+from ..lazy import lazy_modules  # noqa: E402
+
+__getattr__ = lazy_modules(__name__)  # its modules, imported on first use as attributes

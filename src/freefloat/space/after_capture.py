@@ -18,7 +18,7 @@ from ..dynamics.identification.excitation import FourierTrajectory
 from ..dynamics.integrators import make_integrator
 from ..dynamics.metrics import momentum_drift, settling_time
 from ..dynamics.models import ExactModel
-from ..dynamics.simulation import RunResult, run
+from ..dynamics.simulation import Result, run
 from ..robot.robot import Robot
 from .capture import target_angular_speed
 from .control.detumbling_control import DetumblingController
@@ -28,7 +28,7 @@ from .detumbling import joint_indices, task_rows
 
 def manoeuvre(merged: Robot, believed: Robot, q: np.ndarray, v: np.ndarray, trajectory: FourierTrajectory,
               joints: list[str], duration: float, control_period: float = 1e-3, kp: float = 400.0, kd: float = 40.0,
-              integrator: str = "rkmk4") -> RunResult:
+              integrator: str = "rkmk4") -> Result:
     """``duration`` s of the true merged robot from (q, v) while ``joints`` (names) track
     ``trajectory`` about their posture by computed torque on ``believed``
     (:class:`~freefloat.space.control.excitation.ExcitationTracking`); no external wrench, so the
@@ -51,7 +51,7 @@ class Detumbling:
             torques only).
     """
 
-    result: RunResult
+    result: Result
     target_speed: np.ndarray
     settling_time: float | None
     final_speed: float

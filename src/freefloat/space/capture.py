@@ -1,7 +1,7 @@
 """Capture of a tumbling rigid target by an end-effector (dissertation sec 3.8, done exactly).
 
-Before contact the target is a free rigid body (its own Pinocchio free-flyer model, integrated
-like the robot) and the robot holds its posture. Contact is declared when the target's grasp
+Before contact the target is a free rigid body (its own Pinocchio free-flyer model, a plant the
+engine flies with the robot's integrator and control period) and the robot holds its posture. Contact is declared when the target's grasp
 point comes within ``tolerance`` of the end-effector frame origin. The impact is perfectly
 inelastic and grasping: a 6-D weld at the grasp point, solved as an exact impulse,
 
@@ -25,7 +25,7 @@ import numpy as np
 import pinocchio as pin
 
 from ..dynamics.metrics import momentum_drift, settling_time
-from ..errors import FreefloatError
+from ..errors import InvalidArgument, SimulationDiverged, TargetMissed
 from ..robot.conventions import momentum_about_origin, skew
 from ..robot.robot import Robot
 
@@ -69,7 +69,7 @@ class Target:
 
     def __post_init__(self):
         if not self.mass > 0.0 or min(self.inertia) <= 0.0:
-            raise FreefloatError(f"target: mass {self.mass} and inertia {self.inertia} must be positive")
+            raise InvalidArgument(f"target: mass {self.mass} and inertia {self.inertia} must be positive")
 
     @classmethod
     def meeting(cls, point, time: float, mass: float, inertia, grasp, velocity, angular_velocity,
@@ -80,13 +80,13 @@ class Target:
         (then it is constant): CoM ``c(t) = c_c + v (t - time)``, ``R(t) = exp(w (t - time)) R_c``.
 
         Raises:
-            FreefloatError: when the spin is not along a principal axis at contact.
+            InvalidArgument: when the spin is not along a principal axis at contact.
         """
         R_c = pin.rpy.rpyToMatrix(*rpy_at_contact)
         w = np.asarray(angular_velocity, float)
         w_body = R_c.T @ w
         if np.linalg.norm(w_body) > 0 and np.linalg.norm(np.cross(w_body, np.diag(inertia) @ w_body)) > 1e-9 * np.linalg.norm(w_body) ** 2 * max(inertia):
-            raise FreefloatError("Target.meeting: the spin must lie along a principal axis of the target (it precesses otherwise)")
+            raise InvalidArgument("Target.meeting: the spin must lie along a principal axis of the target (it precesses otherwise)")
         com_c = np.asarray(point, float) - R_c @ np.asarray(grasp, float)
         R0 = pin.exp3(-w * time) @ R_c
         return cls(mass=mass, inertia=tuple(inertia), grasp=tuple(grasp), position=tuple(com_c - np.asarray(velocity, float) * time),
@@ -96,7 +96,17 @@ class Target:
 class TargetBody:
     """The target as a one-body free-flyer Pinocchio model, with a frame at each grasp point:
     ``grasp`` (``target.grasp``), then ``grasp_2``, ... for ``more_grasps`` (body frame, from the
-    CoM, m)."""
+    CoM, m). It is also a plant of the engine (:mod:`freefloat.dynamics.plants`): a free rigid
+    body under no effort, which ``freefloat.run(body, q, v, ...)`` flies.
+
+    Attributes:
+        name: the plant kind, ``"free_body"``.
+        space: its configuration space, :attr:`model` (SE(3)).
+    """
+
+    name = "free_body"
+    n_efforts = 0
+    max_drift = np.inf
 
     def __init__(self, target: Target, more_grasps: tuple[np.ndarray, ...] = ()):
         self.target = target
@@ -107,9 +117,19 @@ class TargetBody:
         for name, point in zip(names, (target.grasp, *more_grasps)):
             model.addFrame(pin.Frame(name, joint, pin.SE3(np.eye(3), np.asarray(point, float)), pin.FrameType.OP_FRAME))
         model.gravity = pin.Motion.Zero()
-        self.model, self.data = model, model.createData()
+        self.model, self.data, self.space = model, model.createData(), model
         self.grasp_ids = tuple(model.getFrameId(name) for name in names)
         self.grasp_id = self.grasp_ids[0]
+        self._flight, self._no_torque = model.createData(), np.zeros(6)  # the plant's own Data
+
+    def acceleration(self, q: np.ndarray, v: np.ndarray, u: np.ndarray) -> np.ndarray:
+        """The free body's acceleration (6,) at pose ``q`` (7,) and local twist ``v`` (6,)
+        (Pinocchio's ABA: the gyroscopic term alone); ``u`` is empty."""
+        return pin.aba(self.model, self._flight, q, v, self._no_torque)
+
+    def drift(self, q: np.ndarray) -> tuple[float, float]:
+        """A free body has no closure: ``(0, 0)``."""
+        return 0.0, 0.0
 
     def initial_state(self) -> tuple[np.ndarray, np.ndarray]:
         """``(q, v)`` of the target: pose and local twist from the inertial data."""
@@ -226,10 +246,14 @@ def approach(robot: Robot, body: TargetBody, end_effectors: tuple[str, ...], con
     origin: the run's result (status ``"stopped"`` there) and the target's flight. A planned
     grasp closes the hand at its instant: no contact is declared before ``not_before`` s.
 
+    Both fly in the engine: nothing touches the target before contact, so its free flight over
+    ``duration`` is one run of its own (:class:`TargetBody` as a plant, the robot's integrator and
+    control period), and the robot's run's stop event reads the target's pose at its period.
+
     Raises:
-        FreefloatError: when the grasp points do not all come within ``tolerance`` in ``duration`` s
-            (the message names the end-effectors and gives the closest approach and when), or the
-            approach diverged.
+        TargetMissed: when the grasp points do not all come within ``tolerance`` in ``duration`` s
+            (the message names the end-effectors and gives the closest approach and when).
+        SimulationDiverged: when the approach (or the target's flight) diverged.
         KeyboardInterrupt: when the approach was interrupted (Ctrl-C, SIGTERM).
     """
     from ..dynamics.integrators import make_integrator
@@ -238,23 +262,23 @@ def approach(robot: Robot, body: TargetBody, end_effectors: tuple[str, ...], con
     from .control.detumbling_control import DetumblingController
     from .detumbling import joint_indices, task_rows
 
-    q_t, v_t = body.initial_state()
-    target_step = make_integrator(integrator, body.model)
-    zero = np.zeros(6)
+    free = run(body, *body.initial_state(), duration, control_period, integrator)  # the target alone
+    if free.status == "interrupted":  # Ctrl-C or SIGTERM during the approach stops the whole run
+        raise KeyboardInterrupt(free.message)
+    if free.status != "completed":
+        raise SimulationDiverged(f"the target's free flight {free.status}: {free.message}")
+    path = free.telemetry
     frames = [robot.model.getFrameId(name) for name in end_effectors]
     data = robot.model.createData()
-    flight = FlyingTarget(q_t, v_t, [pin.XYZQUATToSE3(q_t).homogeneous], (np.inf, 0.0))
+    closest = [np.inf, 0.0]  # smallest largest gap (m) and when (s)
 
     def reached(t: float, q: np.ndarray, v: np.ndarray) -> bool:
-        flight.q, flight.v = target_step.advance(
-            lambda qs, vs: pin.aba(body.model, body.data, qs, vs, zero), flight.q, flight.v, control_period)
-        flight.poses.append(pin.XYZQUATToSE3(flight.q).homogeneous)
         pin.framesForwardKinematics(robot.model, data, q)
-        pin.framesForwardKinematics(body.model, body.data, flight.q)
+        pin.framesForwardKinematics(body.model, body.data, path.q[round(t / control_period)])
         gap = max(float(np.linalg.norm(body.data.oMf[g].translation - data.oMf[f].translation))
                   for g, f in zip(body.grasp_ids, frames))
-        if gap < flight.closest[0]:
-            flight.closest = (gap, t)
+        if gap < closest[0]:
+            closest[:] = gap, t
         return gap < tolerance and t > not_before - 0.5 * control_period
 
     hold = controller or DetumblingController(robot, task_rows(robot, [(end_effectors[0], "angular")]),
@@ -267,14 +291,15 @@ def approach(robot: Robot, body: TargetBody, end_effectors: tuple[str, ...], con
     if pre.status == "interrupted":  # Ctrl-C or SIGTERM during the approach stops the whole run
         raise KeyboardInterrupt(pre.message)
     if pre.status != "stopped":
-        gap, when = flight.closest
+        gap, when = closest
         names = "' and '".join(end_effectors)
         if pre.status != "completed":
-            raise FreefloatError(f"the approach to '{names}' {pre.status}: {pre.message}")
-        raise FreefloatError(f"target never reaches '{names}' within {tolerance} m in "
-                             f"{duration} s (closest approach {gap:.4g} m at t = {when:.4g} s)")
-    flight.poses = np.array(flight.poses)
-    return pre, flight
+            raise SimulationDiverged(f"the approach to '{names}' {pre.status}: {pre.message}")
+        raise TargetMissed(f"target never reaches '{names}' within {tolerance} m in "
+                           f"{duration} s (closest approach {gap:.4g} m at t = {when:.4g} s)")
+    k = len(pre.telemetry.t) - 1  # the contact's period
+    poses = np.array([pin.XYZQUATToSE3(q).homogeneous for q in path.q[: k + 1]])
+    return pre, FlyingTarget(path.q[k].copy(), path.v[k].copy(), poses, (closest[0], closest[1]))
 
 
 @dataclass(frozen=True)
@@ -308,7 +333,7 @@ def grasp(robot: Robot, target: Target, end_effector: str, control_period: float
     it into the robot (:func:`attach`).
 
     Raises:
-        FreefloatError: as :func:`approach`.
+        TargetMissed, SimulationDiverged: as :func:`approach`.
     """
     body = TargetBody(target)
     pre, flight = approach(robot, body, (end_effector,), control_period, approach_time, tolerance, integrator, q0, v0,
@@ -356,7 +381,7 @@ def capture_and_detumble(robot: Robot, target: Target, end_effector: str, rows_s
     start to contact) and the grasp mismatch at contact (:func:`grasp_mismatch`).
 
     Raises:
-        FreefloatError: when the target does not come within ``tolerance`` of the end-effector
+        TargetMissed: when the target does not come within ``tolerance`` of the end-effector
             in ``approach_time`` (the message gives the closest approach and when).
     """
     from ..dynamics.integrators import make_integrator

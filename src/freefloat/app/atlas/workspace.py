@@ -167,7 +167,8 @@ def figures(context: ArmMap, grid: Grid, result: dict[str, np.ndarray], out: Pat
     for kind, color in (("path_independent", "#2ca02c"), ("path_dependent", "#d62728")):
         for a, b in free[kind]:
             ring = np.concatenate((b * np.exp(1j * angle), a * np.exp(-1j * angle)))
-            left.fill(ring.real, ring.imag, color=color, alpha=0.25, lw=0)
+            # solid: matplotlib before 3.11 refuses to draw the cycle's dashes at zero width
+            left.fill(ring.real, ring.imag, color=color, alpha=0.25, lw=0, linestyle="-")
     left.plot([], [], "s", color="#2ca02c", alpha=0.4, label="PIW")
     left.plot([], [], "s", color="#d62728", alpha=0.4, label="PDW")
     left.legend(loc="upper right", fontsize=7)

@@ -7,7 +7,7 @@ from __future__ import annotations
 import math
 from typing import NamedTuple
 
-from ...errors import FreefloatError, did_you_mean
+from ...errors import InvalidArgument, did_you_mean
 
 #: Vary keys, what each varies and in which unit. Robot scenes take the first five (``mass``
 #: only without a ``[target]``), mechanism scenes the last two.
@@ -36,25 +36,25 @@ def parse_band(text: str) -> Band:
     """A band from ``KEY=WIDTH`` (``mass`` also takes ``P%``).
 
     Raises:
-        FreefloatError: naming ``--vary`` and the text for a missing ``=``, an unknown key (listing
+        InvalidArgument: naming ``--vary`` and the text for a missing ``=``, an unknown key (listing
             the keys) or a width that is not a finite number >= 0 (< 1 for ``mass``).
     """
     key, sep, value = text.partition("=")
     key = key.strip()
     if not sep:
-        raise FreefloatError(f"--vary '{text}': expected KEY=WIDTH such as base_rate=2 or mass=10%")
+        raise InvalidArgument(f"--vary '{text}': expected KEY=WIDTH such as base_rate=2 or mass=10%")
     if key not in VARIES:
-        raise FreefloatError(f"--vary '{text}': unknown key '{key}'{did_you_mean(key, VARIES, 'keys')}")
+        raise InvalidArgument(f"--vary '{text}': unknown key '{key}'{did_you_mean(key, VARIES, 'keys')}")
     value = value.strip()
     percent = key == "mass" and value.endswith("%")
     try:
         width = float(value[:-1] if percent else value) / (100.0 if percent else 1.0)
     except ValueError:
-        raise FreefloatError(f"--vary '{text}': width '{value}' is not a number") from None
+        raise InvalidArgument(f"--vary '{text}': width '{value}' is not a number") from None
     if not math.isfinite(width) or width < 0:
-        raise FreefloatError(f"--vary '{text}': width must be a finite number >= 0")
+        raise InvalidArgument(f"--vary '{text}': width must be a finite number >= 0")
     if key == "mass" and width >= 1:
-        raise FreefloatError(f"--vary '{text}': mass factors 1 +- width must stay positive; use a width < 1 (or < 100%)")
+        raise InvalidArgument(f"--vary '{text}': mass factors 1 +- width must stay positive; use a width < 1 (or < 100%)")
     return Band(key, width)
 
 

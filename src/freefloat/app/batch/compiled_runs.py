@@ -23,7 +23,7 @@ import numpy as np
 
 from ...dynamics import compiled
 from ...dynamics.many_runs import ManyRuns, start_runs
-from ...dynamics.simulation import RunResult
+from ...dynamics.result import Result
 from ..experiments import joint_space
 from ..experiments.robot_run import RobotSetup
 from .one_run import fill_row, new_row, prepared, run_one
@@ -132,7 +132,7 @@ def _finish(group: _Group, on_row: OnRow, raise_interrupt: bool = True) -> None:
         return
     cut: list[int] = []
 
-    def row_of(index: int, result: RunResult) -> None:
+    def row_of(index: int, result: Result) -> None:
         if result.status == "interrupted":
             cut.append(index)
             return

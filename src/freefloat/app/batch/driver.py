@@ -50,11 +50,11 @@ class BatchResult:
         return self.summary["status"] == "completed" and all(r["status"] == "completed" for r in self.rows)
 
 
-def run_batch(scene: Scene | MechanismScene, folder: Path, runs: int, bands: list[Band], seed: int = 0,
+def run_batch(scene: Scene | MechanismScene, out: Path, runs: int, bands: list[Band], seed: int = 0,
               workers: Workers = Workers(), overwrite: bool = False,
               progress: Callable[[dict[str, Any]], None] | None = None,
               started: Callable[[], None] = lambda: None) -> BatchResult:
-    """Run ``runs`` seeded variations of ``scene`` into ``folder`` (see the module docstring).
+    """Run ``runs`` seeded variations of ``scene`` into the folder ``out`` (see the module docstring).
 
     Args:
         progress: called with each row as its run finishes.
@@ -62,18 +62,18 @@ def run_batch(scene: Scene | MechanismScene, folder: Path, runs: int, bands: lis
             the summary's ``wall_time_s`` starts then.
 
     Raises:
-        FreefloatError: before any run, naming the flag, key or folder at fault (runs < 1, a
+        FreefloatError: before any run, naming the argument, key or folder at fault (runs < 1, a
             band the scene cannot take, a scene error, a dead scheduler (the folder is not made),
             a folder in use).
     """
     scene = dataclasses.replace(scene, output=dataclasses.replace(scene.output, figures=False, html=False))
     plans = plan_runs(scene, prepare(scene), bands, runs, seed)
     rows: dict[int, dict[str, Any]] = {}
-    with executor(workers) as execute, RunFolder(folder, overwrite) as out:
+    with executor(workers) as execute, RunFolder(out, overwrite) as folder:
         start = time.perf_counter()
         started()
-        out.write_text("scene.toml", scene_as_run(scene))
-        with out.journal(PARTIAL) as partial:
+        folder.write_text("scene.toml", scene_as_run(scene))
+        with folder.journal(PARTIAL) as partial:
             def keep(row: dict[str, Any]) -> None:
                 rows[row["run"]] = row
                 partial.append(json.dumps(row))
@@ -92,10 +92,10 @@ def run_batch(scene: Scene | MechanismScene, folder: Path, runs: int, bands: lis
             status = "failed"  # some run failed or stopped early: the batch did not complete
         summary = _summary(scene, ordered, runs, bands, seed, workers, status, wall)
         with signals_deferred():
-            _write_table(out, ordered)
-            out.write_text("summary.json", strict_json(summary))
-            (out.path / PARTIAL).unlink()
-    return BatchResult(ordered, summary, folder)
+            _write_table(folder, ordered)
+            folder.write_text("summary.json", strict_json(summary))
+            (folder.path / PARTIAL).unlink()
+    return BatchResult(ordered, summary, Path(out))
 
 
 def _summary(scene: Scene | MechanismScene, rows: list[dict[str, Any]], runs: int, bands: list[Band], seed: int,

@@ -25,7 +25,7 @@ from ...distributed import client, process_pool, settle_futures, terminate
 from ...dynamics import stop_request
 from ...dynamics.many_runs import MAX_THREADS
 from ...dynamics.threads import ONE_BLAS_THREAD
-from ...errors import FreefloatError
+from ...errors import InvalidArgument, spelled
 from . import compiled_runs
 from .one_run import run_one
 from .variations import RunPlan
@@ -45,10 +45,11 @@ class Workers:
     workers of ``threads`` threads each, or ``scheduler``'s).
 
     Raises:
-        FreefloatError: naming ``--workers`` below 1 or ``--threads`` outside [1,
-            :data:`~freefloat.dynamics.many_runs.MAX_THREADS`], ``--scheduler`` without
-            ``--dask``, ``--threads`` with a process pool (``--workers`` > 1 without ``--dask``) or
-            with ``--scheduler`` (its workers have their own threads).
+        InvalidArgument: naming ``count`` (``--workers``) below 1 or ``threads`` outside [1,
+            :data:`~freefloat.dynamics.many_runs.MAX_THREADS`], ``scheduler`` without ``dask``,
+            ``threads`` with a process pool (``count`` > 1 without ``dask``) or with ``scheduler``
+            (its workers have their own threads), as the caller spells them
+            (:func:`~freefloat.errors.spelled`).
     """
 
     count: int = 1
@@ -57,18 +58,20 @@ class Workers:
     threads: int = 1
 
     def __post_init__(self) -> None:
+        count, threads = spelled("count", "--workers"), spelled("threads", "--threads")
+        scheduler, dask = spelled("scheduler", "--scheduler"), spelled("dask=True", "--dask")
         if self.count < 1:
-            raise FreefloatError(f"--workers must be >= 1, got {self.count}")
+            raise InvalidArgument(f"{count} must be >= 1, got {self.count}")
         if not 1 <= self.threads <= MAX_THREADS:
-            raise FreefloatError(f"--threads must be from 1 to {MAX_THREADS}, got {self.threads}")
+            raise InvalidArgument(f"{threads} must be from 1 to {MAX_THREADS}, got {self.threads}")
         if self.scheduler is not None and not self.dask:
-            raise FreefloatError("--scheduler is a Dask scheduler's address; it needs --dask")
+            raise InvalidArgument(f"{scheduler} is a Dask scheduler's address; it needs {dask}")
         if self.threads > 1 and self.scheduler is not None:
-            raise FreefloatError("--threads sets the threads of a local Dask cluster's workers; with --scheduler "
-                                 "the scheduler's workers run with their own")
+            raise InvalidArgument(f"{threads} sets the threads of a local Dask cluster's workers; with {scheduler} "
+                                  "the scheduler's workers run with their own")
         if self.threads > 1 and self.count > 1 and not self.dask:
-            raise FreefloatError(f"--threads {self.threads} with --workers {self.count}: choose threads of this "
-                                 "process or a pool of processes (or --dask for workers of several threads each)")
+            raise InvalidArgument(f"{threads} {self.threads} with {count} {self.count}: choose threads of this "
+                                  f"process or a pool of processes (or {dask} for workers of several threads each)")
 
     @property
     def label(self) -> str:
@@ -89,7 +92,7 @@ def executor(workers: Workers) -> Iterator[Execute]:
     cluster started) on entering, and closed on leaving.
 
     Raises:
-        FreefloatError: on entering, naming ``--scheduler`` when nothing answers there.
+        InvalidArgument: on entering, naming ``scheduler`` when nothing answers there.
     """
     if workers.dask:
         with client(workers.scheduler, workers.count, threads=workers.threads) as dask_client:

@@ -18,7 +18,7 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-from ...errors import FreefloatError, did_you_mean
+from ...errors import InvalidArgument, did_you_mean, spelled
 from ...robot.robot import Robot
 from ..experiments.robot_run import joint_table
 from ..scenes import MechanismScene, Scene
@@ -59,21 +59,22 @@ def check_bands(scene: Scene | MechanismScene, bands: list[Band]) -> None:
     """Refuse bands the scene cannot take.
 
     Raises:
-        FreefloatError: naming ``--vary`` and the key for a key given twice, a robot key on a
-            mechanism scene (or the reverse), or ``mass`` on a capture scene.
+        InvalidArgument: naming ``bands`` (``--vary``) and the key for a key given twice, a robot
+            key on a mechanism scene (or the reverse), or ``mass`` on a capture scene.
     """
     seen: set[str] = set()
+    vary = spelled("band", "--vary")
     for band in bands:
         if band.key in seen:
-            raise FreefloatError(f"--vary {band.key}: given twice")
+            raise InvalidArgument(f"{vary} {band.key}: given twice")
         seen.add(band.key)
         valid = MECHANISM_KEYS if isinstance(scene, MechanismScene) else ROBOT_KEYS
         if band.key not in valid:
-            raise FreefloatError(f"--vary {band.key}: not a key of {scene.kind} scene '{scene.name}'"
-                                 f"{did_you_mean(band.key, valid)}")
+            raise InvalidArgument(f"{vary} {band.key}: not a key of {scene.kind} scene '{scene.name}'"
+                                  f"{did_you_mean(band.key, valid)}")
         if band.key == "mass" and scene.kind == "capture":
-            raise FreefloatError(f"--vary mass: scene '{scene.name}' is a capture scene (its robot changes at the "
-                                 "grasp); mass varies joint-space and detumbling scenes")
+            raise InvalidArgument(f"{vary} mass: scene '{scene.name}' is a capture scene (its robot changes at the "
+                                  "grasp); mass varies joint-space and detumbling scenes")
 
 
 def plan_runs(scene: Scene | MechanismScene, nominal: Any, bands: list[Band], runs: int, seed: int) -> list[RunPlan]:
@@ -84,14 +85,14 @@ def plan_runs(scene: Scene | MechanismScene, nominal: Any, bands: list[Band], ru
             joints, bodies and platform coordinates to vary.
 
     Raises:
-        FreefloatError: for ``runs`` outside [1, :data:`MAX_RUNS`] or ``seed`` < 0 (naming the flag), or a band the scene
-            cannot take (see :func:`check_bands`).
+        InvalidArgument: for ``runs`` outside [1, :data:`MAX_RUNS`] or ``seed`` < 0 (named as the
+            caller spells them), or a band the scene cannot take (see :func:`check_bands`).
     """
     if not 1 <= runs <= MAX_RUNS:
-        raise FreefloatError(f"--runs must be from 1 to {MAX_RUNS}, got {runs} (the runs are planned up front; "
-                             "split a bigger study into batches)")
+        raise InvalidArgument(f"{spelled('runs', '--runs')} must be from 1 to {MAX_RUNS}, got {runs} (the runs are "
+                              "planned up front; split a bigger study into batches)")
     if seed < 0:
-        raise FreefloatError(f"--seed must be >= 0, got {seed}")
+        raise InvalidArgument(f"{spelled('seed', '--seed')} must be >= 0, got {seed}")
     check_bands(scene, bands)
     return [_plan(scene, nominal, bands, i, s) for i, s in enumerate(run_seeds(seed, runs))]
 

@@ -33,3 +33,7 @@ def experiment_for(scene) -> Experiment:
 
 
 __all__ = ["EXPERIMENTS", "Experiment", "Outcome", "Progress", "experiment_for"]
+
+from ...lazy import lazy_modules  # noqa: E402
+
+__getattr__ = lazy_modules(__name__)  # its modules, imported on first use as attributes

@@ -6,6 +6,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable
 
+from ...dynamics.result import Result
 from ...dynamics.telemetry import Arrays
 
 #: ``progress(k)``: called with the number of steps done: 0 as the loop starts (when the run's
@@ -15,18 +16,13 @@ Progress = Callable[[int], None]
 Checkpoint = Callable[[Arrays], None]
 
 
-@dataclass
-class Outcome:
-    """What a run computed, whatever its status, and how to draw it.
+@dataclass(kw_only=True)
+class Outcome(Result):
+    """A scene's result: what its run computed, whatever its status (the fields of
+    :class:`~freefloat.dynamics.result.Result`: ``telemetry`` written as ``telemetry.npz``,
+    ``summary`` as ``summary.json``, ``folder`` once written), and how to write and draw it.
 
     Attributes:
-        telemetry: the run's samples (all of them when it stopped early), written as
-            ``telemetry.npz``.
-        status: ``"completed"``, ``"stopped"``, ``"diverged"`` or ``"interrupted"``.
-        message: why the run stopped early (empty when completed).
-        steps: control periods (robots) or integration steps (mechanisms) simulated.
-        wall_time_s: wall-clock time of the simulation, s.
-        summary: figures of merit (SI units) and the run's status, written to ``summary.json``.
         names: names stored beside the arrays in ``telemetry.npz`` (joints, end-effectors,
             actuators), as ``meta_<key>``.
         provenance: what made the run besides the scene and versions (robot or mechanism,
@@ -35,25 +31,21 @@ class Outcome:
         extra_telemetry: further telemetry, written as ``telemetry_<name>.npz``.
         figures: ``figures(folder) -> files``: the run's figures, or None.
         page: ``page(path, fps) -> path``: the run's animation page, or None.
+        written: the files written into ``folder`` (none when nothing was written).
+        skipped: the drawings left out (an interrupt while writing).
+        interrupted_writing: an interrupt (Ctrl-C, SIGTERM, SIGHUP) came while the folder was
+            written.
     """
 
-    telemetry: Arrays
-    status: str
-    message: str
-    steps: int
-    wall_time_s: float
-    summary: dict[str, Any]
     names: dict[str, Any]
     provenance: dict[str, dict[str, Any]]
     headline: tuple[str, ...]
     extra_telemetry: dict[str, Arrays] = field(default_factory=dict)
     figures: Callable[[Path], list[Path]] | None = None
     page: Callable[[Path, float], Path] | None = None
-
-    @property
-    def completed(self) -> bool:
-        """True when the run did everything the scene asked."""
-        return self.status == "completed"
+    written: list[Path] = field(default_factory=list)
+    skipped: list[str] = field(default_factory=list)
+    interrupted_writing: bool = False
 
 
 @dataclass(frozen=True)

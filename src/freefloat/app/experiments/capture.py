@@ -15,7 +15,7 @@ import numpy as np
 import pinocchio as pin
 
 from ...dynamics.metrics import spin_summary, summarize
-from ...dynamics.simulation import RunResult
+from ...dynamics.result import Result
 from ...errors import FreefloatError, InfeasiblePlan, SceneError, did_you_mean
 from ...space.capture import SUMMARY_UNITS as CAPTURE_UNITS
 from ...space.capture import Target, capture_and_detumble
@@ -215,7 +215,7 @@ def run(setup: CaptureSetup, progress: Progress | None = None, checkpoint: Check
     wall = time.perf_counter() - start
     merged = dataclasses.replace(res.merged, visual_model=robot.visual_model)
     tel = res.post
-    result = RunResult(tel, res.summary["status"], "", len(tel.t) - 1, wall, 0)
+    result = Result(tel, res.summary["status"], "", len(tel.t) - 1, wall, 0)
     summary = summarize(tel, merged)  # after the grasp: no external wrench, so drifts
     summary.update(spin_summary(merged, tel))
     summary.update(res.summary, sim_wall_time_s=wall, steps=len(res.pre.t) + len(tel.t) - 2)

@@ -24,7 +24,7 @@ from .robot_run import (
     headline_of,
     prepare_robot,
     robot_outcome,
-    simulate,
+    run_loop,
     summary_of,
 )
 from .robot_run import UNITS as ROBOT_UNITS
@@ -48,7 +48,7 @@ def prepare(scene: Scene) -> RobotSetup:
 
 def run(setup: RobotSetup, progress: Progress | None = None, checkpoint: Checkpoint | None = None) -> Outcome:
     """The loop, the summary with the detumbled rows' speed and settling time, the drawings."""
-    result = simulate(setup, progress, checkpoint)
+    result = run_loop(setup, progress, checkpoint)
     task: dict[str, Any] = {}
     if len(result.telemetry.t):
         task = detumble_summary(setup.robot, result.telemetry, detumble_task(setup.robot, setup.scene)[0])

@@ -4,7 +4,7 @@ torque-free (``task.kind = "none"``, ``controller.kind = "none"``)."""
 
 from __future__ import annotations
 
-from ...dynamics.simulation import RunResult
+from ...dynamics.result import Result
 from ...errors import SceneError
 from ...space.control import ComputedTorque, QuinticTrajectory
 from ..scenes import Scene
@@ -17,7 +17,7 @@ from .robot_run import (
     joint_table,
     prepare_robot,
     robot_outcome,
-    simulate,
+    run_loop,
     summary_of,
 )
 
@@ -45,10 +45,10 @@ def prepare(scene: Scene) -> RobotSetup:
 
 def run(setup: RobotSetup, progress: Progress | None = None, checkpoint: Checkpoint | None = None) -> Outcome:
     """The loop, the summary (tracking, drifts, base motion) and the run's drawings."""
-    return outcome_of(setup, simulate(setup, progress, checkpoint))
+    return outcome_of(setup, run_loop(setup, progress, checkpoint))
 
 
-def outcome_of(setup: RobotSetup, result: RunResult) -> Outcome:
+def outcome_of(setup: RobotSetup, result: Result) -> Outcome:
     """The outcome of the loop's ``result`` (a run of ``setup``'s loop, here or in a batch of many
     runs in one call): the summary (tracking, drifts, base motion) and the run's drawings."""
     return robot_outcome(setup, setup.robot, result.telemetry, result, summary_of(setup, result))

@@ -20,6 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from ...dynamics.metrics import rms
+from ...dynamics.result import Result
 from ...dynamics.integrators import INTEGRATORS
 from ...dynamics.telemetry import MechanismTelemetry, PlantTelemetry
 from ...errors import FreefloatError, SceneError
@@ -66,8 +67,8 @@ def prepare(scene: MechanismScene) -> PreparedMechanism:
         setup = setup._replace(nominal=setup.nominal.with_gravity(gravity), plant=setup.plant.with_gravity(gravity))
     p = setup.nominal.p
     if len(setup.nominal.actuated) != p:
-        raise FreefloatError(f"mechanism '{scene.mechanism.name}': {len(setup.nominal.actuated)} actuators for "
-                             f"{p} platform coordinates; platform control needs as many")
+        raise SceneError(f"mechanism '{scene.mechanism.name}': {len(setup.nominal.actuated)} actuators for "
+                         f"{p} platform coordinates; platform control needs as many")
 
     def sized(key: str, value, shape: tuple[int, ...]) -> np.ndarray:
         array = np.asarray(value, float)
@@ -170,7 +171,7 @@ def run(prepared: PreparedMechanism, progress: Progress | None = None,
     summary = summarize_mechanism(telemetry, scene.metrics.reaching_phase)
     summary.update(status=result.status, message=result.message, steps=result.steps, sim_wall_time_s=result.wall_time_s,
                    loop=result.backend)
-    return outcome(prepared, telemetry, result.status, result.message, result.steps, result.wall_time_s, summary)
+    return outcome(prepared, telemetry, result, summary)
 
 
 def run_on_moving_base(prepared: PreparedMechanism, progress: Progress | None = None,
@@ -198,7 +199,7 @@ def run_on_moving_base(prepared: PreparedMechanism, progress: Progress | None = 
         summary.update(summarize_base(floating, base))
     summary.update(status=result.status, message=result.message, steps=result.steps, sim_wall_time_s=result.wall_time_s,
                    loop=result.backend)
-    return outcome(prepared, telemetry, result.status, result.message, result.steps, result.wall_time_s, summary, base)
+    return outcome(prepared, telemetry, result, summary, base)
 
 
 def summarize_base(floating: free_base.FloatingMechanism, base: free_base.BaseTelemetry) -> dict[str, object]:
@@ -224,9 +225,9 @@ def summarize_base(floating: free_base.FloatingMechanism, base: free_base.BaseTe
             "com_drift_max": float(np.linalg.norm(tel.com - free_motion, axis=1).max())}
 
 
-def outcome(prepared: PreparedMechanism, telemetry: MechanismTelemetry, status: str, message: str, steps: int,
-            wall: float, summary: dict[str, object], base: free_base.BaseTelemetry | None = None) -> Outcome:
-    """The outcome of a mechanism run: telemetry named by the tree's joints and actuators,
+def outcome(prepared: PreparedMechanism, telemetry: MechanismTelemetry, result: Result, summary: dict[str, object],
+            base: free_base.BaseTelemetry | None = None) -> Outcome:
+    """The outcome of a mechanism run (``result``, its loop's, with ``telemetry`` in its place): telemetry named by the tree's joints and actuators,
     provenance, platform figures and the animated linkage with the platform and reference paths;
     on a moving base (``base``, its telemetry) also the base's figures, and the page moves the
     linkage with the base."""
@@ -251,7 +252,8 @@ def outcome(prepared: PreparedMechanism, telemetry: MechanismTelemetry, status: 
                         base_inertia=floating.model.inertias[1].inertia.diagonal().tolist(),
                         gravity=floating.model.gravity.linear.tolist())
     return Outcome(
-        telemetry=telemetry, status=status, message=message, steps=steps, wall_time_s=wall, summary=summary,
+        telemetry=telemetry, status=result.status, message=result.message, steps=result.steps,
+        wall_time_s=result.wall_time_s, evaluations=result.evaluations, backend=result.backend, summary=summary,
         names={"joint_names": joints, "actuated": actuated},
         provenance={
             "mechanism": {"name": scene.mechanism.name, "closure": str(prepared.closure), "plant": scene.mechanism.plant,

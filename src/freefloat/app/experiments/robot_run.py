@@ -15,7 +15,7 @@ from ...dynamics.integrators import INTEGRATORS, Integrator, make_integrator
 from ...dynamics.metrics import UNITS as METRIC_UNITS
 from ...dynamics.metrics import summarize
 from ...dynamics.models import DynamicsModel, make_model
-from ...dynamics.simulation import Controller, RunResult, run
+from ...dynamics.simulation import Controller, Result, run
 from ...dynamics.telemetry import Telemetry
 from ...dynamics.wrenches import ExternalWrench
 from ...errors import RobotModelError, SceneError, did_you_mean
@@ -253,7 +253,7 @@ def control_steps(scene: Scene) -> int:
     return round(scene.simulation.duration / scene.simulation.control_period)
 
 
-def simulate(setup: RobotSetup, progress: Progress | None, checkpoint: Checkpoint | None) -> RunResult:
+def run_loop(setup: RobotSetup, progress: Progress | None, checkpoint: Checkpoint | None) -> Result:
     """The scene's loop: :func:`freefloat.dynamics.simulation.run` over its duration, on the
     plant; with locked joints, its telemetry (and every checkpointed chunk) is the full robot's
     (:func:`~freefloat.app.experiments.locked_run.full_telemetry`)."""
@@ -274,7 +274,7 @@ def simulate(setup: RobotSetup, progress: Progress | None, checkpoint: Checkpoin
     return result
 
 
-def summary_of(setup: RobotSetup, result: RunResult, **task: Any) -> dict[str, Any]:
+def summary_of(setup: RobotSetup, result: Result, **task: Any) -> dict[str, Any]:
     """The run's figures of merit (:func:`freefloat.dynamics.metrics.summarize`: with the scene's
     external wrenches, balances against what they applied instead of drifts), then the task's
     own, then status, steps, wall time and model evaluations."""
@@ -284,12 +284,11 @@ def summary_of(setup: RobotSetup, result: RunResult, **task: Any) -> dict[str, A
     if isinstance(setup.model, ClosedModel) and len(tel.t):
         position, rotation = closure_drifts(setup.model, tel.q)
         summary.update(closure_drift_max=float(position.max()), closure_rotation_drift_max=float(rotation.max()))
-    summary.update(status=result.status, message=result.message, steps=result.steps,
-                   sim_wall_time_s=result.wall_time_s, model_evaluations=result.evaluations, loop=result.backend)
+    summary.update(result.loop_summary())
     return summary
 
 
-def robot_outcome(setup: RobotSetup, robot: Robot, telemetry: Telemetry, result: RunResult,
+def robot_outcome(setup: RobotSetup, robot: Robot, telemetry: Telemetry, result: Result,
                   summary: dict[str, Any], animation: tuple[np.ndarray, np.ndarray] | None = None,
                   extra_bodies: list | None = None, extra_telemetry: dict[str, Telemetry] | None = None,
                   events: list[tuple[float, str]] | None = None, wrenches: tuple[ExternalWrench, ...] | None = None,
@@ -326,7 +325,7 @@ def robot_outcome(setup: RobotSetup, robot: Robot, telemetry: Telemetry, result:
             summary = {**summary, "figures_not_drawn": left_out}
     return Outcome(
         telemetry=telemetry, status=result.status, message=result.message, steps=result.steps,
-        wall_time_s=result.wall_time_s, summary=summary,
+        wall_time_s=result.wall_time_s, evaluations=result.evaluations, backend=result.backend, summary=summary,
         names={"joint_names": list(robot.joint_names), "end_effectors": list(robot.end_effectors)},
         provenance={
             "robot": {"urdf": str(robot.urdf_path), "base": robot.base, "nq": robot.model.nq, "nv": robot.model.nv,
@@ -362,4 +361,4 @@ def closure_drifts(model: ClosedModel, qs: np.ndarray) -> tuple[np.ndarray, np.n
 
 
 __all__ = ["APPROACH_MARGIN", "HEADLINE", "LAST_HEADLINE", "SPIN_HEADLINE", "UNITS", "RobotSetup", "approach_periods",
-           "control_steps", "headline_of", "joint_table", "prepare_robot", "robot_outcome", "simulate", "summary_of"]
+           "control_steps", "headline_of", "joint_table", "prepare_robot", "robot_outcome", "run_loop", "summary_of"]

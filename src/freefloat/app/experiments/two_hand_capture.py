@@ -14,7 +14,7 @@ import numpy as np
 import pinocchio as pin
 
 from ...dynamics.metrics import momentum_drift, settling_time, spin_summary, summarize
-from ...dynamics.simulation import RunResult
+from ...dynamics.result import Result
 from ...errors import FreefloatError, SceneError, did_you_mean
 from ...robot.loading import FreefloatWarning
 from ...robot.conventions import momentum_about_origin
@@ -137,7 +137,7 @@ def run(setup: TwoHandSetup, progress: Progress | None = None, checkpoint: Check
     both_t = np.concatenate((res.pre.t, res.impact_time + tel.t[1:]))
     both_q = np.concatenate((res.pre.q, tel.q[1:]))
     outcome = robot_outcome(
-        setup, merged, tel, RunResult(tel, result.status, result.message, len(tel.t) - 1, wall, 0), summary,
+        setup, merged, tel, Result(tel, result.status, result.message, len(tel.t) - 1, wall, 0), summary,
         animation=(both_t, both_q), extra_bodies=_page_bodies(tg.size, res.target_poses, res.grasp_poses),
         extra_telemetry={"pre_capture": res.pre}, events=[(res.impact_time, "both hands grasp")], wrenches=(),
         spin=True, settle_threshold=summary["settle_threshold"], approach=None if setup.plan is None else res.pre,

@@ -13,7 +13,7 @@ import dataclasses
 from pathlib import Path
 from typing import Any
 
-from ...errors import SceneError, did_you_mean
+from ...errors import SceneError, did_you_mean, spelled
 from ...inputs import read_toml
 from ...paths import SCENES_DIR, URDF_DIR
 from .mechanism_schema import MechanismScene, parse_mechanism_scene
@@ -77,7 +77,8 @@ def with_robot(scene: Scene | MechanismScene, robot: str) -> Scene:
         SceneError: for a mechanism scene.
     """
     if not isinstance(scene, Scene):
-        raise SceneError(f"scene '{scene.name}' is a mechanism scene; --robot applies to robot scenes")
+        raise SceneError(f"scene '{scene.name}' is a mechanism scene; {spelled('robot', '--robot')} applies to robot "
+                         "scenes")
     section = dataclasses.replace(scene.robot, urdf=str(robot), end_effectors=None)
     return dataclasses.replace(scene, robot=section)
 
@@ -102,3 +103,7 @@ def resolve_file(scene: Scene | MechanismScene, value: str, key: str) -> Path:
 
 __all__ = ["DEFAULT_SCENE", "ROBOT_SCENE", "MechanismScene", "Scene", "builtin_scenes", "find_scene", "load_scene",
            "parse_scene", "resolve_file", "with_robot"]
+
+from ...lazy import lazy_modules  # noqa: E402
+
+__getattr__ = lazy_modules(__name__)  # its modules, imported on first use as attributes

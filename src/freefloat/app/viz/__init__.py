@@ -7,8 +7,7 @@ The names below are imported when first used, so that a submodule (the figure he
 
 from __future__ import annotations
 
-import importlib
-from typing import Any
+from ...lazy import lazy_exports
 
 #: Public name -> the submodule that defines it.
 _WHERE = {"write_figures": ".figures", "ExtraBody": ".meshcat_html", "frame_indices": ".meshcat_html",
@@ -16,8 +15,4 @@ _WHERE = {"write_figures": ".figures", "ExtraBody": ".meshcat_html", "frame_indi
 
 __all__ = ["ExtraBody", "frame_indices", "write_figures", "write_trajectory_html"]
 
-
-def __getattr__(name: str) -> Any:
-    if name not in _WHERE:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    return getattr(importlib.import_module(_WHERE[name], __name__), name)
+__getattr__ = lazy_exports(__name__, _WHERE, globals())  # and its modules, as attributes

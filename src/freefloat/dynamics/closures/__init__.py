@@ -29,3 +29,7 @@ __all__ = [
     "solve",
     "stacked",
 ]
+
+from ...lazy import lazy_modules  # noqa: E402
+
+__getattr__ = lazy_modules(__name__)  # its modules, imported on first use as attributes

@@ -28,3 +28,7 @@ __all__ = [
     "state_and_derivatives",
     "state_and_rates",
 ]
+
+from ...lazy import lazy_modules  # noqa: E402
+
+__getattr__ = lazy_modules(__name__)  # its modules, imported on first use as attributes

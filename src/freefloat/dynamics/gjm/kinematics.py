@@ -14,7 +14,7 @@ from typing import NamedTuple
 import numpy as np
 import pinocchio as pin
 
-from ...errors import FreefloatError
+from ...errors import RobotModelError
 from ...robot.conventions import base_link_placement
 from ...robot.joints import JointCoordinates
 from ...robot.robot import Robot
@@ -62,7 +62,7 @@ class TreeStructure:
         for b in range(1, n + 1):
             j = b + 1
             if model.nvs[j] != 1:
-                raise FreefloatError(f"joint '{model.names[j]}': the GJM needs 1-DOF joints, it has {model.nvs[j]}")
+                raise RobotModelError(f"joint '{model.names[j]}': the GJM needs 1-DOF joints, it has {model.nvs[j]}")
             S = np.asarray(data.joints[j].S).reshape(6)
             revolute[b - 1] = np.linalg.norm(S[3:]) > 0.5
             axis[b - 1] = S[3:] if revolute[b - 1] else S[:3]

@@ -16,3 +16,7 @@ May import: :mod:`freefloat.robot`, :mod:`freefloat.errors` and, of the dynamics
 :mod:`freefloat.dynamics.threads` (one BLAS thread around the small dense algebra): identification
 reads recorded samples, it runs no simulation.
 """
+
+from ...lazy import lazy_modules  # noqa: E402
+
+__getattr__ = lazy_modules(__name__)  # its modules, imported on first use as attributes

@@ -17,7 +17,7 @@ import pinocchio as pin
 from ...arguments import real_number, whole_number
 from ...errors import UnknownName
 from .adaptive import BogackiShampine32, DormandPrince45
-from .base import Acceleration, Integrator
+from .base import Acceleration, Integrator, Velocity
 from .dop853 import DormandPrince853
 from .explicit_rkmk import RungeKuttaMuntheKaas3, RungeKuttaMuntheKaas6, RungeKuttaMuntheKaas8
 from .fixed_step import ExplicitEuler, RungeKutta4, SemiImplicitEuler
@@ -180,9 +180,14 @@ __all__ = [
     "RungeKuttaMuntheKaas6",
     "RungeKuttaMuntheKaas8",
     "SemiImplicitEuler",
+    "Velocity",
     "check_settings",
     "integrator_spec",
     "make_integrator",
     "register",
     "swept",
 ]
+
+from ...lazy import lazy_modules  # noqa: E402
+
+__getattr__ = lazy_modules(__name__)  # its modules, imported on first use as attributes

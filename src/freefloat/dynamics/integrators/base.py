@@ -10,6 +10,10 @@ import numpy as np
 #: ``f(q, v) -> a``: generalized acceleration (nv,) at configuration q (nq,) and velocity v (nv,),
 #: with the torques and external wrenches of the current control period held fixed.
 Acceleration = Callable[[np.ndarray, np.ndarray], np.ndarray]
+#: ``V(t, q) -> v``: a first-order system's velocity (nv,) (Pinocchio's local velocity) at time
+#: t (s) and configuration q (nq,): ``q' = V(t, q)`` (e.g. free-floating kinematics, where the
+#: joint rates of a plan move the base).
+Velocity = Callable[[float, np.ndarray], np.ndarray]
 
 
 class Integrator(Protocol):

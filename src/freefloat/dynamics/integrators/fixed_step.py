@@ -1,19 +1,28 @@
-"""Fixed-step integrators: semi-implicit Euler and Runge-Kutta 4 on the Lie group."""
+"""Fixed-step integrators: semi-implicit Euler and Runge-Kutta 4 on the Lie group; each also
+steps a first-order system ``q' = V(t, q)`` with its tableau (:meth:`FixedStep.flow`)."""
 
 from __future__ import annotations
 
 import numpy as np
 import pinocchio as pin
 
-from .base import Acceleration
+from .base import Acceleration, Velocity
 from .lie import ChartCorrection
+from .stages import rkmk_flow_step
+
+#: The one-stage tableau (Euler's): rows and weights.
+_EULER_ROWS, _EULER_B = (np.zeros(0),), np.ones(1)
 
 
 class FixedStep:
-    """Shared stepping loop: ``substeps`` equal steps per :meth:`advance` call."""
+    """Shared stepping loop: ``substeps`` equal steps per :meth:`advance` call; its tableau
+    (``_ROWS``, ``_B``) also steps first-order systems (:meth:`flow`)."""
 
     name = ""
     order = 0
+    _ROWS: tuple[np.ndarray, ...] = _EULER_ROWS
+    _B = _EULER_B
+    _dexpinv = None  # dexp^-1_{-theta}(velocity) of the chart, None where every joint commutes
 
     def __init__(self, model: pin.Model, substeps: int = 1):
         if substeps < 1:
@@ -21,6 +30,9 @@ class FixedStep:
         self.model = model
         self.substeps = substeps
         self._calls = 0
+        #: The stage times of one step as fractions of it, ``c_i`` (:meth:`flow` asks the
+        #: velocity at ``t + c_i h``).
+        self.nodes = tuple(float(row.sum()) for row in self._ROWS)
 
     def advance(
         self, f: Acceleration, q: np.ndarray, v: np.ndarray, duration: float
@@ -35,6 +47,21 @@ class FixedStep:
 
     def step(self, f: Acceleration, q: np.ndarray, v: np.ndarray, h: float) -> tuple[np.ndarray, np.ndarray]:
         raise NotImplementedError
+
+    def flow(self, velocity: Velocity, q: np.ndarray, t: float, duration: float,
+             v: np.ndarray | None = None) -> np.ndarray:
+        """The configuration (nq,) after ``duration`` s of the first-order system
+        ``q' = velocity(t, q)`` from ``q`` (nq,) at time ``t`` s: ``substeps`` steps of this
+        method's tableau in the exponential chart (:func:`~.stages.rkmk_flow_step`; its order on
+        the group as :attr:`order`). ``v`` is ``velocity(t, q)`` when already known."""
+        h = duration / self.substeps
+        dexpinv = self._dexpinv or (lambda theta, velocity: velocity)
+        nodes = self.nodes
+        for k in range(self.substeps):
+            self._calls += len(nodes) - (k == 0 and v is not None)
+            q = rkmk_flow_step(velocity, self.model, dexpinv, q, t + k * h, h, self._ROWS, self._B, nodes,
+                               v if k == 0 else None)
+        return q
 
 
 class SemiImplicitEuler(FixedStep):
@@ -77,6 +104,8 @@ class RungeKutta4(FixedStep):
 
     name = "rkmk4"
     order = 4
+    _ROWS = (np.zeros(0), np.array([0.5]), np.array([0.0, 0.5]), np.array([0.0, 0.0, 1.0]))
+    _B = np.array([1.0, 2.0, 2.0, 1.0]) / 6.0
 
     def __init__(self, model: pin.Model, substeps: int = 1, lie_correction: bool = True):
         super().__init__(model, substeps)

@@ -7,7 +7,7 @@ from collections.abc import Callable, Sequence
 import numpy as np
 import pinocchio as pin
 
-from .base import Acceleration
+from .base import Acceleration, Velocity
 from .lie import ChartCorrection
 
 #: ``dexp^{-1}_{-theta}(velocity)`` (nv,) from theta (nv,) and a local velocity (nv,).
@@ -47,3 +47,32 @@ def rkmk_stages(
         KA[i, :nv] = dexpinv(theta, vel)
         KA[i, nv:] = f(pin.integrate(model, q, theta), vel)
     return KA[:, :nv], KA[:, nv:]
+
+
+def rkmk_flow_step(
+    velocity: Velocity,
+    model: pin.Model,
+    dexpinv: ChartVelocity,
+    q: np.ndarray,
+    t: float,
+    h: float,
+    rows: Sequence[np.ndarray],
+    weights: np.ndarray,
+    nodes: Sequence[float],
+    v0: np.ndarray | None = None,
+) -> np.ndarray:
+    """One step of an s-stage explicit tableau for the first-order system ``q' = velocity(t, q)``
+    (Munthe-Kaas's RKMK, of which :func:`rkmk_stages` is the second-order form): the
+    configuration (nq,) at ``t + h``.
+
+    Stage i sits at ``q * exp(theta_i)``, ``theta_i = h sum_j rows[i][j] K[j]``, at time
+    ``t + nodes[i] h`` (``nodes[i] = sum_j rows[i][j]``); ``K[i] = dexp^{-1}_{-theta_i}(velocity(
+    t + nodes[i] h, q * exp(theta_i)))``; the step ends at ``q * exp(h sum_i weights[i] K[i])``.
+    ``v0`` is ``velocity(t, q)`` when already known, so that it costs no call.
+    """
+    K = np.empty((len(rows), model.nv))
+    K[0] = velocity(t, q) if v0 is None else v0
+    for i in range(1, len(rows)):
+        theta = h * (rows[i] @ K[:i])
+        K[i] = dexpinv(theta, velocity(t + h * nodes[i], pin.integrate(model, q, theta)))
+    return pin.integrate(model, q, h * (weights @ K))

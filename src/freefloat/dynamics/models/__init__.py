@@ -27,7 +27,7 @@ class ModelSpec:
     Attributes:
         name: registry name (scene keys ``simulation.model``, ``controller.model``).
         description: one line: what it is and where it is exact.
-        compiled: True when the compiled core (``cpp/models.hpp``) has it; ``exact`` is
+        compiled: True when the compiled core (``cpp/gjm/models.hpp``) has it; ``exact`` is
             Pinocchio's ABA, which the compiled loop runs.
         build: makes it for a robot.
     """
@@ -112,3 +112,7 @@ def make_model(name: str, robot: Robot, backend: str = "compiled") -> DynamicsMo
 
 
 __all__ = ["MODELS", "DynamicsModel", "ExactModel", "ModelSpec", "make_model", "register"]
+
+from ...lazy import lazy_modules  # noqa: E402
+
+__getattr__ = lazy_modules(__name__)  # its modules, imported on first use as attributes

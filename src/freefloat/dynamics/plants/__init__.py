@@ -49,3 +49,7 @@ PLANTS: dict[str, PlantSpec] = {spec.name: spec for spec in (
 )}
 
 __all__ = ["PLANTS", "ClosedTreePlant", "ConstraintDynamicsPlant", "CoupledChainPlant", "Plant", "PlantSpec", "vector_space"]
+
+from ...lazy import lazy_modules  # noqa: E402
+
+__getattr__ = lazy_modules(__name__)  # its modules, imported on first use as attributes

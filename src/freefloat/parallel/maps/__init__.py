@@ -11,3 +11,7 @@ singularity loci, refined by bisection). The atlas kind ``mechanism``
 
 May import: :mod:`freefloat.parallel` (the mechanisms), :mod:`freefloat.errors`; nothing above.
 """
+
+from ...lazy import lazy_modules  # noqa: E402
+
+__getattr__ = lazy_modules(__name__)  # its modules, imported on first use as attributes

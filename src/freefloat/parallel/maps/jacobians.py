@@ -29,7 +29,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ...errors import FreefloatError
+from ...errors import InvalidArgument
 from ..mechanism import ParallelMechanism
 
 
@@ -97,9 +97,9 @@ def partition(mech: ParallelMechanism) -> Partition:
     passive = np.setdiff1d(np.arange(p, n_q), actuated)
     m = len(mech.d) + (0 if mech.angular is None else len(mech.angular.offset))
     if m != n_q - p or len(actuated) != p:
-        raise FreefloatError(f"mechanism maps need as many constraints as chain joints and as many actuators as "
-                             f"platform coordinates: {m} constraints, {n_q - p} chain joints, {len(actuated)} actuators, "
-                             f"{p} platform coordinates")
+        raise InvalidArgument(f"mechanism maps need as many constraints as chain joints and as many actuators as "
+                              f"platform coordinates: {m} constraints, {n_q - p} chain joints, {len(actuated)} actuators, "
+                              f"{p} platform coordinates")
     A = closure(mech, np.random.default_rng(0).uniform(-1.0, 1.0, n_q))[1]
     legs, start = [], p
     for chain in mech.chains:

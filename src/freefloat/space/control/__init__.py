@@ -12,3 +12,7 @@ from .computed_torque import ComputedTorque
 from .trajectory import QuinticTrajectory
 
 __all__ = ["Controller", "ComputedTorque", "QuinticTrajectory", "joint_space_dynamics"]
+
+from ...lazy import lazy_modules  # noqa: E402
+
+__getattr__ = lazy_modules(__name__)  # its modules, imported on first use as attributes

@@ -82,3 +82,7 @@ def plan_approach(request: ApproachRequest, method: str = "null_space") -> Plan:
 
 __all__ = ["PLANNERS", "ApproachRequest", "GraspMotion", "JointPath", "Limits", "Plan", "TaskRows", "check",
            "evaluate", "plan_approach", "planned_path"]
+
+from ...lazy import lazy_modules  # noqa: E402
+
+__getattr__ = lazy_modules(__name__)  # its modules, imported on first use as attributes

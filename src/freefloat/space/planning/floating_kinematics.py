@@ -8,8 +8,8 @@ velocity follows from the joint rates through Pinocchio's centroidal momentum ma
 .. math:: A_b\, v_b = h_G - A_j \dot q,
 
 the same motion as the GJM's ``x0dot = J0 qdot + H0^-1 M`` (eq 71) in Pinocchio's local base
-velocity. A planner integrates it over its time grid (:func:`rollout`) to know where the base,
-and so the end-effector, will be.
+velocity. A planner integrates it over its time grid (:func:`rollout`, the engine's integrators
+on this first-order system) to know where the base, and so the end-effector, will be.
 """
 
 from __future__ import annotations
@@ -19,13 +19,15 @@ from typing import Callable
 import numpy as np
 import pinocchio as pin
 
-from ...dynamics import gjm
+from ...dynamics import flow, gjm
 from ...dynamics.gjm import GJMState
 from ...robot.conventions import PLANAR_ROWS, cross3, momentum_about_origin
 from ...robot.robot import Robot
 
 #: Joint rates of a plan (n,) from time (s) and configuration (nq,).
 Rates = Callable[[float, np.ndarray], np.ndarray]
+#: The integrator of the roll-outs (a fixed-step one of the registry: one step per grid interval).
+INTEGRATOR = "rkmk4"
 
 
 class FloatingKinematics:
@@ -68,31 +70,19 @@ class FloatingKinematics:
 
 
 def stage_times(times: np.ndarray) -> np.ndarray:
-    """Every time :func:`rollout` asks the rates for on the grid ``times``: the grid and its
-    midpoints, computed as it computes them."""
-    return np.concatenate((times, times[:-1] + (times[1:] - times[:-1]) / 2))
+    """Every time :func:`rollout` asks the rates for on the grid ``times``, computed as it
+    computes them (:func:`freefloat.dynamics.flow.stage_times`)."""
+    return flow.stage_times(times, INTEGRATOR)
 
 
 def rollout(kin: FloatingKinematics, q0: np.ndarray, rates: Rates, times: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Configurations and velocities on the grid ``times`` (N,), by classical Runge-Kutta 4 on the
-    configuration manifold (``pin.integrate`` of the stage velocities).
+    """Configurations and velocities on the grid ``times`` (N,): the first-order system
+    ``q' = kin.velocity(q, rates(t, q))`` stepped by the engine's :data:`INTEGRATOR`
+    (:func:`freefloat.dynamics.flow.rollout`, RKMK4 on the configuration Lie group, one step per
+    grid interval).
 
     Returns:
         ``(qs, vs)``: (N, nq) and (N, nv); ``vs[k]`` is the velocity at ``qs[k]`` with
         ``rates(times[k], qs[k])``.
     """
-    model = kin.robot.model
-
-    def f(t: float, q: np.ndarray) -> np.ndarray:
-        return kin.velocity(q, rates(t, q))
-
-    qs, vs = [np.asarray(q0, float)], [f(times[0], q0)]
-    for k in range(len(times) - 1):
-        t, h, q = times[k], times[k + 1] - times[k], qs[-1]
-        k1 = vs[-1]
-        k2 = f(t + h / 2, pin.integrate(model, q, k1 * h / 2))
-        k3 = f(t + h / 2, pin.integrate(model, q, k2 * h / 2))
-        k4 = f(t + h, pin.integrate(model, q, k3 * h))
-        qs.append(pin.integrate(model, q, (k1 + 2 * k2 + 2 * k3 + k4) * h / 6))
-        vs.append(f(t + h, qs[-1]))
-    return np.array(qs), np.array(vs)
+    return flow.rollout(lambda t, q: kin.velocity(q, rates(t, q)), kin.robot.model, q0, times, INTEGRATOR)

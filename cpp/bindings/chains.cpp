@@ -1,10 +1,10 @@
 // The closed chains' bindings of both modules: MechanismCore of freefloat.dynamics._core (a
-// closed chain, parallel.hpp, built from ParallelMechanism.core's dicts by py_mechanism.hpp) and
+// closed chain, chains/mechanism.hpp, built from ParallelMechanism.core's dicts by py_mechanism.hpp) and
 // ChainSimulation of freefloat.dynamics._sim (the closed-chain loop, sim/chain_loop.hpp, with its
 // platform law). One translation unit, compiled once and linked into both modules: compiled once
 // per module, the chain code they share cost 36 s more of the build's CPU (g++ 12, -O3). Bindings
-// only: the numerics are units of their own without pybind11 (sim/chain_unit.cpp,
-// parallel_inverse.cpp); the one unit of both took 1.6 GB of compiler memory.
+// only: the numerics are units of their own without pybind11 (chains/mechanism.cpp,
+// chains/inverse.cpp, sim/chain_loop.cpp); the one unit of both took 1.6 GB of compiler memory.
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -13,11 +13,11 @@
 #include <utility>
 #include <vector>
 
-#include "parallel.hpp"
+#include "chains/mechanism.hpp"
 #include "py_arrays.hpp"
 #include "py_mechanism.hpp"
+#include "py_sim.hpp"
 #include "sim/chain_loop.hpp"
-#include "sim/py_sim.hpp"
 
 namespace py = pybind11;
 using namespace freefloat::sim;

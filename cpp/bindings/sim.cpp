@@ -2,7 +2,7 @@
 // algorithms, behind a small pybind11 interface. The model is handed over as arrays and rebuilt;
 // telemetry chunks are numpy arrays filled in place. This unit sees the loop through
 // sim/simulation.hpp only (no Pinocchio header); the closed-chain loop is bound in chains.cpp.
-// Each is a translation unit of its own, and they compile in parallel.
+// Bindings only: the loop's numerics are the translation units of cpp/sim/.
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -12,8 +12,8 @@
 #include <utility>
 #include <vector>
 
+#include "py_sim.hpp"
 #include "sim/batch.hpp"
-#include "sim/py_sim.hpp"
 #include "sim/rkmk.hpp"  // integrator_names
 #include "sim/simulation.hpp"
 
@@ -404,12 +404,11 @@ PYBIND11_MODULE(_sim, m) {
            [](PyBatch& b) {
              py::list out;
              for (const Batch::Done& d : b.batch->take())
-               out.append(py::make_tuple(d.run, d.slot, d.rows, d.periods, d.evaluations, d.wall,
-                                         d.error.empty() ? py::object(py::none()) : py::object(py::str(d.error))));
+               out.append(py::make_tuple(d.run, d.slot, d.rows, d.periods, d.evaluations, d.wall, d.blow_up, d.failure));
              return out;
            },
-           "The runs finished since the last call: (run, slot, rows, periods, evaluations, wall s, blow-up "
-           "message or None).")
+           "The runs finished since the last call: (run, slot, rows, periods, evaluations, wall s, the loop's "
+           "blow-up message or None, the text of an error the loop threw or None).")
       .def("release", [](PyBatch& b, int slot) { b.batch->release(slot); }, "The slot's rows are read.")
       .def("stop", [](PyBatch& b) { b.batch->stop(); }, "Every run stops at its next slice of periods.");
   bind_chain(m);

@@ -1,11 +1,11 @@
-// The inverse side of parallel.hpp's closed chains: inverse dynamics (eqs 130-140), Newton
+// The inverse side of mechanism.hpp's closed chains: inverse dynamics (eqs 130-140), Newton
 // assembly (a least-squares step at a singular A°) and the inverse dynamics along a path by
 // continuation (MechanismCore's inverse, assemble and trajectory). A translation unit without
-// pybind11, at -O3; the point evaluations it calls are in parallel.cpp.
+// pybind11, at -O3; the point evaluations it calls are in mechanism.cpp.
 #include <Eigen/LU>
 #include <Eigen/QR>
 
-#include "parallel.hpp"
+#include "mechanism.hpp"
 
 namespace freefloat {
 

@@ -18,7 +18,7 @@
 #include <string>
 #include <utility>
 
-#include "sim/pin_plant.hpp"
+#include "pin_plant.hpp"
 
 namespace freefloat::sim {
 

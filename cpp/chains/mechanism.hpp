@@ -3,8 +3,8 @@
 // (eq 129), inverse dynamics (eqs 130-140), Newton assembly and the inverse dynamics along a path
 // by continuation. The numpy code in serial.py and mechanism.py is the reference (with the
 // equations); tests/test_mechanism.py pins the two. Every vector is in the inertial frame N.
-// Declarations on Eigen/Core only: the numerics are in parallel.cpp and parallel_inverse.cpp, so
-// that the bindings (chains.cpp) compile without Eigen's dense solvers.
+// Declarations on Eigen/Core only: the numerics are in mechanism.cpp and inverse.cpp, so that the
+// bindings (bindings/chains.cpp) compile without Eigen's dense solvers.
 #pragma once
 
 #include <Eigen/Core>

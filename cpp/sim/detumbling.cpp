@@ -6,7 +6,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "sim/detumbling.hpp"
+#include "detumbling.hpp"
 
 namespace freefloat::sim {
 

@@ -1,4 +1,4 @@
-// A closed chain (parallel.hpp's Mechanism) from the Python dicts of
+// A closed chain (chains/mechanism.hpp's Mechanism) from the Python dicts of
 // freefloat.parallel.mechanism.ParallelMechanism.core: one dict of arrays per serial chain and one
 // for the coupling. Shared by both compiled modules (the core's MechanismCore, the loop's
 // ChainSimulation).
@@ -9,7 +9,7 @@
 
 #include <string>
 
-#include "parallel.hpp"
+#include "chains/mechanism.hpp"
 #include "py_arrays.hpp"
 
 namespace freefloat::py_arrays {

@@ -1,8 +1,8 @@
 // The definitions of models.hpp and tree_solve.hpp: the GJM dynamics models, each function naming
 // the method of the numpy reference it mirrors, on the quantities of gjm.cpp, and the tree-sparse
-// solver of their forward dynamics. A translation unit without pybind11 (core.cpp binds them).
+// solver of their forward dynamics. A translation unit without pybind11 (bindings/core.cpp binds
+// them).
 #include "models.hpp"
-#include "tree_solve.hpp"
 
 #include <stdexcept>
 #include <string>
@@ -239,6 +239,22 @@ void local_base_acceleration(const Tree& t, const double* q, const double* v, co
 }
 
 // TreeSolver (tree_solve.hpp).
+
+void forward_dynamics(const Tree& t, const State& s, const Derivatives& d, TreeSolver& solver, Variant variant,
+                      const Vec6& F, const MatX& D, const double* tau, const double* Q_q, const double* q,
+                      const double* v, int nv, double* a) {
+  const int n = t.n, n_base = nv - n;
+  const ModelResult r = model_terms(t, s, d, variant, F, D);
+  VecX z(6 + n);
+  z.head<6>().setZero();
+  z.tail(n) = Eigen::Map<const VecX>(tau, n) + Eigen::Map<const VecX>(Q_q, n) - r.c;
+  solver.factor(s);
+  solver.solve(z.data());
+  Eigen::Map<VecX> qddot(a + n_base, n);
+  qddot = z.tail(n);
+  const Vec6 xddot0 = -s.H0_ldlt.solve(s.H0m * qddot + r.base_bias);
+  local_base_acceleration(t, q, v, xddot0, a);
+}
 
 TreeSolver::TreeSolver(const Tree& t) : N(6 + t.n), start(N + 1, 0), D(N) {
   for (int i = 0; i < N; ++i) {

@@ -10,13 +10,14 @@
 // the tree-sparse factorisation of the whole mass matrix (tree_solve.hpp) where the numpy reference
 // forms and solves the dense H*.
 //
-// This header declares what the bindings (core.cpp) call; models.cpp defines it.
+// This header declares what the bindings (bindings/core.cpp) call; models.cpp defines it.
 #pragma once
 
 #include <string>
 #include <vector>
 
 #include "gjm.hpp"
+#include "tree_solve.hpp"
 
 namespace freefloat {
 
@@ -49,5 +50,14 @@ MatX nidc_sensitivity(const Tree& t, const State& s, const Derivatives& d, const
 // conventions.local_base_acceleration: Pinocchio's base acceleration (6, free; first 3 rows of
 // the embedding [0, 1, 5] for planar) from xddot0.
 void local_base_acceleration(const Tree& t, const double* q, const double* v, const Vec6& xddot0, double* out);
+
+// GJMModel.acceleration, the named model's forward dynamics at the state of (s, d) (compute_inertia
+// and derivatives at q, v): Pinocchio's acceleration a (nv,) under the joints' efforts tau (n,) and
+// generalized forces Q_q (n,), F and D as in model_terms. H* qddot = tau + Q_q - c is solved
+// through the tree-sparse factorisation of the whole GJM mass matrix (`solver`, factored here at
+// s), never forming H*; then xddot0 and the base rows of a.
+void forward_dynamics(const Tree& t, const State& s, const Derivatives& d, TreeSolver& solver, Variant variant,
+                      const Vec6& F, const MatX& D, const double* tau, const double* Q_q, const double* q,
+                      const double* v, int nv, double* a);
 
 }  // namespace freefloat

@@ -1,14 +1,14 @@
-// The numerics of parallel.hpp's closed chains at one point: the serial chains' kinematics and
+// The numerics of mechanism.hpp's closed chains at one point: the serial chains' kinematics and
 // dynamics, Mechanism's closure and dynamics terms, the passive LU, C and the forward dynamics
-// (eq 129): the closed-chain loop's plant and its law's model. Compiled with the loop in one
-// translation unit (sim/chain_unit.cpp); the inverse dynamics and the assembly are a unit of their
-// own (parallel_inverse.cpp): the two in one unit took 0.98 GB of compiler memory (g++ 12, -O3).
+// (eq 129): the closed-chain loop's plant and its law's model (sim/chain_loop.cpp). The inverse
+// dynamics and the assembly are a unit of their own (inverse.cpp): the two in one unit took 0.98 GB
+// of compiler memory (g++ 12, -O3).
 #include <Eigen/Geometry>
 #include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
 
-#include "parallel.hpp"
+#include "mechanism.hpp"
 
 namespace freefloat {
 
@@ -148,7 +148,7 @@ void Mechanism::evaluate_closure(const double* q, DVec& residual, DMat& A) {
   A.topLeftCorner(m_lin, p) = D;
   A.topRightCorner(m_lin, n_q - p) = -(E * Jv + F);
   if (angular) {
-    residual.tail(m_ang) = offset - Q * phi - R * qo;
+    residual.tail(m_ang) = offset + P * qs - Q * phi - R * qo;
     A.bottomLeftCorner(m_ang, p) = P;
     A.bottomRightCorner(m_ang, n_q - p) = -(Q * Jw + R);
   }

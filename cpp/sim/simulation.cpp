@@ -1,11 +1,14 @@
-// The robot loop's factory (sim/simulation.hpp): a Loop (sim/loop.hpp) on the Pinocchio model of
-// the Python model's arrays, behind the interface the bindings and the batch use.
+// The robot loop's factory (simulation.hpp): a Loop (loop.hpp) on the Pinocchio model of the
+// Python model's arrays, behind the interface the bindings and the batch use. The loop compiles in
+// this unit only; its Pinocchio calls are pin_plant.hpp's (pin_plant.cpp). setup.py compiles the
+// robot loop's units at -O1: its time is in libpinocchio_default's algorithms, and -O1 ran every
+// scene measured as fast as -O3 (docs/bench.md, "The build").
 #include <memory>
 #include <stdexcept>
 #include <utility>
 
-#include "sim/loop.hpp"
-#include "sim/simulation.hpp"
+#include "loop.hpp"
+#include "simulation.hpp"
 
 namespace freefloat::sim {
 

@@ -176,4 +176,9 @@ void compute(const Tree& t, const double* q, const double* v, State& s);
 // kept as its nonzero columns and dHm/dq_k as its nonzero entries.
 void derivatives(const Tree& t, const State& s, Derivatives& d);
 
+// Whether (q, v) passes freefloat.robot.state.check_state: every number finite and at most
+// `largest` in size, every unit-norm block of q (base quaternion, planar base's and continuous
+// joints' (cos, sin)) within `tolerance` of norm 1 (as pin.isNormalized). Sizes are not checked.
+bool admissible(const Tree& t, const double* q, int nq, const double* v, int nv, double tolerance, double largest);
+
 }  // namespace freefloat

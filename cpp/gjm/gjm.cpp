@@ -1,6 +1,7 @@
 // The definitions of gjm.hpp: body kinematics, composite inertias, H0, H0m, Hm, H*, the
 // end-effector Jacobians and the joint and time derivatives. A translation unit of its own, without
-// pybind11 (core.cpp binds them), so that no unit compiles the bindings and the numerics together.
+// pybind11 (bindings/core.cpp binds them), so that no unit compiles the bindings and the numerics
+// together.
 #include "gjm.hpp"
 
 #include <cmath>
@@ -231,6 +232,22 @@ void derivatives(const Tree& t, const State& s, Derivatives& d) {
     d.H0dot += qk * Eigen::Map<const Eigen::Matrix<double, 6, 6, Eigen::RowMajor>>(d.dH0.data() + 36 * k);
     d.add_dH0m(k, qk, d.H0mdot);
   }
+}
+
+bool admissible(const Tree& t, const double* q, int nq, const double* v, int nv, double tolerance, double largest) {
+  for (int i = 0; i < nq; ++i)
+    if (!(std::abs(q[i]) <= largest)) return false;  // NaN fails too
+  for (int i = 0; i < nv; ++i)
+    if (!(std::abs(v[i]) <= largest)) return false;
+  const auto unit = [&](int i, int size) {
+    double norm = 0.0;
+    for (int j = i; j < i + size; ++j) norm += q[j] * q[j];
+    return std::abs(std::sqrt(norm) - 1.0) < tolerance;
+  };
+  if (!(t.free_base ? unit(3, 4) : unit(2, 2))) return false;
+  for (int j = 0; j < t.n; ++j)
+    if (t.circle[j] && !unit(t.q_index[j], 2)) return false;
+  return true;
 }
 
 }  // namespace freefloat

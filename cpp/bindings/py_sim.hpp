@@ -1,5 +1,5 @@
-// What the two translation units of freefloat.dynamics._sim share (sim_module.cpp binds the robot
-// loop and the module, chains.cpp the closed-chain loop; they compile in parallel): array
+// What the two binding units of freefloat.dynamics._sim share (sim.cpp binds the robot loop and
+// the module, chains.cpp the closed-chain loop; they compile in parallel): array
 // conversions, the telemetry chunks' checks and the chunk runner.
 #pragma once
 
@@ -12,7 +12,7 @@
 #include <utility>
 #include <vector>
 
-#include "../py_arrays.hpp"
+#include "py_arrays.hpp"
 
 namespace freefloat::sim::py_sim {
 

@@ -1,7 +1,7 @@
-// The definition of sim/pin_generalized_jacobian.hpp, compiled in sim_unit.cpp's translation unit.
+// The definition of pin_generalized_jacobian.hpp.
 #include <Eigen/Cholesky>
 
-#include "sim/pin_generalized_jacobian.hpp"
+#include "pin_generalized_jacobian.hpp"
 
 namespace freefloat::sim {
 

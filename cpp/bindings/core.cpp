@@ -1,22 +1,21 @@
-// freefloat.dynamics._core: the compiled GJM (gjm.hpp) behind a small pybind11 interface. The tree
+// freefloat.dynamics._core: the compiled GJM (gjm/gjm.hpp) behind a small pybind11 interface. The tree
 // is handed over as arrays (no C++ object is shared with pin's bindings); outputs are new C-order
 // numpy arrays with the shapes of the numpy reference. This unit holds the bindings only: the GJM
-// quantities (gjm.cpp) and the models with their solver (models.cpp) are translation units of
-// their own without pybind11, and the closed chains' MechanismCore is bound in chains.cpp (shared
-// with _sim); all compile in parallel.
+// quantities (gjm/gjm.cpp) and the models with their solver (gjm/models.cpp) are translation
+// units of their own without pybind11, and the closed chains' MechanismCore is bound in chains.cpp
+// (shared with _sim); all compile in parallel.
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
 #include <algorithm>
-#include <cmath>
 #include <initializer_list>
 #include <stdexcept>
 #include <string>
 
-#include "gjm.hpp"
-#include "models.hpp"
+#include "gjm/gjm.hpp"
+#include "gjm/models.hpp"
+#include "gjm/tree_solve.hpp"
 #include "py_arrays.hpp"
-#include "tree_solve.hpp"
 
 namespace py = pybind11;
 using namespace freefloat;
@@ -174,25 +173,6 @@ py::tuple derivatives_out(const Tree& t, const Derivatives& d, const VecX& qdot)
                         Hmdot);
 }
 
-// Whether (q, v) passes freefloat.robot.state.check_state: every number finite and at most
-// `largest` in size, every unit-norm block of q (base quaternion, planar base's and continuous
-// joints' (cos, sin)) within `tolerance` of norm 1 (as pin.isNormalized). Sizes are not checked.
-bool admissible(const Tree& t, const double* q, int nq, const double* v, int nv, double tolerance, double largest) {
-  for (int i = 0; i < nq; ++i)
-    if (!(std::abs(q[i]) <= largest)) return false;  // NaN fails too
-  for (int i = 0; i < nv; ++i)
-    if (!(std::abs(v[i]) <= largest)) return false;
-  const auto unit = [&](int i, int size) {
-    double norm = 0.0;
-    for (int j = i; j < i + size; ++j) norm += q[j] * q[j];
-    return std::abs(std::sqrt(norm) - 1.0) < tolerance;
-  };
-  if (!(t.free_base ? unit(3, 4) : unit(2, 2))) return false;
-  for (int j = 0; j < t.n; ++j)
-    if (t.circle[j] && !unit(t.q_index[j], 2)) return false;
-  return true;
-}
-
 struct Core {
   Tree tree;
   int nq, nv;
@@ -217,26 +197,16 @@ struct Core {
     return Eigen::Map<const MatX>(checked(D, 6 * tree.n, "D"), tree.n, 6);
   }
 
-  // Forward dynamics of one model: Pinocchio's a (nv,). H* qddot = tau + Q_q - c is solved through
-  // the tree-sparse factorisation of the whole GJM mass matrix (tree_solve.hpp), never forming H*.
+  // Forward dynamics of one model: Pinocchio's a (nv,) (models.hpp's forward_dynamics).
   py::array_t<double> acceleration(const std::string& name, const Array& q, const Array& v, const Array& tau,
                                    const Array& F, const Array& Q_q, const Array& D) {
     const Variant variant = variant_of(name);
     run_dynamics(q, v);
-    const int n = tree.n, n_base = nv - n;
     const Vec6 force = Eigen::Map<const Vec6>(checked(F, 6, "F"));
-    const ModelResult r = model_terms(tree, state, deriv, variant, force, sensitivity_rows(D));
-    VecX z(6 + n);
-    z.head<6>().setZero();
-    z.tail(n) = Eigen::Map<const VecX>(checked(tau, nv, "tau") + n_base, n) +
-                Eigen::Map<const VecX>(checked(Q_q, n, "Q_q"), n) - r.c;
-    solver.factor(state);
-    solver.solve(z.data());
+    const double *joint_tau = checked(tau, nv, "tau") + (nv - tree.n), *joint_Q = checked(Q_q, tree.n, "Q_q");
     py::array_t<double> a = fresh({nv});
-    Eigen::Map<VecX> qddot(a.mutable_data() + n_base, n);
-    qddot = z.tail(n);
-    const Vec6 xddot0 = -state.H0_ldlt.solve(state.H0m * qddot + r.base_bias);
-    local_base_acceleration(tree, q.data(), v.data(), xddot0, a.mutable_data());
+    forward_dynamics(tree, state, deriv, solver, variant, force, sensitivity_rows(D), joint_tau, joint_Q, q.data(),
+                     v.data(), nv, a.mutable_data());
     return a;
   }
 
@@ -294,7 +264,7 @@ PYBIND11_MODULE(_core, m) {
              return derivatives_out(c.tree, c.deriv, c.state.qdot);
            }, "Derivative tuple in GJMDerivatives field order at (q, v).")
       .def("admissible", [](const Core& c, const Array& q, const Array& v, double tolerance, double largest) {
-             return admissible(c.tree, checked(q, c.nq, "q"), c.nq, checked(v, c.nv, "v"), c.nv, tolerance, largest);
+             return freefloat::admissible(c.tree, checked(q, c.nq, "q"), c.nq, checked(v, c.nv, "v"), c.nv, tolerance, largest);
            }, py::arg("q"), py::arg("v"), py::arg("tolerance"), py::arg("largest"),
            "Whether (q, v) passes check_state: finite, at most `largest` in size, unit blocks within `tolerance` of norm 1.")
       .def("acceleration", &Core::acceleration, py::arg("name"), py::arg("q"), py::arg("v"), py::arg("tau"),
