@@ -1,5 +1,6 @@
 """The package layout is the architecture: lower layers never import higher ones, the two task
-families never import each other, and no module imports itself back through others.
+families never import each other, no module imports itself back through others, and nothing in
+the product (every module but the lab's) names the lab.
 
 Imports are read from the source (module level and inside functions alike), so a deferred import
 cannot hide an upward dependency or a circle.
@@ -8,6 +9,7 @@ cannot hide an upward dependency or a circle.
 from __future__ import annotations
 
 import ast
+import re
 from pathlib import Path
 
 import pytest
@@ -24,11 +26,16 @@ LAYERS = {
     "freefloat.dynamics": 2,
     "freefloat.space": 3, "freefloat.parallel": 3,
     "freefloat.app": 4,
+    "freefloat.lab": 5,
 }
-FACADE = 5
+FACADE = 6
+#: The lab: above the product, which never names it (its commands come in through a plug-in).
+LAB = "freefloat.lab"
+#: A string naming a lab module, absolutely or relatively: what ``importlib`` would import.
+LAB_NAME = re.compile(r"(freefloat\.|\.+)lab(\.\w+)*")
 #: The base: single modules that form one family (they may import each other).
 BASE = {"freefloat.errors", "freefloat.paths", "freefloat.distributed", "freefloat.inputs", "freefloat.lazy",
-        "freefloat.extras", "freefloat.arguments"}
+        "freefloat.extras", "freefloat.arguments", "freefloat.registry", "freefloat.documents"}
 
 
 def module_files() -> dict[str, Path]:
@@ -147,6 +154,32 @@ def test_the_checks_catch_a_planted_upward_import_and_circle():
     planted = {**GRAPH, exact: GRAPH[exact] | {torque}}
     assert violations(planted, exact) == [torque]
     assert any(exact in c and torque in c for c in circles(planted))
+
+
+def lab_names(graph: dict[str, set[str]], module: str, source: str | None = None) -> list[str]:
+    """The lab modules ``module`` imports, then the strings in its source (``source``, default its
+    file) that name a lab module, as a deferred import by name would (``"freefloat.lab.plugin"``)."""
+    tree = ast.parse(MODULES[module].read_text() if source is None else source)
+    strings = [node.value for node in ast.walk(tree)
+               if isinstance(node, ast.Constant) and isinstance(node.value, str) and LAB_NAME.fullmatch(node.value)]
+    return sorted(t for t in graph[module] if family(t) == LAB) + strings
+
+
+def test_the_product_never_names_the_lab():
+    """No module outside freefloat.lab imports it, by an import statement or by a string."""
+    named = {m: found for m in MODULES if family(m) != LAB and (found := lab_names(GRAPH, m))}
+    assert not named, f"the product names the lab: {named}"
+
+
+def test_the_check_catches_a_planted_import_of_the_lab():
+    """The lab imported by the command line, by an import statement or by name, and by the facade
+    (above every layer), is caught (so the check can fail)."""
+    cli, plugin = "freefloat.app.cli", "freefloat.lab.plugin"
+    planted = {**GRAPH, cli: GRAPH[cli] | {plugin}, "freefloat": GRAPH["freefloat"] | {plugin}}
+    assert lab_names(planted, cli) == [plugin] and lab_names(planted, "freefloat") == [plugin]
+    assert violations(planted, cli) == [plugin]
+    source = 'import importlib\nimportlib.import_module("freefloat.lab.plugin")\nHEAVY = {"bench": "..lab.bench"}\n'
+    assert lab_names(GRAPH, cli, source) == ["freefloat.lab.plugin", "..lab.bench"]
 
 
 def test_the_public_names_stay():

@@ -13,7 +13,7 @@ import pytest
 from freefloat.app.atlas import engine
 from freefloat.app.atlas.engine import run_atlas
 from freefloat.app.atlas.grid import Axis, Grid, check_memory
-from freefloat.app.atlas.kinds import KINDS, AtlasKind, Options, find_kind, register
+from freefloat.app.atlas.kinds import KINDS, AtlasKind, Options
 from freefloat.app.batch import Workers
 from freefloat.app.cli import main
 from freefloat.errors import InvalidArgument, UnknownName
@@ -114,9 +114,9 @@ def test_a_folder_of_another_atlas_is_refused(tmp_path):
 def test_unknown_kind_and_foreign_option_are_refused():
     """An unknown kind lists the kinds; an option the kind does not read is named."""
     with pytest.raises(UnknownName, match="toy"):
-        find_kind("nope")
+        KINDS.get("nope")
     with pytest.raises(InvalidArgument, match="--tolerance"):
-        find_kind("toy").check_options(Options(tolerance=0.1))
+        KINDS.get("toy").check_options(Options(tolerance=0.1))
 
 
 def test_a_grid_too_large_for_memory_is_refused():
@@ -133,12 +133,14 @@ def test_cli_unknown_kind_exits_2_listing_the_kinds(capsys):
     assert "unknown atlas kind 'workspce'; did you mean 'workspace'?" in capsys.readouterr().err
 
 
-def test_register_adds_a_kind(monkeypatch):
-    """register puts the kind object under its name."""
+def test_register_adds_a_kind():
+    """KINDS.register puts the kind object under its name, after the built-in kinds."""
     kind = AtlasKind("other", "h", "t", "tests.atlas_toy_kind")
-    monkeypatch.setitem(KINDS, "other", kind)
-    register(kind)
-    assert KINDS["other"] is kind
+    KINDS.register(kind)
+    try:
+        assert KINDS.get("other") is kind and KINDS.names()[-1] == "other"
+    finally:
+        del KINDS["other"]
 
 
 @pytest.mark.slow

@@ -83,8 +83,9 @@ def test_flatten_names_tables_and_lists():
 
 
 def test_a_worker_loads_its_robot_once_and_rows_do_not_depend_on_it(short_task, monkeypatch):
-    """Runs of a batch in one process parse and check the robot's URDF once, and each row equals
-    the row of the same run in a process that kept nothing (robots and compiled loops forgotten)."""
+    """Runs of a batch in one process parse and check the robot's URDF once (again once
+    forget_robots was called), and each row equals the row of the same run in a process that kept
+    nothing (robots and compiled loops forgotten)."""
     from freefloat.app.batch import one_run
     from freefloat.dynamics import compiled
     from freefloat.robot import loading
@@ -94,7 +95,7 @@ def test_a_worker_loads_its_robot_once_and_rows_do_not_depend_on_it(short_task, 
     compiled.clear_loops()
     fresh = []
     for plan in plans:
-        one_run.ROBOTS.clear()
+        one_run.forget_robots()
         compiled.clear_loops()
         fresh.append(run_one(plan))
     parsed = []
@@ -107,6 +108,9 @@ def test_a_worker_loads_its_robot_once_and_rows_do_not_depend_on_it(short_task, 
     assert [{k: v for k, v in r.items() if k not in timings} for r in kept] == \
            [{k: v for k, v in r.items() if k not in timings} for r in fresh]
     assert all(r["status"] == "completed" for r in kept)
+    one_run.forget_robots()
+    run_one(plans[0])
+    assert len(parsed) == 2
 
 
 def test_a_remembered_robot_is_a_copy_with_the_same_warnings(tmp_path):

@@ -10,9 +10,9 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
-from freefloat.app.bench.floating_mechanisms import FLOATING_SCENES, floating_mechanism_scene
-from freefloat.app.bench.mechanism_mujoco import MujocoMechanism
-from freefloat.app.bench.scene import Method
+from freefloat.lab.bench.scenes.floating_mechanisms import FLOATING_SCENES, floating_mechanism_scene
+from freefloat.lab.bench.in_mujoco.mechanism import MujocoMechanism
+from freefloat.lab.bench.race.scene import Method
 from freefloat.errors import InvalidArgument
 
 mujoco = pytest.importorskip("mujoco")

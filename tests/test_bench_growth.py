@@ -1,11 +1,11 @@
-"""The size sweeps' growth exponent (freefloat.app.bench.suites.growth) on analytic power laws."""
+"""The size sweeps' growth exponent (freefloat.lab.bench.suites.growth) on analytic power laws."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
-from freefloat.app.bench.suites.growth import exponent, exponents
+from freefloat.lab.bench.suites.growth import exponent, exponents
 
 
 @pytest.mark.parametrize("p", [0.0, 1.0, 2.0, 2.7])

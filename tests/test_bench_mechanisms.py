@@ -9,9 +9,9 @@ import math
 import numpy as np
 import pytest
 
-from freefloat.app.bench.mechanism_plants import constraint_dynamics_plant
-from freefloat.app.bench.mechanisms import MECHANISM_SCENES, held_run, mechanism_scene
-from freefloat.app.bench.scene import Method
+from freefloat.lab.bench.scenes.mechanism_plants import constraint_dynamics_plant
+from freefloat.lab.bench.scenes.mechanisms import MECHANISM_SCENES, held_run, mechanism_scene
+from freefloat.lab.bench.race.scene import Method
 from freefloat.dynamics.plants import CoupledChainPlant
 from freefloat.errors import InvalidArgument
 
@@ -159,7 +159,7 @@ def test_unknown_method_fails_naming_it(scenes):
 @pytest.mark.parametrize("name", list(MECHANISM_SCENES))
 def test_mujoco_tree_has_pinocchios_mass_matrix(scenes, name):
     """MuJoCo's joint-space mass matrix of the written MJCF equals Pinocchio's CRBA at the start (the 5R's planar links balanced)."""
-    from freefloat.app.bench.mechanism_mujoco import MujocoMechanism
+    from freefloat.lab.bench.in_mujoco.mechanism import MujocoMechanism
 
     scene = scenes[name]
     sim = MujocoMechanism(scene.tree, "RK4", 1e-3)
@@ -179,7 +179,7 @@ def test_mujoco_reaches_the_reference_with_stiff_closures(scenes, references):
 def test_mujoco_instability_is_an_arithmetic_error(scenes, tmp_path, monkeypatch):
     """A MuJoCo run its own checks find unstable (a huge applied force) raises an ArithmeticError instead of
     continuing from MuJoCo's reset state."""
-    from freefloat.app.bench.mechanism_mujoco import MujocoMechanism
+    from freefloat.lab.bench.in_mujoco.mechanism import MujocoMechanism
 
     monkeypatch.chdir(tmp_path)  # MuJoCo writes its warning to MUJOCO_LOG.TXT here
     scene = scenes["five_bar"]

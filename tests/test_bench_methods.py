@@ -10,18 +10,18 @@ import warnings
 import numpy as np
 import pytest
 
-from freefloat.app.bench.controlled import controlled_scene, mujoco_law
-from freefloat.app.bench.free_floating import FreeFloatingBench
-from freefloat.app.bench.methods import methods, reference
-from freefloat.app.bench.mjcf import mjcf_from_model
-from freefloat.app.bench.mujoco_state import to_mujoco
-from freefloat.app.bench.scene import Method
-from freefloat.app.bench.scenes import tumbling_scene
-from freefloat.app.bench.sweep import measure as measure_point
+from freefloat.lab.bench.scenes.controlled import controlled_scene, mujoco_law
+from freefloat.lab.bench.scenes.free_floating import FreeFloatingBench
+from freefloat.lab.bench.scenes.methods import methods, reference
+from freefloat.lab.bench.in_mujoco.mjcf import mjcf_from_model
+from freefloat.lab.bench.in_mujoco.state import to_mujoco
+from freefloat.lab.bench.race.scene import Method
+from freefloat.lab.bench.scenes.tumbling import tumbling_scene
+from freefloat.lab.bench.race.sweep import measure as measure_point
 
 
 def measure(scene, method, ref, repeats):
-    """:func:`freefloat.app.bench.sweep.measure` of ``method`` on a bare free-floating scene."""
+    """:func:`freefloat.lab.bench.race.sweep.measure` of ``method`` on a bare free-floating scene."""
     return measure_point(FreeFloatingBench(scene, "", (), {}), method, ref, repeats)
 
 

@@ -10,10 +10,10 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
-from freefloat.app.bench.detumbling import detumbling_scene
-from freefloat.app.bench.mjcf import mjcf_from_model
-from freefloat.app.bench.mujoco_state import to_mujoco, velocity_map
-from freefloat.app.bench.mujoco_wrenches import MujocoWrenches
+from freefloat.lab.bench.scenes.detumbling import detumbling_scene
+from freefloat.lab.bench.in_mujoco.mjcf import mjcf_from_model
+from freefloat.lab.bench.in_mujoco.state import to_mujoco, velocity_map
+from freefloat.lab.bench.in_mujoco.wrenches import MujocoWrenches
 from freefloat.dynamics.wrenches import ExternalWrench, WrenchField
 
 

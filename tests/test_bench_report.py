@@ -10,9 +10,9 @@ import time
 
 import pytest
 
-from freefloat.app.bench.free_floating import free_floating_scene
-from freefloat.app.bench.options import SMOKE
-from freefloat.app.bench.summary import BANDS
+from freefloat.lab.bench.scenes.free_floating import free_floating_scene
+from freefloat.lab.bench.options import SMOKE
+from freefloat.lab.bench.race.summary import BANDS
 from freefloat.app.cli import main
 from freefloat.app.run_folder import RECORD
 
@@ -134,7 +134,7 @@ def test_a_killed_bench_keeps_every_point_measured(tmp_path):
     kept none)."""
     import time
 
-    from freefloat.app.bench.report import JOURNAL
+    from freefloat.lab.bench.race.report import JOURNAL
 
     from .conftest import cli_process
 

@@ -10,11 +10,11 @@ import sys
 import numpy as np
 import pytest
 
-from freefloat.app.bench.options import SMOKE
-from freefloat.app.bench.suites import ALL, DEFAULT, SUITES, Suite, named
-from freefloat.app.bench.suites.growth import exponent
-from freefloat.app.bench.suites.locking import SCENES as LOCKING_SCENES
-from freefloat.app.bench.suites.robots import robot_names
+from freefloat.lab.bench.options import SMOKE
+from freefloat.lab.bench.suites import ALL, DEFAULT, SUITES, Suite, named
+from freefloat.lab.bench.suites.growth import exponent
+from freefloat.lab.bench.suites.locking import SCENES as LOCKING_SCENES
+from freefloat.lab.bench.suites.robots import robot_names
 from freefloat.app.cli import main
 from freefloat.app.run_folder import RECORD
 
@@ -333,7 +333,7 @@ def test_mujoco_suite_runs_its_scenes_through_suite(tmp_path):
 def test_the_simulation_suite_prints_its_headline_ratios(quick):
     """``--suite simulation`` prints its headline ratios, one line per part, as measured (it
     printed no number)."""
-    from freefloat.app.bench.suites import simulation
+    from freefloat.lab.bench.suites import simulation
 
     _, _, report = quick("simulation")
     lines = simulation.summary(report)

@@ -6,9 +6,9 @@ import math
 
 import pytest
 
-from freefloat.app.bench.scene import Method
-from freefloat.app.bench.summary import band_rows, cheapest, summary_lines, time_to_reach
-from freefloat.app.bench.sweep import Point
+from freefloat.lab.bench.race.scene import Method
+from freefloat.lab.bench.race.summary import band_rows, cheapest, summary_lines, time_to_reach
+from freefloat.lab.bench.race.sweep import Point
 
 
 def _curve(package: str, integrator: str, c: float, order: float) -> list[Point]:

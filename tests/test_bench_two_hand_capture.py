@@ -9,15 +9,15 @@ import math
 import numpy as np
 import pytest
 
-from freefloat.app.bench.mechanisms import MechanismResult
-from freefloat.app.bench.scene import Method
-from freefloat.app.bench.sweep import sweep
-from freefloat.app.bench.two_hand_capture import two_hand_capture_scene
+from freefloat.lab.bench.scenes.mechanisms import MechanismResult
+from freefloat.lab.bench.race.scene import Method
+from freefloat.lab.bench.race.sweep import sweep
+from freefloat.lab.bench.scenes.two_hand_capture import two_hand_capture_scene
 from freefloat.dynamics.closures import closure_drift, kinematics, stacked
 from freefloat.errors import InvalidArgument
 
 mujoco = pytest.importorskip("mujoco")
-from freefloat.app.bench.mechanism_mujoco import MujocoMechanism  # noqa: E402  (needs mujoco)
+from freefloat.lab.bench.in_mujoco.mechanism import MujocoMechanism  # noqa: E402  (needs mujoco)
 
 NAME = "capture_two_hands_satellite"
 

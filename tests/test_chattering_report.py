@@ -7,7 +7,7 @@ import json
 
 import pytest
 
-from freefloat.app.reproduce import chattering_report
+from freefloat.lab.reproduce import chattering_report
 
 
 def test_tanh_chatters_when_held_and_not_when_continuous():

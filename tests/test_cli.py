@@ -291,10 +291,10 @@ def test_reproduce_writes_its_folder_and_a_rerun_resumes_into_it(tmp_path):
 def test_an_interrupted_study_keeps_its_journal_and_nothing_half_made(tmp_path, monkeypatch, capsys):
     """Ctrl-C in a study leaves its journal, in the folder's record, and none of the files it had
     begun (report.json cut short and unrecorded: a rerun refused the folder as not freefloat's)."""
-    from freefloat.app.reproduce import STUDIES
+    from freefloat.lab.reproduce import STUDIES
 
     class Halfway:
-        help, journal, extras = "a study stopped half-way", "parts.jsonl", ()
+        name, help, journal, extras = "phases", "a study stopped half-way", "parts.jsonl", ()
 
         def run(self, out, quick, journal, **options):
             journal.write_text('{"part": 1}\n')
@@ -547,3 +547,74 @@ def test_robots_lists_the_robots_known_by_name(capsys):
     assert main(["robots"]) == 0
     lines = capsys.readouterr().out.splitlines()
     assert lines[0] == "dual_arm_satellite" and "talos: talos_reduced.urdf" in lines and "ur5: ur5_robot.urdf" in lines
+
+
+@pytest.fixture
+def plugin_points(monkeypatch):
+    """Plug-ins not loaded yet in this process, and the calls to importlib.metadata.entry_points
+    (the lab's entry point only, as the package declares it)."""
+    from importlib import metadata
+
+    from freefloat import registry
+
+    calls: list[str | None] = []
+
+    def entry_points(group: str | None = None, **kwargs) -> list[metadata.EntryPoint]:
+        calls.append(group)
+        return [metadata.EntryPoint("lab", "freefloat.lab.plugin", group)] if group == registry.GROUP else []
+
+    monkeypatch.setattr(registry, "_LOADER", registry._Loader())
+    monkeypatch.setattr(metadata, "entry_points", entry_points)
+    return calls
+
+
+def test_version_and_built_in_commands_start_without_the_plugins(plugin_points, capsys):
+    """--version and a built-in command never read the entry points; --help does, and lists the
+    lab's commands."""
+    with pytest.raises(SystemExit):
+        main(["--version"])
+    assert main(["scenes"]) == 0 and plugin_points == []
+    with pytest.raises(SystemExit):
+        main(["--help"])
+    assert plugin_points == ["freefloat.plugins"]
+    assert re.search(r"\{simulate,.*,verify,reproduce,bench,atlas\}", capsys.readouterr().out)
+
+
+def test_a_plugin_command_runs_with_no_other_edit(monkeypatch, capsys):
+    """A Command registered in COMMANDS is listed by --help, parses its own arguments and runs
+    with its exit status; its FreefloatError exits 2."""
+    from freefloat.app.commands import COMMANDS, Command
+    from freefloat.errors import FreefloatError
+
+    def run(args) -> int:
+        if args.times < 0:
+            raise FreefloatError("--times must be >= 0")
+        print("hello " * args.times)
+        return 0
+
+    monkeypatch.setitem(COMMANDS, "hello", Command("hello", "say hello", lambda p: p.add_argument("--times", type=int),
+                                                   run))
+    with pytest.raises(SystemExit):
+        main(["--help"])
+    assert "say hello" in capsys.readouterr().out
+    assert main(["hello", "--times", "2"]) == 0 and capsys.readouterr().out.strip() == "hello hello"
+    assert main(["hello", "--times", "-1"]) == 2 and "--times must be >= 0" in capsys.readouterr().err
+
+
+def test_a_plugin_that_fails_or_takes_a_built_in_name_is_refused(plugin_points, monkeypatch, capsys):
+    """A plug-in registering a built-in command's name, or one failing to import, stops the
+    command line with exit 2 and says why."""
+    from importlib import metadata
+
+    from freefloat.app.commands import COMMANDS, Command
+
+    monkeypatch.setitem(COMMANDS, "batch", Command("batch", "a second batch", lambda p: None, lambda a: 0))
+    assert main(["--help"]) == 2 and "registers the command 'batch', which is freefloat's own" in capsys.readouterr().err
+    monkeypatch.setattr(metadata, "entry_points", lambda group=None, **kwargs: [
+        metadata.EntryPoint("broken", "no_such_plugin_module", group)])
+    from freefloat import registry
+
+    monkeypatch.setattr(registry, "_LOADER", registry._Loader())
+    assert main(["bench"]) == 2
+    assert "plug-in 'broken' (no_such_plugin_module, entry point of group freefloat.plugins) failed to import: " \
+           "ModuleNotFoundError" in capsys.readouterr().err

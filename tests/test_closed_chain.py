@@ -102,7 +102,7 @@ def test_bad_closure_files_name_the_key(tmp_path, edit, message):
 
 def test_five_bar_animation_places_the_joints_where_orsino_does(tmp_path):
     """The meshcat page of a 5R run animates chain 1's second joint at Orsino's joint frame."""
-    from freefloat.app.reproduce.five_bar_report import animate
+    from freefloat.lab.reproduce.five_bar_report import animate
     from freefloat.parallel.closed_loop import track_five_bar
     from freefloat.parallel.sliding_mode import PlatformControl, circle_reference
 

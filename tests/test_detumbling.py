@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from freefloat import gjm, load_robot
-from freefloat.app.reproduce.states import state_with_momentum
+from freefloat.lab.reproduce.states import state_with_momentum
 from freefloat.space.detumbling import joint_indices, solve, task_rows
 
 from .conftest import REPO, random_state

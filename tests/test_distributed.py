@@ -96,3 +96,23 @@ def test_a_worker_ignores_ctrl_c_and_an_interrupted_block_cancels_what_waits():
     except RuntimeError:
         pass
     assert time.monotonic() - started < 10.0 and sum(f.cancelled() for f in waiting) >= 15  # a few already queued
+
+
+def test_terminate_kills_a_running_call_and_cancels_the_rest():
+    """terminate(pool) ends a worker in the middle of a long call within seconds, and the calls
+    waiting end too, cancelled or failed (shutdown alone would wait for every call to finish)."""
+    from freefloat.distributed import process_pool, terminate
+
+    pool = process_pool(1)
+    worker = pool.submit(os.getpid).result(timeout=60)
+    running = pool.submit(time.sleep, 600)
+    waiting = [pool.submit(time.sleep, 600) for _ in range(3)]
+    while not running.running():
+        time.sleep(0.01)
+    terminate(pool)
+    deadline = time.monotonic() + 20
+    while _alive(worker) and time.monotonic() < deadline:
+        time.sleep(0.1)
+    assert not _alive(worker)
+    assert running.exception(timeout=20) is not None
+    assert all(f.cancelled() or f.exception(timeout=20) is not None for f in waiting)

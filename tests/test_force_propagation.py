@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from freefloat import load_robot
-from freefloat.app.reproduce.states import state_with_momentum
+from freefloat.lab.reproduce.states import state_with_momentum
 from freefloat.space.force_propagation import equivalent_torques, stacked_wrench
 
 from .conftest import REPO

@@ -56,7 +56,7 @@ def test_s_is_saved_and_drawn(tmp_path):
 @pytest.fixture(scope="module")
 def rsu_ppap_study():
     """The study's design (2 cm grid of home +- 4 cm) and the built-in 2RSU+PPaP scene."""
-    from freefloat.app.reproduce.rsu_ppap_sliding_report import SCENE, design
+    from freefloat.lab.reproduce.rsu_ppap_sliding_report import SCENE, design
     from freefloat.app.scenes import builtin_scenes
 
     return design(), load_scene(builtin_scenes()[SCENE])
@@ -80,7 +80,7 @@ def test_rsu_ppap_sliding_mode_out_tracks_computed_torque(rsu_ppap_study, plant)
     """On the plant 15 % or 50 % off, the scene under sliding mode (the designed gains) keeps each
     platform coordinate within 0.3 times computed torque's max error (eq 190, same lambda, same
     plant) after the reaching phase, both run through the one loop."""
-    from freefloat.app.reproduce.rsu_ppap_sliding_report import variant
+    from freefloat.lab.reproduce.rsu_ppap_sliding_report import variant
 
     gains, scene = rsu_ppap_study
     smc, ct = (runner.simulate(variant(scene, plant, g)).summary for g in (gains, None))

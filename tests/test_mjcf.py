@@ -12,13 +12,13 @@ import pytest
 from hypothesis import given, settings
 
 from freefloat import RobotModelError, load_robot
-from freefloat.app.bench.mjcf import (
+from freefloat.lab.bench.in_mujoco.mjcf import (
     InertiaBalanceWarning,
     balanced_model,
     mjcf,
     mjcf_from_model,
 )
-from freefloat.app.bench.mujoco_state import to_mujoco, velocity_map
+from freefloat.lab.bench.in_mujoco.state import to_mujoco, velocity_map
 from freefloat.robot.inertias import triangle_violations
 
 from .conftest import load_text, random_robots, random_state, robot_from_case

@@ -10,9 +10,9 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
-from freefloat.app.bench.mjcf import mjcf_from_model
-from freefloat.app.bench.mujoco_state import from_mujoco, to_mujoco
-from freefloat.app.bench.scenes import tumbling_scene
+from freefloat.lab.bench.in_mujoco.mjcf import mjcf_from_model
+from freefloat.lab.bench.in_mujoco.state import from_mujoco, to_mujoco
+from freefloat.lab.bench.scenes.tumbling import tumbling_scene
 from freefloat.robot.conventions import momentum_about_origin
 
 

@@ -4,6 +4,7 @@ and mechanism scenes from an empty folder (not from the repository)."""
 from __future__ import annotations
 
 import os
+import re
 import signal
 import subprocess
 import sys
@@ -86,6 +87,19 @@ def test_mechanism_closure_file_is_found_from_an_empty_folder(installed, tmp_pat
     done = freefloat_from(installed, "simulate", "s.toml", "--quiet", "--no-html", "--no-figures", "--out", "out",
                           cwd=tmp_path)
     assert done.returncode == 0, done.stderr
+
+
+def test_the_lab_comes_in_through_its_entry_point(installed, tmp_path):
+    """The wheel declares the lab's plug-in (entry point ``lab`` of group freefloat.plugins), and
+    freefloat run from the wheel finds bench and reproduce through it and runs them."""
+    wheel = next((installed / "dist").glob("freefloat-*.whl"))
+    with zipfile.ZipFile(wheel) as files:
+        points = files.read(next(n for n in files.namelist() if n.endswith(".dist-info/entry_points.txt"))).decode()
+    assert "[freefloat.plugins]\nlab = freefloat.lab.plugin" in points
+    done = freefloat_from(installed, "--help", cwd=tmp_path)
+    assert done.returncode == 0 and re.search(r"\{simulate,.*,verify,reproduce,bench,atlas\}", done.stdout), done.stdout
+    done = freefloat_from(installed, "reproduce", "chattering", "--quick", "--out", "out", cwd=tmp_path)
+    assert done.returncode == 0 and (tmp_path / "out" / "report.json").is_file(), done.stderr
 
 
 def test_a_command_past_its_timeout_leaves_no_process_behind(tmp_path):

@@ -10,7 +10,7 @@ import time
 import numpy as np
 import pytest
 
-from freefloat.app.reproduce.models_report import REGIMES, attitude_study, tumbling_run
+from freefloat.lab.reproduce.models_report import REGIMES, attitude_study, tumbling_run
 
 ANGULAR_ONLY = list(REGIMES)[1]
 
@@ -36,7 +36,7 @@ def test_attitude_study_shows_the_singularity_and_the_printed_eq_11():
 @pytest.mark.slow
 def test_task_space_run_follows_the_joint_space_path(tmp_path):
     """Sec 5.2 (short run): the task-space run tracks the joint-space path and KJC is tiny."""
-    from freefloat.app.reproduce.task_space_report import reproduce
+    from freefloat.lab.reproduce.task_space_report import reproduce
 
     report = reproduce(tmp_path, quick=True)
     assert max(report["table2"]["overall"]) < 1e-4          # deg-dominated pose error
@@ -48,7 +48,7 @@ def test_task_space_run_follows_the_joint_space_path(tmp_path):
 
 def test_corrected_phase_schedule_matches_exact_and_the_printed_one_does_not(tmp_path):
     """One model per capture phase: the corrected schedule stays on the exact path, the printed one leaves it."""
-    from freefloat.app.reproduce.phases_report import reproduce
+    from freefloat.lab.reproduce.phases_report import reproduce
 
     report = reproduce(tmp_path, quick=True)
     corrected, printed = report["schedules"]["corrected"], report["schedules"]["as printed"]
@@ -62,7 +62,7 @@ def test_robustness_study_keeps_its_samples_and_resumes(tmp_path):
     recomputing (issue 13 item 15)."""
     import json
 
-    from freefloat.app.reproduce.five_bar_report import reproduce_robustness
+    from freefloat.lab.reproduce.five_bar_report import reproduce_robustness
 
     first = reproduce_robustness(tmp_path, quick=True)
     lines = (tmp_path / "samples.jsonl").read_text().splitlines()
@@ -74,7 +74,7 @@ def test_robustness_study_keeps_its_samples_and_resumes(tmp_path):
 def test_printed_gains_reach_s_y_in_the_documents_time():
     """With eq 187's printed gains on the 15 % plant, s_y enters |s| < 0.02 at 0.007-0.0085 s
     (the document: about 0.008 s)."""
-    from freefloat.app.reproduce.five_bar_report import eq_187_gains, reaching_times
+    from freefloat.lab.reproduce.five_bar_report import eq_187_gains, reaching_times
     from freefloat.parallel.closed_loop import track_five_bar
     from freefloat.parallel.five_bar import TRUE_PARAMETERS, FiveBarParameters, five_bar
     from freefloat.parallel.sliding_mode import PlatformControl, circle_reference
@@ -97,7 +97,7 @@ def _recomputed(*args) -> dict:
 def test_models_study_journals_each_part_and_resumes(tmp_path, monkeypatch):
     """An interrupted models study keeps every finished part in its journal, and a rerun into the
     same folder takes them instead of recomputing (it wrote only at the end)."""
-    from freefloat.app.reproduce import JOURNALS, models_report
+    from freefloat.lab.reproduce import JOURNALS, models_report
 
     monkeypatch.setattr(models_report, "figures", lambda report, out: None)
     monkeypatch.setattr(models_report, "markdown", lambda report: "report")

@@ -12,9 +12,10 @@ import re
 import numpy as np
 import pytest
 
-from freefloat.app.reproduce import STUDIES
-from freefloat.app.reproduce import folders as folders_module
-from freefloat.app.reproduce.report_entries import DISSERTATION, ENTRIES, THESIS
+from freefloat.lab.reproduce import STUDIES
+from freefloat.lab.reproduce import folders as folders_module
+from freefloat.lab.reproduce.report.entries import ENTRIES
+from freefloat.lab.reproduce.report.entry import DISSERTATION, THESIS
 
 #: Every figure and table of dissertation chapters 4-5 (figs 6-56, tables 1-5) and thesis sec 5.6
 #: (figs 6-25, table 2), from the documents' lists of figures and tables.
@@ -215,7 +216,7 @@ def test_the_pdf_opens_with_a_title_page_holding_the_provenance_as_a_table(repor
     """Page 1: the title and one table row per provenance item (commit, settings, each version,
     each study), its name in one column and its value in the other (no 'versions.pin: 4.1.0'
     dump); the PDF has that page and one per entry."""
-    from freefloat.app.reproduce.report_pages import provenance_rows, title_page
+    from freefloat.lab.reproduce.report.pages import provenance_rows, title_page
 
     out, entries, record, _ = report
     provenance = record["provenance"]
@@ -237,8 +238,8 @@ def test_a_quick_report_is_marked_on_its_title_every_page_and_every_figure(repor
     figure's picture carries it (bottom right, in red), which a full report's does not."""
     from matplotlib.image import imread
 
-    from freefloat.app.reproduce.report_pages import QUICK, build_entry, entry_page, title_page
-    from freefloat.app.reproduce.report_results import Results
+    from freefloat.lab.reproduce.report.pages import QUICK, build_entry, entry_page, title_page
+    from freefloat.lab.reproduce.report.results import Results
 
     out, _, record, _ = report
     assert html.escape(QUICK) in (out / "report.html").read_text()
@@ -254,8 +255,8 @@ def test_a_quick_report_is_marked_on_its_title_every_page_and_every_figure(repor
 
 def test_an_entry_without_its_study_says_why(tmp_path):
     """Built on an empty folder, an entry is 'not reproduced' with the missing study named."""
-    from freefloat.app.reproduce.report_pages import build_entry
-    from freefloat.app.reproduce.report_results import Results
+    from freefloat.lab.reproduce.report.pages import build_entry
+    from freefloat.lab.reproduce.report.results import Results
 
     entry = next(e for e in ENTRIES if e.study == "series" and e.draw is not None)
     built = build_entry(entry, Results(tmp_path))
@@ -276,7 +277,7 @@ def test_interrupted_all_keeps_finished_studies_and_a_rerun_resumes(tmp_path, mo
         return {}
 
     monkeypatch.setattr(folders_module, "run_study", fake_study)
-    monkeypatch.setattr("freefloat.app.reproduce.report_pages.build", lambda results, out, record: [])
+    monkeypatch.setattr("freefloat.lab.reproduce.report.pages.build", lambda results, out, record: [])
     names = ("task_space", "five_bar")
     with pytest.raises(KeyboardInterrupt, match="task_space"):
         folders_module.run_all(tmp_path, False, True, {}, say=lambda line: None, names=names)
@@ -299,7 +300,7 @@ def test_progress_names_each_study_in_order(report):
 @pytest.mark.slow
 def test_runs_start_at_table_4s_printed_angles(report):
     """Table 4: both runs start at the printed joint angles (0.5 deg off the stretched arms, 1e-9 deg)."""
-    from freefloat.app.reproduce.report_entries import TABLE_4
+    from freefloat.lab.reproduce.printed import TABLE_4
 
     _, entries, _, _ = report
     e = entries[(DISSERTATION, "Table 4")]
@@ -311,8 +312,8 @@ def test_runs_start_at_table_4s_printed_angles(report):
 def test_a_run_the_user_stops_stops_the_study():
     """The loop returns an interrupted run (``simulate`` keeps its rows); a study's ``finished``
     turns it back into KeyboardInterrupt, and passes a completed run through."""
-    from freefloat.app.reproduce.interrupts import finished
-    from freefloat.app.reproduce.task_space_report import load_robot
+    from freefloat.lab.reproduce.interrupts import finished
+    from freefloat.lab.reproduce.task_space_report import load_robot
     from freefloat.dynamics.integrators import make_integrator
     from freefloat.dynamics.models import ExactModel
     from freefloat.dynamics.simulation import run
@@ -341,7 +342,7 @@ def test_workspace_grid_agrees_with_the_closed_form_workspace(report):
     from freefloat.parallel.five_bar import FiveBarParameters
     from freefloat.parallel.maps import five_bar_exact
 
-    from freefloat.app.reproduce.report_entries import CIRCLE
+    from freefloat.lab.reproduce.report.checks import CIRCLE
 
     out, entries, _, _ = report
     (area_row,) = [r for r in entries[(THESIS, "Fig 8")]["rows"] if r["quantity"].startswith("workspace area")]
@@ -364,7 +365,7 @@ def test_overwrite_refuses_before_clearing_anything_when_a_study_folder_holds_a_
         return {}
 
     monkeypatch.setattr(folders_module, "run_study", fake_study)
-    monkeypatch.setattr("freefloat.app.reproduce.report_pages.build", lambda results, out, record: [])
+    monkeypatch.setattr("freefloat.lab.reproduce.report.pages.build", lambda results, out, record: [])
     names = ("task_space", "five_bar")
     folders_module.run_all(tmp_path, False, True, {}, say=lambda line: None, names=names)
     (tmp_path / "five_bar" / "mine.txt").write_text("a user's notes")
@@ -398,7 +399,7 @@ def test_a_study_finished_with_the_other_quick_setting_is_made_again(tmp_path, m
         return {}
 
     monkeypatch.setattr(folders_module, "run_study", fake_study)
-    monkeypatch.setattr("freefloat.app.reproduce.report_pages.build", lambda results, out, record: [])
+    monkeypatch.setattr("freefloat.lab.reproduce.report.pages.build", lambda results, out, record: [])
     for quick in (True, True, False):
         folders_module.run_all(tmp_path, False, quick, {}, say=lambda line: None, names=("series",))
     assert calls == [("series", False, True), ("series", True, False)]

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from freefloat.app.reproduce.stability_cases import ClosedChain, Detumbling, Tumbling, whole_steps
+from freefloat.lab.reproduce.stability_cases import ClosedChain, Detumbling, Tumbling, whole_steps
 from freefloat.dynamics.stability import largest_stable_step
 from freefloat.errors import FreefloatError
 

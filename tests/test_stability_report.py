@@ -7,8 +7,8 @@ import json
 
 import pytest
 
-from freefloat.app.reproduce import stability_report
-from freefloat.app.reproduce.stability_cases import Case
+from freefloat.lab.reproduce import stability_report
+from freefloat.lab.reproduce.stability_cases import Case
 
 
 class Threshold(Case):

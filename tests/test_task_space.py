@@ -70,7 +70,7 @@ def test_task_space_controller_tracks_end_effector_rates(joint_space_run):
 def test_analytic_qddot_tracks_closer_than_the_backward_difference(tmp_path):
     """Sec 5.2 at 1 ms (quick): qddot_d from dJ*/dt tracks the joint-space path closer than the
     dissertation's backward difference, which the report's Table 2 keeps."""
-    from freefloat.app.reproduce.task_space_report import reproduce
+    from freefloat.lab.reproduce.task_space_report import reproduce
 
     report = reproduce(tmp_path, quick=True)
     backward, analytic = report["table2"]["overall"], report["qddot_analytic"]["table2_analytic"]["overall"]
@@ -82,7 +82,7 @@ def test_reference_accelerations_are_the_derivative_of_the_rates(joint_space_run
     """The report's end-effector accelerations (ABA + classical frame acceleration) equal central
     differences of the end-effector rates along the joint-space run, to the differences' O(h) (the
     torque is held over each 1 ms step, so the acceleration jumps at every sample)."""
-    from freefloat.app.reproduce.task_space_report import end_effector_accelerations, end_effector_rates
+    from freefloat.lab.reproduce.task_space_report import end_effector_accelerations, end_effector_rates
 
     robot, tel = joint_space_run
     rows = task_rows(robot, ROWS)

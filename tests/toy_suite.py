@@ -33,7 +33,7 @@ def measure(settings: dict) -> Iterator[tuple[str, dict]]:
 
 def chart(report: dict, path: Path) -> None:
     """A stand-in chart (a small blank PNG), drawn from the parts in :data:`DRAWN`."""
-    from freefloat.app.bench.suites.drawing import save, subplots
+    from freefloat.lab.bench.suites.drawing import save, subplots
 
     DRAWN[:] = [key for key in PARTS if key in report]
     fig, _ = subplots(1, 1, (3.0, 2.0))

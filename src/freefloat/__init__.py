@@ -28,6 +28,7 @@ from .errors import (
     InvalidArgument,
     MissingExtra,
     NotAssembled,
+    PluginError,
     RobotModelError,
     RunFolderError,
     SceneError,
@@ -67,7 +68,7 @@ _PUBLIC = {
     # scenes, runs, bench
     "load_scene": "freefloat.app.scenes", "find_scene": "freefloat.app.scenes",
     "simulate": "freefloat.app.runner",
-    "bench": "freefloat.app.bench.report",
+    "use": "freefloat.registry",
 }
 
 
@@ -82,7 +83,8 @@ def __dir__() -> list[str]:
 
 #: The error and warning types, defined in freefloat.errors (every one is exported).
 _ERRORS = ("BadShape", "ClosureFileError", "DataFileError", "FreefloatError", "FreefloatNote", "FreefloatWarning",
-           "InfeasiblePlan", "InvalidArgument", "MissingExtra", "NotAssembled", "RobotModelError", "RunFolderError",
-           "SceneError", "SimulationDiverged", "SingularityError", "TargetMissed", "TelemetryFileError", "UnknownName")
+           "InfeasiblePlan", "InvalidArgument", "MissingExtra", "NotAssembled", "PluginError", "RobotModelError",
+           "RunFolderError", "SceneError", "SimulationDiverged", "SingularityError", "TargetMissed",
+           "TelemetryFileError", "UnknownName")
 
 __all__ = sorted([*_PUBLIC, *_ERRORS, "__version__"])

@@ -76,6 +76,20 @@ class _Pool(ProcessPoolExecutor):
         return False
 
 
+def terminate(pool: ProcessPoolExecutor) -> None:
+    """Stop ``pool`` now: calls not started cancelled, running ones killed (Python 3.14's
+    ``terminate_workers``; before it, the executor's own process table, read before ``shutdown``
+    empties it)."""
+    stop = getattr(pool, "terminate_workers", None)
+    processes = list((getattr(pool, "_processes", None) or {}).values())
+    pool.shutdown(wait=False, cancel_futures=True)
+    if stop is not None:
+        stop()
+        return
+    for process in processes:
+        process.terminate()
+
+
 #: The signals that stop a freefloat command (held while a worker is launched).
 _STOPS = {signal.SIGINT, signal.SIGTERM, signal.SIGHUP}
 

@@ -182,6 +182,11 @@ class TelemetryFileError(FreefloatError):
     the file and what is wrong with it."""
 
 
+class PluginError(FreefloatError):
+    """A plug-in that failed to import: an entry point of group ``freefloat.plugins`` or a user's
+    module (:func:`freefloat.registry.use`); the message names it and gives its error."""
+
+
 class FreefloatWarning(UserWarning):
     """Something in a file or a setting was taken with a stated assumption (missing limits, a mesh
     left out, inertias no rigid body has, ...): worth checking."""

@@ -2,15 +2,20 @@
 
 ``scenes`` (TOML schema, built-in scenes), ``experiments`` (one module per experiment kind and
 their registry), ``runner`` (the one loop life cycle: start, progress, interruption, partial
-results), ``outputs`` (the one run-folder writer), ``viz`` (meshcat pages, figures),
-``reproduce`` (the documents' studies), ``bench`` (side by side with MuJoCo), ``batch`` (N
-seeded varied runs of a scene, serially, on a process pool or on Dask) and ``cli`` (the
-``freefloat`` command).
+results), ``outputs`` (the one run-folder writer), ``viz`` (meshcat pages, figures), ``batch`` (N
+seeded varied runs of a scene, serially, on a process pool or on Dask), ``atlas`` (maps over a
+grid), ``commands`` (the commands plug-ins add) and ``cli`` (the ``freefloat`` command).
 
 May import every layer below: :mod:`freefloat.space`, :mod:`freefloat.parallel`,
-:mod:`freefloat.dynamics`, :mod:`freefloat.robot`. Nothing imports it but the command line.
+:mod:`freefloat.dynamics`, :mod:`freefloat.robot`. Only the front door and :mod:`freefloat.lab`
+import it.
 """
 
-from ..lazy import lazy_modules  # noqa: E402
+from __future__ import annotations
 
-__getattr__ = lazy_modules(__name__)  # its modules, imported on first use as attributes
+from ..lazy import lazy_exports
+
+#: The app's registries (imported on first use): the atlas's kinds and the plug-ins' commands; its
+#: modules are attributes too, imported on first use.
+_EXPORTS = {"ATLAS_KINDS": ("freefloat.app.atlas.kinds", "KINDS"), "COMMANDS": "freefloat.app.commands"}
+__getattr__ = lazy_exports(__name__, _EXPORTS, globals())

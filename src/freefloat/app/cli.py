@@ -1,6 +1,7 @@
 """Command line: ``freefloat simulate [SCENE] [--out DIR]`` (robot and mechanism scenes),
 ``freefloat batch``, ``freefloat scenes``, ``freefloat robots``, ``freefloat verify``,
-``freefloat reproduce``, ``freefloat bench``, ``freefloat atlas``."""
+``freefloat atlas``, and the commands plug-ins register in :data:`~.commands.COMMANDS` (the lab's
+``freefloat reproduce`` and ``freefloat bench``), loaded only when the command line may name one."""
 
 from __future__ import annotations
 
@@ -9,19 +10,15 @@ import importlib
 import sys
 import time
 import warnings
-from collections.abc import Callable
 from importlib.metadata import version
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from ..errors import FreefloatError, InvalidArgument, SceneError, command_line, did_you_mean
+from ..errors import FreefloatError, InvalidArgument, PluginError, SceneError, command_line, did_you_mean
 from .atlas.kinds import KINDS as ATLAS_KINDS
-from .bench.suites import ALL as ALL_SUITES
-from .bench.suites import DEFAULT as DEFAULT_SUITE
-from .bench.suites import SUITES
+from .commands import COMMANDS, Command
 from .folder_names import default_folder
 from .progress_bar import LoopBar
-from .reproduce import ALL_STUDIES, STUDIES
 from .shown_warnings import HeldWarnings, shown_warnings
 from .signals import arrived_before_main, signals_deferred, signals_raise_keyboard_interrupt
 
@@ -34,8 +31,10 @@ DESCRIPTION = ("Dynamics, simulation and control of free-floating multi-arm spac
                "mechanisms, on Pinocchio. Each command has its own --help.")
 #: The module each command imports first (with the robot loaders and their libraries), while
 #: Ctrl-C is deferred.
-HEAVY = {"simulate": ".runner", "batch": ".batch", "bench": ".runner", "reproduce": ".runner", "verify": ".runner",
-         "info": ".runner", "view": ".view", "atlas": ".atlas.engine"}
+HEAVY = {"simulate": ".runner", "batch": ".batch", "verify": ".runner", "info": ".runner", "view": ".view",
+         "atlas": ".atlas.engine"}
+#: The commands freefloat itself has; any other is a plug-in's (:data:`~.commands.COMMANDS`).
+BUILT_IN = ("simulate", "batch", "scenes", "robots", "info", "view", "verify", "atlas")
 
 
 class _Parser(argparse.ArgumentParser):
@@ -49,6 +48,12 @@ class _Parser(argparse.ArgumentParser):
 
 def main(argv: list[str] | None = None) -> int:
     """Entry point; returns the exit status (0 ok, 1 run stopped early, 2 bad input)."""
+    argv = sys.argv[1:] if argv is None else list(argv)
+    try:
+        plugged = _plugged(argv)
+    except FreefloatError as exc:  # a plug-in that fails to import
+        print(f"freefloat: error: {exc}", file=sys.stderr)
+        return 2
     parser = _Parser(prog="freefloat", description=DESCRIPTION)
     parser.add_argument("--version", action="version", version=f"freefloat {version('freefloat')}")
     commands = parser.add_subparsers(dest="command", required=True)
@@ -102,43 +107,19 @@ def main(argv: list[str] | None = None) -> int:
     ver.add_argument("--samples", type=int, default=10, help="random states to check (default 10)")
     ver.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
     ver.add_argument("--json", type=Path, default=None, help="also write the report as JSON here")
-    rep = commands.add_parser("reproduce", help="reproduce a study of the documents against the exact reference")
-    rep.add_argument("study", choices=[*STUDIES, ALL_STUDIES],
-                     help="; ".join(f"{name}: {study.help}" for name, study in STUDIES.items())
-                          + f"; {ALL_STUDIES}: every study, then one report of both documents (HTML and PDF)")
-    rep.add_argument("--out", type=Path, default=None, help="output folder (default: runs/reproduce-<study>-<time>)")
-    rep.add_argument("--overwrite", action="store_true",
-                     help="replace the study freefloat wrote in --out (default: continue it from its journal; a "
-                          "folder holding other files is refused)")
-    rep.add_argument("--quick", action="store_true", help="short runs and few samples (a smoke test)")
-    rep.add_argument("--workers", type=int, default=2, help="parallel processes (default 2)")
-    rep.add_argument("--runs", type=int, default=20, help="robustness: Monte-Carlo runs (default 20)")
-    rep.add_argument("--error", type=float, default=0.5, help="robustness: parameter error band (default 0.5 = 50 %%)")
-    rep.add_argument("--scheduler", default=None, help="robustness: Dask scheduler address (default: a local cluster)")
-    ben = commands.add_parser("bench", help="speed side by side in one process: freefloat against MuJoCo per scene, "
-                                             "or a suite of measurements (--suite)")
-    ben.add_argument("scenes", nargs="*", metavar="SCENE",
-                     help=f"the {DEFAULT_SUITE} suite's scenes: four_arm, dual_arm, controlled, detumbling, five_bar, "
-                          "rsu_ppap (default: these six), and five_bar_free_base, rsu_ppap_free_base, "
-                          "capture_two_hands_satellite")
-    ben.add_argument("--suite", nargs="+", default=None, metavar="NAME",
-                     help="; ".join(f"{name}: {suite.help}" for name, suite in SUITES.items()).replace("%", "%%")
-                          + f"; {ALL_SUITES}: every suite (default: {DEFAULT_SUITE})")
-    ben.add_argument("--quick", action="store_true", help="a few points, short runs, one repeat (a smoke test)")
-    ben.add_argument("--repeats", type=int, default=None,
-                     help="repeats of each measurement (default: each suite's own, fewer with --quick)")
-    ben.add_argument("--out", type=Path, default=None,
-                     help="output folder (default: runs/bench-<time>; with --suite, runs/bench-<names>-<time>)")
-    _atlas_parser(commands)
+    for command in plugged:
+        command.arguments(commands.add_parser(command.name, help=command.help))
+    _atlas_parser(commands, listed="atlas" in argv)
     args = parser.parse_args(argv)
-    commands_run = {"simulate": _simulate, "batch": _batch, "bench": _bench, "scenes": lambda _: _scenes(),
-                    "robots": lambda _: _robots(), "verify": _verify, "reproduce": _reproduce, "info": _info,
-                    "view": _view, "atlas": _atlas}
+    commands_run = {"simulate": _simulate, "batch": _batch, "scenes": lambda _: _scenes(),
+                    "robots": lambda _: _robots(), "verify": _verify, "info": _info, "view": _view, "atlas": _atlas,
+                    **{command.name: command.run for command in plugged}}
+    heavy = {**HEAVY, **{command.name: command.heavy for command in plugged if command.heavy}}
     try:
         early_too = arrived_before_main()
         with signals_deferred() as early:  # Ctrl-C while importing: trimesh would swallow it
-            if args.command in HEAVY:
-                importlib.import_module(HEAVY[args.command], __package__)
+            if args.command in heavy:
+                importlib.import_module(heavy[args.command], __package__)
         if early.is_set() or early_too:
             raise KeyboardInterrupt("while starting; nothing was written")
         with signals_raise_keyboard_interrupt(), command_line():  # SIGTERM, SIGHUP: Ctrl-C; messages name options
@@ -152,29 +133,30 @@ def main(argv: list[str] | None = None) -> int:
         return 1
 
 
-def _bench(args: argparse.Namespace) -> int:
-    from .bench.options import Options
-    from .bench.suites import run_suites
+def _plugged(argv: list[str]) -> list[Command]:
+    """The plug-ins' commands, when ``argv`` may name one or asks for the list (``--help``, no
+    command, a command freefloat does not have): not for a built-in command or ``--version``,
+    which start without reading the installed packages' entry points.
 
-    out = args.out or default_folder("-".join(["bench", *(args.suite or ())]))
-    with shown_warnings() as held:
-        ended = run_suites(out, args.suite or [DEFAULT_SUITE], Options(args.quick, args.repeats, tuple(args.scenes)),
-                           _released(held, print))
-    print("\n".join(line for suite in ended for line in suite.lines))
-    print(f"written to {out}")
-    if ended[-1].status != "completed":
-        print(f"freefloat: bench stopped early: {ended[-1].status} (what was measured is kept in {out})",
-              file=sys.stderr)
-        return 1
-    return 0
+    Raises:
+        PluginError: a plug-in failed to import, or named its command like a built-in one.
+    """
+    first = next((k for k, arg in enumerate(argv) if not arg.startswith("-")), len(argv))
+    if "--version" in argv[:first] or (first < len(argv) and argv[first] in BUILT_IN):
+        return []
+    taken = [name for name in COMMANDS if name in BUILT_IN]
+    if taken:
+        raise PluginError(f"a plug-in registers the command '{taken[0]}', which is freefloat's own")
+    return [COMMANDS[name] for name in COMMANDS]
 
 
-def _atlas_parser(commands: Any) -> None:
-    """The ``atlas`` subcommand's arguments (the kinds' names and help from their registry)."""
+def _atlas_parser(commands: Any, listed: bool) -> None:
+    """The ``atlas`` subcommand's arguments; with ``listed`` (the command line names it), the kinds'
+    names and help from their registry (a lookup loads the plug-ins, which may add kinds)."""
     atl = commands.add_parser("atlas", help="a map over a grid: free-floating workspace, dynamic singularities, ... "
                                             "(data, summary and figures into one folder)")
     atl.add_argument("kind", metavar="KIND", help="; ".join(f"{k.name}: {k.help} (TARGET: {k.target})"
-                                                          for k in ATLAS_KINDS.values()))
+                                                          for k in ATLAS_KINDS.values()) if listed else "the map")
     atl.add_argument("target", metavar="TARGET", help="what the kind maps: a robot's name or URDF file, a mechanism")
     atl.add_argument("--grid", type=int, default=None, help="points per grid axis (default: the kind's)")
     atl.add_argument("--axes", default=None, metavar="A,B,...",
@@ -206,11 +188,11 @@ def _atlas_parser(commands: Any) -> None:
 def _atlas(args: argparse.Namespace) -> int:
     from ..extras import require
     from .atlas.engine import run_atlas
-    from .atlas.kinds import Options, find_kind
+    from .atlas.kinds import Options
     from .batch import Workers
     from .summary_text import shown
 
-    find_kind(args.kind)
+    ATLAS_KINDS.get(args.kind)
     if args.dask or args.scheduler is not None:
         require("dask", "freefloat atlas --dask")
     if args.scheduler is not None and args.workers is not None:
@@ -350,29 +332,6 @@ def _info(args: argparse.Namespace) -> int:
     return 0
 
 
-def _reproduce(args: argparse.Namespace) -> int:
-    """One study into its folder, or ``all`` of them into one folder each plus the report
-    (:mod:`~freefloat.app.reproduce.folders`)."""
-    from .reproduce.folders import run_all, run_study
-
-    options = {"workers": max(1, args.workers), "runs": args.runs, "relative_error": args.error,
-               "scheduler": args.scheduler}
-    out = args.out or Path("runs") / f"reproduce-{args.study}-{time.strftime('%Y%m%d-%H%M%S')}"
-    if args.study == ALL_STUDIES:
-        start = time.perf_counter()
-        with shown_warnings() as held:
-            held.release()  # a study's warnings are shown as they come, beside its progress lines
-            run_all(out, args.overwrite, args.quick, options)
-        print(f"wrote {out / 'report.html'} and {out / 'report.pdf'} in {time.perf_counter() - start:.0f} s")
-        return 0
-    with shown_warnings() as held:
-        held.release()
-        report = run_study(args.study, out, args.overwrite, args.quick, options)
-    print((out / "report.md").read_text())
-    print(f"wrote {out} in {report['wall_time_s']:.0f} s")
-    return 0
-
-
 def _verify(args: argparse.Namespace) -> int:
     from ..dynamics.verify import MAX_SAMPLES, check_robot, write_report
     from ..robot.loading import load_robot
@@ -498,16 +457,6 @@ def _live_view(scene, setup) -> LiveView | None:
     print(f"live viewer: {live.url}")
     webbrowser.open(live.url)
     return live
-
-
-def _released(held: HeldWarnings, show: Callable[[str], None]) -> Callable[[str], None]:
-    """``show`` that first releases the held warnings (its first line means the command is past
-    its checks)."""
-    def show_line(line: str) -> None:
-        held.release()
-        show(line)
-
-    return show_line
 
 
 def _report(outcome: Outcome, units: dict[str, str]) -> int:

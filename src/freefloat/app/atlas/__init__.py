@@ -20,7 +20,7 @@ Modules:
     writer: the output folder's files.
     workspace, singularities: the space-robot kinds.
 
-The contract of a kind (adding one is one module here plus one :func:`~.kinds.register` line in
+The contract of a kind (adding one is one module here plus one ``KINDS.register`` line in
 :mod:`.kinds`): the module defines, at top level,
 
 - ``OPTIONS: frozenset[str]``: the :class:`~.kinds.Options` fields it reads (the others, when

@@ -29,6 +29,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ...documents import start_angles
 from ...dynamics import gjm
 from ...dynamics.gjm import GJMState
 from ...dynamics.gjm.kinematics import BodyKinematics
@@ -101,8 +102,6 @@ def reference_posture(robot: Robot, target: str) -> np.ndarray:
     and 4 at 90 deg) for the four-arm robot, each joint's mid-range otherwise (zero for a joint
     whose range includes it symmetrically or has none)."""
     if Path(target).stem == "four_arm_planar":
-        from ..reproduce.task_space_report import start_angles
-
         return start_angles(0.0)
     low, high = joint_limits(robot)
     return np.where(np.isfinite(low) & np.isfinite(high), 0.5 * (low + high), 0.0)

@@ -25,12 +25,12 @@ from typing import Any, Callable
 
 import numpy as np
 
-from ...distributed import client, process_pool, settle_futures
+from ...distributed import client, process_pool, settle_futures, terminate
 from ...errors import FreefloatError
-from ..batch.executors import Workers, _terminate
+from ..batch import Workers
 from ..run_folder import RunFolder
 from .grid import Grid, check_memory
-from .kinds import AtlasKind, Options, find_kind
+from .kinds import KINDS, AtlasKind, Options
 from .writer import write_outputs
 
 JOURNAL = "atlas-journal.jsonl"
@@ -98,7 +98,7 @@ def run_atlas(kind: str, target: str, options: Options, out: Path, workers: Work
             that is not free or holds another atlas.
     """
     started = time.perf_counter()
-    entry = find_kind(kind)
+    entry = KINDS.get(kind)
     module = entry.check_options(options)
     context = module.prepare(target, options)
     grid = module.grid(context, options)
@@ -204,9 +204,9 @@ def _execute(workers: Workers, kind: AtlasKind, context: Any, grid: Grid, spans:
                     finished(i, evaluate_chunk(kind, context, grid, *spans[i]))
                 _drain(pending, finished, 0.0 if queue else None)
             if not all(future.done() for future in started):
-                _terminate(pool)  # a worker still starting has no chunk left: do not wait for its imports
+                terminate(pool)  # a worker still starting has no chunk left: do not wait for its imports
         except BaseException:
-            _terminate(pool)
+            terminate(pool)
             raise
         finally:
             pool.shutdown(wait=True, cancel_futures=True)

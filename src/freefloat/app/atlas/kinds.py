@@ -2,7 +2,7 @@
 
 Each :class:`AtlasKind` names the module that computes it (imported when the kind runs, so the
 command line's help stays cheap); the module's contract is in the package's docstring. A new
-kind is one module plus one :func:`register` line at the end of this file.
+kind is one module plus one ``KINDS.register`` line at the end of this file.
 """
 
 from __future__ import annotations
@@ -12,7 +12,8 @@ import importlib
 from dataclasses import dataclass
 from types import ModuleType
 
-from ...errors import InvalidArgument, UnknownName
+from ...errors import InvalidArgument
+from ...registry import Registry
 
 
 @dataclass(frozen=True)
@@ -86,34 +87,17 @@ class AtlasKind:
         return module
 
 
-#: Every kind, by name.
-KINDS: dict[str, AtlasKind] = {}
+#: Every kind, by name, in the order the command's help lists them.
+KINDS: Registry[AtlasKind] = Registry("atlas kind")
 
-
-def register(kind: AtlasKind) -> None:
-    """Add ``kind`` to :data:`KINDS`."""
-    KINDS[kind.name] = kind
-
-
-def find_kind(name: str) -> AtlasKind:
-    """The kind called ``name``.
-
-    Raises:
-        UnknownName: listing the kinds.
-    """
-    if name not in KINDS:
-        raise UnknownName("atlas kind", name, KINDS)
-    return KINDS[name]
-
-
-register(AtlasKind("workspace", "free-floating workspace of an end-effector (reachable, path-independent and "
+KINDS.register(AtlasKind("workspace", "free-floating workspace of an end-effector (reachable, path-independent and "
                    "path-dependent), beside the fixed-base one", "a robot: name or URDF file", ".workspace"))
-register(AtlasKind("singularities", "dynamic singularities (rank loss of J*) against the fixed-base ones of Jm, "
+KINDS.register(AtlasKind("singularities", "dynamic singularities (rank loss of J*) against the fixed-base ones of Jm, "
                    "condition number and manipulability of both", "a robot: name or URDF file", ".singularities"))
-register(AtlasKind("feasibility", "where the worst-case sliding-mode gain design has a solution (eq 161) over the "
+KINDS.register(AtlasKind("feasibility", "where the worst-case sliding-mode gain design has a solution (eq 161) over the "
                    "uncertainty set", "a closed-chain mechanism: five_bar or rsu_ppap", ".feasibility"))
-register(AtlasKind("mechanism", "a closed-chain mechanism's workspace, type I and type II singularity loci and its "
+KINDS.register(AtlasKind("mechanism", "a closed-chain mechanism's workspace, type I and type II singularity loci and its "
                    "working / assembly modes", "a closed-chain mechanism: five_bar or rsu_ppap", ".mechanism_maps"))
-register(AtlasKind("capture_envelope", "where a planned capture scene's target can be grasped within the limits "
+KINDS.register(AtlasKind("capture_envelope", "where a planned capture scene's target can be grasped within the limits "
                    "(meeting points over a plane of reach offsets, each planned and checked)",
                    "a one-hand capture scene with [approach]: name or file", ".capture_envelope"))

@@ -18,6 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ...documents import DIRECTION, FIGS_38_40_OFFSET_DEG, TASK_DEG, TASK_S, start_angles
 from .arm_figures import joint_panel
 from .arm_maps import OPTIONS, ArmMap, described, evaluate, robot_of
 from .arm_maps import prepare as prepare_arm
@@ -29,7 +30,7 @@ __all__ = ["OPTIONS", "evaluate", "figures", "figs_38_40", "grid", "prepare", "s
 #: Points per axis of the default grid.
 POINTS_PER_AXIS = 101
 #: Start offsets of the dissertation's figs 38-40, deg, and the span of their paths, s.
-OFFSETS_DEG, PATH_S = (0.0, 0.1, 1.0), 1.0
+OFFSETS_DEG, PATH_S = tuple(sorted(FIGS_38_40_OFFSET_DEG.values())), 1.0
 #: Half-width of the figs 38-40 figure's close-up about the reference posture, deg.
 ZOOM_DEG = 2.0
 
@@ -82,7 +83,6 @@ def figs_38_40(context: ArmMap, samples: int = 21) -> dict[float, dict[str, np.n
     from ...dynamics import gjm
     from ...robot.joints import JointCoordinates
     from ...space.control import QuinticTrajectory
-    from ..reproduce.task_space_report import DIRECTION, start_angles
 
     robot = robot_of(context.target, context.base)
     coords, q, v = JointCoordinates(robot), robot.neutral(), np.zeros(robot.model.nv)
@@ -91,7 +91,7 @@ def figs_38_40(context: ArmMap, samples: int = 21) -> dict[float, dict[str, np.n
     out = {}
     for offset in OFFSETS_DEG:
         start = start_angles(offset)
-        path = QuinticTrajectory(start, start + np.radians(5.0) * DIRECTION, 5.0)
+        path = QuinticTrajectory(start, start + np.radians(TASK_DEG) * np.array(DIRECTION), TASK_S)
         angles = np.array([path(t)[0] for t in np.linspace(0.0, PATH_S, samples)])
         conds = []
         for a in angles:

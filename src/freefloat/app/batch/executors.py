@@ -17,11 +17,11 @@ Dask's pending tasks cancelled, threads' runs stopped at their next chunk by
 from __future__ import annotations
 
 import contextlib
-from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, ThreadPoolExecutor, wait
+from concurrent.futures import FIRST_COMPLETED, Future, ThreadPoolExecutor, wait
 from dataclasses import dataclass
 from typing import Any, Callable, Iterator
 
-from ...distributed import client, process_pool, settle_futures
+from ...distributed import client, process_pool, settle_futures, terminate
 from ...dynamics import stop_request
 from ...dynamics.many_runs import MAX_THREADS
 from ...dynamics.threads import ONE_BLAS_THREAD
@@ -182,7 +182,7 @@ def run_pool(plans: list[RunPlan], workers: int, on_row: OnRow) -> None:
                                                                  for p in group]:
                     on_row(row)
     except BaseException:
-        _terminate(pool)
+        terminate(pool)
         raise
     finally:
         pool.shutdown(wait=True, cancel_futures=True)
@@ -232,15 +232,3 @@ def run_group(plans: list[RunPlan]) -> list[dict[str, Any]]:
 def failed_row(plan: RunPlan, message: str) -> dict[str, Any]:
     """The row of a run that never returned one."""
     return {"run": plan.index, "seed": plan.seed, "status": "failed", "message": message, **plan.varied}
-
-
-def _terminate(pool: ProcessPoolExecutor) -> None:
-    """Stop ``pool`` now: pending runs cancelled, running ones killed (Python 3.14's
-    ``terminate_workers``; before it, the executor's own process table)."""
-    pool.shutdown(wait=False, cancel_futures=True)
-    terminate = getattr(pool, "terminate_workers", None)
-    if terminate is not None:
-        terminate()
-        return
-    for process in list((getattr(pool, "_processes", None) or {}).values()):
-        process.terminate()

@@ -36,6 +36,12 @@ TIMINGS = ("wall_time_s", "sim_wall_time_s")
 ROBOTS: dict = {}
 
 
+def forget_robots() -> None:
+    """Forget the robots this process loaded for batch runs (:data:`ROBOTS`): the next run loads
+    and checks its robot again."""
+    ROBOTS.clear()
+
+
 @contextlib.contextmanager
 def _ignoring_warnings() -> Iterator[None]:
     with warnings.catch_warnings():

@@ -1,0 +1,3 @@
+"""The race against MuJoCo (the ``mujoco`` suite, ``freefloat bench``'s default): ``scene`` (what
+a scene of the race is), ``sweep`` (wall time and errors per method), ``summary`` (the cheapest
+method per accuracy band), ``chart`` (work against precision) and ``report`` (the output folder)."""

@@ -1,0 +1,82 @@
+"""The numbers the report computes itself from the package (no study's output): the momentum of
+eq 182 against Pinocchio's, the 5R's geometry at its start, the reference circle and distances to
+it, and the one-line checks of the thesis's printed equations."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..printed import CIRCLE_CENTRE, CIRCLE_RADIUS, CIRCLE_RATE, LAMBDA, SATURATION_GAIN, START
+
+#: The circle of eq 189, 400 points (400, 2), m.
+CIRCLE = np.column_stack((CIRCLE_RADIUS * np.cos(np.linspace(0, 2 * np.pi, 400)),
+                          CIRCLE_CENTRE[1] + CIRCLE_RADIUS * np.sin(np.linspace(0, 2 * np.pi, 400))))
+
+
+def momentum_eq_182(samples: int = 5, seed: int = 0) -> tuple[float, float]:
+    """Largest relative error of the momentum about the inertial origin (6,) by eq 182 as printed
+    and by the corrected form, against Pinocchio's centroidal momentum moved to the origin, at
+    ``samples`` random states of the four-arm robot on a free-flyer base."""
+    from ....dynamics import gjm
+    from ....dynamics.reference import reference
+    from ....dynamics.verify import random_state, relative_error
+    from ....paths import URDF_DIR
+    from ....robot.joints import JointCoordinates
+    from ....robot.loading import load_robot
+
+    robot = load_robot(URDF_DIR / "four_arm_planar.urdf", visuals=False)
+    rng, coords, worst = np.random.default_rng(seed), JointCoordinates(robot), [0.0, 0.0]
+    for _ in range(samples):
+        q, v = random_state(robot, rng, coords)
+        state, exact = gjm.compute(robot, q, v), reference(robot, q, v).momentum_origin
+        for k, variant in enumerate(("printed_eq182", None)):
+            value = gjm.momentum_about_origin(state, variant) if variant else gjm.momentum_about_origin(state)
+            worst[k] = max(worst[k], relative_error(value, exact))
+    return worst[0], worst[1]
+
+
+def five_bar_points() -> list[np.ndarray]:
+    """The 5R at its start :data:`~..printed.START`: each chain's base joint, elbow and tip (3, 2), m."""
+    from ....parallel.five_bar import FiveBarParameters, elbow_guess, five_bar
+
+    p = FiveBarParameters()
+    q = five_bar(p).assemble(np.array(START), elbow_guess(p, np.array(START)))
+    chains = []
+    for side, (a, b) in ((1.0, q[2:4]), (-1.0, q[4:6])):
+        base = np.array([side * p.l0, 0.0])
+        elbow = base + p.l1 * np.array([side * np.cos(a), np.sin(a)])
+        chains.append(np.array([base, elbow, elbow + p.l2 * np.array([side * np.cos(a + b), np.sin(a + b)])]))
+    return chains
+
+
+def link_lengths() -> np.ndarray:
+    """The RR chain's link lengths l1, l2 (2,), m, measured on chain 1 of :func:`five_bar_points`."""
+    return np.linalg.norm(np.diff(five_bar_points()[0], axis=0), axis=1)
+
+
+def distance(points: list, path: np.ndarray = CIRCLE) -> float:
+    """Smallest distance (m) from ``path`` (M, 2) to ``points`` (K, 2); inf without points."""
+    points = np.asarray(points, float).reshape(-1, 2)
+    return float(np.linalg.norm(path[:, None] - points[None], axis=2).min()) if len(points) else float("inf")
+
+
+def saturation(s: float) -> float:
+    """Fig 9's saturation tanh(GAIN s) at ``s``."""
+    return float(np.tanh(SATURATION_GAIN * s))
+
+
+def saturation_slope_at_zero() -> float:
+    """The slope of :func:`saturation` at s = 0: GAIN (1 - tanh(0)^2)."""
+    return float(SATURATION_GAIN * (1 - np.tanh(0.0) ** 2))
+
+
+def s_x_with_printed_error() -> float:
+    """s_x(0) = -(edot + lambda e) at rest at the start with eq 142's printed error e = qddot_d - q
+    (qddot_d(0) = -r w^2 along x on the circle of eq 189; edot(0) = 0), m/s."""
+    return -LAMBDA * (-CIRCLE_RADIUS * CIRCLE_RATE ** 2 - START[0])
+
+
+def dh_entry_1_3(angle: float) -> tuple[float, float]:
+    """Entry (1,3) of the DH matrix at theta = alpha = ``angle`` (rad): as eq 22 prints it (sin
+    theta cos alpha) and the standard sin theta sin alpha."""
+    return float(np.sin(angle) * np.cos(angle)), float(np.sin(angle) ** 2)
