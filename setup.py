@@ -36,6 +36,7 @@ import hashlib
 import importlib.util
 import json
 import os
+import platform
 import subprocess
 import sys
 import sysconfig
@@ -105,6 +106,9 @@ ORDER = ["cpp/pin_plant.cpp", "cpp/core.cpp", "cpp/sim/chain_unit.cpp", "cpp/det
          "cpp/models.cpp", "cpp/sim_unit.cpp", "cpp/chains.cpp", "cpp/sim_module.cpp", "cpp/parallel_inverse.cpp"]
 # Optimisation level per translation unit, after FLAGS' -O3 (see the module docstring).
 OPTIMIZATION = {"cpp/pin_plant.cpp": "-O1", "cpp/sim_unit.cpp": "-O1", "cpp/sim_module.cpp": "-O1"}
+# Instruction sets per translation unit: the dynamics kernel's AVX2 copy, which it calls only on a
+# CPU that has AVX2 and FMA (cpp/kernel/isa.hpp); on other platforms the unit is a second baseline copy.
+ISA = {"cpp/kernel/lanes_avx2.cpp": "-mavx2 -mfma"} if platform.machine().lower() in ("x86_64", "amd64") else {}
 # Peak memory of each unit's compile at its flags (bytes: g++ 12's maximum resident set, measured
 # alone, docs/bench.md "The build"); a unit not listed counts as the largest.
 UNIT_MEMORY = {"cpp/pin_plant.cpp": 1.24e9, "cpp/sim_module.cpp": 0.95e9, "cpp/sim_unit.cpp": 0.92e9,
@@ -160,7 +164,7 @@ class BuildExt(pybind11_build_ext):
             "pybind11": version("pybind11"), "libpinocchio": version("libpinocchio"), "eigen": version("cmeel-eigen"),
             "extensions": [[ext.name, ext.define_macros, [a for a in ext.extra_compile_args if not a.startswith("/")]]
                            for ext in self.extensions],
-            "optimization": OPTIMIZATION,
+            "optimization": OPTIMIZATION, "isa": ISA,
         }
         digest = hashlib.sha1(json.dumps(description, sort_keys=True, default=str).encode()).hexdigest()[:12]
         return f"{sysconfig.get_platform()}-{sys.implementation.cache_tag}-{digest}"
@@ -180,7 +184,7 @@ class BuildExt(pybind11_build_ext):
             [made] = self.compiler.compile([source], output_dir=scratch, macros=ext.define_macros,
                                            include_dirs=ext.include_dirs, debug=self.debug,
                                            extra_postargs=ext.extra_compile_args + OPTIMIZATION.get(source, "").split()
-                                           + ["-MMD", "-MF", str(dep)])
+                                           + ISA.get(source, "").split() + ["-MMD", "-MF", str(dep)])
             os.replace(dep, deps)
             os.replace(made, obj)
         return str(obj)
@@ -236,6 +240,8 @@ def extension(name: str, sources: list[str], flags: list[str], **kwargs) -> Pybi
 
 # The closed chains' units, in both modules: the bindings (chains.cpp) and the numerics they call.
 CHAINS = ["cpp/chains.cpp", "cpp/sim/chain_unit.cpp", "cpp/parallel_inverse.cpp"]
+# The dynamics kernel's units (no Pinocchio header): its code, its AVX2 copy, its bindings.
+KERNEL = ["cpp/kernel/kernel.cpp", "cpp/kernel/lanes_avx2.cpp", "cpp/kernel/py_kernel.cpp"]
 # One set of flags for every translation unit: cpp/chains.cpp is shared by both modules.
 LINK = {"libraries": ["pinocchio_default"], "library_dirs": [str(PINOCCHIO / "lib")],
         # where the wheel's package sits beside pin's cmeel.prefix; an editable install finds the
@@ -247,7 +253,8 @@ setup(
         extension("freefloat.dynamics._core", ["cpp/core.cpp", "cpp/gjm.cpp", "cpp/models.cpp"] + CHAINS,
                   FLAGS + PINOCCHIO_FLAGS, **LINK),
         extension("freefloat.dynamics._sim",
-                  ["cpp/pin_plant.cpp", "cpp/sim_unit.cpp", "cpp/sim_module.cpp", "cpp/detumbling.cpp"] + CHAINS,
+                  ["cpp/pin_plant.cpp", "cpp/sim_unit.cpp", "cpp/sim_module.cpp", "cpp/detumbling.cpp"] + CHAINS
+                  + KERNEL,
                   FLAGS + PINOCCHIO_FLAGS, **LINK),
     ],
     install_requires=DEPENDENCIES + [f"libpinocchio=={version('libpinocchio')}"],

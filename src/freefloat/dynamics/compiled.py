@@ -54,8 +54,8 @@ from .integrators import INTEGRATORS
 from .telemetry import Telemetry
 from .wrenches import WrenchField
 
-__all__ = ["COMPILED_INTEGRATORS", "COMPILED_PLANTS", "CONVENTION", "MAX_IDLE", "CompiledEngine", "CompiledLoop", "DetumblingLaw",
-           "LoopDetumblingLaw", "chunk_arrays", "clear_loops", "law_of", "unsupported"]
+__all__ = ["COMPILED_INTEGRATORS", "COMPILED_PLANTS", "CONVENTION", "MAX_IDLE", "TREE_ABA", "CompiledEngine", "CompiledLoop",
+           "DetumblingLaw", "LoopDetumblingLaw", "chunk_arrays", "clear_loops", "joint_arrays", "law_of", "unsupported"]
 
 if _sim.PINOCCHIO_VERSION != pin.__version__:  # the module is linked to the library it was built with
     raise ImportError(f"freefloat's compiled loop was built against Pinocchio {_sim.PINOCCHIO_VERSION} but "
@@ -77,6 +77,12 @@ REBUILD_TOLERANCE = 1e-9
 #: every size measured side by side, RKMK4 steps taking turns (``freefloat bench --suite
 #: simulation``, part ``convention``: docs/bench.md), so every loop uses it.
 CONVENTION = "world"
+#: The tree's forward dynamics in the compiled plant (``_sim.Simulation.tree_aba``): ``"kernel"``,
+#: freefloat's dynamics kernel (:mod:`.kernel`), wherever the tree has only joints it has (free,
+#: planar or no root joint; revolute, continuous and prismatic joints), else Pinocchio's ABA; or
+#: ``"pinocchio"`` everywhere. Both give the same numbers to round-off (tested); the kernel costs
+#: less per evaluation (``freefloat bench --suite kernel``: docs/bench.md).
+TREE_ABA = "kernel"
 #: Idle compiled loops a process keeps for the next runs (each holds its model and two ``Data``
 #: without the nv^3 tensors: about 4 MB at nv 198), the least recently used dropped first.
 MAX_IDLE = 4
@@ -257,17 +263,16 @@ def same_numbers(a: pin.Model, b: pin.Model, bodies: bool = True) -> bool:
             and np.array_equal(a.armature, b.armature) and np.array_equal(a.gravity.linear, b.gravity.linear))
 
 
-def _model_arrays(robot: Robot) -> dict[str, Any]:
-    """Joints, inertias, frames of ``robot.model`` as the arrays ``_sim.Simulation`` rebuilds from.
+def joint_arrays(model: pin.Model) -> dict[str, Any]:
+    """The joints and inertias of ``model`` as the arrays ``_sim.Simulation`` and ``_sim.Kernel``
+    rebuild it from.
 
     Per joint 1..njoints-1: parent joint index; Pinocchio kind; motion subspace ``[linear;
     angular]`` (6,) in the joint frame (zeros for multi-dof joints, which need none); placement in
     the parent joint's frame (4, 4); mass, kg; CoM in the joint frame (3,), m; rotational inertia
     about the CoM in joint-frame axes (3, 3), kg m^2. Armature (nv,), gravity in the inertial
-    frame (3,), m/s^2. Frames, in order the base CoM frame then each end-effector: parent joint and
-    placement in its frame (4, 4).
+    frame (3,), m/s^2.
     """
-    model = robot.model
     q0 = pin.neutral(model)
     joints = range(1, model.njoints)
     subspace = []
@@ -277,7 +282,6 @@ def _model_arrays(robot: Robot) -> dict[str, Any]:
         joint.calc(data, q0)
         S = np.asarray(data.S)  # (6,) for one-dof joints, (6, nv) otherwise
         subspace.append(S if S.ndim == 1 else np.zeros(6))
-    frames = [model.getFrameId(BASE_COM_FRAME), *robot.end_effector_frame_ids]
     return dict(
         parent=[int(model.parents[j]) for j in joints],
         kind=[model.joints[j].shortname() for j in joints],
@@ -289,6 +293,17 @@ def _model_arrays(robot: Robot) -> dict[str, Any]:
         rotational=np.array([model.inertias[j].inertia for j in joints]).reshape(-1, 3, 3),
         armature=np.asarray(model.armature, dtype=float),
         gravity=np.asarray(model.gravity.linear, dtype=float),
+    )
+
+
+def _model_arrays(robot: Robot) -> dict[str, Any]:
+    """:func:`joint_arrays` of ``robot.model`` and its frames, as ``_sim.Simulation`` takes them:
+    in order the base CoM frame then each end-effector, parent joint and placement in its frame
+    (4, 4)."""
+    model = robot.model
+    frames = [model.getFrameId(BASE_COM_FRAME), *robot.end_effector_frame_ids]
+    return dict(
+        **joint_arrays(model),
         frame_parent=[int(model.frames[f].parentJoint) for f in frames],
         frame_placement=np.array([model.frames[f].placement.homogeneous for f in frames]).reshape(-1, 4, 4),
     )
@@ -401,6 +416,7 @@ class CompiledLoop(CompiledEngine):
         except ValueError as exc:
             raise InvalidArgument(f"{robot.urdf_path.name}: {exc}") from exc
         self.sim.convention = CONVENTION
+        self.sim.tree_aba = "kernel" if TREE_ABA == "kernel" and self.sim.kernel_refusal is None else "pinocchio"
         if isinstance(law, DetumblingLaw):
             self.sim.set_detumbling([int(r) for r in law.rows], [int(j) for j in law.joints], law.method, law.secondary,
                                     law.rcond, law.start, law.kp, law.kd, law.period, law.hold, law.previous)
