@@ -1,7 +1,8 @@
 """Many runs in one compiled call on C++ threads (freefloat.dynamics.many_runs): each run equals
 simulation.run of the same inputs bit for bit (random trees, computed torque with each run's own
-quintic, wrench profiles, the closed plant, adaptive steps), a blow-up stays in its run, a stop
-request keeps the finished rows, and what cannot share one call is refused with the reason."""
+quintic, wrench profiles, the closed plant, adaptive steps), or to round-off in lockstep; a blow-up
+stays in its run (in lockstep its lane takes the next run), a stop request keeps the finished rows,
+and what cannot share one call is refused with the reason."""
 
 from __future__ import annotations
 
@@ -26,7 +27,11 @@ from freefloat.errors import InvalidArgument
 from freefloat.space.control import ComputedTorque, QuinticTrajectory
 
 from .conftest import random_robots, random_state, robot_from_case
+from .test_compiled import assert_same_telemetry
 from .test_compiled_reuse import IMPULSE, assert_identical, robot_named
+
+#: Whether runs go in lockstep: both ways for the tests that take ``lockstep``.
+LOCKSTEP = [False, True]
 
 
 @pytest.fixture(autouse=True)
@@ -40,6 +45,15 @@ def states(robot, runs: int, seed: int, speed: float = 1.0) -> tuple[np.ndarray,
     rng = np.random.default_rng(seed)
     pairs = [random_state(robot, rng, speed) for _ in range(runs)]
     return np.array([q for q, _ in pairs]), np.array([v for _, v in pairs])
+
+
+def assert_same_run(got, alone, lockstep: bool) -> None:
+    """``got`` is simulation.run's ``alone``: bit for bit, or to round-off in lockstep (the same
+    status, steps and evaluations; telemetry to 1e-10 relative)."""
+    if not lockstep:
+        return assert_identical(got, alone)
+    assert (got.status, got.steps, got.evaluations) == (alone.status, alone.steps, alone.evaluations)
+    assert_same_telemetry(alone.telemetry, got.telemetry, tol=1e-10)
 
 
 def one_by_one(robot, q0, v0, duration, integrator, model, controllers=None, **kwargs):
@@ -58,16 +72,37 @@ def test_each_run_equals_its_own_run_on_random_trees(tmp_path_factory, case, int
     steps = make_integrator(integrator, robot.model)
     got: dict[int, object] = {}
     run_many(robot, q0, v0, 0.03, 1e-3, steps, ExactModel(robot), threads=threads, record_every=2,
-             on_result=got.__setitem__, keep=False)
+             on_result=got.__setitem__, keep=False, lockstep=False)
     expected = one_by_one(robot, q0, v0, 0.03, steps, ExactModel(robot), record_every=2)
     assert sorted(got) == list(range(5))
     for i, result in got.items():
         assert_identical(result, expected[i])
 
 
-def test_computed_torque_runs_each_follow_their_own_quintic():
+@settings(max_examples=6, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(case=random_robots(max_links=6), integrator=st.sampled_from(["rkmk4", "rkmk3", "euler", "rkmk8"]),
+       threads=st.integers(1, 2))
+def test_lockstep_runs_each_equal_their_own_run_on_random_trees(tmp_path_factory, case, integrator, threads):
+    """Seven torque-free runs in lockstep (groups of four lanes, the last lanes refilled or left
+    out) on 1-2 threads, their slots reused: every run's telemetry equals simulation.run's to
+    round-off, its steps and evaluations exactly."""
+    robot, _ = robot_from_case(tmp_path_factory, case, visuals=False)
+    q0, v0 = states(robot, 7, case[0] % 1000)
+    steps = make_integrator(integrator, robot.model)
+    got: dict[int, object] = {}
+    run_many(robot, q0, v0, 0.03, 1e-3, steps, ExactModel(robot), threads=threads, record_every=2,
+             on_result=got.__setitem__, keep=False, lockstep=True)
+    expected = one_by_one(robot, q0, v0, 0.03, steps, ExactModel(robot), record_every=2)
+    assert sorted(got) == list(range(7))
+    for i, result in got.items():
+        assert_same_run(result, expected[i], lockstep=True)
+
+
+@pytest.mark.parametrize("lockstep", LOCKSTEP)
+def test_computed_torque_runs_each_follow_their_own_quintic(lockstep):
     """Computed torque from four different starts, each run's quintic from its own start, with the
-    wrench profiles of an impulse: equal to each run alone, and the runs differ."""
+    wrench profiles of an impulse: equal to each run alone (in lockstep, to round-off), and the runs
+    differ."""
     robot = robot_named("four_arm_planar.urdf")
     rng = np.random.default_rng(5)
     q0 = np.array([robot.neutral() for _ in range(4)])
@@ -77,10 +112,11 @@ def test_computed_torque_runs_each_follow_their_own_quintic():
     controllers = [ComputedTorque(robot, QuinticTrajectory(q[robot.model.nqs[1]:], q[robot.model.nqs[1]:] + 0.3, 0.04),
                                   100.0, 20.0, "exact") for q in q0]
     steps = make_integrator("rkmk4", robot.model)
-    results = run_many(robot, q0, v0, 0.05, 1e-3, steps, model, controllers, IMPULSE, threads=2)
+    results = run_many(robot, q0, v0, 0.05, 1e-3, steps, model, controllers, IMPULSE, threads=1 + (not lockstep),
+                       lockstep=lockstep)
     expected = one_by_one(robot, q0, v0, 0.05, steps, model, controllers, wrenches=IMPULSE)
     for got, alone in zip(results, expected):
-        assert_identical(got, alone)
+        assert_same_run(got, alone, lockstep)
     assert not np.array_equal(results[0].telemetry.tau, results[1].telemetry.tau)
 
 
@@ -98,24 +134,27 @@ def varied_plants(robot, count: int, seed: int) -> list[pin.Model]:
     return plants
 
 
-def test_runs_of_other_masses_each_equal_their_plant_alone():
-    """Torque-free runs whose plants have their own masses and inertias (a batch's --vary mass):
-    each equals simulation.run of its own plant, and the loops kept after them give the nominal
-    robot's run again."""
+@pytest.mark.parametrize("lockstep", LOCKSTEP)
+def test_runs_of_other_masses_each_equal_their_plant_alone(lockstep):
+    """Torque-free runs whose plants have their own masses and inertias (a batch's --vary mass; in
+    lockstep, each lane its own): each equals simulation.run of its own plant, and the loops kept
+    after them give the nominal robot's run again."""
     robot = robot_named("four_arm_planar.urdf")
-    plants = varied_plants(robot, 4, seed=8)
-    q0, v0 = states(robot, 4, 9, speed=0.5)
+    plants = varied_plants(robot, 6, seed=8)
+    q0, v0 = states(robot, 6, 9, speed=0.5)
     steps = make_integrator("rkmk4", robot.model)
-    results = run_many(robot, q0, v0, 0.05, 1e-3, steps, ExactModel(robot), threads=2, plants=plants)
+    results = run_many(robot, q0, v0, 0.05, 1e-3, steps, ExactModel(robot), threads=2, plants=plants, lockstep=lockstep)
     for i, got in enumerate(results):
         plant = replace(robot, model=plants[i])
-        assert_identical(got, run(plant, q0[i], v0[i], 0.05, 1e-3, steps, ExactModel(plant), backend="compiled"))
-    nominal = run_many(robot, q0[:2], v0[:2], 0.05, 1e-3, steps, ExactModel(robot), threads=2)
-    for got, alone in zip(nominal, one_by_one(robot, q0[:2], v0[:2], 0.05, steps, ExactModel(robot))):
-        assert_identical(got, alone)
+        alone = run(plant, q0[i], v0[i], 0.05, 1e-3, steps, ExactModel(plant), backend="compiled")
+        assert_same_run(got, alone, lockstep)
+    nominal = run_many(robot, q0[:4], v0[:4], 0.05, 1e-3, steps, ExactModel(robot), threads=2, lockstep=lockstep)
+    for got, alone in zip(nominal, one_by_one(robot, q0[:4], v0[:4], 0.05, steps, ExactModel(robot))):
+        assert_same_run(got, alone, lockstep)
 
 
-def test_controlled_runs_of_other_masses_keep_the_nominal_law():
+@pytest.mark.parametrize("lockstep", LOCKSTEP)
+def test_controlled_runs_of_other_masses_keep_the_nominal_law(lockstep):
     """Computed torque designed on the nominal robot over plants of their own masses (a batch's
     --vary mass under control): each run equals simulation.run of its plant with the nominal
     controller, whose law computes on the nominal model (a law on the plant's masses gives other
@@ -127,11 +166,12 @@ def test_controlled_runs_of_other_masses_keep_the_nominal_law():
     controllers = [ComputedTorque(robot, QuinticTrajectory(start, start + 0.1 * (i + 1), 0.04), 100.0, 20.0, "exact")
                    for i in range(3)]
     steps = make_integrator("rkmk4", robot.model)
-    results = run_many(robot, q0, v0, 0.05, 1e-3, steps, ExactModel(robot), controllers, threads=2, plants=plants)
+    results = run_many(robot, q0, v0, 0.05, 1e-3, steps, ExactModel(robot), controllers, threads=2, plants=plants,
+                       lockstep=lockstep)
     for i, got in enumerate(results):
         plant = replace(robot, model=plants[i])
-        assert_identical(got, run(plant, q0[i], v0[i], 0.05, 1e-3, steps, ExactModel(plant), controllers[i],
-                                  backend="compiled"))
+        assert_same_run(got, run(plant, q0[i], v0[i], 0.05, 1e-3, steps, ExactModel(plant), controllers[i],
+                                 backend="compiled"), lockstep)
     own = run(replace(robot, model=plants[0]), q0[0], v0[0], 0.05, 1e-3, steps,
               ExactModel(replace(robot, model=plants[0])),
               ComputedTorque(replace(robot, model=plants[0]), controllers[0].trajectory, 100.0, 20.0, "exact"))
@@ -153,39 +193,49 @@ def test_runs_of_the_closed_plant_equal_their_own_runs():
         assert_identical(got, alone)
 
 
-def test_a_run_that_blows_up_is_diverged_and_leaves_the_others():
+@pytest.mark.parametrize("lockstep", LOCKSTEP)
+def test_a_run_that_blows_up_is_diverged_and_leaves_the_others(lockstep):
     """One run at absurd joint rates blows up with simulation.run's message and rows; the others
-    complete as alone."""
+    complete as alone (in lockstep on one thread, the diverged run's lane takes the sixth run; the
+    message's time and step are simulation.run's, its speed to round-off grown by the blow-up)."""
     robot = robot_named("four_arm_planar.urdf")
-    q0, v0 = states(robot, 3, 7, speed=0.5)
+    q0, v0 = states(robot, 6, 7, speed=0.5)
     v0[1, robot.n_base:] = 1e5
     steps = make_integrator("rkmk4", robot.model)
-    results = run_many(robot, q0, v0, 0.05, 1e-3, steps, ExactModel(robot), threads=2)
+    results = run_many(robot, q0, v0, 0.05, 1e-3, steps, ExactModel(robot), threads=1 + (not lockstep),
+                       lockstep=lockstep)
     expected = one_by_one(robot, q0, v0, 0.05, steps, ExactModel(robot))
-    assert [r.status for r in results] == ["completed", "diverged", "completed"]
-    assert results[1].message == expected[1].message
+    assert [r.status for r in results] == ["completed", "diverged"] + ["completed"] * 4
+    assert results[1].message.split(":")[0] == expected[1].message.split(":")[0]
+    assert lockstep or results[1].message == expected[1].message
     for got, alone in zip(results, expected):
-        assert_identical(got, alone)
+        if got.status == "completed":
+            assert_same_run(got, alone, lockstep)
+    assert results[1].steps == expected[1].steps
 
 
-def test_a_stop_request_ends_the_runs_and_keeps_their_rows():
+@pytest.mark.parametrize("lockstep", LOCKSTEP)
+def test_a_stop_request_ends_the_runs_and_keeps_their_rows(lockstep):
     """Runs of 50 s stopped by a stop request: each started run ends 'interrupted' within a slice of
-    periods, its rows those of the same run alone up to there; none started after."""
+    periods, its rows those of the same run alone up to there (in lockstep, to round-off); none
+    started after."""
     robot = robot_named("four_arm_planar.urdf")
-    q0, v0 = states(robot, 4, 2, speed=0.3)
+    q0, v0 = states(robot, 4 + 4 * lockstep, 2, speed=0.3)
     steps = make_integrator("rkmk4", robot.model)
-    runs = start_runs(robot, q0, v0, 50.0, 1e-3, steps, ExactModel(robot), threads=2)
+    runs = start_runs(robot, q0, v0, 50.0, 1e-3, steps, ExactModel(robot), threads=2, lockstep=lockstep)
     with stop_request.stopping():
         results = runs.finish()
     started = [r for r in results if r is not None]
-    assert runs.interrupted and 1 <= len(started) <= 2
+    assert runs.interrupted and 1 <= len(started) <= (8 if lockstep else 2)
     for i, got in enumerate(results):
         if got is None:
             continue
         assert got.status == "interrupted" and 0 < got.steps < 50_000 and "interrupted by the user" in got.message
         alone = run(robot, q0[i], v0[i], got.steps * 1e-3, 1e-3, steps, ExactModel(robot), backend="compiled")
         for name in ("q", "v", "momentum", "energy"):
-            np.testing.assert_array_equal(getattr(got.telemetry, name), getattr(alone.telemetry, name)[:-1])
+            expected = getattr(alone.telemetry, name)[:-1]
+            np.testing.assert_allclose(getattr(got.telemetry, name), expected, rtol=0,
+                                       atol=1e-10 * lockstep * max(1.0, np.abs(expected).max()))
 
 
 def test_runs_stopped_by_sigterm_name_it(monkeypatch):
@@ -229,6 +279,7 @@ def test_an_error_of_the_caller_stops_the_runs_and_propagates():
     (dict(threads=1000), "threads must be at most 256"),
     (dict(plants="controlled"), "run 1: its controller's robot has other numbers"),
     (dict(plants="moved"), "run 1: its plant differs"),
+    (dict(lockstep=True, integrator="dopri5"), "cannot run in lockstep: integrator 'dopri5' has no fixed step"),
 ])
 def test_what_cannot_share_one_call_is_refused_with_the_reason(change, message):
     robot = robot_named("four_arm_planar.urdf")
@@ -237,7 +288,8 @@ def test_what_cannot_share_one_call_is_refused_with_the_reason(change, message):
     gains = [(100.0, 20.0), change.pop("gains", (100.0, 20.0))]
     start = np.zeros(robot.n_joints)
     controllers = [ComputedTorque(robot, QuinticTrajectory(start, start + 0.1, 0.04), kp, kd, "exact") for kp, kd in gains]
-    integrator = make_integrator("rkmk4", robot.model, project_momentum=change.pop("integrator", None) == "momentum")
+    kind = change.pop("integrator", None)
+    integrator = make_integrator("dopri5" if kind == "dopri5" else "rkmk4", robot.model, project_momentum=kind == "momentum")
     plants = None
     if "plants" in change:
         moved = pin.Model(robot.model)
@@ -255,7 +307,7 @@ def test_what_cannot_share_one_call_is_refused_with_the_reason(change, message):
     arguments = dict(q0=q0, v0=v0, threads=2) | change
     with pytest.raises(InvalidArgument, match=message):
         run_many(robot, arguments["q0"], arguments["v0"], 0.01, 1e-3, integrator, ExactModel(robot), controllers,
-                 threads=arguments["threads"], plants=plants)
+                 threads=arguments["threads"], plants=plants, lockstep=arguments.get("lockstep"))
 
 
 def test_runs_whose_telemetry_cannot_fit_are_refused_before_any_starts():
