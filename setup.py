@@ -101,9 +101,11 @@ PINOCCHIO_FLAGS = ["-isystem", str(PINOCCHIO / "include"), "-DPINOCCHIO_ENABLE_T
                    "-DBOOST_MPL_CFG_NO_PREPROCESSED_HEADERS", "-DBOOST_FUSION_INVOKE_MAX_ARITY=12"]
 # The order units start in: the order whose schedule (setup_schedule.run_within, 2 compilers within
 # 2 GB) ends soonest with the units' measured times, each varied by up to 12 %; Pinocchio's unit
-# first, beside the small ones that fit with it.
+# first, beside the small ones that fit with it. The kernel's two small units (5 s of CPU together)
+# end the list: anywhere in it, the simulated schedule ends within 0.2 s of that.
 ORDER = ["cpp/pin_plant.cpp", "cpp/core.cpp", "cpp/sim/chain_unit.cpp", "cpp/detumbling.cpp", "cpp/gjm.cpp",
-         "cpp/models.cpp", "cpp/sim_unit.cpp", "cpp/chains.cpp", "cpp/sim_module.cpp", "cpp/parallel_inverse.cpp"]
+         "cpp/models.cpp", "cpp/sim_unit.cpp", "cpp/chains.cpp", "cpp/sim_module.cpp", "cpp/parallel_inverse.cpp",
+         "cpp/kernel/kernel.cpp", "cpp/kernel/lanes_avx2.cpp"]
 # Optimisation level per translation unit, after FLAGS' -O3 (see the module docstring).
 OPTIMIZATION = {"cpp/pin_plant.cpp": "-O1", "cpp/sim_unit.cpp": "-O1", "cpp/sim_module.cpp": "-O1"}
 # Instruction sets per translation unit: the dynamics kernel's AVX2 copy, which it calls only on a
@@ -111,10 +113,10 @@ OPTIMIZATION = {"cpp/pin_plant.cpp": "-O1", "cpp/sim_unit.cpp": "-O1", "cpp/sim_
 ISA = {"cpp/kernel/lanes_avx2.cpp": "-mavx2 -mfma"} if platform.machine().lower() in ("x86_64", "amd64") else {}
 # Peak memory of each unit's compile at its flags (bytes: g++ 12's maximum resident set, measured
 # alone, docs/bench.md "The build"); a unit not listed counts as the largest.
-UNIT_MEMORY = {"cpp/pin_plant.cpp": 1.24e9, "cpp/sim_module.cpp": 0.95e9, "cpp/sim_unit.cpp": 0.92e9,
+UNIT_MEMORY = {"cpp/pin_plant.cpp": 1.24e9, "cpp/sim_module.cpp": 1.04e9, "cpp/sim_unit.cpp": 0.93e9,
                "cpp/sim/chain_unit.cpp": 0.80e9, "cpp/chains.cpp": 0.78e9, "cpp/core.cpp": 0.77e9,
                "cpp/parallel_inverse.cpp": 0.70e9, "cpp/detumbling.cpp": 0.69e9, "cpp/models.cpp": 0.52e9,
-               "cpp/gjm.cpp": 0.50e9}
+               "cpp/gjm.cpp": 0.50e9, "cpp/kernel/kernel.cpp": 0.17e9, "cpp/kernel/lanes_avx2.cpp": 0.09e9}
 # The memory budget of the units compiling at once, unless FREEFLOAT_BUILD_MEMORY (bytes) sets it:
 # MEMORY_PER_JOB per compiler process, within MEMORY_SHARE of the memory available (never more than
 # the memory available). A unit larger than the budget compiles alone. On 2 cores the budget is
@@ -240,8 +242,9 @@ def extension(name: str, sources: list[str], flags: list[str], **kwargs) -> Pybi
 
 # The closed chains' units, in both modules: the bindings (chains.cpp) and the numerics they call.
 CHAINS = ["cpp/chains.cpp", "cpp/sim/chain_unit.cpp", "cpp/parallel_inverse.cpp"]
-# The dynamics kernel's units (no Pinocchio header): its code, its AVX2 copy, its bindings.
-KERNEL = ["cpp/kernel/kernel.cpp", "cpp/kernel/lanes_avx2.cpp", "cpp/kernel/py_kernel.cpp"]
+# The dynamics kernel's units (no Pinocchio header): its code and its AVX2 copy (its bindings compile
+# in cpp/sim_module.cpp's unit).
+KERNEL = ["cpp/kernel/kernel.cpp", "cpp/kernel/lanes_avx2.cpp"]
 # One set of flags for every translation unit: cpp/chains.cpp is shared by both modules.
 LINK = {"libraries": ["pinocchio_default"], "library_dirs": [str(PINOCCHIO / "lib")],
         # where the wheel's package sits beside pin's cmeel.prefix; an editable install finds the

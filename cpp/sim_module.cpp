@@ -12,6 +12,7 @@
 #include <utility>
 #include <vector>
 
+#include "kernel/py_kernel.hpp"
 #include "sim/batch.hpp"
 #include "sim/py_sim.hpp"
 #include "sim/rkmk.hpp"  // integrator_names
@@ -19,9 +20,6 @@
 
 namespace py = pybind11;
 
-namespace freefloat::sim {
-void bind_kernel(py::module_& m);  // kernel/py_kernel.cpp
-}
 using namespace freefloat::sim;
 using namespace freefloat::sim::py_sim;
 
@@ -387,7 +385,8 @@ PYBIND11_MODULE(_sim, m) {
              return s.sim->time_acceleration(x, xd, u, calls);
            },
            py::arg("q"), py::arg("v"), py::arg("tau"), py::arg("calls"),
-           "Seconds per acceleration() in C++ (tree_aba's), mean of `calls` calls at one state.")
+           "Seconds per acceleration() in C++ (tree_aba's; this thread's CPU time), mean of `calls` calls at one "
+           "state.")
       .def_property_readonly("q", [](const PySimulation& s) { return out(s.sim->q()); })
       .def_property_readonly("v", [](const PySimulation& s) { return out(s.sim->v()); })
       .def_property_readonly("periods_done", [](const PySimulation& s) { return s.sim->period(); })

@@ -31,9 +31,10 @@ def toy(monkeypatch):
 
 def test_registry_lists_exactly_the_suites():
     """The registry holds the MuJoCo scenes, the eight former scripts, the fixed-cost suite, the
-    two-hand capture's, the atlas's and the batch against mujoco.rollout, in the order ``all`` runs them."""
+    two-hand capture's, the atlas's, the batch against mujoco.rollout and the dynamics kernel's,
+    in the order ``all`` runs them."""
     assert list(SUITES) == [DEFAULT, "simulation", "integrators", "gjm", "models", "locking", "parallel", "batch",
-                            "figures", "setup", "two_hands", "atlas", "rollout"]
+                            "figures", "setup", "two_hands", "atlas", "rollout", "kernel"]
 
 
 def test_help_lists_every_registered_suite(toy, capsys):
@@ -261,10 +262,24 @@ def _rollout(r):
     assert row["run_many_equals_loop"]  # the compiled batch's run 0 ends where simulation.run's does
 
 
+def _kernel(r):
+    names = robot_names(r["settings"]["arm_counts"])
+    for name in names:
+        row = r[f"evaluation/{name}"]
+        assert row["over_pinocchio"] == pytest.approx({k: t / row["seconds"]["pinocchio"] for k, t in row["seconds"].items()})
+        step = r[f"step/{name}"]
+        assert step["over_mujoco"]["loop kernel"] == pytest.approx(step["seconds"]["loop kernel"] / step["seconds"]["mujoco rk4"])
+        for runs in r["settings"]["batches"]:
+            batch = r[f"batch/{name}"][str(runs)]
+            assert batch["runs_per_second"] == pytest.approx({k: runs / t for k, t in batch["seconds"].items()})
+            assert batch["over_rollout"]["lockstep"] == pytest.approx(
+                batch["runs_per_second"]["lockstep"] / batch["runs_per_second"]["mujoco.rollout"])
+
+
 #: Per suite, what its numbers must agree on (a new suite needs a check).
 CHECKS = {"simulation": _simulation, "integrators": _integrators, "gjm": _gjm, "models": _models,
           "locking": _locking, "parallel": _parallel, "batch": _batch, "figures": _figures, "setup": _setup,
-          "two_hands": _two_hands, "atlas": _atlas, "rollout": _rollout}
+          "two_hands": _two_hands, "atlas": _atlas, "rollout": _rollout, "kernel": _kernel}
 
 
 @pytest.mark.parametrize("name", PARTS_SUITES)

@@ -490,7 +490,7 @@ def test_the_plant_is_the_kernel_where_the_tree_allows(monkeypatch):
     model = pin.Model(robot.model)
     joint = model.addJoint(3, pin.JointModelPlanar(), pin.SE3.Random(), "skate")
     model.appendBodyToJoint(joint, pin.Inertia.Random(), pin.SE3.Identity())
-    arrays = compiled._model_arrays(replace(robot, model=model))
+    arrays = compiled.model_arrays(replace(robot, model=model))
     skating = _sim.Simulation(**arrays, joints=_sim.JointMap([], [], [], [], 0), n_base=model.nv, integrator="rkmk4",
                               substeps=1, rtol=1e-10, atol=1e-12, control_period=1e-3, start_time=0.0,
                               record_every=1, base_frame=0, ee_frames=[])

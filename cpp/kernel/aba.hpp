@@ -36,34 +36,53 @@ inline void put(Lanes& x, int l, double value) { x[l] = value; }
 template <class T> constexpr int kWidth = 1;
 template <> constexpr int kWidth<Lanes> = 4;
 
-inline void sine_cosine(double x, double& s, double& c) { sincos(x, &s, &c); }
+// sin and cos of an angle reduced by the nearest multiple of pi/2 in three parts (Cody and Waite)
+// to r in [-pi/4, pi/4]: Cephes' polynomials of r (relative error below 2.3e-16 there), and the
+// multiple's quadrant q (0-3).
+template <class T>
+inline void reduced_sine_cosine(const T& x, T& sin_r, T& cos_r, T& j) {
+  const double round = 6755399441055744.0;  // 1.5 2^52: adding and subtracting it rounds to an integer
+  j = (x * 0.63661977236758134308 + round) - round;
+  const T r = ((x - j * 1.57079625129699707031) - j * 7.54978941586159635335e-8) - j * 5.39030285815811905290e-15;
+  const T z = r * r;
+  sin_r = r + r * z * (((((1.58962301576546568060e-10 * z - 2.50507477628578072866e-8) * z +
+                          2.75573136213857245213e-6) * z - 1.98412698295895385996e-4) * z +
+                        8.33333333332211858878e-3) * z - 1.66666666666666307295e-1);
+  cos_r = 1.0 - 0.5 * z + z * z * (((((-1.13585365213876817300e-11 * z + 2.08757008419747316778e-9) * z -
+                                      2.75573141792967388112e-7) * z + 2.48015872888517045348e-5) * z -
+                                    1.38888888888730564116e-3) * z + 4.16666666666665929218e-2);
+}
 
-// sin and cos of four angles at once: the angle reduced by the nearest multiple of pi/2 in three
-// parts (Cody and Waite), then Cephes' polynomials on [-pi/4, pi/4] (relative error below 2.3e-16
-// there), swapped and signed by the quadrant. Angles beyond 1e8 rad take the C library's sincos.
+// Angles beyond 1e8 rad (or not finite) take the C library's sincos: the reduction above loses
+// digits there.
+constexpr double kReducible = 1e8;
+
+inline void sine_cosine(double x, double& s, double& c) {
+  if (!(x < kReducible && x > -kReducible)) return sincos(x, &s, &c);
+  double sin_r, cos_r, j;
+  reduced_sine_cosine(x, sin_r, cos_r, j);
+  const long long q = static_cast<long long>(j) & 3;
+  const double sine = q & 1 ? cos_r : sin_r, cosine = q & 1 ? sin_r : cos_r;
+  s = q >= 2 ? -sine : sine;
+  c = q == 1 || q == 2 ? -cosine : cosine;
+}
+
+// The same for four angles at once.
 inline void sine_cosine(const Lanes& x, Lanes& s, Lanes& c) {
   typedef long long Quadrants __attribute__((vector_size(32)));
-  const Lanes size = x < 0.0 ? -x : x;
-  if (size[0] > 1e8 || size[1] > 1e8 || size[2] > 1e8 || size[3] > 1e8 || size[0] != size[0] ||
-      size[1] != size[1] || size[2] != size[2] || size[3] != size[3]) {
+  bool reducible = true;
+  for (int l = 0; l < 4; ++l) reducible &= x[l] < kReducible && x[l] > -kReducible;
+  if (!reducible) {
     for (int l = 0; l < 4; ++l) {
       double sl, cl;
-      sincos(x[l], &sl, &cl);
+      sine_cosine(x[l], sl, cl);
       s[l] = sl;
       c[l] = cl;
     }
     return;
   }
-  const double round = 6755399441055744.0;  // 1.5 2^52: adding and subtracting it rounds to an integer
-  const Lanes j = (x * 0.63661977236758134308 + round) - round;  // nearest multiple of pi/2
-  const Lanes r = ((x - j * 1.57079625129699707031) - j * 7.54978941586159635335e-8) - j * 5.39030285815811905290e-15;
-  const Lanes z = r * r;
-  const Lanes sin_r = r + r * z * (((((1.58962301576546568060e-10 * z - 2.50507477628578072866e-8) * z +
-                                       2.75573136213857245213e-6) * z - 1.98412698295895385996e-4) * z +
-                                     8.33333333332211858878e-3) * z - 1.66666666666666307295e-1);
-  const Lanes cos_r = 1.0 - 0.5 * z + z * z * (((((-1.13585365213876817300e-11 * z + 2.08757008419747316778e-9) * z -
-                                                  2.75573141792967388112e-7) * z + 2.48015872888517045348e-5) * z -
-                                                1.38888888888730564116e-3) * z + 4.16666666666665929218e-2);
+  Lanes sin_r, cos_r, j;
+  reduced_sine_cosine(x, sin_r, cos_r, j);
   const Quadrants q = __builtin_convertvector(j, Quadrants) & 3;
   const Quadrants odd = (q & 1) != 0;
   const Lanes sine = odd ? cos_r : sin_r, cosine = odd ? sin_r : cos_r;

@@ -151,7 +151,8 @@ class Simulation {
   virtual void record_now(Rows& out, int row, const Vec* reference) = 0;
 
   virtual Vec acceleration(const Vec& q, const Vec& v, const Vec& tau) = 0;
-  // Seconds per acceleration() of the plant's ABA in C++, mean of `calls` calls at one state.
+  // Seconds per acceleration() of the plant's ABA in C++ (this thread's CPU time), mean of `calls`
+  // calls at one state.
   virtual double time_acceleration(const Vec& q, const Vec& v, const Vec& tau, long calls) = 0;
   virtual GeneralizedJacobian generalized_jacobian_at(const Vec& q, const Vec& v) = 0;
 

@@ -41,6 +41,7 @@ from ..robot.urdf_checks import usable_memory
 from . import _sim, compiled, stop_request
 from .integrators import INTEGRATORS, Integrator
 from .kernel import LANES
+from .kernel import isa as kernel_isa
 from .kernel import refusal as kernel_refusal
 from .models import DynamicsModel
 from .simulation import Controller, RunResult, control_periods, field_of, plant_data, stopped_by
@@ -184,7 +185,8 @@ def start_runs(robot: Robot, q0: np.ndarray, v0: np.ndarray, duration: float, co
             plant; None: ``robot.model`` for every run. The controllers keep their own robot (one
             for every run): their law computes on its model, whatever the plant's bodies.
         lockstep: run :data:`~.kernel.LANES` runs at a time per thread in lockstep (see the module
-            docstring); None (default): wherever :func:`lockstep_refusal` allows and there are at
+            docstring); None (default): wherever :func:`lockstep_refusal` allows, the kernel
+            evaluates with AVX2 (its baseline lanes cost more than single states) and there are at
             least two runs per thread.
 
     Raises:
@@ -225,10 +227,12 @@ def start_runs(robot: Robot, q0: np.ndarray, v0: np.ndarray, duration: float, co
                                len(robot.end_effectors))
     field = field_of(robot, wrenches)
     loops: list[compiled.CompiledLoop] = []
+    arrays = compiled.model_arrays(robot)
     try:
         for _ in range(threads * lanes):
             loops.append(compiled.CompiledLoop(robot, integrator, control_period, 0.0, record_every, law, field,
-                                               data=plant_data(robot, model), plant=model, law_robot=law_robot))
+                                               data=plant_data(robot, model), plant=model, law_robot=law_robot,
+                                               arrays=arrays))
         batch = _sim.Batch([loop.sim for loop in loops], q0, v0, steps, start, delta, bodies,
                            compiled.chunk_arrays(block), rows_per_run, slots, lanes)
     except BaseException:
@@ -252,7 +256,7 @@ def _lanes(lockstep: bool | None, robot: Robot, integrator: Integrator, model: D
            threads: int) -> int:
     """Loops per thread: :data:`~.kernel.LANES` in lockstep (``lockstep``, see :func:`start_runs`),
     else 1; :class:`InvalidArgument` for ``lockstep=True`` where it cannot be."""
-    if lockstep is False or (lockstep is None and runs < 2 * threads):
+    if lockstep is False or (lockstep is None and (runs < 2 * threads or kernel_isa() != "avx2")):
         return 1
     reason = lockstep_refusal(robot, integrator, model)
     if reason is not None and lockstep:
