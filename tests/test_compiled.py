@@ -384,62 +384,48 @@ def test_wrench_profiles_in_the_compiled_loop_match_the_python_selection(monkeyp
     assert_same_telemetry(python.telemetry, compiled.telemetry)
 
 
+def runs_by_setting(monkeypatch, base: str, setting: str, values: tuple[str, ...]) -> dict:
+    """A computed-torque scene (0.2 s) and a run under external wrench profiles (dopri5), compiled,
+    once with each of ``values`` of ``compiled.<setting>``: their telemetry by value."""
+    from freefloat.app.experiments import joint_space
+    from freefloat.app.experiments.robot_run import simulate
+    from freefloat.app.scenes import find_scene
+    from freefloat.dynamics import compiled
+
+    scene = find_scene("four_arm_joint_space")
+    short = replace(scene, robot=replace(scene.robot, base=base),
+                    simulation=replace(scene.simulation, duration=0.2, backend="compiled"))
+    robot = robot_named("two_arm_planar.urdf", base=base)
+    wrenches = (ExternalWrench("arm2_link3", force=(3.0, -1.0, 2.0), torque=(0.5, 0.0, -1.0), start=0.004, end=0.02),
+                *IMPULSE)
+    runs = {}
+    for value in values:
+        monkeypatch.setattr(compiled, setting, value)
+        compiled.clear_loops()
+        controlled = simulate(joint_space.prepare(short), None, None)
+        wrenched = run(robot, robot.neutral(), np.full(robot.model.nv, 0.05), 0.03, 1e-3,
+                       make_integrator("dopri5", robot.model, rtol=1e-9), ExactModel(robot), wrenches=wrenches,
+                       backend="compiled")
+        runs[value] = (controlled.telemetry, wrenched.telemetry)
+    assert np.abs(runs[values[0]][0].tau).max() > 1e-3 and np.abs(runs[values[0]][1].momentum[-1]).max() > 1e-3
+    return runs
+
+
 @pytest.mark.parametrize("base", ["free", "planar"])
 def test_world_and_local_conventions_give_the_same_run(monkeypatch, base):
     """Pinocchio's WORLD and LOCAL conventions in the compiled loop (the plant's ABA, Pinocchio's
     rather than the dynamics kernel, with and without external wrenches, and the computed torque's
     CRBA) give the same trajectory to 1e-12."""
-    from freefloat.app.experiments import joint_space
-    from freefloat.app.experiments.robot_run import simulate
-    from freefloat.app.scenes import find_scene
     from freefloat.dynamics import compiled
 
     monkeypatch.setattr(compiled, "TREE_ABA", "pinocchio")
-    scene = find_scene("four_arm_joint_space")
-    short = replace(scene, robot=replace(scene.robot, base=base),
-                    simulation=replace(scene.simulation, duration=0.2, backend="compiled"))
+    runs = runs_by_setting(monkeypatch, base, "CONVENTION", ("local", "world"))
     robot = robot_named("two_arm_planar.urdf", base=base)
-    wrenches = (ExternalWrench("arm2_link3", force=(3.0, -1.0, 2.0), torque=(0.5, 0.0, -1.0), start=0.004, end=0.02),
-                *IMPULSE)
-    runs = {}
     for convention in ("local", "world"):
         monkeypatch.setattr(compiled, "CONVENTION", convention)
-        compiled.clear_loops()
-        controlled = simulate(joint_space.prepare(short), None, None)
-        wrenched = run(robot, robot.neutral(), np.full(robot.model.nv, 0.05), 0.03, 1e-3,
-                       make_integrator("dopri5", robot.model, rtol=1e-9), ExactModel(robot), wrenches=wrenches,
-                       backend="compiled")
-        runs[convention] = (controlled.telemetry, wrenched.telemetry)
         assert CompiledLoop(robot, make_integrator("rkmk4", robot.model), 1e-3).sim.convention == convention
-    assert np.abs(runs["world"][0].tau).max() > 1e-3  # the law acts
     for local, world in zip(runs["local"], runs["world"]):
         assert_same_telemetry(local, world, tol=1e-12)
-
-
-def runs_on_both_tree_abas(monkeypatch, base: str) -> dict:
-    """A computed-torque scene and a run under wrench profiles (dopri5), compiled, with the plant's
-    tree dynamics from the dynamics kernel and from Pinocchio's ABA: their telemetry by TREE_ABA."""
-    from freefloat.app.experiments import joint_space
-    from freefloat.app.experiments.robot_run import simulate
-    from freefloat.app.scenes import find_scene
-    from freefloat.dynamics import compiled
-
-    scene = find_scene("four_arm_joint_space")
-    short = replace(scene, robot=replace(scene.robot, base=base),
-                    simulation=replace(scene.simulation, duration=0.2, backend="compiled"))
-    robot = robot_named("two_arm_planar.urdf", base=base)
-    wrenches = (ExternalWrench("arm2_link3", force=(3.0, -1.0, 2.0), torque=(0.5, 0.0, -1.0), start=0.004, end=0.02),
-                *IMPULSE)
-    runs = {}
-    for tree_aba in ("kernel", "pinocchio"):
-        monkeypatch.setattr(compiled, "TREE_ABA", tree_aba)
-        compiled.clear_loops()
-        controlled = simulate(joint_space.prepare(short), None, None)
-        wrenched = run(robot, robot.neutral(), np.full(robot.model.nv, 0.05), 0.03, 1e-3,
-                       make_integrator("dopri5", robot.model, rtol=1e-9), ExactModel(robot), wrenches=wrenches,
-                       backend="compiled")
-        runs[tree_aba] = (controlled.telemetry, wrenched.telemetry)
-    return runs
 
 
 @pytest.mark.parametrize("base", ["free", "planar"])
@@ -447,8 +433,7 @@ def test_the_kernel_plant_runs_as_pinocchios_aba(monkeypatch, base):
     """The compiled loop with the dynamics kernel as its tree's dynamics gives the telemetry of the
     same loop on Pinocchio's ABA to round-off: a computed-torque scene (0.2 s) and a run under
     external wrench profiles with adaptive steps."""
-    runs = runs_on_both_tree_abas(monkeypatch, base)
-    assert np.abs(runs["kernel"][0].tau).max() > 1e-3 and np.abs(runs["kernel"][1].momentum[-1]).max() > 1e-3
+    runs = runs_by_setting(monkeypatch, base, "TREE_ABA", ("kernel", "pinocchio"))
     for kernel_run, pinocchio_run in zip(runs["kernel"], runs["pinocchio"]):
         assert_same_telemetry(pinocchio_run, kernel_run, tol=1e-11)
 

@@ -12,8 +12,8 @@
 // This header is compiled once per instruction set (kernel.cpp: the baseline; lanes_avx2.cpp:
 // AVX2 and FMA, used when the CPU has them): its code lives in the namespace the including unit
 // names in FREEFLOAT_KERNEL_ISA, and uses no C++ library template (no function here is shared
-// between the units, so the linker never picks an AVX2 copy for a CPU without AVX2). Each unit
-// defines the entry points of kernel/isa.hpp in its namespace.
+// between the units, so the linker never picks an AVX2 copy for a CPU without AVX2). It ends with
+// the definitions of kernel/isa.hpp's entry points in that namespace: include it once per unit.
 #ifndef FREEFLOAT_KERNEL_ISA
 #error "define FREEFLOAT_KERNEL_ISA (a namespace name) before including kernel/aba.hpp"
 #endif
@@ -24,6 +24,7 @@
 // ABI here (every such function is inlined).
 #pragma GCC diagnostic ignored "-Wpsabi"
 
+#include "kernel/isa.hpp"
 #include "kernel/tree.hpp"
 #include "kernel/wrench.hpp"
 
@@ -129,6 +130,17 @@ inline void inertia_times(const T* A, const T* B, const T* C, const V* x, T* out
   out[3] = B[0] * x[0] + B[1] * x[1] + B[2] * x[2] + C[0] * x[3] + C[3] * x[4] + C[4] * x[5];
   out[4] = B[3] * x[0] + B[4] * x[1] + B[5] * x[2] + C[3] * x[3] + C[1] * x[4] + C[5] * x[5];
   out[5] = B[6] * x[0] + B[7] * x[1] + B[8] * x[2] + C[4] * x[3] + C[5] * x[4] + C[2] * x[5];
+}
+
+// out += S - ud u^T for symmetric 3x3 blocks (xx, yy, zz, xy, xz, yz).
+template <class T>
+inline void add_downdated(const T* S, const T* u, const T* ud, T* out) {
+  out[0] += S[0] - ud[0] * u[0];
+  out[1] += S[1] - ud[1] * u[1];
+  out[2] += S[2] - ud[2] * u[2];
+  out[3] += S[3] - ud[0] * u[1];
+  out[4] += S[4] - ud[0] * u[2];
+  out[5] += S[5] - ud[1] * u[2];
 }
 
 // Body b's frame (R, p) from its parent's (Rp, pp) at q, its motion subspace S and the axis.
@@ -419,20 +431,10 @@ void aba(const TreeView& t, const Bodies<T>& bodies, BodyWork<T>* work, const T*
     for (int r = 0; r < 6; ++r) P.f[r] += w.f[r] + Ic[r] + U[r] * g;
     T Ud[6];
     for (int r = 0; r < 6; ++r) Ud[r] = U[r] * w.dinv;
-    P.A[0] += w.A[0] - Ud[0] * U[0];
-    P.A[1] += w.A[1] - Ud[1] * U[1];
-    P.A[2] += w.A[2] - Ud[2] * U[2];
-    P.A[3] += w.A[3] - Ud[0] * U[1];
-    P.A[4] += w.A[4] - Ud[0] * U[2];
-    P.A[5] += w.A[5] - Ud[1] * U[2];
+    add_downdated(w.A, U, Ud, P.A);
     for (int k = 0; k < 3; ++k)
       for (int r = 0; r < 3; ++r) P.B[3 * k + r] += w.B[3 * k + r] - Ud[r] * U[3 + k];
-    P.C[0] += w.C[0] - Ud[3] * U[3];
-    P.C[1] += w.C[1] - Ud[4] * U[4];
-    P.C[2] += w.C[2] - Ud[5] * U[5];
-    P.C[3] += w.C[3] - Ud[3] * U[4];
-    P.C[4] += w.C[4] - Ud[3] * U[5];
-    P.C[5] += w.C[5] - Ud[4] * U[5];
+    add_downdated(w.C, U + 3, Ud + 3, P.C);
   }
   // 3. The root's acceleration, then every body's, parents first.
   if (t.root == kFree) {
@@ -500,6 +502,16 @@ void aba(const TreeView& t, const Bodies<T>& bodies, BodyWork<T>* work, const T*
     for (int r = 0; r < 6; ++r) w.a[r] += w.S[r] * x;
     qdd[t.iv[b]] = x;
   }
+}
+
+void aba_one(const TreeView& tree, const Bodies<double>& bodies, BodyWork<double>* work, const double* q,
+             const double* qd, const double* tau, const Wrenches* wrenches, double* qdd) {
+  aba(tree, bodies, work, q, qd, tau, wrenches, qdd);
+}
+
+void aba_lanes(const TreeView& tree, const Bodies<Lanes>& bodies, BodyWork<Lanes>* work, const Lanes* q,
+               const Lanes* qd, const Lanes* tau, const Wrenches* wrenches, Lanes* qdd) {
+  aba(tree, bodies, work, q, qd, tau, wrenches, qdd);
 }
 
 }  // namespace freefloat::kernel::FREEFLOAT_KERNEL_ISA

@@ -1,6 +1,6 @@
 // The dynamics kernel (kernel/kernel.hpp): the tree read from the model's arrays once, the
-// evaluation of kernel/aba.hpp compiled for the platform's baseline here, and the choice, on this
-// CPU, between it and the AVX2 unit's (lanes_avx2.cpp).
+// evaluation of kernel/aba.hpp compiled for the platform's baseline here (its entry points in
+// namespace baseline), and the choice, on this CPU, between it and the AVX2 unit's (lanes_avx2.cpp).
 #define FREEFLOAT_KERNEL_ISA baseline
 #include "kernel/aba.hpp"
 
@@ -17,20 +17,6 @@
 #include "sim/model_arrays.hpp"
 
 namespace freefloat::kernel {
-
-namespace baseline {
-
-void aba_one(const TreeView& tree, const Bodies<double>& bodies, BodyWork<double>* work, const double* q,
-             const double* qd, const double* tau, const Wrenches* wrenches, double* qdd) {
-  aba(tree, bodies, work, q, qd, tau, wrenches, qdd);
-}
-
-void aba_lanes(const TreeView& tree, const Bodies<Lanes>& bodies, BodyWork<Lanes>* work, const Lanes* q,
-               const Lanes* qd, const Lanes* tau, const Wrenches* wrenches, Lanes* qdd) {
-  aba(tree, bodies, work, q, qd, tau, wrenches, qdd);
-}
-
-}  // namespace baseline
 
 namespace {
 

@@ -1,12 +1,13 @@
 """The simulation loop in compiled code (``freefloat.dynamics._sim``, built on Pinocchio's C++).
 
 The same loop as :func:`freefloat.dynamics.simulation.run`, period for period: zero-order-hold
-control, Pinocchio's ABA as the plant, the integrators of :mod:`freefloat.dynamics.integrators`
-(the same tableaus, ``dexp^{-1}`` series and step-size control), the joint-space computed torque
-of eqs 136-137 with the exact ``H*`` and ``c*``, and the telemetry row of
-:class:`~freefloat.dynamics.simulation.Recorder`. The Pinocchio model is handed over as arrays
-and rebuilt in C++; :class:`CompiledLoop` checks the rebuilt ABA against ``pin.aba`` before it is
-used. Python is entered once per telemetry chunk or progress report, so Ctrl-C, checkpoints and
+control, the tree's forward dynamics as the plant (freefloat's dynamics kernel, :mod:`.kernel`,
+wherever it has the tree's joints, else Pinocchio's ABA: :data:`TREE_ABA`), the integrators of
+:mod:`freefloat.dynamics.integrators` (the same tableaus, ``dexp^{-1}`` series and step-size
+control), the joint-space computed torque of eqs 136-137 with the exact ``H*`` and ``c*``, and the
+telemetry row of :class:`~freefloat.dynamics.simulation.Recorder`. The Pinocchio model is handed
+over as arrays and rebuilt in C++ (and read into the kernel); :class:`CompiledLoop` checks the
+plant's accelerations against ``pin.aba`` before it is used. Python is entered once per telemetry chunk or progress report, so Ctrl-C, checkpoints and
 progress bars work as in the Python loop.
 
 The plant is the exact tree (Pinocchio's ABA) or, for a
