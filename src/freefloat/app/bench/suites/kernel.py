@@ -356,7 +356,8 @@ def chart(report: dict, path: Path) -> None:
     right.axhline(AIMS["batch_in_process_over_rollout"], color="grey", ls=":",
                   label=f"aim {AIMS['batch_in_process_over_rollout']}x (N=256)")
     right.set_xticks([i + 0.4 - width / 2 for i in range(len(names))], names, fontsize=8)
+    right.set_ylim(0.0, 1.4 * max(batches[n][str(r)]["over_rollout"][w] for n in names for r in sizes for w in ways))
     right.set_ylabel("runs/s over mujoco.rollout (one thread)")
     right.set_title("batches in process")
-    right.legend(fontsize=7)
+    right.legend(fontsize=7, ncol=2)
     save(fig, path)
