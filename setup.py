@@ -1,26 +1,35 @@
-"""Build of the compiled parts (C++17, pybind11):
+"""Build of the compiled parts (C++17, pybind11), from cpp/, a folder per concept, each .cpp one
+translation unit beside the header it defines:
 
-- ``freefloat.dynamics._core``: the GJM layer (bindings cpp/core.cpp, numerics cpp/gjm.cpp and
-  cpp/models.cpp) and the closed chains;
-- ``freefloat.dynamics._sim``: the robot loop on Pinocchio's C++ algorithms (cpp/sim_unit.cpp:
-  the loop, the plant with loop closures and the two-hand law, which call Pinocchio through
-  cpp/sim/pin_plant.hpp, defined in cpp/pin_plant.cpp, the one unit that includes Pinocchio's
-  headers; its bindings cpp/sim_module.cpp and the detumbling solver cpp/detumbling.cpp see it
-  through cpp/sim/simulation.hpp, which names no Pinocchio type) and the closed chains;
-- the closed chains, linked into both (bindings cpp/chains.cpp, plant and loop
-  cpp/sim/chain_unit.cpp, inverse dynamics cpp/parallel_inverse.cpp), include no Pinocchio header.
+- ``cpp/gjm/``: the GJM quantities (gjm.cpp) and the hand-built models with their tree-sparse
+  solver (models.cpp);
+- ``cpp/chains/``: Orsino's closed chains, their point evaluations and forward dynamics
+  (mechanism.cpp) and their inverse dynamics and assembly (inverse.cpp);
+- ``cpp/sim/``: the compiled loops: the robot loop (simulation.cpp: the loop of loop.hpp and its
+  factory), its closed plant (closures.cpp), the two-hand law (loop_detumbling_law.cpp), the
+  generalized Jacobian (pin_generalized_jacobian.cpp) and the detumbling solver (detumbling.cpp),
+  which call Pinocchio through sim/pin_plant.hpp, defined in pin_plant.cpp, the one unit that
+  includes Pinocchio's headers; and the closed-chain loop (chain_loop.cpp), which includes none;
+- ``cpp/bindings/``: pybind11 only, the modules' bindings: core.cpp, sim.cpp, and chains.cpp
+  (the closed chains' classes).
+
+Two extension modules: ``freefloat.dynamics._core`` (bindings/core.cpp, gjm/) and
+``freefloat.dynamics._sim`` (bindings/sim.cpp, sim/ but the closed-chain loop), both with the
+closed chains (bindings/chains.cpp, chains/, sim/chain_loop.cpp), whose objects are compiled once.
 
 The robot loop is compiled against the headers of the ``libpinocchio`` wheel (a build requirement)
 and linked to its ``libpinocchio_default``, which holds the algorithms already compiled (explicit
 template instantiation). What remains of the compile is parsing and instantiating Pinocchio's model
 classes, Eigen and pybind11, and the compiler keeps all of it in memory until a unit ends: each
-unit holds one concern, so that each peaks under 0.9 GiB but the one that includes Pinocchio (1.15
-GiB, whose headers alone take 0.6 GiB). The units run one per core, started only while their
+unit holds one concern, so that each peaks under 0.9 GiB but the one that includes Pinocchio
+(whose headers alone take 0.6 GiB). The units run one per core, started only while their
 measured peaks (:data:`UNIT_MEMORY`) fit in the memory budget (``FREEFLOAT_BUILD_MEMORY``, else
 :data:`MEMORY_PER_JOB` per compiler process within :data:`MEMORY_SHARE` of the memory available;
-setup_schedule.py). The robot loop's units are compiled at -O1 (:data:`OPTIMIZATION`): its time
-is in libpinocchio_default, and every scene measured ran as fast as at -O3; the numerics stay at
--O3 (the closed chains 12-49 % slower at -O2). docs/bench.md, "The build", has the measurements.
+setup_schedule.py), which also prints each unit as it starts and ends, with its time, where the
+user sees it (pip and uv hide a build's own output). The robot loop's units are compiled at -O1
+(:data:`OPTIMIZATION`): its time is in libpinocchio_default, and every scene measured ran as fast
+as at -O3; the numerics stay at -O3 (the closed chains 12-49 % slower at -O2). docs/bench.md,
+"The build", has the measurements.
 
 Objects are kept in ``build/cpp/<configuration>/`` of the source tree (ignored by git), also by an
 editable install, whose own build folders are temporary: reinstalling with another extra, or
@@ -41,6 +50,7 @@ import subprocess
 import sys
 import sysconfig
 import tempfile
+import time
 from importlib.metadata import version
 from pathlib import Path
 
@@ -101,27 +111,33 @@ PINOCCHIO_FLAGS = ["-isystem", str(PINOCCHIO / "include"), "-DPINOCCHIO_ENABLE_T
                    "-DBOOST_MPL_CFG_NO_PREPROCESSED_HEADERS", "-DBOOST_FUSION_INVOKE_MAX_ARITY=12"]
 # The order units start in: the order whose schedule (setup_schedule.run_within, 2 compilers within
 # 2 GB) ends soonest with the units' measured times, each varied by up to 12 %; Pinocchio's unit
-# first, beside the small ones that fit with it. The kernel's two small units (5 s of CPU together)
-# end the list: anywhere in it, the simulated schedule ends within 0.2 s of that.
-ORDER = ["cpp/pin_plant.cpp", "cpp/core.cpp", "cpp/sim/chain_unit.cpp", "cpp/detumbling.cpp", "cpp/gjm.cpp",
-         "cpp/models.cpp", "cpp/sim_unit.cpp", "cpp/chains.cpp", "cpp/sim_module.cpp", "cpp/parallel_inverse.cpp",
-         "cpp/kernel/kernel.cpp", "cpp/kernel/lanes_avx2.cpp"]
+# first, beside the small ones that fit with it. The kernel's two small units (4-5 s of CPU
+# together, 0.17 and 0.09 GB) end the list.
+ORDER = ["cpp/sim/pin_plant.cpp", "cpp/bindings/core.cpp", "cpp/chains/mechanism.cpp", "cpp/sim/detumbling.cpp",
+         "cpp/sim/closures.cpp", "cpp/sim/chain_loop.cpp", "cpp/bindings/sim.cpp", "cpp/sim/pin_generalized_jacobian.cpp",
+         "cpp/bindings/chains.cpp", "cpp/chains/inverse.cpp", "cpp/sim/loop_detumbling_law.cpp", "cpp/gjm/models.cpp",
+         "cpp/gjm/gjm.cpp", "cpp/sim/simulation.cpp", "cpp/kernel/kernel.cpp", "cpp/kernel/lanes_avx2.cpp"]
 # Optimisation level per translation unit, after FLAGS' -O3 (see the module docstring).
-OPTIMIZATION = {"cpp/pin_plant.cpp": "-O1", "cpp/sim_unit.cpp": "-O1", "cpp/sim_module.cpp": "-O1"}
+OPTIMIZATION = {"cpp/sim/pin_plant.cpp": "-O1", "cpp/sim/simulation.cpp": "-O1", "cpp/sim/closures.cpp": "-O1",
+                "cpp/sim/loop_detumbling_law.cpp": "-O1", "cpp/sim/pin_generalized_jacobian.cpp": "-O1",
+                "cpp/bindings/sim.cpp": "-O1"}
 # Instruction sets per translation unit: the dynamics kernel's AVX2 copy, which it calls only on a
 # CPU that has AVX2 and FMA (cpp/kernel/isa.hpp); on other platforms the unit is a second baseline copy.
 ISA = {"cpp/kernel/lanes_avx2.cpp": "-mavx2 -mfma"} if platform.machine().lower() in ("x86_64", "amd64") else {}
-# Peak memory of each unit's compile at its flags (bytes: g++ 12's maximum resident set, measured
-# alone, docs/bench.md "The build"); a unit not listed counts as the largest.
-UNIT_MEMORY = {"cpp/pin_plant.cpp": 1.24e9, "cpp/sim_module.cpp": 1.04e9, "cpp/sim_unit.cpp": 0.93e9,
-               "cpp/sim/chain_unit.cpp": 0.80e9, "cpp/chains.cpp": 0.78e9, "cpp/core.cpp": 0.77e9,
-               "cpp/parallel_inverse.cpp": 0.70e9, "cpp/detumbling.cpp": 0.69e9, "cpp/models.cpp": 0.52e9,
-               "cpp/gjm.cpp": 0.50e9, "cpp/kernel/kernel.cpp": 0.17e9, "cpp/kernel/lanes_avx2.cpp": 0.09e9}
+# Peak memory of each unit's compile at its flags (bytes: g++ 12's maximum resident set, as the
+# build ran it, docs/bench.md "The build"); a unit not listed counts as the largest.
+UNIT_MEMORY = {"cpp/sim/pin_plant.cpp": 1.25e9, "cpp/bindings/sim.cpp": 1.04e9, "cpp/bindings/chains.cpp": 0.78e9,
+               "cpp/chains/inverse.cpp": 0.71e9, "cpp/sim/detumbling.cpp": 0.69e9, "cpp/chains/mechanism.cpp": 0.66e9,
+               "cpp/bindings/core.cpp": 0.64e9, "cpp/sim/loop_detumbling_law.cpp": 0.62e9, "cpp/gjm/models.cpp": 0.57e9,
+               "cpp/sim/closures.cpp": 0.51e9, "cpp/gjm/gjm.cpp": 0.50e9, "cpp/sim/chain_loop.cpp": 0.50e9,
+               "cpp/sim/simulation.cpp": 0.52e9, "cpp/sim/pin_generalized_jacobian.cpp": 0.37e9,
+               "cpp/kernel/kernel.cpp": 0.17e9, "cpp/kernel/lanes_avx2.cpp": 0.09e9}
 # The memory budget of the units compiling at once, unless FREEFLOAT_BUILD_MEMORY (bytes) sets it:
 # MEMORY_PER_JOB per compiler process, within MEMORY_SHARE of the memory available (never more than
 # the memory available). A unit larger than the budget compiles alone. On 2 cores the budget is
-# 2 GB: Pinocchio's unit compiles beside the small units that fit with it, and the compile took
-# 50.6 s on 2 cores in a `pip install .` (docs/bench.md, "The build").
+# 2 GB: Pinocchio's unit compiles beside the units that fit with it (all but bindings/sim.cpp and
+# bindings/chains.cpp), and the compile of the ten units before the layout by concept took 50.6 s
+# on 2 idle cores in a `pip install .` (docs/bench.md, "The build").
 MEMORY_PER_JOB = 1e9
 MEMORY_SHARE = 0.8
 
@@ -136,16 +152,37 @@ class BuildExt(pybind11_build_ext):
         self.object_dir = ROOT / "build" / "cpp" / self.configuration()
         jobs = list({source: (ext, source) for ext in self.extensions for source in ext.sources}.values())
         jobs.sort(key=lambda job: ORDER.index(job[1]) if job[1] in ORDER else len(ORDER))
+        stale = [job for job in jobs if self.force or not self.fresh(job[1], self.object_of(job[1]))]
         workers = max(1, int(setting("FREEFLOAT_BUILD_JOBS", "a number of compiler processes, e.g. 2")
                              or self.parallel or os.cpu_count() or 1))
         budget = schedule.memory_budget(workers, available_memory(), MEMORY_PER_JOB, MEMORY_SHARE,
                                         setting("FREEFLOAT_BUILD_MEMORY", "bytes, e.g. 2e9"))
-        schedule.run_within(jobs, lambda job: self.object_of(*job), lambda job: unit_memory(job[1]), workers, budget)
-        for ext in self.extensions:
-            self.build_extension(ext)
+        out = schedule.terminal()
+        try:
+            progress = schedule.Progress(out, budget, workers)
+            progress.plan(len(stale), len(jobs) - len(stale))
+
+            def compile_timed(job) -> None:
+                begin = time.perf_counter()
+                try:
+                    self.compile_unit(*job)
+                except BaseException:
+                    progress.ended(job[1], time.perf_counter() - begin, failed=True)
+                    raise
+                progress.ended(job[1], time.perf_counter() - begin)
+
+            schedule.run_within(stale, compile_timed, lambda job: unit_memory(job[1]), workers, budget,
+                                lambda job, in_use: progress.started(job[1], unit_memory(job[1]), in_use))
+            begin = time.perf_counter()
+            for ext in self.extensions:
+                self.build_extension(ext)
+            progress.linked(len(self.extensions), time.perf_counter() - begin)
+        finally:
+            if out is not sys.stderr:
+                out.close()
 
     def build_extension(self, ext) -> None:
-        objects = [self.object_of(ext, source) for source in ext.sources]
+        objects = [str(self.object_of(source)) for source in ext.sources]
         self.compiler.force = True  # linking takes a second; an old .so never survives a reconfiguration
         self.compiler.link_shared_object(
             objects, self.get_ext_fullpath(ext.name), libraries=self.get_libraries(ext),
@@ -171,13 +208,14 @@ class BuildExt(pybind11_build_ext):
         digest = hashlib.sha1(json.dumps(description, sort_keys=True, default=str).encode()).hexdigest()[:12]
         return f"{sysconfig.get_platform()}-{sys.implementation.cache_tag}-{digest}"
 
-    def object_of(self, ext, source: str) -> str:
-        """The object of ``source`` in the kept folder, compiled unless it is fresh (every extension
-        has the same flags, so a source shared by two is compiled once)."""
-        obj = self.object_dir / Path(source).with_suffix(".o")
-        deps = obj.with_suffix(".d")
-        if not self.force and self.fresh(source, obj, deps):
-            return str(obj)
+    def object_of(self, source: str) -> Path:
+        """The object of ``source`` in the kept folder (every extension has the same flags, so a
+        source shared by two is compiled once)."""
+        return self.object_dir / Path(source).with_suffix(".o")
+
+    def compile_unit(self, ext, source: str) -> None:
+        """Compiles ``source`` into :meth:`object_of`, with its dependency file beside it."""
+        obj = self.object_of(source)
         obj.parent.mkdir(parents=True, exist_ok=True)
         # Compile into a folder of its own and move the result in place: a build running in the same
         # tree at the same time never links a half-written object.
@@ -187,13 +225,13 @@ class BuildExt(pybind11_build_ext):
                                            include_dirs=ext.include_dirs, debug=self.debug,
                                            extra_postargs=ext.extra_compile_args + OPTIMIZATION.get(source, "").split()
                                            + ISA.get(source, "").split() + ["-MMD", "-MF", str(dep)])
-            os.replace(dep, deps)
+            os.replace(dep, obj.with_suffix(".d"))
             os.replace(made, obj)
-        return str(obj)
 
     @staticmethod
-    def fresh(source: str, obj: Path, deps: Path) -> bool:
-        """``obj`` is newer than ``source`` and every project file its dependency file lists."""
+    def fresh(source: str, obj: Path) -> bool:
+        """``obj`` is newer than ``source`` and every project file its dependency file (beside it) lists."""
+        deps = obj.with_suffix(".d")
         if not (obj.is_file() and deps.is_file()):
             return False
         listed = deps.read_text().replace("\\\n", " ").split(":", 1)[-1].split()
@@ -240,12 +278,12 @@ def extension(name: str, sources: list[str], flags: list[str], **kwargs) -> Pybi
     return Pybind11Extension(name, sources, include_dirs=["cpp"], cxx_std=17, extra_compile_args=flags, **kwargs)
 
 
-# The closed chains' units, in both modules: the bindings (chains.cpp) and the numerics they call.
-CHAINS = ["cpp/chains.cpp", "cpp/sim/chain_unit.cpp", "cpp/parallel_inverse.cpp"]
+# The closed chains' units, in both modules: the bindings and the numerics they call.
+CHAINS = ["cpp/bindings/chains.cpp", "cpp/chains/mechanism.cpp", "cpp/chains/inverse.cpp", "cpp/sim/chain_loop.cpp"]
 # The dynamics kernel's units (no Pinocchio header): its code and its AVX2 copy (its bindings compile
-# in cpp/sim_module.cpp's unit).
+# in cpp/bindings/sim.cpp's unit).
 KERNEL = ["cpp/kernel/kernel.cpp", "cpp/kernel/lanes_avx2.cpp"]
-# One set of flags for every translation unit: cpp/chains.cpp is shared by both modules.
+# One set of flags for every translation unit: the closed chains' are shared by both modules.
 LINK = {"libraries": ["pinocchio_default"], "library_dirs": [str(PINOCCHIO / "lib")],
         # where the wheel's package sits beside pin's cmeel.prefix; an editable install finds the
         # library because freefloat.dynamics imports pinocchio first
@@ -253,12 +291,12 @@ LINK = {"libraries": ["pinocchio_default"], "library_dirs": [str(PINOCCHIO / "li
 
 setup(
     ext_modules=[
-        extension("freefloat.dynamics._core", ["cpp/core.cpp", "cpp/gjm.cpp", "cpp/models.cpp"] + CHAINS,
+        extension("freefloat.dynamics._core", ["cpp/bindings/core.cpp", "cpp/gjm/gjm.cpp", "cpp/gjm/models.cpp"] + CHAINS,
                   FLAGS + PINOCCHIO_FLAGS, **LINK),
         extension("freefloat.dynamics._sim",
-                  ["cpp/pin_plant.cpp", "cpp/sim_unit.cpp", "cpp/sim_module.cpp", "cpp/detumbling.cpp"] + CHAINS
-                  + KERNEL,
-                  FLAGS + PINOCCHIO_FLAGS, **LINK),
+                  ["cpp/bindings/sim.cpp", "cpp/sim/pin_plant.cpp", "cpp/sim/simulation.cpp", "cpp/sim/closures.cpp",
+                   "cpp/sim/loop_detumbling_law.cpp", "cpp/sim/pin_generalized_jacobian.cpp", "cpp/sim/detumbling.cpp"]
+                  + CHAINS + KERNEL, FLAGS + PINOCCHIO_FLAGS, **LINK),
     ],
     install_requires=DEPENDENCIES + [f"libpinocchio=={version('libpinocchio')}"],
     cmdclass={"build_ext": BuildExt},

@@ -11,6 +11,7 @@ from pathlib import Path
 
 from freefloat.parallel.five_bar import five_bar_spec
 from freefloat.parallel.rsu_ppap import load_data, rsu_ppap_urdf
+from freefloat.parallel.three_rrr import three_rrr_spec
 from freefloat.paths import URDF_DIR
 from freefloat.robot.builders import (
     build_urdf,
@@ -22,7 +23,7 @@ from freefloat.robot.builders import (
 
 
 def main(out_dir: Path = URDF_DIR) -> None:
-    """Write the four-arm, two-arm, dual-arm-satellite, 5R and 2RSU+PPaP spanning-tree URDFs into
+    """Write the four-arm, two-arm, dual-arm-satellite, 5R, 2RSU+PPaP and 3-RRR spanning-tree URDFs into
     ``out_dir``."""
     out_dir.mkdir(parents=True, exist_ok=True)
     robots = {
@@ -31,6 +32,7 @@ def main(out_dir: Path = URDF_DIR) -> None:
         "dual_arm_satellite.urdf": dual_arm_satellite(),
         "five_bar.urdf": build_urdf(five_bar_spec()),
         "rsu_ppap.urdf": rsu_ppap_urdf(load_data()),
+        "three_rrr.urdf": build_urdf(three_rrr_spec()),
     }
     for name, urdf in robots.items():
         print(write_urdf(urdf, out_dir / name))

@@ -210,3 +210,18 @@ def box_in_both_hands(seed: int):
     target = Target(mass=50.0, inertia=(2.0, 2.5, 3.0), grasp=tuple(grasp), position=tuple(position),
                     rpy=tuple(pin.rpy.matrixToRpy(rotation)))
     return robot, TargetBody(target, (second,)), q, pin.SE3ToXYZQUAT(pin.SE3(rotation, position)), rng
+
+
+def box_held_in_both_hands(seed: int):
+    """:func:`box_in_both_hands` with the box held: ``(merged robot, its loop closure, q, a
+    velocity the loop allows)`` (random, 0.2 rad/s or m/s in size, projected on the closure)."""
+    from freefloat.dynamics.closures import kinematics, stacked
+    from freefloat.space.dual_capture import attach_with_loop
+
+    robot, body, q, q_t, rng = box_in_both_hands(seed)
+    merged, closure = attach_with_loop(robot, ("left_tool0", "right_tool0"), q, body, q_t)
+    data = merged.model.createData()
+    kinematics(merged.model, data, q, np.zeros(merged.model.nv))
+    J = stacked([closure], merged.model, data, drift=False)[1]
+    v = rng.normal(size=merged.model.nv) * 0.2
+    return merged, closure, q, v - np.linalg.pinv(J) @ (J @ v)

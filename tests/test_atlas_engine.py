@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import json
 import os
+import re
 
 import numpy as np
 import pytest
@@ -48,6 +49,20 @@ def test_serial_map_equals_the_closed_form_and_writes_the_folder(tmp_path):
     assert summary["summary"]["max_f"] == pytest.approx(11.0) and summary["figures"] == ["toy.txt"]
     assert "max_f,11.0" in (tmp_path / "out" / "summary.csv").read_text()
     assert not (tmp_path / "out" / engine.JOURNAL).exists() and not (tmp_path / "out" / engine.CHUNKS).exists()
+
+
+def test_the_map_reports_its_last_point_before_the_files_and_figures(tmp_path, monkeypatch, capsys):
+    """Every point is reported done before the files and figures are written, so the command's bar
+    ends there (it reached 100 % again after the figures); the line after it gives the map's time,
+    the one the bar showed, and the points mapped."""
+    reports, writing = [], []
+    written = engine.write_outputs
+    monkeypatch.setattr(engine, "write_outputs", lambda *a: writing.append(len(reports)) or written(*a))
+    done = run_atlas("toy", "t", Options(), tmp_path / "out", progress=lambda n, total: reports.append((n, total)))
+    assert reports[0] == (0, 56) and reports[-1] == (56, 56) and writing == [len(reports)]
+    assert done.summary["points_mapped"] == 56 and 0 < done.summary["map_wall_time_s"] < done.summary["wall_time_s"]
+    assert main(["atlas", "toy", "t", "--out", str(tmp_path / "cli"), "--quiet"]) == 0
+    assert re.search(r"toy of t: 56 points in [\d.]+ s \(serial\) -> ", capsys.readouterr().out)
 
 
 def test_process_pool_gives_the_serial_map(tmp_path):
@@ -110,9 +125,11 @@ def test_a_grid_too_large_for_memory_is_refused():
 
 
 def test_cli_unknown_kind_exits_2_listing_the_kinds(capsys):
-    """freefloat atlas with an unknown kind: exit 2, the kinds listed."""
+    """freefloat atlas with an unknown kind: exit 2, the kinds listed, the nearest first."""
     assert main(["atlas", "nope", "ur5", "--quiet"]) == 2
     assert "workspace" in capsys.readouterr().err
+    assert main(["atlas", "workspce", "ur5", "--quiet"]) == 2
+    assert "unknown atlas kind 'workspce'; did you mean 'workspace'?" in capsys.readouterr().err
 
 
 def test_register_adds_a_kind(monkeypatch):

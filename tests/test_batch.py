@@ -18,6 +18,7 @@ from freefloat import FreefloatError
 from freefloat.app.batch import Band, Workers, run_batch
 from freefloat.app.batch.driver import PARTIAL
 from freefloat.app.batch.one_run import TIMINGS, run_one
+from freefloat.app.batch.variations import run_seeds
 from freefloat.app.cli import main
 from freefloat.app.scenes import load_scene
 
@@ -147,6 +148,7 @@ def test_the_folder_holds_the_table_the_record_and_the_scene(tmp_path):
         r["initial.base_angular_velocity[1]"] for r in rows]
     summary = json.loads((out / "summary.json").read_text())
     assert summary["seed"] == 9 and summary["vary"] == {"base_rate": 2.0} and summary["workers"] == "serial"
+    assert [int(r["seed"]) for r in table] == run_seeds(9, 3)  # each run's own seed (every row had 9)
     assert summary["by_status"] == {"completed": 3} and summary["scene"]["name"] == "tumbling"
     assert "pin" in summary["versions"]
     as_run = dataclasses.replace(scene, output=dataclasses.replace(scene.output, figures=False, html=False))
@@ -158,7 +160,7 @@ def test_a_folder_in_use_or_not_empty_is_refused_before_any_run(tmp_path):
     """An output folder holding other files is refused naming it, and nothing is run."""
     (tmp_path / "out").mkdir()
     (tmp_path / "out" / "mine.txt").write_text("keep")
-    with pytest.raises(FreefloatError, match="output folder .* is not empty"):
+    with pytest.raises(FreefloatError, match="output folder .* holds files freefloat did not write"):
         run_batch(short(tmp_path), tmp_path / "out", 2, [])
     assert sorted(p.name for p in (tmp_path / "out").iterdir()) == ["mine.txt"]
 

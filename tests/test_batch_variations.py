@@ -12,7 +12,7 @@ from hypothesis import HealthCheck, given, settings
 from freefloat import FreefloatError
 from freefloat.app import runner
 from freefloat.app.batch.bands import MAX_RUNS, Band, parse_band
-from freefloat.app.batch.variations import plan_runs
+from freefloat.app.batch.variations import SEED_LIMIT, plan_runs, run_seeds
 from freefloat.app.experiments.robot_run import joint_table
 from freefloat.app.scenes import find_scene, load_scene
 
@@ -82,6 +82,19 @@ def test_different_runs_and_seeds_draw_different_starts(tumbling):
     other = plan_runs(scene, nominal, [Band("base_rate", 2.0)], 3, seed=1)
     rates = {plan.scene.initial.base_angular_velocity for plan in first + other}
     assert len(rates) == 6
+
+
+def test_each_run_has_its_own_seed_and_a_row_s_seed_reruns_that_row(tumbling):
+    """Every run has its own seed (run 0's is the batch's; they were all the batch's); a batch
+    whose --seed is a row's seed draws that row's values first, and the rows after it next."""
+    scene, nominal = tumbling
+    bands = [Band("base_rate", 2.0), Band("joint_rate", 0.5)]
+    batch = plan_runs(scene, nominal, bands, 5, seed=11)
+    seeds = [plan.seed for plan in batch]
+    assert seeds[0] == 11 and len(set(seeds)) == 5 and all(0 <= s < SEED_LIMIT for s in seeds[1:])
+    again = plan_runs(scene, nominal, bands, 2, seed=seeds[3])
+    assert [p.varied for p in again] == [batch[3].varied, batch[4].varied]
+    assert [p.seed for p in again] == seeds[3:5] == run_seeds(seeds[3], 2)
 
 
 def test_a_run_draws_the_same_whatever_the_batch_size_or_other_keys(tumbling):

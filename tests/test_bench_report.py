@@ -11,6 +11,7 @@ import time
 import pytest
 
 from freefloat.app.bench.free_floating import free_floating_scene
+from freefloat.app.bench.options import SMOKE
 from freefloat.app.bench.summary import BANDS
 from freefloat.app.cli import main
 from freefloat.app.run_folder import RECORD
@@ -52,10 +53,22 @@ def test_the_report_records_the_mujoco_that_ran(quick_run):
 
 
 def test_summary_has_one_line_per_band(quick_run):
-    """The summary names, per accuracy band, the cheapest method of each package."""
+    """The summary names, per accuracy band, the cheapest method of each package; a --quick run's
+    says first, and on each line, that it is a smoke test."""
     _, out = quick_run
-    lines = (out / "summary.txt").read_text().splitlines()
-    assert len(lines) == len(BANDS) and all(line.startswith("dual_arm error <= ") for line in lines)
+    smoke, *lines = (out / "summary.txt").read_text().splitlines()
+    assert smoke == SMOKE and len(lines) == len(BANDS)
+    assert all(line.startswith("dual_arm error <= ") and line.endswith("(smoke test)") for line in lines)
+
+
+def test_a_quick_bench_is_marked_a_smoke_test(quick_run):
+    """--quick: bench.json says it is a smoke test, and so does the chart, in a band above it."""
+    import matplotlib.pyplot as plt
+
+    _, out = quick_run
+    assert json.loads((out / "bench.json").read_text())["smoke_test"] == SMOKE
+    chart = plt.imread(out / "dual_arm.png")
+    assert chart[2, chart.shape[1] // 2, 0] > 0.6 > chart[2, chart.shape[1] // 2, 1]  # the red band on top
 
 
 def test_unknown_scene_exits_2_naming_it(tmp_path, capsys):
@@ -69,7 +82,7 @@ def test_non_empty_folder_is_refused(tmp_path, capsys):
     """A folder that already holds files is refused (exit 2), its files left alone."""
     (tmp_path / "keep.txt").write_text("x")
     assert main(["bench", "dual_arm", "--quick", "--out", str(tmp_path)]) == 2
-    assert "not empty" in capsys.readouterr().err
+    assert "did not write (keep.txt)" in capsys.readouterr().err
     assert {p.name for p in tmp_path.iterdir()} == {"keep.txt"}
 
 
@@ -86,7 +99,7 @@ def test_controlled_quick_bench_compares_both_controllers(tmp_path):
     labels = {(r["package"], r["integrator"], r["loop"]) for r in rows}
     assert {("mujoco", "RK4", "python"), ("mujoco", "RK4", "native"), ("freefloat", "rkmk4", "compiled")} <= labels
     assert (out / "controlled.png").stat().st_size > 0
-    assert len((out / "summary.txt").read_text().splitlines()) == len(BANDS)
+    assert len((out / "summary.txt").read_text().splitlines()) == 1 + len(BANDS)  # the smoke note, a line per band
 
 
 @pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM])

@@ -7,8 +7,10 @@ import json
 import math
 import sys
 
+import numpy as np
 import pytest
 
+from freefloat.app.bench.options import SMOKE
 from freefloat.app.bench.suites import ALL, DEFAULT, SUITES, Suite, named
 from freefloat.app.bench.suites.growth import exponent
 from freefloat.app.bench.suites.locking import SCENES as LOCKING_SCENES
@@ -30,10 +32,10 @@ def toy(monkeypatch):
 
 
 def test_registry_lists_exactly_the_suites():
-    """The registry holds the MuJoCo scenes, the eight former scripts, the fixed-cost suite, the
-    two-hand capture's, the atlas's, the batch against mujoco.rollout and the dynamics kernel's,
-    in the order ``all`` runs them."""
-    assert list(SUITES) == [DEFAULT, "simulation", "integrators", "gjm", "models", "locking", "parallel", "batch",
+    """The registry holds the MuJoCo scenes, the eight former scripts, the platform laws', the
+    fixed-cost suite, the two-hand capture's, the atlas's, the batch against mujoco.rollout and the
+    dynamics kernel's, in the order ``all`` runs them."""
+    assert list(SUITES) == [DEFAULT, "simulation", "integrators", "gjm", "models", "locking", "parallel", "laws", "batch",
                             "figures", "setup", "two_hands", "atlas", "rollout", "kernel"]
 
 
@@ -51,6 +53,8 @@ def test_unknown_suite_exits_2_naming_the_valid_ones(toy, tmp_path, capsys):
     assert main(["bench", "--suite", "nope", "--out", str(tmp_path / "o")]) == 2
     valid = ", ".join([*SUITES, ALL])
     assert f"unknown bench suite 'nope'; valid: {valid}" in capsys.readouterr().err
+    assert main(["bench", "--suite", "simulaton", "--out", str(tmp_path / "o")]) == 2
+    assert "unknown bench suite 'simulaton'; did you mean 'simulation'?" in capsys.readouterr().err
     assert "toy" in valid and not (tmp_path / "o").exists()
 
 
@@ -65,7 +69,26 @@ def test_a_registered_toy_suite_runs_with_no_other_edit(toy, tmp_path):
     report = json.loads((tmp_path / "bench_toy.json").read_text())
     assert report["status"] == "completed" and report["settings"] == {"quick": False, "repeats": 2}
     assert report["first"]["a_over_b"] == 4.0 and "second" in report and "freefloat" in report["versions"]
-    assert (tmp_path / "bench_toy.png").read_text() == "first second"
+    assert toy_suite.DRAWN == ["first", "second"] and (tmp_path / "bench_toy.png").read_bytes()[1:4] == b"PNG"
+    assert "smoke_test" not in report
+
+
+def test_a_suite_without_a_summary_prints_its_ratios(toy, tmp_path, capsys):
+    """A suite with no summary() of its own prints each part's ratios (it printed no number)."""
+    assert main(["bench", "--suite", "toy", "--out", str(tmp_path)]) == 0
+    out = capsys.readouterr().out
+    assert "toy: first: a_over_b 4\n" in out and "toy: second: a_over_b 4\n" in out
+
+
+def test_a_quick_suite_says_it_is_a_smoke_test(toy, tmp_path, capsys):
+    """--quick: the printed lines, the JSON and the chart (a band above it) say it is a smoke test."""
+    import matplotlib.pyplot as plt
+
+    assert main(["bench", "--suite", "toy", "--quick", "--out", str(tmp_path)]) == 0
+    assert f"toy: {SMOKE}" in capsys.readouterr().out
+    assert json.loads((tmp_path / "bench_toy.json").read_text())["smoke_test"] == SMOKE
+    chart = plt.imread(tmp_path / "bench_toy.png")
+    assert chart.shape[0] == 240 + 28 and chart[2, chart.shape[1] // 2, 0] > 0.6 > chart[2, chart.shape[1] // 2, 1]
 
 
 def test_a_suite_without_mujoco_runs_when_mujoco_is_missing(toy, tmp_path, monkeypatch):
@@ -205,6 +228,23 @@ def _parallel(r):
     assert [row["turns"] for row in r["coarse_paths"]] == [1, 2, 4, 8]
 
 
+def _laws(r):
+    from freefloat.parallel.five_bar import FiveBarParameters
+    from freefloat.parallel.platform_regressor import five_bar_theta
+
+    cost = r["cost"]
+    assert cost["over_computed_torque"] == pytest.approx({k: v / cost["seconds_per_call"]["computed_torque"]
+                                                          for k, v in cost["seconds_per_call"].items()})
+    for plant in ("15", "50"):
+        runs = r[f"tracking_{plant}"]
+        for law in runs.values():  # the last turn lies after 0.2 s
+            assert max(law["steady_error_max_m"]) <= max(law["error_max_after_0.2s_m"])
+        adaptive = runs["adaptive_sliding_mode"]
+        assert adaptive["estimate_over_true"][0] == pytest.approx(
+            list(five_bar_theta(FiveBarParameters()) / adaptive["true"]))
+        assert adaptive["lyapunov_largest_rise"] == pytest.approx(max(np.diff(adaptive["lyapunov"])))
+
+
 def _batch(r):
     for name in r["settings"]["scenes"]:
         row = r[name]
@@ -278,7 +318,7 @@ def _kernel(r):
 
 #: Per suite, what its numbers must agree on (a new suite needs a check).
 CHECKS = {"simulation": _simulation, "integrators": _integrators, "gjm": _gjm, "models": _models,
-          "locking": _locking, "parallel": _parallel, "batch": _batch, "figures": _figures, "setup": _setup,
+          "locking": _locking, "parallel": _parallel, "laws": _laws, "batch": _batch, "figures": _figures, "setup": _setup,
           "two_hands": _two_hands, "atlas": _atlas, "rollout": _rollout, "kernel": _kernel}
 
 
@@ -297,3 +337,17 @@ def test_mujoco_suite_runs_its_scenes_through_suite(tmp_path):
     reached = [b for b in bands if b["mujoco_speedup"] is not None]
     assert reached and all(b["mujoco_speedup"] == pytest.approx(b["freefloat"]["wall_time"] / b["mujoco"]["wall_time"])
                            for b in reached)
+
+
+def test_the_simulation_suite_prints_its_headline_ratios(quick):
+    """``--suite simulation`` prints its headline ratios, one line per part, as measured (it
+    printed no number)."""
+    from freefloat.app.bench.suites import simulation
+
+    _, _, report = quick("simulation")
+    lines = simulation.summary(report)
+    assert len(lines) == 4 and all(line.startswith("simulation: ") for line in lines)
+    assert f"{report['loop_overhead']['compiled_over_cpp_floor_full_telemetry']:.3g}x the C++ floor" in lines[0]
+    assert lines[1].endswith(f"{report['base_kind']['ratio_free_over_planar']:.3g}")
+    assert f"{report['detumbling']['python_over_whole_chunks']:.3g}x whole compiled chunks" in lines[2]
+    assert all(f"nv {r['nv']} {r['world_over_local']:.3g}" in lines[3] for r in report["convention"].values())

@@ -7,6 +7,7 @@ import warnings
 import pytest
 
 from freefloat import RobotModelError, load_robot
+from freefloat.errors import FreefloatNote
 from freefloat.paths import URDF_DIR
 from freefloat.robot.catalog import find_robot, is_name, robots
 
@@ -27,10 +28,21 @@ def test_load_robot_takes_a_name():
     assert robot.n_joints == 6 and robot.urdf_path.name == "ur5_robot.urdf"
 
 
-def test_unknown_names_list_the_close_ones():
-    """An unknown name is refused listing the known names that contain it."""
-    with pytest.raises(RobotModelError, match="known: .*ur5"):
-        find_robot("ur")
+def test_unknown_names_suggest_the_nearest_ones():
+    """A mistyped name is refused with the nearest known names first, and the list cut to a few
+    names that says where to see them all (it listed about 80)."""
+    with pytest.raises(RobotModelError, match=r"'ur55' is neither .*; did you mean 'ur5'\?") as ur:
+        find_robot("ur55")
+    with pytest.raises(RobotModelError, match=r"did you mean 'talos'") as talos:
+        find_robot("talso")
+    for error in (ur, talos):
+        assert "more, listed by freefloat robots" in str(error.value) and len(str(error.value)) < 400
+
+
+def test_an_alias_says_which_file_it_picked():
+    """'talos' names one of several TALOS files: a note says which, and names the others."""
+    with pytest.warns(FreefloatNote, match=r"robot 'talos' is talos_reduced\.urdf \(others: .*talos_full_v2"):
+        find_robot("talos")
 
 
 def test_paths_are_not_names():

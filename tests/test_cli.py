@@ -12,7 +12,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from freefloat.app import shown_warnings
 from freefloat.app.cli import main
+from freefloat.app.progress_bar import LoopBar
 from freefloat.app.scenes import DEFAULT_SCENE, builtin_scenes
 from freefloat.app.run_folder import RECORD
 from freefloat.dynamics.telemetry import Telemetry
@@ -403,7 +405,7 @@ def test_ctrl_c_while_starting_stops_cleanly(tmp_path, delay):
     assert not summary.exists() or json.loads(summary.read_text())["status"] == "interrupted"
 
 
-@pytest.mark.parametrize("command", ["", "simulate", "batch", "bench", "reproduce", "verify", "info", "view", "scenes"])
+@pytest.mark.parametrize("command", ["", "simulate", "batch", "bench", "reproduce", "verify", "info", "view", "scenes", "robots"])
 def test_help_texts_are_plain(command, capsys):
     """``--help`` shows no reStructuredText markup (double backticks, roles)."""
     with pytest.raises(SystemExit):
@@ -414,11 +416,121 @@ def test_help_texts_are_plain(command, capsys):
 
 def test_a_warning_is_shown_once_per_run(tmp_path):
     """The detumble scene loads its robot for the plant and for the controller: the inertia note
-    is printed once (it was printed twice), at most two lines."""
+    is printed once (it was printed twice), on one line (it took two), as a note: the built-in
+    robot's inertias are the dissertation's on purpose."""
     path = scene_variant(tmp_path / "s.toml", "detumble_impulse_arm1_joint3", simulation={"duration": 0.02},
                          output={"figures": False, "html": False})
     done = subprocess.run([sys.executable, "-m", "freefloat", "simulate", str(path), "--out", str(tmp_path / "out"),
                            "--quiet"], capture_output=True, text=True, timeout=300)
     assert done.returncode == 0, done.stderr
-    notes = [line for line in done.stderr.splitlines() if line.startswith("freefloat: warning:")]
-    assert len(notes) == 1 and "I1 + I2 >= I3" in notes[0]
+    said = [line for line in done.stderr.splitlines() if line.startswith(("freefloat: ", "  "))]
+    assert len(said) == 1 and said[0].startswith("freefloat: note: ") and "I1 + I2 >= I3" in said[0]
+
+
+@pytest.fixture
+def fresh_warnings(monkeypatch):
+    """This process as if it had shown no warning yet (each is shown once per process)."""
+    monkeypatch.setattr(shown_warnings, "SHOWN", set())
+
+
+def _short(tmp_path: Path) -> Path:
+    """The default scene, 20 ms, without figures or page."""
+    return scene_variant(tmp_path / "s.toml", DEFAULT_SCENE, simulation={"duration": 0.02},
+                         output={"figures": False, "html": False})
+
+
+def test_a_warning_is_shown_once_per_process(tmp_path, capsys, fresh_warnings):
+    """Two runs in one process (a script calling main twice) show the robot's note once."""
+    for out in ("a", "b"):
+        assert main(["simulate", str(_short(tmp_path)), "--out", str(tmp_path / out), "--quiet"]) == 0
+    assert capsys.readouterr().err.count("freefloat: note:") == 1
+
+
+def test_a_refused_command_prints_its_error_alone(tmp_path, capsys, fresh_warnings):
+    """Bad input met after the robot has loaded (a folder of the user's files as --out, a joint the
+    robot does not have) exits 2 with the error alone: no note it does not explain before it (the
+    inertia note came first)."""
+    (tmp_path / "mine").mkdir()
+    (tmp_path / "mine" / "notes.txt").write_text("mine")
+    for args in (["simulate", str(_short(tmp_path)), "--out", str(tmp_path / "mine"), "--quiet"],
+                 ["simulate", str(scene_variant(tmp_path / "bad.toml", DEFAULT_SCENE,
+                                                initial={"joint_positions": {"arm1_jiont1": 5.0}})),
+                  "--out", str(tmp_path / "out"), "--quiet"]):
+        assert main(args) == 2
+        err = capsys.readouterr().err
+        assert err.startswith("freefloat: error:") and err.count("\n") == 1, err
+    assert not (tmp_path / "out").exists()
+    assert main(["simulate", str(_short(tmp_path)), "--out", str(tmp_path / "out"), "--quiet"]) == 0
+    assert "freefloat: note:" in capsys.readouterr().err  # held back, not lost
+
+
+def test_a_user_s_folder_gets_a_hint_that_works(tmp_path, capsys):
+    """--out naming a folder of the user's files: the hint is another folder, with or without
+    --overwrite (it suggested --overwrite, which then refused the folder); the file is kept."""
+    (tmp_path / "myresults").mkdir()
+    (tmp_path / "myresults" / "notes.txt").write_text("mine")
+    args = ["simulate", str(_short(tmp_path)), "--out", str(tmp_path / "myresults"), "--quiet"]
+    for extra in ([], ["--overwrite"]):
+        assert main([*args, *extra]) == 2
+        err = capsys.readouterr().err
+        assert "choose another --out (a new or empty folder)" in err and "--overwrite" not in err
+    assert [p.name for p in (tmp_path / "myresults").iterdir()] == ["notes.txt"]
+
+
+def test_the_progress_bar_and_the_summary_give_one_time(tmp_path, capsys, monkeypatch):
+    """The bar's last line and the summary's "completed: N steps in T s" measure the same
+    interval, the loop's (the bar's ran on through the summary and the files: 3 s against 0.98 s):
+    N over the bar's rate is T; the time after the loop gets its own line."""
+    monkeypatch.setattr(LoopBar, "DELAY", 0.0)
+    scene = scene_variant(tmp_path / "s.toml", DEFAULT_SCENE, simulation={"duration": 0.5},
+                          output={"figures": False, "html": False})
+    assert main(["simulate", str(scene), "--out", str(tmp_path / "out")]) == 0
+    captured = capsys.readouterr()
+    steps, wall = re.search(r"completed: (\d+) steps in ([\d.]+) s", captured.out).groups()
+    rates = re.findall(r"(\d+)/(\d+) \[[\d:]+<[\d:?]+, +([\d.]+)step/s\]", captured.err)
+    done, total, rate = rates[-1]
+    assert done == total == steps
+    assert int(steps) / float(rate) == pytest.approx(float(wall), rel=0.05, abs=0.006)  # wall printed to 0.01 s
+    assert re.search(r"summarising the run \.\.\. [\d.]+ s\nwriting telemetry", captured.err)
+
+
+def test_the_summary_prints_units_and_four_digits(tmp_path, capsys):
+    """Headline keys are printed with their unit and 4 significant digits (16 digits and no unit
+    before); summary.json keeps every digit."""
+    assert main(["simulate", str(_short(tmp_path)), "--out", str(tmp_path / "out"), "--quiet"]) == 0
+    out = capsys.readouterr().out
+    summary = json.loads((tmp_path / "out" / "summary.json").read_text())
+    assert f"  tracking_rms_overall: {summary['tracking_rms_overall']:.4g} rad\n" in out
+    assert f"  energy_drift_max: {summary['energy_drift_max']:.4g} J\n" in out
+    shown = ", ".join(f"{x:.4g}" for x in summary["base_displacement"])
+    assert f"  base_displacement: [{shown}] m\n" in out
+    assert len(repr(summary["tracking_rms_overall"])) > 10  # full precision in the file
+
+
+@pytest.mark.parametrize("args, said", [
+    (["simulte"], "invalid choice: 'simulte'; did you mean 'simulate'?"),
+    (["reproduce", "chatering"], "invalid choice: 'chatering'; did you mean 'chattering'?"),
+    (["simulate", "five_bar_slidng_mode"], "did you mean 'five_bar_sliding_mode'"),
+    (["simulate", "--robot", "ur55"], "did you mean 'ur5'?"),
+    (["info", "talso"], "did you mean 'talos'"),
+    (["batch", "--vary", "joint_angel=1"], "unknown key 'joint_angel'; did you mean 'joint_angle'"),
+    (["bench", "--suite", "simulaton"], "did you mean 'simulation'?"),
+])
+def test_every_mistyped_name_gets_the_nearest_valid_one(args, said, tmp_path, capsys):
+    """A mistyped command, study, scene, robot, --vary key or suite exits 2 naming the nearest
+    valid name (a scene key did; a scene name listed all 27, a robot name about 80), the list cut
+    short."""
+    try:
+        status = main([*args, "--out", str(tmp_path / "o")] if args[0] in ("simulate", "batch", "bench") else args)
+    except SystemExit as exit:  # argparse's own refusal
+        status = exit.code
+    err = capsys.readouterr().err
+    assert status == 2 and said in err and len(err) < 900, err
+    assert not (tmp_path / "o").exists()
+
+
+def test_robots_lists_the_robots_known_by_name(capsys):
+    """``freefloat robots`` lists every name a robot can be given by, an alias with its file."""
+    assert main(["robots"]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert lines[0] == "dual_arm_satellite" and "talos: talos_reduced.urdf" in lines and "ur5: ur5_robot.urdf" in lines

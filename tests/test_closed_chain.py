@@ -71,11 +71,17 @@ def test_pinocchio_with_the_closure_file_matches_orsino(loaded):
     (lambda s: s.replace('coordinates = ["x", "y"]', 'coordinates = ["x", "w"]'), "'platform.coordinates' must be a list of x, y, z"),
     (lambda s: s.replace('urdf = "five_bar.urdf"', 'urdf = "six_bar.urdf"'), "'urdf' file .*six_bar.urdf does not exist"),
     (lambda s: s.replace('frames = ["c1_ee", "c2_ee"]', 'frames = ["c1_ee"]'), "must name two frames"),
-    (lambda s: s + 'kind = "hinge"\n', "'closures\\[0\\].kind' must be one of \\['point', 'revolute', 'weld', 'frame'\\], got 'hinge'"),
+    (lambda s: s + 'kind = "hinge"\n', "'closures\\[0\\].kind' is 'hinge'; valid: point, revolute, weld, frame"),
     (lambda s: s + 'kind = "frame"\n', "'closures\\[0\\].kind' is a weld; tip-to-tip mechanisms take point or planar revolute"),
-    (lambda s: s.replace("gravity =", "gravty ="), "unknown top-level key 'gravty' \\(did you mean 'gravity'\\?\\); "
-                                                  "allowed: actuated, closures, gravity, platform, urdf"),
-    (lambda s: s.replace("coordinates =", "coordinate ="), "unknown \\[platform\\] key 'coordinate' .*allowed: "
+    (lambda s: s.replace("gravity =", "gravty ="), "unknown top-level key 'gravty'; did you mean 'gravity'\\? "
+                                                  "\\(allowed: actuated, closures, gravity, joints, platform, slip_speed, urdf\\)"),
+    (lambda s: s + "[joints.c1_jiont1]\narmature = 1e-3\n", "'\\[joints.c1_jiont1\\]' names no joint of the URDF; did you "
+                                                               "mean 'c1_joint1'"),
+    (lambda s: s + "[joints.c1_joint1]\narmature = -1e-3\n", "'joints.c1_joint1.armature' must be a finite number >= 0"),
+    (lambda s: s + "[joints.c1_joint1]\ninertia = 1e-3\n", "unknown \\[joints.c1_joint1\\] key 'inertia'; allowed: armature, "
+                                                           "damping, friction"),
+    (lambda s: "slip_speed = 0.0\n" + s, "'slip_speed' must be a positive speed"),
+    (lambda s: s.replace("coordinates =", "coordinate ="), "unknown \\[platform\\] key 'coordinate'.*allowed: "
                                                            "coordinates, frame"),
     (lambda s: s + "stiffness = 1e6\n", "unknown \\[closures\\[0\\]\\] key 'stiffness'; allowed: frames, kind"),
     (lambda s: "a = " + "[" * 5000 + "]" * 5000 + "\n" + s, "nested too deeply"),
@@ -86,7 +92,8 @@ def test_pinocchio_with_the_closure_file_matches_orsino(loaded):
 def test_bad_closure_files_name_the_key(tmp_path, edit, message):
     """Unknown frames or joints, bad coordinates, a missing URDF, a one-frame closure, an unknown
     closure kind, a frame closure given to the tip-to-tip loader, a misspelt key, a file nested
-    too deeply to parse: named errors."""
+    too deeply to parse, a joint term for no joint, negative or unknown, a slip speed of zero:
+    named errors."""
     (tmp_path / "five_bar.urdf").write_text((REPO / "urdf" / "five_bar.urdf").read_text())
     (tmp_path / "m.toml").write_text(edit(CLOSURE.read_text()))
     with pytest.raises(FreefloatError, match=message):
@@ -130,7 +137,8 @@ JOINT_TYPES = (pin.JointModelRX, pin.JointModelRY, pin.JointModelRZ, pin.JointMo
 @given(st.integers(0, 2**31), st.integers(1, 6))
 def test_chains_read_from_a_tree_match_pinocchio(seed, n):
     """chain_from_tree on random chains of revolute and prismatic joints along x, y or z, random
-    placements, inertias and gravity: M equals CRBA and v + g equals RNEA(q, qd, 0)."""
+    placements, inertias, armature and gravity: M equals CRBA (the armature on its diagonal), v + g
+    equals RNEA(q, qd, 0), and the joints' damping and friction are the chain's."""
     rng = np.random.default_rng(seed)
     model = pin.Model()
     model.gravity = pin.Motion(rng.normal(size=3), np.zeros(3))
@@ -142,7 +150,11 @@ def test_chains_read_from_a_tree_match_pinocchio(seed, n):
         model.appendBodyToJoint(parent, pin.Inertia(rng.uniform(0.2, 2.0), rng.normal(size=3) * 0.2, A @ A.T + 0.05 * np.eye(3)),
                                 pin.SE3.Identity())
     model.addFrame(pin.Frame("tip", parent, 0, pin.SE3(np.eye(3), rng.normal(size=3) * 0.1), pin.FrameType.OP_FRAME))
+    model.armature[:] = rng.uniform(0.0, 0.5, n)
+    model.damping[:], model.friction[:] = rng.uniform(0.0, 0.1, n), rng.uniform(0.0, 0.1, n)
     chain, joints = chain_from_tree(model, model.getFrameId("tip"))
+    np.testing.assert_array_equal(chain.friction.viscous, model.damping)
+    np.testing.assert_array_equal(chain.friction.coulomb, model.friction)
     data = model.createData()
     q, qd = rng.uniform(-1, 1, n), rng.normal(size=n)
     M, v, g = chain.dynamics(q, qd)
@@ -215,3 +227,89 @@ def test_a_revolute_closure_out_of_the_loop_plane_is_refused(tmp_path):
     with pytest.raises(FreefloatError, match=r"'closures\[0\]' is a revolute closure, but joint 'c1_joint1' turns "
                                              r"about a direction out of its hinge's plane"):
         load_closed_chain(tmp_path / "c.toml")
+
+
+JOINT_TERMS = """slip_speed = 0.02
+[joints.c1_joint1]
+armature = 2.0e-3
+damping = 1.0e-3
+friction = 0.04
+[joints.c2_joint1]
+armature = 3.0e-3
+damping = 2.0e-3
+friction = 0.03
+[joints.c1_joint2]
+damping = 5.0e-4
+friction = 0.01
+"""
+
+
+@pytest.fixture(scope="module")
+def with_terms(tmp_path_factory):
+    """The 5R's closure file with armature and friction on three joints (``[joints]``)."""
+    folder = tmp_path_factory.mktemp("terms")
+    (folder / "five_bar.urdf").write_text((REPO / "urdf" / "five_bar.urdf").read_text())
+    (folder / "m.toml").write_text(CLOSURE.read_text().replace("[platform]", JOINT_TERMS + "\n[platform]"))
+    return load_closed_chain(folder / "m.toml")
+
+
+def test_joint_terms_reach_both_models(with_terms):
+    """[joints] puts each armature in Pinocchio's model.armature and on Orsino's chains, and each
+    friction (slip speed 0.02) in the closed chain's friction and the chains'."""
+    mech, model = with_terms.mechanism, with_terms.model
+    armature = with_terms.pinocchio_q(np.concatenate([np.zeros(2)] + [c.armature for c in mech.chains]))
+    np.testing.assert_array_equal(armature, model.armature)
+    np.testing.assert_array_equal(with_terms.friction.coulomb, [0.04, 0.01, 0.03, 0.0])
+    assert with_terms.friction.slip_speed == mech.chains[0].friction.slip_speed == 0.02
+    assert not mech.rigid and mech.core is None and load_closed_chain(CLOSURE).mechanism.core is not None
+
+
+def test_forward_dynamics_with_armature_and_friction_matches_pinocchio(with_terms):
+    """Orsino's eq 129 with armature and friction (compiled rigid terms plus the joint terms, and
+    the numpy reference) equals Pinocchio's constraintDynamics with the same armature and
+    ``tau - f(v)``, to round-off, at 10 random assembled states spanning the friction's slope."""
+    mech, model = with_terms.mechanism, with_terms.model
+    plant = ConstraintDynamicsPlant(model, with_terms.constraints, [model.idx_vs[j] for j in with_terms.actuated],
+                                    accuracy=1e-14, friction=with_terms.friction)
+    rng = np.random.default_rng(3)
+    for scale in np.geomspace(1e-3, 3.0, 10):
+        q, qd = state(mech, np.array([0.07, 0.17]) + rng.uniform(-0.03, 0.03, 2), scale * rng.normal(size=2))
+        tau = rng.normal(size=2)
+        reference = plant.acceleration(with_terms.pinocchio_q(q), with_terms.pinocchio_q(qd), tau)
+        for m in (mech, mech.reference()):
+            np.testing.assert_allclose(with_terms.pinocchio_q(m.forward(q, qd, tau)), reference,
+                                       atol=1e-12 * np.abs(reference).max())
+
+
+def test_inverse_dynamics_overcomes_the_friction(with_terms):
+    """The efforts of eqs 130-140 with armature and friction, fed to the forward dynamics, give
+    the platform acceleration asked for (1e-9), and differ from the frictionless ones."""
+    mech = with_terms.mechanism
+    q, qd = state(mech, rates=(0.4, -0.3))
+    qdd_sharp = np.array([2.0, -1.0])
+    tau, _, qdd = mech.inverse(q, qd[:2], qdd_sharp)
+    np.testing.assert_allclose(mech.forward(q, qd, tau)[:2], qdd_sharp, atol=1e-9)
+    np.testing.assert_allclose(mech.forward(q, qd, tau), qdd, atol=1e-9)
+    assert np.abs(tau - mech.frictionless().inverse(q, qd[:2], qdd_sharp)[0]).min() > 1e-3
+
+
+def test_falling_with_friction_loses_what_friction_dissipates(with_terms):
+    """Falling from a moving start for 0.3 s (RK4 at 0.1 ms, Baumgarte 0), the energy Pinocchio
+    computes on the tree (1/2 v^T M v with its armature, plus the potential) falls by the work of
+    friction (Simpson's rule on the recorded rates), to the integrator's tolerance (1e-9 of the
+    energy lost)."""
+    from scipy.integrate import simpson
+
+    mech, model = with_terms.mechanism, with_terms.model
+    q0, qd0 = state(mech, rates=(0.5, -0.4))
+    tel = simulate(mech, q0, qd0, lambda *_: np.zeros(2), 0.3, 1e-4).telemetry
+    data = model.createData()
+
+    def energy(q, qd):
+        qp, vp = with_terms.pinocchio_q(q), with_terms.pinocchio_q(qd)
+        return pin.computeKineticEnergy(model, data, qp, vp) + pin.computePotentialEnergy(model, data, qp)
+
+    E = np.array([energy(q, qd) for q, qd in zip(tel.q, tel.v)])
+    lost = simpson((mech.joint_friction(tel.v) * tel.v).sum(axis=1), x=tel.t)
+    assert lost > 1e-3
+    assert abs(E[0] - E[-1] - lost) < 1e-9 * lost

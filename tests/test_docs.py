@@ -152,11 +152,55 @@ def _first_hour(ns: dict) -> None:
     assert np.abs(momentum - momentum[0]).max() < 1e-12 * max(1.0, np.abs(momentum).max())
 
 
+def _parallel_page(ns: dict) -> None:
+    """The motor-driven 5R under the voltage drive ends where the same closed loop integrated by
+    DOP853 (rtol 1e-12, a fresh drive) ends, to RK4's error on the windings at 0.1 ms (L/R =
+    0.26 ms), with the loop held closed."""
+    from freefloat.dynamics.simulation import run_plant
+    from freefloat.dynamics.voltage_drive import VoltageDrive
+
+    result, plant, motors = ns["result"], ns["plant"], ns["motors"]
+    assert result.status == "completed" and result.telemetry.drift.max() < 1e-9
+    drive = VoltageDrive(ns["law"], plant, motors.motors, bandwidth=3500.0, period=1e-4)
+    reference = run_plant(plant, ns["q0"], np.zeros(plant.space.nv), 0.01, 1e-4, "dop853", drive, rtol=1e-12, atol=1e-12)
+    np.testing.assert_allclose(result.telemetry.q[-1], reference.telemetry.q[-1], atol=2e-5)  # 1.9e-6 measured
+    np.testing.assert_allclose(result.telemetry.v[-1], reference.telemetry.v[-1], atol=1e-3)  # 1.1e-4 A measured
+
+
+def _control_laws_page(ns: dict) -> None:
+    """The adaptive run completes; its estimates move towards the plant's base parameters
+    (five_bar_theta, checked against Orsino's dynamics) and the platform follows the circle
+    (computed here from eq 189) within 5e-5 m over the last 0.1 s."""
+    from freefloat.parallel.five_bar import TRUE_PARAMETERS_50
+    from freefloat.parallel.platform_regressor import five_bar_theta
+
+    tel, truth = ns["result"].telemetry, five_bar_theta(TRUE_PARAMETERS_50)
+    assert ns["result"].status == "completed" and len(ns["t"]) == len(tel.t) - 1
+    first, last = np.abs(ns["estimates"][0] / truth - 1).max(), np.abs(ns["estimates"][-1] / truth - 1).max()
+    assert last < first / 3
+    late = tel.t > 0.4
+    circle = np.array([[0.07 * np.cos(28.57 * t), 0.17 + 0.07 * np.sin(28.57 * t)] for t in tel.t[late]])
+    assert np.abs(tel.q[late, :2] - circle).max() < 5e-5
+
+
+def _sensors_page(ns: dict) -> None:
+    """The sensed detumbling run completes, the law read one recorded row per period, and the
+    estimated momentum ends within 4 of its standard deviations of the telemetry's (Pinocchio's
+    centroidal momentum) on the components a planar base conserves, closer than the readings' map."""
+    result, seen = ns["result"], ns["seen"]
+    assert result.status == "completed" and len(seen.t) == len(result.telemetry.t) - 1 == 500
+    truth, rows = result.telemetry.momentum[-2], [0, 1, 5]
+    assert np.all(np.abs(seen.estimate[-1, rows] - truth[rows]) < 4 * seen.spread[-1, rows])
+    assert np.all(seen.spread[-1, rows] < np.sqrt(np.mean((seen.momentum[100:] - truth) ** 2, axis=0))[rows])
+
+
 #: What each Python snippet of the pages claims, checked against a reference of its own.
 SNIPPET_CHECKS = {"README.md#python0": _readme_scene, "README.md#python1": _readme_tumbling,
                   "README.md#python2": _readme_closed_chain, "README.md#python3": _readme_many_runs,
                   "gjm.md#python0": _gjm_page,
-                  "integrators.md#python0": _integrators_page, "first_hour.md#python0": _first_hour}
+                  "integrators.md#python0": _integrators_page,
+                  "control_laws.md#python0": _control_laws_page, "first_hour.md#python0": _first_hour,
+                  "parallel.md#python0": _parallel_page, "sensors.md#python0": _sensors_page}
 
 
 @pytest.mark.parametrize(("where", "code"), blocks("python"), ids=[w for w, _ in blocks("python")])
@@ -177,7 +221,7 @@ def test_command_parses(where, argv, monkeypatch):
         assert (REPO / argv[1]).is_file(), f"{where}: no {argv[1]}"
         return
     seen = []
-    for name in ("_simulate", "_batch", "_verify", "_reproduce", "_scenes", "_view", "_info", "_bench", "_atlas"):
+    for name in ("_simulate", "_batch", "_verify", "_reproduce", "_scenes", "_robots", "_view", "_info", "_bench", "_atlas"):
         monkeypatch.setattr(cli, name, lambda *args, name=name: seen.append(name) or 0)
     assert cli.main(argv[1:]) == 0 and seen, f"{where}: {' '.join(argv)}"
 

@@ -4,13 +4,15 @@ and nothing else, none when the set is empty."""
 
 from __future__ import annotations
 
+import json
+
 import pytest
 
 from freefloat.app import figure_set
 from freefloat.app.cli import main
 from freefloat.app.run_folder import RECORD
 from freefloat.app.scenes import load_scene
-from freefloat.errors import SceneError
+from freefloat.errors import LISTED, SceneError
 
 from .conftest import scene_variant
 
@@ -25,7 +27,7 @@ def _scene(tmp_path, **output):
 
 
 def _figures(out) -> set[str]:
-    return {p.name for p in out.iterdir()} - DATA - {RECORD}
+    return {p.name for p in out.iterdir() if not p.name.startswith("telemetry_")} - DATA - {RECORD}
 
 
 @pytest.mark.parametrize("value", [["joint_errors", "torqes"], ["all", 3], "torques"])
@@ -35,7 +37,10 @@ def test_scene_refuses_an_unknown_figure_listing_the_choices(tmp_path, value):
     with pytest.raises(SceneError, match=r"'output\.figures'") as error:
         load_scene(_scene(tmp_path, figures=value))
     if value[-1] == "torqes":
-        assert "unknown figure 'torqes'; valid: all, " + ", ".join(figure_set.FIGURES) in str(error.value)
+        message = str(error.value)
+        assert "unknown figure 'torqes'; did you mean 'torques'? (valid: all, " in message
+        whole = message.endswith(", ".join(figure_set.FIGURES) + ")")
+        assert whole if len(figure_set.FIGURES) < LISTED else message.endswith("listed by docs/commands.md)")
 
 
 def test_scene_refuses_an_unknown_format(tmp_path):
@@ -47,7 +52,7 @@ def test_the_command_refuses_an_unknown_figure(tmp_path, capsys):
     """--figures with an unknown name: exit 2, the message lists the names, no folder."""
     assert main(["simulate", str(_scene(tmp_path)), "--out", str(tmp_path / "out"), "--quiet",
                  "--figures", "torques,paths"]) == 2
-    assert "--figures: unknown figure 'paths'; valid: all, joint_errors" in capsys.readouterr().err
+    assert "--figures: unknown figure 'paths'; valid: all, joint_errors" in capsys.readouterr().err  # none near
     assert not (tmp_path / "out").exists()
 
 
@@ -85,3 +90,58 @@ def test_the_default_set_is_lean_and_true_means_it(tmp_path):
         scene = _scene(tmp_path, **({} if value is None else {"figures": value}))
         assert main(["simulate", str(scene), "--out", str(out), "--quiet"]) == 0
         assert _figures(out) == {"joint_errors.png", "torques.png", "com_drift.png"}
+
+
+#: What every robot run's motion is drawn as (outside the default set).
+MOTION = {"base_trajectory", "end_effector_paths", "end_effector_displacement"}
+SPIN = {"angular_rates", "angular_momentum"}
+#: What every mechanism run draws.
+MECHANISM = {"platform_tracking", "efforts", "loop_closure_drift"}
+JOINT_SPACE = MOTION | {"joint_errors", "torques", "com_drift"}
+CAPTURE = MOTION | SPIN | {"torques", "com_drift"}
+DETUMBLING = MOTION | SPIN | {"joint_errors", "torques", "conservation_balance"}
+#: The figures each built-in scene's task and controller call for.
+CALLED_FOR = {
+    "capture_planar": CAPTURE, "capture_satellite": CAPTURE,
+    **dict.fromkeys(("capture_planned_planar", "capture_planned_planar_pose", "capture_planned_satellite"),
+                    CAPTURE | {"approach_joint_errors"}),
+    **dict.fromkeys(("capture_two_hands_planar", "capture_two_hands_satellite"), CAPTURE | {"closed_loop"}),
+    **dict.fromkeys(("capture_planned_two_hands_planar", "capture_planned_two_hands_satellite"),
+                    CAPTURE | {"closed_loop", "approach_joint_errors"}),
+    **dict.fromkeys(("detumble_impulse_arm1_joint3", "detumble_impulse_arm1_joint4", "detumble_impulse_arm2_joint4",
+                     "detumble_impulse_baseline", "detumble_impulse_both_arms"), DETUMBLING),
+    "detumble_impulse_wheel": DETUMBLING | {"reaction_wheels"},
+    "five_bar_computed_torque": MECHANISM, "rsu_ppap_computed_torque": MECHANISM,
+    "five_bar_sliding_mode": MECHANISM | {"sliding_variables"}, "five_bar_revolute": MECHANISM | {"sliding_variables"},
+    "rsu_ppap_sliding_mode": MECHANISM | {"sliding_variables"},
+    "five_bar_free_base": MECHANISM | {"sliding_variables", "base_attitude", "momentum"},
+    "rsu_ppap_free_base": MECHANISM | {"base_attitude", "momentum"},
+    "four_arm_joint_space": JOINT_SPACE, "satellite_dual_arm": JOINT_SPACE,
+    "satellite_wheels": JOINT_SPACE | {"reaction_wheels"},
+    "satellite_hands_joined": MOTION | {"com_drift", "closed_loop"},
+    "tumbling": MOTION | {"com_drift"},
+}
+
+
+def test_every_builtin_scene_calls_for_the_figures_of_its_task_and_controller():
+    """Each built-in scene's figure set follows its kind, task, controller, wrenches, closures,
+    wheels and base: no torques without a controller, no sliding variables under computed torque,
+    the momentum balance where wrenches act."""
+    from freefloat.app.scenes import builtin_scenes
+
+    assert set(CALLED_FOR) == set(builtin_scenes())
+    for name, path in builtin_scenes().items():
+        assert set(figure_set.called_for(load_scene(path))) == CALLED_FOR[name], name
+
+
+@pytest.mark.parametrize("name", ["rsu_ppap_computed_torque", "five_bar_free_base", "tumbling"])
+def test_a_run_writes_the_figures_its_task_calls_for(tmp_path, name):
+    """With every figure chosen, a short run writes those its scene calls for, less those the
+    summary names as not drawn (data identically zero): a computed-torque mechanism no
+    sliding_variables."""
+    scene = scene_variant(tmp_path / "scene.toml", name, simulation={"duration": 0.05},
+                          output={"html": False, "figures": ["all"]})
+    out = tmp_path / "out"
+    assert main(["simulate", str(scene), "--out", str(out), "--quiet"]) == 0
+    not_drawn = set(json.loads((out / "summary.json").read_text()).get("figures_not_drawn", {}))
+    assert _figures(out) == {f"{figure}.png" for figure in CALLED_FOR[name] - not_drawn}

@@ -37,13 +37,22 @@ def rsu():
     return RsuPpapModel(load_rsu_ppap().mechanism, data)
 
 
-def test_generic_design_gives_the_5r_only_codes_gains_bit_for_bit(five_bar_gains):
-    """n, T, n_ij and the worst cases equal the stored output of the 5R-only design exactly."""
+def test_generic_design_gives_the_5r_only_codes_gains(five_bar_gains):
+    """n, T, n_ij and the worst cases equal the stored output of the 5R-only design to 1e-12
+    relative: the same arithmetic, up to the order of a few sums and a batched p x p inverse
+    (round-off near 1e-14 relative here; gains of order 100, conditioning of (1 - |Delta|_max)
+    near 10)."""
     g = five_bar_gains
-    assert np.array_equal(g.n, REGRESSION["n"]) and np.array_equal(g.T, REGRESSION["T"])
-    assert np.array_equal(g.Delta_max, REGRESSION["Delta_max"]) and np.array_equal(g.delta0_max, REGRESSION["delta0_max"])
+
+    def same(value, stored):
+        np.testing.assert_allclose(value, stored, rtol=1e-12, atol=1e-12 * np.abs(stored).max())
+
+    same(g.n, REGRESSION["n"])
+    same(g.T, REGRESSION["T"])
+    same(g.Delta_max, REGRESSION["Delta_max"])
+    same(g.delta0_max, REGRESSION["delta0_max"])
     for key, value in REGRESSION["n_ij"].items():
-        assert np.array_equal(g.n_ij[tuple(int(i) for i in key.split(","))], value)
+        same(g.n_ij[tuple(int(i) for i in key.split(","))], value)
 
 
 def test_5r_wrapper_is_the_generic_design(five_bar_gains):
@@ -130,7 +139,7 @@ def test_sliding_condition_holds_on_the_2rsu_ppap(rsu):
         q = rsu.assemble(point)
         for theta in gain_design.vertices(rsu):
             rates, e, edot, qdd_d = (rng.normal(size=3) * w for w in (0.3, 0.01, 0.1, 5.0))
-            reference = lambda t: (q[:3] + e, rates + edot, qdd_d)  # noqa: E731
+            reference = lambda t: (q[:3] + e, rates + edot, qdd_d)
             law = PlatformControl(rsu.mechanism, reference, lam, gains, "sign")
             tau, _, s = law.law(0.0, q, rsu.mechanism.velocity_map(q) @ rates)
             H, v, g, B = platform_dynamics(with_masses(rsu.mechanism, rsu.data, dict(zip(rsu.names, theta))), q, rates)

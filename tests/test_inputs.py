@@ -21,8 +21,8 @@ def test_a_deeply_nested_file_is_refused_not_a_recursion_error(tmp_path):
 
 def test_an_unknown_key_names_the_closest_valid_one_and_all():
     """A misspelt key is refused with a suggestion and the list of valid keys."""
-    with pytest.raises(FreefloatError, match=r"f.toml: unknown \[platform\] key 'coordinate' \(did you mean "
-                                             r"'coordinates'\?\); allowed: coordinates, frame"):
+    with pytest.raises(FreefloatError, match=r"f.toml: unknown \[platform\] key 'coordinate'; did you mean "
+                                             r"'coordinates'\? \(allowed: coordinates, frame\)"):
         reject_unknown("f.toml: ", {"coordinate": 1}, ["frame", "coordinates"], "platform")
 
 

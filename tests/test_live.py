@@ -47,7 +47,8 @@ def test_the_server_holds_the_robot_and_follows_each_chunk(live):
 
 
 def test_simulate_view_runs_live_then_replays(tmp_path, monkeypatch, capsys):
-    """--view shows a joint-space run live, replays it, closes the server and exits 0."""
+    """--view shows a joint-space run live, replays it, closes the server and exits 0; the viewer's
+    address is printed once (meshcat printed it too, and the replay a third time)."""
     import webbrowser
 
     opened = []
@@ -57,3 +58,4 @@ def test_simulate_view_runs_live_then_replays(tmp_path, monkeypatch, capsys):
     assert main(["simulate", str(scene), "--view", "--quiet", "--out", str(tmp_path / "out")]) == 0
     out = capsys.readouterr().out
     assert opened and opened[0].startswith("http://127.0.0.1:") and "replaying the run in the live viewer" in out
+    assert out.count("http://") == 1 and f"live viewer: {opened[0]}" in out

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import warnings
+from pathlib import Path
 
 import numpy as np
 import pinocchio as pin
@@ -148,16 +149,41 @@ def test_missing_file_is_rejected(tmp_path):
         load_robot(tmp_path / "nothing.urdf")
 
 
-def test_missing_meshes_warn_once_and_keep_dynamics(tmp_path):
-    """Missing meshes give one warning and no visuals, but the dynamics load."""
-    text = urdf([("a", 1, 1), ("b", 1, 1)], [("j1", "a", "b")]).replace(
-        '<link name="b">', '<link name="b"><visual><geometry><mesh filename="gone.stl"/></geometry></visual>')
+def _one_mesh_missing(folder: Path) -> Path:
+    """A two-link URDF in ``folder``: link a's mesh is there (a copy of UR5's base.stl), link b's
+    (gone.stl) is not."""
+    from freefloat.robot.loading import example_robot_data_share
+
+    stl = example_robot_data_share() / "example-robot-data/robots/ur_description/meshes/ur5/collision/base.stl"
+    (folder / "there.stl").write_bytes(stl.read_bytes())
+    text = urdf([("a", 1, 1), ("b", 1, 1)], [("j1", "a", "b")])
+    for link, mesh in (("a", "there.stl"), ("b", "gone.stl")):
+        text = text.replace(f'<link name="{link}">',
+                            f'<link name="{link}"><visual><geometry><mesh filename="{mesh}"/></geometry></visual>')
+    (folder / "robot.urdf").write_text(text)
+    return folder / "robot.urdf"
+
+
+def test_a_missing_mesh_costs_only_its_own_visual(tmp_path):
+    """One mesh file missing: one warning naming the link and the file; the dynamics load and the
+    other link keeps its mesh."""
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        (tmp_path / "robot.urdf").write_text(text)
-        robot = load_robot(tmp_path / "robot.urdf")
-    assert robot.visual_model is None and robot.model.nv == 7
-    assert len([w for w in caught if "gone.stl" in str(w.message)]) == 1
+        robot = load_robot(_one_mesh_missing(tmp_path))
+    assert robot.model.nv == 7 and robot.visual_model is not None
+    assert [Path(g.meshPath).name for g in robot.visual_model.geometryObjects] == ["there.stl"]
+    (note,) = [str(w.message) for w in caught if "gone.stl" in str(w.message)]
+    assert "link 'b'" in note and str(tmp_path) in note
+    assert robot.missing_meshes == (("b", "gone.stl"),)
+
+
+def test_a_missing_mesh_is_noted_without_building_visuals(tmp_path):
+    """``visuals=False`` (what ``freefloat info`` loads) still notes the missing mesh."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        robot = load_robot(_one_mesh_missing(tmp_path), visuals=False)
+    assert any("link 'b': 'gone.stl'" in note for note in robot.warnings)
+    assert robot.visual_model is None and robot.missing_meshes == (("b", "gone.stl"),)
 
 
 def test_example_robot_data_meshes_resolve():

@@ -112,7 +112,7 @@ def test_expand_puts_the_locked_positions_back_with_zero_rates(four_arm):
 
 def test_unknown_joint_is_refused_naming_it(four_arm):
     """Locking a name that is not an actuated joint raises an error naming it and the valid joints."""
-    with pytest.raises(RobotModelError, match="'arm9_joint1': not an actuated joint; joints: arm1_joint1"):
+    with pytest.raises(RobotModelError, match="'arm9_joint1': not an actuated joint; did you mean 'arm4_joint1', .*\\(joints: arm1_joint1"):
         lock_joints(four_arm, ["arm9_joint1"], four_arm.neutral())
 
 

@@ -6,13 +6,12 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
-from freefloat.dynamics.closures import ClosedModel, kinematics, stacked
+from freefloat.dynamics.closures import ClosedModel
 from freefloat.space.capture import TARGET_FRAME, Target
 from freefloat.space.control.loop_detumbling import LoopDetumblingController, internal_wrench
 from freefloat.space.detumbling import joint_indices, task_rows
-from freefloat.space.dual_capture import attach_with_loop
 
-from .conftest import box_in_both_hands
+from .conftest import box_held_in_both_hands
 
 HANDS = ("left_tool0", "right_tool0")
 BOX = Target(mass=50.0, inertia=(2.0, 2.5, 3.0), grasp=(-0.25, 0.3, 0.0), position=(0.0, 0.0, 0.0))
@@ -22,13 +21,7 @@ BOX = Target(mass=50.0, inertia=(2.0, 2.5, 3.0), grasp=(-0.25, 0.3, 0.0), positi
 def holding():
     """The dual-arm satellite holding the box in both hands at a random posture: (merged robot,
     its loop closure, q, a velocity the loop allows)."""
-    robot, body, q, q_t, rng = box_in_both_hands(5)
-    merged, closure = attach_with_loop(robot, HANDS, q, body, q_t)
-    data = merged.model.createData()
-    kinematics(merged.model, data, q, np.zeros(merged.model.nv))
-    J = stacked([closure], merged.model, data, drift=False)[1]
-    v = rng.normal(size=merged.model.nv) * 0.2
-    return merged, closure, q, v - np.linalg.pinv(J) @ (J @ v)
+    return box_held_in_both_hands(5)
 
 
 def law(merged, closure, **settings):

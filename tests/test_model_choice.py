@@ -76,6 +76,19 @@ def test_the_choice_is_written_to_the_summary(tmp_path):
     assert "model_auto" in done.outcome.headline  # the command line prints it
 
 
+def test_a_choice_with_nothing_piloted_says_so():
+    """When no other plant is cheaper per call, the line says none was piloted (it said "0
+    piloted for 0.06 s"), and when none applies at all, that."""
+    from freefloat.app.experiments.model_choice import describe
+
+    record = {"model": "exact", "lock": "none", "tolerance": 1e-6, "pilot_duration": 0.06,
+              "trials": [{"pilot_wall_time_s": None, "accepted": True}, {"pilot_wall_time_s": None, "accepted": False}]}
+    assert describe(record) == "exact: none of the 1 other plants is cheaper per call here (none piloted)"
+    assert describe({**record, "trials": record["trials"][:1]}) == "exact: no other plant applies (none piloted)"
+    tried = {**record, "trials": [record["trials"][0], {"pilot_wall_time_s": 0.01, "accepted": False}]}
+    assert describe(tried).endswith("under 1e-06 (1 piloted over the first 0.06 s)")
+
+
 def test_capture_scenes_keep_the_exact_plant_without_a_pilot(tmp_path):
     """A capture scene's ``auto`` is the exact plant, with the reason recorded."""
     capture = quiet_scene(tmp_path, "capture_planar", simulation={"model": "auto"})

@@ -248,7 +248,7 @@ def test_unknown_model_backend_is_refused(four_arm):
 
 
 def test_the_compiled_core_has_the_registrys_compiled_models():
-    """The C++ core's model names (cpp/models.hpp) are the registry's compiled hand-built models."""
+    """The C++ core's model names (cpp/gjm/models.hpp) are the registry's compiled hand-built models."""
     from freefloat.dynamics import _core
     from freefloat.dynamics.models import MODELS
 

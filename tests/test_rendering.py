@@ -64,3 +64,11 @@ def test_a_figure_redrawn_after_it_was_sent_is_rendered_as_sent(tmp_path, monkey
     plotting.save(fresh, tmp_path, "fresh", ("png",))
     assert (tmp_path / "sent.png").read_bytes() == (tmp_path / "fresh.png").read_bytes()
     assert (tmp_path / "changed.png").read_bytes() != (tmp_path / "fresh.png").read_bytes()
+
+
+def test_the_helper_knows_it_is_the_helper():
+    """A job run in the helper sees in_helper() true (so that its figures are rendered there,
+    never sent on to a helper of its own), and this process sees it false."""
+    helper = rendering.Renderer(rendering.in_helper)
+    assert helper.send()
+    assert helper.collect() == [True] and not rendering.in_helper()

@@ -4,6 +4,8 @@ documents' printed values, conservation laws and analytic cases with stated tole
 
 from __future__ import annotations
 
+import html
+import io
 import json
 import re
 
@@ -185,6 +187,51 @@ def test_kinematic_consistency_is_small(report):
     _, entries, _, _ = report
     values = [float(r["ours"]) for r in entries[(DISSERTATION, "Table 3")]["rows"]]
     assert max(values) < 1e-4
+
+
+def _texts(fig) -> list[str]:
+    """Every text drawn on a figure (its own and its axes')."""
+    return [t.get_text() for t in fig.texts] + [t.get_text() for ax in fig.axes for t in ax.texts]
+
+
+def test_the_pdf_opens_with_a_title_page_holding_the_provenance_as_a_table(report):
+    """Page 1: the title and one table row per provenance item (commit, settings, each version,
+    each study), its name in one column and its value in the other (no 'versions.pin: 4.1.0'
+    dump); the PDF has that page and one per entry."""
+    from freefloat.app.reproduce.report_pages import provenance_rows, title_page
+
+    out, entries, record, _ = report
+    provenance = record["provenance"]
+    rows = provenance_rows(provenance)
+    assert ("Made", "commit", provenance["commit"]) in rows and ("Settings", "quick", "True") in rows
+    assert ("Versions", "pin", provenance["versions"]["pin"]) in rows
+    assert {name for section, name, _ in rows if section == "Studies"} == set(NEEDED)
+    texts = _texts(title_page(provenance))
+    assert "freefloat: the documents reproduced" in texts
+    assert all(name in texts and value.split()[0] in " ".join(texts) for _, name, value in rows if value)
+    assert not [t for t in texts if re.match(r"^\w+\.\w+: ", t)]
+    pdf = (out / "report.pdf").read_bytes()
+    assert pdf.count(b"/Type /Page") - pdf.count(b"/Type /Pages") == len(entries) + 1
+
+
+def test_a_quick_report_is_marked_on_its_title_every_page_and_every_figure(report):
+    """--quick: the HTML page and the PDF's title and entry pages carry the quick mark, and each
+    figure's picture carries it (bottom right, in red), which a full report's does not."""
+    from matplotlib.image import imread
+
+    from freefloat.app.reproduce.report_pages import QUICK, build_entry, entry_page, title_page
+    from freefloat.app.reproduce.report_results import Results
+
+    out, _, record, _ = report
+    assert html.escape(QUICK) in (out / "report.html").read_text()
+    assert QUICK in _texts(title_page(record["provenance"]))
+    entry = next(e for e in ENTRIES if e.study in NEEDED and e.draw is not None)
+    quick, full = (build_entry(entry, Results(out), marked) for marked in (True, False))
+    assert QUICK in _texts(entry_page(quick, True)) and QUICK not in _texts(entry_page(full, False))
+    marked, plain = (imread(io.BytesIO(b.png))[..., :3] for b in (quick, full))
+    corner = (slice(-marked.shape[0] // 20, None), slice(marked.shape[1] // 2, None))
+    red = (marked[corner][..., 0] > 0.6) & (marked[corner][..., 1] < 0.3) & (marked[corner][..., 2] < 0.3)
+    assert red.sum() > 50 and not np.array_equal(marked, plain)
 
 
 def test_an_entry_without_its_study_says_why(tmp_path):

@@ -159,7 +159,7 @@ def test_unreachable_pose_is_refused_naming_the_leg():
 
 
 @pytest.mark.parametrize(("edit", "message"), [
-    (lambda s: s.replace("rod_length", "rod_len"), r"unknown \[rsu\] key 'rod_len' \(did you mean 'rod_length'\?\)"),
+    (lambda s: s.replace("rod_length", "rod_len"), r"unknown \[rsu\] key 'rod_len'; did you mean 'rod_length'\?"),
     (lambda s: s.replace("rod_length = 0.36", ""), r"missing key 'rsu\.rod_length'"),
     (lambda s: s.replace("rod_length = 0.36", 'rod_length = "0.36"'), r"'rsu\.rod_length' must be numeric"),
     (lambda s: s.replace("rod_length = 0.36", "rod_length = -0.36"), r"'rsu\.rod_length' must be a positive number"),
@@ -186,10 +186,11 @@ def test_batched_inverse_dynamics_drive_the_path(loaded):
         np.testing.assert_allclose(mech.forward(q[i], qd, tau[i])[:3], xdd[i], atol=1e-9 * np.abs(xdd).max())
 
 
-def test_rotating_platform_constraints_are_refused():
-    """Angular constraints with P != 0 (a platform that turns) fail with a message naming P."""
-    from freefloat.parallel.mechanism import AngularConstraints
+def test_angular_constraints_of_the_wrong_width_are_named(loaded):
+    """Angular constraints whose P does not have one column per platform coordinate fail, naming P
+    and the width the mechanism needs."""
+    from dataclasses import replace
 
-    with pytest.raises(FreefloatError, match="P must be zero"):
-        AngularConstraints(P=np.ones((1, 3)), Q=np.zeros((1, 9)), R=np.zeros((1, 16)), reference=np.tile(np.eye(3), (3, 1, 1)),
-                           offset=np.zeros(1))
+    angular = replace(loaded.mechanism.angular, P=np.ones((7, 2)))
+    with pytest.raises(FreefloatError, match="angular constraints: P has 2 columns; this mechanism needs 3"):
+        replace(loaded.mechanism, angular=angular)

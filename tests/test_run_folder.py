@@ -38,22 +38,40 @@ def previous_run(folder, *names: str) -> None:
 
 
 def test_a_folder_that_is_not_empty_needs_overwrite(tmp_path):
-    """A folder with files is refused without overwrite; with it, the previous run is cleared."""
+    """A folder with a previous run is refused without overwrite, naming --overwrite; with it, the
+    previous run is cleared."""
     previous_run(tmp_path / "out", "summary.json", "old_figure.png")
-    with pytest.raises(FreefloatError, match="not empty.*--overwrite"):
+    with pytest.raises(FreefloatError, match="holds a previous run.*--overwrite"):
         RunFolder(tmp_path / "out")
     with RunFolder(tmp_path / "out", overwrite=True):
         assert not (tmp_path / "out" / "old_figure.png").exists()
         assert not (tmp_path / "out" / PARTS).exists()
 
 
-def test_overwrite_never_clears_a_folder_that_holds_no_run(tmp_path):
-    """--overwrite refuses a folder of someone's files (no ownership record) and leaves them."""
+@pytest.mark.parametrize("overwrite", [False, True])
+def test_a_folder_that_holds_no_run_is_refused_with_a_hint_that_works(tmp_path, overwrite):
+    """A folder of someone's files (no ownership record) is refused with or without --overwrite,
+    naming the files, and the hint is another folder, never --overwrite (which would not clear
+    it either); the files are left."""
     (tmp_path / "thesis").mkdir()
     (tmp_path / "thesis" / "chapter1.tex").write_text("precious")
-    with pytest.raises(FreefloatError, match="no record of a freefloat run"):
-        RunFolder(tmp_path / "thesis", overwrite=True)
+    with pytest.raises(FreefloatError, match=r"holds files freefloat did not write \(chapter1.tex\); choose another "
+                                             r"--out \(a new or empty folder\)") as refused:
+        RunFolder(tmp_path / "thesis", overwrite=overwrite)
+    assert "--overwrite" not in str(refused.value)
     assert (tmp_path / "thesis" / "chapter1.tex").read_text() == "precious"
+
+
+def test_the_overwrite_hint_names_the_files_it_would_keep(tmp_path):
+    """A previous run beside the user's file: --overwrite is suggested (it works), saying that the
+    user's file stays; with it, it does."""
+    previous_run(tmp_path / "out", "summary.json")
+    (tmp_path / "out" / "notes.txt").write_text("mine")
+    with pytest.raises(FreefloatError, match=r"--overwrite to replace that run \(your files there stay: notes.txt\)"):
+        RunFolder(tmp_path / "out")
+    with pytest.warns(UserWarning, match="kept 1 file"), RunFolder(tmp_path / "out", overwrite=True):
+        pass
+    assert (tmp_path / "out" / "notes.txt").read_text() == "mine"
 
 
 def test_a_summary_json_alone_does_not_make_a_folder_freefloat_s(tmp_path):
@@ -61,7 +79,7 @@ def test_a_summary_json_alone_does_not_make_a_folder_freefloat_s(tmp_path):
     (tmp_path / "out").mkdir()
     (tmp_path / "out" / "summary.json").write_text('{"status": "completed", "versions": {}}')
     (tmp_path / "out" / "notes.md").write_text("mine")
-    with pytest.raises(FreefloatError, match="no record"):
+    with pytest.raises(FreefloatError, match="did not write"):
         RunFolder(tmp_path / "out", overwrite=True)
     assert {p.name for p in (tmp_path / "out").iterdir()} == {"summary.json", "notes.md"}
 

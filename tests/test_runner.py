@@ -182,16 +182,15 @@ def test_a_second_ctrl_c_keeps_the_telemetry_and_summary(tmp_path, gap):
 
 def test_writing_stages_come_after_the_simulation_in_order(tmp_path):
     """run_scene reports every simulated step before its first writing stage, then the stages in
-    the order they write (data, figures, page): a progress bar can close when the writing starts."""
-    from freefloat.app.outputs import STAGES
-
+    the order they write (data, page, then the figures the helper drew meanwhile): a progress bar
+    can close when the writing starts."""
     events: list[tuple[str, object]] = []
     scene = load_scene(scene_variant(tmp_path / "s.toml", "four_arm_joint_space", simulation={"duration": 0.05}))
     runner.run_scene(scene, tmp_path / "out", progress=lambda k: events.append(("step", k)),
                      stage=lambda name: events.append(("stage", name)))
     first_stage = next(i for i, (kind, _) in enumerate(events) if kind == "stage")
     assert events[first_stage - 1] == ("step", 50) and all(kind == "stage" for kind, _ in events[first_stage:])
-    assert [name for _, name in events[first_stage:]] == list(STAGES)
+    assert [name for _, name in events[first_stage:]] == ["data", "trajectory.html", "figures_meanwhile"]
 
 
 def test_simulate_closes_its_bar_before_writing_and_times_each_stage(tmp_path):
@@ -202,7 +201,8 @@ def test_simulate_closes_its_bar_before_writing_and_times_each_stage(tmp_path):
     assert done.returncode == 0, done.stderr
     lines = [line for line in done.stderr.splitlines() if line.startswith("writing ")]
     assert [line.split(" ...")[0] for line in lines] == [
-        "writing telemetry.npz, summary.json, scene.toml", "writing figures", "writing the page trajectory.html"]
+        "writing telemetry.npz, summary.json, scene.toml", "writing the page trajectory.html",
+        "writing figures, drawn meanwhile"]
     assert all(re.fullmatch(r".* \.\.\. \d+\.\d\d s", line) for line in lines)
 
 
@@ -219,15 +219,15 @@ def test_run_scene_takes_a_name_and_writes_where_the_command_would(tmp_path, mon
 
 
 def test_an_interrupt_while_writing_exits_1_with_the_data_whole(tmp_path):
-    """SIGTERM while the figures are drawn: exit 1 saying so (it was 0, as if all were written),
-    telemetry and summary whole, the drawings not yet begun (the page) listed as skipped."""
+    """SIGTERM while the page is written (the helper drawing the figures): exit 1 saying so (it
+    was 0, as if all were written), telemetry and summary whole, the figures listed as skipped."""
     path = scene_variant(tmp_path / "s.toml", "four_arm_joint_space", simulation={"duration": 0.05})
     process = cli_process("simulate", str(path), "--out", str(tmp_path / "out"))
     for line in process.stderr:
-        if line.startswith("writing telemetry.npz"):  # its line ends as the figures start
+        if line.startswith("writing telemetry.npz"):  # its line ends as the page starts
             process.send_signal(signal.SIGTERM)
             break
     out, err = process.communicate(timeout=120)
     assert process.returncode == 1, err
-    assert "interrupted while writing" in err and "skipped:" in out and "trajectory.html" in out.split("skipped:")[1]
+    assert "interrupted while writing" in err and "skipped:" in out and "figures" in out.split("skipped:")[1]
     assert len(Telemetry.load(tmp_path / "out" / "telemetry.npz").t) == 51

@@ -48,14 +48,14 @@ def test_builtin_scenes_prepare(name):
         (lambda r: r["simulation"].update(control_period=-0.001), "'simulation.control_period' must be > 0"),
         (lambda r: r["simulation"].update(duration="5"), "'simulation.duration' must be a number"),
         (lambda r: r["simulation"].update(substeps=1.5), "'simulation.substeps' must be an integer"),
-        (lambda r: r["simulation"].update(integrator="rk45"), "'simulation.integrator' is 'rk45'; valid: euler"),
+        (lambda r: r["simulation"].update(integrator="rk45"), "'simulation.integrator' is 'rk45'; did you mean 'rkmk4'? (valid: euler"),
         (lambda r: r["controller"].update(model="magic"), "'controller.model' is 'magic'; valid: exact"),
         (lambda r: r["controller"].update(kp=-1.0), "'controller.kp' must be >= 0"),
         (lambda r: r["robot"].update(base="spherical"), "'robot.base' is 'spherical'; valid: free, planar"),
         (lambda r: r["robot"].pop("urdf"), "[robot] needs key 'urdf'"),
         (lambda r: r["initial"].update(base_position=[0, 0]), "'initial.base_position' must be a list of 3"),
         (lambda r: r["task"].update(displacement={"arm1_ee": "five"}), "'task.displacement' must be a table"),
-        (lambda r: r.update(angle_unit="grad"), "'angle_unit' is 'grad'; valid: deg, rad"),
+        (lambda r: r.update(angle_unit="grad"), "'angle_unit' is 'grad'; did you mean 'rad'? (valid: deg, rad)"),
     ],
 )
 def test_bad_scene_values_are_named(edit, message):
@@ -83,9 +83,13 @@ def test_missing_robot_file_is_named():
         prepare(parse_scene(raw))
 
 
-def test_unknown_scene_name_lists_the_builtins():
-    """An unknown scene name lists the built-in scenes."""
-    with pytest.raises(SceneError, match=f"built-in: .*{DEFAULT_SCENE}"):
+def test_a_mistyped_scene_name_gets_the_nearest_builtins():
+    """A mistyped scene name is refused with the nearest built-in scenes first, and a list cut to a
+    few names that says where to see them all (it listed all 27)."""
+    with pytest.raises(SceneError, match=r"'five_bar_slidng_mode' is neither .*; did you mean 'five_bar_sliding_mode'"
+                                         r".*listed by freefloat scenes"):
+        find_scene("five_bar_slidng_mode")
+    with pytest.raises(SceneError, match=r"built-in: capture_planar, .* and \d+ more"):
         find_scene("not_a_scene")
 
 

@@ -1,5 +1,6 @@
-"""The build's layout (setup.py): which translation units include Pinocchio's headers, and the
-units the schedule knows. Read from the sources: setup.py runs the build when imported."""
+"""The build's layout (setup.py, cpp/): folders by concept with bindings apart, each unit one .cpp
+file, which translation units include Pinocchio's headers, and the units the schedule knows. Read
+from the sources: setup.py runs the build when imported."""
 
 import ast
 import re
@@ -18,6 +19,11 @@ def setup_constant(name: str):
     raise LookupError(name)
 
 
+def includes(source: Path) -> list[tuple[str, str]]:
+    """``source``'s #include lines as (bracket, name): ``"<"`` or ``'"'``."""
+    return [match.groups() for match in map(INCLUDE.match, source.read_text().splitlines()) if match is not None]
+
+
 def pinocchio_headers(source: Path, seen: set[Path] | None = None) -> set[str]:
     """The Pinocchio headers ``source`` includes, through the project's own headers."""
     seen = set() if seen is None else seen
@@ -25,11 +31,7 @@ def pinocchio_headers(source: Path, seen: set[Path] | None = None) -> set[str]:
         return set()
     seen.add(source)
     found = set()
-    for line in source.read_text().splitlines():
-        match = INCLUDE.match(line)
-        if match is None:
-            continue
-        bracket, name = match.groups()
+    for bracket, name in includes(source):
         if bracket == "<":
             found |= {name} if name.startswith("pinocchio/") else set()
             continue
@@ -42,10 +44,35 @@ def pinocchio_headers(source: Path, seen: set[Path] | None = None) -> set[str]:
 def test_only_the_plant_unit_includes_more_of_pinocchio_than_its_forward_declarations():
     including = {unit for unit in setup_constant("ORDER")
                  if pinocchio_headers((ROOT / unit).resolve()) - {"pinocchio/multibody/fwd.hpp"}}
-    assert including == {"cpp/pin_plant.cpp"}
+    assert including == {"cpp/sim/pin_plant.cpp"}
 
 
 def test_the_schedule_knows_every_unit_it_orders():
     order, memory = setup_constant("ORDER"), setup_constant("UNIT_MEMORY")
     assert sorted(order) == sorted(memory)
     assert all((ROOT / unit).is_file() for unit in order)
+
+
+def test_every_source_is_a_scheduled_unit_and_none_includes_another():
+    """Each .cpp under cpp/ is a translation unit of the schedule, and no file includes a .cpp."""
+    units = {path.relative_to(ROOT).as_posix() for path in CPP.rglob("*.cpp")}
+    assert units == set(setup_constant("ORDER"))
+    assert set(setup_constant("OPTIMIZATION")) <= units
+    included = {(source.name, name) for source in CPP.rglob("*.[ch]pp") for _, name in includes(source)
+                if name.endswith(".cpp")}
+    assert not included
+
+
+def test_only_the_bindings_include_pybind11():
+    """pybind11 is included only under cpp/bindings/: the numerics compile without it."""
+    including = {source.relative_to(CPP).parts[0] for source in CPP.rglob("*.[ch]pp")
+                 if any(name.startswith("pybind11/") for _, name in includes(source))}
+    assert including == {"bindings"}
+
+
+def test_each_unit_of_numerics_sits_beside_the_header_it_implements():
+    """Every .cpp outside cpp/bindings/ includes a header of its own folder (the one it defines)."""
+    beside = {unit.relative_to(CPP).as_posix(): [name for bracket, name in includes(unit)
+                                                 if bracket == '"' and (unit.parent / name).is_file()]
+              for unit in CPP.rglob("*.cpp") if unit.parent.name != "bindings"}
+    assert beside and all(beside.values()), beside

@@ -245,3 +245,20 @@ def test_without_progress_the_compiled_loop_returns_to_python_every_thousand_per
     assert simulation.UNREPORTED_PERIODS == 1000
     for field in ("q", "v", "momentum", "energy"):
         assert np.array_equal(getattr(quiet, field), getattr(reported, field))
+
+
+@pytest.mark.parametrize("backend", ["python", "compiled"])
+def test_progress_reports_the_loop_s_start_and_its_end(backend):
+    """``progress`` hears 0 as the loop starts (when its wall time starts) and the last period
+    when it ends, also when the periods are no multiple of the report interval (the bar of a
+    403-period run stopped at 402), counting up in between."""
+    from freefloat import load_robot
+
+    from .conftest import REPO
+
+    robot = load_robot(REPO / "urdf" / "two_arm_planar.urdf", visuals=False)
+    calls = []
+    result = run(robot, robot.neutral(), np.full(robot.model.nv, 0.1), 0.403, 1e-3,
+                 make_integrator("rkmk4", robot.model), ExactModel(robot), progress=calls.append, backend=backend)
+    assert result.steps == 403 and result.backend == backend
+    assert calls[0] == 0 and calls[-1] == 403 and calls == sorted(set(calls)) and len(calls) > 100

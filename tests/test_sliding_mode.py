@@ -7,9 +7,16 @@ import numpy as np
 import pytest
 
 from freefloat.errors import FreefloatError
-from freefloat.parallel.five_bar import TRUE_PARAMETERS, FiveBarParameters, elbow_guess, five_bar
-from freefloat.parallel.platform import platform_dynamics
 from freefloat.parallel.closed_loop import track_five_bar
+from freefloat.parallel.five_bar import (
+    TRUE_PARAMETERS,
+    FiveBarParameters,
+    elbow_guess,
+    five_bar,
+    redundant_five_bar,
+)
+from freefloat.parallel.platform import platform_dynamics
+from freefloat.parallel.redundancy import EffortDistribution
 from freefloat.parallel.sliding_mode import (
     PlatformControl,
     chattering,
@@ -33,21 +40,28 @@ def test_design_gives_positive_finite_gains(gains):
     assert np.all(gains.T >= 0) and np.all(np.abs(np.linalg.eigvals(gains.Delta_max)) < 1)
 
 
-def test_sliding_condition_holds_at_the_design_points(gains):
+@pytest.mark.parametrize("estimate", [
+    lambda params: five_bar(params),
+    lambda params: redundant_five_bar(params, EffortDistribution(weights=np.array([1.0, 1.0, 4.0]),
+                                                                 lower=np.full(3, -8.0), upper=np.full(3, 8.0))),
+], ids=["square", "redundant_shared"])
+def test_sliding_condition_holds_at_the_design_points(gains, estimate):
     """For every extreme plant at the design points, the law (eq 153, f = sign) gives
-    s^T sdot <= -eta sum |s| (eq 144) for random s, sigma and platform rates."""
-    est = five_bar(NOMINAL)
+    s^T sdot <= -eta sum |s| (eq 144) for random s, sigma and platform rates; also on the 5R with a
+    third actuator, the law's force shared (weighted 1:1:4, limited to 8 N m) and applied through
+    the true plant's actuation map: the gains designed on u*'s dynamics carry over."""
+    est = estimate(NOMINAL)
     rng = np.random.default_rng(0)
     for point in POINTS:
         q = est.assemble(point, elbow_guess(NOMINAL, point))
         for params in extreme_parameters(NOMINAL):
-            true = five_bar(params)
+            true = estimate(params)
             for _ in range(3):
                 qd, sigma, s = rng.normal(size=2) * 0.5, rng.normal(size=2) * 20, rng.normal(size=2)
-                H, v, g, _ = platform_dynamics(true, q, qd)
-                H_hat, v_hat, g_hat, _ = platform_dynamics(est, q, qd)
-                u = v_hat + g_hat + H_hat @ (sigma - gains.k(sigma, qd) * np.sign(s))
-                sdot = np.linalg.solve(H, u - v - g) - sigma
+                H, v, g, B = platform_dynamics(true, q, qd)
+                H_hat, v_hat, g_hat, B_hat = platform_dynamics(est, q, qd)
+                tau = est.efforts(B_hat, v_hat + g_hat + H_hat @ (sigma - gains.k(sigma, qd) * np.sign(s)))
+                sdot = np.linalg.solve(H, B @ tau - v - g) - sigma
                 assert s @ sdot <= -gains.eta * np.abs(s).sum() + 1e-9
 
 

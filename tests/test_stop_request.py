@@ -28,7 +28,7 @@ def test_a_run_on_another_thread_stops_as_interrupted_when_asked(backend):
 
     def tumble(duration: float) -> None:
         results.append(run(robot, robot.neutral(), v0, duration, 1e-3, make_integrator("rkmk4", robot.model),
-                           make_model("exact", robot), record_every=100, progress=lambda k: started.set(),
+                           make_model("exact", robot), record_every=100, progress=lambda k: k and started.set(),
                            backend=backend))
 
     worker = threading.Thread(target=tumble, args=(100.0,))

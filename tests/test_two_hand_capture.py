@@ -52,9 +52,11 @@ def test_a_second_grasp_off_the_second_hand_is_refused_with_the_right_one(tmp_pa
 
 @pytest.mark.parametrize("hand", ["left_tool0", "no_hand"])
 def test_a_second_hand_that_is_not_another_end_effector_is_refused(tmp_path, hand):
-    """The second hand must be an end-effector other than the first; the error lists them."""
+    """The second hand must be an end-effector other than the first; the error lists the others,
+    the nearest first."""
     scene = quiet_scene(tmp_path, SCENE, target={"second_end_effector": hand})
-    with pytest.raises(SceneError, match=r"'target.second_end_effector' .* end-effectors: left_tool0, right_tool0"):
+    with pytest.raises(SceneError, match=r"'target.second_end_effector' .* other than 'left_tool0'; (did you mean "
+                                         r"'right_tool0'\? \(others: right_tool0\)|others: right_tool0)$"):
         runner.prepare(scene)
 
 

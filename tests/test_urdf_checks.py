@@ -8,6 +8,7 @@ import warnings
 import pytest
 
 from freefloat import RobotModelError, load_robot
+from freefloat.errors import FreefloatNote
 from freefloat.robot import urdf_checks
 from freefloat.robot.loading import FreefloatWarning, example_robot_data_share
 from freefloat.robot.urdf_checks import compare_parses
@@ -124,13 +125,16 @@ def test_impossible_inertias_and_inverted_limits_are_noted(tmp_path):
     assert all(len(n.splitlines()) <= 2 for n in notes)
 
 
-def test_the_dissertation_robot_s_note_says_why_its_inertias_are_kept():
-    """The built-in four-arm robot's note is two lines: its inertias are the dissertation's, kept to
-    reproduce its numbers, and how to run a physical copy; 16 links named as three and a count."""
+def test_the_dissertation_robot_s_inertias_are_a_one_line_note():
+    """The built-in four-arm robot's inertias are the dissertation's on purpose: a one-line note (not
+    a warning) says so, with the count and how to run a physical copy; the robot records it."""
     with pytest.warns(FreefloatWarning) as caught:
-        load_robot("four_arm_planar", visuals=False)
-    note = next(str(w.message) for w in caught if "I1 + I2 >= I3" in str(w.message))
-    assert len(note.splitlines()) == 2 and "as the dissertation prints them" in note and "and 13 more" in note
+        robot = load_robot("four_arm_planar", visuals=False)
+    notes = [w for w in caught if "I1 + I2 >= I3" in str(w.message)]
+    assert len(notes) == 1 and notes[0].category is FreefloatNote
+    note = str(notes[0].message)
+    assert len(note.splitlines()) == 1 and "as the dissertation prints them" in note and "16 links" in note
+    assert 'inertias = "balanced"' in note and robot.notes == (note,) and not robot.warnings
 
 
 def test_a_joint_that_moves_no_mass_is_named(tmp_path):

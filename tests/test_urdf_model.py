@@ -54,6 +54,10 @@ def assert_same(ours, theirs) -> None:
         if ref.mimic is not None:
             assert (joint.mimic.joint, joint.mimic.multiplier, joint.mimic.offset) == (
                 ref.mimic.joint, ref.mimic.multiplier, ref.mimic.offset)
+        assert (joint.dynamics is None) == (ref.dynamics is None), joint.name
+        if ref.dynamics is not None:  # yourdfpy keeps the text, None where left out (0 here: urdfdom's reading)
+            assert (joint.dynamics.damping, joint.dynamics.friction) == (
+                float(ref.dynamics.damping or 0.0), float(ref.dynamics.friction or 0.0)), joint.name
 
 
 @pytest.mark.parametrize("path", FILES, ids=[f"{p.parent.parent.name}/{p.stem}" for p in FILES])
@@ -135,11 +139,15 @@ def two_links(joint_type="revolute", axis='<axis xyz="0 0 1"/>', mass="2", origi
     (two_links().replace('<joint name="j1"', "<joint"), "a <joint>: no 'name' attribute"),
     (two_links().replace('type="revolute"', ""), "joint 'j1' <joint>: no 'type' attribute"),
     (two_links().replace('<robot name="t">', "<robot>"), "the <robot>: no 'name' attribute"),
+    (two_links(axis='<axis xyz="0 0 1"/><dynamics damping="-0.1"/>'),
+     "joint 'j1' <dynamics damping=\"-0.1\">: negative: friction dissipates energy"),
+    (two_links(axis='<axis xyz="0 0 1"/><dynamics friction="soft"/>'),
+     "joint 'j1' <dynamics friction=\"soft\">: 'soft' is not a number"),
     ("<urdf></urdf>", "the root element is <urdf>, not <robot>"),
 ])
 def test_malformed_files_are_refused_naming_file_element_and_attribute(tmp_path, text, message):
-    """Missing attributes, bad numbers, vectors of other than three numbers, unknown joint types
-    and a bare <axis> (urdfdom reads a zero axis, yourdfpy (1, 0, 0)) are refused by the loader
+    """Missing attributes, bad numbers, vectors of other than three numbers, unknown joint types,
+    a negative <dynamics> coefficient and a bare <axis> (urdfdom reads a zero axis, yourdfpy (1, 0, 0)) are refused by the loader
     naming the file and the place."""
     with pytest.raises(RobotModelError) as err:
         load_text(tmp_path, text, visuals=False)

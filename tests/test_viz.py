@@ -196,7 +196,7 @@ def test_primitive_geometry_placed_like_pinocchio(sc3, tmp_path):
     visual, visual_data = sc3.visual_model, pin.GeometryData(sc3.visual_model)
     pin.forwardKinematics(model, data, q[50])
     pin.updateGeometryPlacements(model, data, visual, visual_data)
-    assert len([n for n in objects if n.split("/")[3] not in ("markers", "paths")]) == visual.ngeoms
+    assert len([n for n in objects if n.startswith(ROOT) and n.split("/")[3] not in ("markers", "paths")]) == visual.ngeoms
     for g, g_id in ((g, visual.getGeometryId(g.name)) for g in visual.geometryObjects):
         node = f"{ROOT}/{model.names[g.parentJoint]}"
         world = _node_pose(tracks[node], 5) @ _intrinsic(objects[f"{node}/{g.name}"])
@@ -273,6 +273,23 @@ def test_mesh_files_are_embedded(ur5, tmp_path):
         assert lowered["resources"] == {}
 
 
+def test_a_missing_mesh_leaves_the_other_meshes_and_a_stick_for_its_link(ur5, tmp_path):
+    """UR5 with wrist2's mesh file missing: the page draws every other link's mesh, and on
+    wrist2's joint the stick figure's pieces (its sphere, its link to the next joint); no other
+    joint gets any."""
+    path = tmp_path / "ur5_no_wrist2.urdf"
+    path.write_text(ur5.urdf_path.read_text().replace("visual/wrist2.dae", "visual/wrist2_gone.dae"))
+    robot = _load(path)
+    t, q = _run(robot, n=11, duration=1.0)
+    objects = _objects(write_trajectory_html(robot, t, q, tmp_path / "ur5.html"))
+    meshes = {n for n, o in objects.items() if o["object"]["type"] == "_meshfile_object"}
+    assert len(meshes) == ur5.visual_model.ngeoms - 1 and not any("wrist2" in n for n in meshes)
+    wrist2 = robot.model.frames[robot.model.getFrameId("wrist_2_link")].parentJoint
+    sticks = {n for n in objects if n.startswith(ROOT) and n.split("/")[3] not in ("markers", "paths")} - meshes
+    assert sticks and {n.split("/")[3] for n in sticks} == {robot.model.names[wrist2]}
+    assert f"{ROOT}/{robot.model.names[wrist2]}/joint_sphere" in sticks
+
+
 def test_each_mesh_file_is_embedded_once(tmp_path):
     """The dual-arm satellite uses each UR5 mesh twice but embeds it once; its page stays under 5 MB."""
     robot = _load(Path(__file__).resolve().parents[1] / "urdf" / "dual_arm_satellite.urdf")
@@ -313,6 +330,36 @@ def test_camera_sees_every_joint_at_every_frame(sc3, tmp_path):
         for m in data.oMi[1:]:
             ray = m.translation - position
             assert np.arccos(ray @ axis / np.linalg.norm(ray)) < np.radians(75.0) / 2
+
+
+def _grid_ends(page: Path) -> np.ndarray:
+    """The ends of a page's grid lines (2 K, 3), inertial frame, m: its ``/Grid`` object, or
+    meshcat's own grid (20 m wide, 40 cells, at z = 0) when the page leaves that in place."""
+    grid = _objects(page).get("/Grid")
+    if grid is None:
+        ticks = np.linspace(-10.0, 10.0, 41)
+        return np.array([[(x, -10.0, 0.0), (x, 10.0, 0.0)] for x in ticks]
+                        + [[(-10.0, y, 0.0), (10.0, y, 0.0)] for y in ticks]).reshape(-1, 3)
+    (geometry,) = grid["geometries"]
+    return np.frombuffer(geometry["data"]["attributes"]["position"]["array"].data, np.float32).reshape(-1, 3)
+
+
+def test_the_grid_lies_under_a_3d_motion_and_in_front_of_the_camera(sc3, tmp_path):
+    """A robot tumbling in 3-D: the grid is one plane under every joint origin of every shown frame,
+    under the camera's target, and every line's ends lie in front of the camera (lines crossing
+    the camera's plane were dropped by the browser, leaving a few far ones above the robot)."""
+    t, q = _run(sc3)
+    page = write_trajectory_html(sc3, t, q, tmp_path / "run.html", fps=10.0)
+    camera = _settings(page)["camera"]
+    position, target = np.array(camera["position"]), np.array(camera["target"])
+    axis = (target - position) / np.linalg.norm(target - position)
+    ends = _grid_ends(page)
+    data = sc3.model.createData()
+    shown = q[frame_indices(t, 10.0)]
+    lowest = min(m.translation[2] for qk in shown for m in (pin.forwardKinematics(sc3.model, data, qk), data.oMi)[1][1:])
+    assert np.ptp(ends[:, 2]) == 0.0 and ends[0, 2] <= lowest
+    assert (ends[:, :2].min(axis=0) <= target[:2]).all() and (target[:2] <= ends[:, :2].max(axis=0)).all()
+    assert ((ends - position) @ axis).min() > 0.04 * np.linalg.norm(target - position)
 
 
 def test_camera_sees_every_corner_of_an_extra_box(sc3, tmp_path):
@@ -590,6 +637,16 @@ def test_angular_rate_curves_are_the_angular_speeds(iiwa2):
         np.testing.assert_allclose(curves[label][:, 1], ends[:, k])
     np.testing.assert_allclose(curves["threshold 0.001 rad/s"][:, 1], 1e-3)
     np.testing.assert_allclose(_lines(base_ax)["w0 z"][:, 1], tel.base_twist[:, 5])
+
+
+def test_the_threshold_label_gives_three_significant_digits_and_its_unit(iiwa2):
+    """A threshold computed by the run (1.02706e-05 rad/s) is labelled to 3 digits, with rad/s."""
+    from freefloat.app.viz.figures import angular_rates_figure
+
+    tel = _telemetry(iiwa2)
+    tel.base_twist[:, 3:] = np.random.default_rng(4).normal(size=(len(tel.t), 3))
+    _, log_ax = angular_rates_figure(iiwa2, tel, threshold=1.0270612e-05).axes
+    assert "threshold 1.03e-05 rad/s" in _lines(log_ax)
 
 
 def test_balance_curves_are_the_summary_balances(iiwa2):

@@ -24,9 +24,9 @@
 // ABI here (every such function is inlined).
 #pragma GCC diagnostic ignored "-Wpsabi"
 
-#include "kernel/isa.hpp"
-#include "kernel/tree.hpp"
-#include "kernel/wrench.hpp"
+#include "isa.hpp"
+#include "tree.hpp"
+#include "wrench.hpp"
 
 namespace freefloat::kernel::FREEFLOAT_KERNEL_ISA {
 

@@ -3,8 +3,8 @@
 // CPU that has both: kernel.cpp checks at run time, so the module imports on any x86-64).
 #pragma once
 
-#include "kernel/tree.hpp"
-#include "kernel/wrench.hpp"
+#include "tree.hpp"
+#include "wrench.hpp"
 
 // One state: qdd (nv,) at (q, qd, tau) with the bodies' numbers; wrenches: one list or null.
 // Four states, one per lane, in structure of arrays: q (nq,), qd, tau, qdd (nv,) of Lanes, the

@@ -2,7 +2,7 @@
 // evaluation of kernel/aba.hpp compiled for the platform's baseline here (its entry points in
 // namespace baseline), and the choice, on this CPU, between it and the AVX2 unit's (lanes_avx2.cpp).
 #define FREEFLOAT_KERNEL_ISA baseline
-#include "kernel/aba.hpp"
+#include "aba.hpp"
 
 #include <atomic>
 #include <cmath>
@@ -12,8 +12,8 @@
 #include <string>
 #include <utility>
 
-#include "kernel/isa.hpp"
-#include "kernel/kernel.hpp"
+#include "isa.hpp"
+#include "kernel.hpp"
 #include "sim/model_arrays.hpp"
 
 namespace freefloat::kernel {

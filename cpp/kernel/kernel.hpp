@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
-#include "kernel/tree.hpp"
-#include "kernel/wrench.hpp"
+#include "tree.hpp"
+#include "wrench.hpp"
 
 namespace freefloat::sim {
 struct ModelArrays;

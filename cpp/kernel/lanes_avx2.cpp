@@ -2,4 +2,4 @@
 // compiled for AVX2 and FMA (setup.py gives this unit -mavx2 -mfma): four states in one register
 // per number. kernel.cpp calls it only on a CPU that has both instruction sets.
 #define FREEFLOAT_KERNEL_ISA avx2
-#include "kernel/aba.hpp"
+#include "aba.hpp"

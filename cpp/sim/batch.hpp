@@ -4,17 +4,20 @@
 // free slot of one shared block of rows; or, in lockstep, a group of loops (a Lockstep), each lane
 // taking the next run as soon as its own ends. The caller waits without Python's lock, takes the
 // runs as they finish and frees their slots; a stop request ends every run at its next slice of
-// periods. No thread touches Python.
+// periods. No thread touches Python, nor words a run's status: each run reports what ended it (the
+// loop's blow-up message, or the text of an error it threw), which Python words as
+// simulation.run does (freefloat.dynamics.simulation.ended_by).
 #pragma once
 
 #include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
-#include <cstdio>
 #include <deque>
 #include <memory>
 #include <mutex>
+#include <optional>
+#include <stdexcept>
 #include <string>
 #include <thread>
 #include <vector>
@@ -29,12 +32,14 @@ class Batch {
   static constexpr long kSlice = 1000;
 
   // A finished run: its index, the slot holding its rows, rows written, periods done, dynamics
-  // evaluations, loop wall time (s), and the blow-up message (empty: none).
+  // evaluations, loop wall time (s), and what ended it early, if anything: the loop's blow-up
+  // message (Simulation::run's), or the text of an error the loop threw (e.g. Pinocchio refusing a
+  // degenerate state).
   struct Done {
     int run, slot, rows;
     long periods, evaluations;
     double wall;
-    std::string error;
+    std::optional<std::string> blow_up, failure;
   };
 
   // The runs' inputs, row-major: q0 (runs, nq), v0 (runs, nv), for a computed-torque law the
@@ -130,13 +135,13 @@ class Batch {
     const int slot = take_slot();
     if (slot < 0) return false;
     const int nq = sim.nq(), nv = sim.nv(), n = sim.n_joints();
-    s.d = Done{run, slot, 0, 0, 0, 0.0, {}};
+    s.d = Done{run, slot, 0, 0, 0, 0.0, std::nullopt, std::nullopt};
     s.begin = std::chrono::steady_clock::now();
     s.evaluations = sim.evaluations();
     s.rows = rows_;
     s.rows.rows = (slot + 1) * per_run_;
     s.first = slot * per_run_;
-    guarded(sim, s.d, [&] {
+    guarded(s.d, [&] {
       if (bodies_ != nullptr) {
         const double* bodies = bodies_ + 13L * (sim.njoints() - 1) * run;
         sim.set_bodies(bodies);
@@ -154,8 +159,8 @@ class Batch {
   // The run on `sim` is over: its last row (when it completed), its counts, handed to the caller.
   void finish_run(Simulation& sim, Started& s) {
     Done& d = s.d;
-    if (d.error.empty() && sim.period() == last_)
-      guarded(sim, d, [&] { sim.record_now(s.rows, s.first + d.rows++, nullptr); });
+    if (!d.blow_up && !d.failure && sim.period() == last_)
+      guarded(d, [&] { sim.record_now(s.rows, s.first + d.rows++, nullptr); });
     d.periods = sim.period();
     d.evaluations = sim.evaluations() - s.evaluations;
     d.wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - s.begin).count();
@@ -166,16 +171,13 @@ class Batch {
     changed_.notify_all();
   }
 
-  // `work()` on the run of `d`; its error, at the loop's time, in d.error when it throws (Pinocchio
-  // refusing a degenerate state, as simulation.run reports it).
+  // `work()` on the run of `d`; the text of an error it throws in d.failure.
   template <typename Work>
-  static void guarded(const Simulation& sim, Done& d, Work&& work) {
+  static void guarded(Done& d, Work&& work) {
     try {
       work();
     } catch (const std::exception& e) {
-      char when[64];
-      std::snprintf(when, sizeof when, "at t = %.6g s: ", sim.time());
-      d.error = when + std::string(e.what());
+      d.failure = e.what();
     }
   }
 
@@ -184,13 +186,17 @@ class Batch {
     for (int run; !stopping_ && (run = next_++) < runs_;) {
       if (!start_run(sim, run, s)) break;
       Done& d = s.d;
-      guarded(sim, d, [&] {
-        while (d.error.empty() && sim.period() < last_ && !stopping_) {
-          const long before = sim.period();
-          d.rows += sim.run(std::min(last_, before + kSlice), s.rows, s.first + d.rows, d.error);
-          if (sim.period() == before && d.error.empty()) d.error = "the loop made no progress (its rows are full)";
-        }
-      });
+      std::string blow_up;
+      if (!d.failure)
+        guarded(d, [&] {
+          while (sim.period() < last_ && blow_up.empty() && !stopping_) {
+            const long before = sim.period();
+            d.rows += sim.run(std::min(last_, before + kSlice), s.rows, s.first + d.rows, blow_up);
+            if (sim.period() == before && blow_up.empty())
+              throw std::logic_error("the loop made no progress (its rows are full)");
+          }
+          if (!blow_up.empty()) d.blow_up = blow_up;
+        });
       finish_run(sim, s);
     }
     ended();
@@ -209,7 +215,7 @@ class Batch {
           const int run = stopping_ ? runs_ : next_++;
           more = run < runs_ && start_run(*sims[l], run, started[l], &lockstep, l);
           if (!more) break;
-          if (started[l].d.error.empty()) chunks[l] = LaneChunk{true, started[l].rows, started[l].first, {}, false};
+          if (!started[l].d.failure) chunks[l] = LaneChunk{true, started[l].rows, started[l].first, {}, {}, false};
           else finish_run(*sims[l], started[l]);  // its set-up failed: the lane takes the next run
         }
       }
@@ -223,9 +229,10 @@ class Batch {
         if (!c.active) continue;
         Done& d = started[l].d;
         d.rows = c.row - started[l].first;
-        if (c.full && c.error.empty()) c.error = "the loop made no progress (its rows are full)";
-        if (c.error.empty() && sim.period() < last_ && !stopping_) continue;
-        d.error = c.error;
+        if (c.full && c.blow_up.empty() && c.failure.empty()) c.failure = "the loop made no progress (its rows are full)";
+        if (c.blow_up.empty() && c.failure.empty() && sim.period() < last_ && !stopping_) continue;
+        if (!c.blow_up.empty()) d.blow_up = c.blow_up;
+        if (!c.failure.empty()) d.failure = c.failure;
         c.active = false;
         finish_run(sim, started[l]);
       }

@@ -1,6 +1,5 @@
 // The closed-chain loop and its platform law (chain_loop.hpp): ChainSimulation's periods, steps
-// and telemetry rows, PlatformLaw's efforts. Compiled in one translation unit with the plant it
-// calls at every stage, parallel.cpp (sim/chain_unit.cpp).
+// and telemetry rows, PlatformLaw's efforts, on the plant of chains/mechanism.hpp.
 #include <Eigen/LU>
 #include <algorithm>
 #include <cmath>

@@ -1,10 +1,10 @@
 // The simulation loop of freefloat.dynamics.simulation.run_plant for a closed chain by Orsino's
 // coupling (freefloat.dynamics.plants.CoupledChainPlant), in C++: zero-order-hold control periods
-// (or the law at every stage), eq 129 with Baumgarte as the plant (parallel.hpp), an integrator of
+// (or the law at every stage), eq 129 with Baumgarte as the plant (chains/mechanism.hpp), an integrator of
 // rkmk.hpp on the Euclidean coordinates q = [q#; q°], the platform control of
 // freefloat.parallel.sliding_mode.PlatformControl (computed torque, eq 190, or sliding mode,
 // eq 153) on a nominal model, and the telemetry row of plant_periods.PlantPeriods. Declarations:
-// the loop and the law are defined in chain_loop.cpp (compiled in sim/chain_unit.cpp).
+// the loop and the law are defined in chain_loop.cpp.
 #pragma once
 
 #include <optional>
@@ -12,7 +12,7 @@
 #include <utility>
 #include <vector>
 
-#include "../parallel.hpp"
+#include "chains/mechanism.hpp"
 #include "rkmk.hpp"
 
 namespace freefloat::sim {

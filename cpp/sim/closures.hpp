@@ -5,7 +5,7 @@
 //   lambda = D^+ (rhs - J M^-1 (tau - h)),  D = J M^-1 J^T,
 // on Pinocchio's CRBA, RNEA (with the external wrenches) and joint Jacobians (pin_plant.hpp),
 // solved with Eigen: no constraint-dynamics header (they are heavy to compile), the same numbers
-// as the reference. Declarations: the definitions are in cpp/closures.cpp.
+// as the reference. Declarations: the definitions are in closures.cpp.
 #pragma once
 
 #include <Eigen/Cholesky>

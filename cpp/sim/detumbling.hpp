@@ -3,7 +3,7 @@
 //   J*{k,S} qdot_S = -J0E{k} H0^-1 M,  qdot outside S = 0,
 // methods single (eq 120), min_norm and least_squares (pseudo-inverse), null_space (min-norm plus
 // the null-space motion minimising the base angular velocity or the whole base twist).
-// Declarations: the definitions are in cpp/detumbling.cpp, a translation unit of its own (Eigen
+// Declarations: the definitions are in detumbling.cpp, a translation unit of its own (Eigen
 // only), so that the SVD and QR are compiled once, apart from Pinocchio and pybind11.
 #pragma once
 

@@ -3,10 +3,9 @@
 // all lanes whose every stage evaluates the lanes' dynamics at once in the dynamics kernel
 // (Kernel::aba_lanes), then each loop's checks and work. A lane whose run has ended (or that has
 // none) is left out; the kernel's spare lanes evaluate a copy of a running lane's state.
-// Compiled with the loop (cpp/sim_unit.cpp).
+// Compiled with the loop (sim/simulation.cpp).
 #pragma once
 
-#include <cstdio>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -44,14 +43,14 @@ class LockstepLoops final : public Lockstep {
       for (int l = 0; l < lanes(); ++l) {
         LaneChunk& c = chunks[l];
         Loop& loop = *loops_[l];
-        if (!c.active || !c.error.empty() || c.full || loop.k_ >= last) continue;
+        if (!c.active || !c.blow_up.empty() || !c.failure.empty() || c.full || loop.k_ >= last) continue;
         const double t = loop.start_ + loop.k_ * loop.period_;
         const bool records = loop.k_ % loop.record_every_ == 0;
         if (records && c.row == c.rows.rows) {
           c.full = true;
           continue;
         }
-        if (!attempt(loop, c, [&] { loop.begin_period(t, records, c.rows, c.row); })) continue;
+        if (!attempt(c, [&] { loop.begin_period(t, records, c.rows, c.row); })) continue;
         loop.qn_ = loop.q_;
         loop.vn_ = loop.v_;
         lane_[n] = l;
@@ -65,37 +64,31 @@ class LockstepLoops final : public Lockstep {
       try {
         integrator_.advance_lanes(dynamics_, q_, v_, n, loops_[lane_[0]]->period_);
       } catch (const std::exception& e) {  // none expected: the kernel and the retraction do not throw
-        for (int i = 0; i < n; ++i) chunks[lane_[i]].error = at_time(*loops_[lane_[i]], e.what());
+        for (int i = 0; i < n; ++i) chunks[lane_[i]].failure = e.what();
         continue;
       }
       for (int i = 0; i < n; ++i) {
         Loop& loop = *loops_[lane_[i]];
         loop.lockstep_evaluations_ += integrator_.evaluations() - before;
-        attempt(loop, chunks[lane_[i]], [&] { loop.end_step(time_[i]); });
+        attempt(chunks[lane_[i]], [&] { loop.end_step(time_[i]); });
       }
     }
   }
 
  private:
-  // `work()` on lane `c`'s loop; false, with the loop's message in c.error, when it throws: a
-  // blow-up's own message (std::overflow_error), else the time and the error's (as Batch's).
+  // `work()` on lane `c`'s loop; false when it throws: a blow-up's message (std::overflow_error,
+  // as Loop::run reports it) in c.blow_up, any other error's text in c.failure (as Batch's).
   template <typename Work>
-  static bool attempt(const Loop& loop, LaneChunk& c, Work&& work) {
+  static bool attempt(LaneChunk& c, Work&& work) {
     try {
       work();
       return true;
     } catch (const std::overflow_error& e) {
-      c.error = e.what();
+      c.blow_up = e.what();
     } catch (const std::exception& e) {
-      c.error = at_time(loop, e.what());
+      c.failure = e.what();
     }
     return false;
-  }
-
-  static std::string at_time(const Loop& loop, const char* what) {
-    char when[64];
-    std::snprintf(when, sizeof when, "at t = %.6g s: ", loop.time());
-    return when + std::string(what);
   }
 
   // The accelerations a[i] of the n states (q[i], v[i]) of lanes lane_[0..n), each under its

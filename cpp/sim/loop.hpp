@@ -31,7 +31,7 @@ namespace freefloat::sim {
 
 class LockstepLoops;  // lockstep.hpp: advances loops together, through their periods' parts
 
-// The loop of simulation.hpp's interface on a Pinocchio model (compiled in cpp/sim_unit.cpp only).
+// The loop of simulation.hpp's interface on a Pinocchio model (compiled in simulation.cpp only).
 // The integrator refers to *model_, whose address never changes (set_model() replaces its numbers).
 // The tree's forward dynamics are the kernel's (`kernel`, null when it refuses the tree: `refusal`
 // says why) or Pinocchio's ABA (set_tree_aba); with loop closures, Pinocchio's constrained dynamics.

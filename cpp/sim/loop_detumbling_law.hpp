@@ -7,7 +7,7 @@
 //   3. the closure force lambda: each hand carries half of the target's inertial wrench plus a
 //      squeeze along grasp 2 -> grasp 1 (two fixed-point passes, from the previous period's lambda);
 //   4. tau = H* qddot + c* - J*_c^T lambda, the largest share of qddot_d within the torque limit.
-// Declarations: the definitions are in cpp/closures.cpp (see closures.hpp).
+// Declarations: the definitions are in loop_detumbling_law.cpp.
 #pragma once
 
 #include <optional>

@@ -1,7 +1,7 @@
 // generalized_jacobian.hpp's quantities of one state on a Pinocchio model (dissertation eqs 69-89,
 // the same numbers as freefloat.dynamics.gjm.GJMState), from what pin_plant.hpp's
 // centroidal_frames() takes from Pinocchio. Declaration: the definition is in
-// cpp/pin_generalized_jacobian.cpp, compiled in sim_unit.cpp's translation unit.
+// pin_generalized_jacobian.cpp.
 #pragma once
 
 #include <vector>

@@ -1,5 +1,5 @@
 // The robot loop's calls to Pinocchio, declared on Pinocchio's forward declarations and Eigen types
-// only: the definitions are in cpp/pin_plant.cpp, the one translation unit of freefloat.dynamics._sim
+// only: the definitions are in pin_plant.cpp, the one translation unit of freefloat.dynamics._sim
 // that includes Pinocchio's headers (0.6 GiB and 4 s of a compile by themselves). With the loop's
 // own code in one unit they peaked at 1.81 GiB; apart, at 1.15 and 0.85 GiB, so that two compilers
 // run at once within 2 GB (setup.py, docs/bench.md "The build").

@@ -1,7 +1,8 @@
 // The compiled robot loop's interface (freefloat.dynamics._sim.Simulation), in Eigen and standard
-// types only: the Python bindings (cpp/sim_module.cpp) and the batch (batch.hpp) see the loop
+// types only: the Python bindings (bindings/sim.cpp) and the batch (batch.hpp) see the loop
 // through it without Pinocchio's headers, so that they compile in translation units of their own,
-// beside the loop's (cpp/sim_unit.cpp, sim/loop.hpp), each within a small share of the build's memory.
+// beside the loop's (simulation.cpp, loop.hpp), each within a small share of the build's memory.
+// make_simulation is defined in simulation.cpp.
 #pragma once
 
 #include <algorithm>
@@ -169,13 +170,13 @@ class Simulation {
 };
 
 // One lane of a Lockstep: whether it runs (its loop set for a run), the chunk its loop writes rows
-// into and its next free row; what Lockstep::run leaves: the loop's blow-up message (empty: none)
-// and whether it stopped at a period that records with no free row.
+// into and its next free row; what Lockstep::run leaves: the loop's blow-up message or the text of
+// an error it threw (empty: none), and whether it stopped at a period that records with no free row.
 struct LaneChunk {
   bool active = false;
   Rows rows;
   int row = 0;
-  std::string error;
+  std::string blow_up, failure;
   bool full = false;
 };
 

@@ -1,4 +1,53 @@
-"""Exceptions raised by freefloat. Every message names the file, link, joint or key at fault."""
+"""Exceptions raised by freefloat. Every message names the file, link, joint or key at fault, and
+an unknown name the nearest valid ones (:func:`did_you_mean`)."""
+
+from __future__ import annotations
+
+import difflib
+from collections.abc import Iterable
+
+#: Most valid names an error message lists; the rest are counted.
+LISTED = 20
+#: How alike (difflib's ratio, 0 to 1) a valid name must be to a mistyped one to be suggested.
+CLOSE = 0.6
+
+
+def few(names: Iterable[str], shown: int = 3) -> str:
+    """``names`` joined, the first ``shown`` of them and how many more (a message stays short)."""
+    names = list(names)
+    rest = len(names) - shown
+    return ", ".join(names[:shown]) + (f" and {rest} more" if rest > 0 else "")
+
+
+def did_you_mean(name: object, choices: Iterable[object], label: str = "valid", full_list: str = "") -> str:
+    """What an error about the unknown ``name`` says after naming it: the nearest of ``choices``
+    (up to three, by difflib's similarity, case ignored), then the valid names, at most
+    :data:`LISTED` of them.
+
+    ``"; did you mean 'rkmk4'? (valid: euler, explicit_euler, ...)"``, or ``"; valid: ..."`` when
+    nothing is close.
+
+    Args:
+        label: what the list is (``"valid"``, ``"joints"``, ``"built-in"``, ...).
+        full_list: where to see every name when the list is cut (``"freefloat scenes"``).
+    """
+    choices = [str(c) for c in dict.fromkeys(choices)]
+    if not choices:
+        return f"; there are no {label} names" if label == "valid" else f"; {label}: none"
+    typed = difflib.SequenceMatcher(b=str(name).lower())
+    likeness = {}
+    for choice in choices:
+        typed.set_seq1(choice.lower())
+        likeness[choice] = typed.ratio()
+    close = sorted((c for c in choices if likeness[c] >= CLOSE), key=lambda c: -likeness[c])[:3]  # ties: in order
+    listing = few(choices, LISTED)
+    if len(choices) > LISTED and full_list:
+        listing += f", listed by {full_list}"
+    if not close:
+        return f"; {label}: {listing}"
+    quoted = [f"'{c}'" for c in close]
+    nearest = quoted[0] if len(quoted) == 1 else f"{', '.join(quoted[:-1])} or {quoted[-1]}"
+    return f"; did you mean {nearest}? ({label}: {listing})"
 
 
 class FreefloatError(Exception):
@@ -29,7 +78,8 @@ class InvalidArgument(FreefloatError, ValueError):
 
 class UnknownName(InvalidArgument, KeyError):
     """A name not in its registry (integrator, model, controller, mechanism, experiment kind, bench
-    scene, ...); the message lists the valid choices.
+    scene, ...); the message gives the nearest valid names and lists the valid choices
+    (:func:`did_you_mean`).
 
     Attributes:
         kind: what was named (e.g. ``"integrator"``).
@@ -39,7 +89,7 @@ class UnknownName(InvalidArgument, KeyError):
 
     def __init__(self, kind: str, name: object, choices):
         self.kind, self.name, self.choices = kind, name, tuple(choices)
-        super().__init__(f"unknown {kind} {name!r}; valid: {', '.join(map(str, self.choices))}")
+        super().__init__(f"unknown {kind} {name!r}{did_you_mean(name, self.choices)}")
 
     def __str__(self) -> str:  # KeyError would quote the message
         return str(self.args[0])
@@ -74,6 +124,17 @@ class InfeasiblePlan(FreefloatError):
 class TelemetryFileError(FreefloatError):
     """A telemetry file (``.npz``) that is missing, damaged or of another kind; the message names
     the file and what is wrong with it."""
+
+
+class FreefloatWarning(UserWarning):
+    """Something in a file or a setting was taken with a stated assumption (missing limits, a mesh
+    left out, inertias no rigid body has, ...): worth checking."""
+
+
+class FreefloatNote(FreefloatWarning):
+    """A fact about what was loaded that is as intended, stated once so that nothing is silent
+    (freefloat's own robots' inertias as the dissertation prints them, the file a robot's name
+    picks); the command line prints it as ``freefloat: note: ...``."""
 
 
 class MissingExtra(FreefloatError):

@@ -4,14 +4,13 @@ of valid ones instead of being silently ignored; and TOML written back (a scene 
 
 from __future__ import annotations
 
-import difflib
 import json
 import math
 import tomllib
 from pathlib import Path
 from typing import Any, Iterable
 
-from .errors import FreefloatError
+from .errors import FreefloatError, did_you_mean
 
 
 def read_toml(path: Path, what: str, error: type[FreefloatError] = FreefloatError) -> dict[str, Any]:
@@ -44,15 +43,14 @@ def reject_unknown(where: str, table: dict[str, Any], allowed: Iterable[str], se
         section: the table's name (``"platform"``, ``"closures[0]"``), empty for the top level.
 
     Raises:
-        error: naming the key, the closest valid key if one is close, and every valid key.
+        error: naming the key, the closest valid keys if any are close, and the valid keys
+            (:func:`~freefloat.errors.did_you_mean`).
     """
     allowed = sorted(allowed)
     for key in table:
         if key not in allowed:
             name = f"[{section}] key '{key}'" if section else f"top-level key '{key}'"
-            close = difflib.get_close_matches(str(key), allowed, n=1)
-            hint = f" (did you mean '{close[0]}'?)" if close else ""
-            raise error(f"{where}unknown {name}{hint}; allowed: {', '.join(allowed)}")
+            raise error(f"{where}unknown {name}{did_you_mean(key, allowed, 'allowed')}")
 
 
 def toml_text(table: dict[str, Any]) -> str:

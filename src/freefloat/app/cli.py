@@ -1,26 +1,28 @@
 """Command line: ``freefloat simulate [SCENE] [--out DIR]`` (robot and mechanism scenes),
-``freefloat batch``, ``freefloat scenes``, ``freefloat verify``, ``freefloat reproduce``,
-``freefloat bench``, ``freefloat atlas``."""
+``freefloat batch``, ``freefloat scenes``, ``freefloat robots``, ``freefloat verify``,
+``freefloat reproduce``, ``freefloat bench``, ``freefloat atlas``."""
 
 from __future__ import annotations
 
 import argparse
-import contextlib
 import importlib
 import sys
 import time
 import warnings
+from collections.abc import Callable
 from importlib.metadata import version
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, Iterator
+from typing import TYPE_CHECKING, Any
 
-from ..errors import FreefloatError, SceneError
+from ..errors import FreefloatError, SceneError, did_you_mean
 from .atlas.kinds import KINDS as ATLAS_KINDS
 from .bench.suites import ALL as ALL_SUITES
 from .bench.suites import DEFAULT as DEFAULT_SUITE
 from .bench.suites import SUITES
 from .folder_names import default_folder
+from .progress_bar import LoopBar
 from .reproduce import ALL_STUDIES, STUDIES
+from .shown_warnings import HeldWarnings, shown_warnings
 from .signals import arrived_before_main, signals_deferred, signals_raise_keyboard_interrupt
 
 if TYPE_CHECKING:
@@ -36,9 +38,18 @@ HEAVY = {"simulate": ".runner", "batch": ".batch", "bench": ".runner", "reproduc
          "info": ".runner", "view": ".view", "atlas": ".atlas.engine"}
 
 
+class _Parser(argparse.ArgumentParser):
+    """argparse's parser, whose refusal of a choice (a command, a study, a base) names the nearest
+    valid ones as every other unknown name does (:func:`~freefloat.errors.did_you_mean`)."""
+
+    def _check_value(self, action: argparse.Action, value: Any) -> None:  # argparse's hook for choices
+        if action.choices is not None and value not in action.choices:
+            raise argparse.ArgumentError(action, f"invalid choice: {value!r}{did_you_mean(value, action.choices)}")
+
+
 def main(argv: list[str] | None = None) -> int:
     """Entry point; returns the exit status (0 ok, 1 run stopped early, 2 bad input)."""
-    parser = argparse.ArgumentParser(prog="freefloat", description=DESCRIPTION)
+    parser = _Parser(prog="freefloat", description=DESCRIPTION)
     parser.add_argument("--version", action="version", version=f"freefloat {version('freefloat')}")
     commands = parser.add_subparsers(dest="command", required=True)
     sim = commands.add_parser("simulate", help="run a scene and write its output folder")
@@ -61,8 +72,9 @@ def main(argv: list[str] | None = None) -> int:
     bat = commands.add_parser("batch", help="N seeded runs of a scene with its start or plant varied, into one table")
     bat.add_argument("scene", nargs="?", default=None, help="built-in scene name or TOML file (default: the ch. 4 task)")
     bat.add_argument("--runs", type=int, default=10, help="number of runs (default 10)")
-    bat.add_argument("--seed", type=int, default=0, help="seed of the batch; run i draws from SeedSequence(seed, "
-                                                         "spawn_key=(i, key)) (default 0)")
+    bat.add_argument("--seed", type=int, default=0,
+                     help="seed of the batch: the first run's seed; each run's own seed is in its row of runs.csv, "
+                          "and given here reruns that row (default 0)")
     bat.add_argument("--vary", action="append", default=[], metavar="KEY=WIDTH",
                      help="vary KEY uniformly within +-WIDTH about the scene's value (repeatable): "
                           + "; ".join(f"{k}: {d}" for k, d in _varies().items()).replace("%", "%%"))
@@ -78,6 +90,7 @@ def main(argv: list[str] | None = None) -> int:
     bat.add_argument("--overwrite", action="store_true", help="replace the previous batch in --out")
     bat.add_argument("--quiet", action="store_true", help="no progress bar")
     commands.add_parser("scenes", help="list the built-in scenes")
+    commands.add_parser("robots", help="list the robots known by name (freefloat's own and example-robot-data's)")
     info = commands.add_parser("info", help="joints, links, masses, end-effectors and warnings of a robot")
     info.add_argument("robot", help="URDF file, or the name of a known robot (ur5, solo12, panda, ...)")
     info.add_argument("--base", choices=["free", "planar"], default="free", help="floating base (default free)")
@@ -118,8 +131,9 @@ def main(argv: list[str] | None = None) -> int:
                      help="output folder (default: runs/bench-<time>; with --suite, runs/bench-<names>-<time>)")
     _atlas_parser(commands)
     args = parser.parse_args(argv)
-    commands_run = {"simulate": _simulate, "batch": _batch, "bench": _bench, "scenes": lambda _: _scenes(), "verify": _verify, "reproduce": _reproduce,
-                    "info": _info, "view": _view, "atlas": _atlas}
+    commands_run = {"simulate": _simulate, "batch": _batch, "bench": _bench, "scenes": lambda _: _scenes(),
+                    "robots": lambda _: _robots(), "verify": _verify, "reproduce": _reproduce, "info": _info,
+                    "view": _view, "atlas": _atlas}
     try:
         early_too = arrived_before_main()
         with signals_deferred() as early:  # Ctrl-C while importing: trimesh would swallow it
@@ -143,8 +157,9 @@ def _bench(args: argparse.Namespace) -> int:
     from .bench.suites import run_suites
 
     out = args.out or default_folder("-".join(["bench", *(args.suite or ())]))
-    with one_line_warnings():
-        ended = run_suites(out, args.suite or [DEFAULT_SUITE], Options(args.quick, args.repeats, tuple(args.scenes)))
+    with shown_warnings() as held:
+        ended = run_suites(out, args.suite or [DEFAULT_SUITE], Options(args.quick, args.repeats, tuple(args.scenes)),
+                           _released(held, print))
     print("\n".join(line for suite in ended for line in suite.lines))
     print(f"written to {out}")
     if ended[-1].status != "completed":
@@ -189,12 +204,11 @@ def _atlas_parser(commands: Any) -> None:
 
 
 def _atlas(args: argparse.Namespace) -> int:
-    from tqdm import tqdm
-
     from ..extras import require
     from .atlas.engine import run_atlas
     from .atlas.kinds import Options, find_kind
     from .batch import Workers
+    from .summary_text import shown
 
     find_kind(args.kind)
     if args.dask or args.scheduler is not None:
@@ -206,17 +220,19 @@ def _atlas(args: argparse.Namespace) -> int:
                       end_effector=args.end_effector, momentum=tuple(args.momentum) if args.momentum else None,
                       tolerance=args.tolerance, base=args.base, posture=_pairs(args.posture))
     out = args.out or default_folder(f"atlas-{args.kind}-{Path(args.target).stem}")
-    with one_line_warnings(), tqdm(total=0, desc=args.kind, unit="pt", disable=args.quiet, delay=0.5) as bar:
-        def progress(done: int, total: int) -> None:
-            bar.total = total
-            bar.update(done - bar.n)
-
-        done = run_atlas(args.kind, args.target, options, out, workers, args.overwrite, progress)
-    print(f"{args.kind} of {args.target}: {done.grid.size} points in {done.summary['wall_time_s']:.2f} s "
-          f"({workers.label}) -> {done.folder}")
+    with shown_warnings() as held:
+        bar = LoopBar(None, args.kind, "pt", args.quiet, started=held.release)  # closed once every point is in
+        try:
+            done = run_atlas(args.kind, args.target, options, out, workers, args.overwrite, bar)
+        finally:
+            bar.close()
+    resumed = done.grid.size - done.summary["points_mapped"]
+    print(f"{args.kind} of {args.target}: {done.summary['points_mapped']} points in "  # the time the bar showed
+          f"{done.summary['map_wall_time_s']:.2f} s ({workers.label}){f', {resumed} resumed' if resumed else ''} "
+          f"-> {done.folder}")
     for key, value in done.summary["summary"].items():
         if not isinstance(value, (dict, list)):
-            print(f"  {key}: {value}")
+            print(f"  {key}: {shown(value)}")
     print(f"  wrote: {', '.join(p.name for p in done.written)}")
     return 0
 
@@ -246,11 +262,11 @@ def _varies() -> dict[str, str]:
 
 
 def _batch(args: argparse.Namespace) -> int:
-    from tqdm import tqdm
-
     from ..extras import require
     from .batch import Workers, parse_band, run_batch
+    from .experiments import experiment_for
     from .scenes import DEFAULT_SCENE, find_scene
+    from .summary_text import shown
 
     if args.dask or args.scheduler is not None:
         require("dask", "freefloat batch --dask" if args.dask else "freefloat batch --scheduler")
@@ -260,21 +276,32 @@ def _batch(args: argparse.Namespace) -> int:
     workers = Workers(default if args.workers is None else args.workers, args.dask or args.scheduler is not None,
                       args.scheduler, args.threads)
     bands = [parse_band(text) for text in args.vary]
-    if not bands and args.runs > 1:
-        print(f"freefloat: warning: no --vary: the {args.runs} runs start alike and give the same numbers "
-              "(vary them with --vary KEY=WIDTH, see freefloat batch --help)", file=sys.stderr)
     scene = find_scene(args.scene or DEFAULT_SCENE)
     out = args.out or default_folder(f"batch-{scene.name}")
-    with one_line_warnings(), tqdm(total=args.runs, desc=scene.name, unit="run", disable=args.quiet, delay=0.5) as bar:
-        done = run_batch(scene, out, args.runs, bands, args.seed, workers, args.overwrite,
-                         progress=lambda row: bar.update(1))
+    with shown_warnings() as held:
+        if not bands and args.runs > 1:
+            warnings.warn(f"no --vary: the {args.runs} runs start alike and give the same numbers (vary them with "
+                          "--vary KEY=WIDTH, see freefloat batch --help)", stacklevel=1)
+        bar, finished = LoopBar(args.runs, scene.name, "run", args.quiet, started=held.release), [0]
+
+        def progress(row: dict) -> None:
+            finished[0] += 1
+            bar(finished[0])
+
+        try:
+            done = run_batch(scene, out, args.runs, bands, args.seed, workers, args.overwrite, progress,
+                             started=lambda: bar(0))
+        finally:
+            bar.close()
     summary = done.summary
     counts = ", ".join(f"{n} {status}" for status, n in sorted(summary["by_status"].items()))
     print(f"{summary['status']}: {summary['by_status'].get('completed', 0)} of {summary['runs']} runs completed "
           f"({counts or 'none run'}) in "
           f"{summary['wall_time_s']:.2f} s, {summary['runs_per_second'] or 0:.2f} runs/s ({workers.label}) -> {out}")
+    units = experiment_for(scene).units
     for key, spread in summary["spread"].items():
-        print(f"  {key}: min {spread['min']:.3g}, median {spread['median']:.3g}, max {spread['max']:.3g}")
+        print(f"  {key}: min {shown(spread['min'])}, median {shown(spread['median'])}, max "
+              f"{shown(spread['max'], units.get(key.split('[')[0], ''))}")
     if not done.completed:
         print(f"freefloat: batch not all completed: {summary['not_run']} not run, "
               f"{summary['finished'] - summary['by_status'].get('completed', 0)} stopped early or failed "
@@ -304,6 +331,14 @@ def _scenes() -> int:
     return 0
 
 
+def _robots() -> int:
+    from ..robot.catalog import robots
+
+    for name, path in robots().items():
+        print(f"{name}: {path.name}" if name != path.stem else name)
+    return 0
+
+
 def _info(args: argparse.Namespace) -> int:
     from ..robot.describe import describe
     from ..robot.loading import load_robot
@@ -325,11 +360,13 @@ def _reproduce(args: argparse.Namespace) -> int:
     out = args.out or Path("runs") / f"reproduce-{args.study}-{time.strftime('%Y%m%d-%H%M%S')}"
     if args.study == ALL_STUDIES:
         start = time.perf_counter()
-        with one_line_warnings():
+        with shown_warnings() as held:
+            held.release()  # a study's warnings are shown as they come, beside its progress lines
             run_all(out, args.overwrite, args.quick, options)
         print(f"wrote {out / 'report.html'} and {out / 'report.pdf'} in {time.perf_counter() - start:.0f} s")
         return 0
-    with one_line_warnings():
+    with shown_warnings() as held:
+        held.release()
         report = run_study(args.study, out, args.overwrite, args.quick, options)
     print((out / "report.md").read_text())
     print(f"wrote {out} in {report['wall_time_s']:.0f} s")
@@ -346,7 +383,7 @@ def _verify(args: argparse.Namespace) -> int:
         raise FreefloatError(f"--seed must be >= 0, got {args.seed}")
     if args.json is not None and (args.json.is_dir() or not args.json.parent.is_dir()):
         raise FreefloatError(f"--json {args.json}: must be a file in an existing folder")
-    with one_line_warnings():
+    with shown_warnings():
         robot = load_robot(args.urdf, visuals=False)
     report = check_robot(robot, samples=args.samples, seed=args.seed)
     print(report.table())
@@ -361,9 +398,7 @@ def _verify(args: argparse.Namespace) -> int:
 def _simulate(args: argparse.Namespace) -> int:
     import dataclasses
 
-    from tqdm import tqdm
-
-    from .runner import prepare, run_scene, total_steps
+    from .experiments import experiment_for
     from .scenes import DEFAULT_SCENE, ROBOT_SCENE, find_scene, with_robot
 
     scene = find_scene(args.scene or (ROBOT_SCENE if args.robot else DEFAULT_SCENE))
@@ -378,23 +413,30 @@ def _simulate(args: argparse.Namespace) -> int:
         output = dataclasses.replace(scene.output, figures=scene.output.figures and not args.no_figures,
                                      html=scene.output.html and not args.no_html)
         scene = dataclasses.replace(scene, output=output)
+    if scene.output.figures:
+        from .viz import rendering
+
+        rendering.warm_up()  # the figure helper starts while this process imports, prepares and simulates
+    from .runner import prepare, run_scene, total_steps
+
     out = args.out or default_folder(scene.name)
-    with one_line_warnings():
+    with shown_warnings() as held:
         with signals_deferred() as early:
             setup = prepare(scene)
         if early.is_set():
             raise KeyboardInterrupt("before the run started; nothing was written")
         live = _live_view(scene, setup) if args.view else None
+        stages = _Stages(args.quiet, held)
+        stages.bar = LoopBar(total_steps(scene), scene.name, "step", args.quiet, started=held.release,
+                             ended=lambda: stages.begin("summarising the run"))
         try:
-            with tqdm(total=total_steps(scene), desc=scene.name, unit="step", disable=args.quiet, delay=0.5) as bar:
-                stages = _Stages(bar, args.quiet)
-                done = run_scene(scene, out, progress=lambda k: bar.update(k - bar.n), overwrite=args.overwrite,
-                                 setup=setup, watch=live.show if live else None, stage=stages)
-                stages.finish()
-            status = _report(done)
+            done = run_scene(scene, out, progress=stages.bar, overwrite=args.overwrite, setup=setup,
+                             watch=live.show if live else None, stage=stages)
+            stages.finish()
+            status = _report(done, experiment_for(scene).units)
             if live is not None:
                 tel = done.outcome.telemetry
-                print(f"replaying the run in the live viewer at {live.url}")
+                print("replaying the run in the live viewer")
                 live.replay(tel.t, tel.q)
                 if sys.stdin.isatty():
                     input("press Enter to close the viewer ")
@@ -403,28 +445,36 @@ def _simulate(args: argparse.Namespace) -> int:
 
                 webbrowser.open((out / "trajectory.html").resolve().as_uri())
         finally:
+            stages.bar.close()
             if live is not None:
                 live.close()
     return status
 
 
 class _Stages:
-    """What ``freefloat simulate`` shows after the simulation: its progress bar closed when the
-    writing starts (its rate then counts simulated steps only), then a line per writing stage
-    with the time it took."""
+    """What ``freefloat simulate`` shows after the loop: its progress bar (:attr:`bar`, whose time
+    is the loop's) closed as the loop ends, then a line per stage with the time it took: the
+    summary, then each writing stage (:data:`~.outputs.STAGES`)."""
 
-    def __init__(self, bar: Any, quiet: bool) -> None:
-        self.bar, self.quiet = bar, quiet
+    def __init__(self, quiet: bool, held: HeldWarnings) -> None:
+        self.quiet, self.held = quiet, held
+        self.bar: LoopBar | None = None
         self.started: float | None = None
 
     def __call__(self, name: str) -> None:
         from .outputs import STAGES
 
-        self.bar.close()
+        self.begin(f"writing {STAGES[name]}")
+
+    def begin(self, label: str) -> None:
+        """End the bar and the stage under way, and start the stage ``label``."""
+        if self.bar is not None:
+            self.bar.close()
+        self.held.release()  # a run that never reported (a capture) is past its checks too
         self.finish()
         self.started = time.perf_counter()
         if not self.quiet:
-            print(f"writing {STAGES[name]} ...", end="", file=sys.stderr, flush=True)
+            print(f"{label} ...", end="", file=sys.stderr, flush=True)
 
     def finish(self) -> None:
         """End the stage under way (its time on its line)."""
@@ -450,35 +500,26 @@ def _live_view(scene, setup) -> LiveView | None:
     return live
 
 
-@contextlib.contextmanager
-def one_line_warnings() -> Iterator[None]:
-    """Each warning shown once per command, as ``freefloat: warning: ...`` (no source line), even
-    when its cause is met again from elsewhere (a robot loaded for the plant and for the controller)."""
-    seen: set[str] = set()
+def _released(held: HeldWarnings, show: Callable[[str], None]) -> Callable[[str], None]:
+    """``show`` that first releases the held warnings (its first line means the command is past
+    its checks)."""
+    def show_line(line: str) -> None:
+        held.release()
+        show(line)
 
-    def show(message, *args, **kwargs) -> None:
-        if str(message) not in seen:
-            seen.add(str(message))
-            print(f"freefloat: warning: {message}", file=sys.stderr)
-
-    with warnings.catch_warnings():
-        warnings.simplefilter("default")
-        shown = warnings.showwarning
-        warnings.showwarning = show
-        try:
-            yield
-        finally:
-            warnings.showwarning = shown
+    return show_line
 
 
-def _report(done: SceneRun) -> int:
-    """Print a run's outcome and its headline summary keys; the exit status (1 when it stopped
-    early, or an interrupt cut its drawings short)."""
+def _report(done: SceneRun, units: dict[str, str]) -> int:
+    """Print a run's outcome and its headline summary keys (:func:`~.summary_text.shown`, in
+    ``units``); the exit status (1 when it stopped early, or an interrupt cut its drawings short)."""
+    from .summary_text import shown
+
     outcome, out = done.outcome, done.folder
     print(f"{outcome.status}: {outcome.steps} steps in {outcome.wall_time_s:.2f} s -> {out}")
     for key in outcome.headline:
         if key in outcome.summary:
-            print(f"  {key}: {outcome.summary[key]}")
+            print(f"  {key}: {shown(outcome.summary[key], units.get(key, ''))}")
     print(f"  wrote: {', '.join(p.name for p in done.written)}")
     if done.skipped:
         print(f"  skipped: {', '.join(done.skipped)}")

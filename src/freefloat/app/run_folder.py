@@ -19,7 +19,7 @@ from pathlib import Path, PurePosixPath
 from typing import Iterator
 
 from ..dynamics.telemetry import Arrays
-from ..errors import FreefloatError
+from ..errors import LISTED, FreefloatError, few
 
 #: Subfolder where telemetry is saved chunk by chunk while a run goes; removed once
 #: ``telemetry.npz`` is written. A run killed outright (SIGKILL, power loss) leaves it behind:
@@ -131,18 +131,20 @@ class RunFolder:
                         _remove(self.path / name.rstrip("/"), folder=True)
                 return
             raise FreefloatError(f"output folder '{self.path}' holds files freefloat did not write "
-                                 f"({', '.join(foreign)}); choose another --out")
-        if not overwrite:
-            raise FreefloatError(f"output folder '{self.path}' is not empty; choose another --out, or pass "
-                                 "--overwrite to replace the run in it")
+                                 f"({few(foreign, LISTED)}); choose another --out (a new or empty folder)")
         owned = self.owned()
-        if not owned:
-            raise FreefloatError(f"output folder '{self.path}' holds files but no record of a freefloat run "
-                                 f"({RECORD}); not clearing it")
         foreign = sorted(p.name for p in held if p.name not in {n.split("/")[0] for n in owned})
+        if not owned:  # --overwrite would not clear it either: say only what works
+            raise FreefloatError(f"output folder '{self.path}' holds files freefloat did not write "
+                                 f"({few(foreign, LISTED)}); choose another --out (a new or empty folder)")
         if foreign and not keep_foreign:
-            raise FreefloatError(f"output folder '{self.path}' holds files freefloat did not write ({', '.join(foreign)}) "
-                                 "and this command writes files whose names it does not know up front; not using it")
+            raise FreefloatError(f"output folder '{self.path}' holds files freefloat did not write ({few(foreign, LISTED)}) "
+                                 "and this command writes files whose names it does not know up front; choose "
+                                 "another --out (a new or empty folder)")
+        if not overwrite:
+            raise FreefloatError(f"output folder '{self.path}' holds a previous run; choose another --out, or pass "
+                                 "--overwrite to replace that run" + (f" (your files there stay: {few(foreign, LISTED)})"
+                                                                       if foreign else ""))
         for name in sorted(set(owned), key=lambda n: -n.rstrip("/").count("/")):  # a folder's contents before it
             _remove(self.path / name.rstrip("/"), folder=name.endswith("/"))
         with contextlib.suppress(FileNotFoundError):

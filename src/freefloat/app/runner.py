@@ -158,8 +158,10 @@ def _scene(scene: Scene | MechanismScene | str | Path) -> Scene | MechanismScene
 
 
 def _stop_at_first_report(done: int) -> None:
-    """A progress callback that interrupts the run (the user asked to stop before it started)."""
-    raise KeyboardInterrupt
+    """A progress callback that interrupts the run at its first periods done (the user asked to
+    stop before it started; the rows so far are kept)."""
+    if done:
+        raise KeyboardInterrupt
 
 
 def fail_if_not_finite(outcome: Outcome) -> Outcome:

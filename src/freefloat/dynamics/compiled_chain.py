@@ -2,7 +2,7 @@
 
 The same loop as :func:`freefloat.dynamics.simulation.run_plant` on a
 :class:`~freefloat.dynamics.plants.CoupledChainPlant`, period for period: eq 129 with Baumgarte
-from the mechanism's compiled core (``cpp/parallel.hpp``), the integrators of the registry on the
+from the mechanism's compiled core (``cpp/chains/mechanism.hpp``), the integrators of the registry on the
 Euclidean coordinates (``cpp/sim/rkmk.hpp`` on R^n), the platform control of
 ``freefloat.parallel.sliding_mode.PlatformControl`` (its ``compiled_law()``: computed torque or
 sliding mode on the nominal model, a circle reference; held over each period or evaluated at
@@ -37,7 +37,8 @@ def unsupported(plant: Any, integrator: str, controller: Any, stop: Any) -> str 
     if type(plant).acceleration is not CoupledChainPlant.acceleration:
         return "the plant's acceleration is overridden in Python"
     if getattr(plant.mechanism, "core", None) is None:
-        return "the mechanism has no compiled core (numpy backend, or a non-square A°)"
+        return ("the mechanism has no compiled core (numpy backend, a non-square A°, a turning platform, or joint "
+                "armature or friction)")
     if controller is not None and _law(controller) is None:
         return "the controller has no compiled law"
     if stop is not None:

@@ -44,7 +44,7 @@ from .kernel import LANES
 from .kernel import isa as kernel_isa
 from .kernel import refusal as kernel_refusal
 from .models import DynamicsModel
-from .simulation import Controller, RunResult, control_periods, field_of, plant_data, stopped_by
+from .simulation import Controller, RunResult, control_periods, ended_by, field_of, plant_data
 from .telemetry import Telemetry
 from .wrenches import ExternalWrench
 
@@ -78,7 +78,7 @@ class ManyRuns:
     def stop(self, cause: KeyboardInterrupt | None = None) -> None:
         """Stop the runs within :data:`SLICE_PERIODS` periods (no run starts); :meth:`finish` gives
         those that finished. ``cause``, the interrupt carrying a signal's name, names it in the
-        interrupted runs' messages (:func:`~.simulation.stopped_by`)."""
+        interrupted runs' messages (:func:`~.simulation.ended_by`)."""
         self.interrupted = True
         self._cause = cause or self._cause
         self._batch.stop()
@@ -97,15 +97,17 @@ class ManyRuns:
         runs = self._batch
 
         def give(done: tuple) -> None:
-            index, slot, rows, periods, evaluations, wall, error = done
+            index, slot, rows, periods, evaluations, wall, blow_up, failure = done
             first = slot * self._rows_per_run
             telemetry = self._block.window(first, first + rows)
             if not self._keep:
                 telemetry = telemetry.copied()
                 runs.release(slot)
-            status = "diverged" if error else "completed" if periods == self._steps else "interrupted"
-            message = error or ("" if status == "completed" else
-                                f"{stopped_by(self._cause)} at t = {periods * self._period:.6g} s")
+            # what ended the run, as simulation.run would have met it: the loop's blow-up, an error
+            # the C++ thread caught (its text), or the stop
+            cause = (OverflowError(blow_up) if blow_up is not None else RuntimeError(failure) if failure is not None
+                     else None if periods == self._steps else self._cause)
+            status, message = ("completed", "") if cause is None else ended_by(cause, periods * self._period)
             result = RunResult(telemetry, status, message, periods, wall, evaluations, "compiled")
             if self._keep:
                 results[index] = result

@@ -15,6 +15,25 @@ from .wrenches import ExternalWrench
 #: value (the 2 % settling time of control engineering).
 SETTLE_BAND = 0.02
 
+#: The unit of each summary key this module computes (:func:`conservation`, :func:`summarize`,
+#: :func:`spin_summary`; "" for a pure number), as the command line prints it. Joint errors are in
+#: rad (m for a prismatic joint), torques in N m (N for a prismatic joint); a momentum's linear
+#: part is in N s (kg m/s), its angular part in N m s (kg m^2/s).
+UNITS = {
+    "com_drift_max": "m", "linear_momentum_drift_max": "N s", "angular_momentum_drift_max": "N m s",
+    "momentum_drift_max": "N s or N m s", "energy_drift_max": "J",
+    "com_balance_max": "m", "linear_momentum_balance_max": "N s", "angular_momentum_balance_max": "N m s",
+    "momentum_balance_max": "N s or N m s", "momentum_balance_relative": "", "energy_balance_max": "J",
+    "external_impulse": "N s, N m s", "external_work": "J",
+    "base_displacement": "m", "base_rotation_max": "rad", "end_effectors_start": "m", "end_effectors_end": "m",
+    "peak_joint_torque": "N m", "tracking_rms_overall": "rad", "tracking_rms_per_arm": "rad",
+    "tracking_error_max": "rad",
+    "base_angular_velocity_max": "rad/s", "base_angular_velocity_final": "rad/s",
+    "base_angular_velocity_settling_time": "s", "end_effector_angular_velocity_max": "rad/s",
+    "end_effector_angular_velocity_final": "rad/s", "end_effector_angular_velocity_settling_time": "s",
+    "settle_band": "",
+}
+
 
 def rms(x: np.ndarray, axis: int = 0) -> np.ndarray:
     """Root mean square along ``axis`` (eq 140: ``(sum_k e_k^2 / n_T)^(1/2)``)."""

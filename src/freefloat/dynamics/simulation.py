@@ -27,7 +27,7 @@ from .threads import single_blas_thread
 from .wrenches import ExternalWrench, WrenchField
 
 __all__ = ["BACKENDS", "CHUNK_ROWS", "MAX_POSITION", "MAX_SPEED", "Controller", "PythonPeriods", "Recorder", "RunResult",
-           "check_memory", "control_periods", "run", "run_plant"]
+           "check_memory", "control_periods", "ended_by", "run", "run_plant"]
 
 #: A generalized velocity component above this (m/s or rad/s) counts as a blow-up.
 MAX_SPEED = 1e6
@@ -152,7 +152,8 @@ def run(
         controller: joint torques, or None for a torque-free run.
         wrenches: external wrenches on links.
         record_every: record one telemetry row every this many periods (and the last one).
-        progress: called with the number of periods done, about 200 times per run.
+        progress: called with the number of periods done: 0 as the loop starts (when its wall time
+            starts), then about 200 times, the last one at the end of the loop.
         stop: ``stop(t, q, v)`` after each period; True ends the run there with status
             ``"stopped"`` (an event such as a contact, not a failure).
         start_time: time of the first sample, s (to chain runs, e.g. one per model phase).
@@ -376,6 +377,8 @@ def _run_compiled(loop: compiled.CompiledLoop, q0: np.ndarray, v0: np.ndarray, s
     status, message = "completed", ""
     start = time.perf_counter()
     try:
+        if progress is not None:
+            progress(0)
         while loop.periods_done < steps:
             stop_request.check()  # a run on another thread is stopped here (Ctrl-C reaches the main one)
             chunk, row = rows.next_row()
@@ -384,12 +387,10 @@ def _run_compiled(loop: compiled.CompiledLoop, q0: np.ndarray, v0: np.ndarray, s
             rows.commit(written)
             if blow_up is not None:
                 raise OverflowError(blow_up)
-            if progress is not None and loop.periods_done % report_every == 0:
+            if progress is not None and (loop.periods_done % report_every == 0 or loop.periods_done == steps):
                 progress(loop.periods_done)
-    except KeyboardInterrupt as stop:
-        status, message = "interrupted", f"{stopped_by(stop)} at t = {start_time + loop.periods_done * control_period:.6g} s"
-    except OverflowError as exc:  # blow-up detected in the loop, with the Python loop's message
-        status, message = "diverged", str(exc)
+    except ENDINGS as cause:
+        status, message = ended_by(cause, start_time + loop.periods_done * control_period)
     else:
         chunk, row = rows.next_row()
         loop.bind(chunk)
@@ -421,6 +422,8 @@ def _run_periods(engine: PythonPeriods | compiled.CompiledLoop, steps: int, cont
 
     start = time.perf_counter()
     try:
+        if progress is not None:
+            progress(0)
         for k in range(steps):
             stop_request.check()
             t = start_time + k * control_period
@@ -431,7 +434,7 @@ def _run_periods(engine: PythonPeriods | compiled.CompiledLoop, steps: int, cont
             if k % record_every == 0:
                 record(t)
             engine.step()
-            if progress is not None and (k + 1) % report_every == 0:
+            if progress is not None and ((k + 1) % report_every == 0 or k + 1 == steps):
                 progress(k + 1)
             if stop is not None and stop(start_time + (k + 1) * control_period, *engine.state):
                 status = "stopped"
@@ -439,16 +442,33 @@ def _run_periods(engine: PythonPeriods | compiled.CompiledLoop, steps: int, cont
                 break
         else:
             k = steps
-    except (SimulationDiverged, OverflowError) as exc:  # a blow-up (OverflowError: the compiled loop's)
-        status, message = "diverged", str(exc)
-    except KeyboardInterrupt as stop:
-        status, message = "interrupted", f"{stopped_by(stop)} at t = {start_time + k * control_period:.6g} s"
-    except (RuntimeError, ValueError) as exc:  # Pinocchio rejects non-finite or degenerate states
-        status, message = "diverged", f"at t = {start_time + k * control_period:.6g} s: {exc}"
+    except ENDINGS as cause:
+        status, message = ended_by(cause, start_time + k * control_period)
     else:
         record(start_time + k * control_period)
     wall = time.perf_counter() - start
     return RunResult(rows.collect(), status, message, k, wall, engine.evaluations(), engine.backend)
+
+
+#: What ends a run early with a status rather than an error (:func:`ended_by`).
+ENDINGS = (KeyboardInterrupt, SimulationDiverged, OverflowError, RuntimeError, ValueError)
+
+
+def ended_by(cause: BaseException, t: float) -> tuple[str, str]:
+    """The status and message of a run that ``cause``, one of :data:`ENDINGS`, ended in the period
+    starting at ``t`` s: the one wording of every loop (:func:`run`, :func:`run_plant`, and each
+    run of :func:`~.many_runs.run_many`, whose C++ threads report what ended their runs).
+
+    ``"interrupted"`` by Ctrl-C or a signal (:func:`stopped_by`) at ``t``; ``"diverged"`` on a
+    blow-up (:class:`~freefloat.errors.SimulationDiverged`, or ``OverflowError`` from the compiled
+    loops: the message gives its time and quantity) or when Pinocchio or a law refuses the state
+    (``RuntimeError``, ``ValueError``: their message after ``t``).
+    """
+    if isinstance(cause, KeyboardInterrupt):
+        return "interrupted", f"{stopped_by(cause)} at t = {t:.6g} s"
+    if isinstance(cause, (SimulationDiverged, OverflowError)):
+        return "diverged", str(cause)
+    return "diverged", f"at t = {t:.6g} s: {cause}"
 
 
 def stopped_by(stop: KeyboardInterrupt) -> str:

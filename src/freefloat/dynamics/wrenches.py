@@ -7,7 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 import pinocchio as pin
 
-from ..errors import FreefloatError
+from ..errors import FreefloatError, did_you_mean
 from ..robot.conventions import cross3
 from ..robot.robot import Robot
 
@@ -57,7 +57,7 @@ class WrenchField:
         links = [f.name for f in robot.model.frames if f.type == pin.FrameType.BODY]
         for w in wrenches:
             if w.link not in links:
-                raise FreefloatError(f"external wrench: link '{w.link}' does not exist; links: {links}")
+                raise FreefloatError(f"external wrench: link '{w.link}' does not exist{did_you_mean(w.link, links, 'links')}")
             frame = robot.model.frames[robot.model.getFrameId(w.link, pin.FrameType.BODY)]
             com_in_joint = frame.placement.act(robot.link_coms[w.link])
             self._items.append((w, frame.parentJoint, com_in_joint, np.asarray(w.force, float), np.asarray(w.torque, float)))

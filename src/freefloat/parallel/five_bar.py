@@ -4,17 +4,18 @@ Two RR chains (DH a = l_i, alpha = 0, d = 0, theta = q_i), base joints at x = +l
 x = -l0 (chain 2, its base frame mirrored by diag(-1, 1, -1), eq 178); the platform is the
 massless end-effector point (x, y), which both chain tips must reach; gravity 9.8 m/s^2 along -y
 of the plane. l0 = 0.05 m is not printed in the text; it is the author's own code's value.
-The base joints are actuated.
+The base joints are actuated; :func:`redundant_five_bar` actuates chain 1's elbow too.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
 from ..errors import FreefloatError
 from .mechanism import ParallelMechanism
+from .redundancy import EffortDistribution
 from .serial import SerialChain
 
 
@@ -61,6 +62,18 @@ def five_bar(p: FiveBarParameters = FiveBarParameters()) -> ParallelMechanism:
     return ParallelMechanism(chains=(chain(p, +1), chain(p, -1)), platform_mass=np.zeros((2, 2)),
                              platform_gravity=np.zeros(2), D=np.vstack((np.eye(2), np.eye(2))), d=np.zeros(4), E=E,
                              F=np.zeros((4, 4)), actuated=np.array([2, 4]))
+
+
+#: Coordinates of q the redundant 5R actuates: both base joints, then chain 1's elbow (q12).
+REDUNDANT_ACTUATED = (2, 4, 3)
+
+
+def redundant_five_bar(p: FiveBarParameters = FiveBarParameters(),
+                       distribution: EffortDistribution | None = None) -> ParallelMechanism:
+    """The 5R with a third actuator at chain 1's elbow (redundant actuation: 3 efforts for 2
+    platform coordinates, ``urdf/five_bar_redundant.closure.toml``): efforts ``[tau_11, tau_21,
+    tau_12]``, shared by ``distribution`` (None: minimum norm)."""
+    return replace(five_bar(p), actuated=np.array(REDUNDANT_ACTUATED), distribution=distribution)
 
 
 def elbow_guess(p: FiveBarParameters, point: np.ndarray) -> np.ndarray:

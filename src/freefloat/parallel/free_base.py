@@ -48,7 +48,7 @@ from ..dynamics.integrators import INTEGRATORS, make_integrator
 from ..dynamics.plants import ClosedTreePlant, ConstraintDynamicsPlant
 from ..dynamics.simulation import RunResult, run, run_plant
 from ..dynamics.telemetry import Arrays, PlantTelemetry, Telemetry
-from ..errors import FreefloatError, InvalidArgument
+from ..errors import FreefloatError, InvalidArgument, did_you_mean
 from ..robot.loading import BASE_COM_FRAME
 from ..robot.robot import Robot
 from .closed_chain import AXES, ClosedChain, read_closures
@@ -81,7 +81,7 @@ def base_problem(kind: str, mass: float | None = None, inertia: Sequence[float] 
     com) describe a moving base; a fixed base takes none.
     """
     if kind not in BASES:
-        return "kind", f"is {kind!r}; valid: {', '.join(BASES)}"
+        return "kind", f"is {kind!r}{did_you_mean(kind, BASES)}"
     if kind == "fixed":
         given = [name for name, value in (("mass", mass), ("inertia", inertia), ("com", com)) if value is not None]
         if given:
@@ -171,11 +171,16 @@ class FloatingMechanism:
         actuated: velocity index in ``model`` of each actuator, in the closure file's order (k,).
 
     Raises:
-        FreefloatError: as :func:`read_closures`.
+        FreefloatError: as :func:`read_closures`; for a platform with an angle among its
+            coordinates (the law here reads translations of the platform frame only).
     """
 
     def __init__(self, chain: ClosedChain, closure: str | Path, base: BaseBody,
                  tree_inertias: Callable[[pin.Model], None] = lambda model: None):
+        if chain.mechanism.rotates:
+            raise FreefloatError(f"{closure}: the platform's coordinates include its angle ('rz'); a mechanism on a base "
+                                 "body takes translational platform coordinates only (its law reads the platform "
+                                 "frame's x, y, z)")
         moving = base.kind in ROOT_JOINTS
         closures = read_closures(closure, ROOT_JOINTS[base.kind]() if moving else None)
         model = closures.model
@@ -188,7 +193,7 @@ class FloatingMechanism:
         if base.gravity is not None:
             model.gravity = pin.Motion(np.asarray(base.gravity, float), np.zeros(3))
         self.chain, self.base, self.model, self.constraints = chain, base, model, closures.constraints
-        self.closures = closures.closures
+        self.closures, self.friction = closures.closures, closures.friction
         self.actuated = np.array([model.idx_vs[j] for j in closures.actuated])
         self.root_nq, self.root_nv = (model.nqs[1], model.nvs[1]) if moving else (0, 0)
         fixed = chain.model
@@ -235,11 +240,14 @@ class FloatingMechanism:
 
     def compiled(self, dynamics: str, integrator: str) -> str | None:
         """Why a run with this plant and integrator cannot take the compiled robot loop, or None
-        when it can: a moving base, ``closed_tree`` dynamics and an integrator the loop has."""
+        when it can: a moving base, ``closed_tree`` dynamics, no joint friction (the closure file's
+        ``[joints]``; the loop has the armature, not the friction) and an integrator the loop has."""
         if not self.root_nv:
             return "the mechanism is on a fixed base"
         if dynamics != ClosedTreePlant.name:
             return f"the plant is '{dynamics}', not '{ClosedTreePlant.name}'"
+        if self.friction is not None:
+            return "the closure file gives joint friction, which the compiled loop lacks"
         spec = INTEGRATORS.get(integrator)
         if spec is None or not spec.compiled:
             return f"integrator '{integrator}' is not compiled"
@@ -286,11 +294,12 @@ class FloatingMechanism:
         """The plant of the one loop on :attr:`model` with the closures, efforts on
         :attr:`actuated`, Baumgarte ``lambda`` (1/s): ``dynamics`` ``"constraint_dynamics"``
         (Pinocchio's, the proximal solver's mu :data:`PROXIMAL_MU`) or
-        ``"closed_tree"`` (freefloat's, :mod:`freefloat.dynamics.closures`)."""
+        ``"closed_tree"`` (freefloat's, :mod:`freefloat.dynamics.closures`); with the closure
+        file's joint friction, if any."""
         if dynamics == ClosedTreePlant.name:
-            return ClosedTreePlant(self.model, self.closures, self.actuated, baumgarte, max_drift)
+            return ClosedTreePlant(self.model, self.closures, self.actuated, baumgarte, max_drift, self.friction)
         return ConstraintDynamicsPlant(self.model, self.constraints, self.actuated, baumgarte, max_drift,
-                                       mu=PROXIMAL_MU)
+                                       mu=PROXIMAL_MU, friction=self.friction)
 
     def tree_state(self, q: np.ndarray, qd: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The tree's ``(q (nq,), v (nv,))`` at Orsino's ``q``, ``qd`` (n_q,), the base at the

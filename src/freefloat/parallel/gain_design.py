@@ -21,6 +21,12 @@ so an interior parameter set may be worse than every vertex. Beyond :data:`MAX_V
 vertices the design refuses, unless asked to sample: ``sample`` distinct vertices drawn uniformly
 (seeded), which gives a worst case no larger than the full one.
 
+The box may come from an identification: :class:`~freefloat.parallel.identification.RegressorModel`
+is a mechanism's Pinocchio regressor as such a model, its parameters the base parameters, its
+nominal values an estimate and its half-widths the estimate's confidence box
+(:meth:`~freefloat.parallel.identification.RegressorModel.identified`): the design then covers
+the uncertainty the measurements leave instead of a stated one.
+
 Eq 161 (``diag(k) = (1 - |Delta|_max)^-1 (...)``) has a solution only when
 ``(1 - |Delta|_max)^-1`` exists and is non-negative; for the non-negative matrix
 ``|Delta|_max`` that holds exactly when its spectral radius is below 1 (``1 - |Delta|_max`` is
@@ -31,8 +37,9 @@ feasibility map.
 from __future__ import annotations
 
 import itertools
+from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Protocol
+from typing import Any, Protocol
 
 import numpy as np
 
@@ -72,28 +79,35 @@ class LinearParameterModel(Protocol):
 @dataclass(frozen=True)
 class WorstCase:
     """Element-wise worst cases over points and vertices: ``|Delta|_max`` (p, p),
-    ``|delta_0|_max`` (p,), ``|delta_ij|_max`` {(i, j): (p,)}. Worst cases of disjoint point
-    sets combine by element-wise maximum (:meth:`combine`)."""
+    ``|delta_0|_max`` (p,), ``|delta_ij|_max`` {(i, j): (p,)} and, for a disturbance linear in
+    the platform rates (a drive's back-EMF or viscous-friction error,
+    :mod:`~freefloat.parallel.drive_gain_design`), ``|delta_i|_max`` {i: (p,)}, the bound of its
+    coefficient on ``qdot#_i`` (empty when there is none). Worst cases of disjoint point sets
+    combine by element-wise maximum (:meth:`combine`)."""
 
     Delta: np.ndarray
     delta0: np.ndarray
     deltaij: dict
+    deltai: dict = field(default_factory=dict)
 
     def combine(self, other: WorstCase) -> WorstCase:
         """The worst case over both point sets."""
         return WorstCase(np.maximum(self.Delta, other.Delta), np.maximum(self.delta0, other.delta0),
-                         {k: np.maximum(v, other.deltaij[k]) for k, v in self.deltaij.items()})
+                         {k: np.maximum(v, other.deltaij[k]) for k, v in self.deltaij.items()},
+                         {k: np.maximum(v, other.deltai[k]) for k, v in self.deltai.items()})
 
 
 @dataclass(frozen=True)
 class SlidingModeGains:
-    """eq 167: ``diag(k) = n + T |sigma| + sum n_ij |qd_i| |qd_j|``.
+    """eq 167: ``diag(k) = n + T |sigma| + sum n_ij |qd_i| |qd_j|``, plus ``sum n_i |qd_i|``
+    where the worst case has a term linear in the rates (``n_rate``; a drive's, empty otherwise).
 
     Attributes:
         n: (p,). T: (p, p). n_ij: {(i, j): (p,)} for i >= j. eta: the reaching rate used.
         Delta_max, delta0_max, deltaij_max: the worst cases found (element-wise absolute
             values): (p, p), (p,), {(i, j): (p,)}.
         points: workspace points used (N, p), platform coordinates.
+        n_rate: {i: (p,)}, the gains on ``|qdot#_i|``; empty: none.
     """
 
     n: np.ndarray
@@ -104,12 +118,15 @@ class SlidingModeGains:
     delta0_max: np.ndarray
     deltaij_max: dict = field(default_factory=dict)
     points: np.ndarray = field(default_factory=lambda: np.empty((0, 0)))
+    n_rate: dict = field(default_factory=dict)
 
     def k(self, sigma: np.ndarray, qd_sharp: np.ndarray) -> np.ndarray:
         """``diag(k)`` at (sigma, qdot#) (p,)."""
         out = self.n + self.T @ np.abs(sigma)
         for (i, j), nij in self.n_ij.items():
             out = out + nij * abs(qd_sharp[i]) * abs(qd_sharp[j])
+        for i, ni in self.n_rate.items():
+            out = out + ni * abs(qd_sharp[i])
         return out
 
 
@@ -140,22 +157,20 @@ def vertices(model: LinearParameterModel, sample: int | None = None, seed: int =
 def point_worst_case(model: LinearParameterModel, q: np.ndarray, extremes: np.ndarray) -> WorstCase:
     """The worst cases at one assembled pose q (n_q,) over the parameter sets ``extremes`` (V, r)
     (eqs 156, 164, 165): H, g_M and delta_ij from the coefficients at q, the estimates at the
-    nominal parameters."""
+    nominal parameters; all parameter sets at once (a batch of p x p inverses)."""
     H_c, g_c, quad_c = model.coefficients(q)
     pi_hat = model.linear_parameters(model.nominal)
     H_hat = np.tensordot(pi_hat, H_c, 1)
     p = H_hat.shape[0]
-    Dmax, d0max = np.zeros((p, p)), np.zeros(p)
-    dijmax = {key: np.zeros(p) for key in quad_c}
-    g_hat = pi_hat @ g_c
-    for theta in extremes:
-        pi = model.linear_parameters(theta)
-        Hinv = np.linalg.inv(np.tensordot(pi, H_c, 1))
-        Dmax = np.maximum(Dmax, np.abs(Hinv @ H_hat - np.eye(p)))
-        d0max = np.maximum(d0max, np.abs(Hinv @ (g_hat - pi @ g_c)))
-        for key, c in quad_c.items():
-            dijmax[key] = np.maximum(dijmax[key], np.abs(Hinv @ ((pi_hat - pi) @ c)))
-    return WorstCase(Dmax, d0max, dijmax)
+    pis = np.array([model.linear_parameters(theta) for theta in extremes])          # (V, l)
+    Hinv = np.linalg.inv(np.einsum("vl,lij->vij", pis, H_c))                       # (V, p, p)
+
+    def worst(x: np.ndarray) -> np.ndarray:
+        """max over the sets of |H^-1 x| for x (V, p): (p,)."""
+        return np.abs(np.einsum("vij,vj->vi", Hinv, x)).max(axis=0)
+
+    return WorstCase(np.abs(Hinv @ H_hat - np.eye(p)).max(axis=0), worst(pi_hat @ g_c - pis @ g_c),
+                     {key: worst((pi_hat - pis) @ c) for key, c in quad_c.items()})
 
 
 def box_grid(center: np.ndarray, half_width: float, spacing: float) -> np.ndarray:
@@ -172,8 +187,10 @@ def box_grid(center: np.ndarray, half_width: float, spacing: float) -> np.ndarra
     return np.stack([a.ravel() for a in axes], axis=-1)
 
 
-def worst_case(model: LinearParameterModel, points: np.ndarray, sample: int | None = None, seed: int = 0) -> WorstCase:
-    """The worst cases over ``points`` (N, p) and the :func:`vertices` of the parameter box.
+def worst_case(model: LinearParameterModel, points: np.ndarray, sample: int | None = None, seed: int = 0,
+               at: Callable[[Any, np.ndarray, np.ndarray], WorstCase] | None = None) -> WorstCase:
+    """The worst cases over ``points`` (N, p) and the :func:`vertices` of the parameter box, each
+    point's by ``at(model, q, vertices)`` (default :func:`point_worst_case`).
 
     Raises:
         FreefloatError: for no points, or a point where the mechanism does not assemble (named).
@@ -187,7 +204,7 @@ def worst_case(model: LinearParameterModel, points: np.ndarray, sample: int | No
             q = model.assemble(point)
         except FreefloatError as exc:
             raise FreefloatError(f"gain design: point {np.round(point, 6).tolist()}: {exc}") from exc
-        here = point_worst_case(model, q, extremes)
+        here = (at or point_worst_case)(model, q, extremes)
         out = here if out is None else out.combine(here)
     return out
 
@@ -214,7 +231,7 @@ def gains_from_worst_case(worst: WorstCase, eta: float, points: np.ndarray) -> S
     inv = np.linalg.inv(np.eye(len(d0max)) - Dmax)
     return SlidingModeGains(n=inv @ (d0max + eta), T=inv @ Dmax, n_ij={k: inv @ v for k, v in worst.deltaij.items()},
                             eta=eta, Delta_max=Dmax, delta0_max=d0max, deltaij_max=worst.deltaij,
-                            points=np.asarray(points, float))
+                            points=np.asarray(points, float), n_rate={k: inv @ v for k, v in worst.deltai.items()})
 
 
 def design_gains(model: LinearParameterModel, points: np.ndarray, eta: float = 20.0, sample: int | None = None,

@@ -14,12 +14,26 @@ complement ``C = [I; -A°^+ A#]`` (eq 120) gives ``qdot = C qdot#`` and the coup
 
 Inverse dynamics (eqs 130-140): ``q`` by solving ``qbar = 0``, ``qdot = C qdot#``,
 ``qddot = C qddot# + [0; A°^+ b]``, then the actuator efforts
-``tau = (C^T U)^-1 C^T (M' qddot + v' + g')`` with ``U`` the actuated coordinates.
+``tau = (C^T U)^-1 C^T (M' qddot + v' + g')`` with ``U`` the actuated coordinates. With more
+actuators than platform coordinates (redundant actuation, ``Z^T = C^T U`` wide) the efforts are
+shared by the mechanism's :class:`~freefloat.parallel.redundancy.EffortDistribution` (minimum norm
+unless it says otherwise).
 
 Angular-velocity constraints (eq 101, optional): ``P qdot# - Q w(q°) - R qdot° = 0`` with ``w``
 the chain tips' (last links') angular velocities in N, stacked (3n,); they add the rows
 ``[P, -(Q J_w + R)]`` to A and ``Q dw°`` to b (eqs 104-113) and, in eq 129, the velocity-level
-term ``lambda A_w qdot`` only (the document gives them no position-level term).
+term ``lambda A_w qdot`` only (the document gives them no position-level term). ``P != 0``
+(eq 102's platform with orientation coordinates, e.g. the angle of a planar platform) makes the
+angular rows tie those coordinates to the tips' orientations; with constant ``P``, an orientation
+coordinate is an angle about a fixed axis of N.
+
+Actuator inertias and joint friction (the chains' ``armature`` and ``friction``,
+:class:`~freefloat.parallel.serial.SerialChain`): the armature is part of ``M'``; the friction
+``f(qdot)`` (zero on q#) is a generalised force beside the actuators', ``u' = U tau - f``, so
+eq 129 reads ``C^T (M' qddot + v' + g' + f) = C^T U tau`` and the inverse dynamics gives the
+efforts that overcome it too. The compiled core has neither: a mechanism with them runs its
+rigid-body terms (``M'`` without armature, ``v'``, ``g'``, A, b, the closure) in the compiled core
+and adds them here (:attr:`ParallelMechanism.rigid`).
 """
 
 from __future__ import annotations
@@ -31,6 +45,7 @@ import numpy as np
 
 from ..dynamics._core import MechanismCore
 from ..errors import FreefloatError, UnknownName
+from .redundancy import EffortDistribution
 from .serial import SerialChain
 
 
@@ -38,17 +53,21 @@ from .serial import SerialChain
 class AngularConstraints:
     """Angular-velocity constraints ``P qdot# - Q w(q°) - R qdot° = 0`` (eq 101).
 
-    Their position form, used to assemble the mechanism and to report orientation drift, needs
-    ``P = 0``: ``Q phi(q°) + R q° = offset`` with ``phi`` the tips' rotation vectors
-    ``log(R_tip R_ref^T)`` (3n,) in N against the reference orientations ``reference``
-    (it differentiates to ``Q w + R qdot°`` where the tips sit at their references).
+    Their position form, used to assemble the mechanism and to report orientation drift:
+    ``P q# + offset - Q phi(q°) - R q° = 0`` with ``phi`` the tips' rotation vectors
+    ``log(R_tip R_ref^T)`` (3n,) in N against the reference orientations ``reference``. It
+    differentiates to the velocity form where ``d phi / dt = w``: where the tips sit at their
+    references (``P = 0``, the platform only translates), and wherever each row's tips turn about
+    one fixed axis of N that the row's Q reads (a planar platform, ``P != 0``: the row ties its
+    angle coordinate in q# to the tips' angle about the plane's normal, eq 102). An angle is
+    recovered within (-pi, pi) only (``log``).
 
     Attributes:
-        P: (m_w, p); must be zero (a platform that rotates would need orientation coordinates).
+        P: (m_w, p) on the platform rates (eq 102); zero for a platform that only translates.
         Q: (m_w, 3n) on the stacked tip angular velocities in N.
         R: (m_w, n°) on the chains' joint rates.
         reference: tip reference orientations in N (n, 3, 3).
-        offset: ``Q phi + R q°`` on the constraint manifold (m_w,).
+        offset: ``Q phi + R q° - P q#`` on the constraint manifold (m_w,).
     """
 
     P: np.ndarray
@@ -58,12 +77,9 @@ class AngularConstraints:
     offset: np.ndarray
 
     def __post_init__(self) -> None:
-        if np.any(self.P != 0.0):
-            raise FreefloatError("angular constraints: P must be zero (the platform coordinates q# are translations; "
-                                 "a rotating platform would need orientation coordinates)")
         rows = len(self.offset)
         n_tips = len(self.reference)
-        if self.P.shape[0] != rows or self.Q.shape != (rows, 3 * n_tips) or self.R.shape[0] != rows \
+        if self.P.ndim != 2 or self.P.shape[0] != rows or self.Q.shape != (rows, 3 * n_tips) or self.R.shape[0] != rows \
                 or self.reference.shape != (n_tips, 3, 3):
             raise FreefloatError(f"angular constraints: shapes do not agree: P {self.P.shape}, Q {self.Q.shape}, "
                                  f"R {self.R.shape}, reference {self.reference.shape}, offset {self.offset.shape} "
@@ -81,9 +97,12 @@ class ParallelMechanism:
         D, d, E, F: constant constraint matrices of eq 96 ((m, p), (m,), (m, 3n), (m, n°)).
         actuated: indices of the actuated coordinates in ``q`` (k,).
         angular: the angular-velocity constraints, if any.
+        distribution: how :meth:`inverse` (and the platform laws) share a required platform force
+            among the actuators; None: the square solve when there are as many actuators as
+            platform coordinates, the minimum-norm efforts when there are more.
         backend: ``"compiled"`` (default): one point at a time (:meth:`forward`, :meth:`inverse`
             and :meth:`assemble` at one q, :meth:`inverse_trajectory`) runs in the compiled core
-            (``cpp/parallel.hpp``) when A° is square; ``"numpy"``: everything in this module and
+            (``cpp/chains/mechanism.hpp``) when A° is square; ``"numpy"``: everything in this module and
             serial.py, the reference. Batched calls always use numpy.
     """
 
@@ -96,18 +115,65 @@ class ParallelMechanism:
     F: np.ndarray
     actuated: np.ndarray
     angular: AngularConstraints | None = None
+    distribution: EffortDistribution | None = None
     backend: str = "compiled"
 
     def __post_init__(self) -> None:
         if self.backend not in BACKENDS:
             raise UnknownName("mechanism backend", self.backend, BACKENDS)
+        if self.angular is not None:
+            expected = {"P": (self.p,), "Q": (3 * len(self.chains),), "R": (sum(c.dof for c in self.chains),)}
+            for name, columns in expected.items():
+                if getattr(self.angular, name).shape[1:] != columns:
+                    raise FreefloatError(f"angular constraints: {name} has {getattr(self.angular, name).shape[1]} columns; "
+                                         f"this mechanism needs {columns[0]} ({self.p} platform coordinates, "
+                                         f"{len(self.chains)} chains of {sum(c.dof for c in self.chains)} joints)")
+
+    @property
+    def core(self) -> MechanismCore | None:
+        """The compiled core of this mechanism, or None: numpy backend, a non-square A°,
+        angular constraints with ``P != 0`` (the compiled closure residual has no ``P q#`` term:
+        ``cpp/chains/mechanism.cpp``'s ``evaluate_closure``), or armature or friction on a joint (the
+        core has neither; see :attr:`rigid`)."""
+        return self._compiled if self.rigid else None
 
     @functools.cached_property
-    def core(self) -> MechanismCore | None:
-        """The compiled core of this mechanism, or None (numpy backend, or a non-square A°)."""
-        if self.backend != "compiled" or not self.square:
+    def _compiled(self) -> MechanismCore | None:
+        """The compiled core of the rigid-body terms (no armature, no friction), or None."""
+        if self.backend != "compiled" or not self.square or self.rotates:
             return None
         return MechanismCore(*self.core_arrays())
+
+    @property
+    def rigid(self) -> bool:
+        """True when no joint has armature or friction: everything :attr:`core` computes."""
+        return all(c.rigid for c in self.chains)
+
+    def joint_friction(self, qd: np.ndarray) -> np.ndarray:
+        """The chains' joint friction forces ``f`` (..., n_q) at rates ``qd`` (..., n_q), zero on
+        the platform coordinates, N m or N."""
+        qd = np.asarray(qd, dtype=float)
+        return np.concatenate([np.zeros(qd.shape[:-1] + (self.p,))]
+                              + [c.joint_friction(x) for c, x in zip(self.chains, self.split(qd))], axis=-1)
+
+    def frictionless(self) -> ParallelMechanism:
+        """The same mechanism without joint friction (armature kept)."""
+        return replace(self, chains=tuple(replace(c, friction=None) for c in self.chains))
+
+    def _armature(self) -> np.ndarray:
+        """``M'``'s armature diagonal (n_q,), zero on q#."""
+        return np.concatenate([np.zeros(self.p)] + [np.zeros(c.dof) if c.armature is None else c.armature
+                                                    for c in self.chains])
+
+    @property
+    def redundant(self) -> bool:
+        """True when there are more actuators than platform coordinates (k > p)."""
+        return len(self.actuated) > self.p
+
+    @property
+    def rotates(self) -> bool:
+        """True when angular constraints tie orientation coordinates of q# to the tips (``P != 0``)."""
+        return self.angular is not None and bool(np.any(self.angular.P != 0.0))
 
     @property
     def square(self) -> bool:
@@ -130,7 +196,7 @@ class ParallelMechanism:
         """Pickled without the compiled core (rebuilt on first use), so mechanisms travel to
         worker processes."""
         state = self.__dict__.copy()
-        state.pop("core", None)
+        state.pop("_compiled", None)
         return state
 
     def reference(self) -> ParallelMechanism:
@@ -150,8 +216,8 @@ class ParallelMechanism:
         return replace(self, chains=tuple(replace(c, gravity=gravity.copy()) for c in self.chains))
 
     def _point_core(self, q: np.ndarray) -> MechanismCore | None:
-        """The compiled core when ``q`` is one point, else None."""
-        return self.core if np.ndim(q) == 1 else None
+        """The compiled core of the rigid-body terms when ``q`` is one point, else None."""
+        return self._compiled if np.ndim(q) == 1 else None
 
     @property
     def p(self) -> int:
@@ -182,17 +248,19 @@ class ParallelMechanism:
         return residual[..., : len(self.d)], residual[..., len(self.d):]
 
     def orientation_residual(self, q: np.ndarray) -> np.ndarray:
-        """Position form of the angular constraints, ``offset - Q phi - R q°`` (..., m_w), rad;
-        empty without angular constraints."""
+        """Position form of the angular constraints, ``P q# + offset - Q phi - R q°`` (..., m_w),
+        rad; empty without angular constraints."""
         return self._closure(q)[0][..., len(self.d):]
 
     def terms(self, q: np.ndarray, qd: np.ndarray):
         """``(A, b, C, M', v', g')`` at (q, qd) (..., n_q): constraint Jacobian (..., m, n_q) and
         bias (..., m) with ``A qdd = b`` (linear rows first, then angular); velocity map
         (..., n_q, p) with ``qd = C qd#``; mass matrix (..., n_q, n_q), velocity and gravity
-        terms (..., n_q). Coordinates ordered [q#; chain 1; chain 2; ...]; any leading batch axes."""
+        terms (..., n_q). Coordinates ordered [q#; chain 1; chain 2; ...]; any leading batch axes.
+        M' includes the armature; v' has no friction (:meth:`joint_friction`)."""
         if (core := self._point_core(q)) is not None:
-            return core.terms(q, qd)
+            A, b, C, M, v, g = core.terms(q, qd)
+            return A, b, C, M + np.diag(self._armature()), v, g
         kins = self._kinematics(q, qd)
         A = self._constraint_jacobian(kins)
         b, blocks, v, g = self._dynamics_terms(kins, np.shape(q)[:-1])
@@ -246,7 +314,8 @@ class ParallelMechanism:
         if self.angular is not None:
             ang = self.angular
             phi = np.concatenate([log3(t[1] @ ref.T) for t, ref in zip(tips, ang.reference)], axis=-1)
-            residual = np.concatenate((residual, ang.offset - phi @ ang.Q.T - q[..., self.p:] @ ang.R.T), axis=-1)
+            residual = np.concatenate((residual, q[..., : self.p] @ ang.P.T + ang.offset - phi @ ang.Q.T
+                                       - q[..., self.p:] @ ang.R.T), axis=-1)
         return residual, self._constraint_jacobian(kins)
 
     def passive_solve(self, A: np.ndarray, rhs: np.ndarray, least_squares: bool = False) -> np.ndarray:
@@ -280,31 +349,67 @@ class ParallelMechanism:
         return U
 
     def forward(self, q: np.ndarray, qd: np.ndarray, tau: np.ndarray, baumgarte: float = 0.0) -> np.ndarray:
-        """``qddot`` (n_q,) under actuator efforts ``tau`` (k,), eq 129 with lambda = ``baumgarte``."""
+        """``qddot`` (n_q,) under actuator efforts ``tau`` (k,), eq 129 with lambda = ``baumgarte``
+        (joint friction, if any, beside the efforts)."""
         if (core := self._point_core(q)) is not None:
-            return core.forward(q, qd, tau, baumgarte)
-        frames = self._frames(q)
-        residual, A = self._closure(q, frames)
-        b, blocks, v, g = self._dynamics_terms(self._kinematics(q, qd, frames), ())
-        C = self._velocity_map(A)
-        u = self.selection() @ tau
+            if self.rigid:
+                return core.forward(q, qd, tau, baumgarte)
+            A, b, C, M, v, g = self.terms(q, qd)
+            residual = core.closure(q)[0]
+        else:
+            frames = self._frames(q)
+            residual, A = self._closure(q, frames)
+            b, blocks, v, g = self._dynamics_terms(self._kinematics(q, qd, frames), ())
+            C, M = self._velocity_map(A), _block_diag(blocks)
+        u = self.selection() @ tau - self.joint_friction(qd)
         m = len(self.d)
         rates = A @ qd
         rates[:m] *= 2.0
         rhs_c = b - baumgarte * rates
         rhs_c[:m] -= baumgarte**2 * residual[:m]
-        return np.linalg.solve(np.vstack((C.T @ _block_diag(blocks), A)), np.concatenate((C.T @ (u - v - g), rhs_c)))
+        return np.linalg.solve(np.vstack((C.T @ M, A)), np.concatenate((C.T @ (u - v - g), rhs_c)))
 
     def inverse(self, q: np.ndarray, qd_sharp: np.ndarray, qdd_sharp: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Actuator efforts for platform motion (eqs 130-140) at assembled ``q`` (..., n_q), from
         the platform rates ``qd_sharp`` and accelerations ``qdd_sharp`` (..., p); any leading
-        batch axes (a whole trajectory at once).
+        batch axes (a whole trajectory at once). Shared by :attr:`distribution` (:meth:`efforts`).
 
         Returns:
             ``(tau, qd, qdd)``: efforts (..., k) and the full velocity and acceleration (..., n_q).
+
+        Raises:
+            InfeasiblePlan: where the distribution's effort limits cannot give the motion.
         """
-        if (core := self._point_core(q)) is not None:
+        if self.square_actuation and self.rigid and (core := self._point_core(q)) is not None:
             return core.inverse(q, qd_sharp, qdd_sharp)
+        u, ZT, qd, qdd = self.required_force(q, qd_sharp, qdd_sharp)
+        return self.efforts(ZT, u), qd, qdd
+
+    @property
+    def square_actuation(self) -> bool:
+        """As many actuators as platform coordinates and no distribution: efforts by ``(C^T U)^-1``
+        (what the compiled core's inverse dynamics and platform law do)."""
+        return not self.redundant and self.distribution is None
+
+    def efforts(self, ZT: np.ndarray, u: np.ndarray) -> np.ndarray:
+        """Actuator efforts (..., k) giving the platform forces ``u`` (..., p) through the actuation
+        maps ``Z^T = C^T U`` (..., p, k) (eq 136): the square solve, or :attr:`distribution`'s
+        sharing (minimum norm when it is None and k > p).
+
+        Raises:
+            InfeasiblePlan: where the distribution's effort limits cannot give ``u``.
+        """
+        if self.square_actuation:
+            return np.linalg.solve(ZT, u[..., None])[..., 0]
+        return (self.distribution or EffortDistribution()).efforts(ZT, u)
+
+    def required_force(self, q: np.ndarray, qd_sharp: np.ndarray,
+                       qdd_sharp: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """What platform motion asks of the actuators (eqs 130-136) at assembled ``q`` (..., n_q),
+        platform rates and accelerations (..., p): ``(u*, Z^T, qd, qdd)`` with ``u* = C^T (M'
+        qddot + v' + g' + f)`` (..., p) (``f`` the joint friction), ``Z^T = C^T U`` (..., p, k) and
+        the full velocity and acceleration (..., n_q); any efforts with ``Z^T tau = u*`` produce
+        the motion."""
         frames = self._frames(q)
         A = self._closure(q, frames)[1]
         C = self._velocity_map(A)
@@ -314,8 +419,7 @@ class ParallelMechanism:
         qdd = _matvec(C, qdd_sharp) + np.concatenate((np.zeros(passive.shape[:-1] + (self.p,)), passive), axis=-1)
         Mqdd = np.concatenate([_matvec(M, x) for M, x in zip(blocks, [qdd[..., : self.p]] + self.split(qdd))], axis=-1)
         CT = C.swapaxes(-1, -2)
-        tau = np.linalg.solve(CT @ self.selection(), _matvec(CT, Mqdd + v + g)[..., None])[..., 0]
-        return tau, qd, qdd
+        return _matvec(CT, Mqdd + v + g + self.joint_friction(qd)), CT @ self.selection(), qd, qdd
 
     def assemble(self, q_sharp: np.ndarray, guess: np.ndarray, tol: float = 1e-12, iterations: int = 50) -> np.ndarray:
         """Solve ``qbar = 0`` (and the angular constraints' position form) for the chains' joints
@@ -377,7 +481,7 @@ class ParallelMechanism:
         if not len(q_sharp) or not q_sharp.shape == qd_sharp.shape == qdd_sharp.shape == (len(q_sharp), self.p):
             raise FreefloatError(f"inverse_trajectory: positions, rates and accelerations must be non-empty arrays of shape "
                                  f"(N, {self.p}); got {q_sharp.shape}, {qd_sharp.shape}, {qdd_sharp.shape}")
-        if self.core is not None:
+        if self.core is not None and self.square_actuation:
             return self._compiled_trajectory(q_sharp, qd_sharp, qdd_sharp, np.asarray(guess, float), jump)
         q = np.empty((len(q_sharp), self.p + len(guess)))
         tau = np.empty((len(q_sharp), len(self.actuated)))

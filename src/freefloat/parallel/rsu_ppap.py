@@ -226,11 +226,13 @@ def load_rsu_ppap(closure: str | Path = CLOSURE) -> ClosedChain:
     model = pin.Model(closures.model)
     bar1, bar2 = model.getJointId("ppap_bar1"), model.getJointId("ppap_bar2")
     model.inertias[bar1] = model.inertias[bar1] + model.inertias[bar2]
+    for terms in (model.armature, model.damping, model.friction):  # bar 2 turns with bar 1
+        terms[model.idx_vs[bar1]] += terms[model.idx_vs[bar2]]
     platform = closures.frame_id(closures.spec["platform"]["frame"], "platform.frame")
     tips = [closures.frame_id(f"{leg}_tip", "closures") for leg in LEGS] + [platform]
     chains, order = [], []
     for tip, names in zip(tips, CHAIN_JOINTS):
-        chain, joints = chain_from_tree(model, tip)
+        chain, joints = chain_from_tree(model, tip, closures.slip_speed)
         if [model.names[j] for j in joints] != list(names):
             raise FreefloatError(f"{closures.path}: the chain to frame '{model.frames[tip].name}' has joints "
                                  f"{[model.names[j] for j in joints]}, expected {list(names)}")
@@ -256,7 +258,8 @@ def load_rsu_ppap(closure: str | Path = CLOSURE) -> ClosedChain:
                              E=np.eye(9), F=np.zeros((9, n)),
                              actuated=np.array([p + order.index(j) for j in closures.actuated]), angular=angular)
     coordinates = {j: p + i for i, j in enumerate(order)} | {bar2: p + order.index(bar1)}
-    return ClosedChain(mech, closures.model, closures.constraints, coordinates, closures.actuated, closures.urdf)
+    return ClosedChain(mech, closures.model, closures.constraints, coordinates, closures.actuated, closures.urdf,
+                       friction=closures.friction)
 
 
 def assembly_guess(data: dict, q_sharp: np.ndarray) -> np.ndarray:

@@ -15,6 +15,13 @@ CoM ``g_i`` and inertia ``I_i`` (about the CoM) in frame B_i. The model (eqs 61-
 with ``J_{w,i}`` and ``w_i`` in frame B_i (eqs 44-45), ``c_i`` the velocity-product part of the
 CoM acceleration (eq 50) and ``dw_i^0`` that of the angular acceleration (eqs 56, 60), all by the
 composition of motions. (Eq 64 as printed lacks the transpose on ``J_{v,i}``.)
+
+Actuator inertias and joint friction (thesis proposal sec 9, items 4-5): a joint driven through a
+gear of ratio ``N`` by a rotor of inertia ``J_m`` adds ``N^2 J_m`` (its armature) to ``M``'s
+diagonal, the rotor's gyroscopic coupling with the link carrying it neglected (as Pinocchio's
+``model.armature``; exact for a motor fixed to the ground, the parallel mechanisms' case); joint
+friction (:class:`~freefloat.dynamics.friction.JointFriction`) is a generalised force
+``-f(qdot)`` on the joint rows, kept apart from ``v`` (it is not quadratic in the rates).
 """
 
 from __future__ import annotations
@@ -23,6 +30,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..dynamics.friction import JointFriction
+from ..errors import InvalidArgument
 from ..robot.conventions import cross_rows
 
 
@@ -53,6 +62,13 @@ class SerialChain:
         base: pose of B_0 in the inertial frame N (4, 4).
         tip_point: the end-effector point in B_nu, m (3,).
         gravity: gravity in N, m/s^2 (3,).
+        armature: reflected actuator inertia ``N^2 J_m`` added to M's diagonal (nu,), kg m^2 or kg
+            (prismatic); None: none.
+        friction: the joints' friction (nu joints); None: none.
+
+    Raises:
+        InvalidArgument: for an armature that is not nu finite numbers >= 0, or a friction of
+            another number of joints.
     """
 
     placement: np.ndarray
@@ -64,6 +80,28 @@ class SerialChain:
     base: np.ndarray = field(default_factory=lambda: np.eye(4))
     tip_point: np.ndarray = field(default_factory=lambda: np.zeros(3))
     gravity: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    armature: np.ndarray | None = None
+    friction: JointFriction | None = None
+
+    def __post_init__(self) -> None:
+        if self.armature is not None:
+            armature = np.asarray(self.armature, dtype=float)
+            if armature.shape != (self.dof,) or not (np.isfinite(armature).all() and (armature >= 0.0).all()):
+                raise InvalidArgument(f"serial chain: 'armature' must be {self.dof} finite numbers >= 0 (one per joint), "
+                                      f"got {np.asarray(self.armature).tolist()}")
+            object.__setattr__(self, "armature", armature)
+        if self.friction is not None and self.friction.n != self.dof:
+            raise InvalidArgument(f"serial chain: 'friction' is for {self.friction.n} joints; the chain has {self.dof}")
+
+    @property
+    def rigid(self) -> bool:
+        """True without armature or friction (the rigid-body terms of eqs 61-64 alone)."""
+        return (self.armature is None or not self.armature.any()) and not self.friction
+
+    def joint_friction(self, qd: np.ndarray) -> np.ndarray:
+        """The joints' friction forces ``f(qdot)`` (..., nu), N m or N (zero without friction)."""
+        qd = np.asarray(qd, dtype=float)
+        return self.friction.force(qd) if self.friction else np.zeros_like(qd)
 
     @classmethod
     def from_dh(cls, a, alpha, d, theta, prismatic, mass, com, inertia, base=None, gravity=None) -> "SerialChain":
@@ -171,7 +209,8 @@ class SerialChain:
         return self.dynamics_from(self.kinematics(q, qd))
 
     def dynamics_from(self, kin: dict) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """``(M, v, g)`` of eqs 61-64 from :meth:`kinematics` already evaluated at (q, qd)."""
+        """``(M, v, g)`` of eqs 61-64 from :meth:`kinematics` already evaluated at (q, qd); M with
+        the armature on its diagonal."""
         m, inertia, nu = self.mass, self.inertia, self.dof
         # stack the links' rows: (..., nu, 3, nu) -> (..., 3 nu, nu), so each sum over links is one matmul
         Jv = kin["Jv"].reshape(kin["Jv"].shape[:-3] + (3 * nu, nu))
@@ -185,7 +224,10 @@ class SerialChain:
         force = m[:, None] * kin["c"]
         v = (JvT @ force.reshape(force.shape[:-2] + (3 * nu, 1)) + JwT @ torque.reshape(force.shape[:-2] + (3 * nu, 1)))[..., 0]
         gvec = -(JvT @ (mass_rows * np.tile(self.gravity, nu)))
-        return 0.5 * (M + M.swapaxes(-1, -2)), v, gvec
+        M = 0.5 * (M + M.swapaxes(-1, -2))
+        if self.armature is not None:
+            M = M + np.diag(self.armature)
+        return M, v, gvec
 
 
 def _point_jacobian(points: np.ndarray, k: np.ndarray, o: np.ndarray, rev: np.ndarray, mask: np.ndarray) -> np.ndarray:

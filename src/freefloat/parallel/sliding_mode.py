@@ -146,8 +146,12 @@ Reference = Callable[[float], tuple[np.ndarray, np.ndarray, np.ndarray]]
 @dataclass(frozen=True)
 class PlatformControl:
     """Computed torque (eq 190, ``gains`` None) or sliding mode (eq 153) on a nominal model, for
-    any mechanism with as many actuators as platform coordinates: a controller of the one loop
-    (:func:`freefloat.dynamics.simulation.run_plant`) on Orsino's coordinates ``q = [q#; q°]``.
+    any mechanism: a controller of the one loop (:func:`freefloat.dynamics.simulation.run_plant`)
+    on Orsino's coordinates ``q = [q#; q°]``. The law asks a platform force ``u*`` (p,) and the
+    model's :meth:`~freefloat.parallel.mechanism.ParallelMechanism.efforts` gives the actuator
+    efforts: ``B = C^T U`` inverted when square, the model's effort distribution when there are
+    more actuators than coordinates (redundant actuation; ``B tau = u*`` to round-off, so the gain
+    design of eqs 155-170, made on ``u*``'s dynamics, holds unchanged).
 
     Attributes:
         model: the mechanism the controller believes (its p platform coordinates lead q).
@@ -181,7 +185,7 @@ class PlatformControl:
             sigma = qdd_d + lam * edot
             switch = np.sign(s) if self.saturation == "sign" else np.tanh(100.0 * s)
             acceleration = sigma - self.gains.k(sigma, qd[:p]) * switch
-        return np.linalg.solve(B, v + g + H @ acceleration), e, s
+        return self.model.efforts(B, v + g + H @ acceleration), e, s
 
     def torque(self, t: float, q: np.ndarray, qd: np.ndarray) -> np.ndarray:
         """Actuator efforts (k,) of :meth:`law` (the loop's controller interface)."""
@@ -203,9 +207,12 @@ class PlatformControl:
     def compiled_law(self) -> dict | None:
         """This law as the compiled closed-chain loop takes it (``ChainSimulation.set_platform_law``):
         for a circle reference (:class:`~.platform_control.CircleReference`) on a model with a
-        compiled core; None otherwise (the loop then calls :meth:`torque` from Python)."""
+        compiled core and square actuation (the compiled law inverts ``C^T U``) and gains without
+        rate terms (``n_rate``, which the compiled law lacks); None otherwise (the loop then calls
+        :meth:`torque` from Python)."""
         circle = self.trajectory
-        if self.model.core is None or not all(hasattr(circle, k) for k in ("center", "radius", "rate", "axes")):
+        if self.model.core is None or not self.model.square_actuation or (self.gains is not None and self.gains.n_rate) or \
+                not all(hasattr(circle, k) for k in ("center", "radius", "rate", "axes")):
             return None
         p = self.model.p
         sliding = self.gains is not None

@@ -5,7 +5,8 @@
 (:class:`Robot`, :class:`Arm`), ``conventions`` (Pinocchio's base state <-> the dissertation's
 base twist [v0; w0] of the base CoM, inertial frame), ``joints`` (actuated joint coordinates <->
 Pinocchio q), ``locking`` (joints held still, removed from the model), ``attitude`` (the
-dissertation's Euler angles) and ``builders`` (robots as data -> URDF).
+dissertation's Euler angles), ``jerk`` (the jerk of bodies, frames and link CoMs by the
+composition of motion) and ``builders`` (robots as data -> URDF).
 
 May import: :mod:`freefloat.errors`, :mod:`freefloat.paths`. Nothing above it.
 """

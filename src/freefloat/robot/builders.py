@@ -100,6 +100,8 @@ class ArmSpec:
             URDF roll-pitch-yaw, rad.
         links: the links, base outwards.
         axes: joint axes, each in its link frame (normalised here); default z for every joint.
+        ee_rpy: orientation of the end-effector frame ``<arm>_ee`` at the last link's tip, in that
+            link's frame, URDF roll-pitch-yaw, rad (default: the link's own axes).
 
     Raises:
         RobotModelError: naming the arm and link, for an arm without links, a link with zero
@@ -112,6 +114,7 @@ class ArmSpec:
     pivot_rpy: Vec3
     links: tuple[LinkSpec, ...]
     axes: tuple[Vec3, ...] | None = None
+    ee_rpy: Vec3 = (0.0, 0.0, 0.0)
 
     def __post_init__(self) -> None:
         if not self.name or not isinstance(self.name, str):
@@ -119,6 +122,7 @@ class ArmSpec:
         where = f"arm '{self.name}'"
         object.__setattr__(self, "pivot_xyz", _vec3(self.pivot_xyz, f"{where}: pivot_xyz"))
         object.__setattr__(self, "pivot_rpy", _vec3(self.pivot_rpy, f"{where}: pivot_rpy"))
+        object.__setattr__(self, "ee_rpy", _vec3(self.ee_rpy, f"{where}: ee_rpy"))
         object.__setattr__(self, "links", tuple(self.links))
         if not self.links:
             raise RobotModelError(f"{where} has no links")
@@ -346,7 +350,7 @@ def build_urdf(spec: RobotSpec) -> yourdfpy.URDF:
                 type="fixed",
                 parent=parent,
                 child=f"{arm.name}_ee",
-                origin=origin,
+                origin=origin @ pose((0.0, 0.0, 0.0), arm.ee_rpy),
             )
         )
     return wrap_robot(yourdfpy.Robot(name=spec.name, links=links, joints=joints))

@@ -3,16 +3,18 @@
 
 A name is a URDF file's stem (``solo12``, ``talos_full_v2``, ``four_arm_planar``); a stem ending
 in ``_robot`` answers to the name without it too (``ur5_robot`` -> ``ur5``), and ``talos`` to
-``talos_reduced``. freefloat's own robots come first.
+``talos_reduced`` (said in a :class:`~freefloat.errors.FreefloatNote`: example-robot-data has
+several TALOS files). freefloat's own robots come first; ``freefloat robots`` lists them all.
 """
 
 from __future__ import annotations
 
 import functools
 import importlib.metadata
+import warnings
 from pathlib import Path
 
-from ..errors import RobotModelError
+from ..errors import FreefloatNote, RobotModelError, did_you_mean
 from ..paths import URDF_DIR
 
 #: Names that are no file's stem.
@@ -49,14 +51,22 @@ def robots() -> dict[str, Path]:
 def find_robot(name: str) -> Path:
     """The URDF of the robot called ``name``.
 
+    A name that is no file's stem (:data:`ALIASES`) picks one file of several: which one is said
+    in a :class:`~freefloat.errors.FreefloatNote`.
+
     Raises:
-        RobotModelError: for an unknown name, listing the close ones (or all).
+        RobotModelError: for an unknown name, with the nearest known names
+            (:func:`~freefloat.errors.did_you_mean`).
     """
     known = robots()
     if name in known:
+        if name in ALIASES:
+            others = [n for n in known if n.startswith(name) and known[n] != known[name]]
+            warnings.warn(f"robot '{name}' is {known[name].name}" + (f" (others: {', '.join(others)})" if others else ""),
+                          FreefloatNote, stacklevel=3)
         return known[name]
-    close = [n for n in known if name.lower() in n.lower()] or list(known)
-    raise RobotModelError(f"'{name}' is neither a URDF file nor a known robot; known: {', '.join(close)}")
+    raise RobotModelError(f"'{name}' is neither a URDF file nor a known robot"
+                          f"{did_you_mean(name, known, 'known', 'freefloat robots')}")
 
 
 def is_name(value: str | Path) -> bool:

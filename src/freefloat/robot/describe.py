@@ -37,6 +37,8 @@ def describe(robot: Robot) -> str:
         lines.append(f"    {arm.end_effector:<28} arm: {', '.join(arm.joints) or '(no movable joint)'}")
     if robot.warnings:
         lines += ["", "  warnings:", *[f"    {note}" for note in robot.warnings]]
+    if robot.notes:
+        lines += ["", "  notes:", *[f"    {note}" for note in robot.notes]]
     return "\n".join(lines)
 
 

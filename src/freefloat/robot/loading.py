@@ -22,19 +22,22 @@ import numpy as np
 import pinocchio as pin
 
 from ..arguments import MAX_MAGNITUDE, real_array
-from ..errors import InvalidArgument, RobotModelError
-from .catalog import example_robot_data_share, find_robot, is_name
+from ..errors import FreefloatNote, FreefloatWarning, InvalidArgument, RobotModelError, did_you_mean
+from .catalog import example_robot_data_share, find_robot, is_name  # noqa: F401  (the share: imported from here)
 from .inertias import balanced
 from .robot import BASE_DOFS, Arm, Robot
 from .urdf_checks import (
     check_joints,
     check_mass_matrix,
     check_numbers,
+    compare_friction,
     compare_parses,
     physics_notes,
     read_urdf,
 )
 from .urdf_model import Joint, UrdfModel, parse_urdf
+from .visuals import missing_meshes, missing_note
+from .visuals import visual_model as build_visuals
 
 MOVABLE = {"revolute", "continuous", "prismatic"}
 SUPPORTED = MOVABLE | {"fixed"}
@@ -64,10 +67,6 @@ def remembered_loads(store: dict) -> Iterator[None]:
         yield
     finally:
         _remembered.reset(token)
-
-
-class FreefloatWarning(UserWarning):
-    """Something in a URDF was loaded with a stated assumption (missing limits, meshes...)."""
 
 
 def load_robot(
@@ -133,6 +132,8 @@ def load_robot(
             robot = store[key]
             for note in robot.warnings:
                 warnings.warn(note, FreefloatWarning, stacklevel=2)
+            for note in robot.notes:
+                warnings.warn(note, FreefloatNote, stacklevel=2)
             return dataclasses.replace(robot, model=pin.Model(robot.model))
     robot = _load(path, base, end_effectors, gravity, visuals, inertias)
     if store is not None:
@@ -151,7 +152,8 @@ def _load(path: Path, base: str, end_effectors: list[str] | tuple[str, ...] | No
     notes: list[str] = []
     root = _check_tree(path, urdf)
     _check_inertias(path, urdf, root, notes)
-    notes += physics_notes(path, urdf, triangle=inertias == "as_given")
+    physics, facts = physics_notes(path, urdf, triangle=inertias == "as_given")
+    notes += physics
     xml, unlimited = _pinocchio_xml(tree)
     if unlimited:
         notes.append(
@@ -164,6 +166,7 @@ def _load(path: Path, base: str, end_effectors: list[str] | tuple[str, ...] | No
     except (RuntimeError, ValueError) as exc:
         raise RobotModelError(f"{path}: Pinocchio's URDF parser refuses it ({exc})") from exc
     compare_parses(path, model, urdf)
+    compare_friction(path, model, urdf)
     notes += check_mass_matrix(path, model)
     if inertias == "balanced":
         model = balanced(model)[0]
@@ -175,11 +178,14 @@ def _load(path: Path, base: str, end_effectors: list[str] | tuple[str, ...] | No
         pin.Frame(BASE_COM_FRAME, 1, 0, pin.SE3(com_pose[:3, :3], com_pose[:3, 3]), pin.FrameType.OP_FRAME)
     )
 
-    visual_model = None
-    if visuals:
-        visual_model = _visual_model(path, model, xml, notes)
+    missing = missing_meshes(path, tree)
+    if missing:
+        notes.append(missing_note(path, missing))
+    visual_model = build_visuals(path, model, ET.fromstring(xml), missing, notes) if visuals else None
     for note in notes:
         warnings.warn(note, FreefloatWarning, stacklevel=3)
+    for note in facts:
+        warnings.warn(note, FreefloatNote, stacklevel=3)
 
     ee_names = _end_effectors(path, model, urdf, end_effectors)
     return Robot(
@@ -197,6 +203,8 @@ def _load(path: Path, base: str, end_effectors: list[str] | tuple[str, ...] | No
             for link in urdf.links
         },
         warnings=tuple(notes),
+        notes=tuple(facts),
+        missing_meshes=tuple(missing),
     )
 
 
@@ -290,38 +298,6 @@ def _pinocchio_xml(root: ET.Element) -> tuple[str, list[str]]:
     return ET.tostring(root, encoding="unicode"), unlimited
 
 
-def _visual_model(path: Path, model: pin.Model, xml: str, notes: list[str]) -> pin.GeometryModel | None:
-    """Visual geometry, or None with a note when meshes cannot be resolved."""
-    package_dirs = [str(path.parent.resolve())]
-    if (share := example_robot_data_share()) is not None:
-        package_dirs.append(str(share))
-    tree = ET.fromstring(xml)
-    for mesh in tree.iter("mesh"):
-        if _resolve_mesh(mesh.get("filename", ""), path.parent, package_dirs) is None:
-            notes.append(
-                f"{path.name}: mesh '{mesh.get('filename')}' not found; loaded for dynamics without visuals"
-            )
-            return None
-    try:
-        return pin.buildGeomFromUrdfString(model, xml, pin.GeometryType.VISUAL, package_dirs=package_dirs)
-    except (RuntimeError, ValueError) as exc:  # coal cannot read a mesh file
-        reason = str(exc).strip().splitlines()[-1] if str(exc).strip() else type(exc).__name__
-        notes.append(f"{path.name}: meshes could not be read ({reason}); loaded for dynamics without visuals")
-        return None
-
-
-def _resolve_mesh(filename: str, urdf_dir: Path, package_dirs: list[str]) -> Path | None:
-    """The mesh file a URDF filename points to, or None."""
-    if filename.startswith("package://"):
-        relative = filename[len("package://"):].lstrip("/")  # package:///a/b names package 'a' too
-        candidates = [Path(d) / relative for d in package_dirs]
-    elif filename.startswith("file://"):
-        candidates = [Path(filename[len("file://"):])]
-    else:
-        candidates = [urdf_dir / filename]
-    return next((c for c in candidates if c.is_file()), None)
-
-
 def _end_effectors(
     path: Path, model: pin.Model, robot: UrdfModel, names: list[str] | tuple[str, ...] | None
 ) -> tuple[str, ...]:
@@ -330,7 +306,7 @@ def _end_effectors(
     if names is not None:
         for name in names:
             if name not in links:
-                raise RobotModelError(f"{path}: end-effector '{name}' is not a link; links: {links}")
+                raise RobotModelError(f"{path}: end-effector '{name}' is not a link{did_you_mean(name, links, 'links')}")
         return tuple(names)
     parents = {joint.parent for joint in robot.joints}
     leaves = [

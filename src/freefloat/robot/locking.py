@@ -23,7 +23,7 @@ from dataclasses import dataclass
 import numpy as np
 import pinocchio as pin
 
-from ..errors import RobotModelError
+from ..errors import RobotModelError, did_you_mean
 from .loading import arm_of
 from .robot import Robot
 
@@ -110,8 +110,8 @@ def lock_joints(robot: Robot, names: Sequence[str], q: np.ndarray) -> LockedJoin
         raise RobotModelError(f"{where}: no joint to lock")
     for name in names:
         if name not in robot.joint_names:
-            raise RobotModelError(f"{where}: cannot lock '{name}': not an actuated joint; joints: "
-                                  f"{', '.join(robot.joint_names)}")
+            raise RobotModelError(f"{where}: cannot lock '{name}': not an actuated joint"
+                                  f"{did_you_mean(name, robot.joint_names, 'joints')}")
         if list(names).count(name) > 1:
             raise RobotModelError(f"{where}: joint '{name}' is named twice in the joints to lock")
     q = np.asarray(q, dtype=float)

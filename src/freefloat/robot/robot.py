@@ -33,7 +33,8 @@ class Robot:
 
     Attributes:
         model: Pinocchio model; joint 1 is the floating root joint (free-flyer or planar).
-        visual_model: Pinocchio visual geometry, or None when the meshes could not be resolved.
+        visual_model: Pinocchio visual geometry, or None when it was not built or a mesh file
+            could not be read.
         urdf_path: the file it was loaded from.
         base_link: name of the URDF root link.
         base: floating-joint kind, ``"free"`` (SE(3), 6 DOF) or ``"planar"`` (SE(2), 3 DOF).
@@ -44,7 +45,12 @@ class Robot:
         end_effectors: end-effector frame names, in the order used by every stacked quantity.
         arms: one :class:`Arm` per end-effector, same order.
         link_coms: CoM of every URDF link in its own link frame, m (3,) each.
-        warnings: what the loader had to say about the file (also emitted as Python warnings).
+        warnings: what the loader had to say about the file, to check (also emitted as
+            :class:`~freefloat.errors.FreefloatWarning`).
+        notes: what the loader states about the file that is so on purpose (freefloat's own
+            robots' inertias; also emitted as :class:`~freefloat.errors.FreefloatNote`).
+        missing_meshes: (link, filename as written) of each visual mesh whose file was not
+            found; :attr:`visual_model` lacks those visuals, and a page draws those links as sticks.
     """
 
     model: pin.Model
@@ -58,6 +64,8 @@ class Robot:
     arms: tuple[Arm, ...]
     link_coms: dict[str, np.ndarray]
     warnings: tuple[str, ...] = field(default=())
+    notes: tuple[str, ...] = field(default=())
+    missing_meshes: tuple[tuple[str, str], ...] = field(default=())
 
     @property
     def n_base(self) -> int:

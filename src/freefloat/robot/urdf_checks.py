@@ -12,13 +12,12 @@ from __future__ import annotations
 import math
 import os
 import xml.etree.ElementTree as ET
-from collections.abc import Iterable
 from pathlib import Path
 
 import numpy as np
 import pinocchio as pin
 
-from ..errors import RobotModelError
+from ..errors import RobotModelError, did_you_mean, few
 from ..paths import URDF_DIR
 from .urdf_model import UrdfModel
 
@@ -115,7 +114,7 @@ def check_joints(path: Path, root: ET.Element) -> None:
         for mimic in joint.findall("mimic"):
             if mimic.get("joint") not in counts:
                 raise RobotModelError(f"{path}: joint '{joint.get('name')}' <mimic joint=\"{mimic.get('joint')}\">: "
-                                      "no joint of that name")
+                                      f"no joint of that name{did_you_mean(mimic.get('joint'), counts, 'joints')}")
     nv = 6 + sum(joint.get("type") in ("revolute", "continuous", "prismatic") for joint in root.findall("joint"))
     need = DATA_PER_RUN * DATA_BYTES_PER_NV3 * nv**3
     have = usable_memory()
@@ -131,11 +130,17 @@ def usable_memory() -> float:
     return MEMORY_SHARE * os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
 
 
-def physics_notes(path: Path, robot: UrdfModel, triangle: bool = True) -> list[str]:
-    """Notes on what loads but no real robot has, each at most two lines saying what to do:
-    inertias that break the triangle inequality (no rigid body can have them; MuJoCo refuses
-    them; skipped with ``triangle=False``), joint limits with lower > upper."""
-    notes = []
+def physics_notes(path: Path, robot: UrdfModel, triangle: bool = True) -> tuple[list[str], list[str]]:
+    """What loads but no real robot has: inertias that break the triangle inequality (no rigid
+    body can have them; MuJoCo refuses them; skipped with ``triangle=False``), joint limits with
+    lower > upper.
+
+    Returns:
+        ``(warnings, notes)``: what to check in the file, each at most two lines saying what to do;
+        and what is so on purpose, one line each (freefloat's own robots' inertias, as the
+        dissertation prints them).
+    """
+    notes, facts = [], []
     broken = {}
     for link in robot.links if triangle else ():
         if link.inertial is None:
@@ -146,24 +151,19 @@ def physics_notes(path: Path, robot: UrdfModel, triangle: bool = True) -> list[s
     if broken:
         worst = max(broken, key=lambda name: broken[name][2] / (broken[name][0] + broken[name][1] + 1e-300))
         m = broken[worst]
-        why = ("kept as the dissertation prints them, to reproduce its numbers" if path.resolve().parent == URDF_DIR.resolve()
-               else "no rigid body has them: check the links' <inertia>")
-        notes.append(f"{path.name}: {len(broken)} links' inertias break I1 + I2 >= I3 ({few(broken)}; worst {worst}: "
-                     f"{m[0]:.3g} + {m[1]:.3g} < {m[2]:.3g}), {why}.\n  Pinocchio simulates them as given "
-                     '(MuJoCo refuses them); a physical copy: [robot] inertias = "balanced" (load_robot(..., '
-                     'inertias="balanced")).')
+        if path.resolve().parent == URDF_DIR.resolve():
+            facts.append(f"{path.name}: {len(broken)} links' inertias break I1 + I2 >= I3 as the dissertation prints "
+                         'them, kept to reproduce its numbers (a physical copy: [robot] inertias = "balanced")')
+        else:
+            notes.append(f"{path.name}: {len(broken)} links' inertias break I1 + I2 >= I3 ({few(broken)}; worst "
+                         f"{worst}: {m[0]:.3g} + {m[1]:.3g} < {m[2]:.3g}), no rigid body has them: check the links' "
+                         '<inertia>.\n  Pinocchio simulates them as given (MuJoCo refuses them); a physical copy: '
+                         '[robot] inertias = "balanced" (load_robot(..., inertias="balanced")).')
     inverted = [j.name for j in robot.joints if j.limit is not None and j.limit.lower is not None
                 and j.limit.upper is not None and j.limit.lower > j.limit.upper]
     if inverted:
         notes.append(f"{path.name}: joints {few(inverted)} have lower limit > upper limit; swap them in the URDF")
-    return notes
-
-
-def few(names: Iterable[str], shown: int = 3) -> str:
-    """``names`` joined, the first ``shown`` of them and how many more (a note stays short)."""
-    names = list(names)
-    rest = len(names) - shown
-    return ", ".join(names[:shown]) + (f" and {rest} more" if rest > 0 else "")
+    return notes, facts
 
 
 def compare_parses(path: Path, model: pin.Model, robot: UrdfModel) -> None:
@@ -192,6 +192,26 @@ def compare_parses(path: Path, model: pin.Model, robot: UrdfModel) -> None:
                 f"{path}: body of joint '{model.names[j]}' has mass {built.mass:.6g} kg in Pinocchio's parse but "
                 f"{merged[j][0]:.6g} kg in freefloat's (mass, CoM or inertia differ by {difference:.3g}): the two "
                 "URDF parsers read the file differently")
+
+
+def compare_friction(path: Path, model: pin.Model, robot: UrdfModel) -> None:
+    """Pinocchio's ``model.damping`` and ``model.friction`` hold each movable joint's
+    ``<dynamics>`` as :func:`.urdf_model.parse_urdf` read it (0 where absent).
+
+    Raises:
+        RobotModelError: naming the joint and both readings.
+    """
+    for joint in robot.joints:
+        if not model.existJointName(joint.name):
+            continue
+        j = model.getJointId(joint.name)
+        rows = slice(model.idx_vs[j], model.idx_vs[j] + model.nvs[j])
+        read = (0.0, 0.0) if joint.dynamics is None else (joint.dynamics.damping, joint.dynamics.friction)
+        built = (model.damping[rows], model.friction[rows])
+        if not all(np.allclose(b, r, rtol=1e-12, atol=0.0) for b, r in zip(built, read)):
+            raise RobotModelError(f"{path}: joint '{joint.name}' has <dynamics damping friction> {read} in freefloat's "
+                                  f"parse but {[b.tolist() for b in built]} in Pinocchio's: the two URDF parsers read the "
+                                  "file differently")
 
 
 def _moments(mass: float, com: np.ndarray, inertia_at_com: np.ndarray) -> np.ndarray:

@@ -5,7 +5,8 @@ against Pinocchio's parse, without yourdfpy's import (trimesh, networkx, lxml: a
 The fields and defaults are yourdfpy's: a missing ``<origin>`` or ``xyz``/``rpy`` is the identity,
 a missing ``<axis>`` is (1, 0, 0), a link without ``<inertial>`` has ``inertial = None``, a joint
 without ``<limit>`` or ``<mimic>`` has None there, a ``<limit>`` attribute left out is None, a
-``<mimic>`` has multiplier 1 and offset 0 unless given. Where yourdfpy and urdfdom (Pinocchio's
+``<mimic>`` has multiplier 1 and offset 0 unless given, a ``<dynamics>`` attribute left out is 0
+(urdfdom's reading; yourdfpy's is None). Where yourdfpy and urdfdom (Pinocchio's
 parser) read a file differently this reader refuses it, naming the file, the link or joint and
 the attribute: an ``<inertial>`` without ``<mass value>`` or without all six ``<inertia>``
 moments (urdfdom drops the whole ``<inertial>``, yourdfpy fills in 0 kg or unit moments), an
@@ -24,7 +25,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import RobotModelError
+from ..errors import RobotModelError, did_you_mean
 
 #: The joint types URDF defines.
 JOINT_TYPES = ("revolute", "continuous", "prismatic", "fixed", "floating", "planar")
@@ -66,6 +67,16 @@ class Limit:
 
 
 @dataclasses.dataclass(frozen=True)
+class Dynamics:
+    """A ``<dynamics>``: viscous ``damping`` (N m s/rad or N s/m) and Coulomb ``friction`` (N m or
+    N), each >= 0 (Pinocchio's ``model.damping`` and ``model.friction``; the law is
+    :class:`freefloat.dynamics.friction.JointFriction`'s)."""
+
+    damping: float
+    friction: float
+
+
+@dataclasses.dataclass(frozen=True)
 class Mimic:
     """A ``<mimic>``: this joint's position is ``multiplier * q[joint] + offset``."""
 
@@ -78,7 +89,7 @@ class Mimic:
 class Joint:
     """A ``<joint>``. ``origin``: 4x4 pose of the joint frame in the parent link's frame (the
     child link's frame at zero position); ``axis``: (3,) in the joint frame, as written (not
-    normalised); arrays read-only."""
+    normalised); arrays read-only; ``dynamics``: its ``<dynamics>``, None without one."""
 
     name: str
     type: str
@@ -88,6 +99,7 @@ class Joint:
     axis: np.ndarray
     limit: Limit | None
     mimic: Mimic | None
+    dynamics: Dynamics | None = None
 
     def __post_init__(self) -> None:
         _read_only(self.origin, self.axis)
@@ -206,16 +218,26 @@ class _Reader:
         self.owner = f"joint '{name}'"
         kind = self.required(element, "type")
         if kind not in JOINT_TYPES:
-            raise self.error(element, f"'{kind}' is no URDF joint type ({', '.join(JOINT_TYPES)})", "type")
+            raise self.error(element, f"'{kind}' is no URDF joint type{did_you_mean(kind, JOINT_TYPES)}", "type")
         parent, child = (self.required(self.child(element, tag), "link") for tag in ("parent", "child"))
         axis = element.find("axis")
         if axis is not None and axis.get("xyz") is None:
             raise self.error(axis, "no 'xyz' attribute (urdfdom reads a zero axis, yourdfpy (1, 0, 0)); write it")
-        limit, mimic = element.find("limit"), element.find("mimic")
+        limit, mimic, dynamics = element.find("limit"), element.find("mimic"), element.find("dynamics")
         return Joint(
             name, kind, parent, child, self.origin(element.find("origin")),
             np.array([1.0, 0.0, 0.0] if axis is None else self.vector(axis, "xyz", "")),
             None if limit is None else Limit(*(self.number(limit, a) for a in ("lower", "upper", "effort", "velocity"))),
             None if mimic is None else Mimic(self.required(mimic, "joint"), self.number(mimic, "multiplier", 1.0),
                                              self.number(mimic, "offset", 0.0)),
+            None if dynamics is None else self.dynamics(dynamics),
         )
+
+    def dynamics(self, element: ET.Element) -> Dynamics:
+        """A ``<dynamics>``; an attribute left out is 0."""
+        values = {}
+        for attribute in ("damping", "friction"):
+            values[attribute] = self.number(element, attribute, 0.0)
+            if values[attribute] < 0.0:
+                raise self.error(element, "negative: friction dissipates energy, it cannot feed it in", attribute)
+        return Dynamics(**values)

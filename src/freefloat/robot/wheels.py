@@ -24,7 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 import pinocchio as pin
 
-from ..errors import RobotModelError
+from ..errors import RobotModelError, did_you_mean
 from .robot import Robot
 
 #: Relative tolerance of the unit-axis and zero-length checks.
@@ -206,8 +206,8 @@ def _check_declared(robot: Robot, model: pin.Model, spec: WheelSpec) -> str:
     """Check that ``spec.name`` is a continuous joint of the base that moves a leaf; its link."""
     where = f"{spec.key}.joint"
     if not model.existJointName(spec.name) or model.getJointId(spec.name) < 2:
-        raise RobotModelError(f"{where}: '{spec.name}' is not a joint of {robot.urdf_path.name}; joints: "
-                              f"{', '.join(robot.joint_names)}")
+        raise RobotModelError(f"{where}: '{spec.name}' is not a joint of {robot.urdf_path.name}"
+                              f"{did_you_mean(spec.name, robot.joint_names, 'joints')}")
     j = model.getJointId(spec.name)
     kind = model.joints[j].shortname()
     if (model.nqs[j], model.nvs[j]) != (2, 1) or "RUB" not in kind and "Unbounded" not in kind:

@@ -30,6 +30,17 @@ from ..robot.conventions import momentum_about_origin, skew
 from ..robot.robot import Robot
 
 TARGET_FRAME = "captured_target"
+#: The unit of each key of a capture's summary (:func:`capture_and_detumble`; "" for a pure number
+#: or a text); momenta ``[P; L about the origin]`` in N s and N m s.
+SUMMARY_UNITS = {
+    "impact_time": "s", "approach_base_attitude_change": "rad", "grasp_position_mismatch": "m",
+    "grasp_velocity_mismatch": "m/s", "grasp_angular_velocity_mismatch": "rad/s", "grasp_impulse": "N s",
+    "momentum_before_impact": "N s, N m s", "momentum_after_impact": "N s, N m s", "momentum_balance_error": "N s or N m s",
+    "momentum_drift_after_impact": "N s or N m s", "target_angular_velocity_at_impact": "rad/s",
+    "target_angular_velocity_final": "rad/s", "settling_time": "s", "settle_threshold": "rad/s",
+    "peak_joint_torque": "N m", "base_angular_velocity_final": "rad/s", "base_angular_velocity_max": "rad/s",
+    "solver_residual_max": "m/s or rad/s", "status": "",
+}
 
 
 @dataclass(frozen=True)
@@ -266,6 +277,47 @@ def approach(robot: Robot, body: TargetBody, end_effectors: tuple[str, ...], con
     return pre, flight
 
 
+@dataclass(frozen=True)
+class Grasp:
+    """The approach and the grasp: the merged robot's start.
+
+    Attributes:
+        pre: the approach run (status ``"stopped"`` at contact).
+        body: the target's own model.
+        flight: the target's free flight up to contact.
+        hit: the impact.
+        merged: the robot with the target attached (:func:`attach`).
+        q, v: the merged robot's state just after the impact (nq,), (nv,).
+    """
+
+    pre: Any
+    body: TargetBody
+    flight: FlyingTarget
+    hit: Impact
+    merged: Robot
+    q: np.ndarray
+    v: np.ndarray
+
+
+def grasp(robot: Robot, target: Target, end_effector: str, control_period: float = 1e-3, approach_time: float = 1.0,
+          tolerance: float = 1e-3, integrator: str = "rkmk4", q0: np.ndarray | None = None,
+          v0: np.ndarray | None = None, kp: float = 10.0, kd: float = 100.0, model: str = "exact",
+          approach_controller: Any = None, grasp_time: float = 0.0) -> Grasp:
+    """Hold (or follow ``approach_controller``) until the target's grasp point reaches
+    ``end_effector`` (:func:`approach`), grasp it by the exact impulse (:func:`impact`) and merge
+    it into the robot (:func:`attach`).
+
+    Raises:
+        FreefloatError: as :func:`approach`.
+    """
+    body = TargetBody(target)
+    pre, flight = approach(robot, body, (end_effector,), control_period, approach_time, tolerance, integrator, q0, v0,
+                           kp, kd, model, approach_controller, grasp_time)
+    q, v = pre.telemetry.q[-1], pre.telemetry.v[-1]
+    hit = impact(robot, end_effector, q, v, body, flight.q, flight.v)
+    return Grasp(pre, body, flight, hit, attach(robot, end_effector, q, body, flight.q), q, hit.v_robot)
+
+
 @dataclass
 class CaptureResult:
     """A capture and detumbling run.
@@ -313,14 +365,12 @@ def capture_and_detumble(robot: Robot, target: Target, end_effector: str, rows_s
     from .control.detumbling_control import DetumblingController
     from .detumbling import joint_indices, task_rows
 
-    body = TargetBody(target)
-    pre, state = approach(robot, body, (end_effector,), control_period, approach_time, tolerance, integrator, q0, v0,
-                          kp, kd, model, approach_controller, grasp_time)
+    held = grasp(robot, target, end_effector, control_period, approach_time, tolerance, integrator, q0, v0, kp, kd,
+                 model, approach_controller, grasp_time)
+    pre, state, hit, merged, q = held.pre, held.flight, held.hit, held.merged, held.q
     t_hit = pre.telemetry.t[-1]
-    q, v = pre.telemetry.q[-1], pre.telemetry.v[-1]
-    hit = impact(robot, end_effector, q, v, body, state.q, state.v)
-    gap, relative_speed, relative_spin = grasp_mismatch(robot, end_effector, q, v, body, state.q, state.v)
-    merged = attach(robot, end_effector, q, body, state.q)
+    gap, relative_speed, relative_spin = grasp_mismatch(robot, end_effector, q, pre.telemetry.v[-1], held.body,
+                                                        state.q, state.v)
     merged_after = robot_momentum(merged, q, hit.v_robot)
     controller = DetumblingController(merged, task_rows(merged, rows_spec), joint_indices(merged, joints), start=0.0,
                                       control_period=control_period, method=method, kp=kp, kd=kd, model=model)
@@ -329,7 +379,7 @@ def capture_and_detumble(robot: Robot, target: Target, end_effector: str, rows_s
     tel = post.telemetry
     w = target_angular_speed(merged, tel.q, tel.v)
     settled = settling_time(tel.t, w, settle_below)
-    summary = {
+    summary = {  # units: SUMMARY_UNITS
         "impact_time": float(t_hit),
         "approach_base_attitude_change": attitude_change(pre.telemetry.base_quaternion),
         "grasp_position_mismatch": gap,

@@ -21,7 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..dynamics.gjm import GJMState
-from ..errors import UnknownName
+from ..errors import UnknownName, did_you_mean
 from ..robot.robot import Robot
 
 COMPONENTS = {"vx": 0, "vy": 1, "vz": 2, "wx": 3, "wy": 4, "wz": 5}
@@ -60,11 +60,12 @@ def task_rows(robot: Robot, spec: list[tuple[str, str]]) -> np.ndarray:
     rows = []
     for ee, component in spec:
         if ee not in robot.end_effectors:
-            raise ValueError(f"no end-effector '{ee}'; end-effectors: {', '.join(robot.end_effectors)}")
+            raise ValueError(f"no end-effector '{ee}'{did_you_mean(ee, robot.end_effectors, 'end-effectors')}")
         names = groups.get(component, (component,))
         for name in names:
             if name not in COMPONENTS:
-                raise ValueError(f"unknown component '{component}' of '{ee}'; use {', '.join(COMPONENTS)}, angular, linear, all")
+                raise ValueError(f"unknown component '{component}' of '{ee}'"
+                                 f"{did_you_mean(component, (*COMPONENTS, *groups), 'use')}")
             rows.append(6 * robot.end_effectors.index(ee) + COMPONENTS[name])
     return np.array(rows, dtype=int)
 
@@ -80,7 +81,7 @@ def joint_indices(robot: Robot, names: list[str] | None) -> np.ndarray:
     out = []
     for name in names:
         if name not in robot.joint_names:
-            raise ValueError(f"no joint '{name}'; joints: {', '.join(robot.joint_names)}")
+            raise ValueError(f"no joint '{name}'{did_you_mean(name, robot.joint_names, 'joints')}")
         out.append(robot.joint_names.index(name))
     return np.array(out, dtype=int)
 

@@ -22,6 +22,7 @@ import pinocchio as pin
 
 from ..dynamics import gjm
 from ..dynamics.models.exact import joint_space_dynamics
+from ..errors import did_you_mean
 from ..robot.robot import Robot
 
 
@@ -34,7 +35,7 @@ def stacked_wrench(robot: Robot, wrenches: dict[str, np.ndarray]) -> np.ndarray:
     F = np.zeros(6 * len(robot.end_effectors))
     for name, wrench in wrenches.items():
         if name not in robot.end_effectors:
-            raise ValueError(f"no end-effector '{name}'; end-effectors: {', '.join(robot.end_effectors)}")
+            raise ValueError(f"no end-effector '{name}'{did_you_mean(name, robot.end_effectors, 'end-effectors')}")
         i = robot.end_effectors.index(name)
         F[6 * i:6 * i + 6] = wrench
     return F

@@ -88,7 +88,8 @@ def run_atlas(kind: str, target: str, options: Options, out: Path, workers: Work
         out: the output folder (created; a folder of this same atlas resumes from its journal).
         workers: this process, a process pool or Dask.
         overwrite: replace what freefloat wrote in ``out`` before.
-        progress: called with (points done, points in all) as chunks finish.
+        progress: called with (points done, points in all) as the map starts (the points a
+            resumed map has already) and as chunks finish.
 
     Raises:
         UnknownName: for an unknown kind, listing the kinds.
@@ -123,6 +124,7 @@ def run_atlas(kind: str, target: str, options: Options, out: Path, workers: Work
                 if progress is not None:
                     progress(sum(spans[j][1] - spans[j][0] for j in parts), grid.size)
 
+            mapping = time.perf_counter()
             if progress is not None:
                 progress(sum(spans[j][1] - spans[j][0] for j in parts), grid.size)
             todo = [i for i in range(len(spans)) if i not in parts]
@@ -131,8 +133,10 @@ def run_atlas(kind: str, target: str, options: Options, out: Path, workers: Work
             except KeyboardInterrupt:
                 raise KeyboardInterrupt(f"; {len(parts)} of {len(spans)} chunks are journaled in {folder.path} "
                                         "(rerun the same command to resume)") from None
+            mapped = {"points_mapped": sum(spans[i][1] - spans[i][0] for i in todo),
+                      "map_wall_time_s": time.perf_counter() - mapping}
         result = {key: np.concatenate([parts[i][key] for i in range(len(spans))]) for key in probe}
-        summary = {**settings, "points": grid.size, "workers": workers.label,
+        summary = {**settings, "points": grid.size, **mapped, "workers": workers.label,
                    "summary": module.summarise(context, grid, result)}
         written = write_outputs(folder, grid, result, summary, started,
                                 lambda into: module.figures(context, grid, result, into))

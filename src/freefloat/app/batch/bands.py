@@ -7,7 +7,7 @@ from __future__ import annotations
 import math
 from typing import NamedTuple
 
-from ...errors import FreefloatError
+from ...errors import FreefloatError, did_you_mean
 
 #: Vary keys, what each varies and in which unit. Robot scenes take the first five (``mass``
 #: only without a ``[target]``), mechanism scenes the last two.
@@ -44,7 +44,7 @@ def parse_band(text: str) -> Band:
     if not sep:
         raise FreefloatError(f"--vary '{text}': expected KEY=WIDTH such as base_rate=2 or mass=10%")
     if key not in VARIES:
-        raise FreefloatError(f"--vary '{text}': unknown key '{key}'; keys: {', '.join(VARIES)}")
+        raise FreefloatError(f"--vary '{text}': unknown key '{key}'{did_you_mean(key, VARIES, 'keys')}")
     value = value.strip()
     percent = key == "mass" and value.endswith("%")
     try:

@@ -52,11 +52,14 @@ class BatchResult:
 
 def run_batch(scene: Scene | MechanismScene, folder: Path, runs: int, bands: list[Band], seed: int = 0,
               workers: Workers = Workers(), overwrite: bool = False,
-              progress: Callable[[dict[str, Any]], None] | None = None) -> BatchResult:
+              progress: Callable[[dict[str, Any]], None] | None = None,
+              started: Callable[[], None] = lambda: None) -> BatchResult:
     """Run ``runs`` seeded variations of ``scene`` into ``folder`` (see the module docstring).
 
     Args:
         progress: called with each row as its run finishes.
+        started: called as the runs start (everything checked, the workers up, the folder taken):
+            the summary's ``wall_time_s`` starts then.
 
     Raises:
         FreefloatError: before any run, naming the flag, key or folder at fault (runs < 1, a
@@ -66,8 +69,9 @@ def run_batch(scene: Scene | MechanismScene, folder: Path, runs: int, bands: lis
     scene = dataclasses.replace(scene, output=dataclasses.replace(scene.output, figures=False, html=False))
     plans = plan_runs(scene, prepare(scene), bands, runs, seed)
     rows: dict[int, dict[str, Any]] = {}
-    start = time.perf_counter()
     with executor(workers) as execute, RunFolder(folder, overwrite) as out:
+        start = time.perf_counter()
+        started()
         out.write_text("scene.toml", scene_as_run(scene))
         with out.journal(PARTIAL) as partial:
             def keep(row: dict[str, Any]) -> None:

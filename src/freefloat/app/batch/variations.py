@@ -2,9 +2,13 @@
 
 A band is ``KEY=WIDTH`` (the ``--vary`` flag): each varied number of run ``i`` is its nominal
 value plus a uniform draw in ``[-WIDTH, WIDTH]`` (``mass``: a factor ``1 + U(-WIDTH, WIDTH)``).
-Run ``i`` of a batch with seed ``S`` draws key ``k`` (its place in :data:`VARIES`) from
-``numpy.random.default_rng(SeedSequence(S, spawn_key=(i, k)))``: the same run gets the same
-values whatever the number of runs, the other keys varied, or the process that runs it.
+
+Each run has its own seed, recorded in its row: run 0's is the batch's seed ``S``, and run
+``i + 1``'s is drawn from run ``i``'s (:func:`next_seed`). A run with seed ``s`` draws key ``k``
+(its place in :data:`VARIES`) from ``numpy.random.default_rng(SeedSequence(s, spawn_key=(k,)))``:
+the same run gets the same values whatever the number of runs, the other keys varied, or the
+process that runs it, and a row's seed given as ``--seed`` runs that row again (with ``--runs N``,
+the N rows from it).
 """
 
 from __future__ import annotations
@@ -14,16 +18,35 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-from ...errors import FreefloatError
+from ...errors import FreefloatError, did_you_mean
 from ...robot.robot import Robot
 from ..experiments.robot_run import joint_table
 from ..scenes import MechanismScene, Scene
 from .bands import MAX_RUNS, MECHANISM_KEYS, ROBOT_KEYS, VARIES, Band
 
+#: Run seeds drawn by :func:`next_seed` are below this (whole numbers a double holds exactly, so a
+#: spreadsheet reads the seed column unchanged).
+SEED_LIMIT = 2**53
+
+
+def next_seed(seed: int) -> int:
+    """The seed of the run after the one with ``seed``: drawn from ``SeedSequence(seed)``, in
+    [0, :data:`SEED_LIMIT`)."""
+    return int(np.random.SeedSequence(seed).generate_state(1, np.uint64)[0]) % SEED_LIMIT
+
+
+def run_seeds(seed: int, runs: int) -> list[int]:
+    """The seeds of the ``runs`` runs of a batch with ``seed`` (the first is ``seed``)."""
+    seeds = [seed]
+    while len(seeds) < runs:
+        seeds.append(next_seed(seeds[-1]))
+    return seeds
+
+
 class RunPlan(NamedTuple):
-    """What run ``index`` of a batch runs: its scene (initial state varied), the plant's mass
-    factor per Pinocchio body (by joint name; empty: the nominal plant) and the values it drew,
-    flat (``{"initial.base_angular_velocity[2]": 8.4, "mass.arm1_joint1": 1.03}``)."""
+    """What run ``index`` of a batch runs: its own seed, its scene (initial state varied), the
+    plant's mass factor per Pinocchio body (by joint name; empty: the nominal plant) and the values
+    it drew, flat (``{"initial.base_angular_velocity[2]": 8.4, "mass.arm1_joint1": 1.03}``)."""
 
     index: int
     seed: int
@@ -46,8 +69,8 @@ def check_bands(scene: Scene | MechanismScene, bands: list[Band]) -> None:
         seen.add(band.key)
         valid = MECHANISM_KEYS if isinstance(scene, MechanismScene) else ROBOT_KEYS
         if band.key not in valid:
-            raise FreefloatError(f"--vary {band.key}: not a key of {scene.kind} scene '{scene.name}'; "
-                                 f"valid: {', '.join(valid)}")
+            raise FreefloatError(f"--vary {band.key}: not a key of {scene.kind} scene '{scene.name}'"
+                                 f"{did_you_mean(band.key, valid)}")
         if band.key == "mass" and scene.kind == "capture":
             raise FreefloatError(f"--vary mass: scene '{scene.name}' is a capture scene (its robot changes at the "
                                  "grasp); mass varies joint-space and detumbling scenes")
@@ -70,15 +93,16 @@ def plan_runs(scene: Scene | MechanismScene, nominal: Any, bands: list[Band], ru
     if seed < 0:
         raise FreefloatError(f"--seed must be >= 0, got {seed}")
     check_bands(scene, bands)
-    return [_plan(scene, nominal, bands, i, seed) for i in range(runs)]
+    return [_plan(scene, nominal, bands, i, s) for i, s in enumerate(run_seeds(seed, runs))]
 
 
 def _plan(scene: Scene | MechanismScene, nominal: Any, bands: list[Band], index: int, seed: int) -> RunPlan:
+    """Run ``index``, whose own seed is ``seed``."""
     initial: dict[str, Any] = {}
     masses: dict[str, float] = {}
     varied: dict[str, float] = {}
     for band in bands:
-        rng = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(index, list(VARIES).index(band.key))))
+        rng = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(list(VARIES).index(band.key),)))
         if band.key == "mass":
             names = nominal.robot.model.names[1:]
             masses = dict(zip(names, 1.0 + rng.uniform(-band.width, band.width, len(names))))

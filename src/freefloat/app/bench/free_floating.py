@@ -17,7 +17,7 @@ import numpy as np
 import pinocchio as pin
 
 from ...dynamics.integrators import swept
-from ...errors import InvalidArgument
+from ...errors import InvalidArgument, did_you_mean
 from ...robot.conventions import momentum_about_origin
 from .controlled import controlled_scene
 from .detumbling import detumbling_scene
@@ -165,7 +165,7 @@ def free_floating_scene(name: str, duration: float | None = None, quick: bool = 
         InvalidArgument: unknown name (lists the valid ones) or a bad duration.
     """
     if name not in NOTES:
-        raise InvalidArgument(f"unknown bench scene '{name}'; valid: {', '.join(NOTES)}")
+        raise InvalidArgument(f"unknown bench scene '{name}'{did_you_mean(name, NOTES)}")
     if name in SCENES:
         duration = duration or (0.1 if quick else 1.0)
         steps, rtols = (QUICK_STEPS, QUICK_RTOLS) if quick else (STEPS, RTOLS)

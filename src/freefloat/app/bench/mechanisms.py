@@ -35,7 +35,7 @@ from ...dynamics.integrators import INTEGRATORS
 from ...dynamics.plants import ConstraintDynamicsPlant, CoupledChainPlant, Plant
 from ...dynamics.sampled import Sampled
 from ...dynamics.simulation import run_plant
-from ...errors import InvalidArgument
+from ...errors import InvalidArgument, did_you_mean
 from ...parallel.closed_loop import steps_per_period
 from ..experiments.mechanism import PreparedMechanism, prepare
 from ..scenes import find_scene
@@ -212,8 +212,8 @@ class MechanismBench:
             return lambda: MechanismResult(*sim.run(observed, q0, v0, self.duration, self.period, method.setting))
         plant = self.plant(method)
         if method.integrator not in INTEGRATORS:
-            raise InvalidArgument(f"bench scene '{self.name}': unknown integrator '{method.integrator}'; "
-                                  f"valid: {', '.join(INTEGRATORS)}")
+            raise InvalidArgument(f"bench scene '{self.name}': unknown integrator '{method.integrator}'"
+                                  f"{did_you_mean(method.integrator, INTEGRATORS)}")
         q0, v0 = self.prepared.q0, self.prepared.qd0
         backend = "compiled" if method.loop == "compiled" else "python"
         if isinstance(plant, ConstraintDynamicsPlant):
@@ -280,7 +280,7 @@ def scene_duration(name: str, scenes: Collection[str], kind: str, duration: floa
         InvalidArgument: for a name not in ``scenes`` (the ``kind`` of bench scene, the valid names).
     """
     if name not in scenes:
-        raise InvalidArgument(f"unknown {kind} bench scene '{name}'; valid: {', '.join(scenes)}")
+        raise InvalidArgument(f"unknown {kind} bench scene '{name}'{did_you_mean(name, scenes)}")
     return duration if duration is not None else (QUICK_DURATION if quick else default())
 
 

@@ -20,9 +20,8 @@ from xml.sax.saxutils import quoteattr
 import numpy as np
 import pinocchio as pin
 
-from ...errors import RobotModelError
+from ...errors import RobotModelError, few
 from ...robot.inertias import balanced
-from ...robot.urdf_checks import few
 from ...robot.robot import Robot
 
 #: Pinocchio joint kinds written as MuJoCo joints, with their axis in the joint frame.

@@ -6,6 +6,9 @@ from dataclasses import dataclass
 
 from ...errors import InvalidArgument
 
+#: What a ``--quick`` bench's terminal lines, JSON and charts say of their numbers.
+SMOKE = "smoke test (--quick): too few points, runs and repeats to be a measurement"
+
 
 @dataclass(frozen=True)
 class Options:

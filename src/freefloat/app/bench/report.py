@@ -19,7 +19,7 @@ from .free_floating import NOTES, free_floating_scene
 from .floating_mechanisms import FLOATING_SCENES, floating_mechanism_scene
 from .two_hand_capture import CAPTURE_SCENES, two_hand_capture_scene
 from .mechanisms import MECHANISM_SCENES, mechanism_scene
-from .options import Options
+from .options import SMOKE, Options
 from .scene import BenchScene
 from .summary import band_rows, summary_lines
 from .chart import chart
@@ -105,7 +105,7 @@ def _measure(out: RunFolder, journal: Journal, built: list[BenchScene], repeats:
     """The sweeps of :func:`bench` into the held folder ``out``, each point journaled as measured."""
     import mujoco  # the bench extra, checked before any work (suites.Suite.needs)
 
-    report = {"settings": {"repeats": repeats, "quick": quick, "seed": seed},
+    report = {**({"smoke_test": SMOKE} if quick else {}), "settings": {"repeats": repeats, "quick": quick, "seed": seed},
               "versions": {"freefloat": version("freefloat"), "pin": version("pin"), "mujoco": mujoco.__version__,
                            "python": platform.python_version()},
               "status": "running", "scenes": {}}
@@ -138,13 +138,14 @@ def _measure(out: RunFolder, journal: Journal, built: list[BenchScene], repeats:
 def _write(out: RunFolder, report: dict, scenes: list[BenchScene], points: dict[str, list[Point]],
            charted: str | None) -> None:
     """``bench.json``, ``bench.csv`` and ``summary.txt`` from the points so far, and the chart of
-    the scene ``charted`` (None: no chart)."""
-    rows, lines = [], []
+    the scene ``charted`` (None: no chart); a ``--quick`` run's say it is a smoke test."""
+    smoke = report.get("smoke_test")
+    rows, lines = [], [smoke] if smoke else []
     for name, measured in points.items():
         bands = band_rows(measured)
         report["scenes"][name].update(points=[p.record(name) for p in measured], bands=bands)
         rows += report["scenes"][name]["points"]
-        lines += summary_lines(name, bands)
+        lines += [f"{line} (smoke test)" if smoke else line for line in summary_lines(name, bands)]
     report["summary"] = lines
     out.write_text("bench.json", json.dumps(report, indent=2))
     with out.atomic("bench.csv") as partial, open(partial, "w", newline="") as f:
@@ -155,3 +156,7 @@ def _write(out: RunFolder, report: dict, scenes: list[BenchScene], points: dict[
     out.write_text("summary.txt", "\n".join(lines) + "\n")
     if charted is not None:
         chart(next(s for s in scenes if s.name == charted), points[charted], out.claim(f"{charted}.png"))
+        if smoke:
+            from .suites.drawing import mark_smoke
+
+            mark_smoke(out.path / f"{charted}.png")

@@ -7,7 +7,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 import pinocchio as pin
 
-from ...errors import InvalidArgument
+from ...errors import InvalidArgument, did_you_mean
 from ...robot.loading import load_robot
 from ...robot.robot import Robot
 from .mjcf import balanced_model
@@ -62,7 +62,7 @@ def tumbling_scene(name: str, duration: float = 1.0, seed: int = 0) -> TumblingS
         InvalidArgument: unknown name (lists the valid ones) or a duration that is not > 0.
     """
     if name not in SCENES:
-        raise InvalidArgument(f"unknown bench scene '{name}'; valid: {', '.join(SCENES)}")
+        raise InvalidArgument(f"unknown bench scene '{name}'{did_you_mean(name, SCENES)}")
     if not duration > 0.0:
         raise InvalidArgument(f"duration must be > 0 s, got {duration}")
     robot = load_robot(SCENES[name][0], base="free", visuals=False)

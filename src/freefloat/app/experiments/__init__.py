@@ -8,7 +8,7 @@ new module and one line in :data:`EXPERIMENTS`.
 
 from __future__ import annotations
 
-from ...errors import SceneError
+from ...errors import SceneError, did_you_mean
 from . import capture, detumbling, joint_space, mechanism, two_hand_capture
 from .base import Experiment, Outcome, Progress
 
@@ -28,8 +28,8 @@ def experiment_for(scene) -> Experiment:
     try:
         return EXPERIMENTS[scene.kind]
     except KeyError:
-        raise SceneError(f"scene '{scene.name}': no experiment runs kind '{scene.kind}'; "
-                         f"kinds: {', '.join(EXPERIMENTS)}") from None
+        raise SceneError(f"scene '{scene.name}': no experiment runs kind '{scene.kind}'"
+                         f"{did_you_mean(scene.kind, EXPERIMENTS, 'kinds')}") from None
 
 
 __all__ = ["EXPERIMENTS", "Experiment", "Outcome", "Progress", "experiment_for"]

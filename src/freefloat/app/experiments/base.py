@@ -8,7 +8,8 @@ from typing import Any, Callable
 
 from ...dynamics.telemetry import Arrays
 
-#: ``progress(k)``: called with the number of steps done, about 200 times per run.
+#: ``progress(k)``: called with the number of steps done: 0 as the loop starts (when the run's
+#: ``wall_time_s`` starts), then about 200 times, the last one at the end of the loop.
 Progress = Callable[[int], None]
 #: ``checkpoint(chunk)``: called with the telemetry, chunk by chunk, as the run goes.
 Checkpoint = Callable[[Arrays], None]
@@ -67,6 +68,10 @@ class Experiment:
         steps: ``steps(scene) -> int``: how many steps ``progress`` counts to.
         run: ``run(setup, progress, checkpoint) -> Outcome``: the loop, its summary and its
             drawings; a run that diverges or is interrupted returns what it computed.
+        headline: every summary key the command line may print for a run of this kind (an
+            outcome's ``headline`` is those its run has).
+        units: the unit of each summary key of this kind's runs ("" for a pure number or a text),
+            from the modules that compute them; the command line prints it beside the value.
     """
 
     kind: str
@@ -74,3 +79,5 @@ class Experiment:
     prepare: Callable[[Any], Any]
     steps: Callable[[Any], int]
     run: Callable[[Any, Progress | None, Checkpoint | None], Outcome]
+    headline: tuple[str, ...] = ()
+    units: dict[str, str] = field(default_factory=dict)

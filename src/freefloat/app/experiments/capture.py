@@ -16,14 +16,18 @@ import pinocchio as pin
 
 from ...dynamics.metrics import spin_summary, summarize
 from ...dynamics.simulation import RunResult
-from ...errors import FreefloatError, InfeasiblePlan, SceneError
+from ...errors import FreefloatError, InfeasiblePlan, SceneError, did_you_mean
+from ...space.capture import SUMMARY_UNITS as CAPTURE_UNITS
 from ...space.capture import Target, capture_and_detumble
 from ...space.planning import ApproachRequest, GraspMotion, Limits, Plan, plan_approach, planned_path
+from ...space.planning.plan import SUMMARY_UNITS as PLAN_UNITS
 from ...space.planning.tracking import PlanTracking
 from ..scenes import Scene
 from .base import Checkpoint, Experiment, Outcome, Progress
 from .detumbling import detumble_task, mission_joints, rows_spec
-from .robot_run import APPROACH_MARGIN, RobotSetup, control_steps, prepare_robot, robot_outcome
+from .robot_run import APPROACH_MARGIN, SPIN_HEADLINE, RobotSetup, control_steps, headline_of, prepare_robot
+from .robot_run import UNITS as ROBOT_UNITS
+from .robot_run import robot_outcome
 
 #: How the page draws the target: orange, apart from the robot's greys and blues.
 TARGET_MATERIAL = mg.MeshPhongMaterial(color=0xE07000)
@@ -53,8 +57,8 @@ def prepare(scene: Scene) -> CaptureSetup:
     robot, tg = setup.robot, scene.target
     detumble_task(robot, scene)
     if tg.end_effector not in robot.end_effectors:
-        raise SceneError(f"scene '{scene.name}': target.end_effector '{tg.end_effector}' is not an end-effector; "
-                         f"end-effectors: {', '.join(robot.end_effectors)}")
+        raise SceneError(f"scene '{scene.name}': target.end_effector '{tg.end_effector}' is not an end-effector"
+                         f"{did_you_mean(tg.end_effector, robot.end_effectors, 'end-effectors')}")
     target = scene_target(scene, setup, (0.0, 0.0, 0.0) if scene.approach is None else scene.approach.reach)
     if scene.approach is None or tg.second_end_effector:  # a two-hand plan is made once both grasps are known
         return CaptureSetup(**vars(setup), target=target)
@@ -157,7 +161,8 @@ def mission_joint_indices(robot, names: tuple[str, ...]) -> np.ndarray:
     """
     unknown = [name for name in names if name not in robot.joint_names]
     if unknown:
-        raise SceneError(f"'approach.mission_joints': no joint '{unknown[0]}'; joints: {', '.join(robot.joint_names)}")
+        raise SceneError(f"'approach.mission_joints': no joint '{unknown[0]}'"
+                         f"{did_you_mean(unknown[0], robot.joint_names, 'joints')}")
     return np.array([robot.joint_names.index(name) for name in names], dtype=int)
 
 
@@ -173,6 +178,14 @@ def plan_tracking(setup: CaptureSetup) -> PlanTracking | None:
 def grasp_time(setup: CaptureSetup) -> float:
     """When the hands may close: the planned contact time, or at once without a plan (s)."""
     return 0.0 if setup.plan is None else setup.scene.target.contact_time
+
+
+#: The capture's headline keys: the spin's settling, and a planned approach's base rotation, its
+#: ratio to the minimum-norm plan's and the grasp mismatch.
+TASK_HEADLINE = SPIN_HEADLINE + ("approach_base_attitude_change", "approach_attitude_ratio", "grasp_position_mismatch")
+#: The unit of each key :func:`approach_summary` adds to the plan's own
+#: (:data:`freefloat.space.planning.plan.SUMMARY_UNITS`).
+UNITS = {"approach_min_norm_attitude_change": "rad", "approach_attitude_ratio": ""}
 
 
 def approach_summary(setup: CaptureSetup) -> dict:
@@ -215,8 +228,9 @@ def run(setup: CaptureSetup, progress: Progress | None = None, checkpoint: Check
                          extra_bodies=[("target", mg.Mesh(mg.Box(list(tg.size)), TARGET_MATERIAL), poses)],
                          extra_telemetry={"pre_capture": res.pre}, events=[(res.impact_time, "grasp")], wrenches=(),
                          spin=True, settle_threshold=res.summary["settle_threshold"],
-                         approach=None if setup.plan is None else res.pre)
+                         approach=None if setup.plan is None else res.pre, task_headline=TASK_HEADLINE)
 
 
 EXPERIMENT = Experiment("capture", "a robot grasps a tumbling target and detumbles it",
-                        prepare, control_steps, run)
+                        prepare, control_steps, run, headline_of(TASK_HEADLINE),
+                        {**ROBOT_UNITS, **CAPTURE_UNITS, **PLAN_UNITS, **UNITS})

@@ -17,7 +17,17 @@ from ...space.control.detumbling_control import DetumblingController
 from ...space.detumbling import joint_indices, task_rows
 from ..scenes import Scene
 from .base import Checkpoint, Experiment, Outcome, Progress
-from .robot_run import RobotSetup, control_steps, prepare_robot, robot_outcome, simulate, summary_of
+from .robot_run import (
+    SPIN_HEADLINE,
+    RobotSetup,
+    control_steps,
+    headline_of,
+    prepare_robot,
+    robot_outcome,
+    simulate,
+    summary_of,
+)
+from .robot_run import UNITS as ROBOT_UNITS
 
 
 def prepare(scene: Scene) -> RobotSetup:
@@ -43,7 +53,7 @@ def run(setup: RobotSetup, progress: Progress | None = None, checkpoint: Checkpo
     if len(result.telemetry.t):
         task = detumble_summary(setup.robot, result.telemetry, detumble_task(setup.robot, setup.scene)[0])
     return robot_outcome(setup, setup.robot, result.telemetry, result, summary_of(setup, result, **task), spin=True,
-                         settle_threshold=task.get("settle_threshold"))
+                         settle_threshold=task.get("settle_threshold"), task_headline=SPIN_HEADLINE)
 
 
 def rows_spec(scene: Scene) -> list[tuple[str, str]]:
@@ -80,6 +90,11 @@ def detumble_task(robot: Robot, scene: Scene) -> tuple[np.ndarray, np.ndarray]:
         raise SceneError(f"scene '{scene.name}': [task] {exc}") from exc
 
 
+#: The unit of each key :func:`detumble_summary` adds to :func:`~freefloat.dynamics.metrics.spin_summary`'s.
+UNITS = {"detumbled_rows_speed_final": "m/s or rad/s", "detumbled_rows_speed_max": "m/s or rad/s",
+         "settling_time": "s", "settle_threshold": "m/s or rad/s"}
+
+
 def detumble_summary(robot: Robot, telemetry: Telemetry, rows: np.ndarray, threshold: float = 1e-6) -> dict:
     """Speed of the detumbled rows over the run (m/s or rad/s): final, max, and the settling
     time (s) after which it stays below ``threshold``; how the base's and each end-effector's
@@ -92,4 +107,4 @@ def detumble_summary(robot: Robot, telemetry: Telemetry, rows: np.ndarray, thres
 
 
 EXPERIMENT = Experiment("detumbling", "a robot stops end-effector velocity rows after an impulse", prepare,
-                        control_steps, run)
+                        control_steps, run, headline_of(SPIN_HEADLINE), {**ROBOT_UNITS, **UNITS})

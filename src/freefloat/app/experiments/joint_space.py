@@ -10,8 +10,10 @@ from ...space.control import ComputedTorque, QuinticTrajectory
 from ..scenes import Scene
 from .base import Checkpoint, Experiment, Outcome, Progress
 from .robot_run import (
+    UNITS,
     RobotSetup,
     control_steps,
+    headline_of,
     joint_table,
     prepare_robot,
     robot_outcome,
@@ -52,4 +54,5 @@ def outcome_of(setup: RobotSetup, result: RunResult) -> Outcome:
     return robot_outcome(setup, setup.robot, result.telemetry, result, summary_of(setup, result))
 
 
-EXPERIMENT = Experiment("joint_space", "joint-space task or torque-free motion of a robot", prepare, control_steps, run)
+EXPERIMENT = Experiment("joint_space", "joint-space task or torque-free motion of a robot", prepare, control_steps, run,
+                        headline_of(()), UNITS)

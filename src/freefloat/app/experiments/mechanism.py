@@ -156,7 +156,7 @@ def run(prepared: PreparedMechanism, progress: Progress | None = None,
     is interrupted (Ctrl-C) returns what it computed, with the status and a message.
 
     Args:
-        progress: called with the number of steps done, about 200 times per run.
+        progress: as :data:`~.base.Progress`.
         checkpoint: called with the telemetry of every chunk of steps as it fills.
     """
     scene = prepared.scene
@@ -319,5 +319,16 @@ HEADLINE = ("tracking_error_max", "tracking_error_rms", "loop_closure_drift_max"
             "peak_efforts")
 #: Further keys it prints for a mechanism on a moving base.
 BASE_HEADLINE = ("base_rotation_max", "base_displacement_max", "momentum_drift_max")
+#: The unit of each key of a mechanism run's summary (:func:`summarize_mechanism`,
+#: :func:`summarize_base`, the run's own; "" for a pure number or a text). Platform coordinates
+#: are m (positions) or rad (angles), actuator efforts N (prismatic) or N m (revolute).
+UNITS = {
+    "reaching_phase": "s", "tracking_error_max": "m or rad", "tracking_error_rms": "m or rad",
+    "loop_closure_drift_max": "m", "orientation_drift_max": "rad", "peak_efforts": "N or N m",
+    "base": "", "base_rotation_max": "rad", "base_displacement_max": "m", "momentum_drift_max": "N s or N m s",
+    "momentum_components": "", "com_drift_max": "m",
+    "status": "", "message": "", "steps": "", "sim_wall_time_s": "s", "loop": "",
+}
 
-EXPERIMENT = Experiment("mechanism", "a closed-chain mechanism tracks a platform reference", prepare, integration_steps, run)
+EXPERIMENT = Experiment("mechanism", "a closed-chain mechanism tracks a platform reference", prepare, integration_steps, run,
+                        HEADLINE + BASE_HEADLINE, UNITS)

@@ -117,9 +117,13 @@ def describe(record: dict[str, Any]) -> str:
     if "reason" in record:
         return f"{record['model']}{lock} ({record['reason']})"
     if record["trials"][0]["accepted"]:
+        others = len(record["trials"]) - 1
         tried = sum(t["pilot_wall_time_s"] is not None for t in record["trials"][1:])
+        if not tried:
+            why = f"none of the {others} other plants is cheaper per call here" if others else "no other plant applies"
+            return f"{record['model']}{lock}: {why} (none piloted)"
         return (f"{record['model']}{lock}: no plant cheaper per call kept the predicted state error under "
-                f"{record['tolerance']:.2g} ({tried} piloted for {record['pilot_duration']:.3g} s)")
+                f"{record['tolerance']:.2g} ({tried} piloted over the first {record['pilot_duration']:.3g} s)")
     return (f"{record['model']}{lock}: {record['speedup']:.2f}x the exact plant's speed in a "
             f"{record['pilot_duration']:.3g} s pilot, predicted state error {record['predicted_error']:.2g} "
             f"(tolerance {record['tolerance']:.2g})")

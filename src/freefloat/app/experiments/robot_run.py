@@ -12,12 +12,13 @@ import pinocchio as pin
 
 from ...dynamics.closures import ClosedModel
 from ...dynamics.integrators import INTEGRATORS, Integrator, make_integrator
+from ...dynamics.metrics import UNITS as METRIC_UNITS
 from ...dynamics.metrics import summarize
 from ...dynamics.models import DynamicsModel, make_model
 from ...dynamics.simulation import Controller, RunResult, run
 from ...dynamics.telemetry import Telemetry
 from ...dynamics.wrenches import ExternalWrench
-from ...errors import RobotModelError, SceneError
+from ...errors import RobotModelError, SceneError, did_you_mean
 from ...robot.catalog import find_robot, is_name
 from ...robot.conventions import state_from_base
 from ...robot.joints import JointCoordinates
@@ -31,16 +32,26 @@ from .budget import check_budget, seconds_per_call
 from .locked_run import full_telemetry, lock_for
 from .scene_closures import assemble, scene_closures
 from .wheel_run import HEADLINE as WHEEL_HEADLINE
-from .wheel_run import scene_wheels, wheel_attitude_control, wheel_figures, wheel_summary, wheel_telemetry
+from .wheel_run import UNITS as WHEEL_UNITS
+from .wheel_run import scene_wheels, wheel_attitude_control, wheel_summary, wheel_telemetry
 
-#: Summary keys the command line prints for a robot run (those it has: drifts without external
-#: wrenches, balances with them; the spin's settling for detumbling and capture runs; a planned
-#: approach's base rotation, its ratio to the minimum-norm plan's and the grasp mismatch).
+#: Summary keys the command line prints for every robot run (those it has: drifts without
+#: external wrenches, balances with them), then those of its task (``task_headline`` of
+#: :func:`robot_outcome`), the wheels' and :data:`LAST_HEADLINE`.
 HEADLINE = ("model_auto", "tracking_rms_overall", "com_drift_max", "momentum_drift_max", "energy_drift_max",
             "momentum_balance_max", "momentum_balance_relative", "energy_balance_max", "external_work",
-            "settling_time", "base_angular_velocity_final", "base_displacement", "closure_drift_max",
-            "squeeze_max", "approach_base_attitude_change", "approach_attitude_ratio", "grasp_position_mismatch",
-            "figures_not_drawn")
+            "base_displacement", "closure_drift_max")
+#: A task's headline keys for a run whose spin settles (detumbling and capture runs).
+SPIN_HEADLINE = ("settling_time", "base_angular_velocity_final")
+#: What the command line prints last about a robot run: the figures it left out, and why.
+LAST_HEADLINE = ("figures_not_drawn",)
+#: The unit of each key of a robot run's summary, every kind's (the metrics, the wheels', the
+#: closures', the run's own; "" for a pure number or a text): each kind adds its task's.
+UNITS = {
+    **METRIC_UNITS, **WHEEL_UNITS, "closure_drift_max": "m", "closure_rotation_drift_max": "rad",
+    "model_auto": "", "model_choice": "", "figures_not_drawn": "", "status": "", "message": "", "steps": "",
+    "sim_wall_time_s": "s", "model_evaluations": "", "loop": "",
+}
 
 
 @dataclass
@@ -221,10 +232,8 @@ def joint_table(robot: Robot, table: dict[str, float], angle_scale: float, key: 
             j = model.getJointId(name)
             indices = np.arange(model.idx_vs[j], model.idx_vs[j] + model.nvs[j]) - nb
         else:
-            raise SceneError(
-                f"'{key}': '{name}' is neither a joint nor an end-effector; joints: "
-                f"{', '.join(robot.joint_names)}; end-effectors: {', '.join(robot.end_effectors)}"
-            )
+            raise SceneError(f"'{key}': '{name}' is neither a joint nor an end-effector"
+                             f"{did_you_mean(name, (*robot.joint_names, *robot.end_effectors), 'joints and end-effectors')}")
         out[indices] = value
     return out * _angle_scales(robot, angle_scale)
 
@@ -284,18 +293,20 @@ def robot_outcome(setup: RobotSetup, robot: Robot, telemetry: Telemetry, result:
                   summary: dict[str, Any], animation: tuple[np.ndarray, np.ndarray] | None = None,
                   extra_bodies: list | None = None, extra_telemetry: dict[str, Telemetry] | None = None,
                   events: list[tuple[float, str]] | None = None, wrenches: tuple[ExternalWrench, ...] | None = None,
-                  spin: bool = False, settle_threshold: float | None = None,
+                  spin: bool = False, settle_threshold: float | None = None, task_headline: tuple[str, ...] = (),
                   approach: Telemetry | None = None) -> Outcome:
     """The outcome of a robot run on ``robot`` (the scene's, or the merged one after a capture):
-    telemetry named by its joints and end-effectors, provenance, the figures
-    (:func:`~freefloat.app.viz.figures.write_figures`: the conservation balance when the run has
-    ``wrenches``, default the scene's; the angular rates with ``spin``, against
-    ``settle_threshold``) and the animation of ``animation = (t, q)`` (default: the telemetry)
+    telemetry named by its joints and end-effectors, provenance, the figures as one picklable job
+    (:class:`~freefloat.app.viz.figure_job.RobotFigures`, which the figure helper draws while the
+    run writes the rest: :func:`~freefloat.app.viz.figures.write_figures`, the conservation
+    balance when the run has ``wrenches``, default the scene's; the angular rates with ``spin``,
+    against ``settle_threshold``; the closures' drift) and the animation of ``animation = (t, q)`` (default: the telemetry)
     with ``extra_bodies`` and the named moments ``events`` ((time s, label)); with ``approach``
     (a planned capture's pre-capture phase on the scene's robot) also its joint tracking against the
     plan. The figures left out because their data is identically zero are named in the summary's
     ``figures_not_drawn``."""
-    from ..viz.figures import empty_figures, write_approach_figure, write_figures
+    from ..viz.figure_data import empty_figures
+    from ..viz.figure_job import ClosedLoop, RobotFigures, WheelRows
     from ..viz.meshcat_html import write_trajectory_html
 
     t, q = animation or (telemetry.t, telemetry.q)
@@ -319,20 +330,29 @@ def robot_outcome(setup: RobotSetup, robot: Robot, telemetry: Telemetry, result:
         names={"joint_names": list(robot.joint_names), "end_effectors": list(robot.end_effectors)},
         provenance={
             "robot": {"urdf": str(robot.urdf_path), "base": robot.base, "nq": robot.model.nq, "nv": robot.model.nv,
-                      "end_effectors": list(robot.end_effectors), "loader_notes": list(robot.warnings)},
+                      "end_effectors": list(robot.end_effectors), "loader_notes": [*robot.warnings, *robot.notes]},
             "settings": {"integrator": setup.integrator.name, "model": setup.model.name,
                          "control_period": sim.control_period,
                          "locked_joints": [] if setup.lock is None else list(setup.lock.names)},
         },
-        headline=HEADLINE if wheels is None else HEADLINE + WHEEL_HEADLINE,
+        headline=headline_of(task_headline, wheels is not None),
         extra_telemetry=extra_telemetry,
-        figures=lambda folder: [*write_figures(robot, telemetry, folder, wrenches, sim.control_period, spin,
-                                               settle_threshold), *closure_figures(closed, telemetry, folder),
-                                *([] if approach is None else write_approach_figure(setup.robot, approach, folder)),
-                                *([] if wheels is None else wheel_figures(wheels, wheel_rows, folder))],
+        figures=RobotFigures(
+            robot, telemetry, wrenches, sim.control_period, spin, settle_threshold,
+            loop=None if closed is None else ClosedLoop(telemetry.t, None, None, *closure_drifts(closed, telemetry.q)),
+            approach=approach, approach_robot=setup.robot,
+            wheels=None if wheels is None else WheelRows(wheel_rows.t, [w.name for w in wheels.wheels],
+                                                            wheel_rows.momentum, wheels.max_momenta,
+                                                            wheel_rows.torque, wheels.max_torques)),
         page=lambda path, fps: write_trajectory_html(robot, t, q, path, fps=fps, extra=extra_bodies or None,
                                                           events=events),
     )
+
+
+def headline_of(task_headline: tuple[str, ...], wheels: bool = True) -> tuple[str, ...]:
+    """The headline keys of a robot run whose task adds ``task_headline`` (with ``wheels``: the
+    wheels' too)."""
+    return HEADLINE + task_headline + (WHEEL_HEADLINE if wheels else ()) + LAST_HEADLINE
 
 
 def closure_drifts(model: ClosedModel, qs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -341,16 +361,5 @@ def closure_drifts(model: ClosedModel, qs: np.ndarray) -> tuple[np.ndarray, np.n
     return drifts[:, 0], drifts[:, 1]
 
 
-def closure_figures(model: ClosedModel | None, telemetry: Telemetry, folder: Path) -> list[Path]:
-    """The ``closed_loop`` figure (closure drift over the run) of a run with closures; none without."""
-    if model is None or len(telemetry.t) < 2:
-        return []
-    from ..viz.loop_figures import loop_figure
-    from ..viz.plotting import save_all
-
-    position, rotation = closure_drifts(model, telemetry.q)
-    return save_all({"closed_loop": loop_figure(telemetry.t, None, None, position, rotation)}, folder)
-
-
-__all__ = ["APPROACH_MARGIN", "HEADLINE", "RobotSetup", "approach_periods", "control_steps", "joint_table", "prepare_robot", "robot_outcome", "simulate",
-           "summary_of"]
+__all__ = ["APPROACH_MARGIN", "HEADLINE", "LAST_HEADLINE", "SPIN_HEADLINE", "UNITS", "RobotSetup", "approach_periods",
+           "control_steps", "headline_of", "joint_table", "prepare_robot", "robot_outcome", "simulate", "summary_of"]

@@ -9,7 +9,7 @@ import numpy as np
 import pinocchio as pin
 
 from ...dynamics.closures import Closure, closure_kind, kinematics, stacked
-from ...errors import SceneError
+from ...errors import SceneError, did_you_mean
 from ...robot.robot import Robot
 from ..scenes import Scene
 
@@ -28,16 +28,15 @@ def scene_closures(scene: Scene, robot: Robot) -> list[Closure]:
 
     Raises:
         SceneError: naming ``closures[i].frames`` for a frame the robot does not have (with the
-            frames it has like it), ``closures[i].kind`` for an unknown kind.
+            nearest frames it has), ``closures[i].kind`` for an unknown kind.
     """
     model, out = robot.model, []
     for i, spec in enumerate(scene.closures):
         kind = closure_kind(spec.kind)
         for name in spec.frames:
             if not model.existFrame(name):
-                near = [f.name for f in model.frames if name.lower()[:4] in f.name.lower()][:6]
                 raise SceneError(f"{where_of(scene)}'closures[{i}].frames' names '{name}', which is no frame of "
-                                 f"{robot.urdf_path.name}" + (f"; frames like it: {', '.join(near)}" if near else ""))
+                                 f"{robot.urdf_path.name}{did_you_mean(name, [f.name for f in model.frames], 'frames')}")
         out.append(Closure.between(model, spec.frames[0], spec.frames[1], kind, f"closures[{i}]"))
     return out
 

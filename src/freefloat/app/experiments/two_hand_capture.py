@@ -15,18 +15,23 @@ import pinocchio as pin
 
 from ...dynamics.metrics import momentum_drift, settling_time, spin_summary, summarize
 from ...dynamics.simulation import RunResult
-from ...errors import FreefloatError, SceneError
+from ...errors import FreefloatError, SceneError, did_you_mean
 from ...robot.loading import FreefloatWarning
 from ...robot.conventions import momentum_about_origin
+from ...space.capture import SUMMARY_UNITS as CAPTURE_UNITS
 from ...space.capture import TARGET_FRAME, target_angular_speed
 from ...space.dual_capture import capture_with_two_hands, loop_conditioning, loop_history, second_grasp_at_contact
 from ...space.planning import GraspMotion
+from ...space.planning.plan import SUMMARY_UNITS as PLAN_UNITS
 from ..scenes import Scene
 from .base import Checkpoint, Experiment, Outcome, Progress
+from .capture import TASK_HEADLINE as CAPTURE_HEADLINE
+from .capture import UNITS as APPROACH_UNITS
 from .capture import CaptureSetup, approach_summary, grasp_time, plan_tracking, planned
 from .capture import prepare as prepare_one_hand
 from .detumbling import mission_joints, rows_spec
-from .robot_run import APPROACH_MARGIN, control_steps, robot_outcome
+from .robot_run import APPROACH_MARGIN, control_steps, headline_of, robot_outcome
+from .robot_run import UNITS as ROBOT_UNITS
 
 #: How the page draws the target (see-through, so that the loop inside shows), the grasp points (a
 #: green and a blue ball) and the loop's closing link through the target (a red bar between them).
@@ -39,6 +44,17 @@ LOOP_MATERIAL = mg.MeshPhongMaterial(color=0xC02020)
 SINGULAR_LOOP = 1e-6
 #: Share of the target's spin just after the grasp below which the detumbling counts as settled.
 SETTLED_SHARE = 1e-4
+#: The two-hand capture's headline keys: the one-hand capture's and the squeeze of the loop.
+TASK_HEADLINE = CAPTURE_HEADLINE + ("squeeze_max",)
+#: The unit of each key of the two-hand task's summary (:func:`_loop_summary`; "" for a pure number).
+UNITS = {
+    "impact_time": "s", "momentum_before_impact": "N s, N m s", "momentum_after_impact": "N s, N m s",
+    "momentum_balance_error": "N s or N m s", "momentum_drift_after_impact": "N s or N m s",
+    "target_angular_velocity_at_impact": "rad/s", "target_angular_velocity_final": "rad/s", "settling_time": "s",
+    "settle_threshold": "rad/s", "squeeze_max": "N", "squeeze_set": "N", "internal_force_max": "N",
+    "closure_drift_max": "m", "closure_rotation_drift_max": "rad", "base_attitude_change_max": "rad",
+    "peak_joint_torque": "N m", "torque_limited_share": "", "rows_residual_max": "m/s or rad/s",
+}
 
 
 @dataclass(kw_only=True)
@@ -65,7 +81,7 @@ def prepare(scene: Scene) -> TwoHandSetup:
     hands = (tg.end_effector, tg.second_end_effector)
     if hands[1] not in robot.end_effectors or hands[1] == hands[0]:
         raise SceneError(f"{where}'target.second_end_effector' '{hands[1]}' must be an end-effector other than "
-                         f"'{hands[0]}'; end-effectors: {', '.join(robot.end_effectors)}")
+                         f"'{hands[0]}'{did_you_mean(hands[1], [e for e in robot.end_effectors if e != hands[0]], 'others')}")
     rotation = pin.rpy.rpyToMatrix(*np.multiply(tg.rpy_at_contact, scene.angle_scale))
     meets = second_grasp_at_contact(robot, hands, one.q0, np.asarray(tg.grasp), rotation)
     if tg.second_grasp is None:
@@ -124,18 +140,12 @@ def run(setup: TwoHandSetup, progress: Progress | None = None, checkpoint: Check
         setup, merged, tel, RunResult(tel, result.status, result.message, len(tel.t) - 1, wall, 0), summary,
         animation=(both_t, both_q), extra_bodies=_page_bodies(tg.size, res.target_poses, res.grasp_poses),
         extra_telemetry={"pre_capture": res.pre}, events=[(res.impact_time, "both hands grasp")], wrenches=(),
-        spin=True, settle_threshold=summary["settle_threshold"], approach=None if setup.plan is None else res.pre)
-    robot_figures = outcome.figures
+        spin=True, settle_threshold=summary["settle_threshold"], approach=None if setup.plan is None else res.pre,
+        task_headline=TASK_HEADLINE)
+    from ..viz.figure_job import ClosedLoop
 
-    def figures(folder):
-        from ..viz.loop_figures import loop_figure
-        from ..viz.plotting import save_all
-
-        loop = save_all({"closed_loop": loop_figure(history.t, history.squeeze, history.internal,
-                                                    history.drift_position, history.drift_rotation)}, folder)
-        return [*robot_figures(folder), *loop]
-
-    outcome.figures = figures
+    outcome.figures = dataclasses.replace(outcome.figures, loop=ClosedLoop(
+        history.t, history.squeeze, history.internal, history.drift_position, history.drift_rotation))
     return outcome
 
 
@@ -222,4 +232,5 @@ def _page_bodies(size, target_poses: np.ndarray, grasp_poses: np.ndarray) -> lis
 
 
 EXPERIMENT = Experiment("two_hand_capture", "both hands grasp one tumbling target at once and detumble it "
-                        "through the closed loop", prepare, control_steps, run)
+                        "through the closed loop", prepare, control_steps, run, headline_of(TASK_HEADLINE),
+                        {**ROBOT_UNITS, **CAPTURE_UNITS, **PLAN_UNITS, **APPROACH_UNITS, **UNITS})

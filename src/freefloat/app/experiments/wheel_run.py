@@ -5,7 +5,6 @@ composed with the arm's controller, and what a run reports about the wheels (sum
 from __future__ import annotations
 
 from dataclasses import dataclass
-from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -25,6 +24,13 @@ from ..scenes.schema import AttitudeSection
 
 #: Summary keys about the wheels the command line prints.
 HEADLINE = ("wheel_saturated", "wheel_momentum_max", "wheel_momentum_balance_max")
+#: The unit of each key of :func:`wheel_summary` ("" for a pure number, a count or a record).
+UNITS = {
+    "wheel_momentum_final": "N m s", "wheel_momentum_max": "N m s", "wheel_momentum_limit": "N m s",
+    "wheel_torque_max": "N m", "wheel_stored_momentum_change": "N m s", "arm_reaction_momentum": "N m s",
+    "wheel_momentum_balance_max": "N m s", "tracking_error_max": "rad", "wheel_saturated": "",
+    "wheel_saturation_events": "", "wheel_saturated_periods": "",
+}
 
 
 @dataclass
@@ -154,18 +160,5 @@ def wheel_summary(wheels: Wheels, control: Controller | None, rows: WheelTelemet
     return out
 
 
-def wheel_figures(wheels: Wheels, rows: WheelTelemetry, folder: Path) -> list[Path]:
-    """The ``reaction_wheels`` figure (:func:`~freefloat.app.viz.wheel_figures.wheel_figure`), when
-    the run chose it (:mod:`freefloat.app.figure_set`)."""
-    if len(rows.t) < 2:
-        return []
-    from ..viz.plotting import save_all
-    from ..viz.wheel_figures import wheel_figure
-
-    names = [w.name for w in wheels.wheels]
-    return save_all({"reaction_wheels": lambda: wheel_figure(rows.t, names, rows.momentum, wheels.max_momenta,
-                                                              rows.torque, wheels.max_torques)}, folder)
-
-
-__all__ = ["HEADLINE", "WheelTelemetry", "attitude_control", "mount", "target_rotation", "wheel_figures",
+__all__ = ["HEADLINE", "WheelTelemetry", "attitude_control", "mount", "target_rotation",
            "wheel_summary", "wheel_telemetry"]

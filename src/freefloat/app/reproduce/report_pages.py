@@ -1,9 +1,12 @@
 """The report of ``freefloat reproduce all`` as files: ``report.html`` (one self-contained page,
-figures embedded as base64 PNG, no network), ``report.pdf`` (matplotlib's PdfPages: a text page
-per entry with its figure below) and ``entries.json`` (every entry's compared numbers).
+figures embedded as base64 PNG, no network), ``report.pdf`` (matplotlib's PdfPages: a title page
+with the report's provenance as a table, then a text page per entry with its figure below) and
+``entries.json`` (every entry's compared numbers).
 
 The report is built from whatever studies the folder holds (:class:`~.report_results.Results`);
-an entry whose study is missing says so and which command finishes it.
+an entry whose study is missing says so and which command finishes it. A report of ``--quick``
+studies says so on its title page, at the top of the HTML page, on every PDF page and on every
+figure (:data:`QUICK`): its numbers come from shortened runs.
 """
 
 from __future__ import annotations
@@ -20,6 +23,7 @@ from pathlib import Path
 
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
+from matplotlib.lines import Line2D
 
 from ...errors import FreefloatError
 from ..outputs import strict_json
@@ -28,6 +32,10 @@ from .report_results import Results
 
 A4 = (8.27, 11.69)
 PNG_DPI = 90
+#: The mark of a report made with ``--quick``, on every figure and page.
+QUICK = "QUICK RUN (--quick): shortened studies, smoke numbers, not the documents' reproduction"
+#: Colour of the mark.
+QUICK_COLOR = "#c00000"
 
 
 @dataclass
@@ -41,14 +49,16 @@ class Built:
     missing: str
 
 
-def build_entry(entry: Entry, results: Results) -> Built:
-    """Compute ``entry``'s rows and draw its figure from ``results``; a missing study or file
-    (a :class:`FreefloatError`) is kept as the entry's reason."""
+def build_entry(entry: Entry, results: Results, quick: bool = False) -> Built:
+    """Compute ``entry``'s rows and draw its figure from ``results`` (marked :data:`QUICK` when
+    ``quick``); a missing study or file (a :class:`FreefloatError`) is kept as the entry's reason."""
     try:
         rows = entry.rows(results) if entry.rows else []
         png = None
         if entry.draw is not None:
             fig = entry.draw(results)
+            if quick:
+                mark_quick(fig, top=False)
             buffer = io.BytesIO()
             fig.savefig(buffer, format="png", dpi=PNG_DPI)
             png = buffer.getvalue()
@@ -60,13 +70,26 @@ def build_entry(entry: Entry, results: Results) -> Built:
                                       "an older freefloat: rerun with --overwrite")
 
 
+def mark_quick(fig: Figure, top: bool = True) -> None:
+    """Stamp :data:`QUICK` in the top right corner of ``fig`` (a page), or in its bottom right
+    corner (a figure, whose title is on top)."""
+    fig.text(0.995, 0.995 if top else 0.005, QUICK, ha="right", va="top" if top else "bottom", fontsize=8,
+             weight="bold", color=QUICK_COLOR, bbox={"facecolor": "white", "edgecolor": QUICK_COLOR, "alpha": 0.85,
+                                                     "pad": 2.0})
+
+
+def is_quick(provenance: dict) -> bool:
+    """Whether the report's studies ran with ``--quick``."""
+    return bool(provenance.get("settings", {}).get("quick"))
+
+
 def build(results: Results, out: Path, provenance: dict, progress=lambda done, total: None) -> list[Built]:
     """Write ``report.html``, ``report.pdf`` and ``entries.json`` into ``out``; the built entries."""
     built = []
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # the studies' runs said theirs (e.g. the printed inertias)
         for k, entry in enumerate(ENTRIES):
-            built.append(build_entry(entry, results))
+            built.append(build_entry(entry, results, is_quick(provenance)))
             progress(k + 1, len(ENTRIES))
     (out / "report.html").write_text(page(built, results, provenance))
     write_pdf(built, out / "report.pdf", provenance)
@@ -96,7 +119,11 @@ def page(built: list[Built], results: Results, provenance: dict) -> str:
              "<p>Every table and figure of the dissertation's chapters 4-5 and of the thesis's sec 5.6, in the documents' "
              "order: what the document shows (in our words), freefloat's figure on the exact plant (and on the "
              "document's own model where that differs), the printed values beside freefloat's, the difference and its "
-             "reason; and each erratum with the number that shows it.</p>", "<h2>Made by</h2><table>"]
+             "reason; and each erratum with the number that shows it.</p>"]
+    if is_quick(provenance):
+        parts.append(f"<p style='color:{QUICK_COLOR};font-weight:bold;border:2px solid {QUICK_COLOR};padding:.4em'>"
+                     f"{html.escape(QUICK)}</p>")
+    parts.append("<h2>Made by</h2><table>")
     parts += [f"<tr><th>{html.escape(k)}</th><td>{html.escape(str(v))}</td></tr>" for k, v in _flat(provenance)]
     parts.append("</table><h2>Contents</h2><ul>")
     parts += [f"<li><a href='#{_anchor(b.entry)}'>{html.escape(heading(b.entry))}</a>: {html.escape(b.entry.caption)}"
@@ -153,30 +180,85 @@ def _text_lines(b: Built) -> list[str]:
 
 
 def write_pdf(built: list[Built], path: Path, provenance: dict) -> None:
-    """One A4 page per entry (heading, text, the figure below), after a title page."""
+    """A title page (:func:`title_page`), then one A4 page per entry (:func:`entry_page`)."""
     from matplotlib.backends.backend_pdf import PdfPages
+
+    quick = is_quick(provenance)
+    with PdfPages(path) as pdf:
+        pdf.savefig(title_page(provenance))
+        for b in built:
+            pdf.savefig(entry_page(b, quick))
+
+
+def provenance_rows(provenance: dict) -> list[tuple[str, str, str]]:
+    """The report's provenance as (section, name, value) rows: what made it (commit, date,
+    folder), the settings, the package versions and each study (its wall time, kept from an
+    earlier run, or why it was skipped)."""
+    rows = [("Made", "commit", str(provenance.get("commit", "-"))), ("Made", "date", str(provenance.get("made", "-"))),
+            ("Made", "folder", str(provenance.get("folder", "-")))]
+    rows += [("Settings", key, str(value)) for key, value in provenance.get("settings", {}).items()]
+    rows += [("Versions", key, str(value)) for key, value in provenance.get("versions", {}).items()]
+    for name, record in provenance.get("studies", {}).items():
+        study = json.loads(record) if isinstance(record, str) else record
+        if "skipped" in study:
+            value = f"skipped: {study['skipped']}"
+        else:
+            value = f"{study.get('wall_time_s', 0.0):.1f} s" + (", kept from an earlier run" if study.get("kept") else "")
+        rows.append(("Studies", name, value))
+    return rows
+
+
+def title_page(provenance: dict) -> Figure:
+    """The PDF's first page: the title, what the report holds, the :data:`QUICK` mark of a quick
+    report, and the provenance as a table (:func:`provenance_rows`: a section's name once,
+    each value wrapped in its column)."""
+    fig = Figure(figsize=A4)
+    FigureCanvasAgg(fig)
+    fig.text(0.08, 0.94, "freefloat: the documents reproduced", fontsize=20, weight="bold", va="top")
+    fig.text(0.08, 0.905, "The dissertation's chapters 4 and 5 and the thesis's sec 5.6, against the exact reference",
+             fontsize=10.5, va="top")
+    y = 0.875
+    if is_quick(provenance):
+        fig.text(0.08, y, textwrap.fill(QUICK, 80), fontsize=10.5, weight="bold", color=QUICK_COLOR, va="top",
+                 bbox={"facecolor": "white", "edgecolor": QUICK_COLOR, "pad": 4.0})
+        mark_quick(fig)
+        y -= 0.045
+    step, left, middle, right = 0.0145, 0.08, 0.36, 0.94
+    section = None
+    for name, key, value in provenance_rows(provenance):
+        if name != section:
+            y -= 0.012
+            fig.text(left, y, name, fontsize=10.5, weight="bold", va="top")
+            y -= step * 1.25
+            fig.add_artist(Line2D([left, right], [y + 0.003, y + 0.003], color="#606060", linewidth=0.8))
+            section = name
+        lines = textwrap.wrap(value, 62) or [""]
+        fig.text(left, y, key, fontsize=8.5, va="top")
+        fig.text(middle, y, "\n".join(lines), fontsize=8.5, va="top", family="monospace", linespacing=1.25)
+        y -= step * len(lines)
+        fig.add_artist(Line2D([left, right], [y + 0.003, y + 0.003], color="#d0d0d0", linewidth=0.5))
+    return fig
+
+
+def entry_page(b: Built, quick: bool = False) -> Figure:
+    """One entry's A4 page: its heading, its text, its figure below (all marked :data:`QUICK`
+    when ``quick``)."""
     from matplotlib.image import imread
 
-    with PdfPages(path) as pdf:
-        title = Figure(figsize=A4)
-        FigureCanvasAgg(title)
-        lines = ["freefloat: the documents reproduced", "", "Dissertation chapters 4-5 and thesis sec 5.6", ""]
-        lines += [f"{k}: {v}" for k, v in _flat(provenance)]
-        title.text(0.06, 0.95, "\n".join(textwrap.fill(line, 100) for line in lines), va="top", family="monospace", fontsize=7)
-        pdf.savefig(title)
-        for b in built:
-            fig = Figure(figsize=A4)
-            FigureCanvasAgg(fig)
-            fig.text(0.06, 0.96, heading(b.entry), va="top", fontsize=13, weight="bold")
-            text = _text_lines(b)
-            fig.text(0.06, 0.93, "\n".join(text[:40]), va="top", fontsize=7.5, family="monospace")
-            if b.png is not None:
-                top = max(0.1, 0.9 - 0.0125 * min(len(text), 40))
-                ax = fig.add_axes((0.05, 0.03, 0.9, top - 0.05))
-                ax.imshow(imread(io.BytesIO(b.png)))
-                ax.set_anchor("N")  # right under the text
-                ax.set_axis_off()
-            pdf.savefig(fig)
+    fig = Figure(figsize=A4)
+    FigureCanvasAgg(fig)
+    fig.text(0.06, 0.96, heading(b.entry), va="top", fontsize=13, weight="bold")
+    text = _text_lines(b)
+    fig.text(0.06, 0.93, "\n".join(text[:40]), va="top", fontsize=7.5, family="monospace")
+    if b.png is not None:
+        top = max(0.1, 0.9 - 0.0125 * min(len(text), 40))
+        ax = fig.add_axes((0.05, 0.03, 0.9, top - 0.05))
+        ax.imshow(imread(io.BytesIO(b.png)))
+        ax.set_anchor("N")  # right under the text
+        ax.set_axis_off()
+    if quick:
+        mark_quick(fig)
+    return fig
 
 
 def provenance(root: Path, settings: dict, studies: dict[str, dict], commit: str, versions: dict) -> dict:

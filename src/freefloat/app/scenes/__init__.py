@@ -13,7 +13,7 @@ import dataclasses
 from pathlib import Path
 from typing import Any
 
-from ...errors import SceneError
+from ...errors import SceneError, did_you_mean
 from ...inputs import read_toml
 from ...paths import SCENES_DIR, URDF_DIR
 from .mechanism_schema import MechanismScene, parse_mechanism_scene
@@ -65,9 +65,8 @@ def find_scene(name_or_path: str | Path) -> Scene | MechanismScene:
     path = Path(name_or_path)
     if path.is_file():
         return load_scene(path)
-    raise SceneError(
-        f"'{name_or_path}' is neither a scene file nor a built-in scene; built-in: {', '.join(builtins)}"
-    )
+    raise SceneError(f"'{name_or_path}' is neither a scene file nor a built-in scene"
+                     f"{did_you_mean(name_or_path, builtins, 'built-in', 'freefloat scenes')}")
 
 
 def with_robot(scene: Scene | MechanismScene, robot: str) -> Scene:

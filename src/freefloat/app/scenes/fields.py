@@ -9,7 +9,7 @@ from collections.abc import Callable
 from typing import Any, NamedTuple
 
 from ... import inputs
-from ...errors import SceneError
+from ...errors import SceneError, did_you_mean
 from .. import figure_set
 from ..figure_set import FigureChoice, FigureFormats  # noqa: F401  (the annotations parse_section reads)
 
@@ -114,7 +114,7 @@ def choice(where: str, section: str, key: str, value: Any, rules: Rules) -> str:
     options = options() if callable(options) else options
     if options is not None and value not in options:
         name = f"{section}.{key}" if section else key
-        raise SceneError(f"{where}'{name}' is {value!r}; valid: {', '.join(options)}")
+        raise SceneError(f"{where}'{name}' is {value!r}{did_you_mean(value, options)}")
     return value
 
 

@@ -14,7 +14,7 @@ from pathlib import Path
 from typing import Any
 
 from ...dynamics.integrators import INTEGRATORS
-from ...errors import SceneError
+from ...errors import SceneError, did_you_mean
 from ...parallel.free_base import BASES, base_problem
 from ...parallel.registry import REGISTRY
 from .fields import (
@@ -179,8 +179,8 @@ def parse_mechanism_scene(raw: dict[str, Any], source: Path | None = None) -> Me
                            source=source, **sections)
     plants = REGISTRY[scene.mechanism.name].plants
     if scene.mechanism.plant not in plants:
-        raise SceneError(f"{where}'mechanism.plant' is {scene.mechanism.plant!r}; valid for "
-                         f"'{scene.mechanism.name}': {', '.join(plants)}")
+        raise SceneError(f"{where}'mechanism.plant' is {scene.mechanism.plant!r}"
+                         f"{did_you_mean(scene.mechanism.plant, plants, f'valid for {scene.mechanism.name!r}')}")
     mech = scene.mechanism
     problem = base_problem(mech.base, mech.base_mass, mech.base_inertia, mech.base_com, mech.gravity)
     if problem is not None:

@@ -5,9 +5,9 @@ in it, said so) with the robot drawn at start and end, log axes clipped to the d
 Each ``*_figure`` function returns a :class:`matplotlib.figure.Figure` on the Agg canvas (see
 :mod:`.plotting`), so tests can read the plotted data; :func:`write_figures` saves those the run
 chose (:mod:`freefloat.app.figure_set`), less those whose data is identically zero
-(:func:`empty_figures` says which and why, for the summary). Positions and momenta are in the
-inertial frame, as recorded in :class:`~freefloat.dynamics.telemetry.Telemetry`; joint errors
-in rad (m for prismatic joints), as in the summary.
+(:func:`.figure_data.empty_figures` says which and why, for the summary). Positions and momenta
+are in the inertial frame, as recorded in :class:`~freefloat.dynamics.telemetry.Telemetry`; joint
+errors in rad (m for prismatic joints), as in the summary.
 """
 
 from __future__ import annotations
@@ -25,6 +25,7 @@ from ...dynamics.metrics import SETTLE_BAND, angular_speeds, band_settling_time,
 from ...dynamics.telemetry import Telemetry
 from ...dynamics.wrenches import ExternalWrench
 from ...robot.robot import Arm, Robot
+from .figure_data import base_attitude, empty_figures, why_no_joint_errors
 from .plotting import (
     STYLES,
     curve,
@@ -66,7 +67,8 @@ def write_figures(robot: Robot, telemetry: Telemetry, out_dir: str | Path,
         The written files: ``joint_errors`` (only when the run has joint references),
         ``torques``, ``base_trajectory``, ``end_effector_paths``, ``end_effector_displacement``,
         ``com_drift`` or ``conservation_balance``, ``angular_rates`` and ``angular_momentum``,
-        each in the chosen formats, less those not chosen and those :func:`empty_figures` names.
+        each in the chosen formats, less those not chosen and those
+        :func:`.figure_data.empty_figures` names.
     """
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
@@ -90,40 +92,6 @@ def write_figures(robot: Robot, telemetry: Telemetry, out_dir: str | Path,
         figures["angular_rates"] = lambda: angular_rates_figure(robot, telemetry, settle_threshold)
         figures["angular_momentum"] = lambda: angular_momentum_figure(telemetry)
     return save_all({name: None if name in left_out else draw for name, draw in figures.items()}, out_dir)
-
-
-def empty_figures(robot: Robot, telemetry: Telemetry, spin: bool = False) -> dict[str, str]:
-    """The figures :func:`write_figures` leaves out because what they plot is identically zero
-    (or, for ``joint_errors``, absent), each with the reason, as the summary says it."""
-    tel = telemetry
-    out = {}
-    missing = why_no_joint_errors(tel)
-    if missing is not None:
-        out["joint_errors"] = missing
-    if not np.any(tel.tau):
-        out["torques"] = "every joint torque is zero (a torque-free run)"
-    if not (np.any(tel.base_position) or np.any(base_attitude(tel.base_quaternion))):
-        out["base_trajectory"] = "the base stays at the origin, unrotated"
-    if not np.any(tel.ee_position - tel.ee_position[:1]):
-        out["end_effector_displacement"] = "no end-effector moves"
-    if not (np.any(tel.com - free_com_motion(tel, robot)) or np.any(tel.momentum - tel.momentum[:1])):
-        out["com_drift"] = "the CoM and momentum do not drift at all"
-    if spin and not (np.any(tel.base_twist[:, 3:]) or np.any(angular_speeds(robot, tel)[1])):
-        out["angular_rates"] = "nothing turns"
-    if spin and not np.any(tel.momentum[:, 3:]):
-        out["angular_momentum"] = "the angular momentum is zero throughout"
-    return out
-
-
-def why_no_joint_errors(telemetry: Telemetry) -> str | None:
-    """Why a run's joint tracking error is not worth a figure (no reference, or an error of zero
-    throughout), or None when it is."""
-    errors = telemetry.joint_reference - telemetry.joint_positions
-    if np.all(np.isnan(errors)):
-        return "the run has no joint reference"
-    if not np.any(np.nan_to_num(errors)):
-        return "every joint tracking error is zero"
-    return None
 
 
 def arm_name(arm: Arm, index: int) -> str:
@@ -185,15 +153,6 @@ def base_trajectory_figure(telemetry: Telemetry) -> Figure:
     path(path_ax, r0, "base CoM", flat)
     finish_path(path_ax, flat, "base CoM path")
     return fig
-
-
-def base_attitude(quaternions: np.ndarray) -> np.ndarray:
-    """Roll, pitch, yaw (rad, unwrapped over time) with R = Rz(yaw) Ry(pitch) Rx(roll), from
-    quaternions [qx, qy, qz, qw] (N, 4); returns (N, 3)."""
-    from scipy.spatial.transform import Rotation  # here: scipy is 0.3 s for the figures that need no attitude
-
-    yaw_pitch_roll = Rotation.from_quat(quaternions).as_euler("ZYX")
-    return np.unwrap(yaw_pitch_roll[:, ::-1], axis=0)
 
 
 def end_effector_paths_figure(robot: Robot, telemetry: Telemetry) -> Figure:
@@ -291,7 +250,7 @@ def angular_rates_figure(robot: Robot, telemetry: Telemetry, threshold: float | 
         shown = thin(rate)
         log_ax.semilogy(t[shown], np.where(rate > 0.0, rate, np.nan)[shown], label=label)
     if threshold is not None:
-        log_ax.axhline(threshold, color="grey", linestyle=":", linewidth=1.0, label=f"threshold {threshold:g} rad/s")
+        log_ax.axhline(threshold, color="grey", linestyle=":", linewidth=1.0, label=f"threshold {threshold:.3g} rad/s")
     positive = np.concatenate([ends.ravel(), base, [threshold] if threshold is not None else []])
     positive = positive[np.isfinite(positive) & (positive > 0.0)]
     if len(positive):

@@ -7,6 +7,8 @@ draws the robot's visual geometry through it.
 
 from __future__ import annotations
 
+import contextlib
+import io
 import time
 
 import numpy as np
@@ -28,7 +30,8 @@ class LiveView:
         import meshcat
         from pinocchio.visualize import MeshcatVisualizer
 
-        self.viewer = meshcat.Visualizer()
+        with contextlib.redirect_stdout(io.StringIO()):  # meshcat prints its URL; the caller says where it is
+            self.viewer = meshcat.Visualizer()
         geometry = robot.visual_model if robot.visual_model is not None else pin.GeometryModel()
         self.visualizer = MeshcatVisualizer(robot.model, geometry, geometry)
         self.visualizer.initViewer(viewer=self.viewer)

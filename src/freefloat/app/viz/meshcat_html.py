@@ -4,8 +4,9 @@ A page is meshcat's bundled viewer (``meshcat/viewer/dist/main.min.js``) followe
 command packets (msgpack, base64) lowered here from ``meshcat.commands`` objects, and the
 embedded mesh files (:mod:`.assets`: each once, gzipped, only from allowed folders). The page
 (:mod:`.page_template`) replays them in order, so it needs neither network nor server, frames
-the camera on the motion (:mod:`.camera`), loops the animation and shows play/pause, a time
-slider and the run's events.
+the camera on the motion (:mod:`.camera`), draws a grid just under it (:mod:`.floor`, in place of
+meshcat's own at ``/Grid``), loops the animation and shows play/pause, a time slider and the
+run's events.
 
 Scene layout: one meshcat node per Pinocchio joint, ``/meshcat/freefloat/<joint name>``, whose
 animated pose is the joint frame in the inertial frame (``data.oMi``). Geometry hangs below it,
@@ -41,6 +42,7 @@ from meshcat.path import Path as MeshcatPath
 from ...robot.robot import Robot
 from .assets import AssetTable, allowed_folders
 from .camera import frame_motion
+from .floor import floor, grid_object
 from .markers import Bar, Marker, robot_markers
 from .page_template import PAGE
 
@@ -48,6 +50,8 @@ from .page_template import PAGE
 VIEWER_JS = Path(meshcat.__file__).parent / "viewer" / "dist" / "main.min.js"
 #: Meshcat node under which the whole run is drawn.
 ROOT = MeshcatPath(("meshcat", "freefloat"))
+#: Meshcat's grid node, which a page redraws under the motion (:mod:`.floor`).
+GRID = MeshcatPath(("Grid",))
 
 #: An extra animated body: (name, meshcat geometry or object, poses in the inertial frame
 #: (N, 4, 4) at the same samples as ``q``).
@@ -105,7 +109,8 @@ def write_trajectory_html(
 
     Args:
         robot: the robot; its visual geometry is drawn when it has any, otherwise a stick
-            figure built from the model (base box, joint spheres, links, end-effectors).
+            figure built from the model (base box, joint spheres, links, end-effectors); a
+            link whose mesh is missing gets its pieces of the stick figure.
         t: sample times, s (N,).
         q: Pinocchio configurations at those times (N, nq).
         path: output ``.html`` file.
@@ -151,11 +156,12 @@ def write_trajectory_html(
     for k, i in enumerate(shown):
         pin.forwardKinematics(model, data, q[i])
         poses[k] = [m.homogeneous for m in data.oMi]
-    framing = frame_motion(np.concatenate(
+    visited = np.concatenate(
         [poses[:, 1:, :3, 3].reshape(-1, 3), _geometry_points(robot, poses)]
         + [_body_points(obj, body_poses) for _, obj, body_poses in bodies] + [m.positions for m in markers]
-        + [p for b in bars for p in (b.start, b.end)] + [np.asarray(points, float) for _, _, points in lines or []]),
-        **({} if view is None else {"direction": view}))
+        + [p for b in bars for p in (b.start, b.end)] + [np.asarray(points, float) for _, _, points in lines or []])
+    framing = frame_motion(visited, **({} if view is None else {"direction": view}))
+    packets.append(SetObject(grid_object(floor(visited, framing)), path=GRID).lower())
 
     animation = Animation(default_framerate=fps)
     for j in range(1, model.njoints):
@@ -328,15 +334,30 @@ def _object_packet(node: MeshcatPath, obj: mg.Object | dict, placement: np.ndarr
 
 def _robot_objects(robot: Robot, table: AssetTable,
                    base_only: bool = False) -> list[tuple[int, str, mg.Object | dict, np.ndarray]]:
-    """(joint id, name, meshcat object, placement in the joint frame incl. scale (4, 4)); with
+    """(joint id, name, meshcat object, placement in the joint frame incl. scale (4, 4)): the
+    robot's visual geometry, and the stick figure's pieces on each joint that lost a geometry (a
+    mesh file the loader did not find, :attr:`~freefloat.robot.robot.Robot.missing_meshes`, or
+    one the page may not embed); the whole stick figure when no geometry is drawn. With
     ``base_only`` the root link's geometry alone (nothing when it has none), half transparent
     so that the bars' pivots on it show."""
-    visual = robot.visual_model
+    visual, model = robot.visual_model, robot.model
     geometries = [] if visual is None else [g for g in visual.geometryObjects
                                             if not base_only or g.parentJoint <= 1]
     opacity = _BASE_OPACITY if base_only else 1.0
-    objects = [o for o in (_visual_object(g, table, opacity) for g in geometries) if o is not None]
-    return objects if objects or base_only else _stick_figure(robot)
+    objects, bare = [], set()
+    for geometry in geometries:
+        drawn = _visual_object(geometry, table, opacity)
+        if drawn is None:
+            bare.add(geometry.parentJoint)
+        else:
+            objects.append(drawn)
+    if base_only:
+        return objects
+    if not objects:
+        return _stick_figure(robot)
+    bare |= {model.frames[model.getFrameId(link)].parentJoint for link, _ in robot.missing_meshes
+             if model.existFrame(link)}
+    return objects + [piece for piece in _stick_figure(robot) if piece[0] in bare]
 
 
 def _visual_object(

@@ -20,7 +20,7 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 from matplotlib.ticker import FuncFormatter, LogLocator, NullLocator
 
-from .rendering import Renderer
+from .rendering import Renderer, in_helper
 
 #: Formats a figure is written in unless a run chose others (:func:`choose`): PNG to look at.
 FORMATS = ("png",)
@@ -150,7 +150,8 @@ def save_all(figures: dict[str, Drawing], out_dir: Path) -> list[Path]:
 
     Rendering is most of the cost (text layout, rasterising), so a helper process
     (:mod:`.rendering`: a new interpreter, not a fork) renders every other figure, from the
-    second, while this one draws every figure and renders the rest (a lone figure: here). A
+    second, while this one draws every figure and renders the rest (a lone figure, or in the
+    helper itself: here). A
     figure goes to the helper pickled as it is when sent, so the next one may redraw the same
     Figure (see :class:`~freefloat.app.viz.figures.ArmPanels`); a figure the helper fails on is
     rendered here from that copy."""
@@ -164,9 +165,9 @@ def save_all(figures: dict[str, Drawing], out_dir: Path) -> list[Path]:
         if fig is None:
             continue
         sent = False
-        if len(stems) % 2 == 1:  # every other figure, from the second, to the helper
+        if len(stems) % 2 == 1 and not in_helper():  # every other figure, from the second, to the helper
             helper = helper or Renderer(save)
-            sent = helper.send(fig, out_dir, stem, formats)
+            sent = helper.send(fig, out_dir.absolute(), stem, formats)  # the helper's working folder may be another
         if not sent:
             save(fig, out_dir, stem, formats)
         stems.append(stem)

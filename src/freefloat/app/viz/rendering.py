@@ -1,17 +1,22 @@
-"""A helper process that renders figures while this one renders others. It is a new
-interpreter (``python -m freefloat.app.viz.rendering``) fed pickled figures through a pipe:
-never a fork, since this process has threads (BLAS, progress bars) and a fork of a threaded
-process can deadlock (Python 3.12 warns at every ``os.fork()`` there), and not
-multiprocessing's spawn, which reruns the user's script in the child.
+"""A helper process that draws and renders figures while this one does other work. It is a new
+interpreter (``python -m freefloat.app.viz.rendering``) fed pickled jobs through a pipe: never
+a fork, since this process has threads (BLAS, progress bars) and a fork of a threaded process
+can deadlock (Python 3.12 warns at every ``os.fork()`` there), and not multiprocessing's spawn,
+which reruns the user's script in the child.
 
-Starting it costs an interpreter and matplotlib's import (~1 s), so a run starts it before it
-simulates (:func:`warm_up`) and the start overlaps the simulation. It ignores Ctrl-C (the run
-decides) and ends when this process closes the pipe or ends.
+A job is a function and its arguments: a figure to render (:func:`.plotting.save`), or a run's
+whole set of figures to draw and render (:func:`.figure_job.draw_chosen` of a picklable figure job
+such as :class:`.figure_job.RobotFigures`), which spares the run importing matplotlib at all. Starting
+the helper costs an interpreter and the import of matplotlib and the figure modules
+(:data:`PRELOAD`, ~1 s of CPU), so a run starts it before it simulates (:func:`warm_up`) and the
+start overlaps the simulation. It ignores Ctrl-C (the run decides) and ends when this process
+closes the pipe or ends.
 """
 
 from __future__ import annotations
 
 import atexit
+import importlib
 import pickle
 import queue
 import signal
@@ -21,13 +26,16 @@ import sys
 import threading
 from collections.abc import Callable
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, BinaryIO
+from typing import Any, BinaryIO
 
-if TYPE_CHECKING:
-    from matplotlib.figure import Figure
+#: Modules the helper imports as it starts, before its first job: the plotting stack and the
+#: robot run's figures (Pinocchio, freefloat's robot and dynamics).
+PRELOAD = ("matplotlib.backends.backend_agg", "freefloat.app.viz.figures")
 
 _helper: subprocess.Popen | None = None
 _HEADER = struct.Struct("<Q")
+#: True in the helper process itself (its figures are rendered there, never sent on).
+_in_helper = False
 
 
 def _send(stream: BinaryIO, message: Any) -> None:
@@ -52,6 +60,11 @@ def warm_up() -> None:
         atexit.register(_stop, _helper)
 
 
+def in_helper() -> bool:
+    """Whether this process is the figure helper."""
+    return _in_helper
+
+
 def _stop(helper: subprocess.Popen) -> None:
     """End ``helper`` and close its pipes (at this process's exit)."""
     helper.kill()
@@ -74,12 +87,15 @@ class Renderer:
         self._feeder = threading.Thread(target=self._feed, daemon=True)
         self._feeder.start()
 
-    def send(self, *job: Any) -> bool:
+    def send(self, *job: Any, max_bytes: int | None = None) -> bool:
         """Queue ``save(*job)`` for the helper; False (nothing queued) when the job cannot be
-        pickled."""
+        pickled, or pickles to more than ``max_bytes`` (a copy in each process, and one kept
+        here until collected)."""
         try:
             data = pickle.dumps((self._save, *job), protocol=pickle.HIGHEST_PROTOCOL)
         except (pickle.PicklingError, TypeError, AttributeError):
+            return False
+        if max_bytes is not None and len(data) > max_bytes:
             return False
         self._jobs.append(data)
         self._queue.put(data)
@@ -96,6 +112,20 @@ class Renderer:
                 while self._queue.get() is not None:
                     pass
                 return
+
+    def close(self) -> None:
+        """End the feeder of a renderer that sent nothing (the helper stays for others)."""
+        self._queue.put(None)
+        self._feeder.join()
+
+    def abandon(self) -> None:
+        """Stop waiting for the jobs sent: the helper is ended (its replies would otherwise be read
+        by the next renderer) and the next :func:`warm_up` starts another."""
+        self._helper.kill()
+        self._helper.wait()
+        self._queue.put(None)
+        self._feeder.join()  # a write to the ended helper fails: the feeder drops the rest and returns
+        _stop(self._helper)
 
     def collect(self) -> list[Any]:
         """Wait for the jobs sent; in order, the paths each wrote, or for a job the helper failed
@@ -119,10 +149,12 @@ def _run(data: bytes) -> Any:
 
 
 def _serve() -> None:
-    """The helper's loop: (save, figure, folder, stem) in, save's paths (or its exception) out."""
+    """The helper's loop: (function, *arguments) in, the function's result (or its exception) out."""
+    global _in_helper
+    _in_helper = True
     signal.signal(signal.SIGINT, signal.SIG_IGN)
-    # warm up while the run simulates; unpickling the first job imports the plotting module itself
-    import matplotlib.backends.backend_agg  # noqa: F401
+    for module in PRELOAD:  # while the run simulates
+        importlib.import_module(module)
 
     stdin, stdout = sys.stdin.buffer, sys.stdout.buffer
     while True:
@@ -138,4 +170,5 @@ def _serve() -> None:
 
 
 if __name__ == "__main__":
-    _serve()
+    # serve from the module as imported by name, so that the figure modules see in_helper() true
+    importlib.import_module("freefloat.app.viz.rendering")._serve()

@@ -27,7 +27,7 @@ class ModelSpec:
     Attributes:
         name: registry name (scene keys ``simulation.model``, ``controller.model``).
         description: one line: what it is and where it is exact.
-        compiled: True when the compiled core (``cpp/models.hpp``) has it; ``exact`` is
+        compiled: True when the compiled core (``cpp/gjm/models.hpp``) has it; ``exact`` is
             Pinocchio's ABA, which the compiled loop runs.
         build: makes it for a robot.
     """

@@ -64,7 +64,7 @@ class GJMModelBase:
     Subclasses implement :meth:`joint_space` (``H, c`` with ``tau = H qddot + c``) and
     :meth:`base_acceleration` (xddot0 given qddot): the numpy reference. With
     ``backend="compiled"`` (the default) the same equations run in the compiled core
-    (``cpp/models.hpp``), one call per acceleration; ``backend="numpy"`` runs this reference on the
+    (``cpp/gjm/models.hpp``), one call per acceleration; ``backend="numpy"`` runs this reference on the
     numpy GJM.
 
     Args:

@@ -8,7 +8,8 @@ from collections.abc import Sequence
 import numpy as np
 import pinocchio as pin
 
-from ...errors import SimulationDiverged
+from ...errors import InvalidArgument, SimulationDiverged
+from ..friction import JointFriction
 
 
 class ConstraintDynamicsPlant:
@@ -26,13 +27,24 @@ class ConstraintDynamicsPlant:
         accuracy, iterations: the proximal solver's accuracy and most iterations.
         mu: the proximal solver's regularisation (larger: better conditioned where closure rows
             are redundant, more iterations elsewhere).
+        friction: joint friction over the model's velocity coordinates (nv,), applied as the
+            generalised force ``-f(v)`` (Pinocchio itself ignores ``model.damping`` and
+            ``model.friction``); None: none. The armature is the model's own (``model.armature``).
+
+    Raises:
+        InvalidArgument: for a friction of another size than nv.
     """
 
     name = "constraint_dynamics"
 
     def __init__(self, model: pin.Model, constraints: Sequence, actuated: Sequence[int], baumgarte: float = 0.0,
-                 max_drift: float = 1.0, accuracy: float = 1e-12, iterations: int = 50, mu: float = 1e-12):
+                 max_drift: float = 1.0, accuracy: float = 1e-12, iterations: int = 50, mu: float = 1e-12,
+                 friction: JointFriction | None = None):
+        if friction is not None and friction.n != model.nv:
+            raise InvalidArgument(f"constraint dynamics plant: the friction is for {friction.n} coordinates, the model "
+                                  f"has nv = {model.nv}")
         self.space, self.baumgarte, self.max_drift = model, float(baumgarte), float(max_drift)
+        self.friction = friction if friction else None
         self.actuated = np.asarray(actuated, dtype=int)
         self.n_efforts = len(self.actuated)
         self.constraints = [pin.RigidConstraintModel(cm) for cm in constraints]
@@ -52,8 +64,9 @@ class ConstraintDynamicsPlant:
             SimulationDiverged: when Pinocchio rejects the state (not finite, singular).
         """
         self.tau[self.actuated] = u
+        tau = self.tau if self.friction is None else self.tau - self.friction.force(v)
         try:
-            return pin.constraintDynamics(self.space, self.data, q, v, self.tau, self.constraints, self.cdatas,
+            return pin.constraintDynamics(self.space, self.data, q, v, tau, self.constraints, self.cdatas,
                                           self.settings).copy()
         except (RuntimeError, ValueError) as exc:
             raise SimulationDiverged(f"constraintDynamics failed: {exc}") from exc

@@ -14,6 +14,15 @@ from ...robot.conventions import base_state
 from .floating_kinematics import FloatingKinematics, rollout
 from .request import ApproachRequest, Limits
 
+#: The unit of each key of :meth:`Plan.summary` ("" for a text); joint rates in rad/s (m/s for a
+#: prismatic joint), torques in N m (N).
+SUMMARY_UNITS = {
+    "approach_method": "", "approach_plan_attitude_change": "rad", "approach_plan_attitude_max": "rad",
+    "approach_plan_position_error": "m", "approach_plan_velocity_error": "m/s", "approach_plan_angle_error": "rad",
+    "approach_plan_angular_velocity_error": "rad/s", "approach_plan_peak_joint_rate": "rad/s",
+    "approach_plan_peak_torque": "N m", "approach_joint_rate_limits": "rad/s", "approach_torque_limits": "N m",
+}
+
 
 class JointPath:
     """The joint reference ``(q_d, qdot_d, qddot_d)(t)`` of a plan, actuated joint coordinates

@@ -8,7 +8,7 @@ from dataclasses import dataclass
 import numpy as np
 import pinocchio as pin
 
-from ...errors import InvalidArgument
+from ...errors import InvalidArgument, did_you_mean
 from ...robot.robot import Robot
 from .grasp_motion import GraspMotion
 
@@ -88,8 +88,8 @@ class ApproachRequest:
             raise InvalidArgument(f"approach: 'match' must be one of {', '.join(MATCHES)}, got {self.match!r}")
         for name in self.end_effectors:
             if name not in self.robot.end_effectors:
-                raise InvalidArgument(f"approach: '{name}' is not an end-effector; end-effectors: "
-                                      f"{', '.join(self.robot.end_effectors)}")
+                raise InvalidArgument(f"approach: '{name}' is not an end-effector"
+                                      f"{did_you_mean(name, self.robot.end_effectors, 'end-effectors')}")
         if len(self.grasps) != len(self.end_effectors) or len(set(self.end_effectors)) != len(self.end_effectors):
             raise InvalidArgument(f"approach: one grasp point per end-effector, each hand once; got hands "
                                   f"{list(self.end_effectors)} and {len(self.grasps)} grasp points")

@@ -120,6 +120,8 @@ for _suite in (
     Suite("locking", 'joint locking and model = "auto" against the full exact plant', ".locking"),
     Suite("parallel", "the 5R's and the 2RSU+PPaP's dynamics against Pinocchio's constrained dynamics",
           ".parallel"),
+    Suite("laws", "the 5R's platform laws like for like: cost per call, tracking and robustness on plants 15 % and "
+                  "50 % off (computed torque, sliding mode, adaptive sliding mode, feedforward)", ".laws"),
     Suite("batch", "freefloat batch's runs per second serially, on 2 threads, on 2 processes and on Dask", ".batch",
           (("distributed", "dask"),)),
     Suite("figures", "writing a run's figures against the simulation itself", ".figures"),

@@ -24,6 +24,27 @@ def save(fig, path: Path) -> None:
     plt.close(fig)
 
 
+def mark_smoke(path: Path) -> None:
+    """Write :data:`~..options.SMOKE` in a band above the chart at ``path`` (a PNG), so that a
+    ``--quick`` chart is not read as a measurement."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from ..options import SMOKE
+
+    image = plt.imread(path)
+    height, width = image.shape[:2]
+    band = 28  # pixels
+    fig = plt.figure(figsize=(width / 120, (height + band) / 120), dpi=120, facecolor="firebrick")
+    fig.figimage(image)
+    fig.text(0.5, 1.0 - 0.5 * band / (height + band), SMOKE, ha="center", va="center", color="white", fontsize=9,
+             weight="bold")
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
 def growth_axes(ax, ylabel: str) -> None:
     """Finish an axis of a size sweep (:mod:`.robots`): joints on a log2 scale, ``ylabel``, title
     and legend."""

@@ -252,6 +252,23 @@ def detumbling(repeats: int, duration: float | None) -> dict:
             "law_share_of_whole_chunks": 1.0 - best["compiled_no_controller"] / best["compiled_whole_chunks"]}
 
 
+def summary(report: dict) -> list[str]:
+    """What the command prints: the headline ratios of each part."""
+    loop, base, detumble = report["loop_overhead"], report["base_kind"], report["detumbling"]
+    best = loop["seconds_per_step_best"]
+    conventions = ", ".join(f"nv {r['nv']} {r['world_over_local']:.3g}" for r in report["convention"].values())
+    return [(f"simulation: default scene, {best['compiled_full'] * 1e6:.3g} us per step in the compiled loop: "
+             f"{loop['compiled_over_cpp_floor_full_telemetry']:.3g}x the C++ floor with telemetry at every step, "
+             f"{loop['compiled_over_cpp_floor_no_telemetry']:.3g}x without; the Python loop "
+             f"{loop['python_over_compiled_full_telemetry']:.3g}x the compiled one, "
+             f"{loop['python_over_bare_full_telemetry']:.3g}x an inline Python loop"),
+            f"simulation: free base / planar base per step {base['ratio_free_over_planar']:.3g}",
+            (f"simulation: {DETUMBLE_SCENE}: Python loop {detumble['python_over_whole_chunks']:.3g}x whole compiled "
+             f"chunks, the law in Python {detumble['per_period_over_whole_chunks']:.3g}x; the law is "
+             f"{detumble['law_share_of_whole_chunks']:.0%} of the whole-chunk run"),
+            f"simulation: WORLD / LOCAL convention per step: {conventions}"]
+
+
 def chart(report: dict, path: Path) -> None:
     """Loop-overhead bars (time per step, log scale), the detumble scene's loops, and WORLD over
     LOCAL per robot size."""

@@ -1,0 +1,92 @@
+"""A robot run's figures as one picklable job, and the function the figure helper runs it with.
+
+Light (no matplotlib): a run hands its :class:`RobotFigures` to the figure helper
+(:mod:`.rendering`) as :func:`draw_chosen`'s argument; the helper draws and writes them while the
+run writes its data and page, so that the run itself never imports the plotting stack.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING, NamedTuple
+
+import numpy as np
+
+if TYPE_CHECKING:
+    from ...dynamics.telemetry import Telemetry
+    from ...dynamics.wrenches import ExternalWrench
+    from ...robot.robot import Robot
+
+
+class ClosedLoop(NamedTuple):
+    """What the ``closed_loop`` figure draws, each (N,) at the times ``t`` (s): the squeeze and
+    the internal force's norm (N; None for closures that carry no grasp) and the closures' largest
+    position (m) and rotation (rad) residuals."""
+
+    t: np.ndarray
+    squeeze: np.ndarray | None
+    internal: np.ndarray | None
+    drift_position: np.ndarray
+    drift_rotation: np.ndarray
+
+
+class WheelRows(NamedTuple):
+    """What the ``reaction_wheels`` figure draws: times (N,), s; the wheels' names; stored momenta
+    (N, nw), N m s, and their limits (nw,); torques (N, nw), N m, and their limits (nw,)."""
+
+    t: np.ndarray
+    names: list[str]
+    momenta: np.ndarray
+    max_momenta: np.ndarray
+    torques: np.ndarray
+    max_torques: np.ndarray
+
+
+@dataclass(frozen=True)
+class RobotFigures:
+    """Every figure of a robot run, drawn by calling the job with the folder to write into (those
+    chosen, :func:`.plotting.choose`): :func:`~.figures.write_figures` of ``robot`` and
+    ``telemetry`` (with the run's ``wrenches``, ``control_period``, ``spin`` and
+    ``settle_threshold``), the ``closed_loop`` figure of ``loop``, a planned capture's approach
+    tracking (``approach`` on ``approach_robot``) and the ``reaction_wheels`` figure of ``wheels``,
+    each when given."""
+
+    robot: Robot
+    telemetry: Telemetry
+    wrenches: tuple[ExternalWrench, ...] = ()
+    control_period: float | None = None
+    spin: bool = False
+    settle_threshold: float | None = None
+    loop: ClosedLoop | None = None
+    approach: Telemetry | None = None
+    approach_robot: Robot | None = None
+    wheels: WheelRows | None = None
+
+    def __call__(self, folder: Path) -> list[Path]:
+        """Draw and write the chosen figures into ``folder``; returns the paths."""
+        from .figures import write_approach_figure, write_figures
+        from .loop_figures import loop_figure
+        from .plotting import save_all
+        from .wheel_figures import wheel_figure
+
+        paths = write_figures(self.robot, self.telemetry, folder, self.wrenches, self.control_period, self.spin,
+                              self.settle_threshold)
+        if self.loop is not None and len(self.loop.t) >= 2:
+            paths += save_all({"closed_loop": lambda: loop_figure(*self.loop)}, folder)
+        if self.approach is not None:
+            paths += write_approach_figure(self.approach_robot or self.robot, self.approach, folder)
+        if self.wheels is not None and len(self.wheels.t) >= 2:
+            paths += save_all({"reaction_wheels": lambda: wheel_figure(*self.wheels)}, folder)
+        return paths
+
+
+def draw_chosen(figures: Callable[[Path], list[Path]], names: frozenset[str] | None, formats: tuple[str, ...],
+                into: Path) -> list[Path]:
+    """A run's figures: ``figures(into)`` with ``names`` chosen in ``formats``
+    (:func:`.plotting.choose`); the paths written. The job a run sends to the figure helper."""
+    from .plotting import choose
+
+    with choose(names, formats):
+        return figures(into)
