@@ -121,9 +121,14 @@ ORDER = ["cpp/sim/pin_plant.cpp", "cpp/bindings/core.cpp", "cpp/chains/mechanism
 OPTIMIZATION = {"cpp/sim/pin_plant.cpp": "-O1", "cpp/sim/simulation.cpp": "-O1", "cpp/sim/closures.cpp": "-O1",
                 "cpp/sim/loop_detumbling_law.cpp": "-O1", "cpp/sim/pin_generalized_jacobian.cpp": "-O1",
                 "cpp/bindings/sim.cpp": "-O1"}
-# Instruction sets per translation unit: the dynamics kernel's AVX2 copy, which it calls only on a
-# CPU that has AVX2 and FMA (cpp/kernel/isa.hpp); on other platforms the unit is a second baseline copy.
-ISA = {"cpp/kernel/lanes_avx2.cpp": "-mavx2 -mfma"} if platform.machine().lower() in ("x86_64", "amd64") else {}
+# Arithmetic and instruction set per translation unit: the dynamics kernel's units round every
+# product and sum on its own (no fused multiply-add, which the compiler would use where the target
+# has it), so that a state in a lane of the lockstep gets the very numbers it gets alone; its AVX2
+# copy, which it calls only on a CPU that has AVX2 (cpp/kernel/isa.hpp), is a second baseline copy
+# on other platforms.
+UNIT_FLAGS = {"cpp/kernel/kernel.cpp": "-ffp-contract=off",
+              "cpp/kernel/lanes_avx2.cpp": "-ffp-contract=off"
+              + (" -mavx2" if platform.machine().lower() in ("x86_64", "amd64") else "")}
 # Peak memory of each unit's compile at its flags (bytes: g++ 12's maximum resident set, as the
 # build ran it, docs/bench.md "The build"); a unit not listed counts as the largest.
 UNIT_MEMORY = {"cpp/sim/pin_plant.cpp": 1.25e9, "cpp/bindings/sim.cpp": 1.04e9, "cpp/bindings/chains.cpp": 0.78e9,
@@ -203,7 +208,7 @@ class BuildExt(pybind11_build_ext):
             "pybind11": version("pybind11"), "libpinocchio": version("libpinocchio"), "eigen": version("cmeel-eigen"),
             "extensions": [[ext.name, ext.define_macros, [a for a in ext.extra_compile_args if not a.startswith("/")]]
                            for ext in self.extensions],
-            "optimization": OPTIMIZATION, "isa": ISA,
+            "optimization": OPTIMIZATION, "unit_flags": UNIT_FLAGS,
         }
         digest = hashlib.sha1(json.dumps(description, sort_keys=True, default=str).encode()).hexdigest()[:12]
         return f"{sysconfig.get_platform()}-{sys.implementation.cache_tag}-{digest}"
@@ -224,7 +229,7 @@ class BuildExt(pybind11_build_ext):
             [made] = self.compiler.compile([source], output_dir=scratch, macros=ext.define_macros,
                                            include_dirs=ext.include_dirs, debug=self.debug,
                                            extra_postargs=ext.extra_compile_args + OPTIMIZATION.get(source, "").split()
-                                           + ISA.get(source, "").split() + ["-MMD", "-MF", str(dep)])
+                                           + UNIT_FLAGS.get(source, "").split() + ["-MMD", "-MF", str(dep)])
             os.replace(dep, obj.with_suffix(".d"))
             os.replace(made, obj)
 

@@ -10,7 +10,8 @@
 // as Pinocchio's (the time derivative of its local velocity).
 //
 // This header is compiled once per instruction set (kernel.cpp: the baseline; lanes_avx2.cpp:
-// AVX2 and FMA, used when the CPU has them): its code lives in the namespace the including unit
+// AVX2, used when the CPU has it; both without fused multiply-adds, so that a lane's numbers are
+// a single state's bit for bit): its code lives in the namespace the including unit
 // names in FREEFLOAT_KERNEL_ISA, and uses no C++ library template (no function here is shared
 // between the units, so the linker never picks an AVX2 copy for a CPU without AVX2). It ends with
 // the definitions of kernel/isa.hpp's entry points in that namespace: include it once per unit.

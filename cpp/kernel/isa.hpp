@@ -1,6 +1,8 @@
 // The kernel's entry points per instruction set: kernel/aba.hpp's evaluation compiled for the
-// baseline of the platform (kernel.cpp) and for AVX2 with FMA (lanes_avx2.cpp, called only on a
-// CPU that has both: kernel.cpp checks at run time, so the module imports on any x86-64).
+// baseline of the platform (kernel.cpp) and for AVX2 (lanes_avx2.cpp, called only on a CPU that
+// has it: kernel.cpp checks at run time, so the module imports on any x86-64). Both round every
+// product and sum on its own (setup.py: -ffp-contract=off), so that all four give one state the
+// same numbers, bit for bit, alone or in a lane.
 #pragma once
 
 #include "tree.hpp"

@@ -20,10 +20,10 @@ namespace freefloat::kernel {
 
 namespace {
 
-// Whether this CPU runs the AVX2 unit (AVX2 and FMA), asked once.
+// Whether this CPU runs the AVX2 unit, asked once.
 bool has_avx2() {
 #if defined(__x86_64__) || defined(__i386__)
-  static const bool yes = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+  static const bool yes = __builtin_cpu_supports("avx2");
   return yes;
 #else
   return false;
@@ -269,7 +269,7 @@ void Kernel::aba_lanes(const double* const* q, const double* const* v, const dou
 const char* Kernel::isa() { return avx2_now() ? "avx2" : "baseline"; }
 
 void Kernel::set_isa(const std::string& name) {
-  if (name == "avx2" && !has_avx2()) throw std::invalid_argument("this CPU has no AVX2 and FMA");
+  if (name == "avx2" && !has_avx2()) throw std::invalid_argument("this CPU has no AVX2");
   if (name != "avx2" && name != "baseline") throw std::invalid_argument("instruction set must be 'avx2' or 'baseline'");
   baseline_only = name == "baseline";
 }

@@ -52,7 +52,7 @@ class Kernel {
   void aba_lanes(const double* const* q, const double* const* v, const double* const* tau, const Wrenches* wrenches,
                  double* const* a);
 
-  // The instruction set the evaluations use: "avx2" (AVX2 and FMA, on a CPU that has them) or
+  // The instruction set the evaluations use: "avx2" (on a CPU that has it) or
   // "baseline" (the platform's, e.g. SSE2 on x86-64). set_isa("baseline") makes every kernel of
   // the process take the baseline code (tests and benchmarks compare the two); "avx2" undoes it.
   static const char* isa();

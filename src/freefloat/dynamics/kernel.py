@@ -15,7 +15,9 @@ numbers do not depend on where the robot is. Pinocchio's ``aba`` stays the refer
 equals it to 1e-12 relative on random trees (tests/test_kernel.py).
 
 The lockstep evaluation advances :data:`LANES` states in the lanes of one SIMD register per
-number: AVX2 with FMA on a CPU that has them, the platform's baseline code otherwise (:func:`isa`).
+number: AVX2 on a CPU that has it, the platform's baseline code otherwise (:func:`isa`). Every
+path rounds every product and sum on its own (no fused multiply-add), so that a state gets the same
+numbers bit for bit alone or in a lane, in either instruction set (tested).
 """
 
 from __future__ import annotations
@@ -50,8 +52,8 @@ def isa() -> str:
 
 def set_isa(name: str) -> None:
     """Make every kernel of the process evaluate with ``name``: ``"baseline"`` (the platform's
-    baseline code, as on a CPU without AVX2) or ``"avx2"`` (the default where the CPU has AVX2 and
-    FMA). For tests and benchmarks that compare the two.
+    baseline code, as on a CPU without AVX2) or ``"avx2"`` (the default where the CPU has it). For
+    tests and benchmarks that compare the two.
 
     Raises:
         InvalidArgument: another name, or ``"avx2"`` on a CPU without it.

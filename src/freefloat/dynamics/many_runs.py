@@ -19,8 +19,8 @@ dynamics kernel takes), each thread drives a group of :data:`~.kernel.LANES` loo
 every period, each lane's law, wrenches and telemetry row are its own loop's, and every stage of
 the integration evaluates the lanes' dynamics at once in the kernel's SIMD lanes
 (``cpp/sim/lockstep.hpp``); a lane takes the next run as soon as its own ends (a run that stops
-early leaves its lane to the next). Each run then equals its own run to round-off (tested), not bit
-for bit: the lanes' kernel rounds differently from the single state's.
+early leaves its lane to the next). Each run still equals its own run bit for bit (tested): the
+kernel gives a state in a lane the numbers it gives it alone.
 """
 
 from __future__ import annotations

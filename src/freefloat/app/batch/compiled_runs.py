@@ -9,8 +9,8 @@ Python's lock, this thread prepares the next one (each run's scene resolved as
 :func:`~.one_run.run_one` resolves it) and starts it, then summarises the first group's runs as
 they finish. A run whose setup cannot share the group's loop (another plant chosen by
 ``model = "auto"``, say) runs on its own, as :func:`~.one_run.run_one`. Every row is the one
-:func:`~.one_run.run_one` gives for the same plan (tested), but for its wall times: bit for bit,
-or to round-off where the runs go in lockstep (:data:`LOCKSTEP`).
+:func:`~.one_run.run_one` gives for the same plan (tested), but for its wall times, also where the
+runs go in lockstep (:data:`LOCKSTEP`).
 """
 
 from __future__ import annotations

@@ -173,8 +173,7 @@ def compare(settings: dict) -> dict:
                                for way in WAYS},
         "rows_identical": rows[1] == rows[2], "completed": sum(r["status"] == "completed" for r in rows[1]),
         "final_position_and_joints_difference": float(np.max(np.abs(gap))),
-        # run_many's runs go in lockstep (many_runs): run 0 ends where simulation.run's does to round-off
-        "run_many_equals_loop": bool(np.allclose(finals["run_many"], finals["freefloat"], rtol=0.0, atol=1e-10)),
+        "run_many_equals_loop": bool(np.array_equal(finals["run_many"], finals["freefloat"])),
         "ceiling_2_processes": ceilings, "load_average": loads,
     }
 
