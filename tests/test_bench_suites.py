@@ -307,8 +307,10 @@ def _kernel(r):
     for name in names:
         row = r[f"evaluation/{name}"]
         assert row["over_pinocchio"] == pytest.approx({k: t / row["seconds"]["pinocchio"] for k, t in row["seconds"].items()})
-        step = r[f"step/{name}"]
+        step, calls = r[f"step/{name}"], r[f"step/{name}"]["lockstep_calls"]
         assert step["over_mujoco"]["loop kernel"] == pytest.approx(step["seconds"]["loop kernel"] / step["seconds"]["mujoco rk4"])
+        assert step["seconds"]["lockstep"] == pytest.approx(
+            (calls["seconds"] - calls["one_step_seconds"]) / ((calls["periods"] - 1) * r["settings"]["lanes"]))
         for runs in r["settings"]["batches"]:
             batch = r[f"batch/{name}"][str(runs)]
             assert batch["runs_per_second"] == pytest.approx({k: runs / t for k, t in batch["seconds"].items()})

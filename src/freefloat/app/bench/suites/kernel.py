@@ -21,9 +21,9 @@ is shared, and other processes' load inflates the wall clock), with one BLAS thr
   (each with about a microsecond of binding).
 - ``step``: seconds per 1 ms step of a torque-free run, telemetry at the ends only: freefloat's
   compiled loop (RKMK4, one call for the whole run) on Pinocchio's ABA and on the kernel, four runs
-  in lockstep (``run_many``, per run and step, the cost of a one-step call taken out: at nv 198
-  the call's own Python, four loops' arrays and checks, is 20-30 ms), and MuJoCo's RK4 in
-  ``mujoco.rollout``.
+  in lockstep (``run_many`` over :data:`LOCKSTEP_STEPS` times as many steps, per run and step, the
+  best one-step call's time taken from the best call's: at nv 198 the call's own Python, the four
+  loops' set-up and checks, is about 13 ms of CPU), and MuJoCo's RK4 in ``mujoco.rollout``.
 - ``batch``: ``N`` runs (16 and 256) of ``duration`` s at 1 ms on one thread, each from its own
   state, as runs per second: ``run_many`` in lockstep and one run at a time (telemetry at the ends;
   and in lockstep with a telemetry row every step), and ``mujoco.rollout`` on one thread returning
@@ -72,6 +72,9 @@ AIMS = {"batch_in_process_over_rollout": 2.5}
 CPP = ("pinocchio", "kernel", "kernel lanes", "kernel baseline", "kernel lanes baseline", "mujoco mj_step euler")
 PYTHON = ("pin.aba", "Kernel.aba", "mj_forward")
 STEPS = ("loop pinocchio", "loop kernel", "lockstep", "mujoco rk4")
+#: The lockstep's step is timed over this many times the other ways' steps (a call's own cost, a
+#: one-step call's, taken out: 13 ms of CPU at nv 198 against 4 x 35 us a step).
+LOCKSTEP_STEPS = 5
 BATCH_WAYS = ("lockstep", "one at a time", "lockstep, every row", "mujoco.rollout")
 
 
@@ -232,26 +235,29 @@ def step(setup: Setup, settings: dict) -> dict:
             return (CLOCK() - start) / steps
         return call
 
-    def lockstep_call(periods: int) -> float:
-        start = CLOCK()
-        run_many(robot, q0, v0, periods * dt, dt, integrator, setup.plant, record_every=periods, keep=False,
-                 lockstep=True)
-        return CLOCK() - start
-
-    def lockstep() -> float:  # the call's own cost (a one-step call's) taken out
-        return (lockstep_call(steps + 1) - lockstep_call(1)) / (steps * LANES)
+    def lockstep_call(periods: int):
+        def call() -> float:
+            start = CLOCK()
+            run_many(robot, q0, v0, periods * dt, dt, integrator, setup.plant, record_every=periods, keep=False,
+                     lockstep=True)
+            return CLOCK() - start
+        return call
 
     def mujoco_rk4() -> float:
         start = CLOCK()
         pool.rollout(setup.mujoco, [data], initial, nstep=steps)
         return (CLOCK() - start) / steps
 
-    lockstep()  # the lanes' loops made and kept, outside the clock
+    long = LOCKSTEP_STEPS * steps
+    lockstep_call(1)()  # the lanes' loops made and kept, outside the clock
     best = best_of({"loop pinocchio": loop_steps(loops["pinocchio"]), "loop kernel": loop_steps(loops["kernel"]),
-                    "lockstep": lockstep, "mujoco rk4": mujoco_rk4}, settings["repeats"])
+                    "lockstep call": lockstep_call(long + 1), "lockstep call, one step": lockstep_call(1),
+                    "mujoco rk4": mujoco_rk4}, settings["repeats"])
     pool.close()
-    return {"nv": setup.nv, "steps": steps, "seconds": best,
-            "over_mujoco": {name: t / best["mujoco rk4"] for name, t in best.items()}}
+    calls = {"periods": long + 1, "seconds": best.pop("lockstep call"), "one_step_seconds": best.pop("lockstep call, one step")}
+    best["lockstep"] = (calls["seconds"] - calls["one_step_seconds"]) / (long * LANES)  # the call's own cost out
+    return {"nv": setup.nv, "steps": steps, "seconds": {way: best[way] for way in STEPS}, "lockstep_calls": calls,
+            "over_mujoco": {way: best[way] / best["mujoco rk4"] for way in STEPS}}
 
 
 def batch(setup: Setup, settings: dict) -> dict:
