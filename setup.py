@@ -45,6 +45,7 @@ import hashlib
 import importlib.util
 import json
 import os
+import platform
 import subprocess
 import sys
 import sysconfig
@@ -110,22 +111,32 @@ PINOCCHIO_FLAGS = ["-isystem", str(PINOCCHIO / "include"), "-DPINOCCHIO_ENABLE_T
                    "-DBOOST_MPL_CFG_NO_PREPROCESSED_HEADERS", "-DBOOST_FUSION_INVOKE_MAX_ARITY=12"]
 # The order units start in: the order whose schedule (setup_schedule.run_within, 2 compilers within
 # 2 GB) ends soonest with the units' measured times, each varied by up to 12 %; Pinocchio's unit
-# first, beside the small ones that fit with it.
+# first, beside the small ones that fit with it. The kernel's two small units (4-5 s of CPU
+# together, 0.17 and 0.09 GB) end the list.
 ORDER = ["cpp/sim/pin_plant.cpp", "cpp/bindings/core.cpp", "cpp/chains/mechanism.cpp", "cpp/sim/detumbling.cpp",
          "cpp/sim/closures.cpp", "cpp/sim/chain_loop.cpp", "cpp/bindings/sim.cpp", "cpp/sim/pin_generalized_jacobian.cpp",
          "cpp/bindings/chains.cpp", "cpp/chains/inverse.cpp", "cpp/sim/loop_detumbling_law.cpp", "cpp/gjm/models.cpp",
-         "cpp/gjm/gjm.cpp", "cpp/sim/simulation.cpp"]
+         "cpp/gjm/gjm.cpp", "cpp/sim/simulation.cpp", "cpp/kernel/kernel.cpp", "cpp/kernel/lanes_avx2.cpp"]
 # Optimisation level per translation unit, after FLAGS' -O3 (see the module docstring).
 OPTIMIZATION = {"cpp/sim/pin_plant.cpp": "-O1", "cpp/sim/simulation.cpp": "-O1", "cpp/sim/closures.cpp": "-O1",
                 "cpp/sim/loop_detumbling_law.cpp": "-O1", "cpp/sim/pin_generalized_jacobian.cpp": "-O1",
                 "cpp/bindings/sim.cpp": "-O1"}
+# Arithmetic and instruction set per translation unit: the dynamics kernel's units round every
+# product and sum on its own (no fused multiply-add, which the compiler would use where the target
+# has it), so that a state in a lane of the lockstep gets the very numbers it gets alone; its AVX2
+# copy, which it calls only on a CPU that has AVX2 (cpp/kernel/isa.hpp), is a second baseline copy
+# on other platforms.
+UNIT_FLAGS = {"cpp/kernel/kernel.cpp": "-ffp-contract=off",
+              "cpp/kernel/lanes_avx2.cpp": "-ffp-contract=off"
+              + (" -mavx2" if platform.machine().lower() in ("x86_64", "amd64") else "")}
 # Peak memory of each unit's compile at its flags (bytes: g++ 12's maximum resident set, as the
 # build ran it, docs/bench.md "The build"); a unit not listed counts as the largest.
-UNIT_MEMORY = {"cpp/sim/pin_plant.cpp": 1.25e9, "cpp/bindings/sim.cpp": 0.95e9, "cpp/bindings/chains.cpp": 0.78e9,
+UNIT_MEMORY = {"cpp/sim/pin_plant.cpp": 1.25e9, "cpp/bindings/sim.cpp": 1.04e9, "cpp/bindings/chains.cpp": 0.78e9,
                "cpp/chains/inverse.cpp": 0.71e9, "cpp/sim/detumbling.cpp": 0.69e9, "cpp/chains/mechanism.cpp": 0.66e9,
                "cpp/bindings/core.cpp": 0.64e9, "cpp/sim/loop_detumbling_law.cpp": 0.62e9, "cpp/gjm/models.cpp": 0.57e9,
                "cpp/sim/closures.cpp": 0.51e9, "cpp/gjm/gjm.cpp": 0.50e9, "cpp/sim/chain_loop.cpp": 0.50e9,
-               "cpp/sim/simulation.cpp": 0.50e9, "cpp/sim/pin_generalized_jacobian.cpp": 0.37e9}
+               "cpp/sim/simulation.cpp": 0.52e9, "cpp/sim/pin_generalized_jacobian.cpp": 0.37e9,
+               "cpp/kernel/kernel.cpp": 0.17e9, "cpp/kernel/lanes_avx2.cpp": 0.09e9}
 # The memory budget of the units compiling at once, unless FREEFLOAT_BUILD_MEMORY (bytes) sets it:
 # MEMORY_PER_JOB per compiler process, within MEMORY_SHARE of the memory available (never more than
 # the memory available). A unit larger than the budget compiles alone. On 2 cores the budget is
@@ -197,7 +208,7 @@ class BuildExt(pybind11_build_ext):
             "pybind11": version("pybind11"), "libpinocchio": version("libpinocchio"), "eigen": version("cmeel-eigen"),
             "extensions": [[ext.name, ext.define_macros, [a for a in ext.extra_compile_args if not a.startswith("/")]]
                            for ext in self.extensions],
-            "optimization": OPTIMIZATION,
+            "optimization": OPTIMIZATION, "unit_flags": UNIT_FLAGS,
         }
         digest = hashlib.sha1(json.dumps(description, sort_keys=True, default=str).encode()).hexdigest()[:12]
         return f"{sysconfig.get_platform()}-{sys.implementation.cache_tag}-{digest}"
@@ -218,7 +229,7 @@ class BuildExt(pybind11_build_ext):
             [made] = self.compiler.compile([source], output_dir=scratch, macros=ext.define_macros,
                                            include_dirs=ext.include_dirs, debug=self.debug,
                                            extra_postargs=ext.extra_compile_args + OPTIMIZATION.get(source, "").split()
-                                           + ["-MMD", "-MF", str(dep)])
+                                           + UNIT_FLAGS.get(source, "").split() + ["-MMD", "-MF", str(dep)])
             os.replace(dep, obj.with_suffix(".d"))
             os.replace(made, obj)
 
@@ -274,6 +285,9 @@ def extension(name: str, sources: list[str], flags: list[str], **kwargs) -> Pybi
 
 # The closed chains' units, in both modules: the bindings and the numerics they call.
 CHAINS = ["cpp/bindings/chains.cpp", "cpp/chains/mechanism.cpp", "cpp/chains/inverse.cpp", "cpp/sim/chain_loop.cpp"]
+# The dynamics kernel's units (no Pinocchio header): its code and its AVX2 copy (its bindings compile
+# in cpp/bindings/sim.cpp's unit).
+KERNEL = ["cpp/kernel/kernel.cpp", "cpp/kernel/lanes_avx2.cpp"]
 # One set of flags for every translation unit: the closed chains' are shared by both modules.
 LINK = {"libraries": ["pinocchio_default"], "library_dirs": [str(PINOCCHIO / "lib")],
         # where the wheel's package sits beside pin's cmeel.prefix; an editable install finds the
@@ -287,7 +301,7 @@ setup(
         extension("freefloat.dynamics._sim",
                   ["cpp/bindings/sim.cpp", "cpp/sim/pin_plant.cpp", "cpp/sim/simulation.cpp", "cpp/sim/closures.cpp",
                    "cpp/sim/loop_detumbling_law.cpp", "cpp/sim/pin_generalized_jacobian.cpp", "cpp/sim/detumbling.cpp"]
-                  + CHAINS, FLAGS + PINOCCHIO_FLAGS, **LINK),
+                  + CHAINS + KERNEL, FLAGS + PINOCCHIO_FLAGS, **LINK),
     ],
     install_requires=DEPENDENCIES + [f"libpinocchio=={version('libpinocchio')}"],
     cmdclass={"build_ext": BuildExt},

@@ -18,10 +18,14 @@ REPO = Path(__file__).resolve().parents[1]
 SPART = REPO / "tests" / "data" / "spart"  # SPART reference values, copied from shared/reference/spart
 
 
-def random_urdf(rng: np.random.Generator, n_links: int, fixed_share: float = 0.2) -> str:
+def random_urdf(rng: np.random.Generator, n_links: int, fixed_share: float = 0.2, aligned_share: float = 0.0,
+                continuous_share: float = 0.0) -> str:
     """A random tree: each link hangs from a random earlier one by a revolute, prismatic or fixed
     joint with a random pose and axis; random masses, CoMs (rotated inertial frames) and
-    positive-definite inertias (sums of point-mass-like terms, so the triangle inequality holds)."""
+    positive-definite inertias (sums of point-mass-like terms, so the triangle inequality holds).
+    ``aligned_share`` of the movable joints turn or slide along an axis of their frame, either sign
+    (+-x, +-y, +-z), and ``continuous_share`` of the revolute ones are continuous (both zero: the
+    trees of earlier versions, seed for seed)."""
 
     def inertial(mass: float) -> str:
         xyz = rng.uniform(-0.2, 0.2, 3)
@@ -38,9 +42,13 @@ def random_urdf(rng: np.random.Generator, n_links: int, fixed_share: float = 0.2
         kind = "fixed" if rng.random() < fixed_share else ("prismatic" if rng.random() < 0.2 else "revolute")
         axis = rng.normal(size=3)
         axis /= np.linalg.norm(axis)
+        if aligned_share and rng.random() < aligned_share:
+            axis = np.eye(3)[rng.integers(3)] * rng.choice([-1.0, 1.0])
+        if kind == "revolute" and continuous_share and rng.random() < continuous_share:
+            kind = "continuous"
         xyz = rng.uniform(-0.6, 0.6, 3)
         rpy = rng.uniform(-np.pi, np.pi, 3)
-        limit = '<limit lower="-3" upper="3" effort="100" velocity="10"/>' if kind != "fixed" else ""
+        limit = '<limit lower="-3" upper="3" effort="100" velocity="10"/>' if kind in ("revolute", "prismatic") else ""
         parts.append(f'<link name="l{i}">{inertial(rng.uniform(0.2, 5.0))}</link>')
         parts.append(
             f'<joint name="j{i}" type="{kind}"><parent link="{parent}"/><child link="l{i}"/>'
@@ -61,6 +69,21 @@ def random_robots(draw, min_links: int = 1, max_links: int = 8):
     while 'type="revolute"' not in text and 'type="prismatic"' not in text:
         text = random_urdf(rng, n)
     return seed, text
+
+
+@st.composite
+def random_trees(draw, min_links: int = 1, max_links: int = 8):
+    """(seed, URDF text, base) of a random tree with at least one movable joint on a free, planar or
+    fixed base: revolute, continuous, prismatic and fixed joints, on general axes and on axes of
+    their frames."""
+    seed = draw(st.integers(0, 2**32 - 1))
+    n = draw(st.integers(min_links, max_links))
+    base = draw(st.sampled_from(["free", "planar", "fixed"]))
+    rng = np.random.default_rng(seed)
+    text = random_urdf(rng, n, aligned_share=0.5, continuous_share=0.3)
+    while 'type="revolute"' not in text and 'type="prismatic"' not in text and 'type="continuous"' not in text:
+        text = random_urdf(rng, n, aligned_share=0.5, continuous_share=0.3)
+    return seed, text, base
 
 
 def load_text(tmp_path: Path, text: str, name: str = "robot.urdf", **kwargs):

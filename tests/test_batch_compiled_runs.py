@@ -31,18 +31,20 @@ def without_timings(row: dict) -> dict:
     return {k: v for k, v in row.items() if k not in TIMINGS}
 
 
+@pytest.mark.parametrize("lockstep", [False, None])
 @pytest.mark.parametrize("builtin, bands", [
     ("tumbling", [Band("joint_rate", 2.0), Band("base_rate", 1.0)]),
     ("tumbling", [Band("joint_rate", 2.0), Band("mass", 0.1)]),  # each run its own plant
     ("four_arm_joint_space", [Band("joint_angle", 5.0)]),  # computed torque: each run's own quintic
     ("four_arm_joint_space", [Band("mass", 0.2)]),  # computed torque on the nominal robot, plants varied
 ])
-def test_rows_are_those_of_each_run_alone(tmp_path, monkeypatch, builtin, bands):
-    """Eleven runs on two threads, in groups of a call each (two groups and a part): every row
-    equals run_one's for its plan, timings aside."""
+def test_rows_are_those_of_each_run_alone(tmp_path, monkeypatch, builtin, bands, lockstep):
+    """Eleven runs on two threads, in groups of a call each (two groups and a part), one loop per
+    thread or in lockstep (the default): every row equals run_one's for its plan, timings aside."""
     plans = plans_of(tmp_path, builtin, bands, 11, duration=0.05)
     rows: list[dict] = []
     monkeypatch.setattr(compiled_runs, "GROUP_PER_THREAD", 3)
+    monkeypatch.setattr(compiled_runs, "LOCKSTEP", lockstep)
     compiled_runs.run_in_groups(plans, 2, rows.append)
     assert sorted(r["run"] for r in rows) == list(range(11))
     alone = {plan.index: run_one(plan) for plan in plans}

@@ -33,10 +33,10 @@ def toy(monkeypatch):
 
 def test_registry_lists_exactly_the_suites():
     """The registry holds the MuJoCo scenes, the eight former scripts, the platform laws', the
-    fixed-cost suite, the two-hand capture's, the atlas's and the batch against mujoco.rollout, in
-    the order ``all`` runs them."""
+    fixed-cost suite, the two-hand capture's, the atlas's, the batch against mujoco.rollout and the
+    dynamics kernel's, in the order ``all`` runs them."""
     assert list(SUITES) == [DEFAULT, "simulation", "integrators", "gjm", "models", "locking", "parallel", "laws", "batch",
-                            "figures", "setup", "two_hands", "atlas", "rollout"]
+                            "figures", "setup", "two_hands", "atlas", "rollout", "kernel"]
 
 
 def test_help_lists_every_registered_suite(toy, capsys):
@@ -304,10 +304,26 @@ def _rollout(r):
     assert row["run_many_equals_loop"]  # the compiled batch's run 0 ends where simulation.run's does
 
 
+def _kernel(r):
+    names = robot_names(r["settings"]["arm_counts"])
+    for name in names:
+        row = r[f"evaluation/{name}"]
+        assert row["over_pinocchio"] == pytest.approx({k: t / row["seconds"]["pinocchio"] for k, t in row["seconds"].items()})
+        step, calls = r[f"step/{name}"], r[f"step/{name}"]["lockstep_calls"]
+        assert step["over_mujoco"]["loop kernel"] == pytest.approx(step["seconds"]["loop kernel"] / step["seconds"]["mujoco rk4"])
+        assert step["seconds"]["lockstep"] == pytest.approx(
+            (calls["seconds"] - calls["one_step_seconds"]) / ((calls["periods"] - 1) * r["settings"]["lanes"]))
+        for runs in r["settings"]["batches"]:
+            batch = r[f"batch/{name}"][str(runs)]
+            assert batch["runs_per_second"] == pytest.approx({k: runs / t for k, t in batch["seconds"].items()})
+            assert batch["over_rollout"]["lockstep"] == pytest.approx(
+                batch["runs_per_second"]["lockstep"] / batch["runs_per_second"]["mujoco.rollout"])
+
+
 #: Per suite, what its numbers must agree on (a new suite needs a check).
 CHECKS = {"simulation": _simulation, "integrators": _integrators, "gjm": _gjm, "models": _models,
           "locking": _locking, "parallel": _parallel, "laws": _laws, "batch": _batch, "figures": _figures, "setup": _setup,
-          "two_hands": _two_hands, "atlas": _atlas, "rollout": _rollout}
+          "two_hands": _two_hands, "atlas": _atlas, "rollout": _rollout, "kernel": _kernel}
 
 
 @pytest.mark.slow

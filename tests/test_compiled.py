@@ -19,6 +19,7 @@ from freefloat.dynamics.compiled import COMPILED_INTEGRATORS, CompiledLoop, law_
 from freefloat.dynamics.integrators import make_integrator
 from freefloat.dynamics.models import ExactModel, make_model
 from freefloat.dynamics.simulation import run
+from freefloat.dynamics.telemetry import Telemetry
 from freefloat.dynamics.wrenches import ExternalWrench
 from freefloat.errors import InvalidArgument
 from freefloat.paths import URDF_DIR
@@ -385,10 +386,9 @@ def test_wrench_profiles_in_the_compiled_loop_match_the_python_selection(monkeyp
     assert_same_telemetry(python.telemetry, compiled.telemetry)
 
 
-@pytest.mark.parametrize("base", ["free", "planar"])
-def test_world_and_local_conventions_give_the_same_run(monkeypatch, base):
-    """Pinocchio's WORLD and LOCAL conventions in the compiled loop (the plant's ABA, with and
-    without external wrenches, and the computed torque's CRBA) give the same trajectory to 1e-12."""
+def runs_by_setting(monkeypatch, base: str, setting: str, values: tuple[str, ...]) -> dict:
+    """A computed-torque scene (0.2 s) and a run under external wrench profiles (dopri5), compiled,
+    once with each of ``values`` of ``compiled.<setting>``: their telemetry by value."""
     from freefloat.app.experiments import joint_space
     from freefloat.app.experiments.robot_run import run_loop
     from freefloat.app.scenes import find_scene
@@ -401,18 +401,94 @@ def test_world_and_local_conventions_give_the_same_run(monkeypatch, base):
     wrenches = (ExternalWrench("arm2_link3", force=(3.0, -1.0, 2.0), torque=(0.5, 0.0, -1.0), start=0.004, end=0.02),
                 *IMPULSE)
     runs = {}
-    for convention in ("local", "world"):
-        monkeypatch.setattr(compiled, "CONVENTION", convention)
+    for value in values:
+        monkeypatch.setattr(compiled, setting, value)
         compiled.clear_loops()
         controlled = run_loop(joint_space.prepare(short), None, None)
         wrenched = run(robot, robot.neutral(), np.full(robot.model.nv, 0.05), 0.03, 1e-3,
                        make_integrator("dopri5", robot.model, rtol=1e-9), ExactModel(robot), wrenches=wrenches,
                        backend="compiled")
-        runs[convention] = (controlled.telemetry, wrenched.telemetry)
+        runs[value] = (controlled.telemetry, wrenched.telemetry)
+    assert np.abs(runs[values[0]][0].tau).max() > 1e-3 and np.abs(runs[values[0]][1].momentum[-1]).max() > 1e-3
+    return runs
+
+
+@pytest.mark.parametrize("base", ["free", "planar"])
+def test_world_and_local_conventions_give_the_same_run(monkeypatch, base):
+    """Pinocchio's WORLD and LOCAL conventions in the compiled loop (the plant's ABA, Pinocchio's
+    rather than the dynamics kernel, with and without external wrenches, and the computed torque's
+    CRBA) give the same trajectory to 1e-12."""
+    from freefloat.dynamics import compiled
+
+    monkeypatch.setattr(compiled, "TREE_ABA", "pinocchio")
+    runs = runs_by_setting(monkeypatch, base, "CONVENTION", ("local", "world"))
+    robot = robot_named("two_arm_planar.urdf", base=base)
+    for convention in ("local", "world"):
+        monkeypatch.setattr(compiled, "CONVENTION", convention)
         assert CompiledLoop(robot, make_integrator("rkmk4", robot.model), 1e-3).sim.convention == convention
-    assert np.abs(runs["world"][0].tau).max() > 1e-3  # the law acts
     for local, world in zip(runs["local"], runs["world"]):
         assert_same_telemetry(local, world, tol=1e-12)
+
+
+@pytest.mark.parametrize("base", ["free", "planar"])
+def test_the_kernel_plant_runs_as_pinocchios_aba(monkeypatch, base):
+    """The compiled loop with the dynamics kernel as its tree's dynamics gives the telemetry of the
+    same loop on Pinocchio's ABA to round-off: a computed-torque scene (0.2 s) and a run under
+    external wrench profiles with adaptive steps."""
+    runs = runs_by_setting(monkeypatch, base, "TREE_ABA", ("kernel", "pinocchio"))
+    for kernel_run, pinocchio_run in zip(runs["kernel"], runs["pinocchio"]):
+        assert_same_telemetry(pinocchio_run, kernel_run, tol=1e-11)
+
+
+@settings(max_examples=8, deadline=None)
+@given(random_robots(max_links=8))
+def test_random_trees_tumble_alike_on_the_kernel_and_pinocchio(tmp_path_factory, case):
+    """Torque-free tumbling of random trees (free and planar bases) on the kernel and on Pinocchio's
+    ABA, compiled: the same telemetry to round-off."""
+    from freefloat.dynamics import compiled
+
+    seed, _ = case
+    robot, rng = robot_from_case(tmp_path_factory, case, base="planar" if seed % 2 else "free")
+    q0, v0 = random_state(robot, rng, speed=0.5)
+    runs = []
+    for tree_aba in ("kernel", "pinocchio"):
+        loop = CompiledLoop(robot, make_integrator("rkmk4", robot.model), 5e-3, record_every=1)
+        loop.sim.tree_aba = tree_aba
+        chunk = Telemetry.allocate(11, robot.model.nq, robot.model.nv, robot.n_joints, len(robot.end_effectors))
+        loop.start(q0, v0)
+        assert loop.run(10, chunk, 0) == (10, None)
+        loop.bind(chunk)
+        loop.record(10)
+        runs.append(chunk)
+    assert_same_telemetry(runs[1], runs[0], tol=1e-11)
+
+
+def test_the_plant_is_the_kernel_where_the_tree_allows(monkeypatch):
+    """The compiled plant's tree dynamics are the dynamics kernel's on a robot's tree; a tree with
+    a joint the kernel does not have (a planar joint that is not the root) keeps Pinocchio's ABA,
+    the kernel's refusal naming the joint; TREE_ABA = "pinocchio" takes Pinocchio's everywhere."""
+    from freefloat.dynamics import _sim, compiled
+
+    robot = robot_named("two_arm_planar.urdf")
+    loop = CompiledLoop(robot, make_integrator("rkmk4", robot.model), 1e-3)
+    assert (loop.sim.tree_aba, loop.sim.kernel_refusal) == ("kernel", None)
+    with pytest.raises(ValueError, match="'kernel' or 'pinocchio'"):
+        loop.sim.tree_aba = "mujoco"
+    model = pin.Model(robot.model)
+    joint = model.addJoint(3, pin.JointModelPlanar(), pin.SE3.Random(), "skate")
+    model.appendBodyToJoint(joint, pin.Inertia.Random(), pin.SE3.Identity())
+    arrays = compiled.model_arrays(replace(robot, model=model))
+    skating = _sim.Simulation(**arrays, joints=_sim.JointMap([], [], [], [], 0), n_base=model.nv, integrator="rkmk4",
+                              substeps=1, rtol=1e-10, atol=1e-12, control_period=1e-3, start_time=0.0,
+                              record_every=1, base_frame=0, ee_frames=[])
+    assert skating.tree_aba == "pinocchio" and "joint 'skate'" in skating.kernel_refusal
+    with pytest.raises(ValueError, match="joint 'skate'"):
+        skating.tree_aba = "kernel"
+    q, v = pin.randomConfiguration(model, -np.ones(model.nq), np.ones(model.nq)), np.ones(model.nv)
+    expected = pin.aba(model, model.createData(), q, v, np.zeros(model.nv))
+    np.testing.assert_allclose(skating.acceleration(q, v, np.zeros(model.nv)), expected, atol=1e-12 * np.abs(expected).max())
+    monkeypatch.setattr(compiled, "TREE_ABA", "pinocchio")
+    assert CompiledLoop(robot, make_integrator("rkmk4", robot.model), 1e-3).sim.tree_aba == "pinocchio"
 
 
 @pytest.mark.slow
@@ -514,11 +590,12 @@ def test_an_unsupported_joint_is_named():
 
 def test_a_blow_up_keeps_every_row_of_its_chunk(monkeypatch):
     """A run that blows up in the middle of a compiled chunk keeps the rows before it and says
-    where, exactly as the Python loop does (both on pin.aba's LOCAL convention: a diverging run
-    grows the two conventions' round-off difference to the message's third digit)."""
+    where, exactly as the Python loop does (both on pin.aba in the LOCAL convention, not the
+    dynamics kernel: a diverging run grows any round-off difference to the message's third digit)."""
     from freefloat.dynamics import compiled
 
     monkeypatch.setattr(compiled, "CONVENTION", "local")
+    monkeypatch.setattr(compiled, "TREE_ABA", "pinocchio")
     robot = robot_named("two_arm_planar.urdf")
     q0, v0 = robot.neutral(), np.full(robot.model.nv, 1.0)  # Euler at 50 ms: blows up after ~15 periods
     python, compiled = (run(robot, q0, v0, 50.0, 0.05, make_integrator("euler", robot.model), ExactModel(robot),

@@ -166,4 +166,4 @@ def test_another_structure_is_refused_by_a_loop():
     small, big = robot_named("two_arm_planar.urdf"), robot_named("four_arm_planar.urdf")
     loop = CompiledLoop(small, make_integrator("euler", small.model), 1e-3)
     with pytest.raises(ValueError, match="joints or frames differ"):
-        loop.sim.set_model(**compiled._model_arrays(big))
+        loop.sim.set_model(**compiled.model_arrays(big))

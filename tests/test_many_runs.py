@@ -1,7 +1,8 @@
 """Many runs in one compiled call on C++ threads (freefloat.dynamics.many_runs): each run equals
 simulation.run of the same inputs bit for bit (random trees, computed torque with each run's own
-quintic, wrench profiles, the closed plant, adaptive steps), a blow-up stays in its run, a stop
-request keeps the finished rows, and what cannot share one call is refused with the reason."""
+quintic, wrench profiles, the closed plant, adaptive steps), one loop per thread or four in
+lockstep; a blow-up stays in its run (in lockstep its lane takes the next run), a stop request
+keeps the finished rows, and what cannot share one call is refused with the reason."""
 
 from __future__ import annotations
 
@@ -28,6 +29,9 @@ from freefloat.space.control import ComputedTorque, QuinticTrajectory
 from .conftest import random_robots, random_state, robot_from_case
 from .test_compiled_reuse import IMPULSE, assert_identical, robot_named
 
+#: Whether runs go in lockstep: both ways for the tests that take ``lockstep``.
+LOCKSTEP = [False, True]
+
 
 @pytest.fixture(autouse=True)
 def no_kept_loops():
@@ -48,25 +52,28 @@ def one_by_one(robot, q0, v0, duration, integrator, model, controllers=None, **k
 
 
 @pytest.mark.slow
-@settings(max_examples=6, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
-@given(case=random_robots(max_links=6), integrator=st.sampled_from(["rkmk4", "dopri5", "euler"]),
-       threads=st.integers(1, 3))
-def test_each_run_equals_its_own_run_on_random_trees(tmp_path_factory, case, integrator, threads):
-    """Five torque-free runs from random states on 1-3 threads, their slots reused (keep=False):
-    every run's telemetry, steps and evaluations are simulation.run's, bit for bit."""
+@settings(max_examples=10, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(case=random_robots(max_links=6), integrator=st.sampled_from(["rkmk4", "dopri5", "euler", "rkmk8"]),
+       threads=st.integers(1, 3), lockstep=st.sampled_from([False, None]))
+def test_each_run_equals_its_own_run_on_random_trees(tmp_path_factory, case, integrator, threads, lockstep):
+    """Seven torque-free runs from random states on 1-3 threads, their slots reused (keep=False), one
+    loop per thread or, where the runs go in lockstep (the default with a fixed step), groups of four
+    lanes, the last lanes refilled or left out: every run's telemetry, steps and evaluations are
+    simulation.run's, bit for bit."""
     robot, _ = robot_from_case(tmp_path_factory, case, visuals=False)
-    q0, v0 = states(robot, 5, case[0] % 1000)
+    q0, v0 = states(robot, 7, case[0] % 1000)
     steps = make_integrator(integrator, robot.model)
     got: dict[int, object] = {}
     run_many(robot, q0, v0, 0.03, 1e-3, steps, ExactModel(robot), threads=threads, record_every=2,
-             on_result=got.__setitem__, keep=False)
+             on_result=got.__setitem__, keep=False, lockstep=lockstep)
     expected = one_by_one(robot, q0, v0, 0.03, steps, ExactModel(robot), record_every=2)
-    assert sorted(got) == list(range(5))
+    assert sorted(got) == list(range(7))
     for i, result in got.items():
         assert_identical(result, expected[i])
 
 
-def test_computed_torque_runs_each_follow_their_own_quintic():
+@pytest.mark.parametrize("lockstep", LOCKSTEP)
+def test_computed_torque_runs_each_follow_their_own_quintic(lockstep):
     """Computed torque from four different starts, each run's quintic from its own start, with the
     wrench profiles of an impulse: equal to each run alone, and the runs differ."""
     robot = robot_named("four_arm_planar.urdf")
@@ -78,7 +85,8 @@ def test_computed_torque_runs_each_follow_their_own_quintic():
     controllers = [ComputedTorque(robot, QuinticTrajectory(q[robot.model.nqs[1]:], q[robot.model.nqs[1]:] + 0.3, 0.04),
                                   100.0, 20.0, "exact") for q in q0]
     steps = make_integrator("rkmk4", robot.model)
-    results = run_many(robot, q0, v0, 0.05, 1e-3, steps, model, controllers, IMPULSE, threads=2)
+    results = run_many(robot, q0, v0, 0.05, 1e-3, steps, model, controllers, IMPULSE, threads=1 + (not lockstep),
+                       lockstep=lockstep)
     expected = one_by_one(robot, q0, v0, 0.05, steps, model, controllers, wrenches=IMPULSE)
     for got, alone in zip(results, expected):
         assert_identical(got, alone)
@@ -99,24 +107,27 @@ def varied_plants(robot, count: int, seed: int) -> list[pin.Model]:
     return plants
 
 
-def test_runs_of_other_masses_each_equal_their_plant_alone():
-    """Torque-free runs whose plants have their own masses and inertias (a batch's --vary mass):
-    each equals simulation.run of its own plant, and the loops kept after them give the nominal
-    robot's run again."""
+@pytest.mark.parametrize("lockstep", LOCKSTEP)
+def test_runs_of_other_masses_each_equal_their_plant_alone(lockstep):
+    """Torque-free runs whose plants have their own masses and inertias (a batch's --vary mass; in
+    lockstep, each lane its own): each equals simulation.run of its own plant, and the loops kept
+    after them give the nominal robot's run again."""
     robot = robot_named("four_arm_planar.urdf")
-    plants = varied_plants(robot, 4, seed=8)
-    q0, v0 = states(robot, 4, 9, speed=0.5)
+    plants = varied_plants(robot, 6, seed=8)
+    q0, v0 = states(robot, 6, 9, speed=0.5)
     steps = make_integrator("rkmk4", robot.model)
-    results = run_many(robot, q0, v0, 0.05, 1e-3, steps, ExactModel(robot), threads=2, plants=plants)
+    results = run_many(robot, q0, v0, 0.05, 1e-3, steps, ExactModel(robot), threads=2, plants=plants, lockstep=lockstep)
     for i, got in enumerate(results):
         plant = replace(robot, model=plants[i])
-        assert_identical(got, run(plant, q0[i], v0[i], 0.05, 1e-3, steps, ExactModel(plant), backend="compiled"))
-    nominal = run_many(robot, q0[:2], v0[:2], 0.05, 1e-3, steps, ExactModel(robot), threads=2)
-    for got, alone in zip(nominal, one_by_one(robot, q0[:2], v0[:2], 0.05, steps, ExactModel(robot))):
+        alone = run(plant, q0[i], v0[i], 0.05, 1e-3, steps, ExactModel(plant), backend="compiled")
+        assert_identical(got, alone)
+    nominal = run_many(robot, q0[:4], v0[:4], 0.05, 1e-3, steps, ExactModel(robot), threads=2, lockstep=lockstep)
+    for got, alone in zip(nominal, one_by_one(robot, q0[:4], v0[:4], 0.05, steps, ExactModel(robot))):
         assert_identical(got, alone)
 
 
-def test_controlled_runs_of_other_masses_keep_the_nominal_law():
+@pytest.mark.parametrize("lockstep", LOCKSTEP)
+def test_controlled_runs_of_other_masses_keep_the_nominal_law(lockstep):
     """Computed torque designed on the nominal robot over plants of their own masses (a batch's
     --vary mass under control): each run equals simulation.run of its plant with the nominal
     controller, whose law computes on the nominal model (a law on the plant's masses gives other
@@ -128,11 +139,12 @@ def test_controlled_runs_of_other_masses_keep_the_nominal_law():
     controllers = [ComputedTorque(robot, QuinticTrajectory(start, start + 0.1 * (i + 1), 0.04), 100.0, 20.0, "exact")
                    for i in range(3)]
     steps = make_integrator("rkmk4", robot.model)
-    results = run_many(robot, q0, v0, 0.05, 1e-3, steps, ExactModel(robot), controllers, threads=2, plants=plants)
+    results = run_many(robot, q0, v0, 0.05, 1e-3, steps, ExactModel(robot), controllers, threads=2, plants=plants,
+                       lockstep=lockstep)
     for i, got in enumerate(results):
         plant = replace(robot, model=plants[i])
         assert_identical(got, run(plant, q0[i], v0[i], 0.05, 1e-3, steps, ExactModel(plant), controllers[i],
-                                  backend="compiled"))
+                                 backend="compiled"))
     own = run(replace(robot, model=plants[0]), q0[0], v0[0], 0.05, 1e-3, steps,
               ExactModel(replace(robot, model=plants[0])),
               ComputedTorque(replace(robot, model=plants[0]), controllers[0].trajectory, 100.0, 20.0, "exact"))
@@ -155,32 +167,37 @@ def test_runs_of_the_closed_plant_equal_their_own_runs():
         assert_identical(got, alone)
 
 
-def test_a_run_that_blows_up_is_diverged_and_leaves_the_others():
+@pytest.mark.parametrize("lockstep", LOCKSTEP)
+def test_a_run_that_blows_up_is_diverged_and_leaves_the_others(lockstep):
     """One run at absurd joint rates blows up with simulation.run's message and rows; the others
-    complete as alone."""
+    complete as alone (in lockstep on one thread, the diverged run's lane takes the next runs)."""
     robot = robot_named("four_arm_planar.urdf")
-    q0, v0 = states(robot, 3, 7, speed=0.5)
+    q0, v0 = states(robot, 6, 7, speed=0.5)
     v0[1, robot.n_base:] = 1e5
     steps = make_integrator("rkmk4", robot.model)
-    results = run_many(robot, q0, v0, 0.05, 1e-3, steps, ExactModel(robot), threads=2)
+    results = run_many(robot, q0, v0, 0.05, 1e-3, steps, ExactModel(robot), threads=1 + (not lockstep),
+                       lockstep=lockstep)
     expected = one_by_one(robot, q0, v0, 0.05, steps, ExactModel(robot))
-    assert [r.status for r in results] == ["completed", "diverged", "completed"]
+    assert [r.status for r in results] == ["completed", "diverged"] + ["completed"] * 4
     assert [(r.status, r.message) for r in results] == [(r.status, r.message) for r in expected]
     for got, alone in zip(results, expected):
-        assert_identical(got, alone)
+        if got.status == "completed":
+            assert_identical(got, alone)
+    assert results[1].steps == expected[1].steps
 
 
-def test_a_stop_request_ends_the_runs_and_keeps_their_rows():
+@pytest.mark.parametrize("lockstep", LOCKSTEP)
+def test_a_stop_request_ends_the_runs_and_keeps_their_rows(lockstep):
     """Runs of 50 s stopped by a stop request: each started run ends 'interrupted' within a slice of
     periods, its rows those of the same run alone up to there; none started after."""
     robot = robot_named("four_arm_planar.urdf")
-    q0, v0 = states(robot, 4, 2, speed=0.3)
+    q0, v0 = states(robot, 4 + 4 * lockstep, 2, speed=0.3)
     steps = make_integrator("rkmk4", robot.model)
-    runs = start_runs(robot, q0, v0, 50.0, 1e-3, steps, ExactModel(robot), threads=2)
+    runs = start_runs(robot, q0, v0, 50.0, 1e-3, steps, ExactModel(robot), threads=2, lockstep=lockstep)
     with stop_request.stopping():
         results = runs.finish()
     started = [r for r in results if r is not None]
-    assert runs.interrupted and 1 <= len(started) <= 2
+    assert runs.interrupted and 1 <= len(started) <= (8 if lockstep else 2)
     for i, got in enumerate(results):
         if got is None:
             continue
@@ -256,6 +273,7 @@ def test_an_error_of_the_caller_stops_the_runs_and_propagates():
     (dict(threads=1000), "threads must be at most 256"),
     (dict(plants="controlled"), "run 1: its controller's robot has other numbers"),
     (dict(plants="moved"), "run 1: its plant differs"),
+    (dict(lockstep=True, integrator="dopri5"), "cannot run in lockstep: integrator 'dopri5' has no fixed step"),
 ])
 def test_what_cannot_share_one_call_is_refused_with_the_reason(change, message):
     robot = robot_named("four_arm_planar.urdf")
@@ -264,7 +282,8 @@ def test_what_cannot_share_one_call_is_refused_with_the_reason(change, message):
     gains = [(100.0, 20.0), change.pop("gains", (100.0, 20.0))]
     start = np.zeros(robot.n_joints)
     controllers = [ComputedTorque(robot, QuinticTrajectory(start, start + 0.1, 0.04), kp, kd, "exact") for kp, kd in gains]
-    integrator = make_integrator("rkmk4", robot.model, project_momentum=change.pop("integrator", None) == "momentum")
+    kind = change.pop("integrator", None)
+    integrator = make_integrator("dopri5" if kind == "dopri5" else "rkmk4", robot.model, project_momentum=kind == "momentum")
     plants = None
     if "plants" in change:
         moved = pin.Model(robot.model)
@@ -282,7 +301,7 @@ def test_what_cannot_share_one_call_is_refused_with_the_reason(change, message):
     arguments = dict(q0=q0, v0=v0, threads=2) | change
     with pytest.raises(InvalidArgument, match=message):
         run_many(robot, arguments["q0"], arguments["v0"], 0.01, 1e-3, integrator, ExactModel(robot), controllers,
-                 threads=arguments["threads"], plants=plants)
+                 threads=arguments["threads"], plants=plants, lockstep=arguments.get("lockstep"))
 
 
 def test_runs_whose_telemetry_cannot_fit_are_refused_before_any_starts():

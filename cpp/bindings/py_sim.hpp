@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "py_arrays.hpp"
+#include "sim/model_arrays.hpp"
 
 namespace freefloat::sim::py_sim {
 
@@ -39,6 +40,20 @@ inline py::array_t<double> out(const Eigen::MatrixXd& x) {
 
 inline py::object maybe(const std::optional<Eigen::VectorXd>& x) {
   return x ? py::object(out(*x)) : py::object(py::none());
+}
+
+// The arrays of compiled._model_arrays, checked against the joints' and frames' counts (the
+// rest is checked as the model is built).
+inline ModelArrays arrays_of(const std::vector<int>& parent, const std::vector<std::string>& kind,
+                             const std::vector<std::string>& name, const Array& subspace, const Array& placement,
+                             const Array& mass, const Array& lever, const Array& rotational, const Array& armature,
+                             const Array& gravity, const std::vector<int>& frame_parent,
+                             const Array& frame_placement) {
+  const py::ssize_t n = static_cast<py::ssize_t>(parent.size()), f = static_cast<py::ssize_t>(frame_parent.size());
+  return ModelArrays{parent, kind, name, checked(subspace, 6 * n, "subspace"), checked(placement, 16 * n, "placement"),
+                     checked(mass, n, "mass"), checked(lever, 3 * n, "lever"), checked(rotational, 9 * n, "rotational"),
+                     armature.data(), static_cast<long>(armature.size()), checked(gravity, 3, "gravity"), frame_parent,
+                     checked(frame_placement, 16 * f, "frame_placement")};
 }
 
 // The C-contiguous float64 arrays of one telemetry chunk, field i holding rows * widths[i]

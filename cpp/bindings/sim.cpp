@@ -12,12 +12,14 @@
 #include <utility>
 #include <vector>
 
+#include "py_kernel.hpp"
 #include "py_sim.hpp"
 #include "sim/batch.hpp"
 #include "sim/rkmk.hpp"  // integrator_names
 #include "sim/simulation.hpp"
 
 namespace py = pybind11;
+
 using namespace freefloat::sim;
 using namespace freefloat::sim::py_sim;
 
@@ -53,19 +55,6 @@ struct PySimulation {
 
   Rows rows(py::tuple arrays) const { return rows_of(*sim, n_joints, n_ee, arrays); }
 };
-
-// The arrays of compiled._model_arrays, checked against the joints' and frames' counts (the
-// rest is checked as the model is built).
-ModelArrays arrays_of(const std::vector<int>& parent, const std::vector<std::string>& kind,
-                      const std::vector<std::string>& name, const Array& subspace, const Array& placement,
-                      const Array& mass, const Array& lever, const Array& rotational, const Array& armature,
-                      const Array& gravity, const std::vector<int>& frame_parent, const Array& frame_placement) {
-  const py::ssize_t n = static_cast<py::ssize_t>(parent.size()), f = static_cast<py::ssize_t>(frame_parent.size());
-  return ModelArrays{parent, kind, name, checked(subspace, 6 * n, "subspace"), checked(placement, 16 * n, "placement"),
-                     checked(mass, n, "mass"), checked(lever, 3 * n, "lever"), checked(rotational, 9 * n, "rotational"),
-                     armature.data(), static_cast<long>(armature.size()), checked(gravity, 3, "gravity"), frame_parent,
-                     checked(frame_placement, 16 * f, "frame_placement")};
-}
 
 // Binds method `name`(parent, kind, name, subspace, placement, mass, lever, rotational, armature,
 // gravity, frame_parent, frame_placement) of Simulation: the model arrays (as the constructor's)
@@ -142,7 +131,7 @@ struct PyBatch {
 
 std::unique_ptr<PyBatch> make_batch(py::list loops, Array q0, Array v0, long last, std::optional<Array> start,
                                     std::optional<Array> delta, std::optional<Array> bodies, py::tuple arrays,
-                                    int rows_per_run, int slots) {
+                                    int rows_per_run, int slots, int lanes) {
   if (loops.empty()) throw std::invalid_argument("a batch needs at least one loop");
   std::vector<Simulation*> sims;
   const PySimulation& first = loops[0].cast<PySimulation&>();
@@ -164,7 +153,7 @@ std::unique_ptr<PyBatch> make_batch(py::list loops, Array q0, Array v0, long las
   if (bodies) checked(*bodies, static_cast<py::ssize_t>(runs) * (m.njoints() - 1) * 13, "bodies");
   if (last < 1 || rows_per_run < 1) throw std::invalid_argument("last and rows_per_run must be >= 1");
   auto b = std::make_unique<PyBatch>(PyBatch{loops, q0, v0, start, delta, bodies, arrays, nullptr});
-  b->batch = std::make_unique<Batch>(std::move(sims), runs, last, b->q0.data(), b->v0.data(),
+  b->batch = std::make_unique<Batch>(std::move(sims), lanes, runs, last, b->q0.data(), b->v0.data(),
                                      start ? b->start->data() : nullptr, delta ? b->delta->data() : nullptr,
                                      bodies ? b->bodies->data() : nullptr, first.rows(arrays), rows_per_run, slots);
   return b;
@@ -371,6 +360,33 @@ PYBIND11_MODULE(_sim, m) {
             s.sim->set_convention(name == "world" ? Simulation::Convention::world : Simulation::Convention::local);
           },
           "Pinocchio's convention of the plant's ABA and the law's CRBA, 'local' or 'world' (same numbers to round-off)")
+      .def_property(
+          "tree_aba",
+          [](const PySimulation& s) { return s.sim->tree_aba() == Simulation::TreeAba::kernel ? "kernel" : "pinocchio"; },
+          [](PySimulation& s, const std::string& name) {
+            if (name != "kernel" && name != "pinocchio")
+              throw std::invalid_argument("tree_aba must be 'kernel' or 'pinocchio'");
+            s.sim->set_tree_aba(name == "kernel" ? Simulation::TreeAba::kernel : Simulation::TreeAba::pinocchio);
+          },
+          "The tree's forward dynamics, 'kernel' (freefloat's dynamics kernel) or 'pinocchio' (its ABA); "
+          "'kernel' raises ValueError (kernel_refusal) for a tree the kernel refuses")
+      .def_property_readonly(
+          "kernel_refusal",
+          [](const PySimulation& s) {
+            const std::string& why = s.sim->kernel_refusal();
+            return why.empty() ? py::object(py::none()) : py::object(py::str(why));
+          },
+          "Why the dynamics kernel refuses this tree (a joint it does not have), or None")
+      .def("time_acceleration",
+           [](PySimulation& s, const Array& q, const Array& v, const Array& tau, long calls) {
+             const Simulation& m = *s.sim;
+             const Vec x = vec(q, m.nq(), "q"), xd = vec(v, m.nv(), "v"), u = vec(tau, m.nv(), "tau");
+             py::gil_scoped_release release;
+             return s.sim->time_acceleration(x, xd, u, calls);
+           },
+           py::arg("q"), py::arg("v"), py::arg("tau"), py::arg("calls"),
+           "Seconds per acceleration() in C++ (tree_aba's; this thread's CPU time), mean of `calls` calls at one "
+           "state.")
       .def_property_readonly("q", [](const PySimulation& s) { return out(s.sim->q()); })
       .def_property_readonly("v", [](const PySimulation& s) { return out(s.sim->v()); })
       .def_property_readonly("periods_done", [](const PySimulation& s) { return s.sim->period(); })
@@ -388,12 +404,14 @@ PYBIND11_MODULE(_sim, m) {
   py::class_<PyBatch>(m, "Batch")
       .def(py::init(&make_batch), py::arg("loops"), py::arg("q0"), py::arg("v0"), py::arg("last"), py::arg("start"),
            py::arg("delta"), py::arg("bodies"), py::arg("arrays"), py::arg("rows_per_run"), py::arg("slots"),
+           py::arg("lanes") = 1,
            "Starts the runs from q0 (runs, nq), v0 (runs, nv) to period `last` on one C++ thread per loop "
            "(each configured alike, with no detumbling law), with the quintics' start and delta (runs, n) "
            "under computed torque (else None) and each run's plant bodies (runs, njoints - 1, 13: mass, "
            "CoM (3,) in the joint frame, rotational inertia (3, 3) about it in joint-frame axes; None: the "
            "loops'), writing each run's rows into a free slot "
-           "of `rows_per_run` rows of the telemetry arrays (`slots` of them).")
+           "of `rows_per_run` rows of the telemetry arrays (`slots` of them). With `lanes` above 1 the loops run in "
+           "lockstep groups of `lanes`, one thread per group (ValueError saying why when they cannot).")
       .def("wait",
            [](PyBatch& b, double seconds) {
              py::gil_scoped_release release;
@@ -412,4 +430,5 @@ PYBIND11_MODULE(_sim, m) {
       .def("release", [](PyBatch& b, int slot) { b.batch->release(slot); }, "The slot's rows are read.")
       .def("stop", [](PyBatch& b) { b.batch->stop(); }, "Every run stops at its next slice of periods.");
   bind_chain(m);
+  bind_kernel(m);
 }

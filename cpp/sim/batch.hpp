@@ -1,8 +1,9 @@
 // Many runs of one scene in one call, on C++ threads: each thread drives a loop of its own
 // (simulation.hpp, with its own Pinocchio Data) through runs it takes in turn, each from its initial
 // state (and, under computed torque, its own quintic), writing the run's telemetry rows into a
-// free slot of one shared block of rows. The caller waits without Python's lock, takes the runs
-// as they finish and frees their slots; a stop request ends every run at its next slice of
+// free slot of one shared block of rows; or, in lockstep, a group of loops (a Lockstep), each lane
+// taking the next run as soon as its own ends. The caller waits without Python's lock, takes the
+// runs as they finish and frees their slots; a stop request ends every run at its next slice of
 // periods. No thread touches Python, nor words a run's status: each run reports what ended it (the
 // loop's blow-up message, or the text of an error it threw), which Python words as
 // simulation.run does (freefloat.dynamics.simulation.ended_by).
@@ -13,6 +14,7 @@
 #include <chrono>
 #include <condition_variable>
 #include <deque>
+#include <memory>
 #include <mutex>
 #include <optional>
 #include <stdexcept>
@@ -43,11 +45,22 @@ class Batch {
   // The runs' inputs, row-major: q0 (runs, nq), v0 (runs, nv), for a computed-torque law the
   // quintics' start and delta (runs, n) (null without one), and each run's plant bodies (runs,
   // njoints - 1, 13: see Simulation::set_bodies; null: the loops' own). `rows` holds `slots` slots
-  // of `rows_per_run` rows each. The loops must outlive the batch.
-  Batch(std::vector<Simulation*> loops, int runs, long last, const double* q0, const double* v0, const double* start,
-        const double* delta, const double* bodies, Rows rows, int rows_per_run, int slots)
+  // of `rows_per_run` rows each. With `lanes` above 1, the loops run in lockstep groups of `lanes`
+  // (make_lockstep; std::invalid_argument saying why when they cannot), one thread per group. The
+  // loops must outlive the batch.
+  Batch(std::vector<Simulation*> loops, int lanes, int runs, long last, const double* q0, const double* v0,
+        const double* start, const double* delta, const double* bodies, Rows rows, int rows_per_run, int slots)
       : loops_(std::move(loops)), runs_(runs), last_(last), q0_(q0), v0_(v0), start_(start), delta_(delta),
         bodies_(bodies), rows_(rows), per_run_(rows_per_run) {
+    if (lanes < 1) throw std::invalid_argument("lanes must be >= 1");
+    for (size_t first = 0; lanes > 1 && first < loops_.size(); first += lanes) {
+      std::vector<Simulation*> group(loops_.begin() + first, loops_.begin() + std::min(loops_.size(), first + lanes));
+      std::string why;
+      std::unique_ptr<Lockstep> lockstep = make_lockstep(group, &why);
+      if (!lockstep) throw std::invalid_argument("these runs cannot run in lockstep: " + why);
+      groups_.push_back(std::move(group));
+      locksteps_.push_back(std::move(lockstep));
+    }
     for (Simulation* s : loops_) {
       if (s->has_law_state()) throw std::invalid_argument("a detumbling law keeps a state: its runs cannot share a loop");
       if ((start_ != nullptr) != s->has_reference())
@@ -56,9 +69,11 @@ class Batch {
     if (slots < 1 || static_cast<long>(slots) * per_run_ > rows_.rows) throw std::invalid_argument("slots out of range");
     for (int i = 0; i < slots; ++i) free_.push_back(i);
     in_use_.assign(slots, false);
-    running_ = static_cast<int>(loops_.size());
+    running_ = static_cast<int>(locksteps_.empty() ? loops_.size() : locksteps_.size());
     try {
-      for (Simulation* s : loops_) threads_.emplace_back([this, s] { work(*s); });
+      if (locksteps_.empty())
+        for (Simulation* s : loops_) threads_.emplace_back([this, s] { work(*s); });
+      for (size_t g = 0; g < locksteps_.size(); ++g) threads_.emplace_back([this, g] { work_lockstep(g); });
     } catch (...) {  // a thread could not start: stop those that did (the destructor will not run)
       stop();
       for (std::thread& t : threads_) t.join();
@@ -105,45 +120,128 @@ class Batch {
   }
 
  private:
-  void work(Simulation& sim) {
+  // A run in progress on a loop: what it reports when done, and where it started.
+  struct Started {
+    Done d;
+    std::chrono::steady_clock::time_point begin;
+    long evaluations;
+    Rows rows;  // its slot's rows (rows: the slot's end)
+    int first;  // its slot's first row
+  };
+
+  // Run `run` set up on `sim` in a free slot (false when stopped first): its bodies, initial state
+  // and quintic; `lockstep` given its bodies too.
+  bool start_run(Simulation& sim, int run, Started& s, Lockstep* lockstep = nullptr, int lane = 0) {
+    const int slot = take_slot();
+    if (slot < 0) return false;
     const int nq = sim.nq(), nv = sim.nv(), n = sim.n_joints();
-    for (int run; !stopping_ && (run = next_++) < runs_;) {
-      const int slot = take_slot();
-      if (slot < 0) break;
-      Done d{run, slot, 0, 0, 0, 0.0, std::nullopt, std::nullopt};
-      std::string blow_up;
-      const auto begin = std::chrono::steady_clock::now();
-      const long evaluations = sim.evaluations();
-      Rows slot_rows = rows_;
-      slot_rows.rows = (slot + 1) * per_run_;
-      const int first = slot * per_run_;
-      try {
-        if (bodies_ != nullptr) sim.set_bodies(bodies_ + 13L * (sim.njoints() - 1) * run);
-        sim.restart(Eigen::Map<const Vec>(q0_ + static_cast<long>(nq) * run, nq),
-                    Eigen::Map<const Vec>(v0_ + static_cast<long>(nv) * run, nv));
-        if (start_ != nullptr)
-          sim.set_reference(Eigen::Map<const Vec>(start_ + static_cast<long>(n) * run, n),
-                            Eigen::Map<const Vec>(delta_ + static_cast<long>(n) * run, n));
-        while (sim.period() < last_ && blow_up.empty() && !stopping_) {
-          const long before = sim.period();
-          d.rows += sim.run(std::min(last_, before + kSlice), slot_rows, first + d.rows, blow_up);
-          if (sim.period() == before && blow_up.empty())
-            throw std::logic_error("the loop made no progress (its rows are full)");
-        }
-        if (!blow_up.empty()) d.blow_up = blow_up;
-        else if (sim.period() == last_) sim.record_now(slot_rows, first + d.rows++, nullptr);
-      } catch (const std::exception& e) {
-        d.failure = e.what();
+    s.d = Done{run, slot, 0, 0, 0, 0.0, std::nullopt, std::nullopt};
+    s.begin = std::chrono::steady_clock::now();
+    s.evaluations = sim.evaluations();
+    s.rows = rows_;
+    s.rows.rows = (slot + 1) * per_run_;
+    s.first = slot * per_run_;
+    guarded(s.d, [&] {
+      if (bodies_ != nullptr) {
+        const double* bodies = bodies_ + 13L * (sim.njoints() - 1) * run;
+        sim.set_bodies(bodies);
+        if (lockstep != nullptr) lockstep->set_bodies(lane, bodies);
       }
-      d.periods = sim.period();
-      d.evaluations = sim.evaluations() - evaluations;
-      d.wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
-      {
-        std::lock_guard<std::mutex> lock(mutex_);
-        done_.push_back(std::move(d));
-      }
-      changed_.notify_all();
+      sim.restart(Eigen::Map<const Vec>(q0_ + static_cast<long>(nq) * run, nq),
+                  Eigen::Map<const Vec>(v0_ + static_cast<long>(nv) * run, nv));
+      if (start_ != nullptr)
+        sim.set_reference(Eigen::Map<const Vec>(start_ + static_cast<long>(n) * run, n),
+                          Eigen::Map<const Vec>(delta_ + static_cast<long>(n) * run, n));
+    });
+    return true;
+  }
+
+  // The run on `sim` is over: its last row (when it completed), its counts, handed to the caller.
+  void finish_run(Simulation& sim, Started& s) {
+    Done& d = s.d;
+    if (!d.blow_up && !d.failure && sim.period() == last_)
+      guarded(d, [&] { sim.record_now(s.rows, s.first + d.rows++, nullptr); });
+    d.periods = sim.period();
+    d.evaluations = sim.evaluations() - s.evaluations;
+    d.wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - s.begin).count();
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      done_.push_back(std::move(d));
     }
+    changed_.notify_all();
+  }
+
+  // `work()` on the run of `d`; the text of an error it throws in d.failure.
+  template <typename Work>
+  static void guarded(Done& d, Work&& work) {
+    try {
+      work();
+    } catch (const std::exception& e) {
+      d.failure = e.what();
+    }
+  }
+
+  void work(Simulation& sim) {
+    Started s;
+    for (int run; !stopping_ && (run = next_++) < runs_;) {
+      if (!start_run(sim, run, s)) break;
+      Done& d = s.d;
+      std::string blow_up;
+      if (!d.failure)
+        guarded(d, [&] {
+          while (sim.period() < last_ && blow_up.empty() && !stopping_) {
+            const long before = sim.period();
+            d.rows += sim.run(std::min(last_, before + kSlice), s.rows, s.first + d.rows, blow_up);
+            if (sim.period() == before && blow_up.empty())
+              throw std::logic_error("the loop made no progress (its rows are full)");
+          }
+          if (!blow_up.empty()) d.blow_up = blow_up;
+        });
+      finish_run(sim, s);
+    }
+    ended();
+  }
+
+  // A lockstep group's thread: each lane takes the next run when its own has ended.
+  void work_lockstep(size_t group) {
+    Lockstep& lockstep = *locksteps_[group];
+    const std::vector<Simulation*>& sims = groups_[group];
+    const int lanes = lockstep.lanes();
+    std::vector<Started> started(lanes);
+    std::vector<LaneChunk> chunks(lanes);
+    for (bool more = true;;) {
+      for (int l = 0; l < lanes; ++l) {
+        while (more && !chunks[l].active) {
+          const int run = stopping_ ? runs_ : next_++;
+          more = run < runs_ && start_run(*sims[l], run, started[l], &lockstep, l);
+          if (!more) break;
+          if (!started[l].d.failure) chunks[l] = LaneChunk{true, started[l].rows, started[l].first, {}, {}, false};
+          else finish_run(*sims[l], started[l]);  // its set-up failed: the lane takes the next run
+        }
+      }
+      bool any = false;
+      for (const LaneChunk& c : chunks) any |= c.active;
+      if (!any) break;
+      lockstep.run(last_, kSlice, chunks.data());
+      for (int l = 0; l < lanes; ++l) {
+        LaneChunk& c = chunks[l];
+        Simulation& sim = *sims[l];
+        if (!c.active) continue;
+        Done& d = started[l].d;
+        d.rows = c.row - started[l].first;
+        if (c.full && c.blow_up.empty() && c.failure.empty()) c.failure = "the loop made no progress (its rows are full)";
+        if (c.blow_up.empty() && c.failure.empty() && sim.period() < last_ && !stopping_) continue;
+        if (!c.blow_up.empty()) d.blow_up = c.blow_up;
+        if (!c.failure.empty()) d.failure = c.failure;
+        c.active = false;
+        finish_run(sim, started[l]);
+      }
+    }
+    ended();
+  }
+
+  // This thread has ended.
+  void ended() {
     {
       std::lock_guard<std::mutex> lock(mutex_);
       --running_;
@@ -163,6 +261,8 @@ class Batch {
   }
 
   std::vector<Simulation*> loops_;
+  std::vector<std::vector<Simulation*>> groups_;  // the lockstep groups of loops_ (none: one thread per loop)
+  std::vector<std::unique_ptr<Lockstep>> locksteps_;
   int runs_;
   long last_;
   const double *q0_, *v0_, *start_, *delta_, *bodies_;

@@ -1,14 +1,16 @@
 // The simulation loop of freefloat.dynamics.simulation.run in C++: zero-order-hold control
-// periods, Pinocchio's ABA as the plant with the external wrenches of wrench_field.hpp, an
-// integrator of lie_rk.hpp, a control law with the exact H* and c* (the joint-space computed
-// torque of freefloat.space.control, eqs 136-137, on a quintic reference, the detumbling law of
-// detumbling_law.hpp, or the two-hand law of loop_detumbling_law.hpp), and the telemetry row of
-// simulation.Recorder. With loop closures (closures.hpp) the plant is the constrained dynamics of
+// periods, the dynamics kernel (kernel/kernel.hpp) or Pinocchio's ABA as the plant with the
+// external wrenches of wrench_field.hpp, an integrator of lie_rk.hpp, a control law with the exact
+// H* and c* (the joint-space computed torque of freefloat.space.control, eqs 136-137, on a quintic
+// reference, the detumbling law of detumbling_law.hpp, or the two-hand law of
+// loop_detumbling_law.hpp), and the telemetry row of simulation.Recorder. With loop closures (closures.hpp) the plant is the constrained dynamics of
 // closures.ClosedModel instead of ABA.
 // Pinocchio is called through pin_plant.hpp, whose definitions compile in a unit of their own.
 #pragma once
 
 #include <Eigen/Geometry>  // the telemetry's quaternions
+
+#include <time.h>
 
 #include <cstdio>
 #include <memory>
@@ -16,6 +18,7 @@
 
 #include "closures.hpp"
 #include "detumbling_law.hpp"
+#include "kernel/kernel.hpp"
 #include "lie_rk.hpp"
 #include "loop_detumbling_law.hpp"
 #include "periods.hpp"
@@ -26,22 +29,29 @@
 
 namespace freefloat::sim {
 
+class LockstepLoops;  // lockstep.hpp: advances loops together, through their periods' parts
+
 // The loop of simulation.hpp's interface on a Pinocchio model (compiled in simulation.cpp only).
 // The integrator refers to *model_, whose address never changes (set_model() replaces its numbers).
+// The tree's forward dynamics are the kernel's (`kernel`, null when it refuses the tree: `refusal`
+// says why) or Pinocchio's ABA (set_tree_aba); with loop closures, Pinocchio's constrained dynamics.
 class Loop final : public Simulation {
  public:
   static constexpr double kMaxSpeed = 1e6, kMaxPosition = 1e12;  // simulation.MAX_SPEED, MAX_POSITION
 
-  Loop(ModelPtr model, JointMap joints, int n_base, const std::string& integrator, int substeps, double rtol,
-       double atol, double control_period, double start_time, int record_every)
+  Loop(ModelPtr model, std::unique_ptr<kernel::Kernel> kernel, std::string refusal, JointMap joints, int n_base,
+       const std::string& integrator, int substeps, double rtol, double atol, double control_period,
+       double start_time, int record_every)
       : model_(std::move(model)), data_(make_workspace(*model_)), record_data_(copy_workspace(*data_)),
-        joints_(std::move(joints)), nb_(n_base) {
+        kernel_(std::move(kernel)), refusal_(std::move(refusal)), joints_(std::move(joints)), nb_(n_base) {
     qn_.resize(this->nq());
     vn_.resize(this->nv());
+    aba_ = kernel_ ? TreeAba::kernel : TreeAba::pinocchio;
     refresh_numbers();
     configure(integrator, substeps, rtol, atol, control_period, start_time, record_every);
     dynamics_ = [this](const Vec& q, const Vec& v, Vec& a) {
       const bool with_wrenches = !wrenches_.empty();
+      if (closed_.empty() && aba_ == TreeAba::kernel) return kernel_aba(q, v, tau_full_, a);
       if (with_wrenches) freefloat::sim::set_wrenches(*model_, *data_, q, wrenches_);
       if (!closed_.empty()) return closed_.solve(*model_, *data_, q, v, tau_full_, with_wrenches, a);
       aba(*model_, *data_, q, v, tau_full_, with_wrenches, world(), a);
@@ -56,6 +66,8 @@ class Loop final : public Simulation {
                  double start_time, int record_every) override {
     { const LieIntegrator check(*model_, integrator, substeps, rtol, atol); }  // throws first, nothing changed
     integrator_.emplace(*model_, integrator, substeps, rtol, atol);
+    integrator_name_ = integrator;
+    substeps_ = substeps;
     period_ = control_period;
     start_ = start_time;
     record_every_ = record_every;
@@ -70,6 +82,7 @@ class Loop final : public Simulation {
     profiles_.clear();
     kp_ = kd_ = work_ = 0.0;
     k_ = 0;
+    lockstep_evaluations_ = 0;
     q_ = neutral(*model_);
     v_ = Vec::Zero(this->nv());
     tau_full_ = Vec::Zero(this->nv());
@@ -80,7 +93,9 @@ class Loop final : public Simulation {
   // The plant's numbers (inertias, placements, armature, gravity, frame placements) from `arrays`,
   // a model of this loop's structure (same_structure): its Data serve it unchanged.
   void set_model(const ModelArrays& arrays) override {
-    replace(*model_, model_like_this(arrays, "set_model"));
+    ModelPtr model = model_like_this(arrays, "set_model");
+    if (kernel_) kernel_->set_numbers(arrays);
+    replace(*model_, std::move(model));
     closed_.forget();
     refresh_numbers();
   }
@@ -98,6 +113,14 @@ class Loop final : public Simulation {
   // the faster one depending on the tree, see compiled.CONVENTION_NV). Kept across configure().
   void set_convention(Convention convention) override { convention_ = convention; }
   Convention convention() const override { return convention_; }
+
+  // The tree's forward dynamics (kept across configure(), as the convention).
+  void set_tree_aba(TreeAba aba) override {
+    if (aba == TreeAba::kernel && !kernel_) throw std::invalid_argument(refusal_);
+    aba_ = aba;
+  }
+  TreeAba tree_aba() const override { return aba_; }
+  const std::string& kernel_refusal() const override { return refusal_; }
 
   void set_frames(int base_frame, std::vector<int> ee_frames) {
     base_frame_ = base_frame;
@@ -200,6 +223,7 @@ class Loop final : public Simulation {
   // bit); placements, armature and gravity stay.
   void set_bodies(const double* bodies) override {
     freefloat::sim::set_bodies(*model_, bodies);
+    if (kernel_) kernel_->set_bodies(bodies);
     closed_.forget();
     refresh_numbers();
   }
@@ -218,17 +242,27 @@ class Loop final : public Simulation {
   long period() const override { return k_; }
   double time() const override { return start_ + k_ * period_; }
   double work() const override { return work_; }
-  long evaluations() const override { return integrator_->evaluations(); }
+  long evaluations() const override { return integrator_->evaluations() + lockstep_evaluations_; }
   int nq() const override { return freefloat::sim::nq(*model_); }
   int nv() const override { return freefloat::sim::nv(*model_); }
   int njoints() const override { return freefloat::sim::njoints(*model_); }
   int n_joints() const override { return joints_.n; }
 
-  // The plant's ABA at (q, v, tau) (nv,), outside of any run.
+  // The plant's ABA at (q, v, tau) (nv,), outside of any run: the kernel's or Pinocchio's (tree_aba()).
   Vec acceleration(const Vec& q, const Vec& v, const Vec& tau) override {
-    Vec a;
-    aba(*model_, *data_, q, v, tau, false, world(), a);
+    Vec a(this->nv());
+    plant_acceleration(q, v, tau, a);
     return a;
+  }
+
+  // Seconds (this thread's CPU time, which the load of other processes does not inflate).
+  double time_acceleration(const Vec& q, const Vec& v, const Vec& tau, long calls) override {
+    Vec a(this->nv());
+    timespec start, end;
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &start);
+    for (long i = 0; i < calls; ++i) plant_acceleration(q, v, tau, a);
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &end);
+    return (end.tv_sec - start.tv_sec + 1e-9 * (end.tv_nsec - start.tv_nsec)) / calls;
   }
 
   // The generalized Jacobian quantities at (q, v), outside of any run.
@@ -244,9 +278,7 @@ class Loop final : public Simulation {
   int run(long last, Rows& out, int row, std::string& error) override {
     return run_periods(k_, last, start_, period_, record_every_, out.rows, row, error,
                        [&](double t, bool records, int& r) {
-                         control(t);  // throws std::overflow_error when a detumbling solve fails
-                         if (!profiles_.empty()) select_wrenches(profiles_, t, wrenches_);
-                         if (records) record(out, r++, t, nullptr);
+                         begin_period(t, records, out, r);
                          step(t);
                        });
   }
@@ -286,6 +318,35 @@ class Loop final : public Simulation {
   }
 
   bool world() const { return convention_ == Convention::world; }
+
+  // The tree's accelerations a (nv,) at (q, v, tau) without wrenches, by tree_aba().
+  void plant_acceleration(const Vec& q, const Vec& v, const Vec& tau, Vec& a) {
+    if (aba_ == TreeAba::kernel) kernel_->aba(q.data(), v.data(), tau.data(), kernel::Wrenches{}, a.data());
+    else aba(*model_, *data_, q, v, tau, false, world(), a);
+  }
+
+  // The kernel's accelerations a (nv,) at (q, v, tau) under the wrenches held.
+  void kernel_aba(const Vec& q, const Vec& v, const Vec& tau, Vec& a) {
+    a.resize(this->nv());
+    kernel_->aba(q.data(), v.data(), tau.data(), held_wrenches(), a.data());
+  }
+
+  // The wrenches held (inertial force at the link CoM, inertial torque), as the kernel takes them.
+  kernel::Wrenches held_wrenches() {
+    kernel_wrenches_.resize(wrenches_.size());
+    for (size_t i = 0; i < wrenches_.size(); ++i) {  // inertial force at the link CoM, inertial torque
+      kernel::Wrench& k = kernel_wrenches_[i];
+      const Wrench& w = wrenches_[i];
+      k.joint = w.joint;
+      k.world = true;
+      for (int r = 0; r < 3; ++r) {
+        k.point[r] = w.com[r];
+        k.force[r] = w.force[r];
+        k.torque[r] = w.torque[r];
+      }
+    }
+    return kernel::Wrenches{kernel_wrenches_.data(), static_cast<int>(kernel_wrenches_.size())};
+  }
 
   // The law's torques at time t for the current state; throws std::overflow_error with the
   // Python loop's message when the detumbling solve fails.
@@ -344,10 +405,24 @@ class Loop final : public Simulation {
     c_ = b_.tail(n) - M_.bottomLeftCorner(n, nb_) * coupling.col(n);
   }
 
+  // The period at time t up to its step: the law's torques (std::overflow_error when a detumbling
+  // solve fails), the wrenches of their profiles, and its telemetry row `row++` when it records.
+  void begin_period(double t, bool records, Rows& out, int& row) {
+    control(t);
+    if (!profiles_.empty()) select_wrenches(profiles_, t, wrenches_);
+    if (records) record(out, row++, t, nullptr);
+  }
+
   void step(double t) {
     qn_ = q_;
     vn_ = v_;
     integrator_->advance(dynamics_, qn_, vn_, period_);
+    end_step(t);
+  }
+
+  // The period at time t after its integration left its end state in (qn_, vn_): the blow-up
+  // checks, the work, the state and the period count.
+  void end_step(double t) {
     const double t_end = t + period_;
     const double vmax = vn_.cwiseAbs().maxCoeff();
     if (!(vmax < kMaxSpeed))
@@ -403,12 +478,22 @@ class Loop final : public Simulation {
 
   ModelPtr model_;
   WorkspacePtr data_, record_data_;
+  std::unique_ptr<kernel::Kernel> kernel_;  // null: the kernel refuses the tree (refusal_)
+  std::string refusal_;
+  TreeAba aba_ = TreeAba::pinocchio;
+  std::vector<kernel::Wrench> kernel_wrenches_;  // wrenches_ as the kernel takes them
+  long lockstep_evaluations_ = 0;  // dynamics evaluations of this loop's periods in a LockstepLoops
+
+  friend class LockstepLoops;
+  friend std::unique_ptr<Lockstep> make_lockstep(const std::vector<Simulation*>& loops, std::string* why);
   ModelPtr law_model_;     // set_law_model()'s, until configure()
   WorkspacePtr law_data_;  // its Data, kept across runs (the loop's structure never changes)
   JointMap joints_;
   int nb_;
   Convention convention_ = Convention::local;
   std::optional<LieIntegrator> integrator_;  // set by configure()
+  std::string integrator_name_;              // its name and substeps
+  int substeps_ = 1;
   double period_ = 0.0, start_ = 0.0;
   int record_every_ = 1;
   Dynamics dynamics_;

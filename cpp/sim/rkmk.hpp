@@ -163,11 +163,17 @@ inline const std::vector<std::string>& integrator_names() {
   return names;
 }
 
-// One integrator of the registry by name, advancing (q, v) on `space` over a control period.
+// f(q, v, a, n): the accelerations a[l] (nv,) at (q[l], v[l]) of n states at once (l < n), controls
+// held; lockstep.hpp's evaluates them in the lanes of the dynamics kernel.
+using LaneDynamics = std::function<void(const Vec* const* q, const Vec* const* v, Vec* const* a, int n)>;
+
+// One integrator of the registry by name, advancing (q, v) on `space` over a control period; a
+// fixed-step one also advances up to `lanes` states together, their dynamics evaluated at once
+// (advance_lanes), each state's numbers those of advance() to round-off.
 class RkmkIntegrator {
  public:
   RkmkIntegrator(ConfigurationSpace space, const std::string& name, int substeps, double rtol, double atol,
-                 int max_steps = 100000)
+                 int max_steps = 100000, int lanes = 1)
       : space_(std::move(space)), name_(name), substeps_(substeps), rtol_(rtol), atol_(atol), max_steps_(max_steps),
         chart_(space_.blocks, name == "rkmk8" ? 6 : 4) {
     if (name == "rkmk3") tableau_ = rk3_tableau();
@@ -178,80 +184,123 @@ class RkmkIntegrator {
     else if (name == "bs32") tableau_ = bs32_tableau();
     else if (name != "euler") throw std::invalid_argument("unknown integrator '" + name + "'");
     if (substeps < 1) throw std::invalid_argument("substeps must be >= 1");
+    if (lanes < 1 || lanes > kMaxLanes) throw std::invalid_argument("lanes must be 1 to " + std::to_string(kMaxLanes));
     const size_t s = std::max<size_t>(tableau_.b.size(), 1);
-    K_.resize(s, space_.nv);
-    A_.resize(s, space_.nv);
-    theta_.resize(space_.nv);
-    vel_.resize(space_.nv);
-    k_.resize(space_.nv);
-    qs_.resize(space_.nq);
-    a_.resize(space_.nv);
+    lane_.resize(lanes);
+    for (Lane& L : lane_) {
+      L.K.resize(s, space_.nv);
+      L.A.resize(s, space_.nv);
+      L.theta.resize(space_.nv);
+      L.vel.resize(space_.nv);
+      L.k.resize(space_.nv);
+      L.qs.resize(space_.nq);
+      L.a.resize(space_.nv);
+    }
   }
 
+  // Dynamics evaluations: of each state, in advance_lanes().
   long evaluations() const { return calls_; }
+  // Whether the step size is fixed (advance_lanes() takes this integrator).
+  bool fixed_step() const { return tableau_.b_low.empty(); }
+  int lanes() const { return static_cast<int>(lane_.size()); }
 
   // Forget the adaptive step size (a new run starts from its first guess, the whole period).
   void restart() { h_ = 0.0; }
 
   // (q, v) <- state after `duration` s.
   void advance(const Dynamics& f, Vec& q, Vec& v, double duration) {
-    if (!tableau_.b_low.empty()) return adaptive(f, q, v, duration);
+    Vec* qs[1] = {&q};
+    Vec* vs[1] = {&v};
+    const LaneDynamics one = [&f](const Vec* const* x, const Vec* const* xd, Vec* const* a, int) { f(*x[0], *xd[0], *a[0]); };
+    if (!fixed_step()) return adaptive(one, q, v, duration);
+    advance_lanes(one, qs, vs, 1, duration);
+  }
+
+  // (q[l], v[l]) <- state l after `duration` s, for n <= lanes() states, a fixed-step method.
+  void advance_lanes(const LaneDynamics& f, Vec* const* q, Vec* const* v, int n, double duration) {
+    if (!fixed_step()) throw std::invalid_argument(name_ + " has no fixed step: it advances one state at a time");
+    if (n < 1 || n > lanes()) throw std::invalid_argument("advance_lanes: 1 to " + std::to_string(lanes()) + " states");
     const double h = duration / substeps_;
     for (int i = 0; i < substeps_; ++i) {
       if (name_ == "euler") {
-        f(q, v, a_);
-        ++calls_;
-        v += h * a_;
-        theta_ = h * v;
-        space_.integrate(q, theta_, qs_);
-        q = qs_;
+        evaluate(f, q, v, n, 0);
+        for (int l = 0; l < n; ++l) {
+          Lane& L = lane_[l];
+          *v[l] += h * L.a;
+          L.theta = h * *v[l];
+          space_.integrate(*q[l], L.theta, L.qs);
+          *q[l] = L.qs;
+        }
       } else {
-        stages(f, q, v, h, false);
-        combine(tableau_.b, h, theta_, vel_);
-        space_.integrate(q, theta_, qs_);
-        q = qs_;
-        v += vel_;
+        stages(f, q, v, n, h, false);
+        for (int l = 0; l < n; ++l) {
+          Lane& L = lane_[l];
+          combine(L, tableau_.b, h, L.theta, L.vel);
+          space_.integrate(*q[l], L.theta, L.qs);
+          *q[l] = L.qs;
+          *v[l] += L.vel;
+        }
       }
     }
   }
 
  private:
-  // Stage chart velocities K_ and accelerations A_; the first stage's acceleration is reused when
-  // `first_known` (FSAL).
-  void stages(const Dynamics& f, const Vec& q, const Vec& v, double h, bool first_known) {
+  // One state's stages: chart velocities K, accelerations A, and scratch (chart increment, stage
+  // velocity, chart velocity, stage q, acceleration).
+  struct Lane {
+    Mat K, A;
+    Vec theta, vel, k, qs, a;
+  };
+
+  // Each lane's acceleration at (q[l], v[l]) into its a, then A's row `row`.
+  void evaluate(const LaneDynamics& f, const Vec* const* q, const Vec* const* v, int n, int row) {
+    Vec* a[kMaxLanes];
+    for (int l = 0; l < n; ++l) a[l] = &lane_[l].a;
+    f(q, v, a, n);
+    for (int l = 0; l < n; ++l) lane_[l].A.row(row) = lane_[l].a.transpose();
+    ++calls_;
+  }
+
+  // Stage chart velocities K and accelerations A of n states; the first stage's acceleration is
+  // reused when `first_known` (FSAL).
+  void stages(const LaneDynamics& f, const Vec* const* q, const Vec* const* v, int n, double h, bool first_known) {
     const size_t s = tableau_.rows.size();
-    K_.row(0) = v.transpose();
-    if (!first_known) {
-      f(q, v, a_);
-      A_.row(0) = a_.transpose();
-      ++calls_;
-    }
+    for (int l = 0; l < n; ++l) lane_[l].K.row(0) = v[l]->transpose();
+    if (!first_known) evaluate(f, q, v, n, 0);
     const bool correct = name_ != "rk4_naive";
+    const Vec* qs[kMaxLanes];
+    const Vec* vels[kMaxLanes];
     for (size_t i = 1; i < s; ++i) {
-      combine(tableau_.rows[i], h, theta_, vel_);
-      vel_ += v;
-      if (correct) chart_.apply(theta_, vel_, k_);
-      else k_ = vel_;
-      K_.row(i) = k_.transpose();
-      space_.integrate(q, theta_, qs_);
-      f(qs_, vel_, a_);
-      A_.row(i) = a_.transpose();
-      ++calls_;
+      for (int l = 0; l < n; ++l) {
+        Lane& L = lane_[l];
+        combine(L, tableau_.rows[i], h, L.theta, L.vel);
+        L.vel += *v[l];
+        if (correct) chart_.apply(L.theta, L.vel, L.k);
+        else L.k = L.vel;
+        L.K.row(i) = L.k.transpose();
+        space_.integrate(*q[l], L.theta, L.qs);
+        qs[l] = &L.qs;
+        vels[l] = &L.vel;
+      }
+      evaluate(f, qs, vels, n, static_cast<int>(i));
     }
   }
 
-  // theta = h sum_j w_j K_j, dv = h sum_j w_j A_j.
-  void combine(const std::vector<double>& w, double h, Vec& theta, Vec& dv) const {
+  // theta = h sum_j w_j K_j, dv = h sum_j w_j A_j of lane L.
+  static void combine(const Lane& L, const std::vector<double>& w, double h, Vec& theta, Vec& dv) {
     theta.setZero();
     dv.setZero();
     for (size_t j = 0; j < w.size(); ++j) {
       if (w[j] == 0.0) continue;
-      theta += (h * w[j]) * K_.row(j).transpose();
-      dv += (h * w[j]) * A_.row(j).transpose();
+      theta += (h * w[j]) * L.K.row(j).transpose();
+      dv += (h * w[j]) * L.A.row(j).transpose();
     }
   }
 
-  void adaptive(const Dynamics& f, Vec& q, Vec& v, double duration) {
+  void adaptive(const LaneDynamics& f, Vec& q, Vec& v, double duration) {
+    Lane& L = lane_[0];
+    const Vec* qs[1] = {&q};
+    const Vec* vs[1] = {&v};
     double t = 0.0, h = h_ > 0.0 ? h_ : duration;
     bool fsal = false;
     const size_t s = tableau_.rows.size();
@@ -261,23 +310,23 @@ class RkmkIntegrator {
     for (int n = 0; n < max_steps_; ++n) {
       if (t >= duration * (1.0 - 1e-12)) return;
       const double h_try = std::min(h, duration - t);
-      stages(f, q, v, h_try, fsal);
-      combine(db, h_try, err_theta, err_v);
-      combine(tableau_.b, h_try, theta_, vel_);
-      const Vec v_new = v + vel_;
+      stages(f, qs, vs, 1, h_try, fsal);
+      combine(L, db, h_try, err_theta, err_v);
+      combine(L, tableau_.b, h_try, L.theta, L.vel);
+      const Vec v_new = v + L.vel;
       double sum = 0.0;
       for (int i = 0; i < space_.nv; ++i) {
         const double sv = atol_ + rtol_ * std::max(std::abs(v[i]), std::abs(v_new[i]));
-        const double st = atol_ + rtol_ * std::abs(theta_[i]);
+        const double st = atol_ + rtol_ * std::abs(L.theta[i]);
         sum += (err_theta[i] / st) * (err_theta[i] / st) + (err_v[i] / sv) * (err_v[i] / sv);
       }
       const double err = std::sqrt(sum / (2.0 * space_.nv));
       const double factor = err > 0.0 ? 0.9 * std::pow(err, tableau_.error_exponent) : 5.0;
       if (err <= 1.0) {
-        space_.integrate(q, theta_, qs_);
-        q = qs_;
+        space_.integrate(q, L.theta, L.qs);
+        q = L.qs;
         v = v_new;
-        A_.row(0) = A_.row(s - 1);
+        L.A.row(0) = L.A.row(s - 1);
         fsal = true;
         t += h_try;
         ++accepted_;
@@ -293,6 +342,7 @@ class RkmkIntegrator {
                              std::to_string(duration) + " s (last step " + std::to_string(h) + " s)");
   }
 
+  static constexpr int kMaxLanes = 8;
   ConfigurationSpace space_;
   std::string name_;
   int substeps_;
@@ -300,8 +350,7 @@ class RkmkIntegrator {
   int max_steps_;
   ChartCorrection chart_;
   Tableau tableau_;
-  Mat K_, A_;
-  Vec theta_, vel_, k_, qs_, a_;  // scratch: chart increment, stage velocity, chart velocity, stage q, acceleration
+  std::vector<Lane> lane_;
   long calls_ = 0, accepted_ = 0, rejected_ = 0;
   double h_ = 0.0;
 

@@ -117,6 +117,12 @@ class Simulation {
   virtual void set_law_model(const ModelArrays& model) = 0;
   virtual void set_convention(Convention convention) = 0;
   virtual Convention convention() const = 0;
+  // The tree's forward dynamics: freefloat's kernel (kernel/kernel.hpp) or Pinocchio's ABA; the
+  // kernel where the tree has only joints it has (kernel_refusal() empty), unless set otherwise.
+  enum class TreeAba { kernel, pinocchio };
+  virtual void set_tree_aba(TreeAba aba) = 0;  // std::invalid_argument: kernel_refusal() for a tree it refuses
+  virtual TreeAba tree_aba() const = 0;
+  virtual const std::string& kernel_refusal() const = 0;  // why the kernel refuses the tree (empty: it does not)
 
   virtual void set_computed_torque(Quintic reference, double kp, double kd) = 0;
   virtual void set_detumbling(DetumblingLaw law) = 0;
@@ -146,6 +152,9 @@ class Simulation {
   virtual void record_now(Rows& out, int row, const Vec* reference) = 0;
 
   virtual Vec acceleration(const Vec& q, const Vec& v, const Vec& tau) = 0;
+  // Seconds per acceleration() of the plant's ABA in C++ (this thread's CPU time), mean of `calls`
+  // calls at one state.
+  virtual double time_acceleration(const Vec& q, const Vec& v, const Vec& tau, long calls) = 0;
   virtual GeneralizedJacobian generalized_jacobian_at(const Vec& q, const Vec& v) = 0;
 
   virtual const Vec& q() const = 0;
@@ -159,6 +168,38 @@ class Simulation {
   virtual int njoints() const = 0;  // Pinocchio's, with the universe
   virtual int n_joints() const = 0;  // the actuated joints
 };
+
+// One lane of a Lockstep: whether it runs (its loop set for a run), the chunk its loop writes rows
+// into and its next free row; what Lockstep::run leaves: the loop's blow-up message or the text of
+// an error it threw (empty: none), and whether it stopped at a period that records with no free row.
+struct LaneChunk {
+  bool active = false;
+  Rows rows;
+  int row = 0;
+  std::string blow_up, failure;
+  bool full = false;
+};
+
+// Loops of one robot advanced period by period together (batch.hpp): the integrator's stages of
+// every lane evaluated at once in the dynamics kernel's lanes, each lane's law, wrenches,
+// telemetry, checks and work its own loop's; each lane's numbers are its loop's run alone to
+// round-off.
+class Lockstep {
+ public:
+  virtual ~Lockstep() = default;
+  virtual int lanes() const = 0;
+  // The bodies of lane `lane`'s plant for its next run (as Simulation::set_bodies'), after its
+  // loop's set_bodies().
+  virtual void set_bodies(int lane, const double* bodies) = 0;
+  // Advances each active lane whose loop has not reached period `last` (exclusive), for up to
+  // `periods` periods, until its loop blows up or finds no free row for a period that records.
+  virtual void run(long last, long periods, LaneChunk* lanes) = 0;
+};
+
+// The lockstep of `loops` (up to the kernel's lanes, of one robot, made by make_simulation), or
+// null and why not in `why`: each must have the dynamics kernel (tree_aba kernel), a fixed-step
+// integrator and no loop closures.
+std::unique_ptr<Lockstep> make_lockstep(const std::vector<Simulation*>& loops, std::string* why);
 
 // A loop on the model of `model` (ValueError-style std::invalid_argument on a bad one), with its
 // integrator's settings, control period (s), start time (s), recording rate, and the base CoM and

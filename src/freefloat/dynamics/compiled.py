@@ -1,12 +1,13 @@
 """The simulation loop in compiled code (``freefloat.dynamics._sim``, built on Pinocchio's C++).
 
 The same loop as :func:`freefloat.dynamics.simulation.run`, period for period: zero-order-hold
-control, Pinocchio's ABA as the plant, the integrators of :mod:`freefloat.dynamics.integrators`
-(the same tableaus, ``dexp^{-1}`` series and step-size control), the joint-space computed torque
-of eqs 136-137 with the exact ``H*`` and ``c*``, and the telemetry row of
-:class:`~freefloat.dynamics.simulation.Recorder`. The Pinocchio model is handed over as arrays
-and rebuilt in C++; :class:`CompiledLoop` checks the rebuilt ABA against ``pin.aba`` before it is
-used. Python is entered once per telemetry chunk or progress report, so Ctrl-C, checkpoints and
+control, the tree's forward dynamics as the plant (freefloat's dynamics kernel, :mod:`.kernel`,
+wherever it has the tree's joints, else Pinocchio's ABA: :data:`TREE_ABA`), the integrators of
+:mod:`freefloat.dynamics.integrators` (the same tableaus, ``dexp^{-1}`` series and step-size
+control), the joint-space computed torque of eqs 136-137 with the exact ``H*`` and ``c*``, and the
+telemetry row of :class:`~freefloat.dynamics.simulation.Recorder`. The Pinocchio model is handed
+over as arrays and rebuilt in C++ (and read into the kernel); :class:`CompiledLoop` checks the
+plant's accelerations against ``pin.aba`` before it is used. Python is entered once per telemetry chunk or progress report, so Ctrl-C, checkpoints and
 progress bars work as in the Python loop.
 
 The plant is the exact tree (Pinocchio's ABA) or, for a
@@ -54,8 +55,9 @@ from .integrators import INTEGRATORS
 from .telemetry import Telemetry
 from .wrenches import WrenchField
 
-__all__ = ["COMPILED_INTEGRATORS", "COMPILED_PLANTS", "CONVENTION", "MAX_IDLE", "CompiledEngine", "CompiledLoop", "DetumblingLaw",
-           "LoopDetumblingLaw", "chunk_arrays", "clear_loops", "law_of", "unsupported"]
+__all__ = ["COMPILED_INTEGRATORS", "COMPILED_PLANTS", "CONVENTION", "MAX_IDLE", "TREE_ABA", "CompiledEngine", "CompiledLoop",
+           "DetumblingLaw", "LoopDetumblingLaw", "chunk_arrays", "clear_loops", "joint_arrays", "law_of", "model_arrays",
+           "unsupported"]
 
 if _sim.PINOCCHIO_VERSION != pin.__version__:  # the module is linked to the library it was built with
     raise ImportError(f"freefloat's compiled loop was built against Pinocchio {_sim.PINOCCHIO_VERSION} but "
@@ -77,10 +79,16 @@ REBUILD_TOLERANCE = 1e-9
 #: every size measured side by side, RKMK4 steps taking turns (``freefloat bench --suite
 #: simulation``, part ``convention``: docs/bench.md), so every loop uses it.
 CONVENTION = "world"
+#: The tree's forward dynamics in the compiled plant (``_sim.Simulation.tree_aba``): ``"kernel"``,
+#: freefloat's dynamics kernel (:mod:`.kernel`), wherever the tree has only joints it has (free,
+#: planar or no root joint; revolute, continuous and prismatic joints), else Pinocchio's ABA; or
+#: ``"pinocchio"`` everywhere. Both give the same numbers to round-off (tested); the kernel costs
+#: less per evaluation (``freefloat bench --suite kernel``: docs/bench.md).
+TREE_ABA = "kernel"
 #: Idle compiled loops a process keeps for the next runs (each holds its model and two ``Data``
 #: without the nv^3 tensors: about 4 MB at nv 198), the least recently used dropped first.
 MAX_IDLE = 4
-#: Fields of :func:`_model_arrays` that make the loop's structure (its ``Data`` depend on them);
+#: Fields of :func:`model_arrays` that make the loop's structure (its ``Data`` depend on them);
 #: the others are the plant's numbers, set on a reused loop.
 _STRUCTURE = ("parent", "kind", "name", "subspace", "frame_parent")
 
@@ -257,17 +265,16 @@ def same_numbers(a: pin.Model, b: pin.Model, bodies: bool = True) -> bool:
             and np.array_equal(a.armature, b.armature) and np.array_equal(a.gravity.linear, b.gravity.linear))
 
 
-def _model_arrays(robot: Robot) -> dict[str, Any]:
-    """Joints, inertias, frames of ``robot.model`` as the arrays ``_sim.Simulation`` rebuilds from.
+def joint_arrays(model: pin.Model) -> dict[str, Any]:
+    """The joints and inertias of ``model`` as the arrays ``_sim.Simulation`` and ``_sim.Kernel``
+    rebuild it from.
 
     Per joint 1..njoints-1: parent joint index; Pinocchio kind; motion subspace ``[linear;
     angular]`` (6,) in the joint frame (zeros for multi-dof joints, which need none); placement in
     the parent joint's frame (4, 4); mass, kg; CoM in the joint frame (3,), m; rotational inertia
     about the CoM in joint-frame axes (3, 3), kg m^2. Armature (nv,), gravity in the inertial
-    frame (3,), m/s^2. Frames, in order the base CoM frame then each end-effector: parent joint and
-    placement in its frame (4, 4).
+    frame (3,), m/s^2.
     """
-    model = robot.model
     q0 = pin.neutral(model)
     joints = range(1, model.njoints)
     subspace = []
@@ -277,7 +284,6 @@ def _model_arrays(robot: Robot) -> dict[str, Any]:
         joint.calc(data, q0)
         S = np.asarray(data.S)  # (6,) for one-dof joints, (6, nv) otherwise
         subspace.append(S if S.ndim == 1 else np.zeros(6))
-    frames = [model.getFrameId(BASE_COM_FRAME), *robot.end_effector_frame_ids]
     return dict(
         parent=[int(model.parents[j]) for j in joints],
         kind=[model.joints[j].shortname() for j in joints],
@@ -289,6 +295,17 @@ def _model_arrays(robot: Robot) -> dict[str, Any]:
         rotational=np.array([model.inertias[j].inertia for j in joints]).reshape(-1, 3, 3),
         armature=np.asarray(model.armature, dtype=float),
         gravity=np.asarray(model.gravity.linear, dtype=float),
+    )
+
+
+def model_arrays(robot: Robot) -> dict[str, Any]:
+    """:func:`joint_arrays` of ``robot.model`` and its frames, as ``_sim.Simulation`` takes them:
+    in order the base CoM frame then each end-effector, parent joint and placement in its frame
+    (4, 4)."""
+    model = robot.model
+    frames = [model.getFrameId(BASE_COM_FRAME), *robot.end_effector_frame_ids]
+    return dict(
+        **joint_arrays(model),
         frame_parent=[int(model.frames[f].parentJoint) for f in frames],
         frame_placement=np.array([model.frames[f].placement.homogeneous for f in frames]).reshape(-1, 4, 4),
     )
@@ -367,6 +384,8 @@ class CompiledLoop(CompiledEngine):
         law_robot: the robot the computed-torque or detumbling ``law`` computes on when it is not
             ``robot`` (:func:`law_robot`: a controller that keeps the nominal robot); it must have
             ``robot``'s structure.
+        arrays: ``robot``'s arrays (:func:`model_arrays`) when the caller has them (the loops of
+            a lockstep batch: 10 ms each at nv 198); default: made here.
 
     Raises:
         InvalidArgument: for a joint kind or integrator the compiled loop does not have, or when
@@ -378,11 +397,11 @@ class CompiledLoop(CompiledEngine):
     def __init__(self, robot: Robot, integrator: Any, control_period: float, start_time: float = 0.0,
                  record_every: int = 1, law: tuple | DetumblingLaw | LoopDetumblingLaw | None = None,
                  wrenches: WrenchField | None = None, data: pin.Data | None = None, plant: Any = None,
-                 law_robot: Robot | None = None):
+                 law_robot: Robot | None = None, arrays: dict[str, Any] | None = None):
         self.robot = robot
         self.law = law
         n_ee = len(robot.end_effectors)
-        arrays = _model_arrays(robot)
+        arrays = model_arrays(robot) if arrays is None else arrays
         coords = JointCoordinates(robot)
         joints = _sim.JointMap(coords.scalar_q.tolist(), coords.scalar_pos.tolist(), coords.circle_q.tolist(),
                                coords.circle_pos.tolist(), robot.n_joints)
@@ -401,6 +420,7 @@ class CompiledLoop(CompiledEngine):
         except ValueError as exc:
             raise InvalidArgument(f"{robot.urdf_path.name}: {exc}") from exc
         self.sim.convention = CONVENTION
+        self.sim.tree_aba = "kernel" if TREE_ABA == "kernel" and self.sim.kernel_refusal is None else "pinocchio"
         if isinstance(law, DetumblingLaw):
             self.sim.set_detumbling([int(r) for r in law.rows], [int(j) for j in law.joints], law.method, law.secondary,
                                     law.rcond, law.start, law.kp, law.kd, law.period, law.hold, law.previous)
@@ -414,7 +434,7 @@ class CompiledLoop(CompiledEngine):
             start, delta, duration, kp, kd = law
             self.sim.set_computed_torque(start, delta, duration, kp, kd)
         if law_robot is not None:
-            self.sim.set_law_model(**_model_arrays(law_robot))
+            self.sim.set_law_model(**model_arrays(law_robot))
         if wrenches is not None:
             self.sim.set_wrench_profiles(*wrenches.profiles())
         if getattr(plant, "closures", None):

@@ -13,6 +13,14 @@ its caller. A stop request (:mod:`.stop_request`) or Ctrl-C ends every run withi
 
 Each run gives the numbers of :func:`~freefloat.dynamics.simulation.run` with the same inputs,
 bit for bit (tested), on any number of threads.
+
+In lockstep (:func:`lockstep_refusal`: a fixed-step integrator on the exact tree, which the
+dynamics kernel takes), each thread drives a group of :data:`~.kernel.LANES` loops instead of one:
+every period, each lane's law, wrenches and telemetry row are its own loop's, and every stage of
+the integration evaluates the lanes' dynamics at once in the kernel's SIMD lanes
+(``cpp/sim/lockstep.hpp``); a lane takes the next run as soon as its own ends (a run that stops
+early leaves its lane to the next). Each run still equals its own run bit for bit (tested): the
+kernel gives a state in a lane the numbers it gives it alone.
 """
 
 from __future__ import annotations
@@ -31,13 +39,16 @@ from ..robot.robot import Robot
 from ..robot.state import check_state
 from ..robot.urdf_checks import usable_memory
 from . import _sim, compiled, stop_request
-from .integrators import Integrator
+from .integrators import INTEGRATORS, Integrator
+from .kernel import LANES
+from .kernel import isa as kernel_isa
+from .kernel import refusal as kernel_refusal
 from .models import DynamicsModel
 from .simulation import Controller, Result, control_periods, ended_by, field_of, plant_data
 from .telemetry import Telemetry
 from .wrenches import ExternalWrench
 
-__all__ = ["SLICE_PERIODS", "ManyRuns", "run_many", "start_runs"]
+__all__ = ["SLICE_PERIODS", "ManyRuns", "lockstep_refusal", "run_many", "start_runs"]
 
 #: Periods a run does between two looks at the stop request (``Batch::kSlice`` in cpp/sim/batch.hpp).
 SLICE_PERIODS = 1000
@@ -137,10 +148,25 @@ def _wait_out(runs: Any) -> None:
             continue
 
 
+def lockstep_refusal(robot: Robot, integrator: Integrator, model: DynamicsModel) -> str | None:
+    """Why runs of ``robot`` with this integrator and plant cannot run in lockstep, or None when they
+    can: the integrator must have a fixed step, the plant be the exact tree (no loop closures), and
+    the dynamics kernel take the tree (:data:`~.compiled.TREE_ABA` ``"kernel"``)."""
+    spec = INTEGRATORS.get(getattr(integrator, "name", None))
+    if spec is None or spec.adaptive:
+        return f"integrator '{getattr(integrator, 'name', integrator)}' has no fixed step"
+    if getattr(model, "name", None) != "exact":
+        return f"the plant model is '{getattr(model, 'name', model)}', not the exact tree"
+    if compiled.TREE_ABA != "kernel":
+        return f"compiled.TREE_ABA is '{compiled.TREE_ABA}'"
+    return kernel_refusal(robot.model)
+
+
 def start_runs(robot: Robot, q0: np.ndarray, v0: np.ndarray, duration: float, control_period: float,
                integrator: Integrator, model: DynamicsModel, controllers: Sequence[Controller] | None = None,
                wrenches: tuple[ExternalWrench, ...] = (), record_every: int = 1, threads: int = 1,
-               keep: bool = True, plants: Sequence[pin.Model] | None = None) -> ManyRuns:
+               keep: bool = True, plants: Sequence[pin.Model] | None = None,
+               lockstep: bool | None = None) -> ManyRuns:
     """Start one run per row of ``q0``, ``v0`` on ``threads`` C++ threads; they run on while this
     thread goes on, until :meth:`ManyRuns.finish`.
 
@@ -160,14 +186,18 @@ def start_runs(robot: Robot, q0: np.ndarray, v0: np.ndarray, duration: float, co
             rotational inertias; joints, placements, armature and gravity the same), each run's
             plant; None: ``robot.model`` for every run. The controllers keep their own robot (one
             for every run): their law computes on its model, whatever the plant's bodies.
+        lockstep: run :data:`~.kernel.LANES` runs at a time per thread in lockstep (see the module
+            docstring); None (default): wherever :func:`lockstep_refusal` allows, the kernel
+            evaluates with AVX2 (its baseline lanes cost more than single states) and there are at
+            least two runs per thread.
 
     Raises:
         InvalidArgument: naming the run for a state of the wrong size or not finite, the reason the
             compiled loop cannot run the plant or integrator, a controller without a compiled
             quintic or with other gains or duration than the first run's, controllers whose robots
             have other numbers than the first run's, ``plants`` differing from ``robot.model`` in
-            more than bodies, ``threads`` below 1 or above :data:`MAX_THREADS`, or telemetry that
-            would not fit in memory.
+            more than bodies, ``threads`` below 1 or above :data:`MAX_THREADS`, telemetry that
+            would not fit in memory, or ``lockstep=True`` where :func:`lockstep_refusal` says why not.
     """
     steps = control_periods(duration, control_period)
     q0, v0 = np.atleast_2d(np.asarray(q0, dtype=float)), np.atleast_2d(np.asarray(v0, dtype=float))
@@ -179,18 +209,19 @@ def start_runs(robot: Robot, q0: np.ndarray, v0: np.ndarray, duration: float, co
     if threads > MAX_THREADS:
         raise InvalidArgument(f"threads must be at most {MAX_THREADS} (this machine has {os.cpu_count()} cores), "
                               f"got {threads}")
+    reason = compiled.unsupported(model, integrator)
+    if reason is not None:
+        raise InvalidArgument(f"many runs in one call take the compiled loop, which cannot run this: {reason}")
     threads = min(threads, len(q0))
     rows_per_run = (steps - 1) // record_every + 2  # one row every record_every periods, and the last
-    slots = len(q0) if keep else min(len(q0), 2 * threads)
+    lanes = _lanes(lockstep, robot, integrator, model, len(q0), threads)
+    slots = len(q0) if keep else min(len(q0), 2 * threads * lanes)
     _check_memory(robot, slots * rows_per_run, len(q0), duration, record_every, keep)
     for i, (q, v) in enumerate(zip(q0, v0)):
         try:
             check_state(robot, q, v)
         except InvalidArgument as exc:
             raise InvalidArgument(f"run {i}: {exc}") from None
-    reason = compiled.unsupported(model, integrator)
-    if reason is not None:
-        raise InvalidArgument(f"many runs in one call take the compiled loop, which cannot run this: {reason}")
     law, start, delta = _quintics(controllers, len(q0), robot)
     bodies = None if plants is None else _bodies(robot, plants, len(q0))
     law_robot = _law_robot(controllers, robot, plants is not None)
@@ -198,12 +229,14 @@ def start_runs(robot: Robot, q0: np.ndarray, v0: np.ndarray, duration: float, co
                                len(robot.end_effectors))
     field = field_of(robot, wrenches)
     loops: list[compiled.CompiledLoop] = []
+    arrays = compiled.model_arrays(robot)
     try:
-        for _ in range(threads):
+        for _ in range(threads * lanes):
             loops.append(compiled.CompiledLoop(robot, integrator, control_period, 0.0, record_every, law, field,
-                                               data=plant_data(robot, model), plant=model, law_robot=law_robot))
+                                               data=plant_data(robot, model), plant=model, law_robot=law_robot,
+                                               arrays=arrays))
         batch = _sim.Batch([loop.sim for loop in loops], q0, v0, steps, start, delta, bodies,
-                           compiled.chunk_arrays(block), rows_per_run, slots)
+                           compiled.chunk_arrays(block), rows_per_run, slots, lanes)
     except BaseException:
         for loop in loops:
             loop.release()
@@ -215,10 +248,22 @@ def run_many(robot: Robot, q0: np.ndarray, v0: np.ndarray, duration: float, cont
              integrator: Integrator, model: DynamicsModel, controllers: Sequence[Controller] | None = None,
              wrenches: tuple[ExternalWrench, ...] = (), record_every: int = 1, threads: int = 1,
              on_result: OnResult | None = None, keep: bool = True,
-             plants: Sequence[pin.Model] | None = None) -> list[Result | None]:
+             plants: Sequence[pin.Model] | None = None, lockstep: bool | None = None) -> list[Result | None]:
     """:func:`start_runs` then :meth:`ManyRuns.finish`: the runs' results by index (see both)."""
     return start_runs(robot, q0, v0, duration, control_period, integrator, model, controllers, wrenches,
-                      record_every, threads, keep, plants).finish(on_result)
+                      record_every, threads, keep, plants, lockstep).finish(on_result)
+
+
+def _lanes(lockstep: bool | None, robot: Robot, integrator: Integrator, model: DynamicsModel, runs: int,
+           threads: int) -> int:
+    """Loops per thread: :data:`~.kernel.LANES` in lockstep (``lockstep``, see :func:`start_runs`),
+    else 1; :class:`InvalidArgument` for ``lockstep=True`` where it cannot be."""
+    if lockstep is False or (lockstep is None and (runs < 2 * threads or kernel_isa() != "avx2")):
+        return 1
+    reason = lockstep_refusal(robot, integrator, model)
+    if reason is not None and lockstep:
+        raise InvalidArgument(f"these runs cannot run in lockstep: {reason}")
+    return 1 if reason is not None else LANES
 
 
 def _check_memory(robot: Robot, rows: int, runs: int, duration: float, record_every: int, keep: bool) -> None:

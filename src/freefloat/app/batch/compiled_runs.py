@@ -9,7 +9,8 @@ Python's lock, this thread prepares the next one (each run's scene resolved as
 :func:`~.one_run.run_one` resolves it) and starts it, then summarises the first group's runs as
 they finish. A run whose setup cannot share the group's loop (another plant chosen by
 ``model = "auto"``, say) runs on its own, as :func:`~.one_run.run_one`. Every row is the one
-:func:`~.one_run.run_one` gives for the same plan (tested), but for its wall times.
+:func:`~.one_run.run_one` gives for the same plan (tested), but for its wall times, also where the
+runs go in lockstep (:data:`LOCKSTEP`).
 """
 
 from __future__ import annotations
@@ -33,6 +34,9 @@ OnRow = Callable[[dict[str, Any]], None]
 
 #: Runs per thread in one call; the next group is prepared while one runs.
 GROUP_PER_THREAD = 8
+#: The runs of a call in lockstep (:func:`~freefloat.dynamics.many_runs.start_runs`' ``lockstep``):
+#: None, wherever it applies.
+LOCKSTEP: bool | None = None
 
 
 def shares_loop(plan: RunPlan, setup: Any) -> bool:
@@ -108,7 +112,8 @@ def _start(plans: list[RunPlan], threads: int, on_row: OnRow) -> _Group:
         plants = [s.plant.model for s in group.setups] if any(p.masses for p in group.plans) else None
         group.runs = start_runs(first.plant, np.array([q for q, _ in states]), np.array([v for _, v in states]),
                                 sim.duration, sim.control_period, first.integrator, first.model, controllers,
-                                first.wrenches, sim.record_every, threads, keep=False, plants=plants)
+                                first.wrenches, sim.record_every, threads, keep=False, plants=plants,
+                                lockstep=LOCKSTEP)
     return group
 
 

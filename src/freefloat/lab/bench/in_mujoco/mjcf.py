@@ -90,7 +90,7 @@ def _body(model: pin.Model, joint_id: int, children: dict[int, list[int]], inden
 
 
 def mjcf_from_model(model: pin.Model, name: str = "robot", timestep: float = 1e-3,
-                    integrator: str = "RK4") -> str:
+                    integrator: str = "RK4", energy: bool = True) -> str:
     """MJCF of a Pinocchio model whose joint 1 is a free-flyer (zero gravity, contacts off).
 
     Args:
@@ -98,6 +98,8 @@ def mjcf_from_model(model: pin.Model, name: str = "robot", timestep: float = 1e-
         name: MuJoCo model name.
         timestep: MuJoCo ``timestep``, s.
         integrator: MuJoCo integrator name (``Euler``, ``implicitfast``, ``RK4``, ...).
+        energy: MuJoCo computes the energy at each step (its ``energy`` flag; off where only
+            speed is compared).
 
     Raises:
         RobotModelError: the root is not a free-flyer, a joint kind has no MuJoCo equivalent, or a
@@ -112,7 +114,7 @@ def mjcf_from_model(model: pin.Model, name: str = "robot", timestep: float = 1e-
         f"<mujoco model={quoteattr(name)}>",
         '  <compiler angle="radian" autolimits="false"/>',
         f'  <option gravity="0 0 0" timestep="{timestep:.17g}" integrator="{integrator}">',
-        '    <flag contact="disable" constraint="disable" energy="enable"/>',
+        f'    <flag contact="disable" constraint="disable" energy="{"enable" if energy else "disable"}"/>',
         "  </option>",
         "  <worldbody>",
         *_body(model, 1, children, "    "),

@@ -126,6 +126,8 @@ for _suite in (
                    "gjm.compute calls, serial and on 2 processes", ".atlas"),
     Suite("rollout", "a batch's runs per second on 1 and 2 threads against mujoco.rollout's, same robot and runs",
           ".rollout", (("mujoco", "bench"),)),
+    Suite("kernel", "the dynamics kernel against Pinocchio's ABA and MuJoCo: per evaluation, per step, scalar and "
+                    "lockstep, and batches against mujoco.rollout, nv 18 to 198", ".kernel", (("mujoco", "bench"),)),
 ):
     SUITES.register(_suite)
 

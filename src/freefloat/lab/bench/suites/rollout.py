@@ -13,8 +13,8 @@ other processes falls on all alike:
   RKMK4, one telemetry row per step; the runs many at a time in one call on K C++ threads,
   :mod:`freefloat.app.batch.compiled_runs`) and reduced to its row, the folder written).
 - ``freefloat run_many``: the bare compiled batch, :func:`freefloat.dynamics.many_runs.run_many`
-  of the prepared initial states (prepared outside the clock) on K C++ threads, every run's
-  telemetry kept: the call that compares with ``mujoco.rollout``.
+  of the prepared initial states (prepared outside the clock) on K C++ threads (in lockstep, its
+  default here), every run's telemetry kept: the call that compares with ``mujoco.rollout``.
 - ``freefloat loop``: the bare per-run loop, :func:`freefloat.dynamics.simulation.run` of each
   plan's prepared setup (prepared outside the clock) on a pool of K threads: what a batch costs
   without its per-run setup and summary.

@@ -84,6 +84,7 @@ def convention(arm_counts: tuple[int, ...], repeats: int) -> dict:
             for kind in ("world", "local"):
                 loops[kind] = CompiledLoop(robot, make_integrator("rkmk4", model), 1e-3, record_every=periods)
                 loops[kind].sim.convention = kind
+                loops[kind].sim.tree_aba = "pinocchio"  # the convention is Pinocchio's ABA's
 
             def steps(loop):
                 def call():
