@@ -52,7 +52,8 @@ def choose_plant(scene: Scene | MechanismScene, setup: Any) -> Any:
     if not _auto(scene) or setup.model_choice is not None:
         return setup
     resolved, record = resolve(scene)
-    chosen = experiment_for(resolved).prepare(resolved)
+    same = (record["model"], record["lock"]) == ("exact", scene.simulation.lock)  # what prepare() built
+    chosen = setup if same else experiment_for(resolved).prepare(resolved)
     chosen.model_choice = record
     return chosen
 
