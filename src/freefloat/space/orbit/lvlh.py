@@ -1,0 +1,73 @@
+"""A run reported in the LVLH (Hill) frame: where the base is and how it is turned, over time."""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+import pinocchio as pin
+
+from .reference import CircularOrbit
+
+__all__ = ["LvlhTrack", "base_in_lvlh", "in_lvlh", "root_in_lvlh"]
+
+
+class LvlhTrack(NamedTuple):
+    """A body's motion in the LVLH frame (x radial, y along-track, z orbit normal).
+
+    Attributes:
+        t: times, s (k,).
+        position: its point in LVLH, m (k, 3).
+        velocity: that point's velocity seen from the LVLH frame, LVLH axes, m/s (k, 3), or None.
+        rotation: its attitude, body axes to LVLH axes (k, 3, 3).
+    """
+
+    t: np.ndarray
+    position: np.ndarray
+    velocity: np.ndarray | None
+    rotation: np.ndarray
+
+    def quaternion(self) -> np.ndarray:
+        """The attitude as unit quaternions [x, y, z, w] (Pinocchio's order), body to LVLH (k, 4)."""
+        return np.array([pin.Quaternion(R).coeffs() for R in self.rotation]).reshape(-1, 4)
+
+    def pitch(self) -> np.ndarray:
+        """In-plane angle of the body's x axis about the orbit normal (LVLH z), from the radial
+        direction (LVLH x) towards the along-track one, rad (k,): the pitch of a body whose x
+        axis points radially at equilibrium."""
+        return np.arctan2(self.rotation[:, 1, 0], self.rotation[:, 0, 0])
+
+
+def in_lvlh(orbit: CircularOrbit, t: np.ndarray, position: np.ndarray, quaternion: np.ndarray,
+            velocity: np.ndarray | None = None) -> LvlhTrack:
+    """A body's track in the simulation frame (ECI axes, origin on the reference orbit point), as
+    an :class:`LvlhTrack`.
+
+    Args:
+        orbit: the reference orbit.
+        t: times, s (k,).
+        position: the body's point, simulation frame, m (k, 3).
+        quaternion: its attitude [x, y, z, w], body to ECI axes (k, 4).
+        velocity: the point's velocity, simulation frame (ECI axes), m/s (k, 3), or None.
+    """
+    t = np.asarray(t, dtype=float)
+    p, v = orbit.to_lvlh(t, np.asarray(position, dtype=float).reshape(-1, 3),
+                         None if velocity is None else np.asarray(velocity, dtype=float).reshape(-1, 3))
+    attitude = np.array([pin.Quaternion(np.asarray(x, dtype=float)).normalized().matrix()
+                         for x in np.asarray(quaternion).reshape(-1, 4)]).reshape(-1, 3, 3)
+    return LvlhTrack(t, p, v, orbit.lvlh_rotation(t).transpose(0, 2, 1) @ attitude)
+
+
+def base_in_lvlh(orbit: CircularOrbit, telemetry) -> LvlhTrack:
+    """The base CoM frame of a run's :class:`~freefloat.dynamics.telemetry.Telemetry` (``t``,
+    ``base_position``, ``base_quaternion``, ``base_twist``) in the LVLH frame."""
+    return in_lvlh(orbit, telemetry.t, telemetry.base_position, telemetry.base_quaternion,
+                   np.asarray(telemetry.base_twist)[:, :3])
+
+
+def root_in_lvlh(orbit: CircularOrbit, t: np.ndarray, q: np.ndarray, v: np.ndarray) -> LvlhTrack:
+    """The free-flyer root joint's frame in the LVLH frame, from states q (k, nq) and v (k, nv)
+    (Pinocchio's local velocity, root joint first)."""
+    q, v = np.atleast_2d(q), np.atleast_2d(v)
+    velocity = np.array([pin.Quaternion(x[3:7]).normalized().matrix() @ w[:3] for x, w in zip(q, v)]).reshape(-1, 3)
+    return in_lvlh(orbit, t, q[:, :3], q[:, 3:7], velocity)
