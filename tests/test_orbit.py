@@ -21,6 +21,7 @@ from freefloat.space.orbit import (
     CircularOrbit,
     OrbitField,
     clohessy_wiltshire,
+    free_flyer_state,
     in_lvlh,
 )
 from freefloat.space.orbit.libration import libration_period, measure_libration, rigid_satellite
@@ -188,16 +189,30 @@ def test_a_body_at_rest_in_lvlh_is_reported_at_rest():
     np.testing.assert_allclose(track.rotation, np.tile(attitude, (7, 1, 1)), atol=1e-14)
 
 
+def test_a_free_flyer_state_set_in_lvlh_reads_back():
+    """A free-flyer state built from an LVLH position, velocity, attitude and relative angular
+    velocity is reported back in LVLH as given; its angular velocity is the relative one plus n
+    about the normal."""
+    p, v, attitude, spin = np.array([5.0, -1.0, 2.0]), np.array([0.1, 0.2, -0.3]), pin.exp3(np.array([0.3, 0.2, -0.5])), \
+        np.array([0.01, -0.02, 0.03])
+    q, w = free_flyer_state(ORBIT, 900.0, p, v, attitude, spin)
+    track = root_in_lvlh(ORBIT, np.array([900.0]), q, w)
+    np.testing.assert_allclose(track.position[0], p, atol=1e-13)
+    np.testing.assert_allclose(track.velocity[0], v, atol=1e-15)
+    np.testing.assert_allclose(track.rotation[0], attitude, atol=1e-15)
+    world = pin.Quaternion(q[3:]).matrix() @ w[3:]
+    np.testing.assert_allclose(world, ORBIT.lvlh_rotation(900.0) @ spin + [0.0, 0.0, ORBIT.mean_motion], atol=1e-16)
+
+
 def cw_error(offset: float) -> float:
     """Largest LVLH distance, m, between a free body released ``offset`` times a unit relative
     state and the Clohessy-Wiltshire closed form over one orbit (full two-body field)."""
     model = rigid_satellite(mass=10.0, inertia=(1.0, 2.0, 3.0))
     p0 = offset * np.array([1.0, 0.5, -0.8])
     v0 = offset * ORBIT.mean_motion * np.array([0.3, -2.0, 0.6])  # drifts along-track
-    r, w = ORBIT.from_lvlh(0.0, p0, v0)
-    q0 = np.r_[r, 0.0, 0.0, 0.0, 1.0]
+    q0, w0 = free_flyer_state(ORBIT, 0.0, p0, v0)
     t = np.linspace(0.0, ORBIT.period, 201)
-    Q, V = propagate(model, [OrbitField(model, ORBIT)], q0, np.r_[w, 0.0, 0.0, 0.0], t, rtol=1e-10)
+    Q, V = propagate(model, [OrbitField(model, ORBIT)], q0, w0, t, rtol=1e-10)
     expected, _ = clohessy_wiltshire(ORBIT.mean_motion, p0, v0, t)
     return float(np.linalg.norm(root_in_lvlh(ORBIT, t, Q, V).position - expected, axis=1).max())
 

@@ -10,11 +10,11 @@ libration, closed form and measured). Equations, frames and measured numbers: do
 """
 
 from .field import OrbitField
-from .lvlh import LvlhTrack, base_in_lvlh, in_lvlh, root_in_lvlh
+from .lvlh import LvlhTrack, base_in_lvlh, free_flyer_state, in_lvlh, root_in_lvlh
 from .reference import EARTH_MU, EARTH_RADIUS, CircularOrbit, clohessy_wiltshire
 
 __all__ = ["EARTH_MU", "EARTH_RADIUS", "CircularOrbit", "LvlhTrack", "OrbitField", "base_in_lvlh",
-           "clohessy_wiltshire", "in_lvlh", "root_in_lvlh"]
+           "clohessy_wiltshire", "free_flyer_state", "in_lvlh", "root_in_lvlh"]
 
 from ...lazy import lazy_modules
 

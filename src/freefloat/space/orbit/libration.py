@@ -27,7 +27,7 @@ from scipy.special import ellipk
 
 from ...errors import InvalidArgument
 from .field import OrbitField
-from .lvlh import root_in_lvlh
+from .lvlh import free_flyer_state, root_in_lvlh
 from .propagation import propagate
 from .reference import CircularOrbit
 
@@ -77,11 +77,8 @@ def pendulum_period(orbit: CircularOrbit, inertia: tuple[float, float, float], a
 
 def release(orbit: CircularOrbit, pitch: float) -> tuple[np.ndarray, np.ndarray]:
     """q (7,) and v (6,) of a one-body satellite at the reference point, turned by ``pitch`` (rad)
-    about the orbit normal from its equilibrium at t = 0, at rest relative to LVLH (angular
-    velocity n about the normal)."""
-    rotation = orbit.lvlh_rotation(0.0) @ pin.utils.rotate("z", pitch)
-    q = np.concatenate((np.zeros(3), pin.Quaternion(rotation).coeffs()))
-    return q, np.array([0.0, 0.0, 0.0, 0.0, 0.0, orbit.mean_motion])  # R^T (n z) = n z
+    about the orbit normal from its equilibrium at t = 0, at rest relative to LVLH."""
+    return free_flyer_state(orbit, 0.0, np.zeros(3), np.zeros(3), pin.utils.rotate("z", pitch))
 
 
 def crossing_period(t: np.ndarray, signal: np.ndarray) -> float:

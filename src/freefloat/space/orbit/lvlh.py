@@ -9,7 +9,7 @@ import pinocchio as pin
 
 from .reference import CircularOrbit
 
-__all__ = ["LvlhTrack", "base_in_lvlh", "in_lvlh", "root_in_lvlh"]
+__all__ = ["LvlhTrack", "base_in_lvlh", "free_flyer_state", "in_lvlh", "root_in_lvlh"]
 
 
 class LvlhTrack(NamedTuple):
@@ -71,3 +71,18 @@ def root_in_lvlh(orbit: CircularOrbit, t: np.ndarray, q: np.ndarray, v: np.ndarr
     q, v = np.atleast_2d(q), np.atleast_2d(v)
     velocity = np.array([pin.Quaternion(x[3:7]).normalized().matrix() @ w[:3] for x, w in zip(q, v)]).reshape(-1, 3)
     return in_lvlh(orbit, t, q[:, :3], q[:, 3:7], velocity)
+
+
+def free_flyer_state(orbit: CircularOrbit, t: float, position: np.ndarray, velocity: np.ndarray,
+                     rotation: np.ndarray | None = None, angular_velocity: np.ndarray | None = None
+                     ) -> tuple[np.ndarray, np.ndarray]:
+    """A free-flyer joint's q (7,) and Pinocchio local v (6,) in the simulation frame at time t
+    from its state in LVLH: position (3,), m, velocity seen from LVLH (3,), m/s, attitude body to
+    LVLH (3, 3) (identity by default) and angular velocity relative to LVLH, LVLH axes (3,), rad/s
+    (zero by default: turning with the frame at n about the normal)."""
+    frame = orbit.lvlh_rotation(t)
+    point, rate = orbit.from_lvlh(t, position, velocity)
+    attitude = frame @ (np.eye(3) if rotation is None else np.asarray(rotation, dtype=float))
+    spin = orbit.angular_velocity() + frame @ (np.zeros(3) if angular_velocity is None else angular_velocity)
+    return (np.concatenate((point, pin.Quaternion(attitude).normalized().coeffs())),
+            np.concatenate((attitude.T @ rate, attitude.T @ spin)))
