@@ -209,7 +209,7 @@ def cw_error(offset: float) -> float:
     state and the Clohessy-Wiltshire closed form over one orbit (full two-body field)."""
     model = rigid_satellite(mass=10.0, inertia=(1.0, 2.0, 3.0))
     p0 = offset * np.array([1.0, 0.5, -0.8])
-    v0 = offset * ORBIT.mean_motion * np.array([0.3, -2.0, 0.6])  # drifts along-track
+    v0 = offset * ORBIT.mean_motion * np.array([0.3, -1.5, 0.6])  # drifts along-track
     q0, w0 = free_flyer_state(ORBIT, 0.0, p0, v0)
     t = np.linspace(0.0, ORBIT.period, 201)
     Q, V = propagate(model, [OrbitField(model, ORBIT)], q0, w0, t, rtol=1e-10)
@@ -219,11 +219,12 @@ def cw_error(offset: float) -> float:
 
 @pytest.mark.slow
 def test_a_small_free_body_follows_clohessy_wiltshire():
-    """Over one orbit a free body 10 m off stays within 1e-5 of its offset of the CW closed form,
-    and the error grows as the offset squared (x100 for 10x: the linearisation's order)."""
+    """Over one orbit a free body released 10 m off (drifting 94 m along-track) stays within 1 mm
+    of the CW closed form, and the error grows as the offset squared (x100 for 10x: the
+    linearisation's order)."""
     small, large = cw_error(10.0), cw_error(100.0)
-    assert small < 1e-5 * 10.0
-    assert 90.0 < large / small < 110.0
+    assert small < 1e-3
+    assert 95.0 < large / small < 105.0
 
 
 def test_the_pitch_libration_period_is_the_closed_form():
