@@ -71,9 +71,9 @@ class OrbitField:
         kinematics of ``q`` (nq,)."""
         pin.forwardKinematics(self.model, self.data, q)
         oMi = self.data.oMi
-        R = np.array([oMi[j].rotation for j in self.joints]).reshape(-1, 3, 3)
-        p = np.array([oMi[j].translation for j in self.joints]).reshape(-1, 3)
-        com = p + np.einsum("kij,kj->ki", R, self._lever)
+        placements = np.array([oMi[j].homogeneous for j in self.joints]).reshape(-1, 4, 4)  # one read a body
+        R = placements[:, :3, :3]
+        com = placements[:, :3, 3] + (R @ self._lever[:, :, None])[:, :, 0]
         return R, com, R @ self._inertia @ R.transpose(0, 2, 1)
 
     def body_wrenches(self, t: float, com: np.ndarray, inertia: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
