@@ -12,7 +12,7 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
-from freefloat import load_robot
+from freefloat import load_robot, run
 from freefloat.errors import InvalidArgument
 from freefloat.paths import URDF_DIR
 from freefloat.space.orbit import (
@@ -20,6 +20,7 @@ from freefloat.space.orbit import (
     EARTH_RADIUS,
     CircularOrbit,
     OrbitField,
+    base_in_lvlh,
     clohessy_wiltshire,
     free_flyer_state,
     in_lvlh,
@@ -61,6 +62,14 @@ def test_a_bad_orbit_is_refused_by_name(keys, words):
     Earth is refused with the key named."""
     with pytest.raises(InvalidArgument, match=words):
         CircularOrbit(**keys)
+
+
+def test_a_robot_with_gravity_is_refused():
+    """A model that keeps a uniform gravity (a URDF's default -9.81 z) is refused, gravity named."""
+    model = rigid_satellite()
+    model.gravity.linear[:] = [0.0, 0.0, -9.81]
+    with pytest.raises(InvalidArgument, match="gravity"):
+        OrbitField(model, ORBIT)
 
 
 def test_the_reference_point_moves_on_the_keplerian_circle():
@@ -147,6 +156,7 @@ def test_the_wrench_on_a_body_matches_a_cloud_of_point_masses():
     points = np.array([[a, 0, 0], [-a, 0, 0], [0, b, 0], [0, -b, 0], [0, 0, c], [0, 0, -c]], dtype=float)
     inertia = sum(mass / 6 * (p @ p * np.eye(3) - np.outer(p, p)) for p in points)
     model = pin.Model()
+    model.gravity.linear[:] = 0.0
     joint = model.addJoint(0, pin.JointModelFreeFlyer(), pin.SE3.Identity(), "body")
     model.appendBodyToJoint(joint, pin.Inertia(mass, np.zeros(3), inertia), pin.SE3.Identity())
     rotation = pin.exp3(np.random.default_rng(5).normal(size=3))
@@ -202,6 +212,21 @@ def test_a_free_flyer_state_set_in_lvlh_reads_back():
     np.testing.assert_allclose(track.rotation[0], attitude, atol=1e-15)
     world = pin.Quaternion(q[3:]).matrix() @ w[3:]
     np.testing.assert_allclose(world, ORBIT.lvlh_rotation(900.0) @ spin + [0.0, 0.0, ORBIT.mean_motion], atol=1e-16)
+
+
+def test_a_runs_base_is_reported_in_lvlh_as_its_state_is():
+    """The base of an engine run (telemetry's base position, quaternion and twist of the bus CoM,
+    which is the bus origin) in LVLH equals its free-flyer state (q, v) put in LVLH."""
+    robot = load_robot(URDF_DIR / "dual_arm_satellite.urdf", visuals=False)
+    q0 = robot.neutral()
+    q0[:3] = [3.0, -2.0, 1.0]
+    v0 = np.r_[0.1, -0.2, 0.05, 0.3, -0.1, 0.2, np.full(robot.model.nv - 6, 0.1)]
+    telemetry = run(robot, q0, v0, 0.01, 1e-3).telemetry
+    reported = base_in_lvlh(ORBIT, telemetry)
+    expected = root_in_lvlh(ORBIT, telemetry.t, telemetry.q, telemetry.v)
+    np.testing.assert_allclose(reported.position, expected.position, atol=1e-12)
+    np.testing.assert_allclose(reported.velocity, expected.velocity, atol=1e-12)
+    np.testing.assert_allclose(reported.rotation, expected.rotation, atol=1e-12)
 
 
 def cw_error(offset: float) -> float:

@@ -36,6 +36,7 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 
+from ...errors import InvalidArgument
 from ...robot.conventions import cross_rows, momentum_about_origin
 from ...robot.robot import Robot
 from .reference import CircularOrbit
@@ -48,15 +49,22 @@ class OrbitField:
     wrench field (``forces(t, q, v)``, ``wrench(t, q, v)``) for the engine and the balances.
 
     Args:
-        robot: the robot (or its Pinocchio model); its own gravity is not used (keep it zero).
+        robot: the robot (or its Pinocchio model), its gravity zero (the field is all of it).
         orbit: the reference orbit; t is the simulation time, s, R0(t) = ``orbit.position(t)``.
 
     Attributes:
         joints: joints whose bodies have mass (k,), the ones the field acts on.
+
+    Raises:
+        InvalidArgument: for a model with gravity (a uniform field on top of the orbit's).
     """
 
     def __init__(self, robot: Robot | pin.Model, orbit: CircularOrbit):
         self.model = robot.model if isinstance(robot, Robot) else robot
+        gravity = self.model.gravity.linear
+        if np.any(gravity != 0.0):
+            raise InvalidArgument(f"orbit: the robot's model has gravity ({gravity[0]:g}, {gravity[1]:g}, {gravity[2]:g}) "
+                                  "m/s^2; in orbit the field is all the gravity: load it with gravity (0, 0, 0)")
         self.data = self.model.createData()
         self.orbit = orbit
         inertias = [self.model.inertias[j] for j in range(self.model.njoints)]
