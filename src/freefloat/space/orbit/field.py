@@ -85,7 +85,8 @@ class OrbitField:
         return R, com, R @ self._inertia @ R.transpose(0, 2, 1)
 
     def body_wrenches(self, t: float, com: np.ndarray, inertia: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Tidal force on each body (k, 3), N, and gravity-gradient torque about its CoM (k, 3),
+        """Force on each body (k, 3), N (the point mass's tidal difference plus the quadrupole's
+        force), and gravity-gradient torque about its CoM (k, 3),
         N m, ECI axes, at time t (s) for CoMs ``com`` (k, 3), m, and inertias (k, 3, 3), kg m^2
         (simulation frame): the module's equations."""
         mu, R0 = self.orbit.mu, self.orbit.position(t)
