@@ -20,10 +20,12 @@ from freefloat.space.orbit import (
     EARTH_RADIUS,
     CircularOrbit,
     OrbitField,
+    OrbitSettings,
     base_in_lvlh,
     clohessy_wiltshire,
     free_flyer_state,
     in_lvlh,
+    orbit_field,
 )
 from freefloat.space.orbit.libration import libration_period, measure_libration, rigid_satellite
 from freefloat.space.orbit.lvlh import root_in_lvlh
@@ -70,6 +72,16 @@ def test_a_robot_with_gravity_is_refused():
     model.gravity.linear[:] = [0.0, 0.0, -9.81]
     with pytest.raises(InvalidArgument, match="gravity"):
         OrbitField(model, ORBIT)
+
+
+def test_a_scenes_orbit_settings_build_the_field():
+    """Orbit settings (a scene's keys) build the same orbit as the constructor, and the field on a
+    robot; a wrong key is named."""
+    field = orbit_field(rigid_satellite(), OrbitSettings(altitude=400e3, phase=0.7))
+    assert field.orbit.mean_motion == ORBIT.mean_motion
+    np.testing.assert_allclose(field.orbit.position(10.0), ORBIT.position(10.0), rtol=1e-15)
+    with pytest.raises(InvalidArgument, match="'mean_motion'"):
+        OrbitSettings(mean_motion=-1.0).orbit()
 
 
 def test_the_reference_point_moves_on_the_keplerian_circle():

@@ -9,12 +9,12 @@ fields integrated with their exact stage times) and ``libration`` (a rigid satel
 libration, closed form and measured). Equations, frames and measured numbers: docs/orbit.md.
 """
 
-from .field import OrbitField
+from .field import OrbitField, orbit_field
 from .lvlh import LvlhTrack, base_in_lvlh, free_flyer_state, in_lvlh, root_in_lvlh
-from .reference import EARTH_MU, EARTH_RADIUS, CircularOrbit, clohessy_wiltshire
+from .reference import EARTH_MU, EARTH_RADIUS, CircularOrbit, OrbitSettings, clohessy_wiltshire
 
-__all__ = ["EARTH_MU", "EARTH_RADIUS", "CircularOrbit", "LvlhTrack", "OrbitField", "base_in_lvlh",
-           "clohessy_wiltshire", "free_flyer_state", "in_lvlh", "root_in_lvlh"]
+__all__ = ["EARTH_MU", "EARTH_RADIUS", "CircularOrbit", "LvlhTrack", "OrbitField", "OrbitSettings", "base_in_lvlh",
+           "clohessy_wiltshire", "free_flyer_state", "in_lvlh", "orbit_field", "root_in_lvlh"]
 
 from ...lazy import lazy_modules
 

@@ -39,9 +39,9 @@ import pinocchio as pin
 from ...errors import InvalidArgument
 from ...robot.conventions import cross_rows, momentum_about_origin
 from ...robot.robot import Robot
-from .reference import CircularOrbit
+from .reference import CircularOrbit, OrbitSettings
 
-__all__ = ["OrbitField"]
+__all__ = ["OrbitField", "orbit_field"]
 
 
 class OrbitField:
@@ -162,3 +162,9 @@ class OrbitField:
         mass, com = pin.computeTotalMass(self.model), self.data.com[0]
         R0, V0 = self.orbit.position(t), self.orbit.velocity(t)
         return momentum[3:] + np.cross(R0, momentum[:3]) + mass * np.cross(com, V0)
+
+
+def orbit_field(robot: Robot, settings: OrbitSettings) -> OrbitField:
+    """The field of a scene's orbit on ``robot``: ``build(robot, settings)`` of an environment
+    registry entry whose settings are :class:`~.reference.OrbitSettings`."""
+    return OrbitField(robot, settings.orbit())

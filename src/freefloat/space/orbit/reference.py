@@ -14,13 +14,14 @@ Frames (all right-handed, SI units):
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 
 from ...arguments import real_number
 from ...errors import InvalidArgument
 
-__all__ = ["EARTH_MU", "EARTH_RADIUS", "CircularOrbit", "clohessy_wiltshire"]
+__all__ = ["EARTH_MU", "EARTH_RADIUS", "CircularOrbit", "OrbitSettings", "clohessy_wiltshire"]
 
 #: Earth's gravitational parameter, m^3/s^2 (WGS 84).
 EARTH_MU = 3.986004418e14
@@ -126,6 +127,21 @@ class CircularOrbit:
         R = self.lvlh_rotation(t)
         p = R @ np.asarray(position, dtype=float)
         return p, R @ (np.asarray(velocity, dtype=float) + np.cross(self.angular_velocity(), position))
+
+
+@dataclass(frozen=True)
+class OrbitSettings:
+    """What a scene says of the orbit (the keys of an ``[orbit]`` or ``[[environment]]`` table):
+    ``altitude`` (m above the Earth's surface) or ``mean_motion`` (rad/s), exactly one, and
+    ``phase`` (rad: the reference point's angle from ECI +x at t = 0)."""
+
+    altitude: float | None = None
+    mean_motion: float | None = None
+    phase: float = 0.0
+
+    def orbit(self) -> CircularOrbit:
+        """The :class:`CircularOrbit` (its checks name the key that is wrong)."""
+        return CircularOrbit(altitude=self.altitude, mean_motion=self.mean_motion, phase=self.phase)
 
 
 def clohessy_wiltshire(n: float, position: np.ndarray, velocity: np.ndarray, t: np.ndarray
