@@ -20,15 +20,18 @@ from ...errors import InvalidArgument, SceneError
 from ...robot.loading import INERTIAS
 from .fields import (
     MAX_HTML_FPS,
+    EntrySection,
     OutputSection,
     Rules,
     at_most,
     choice,
+    parse_entry,
     parse_section,
     reject_unknown,
     typed,
     whole_number_of,
 )
+from .. import controllers  # its registry is read when a scene is parsed (the module may still be loading now)
 
 
 @dataclass(frozen=True)
@@ -188,20 +191,6 @@ class ApproachSection:
 
 
 @dataclass(frozen=True)
-class ControllerSection:
-    """``[controller]``: ``kind = "none"`` or ``"computed_torque"`` with scalar gains Kp, Kd and
-    the dynamics model it uses; for a two-hand capture, the ``squeeze`` between the hands (N) and
-    a ``torque_limit`` per joint (N m; none when absent)."""
-
-    kind: str = "none"
-    model: str = "exact"
-    kp: float = 10.0
-    kd: float = 100.0
-    squeeze: float = 0.0
-    torque_limit: float | None = None
-
-
-@dataclass(frozen=True)
 class SimulationSection:
     """``[simulation]``: duration and control period (s), plant model (a registry name, or
     ``"auto"``: the cheapest whose predicted state error over the run stays under ``tolerance``,
@@ -241,7 +230,7 @@ class Scene:
     angle_unit: str = "deg"
     initial: InitialSection = InitialSection()
     task: TaskSection = TaskSection()
-    controller: ControllerSection = ControllerSection()
+    controller: EntrySection = field(default_factory=lambda: no_controller())
     simulation: SimulationSection = SimulationSection()
     output: OutputSection = OutputSection()
     wrenches: tuple[WrenchSection, ...] = ()
@@ -267,9 +256,14 @@ class Scene:
         return math.pi / 180.0 if self.angle_unit == "deg" else 1.0
 
 
+def no_controller() -> EntrySection:
+    """``[controller] kind = "none"`` with the default gains (a scene without the section)."""
+    return EntrySection("none", controllers.CONTROLLERS["none"].settings())
+
+
 SECTIONS = {
     "robot": RobotSection, "initial": InitialSection, "task": TaskSection,
-    "controller": ControllerSection, "simulation": SimulationSection, "output": OutputSection,
+    "simulation": SimulationSection, "output": OutputSection,
     "target": TargetSection, "approach": ApproachSection, "attitude": AttitudeSection,
 }
 CHOICES = {
@@ -277,8 +271,6 @@ CHOICES = {
     ("robot", "inertias"): INERTIAS,
     ("task", "kind"): ("none", "joint_quintic", "detumble"),
     ("task", "method"): ("min_norm", "single", "null_space", "least_squares"),
-    ("controller", "kind"): ("none", "computed_torque"),
-    ("controller", "model"): lambda: tuple(MODELS),
     ("simulation", "model"): lambda: ("auto", *MODELS),
     ("simulation", "integrator"): lambda: tuple(INTEGRATORS),
     ("simulation", "lock"): ("none", "auto"),
@@ -293,12 +285,12 @@ POSITIVE = {
     ("task", "duration"), ("simulation", "duration"), ("simulation", "control_period"),
     ("simulation", "substeps"), ("simulation", "rtol"), ("simulation", "atol"), ("simulation", "tolerance"),
     ("simulation", "record_every"), ("output", "html_fps"), ("target", "mass"), ("target", "contact_time"),
-    ("target", "tolerance"), ("controller", "torque_limit"),
+    ("target", "tolerance"),
     ("approach", "max_joint_rate"), ("approach", "max_torque"), ("approach", "steps"),
     ("wheels", "max_momentum"), ("wheels", "max_torque"), ("wheels", "mass"), ("wheels", "inertia"),
     ("wheels", "transverse_inertia"),
 }
-NON_NEGATIVE = {("controller", "kp"), ("controller", "kd"), ("task", "start"), ("wrenches", "start"),
+NON_NEGATIVE = {("task", "start"), ("wrenches", "start"),
                 ("attitude", "kp"), ("attitude", "kd"),
                 ("wrenches", "rise"), ("simulation", "baumgarte"), ("approach", "start")}
 RULES = Rules(CHOICES, POSITIVE, NON_NEGATIVE)
@@ -307,7 +299,7 @@ RULES = Rules(CHOICES, POSITIVE, NON_NEGATIVE)
 def parse_robot_scene(raw: dict[str, Any], source: Path | None = None) -> Scene:
     """Validate a robot scene given as a dict (the parsed TOML)."""
     where = f"{source}: " if source else "scene: "
-    top = {"name", "description", "angle_unit", "wrenches", "closures", "wheels", *SECTIONS}
+    top = {"name", "description", "angle_unit", "plugins", "controller", "wrenches", "closures", "wheels", *SECTIONS}
     reject_unknown(where, "", raw, top)
     if "name" not in raw or "robot" not in raw:
         raise SceneError(f"{where}'name' and [robot] are required")
@@ -319,6 +311,8 @@ def parse_robot_scene(raw: dict[str, Any], source: Path | None = None) -> Scene:
     for section, cls in SECTIONS.items():
         if section in raw:
             kwargs[section] = parse_section(where, section, cls, raw[section], RULES)
+    kwargs["controller"] = parse_entry(where, "controller", raw.get("controller", {}), controllers.serving("robot"),
+                                       "none", RULES, "controllers of robot scenes")
     wrenches = raw.get("wrenches", [])
     if not isinstance(wrenches, list):
         raise SceneError(f"{where}'wrenches' must be an array of tables ([[wrenches]]), got {wrenches!r}")
