@@ -283,7 +283,7 @@ def test_detumble_scene_runs_whole_chunks_like_the_python_loop(name, monkeypatch
     from freefloat.app.experiments import experiment_for
     from freefloat.app.experiments.robot_run import run_loop
     from freefloat.app.scenes import find_scene
-    from freefloat.dynamics.wrenches import WrenchField
+    from freefloat.dynamics.wrenches import WrenchProfiles
 
     scene = find_scene(name)
     runs, controllers = [], []
@@ -292,7 +292,7 @@ def test_detumble_scene_runs_whole_chunks_like_the_python_loop(name, monkeypatch
         setup = experiment_for(scene).prepare(replace(scene, simulation=sim))
         if backend == "compiled":
             setup.controller.torque = never
-            monkeypatch.setattr(WrenchField, "activate", never)
+            monkeypatch.setattr(WrenchProfiles, "activate", never)
         runs.append(run_loop(setup, None, None))
         controllers.append(setup.controller)
     python, compiled = runs
@@ -370,7 +370,7 @@ def test_a_failing_detumbling_solve_stops_the_compiled_run_like_the_python_one()
 def test_wrench_profiles_in_the_compiled_loop_match_the_python_selection(monkeypatch):
     """Ramped, stepped and finished wrenches (forces and torques, on a link and on the base) give
     the Python loop's telemetry with the selection made in C++."""
-    from freefloat.dynamics.wrenches import ExternalWrench, WrenchField
+    from freefloat.dynamics.wrenches import ExternalWrench, WrenchProfiles
 
     robot = robot_named("two_arm_planar.urdf")
     wrenches = (ExternalWrench("arm2_link3", force=(3.0, -1.0, 2.0), torque=(0.5, 0.0, -1.0), start=0.004, end=0.02,
@@ -379,7 +379,7 @@ def test_wrench_profiles_in_the_compiled_loop_match_the_python_selection(monkeyp
                 *IMPULSE)
     python = run(robot, robot.neutral(), np.full(robot.model.nv, 0.05), 0.03, 1e-3,
                  make_integrator("rkmk4", robot.model), ExactModel(robot), wrenches=wrenches, backend="python")
-    monkeypatch.setattr(WrenchField, "activate", never)
+    monkeypatch.setattr(WrenchProfiles, "activate", never)
     compiled = run(robot, robot.neutral(), np.full(robot.model.nv, 0.05), 0.03, 1e-3,
                    make_integrator("rkmk4", robot.model), ExactModel(robot), wrenches=wrenches, backend="compiled")
     assert np.abs(python.telemetry.momentum[-1] - python.telemetry.momentum[0]).max() > 1e-2

@@ -71,6 +71,8 @@ _PUBLIC = {
     # extension points: a user's controller or environment, registered by name
     "CONTROLLERS": "freefloat.app.controllers", "ControllerSpec": "freefloat.app.controllers",
     "ControlContext": "freefloat.app.controllers",
+    "ENVIRONMENTS": "freefloat.app.environments", "EnvironmentSpec": "freefloat.app.environments",
+    "WrenchField": "freefloat.dynamics.wrenches", "ExternalWrench": "freefloat.dynamics.wrenches",
     "use": "freefloat.registry",
 }
 

@@ -53,7 +53,7 @@ from ..robot.robot import Robot
 from . import _sim
 from .integrators import INTEGRATORS
 from .telemetry import Telemetry
-from .wrenches import WrenchField
+from .wrenches import WrenchProfiles
 
 __all__ = ["COMPILED_INTEGRATORS", "COMPILED_PLANTS", "CONVENTION", "MAX_IDLE", "TREE_ABA", "CompiledEngine", "CompiledLoop",
            "DetumblingLaw", "LoopDetumblingLaw", "chunk_arrays", "clear_loops", "joint_arrays", "law_of", "model_arrays",
@@ -396,7 +396,7 @@ class CompiledLoop(CompiledEngine):
 
     def __init__(self, robot: Robot, integrator: Any, control_period: float, start_time: float = 0.0,
                  record_every: int = 1, law: tuple | DetumblingLaw | LoopDetumblingLaw | None = None,
-                 wrenches: WrenchField | None = None, data: pin.Data | None = None, plant: Any = None,
+                 wrenches: WrenchProfiles | None = None, data: pin.Data | None = None, plant: Any = None,
                  law_robot: Robot | None = None, arrays: dict[str, Any] | None = None):
         self.robot = robot
         self.law = law
@@ -511,7 +511,7 @@ class CompiledLoop(CompiledEngine):
         """Hold the joint torques ``tau`` (n_joints,) from the current period on."""
         self.sim.hold(tau)
 
-    def set_wrenches(self, field: WrenchField | None) -> None:
+    def set_wrenches(self, field: WrenchProfiles | None) -> None:
         """Hold the wrenches ``field`` has active (after ``field.activate(t)``), or none."""
         self.sim.set_wrenches(*(field.active() if field is not None else ([], np.zeros((0, 3)), np.zeros((0, 3)),
                                                                           np.zeros((0, 3)))))

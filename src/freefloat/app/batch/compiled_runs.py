@@ -42,7 +42,8 @@ LOCKSTEP: bool | None = None
 def shares_loop(plan: RunPlan, setup: Any) -> bool:
     """Whether ``plan``'s run (prepared as ``setup``) can run in one call with others."""
     return (plan.scene.kind == "joint_space" and isinstance(setup, RobotSetup)
-            and setup.lock is None and setup.wheels is None and setup.scene.simulation.backend != "python"
+            and setup.lock is None and setup.wheels is None and not setup.environment
+            and setup.scene.simulation.backend != "python"
             and compiled.unsupported(setup.model, setup.integrator) is None
             and (setup.controller is None or isinstance(compiled.law_of(setup.controller, setup.plant), tuple)))
 

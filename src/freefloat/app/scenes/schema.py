@@ -31,7 +31,7 @@ from .fields import (
     typed,
     whole_number_of,
 )
-from .. import controllers  # its registry is read when a scene is parsed (the module may still be loading now)
+from .. import controllers, environments  # registries read when a scene is parsed (they may still be loading now)
 
 
 @dataclass(frozen=True)
@@ -80,19 +80,6 @@ class TaskSection:
     mission_joints: tuple[str, ...] | None = None
     method: str = "min_norm"
     start: float = 0.0
-
-
-@dataclass(frozen=True)
-class WrenchSection:
-    """``[[wrenches]]``: a wrench on ``link`` at its CoM (inertial frame, N and N m), from
-    ``start`` to ``end`` s, rising linearly over ``rise`` s (the dissertation's capture model)."""
-
-    link: str
-    force: tuple[float, float, float] = (0.0, 0.0, 0.0)
-    torque: tuple[float, float, float] = (0.0, 0.0, 0.0)
-    start: float = 0.0
-    end: float = 1e9
-    rise: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -233,13 +220,19 @@ class Scene:
     controller: EntrySection = field(default_factory=lambda: no_controller())
     simulation: SimulationSection = SimulationSection()
     output: OutputSection = OutputSection()
-    wrenches: tuple[WrenchSection, ...] = ()
+    environment: tuple[EntrySection, ...] = ()
     target: TargetSection | None = None
     closures: tuple[ClosureSection, ...] = ()
     approach: ApproachSection | None = None
     wheels: tuple[WheelSection, ...] = ()
     attitude: AttitudeSection | None = None
     source: Path | None = None
+
+    @property
+    def wrenches(self) -> tuple[Any, ...]:
+        """The settings (:class:`~freefloat.app.environments.WrenchProfile`) of the
+        ``wrench_profile`` fields: ``[[wrenches]]`` tables and ``[[environment]]`` of that kind."""
+        return tuple(e.settings for e in self.environment if e.kind == "wrench_profile")
 
     @property
     def kind(self) -> str:
@@ -299,7 +292,8 @@ RULES = Rules(CHOICES, POSITIVE, NON_NEGATIVE)
 def parse_robot_scene(raw: dict[str, Any], source: Path | None = None) -> Scene:
     """Validate a robot scene given as a dict (the parsed TOML)."""
     where = f"{source}: " if source else "scene: "
-    top = {"name", "description", "angle_unit", "plugins", "controller", "wrenches", "closures", "wheels", *SECTIONS}
+    top = {"name", "description", "angle_unit", "plugins", "controller", "wrenches", "environment", "closures",
+           "wheels", *SECTIONS}
     reject_unknown(where, "", raw, top)
     if "name" not in raw or "robot" not in raw:
         raise SceneError(f"{where}'name' and [robot] are required")
@@ -316,7 +310,7 @@ def parse_robot_scene(raw: dict[str, Any], source: Path | None = None) -> Scene:
     wrenches = raw.get("wrenches", [])
     if not isinstance(wrenches, list):
         raise SceneError(f"{where}'wrenches' must be an array of tables ([[wrenches]]), got {wrenches!r}")
-    kwargs["wrenches"] = tuple(parse_section(where, "wrenches", WrenchSection, w, RULES) for w in wrenches)
+    kwargs["environment"] = parse_environment(where, raw, wrenches)
     closures = raw.get("closures", [])
     if not isinstance(closures, list):
         raise SceneError(f"{where}'closures' must be an array of tables ([[closures]]), got {closures!r}")
@@ -337,13 +331,32 @@ def parse_robot_scene(raw: dict[str, Any], source: Path | None = None) -> Scene:
         check_settings(sim.substeps, sim.rtol, sim.atol)
     except InvalidArgument as exc:  # "'substeps' must be ..." -> "'simulation.substeps' must be ..."
         raise SceneError(f"{where}{str(exc).replace(chr(39), chr(39) + 'simulation.', 1)}") from None
-    if sim.project_momentum and (scene.wrenches or any(scene.robot.gravity)):
+    if sim.project_momentum and (scene.environment or any(scene.robot.gravity)):
         raise SceneError(f"{where}'simulation.project_momentum' holds the momentum constant, but this scene's "
-                         f"{'[[wrenches]]' if scene.wrenches else 'robot.gravity'} change it; remove one of them")
+                         f"{'[[wrenches]]' if scene.wrenches else '[[environment]]' if scene.environment else 'robot.gravity'} "
+                         "change it; remove one of them")
     at_most(where, scene.output.html_fps, MAX_HTML_FPS, "output.html_fps")
     return scene
 
 
+
+
+def parse_environment(where: str, raw: dict[str, Any], wrenches: list) -> tuple[EntrySection, ...]:
+    """The scene's fields: its ``[[wrenches]]`` (``wrench_profile`` fields, the old spelling),
+    then its ``[[environment]]`` tables, each naming a kind of
+    :data:`freefloat.app.environments.ENVIRONMENTS` with that entry's keys.
+
+    Raises:
+        SceneError: naming ``environment`` when it is not an array of tables, an unknown kind
+            (with the nearest), or the entry's key that is wrong.
+    """
+    profile = environments.ENVIRONMENTS["wrench_profile"].settings
+    old = tuple(EntrySection("wrench_profile", parse_section(where, "wrenches", profile, w, RULES)) for w in wrenches)
+    tables = raw.get("environment", [])
+    if not isinstance(tables, list):
+        raise SceneError(f"{where}'environment' must be an array of tables ([[environment]]), got {tables!r}")
+    return old + tuple(parse_entry(where, "environment", table, environments.ENVIRONMENTS, None, RULES,
+                                   "environment fields") for table in tables)
 
 
 def parse_wheels(where: str, raw: dict[str, Any]) -> tuple[WheelSection, ...]:
