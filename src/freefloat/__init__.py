@@ -70,7 +70,7 @@ _PUBLIC = {
     "simulate": "freefloat.app.runner",
     # extension points: a user's controller or environment, registered by name
     "CONTROLLERS": "freefloat.app.controllers", "ControllerSpec": "freefloat.app.controllers",
-    "ControlContext": "freefloat.app.controllers",
+    "ControlContext": "freefloat.app.controllers", "Rules": "freefloat.app.scenes.fields",
     "ENVIRONMENTS": "freefloat.app.environments", "EnvironmentSpec": "freefloat.app.environments",
     "WrenchField": "freefloat.dynamics.wrenches", "ExternalWrench": "freefloat.dynamics.wrenches",
     "use": "freefloat.registry",

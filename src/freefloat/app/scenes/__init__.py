@@ -47,27 +47,30 @@ def parse_scene(raw: dict[str, Any], source: Path | None = None) -> Scene | Mech
         SceneError: naming the file for a ``plugins`` that is not a list of names, or a plug-in
             that is not found or fails to import.
     """
-    use_plugins(raw, source)
+    plugins = use_plugins(raw, source)
     if "mechanism" in raw and "robot" in raw:
         where = f"{source}: " if source else "scene: "
         raise SceneError(f"{where}a scene has either [robot] (a robot scene) or [mechanism] (a mechanism scene), "
                          "not both")
-    if "mechanism" in raw:
-        return parse_mechanism_scene(raw, source)
-    return parse_robot_scene(raw, source)
+    scene = parse_mechanism_scene(raw, source) if "mechanism" in raw else parse_robot_scene(raw, source)
+    return dataclasses.replace(scene, plugins=plugins) if plugins else scene
 
 
-def use_plugins(raw: dict[str, Any], source: Path | None) -> None:
-    """Import the modules the scene's ``plugins`` names (see :func:`parse_scene`)."""
+def use_plugins(raw: dict[str, Any], source: Path | None) -> tuple[str, ...]:
+    """Import the modules the scene's ``plugins`` names (see :func:`parse_scene`); their files
+    as absolute paths, or their names."""
     where = f"{source}: " if source else "scene: "
     plugins = raw.get("plugins", [])
     if not isinstance(plugins, list) or not all(isinstance(p, str) and p for p in plugins):
         raise SceneError(f"{where}'plugins' must be a list of module names or .py files, got {plugins!r}")
+    used = []
     for plugin in plugins:
         try:
-            use(plugin, base=None if source is None else Path(source).parent)
+            module = use(plugin, base=None if source is None else Path(source).parent)
         except (InvalidArgument, PluginError) as exc:
             raise SceneError(f"{where}'plugins': {exc}") from exc
+        used.append(module.__file__ if plugin.endswith(".py") or "/" in plugin else plugin)
+    return tuple(used)
 
 
 def builtin_scenes() -> dict[str, Path]:

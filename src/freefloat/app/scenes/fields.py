@@ -5,12 +5,14 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import pickle
 from dataclasses import MISSING, dataclass, field
 from collections.abc import Callable, Mapping
 from typing import Any, NamedTuple
 
 from ... import inputs
 from ...errors import SceneError, did_you_mean
+from ...registry import use
 from .. import figure_set
 from ..figure_set import FigureChoice, FigureFormats  # noqa: F401  (the annotations parse_section reads)
 
@@ -40,6 +42,27 @@ class Rules(NamedTuple):
     choices: dict[tuple[str, str], tuple[str, ...] | Callable[[], tuple[str, ...]]]
     positive: set[tuple[str, str]]
     non_negative: set[tuple[str, str]]
+
+
+class PluginsFirst:
+    """A scene that pickles with its ``plugins`` (paths or module names) imported first on the
+    other side: a spawned worker that unpickles it has not imported them, and the settings of
+    their entries are their classes."""
+
+    plugins: tuple[str, ...]
+
+    def __reduce_ex__(self, protocol: Any) -> Any:
+        if not self.plugins:
+            return super().__reduce_ex__(protocol)
+        state = {f.name: getattr(self, f.name) for f in dataclasses.fields(self)}
+        return _plugins_first, (self.plugins, type(self), pickle.dumps(state, protocol))
+
+
+def _plugins_first(plugins: tuple[str, ...], cls: type, state: bytes) -> Any:
+    """A pickled :class:`PluginsFirst` scene, rebuilt after importing its plug-ins."""
+    for plugin in plugins:
+        use(plugin)
+    return cls(**pickle.loads(state))
 
 
 #: No value rules (an entry whose settings need no choices nor ranges).

@@ -22,6 +22,7 @@ from .fields import (
     MAX_HTML_FPS,
     EntrySection,
     OutputSection,
+    PluginsFirst,
     Rules,
     at_most,
     parse_entry,
@@ -110,8 +111,9 @@ class MetricsSection:
 
 
 @dataclass(frozen=True)
-class MechanismScene:
-    """A validated mechanism scene. ``source`` is the file it came from."""
+class MechanismScene(PluginsFirst):
+    """A validated mechanism scene. ``source`` is the file it came from; ``plugins`` the modules
+    it imported first (files as absolute paths, or module names)."""
 
     name: str
     mechanism: MechanismSection
@@ -123,6 +125,7 @@ class MechanismScene:
     metrics: MetricsSection = MetricsSection()
     output: OutputSection = OutputSection()
     source: Path | None = None
+    plugins: tuple[str, ...] = ()
 
     #: The experiment kind that runs this scene.
     kind = "mechanism"

@@ -22,6 +22,7 @@ from .fields import (
     MAX_HTML_FPS,
     EntrySection,
     OutputSection,
+    PluginsFirst,
     Rules,
     at_most,
     choice,
@@ -208,8 +209,9 @@ class SimulationSection:
 
 
 @dataclass(frozen=True)
-class Scene:
-    """A validated scene. ``source`` is the file it came from (None for one built in code)."""
+class Scene(PluginsFirst):
+    """A validated scene. ``source`` is the file it came from (None for one built in code);
+    ``plugins`` the modules it imported first (files as absolute paths, or module names)."""
 
     name: str
     robot: RobotSection
@@ -227,6 +229,7 @@ class Scene:
     wheels: tuple[WheelSection, ...] = ()
     attitude: AttitudeSection | None = None
     source: Path | None = None
+    plugins: tuple[str, ...] = ()
 
     @property
     def wrenches(self) -> tuple[Any, ...]:
