@@ -118,7 +118,7 @@ def unsupported(model: Any, integrator: Any) -> str | None:
     :data:`COMPILED_INTEGRATORS` (not wrapped in momentum projection)."""
     if getattr(model, "name", None) not in COMPILED_PLANTS:
         return f"the plant model is '{getattr(model, 'name', model)}', not one of {', '.join(COMPILED_PLANTS)}"
-    spec = INTEGRATORS.get(getattr(integrator, "name", None))
+    spec = INTEGRATORS.get(getattr(integrator, "name", None), None)
     if spec is None or not spec.compiled or not hasattr(integrator, "model"):
         return f"integrator '{getattr(integrator, 'name', integrator)}' is not compiled"
     return None

@@ -29,7 +29,7 @@ def unsupported(plant: Any, integrator: str, controller: Any, stop: Any) -> str 
     """Why this run cannot use the compiled closed-chain loop, or None when it can: a
     :class:`CoupledChainPlant` whose mechanism has a compiled core, an integrator the compiled
     loop has, a controller with a ``compiled_law()`` (or none), and no stop event."""
-    spec = INTEGRATORS.get(integrator)
+    spec = INTEGRATORS.get(integrator, None)
     if spec is None or not spec.compiled:
         return f"integrator '{integrator}' is not compiled"
     if not isinstance(plant, CoupledChainPlant):
@@ -72,7 +72,7 @@ class CompiledChainLoop(CompiledEngine):
     def __init__(self, plant: CoupledChainPlant, controller: Any, integrator: str, control_period: float,
                  start_time: float = 0.0, substeps: int = 1, rtol: float = 1e-10, atol: float = 1e-12,
                  per_stage: bool = False, record_every: int = 1):
-        spec = INTEGRATORS.get(integrator)
+        spec = INTEGRATORS.get(integrator, None)
         if spec is None or not spec.compiled:
             raise InvalidArgument(f"integrator '{integrator}' is not compiled; compiled: "
                                   f"{', '.join(n for n, s in INTEGRATORS.items() if s.compiled)}")

@@ -152,7 +152,7 @@ def lockstep_refusal(robot: Robot, integrator: Integrator, model: DynamicsModel)
     """Why runs of ``robot`` with this integrator and plant cannot run in lockstep, or None when they
     can: the integrator must have a fixed step, the plant be the exact tree (no loop closures), and
     the dynamics kernel take the tree (:data:`~.compiled.TREE_ABA` ``"kernel"``)."""
-    spec = INTEGRATORS.get(getattr(integrator, "name", None))
+    spec = INTEGRATORS.get(getattr(integrator, "name", None), None)
     if spec is None or spec.adaptive:
         return f"integrator '{getattr(integrator, 'name', integrator)}' has no fixed step"
     if getattr(model, "name", None) != "exact":

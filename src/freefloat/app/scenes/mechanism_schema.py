@@ -14,6 +14,7 @@ from pathlib import Path
 from typing import Any
 
 from ...dynamics.integrators import INTEGRATORS
+from ...dynamics.plants import PLANTS
 from ...errors import SceneError, did_you_mean
 from ...parallel.free_base import BASES, base_problem
 from ...parallel.registry import REGISTRY
@@ -142,8 +143,8 @@ SECTIONS = {"mechanism": MechanismSection, "initial": PlatformStart, "trajectory
             "simulation": MechanismSimulation,
             "metrics": MetricsSection, "output": OutputSection}
 RULES = Rules(
-    choices={("mechanism", "name"): tuple(REGISTRY), ("mechanism", "base"): BASES,
-             ("mechanism", "dynamics"): ("auto", "coupled_chain", "constraint_dynamics", "closed_tree"), ("trajectory", "kind"): ("circle",),
+    choices={("mechanism", "name"): lambda: tuple(REGISTRY), ("mechanism", "base"): BASES,
+             ("mechanism", "dynamics"): lambda: ("auto", *(name for name, spec in PLANTS.items() if spec.closed)), ("trajectory", "kind"): ("circle",),
              ("simulation", "integrator"): lambda: (*ALIASES, *INTEGRATORS)},
     positive={("mechanism", "base_mass"), ("simulation", "duration"), ("simulation", "step"), ("simulation", "rtol"), ("simulation", "atol"), ("output", "html_fps")},
     non_negative={("simulation", "baumgarte"), ("metrics", "reaching_phase"), ("trajectory", "radius")},
