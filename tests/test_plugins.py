@@ -145,3 +145,43 @@ def test_a_missing_plugin_file_is_named():
     raw["plugins"] = ["no_such_pd.py"]
     with pytest.raises(SceneError, match="'plugins': plug-in file .*no_such_pd.py: no such file"):
         parse_scene(raw, PD_SCENE)
+
+
+TOY_MODEL = '''
+from freefloat import MODELS
+from freefloat.dynamics.models import ExactModel, ModelSpec
+
+CALLS = [0]
+
+
+class CountedExact(ExactModel):
+    """Pinocchio's ABA, counting its evaluations."""
+
+    name = "counted_exact"
+
+    def acceleration(self, q, v, tau, fext=None):
+        CALLS[0] += 1
+        return super().acceleration(q, v, tau, fext)
+
+
+MODELS.register(ModelSpec("counted_exact", "ABA, counted", False, lambda robot, backend: CountedExact(robot)))
+'''
+
+
+def test_a_dynamics_model_of_a_users_module_is_the_plant_of_a_scene(tmp_path):
+    """A model registered by a scene's plug-in is the plant of its run: the Python loop calls it
+    at every stage (4 per period for rkmk4) and the run ends where the exact model's run ends."""
+    (tmp_path / "toy_counted_model.py").write_text(TOY_MODEL)
+    raw = tomllib.loads((REPO / "src" / "freefloat" / "app" / "scenes" / "tumbling.toml").read_text())
+    raw["robot"]["urdf"] = str(REPO / "src" / "freefloat" / "urdf" / "four_arm_planar.urdf")
+    raw["simulation"].update(duration=0.05)
+    raw["output"] = {"figures": False, "html": False}
+    exact = freefloat.simulate(parse_scene(raw, tmp_path / "exact.toml"))
+    raw.update(plugins=["toy_counted_model.py"])
+    raw["simulation"].update(model="counted_exact")
+    module = freefloat.use(tmp_path / "toy_counted_model.py")
+    before = module.CALLS[0]
+    toy = freefloat.simulate(parse_scene(raw, tmp_path / "toy.toml"))
+    assert toy.summary["loop"] == "python" and toy.summary["model_evaluations"] == 4 * 50
+    assert module.CALLS[0] - before >= 4 * 50  # the loop's, and the run-size check's few
+    np.testing.assert_allclose(toy.telemetry.v[-1], exact.telemetry.v[-1], rtol=0, atol=1e-12)
