@@ -46,7 +46,7 @@ def unsupported(plant: Any, integrator: str, controller: Any, stop: Any) -> str 
     return None
 
 
-def _law(controller: Any) -> dict | None:
+def _law(controller: Any) -> Any:
     return getattr(controller, "compiled_law", lambda: None)()
 
 
@@ -83,8 +83,7 @@ class CompiledChainLoop(CompiledEngine):
                                             rtol, atol, control_period, start_time, record_every, per_stage)
             law = _law(controller) if controller is not None else None
             if law is not None:
-                model_chains, model_coupling = law.pop("model").core_arrays()
-                self.sim.set_platform_law(model_chains, model_coupling, **law)
+                law.install(self.sim)
         except ValueError as exc:
             raise InvalidArgument(f"compiled closed-chain loop: {exc}") from exc
 

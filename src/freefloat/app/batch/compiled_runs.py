@@ -23,7 +23,7 @@ from typing import Any, Callable
 import numpy as np
 
 from ...dynamics import compiled
-from ...dynamics.many_runs import ManyRuns, start_runs
+from ...dynamics.many_runs import BATCH_LAW, ManyRuns, start_runs
 from ...dynamics.result import Result
 from ..experiments import joint_space
 from ..experiments.robot_run import RobotSetup
@@ -45,7 +45,8 @@ def shares_loop(plan: RunPlan, setup: Any) -> bool:
             and setup.lock is None and setup.wheels is None and not setup.environment
             and setup.scene.simulation.backend != "python"
             and compiled.unsupported(setup.model, setup.integrator) is None
-            and (setup.controller is None or isinstance(compiled.law_of(setup.controller, setup.plant), tuple)))
+            and (setup.controller is None
+                 or getattr(compiled.law_of(setup.controller, setup.plant), "kind", None) == BATCH_LAW))
 
 
 def can_run(plans: list[RunPlan]) -> bool:
