@@ -185,3 +185,13 @@ def test_a_dynamics_model_of_a_users_module_is_the_plant_of_a_scene(tmp_path):
     assert toy.summary["loop"] == "python" and toy.summary["model_evaluations"] == 4 * 50
     assert module.CALLS[0] - before >= 4 * 50  # the loop's, and the run-size check's few
     np.testing.assert_allclose(toy.telemetry.v[-1], exact.telemetry.v[-1], rtol=0, atol=1e-12)
+
+
+def test_a_run_folder_of_a_plugin_scene_reruns_it(tmp_path):
+    """The scene.toml a run of the field's scene writes names the plug-in by its absolute path and
+    the field as [[environment]]: run again from there, it gives the same momentum."""
+    first = freefloat.simulate(WRENCH_SCENE, out=tmp_path / "run")
+    text = (tmp_path / "run" / "scene.toml").read_text()
+    assert str(EXAMPLES / "constant_wrench.py") in text and 'kind = "constant_wrench"' in text
+    again = freefloat.simulate(tmp_path / "run" / "scene.toml")
+    np.testing.assert_array_equal(again.telemetry.momentum, first.telemetry.momentum)
