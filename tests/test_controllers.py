@@ -48,3 +48,23 @@ def test_a_controller_refuses_a_task_it_does_not_serve():
     scene = scene_with("four_arm_joint_space", kind="detumbling")
     with pytest.raises(SceneError, match="controller 'detumbling' needs task.kind 'detumble'"):
         experiment_for(scene).prepare(scene)
+
+
+def test_an_entry_without_settings_of_its_keys_is_refused_by_name():
+    """A controller whose settings are not a dataclass, or have a 'kind' field, or serve an
+    unknown plant, is refused when it is declared, naming it."""
+    from dataclasses import dataclass
+
+    from freefloat.app.controllers import ControllerSpec, JointGains
+    from freefloat.errors import InvalidArgument
+
+    @dataclass(frozen=True)
+    class WithKind:
+        kind: str = "x"
+
+    with pytest.raises(InvalidArgument, match="controller 'pid': settings must be a dataclass"):
+        ControllerSpec("pid", "", dict, lambda context, settings: None)
+    with pytest.raises(InvalidArgument, match="controller 'pid': settings WithKind has a field 'kind'"):
+        ControllerSpec("pid", "", WithKind, lambda context, settings: None)
+    with pytest.raises(InvalidArgument, match="plants must be among"):
+        ControllerSpec("pid", "", JointGains, lambda context, settings: None, plants=("satellite",))

@@ -26,12 +26,12 @@ from typing import Any, Callable, NamedTuple
 import numpy as np
 
 from ..dynamics.models import MODELS
-from ..errors import SceneError
+from ..errors import InvalidArgument, SceneError
 from ..parallel.sliding_mode import PlatformControl, printed_gains
 from ..registry import Registry
 from ..space.control import ComputedTorque
 from ..space.control.detumbling_control import DetumblingController
-from .scenes.fields import NO_RULES, Rules
+from .scenes.fields import NO_RULES, Rules, check_settings
 
 #: Plant kinds a controller may serve: robot scenes (``[robot]``) and mechanism scenes (``[mechanism]``).
 PLANT_KINDS = ("robot", "mechanism")
@@ -103,6 +103,13 @@ class ControllerSpec:
     tasks: tuple[str, ...] = ()
     rules: Rules = NO_RULES
     variants: tuple[ControllerSpec, ...] = ()
+
+    def __post_init__(self) -> None:
+        check_settings("controller", self.name, self.settings)
+        unknown = [p for p in self.plants if p not in PLANT_KINDS]
+        if unknown or not callable(self.build):
+            raise InvalidArgument(f"controller '{self.name}': plants must be among {PLANT_KINDS} and build callable, got "
+                                  f"plants {self.plants} and build {self.build!r}")
 
     def on(self, plant: str) -> ControllerSpec | None:
         """The entry that serves ``plant`` (this one or a variant), or None."""

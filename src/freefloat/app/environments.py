@@ -19,9 +19,10 @@ from dataclasses import dataclass
 from typing import Any, Callable
 
 from ..dynamics.wrenches import ExternalWrench, WrenchField
+from ..errors import InvalidArgument
 from ..registry import Registry
 from ..robot.robot import Robot
-from .scenes.fields import NO_RULES, Rules
+from .scenes.fields import NO_RULES, Rules, check_settings
 
 
 @dataclass(frozen=True)
@@ -44,6 +45,11 @@ class EnvironmentSpec:
     settings: type
     build: Callable[[Robot, Any], WrenchField | ExternalWrench]
     rules: Rules = NO_RULES
+
+    def __post_init__(self) -> None:
+        check_settings("environment", self.name, self.settings)
+        if not callable(self.build):
+            raise InvalidArgument(f"environment '{self.name}': build must be callable, got {self.build!r}")
 
 
 #: Every environment field kind by name.

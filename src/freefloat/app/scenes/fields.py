@@ -11,7 +11,7 @@ from collections.abc import Callable, Mapping
 from typing import Any, NamedTuple
 
 from ... import inputs
-from ...errors import SceneError, did_you_mean
+from ...errors import InvalidArgument, SceneError, did_you_mean
 from ...registry import use
 from .. import figure_set
 from ..figure_set import FigureChoice, FigureFormats  # noqa: F401  (the annotations parse_section reads)
@@ -87,6 +87,20 @@ class EntrySection:
         if key.startswith("__") or key == "settings":  # copy and pickle probe dunders before settings is set
             raise AttributeError(key)
         return getattr(self.settings, key)
+
+
+def check_settings(family: str, name: str, settings: Any) -> None:
+    """An entry's ``settings``: a dataclass whose fields are its scene keys, none called ``kind``.
+
+    Raises:
+        InvalidArgument: naming the entry, when it is not.
+    """
+    if not (isinstance(settings, type) and dataclasses.is_dataclass(settings)):
+        raise InvalidArgument(f"{family} '{name}': settings must be a dataclass (its fields are the scene keys), got "
+                              f"{settings!r}")
+    if "kind" in settings.__dataclass_fields__:
+        raise InvalidArgument(f"{family} '{name}': settings {settings.__name__} has a field 'kind', the key that "
+                              "names the entry; rename it")
 
 
 def parse_entry(where: str, section: str, raw: Any, entries: Mapping[str, Any], default: str | None,
