@@ -195,3 +195,14 @@ def test_a_run_folder_of_a_plugin_scene_reruns_it(tmp_path):
     assert str(EXAMPLES / "constant_wrench.py") in text and 'kind = "constant_wrench"' in text
     again = freefloat.simulate(tmp_path / "run" / "scene.toml")
     np.testing.assert_array_equal(again.telemetry.momentum, first.telemetry.momentum)
+
+
+def test_a_capture_refuses_a_controller_without_its_gains():
+    """A capture scene naming the PD kind is refused by name (its laws read the computed-torque
+    gains), not run with a law it does not apply."""
+    path = REPO / "src" / "freefloat" / "app" / "scenes" / "capture_planar.toml"
+    raw = tomllib.loads(path.read_text())
+    raw.update(plugins=[str(EXAMPLES / "pd_controller.py")])
+    raw["controller"] = {"kind": "pd", "kp": 1.0}
+    with pytest.raises(SceneError, match="a capture's laws are computed torque .* not controller 'pd'"):
+        freefloat.simulate(parse_scene(raw, path))
