@@ -69,6 +69,12 @@ for _study in (
     Study("stability", "the largest stable step per integrator and scene", "stability_report"),
     Study("rsu_ppap_sliding", "the 2RSU+PPaP's gains, sliding mode vs computed torque", "rsu_ppap_sliding_report"),
     Study("series", "the runs behind the time-series figures of secs 5.1 and 5.3 (figs 8-19, 41-56)", "series_report"),
+    Study("voltage_sliding", "sliding mode with the voltage as input vs torque input and computed torque (sec 9)",
+          "voltage_sliding_report"),
+    Study("adaptive", "adaptive vs fixed-gain sliding mode on plants 15 % and 50 % off (planned ch 5.3)",
+          "adaptive_report"),
+    Study("redundancy", "the 5R with a third actuator: effort sharing and internal forces (objective 2)",
+          "redundancy_report"),
 ):
     STUDIES.register(_study)
 
