@@ -75,6 +75,12 @@ for _study in (
           "adaptive_report"),
     Study("redundancy", "the 5R with a third actuator: effort sharing and internal forces (objective 2)",
           "redundancy_report"),
+    Study("friction", "joint friction and rotor inertias: energy balance, tracking with and without them (sec 9)",
+          "friction_report"),
+    Study("three_rrr", "a turning platform (P != 0, eqs 101-102) against Pinocchio's constraint dynamics",
+          "three_rrr_report"),
+    Study("jerk", "jerk by the composition of motion (eqs 4-5, 19-21) against finite differences",
+          "jerk_report"),
 ):
     STUDIES.register(_study)
 
