@@ -81,6 +81,8 @@ for _study in (
           "three_rrr_report"),
     Study("jerk", "jerk by the composition of motion (eqs 4-5, 19-21) against finite differences",
           "jerk_report"),
+    Study("identification", "parameters identified with confidence intervals against the true values (sec 9)",
+          "identification_report"),
 ):
     STUDIES.register(_study)
 
