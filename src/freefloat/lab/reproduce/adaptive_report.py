@@ -17,6 +17,8 @@ import time
 from pathlib import Path
 
 import numpy as np
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.figure import Figure
 
 from ...app.outputs import write_report
 from ...parallel.closed_chain import load_closed_chain
@@ -60,8 +62,12 @@ def reproduce(out: Path, quick: bool = False) -> dict:
               "aim": {"share_50": share, "share_15": steady["15"]["adaptive_sliding_mode"] / steady["15"]["sliding_mode"],
                       "limit": AIM, "holds": bool(share <= AIM)}}
     write_report(out, report, markdown, start)
-    figure(report, out / "adaptive.png")
+    draw(report).savefig(out / "adaptive.png", dpi=110)
     return report
+
+
+def _shown(value: float | None) -> str:
+    return "-" if value is None else f"{value:.3g}"
 
 
 def markdown(report: dict) -> str:
@@ -81,9 +87,8 @@ def markdown(report: dict) -> str:
               "|---|---|---|---|---|"]
     for plant, runs in report["runs"].items():
         a = runs["adaptive_sliding_mode"]
-        shown = lambda v: "-" if v is None else f"{v:.3g}"  # noqa: E731
         lines.append(f"| {plant} % | {', '.join(f'{x:.4f}' for x in a['final_over_true'])} | "
-                     f"{shown(a['settled_from_s']['0.05'])} | {shown(a['settled_from_s']['0.01'])} | "
+                     f"{_shown(a['settled_from_s']['0.05'])} | {_shown(a['settled_from_s']['0.01'])} | "
                      f"{a['excitation_condition']:.3g} |")
     a = report["aim"]
     lines += ["", f"Aim (adaptive's steady error at most {a['limit']:g} of fixed-gain's on the 50 % plant): "
@@ -91,15 +96,12 @@ def markdown(report: dict) -> str:
     return "\n".join(lines) + "\n"
 
 
-def figure(report: dict, path: Path) -> None:
+def draw(report: dict) -> Figure:
     """Left: the error (larger axis) over time per law, 50 % plant; right: the adaptive law's
     estimates over the true values on both plants."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig, (a1, a2) = plt.subplots(1, 2, figsize=(12, 4.2))
+    fig = Figure(figsize=(12, 4.2))
+    FigureCanvasAgg(fig)
+    a1, a2 = fig.subplots(1, 2)
     for i, law in enumerate(LAWS):
         for plant, style in zip(PLANTS, (":", "-")):
             r = report["runs"][plant][law]
@@ -117,5 +119,4 @@ def figure(report: dict, path: Path) -> None:
            ylim=(0.3, 1.7))
     a2.legend(fontsize=7)
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    return fig

@@ -22,6 +22,8 @@ from pathlib import Path
 
 import numpy as np
 import pinocchio as pin
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.figure import Figure
 from scipy.integrate import simpson
 
 from ...app.outputs import write_report
@@ -96,7 +98,7 @@ def reproduce(out: Path, quick: bool = False) -> dict:
               "energy": energy_balance(0.1 if quick else 0.3), "gains": {"n": record["n"], "T": record["T"]},
               "runs": runs}
     write_report(out, report, markdown, start)
-    figure(report, out / "friction.png")
+    draw(report).savefig(out / "friction.png", dpi=110)
     return report
 
 
@@ -113,15 +115,12 @@ def markdown(report: dict) -> str:
     return "\n".join(lines) + "\n"
 
 
-def figure(report: dict, path: Path) -> None:
+def draw(report: dict) -> Figure:
     """Left: energy lost and friction's work over time; right: the error norms of the four laws."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
     e = report["energy"]
-    fig, (a1, a2) = plt.subplots(1, 2, figsize=(12, 4.2))
+    fig = Figure(figsize=(12, 4.2))
+    FigureCanvasAgg(fig)
+    a1, a2 = fig.subplots(1, 2)
     a1.plot(e["t"], e["energy_J"][0] - np.array(e["energy_J"]), label="energy lost (Pinocchio, with armature)")
     a1.plot(e["t"], e["work_J"], "--", label="work of friction")
     a1.set(xlabel="t (s)", ylabel="J", title="The 5R falling with rotors and drive-train friction")
@@ -131,5 +130,4 @@ def figure(report: dict, path: Path) -> None:
     a2.set(xlabel="t (s)", ylabel="|e| (m)", title="Tracking on the motorised 15 % plant")
     a2.legend(fontsize=7)
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    return fig

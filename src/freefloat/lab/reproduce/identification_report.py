@@ -19,6 +19,8 @@ from pathlib import Path
 
 import numpy as np
 import pinocchio as pin
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.figure import Figure
 
 from ...app.outputs import write_report
 from ...dynamics.identification import excitation, measurements
@@ -31,7 +33,13 @@ from ...parallel.closed_chain import load_closed_chain
 from ...parallel.closed_loop import track_five_bar
 from ...parallel.five_bar import TRUE_PARAMETERS, FiveBarParameters, elbow_guess, five_bar
 from ...parallel.registry import five_bar_inertias
-from ...parallel.sliding_mode import PlatformControl, chattering, circle_reference, design_gains, workspace_grid
+from ...parallel.sliding_mode import (
+    PlatformControl,
+    chattering,
+    circle_reference,
+    design_gains,
+    workspace_grid,
+)
 from ...paths import URDF_DIR
 from ...robot.catalog import find_robot
 from ...robot.loading import load_robot
@@ -216,7 +224,7 @@ def reproduce(out: Path, quick: bool = False) -> dict:
     truth, estimate, half = (np.array(fb[k]) for k in ("true", "estimate", "half_width_95"))
     fb["inside_95"] = int((np.abs(estimate - truth) <= half).sum())
     write_report(out, report, markdown, start)
-    figure(report, out / "intervals.png")
+    draw(report).savefig(out / "intervals.png", dpi=110)
     return report
 
 
@@ -253,17 +261,14 @@ def markdown(report: dict) -> str:
     return "\n".join(lines) + "\n"
 
 
-def figure(report: dict, path: Path) -> None:
+def draw(report: dict) -> Figure:
     """Left: the 5R's base parameters, estimate minus true with the 95 % interval, in units of
     the half-width (inside: the bar crosses 0); right: the UR5's z-scores on the filtered record."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
     fb = report["five_bar"]
     truth, estimate, half = (np.array(fb[k]) for k in ("true", "estimate", "half_width_95"))
-    fig, (a1, a2) = plt.subplots(1, 2, figsize=(12, 4.5))
+    fig = Figure(figsize=(12, 4.5))
+    FigureCanvasAgg(fig)
+    a1, a2 = fig.subplots(1, 2)
     k = np.arange(len(truth))
     a1.errorbar(k, (estimate - truth) / half, yerr=1.0, fmt="o", capsize=3)
     a1.axhline(0.0, color="k", lw=0.6)
@@ -276,5 +281,4 @@ def figure(report: dict, path: Path) -> None:
     a2.set(xlabel="UR5 base parameter", ylabel="(estimate - true) / std",
            title="UR5, filtered record: z-scores (dotted: 95 %)")
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    return fig

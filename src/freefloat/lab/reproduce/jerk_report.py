@@ -18,6 +18,8 @@ from pathlib import Path
 
 import numpy as np
 import pinocchio as pin
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.figure import Figure
 
 from ...app.outputs import write_report
 from ...paths import URDF_DIR
@@ -48,6 +50,12 @@ def accelerations(model: pin.Model, data: pin.Data, q, v, a, frames: list[int]) 
                            pin.getFrameAcceleration(model, data, f, pin.LOCAL_WORLD_ALIGNED).angular] for f in frames])
 
 
+def along(model: pin.Model, q0: np.ndarray, v: np.ndarray, a: np.ndarray, j: np.ndarray, t: float) -> tuple:
+    """(q, qdot, qddot) at time ``t`` (s) of the polynomial joint motion of constant jerk ``j``
+    from (``q0``, ``v``, ``a``)."""
+    return pin.integrate(model, q0, v * t + a * t**2 / 2 + j * t**3 / 6), v + a * t + j * t**2 / 2, a + j * t
+
+
 def chain_rows(urdf: Path, states: int, seed: int = 0) -> dict:
     """The largest relative differences (over the states) of the CoMs' and end-effector's jerks
     from the finite differences at each step, and of eq 4 as printed at the finest step."""
@@ -59,13 +67,13 @@ def chain_rows(urdf: Path, states: int, seed: int = 0) -> dict:
     for _ in range(states):
         q0 = pin.randomConfiguration(model, -np.pi * np.ones(model.nq), np.pi * np.ones(model.nq))
         v, a, j = rng.normal(size=(3, model.nv))
+        tip = frame_motion(model, q0, v, a, j, end_effector)
         ours = {"com": np.array([np.r_[m.jerk, m.angular_jerk] for m in com_motions(model, q0, v, a, j)]),
-                "end_effector": (lambda m: np.r_[m.jerk, m.angular_jerk][None])(frame_motion(model, q0, v, a, j, end_effector))}
+                "end_effector": np.r_[tip.jerk, tip.angular_jerk][None]}
         printed = np.array([np.r_[m.jerk, m.angular_jerk] for m in com_motions(model, q0, v, a, j, "printed_eq4")])
         for h in STEPS:
-            def at(t: float):
-                return pin.integrate(model, q0, v * t + a * t**2 / 2 + j * t**3 / 6), v + a * t + j * t**2 / 2, a + j * t
-            samples = [accelerations(model, data, *at(k * h), coms + [end_effector]) for k in (-2, -1, 1, 2)]
+            samples = [accelerations(model, data, *along(model, q0, v, a, j, k * h), coms + [end_effector])
+                       for k in (-2, -1, 1, 2)]
             fd = (samples[0] - 8.0 * samples[1] + 8.0 * samples[2] - samples[3]) / (12.0 * h)
             for key, rows in (("com", slice(0, len(coms))), ("end_effector", slice(len(coms), None))):
                 out[key][str(h)] = max(out[key][str(h)], float(np.abs(ours[key] - fd[rows]).max() / np.abs(fd[rows]).max()))
@@ -82,7 +90,7 @@ def reproduce(out: Path, quick: bool = False) -> dict:
     report = {"settings": {"quick": quick, "states": states, "steps_s": list(STEPS), "difference": "4th-order central"},
               "chains": {name: chain_rows(urdf(), states) for name, urdf in CHAINS.items()}}
     write_report(out, report, markdown, start)
-    figure(report, out / "jerk.png")
+    draw(report).savefig(out / "jerk.png", dpi=110)
     return report
 
 
@@ -99,15 +107,12 @@ def markdown(report: dict) -> str:
     return "\n".join(lines) + "\n"
 
 
-def figure(report: dict, path: Path) -> None:
+def draw(report: dict) -> Figure:
     """The relative difference against the finite-difference step (log-log), per chain and point;
     eq 4 as printed as a marker at the finest step."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig, ax = plt.subplots(figsize=(7, 4.5))
+    fig = Figure(figsize=(7, 4.5))
+    FigureCanvasAgg(fig)
+    ax = fig.subplots()
     for k, (name, c) in enumerate(report["chains"].items()):
         for key, style in (("com", "o-"), ("end_effector", "s--")):
             ax.loglog(STEPS, [c[key][str(h)] for h in STEPS], style, color=f"C{k}", label=f"{name}, {key.replace('_', '-')}")
@@ -116,5 +121,4 @@ def figure(report: dict, path: Path) -> None:
            title="Jerk (eqs 5, 19-21) vs 4th-order differences of Pinocchio's accelerations")
     ax.legend(fontsize=7)
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    return fig

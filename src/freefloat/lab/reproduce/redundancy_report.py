@@ -17,11 +17,19 @@ import time
 from pathlib import Path
 
 import numpy as np
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.figure import Figure
 
 from ...app.outputs import write_report
 from ...errors import InfeasiblePlan
 from ...parallel.closed_loop import track
-from ...parallel.five_bar import TRUE_PARAMETERS, FiveBarParameters, elbow_guess, five_bar, redundant_five_bar
+from ...parallel.five_bar import (
+    TRUE_PARAMETERS,
+    FiveBarParameters,
+    elbow_guess,
+    five_bar,
+    redundant_five_bar,
+)
 from ...parallel.redundancy import EffortDistribution, null_space
 from ...parallel.sliding_mode import PlatformControl, circle_reference, design_gains
 from .interrupts import finished
@@ -83,7 +91,7 @@ def reproduce(out: Path, quick: bool = False) -> dict:
     square, shared = report["runs"]["square (base joints)"], report["runs"]["redundant, minimum norm"]
     report["peak_relief"] = 1.0 - max(shared["effort_peak"]) / max(square["effort_peak"])
     write_report(out, report, markdown, start)
-    figure(report, out / "efforts.png")
+    draw(report).savefig(out / "efforts.png", dpi=110)
     return report
 
 
@@ -107,15 +115,12 @@ def markdown(report: dict) -> str:
     return "\n".join(lines) + "\n"
 
 
-def figure(report: dict, path: Path) -> None:
+def draw(report: dict) -> Figure:
     """Left: each actuator's effort under the square 5R and the shared sharings; right: the norm of
     the internal forces over time."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig, (a1, a2) = plt.subplots(1, 2, figsize=(12, 4.2))
+    fig = Figure(figsize=(12, 4.2))
+    FigureCanvasAgg(fig)
+    a1, a2 = fig.subplots(1, 2)
     for k, (label, r) in enumerate(report["runs"].items()):
         if "refused" in r:
             continue
@@ -130,5 +135,4 @@ def figure(report: dict, path: Path) -> None:
     a1.legend(fontsize=7)
     a2.legend(fontsize=7)
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    return fig

@@ -18,6 +18,8 @@ import time
 from pathlib import Path
 
 import numpy as np
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.figure import Figure
 
 from ...app.outputs import write_report
 from ...dynamics.plants import ConstraintDynamicsPlant, CoupledChainPlant
@@ -74,7 +76,7 @@ def reproduce(out: Path, quick: bool = False) -> dict:
               "forward_relative_max": max(forward), "forward_relative": forward,
               "free_motion": {str(step): free_motion(loaded, duration, step) for step in (1e-3, 5e-4)}}
     write_report(out, report, markdown, start)
-    figure(report, out / "three_rrr.png")
+    draw(report).savefig(out / "three_rrr.png", dpi=110)
     return report
 
 
@@ -90,15 +92,12 @@ def markdown(report: dict) -> str:
     return "\n".join(lines) + "\n"
 
 
-def figure(report: dict, path: Path) -> None:
+def draw(report: dict) -> Figure:
     """Left: the platform angle over the free motion; right: the joint difference between the two
     models over time at both steps (log)."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig, (a1, a2) = plt.subplots(1, 2, figsize=(12, 4.2))
+    fig = Figure(figsize=(12, 4.2))
+    FigureCanvasAgg(fig)
+    a1, a2 = fig.subplots(1, 2)
     first = next(iter(report["free_motion"].values()))
     a1.plot(first["t"], first["rz"])
     a1.set(xlabel="t (s)", ylabel="rz (rad)", title="3-RRR falling and turning: the platform angle")
@@ -107,5 +106,4 @@ def figure(report: dict, path: Path) -> None:
     a2.set(xlabel="t (s)", ylabel="max |q_Orsino - q_Pinocchio| (rad)", title="Orsino's model vs pin.constraintDynamics")
     a2.legend(fontsize=8)
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    return fig

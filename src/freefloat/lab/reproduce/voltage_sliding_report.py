@@ -23,13 +23,21 @@ import time
 from pathlib import Path
 
 import numpy as np
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.figure import Figure
 
 from ...app.outputs import write_report
 from ...dynamics.plants import CoupledChainPlant
 from ...dynamics.simulation import run_plant
 from ...dynamics.voltage_drive import VoltageDrive
 from ...parallel import drive_gain_design
-from ...parallel.drives import five_bar_motors, motor_driven, motorised, off_nominal, rsu_ppap_motors
+from ...parallel.drives import (
+    five_bar_motors,
+    motor_driven,
+    motorised,
+    off_nominal,
+    rsu_ppap_motors,
+)
 from ...parallel.five_bar import TRUE_PARAMETERS, FiveBarParameters, elbow_guess, five_bar
 from ...parallel.gain_design import box_grid, spectral_radius
 from ...parallel.platform_control import CircleReference
@@ -157,7 +165,7 @@ def reproduce(out: Path, quick: bool = False) -> dict:
                            "bandwidth_per_s": BANDWIDTH, "step_s": 1e-4, "integrator": "rkmk4", "aim": AIM},
               "mechanisms": parts, "aim": {name: aim(part) for name, part in parts.items()}}
     write_report(out, report, markdown, start)
-    figure(report, out / "errors.png")
+    draw(report).savefig(out / "errors.png", dpi=110)
     return report
 
 
@@ -191,15 +199,12 @@ def markdown(report: dict) -> str:
     return "\n".join(lines)
 
 
-def figure(report: dict, path: Path) -> None:
+def draw(report: dict) -> Figure:
     """One panel per mechanism: the error's norm (mm, log) under every run."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
     parts = report["mechanisms"]
-    fig, axes = plt.subplots(1, len(parts), figsize=(6 * len(parts), 4.2), squeeze=False)
+    fig = Figure(figsize=(6 * len(parts), 4.2))
+    FigureCanvasAgg(fig)
+    axes = fig.subplots(1, len(parts), squeeze=False)
     for ax, (name, part) in zip(axes[0], parts.items()):
         for label, r in part["runs"].items():
             ax.semilogy(r["series"]["t"], np.maximum(r["series"]["e_norm_mm"], 1e-6), lw=0.9, label=label)
@@ -207,8 +212,7 @@ def figure(report: dict, path: Path) -> None:
         ax.set(title=f"{name}: tracking error, 15 % plant and motors", xlabel="t (s)", ylabel="|e| (mm)")
         ax.legend(fontsize=7)
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    return fig
 
 
 def sweep(bandwidths: list[float]) -> list[dict]:
