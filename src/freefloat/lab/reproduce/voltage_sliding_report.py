@@ -51,6 +51,8 @@ LAMBDA, ETA, ERROR = 40.0, 20.0, 0.15
 #: The drive's current-loop rate, 1/s: just below the winding's own R/L (3850 1/s), the best of
 #: the sweep (docs/parallel.md), the supply never reached.
 BANDWIDTH = 3500.0
+#: The 20 ms (s) over which the figure shows the 5R's motor 1 at every step.
+WINDOW = (0.30, 0.32)
 #: The issue's aim: voltage-input sliding mode's error after 0.2 s within this many times torque input's.
 AIM = 2.0
 #: The runs: (label, law, voltage input, gains of the voltage design); the quick run has the first four.
@@ -102,7 +104,8 @@ def design(case: dict, voltage: bool):
 def run_case(case: dict, law_kind: str, voltage: bool, gains, duration: float, after: float,
              bandwidth: float = BANDWIDTH) -> dict:
     """One closed loop of ``duration`` s: its errors after ``after`` s (m), efforts, voltages,
-    currents and chattering; ``_series`` holds the time series for the figure."""
+    currents and chattering; ``series`` holds the time series for the figure (every ms, and
+    motor 1's held effort and current at every step over :data:`WINDOW`)."""
     motors = case["motors"].motors
     true_motors = off_nominal(motors, ERROR)  # the same mechanical plant (rotors, drive trains) for either input
     plant_mech = motorised(case["plant"], true_motors)
@@ -133,7 +136,11 @@ def run_case(case: dict, law_kind: str, voltage: bool, gains, duration: float, a
         out.update(voltage_peak=np.abs(tel.efforts).max(axis=0).tolist(), current_peak=np.abs(current).max(axis=0).tolist(),
                    current_rms=np.sqrt((current[late] ** 2).mean(axis=0)).tolist())
     every = max(1, round(1e-3 / step))
-    out["series"] = {"t": tel.t[::every].tolist(), "e_norm_mm": (1e3 * np.linalg.norm(e[::every], axis=1)).tolist()}
+    window = (tel.t >= WINDOW[0]) & (tel.t <= WINDOW[1])
+    out["series"] = {"t": tel.t[::every].tolist(), "e_norm_mm": (1e3 * np.linalg.norm(e[::every], axis=1)).tolist(),
+                     "efforts": tel.efforts[::every].tolist(), "current": current[::every].tolist(),
+                     "window": {"t": tel.t[window].tolist(), "effort_1": tel.efforts[window, 0].tolist(),
+                                "current_1": current[window, 0].tolist()}}
     return out
 
 
@@ -200,17 +207,43 @@ def markdown(report: dict) -> str:
 
 
 def draw(report: dict) -> Figure:
-    """One panel per mechanism: the error's norm (mm, log) under every run."""
+    """Top: each mechanism's error norm (mm, log) under every run. Below, when the runs reach
+    :data:`WINDOW` (not ``--quick``): the 5R's motor 1 over it, its current under voltage-input
+    sliding mode against the current the torque-input law's effort would take (tau / (N k_t)),
+    and its terminal voltage; the 2RSU+PPaP's voltages and currents under voltage-input sliding
+    mode."""
     parts = report["mechanisms"]
-    fig = Figure(figsize=(6 * len(parts), 4.2))
+    five_bar = parts["5R"]["runs"]
+    detail = len(five_bar["sliding mode, voltage"]["series"]["window"]["t"]) > 0 and "2RSU+PPaP" in parts
+    fig = Figure(figsize=(6 * len(parts), 8.0 if detail else 4.2))
     FigureCanvasAgg(fig)
-    axes = fig.subplots(1, len(parts), squeeze=False)
+    axes = fig.subplots(2 if detail else 1, len(parts), squeeze=False)
     for ax, (name, part) in zip(axes[0], parts.items()):
         for label, r in part["runs"].items():
             ax.semilogy(r["series"]["t"], np.maximum(r["series"]["e_norm_mm"], 1e-6), lw=0.9, label=label)
         ax.axvline(part["after"], color="k", lw=0.5, ls=":")
         ax.set(title=f"{name}: tracking error, 15 % plant and motors", xlabel="t (s)", ylabel="|e| (mm)")
         ax.legend(fontsize=7)
+    if detail:
+        voltage, torque = five_bar["sliding mode, voltage"]["series"]["window"], five_bar["sliding mode, torque"]["series"]["window"]
+        motor = five_bar_motors().motors[0]
+        ax = axes[1, 0]
+        ax.plot(voltage["t"], voltage["current_1"], lw=0.8, label="current, voltage input")
+        ax.plot(torque["t"], np.array(torque["effort_1"]) / (motor.gear_ratio * motor.torque_constant), lw=0.8,
+                label="tau / (N k_t), torque input")
+        ax.set(xlabel="t (s)", ylabel="motor 1 current (A)", title="5R, sliding mode: motor 1 over 20 ms")
+        twin = ax.twinx()
+        twin.plot(voltage["t"], voltage["effort_1"], lw=0.5, color="grey", alpha=0.6)
+        twin.set_ylabel("terminal voltage (V), grey")
+        ax.legend(fontsize=7, loc="upper left")
+        series = parts["2RSU+PPaP"]["runs"]["sliding mode, voltage"]["series"]
+        volts, amps = np.array(series["efforts"]), np.array(series["current"])
+        ax = axes[1, 1]
+        for j, name in enumerate(("crank 1", "crank 2", "rail")):
+            line, = ax.plot(series["t"], volts[:, j], lw=0.8, label=f"{name}: V")
+            ax.plot(series["t"], amps[:, j], lw=0.8, ls=":", color=line.get_color(), label=f"{name}: A")
+        ax.set(xlabel="t (s)", ylabel="V (solid), A (dotted)", title="2RSU+PPaP, sliding mode, voltage input")
+        ax.legend(fontsize=7, ncol=3)
     fig.tight_layout()
     return fig
 
