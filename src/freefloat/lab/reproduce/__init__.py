@@ -71,7 +71,7 @@ for _study in (
     Study("series", "the runs behind the time-series figures of secs 5.1 and 5.3 (figs 8-19, 41-56)", "series_report"),
     Study("voltage_sliding", "sliding mode with the voltage as input vs torque input and computed torque (sec 9)",
           "voltage_sliding_report"),
-    Study("adaptive", "adaptive vs fixed-gain sliding mode on plants 15 % and 50 % off (planned ch 5.3)",
+    Study("adaptive", "adaptive vs fixed-gain sliding mode on plants 15 and 50 percent off (planned ch 5.3)",
           "adaptive_report"),
     Study("redundancy", "the 5R with a third actuator: effort sharing and internal forces (objective 2)",
           "redundancy_report"),
