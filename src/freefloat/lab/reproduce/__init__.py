@@ -69,6 +69,20 @@ for _study in (
     Study("stability", "the largest stable step per integrator and scene", "stability_report"),
     Study("rsu_ppap_sliding", "the 2RSU+PPaP's gains, sliding mode vs computed torque", "rsu_ppap_sliding_report"),
     Study("series", "the runs behind the time-series figures of secs 5.1 and 5.3 (figs 8-19, 41-56)", "series_report"),
+    Study("voltage_sliding", "sliding mode with the voltage as input vs torque input and computed torque (sec 9)",
+          "voltage_sliding_report"),
+    Study("adaptive", "adaptive vs fixed-gain sliding mode on plants 15 and 50 percent off (planned ch 5.3)",
+          "adaptive_report"),
+    Study("redundancy", "the 5R with a third actuator: effort sharing and internal forces (objective 2)",
+          "redundancy_report"),
+    Study("friction", "joint friction and rotor inertias: energy balance, tracking with and without them (sec 9)",
+          "friction_report"),
+    Study("three_rrr", "a turning platform (P != 0, eqs 101-102) against Pinocchio's constraint dynamics",
+          "three_rrr_report"),
+    Study("jerk", "jerk by the composition of motion (eqs 4-5, 19-21) against finite differences",
+          "jerk_report"),
+    Study("identification", "parameters identified with confidence intervals against the true values (sec 9)",
+          "identification_report"),
 ):
     STUDIES.register(_study)
 
