@@ -161,7 +161,7 @@ void set_bodies(Model& model, const double* bodies) {
 void set_wrenches(const Model& model, Workspace& w, const Vec& q, const std::vector<Wrench>& wrenches) {
   pinocchio::forwardKinematics(model, w.data, q);
   for (Force& f : w.fext) f.setZero();
-  for (const Wrench& x : wrenches) {  // WrenchField.forces: inertial [f; n] at the link CoM
+  for (const Wrench& x : wrenches) {  // WrenchProfiles.forces: inertial [f; n] at the link CoM
     const Mat3& R = w.data.oMi[x.joint].rotation();
     const Vec3 f = R.transpose() * x.force;
     w.fext[x.joint] += Force(f, R.transpose() * x.torque + x.com.cross(f));

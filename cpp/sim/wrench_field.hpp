@@ -1,6 +1,6 @@
 // External wrenches on links with their time profiles (freefloat.dynamics.wrenches.ExternalWrench):
 // on during [start, end), rising linearly over `rise` s, then constant; sampled at the start of
-// each control period (zero-order hold), as WrenchField.activate does.
+// each control period (zero-order hold), as WrenchProfiles.activate does.
 #pragma once
 
 #include <algorithm>
@@ -28,7 +28,7 @@ struct WrenchProfile {
   }
 };
 
-// The wrenches `profiles` has on at time t, scaled (WrenchField.activate, then active()).
+// The wrenches `profiles` has on at time t, scaled (WrenchProfiles.activate, then active()).
 inline void select_wrenches(const std::vector<WrenchProfile>& profiles, double t, std::vector<Wrench>& active) {
   active.clear();
   for (const WrenchProfile& p : profiles) {
