@@ -16,7 +16,7 @@ from freefloat.app.atlas.grid import Axis, Grid, check_memory
 from freefloat.app.atlas.kinds import KINDS, AtlasKind, Options
 from freefloat.app.batch import Workers
 from freefloat.app.cli import main
-from freefloat.errors import InvalidArgument, UnknownName
+from freefloat.errors import FreefloatError, InvalidArgument, UnknownName
 
 
 @pytest.fixture(autouse=True)
@@ -149,3 +149,30 @@ def test_dask_local_cluster_gives_the_serial_map(tmp_path):
     pytest.importorskip("distributed")
     done = run_atlas("toy", "t", Options(grid=9), tmp_path / "out", Workers(2, dask=True))
     assert np.array_equal(done.result["f"], expected(9))
+
+
+def interrupted(out, chunks: int = 2) -> None:
+    """A toy map into ``out`` stopped by Ctrl-C once ``chunks`` chunks of 8 points are journaled."""
+    def stop(done, total):
+        if done >= 8 * chunks:
+            raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        run_atlas("toy", "t", Options(), out, progress=stop)
+
+
+@pytest.mark.parametrize("overwrite", [False, True])
+def test_a_chunk_folder_replaced_by_a_link_is_neither_followed_nor_cleared(tmp_path, overwrite):
+    """A resumed (or overwritten) map whose chunks/ is now a link to a user's folder is refused,
+    naming the link; nothing in the user's folder is written or removed."""
+    interrupted(tmp_path / "out")
+    mine = tmp_path / "mine"
+    mine.mkdir()
+    (mine / "chunk-00000.npz").write_text("precious")
+    (tmp_path / "out" / engine.CHUNKS).rename(tmp_path / "moved")
+    (tmp_path / "out" / engine.CHUNKS).symlink_to(mine)
+    with pytest.raises(FreefloatError, match=r"chunks' is a symbolic link"):
+        run_atlas("toy", "t", Options(), tmp_path / "out", overwrite=overwrite)
+    assert sorted(p.name for p in mine.iterdir()) == ["chunk-00000.npz"]
+    assert (mine / "chunk-00000.npz").read_text() == "precious"
+

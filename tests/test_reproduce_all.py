@@ -403,3 +403,31 @@ def test_a_study_finished_with_the_other_quick_setting_is_made_again(tmp_path, m
     for quick in (True, True, False):
         folders_module.run_all(tmp_path, False, quick, {}, say=lambda line: None, names=("series",))
     assert calls == [("series", False, True), ("series", True, False)]
+
+
+@pytest.mark.parametrize("overwrite", [False, True])
+def test_a_study_folder_replaced_by_a_link_is_not_written_through(tmp_path, monkeypatch, overwrite):
+    """A resumed (or overwritten) ``all`` whose recorded study folder is now a link to a user's
+    folder is refused, naming the link; nothing is written into the user's folder."""
+    from freefloat.errors import FreefloatError
+
+    def fake_study(name, out, overwrite, quick, options):
+        from freefloat.app.run_folder import RunFolder
+
+        with RunFolder(out, overwrite, keep_foreign=False, resume=True) as folder:
+            if name == "five_bar":
+                raise KeyboardInterrupt("SIGTERM")
+            folder.write_text("report.json", json.dumps({"settings": {"quick": quick}, "wall_time_s": 0.0}))
+        return {}
+
+    monkeypatch.setattr(folders_module, "run_study", fake_study)
+    names = ("task_space", "five_bar")
+    with pytest.raises(KeyboardInterrupt):
+        folders_module.run_all(tmp_path / "out", False, True, {}, say=lambda line: None, names=names)
+    (tmp_path / "mine").mkdir()
+    for name in names:
+        (tmp_path / "out" / name).rename(tmp_path / f"moved-{name}")
+        (tmp_path / "out" / name).symlink_to(tmp_path / "mine")
+    with pytest.raises(FreefloatError, match="task_space' is a symbolic link"):
+        folders_module.run_all(tmp_path / "out", overwrite, True, {}, say=lambda line: None, names=names)
+    assert list((tmp_path / "mine").iterdir()) == []

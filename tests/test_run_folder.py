@@ -237,3 +237,24 @@ def test_a_name_freefloat_removed_is_no_longer_its_own(tmp_path):
         pass
     assert (out / PARTS / "part-00000.npz").read_text() == "mine" and (out / ".telemetry.npz.partial").is_symlink()
     assert not (out / "telemetry.npz").exists()
+
+
+def test_a_recorded_subfolder_replaced_by_a_link_is_neither_cleared_nor_written_through(tmp_path):
+    """A link where the record names a subfolder of freefloat's refuses --overwrite and resuming,
+    naming it, and a claim through a link that appears mid-run is refused; the user's files the
+    link points to stay as they were."""
+    mine = tmp_path / "mine"
+    mine.mkdir()
+    (mine / "part-00000.npz").write_text("precious")
+    previous_run(tmp_path / "out", "summary.json")
+    (tmp_path / "out" / PARTS).rename(tmp_path / "moved")
+    (tmp_path / "out" / PARTS).symlink_to(mine)
+    for options in ({"overwrite": True}, {"resume": True}):
+        with pytest.raises(FreefloatError, match=f"{PARTS}' is a symbolic link"):
+            RunFolder(tmp_path / "out", **options)
+    (tmp_path / "out" / PARTS).unlink()
+    with RunFolder(tmp_path / "new") as folder:
+        (tmp_path / "new" / "sub").symlink_to(mine)
+        with pytest.raises(FreefloatError, match="sub' is a symbolic link"):
+            folder.write_text("sub/part-00000.npz", "mine")
+    assert [p.name for p in mine.iterdir()] == ["part-00000.npz"] and (mine / "part-00000.npz").read_text() == "precious"

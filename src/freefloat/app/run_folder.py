@@ -128,6 +128,7 @@ class RunFolder:
         held = [p for p in self.path.iterdir() if p.name not in (LOCK, RECORD)]
         if not held:
             return
+        self._refuse_links(self.owned())
         if resume and not overwrite:
             owned = self.owned()
             foreign = sorted(p.name for p in held if p.name not in {n.split("/")[0] for n in owned})
@@ -162,16 +163,41 @@ class RunFolder:
             warnings.warn(f"{spelled('overwrite=True', '--overwrite')} kept {len(kept)} file(s) in '{self.path}' that "
                           f"freefloat did not write: {', '.join(kept)}", stacklevel=2)
 
+    def _refuse_links(self, names: list[str]) -> None:
+        """Refuse the folder when a recorded name, or the folder it sits in, is a symbolic link:
+        freefloat never makes one, so it is not freefloat's, and neither resuming (reading and
+        writing through it) nor overwriting (removing it or what it points to) may touch it.
+
+        Raises:
+            RunFolderError: naming the first such link.
+        """
+        for name in names:
+            self._no_link(name)
+
+    def _no_link(self, name: str) -> None:
+        """Raise :class:`RunFolderError` when ``name`` (relative, ``/``-separated) or one of the
+        folders it sits in inside :attr:`path` is a symbolic link."""
+        parts = PurePosixPath(name.rstrip("/")).parts
+        for depth in range(1, len(parts) + 1):
+            path = self.path.joinpath(*parts[:depth])
+            if path.is_symlink():
+                raise RunFolderError(f"'{path}' is a symbolic link where freefloat keeps its own "
+                                     f"{'file' if depth == len(parts) and not name.endswith('/') else 'folder'}; "
+                                     "freefloat neither follows nor removes links it did not create (remove it, "
+                                     f"or choose another {spelled('out=', '--out')})")
+
     def claim(self, name: str) -> Path:
         """Record ``name`` (relative to the folder; a folder ends with ``/``) as freefloat's before
         it is created, and return its path.
 
         Raises:
             RunFolderError: naming the file when it exists and is not freefloat's (not written by
-                this run), or when the record cannot be written.
+                this run), or when the record cannot be written; naming the link when ``name``'s
+                folder, or a folder ``name`` itself, is a symbolic link (even one the record names).
         """
         bare = name.rstrip("/")
         path = self.path / bare
+        self._no_link(name if name.endswith("/") else str(PurePosixPath(bare).parent))
         if bare not in self._mine:
             reusable = name.endswith("/") and path.is_dir() and not path.is_symlink()  # its files are claimed one by one
             if os.path.lexists(path) and not reusable:
@@ -277,6 +303,21 @@ class RunFolder:
             raise RunFolderError(f"could not write '{final}': {exc.strerror or exc}") from exc
         return final
 
+    def subfolder(self, name: str) -> Path:
+        """The subfolder ``name`` of freefloat's, claimed and created (or reopened, on a resume),
+        never through a symbolic link.
+
+        Raises:
+            RunFolderError: naming it when it is a symbolic link or a file.
+        """
+        path = self.claim(f"{name}/")
+        try:
+            path.mkdir(exist_ok=True)
+        except OSError as exc:
+            raise RunFolderError(f"'{path}' cannot be made a folder: {exc.strerror or exc}") from exc
+        self._no_link(f"{name}/")  # made between the check and mkdir
+        return path
+
     def private_dir(self) -> Path:
         """A new, uniquely named hidden subfolder of freefloat's (for files made out of sight and
         then :meth:`place`-d: a file appears in the folder only whole, and whatever a kill leaves
@@ -295,10 +336,7 @@ class RunFolder:
         """Save the next chunk of a running run's telemetry under :data:`PARTS`; the same chunk
         object again (its hand-over was interrupted, see ``Chunks``) replaces its own part, so no
         row is ever saved twice."""
-        parts = self.claim(f"{PARTS}/")
-        if parts.is_symlink():
-            raise RunFolderError(f"'{parts}' is a symbolic link; freefloat does not follow links for its own files")
-        parts.mkdir(exist_ok=True)
+        self.subfolder(PARTS)
         last, index = self._last_part
         index = index if chunk is last else index + 1
         self.save(f"{PARTS}/part-{index:05d}.npz", chunk, compressed=False)  # removed when the run ends

@@ -110,8 +110,7 @@ def run_atlas(kind: str, target: str, options: Options, out: Path, workers: Work
         settings["chunk_size"] = size
         spans = grid.chunks(size)
         parts: dict[int, dict[str, np.ndarray]] = {i: _load_chunk(folder.path, i) for i in done}
-        chunks_dir = folder.claim(f"{CHUNKS}/")
-        chunks_dir.mkdir(exist_ok=True)
+        chunks_dir = folder.subfolder(CHUNKS)
         with folder.journal(JOURNAL) as journal:
             if not done:
                 journal.append(json.dumps({"settings": settings}))
