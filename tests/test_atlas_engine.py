@@ -176,3 +176,37 @@ def test_a_chunk_folder_replaced_by_a_link_is_neither_followed_nor_cleared(tmp_p
     assert sorted(p.name for p in mine.iterdir()) == ["chunk-00000.npz"]
     assert (mine / "chunk-00000.npz").read_text() == "precious"
 
+
+def swap(out) -> None:
+    """Chunk files 0 and 1 exchanged."""
+    a, b = (out / engine.CHUNKS / f"chunk-0000{i}.npz" for i in (0, 1))
+    a.rename(out / "t.npz"), b.rename(a), (out / "t.npz").rename(b)
+
+
+def edit_journal(out, change) -> None:
+    """The journal's lines (parsed) changed by ``change`` and written back."""
+    path = out / engine.JOURNAL
+    lines = [json.loads(line) for line in path.read_text().splitlines()]
+    path.write_text("".join(json.dumps(line) + "\n" for line in change(lines)))
+
+
+@pytest.mark.parametrize("tamper, message", [
+    (lambda out: (out / engine.JOURNAL).write_text("{not json\n"), "line 1 is not a journal entry"),
+    (lambda out: edit_journal(out, lambda ls: ls + [{"chunk": 99, "start": 792, "stop": 800}]), "names chunk 99"),
+    (lambda out: edit_journal(out, lambda ls: [{"settings": {**ls[0]["settings"], "chunk_size": "8"}}] + ls[1:]),
+     "chunk size of '8'"),
+    (lambda out: edit_journal(out, lambda ls: [{"settings": {**ls[0]["settings"], "chunk_size": -5}}] + ls[1:]),
+     "chunk size of -5"),
+    (lambda out: (out / engine.CHUNKS / "chunk-00001.npz").write_bytes(
+        (out / engine.CHUNKS / "chunk-00001.npz").read_bytes()[:100]), "not a readable chunk file"),
+    (lambda out: (out / engine.CHUNKS / "chunk-00001.npz").write_text("a user's notes"), "not a readable chunk file"),
+    (swap, "not this map's chunk 0 of points 0 to 8 \\(it holds points \\[8, 16\\]"),
+])
+def test_a_tampered_journal_or_chunk_is_refused_not_read(tmp_path, tamper, message):
+    """A journal line that does not parse or names a chunk the map lacks, a chunk size that is
+    not a positive integer, and a chunk file truncated, foreign or of another span (swapped) are
+    refused, naming the file, before any chunk is evaluated or read as data."""
+    interrupted(tmp_path / "out")
+    tamper(tmp_path / "out")
+    with pytest.raises(FreefloatError, match=message):
+        run_atlas("toy", "t", Options(), tmp_path / "out")
