@@ -210,3 +210,15 @@ def test_a_tampered_journal_or_chunk_is_refused_not_read(tmp_path, tamper, messa
     tamper(tmp_path / "out")
     with pytest.raises(FreefloatError, match=message):
         run_atlas("toy", "t", Options(), tmp_path / "out")
+
+
+def test_a_grid_whose_point_count_passes_2_to_the_64_is_refused_by_the_memory_check():
+    """The point count is an exact integer: a grid of 2^64 points does not wrap around to 0 and pass."""
+    with pytest.raises(InvalidArgument, match="grid too large for memory"):
+        check_memory(Grid((Axis("a", 0, 1, 2**32), Axis("b", 0, 1, 2**32))), 8, available=2**30)
+
+
+def test_a_grid_past_2_to_the_63_points_is_refused_before_it_is_indexed(tmp_path):
+    """A map of 2^64 points is refused by the memory check, not by numpy's indexing."""
+    with pytest.raises(InvalidArgument, match="grid too large for memory: 4294967296 x 4294967297"):
+        run_atlas("toy", "t", Options(grid=2**32), tmp_path / "out")

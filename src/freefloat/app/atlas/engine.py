@@ -106,6 +106,7 @@ def run_atlas(kind: str, target: str, options: Options, out: Path, workers: Work
     module = entry.check_options(options)
     context = module.prepare(target, options)
     grid = module.grid(context, options)
+    check_memory(grid, 1)  # a byte a point at least, before the probe indexes a grid of 2^63 points or more
     probe = module.evaluate(context, grid.points(0, 1))
     check_memory(grid, sum(a.nbytes for a in probe.values()))
     settings = {"kind": kind, "target": target, "options": options.as_dict(), "grid": grid.describe()}
