@@ -222,3 +222,9 @@ def test_a_grid_past_2_to_the_63_points_is_refused_before_it_is_indexed(tmp_path
     """A map of 2^64 points is refused by the memory check, not by numpy's indexing."""
     with pytest.raises(InvalidArgument, match="grid too large for memory: 4294967296 x 4294967297"):
         run_atlas("toy", "t", Options(grid=2**32), tmp_path / "out")
+
+
+def test_cli_workers_0_is_refused_as_batch_refuses_it(tmp_path, capsys):
+    """atlas --workers 0 exits 2 naming --workers, not a serial map."""
+    assert main(["atlas", "toy", "t", "--workers", "0", "--out", str(tmp_path / "out"), "--quiet"]) == 2
+    assert "--workers must be an integer >= 1, got 0" in capsys.readouterr().err and not (tmp_path / "out").exists()
