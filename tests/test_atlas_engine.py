@@ -228,3 +228,9 @@ def test_cli_workers_0_is_refused_as_batch_refuses_it(tmp_path, capsys):
     """atlas --workers 0 exits 2 naming --workers, not a serial map."""
     assert main(["atlas", "toy", "t", "--workers", "0", "--out", str(tmp_path / "out"), "--quiet"]) == 2
     assert "--workers must be an integer >= 1, got 0" in capsys.readouterr().err and not (tmp_path / "out").exists()
+
+
+def test_grid_below_one_point_per_axis_is_refused():
+    """--grid 0 is refused naming --grid, not replaced by the kind's default."""
+    with pytest.raises(InvalidArgument, match="grid.*must be an integer >= 1, got 0"):
+        Options(grid=0)
