@@ -255,26 +255,25 @@ def _resumable(journal: Path, settings: dict) -> dict[int, dict]:
     return done
 
 
-def reproduce_robustness(out: Path, quick: bool = False, runs: int = 20, relative_error: float = 0.5,
+def reproduce_robustness(out: Path, quick: bool = False, runs: int | None = None, relative_error: float = 0.5,
                          scheduler: str | None = None, journal: Path | None = None) -> dict:
     """``freefloat reproduce robustness``: gains designed across Dask workers over the grid, then
-    ``runs`` closed loops on plants drawn within ``relative_error`` of the nominal parameters.
+    ``runs`` closed loops (default 20, 2 when ``quick``) on plants drawn within ``relative_error``
+    of the nominal parameters.
 
     Each finished sample is appended to ``journal`` (default ``samples.jsonl`` in ``out``) as it
     comes in; rerun with the same journal and settings, the study resumes from them. Failed
     samples are kept as failures with their reason; the statistics are over the samples that ran.
 
     Raises:
-        FreefloatError: for ``runs`` < 1, ``relative_error`` outside [0, 1), a scheduler that
-            does not answer, or a gain design that fails.
+        FreefloatError: for ``runs`` or ``relative_error`` that
+            :func:`~freefloat.parallel.sweeps.check_monte_carlo` refuses, a scheduler that does
+            not answer, or a gain design that fails.
     """
-    from ...parallel.sweeps import client, design_gains_distributed, monte_carlo
+    from ...parallel.sweeps import check_monte_carlo, client, design_gains_distributed, monte_carlo
 
-    runs = 2 if quick else runs
-    if runs < 1:
-        raise FreefloatError(f"--runs must be >= 1, got {runs}")
-    if not 0.0 <= relative_error < 1.0:
-        raise FreefloatError(f"--error must be in [0, 1) (the parameters must stay positive), got {relative_error}")
+    runs = (2 if quick else 20) if runs is None else runs
+    check_monte_carlo(runs, relative_error)  # before the cluster starts
     out.mkdir(parents=True, exist_ok=True)
     start = time.perf_counter()
     nominal = FiveBarParameters()
