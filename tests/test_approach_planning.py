@@ -12,7 +12,7 @@ import pytest
 from hypothesis import given, settings
 
 from freefloat import load_robot
-from freefloat.errors import InfeasiblePlan, SceneError
+from freefloat.errors import InfeasiblePlan, InvalidArgument, SceneError
 from freefloat.robot.joints import JointCoordinates
 from freefloat.space.capture import Target, TargetBody
 from freefloat.space.planning import (
@@ -504,3 +504,17 @@ def test_a_diverging_plan_is_refused_not_returned(planar, monkeypatch):
         with pytest.raises(InfeasiblePlan, match="out of reach: the plan diverged") as caught:
             plan_approach(req, "null_space")
         assert caught.value.reason == "reach"
+
+
+def test_a_planning_grid_beyond_its_bound_is_refused_before_planning(planar):
+    """steps of 200,000,000 is refused naming 'steps' and the bound, before any planning."""
+    robot, q0, v0 = planar
+    with pytest.raises(InvalidArgument, match="'steps' must be an integer from 4 to 100,000"):
+        dataclasses.replace(request_for(robot, q0, v0, "arm1_ee", (0.3, 0.4, 0.0), 1.0), steps=200_000_000)
+
+
+def test_a_mission_joint_given_twice_is_refused_naming_it(planar):
+    """A duplicate mission joint is refused as such (naming the joint), not as a grasp out of reach."""
+    robot, q0, v0 = planar
+    with pytest.raises(InvalidArgument, match=f"mission joint\\(s\\) '{robot.joint_names[1]}' given twice"):
+        request_for(robot, q0, v0, "arm1_ee", (0.3, 0.4, 0.0), 1.0, joints=np.array([0, 1, 1]))
