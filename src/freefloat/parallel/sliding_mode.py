@@ -21,7 +21,7 @@ import numpy as np
 
 from ..dynamics.compiled_chain import CompiledChainLoop
 from ..dynamics.plants import CoupledChainPlant
-from ..errors import InvalidArgument
+from ..errors import InvalidArgument, UnknownName
 from . import gain_design
 from .five_bar import FiveBarParameters, elbow_guess, five_bar
 from .gain_design import SlidingModeGains, WorstCase
@@ -98,6 +98,14 @@ class FiveBarModel:
     params: FiveBarParameters
     uncertainty_of: dict[str, float] = field(default_factory=lambda: dict(UNCERTAINTY))
     p: int = 2
+
+    def __post_init__(self) -> None:
+        fields = [f for f in FiveBarParameters.__dataclass_fields__]
+        for name, width in self.uncertainty_of.items():
+            if name not in fields:
+                raise UnknownName("uncertain parameter of the 5R (a FiveBarParameters field)", name, fields)
+            if isinstance(width, bool) or not isinstance(width, (int, float, np.floating)) or not 0 <= width < np.inf:
+                raise InvalidArgument(f"uncertainty of '{name}': the half-width must be a finite number >= 0, got {width!r}")
 
     @property
     def names(self) -> tuple[str, ...]:
