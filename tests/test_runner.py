@@ -250,3 +250,13 @@ def test_an_interrupt_while_writing_exits_1_with_the_data_whole(tmp_path):
     assert process.returncode == 1, err
     assert "interrupted while writing" in err and "skipped:" in out and "figures" in out.split("skipped:")[1]
     assert len(Telemetry.load(tmp_path / "out" / "telemetry.npz").t) == 51
+
+
+@pytest.mark.parametrize("scene, out", [(None, None), ({}, None), (3, None), ("four_arm_joint_space", 3)])
+def test_simulate_refuses_a_scene_or_folder_of_the_wrong_kind(scene, out):
+    """simulate with None, a dict or a number for the scene (or a number for out) is refused
+    naming the argument, not a TypeError from pathlib."""
+    from freefloat.errors import InvalidArgument
+
+    with pytest.raises(InvalidArgument, match=f"'{'scene' if out is None else 'out'}' takes "):
+        runner.simulate(scene, out=out)

@@ -296,3 +296,16 @@ def test_an_argument_a_plant_does_not_take_is_named(given, named):
 
     with pytest.raises(InvalidArgument, match=f"^{named}: "):
         run(Still(), np.zeros(1), np.zeros(1), 0.01, 1e-3, **given)
+
+
+@pytest.mark.parametrize("argument, value", [("integrator", None), ("integrator", {}), ("model", {}),
+                                             ("controller", "pd")])
+def test_run_refuses_an_integrator_model_or_controller_that_is_not_one(argument, value):
+    """run with None, a dict or a string where an integrator, a model or a controller belongs is
+    refused naming the argument, before any step."""
+    from freefloat import load_robot
+    from freefloat.errors import InvalidArgument
+
+    robot = load_robot("two_arm_planar", visuals=False)
+    with pytest.raises(InvalidArgument, match=f"'{argument}' takes "):
+        run(robot, robot.neutral(), np.zeros(robot.model.nv), 0.1, 0.01, **{argument: value})

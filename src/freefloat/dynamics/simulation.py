@@ -9,7 +9,7 @@ from typing import Callable, Protocol
 import numpy as np
 import pinocchio as pin
 
-from ..arguments import real_number, reals, whole_number
+from ..arguments import an_object, real_number, reals, whole_number
 from ..errors import InvalidArgument, SimulationDiverged
 from ..robot.conventions import momentum_about_origin
 from ..robot.joints import JointCoordinates
@@ -160,8 +160,9 @@ def run(
     Raises:
         InvalidArgument: for a state of the wrong size or not finite, a non-unit base quaternion,
             a duration that is not a positive whole number of control periods, an unknown
-            backend, an argument the system does not take (naming it), or ``"compiled"`` for a
-            run it cannot do (with the reason).
+            backend, an argument the system does not take (naming it), an ``integrator``,
+            ``model`` or ``controller`` that is not one, or ``"compiled"`` for a run it cannot do
+            (with the reason).
         UnknownName: for an unknown integrator or model name.
     """
     steps = control_periods(duration, control_period)
@@ -176,6 +177,10 @@ def run(
     integrator = _integrator(integrator, robot.model, substeps, rtol, atol)
     if model is None or isinstance(model, str):
         model = make_model(model or "exact", robot)
+    an_object("model", model, "a name of freefloat.MODELS or a model (freefloat.make_model)", methods=("acceleration",))
+    if controller is not None:
+        an_object("controller", controller, "None or a controller (torque(t, q, v) and reference(t))",
+                  methods=("torque", "reference"))
     check_state(robot, q0, reals("v0", v0))
     record_every = min(whole_number("record_every", record_every), steps)  # more records as many rows
     if backend not in BACKENDS:
@@ -214,6 +219,8 @@ def _integrator(integrator: str | Integrator, space: pin.Model, substeps: int, r
     """``integrator`` built on ``space`` when it is a name; refused settings for one already built."""
     if isinstance(integrator, str):
         return make_integrator(integrator, space, substeps, rtol, atol)
+    an_object("integrator", integrator, "a name of freefloat.INTEGRATORS or an integrator (freefloat.make_integrator)",
+              methods=("advance",))
     if (substeps, rtol, atol) != (1, 1e-10, 1e-12):
         raise InvalidArgument(f"substeps, rtol, atol: settings of an integrator given by name; '{integrator.name}' "
                               "is built already (pass its name, or build it with them)")
