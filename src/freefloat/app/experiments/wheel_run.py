@@ -64,7 +64,8 @@ def scene_wheels(scene: Scene, robot: Robot) -> Wheels | None:
 
     Raises:
         SceneError: naming the file and ``wheels[i]`` key for a wheel that cannot be mounted, and
-            the keys wheels cannot be used with (closures, a capture target, locked joints, a
+            the keys wheels cannot be used with (closures, a capture target, a plant model other
+            than the exact one, a roll or pitch attitude on a planar base, locked joints, a
             detumbling task whose mission joints include a wheel or default to all joints).
     """
     if not scene.wheels:
@@ -83,6 +84,14 @@ def scene_wheels(scene: Scene, robot: Robot) -> Wheels | None:
     if scene.target is not None:
         raise SceneError(f"{where}[target] (a capture) is not available with [[wheels]] yet: the capture's phases "
                          "do not run the attitude law; detumble an impulse instead (detumble_impulse_wheel)")
+    if scene.simulation.model not in ("exact", "auto"):
+        raise SceneError(f"{where}'simulation.model' = {scene.simulation.model!r}: a scene with [[wheels]] simulates "
+                         "the exact plant (the GJM models do not carry the rotors' momentum); set it to \"exact\" "
+                         "or \"auto\"")
+    if robot.base == "planar" and scene.attitude is not None and scene.attitude.rpy is not None \
+            and len(scene.attitude.rpy) == 3 and any(scene.attitude.rpy[:2]):
+        raise SceneError(f"{where}'attitude.rpy' = {list(scene.attitude.rpy)} rolls or pitches a planar base, which "
+                         "turns about z only; give [0, 0, yaw]")
     if scene.robot.locked_joints or scene.simulation.lock != "none":
         raise SceneError(f"{where}'robot.locked_joints' and 'simulation.lock' are not available with [[wheels]]")
     names = {w.name for w in wheels.wheels}
