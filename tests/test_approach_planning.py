@@ -518,3 +518,21 @@ def test_a_mission_joint_given_twice_is_refused_naming_it(planar):
     robot, q0, v0 = planar
     with pytest.raises(InvalidArgument, match=f"mission joint\\(s\\) '{robot.joint_names[1]}' given twice"):
         request_for(robot, q0, v0, "arm1_ee", (0.3, 0.4, 0.0), 1.0, joints=np.array([0, 1, 1]))
+
+
+def test_a_turn_under_position_matching_is_refused_naming_it(tmp_path):
+    """approach.turn with match = "position" (which plans no orientation) is refused naming 'turn'."""
+    from freefloat.app.runner import prepare
+
+    scene = quiet_scene(tmp_path, "capture_planned_planar", approach={"turn": [0.0, 0.0, 20.0]})
+    with pytest.raises(SceneError, match=r"\[approach\] 'turn' \[0.0, 0.0, 20.0\] turns the hand's handle"):
+        prepare(scene)
+
+
+def test_a_planned_capture_without_a_controller_is_refused(tmp_path):
+    """A planned approach with controller.kind = "none" (which would still track the plan) is refused naming the key."""
+    from freefloat.app.runner import prepare
+
+    scene = quiet_scene(tmp_path, "capture_planned_planar", controller={"kind": "none"})
+    with pytest.raises(SceneError, match=r"'controller.kind' is \"none\""):
+        prepare(scene)

@@ -92,7 +92,8 @@ def approach_request(scene: Scene, setup, hands: tuple[str, ...], grasps: tuple[
 
     Raises:
         SceneError: naming ``[approach]`` for a bad limit, an unknown ``approach.mission_joints``,
-            a start not before the contact or a late start from a moving robot.
+            a start not before the contact, a late start from a moving robot, a ``turn`` without
+            ``match = "pose"``, or ``controller.kind = "none"`` (the plan is tracked by computed torque).
     """
     ap, robot = scene.approach, setup.robot
     joints = None if ap.mission_joints is None else mission_joint_indices(robot, ap.mission_joints)
@@ -104,6 +105,12 @@ def approach_request(scene: Scene, setup, hands: tuple[str, ...], grasps: tuple[
     if ap.start > 0.0 and np.abs(setup.v0).max() > 0.0:
         raise SceneError(f"{where} 'start' {ap.start} s plans from the initial posture held at rest: the [initial] "
                          "velocities must be zero (or start at 0)")
+    if ap.match == "position" and any(ap.turn):
+        raise SceneError(f"{where} 'turn' {list(ap.turn)} turns the hand's handle, which only 'match' = \"pose\" "
+                         "plans; with \"position\" remove it (or set match = \"pose\")")
+    if scene.controller.kind == "none":
+        raise SceneError(f"{where} is tracked by computed torque on the plan, but 'controller.kind' is \"none\"; "
+                         "set it to \"computed_torque\" (its gains and model track the plan), or remove [approach]")
     if ap.match == "pose":
         grasps = handles(scene, setup, hands, grasps)
     try:
