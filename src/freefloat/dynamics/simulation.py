@@ -10,7 +10,7 @@ import numpy as np
 import pinocchio as pin
 
 from ..arguments import an_object, real_number, reals, whole_number
-from ..errors import InvalidArgument, SimulationDiverged
+from ..errors import BadShape, InvalidArgument, SimulationDiverged
 from ..robot.conventions import momentum_about_origin
 from ..robot.joints import JointCoordinates
 from ..robot.loading import BASE_COM_FRAME
@@ -455,6 +455,7 @@ def _run_periods(engine: PythonPeriods | compiled.CompiledLoop, steps: int, cont
     event here, each period's telemetry row and integration by ``engine`` (this module's Python,
     or the compiled loop); a stop request (:mod:`.stop_request`) or Ctrl-C interrupts it between periods."""
     reference = controller.reference if controller is not None else (lambda t: None)
+    efforts = (engine.plant.n_efforts,) if isinstance(engine, PlantPeriods) else (engine.robot.n_joints,)
     report_every = max(1, steps // 200)
     status, message, k = "completed", "", 0
     bound: list[Telemetry] = []
@@ -475,7 +476,11 @@ def _run_periods(engine: PythonPeriods | compiled.CompiledLoop, steps: int, cont
             stop_request.check()
             t = start_time + k * control_period
             if controller is not None:
-                engine.hold(controller.torque(t, *engine.state))
+                tau = controller.torque(t, *engine.state)
+                if np.shape(tau) != efforts:
+                    raise BadShape(f"controller: torque(t, q, v) gave {np.shape(tau)} at t = {t:.6g} s; the "
+                                   f"{'plant' if isinstance(engine, PlantPeriods) else 'robot'} takes {efforts}")
+                engine.hold(tau)
             if field is not None:
                 engine.set_wrenches(field if field.activate(t) else None)
             if k % record_every == 0:
@@ -489,6 +494,8 @@ def _run_periods(engine: PythonPeriods | compiled.CompiledLoop, steps: int, cont
                 break
         else:
             k = steps
+    except BadShape:  # the controller's mistake, not the run's: an error, not a status
+        raise
     except ENDINGS as cause:
         status, message = ended_by(cause, start_time + k * control_period)
     else:
