@@ -176,6 +176,9 @@ class PlatformControl:
     saturation: str = "tanh"
 
     def __post_init__(self) -> None:
+        if isinstance(self.lam, bool) or not isinstance(self.lam, (int, float, np.floating)) \
+                or not 0.0 <= self.lam < np.inf:
+            raise InvalidArgument(f"platform control: lambda (lam) must be a finite number >= 0 (1/s), got {self.lam!r}")
         if self.saturation not in SWITCHES:
             raise InvalidArgument(f"sliding mode: saturation must be one of {SWITCHES}, got '{self.saturation}'")
 
