@@ -75,10 +75,12 @@ def evaluate_chunk(kind: AtlasKind, context: Any, grid: Grid, start: int, stop: 
     return kind.load().evaluate(context, grid.points(start, stop))
 
 
-def chunk_size(grid: Grid, workers: int) -> int:
+def chunk_size(grid: Grid, workers: int, minimum: int | None = None) -> int:
     """Points per chunk: about :data:`CHUNKS_PER_WORKER` chunks per worker, within
-    [:data:`MIN_CHUNK`, :data:`MAX_CHUNK`]."""
-    return int(min(MAX_CHUNK, max(MIN_CHUNK, math.ceil(grid.size / (CHUNKS_PER_WORKER * workers)))))
+    [``minimum``, :data:`MAX_CHUNK`] (``minimum``: a kind's own ``MIN_CHUNK``, for points that
+    take long each; default :data:`MIN_CHUNK`)."""
+    minimum = MIN_CHUNK if minimum is None else minimum
+    return int(min(MAX_CHUNK, max(minimum, math.ceil(grid.size / (CHUNKS_PER_WORKER * workers)))))
 
 
 def run_atlas(kind: str, target: str, options: Options, out: Path, workers: Workers = Workers(),
@@ -111,7 +113,8 @@ def run_atlas(kind: str, target: str, options: Options, out: Path, workers: Work
     check_memory(grid, sum(a.nbytes for a in probe.values()))
     settings = {"kind": kind, "target": target, "options": options.as_dict(), "grid": grid.describe()}
     with RunFolder(out, overwrite, keep_foreign=False, resume=True) as folder:
-        size, done = _resumed(folder, settings, chunk_size(grid, workers.count), grid.size)
+        size, done = _resumed(folder, settings, chunk_size(grid, workers.count, getattr(module, "MIN_CHUNK", None)),
+                               grid.size)
         settings["chunk_size"] = size
         spans = grid.chunks(size)
         run_id = _run_id(settings)
