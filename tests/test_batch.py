@@ -197,7 +197,7 @@ def test_sigterm_keeps_the_finished_rows(tmp_path, where):
     (["--runs", "0"], "--runs must be from 1 to 100000, got 0"),
     (["--vary", "wobble=1"], "--vary 'wobble=1': unknown key 'wobble'"),
     (["--vary", "mass=2"], "--vary 'mass=2'"),
-    (["--workers", "0"], "--workers must be >= 1, got 0"),
+    (["--workers", "0"], "--workers must be an integer >= 1, got 0"),
     (["--threads", "0"], "--threads must be from 1 to 256, got 0"),
     (["--threads", "300"], "--threads must be from 1 to 256, got 300"),
     (["--threads", "2", "--workers", "2"], "--threads 2 with --workers 2: choose"),
