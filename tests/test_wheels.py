@@ -285,3 +285,22 @@ def test_a_roll_attitude_on_a_planar_base_is_refused(tmp_path):
     path.write_text(toml_text(raw))
     with pytest.raises(SceneError, match=r"'attitude.rpy' = \[10.0, 0.0, 0.0\] rolls or pitches a planar base"):
         prepare(load_scene(path))
+
+
+def test_a_rotor_above_a_planar_base_s_plane_keeps_the_planar_balance():
+    """A wheel about z 0.1 m above a planar base's plane: the torque-free run's wheel balance (its
+    z component, all the planar joint conserves) and momentum drift stay at round-off, though the
+    joint's reactions change Lx and Ly."""
+    from freefloat import load_robot
+    from freefloat.app.experiments.wheel_run import wheel_telemetry
+    from freefloat.dynamics.metrics import conservation
+    from freefloat.dynamics.simulation import run
+
+    robot = load_robot("two_arm_planar", base="planar", visuals=False)
+    wheels = mount_wheels(robot, [WheelSpec("wz", 1.0, 1.0, axis=(0.0, 0.0, 1.0), position=(0.0, 0.0, 0.1), mass=2.0,
+                                            inertia=0.05, key="wheels[0]")])
+    v0 = np.random.default_rng(1).uniform(-1.0, 1.0, wheels.robot.model.nv)
+    tel = run(wheels.robot, wheels.robot.neutral(), v0, 0.5, 0.005, substeps=4).telemetry
+    rows = wheel_telemetry(wheels, tel, (), 0.005)
+    assert np.abs(rows.rest[:, :2] - rows.rest[0, :2]).max() > 1e-4  # the reactions do change Lx, Ly
+    assert np.abs(rows.balance).max() < 1e-8 and conservation(tel, wheels.robot)["momentum_drift_max"] < 1e-8

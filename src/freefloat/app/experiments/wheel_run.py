@@ -11,6 +11,7 @@ import numpy as np
 import pinocchio as pin
 
 from ...dynamics.balance import applied
+from ...dynamics.sensors.momentum import CONSERVED
 from ...dynamics.simulation import Controller
 from ...dynamics.telemetry import Arrays, Telemetry
 from ...dynamics.wrenches import ExternalWrench
@@ -47,7 +48,8 @@ class WheelTelemetry(Arrays):
         rest: angular momentum of everything else (the robot with its wheels not spinning
             relative to the base, from Pinocchio) about the inertial origin, N m s (N, 3).
         balance: ``stored + rest`` minus its start value minus the external angular impulse
-            about the origin (round-off when the wheels' momentum is the arm's reaction), N m s (N, 3).
+            about the origin (round-off when the wheels' momentum is the arm's reaction), N m s
+            (N, 3); on a planar base its z component only (the joint's reaction torques change x, y).
     """
 
     t: np.ndarray
@@ -134,8 +136,11 @@ def wheel_telemetry(wheels: Wheels, telemetry: Telemetry, wrenches: tuple[Extern
     rest = np.array([momentum_about_origin(model, data, q, wheels.without_rates(v))[3:] for q, v in zip(tel.q, tel.v)])
     impulse = applied(robot, tel, wrenches, control_period).impulse[:, 3:] if wrenches else np.zeros_like(stored)
     total = stored + rest
+    balance = np.zeros_like(total)
+    kept = CONSERVED[robot.base][CONSERVED[robot.base] >= 3] - 3  # L components the base's joint does not react
+    balance[:, kept] = (total - total[0] - impulse)[:, kept]
     return WheelTelemetry(t=tel.t, speed=wheels.speeds(tel.v), momentum=momentum, torque=tel.tau[:, wheels.columns],
-                          stored=stored, rest=rest, balance=total - total[0] - impulse)
+                          stored=stored, rest=rest, balance=balance)
 
 
 def wheel_summary(wheels: Wheels, control: Controller | None, rows: WheelTelemetry,
