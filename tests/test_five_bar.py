@@ -139,9 +139,9 @@ def drift(run) -> np.ndarray:
     return run.telemetry.drift
 
 
-@pytest.mark.parametrize("field, value, message", [("l1", -0.12, "l1 is a length and must be > 0 m"),
-                                                   ("m2", -0.1, "m2 is a mass or inertia and must be >= 0"),
-                                                   ("lg1", float("nan"), "lg1 must be a finite number")])
+@pytest.mark.parametrize("field, value, message", [("l1", -0.12, "l1' must be > 0"),
+                                                   ("m2", -0.1, "m2' must be >= 0"),
+                                                   ("lg1", float("nan"), "lg1' must be finite")])
 def test_parameters_no_mechanism_has_are_refused_naming_the_field(field, value, message):
     """A negative length or mass, or a NaN, in FiveBarParameters is refused naming the field."""
     from dataclasses import replace

@@ -13,7 +13,8 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from ..errors import InvalidArgument, NotAssembled
+from ..arguments import real_number
+from ..errors import NotAssembled
 from .mechanism import ParallelMechanism
 from .redundancy import EffortDistribution
 from .serial import SerialChain
@@ -42,17 +43,15 @@ TRUE_PARAMETERS = FiveBarParameters(lg1=0.051, lg2=0.086, m1=0.1645, m2=0.1967, 
 TRUE_PARAMETERS_50 = FiveBarParameters(lg1=0.03, lg2=0.1125, m1=0.2145, m2=0.2565, Jz1=257.4e-6, Jz2=480.9e-6)
 
 
+#: The fields of :class:`FiveBarParameters` that are lengths (> 0) and masses or inertias (>= 0).
+LENGTHS, MASSES = ("l0", "l1", "l2"), ("m1", "m2", "Jz1", "Jz2")
+
+
 def check_parameters(p: FiveBarParameters) -> None:
     """Refuse 5R data no mechanism has (see :func:`five_bar`'s Raises)."""
     for name, value in vars(p).items():
-        if isinstance(value, bool) or not isinstance(value, (int, float, np.floating)) or not np.isfinite(value):
-            raise InvalidArgument(f"FiveBarParameters.{name} must be a finite number, got {value!r}")
-    for name in ("l0", "l1", "l2"):
-        if getattr(p, name) <= 0.0:
-            raise InvalidArgument(f"FiveBarParameters.{name} is a length and must be > 0 m, got {getattr(p, name)}")
-    for name in ("m1", "m2", "Jz1", "Jz2"):
-        if getattr(p, name) < 0.0:
-            raise InvalidArgument(f"FiveBarParameters.{name} is a mass or inertia and must be >= 0, got {getattr(p, name)}")
+        real_number(f"FiveBarParameters.{name}", value, above=0.0 if name in LENGTHS else None,
+                    low=0.0 if name in MASSES else None)
 
 
 def chain(p: FiveBarParameters, side: int) -> SerialChain:

@@ -43,6 +43,7 @@ from typing import Any, Protocol
 
 import numpy as np
 
+from ..arguments import real_number
 from ..errors import BadShape, InvalidArgument, NotAssembled
 
 #: Most vertices (2^r) the design evaluates exhaustively (r = 12 parameters).
@@ -243,11 +244,10 @@ def gains_from_worst_case(worst: WorstCase, eta: float, points: np.ndarray) -> S
     """Eqs 168-170 from the worst cases, for the reaching rate ``eta``.
 
     Raises:
-        InvalidArgument: for ``eta`` not finite and > 0; when ``(1 - |Delta|_max)^-1`` does not exist or has negative entries
+        InvalidArgument: for ``eta`` not a finite number > 0 (:func:`~freefloat.arguments.real_number`); when ``(1 - |Delta|_max)^-1`` does not exist or has negative entries
             (spectral radius of ``|Delta|_max`` >= 1): eq 161 has no solution.
     """
-    if isinstance(eta, bool) or not isinstance(eta, (int, float, np.floating)) or not 0 < eta < np.inf:
-        raise InvalidArgument(f"gain design: the reaching rate eta must be a finite number > 0 (eq 168), got {eta!r}")
+    eta = real_number("eta", eta, above=0.0)  # the reaching rate of eq 168, 1/s
     Dmax, d0max = worst.Delta, worst.delta0
     radius = spectral_radius(Dmax)
     if radius >= 1.0:

@@ -19,6 +19,7 @@ from typing import Callable
 
 import numpy as np
 
+from ..arguments import real_number
 from ..dynamics.compiled_chain import CompiledChainLoop
 from ..dynamics.plants import CoupledChainPlant
 from ..errors import InvalidArgument, UnknownName
@@ -104,8 +105,7 @@ class FiveBarModel:
         for name, width in self.uncertainty_of.items():
             if name not in fields:
                 raise UnknownName("uncertain parameter of the 5R (a FiveBarParameters field)", name, fields)
-            if isinstance(width, bool) or not isinstance(width, (int, float, np.floating)) or not 0 <= width < np.inf:
-                raise InvalidArgument(f"uncertainty of '{name}': the half-width must be a finite number >= 0, got {width!r}")
+            real_number(f"uncertainty['{name}']", width, low=0.0)  # a half-width
 
     @property
     def names(self) -> tuple[str, ...]:
@@ -176,9 +176,7 @@ class PlatformControl:
     saturation: str = "tanh"
 
     def __post_init__(self) -> None:
-        if isinstance(self.lam, bool) or not isinstance(self.lam, (int, float, np.floating)) \
-                or not 0.0 <= self.lam < np.inf:
-            raise InvalidArgument(f"platform control: lambda (lam) must be a finite number >= 0 (1/s), got {self.lam!r}")
+        real_number("lam", self.lam, low=0.0)  # lambda, 1/s
         if self.saturation not in SWITCHES:
             raise InvalidArgument(f"sliding mode: saturation must be one of {SWITCHES}, got '{self.saturation}'")
 

@@ -29,6 +29,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ...arguments import MAX_MAGNITUDE
 from ...documents import start_angles
 from ...dynamics import gjm
 from ...dynamics.gjm import GJMState
@@ -47,9 +48,6 @@ TOLERANCE = 1e-3
 _H0, _JM, _J0E, _JSTAR, _EE = (GJMState._fields.index(f) for f in ("H0", "Jm", "J0E", "Jstar", "ee_position"))
 _R0, _COM = (BodyKinematics._fields.index(f) for f in ("r0", "com"))
 #: The options both space-robot kinds read.
-#: Largest magnitude of a momentum component, N s or N m s: far beyond any robot's (a tonne at
-#: 1e9 m/s), and small enough that the map's squares and products of it stay finite.
-MAX_MOMENTUM = 1e12
 OPTIONS = frozenset({"grid", "axes", "end_effector", "momentum", "tolerance", "base", "posture"})
 
 
@@ -190,17 +188,17 @@ def _momentum(values: tuple[float, ...] | None, base: str) -> tuple[float, ...] 
 
     Raises:
         InvalidArgument: for another count, a value that is not finite or beyond
-            :data:`MAX_MOMENTUM`, or out-of-plane components (Pz, Lx, Ly) on a planar base.
+            :data:`~freefloat.arguments.MAX_MAGNITUDE`, or out-of-plane components (Pz, Lx, Ly) on a planar base.
     """
     if values is None:
         return None
     m = np.asarray(values, dtype=float)
     if base == "planar" and m.size == 3:
         m = np.array([m[0], m[1], 0.0, 0.0, 0.0, m[2]])
-    if m.size != 6 or not np.all(np.isfinite(m)) or np.any(np.abs(m) > MAX_MOMENTUM):
+    if m.size != 6 or not np.all(np.isfinite(m)) or np.any(np.abs(m) > MAX_MAGNITUDE):
         planar = " or 3 [Px Py Lz]" if base == "planar" else ""
         raise InvalidArgument(f"--momentum takes 6 finite numbers [Px Py Pz Lx Ly Lz]{planar} "
-                              f"(N s, N m s, about the system CoM) of magnitude at most {MAX_MOMENTUM:g}, "
+                              f"(N s, N m s, about the system CoM) of magnitude at most {MAX_MAGNITUDE:g}, "
                               f"got {list(values)}")
     if base == "planar" and (out := [name for name, x in zip(("Pz", "Lx", "Ly"), m[[2, 3, 4]]) if x != 0]):
         raise InvalidArgument(f"--momentum gives {', '.join(out)} = {', '.join(f'{x:g}' for x in m[[2, 3, 4]] if x != 0)}"
