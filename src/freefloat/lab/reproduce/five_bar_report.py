@@ -14,6 +14,7 @@
 from __future__ import annotations
 
 import json
+import math
 import time
 from pathlib import Path
 
@@ -26,6 +27,7 @@ from ...parallel.five_bar import TRUE_PARAMETERS, TRUE_PARAMETERS_50, FiveBarPar
 from ...parallel.sliding_mode import PlatformControl, circle_reference, design_gains, printed_gains, workspace_grid
 from .interrupts import finished
 from .printed import EQ_187, START
+from .study_journal import entries
 
 def eq_187_gains():
     """Eq 187's printed sliding-mode gains."""
@@ -241,18 +243,27 @@ def reproduce_stability(out: Path, quick: bool = False) -> dict:
 
 
 def _resumable(journal: Path, settings: dict) -> dict[int, dict]:
-    """Samples of an earlier run into the same folder with the same settings, by index."""
-    if not journal.is_file():
-        return {}
-    done = {}
-    for line in journal.read_text().splitlines():
-        try:
-            record = json.loads(line)
-        except json.JSONDecodeError:
-            continue  # a line cut by a kill
-        if record.pop("settings", None) == settings:
-            done[record["sample"]] = record
-    return done
+    """Samples of an earlier run into the same folder with the same settings, by index.
+
+    Raises:
+        RunFolderError: naming the journal's line that is not a sample of these settings
+            (:func:`~.study_journal.entries`).
+    """
+    return {record["sample"]: record for record in entries(journal, settings, lambda r: _not_a_sample(r, settings))}
+
+
+def _not_a_sample(record: dict, settings: dict) -> str | None:
+    """What is wrong with a journaled sample of a run of ``settings`` (None: nothing)."""
+    sample = record.get("sample")
+    if isinstance(sample, bool) or not isinstance(sample, int) or not 0 <= sample < settings["runs"]:
+        return f"names sample {sample!r}, which a run of {settings['runs']} samples does not have"
+    if record.get("status") not in ("ok", "failed"):
+        return f"gives sample {sample} the status {record.get('status')!r} (ok or failed)"
+    errors = record.get("error_mm")
+    if record["status"] == "ok" and not (isinstance(errors, list) and len(errors) == 2
+                                         and all(isinstance(x, (int, float)) and math.isfinite(x) for x in errors)):
+        return f"gives sample {sample} an error_mm of {errors!r} (two finite numbers)"
+    return None
 
 
 def reproduce_robustness(out: Path, quick: bool = False, runs: int | None = None, relative_error: float = 0.5,
