@@ -202,8 +202,8 @@ def _momentum(values: tuple[float, ...] | None, base: str) -> tuple[float, ...] 
                               f"got {list(values)}")
     if base == "planar" and (out := [name for name, x in zip(("Pz", "Lx", "Ly"), m[[2, 3, 4]]) if x != 0]):
         raise InvalidArgument(f"--momentum gives {', '.join(out)} = {', '.join(f'{x:g}' for x in m[[2, 3, 4]] if x != 0)}"
-                              f" on a planar base, which moves in its plane only: those components are zero there "
-                              f"(give [Px Py Lz], or --base free)")
+                              " on a planar base, which moves in its plane: the map takes Px, Py, Lz only (give "
+                              "those three, or --base free)")
     return tuple(m) if np.any(m) else None
 
 
