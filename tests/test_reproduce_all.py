@@ -426,7 +426,8 @@ def test_a_study_folder_replaced_by_a_link_is_not_written_through(tmp_path, monk
         folders_module.run_all(tmp_path / "out", False, True, {}, say=lambda line: None, names=names)
     (tmp_path / "mine").mkdir()
     for name in names:
-        (tmp_path / "out" / name).rename(tmp_path / f"moved-{name}")
+        if (tmp_path / "out" / name).exists():  # five_bar's, left empty by the interrupt, is gone
+            (tmp_path / "out" / name).rename(tmp_path / f"moved-{name}")
         (tmp_path / "out" / name).symlink_to(tmp_path / "mine")
     with pytest.raises(FreefloatError, match="task_space' is a symbolic link"):
         folders_module.run_all(tmp_path / "out", overwrite, True, {}, say=lambda line: None, names=names)

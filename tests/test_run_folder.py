@@ -258,3 +258,16 @@ def test_a_recorded_subfolder_replaced_by_a_link_is_neither_cleared_nor_written_
         with pytest.raises(FreefloatError, match="sub' is a symbolic link"):
             folder.write_text("sub/part-00000.npz", "mine")
     assert [p.name for p in mine.iterdir()] == ["part-00000.npz"] and (mine / "part-00000.npz").read_text() == "precious"
+
+
+def test_a_folder_a_refused_run_made_and_left_empty_is_removed(tmp_path):
+    """A run that made its folder and wrote nothing (refused after opening it) leaves no folder;
+    a folder that existed before stays, and so does one the run wrote into."""
+    RunFolder(tmp_path / "new").close()
+    assert not (tmp_path / "new").exists()
+    (tmp_path / "mine").mkdir()
+    RunFolder(tmp_path / "mine").close()
+    assert (tmp_path / "mine").is_dir() and list((tmp_path / "mine").iterdir()) == []
+    with RunFolder(tmp_path / "written") as folder:
+        folder.write_text("summary.json", "{}")
+    assert (tmp_path / "written" / "summary.json").read_text() == "{}"

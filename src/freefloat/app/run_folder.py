@@ -84,6 +84,7 @@ class RunFolder:
         self._last_part: tuple[Arrays | None, int] = (None, -1)
         self._mine: set[str] = set()
         self._taken = False
+        self._made = not os.path.lexists(self.path)  # removed again by close() if it stays empty
         try:
             self.path.mkdir(parents=True, exist_ok=True)
         except OSError as exc:
@@ -225,14 +226,20 @@ class RunFolder:
 
     def close(self) -> None:
         """Release the lock, once the record of a folder this run took lists only the names still
-        there (:meth:`prune`)."""
+        there (:meth:`prune`); a folder this run made and left with nothing in its record (a run
+        refused before it wrote anything) is removed again."""
         if self._taken:
             with contextlib.suppress(OSError, FreefloatError):
                 self.prune()
+                if not self.owned():
+                    (self.path / RECORD).unlink(missing_ok=True)
         with contextlib.suppress(OSError):
             (self.path / LOCK).unlink()
         with contextlib.suppress(OSError):
             os.close(self._lock)
+        if self._made:
+            with contextlib.suppress(OSError):
+                self.path.rmdir()  # only when empty
 
     def prune(self) -> None:
         """Drop from the record the names no longer in the folder (temporary files renamed into
