@@ -536,3 +536,12 @@ def test_a_planned_capture_without_a_controller_is_refused(tmp_path):
     scene = quiet_scene(tmp_path, "capture_planned_planar", controller={"kind": "none"})
     with pytest.raises(SceneError, match=r"'controller.kind' is \"none\""):
         prepare(scene)
+
+
+def test_a_scene_planning_grid_beyond_its_bound_is_refused_naming_the_file_and_key(tmp_path):
+    """[approach] steps = 200000000 in a scene file is refused before planning, naming the file, [approach] and 'steps'."""
+    from freefloat.app.runner import prepare
+
+    scene = quiet_scene(tmp_path, "capture_planned_planar", approach={"steps": 200_000_000})
+    with pytest.raises(SceneError, match=r"s.toml: \[approach\] 'steps' must be an integer from 4 to 100,000"):
+        prepare(scene)

@@ -84,6 +84,11 @@ def scene_target(scene: Scene, setup, reach) -> Target:
         raise SceneError(f"scene '{scene.name}': [target] {exc}") from exc
 
 
+def approach_key(scene: Scene) -> str:
+    """Where a message about ``[approach]`` points: the scene's file (or its name) and the table."""
+    return f"{scene.source or f'scene {scene.name!r}'}: [approach]"
+
+
 def approach_request(scene: Scene, setup, hands: tuple[str, ...], grasps: tuple[GraspMotion, ...]) -> ApproachRequest:
     """The request of the scene's ``[approach]`` for ``hands`` onto ``grasps`` (flights in scene
     time): from ``approach.start`` (the initial posture, at rest when later than 0) to
@@ -98,7 +103,7 @@ def approach_request(scene: Scene, setup, hands: tuple[str, ...], grasps: tuple[
     ap, robot = scene.approach, setup.robot
     joints = None if ap.mission_joints is None else mission_joint_indices(robot, ap.mission_joints)
     rate = None if ap.max_joint_rate is None else ap.max_joint_rate * scene.angle_scale
-    where = f"scene '{scene.name}': [approach]"
+    where = approach_key(scene)
     if ap.start >= scene.target.contact_time:
         raise SceneError(f"{where} 'start' {ap.start} s must come before 'target.contact_time' "
                          f"{scene.target.contact_time} s")
@@ -118,7 +123,7 @@ def approach_request(scene: Scene, setup, hands: tuple[str, ...], grasps: tuple[
                                scene.target.contact_time - ap.start, Limits.of(robot, rate, ap.max_torque), joints,
                                ap.steps, tolerance=0.1 * scene.target.tolerance, match=ap.match)
     except FreefloatError as exc:
-        raise SceneError(f"scene '{scene.name}': [approach] {exc}") from exc
+        raise SceneError(f"{approach_key(scene)} {str(exc).removeprefix('approach: ')}") from exc
 
 
 def handles(scene: Scene, setup, hands: tuple[str, ...], grasps: tuple[GraspMotion, ...]) -> tuple[GraspMotion, ...]:
@@ -150,7 +155,7 @@ def planned(scene: Scene, setup, hands: tuple[str, ...], grasps: tuple[GraspMoti
     try:
         plan = plan_approach(request, scene.approach.method)
     except FreefloatError as exc:
-        raise SceneError(f"scene '{scene.name}': [approach] {exc}") from exc
+        raise SceneError(f"{approach_key(scene)} {str(exc).removeprefix('approach: ')}") from exc
     compared = None
     if scene.approach.compare:
         try:
