@@ -16,6 +16,8 @@ import pytest
 
 import freefloat
 
+from .conftest import REPO
+
 SRC = Path(freefloat.__file__).resolve().parent
 
 #: Layer of each family of modules, lowest first; the facade (``freefloat`` itself, its public
@@ -195,3 +197,44 @@ def test_the_public_names_stay():
     assert freefloat.gjm.compute is gjm.compute and freefloat.gjm.derivatives is gjm.derivatives
     assert freefloat.models.make_model is models.make_model and freefloat.models.MODELS is models.MODELS
     assert freefloat.simulation.run is simulation.run and freefloat.simulation.Result is simulation.Result
+
+
+#: The page that draws the layers; its section "The source tree" tables every subpackage.
+ARCHITECTURE = REPO / "docs" / "architecture.md"
+
+
+def subpackages(root: Path) -> set[str]:
+    """Dotted names of the package at ``root`` and of every folder below it with an ``__init__.py``."""
+    return {".".join(["freefloat", *path.parent.relative_to(root).parts]) for path in root.rglob("__init__.py")}
+
+
+def tabled(page: str) -> list[str]:
+    """The packages in the first column of the table in ``page``'s section "The source tree"."""
+    section = page[page.index("## The source tree"):]
+    end = section.find("\n## ")
+    section = section if end < 0 else section[:end]
+    return re.findall(r"^\| `(freefloat[\w.]*)` \|", section, re.MULTILINE)
+
+
+def test_the_architecture_page_tables_every_subpackage():
+    """docs/architecture.md's source tree has one row per subpackage of src/freefloat (every folder
+    with an ``__init__.py``, the package itself too), none twice and none that is gone."""
+    rows = tabled(ARCHITECTURE.read_text())
+    packages = subpackages(REPO / "src" / "freefloat")
+    assert sorted(rows) == sorted(set(rows)), "a subpackage tabled twice"
+    assert not packages - set(rows), f"docs/architecture.md does not name {sorted(packages - set(rows))}"
+    assert not set(rows) - packages, f"docs/architecture.md names no longer existing {sorted(set(rows) - packages)}"
+
+
+def test_the_table_check_catches_a_planted_subpackage(tmp_path):
+    """A folder with an ``__init__.py`` counts as a subpackage at any depth and a data folder does
+    not, and a row is read only from the source tree's table (so the check can fail)."""
+    for folder in ("a", "a/b", "a/b/c"):
+        (tmp_path / folder).mkdir()
+        (tmp_path / folder / "__init__.py").write_text("")
+    (tmp_path / "data").mkdir()
+    (tmp_path / "__init__.py").write_text("")
+    assert subpackages(tmp_path) == {"freefloat", "freefloat.a", "freefloat.a.b", "freefloat.a.b.c"}
+    page = ("# A\n\n| `freefloat.x` | before |\n\n## The source tree\n\n| subpackage |\n|---|\n"
+            "| `freefloat` | root |\n| `freefloat.a` | 1 |\n\n## Later\n\n| `freefloat.a.b` | after |\n")
+    assert tabled(page) == ["freefloat", "freefloat.a"]

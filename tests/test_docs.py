@@ -67,7 +67,7 @@ def _readme_scene(ns: dict) -> None:
     assert len(Telemetry.load(run.folder / "telemetry.npz").t) == summary["steps"] + 1
 
 
-def _readme_many_runs(ns: dict) -> None:
+def _python_many_runs(ns: dict) -> None:
     """Each of the runs in one call ends where simulation.run from its own start ends, and
     conserves its momentum."""
     from freefloat import run
@@ -81,7 +81,7 @@ def _readme_many_runs(ns: dict) -> None:
         assert np.abs(momentum - momentum[0]).max() < 1e-12 * max(1.0, np.abs(momentum).max())
 
 
-def _readme_tumbling(ns: dict) -> None:
+def _python_tumbling(ns: dict) -> None:
     """The torque-free tumbling run conserves its momentum (a conservation law) and ends where an
     independent integration (dopri5 at rtol 1e-12) ends."""
     from freefloat import make_model
@@ -125,7 +125,7 @@ def _integrators_page(ns: dict) -> None:
     assert np.abs(momentum(ns["q1"], ns["v1"]) - start).max() < 1e-9 * max(1.0, np.abs(start).max())
 
 
-def _readme_closed_chain(ns: dict) -> None:
+def _python_closed_chain(ns: dict) -> None:
     """The compiled RKMK6 run ends where scipy's DOP853 (rtol 1e-12, the Python loop, another
     integrator and loop) ends, with the loop held closed."""
     from freefloat.parallel.closed_loop import track
@@ -199,8 +199,8 @@ def _sensors_page(ns: dict) -> None:
 
 
 #: What each Python snippet of the pages claims, checked against a reference of its own.
-SNIPPET_CHECKS = {"README.md#python0": _readme_scene, "README.md#python1": _readme_tumbling,
-                  "README.md#python2": _readme_closed_chain, "README.md#python3": _readme_many_runs,
+SNIPPET_CHECKS = {"README.md#python0": _readme_scene, "python.md#python0": _python_tumbling,
+                  "python.md#python1": _python_closed_chain, "python.md#python2": _python_many_runs,
                   "gjm.md#python0": _gjm_page,
                   "integrators.md#python0": _integrators_page,
                   "control_laws.md#python0": _control_laws_page, "first_hour.md#python0": _first_hour,

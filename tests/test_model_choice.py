@@ -97,6 +97,18 @@ def test_capture_scenes_keep_the_exact_plant_without_a_pilot(tmp_path):
     assert resolved.simulation.model == "exact" and "capture" in record["reason"]
 
 
+def test_a_run_no_longer_than_its_pilot_keeps_the_prepared_exact_plant(tmp_path, monkeypatch):
+    """A run of at most PILOT_PERIODS control periods gets the exact plant without a pilot (piloting
+    would cost more than the run), and the runner keeps the setup it prepared instead of preparing
+    the scene again."""
+    short = quiet_scene(tmp_path, simulation={"duration": 0.01, "control_period": 1e-3, "model": "auto"})
+    assert pilot_periods(short) == 10
+    setup = runner.prepare(short)
+    monkeypatch.setattr(runner, "experiment_for", lambda scene: pytest.fail("prepared twice"))
+    chosen = runner.choose_plant(short, setup)
+    assert chosen is setup and chosen.model_choice["reason"] == "the run is no longer than a pilot run"
+
+
 def test_preparing_auto_outside_the_runner_is_refused_with_the_key(tmp_path):
     """An experiment asked to prepare ``model = "auto"`` directly names the key and the runner."""
     auto = quiet_scene(tmp_path, simulation={"duration": 0.05, "model": "auto"})

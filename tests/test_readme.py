@@ -1,6 +1,7 @@
-"""The README's commands are true: CI runs its install and test commands, its quick subset has a
-test of every module and runs on the lowest versions too, and the package description links
-nothing outside the repository (its Python: tests/test_docs.py)."""
+"""The README is short and its commands are true: CI runs its install and test commands, its quick
+subset has a test of every module and runs on the lowest versions too, its Python runs (checked in
+tests/test_docs.py), its times come from the docs, its map links every docs page, and the package
+description links nothing outside the repository."""
 
 from __future__ import annotations
 
@@ -12,31 +13,88 @@ REPO = Path(__file__).resolve().parents[1]
 README = (REPO / "README.md").read_text()
 CI = (REPO / ".ci" / "run").read_text()
 LOWEST = (REPO / ".ci" / "lowest").read_text()
+#: The README's length limit (issue 37: what it is, install, first run, tests, an example, a map).
+MOST_LINES = 150
 
 
-def code_blocks(language: str) -> list[str]:
-    """The README's fenced blocks of ``language``."""
-    return re.findall(rf"```{language}\n(.*?)```", README, flags=re.S)
+def section(title: str, text: str = README) -> str:
+    """The ``## title`` section of ``text``, up to the next ``## `` heading."""
+    start = text.index(f"\n## {title}\n")
+    end = text.find("\n## ", start + 1)
+    return text[start:] if end < 0 else text[start:end]
 
 
-def quick_start_commands() -> list[str]:
-    """The commands of the README's quick-start block, comments dropped."""
-    return [line.split("#")[0].strip() for line in code_blocks("bash")[0].splitlines()]
+def code_blocks(language: str, text: str = README) -> list[str]:
+    """The fenced blocks of ``language`` in ``text``."""
+    return re.findall(rf"^```{language}\n(.*?)^```", text, flags=re.S | re.M)
 
 
-def test_ci_runs_the_quick_start_commands():
-    """.ci/run creates the venv, installs and tests with the README's quick-start commands."""
-    venv, install, _, test = quick_start_commands()[:4]
+def commands(title: str) -> list[str]:
+    """The commands of the one bash block of the README's ``title`` section, comments dropped."""
+    (block,) = code_blocks("bash", section(title))
+    return [line.split("#")[0].strip() for line in block.splitlines() if line.split("#")[0].strip()]
+
+
+def ci_lines(script: str) -> list[str]:
+    """The lines of a CI script, stripped."""
+    return [line.strip() for line in script.splitlines()]
+
+
+def test_the_readme_is_short():
+    """The README keeps to its limit; what does not fit is in docs/."""
+    assert len(README.splitlines()) <= MOST_LINES
+
+
+def test_ci_installs_with_the_readme_install_command():
+    """The install section is one venv line and one install command, and .ci/run runs both as written."""
+    venv, install = commands("Install")
     assert venv.startswith("python3 -m venv") and install.startswith("python3 -m pip install")
-    for command in (venv, install, test):
-        assert command in CI, command
+    assert 'uv pip install -e ".[test]"' in install
+    assert venv in ci_lines(CI) and install in ci_lines(CI)
 
 
-def test_ci_runs_the_quick_subset_on_the_lowest_versions():
-    """The quick-start block names the quick subset's command; .ci/lowest installs the lowest
-    versions the bounds allow and runs it, and .ci/run calls .ci/lowest."""
-    [quick] = [command for command in quick_start_commands() if "not slow" in command]
+def test_the_first_run_is_the_default_job():
+    """The first run is one command: ``freefloat simulate`` on the built-in default scene."""
+    assert commands("First run") == ["freefloat simulate"]
+
+
+def test_ci_runs_the_readme_test_commands():
+    """The tests section names the full command, which .ci/run runs, and the quick subset, which
+    .ci/lowest runs on the lowest versions the bounds allow (and .ci/run calls .ci/lowest)."""
+    full, quick = commands("Tests")
+    assert full == "python3 -m pytest" and full in ci_lines(CI)
+    assert quick == 'python3 -m pytest -m "not slow"'
     assert quick in LOWEST and "--resolution lowest-direct" in LOWEST and "bash .ci/lowest" in CI
+
+
+def test_the_readme_times_come_from_the_docs():
+    """Every time and memory the install and tests sections quote is in docs/bench.md's table of
+    install and test times; the check finds the numbers of a planted sentence."""
+    def quoted(text: str) -> list[str]:
+        return re.findall(r"\d+ min \d+ s|\d+(?:\.\d+)?(?:-\d+(?:\.\d+)?)? (?:s|GiB)\b", text)
+
+    assert quoted("took 69.2-73.0 s and 1.69 GiB, then 108 s; the suite 21 min 41 s") == [
+        "69.2-73.0 s", "1.69 GiB", "108 s", "21 min 41 s"]
+    times = section("Install and test times", (REPO / "docs" / "bench.md").read_text())
+    numbers = quoted(section("Install") + section("Tests"))
+    assert numbers and [n for n in numbers if n not in times] == []
+
+
+def test_the_readme_python_is_run_and_checked():
+    """The README has a Python example, and each of its blocks has a check in tests/test_docs.py
+    (which runs it and compares what it computes with an independent reference)."""
+    from .test_docs import SNIPPET_CHECKS
+
+    blocks = code_blocks("python")
+    assert blocks and [f"README.md#python{i}" for i in range(len(blocks))
+                       if f"README.md#python{i}" not in SNIPPET_CHECKS] == []
+
+
+def test_the_map_links_every_docs_page():
+    """The README's documentation map links every page of docs/, and every page it links exists."""
+    linked = set(re.findall(r"\]\(docs/([\w.-]+\.md)(?:#[\w-]*)?\)", section("Documentation")))
+    pages = {path.name for path in (REPO / "docs").glob("*.md")}
+    assert sorted(pages - linked) == [] and sorted(linked - pages) == []
 
 
 def has_quick_test(source: str) -> bool:

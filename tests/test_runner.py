@@ -252,6 +252,18 @@ def test_an_interrupt_while_writing_exits_1_with_the_data_whole(tmp_path):
     assert len(Telemetry.load(tmp_path / "out" / "telemetry.npz").t) == 51
 
 
+@pytest.mark.parametrize("scene", ["capture_planar", "five_bar_sliding_mode"])
+def test_a_run_that_draws_nothing_imports_no_drawing_library(tmp_path, scene):
+    """A scene run without figures or page (a capture, a mechanism) imports neither matplotlib nor
+    meshcat: their import is a fixed cost only a drawing run pays."""
+    code = ("import sys, warnings\nwarnings.simplefilter('ignore')\nimport freefloat\n"
+            f"freefloat.simulate({scene!r})\n"
+            "print(sorted({m.split('.')[0] for m in sys.modules} & {'matplotlib', 'meshcat', 'IPython'}))")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300, cwd=tmp_path)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.strip().splitlines()[-1] == "[]"
+
+
 @pytest.mark.parametrize("scene, out", [(None, None), ({}, None), (3, None), ("four_arm_joint_space", 3)])
 def test_simulate_refuses_a_scene_or_folder_of_the_wrong_kind(scene, out):
     """simulate with None, a dict or a number for the scene (or a number for out) is refused

@@ -22,6 +22,7 @@ from pathlib import Path
 from typing import Any, Callable
 
 from ..arguments import an_object
+from ..robot.loading import remembered_loads
 from .experiments import Outcome, Progress, experiment_for
 from .experiments.model_choice import describe, resolve, with_plant
 from .outputs import write_run
@@ -50,11 +51,14 @@ def prepare(scene: Scene | MechanismScene) -> Any:
 def choose_plant(scene: Scene | MechanismScene, setup: Any) -> Any:
     """The setup of ``scene`` with the plant ``simulation.model = "auto"`` chooses
     (:func:`~freefloat.app.experiments.model_choice.resolve`), carrying the record of the choice;
-    ``setup`` itself when the scene names its model or the choice is made."""
+    ``setup`` itself when the scene names its model or the choice is made. The robot is loaded and
+    checked once for the pilots and the chosen plant (:func:`~freefloat.robot.loading.remembered_loads`)."""
     if not _auto(scene) or setup.model_choice is not None:
         return setup
-    resolved, record = resolve(scene)
-    chosen = experiment_for(resolved).prepare(resolved)
+    with remembered_loads({}):
+        resolved, record = resolve(scene)
+        same = (record["model"], record["lock"]) == ("exact", scene.simulation.lock)  # what prepare() built
+        chosen = setup if same else experiment_for(resolved).prepare(resolved)
     chosen.model_choice = record
     return chosen
 

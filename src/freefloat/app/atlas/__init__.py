@@ -50,3 +50,7 @@ grid order), ``summary.json`` (settings, grid, versions, wall time and the kind'
 ``summary.csv`` (the summary's scalar entries, one per line) and the figures. While the map is
 computed, ``atlas-journal.jsonl`` and ``chunks/`` keep what is finished.
 """
+
+from ...lazy import lazy_modules  # noqa: E402
+
+__getattr__ = lazy_modules(__name__)  # its modules, imported on first use as attributes

@@ -10,7 +10,6 @@ import dataclasses
 import time
 from dataclasses import dataclass
 
-import meshcat.geometry as mg
 import numpy as np
 import pinocchio as pin
 
@@ -29,8 +28,8 @@ from .robot_run import APPROACH_MARGIN, SPIN_HEADLINE, RobotSetup, control_steps
 from .robot_run import UNITS as ROBOT_UNITS
 from .robot_run import robot_outcome
 
-#: How the page draws the target: orange, apart from the robot's greys and blues.
-TARGET_MATERIAL = mg.MeshPhongMaterial(color=0xE07000)
+#: How the page draws the target: orange (0xRRGGBB), apart from the robot's greys and blues.
+TARGET_COLOR = 0xE07000
 
 
 @dataclass(kw_only=True)
@@ -237,10 +236,19 @@ def run(setup: CaptureSetup, progress: Progress | None = None, checkpoint: Check
     both_q = np.concatenate((res.pre.q, tel.q[1:]))
     poses = np.concatenate((res.target_poses[: len(res.pre.t)], res.target_poses[len(res.pre.t) + 1:]))
     return robot_outcome(setup, merged, tel, result, summary, animation=(both_t, both_q),
-                         extra_bodies=[("target", mg.Mesh(mg.Box(list(tg.size)), TARGET_MATERIAL), poses)],
+                         extra_bodies=lambda: [("target", target_box(tg.size), poses)],
                          extra_telemetry={"pre_capture": res.pre}, events=[(res.impact_time, "grasp")], wrenches=(),
                          spin=True, settle_threshold=res.summary["settle_threshold"],
                          approach=None if setup.plan is None else res.pre, task_headline=TASK_HEADLINE)
+
+
+
+def target_box(size: tuple[float, float, float]) -> object:
+    """The page's target: an orange box of ``size`` (m, along its x, y, z), a meshcat object
+    (meshcat imported here: a run that draws no page never imports it)."""
+    import meshcat.geometry as mg
+
+    return mg.Mesh(mg.Box(list(size)), mg.MeshPhongMaterial(color=TARGET_COLOR))
 
 
 EXPERIMENT = Experiment("capture", "a robot grasps a tumbling target and detumbles it",

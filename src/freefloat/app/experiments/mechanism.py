@@ -230,9 +230,7 @@ def outcome(prepared: PreparedMechanism, telemetry: MechanismTelemetry, result: 
     """The outcome of a mechanism run (``result``, its loop's, with ``telemetry`` in its place): telemetry named by the tree's joints and actuators,
     provenance, platform figures and the animated linkage with the platform and reference paths;
     on a moving base (``base``, its telemetry) also the base's figures, and the page moves the
-    linkage with the base."""
-    from ..viz.mechanism import write_base_figures, write_mechanism_figures, write_mechanism_html
-
+    linkage with the base (matplotlib and meshcat imported only when they are drawn)."""
     scene, chain = prepared.scene, prepared.setup.display
     joints = _joint_names(chain, len(prepared.q0))
     actuated = [chain.model.names[j] for j in chain.actuated]
@@ -241,8 +239,15 @@ def outcome(prepared: PreparedMechanism, telemetry: MechanismTelemetry, result: 
     poses = None if base is None else np.array([floating.base_placement(qk).homogeneous for qk in base.q])
 
     def figures(folder: Path) -> list[Path]:
+        from ..viz.mechanism import write_base_figures, write_mechanism_figures
+
         written = write_mechanism_figures(telemetry, folder, chain)
         return written if base is None else written + write_base_figures(base, floating.momentum_drift(base), folder)
+
+    def page(path: Path, fps: float) -> Path:
+        from ..viz.mechanism import write_mechanism_html
+
+        return write_mechanism_html(chain, telemetry.t, q, path, fps, telemetry.platform_reference, base=poses)
 
     settings = {"integrator": scene.simulation.integrator, "step": scene.simulation.step,
                 "baumgarte": scene.simulation.baumgarte, "controller": scene.controller.kind,
@@ -263,8 +268,7 @@ def outcome(prepared: PreparedMechanism, telemetry: MechanismTelemetry, result: 
         headline=HEADLINE if base is None else HEADLINE + BASE_HEADLINE,
         extra_telemetry={} if base is None else {"base": base},
         figures=figures,
-        page=lambda path, fps: write_mechanism_html(chain, telemetry.t, q, path, fps, telemetry.platform_reference,
-                                                    base=poses),
+        page=page,
     )
 
 

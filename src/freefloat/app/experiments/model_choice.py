@@ -10,7 +10,8 @@ state; those cheaper than the exact model on the scene's lock setting run the fi
 first (each pilot run twice, taking turns with the exact one's, for its best wall time), and
 the first whose pilot error times ``(T / T_p)^2`` stays under the tolerance and whose pilot ran
 faster is chosen. Capture scenes always simulate the exact plant (their loop does not
-take a plant model).
+take a plant model), and so does a run no longer than its pilot (at most :data:`PILOT_PERIODS`
+control periods: piloting would cost more than the run).
 """
 
 from __future__ import annotations
@@ -66,6 +67,9 @@ def resolve(scene: Scene, models: tuple[str, ...] | None = None) -> tuple[Scene,
         return with_plant(scene, "exact", sim.lock), {"model": "exact", "lock": sim.lock,
                                                       "reason": "capture scenes, closed loops and reaction wheels "
                                                                 "simulate the exact plant"}
+    if pilot_periods(scene) >= control_steps(scene):
+        return with_plant(scene, "exact", sim.lock), {"model": "exact", "lock": sim.lock,
+                                                      "reason": "the run is no longer than a pilot run"}
     experiment = experiment_for(scene)
     setups = {lock: experiment.prepare(with_plant(scene, "exact", lock)) for lock in dict.fromkeys((sim.lock, "auto"))}
     if "auto" in setups and sim.lock != "auto" and _locked(setups["auto"]) == _locked(setups[sim.lock]):

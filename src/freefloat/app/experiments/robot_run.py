@@ -3,6 +3,7 @@ integrator, the simulation loop, and the outcome with its figures and page."""
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -313,7 +314,7 @@ def summary_of(setup: RobotSetup, result: Result, **task: Any) -> dict[str, Any]
 
 def robot_outcome(setup: RobotSetup, robot: Robot, telemetry: Telemetry, result: Result,
                   summary: dict[str, Any], animation: tuple[np.ndarray, np.ndarray] | None = None,
-                  extra_bodies: list | None = None, extra_telemetry: dict[str, Telemetry] | None = None,
+                  extra_bodies: Callable[[], list] | None = None, extra_telemetry: dict[str, Telemetry] | None = None,
                   events: list[tuple[float, str]] | None = None, wrenches: tuple[ExternalWrench, ...] | None = None,
                   spin: bool = False, settle_threshold: float | None = None, task_headline: tuple[str, ...] = (),
                   approach: Telemetry | None = None) -> Outcome:
@@ -323,13 +324,13 @@ def robot_outcome(setup: RobotSetup, robot: Robot, telemetry: Telemetry, result:
     run writes the rest: :func:`~freefloat.app.viz.figures.write_figures`, the conservation
     balance when the run has ``wrenches``, default the scene's; the angular rates with ``spin``,
     against ``settle_threshold``; the closures' drift) and the animation of ``animation = (t, q)`` (default: the telemetry)
-    with ``extra_bodies`` and the named moments ``events`` ((time s, label)); with ``approach``
+    with the bodies ``extra_bodies()`` lists (called when the page is drawn: (name, meshcat object, (n, 4, 4)
+    poses)) and the named moments ``events`` ((time s, label)); with ``approach``
     (a planned capture's pre-capture phase on the scene's robot) also its joint tracking against the
     plan. The figures left out because their data is identically zero are named in the summary's
     ``figures_not_drawn``."""
     from ..viz.figure_data import empty_figures
     from ..viz.figure_job import ClosedLoop, RobotFigures, WheelRows
-    from ..viz.meshcat_html import write_trajectory_html
 
     t, q = animation or (telemetry.t, telemetry.q)
     sim = setup.scene.simulation
@@ -366,9 +367,17 @@ def robot_outcome(setup: RobotSetup, robot: Robot, telemetry: Telemetry, result:
             wheels=None if wheels is None else WheelRows(wheel_rows.t, [w.name for w in wheels.wheels],
                                                             wheel_rows.momentum, wheels.max_momenta,
                                                             wheel_rows.torque, wheels.max_torques)),
-        page=lambda path, fps: write_trajectory_html(robot, t, q, path, fps=fps, extra=extra_bodies or None,
-                                                          events=events),
+        page=lambda path, fps: _write_page(robot, t, q, path, fps, extra_bodies, events),
     )
+
+
+def _write_page(robot: Robot, t: np.ndarray, q: np.ndarray, path: Path, fps: float,
+                extra_bodies: Callable[[], list] | None, events: list[tuple[float, str]] | None) -> Path:
+    """The run's meshcat page (meshcat imported here: a run without a page never imports it)."""
+    from ..viz.meshcat_html import write_trajectory_html
+
+    return write_trajectory_html(robot, t, q, path, fps=fps, extra=extra_bodies() if extra_bodies else None,
+                                 events=events)
 
 
 def headline_of(task_headline: tuple[str, ...], wheels: bool = True) -> tuple[str, ...]:

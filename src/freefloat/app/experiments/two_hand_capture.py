@@ -9,7 +9,6 @@ import time
 import warnings
 from dataclasses import dataclass
 
-import meshcat.geometry as mg
 import numpy as np
 import pinocchio as pin
 
@@ -27,7 +26,7 @@ from ..scenes import Scene
 from .base import Checkpoint, Experiment, Outcome, Progress
 from .capture import TASK_HEADLINE as CAPTURE_HEADLINE
 from .capture import UNITS as APPROACH_UNITS
-from .capture import CaptureSetup, approach_summary, grasp_time, plan_tracking, planned
+from .capture import TARGET_COLOR, CaptureSetup, approach_summary, grasp_time, plan_tracking, planned
 from .capture import prepare as prepare_one_hand
 from .detumbling import mission_joints, rows_spec
 from .robot_run import APPROACH_MARGIN, control_steps, headline_of, robot_outcome
@@ -35,9 +34,9 @@ from .robot_run import UNITS as ROBOT_UNITS
 
 #: How the page draws the target (see-through, so that the loop inside shows), the grasp points (a
 #: green and a blue ball) and the loop's closing link through the target (a red bar between them).
-SEE_THROUGH_TARGET = mg.MeshPhongMaterial(color=0xE07000, opacity=0.35, transparent=True)
-GRASP_MATERIALS = (mg.MeshPhongMaterial(color=0x20A040), mg.MeshPhongMaterial(color=0x2060D0))
-LOOP_MATERIAL = mg.MeshPhongMaterial(color=0xC02020)
+TARGET_OPACITY = 0.35
+GRASP_COLORS = (0x20A040, 0x2060D0)
+LOOP_COLOR = 0xC02020
 #: Smallest over largest singular value of the hands' relative motion below which the grasp posture
 #: is called singular: at the satellite's zero posture (1.5e-27) the run's momentum drifted by
 #: 7.9e-6 N s in 1 s, against 1.9e-13 at the bent posture the scene uses (conditioning 0.12).
@@ -138,7 +137,7 @@ def run(setup: TwoHandSetup, progress: Progress | None = None, checkpoint: Check
     both_q = np.concatenate((res.pre.q, tel.q[1:]))
     outcome = robot_outcome(
         setup, merged, tel, Result(tel, result.status, result.message, len(tel.t) - 1, wall, 0), summary,
-        animation=(both_t, both_q), extra_bodies=_page_bodies(tg.size, res.target_poses, res.grasp_poses),
+        animation=(both_t, both_q), extra_bodies=lambda: _page_bodies(tg.size, res.target_poses, res.grasp_poses),
         extra_telemetry={"pre_capture": res.pre}, events=[(res.impact_time, "both hands grasp")], wrenches=(),
         spin=True, settle_threshold=summary["settle_threshold"], approach=None if setup.plan is None else res.pre,
         task_headline=TASK_HEADLINE)
@@ -214,10 +213,13 @@ def _loop_summary(res, history, setup: TwoHandSetup) -> dict:
 
 def _page_bodies(size, target_poses: np.ndarray, grasp_poses: np.ndarray) -> list:
     """The target box, a ball at each grasp point and a bar between them (the loop's closing
-    link through the target), posed over the page's frames."""
-    bodies = [("target", mg.Mesh(mg.Box(list(size)), SEE_THROUGH_TARGET), target_poses)]
-    for k, material in enumerate(GRASP_MATERIALS):
-        bodies.append((f"grasp_{k + 1}", mg.Mesh(mg.Sphere(0.04), material), grasp_poses[k]))
+    link through the target), posed over the page's frames (meshcat imported here, for the page only)."""
+    import meshcat.geometry as mg
+
+    target = mg.Mesh(mg.Box(list(size)), mg.MeshPhongMaterial(color=TARGET_COLOR, opacity=TARGET_OPACITY, transparent=True))
+    bodies = [("target", target, target_poses)]
+    for k, color in enumerate(GRASP_COLORS):
+        bodies.append((f"grasp_{k + 1}", mg.Mesh(mg.Sphere(0.04), mg.MeshPhongMaterial(color=color)), grasp_poses[k]))
     span = grasp_poses[1, :, :3, 3] - grasp_poses[0, :, :3, 3]
     length = float(np.linalg.norm(span[0]))
     bar = np.repeat(np.eye(4)[None], len(span), axis=0)
@@ -227,7 +229,7 @@ def _page_bodies(size, target_poses: np.ndarray, grasp_poses: np.ndarray) -> lis
         x = np.cross(y, [0.0, 0.0, 1.0]) if abs(y[2]) < 0.9 else np.cross(y, [1.0, 0.0, 0.0])
         x /= np.linalg.norm(x)
         bar[k, :3, :3] = np.column_stack((x, y, np.cross(x, y)))
-    bodies.append(("loop", mg.Mesh(mg.Cylinder(length, 0.015), LOOP_MATERIAL), bar))
+    bodies.append(("loop", mg.Mesh(mg.Cylinder(length, 0.015), mg.MeshPhongMaterial(color=LOOP_COLOR)), bar))
     return bodies
 
 

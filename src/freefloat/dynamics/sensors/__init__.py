@@ -17,3 +17,7 @@ from .settings import GROUPS, Channel, MomentumKalman, SensorSettings
 
 __all__ = ["GROUPS", "Channel", "Measurement", "MomentumEstimator", "MomentumKalman", "Sensed",
            "SensorRecord", "SensorSettings", "Sensors"]
+
+from ...lazy import lazy_modules  # noqa: E402
+
+__getattr__ = lazy_modules(__name__)  # its modules, imported on first use as attributes

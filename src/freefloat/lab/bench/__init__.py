@@ -8,3 +8,7 @@ one registry) with ``in_mujoco`` (the robot, its state, its wrenches and a close
 MuJoCo's terms); ``command`` (the command's arguments and run). MuJoCo is an optional extra
 (``pip install -e ".[bench]"``); only the MuJoCo runs import it.
 """
+
+from ...lazy import lazy_modules  # noqa: E402
+
+__getattr__ = lazy_modules(__name__)  # its modules, imported on first use as attributes

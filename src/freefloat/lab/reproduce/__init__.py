@@ -77,3 +77,7 @@ ALL_STUDIES = "all"
 
 #: Every study's journal (``freefloat reproduce`` claims a study's in its folder before the study runs).
 JOURNALS = tuple(study.journal for study in STUDIES.values() if study.journal)
+
+from ...lazy import lazy_modules  # noqa: E402
+
+__getattr__ = lazy_modules(__name__)  # its modules, imported on first use as attributes

@@ -86,3 +86,7 @@ for _entry in (
 def notes(module: str) -> dict[str, str]:
     """Name -> note of the scenes built by ``module`` (a module of this package)."""
     return {entry.name: entry.note for entry in SCENES.values() if entry.module == module}
+
+from ....lazy import lazy_modules  # noqa: E402
+
+__getattr__ = lazy_modules(__name__)  # its modules, imported on first use as attributes

@@ -174,3 +174,7 @@ def run_suites(out: Path, names: list[str], options: Options, progress: Callable
             if ended[-1].status != "completed":
                 break
     return ended
+
+from ....lazy import lazy_modules  # noqa: E402
+
+__getattr__ = lazy_modules(__name__)  # its modules, imported on first use as attributes
