@@ -191,7 +191,7 @@ def edit_journal(out, change) -> None:
 
 
 @pytest.mark.parametrize("tamper, message", [
-    (lambda out: (out / engine.JOURNAL).write_text("{not json\n"), "line 1 is not a journal entry"),
+    (lambda out: (out / engine.JOURNAL).write_text("{not json\n"), "line 1 is not a JSON object"),
     (lambda out: edit_journal(out, lambda ls: ls + [{"chunk": 99, "start": 792, "stop": 800}]), "names chunk 99"),
     (lambda out: edit_journal(out, lambda ls: [{"settings": {**ls[0]["settings"], "chunk_size": "8"}}] + ls[1:]),
      "chunk size of '8'"),

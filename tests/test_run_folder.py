@@ -271,3 +271,16 @@ def test_a_folder_a_refused_run_made_and_left_empty_is_removed(tmp_path):
     with RunFolder(tmp_path / "written") as folder:
         folder.write_text("summary.json", "{}")
     assert (tmp_path / "written" / "summary.json").read_text() == "{}"
+
+
+def test_journal_entries_drop_a_cut_last_line_and_refuse_a_bad_one(tmp_path):
+    """journal_entries reads what Journal appended, drops a last line a kill cut short, and
+    refuses a whole line that is not a JSON object, naming the file and the line."""
+    from freefloat.app.run_folder import journal_entries
+
+    path = tmp_path / "j.jsonl"
+    path.write_text('{"a": 1}\n\n{"b": 2}\n{"c"')
+    assert journal_entries(path, "start again") == [(1, {"a": 1}), (3, {"b": 2})]
+    path.write_text('{"a": 1}\n[2]\n')
+    with pytest.raises(FreefloatError, match=r"j.jsonl' line 2 is not a JSON object; not resuming from it \(start again\)"):
+        journal_entries(path, "start again")

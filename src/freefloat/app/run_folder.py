@@ -11,6 +11,7 @@ from __future__ import annotations
 import contextlib
 import errno
 import fcntl
+import json
 import os
 import shutil
 import secrets
@@ -360,6 +361,31 @@ class RunFolder:
                 part.unlink()
         with contextlib.suppress(OSError):
             parts.rmdir()
+
+
+def journal_entries(path: Path, again: str) -> list[tuple[int, dict]]:
+    """The entries of the journal ``path`` (one JSON object a line, as :class:`Journal` appends
+    them), with their line numbers; none when there is no such file. A last line without its
+    newline (a kill during the append) is dropped; ``again`` says how to start over, for the
+    message.
+
+    Raises:
+        RunFolderError: naming the file and the line for a line that is not a JSON object.
+    """
+    if not path.is_file():
+        return []
+    text = path.read_text(errors="replace")
+    entries = []
+    for number, line in enumerate(text.splitlines()[:None if text.endswith("\n") else -1], 1):
+        try:
+            entry = json.loads(line) if line.strip() else {}
+        except json.JSONDecodeError:
+            entry = None
+        if not isinstance(entry, dict):
+            raise RunFolderError(f"'{path}' line {number} is not a JSON object; not resuming from it ({again})")
+        if entry:
+            entries.append((number, entry))
+    return entries
 
 
 class Journal:

@@ -30,7 +30,7 @@ import numpy as np
 from ...distributed import client, process_pool, settle_futures, terminate
 from ...errors import FreefloatError, RunFolderError
 from ..batch import Workers
-from ..run_folder import RunFolder
+from ..run_folder import RunFolder, journal_entries
 from .grid import Grid, check_memory
 from .kinds import KINDS, AtlasKind, Options
 from .writer import write_outputs
@@ -171,19 +171,7 @@ def _resumed(folder: RunFolder, settings: dict, size: int, points: int) -> tuple
     path = folder.path / JOURNAL
     if not path.is_file():
         return size, []
-    text = path.read_text(errors="replace")
-    whole = text.splitlines()[:None if text.endswith("\n") else -1]  # not a last line a kill cut short
-    lines = []
-    for number, text in enumerate(whole, 1):
-        try:
-            line = json.loads(text) if text.strip() else {}
-        except json.JSONDecodeError:
-            line = None
-        if not isinstance(line, dict):
-            raise RunFolderError(f"'{path}' line {number} is not a journal entry of freefloat's; not resuming from it "
-                                 "(pass --overwrite to start the map again)")
-        if line:
-            lines.append((number, line))
+    lines = journal_entries(path, "pass --overwrite to start the map again")
     before = dict(lines[0][1].get("settings", {})) if lines else {}
     size = before.pop("chunk_size", size)
     if before != json.loads(json.dumps(settings)):

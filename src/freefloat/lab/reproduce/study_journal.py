@@ -9,10 +9,10 @@ else is refused, naming the file and the line, never read as a result.
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 from typing import Callable
 
+from ...app.run_folder import journal_entries
 from ...errors import RunFolderError
 
 
@@ -22,24 +22,15 @@ def entries(path: Path, settings: dict, problem: Callable[[dict], str | None]) -
 
     Raises:
         RunFolderError: naming the file, the line and the problem for a line that is not a JSON
-            object or an entry of these settings that ``problem`` refuses.
+            object (:func:`~freefloat.app.run_folder.journal_entries`) or an entry of these
+            settings that ``problem`` refuses.
     """
-    if not path.is_file():
-        return []
-    text = path.read_text(errors="replace")
-    lines = text.splitlines()[:None if text.endswith("\n") else -1]  # not a last line a kill cut short
+    again = "move the file away, or pass --overwrite to start the study again"
     found = []
-    for number, line in enumerate(lines, 1):
-        try:
-            entry = json.loads(line) if line.strip() else {}
-        except json.JSONDecodeError:
-            entry = None
-        wrong = "is not a JSON object" if not isinstance(entry, dict) else None
-        if entry and wrong is None and entry.get("settings") == settings:
+    for number, entry in journal_entries(path, again):
+        if entry.get("settings") == settings:
             entry = {k: v for k, v in entry.items() if k != "settings"}
-            wrong = problem(entry)
+            if (wrong := problem(entry)) is not None:
+                raise RunFolderError(f"'{path}' line {number} {wrong}; not resuming from it ({again})")
             found.append(entry)
-        if wrong is not None:
-            raise RunFolderError(f"'{path}' line {number} {wrong}; not resuming from it (move the file away, or pass "
-                                 "--overwrite to start the study again)")
     return found
