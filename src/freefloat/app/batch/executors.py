@@ -17,6 +17,7 @@ Dask's pending tasks cancelled, threads' runs stopped at their next chunk by
 from __future__ import annotations
 
 import contextlib
+import numbers
 import os
 from concurrent.futures import FIRST_COMPLETED, Future, ThreadPoolExecutor, wait
 from dataclasses import dataclass
@@ -67,7 +68,7 @@ class Workers:
     def __post_init__(self) -> None:
         count, threads = spelled("count", "--workers"), spelled("threads", "--threads")
         scheduler, dask = spelled("scheduler", "--scheduler"), spelled("dask=True", "--dask")
-        if isinstance(self.count, bool) or not isinstance(self.count, int) or self.count < 1:
+        if isinstance(self.count, bool) or not isinstance(self.count, numbers.Integral) or self.count < 1:
             raise InvalidArgument(f"{count} must be an integer >= 1, got {self.count!r}")
         if self.scheduler is None and self.count > local_limit():
             raise InvalidArgument(f"{count} {self.count} is more processes than this machine can run at once: it has "
