@@ -14,7 +14,7 @@ from freefloat.lab.bench.scenes.detumbling import detumbling_scene
 from freefloat.lab.bench.in_mujoco.mjcf import mjcf_from_model
 from freefloat.lab.bench.in_mujoco.state import to_mujoco, velocity_map
 from freefloat.lab.bench.in_mujoco.wrenches import MujocoWrenches
-from freefloat.dynamics.wrenches import ExternalWrench, WrenchField
+from freefloat.dynamics.wrenches import ExternalWrench, WrenchProfiles
 
 
 @pytest.fixture(scope="module")
@@ -50,7 +50,7 @@ def test_xfrc_applied_is_pinocchios_generalized_force(scene, link):
     q = pin.randomConfiguration(model, -np.ones(model.nq), np.ones(model.nq))
     v = rng.normal(size=model.nv)
     wrench = ExternalWrench(link, tuple(rng.normal(size=3) * 10.0), tuple(rng.normal(size=3)))
-    field = WrenchField(scene.robot, [wrench])
+    field = WrenchProfiles(scene.robot, [wrench])
     field.activate(0.0)
     zero_gravity = model.copy()
     zero_gravity.gravity.setZero()

@@ -149,6 +149,7 @@ def test_a_law_compiles_on_its_own_model_only_for_the_plants_structure():
     masses (law_robot and law_and_robot then name that robot), and gives None for a robot of
     another structure (its law runs in Python); with the plant's own robot, law_robot is None."""
     from freefloat.space.control import ComputedTorque, QuinticTrajectory
+    from freefloat.space.control.computed_torque import QuinticComputedTorqueLaw
 
     four, two = robot_named("four_arm_planar.urdf"), robot_named("two_arm_planar.urdf")
     plant = replace(four, model=heavier(four.model))
@@ -157,7 +158,8 @@ def test_a_law_compiles_on_its_own_model_only_for_the_plants_structure():
         start = np.zeros(robot.n_joints)
         return ComputedTorque(robot, QuinticTrajectory(start, start + 0.1, 1.0), 100.0, 20.0, "exact")
 
-    assert isinstance(law_of(controller(four), plant), tuple) and law_robot(controller(four), plant) is four
+    assert isinstance(law_of(controller(four), plant), QuinticComputedTorqueLaw)
+    assert law_robot(controller(four), plant) is four
     assert law_robot(controller(plant), plant) is None
     assert law_of(controller(two), plant) is None
     assert law_and_robot(controller(four), plant)[1] is four and law_and_robot(controller(two), plant) == (None, None)
@@ -283,7 +285,7 @@ def test_detumble_scene_runs_whole_chunks_like_the_python_loop(name, monkeypatch
     from freefloat.app.experiments import experiment_for
     from freefloat.app.experiments.robot_run import run_loop
     from freefloat.app.scenes import find_scene
-    from freefloat.dynamics.wrenches import WrenchField
+    from freefloat.dynamics.wrenches import WrenchProfiles
 
     scene = find_scene(name)
     runs, controllers = [], []
@@ -292,7 +294,7 @@ def test_detumble_scene_runs_whole_chunks_like_the_python_loop(name, monkeypatch
         setup = experiment_for(scene).prepare(replace(scene, simulation=sim))
         if backend == "compiled":
             setup.controller.torque = never
-            monkeypatch.setattr(WrenchField, "activate", never)
+            monkeypatch.setattr(WrenchProfiles, "activate", never)
         runs.append(run_loop(setup, None, None))
         controllers.append(setup.controller)
     python, compiled = runs
@@ -370,7 +372,7 @@ def test_a_failing_detumbling_solve_stops_the_compiled_run_like_the_python_one()
 def test_wrench_profiles_in_the_compiled_loop_match_the_python_selection(monkeypatch):
     """Ramped, stepped and finished wrenches (forces and torques, on a link and on the base) give
     the Python loop's telemetry with the selection made in C++."""
-    from freefloat.dynamics.wrenches import ExternalWrench, WrenchField
+    from freefloat.dynamics.wrenches import ExternalWrench, WrenchProfiles
 
     robot = robot_named("two_arm_planar.urdf")
     wrenches = (ExternalWrench("arm2_link3", force=(3.0, -1.0, 2.0), torque=(0.5, 0.0, -1.0), start=0.004, end=0.02,
@@ -379,7 +381,7 @@ def test_wrench_profiles_in_the_compiled_loop_match_the_python_selection(monkeyp
                 *IMPULSE)
     python = run(robot, robot.neutral(), np.full(robot.model.nv, 0.05), 0.03, 1e-3,
                  make_integrator("rkmk4", robot.model), ExactModel(robot), wrenches=wrenches, backend="python")
-    monkeypatch.setattr(WrenchField, "activate", never)
+    monkeypatch.setattr(WrenchProfiles, "activate", never)
     compiled = run(robot, robot.neutral(), np.full(robot.model.nv, 0.05), 0.03, 1e-3,
                    make_integrator("rkmk4", robot.model), ExactModel(robot), wrenches=wrenches, backend="compiled")
     assert np.abs(python.telemetry.momentum[-1] - python.telemetry.momentum[0]).max() > 1e-2
@@ -603,3 +605,19 @@ def test_a_blow_up_keeps_every_row_of_its_chunk(monkeypatch):
     assert python.status == compiled.status == "diverged" and compiled.message == python.message
     assert 5 < len(compiled.telemetry.t) == len(python.telemetry.t) < 1000
     assert_same_telemetry(python.telemetry, compiled.telemetry)
+
+
+def test_each_compiled_law_is_a_record_of_named_fields_with_its_kind():
+    """The four compiled law kinds are dataclasses (no tuple or dict read by position), each with
+    its own kind (a class constant, not a field) and an install method: what the loop calls."""
+    import dataclasses
+
+    from freefloat.parallel.sliding_mode import PlatformLaw
+    from freefloat.space.control.computed_torque import QuinticComputedTorqueLaw
+    from freefloat.space.control.detumbling_control import DetumblingLaw
+    from freefloat.space.control.loop_detumbling import LoopDetumblingLaw
+
+    laws = (QuinticComputedTorqueLaw, DetumblingLaw, LoopDetumblingLaw, PlatformLaw)
+    assert all(dataclasses.is_dataclass(law) and callable(law.install) for law in laws)
+    assert len({law.kind for law in laws}) == 4
+    assert not any("kind" in {f.name for f in dataclasses.fields(law)} for law in laws)

@@ -13,7 +13,8 @@ from hypothesis import example, given, settings
 
 from freefloat import load_robot
 from freefloat.dynamics.closures import KINDS, ClosedModel, Closure, solve, stacked
-from freefloat.dynamics.compiled import CompiledLoop, LoopDetumblingLaw, unsupported
+from freefloat.dynamics.compiled import CompiledLoop, unsupported
+from freefloat.space.control.loop_detumbling import LoopDetumblingLaw
 from freefloat.dynamics.integrators import make_integrator
 from freefloat.dynamics.simulation import run
 from freefloat.dynamics.wrenches import ExternalWrench

@@ -198,13 +198,27 @@ def _sensors_page(ns: dict) -> None:
     assert np.all(seen.spread[-1, rows] < np.sqrt(np.mean((seen.momentum[100:] - truth) ** 2, axis=0))[rows])
 
 
+def _orbit_page(ns: dict) -> None:
+    """The satellite released 5 deg off librates between +-5 deg, its downward zero crossings
+    half a closed-form period apart to 0.5 %."""
+    t, pitch = ns["t"], ns["pitch"]
+    assert abs(pitch[0] - np.radians(5.0)) < 1e-12 and np.abs(pitch).max() < np.radians(5.0) + 1e-9
+    down = np.flatnonzero((pitch[:-1] > 0.0) & (pitch[1:] <= 0.0))
+    up = np.flatnonzero((pitch[:-1] < 0.0) & (pitch[1:] >= 0.0))
+    crossings = np.sort(np.concatenate([t[i] + pitch[i] / (pitch[i] - pitch[i + 1]) * (t[i + 1] - t[i])
+                                        for i in (down, up)]))
+    assert crossings.size >= 4
+    assert abs(2.0 * np.diff(crossings).mean() / ns["closed_form"] - 1.0) < 5e-3
+
+
 #: What each Python snippet of the pages claims, checked against a reference of its own.
 SNIPPET_CHECKS = {"README.md#python0": _readme_scene, "python.md#python0": _python_tumbling,
                   "python.md#python1": _python_closed_chain, "python.md#python2": _python_many_runs,
                   "gjm.md#python0": _gjm_page,
                   "integrators.md#python0": _integrators_page,
                   "control_laws.md#python0": _control_laws_page, "first_hour.md#python0": _first_hour,
-                  "parallel.md#python0": _parallel_page, "sensors.md#python0": _sensors_page}
+                  "parallel.md#python0": _parallel_page, "sensors.md#python0": _sensors_page,
+                  "orbit.md#python0": _orbit_page}
 
 
 @pytest.mark.slow

@@ -91,6 +91,18 @@ def test_dopri5_meets_its_tolerance(tumbling):
     assert e[0] < 1e-7
 
 
+@pytest.mark.parametrize("name", ["dopri5", "bs32"])
+def test_an_adaptive_step_that_meets_nan_shrinks(name):
+    """A first step so long that a stage leaves the dynamics' domain (NaN accelerations) is
+    rejected and shrunk, not grown without end: the oscillator x'' = -x, undefined beyond |x| > 10,
+    lands on cos(t)."""
+    model = pin.Model()
+    model.addJoint(0, pin.JointModelPX(), pin.SE3.Identity(), "x")
+    solver = make_integrator(name, model, rtol=1e-10, atol=1e-12)
+    q, v = solver.advance(lambda q, v: -q if abs(q[0]) < 10.0 else np.full(1, np.nan), np.ones(1), np.zeros(1), 30.0)
+    assert abs(q[0] - np.cos(30.0)) < 1e-6 and solver.rejected < 50
+
+
 @pytest.mark.parametrize("degree", [4, 6])
 def test_planar_closed_form_equals_the_matrix_series(degree):
     """The se(2) closed form of dexp^-1 equals the ad-matrix series, to ad^4 and to ad^6."""

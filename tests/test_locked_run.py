@@ -96,7 +96,7 @@ def test_holding_torque_with_a_wrench_keeps_the_locked_joint_still_in_the_full_m
     gives the locked joint zero acceleration."""
     import pinocchio as pin
 
-    from freefloat.dynamics.wrenches import ExternalWrench, WrenchField
+    from freefloat.dynamics.wrenches import ExternalWrench, WrenchProfiles
 
     pushed = quiet_scene(tmp_path, "tumbling", robot={"locked_joints": ["arm2_joint2"]}, simulation={"duration": 0.02})
     wrench = ExternalWrench("arm2_link4", force=(3.0, -2.0, 0.0), torque=(0.0, 0.0, 1.5))
@@ -104,7 +104,7 @@ def test_holding_torque_with_a_wrench_keeps_the_locked_joint_still_in_the_full_m
     setup.wrenches = (wrench,)
     tel = experiment_for_scene(pushed).run(setup).telemetry
     robot, k = setup.robot, 10
-    field = WrenchField(robot, (wrench,))
+    field = WrenchProfiles(robot, (wrench,))
     field.activate(float(tel.t[k]))
     tau = np.zeros(robot.model.nv)
     tau[robot.n_base:] = tel.tau[k]

@@ -321,7 +321,8 @@ class RkmkIntegrator {
         sum += (err_theta[i] / st) * (err_theta[i] / st) + (err_v[i] / sv) * (err_v[i] / sv);
       }
       const double err = std::sqrt(sum / (2.0 * space_.nv));
-      const double factor = err > 0.0 ? 0.9 * std::pow(err, tableau_.error_exponent) : 5.0;
+      // err NaN (a stage left the dynamics' domain: the step was far too long): shrink 10x
+      const double factor = err > 0.0 ? 0.9 * std::pow(err, tableau_.error_exponent) : (err == 0.0 ? 5.0 : 0.1);
       if (err <= 1.0) {
         space_.integrate(q, L.theta, L.qs);
         q = L.qs;

@@ -306,11 +306,12 @@ def _view(args: argparse.Namespace) -> int:
 
 
 def _scenes() -> int:
-    from .scenes import DEFAULT_SCENE, builtin_scenes, load_scene
+    from ..inputs import read_toml
+    from .scenes import DEFAULT_SCENE, builtin_scenes
 
-    for name, path in builtin_scenes().items():
+    for name, path in builtin_scenes().items():  # their descriptions only: no registry (no plug-in) is read
         mark = " (default)" if name == DEFAULT_SCENE else ""
-        print(f"{name}{mark}: {load_scene(path).description}")
+        print(f"{name}{mark}: {read_toml(path, 'scene file', SceneError).get('description', '')}")
     return 0
 
 

@@ -3,7 +3,6 @@ and of the reproduce reports."""
 
 from __future__ import annotations
 
-import dataclasses
 import functools
 import json
 import math
@@ -20,7 +19,7 @@ from . import figure_set
 from .experiments.base import Outcome
 from .run_folder import RunFolder
 from .scenes import MechanismScene, Scene
-from .scenes.as_run import scene_as_run
+from .scenes.as_run import scene_as_run, scene_table
 
 PACKAGES = ("freefloat", "pin", "numpy", "scipy", "meshcat", "example-robot-data", "yourdfpy")
 
@@ -90,7 +89,7 @@ def write_run(folder: RunFolder, scene: Scene | MechanismScene, outcome: Outcome
         written.append(folder.save(f"telemetry_{name}.npz", extra))
     written.append(folder.write_text("scene.toml", scene_as_run(scene, outcome.summary.get("model_choice"))))
     record = dict(outcome.summary)
-    record.update(scene=_jsonable(dataclasses.asdict(scene)), **outcome.provenance, versions=versions())
+    record.update(scene=_jsonable(scene_table(scene)), **outcome.provenance, versions=versions())
     written.append(folder.write_text("summary.json", strict_json(record)))
     drawings = []
     if figures and (meanwhile is None or not meanwhile.sent):

@@ -25,10 +25,16 @@ velocities at both ends (Hermite), integrated exactly (for one period,
 dt`` with ``int w dt = log(R_{j+1} R_j^T) + h^2 / 12 w_j x w_{j+1}`` (Magnus' expansion to
 third order; exact for a rotation about a fixed axis, as on planar robots), the rotation
 between two rows split evenly over their periods.
+
+A field of the environment (:class:`~.wrenches.WrenchField`, state-dependent) is integrated from
+the recorded rows by the trapezoidal rule: its total ``wrench`` for the impulse, the power of its
+joint ``forces`` at the joints' velocities for the work (second order in the row spacing; exact
+for the linear impulse of a constant force).
 """
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from typing import NamedTuple
 
 import numpy as np
@@ -36,7 +42,7 @@ import pinocchio as pin
 
 from ..robot.robot import Robot
 from .telemetry import Telemetry
-from .wrenches import ExternalWrench, WrenchField
+from .wrenches import ExternalWrench, WrenchField, WrenchProfiles, field_power
 
 
 def free_com_motion(telemetry: Telemetry, robot: Robot) -> np.ndarray:
@@ -90,7 +96,7 @@ def profile_scales(wrenches: tuple[ExternalWrench, ...] | list[ExternalWrench], 
 
 
 def applied(robot: Robot, telemetry: Telemetry, wrenches: tuple[ExternalWrench, ...] | list[ExternalWrench],
-            control_period: float) -> Applied:
+            control_period: float, environment: Sequence[WrenchField] = ()) -> Applied:
     """The impulse and work of ``wrenches`` and gravity over a run, as the loop applied them
     (module docstring).
 
@@ -99,7 +105,44 @@ def applied(robot: Robot, telemetry: Telemetry, wrenches: tuple[ExternalWrench, 
         telemetry: the run; its rows lie on the control grid ``t[0] + j control_period``.
         wrenches: the run's external wrenches.
         control_period: s.
+        environment: the run's wrench fields (:func:`field_applied`).
     """
+    done = _profiles_applied(robot, telemetry, wrenches, control_period)
+    if not environment or len(telemetry.t) == 0:
+        return done
+    more = field_applied(robot, telemetry, environment, control_period)
+    return Applied(*(a + b for a, b in zip(done, more)))
+
+
+def field_applied(robot: Robot, telemetry: Telemetry, environment: Sequence[WrenchField],
+                  control_period: float) -> Applied:
+    """The impulse, work and CoM shift of wrench fields over a run (trapezoidal rule over the
+    rows: module docstring), each field evaluated at a row's time rounded down to its control
+    period, as the loop does."""
+    tel, model = telemetry, robot.model
+    data = model.createData()
+    rows = len(tel.t)
+    total, power = np.zeros((rows, 6)), np.zeros(rows)
+    for row in range(rows):
+        t = tel.t[0] + np.floor((tel.t[row] - tel.t[0]) / control_period + 1e-9) * control_period
+        q, v = tel.q[row], tel.v[row]
+        pin.forwardKinematics(model, data, q, v)
+        for field in environment:
+            forces = field.forces(t, q, v)
+            if forces is not None:
+                total[row] += field.wrench(t, q, v)
+                power[row] += field_power(model, data, forces)
+    gaps = np.diff(tel.t)[:, None]
+    impulse = np.vstack((np.zeros(6), np.cumsum(0.5 * gaps * (total[1:] + total[:-1]), axis=0)))
+    work = np.concatenate(([0.0], np.cumsum(0.5 * gaps[:, 0] * (power[1:] + power[:-1]))))
+    linear = impulse[:, :3]
+    shift = np.vstack((np.zeros(3), np.cumsum(0.5 * gaps * (linear[1:] + linear[:-1]), axis=0)))
+    return Applied(impulse, work, shift / pin.computeTotalMass(model))
+
+
+def _profiles_applied(robot: Robot, telemetry: Telemetry, wrenches: tuple[ExternalWrench, ...] | list[ExternalWrench],
+                      control_period: float) -> Applied:
+    """:func:`applied` of the profiles and gravity."""
     tel, h = telemetry, control_period
     t0, rows = tel.t[0], len(tel.t)
     row_period = np.rint((tel.t - t0) / h).astype(int)
@@ -114,7 +157,7 @@ def applied(robot: Robot, telemetry: Telemetry, wrenches: tuple[ExternalWrench, 
     work, shift = np.zeros(rows), np.zeros((rows, 3))
     if not wrenches or n == 0:
         return Applied(impulse, work, shift)
-    joints, coms, forces, torques, *_ = WrenchField(robot, wrenches).profiles()
+    joints, coms, forces, torques, *_ = WrenchProfiles(robot, wrenches).profiles()
     periods = np.arange(n)
     scales = profile_scales(wrenches, t0 + periods * h)  # (n, k), as the loop samples them
     on = scales.any(axis=1)
@@ -171,11 +214,11 @@ def _hermite_integral(s: np.ndarray) -> tuple[np.ndarray, ...]:
 
 
 def balance(robot: Robot, telemetry: Telemetry, wrenches: tuple[ExternalWrench, ...] | list[ExternalWrench],
-            control_period: float) -> Balance:
-    """The residuals of momentum, energy and CoM motion against what ``wrenches`` and gravity
-    applied (:func:`applied`); zero for an exact integration."""
+            control_period: float, environment: Sequence[WrenchField] = ()) -> Balance:
+    """The residuals of momentum, energy and CoM motion against what ``wrenches``, the
+    ``environment``'s fields and gravity applied (:func:`applied`); zero for an exact integration."""
     tel = telemetry
-    done = applied(robot, tel, wrenches, control_period)
+    done = applied(robot, tel, wrenches, control_period, environment)
     return Balance(momentum=tel.momentum - tel.momentum[0] - done.impulse,
                    energy=tel.energy - tel.energy[0] - tel.work - done.work,
                    com=tel.com - free_com_motion(tel, robot) - done.com_shift, applied=done)

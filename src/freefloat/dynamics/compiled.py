@@ -17,8 +17,8 @@ closure rows from Pinocchio's kinematics, the Delassus solve with the same redun
 ``cpp/sim/closures.hpp``).
 
 Two ways to drive it: a whole chunk of periods per call when nothing needs Python between
-periods (no controller, or one with a ``compiled_law``: the computed torque on a quintic, the
-detumbling law of :class:`DetumblingLaw` or the two-hand law of :class:`LoopDetumblingLaw`;
+periods (no controller, or one with a ``compiled_law``, a :class:`CompiledLaw`: the computed
+torque on a quintic, the detumbling law or the two-hand law;
 external wrenches with their profiles; no stop event),
 or one call per period (:meth:`CompiledLoop.step`) with the torques, the active wrenches and the
 stop event from Python: any controller then keeps its Python code, and the period's integration
@@ -39,9 +39,8 @@ from __future__ import annotations
 import hashlib
 import threading
 from collections import OrderedDict
-from collections.abc import Callable
-from dataclasses import dataclass, fields
-from typing import Any
+from dataclasses import fields
+from typing import Any, ClassVar, Protocol
 
 import numpy as np
 import pinocchio as pin
@@ -53,10 +52,10 @@ from ..robot.robot import Robot
 from . import _sim
 from .integrators import INTEGRATORS
 from .telemetry import Telemetry
-from .wrenches import WrenchField
+from .wrenches import WrenchProfiles
 
-__all__ = ["COMPILED_INTEGRATORS", "COMPILED_PLANTS", "CONVENTION", "MAX_IDLE", "TREE_ABA", "CompiledEngine", "CompiledLoop",
-           "DetumblingLaw", "LoopDetumblingLaw", "chunk_arrays", "clear_loops", "joint_arrays", "law_of", "model_arrays",
+__all__ = ["COMPILED_INTEGRATORS", "COMPILED_PLANTS", "CONVENTION", "MAX_IDLE", "TREE_ABA", "CompiledEngine", "CompiledLaw",
+           "CompiledLoop", "chunk_arrays", "closure_arrays", "clear_loops", "joint_arrays", "law_of", "model_arrays",
            "unsupported"]
 
 if _sim.PINOCCHIO_VERSION != pin.__version__:  # the module is linked to the library it was built with
@@ -118,98 +117,36 @@ def unsupported(model: Any, integrator: Any) -> str | None:
     :data:`COMPILED_INTEGRATORS` (not wrapped in momentum projection)."""
     if getattr(model, "name", None) not in COMPILED_PLANTS:
         return f"the plant model is '{getattr(model, 'name', model)}', not one of {', '.join(COMPILED_PLANTS)}"
-    spec = INTEGRATORS.get(getattr(integrator, "name", None))
+    spec = INTEGRATORS.get(getattr(integrator, "name", None), None)
     if spec is None or not spec.compiled or not hasattr(integrator, "model"):
         return f"integrator '{getattr(integrator, 'name', integrator)}' is not compiled"
     return None
 
 
-@dataclass
-class DetumblingLaw:
-    """The detumbling controller (``DetumblingController``, dissertation sec 3.8, eq 134) as the
-    compiled loop runs it, with the exact ``H*``, ``c*`` and the detumbling solve of
-    ``freefloat.space.detumbling.solve`` on Pinocchio's Jacobians.
+class CompiledLaw(Protocol):
+    """A controller's law as the compiled loop runs it: one record per law kind (fields named, never
+    read by position), defined beside its controller (``QuinticComputedTorqueLaw`` in
+    :mod:`freefloat.space.control.computed_torque`, ``DetumblingLaw``, ``LoopDetumblingLaw``,
+    ``PlatformLaw`` in :mod:`freefloat.parallel.sliding_mode`); this module knows only this protocol.
+    A stateful law also has ``collect(simulation)``, called after each compiled chunk to take back
+    the state the loop kept; a law with ``plant_bound = True`` computes on the plant's own numbers
+    (its closures), never on a robot of the controller's own."""
 
-    Attributes:
-        rows: stacked end-effector rows to stop (r,), into the 6k rows ``[v_E; w_E]``.
-        joints: mission joint indices (s,).
-        method: ``single``, ``min_norm``, ``null_space`` or ``least_squares``.
-        secondary: ``null_space``'s objective, ``base_angular_velocity`` or ``base_twist``.
-        rcond: the solver's pseudo-inverse cut (singular values not above ``rcond`` times the largest).
-        start: time the detumbling starts, s (before it: hold the posture).
-        kp, kd: gains, 1/s^2 and 1/s.
-        period: the backward-difference period of ``qddot_d``, s.
-        hold: the held joint positions (n,), or None for those at the first period.
-        previous: the previous detumbling period's ``qdot_d`` (n,), or None.
-        report: called after each compiled chunk with ``(hold, previous, residuals)``, the
-            residuals the max ``|residual|`` of each detumbling period of the chunk (the
-            controller keeps its state current through it).
-    """
+    kind: ClassVar[str]
 
-    rows: np.ndarray
-    joints: np.ndarray
-    method: str
-    secondary: str
-    rcond: float
-    start: float
-    kp: float
-    kd: float
-    period: float
-    hold: np.ndarray | None
-    previous: np.ndarray | None
-    report: Callable[[np.ndarray | None, np.ndarray | None, np.ndarray], None]
+    def install(self, simulation: Any, robot: Robot) -> None:
+        """Hand this law to ``simulation`` (a ``_sim.Simulation`` or ``ChainSimulation``) of ``robot``."""
+        ...
 
 
-@dataclass
-class LoopDetumblingLaw:
-    """The two-hand detumbling law (``LoopDetumblingController``, steps 1-4 of its module
-    docstring) as the compiled loop runs it (``cpp/sim/loop_detumbling_law.hpp``).
-
-    Attributes:
-        rows: stacked end-effector rows to stop (r,), into the 6k rows ``[v_E; w_E]``.
-        joints: mission joint indices (s,).
-        kd: rate gain, 1/s.
-        period: T, the backward-difference period, s.
-        baumgarte: the closure's Baumgarte rate beta, 1/s.
-        squeeze: s, N.
-        torque_limit: N m per joint; 0: none.
-        closure: the weld between the second hand (frame 1) and its grasp on the target.
-        target_joint, target_placement: the frame at the target's CoM (principal axes).
-        mass, inertia: the target's mass (kg) and principal moments (3,), kg m^2.
-        first_joint, first_placement: the first hand's frame.
-        previous: the previous period's ``qdot_d`` (n,), or None.
-        force: the previous period's closure force lambda (6,).
-        report: called after each compiled chunk with ``(previous, force, t, rows_residual,
-            saturated)``, the last three the log entries of the chunk's periods (lists).
-    """
-
-    rows: np.ndarray
-    joints: np.ndarray
-    kd: float
-    period: float
-    baumgarte: float
-    squeeze: float
-    torque_limit: float
-    closure: Any
-    target_joint: int
-    target_placement: pin.SE3
-    mass: float
-    inertia: np.ndarray
-    first_joint: int
-    first_placement: pin.SE3
-    previous: np.ndarray | None
-    force: np.ndarray
-    report: Callable[[np.ndarray | None, np.ndarray, list, list, list], None]
-
-
-def _closure(closure: Any) -> tuple:
+def closure_arrays(closure: Any) -> tuple:
     """A ``closures.Closure`` as ``_sim`` takes it: (joint1, placement1 (4, 4), joint2,
     placement2 (4, 4), rotation rows)."""
     return (int(closure.joint1), closure.placement1.homogeneous, int(closure.joint2), closure.placement2.homogeneous,
             list(closure.kind.rotation_rows))
 
 
-def law_of(controller: Any, plant: Robot | None = None) -> tuple | DetumblingLaw | LoopDetumblingLaw | None:
+def law_of(controller: Any, plant: Robot | None = None) -> CompiledLaw | None:
     """The controller's ``compiled_law()`` (see ``ComputedTorque.compiled_law`` and
     ``DetumblingController.compiled_law``), or None. Given the ``plant``, also None when the
     controller's robot has another structure than the plant's, or when a two-hand law's robot has
@@ -219,13 +156,13 @@ def law_of(controller: Any, plant: Robot | None = None) -> tuple | DetumblingLaw
     return law_and_robot(controller, plant)[0]
 
 
-def law_and_robot(controller: Any, plant: Robot | None = None) -> tuple[tuple | DetumblingLaw | LoopDetumblingLaw | None,
+def law_and_robot(controller: Any, plant: Robot | None = None) -> tuple[CompiledLaw | None,
                                                                        Robot | None]:
     """:func:`law_of` and, when the law computes on a robot of its own, that robot
     (:func:`law_robot`; None otherwise), the controller's model compared with the plant's once."""
     law = getattr(controller, "compiled_law", lambda: None)() if controller is not None else None
     own = law_robot(controller, plant) if law is not None and plant is not None else None
-    if own is not None and (isinstance(law, LoopDetumblingLaw) or not same_structure(own, plant)):
+    if own is not None and (getattr(law, "plant_bound", False) or not same_structure(own, plant)):
         return None, None
     return law, own
 
@@ -372,9 +309,8 @@ class CompiledLoop(CompiledEngine):
         control_period: zero-order-hold period, s.
         start_time: time of period 0, s.
         record_every: one telemetry row every this many periods.
-        law: ``(start, delta, duration, kp, kd)`` of a computed-torque controller on a quintic
-            (see ``ComputedTorque.compiled_law``), a :class:`DetumblingLaw`, a
-            :class:`LoopDetumblingLaw`, or None for a torque-free run.
+        law: a controller's :class:`CompiledLaw` (its ``compiled_law()``), or None for a
+            torque-free run.
         wrenches: external wrenches the loop selects by their profiles at each period of
             :meth:`run` (the per-period interface takes them through :meth:`set_wrenches` instead).
         data: a ``pin.Data`` of ``robot.model`` to check the rebuilt model with (e.g. the exact
@@ -395,8 +331,8 @@ class CompiledLoop(CompiledEngine):
     backend = "compiled"
 
     def __init__(self, robot: Robot, integrator: Any, control_period: float, start_time: float = 0.0,
-                 record_every: int = 1, law: tuple | DetumblingLaw | LoopDetumblingLaw | None = None,
-                 wrenches: WrenchField | None = None, data: pin.Data | None = None, plant: Any = None,
+                 record_every: int = 1, law: CompiledLaw | None = None,
+                 wrenches: WrenchProfiles | None = None, data: pin.Data | None = None, plant: Any = None,
                  law_robot: Robot | None = None, arrays: dict[str, Any] | None = None):
         self.robot = robot
         self.law = law
@@ -421,24 +357,14 @@ class CompiledLoop(CompiledEngine):
             raise InvalidArgument(f"{robot.urdf_path.name}: {exc}") from exc
         self.sim.convention = CONVENTION
         self.sim.tree_aba = "kernel" if TREE_ABA == "kernel" and self.sim.kernel_refusal is None else "pinocchio"
-        if isinstance(law, DetumblingLaw):
-            self.sim.set_detumbling([int(r) for r in law.rows], [int(j) for j in law.joints], law.method, law.secondary,
-                                    law.rcond, law.start, law.kp, law.kd, law.period, law.hold, law.previous)
-        elif isinstance(law, LoopDetumblingLaw):
-            self.sim.set_loop_detumbling(
-                [int(r) for r in law.rows], [int(j) for j in law.joints], law.kd, law.period, law.baumgarte,
-                law.squeeze, law.torque_limit, _closure(law.closure), int(law.target_joint),
-                law.target_placement.homogeneous, law.mass, np.asarray(law.inertia, float), int(law.first_joint),
-                law.first_placement.homogeneous, law.previous, np.asarray(law.force, float))
-        elif law is not None:
-            start, delta, duration, kp, kd = law
-            self.sim.set_computed_torque(start, delta, duration, kp, kd)
+        if law is not None:
+            law.install(self.sim, robot)
         if law_robot is not None:
             self.sim.set_law_model(**model_arrays(law_robot))
         if wrenches is not None:
             self.sim.set_wrench_profiles(*wrenches.profiles())
         if getattr(plant, "closures", None):
-            self.sim.set_closures([_closure(c) for c in plant.closures], float(plant.baumgarte))
+            self.sim.set_closures([closure_arrays(c) for c in plant.closures], float(plant.baumgarte))
         key = self._structure[0] + self._numbers
         if key not in _checked:
             self._check_rebuild(data)
@@ -501,17 +427,16 @@ class CompiledLoop(CompiledEngine):
     def run(self, last_period: int, chunk: Telemetry, row: int) -> tuple[int, str | None]:
         """:meth:`CompiledEngine.run`, handing the compiled law's state back to its controller."""
         written, blow_up = super().run(last_period, chunk, row)
-        if isinstance(self.law, DetumblingLaw):
-            self.law.report(*self.sim.take_detumbling_state())
-        elif isinstance(self.law, LoopDetumblingLaw):
-            self.law.report(*self.sim.take_loop_detumbling_state())
+        collect = getattr(self.law, "collect", None)
+        if collect is not None:
+            collect(self.sim)
         return written, blow_up
 
     def hold(self, tau: np.ndarray) -> None:
         """Hold the joint torques ``tau`` (n_joints,) from the current period on."""
         self.sim.hold(tau)
 
-    def set_wrenches(self, field: WrenchField | None) -> None:
+    def set_wrenches(self, field: WrenchProfiles | None) -> None:
         """Hold the wrenches ``field`` has active (after ``field.activate(t)``), or none."""
         self.sim.set_wrenches(*(field.active() if field is not None else ([], np.zeros((0, 3)), np.zeros((0, 3)),
                                                                           np.zeros((0, 3)))))

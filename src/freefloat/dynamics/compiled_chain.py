@@ -29,7 +29,7 @@ def unsupported(plant: Any, integrator: str, controller: Any, stop: Any) -> str 
     """Why this run cannot use the compiled closed-chain loop, or None when it can: a
     :class:`CoupledChainPlant` whose mechanism has a compiled core, an integrator the compiled
     loop has, a controller with a ``compiled_law()`` (or none), and no stop event."""
-    spec = INTEGRATORS.get(integrator)
+    spec = INTEGRATORS.get(integrator, None)
     if spec is None or not spec.compiled:
         return f"integrator '{integrator}' is not compiled"
     if not isinstance(plant, CoupledChainPlant):
@@ -46,7 +46,7 @@ def unsupported(plant: Any, integrator: str, controller: Any, stop: Any) -> str 
     return None
 
 
-def _law(controller: Any) -> dict | None:
+def _law(controller: Any) -> Any:
     return getattr(controller, "compiled_law", lambda: None)()
 
 
@@ -72,7 +72,7 @@ class CompiledChainLoop(CompiledEngine):
     def __init__(self, plant: CoupledChainPlant, controller: Any, integrator: str, control_period: float,
                  start_time: float = 0.0, substeps: int = 1, rtol: float = 1e-10, atol: float = 1e-12,
                  per_stage: bool = False, record_every: int = 1):
-        spec = INTEGRATORS.get(integrator)
+        spec = INTEGRATORS.get(integrator, None)
         if spec is None or not spec.compiled:
             raise InvalidArgument(f"integrator '{integrator}' is not compiled; compiled: "
                                   f"{', '.join(n for n, s in INTEGRATORS.items() if s.compiled)}")
@@ -83,8 +83,7 @@ class CompiledChainLoop(CompiledEngine):
                                             rtol, atol, control_period, start_time, record_every, per_stage)
             law = _law(controller) if controller is not None else None
             if law is not None:
-                model_chains, model_coupling = law.pop("model").core_arrays()
-                self.sim.set_platform_law(model_chains, model_coupling, **law)
+                law.install(self.sim)
         except ValueError as exc:
             raise InvalidArgument(f"compiled closed-chain loop: {exc}") from exc
 

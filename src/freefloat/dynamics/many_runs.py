@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import os
 from collections.abc import Callable, Sequence
+import dataclasses
 from dataclasses import fields
 from typing import Any
 
@@ -152,7 +153,7 @@ def lockstep_refusal(robot: Robot, integrator: Integrator, model: DynamicsModel)
     """Why runs of ``robot`` with this integrator and plant cannot run in lockstep, or None when they
     can: the integrator must have a fixed step, the plant be the exact tree (no loop closures), and
     the dynamics kernel take the tree (:data:`~.compiled.TREE_ABA` ``"kernel"``)."""
-    spec = INTEGRATORS.get(getattr(integrator, "name", None))
+    spec = INTEGRATORS.get(getattr(integrator, "name", None), None)
     if spec is None or spec.adaptive:
         return f"integrator '{getattr(integrator, 'name', integrator)}' has no fixed step"
     if getattr(model, "name", None) != "exact":
@@ -307,9 +308,14 @@ def _law_robot(controllers: Sequence[Controller] | None, robot: Robot, plants_va
     return own[0]
 
 
+#: The law kind runs in one call may have (``_sim.Batch`` varies its ``start`` and ``delta`` per run).
+BATCH_LAW = "quintic_computed_torque"
+
+
 def _quintics(controllers: Sequence[Controller] | None, runs: int,
-              robot: Robot) -> tuple[tuple | None, np.ndarray | None, np.ndarray | None]:
-    """The first run's compiled law, and every run's quintic start and delta (runs, n), or Nones."""
+              robot: Robot) -> tuple[compiled.CompiledLaw | None, np.ndarray | None, np.ndarray | None]:
+    """The first run's compiled law, and every run's quintic start and delta (runs, n), or Nones:
+    every run's law is the first's with its own ``start`` and ``delta`` (``dataclasses.replace``)."""
     if controllers is None:
         return None, None, None
     if len(controllers) != runs:
@@ -317,11 +323,16 @@ def _quintics(controllers: Sequence[Controller] | None, runs: int,
     laws = [compiled.law_of(c, robot) for c in controllers]
     first = laws[0]
     for i, law in enumerate(laws):
-        if not isinstance(law, tuple):
+        if getattr(law, "kind", None) != BATCH_LAW:
             raise InvalidArgument(f"run {i}: its controller has no compiled quintic (a computed torque on a quintic, "
                                   "on a robot of this one's joints and frames, runs in one call; others run one "
                                   "by one with simulation.run)")
-        if law[2:] != first[2:]:
+        if not _same_law(dataclasses.replace(law, start=first.start, delta=first.delta), first):
             raise InvalidArgument(f"run {i}: its quintic's duration and gains (kp, kd) differ from run 0's; runs in "
                                   "one call share them")
-    return first, np.array([law[0] for law in laws], dtype=float), np.array([law[1] for law in laws], dtype=float)
+    return first, np.array([law.start for law in laws], dtype=float), np.array([law.delta for law in laws], dtype=float)
+
+
+def _same_law(a: Any, b: Any) -> bool:
+    """Whether two law records have equal fields (arrays compared element-wise)."""
+    return all(np.array_equal(getattr(a, f.name), getattr(b, f.name)) for f in dataclasses.fields(a))

@@ -3,6 +3,8 @@ wrenches, balances: :mod:`.balance`) and how the spin of the base and end-effect
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 import numpy as np
 import pinocchio as pin
 
@@ -10,7 +12,7 @@ from ..robot.robot import Robot
 from .balance import balance, free_com_motion
 from .sensors.momentum import CONSERVED
 from .telemetry import Telemetry
-from .wrenches import ExternalWrench
+from .wrenches import ExternalWrench, WrenchField
 
 #: A rate has settled when it stays within this fraction of its largest excursion from its final
 #: value (the 2 % settling time of control engineering).
@@ -137,14 +139,16 @@ def spin_summary(robot: Robot, telemetry: Telemetry) -> dict[str, object]:
 
 
 def conservation(telemetry: Telemetry, robot: Robot, wrenches: tuple[ExternalWrench, ...] | list[ExternalWrench] = (),
-                 control_period: float | None = None) -> dict[str, float | list[float]]:
+                 control_period: float | None = None,
+                 environment: Sequence[WrenchField] = ()) -> dict[str, float | list[float]]:
     """How well the run keeps the conservation laws (SI units).
 
     Without external wrenches, drifts: ``com_drift_max`` (m, from :func:`free_com_motion`),
     ``linear_momentum_drift_max``, ``angular_momentum_drift_max``, ``momentum_drift_max`` (their
     max, see :func:`momentum_drift`; kg m/s, kg m^2/s about the inertial origin; on a planar base
     of Px, Py, Lz only, which its joint's reactions do not change) and
-    ``energy_drift_max`` (``max |E - E(0) - W_tau|``, J). With wrenches the momentum and energy
+    ``energy_drift_max`` (``max |E - E(0) - W_tau|``, J). With wrenches (profiles, or fields of the
+    ``environment``) the momentum and energy
     change by what they apply, so none of that is a drift: balances instead
     (:func:`freefloat.dynamics.balance.balance`), ``com_balance_max``,
     ``linear_momentum_balance_max``, ``angular_momentum_balance_max``, ``momentum_balance_max``,
@@ -156,7 +160,7 @@ def conservation(telemetry: Telemetry, robot: Robot, wrenches: tuple[ExternalWre
         ValueError: when wrenches are given without ``control_period``.
     """
     tel = telemetry
-    if not wrenches:
+    if not wrenches and not environment:
         change = momentum_change(tel.momentum, robot.base)
         return {
             "com_drift_max": float(np.linalg.norm(tel.com - free_com_motion(tel, robot), axis=1).max()),
@@ -167,7 +171,7 @@ def conservation(telemetry: Telemetry, robot: Robot, wrenches: tuple[ExternalWre
         }
     if control_period is None:
         raise ValueError("conservation: a run with external wrenches needs its control_period")
-    res = balance(robot, tel, wrenches, control_period)
+    res = balance(robot, tel, wrenches, control_period, environment)
     linear, angular = (float(np.linalg.norm(part, axis=1).max()) for part in (res.momentum[:, :3], res.momentum[:, 3:]))
     applied = res.applied.impulse
     largest = max(np.linalg.norm(applied[:, :3], axis=1).max(), np.linalg.norm(applied[:, 3:], axis=1).max())
@@ -182,12 +186,13 @@ def conservation(telemetry: Telemetry, robot: Robot, wrenches: tuple[ExternalWre
 
 
 def summarize(telemetry: Telemetry, robot: Robot, wrenches: tuple[ExternalWrench, ...] | list[ExternalWrench] = (),
-              control_period: float | None = None) -> dict[str, object]:
+              control_period: float | None = None, environment: Sequence[WrenchField] = ()) -> dict[str, object]:
     """Figures of merit of a run (SI units; see the README's output table): the conservation
-    laws (:func:`conservation`: drifts, or balances against ``wrenches`` applied over each
-    ``control_period``), base motion, end-effector positions, peak torque, tracking errors."""
+    laws (:func:`conservation`: drifts, or balances against ``wrenches`` and the ``environment``'s
+    fields applied over each ``control_period``), base motion, end-effector positions, peak
+    torque, tracking errors."""
     tel = telemetry
-    out: dict[str, object] = conservation(tel, robot, wrenches, control_period)
+    out: dict[str, object] = conservation(tel, robot, wrenches, control_period, environment)
     out.update({
         "base_displacement": (tel.base_position[-1] - tel.base_position[0]).tolist(),
         "base_rotation_max": float(rotation_angle(tel.base_quaternion, tel.base_quaternion[0]).max()),

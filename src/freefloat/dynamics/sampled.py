@@ -4,6 +4,7 @@ every period."""
 
 from __future__ import annotations
 
+import dataclasses
 from typing import Any
 
 import numpy as np
@@ -42,7 +43,7 @@ class Sampled:
         """The controller's reference at ``t``."""
         return self.controller.reference(t)
 
-    def compiled_law(self) -> dict | None:
-        """The controller's compiled law with this schedule, or None."""
+    def compiled_law(self) -> Any:
+        """The controller's compiled law with this schedule (its ``every`` replaced), or None."""
         law = getattr(self.controller, "compiled_law", lambda: None)()
-        return None if law is None else dict(law, every=self.every)
+        return None if law is None else dataclasses.replace(law, every=self.every)

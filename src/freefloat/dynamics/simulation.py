@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import time
+from collections.abc import Sequence
 from dataclasses import fields
 from typing import Callable, Protocol
 
@@ -25,7 +26,7 @@ from .plants import Plant
 from .result import Result
 from .telemetry import Chunks, PlantTelemetry, Telemetry
 from .threads import single_blas_thread
-from .wrenches import ExternalWrench, WrenchField
+from .wrenches import ExternalWrench, WrenchField, WrenchProfiles, field_forces
 
 __all__ = ["BACKENDS", "CHUNK_ROWS", "MAX_POSITION", "MAX_SPEED", "Controller", "PythonPeriods", "Recorder", "Result",
            "check_memory", "control_periods", "ended_by", "run", "run_plant"]
@@ -114,6 +115,7 @@ def run(
     rtol: float = 1e-10,
     atol: float = 1e-12,
     per_stage: bool = False,
+    environment: Sequence[WrenchField] = (),
 ) -> Result:
     """The engine: simulate ``system`` for ``duration`` s in control periods of ``control_period`` s.
 
@@ -138,7 +140,11 @@ def run(
             (Pinocchio's ABA). A plant carries its own dynamics: None.
         controller: joint torques (a plant: its efforts) ``torque(t, q, v)`` and
             ``reference(t)``, or None for a torque-free run.
-        wrenches: (robots) external wrenches on links.
+        wrenches: (robots) external wrenches on links (profiles; the compiled loop applies them).
+        environment: (robots) fields of the environment that apply wrenches depending on time
+            and state (:class:`~.wrenches.WrenchField`), evaluated at every integrator stage with
+            the period's start time; a run with any runs in the Python loop (they have no
+            compiled twin).
         record_every: record one telemetry row every this many periods (and the last one).
         progress: called with the number of periods done: 0 as the loop starts (when its wall time
             starts), then about 200 times, the last one at the end of the loop.
@@ -167,6 +173,9 @@ def run(
     """
     steps = control_periods(duration, control_period)
     if not isinstance(system, Robot):
+        if environment:
+            raise InvalidArgument(f"environment: plant '{getattr(system, 'name', system)}' takes no wrench fields "
+                                  "(robots do)")
         return _run_on_plant(system, q0, v0, duration, control_period, integrator, model, controller, wrenches,
                              record_every, progress, stop, start_time, checkpoint, backend, substeps, rtol, atol,
                              per_stage)
@@ -188,8 +197,10 @@ def run(
     shape = (robot.model.nq, robot.model.nv, robot.n_joints, len(robot.end_effectors))
     rows = Chunks(lambda n: Telemetry.allocate(n, *shape), CHUNK_ROWS, checkpoint)
     check_memory(rows, steps, record_every, duration, control_period)
+    environment = tuple(environment)
     if backend != "python":
-        reason = compiled.unsupported(model, integrator)
+        reason = compiled.unsupported(model, integrator) or (
+            f"the environment field {type(environment[0]).__name__} has no compiled twin" if environment else None)
         if reason is None:
             law, law_robot = compiled.law_and_robot(controller, robot)
             whole_chunks = (controller is None or law is not None) and stop is None
@@ -208,7 +219,7 @@ def run(
                 loop.release()  # kept for the next run on this robot's structure (compiled.py)
         if backend == "compiled":
             raise InvalidArgument(f"the compiled loop cannot run this: {reason}")
-    engine = PythonPeriods(robot, integrator, model, control_period, start_time)
+    engine = PythonPeriods(robot, integrator, model, control_period, start_time, environment)
     engine.start(q0, v0)
     return single_blas_thread(_run_periods)(engine, steps, control_period, controller, field_of(robot, wrenches),
                                             record_every, progress, stop, start_time, rows)
@@ -326,9 +337,9 @@ def plant_data(robot: Robot, model: DynamicsModel) -> pin.Data | None:
     return getattr(model, "data", None) if getattr(model, "model", None) is robot.model else None
 
 
-def field_of(robot: Robot, wrenches: tuple[ExternalWrench, ...]) -> WrenchField | None:
+def field_of(robot: Robot, wrenches: tuple[ExternalWrench, ...]) -> WrenchProfiles | None:
     """The wrenches as a field, or None when there are none."""
-    return WrenchField(robot, wrenches) if wrenches else None
+    return WrenchProfiles(robot, wrenches) if wrenches else None
 
 
 class PythonPeriods:
@@ -342,18 +353,20 @@ class PythonPeriods:
         model: gives the accelerations.
         control_period: zero-order-hold period, s.
         start_time: time of period 0, s.
+        environment: wrench fields evaluated at every stage (:class:`~.wrenches.WrenchField`).
     """
 
     backend = "python"
 
     def __init__(self, robot: Robot, integrator: Integrator, model: DynamicsModel, control_period: float,
-                 start_time: float = 0.0):
+                 start_time: float = 0.0, environment: Sequence[WrenchField] = ()):
         self.robot, self.integrator, self.model = robot, integrator, model
         self.control_period, self.start_time = control_period, start_time
         self.recorder = Recorder(robot)
         self.tau_full = np.zeros(robot.model.nv)  # [0 on the base rows; joint torques] (nv,)
         self.tau = np.zeros(robot.n_joints)
-        self.field: WrenchField | None = None
+        self.field: WrenchProfiles | None = None
+        self.environment = tuple(environment)
         self.end_period = getattr(model, "end_period", None)
         self.periods_done, self.work = 0, 0.0
         self.q, self.v = robot.neutral(), np.zeros(robot.model.nv)
@@ -376,7 +389,7 @@ class PythonPeriods:
         self.tau = tau
         self.tau_full[self.robot.n_base:] = tau
 
-    def set_wrenches(self, field: WrenchField | None) -> None:
+    def set_wrenches(self, field: WrenchProfiles | None) -> None:
         """Apply the wrenches ``field`` has active (after ``field.activate(t)``), or none."""
         self.field = field
 
@@ -387,6 +400,9 @@ class PythonPeriods:
 
     def _acceleration(self, q: np.ndarray, v: np.ndarray) -> np.ndarray:
         forces = None if self.field is None else self.field.forces(q)
+        if self.environment:
+            t = self.start_time + self.periods_done * self.control_period
+            forces = field_forces(self.environment, t, q, v, forces)
         return self.model.acceleration(q, v, self.tau_full, forces)
 
     def step(self) -> None:
@@ -448,7 +464,7 @@ def _run_compiled(loop: compiled.CompiledLoop, q0: np.ndarray, v0: np.ndarray, s
 
 
 def _run_periods(engine: PythonPeriods | compiled.CompiledLoop, steps: int, control_period: float,
-                controller: Controller | None, field: WrenchField | None, record_every: int,
+                controller: Controller | None, field: WrenchProfiles | None, record_every: int,
                 progress: Callable[[int], None] | None, stop: Callable[[float, np.ndarray, np.ndarray], bool] | None,
                 start_time: float, rows: Chunks) -> Result:
     """:func:`run` one control period at a time: the controller, the wrench selection and the stop

@@ -1,8 +1,13 @@
-"""External wrenches on links, given in the inertial frame and applied at the link's CoM."""
+"""External wrenches: profiles on links (given in the inertial frame, applied at the link's CoM,
+which the compiled loop applies natively), and any field of the environment that applies
+wrenches depending on time and state (:class:`WrenchField`: orbit, thrusters, contact, a user's),
+which the Python loop evaluates at every integrator stage."""
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Protocol
 
 import numpy as np
 import pinocchio as pin
@@ -10,6 +15,42 @@ import pinocchio as pin
 from ..errors import InvalidArgument, did_you_mean
 from ..robot.conventions import cross3
 from ..robot.robot import Robot
+
+
+class WrenchField(Protocol):
+    """Wrenches the environment applies to a robot, at time ``t`` (s; the start of the control
+    period: held over it, as the profiles are) and state ``q`` (nq,), ``v`` (nv,) (Pinocchio's),
+    evaluated by the loop at every integrator stage; several fields add up."""
+
+    def forces(self, t: float, q: np.ndarray, v: np.ndarray) -> list[pin.Force] | None:
+        """One ``pin.Force`` [f; n] per joint (``model.njoints``): joint-frame axes, moment about
+        the joint origin (Pinocchio's ``fext`` of ``aba``); None: nothing at this instant."""
+        ...
+
+    def wrench(self, t: float, q: np.ndarray, v: np.ndarray) -> np.ndarray:
+        """The total it applies, ``[force (N); torque about the inertial origin (N m)]``, inertial
+        frame (6,): what the momentum balance integrates."""
+        ...
+
+
+def field_forces(fields: Sequence[WrenchField], t: float, q: np.ndarray, v: np.ndarray,
+                 base: list[pin.Force] | None = None) -> list[pin.Force] | None:
+    """The sum of ``base`` (joint forces already applied, or None) and every field's forces at
+    ``(t, q, v)``; None when nothing applies."""
+    total = base
+    for field in fields:
+        forces = field.forces(t, q, v)
+        if forces is None:
+            continue
+        total = list(forces) if total is None else [a + b for a, b in zip(total, forces)]
+    return total
+
+
+def field_power(model: pin.Model, data: pin.Data, forces: list[pin.Force]) -> float:
+    """Power (W) of joint ``forces`` (as :meth:`WrenchField.forces` gives them) at the velocities
+    ``data.v`` (joint frames, after ``pin.forwardKinematics`` with velocities)."""
+    return float(sum(f.linear @ data.v[j].linear + f.angular @ data.v[j].angular
+                     for j, f in enumerate(forces) if j > 0))
 
 
 @dataclass(frozen=True)
@@ -40,7 +81,7 @@ class ExternalWrench:
         return 1.0 if self.rise <= 0.0 else min(1.0, (t - self.start) / self.rise)
 
 
-class WrenchField:
+class WrenchProfiles:
     """Joint-local ``pin.Force`` list for the wrenches active at a given time.
 
     The inertial components are rotated into each joint frame at the current configuration, so an

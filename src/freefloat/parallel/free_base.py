@@ -248,7 +248,7 @@ class FloatingMechanism:
             return f"the plant is '{dynamics}', not '{ClosedTreePlant.name}'"
         if self.friction is not None:
             return "the closure file gives joint friction, which the compiled loop lacks"
-        spec = INTEGRATORS.get(integrator)
+        spec = INTEGRATORS.get(integrator, None)
         if spec is None or not spec.compiled:
             return f"integrator '{integrator}' is not compiled"
         return None

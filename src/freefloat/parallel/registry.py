@@ -27,6 +27,7 @@ from typing import Callable, NamedTuple
 import numpy as np
 import pinocchio as pin
 
+from ..registry import Registry
 from .closed_chain import ClosedChain, load_closed_chain
 from .five_bar import (
     TRUE_PARAMETERS,
@@ -63,9 +64,10 @@ class MechanismSetup(NamedTuple):
 
 @dataclass(frozen=True)
 class MechanismEntry:
-    """A registry entry: the plant names a scene may choose and the builder
-    ``build(closure file, plant name) -> MechanismSetup``."""
+    """A registry entry: the mechanism's ``name`` (``[mechanism] name`` of a scene), the plant
+    names a scene may choose and the builder ``build(closure file, plant name) -> MechanismSetup``."""
 
+    name: str
     plants: tuple[str, ...]
     build: Callable[[Path, str], MechanismSetup]
 
@@ -108,8 +110,7 @@ def rsu_ppap_setup(closure: Path, plant: str) -> MechanismSetup:
                           tree_inertias=partial(tree_inertias, data, masses))
 
 
-#: Mechanism name -> entry.
-REGISTRY: dict[str, MechanismEntry] = {
-    "five_bar": MechanismEntry(plants=tuple(FIVE_BAR_PLANTS), build=five_bar_setup),
-    "rsu_ppap": MechanismEntry(plants=tuple(PLANT_ERRORS), build=rsu_ppap_setup),
-}
+#: Mechanism name -> entry (``freefloat.MECHANISMS``).
+REGISTRY: Registry[MechanismEntry] = Registry("mechanism")
+REGISTRY.register(MechanismEntry("five_bar", plants=tuple(FIVE_BAR_PLANTS), build=five_bar_setup))
+REGISTRY.register(MechanismEntry("rsu_ppap", plants=tuple(PLANT_ERRORS), build=rsu_ppap_setup))

@@ -15,7 +15,7 @@ from __future__ import annotations
 import functools
 import itertools
 from dataclasses import dataclass, field, replace
-from typing import Callable
+from typing import Any, Callable, ClassVar
 
 import numpy as np
 
@@ -152,6 +152,46 @@ Reference = Callable[[float], tuple[np.ndarray, np.ndarray, np.ndarray]]
 
 
 @dataclass(frozen=True)
+class PlatformLaw:
+    """:class:`PlatformControl` on a circle reference as the compiled closed-chain loop runs it
+    (``_sim.ChainSimulation.set_platform_law``).
+
+    Attributes:
+        model: the nominal mechanism (its compiled core).
+        center: the circle's centre (p,); radius (m or rad), rate (rad/s), axes (a, b).
+        lam: lambda, 1/s.
+        sliding: sliding mode (eq 153) rather than computed torque (eq 190).
+        sign: the switching function ``sign`` rather than ``tanh(100 s)``.
+        n, T: eq 167's gains (p,), (p, p) (zeros for computed torque).
+        pairs, n_ij: the (i, j) pairs of eq 167's ``n_ij`` and their gains (p,) each.
+        every: control periods per law update (:class:`~freefloat.dynamics.sampled.Sampled`).
+    """
+
+    model: ParallelMechanism
+    center: np.ndarray
+    radius: float
+    rate: float
+    axes: tuple[int, int]
+    lam: float
+    sliding: bool
+    sign: bool
+    n: np.ndarray
+    T: np.ndarray
+    pairs: tuple[tuple[int, int], ...]
+    n_ij: tuple[np.ndarray, ...]
+    every: int = 1
+
+    kind: ClassVar[str] = "platform"
+
+    def install(self, simulation: Any, robot: Any = None) -> None:
+        """Hand this law to the compiled closed-chain loop."""
+        chains, coupling = self.model.core_arrays()
+        simulation.set_platform_law(chains, coupling, self.center, self.radius, self.rate, self.axes, self.lam,
+                                    self.sliding, self.sign, self.n, self.T, list(self.pairs), list(self.n_ij),
+                                    self.every)
+
+
+@dataclass(frozen=True)
 class PlatformControl:
     """Computed torque (eq 190, ``gains`` None) or sliding mode (eq 153) on a nominal model, for
     any mechanism: a controller of the one loop (:func:`freefloat.dynamics.simulation.run_plant`)
@@ -213,7 +253,7 @@ class PlatformControl:
         e = q_d - q[:, :p]
         return e, -(qd_d - qd[:, :p] + self.lam * e)
 
-    def compiled_law(self) -> dict | None:
+    def compiled_law(self) -> PlatformLaw | None:
         """This law as the compiled closed-chain loop takes it (``ChainSimulation.set_platform_law``):
         for a circle reference (:class:`~.platform_control.CircleReference`) on a model with a
         compiled core and square actuation (the compiled law inverts ``C^T U``) and gains without
@@ -226,12 +266,11 @@ class PlatformControl:
         p = self.model.p
         sliding = self.gains is not None
         pairs = sorted(self.gains.n_ij) if sliding else []
-        return {"model": self.model, "center": np.asarray(circle.center, float), "radius": float(circle.radius),
-                "rate": float(circle.rate), "axes": tuple(int(a) for a in circle.axes), "lam": float(self.lam),
-                "sliding": sliding, "sign": self.saturation == "sign",
-                "n": self.gains.n if sliding else np.zeros(p), "T": self.gains.T if sliding else np.zeros((p, p)),
-                "pairs": [(int(i), int(j)) for i, j in pairs],
-                "n_ij": [np.asarray(self.gains.n_ij[k], float) for k in pairs]}
+        return PlatformLaw(self.model, np.asarray(circle.center, float), float(circle.radius), float(circle.rate),
+                           tuple(int(a) for a in circle.axes), float(self.lam), sliding, self.saturation == "sign",
+                           self.gains.n if sliding else np.zeros(p), self.gains.T if sliding else np.zeros((p, p)),
+                           tuple((int(i), int(j)) for i, j in pairs),
+                           tuple(np.asarray(self.gains.n_ij[k], float) for k in pairs))
 
     def compiled_torque(self) -> Callable[[float, np.ndarray, np.ndarray], np.ndarray] | None:
         """:meth:`torque` evaluated by the compiled closed-chain loop's law

@@ -6,7 +6,8 @@ eqs 115-120, 134), ``capture`` (exact grasp of a tumbling target, the merged rob
 ``target_identification`` (the captured target's mass, CoM and inertia from the motion after the
 grasp, by momentum conservation), ``after_capture`` (the identification manoeuvre, detumbling on
 a believed model), ``planning`` (the pre-capture approach: reaction null space, minimum norm,
-optimised) and ``force_propagation`` (end-effector wrenches -> joint torques).
+optimised), ``force_propagation`` (end-effector wrenches -> joint torques) and ``orbit`` (the
+freely falling frame of a circular orbit: tidal gravity, gravity gradient, the LVLH frame).
 
 May import: :mod:`freefloat.dynamics`, :mod:`freefloat.robot`, :mod:`freefloat.errors`,
 :mod:`freefloat.paths`. Not :mod:`freefloat.parallel` (a sibling) nor :mod:`freefloat.app`.

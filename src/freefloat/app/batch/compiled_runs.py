@@ -23,7 +23,7 @@ from typing import Any, Callable
 import numpy as np
 
 from ...dynamics import compiled
-from ...dynamics.many_runs import ManyRuns, start_runs
+from ...dynamics.many_runs import BATCH_LAW, ManyRuns, start_runs
 from ...dynamics.result import Result
 from ..experiments import joint_space
 from ..experiments.robot_run import RobotSetup
@@ -42,9 +42,11 @@ LOCKSTEP: bool | None = None
 def shares_loop(plan: RunPlan, setup: Any) -> bool:
     """Whether ``plan``'s run (prepared as ``setup``) can run in one call with others."""
     return (plan.scene.kind == "joint_space" and isinstance(setup, RobotSetup)
-            and setup.lock is None and setup.wheels is None and setup.scene.simulation.backend != "python"
+            and setup.lock is None and setup.wheels is None and not setup.environment
+            and setup.scene.simulation.backend != "python"
             and compiled.unsupported(setup.model, setup.integrator) is None
-            and (setup.controller is None or isinstance(compiled.law_of(setup.controller, setup.plant), tuple)))
+            and (setup.controller is None
+                 or getattr(compiled.law_of(setup.controller, setup.plant), "kind", None) == BATCH_LAW))
 
 
 def can_run(plans: list[RunPlan]) -> bool:

@@ -24,7 +24,7 @@ from ..outputs import strict_json, versions
 from ..run_folder import RunFolder
 from ..runner import prepare, signals_deferred, signals_raise_keyboard_interrupt
 from ..scenes import MechanismScene, Scene
-from ..scenes.as_run import scene_as_run
+from ..scenes.as_run import scene_as_run, scene_table
 from .executors import Workers, executor
 from .bands import Band
 from .variations import plan_runs
@@ -119,7 +119,7 @@ def _summary(scene: Scene | MechanismScene, rows: list[dict[str, Any]], runs: in
 
 def _scene_record(scene: Scene | MechanismScene) -> Any:
     """The scene as plain JSON values (paths as strings, tuples as lists)."""
-    return json.loads(json.dumps(dataclasses.asdict(scene), default=str))
+    return json.loads(json.dumps(scene_table(scene), default=str))
 
 
 def _versions(workers: Workers) -> dict[str, str]:

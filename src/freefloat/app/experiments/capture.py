@@ -21,6 +21,7 @@ from ...space.capture import Target, capture_and_detumble
 from ...space.planning import ApproachRequest, GraspMotion, Limits, Plan, plan_approach, planned_path
 from ...space.planning.plan import SUMMARY_UNITS as PLAN_UNITS
 from ...space.planning.tracking import PlanTracking
+from ..controllers import JointGains
 from ..scenes import Scene
 from .base import Checkpoint, Experiment, Outcome, Progress
 from .detumbling import detumble_task, mission_joints, rows_spec
@@ -49,9 +50,13 @@ def prepare(scene: Scene) -> CaptureSetup:
     the hand starts, with an ``[approach]``: then planned here).
 
     Raises:
-        SceneError: naming ``target.end_effector``, a ``[task]`` key, a bad ``[target]`` or an
-            approach that cannot be planned.
+        SceneError: naming ``target.end_effector``, a ``[task]`` key, a bad ``[target]``, an
+            approach that cannot be planned, or a ``[controller]`` without the computed-torque
+            gains the capture's laws read.
     """
+    if not isinstance(scene.controller.settings, JointGains):
+        raise SceneError(f"scene '{scene.name}': a capture's laws are computed torque with the [controller] gains "
+                         f"(kind 'computed_torque' or 'detumbling'), not controller '{scene.controller.kind}'")
     setup = prepare_robot(scene)
     robot, tg = setup.robot, scene.target
     detumble_task(robot, scene)

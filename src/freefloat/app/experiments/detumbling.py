@@ -13,8 +13,8 @@ from ...dynamics.metrics import settling_time, spin_summary
 from ...dynamics.telemetry import Telemetry
 from ...errors import SceneError
 from ...robot.robot import Robot
-from ...space.control.detumbling_control import DetumblingController
 from ...space.detumbling import joint_indices, task_rows
+from ..controllers import ControlContext, DetumbleTask, build_controller
 from ..scenes import Scene
 from .base import Checkpoint, Experiment, Outcome, Progress
 from .robot_run import (
@@ -31,18 +31,17 @@ from .robot_run import UNITS as ROBOT_UNITS
 
 
 def prepare(scene: Scene) -> RobotSetup:
-    """The robot, its start and (with ``controller.kind = "computed_torque"``) the detumbling
-    controller.
+    """The robot, its start and the scene's controller on the detumble task (``controller.kind =
+    "detumbling"``, or its old spelling ``"computed_torque"``: the detumbling controller).
 
     Raises:
         SceneError: naming ``task.rows``, ``task.mission_joints`` or the bad start.
     """
     setup = prepare_robot(scene)
-    ctrl, sim = scene.controller, scene.simulation
-    if ctrl.kind == "computed_torque":
-        rows, joints = detumble_task(setup.robot, scene)
-        setup.controller = DetumblingController(setup.robot, rows, joints, scene.task.start, sim.control_period,
-                                                scene.task.method, ctrl.kp, ctrl.kd, ctrl.model)
+    rows, joints = detumble_task(setup.robot, scene)
+    task = DetumbleTask(rows, joints, scene.task.start, scene.task.method)
+    setup.controller = build_controller(ControlContext(scene, setup.robot, task, scene.simulation.control_period,
+                                                       scene.angle_scale))
     return setup
 
 

@@ -5,8 +5,8 @@ torque-free (``task.kind = "none"``, ``controller.kind = "none"``)."""
 from __future__ import annotations
 
 from ...dynamics.result import Result
-from ...errors import SceneError
-from ...space.control import ComputedTorque, QuinticTrajectory
+from ...space.control import QuinticTrajectory
+from ..controllers import ControlContext, build_controller
 from ..scenes import Scene
 from .base import Checkpoint, Experiment, Outcome, Progress
 from .robot_run import (
@@ -23,23 +23,22 @@ from .robot_run import (
 
 
 def prepare(scene: Scene) -> RobotSetup:
-    """The robot, its start, and the computed-torque controller on the quintic reference.
+    """The robot, its start, and the scene's controller (:data:`freefloat.app.controllers.CONTROLLERS`)
+    on the joint quintic reference (None without a ``joint_quintic`` task).
 
     Raises:
-        SceneError: naming the key for a bad start or displacement, or computed torque without a
-            joint task.
+        SceneError: naming the key for a bad start or displacement, or a controller that needs
+            another task.
     """
     setup = prepare_robot(scene)
-    ctrl, task = scene.controller, scene.task
-    if ctrl.kind == "computed_torque":
-        if task.kind != "joint_quintic":
-            raise SceneError(f"scene '{scene.name}': controller 'computed_torque' needs task.kind "
-                             "'joint_quintic' or 'detumble'")
+    task, reference = scene.task, None
+    if task.kind == "joint_quintic":
         robot, s = setup.robot, scene.angle_scale
         start = joint_table(robot, scene.initial.joint_positions, s, "initial.joint_positions")
         goal = start + joint_table(robot, task.displacement, s, "task.displacement")
-        trajectory = QuinticTrajectory(setup.plant_joints(start), setup.plant_joints(goal), task.duration)
-        setup.controller = ComputedTorque(setup.plant, trajectory, ctrl.kp, ctrl.kd, ctrl.model)
+        reference = QuinticTrajectory(setup.plant_joints(start), setup.plant_joints(goal), task.duration)
+    setup.controller = build_controller(ControlContext(scene, setup.plant, reference, scene.simulation.control_period,
+                                                       scene.angle_scale))
     return setup
 
 

@@ -15,7 +15,7 @@ import numpy as np
 import pinocchio as pin
 
 from ...dynamics.telemetry import Telemetry
-from ...dynamics.wrenches import ExternalWrench, WrenchField
+from ...dynamics.wrenches import ExternalWrench, WrenchProfiles
 from ...errors import RobotModelError, SceneError
 from ...robot.joints import JointCoordinates
 from ...robot.locking import LockedJoints, lock_joints
@@ -93,7 +93,7 @@ def full_telemetry(lock: LockedJoints, telemetry: Telemetry, wrenches: tuple[Ext
     full, small, free, locked = lock.full, lock.robot, lock.free_joints, lock.locked_joints
     q, v = lock.expand(telemetry.q, telemetry.v)
     held = JointCoordinates(full).get(lock.q_lock)[locked]
-    fields = (WrenchField(full, wrenches), WrenchField(small, wrenches)) if wrenches else None
+    fields = (WrenchProfiles(full, wrenches), WrenchProfiles(small, wrenches)) if wrenches else None
     tau = _columns(telemetry.tau, free, locked, np.zeros(len(locked)))
     generalized, data, data_small = np.zeros(full.model.nv), full.model.createData(), small.model.createData()
     for k, (t, q_small, v_small) in enumerate(zip(telemetry.t, telemetry.q, telemetry.v)):

@@ -28,9 +28,9 @@ from ...parallel.closed_chain import ClosedChain
 from ...parallel import free_base
 from ...parallel.closed_loop import track
 from ...parallel.platform_control import CircleReference
-from ...parallel.sliding_mode import printed_gains
 from ...parallel.registry import REGISTRY, MechanismSetup
 from ...parallel.sliding_mode import PlatformControl
+from ..controllers import ControlContext, build_controller
 from ..scenes import MechanismScene, resolve_file
 from ..scenes.mechanism_schema import ALIASES
 from .base import Checkpoint, Experiment, Outcome, Progress
@@ -77,15 +77,11 @@ def prepare(scene: MechanismScene) -> PreparedMechanism:
                              f"(p = {p} platform coordinates), got {array.shape}")
         return array
 
-    traj, ctrl, start = scene.trajectory, scene.controller, scene.initial
+    traj, start = scene.trajectory, scene.initial
     if max(traj.axes) >= p:
         raise SceneError(f"{where}'trajectory.axes' {list(traj.axes)} must index the {p} platform coordinates")
     reference = CircleReference(sized("trajectory.center", traj.center, (p,)), traj.radius, traj.rate, traj.axes)
-    gains = None
-    if ctrl.kind == "sliding_mode":
-        gains = printed_gains(sized("controller.n", ctrl.n, (p,)), sized("controller.T", ctrl.T, (p, p)),
-                              {_pair(where, key, p): sized(f"controller.n_ij.{key}", v, (p,)) for key, v in ctrl.n_ij.items()})
-    controller = PlatformControl(setup.nominal, reference, ctrl.lam, gains, ctrl.saturation)
+    controller = build_controller(ControlContext(scene, setup.nominal, reference, scene.simulation.step), "mechanism")
     q_sharp = reference(0.0)[0] if start.platform is None else sized("initial.platform", start.platform, (p,))
     rates = np.zeros(p) if start.platform_velocity is None else sized("initial.platform_velocity",
                                                                       start.platform_velocity, (p,))
@@ -127,21 +123,6 @@ def check_run_size(prepared: PreparedMechanism) -> None:
     calls = INTEGRATORS[integrator_name(scene)].stages
     check_budget(scene.name, memory, 1.5 * steps * (calls * forward + control),
                  "'simulation.duration' and 'simulation.step'")
-
-
-def _pair(where: str, key: str, p: int) -> tuple[int, int]:
-    """``"i,j"`` -> (i, j) with 0 <= j <= i < p.
-
-    Raises:
-        SceneError: naming ``controller.n_ij`` and the key.
-    """
-    try:
-        i, j = (int(x) for x in key.split(","))
-    except ValueError:
-        i = j = -1
-    if not 0 <= j <= i < p:
-        raise SceneError(f"{where}'controller.n_ij' key '{key}' must be \"i,j\" with 0 <= j <= i < {p}")
-    return i, j
 
 
 def integrator_name(scene: MechanismScene) -> str:

@@ -76,7 +76,7 @@ def resolve(scene: Scene, models: tuple[str, ...] | None = None) -> tuple[Scene,
         del setups["auto"]  # nothing more to lock
     full = setups[sim.lock]
     if models is None:
-        conserved = not (scene.wrenches or any(scene.robot.gravity))
+        conserved = not (scene.environment or any(scene.robot.gravity))
         momentum = momentum_about_origin(full.robot.model, full.robot.model.createData(), full.q0, full.v0)
         models = regime_models(momentum if conserved else None)
     pairs, plants = [], []

@@ -18,7 +18,7 @@ from ...dynamics.metrics import summarize
 from ...dynamics.models import DynamicsModel, make_model
 from ...dynamics.simulation import Controller, Result, run
 from ...dynamics.telemetry import Telemetry
-from ...dynamics.wrenches import ExternalWrench
+from ...dynamics.wrenches import ExternalWrench, WrenchField
 from ...errors import RobotModelError, SceneError, did_you_mean
 from ...robot.catalog import find_robot, is_name
 from ...robot.conventions import state_from_base
@@ -27,6 +27,7 @@ from ...robot.loading import load_robot
 from ...robot.locking import LockedJoints
 from ...robot.robot import Robot
 from ...robot.wheels import Wheels
+from ..environments import ENVIRONMENTS
 from ..scenes import Scene, resolve_file
 from .base import Checkpoint, Outcome, Progress
 from .budget import check_budget, seconds_per_call
@@ -61,7 +62,8 @@ class RobotSetup:
     (nq,), ``v0`` (nv,), the plant model and integrator, the controller (None: torque-free), the
     external wrenches, the locked joints (None: none), how ``simulation.model = "auto"`` chose
     the plant (None: the scene named it), and the reaction wheels (None: none) with the
-    controller the loop ran (``[attitude]`` composed with ``controller``). With locked joints the model,
+    controller the loop ran (``[attitude]`` composed with ``controller``), and the fields of the
+    ``environment`` besides the wrench profiles (:mod:`freefloat.app.environments`). With locked joints the model,
     integrator and controller are built on :attr:`plant` (the reduced robot); ``robot``, ``q0``
     and ``v0`` stay the full robot's, as the outputs show it."""
 
@@ -77,6 +79,7 @@ class RobotSetup:
     model_choice: dict[str, Any] | None = None
     wheels: Wheels | None = None
     wheel_control: Controller | None = None
+    environment: tuple[WrenchField, ...] = ()
 
     @property
     def plant(self) -> Robot:
@@ -156,12 +159,17 @@ def prepare_robot(scene: Scene) -> RobotSetup:
         q0, v0 = assemble(scene, robot, closures, q0, v0)
     lock = None if closures else lock_for(scene, robot, q0, v0, displacement, explicit)
     plant = robot if lock is None else lock.robot
+    fields = [ENVIRONMENTS[e.kind].build(plant, e.settings) for e in scene.environment]
+    wrenches = tuple(f for f in fields if isinstance(f, ExternalWrench))
+    if lock is not None and len(wrenches) < len(fields):
+        raise SceneError(f"scene '{scene.name}': [[environment]] fields other than 'wrench_profile' are not available "
+                         "with locked joints ('robot.locked_joints', 'simulation.lock')")
     setup = RobotSetup(
         scene=scene, robot=robot, q0=q0, v0=v0,
         model=ClosedModel(plant, closures, sim.baumgarte) if closures else make_model(sim.model, plant),
         integrator=make_integrator(sim.integrator, plant.model, sim.substeps, sim.rtol, sim.atol,
                                    project_momentum=sim.project_momentum),
-        wrenches=tuple(ExternalWrench(w.link, w.force, w.torque, w.start, w.end, w.rise) for w in scene.wrenches),
+        wrenches=wrenches, environment=tuple(f for f in fields if not isinstance(f, ExternalWrench)),
         lock=lock, wheels=wheels,
     )
     check_run_size(setup)
@@ -292,7 +300,8 @@ def run_loop(setup: RobotSetup, progress: Progress | None, checkpoint: Checkpoin
 
     result = run(setup.plant, q0, v0, sim.duration, sim.control_period, setup.integrator, setup.model,
                  controller, wrenches=setup.wrenches, record_every=sim.record_every, progress=progress,
-                 checkpoint=None if checkpoint is None else on_chunk, backend=sim.backend)
+                 checkpoint=None if checkpoint is None else on_chunk, backend=sim.backend,
+                 environment=setup.environment)
     if lock is not None:
         result.telemetry = full_telemetry(lock, result.telemetry, setup.wrenches)
     return result
@@ -303,7 +312,8 @@ def summary_of(setup: RobotSetup, result: Result, **task: Any) -> dict[str, Any]
     external wrenches, balances against what they applied instead of drifts), then the task's
     own, then status, steps, wall time and model evaluations."""
     tel = result.telemetry
-    summary = summarize(tel, setup.robot, setup.wrenches, setup.scene.simulation.control_period) if len(tel.t) else {}
+    summary = summarize(tel, setup.robot, setup.wrenches, setup.scene.simulation.control_period,
+                        setup.environment) if len(tel.t) else {}
     summary.update(task)
     if isinstance(setup.model, ClosedModel) and len(tel.t):
         position, rotation = closure_drifts(setup.model, tel.q)

@@ -13,9 +13,10 @@ import dataclasses
 from pathlib import Path
 from typing import Any
 
-from ...errors import SceneError, did_you_mean, spelled
+from ...errors import InvalidArgument, PluginError, SceneError, did_you_mean, spelled
 from ...inputs import read_toml
 from ...paths import SCENES_DIR, URDF_DIR
+from ...registry import use
 from .mechanism_schema import MechanismScene, parse_mechanism_scene
 from .schema import Scene, parse_robot_scene
 
@@ -38,14 +39,38 @@ def load_scene(path: str | Path) -> Scene | MechanismScene:
 
 
 def parse_scene(raw: dict[str, Any], source: Path | None = None) -> Scene | MechanismScene:
-    """Validate a scene given as a dict (the parsed TOML), robot or mechanism."""
+    """Validate a scene given as a dict (the parsed TOML), robot or mechanism, after importing
+    the modules its top-level ``plugins`` names (files relative to the scene file, or module
+    names: :func:`freefloat.use`), whose entries it may then name.
+
+    Raises:
+        SceneError: naming the file for a ``plugins`` that is not a list of names, or a plug-in
+            that is not found or fails to import.
+    """
+    plugins = use_plugins(raw, source)
     if "mechanism" in raw and "robot" in raw:
         where = f"{source}: " if source else "scene: "
         raise SceneError(f"{where}a scene has either [robot] (a robot scene) or [mechanism] (a mechanism scene), "
                          "not both")
-    if "mechanism" in raw:
-        return parse_mechanism_scene(raw, source)
-    return parse_robot_scene(raw, source)
+    scene = parse_mechanism_scene(raw, source) if "mechanism" in raw else parse_robot_scene(raw, source)
+    return dataclasses.replace(scene, plugins=plugins) if plugins else scene
+
+
+def use_plugins(raw: dict[str, Any], source: Path | None) -> tuple[str, ...]:
+    """Import the modules the scene's ``plugins`` names (see :func:`parse_scene`); their files
+    as absolute paths, or their names."""
+    where = f"{source}: " if source else "scene: "
+    plugins = raw.get("plugins", [])
+    if not isinstance(plugins, list) or not all(isinstance(p, str) and p for p in plugins):
+        raise SceneError(f"{where}'plugins' must be a list of module names or .py files, got {plugins!r}")
+    used = []
+    for plugin in plugins:
+        try:
+            module = use(plugin, base=None if source is None else Path(source).parent)
+        except (InvalidArgument, PluginError) as exc:
+            raise SceneError(f"{where}'plugins': {exc}") from exc
+        used.append(module.__file__ if plugin.endswith(".py") or "/" in plugin else plugin)
+    return tuple(used)
 
 
 def builtin_scenes() -> dict[str, Path]:

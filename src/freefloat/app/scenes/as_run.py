@@ -21,7 +21,7 @@ def scene_as_run(scene: Scene | MechanismScene, model_choice: dict[str, Any] | N
     built-in file or a known robot by name, any other file by its absolute path) and, for
     ``simulation.model = "auto"``, the ``model`` and ``lock`` of ``model_choice`` (the record in
     the run's summary)."""
-    table = {k: v for k, v in dataclasses.asdict(scene).items() if k != "source"}
+    table = {k: v for k, v in scene_table(scene).items() if k != "source"}
     if isinstance(scene, MechanismScene):
         table["mechanism"]["closure"] = _file_as_run(scene, scene.mechanism.closure, "mechanism.closure")
     else:
@@ -32,6 +32,39 @@ def scene_as_run(scene: Scene | MechanismScene, model_choice: dict[str, Any] | N
     note = "" if table.get("simulation", {}).get("model") == getattr(scene.simulation, "model", None) else \
         '; simulation.model and lock: what model = "auto" chose (summary.json: model_choice)'
     return f"# The scene as freefloat ran it ({origin}{note}).\n" + toml_text(table)
+
+
+def scene_table(scene: Scene | MechanismScene) -> dict[str, Any]:
+    """``scene`` as the tables of its file (``dataclasses.asdict``, in field order, with each
+    entry's ``kind`` and settings in one table): ``[controller]``, the ``wrench_profile`` fields
+    as ``[[wrenches]]``, the other fields as ``[[environment]]``, ``plugins`` when there are any."""
+    table: dict[str, Any] = {}
+    for f in dataclasses.fields(scene):
+        value = getattr(scene, f.name)
+        if f.name == "controller":
+            table[f.name] = _entry(value)
+        elif f.name == "environment":
+            table["wrenches"] = [dataclasses.asdict(e.settings) for e in value if e.kind == "wrench_profile"]
+            others = [_entry(e) for e in value if e.kind != "wrench_profile"]
+            if others:
+                table["environment"] = others
+        elif f.name != "plugins" or value:
+            table[f.name] = _plain(value)
+    return table
+
+
+def _plain(value: Any) -> Any:
+    """A section (a dataclass) or an array of them as tables; any other value as it is."""
+    if dataclasses.is_dataclass(value):
+        return dataclasses.asdict(value)
+    if isinstance(value, tuple) and value and dataclasses.is_dataclass(value[0]):
+        return [dataclasses.asdict(v) for v in value]
+    return value
+
+
+def _entry(section: Any) -> dict[str, Any]:
+    """An entry's section as one table: its ``kind``, then its settings."""
+    return {"kind": section.kind, **dataclasses.asdict(section.settings)}
 
 
 def _file_as_run(scene: Scene | MechanismScene, value: str, key: str) -> str:

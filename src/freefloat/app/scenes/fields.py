@@ -3,13 +3,16 @@ name the scene file and the key."""
 
 from __future__ import annotations
 
+import dataclasses
 import math
-from dataclasses import MISSING, dataclass
-from collections.abc import Callable
+import pickle
+from dataclasses import MISSING, dataclass, field
+from collections.abc import Callable, Mapping
 from typing import Any, NamedTuple
 
 from ... import inputs
-from ...errors import SceneError, did_you_mean
+from ...errors import InvalidArgument, SceneError, did_you_mean
+from ...registry import use
 from .. import figure_set
 from ..figure_set import FigureChoice, FigureFormats  # noqa: F401  (the annotations parse_section reads)
 
@@ -41,6 +44,89 @@ class Rules(NamedTuple):
     non_negative: set[tuple[str, str]]
 
 
+class PluginsFirst:
+    """A scene that pickles with its ``plugins`` (paths or module names) imported first on the
+    other side: a spawned worker that unpickles it has not imported them, and the settings of
+    their entries are their classes."""
+
+    plugins: tuple[str, ...]
+
+    def __reduce_ex__(self, protocol: Any) -> Any:
+        if not self.plugins:
+            return super().__reduce_ex__(protocol)
+        state = {f.name: getattr(self, f.name) for f in dataclasses.fields(self)}
+        return _plugins_first, (self.plugins, type(self), pickle.dumps(state, protocol))
+
+
+def _plugins_first(plugins: tuple[str, ...], cls: type, state: bytes) -> Any:
+    """A pickled :class:`PluginsFirst` scene, rebuilt after importing its plug-ins."""
+    for plugin in plugins:
+        use(plugin)
+    return cls(**pickle.loads(state))
+
+
+#: No value rules (an entry whose settings need no choices nor ranges).
+NO_RULES = Rules({}, set(), set())
+
+
+@dataclass(frozen=True)
+class EntrySection:
+    """A section that names a registered entry (``[controller]``, ``[[environment]]``): its ``kind``
+    and the entry's ``settings`` (an instance of the entry's settings dataclass, from the section's
+    other keys). The settings read as the section's own attributes (``scene.controller.kp``)."""
+
+    kind: str
+    settings: Any = field(default=None)
+
+    def with_settings(self, kind: str | None = None, **changes: Any) -> EntrySection:
+        """This section with another ``kind`` (its entry taking the same settings) and ``changes``
+        to the settings (``dataclasses.replace`` on them)."""
+        return EntrySection(self.kind if kind is None else kind, dataclasses.replace(self.settings, **changes))
+
+    def __getattr__(self, key: str) -> Any:
+        if key.startswith("__") or key == "settings":  # copy and pickle probe dunders before settings is set
+            raise AttributeError(key)
+        return getattr(self.settings, key)
+
+
+def check_settings(family: str, name: str, settings: Any) -> None:
+    """An entry's ``settings``: a dataclass whose fields are its scene keys, none called ``kind``.
+
+    Raises:
+        InvalidArgument: naming the entry, when it is not.
+    """
+    if not (isinstance(settings, type) and dataclasses.is_dataclass(settings)):
+        raise InvalidArgument(f"{family} '{name}': settings must be a dataclass (its fields are the scene keys), got "
+                              f"{settings!r}")
+    if "kind" in settings.__dataclass_fields__:
+        raise InvalidArgument(f"{family} '{name}': settings {settings.__name__} has a field 'kind', the key that "
+                              "names the entry; rename it")
+
+
+def parse_entry(where: str, section: str, raw: Any, entries: Mapping[str, Any], default: str | None,
+                rules: Rules, label: str = "valid") -> EntrySection:
+    """A table naming one of ``entries`` (specs with ``settings`` and ``rules``) by ``kind``
+    (``default`` when absent; None: required), its other keys checked as that entry's settings
+    (unknown key, type, the entry's ``rules`` with ``rules``).
+
+    Raises:
+        SceneError: naming ``section.kind`` with the nearest of ``entries`` ("did you mean"), or
+            the key of the settings that is wrong.
+    """
+    if not isinstance(raw, dict):
+        raise SceneError(f"{where}[{section}] must be a table, got {type(raw).__name__}")
+    if "kind" not in raw and default is None:
+        raise SceneError(f"{where}[{section}] needs key 'kind'{did_you_mean('', entries, label)}")
+    kind = typed(where, f"{section}.kind", raw.get("kind", default), str)
+    if kind not in entries:
+        raise SceneError(f"{where}'{section}.kind' is {kind!r}{did_you_mean(kind, entries, label)}")
+    entry = entries[kind]
+    own = entry.rules
+    merged = Rules({**rules.choices, **own.choices}, rules.positive | own.positive, rules.non_negative | own.non_negative)
+    settings = parse_section(where, section, entry.settings, {k: v for k, v in raw.items() if k != "kind"}, merged)
+    return EntrySection(kind, settings)
+
+
 def parse_section(where: str, section: str, cls: type, raw: Any, rules: Rules) -> Any:
     """A section's dataclass from its table; how each value is checked follows the field's type
     annotation (and ``rules``)."""
@@ -54,7 +140,7 @@ def parse_section(where: str, section: str, cls: type, raw: Any, rules: Rules) -
         raise SceneError(f"{where}[{section}] needs key '{missing[0]}'")
     values = {}
     for key, value in raw.items():
-        kind, name = fields_[key].type, f"{section}.{key}"
+        kind, name = annotation(fields_[key].type), f"{section}.{key}"
         if kind == "str":
             values[key] = choice(where, section, key, typed(where, name, value, str), rules)
         elif kind == "bool":
@@ -81,6 +167,14 @@ def parse_section(where: str, section: str, cls: type, raw: Any, rules: Rules) -
         else:
             values[key] = table(where, name, value)
     return cls(**values)
+
+
+def annotation(kind: Any) -> str:
+    """A field's type annotation as text (``"float | None"``): a string already under ``from
+    __future__ import annotations``, else the type's own spelling (a plug-in's settings)."""
+    if isinstance(kind, str):
+        return kind
+    return kind.__name__ if isinstance(kind, type) else str(kind)
 
 
 def reject_unknown(where: str, section: str, raw: dict, allowed: set[str]) -> None:

@@ -9,19 +9,24 @@ coordinates) are checked when the mechanism is loaded (:func:`freefloat.app.expe
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 from ...dynamics.integrators import INTEGRATORS
+from ...dynamics.plants import PLANTS
 from ...errors import SceneError, did_you_mean
 from ...parallel.free_base import BASES, base_problem
 from ...parallel.registry import REGISTRY
+from .. import controllers  # its registry is read when a scene is parsed (the module may still be loading now)
 from .fields import (
     MAX_HTML_FPS,
+    EntrySection,
     OutputSection,
+    PluginsFirst,
     Rules,
     at_most,
+    parse_entry,
     parse_section,
     reject_unknown,
     typed,
@@ -85,20 +90,6 @@ class TrajectorySection:
 
 
 @dataclass(frozen=True)
-class PlatformControllerSection:
-    """``[controller]``: ``kind = "computed_torque"`` (eq 190) or ``"sliding_mode"`` (eq 153 with
-    eq 167's gain: ``n`` (p,), ``T`` (p, p), ``n_ij`` keyed ``"i,j"`` (i >= j, 0-based) (p,)),
-    lambda ``lam`` (1/s), switching function ``saturation`` (``tanh(100 s)`` or ``sign``)."""
-
-    kind: str
-    lam: float
-    saturation: str = "tanh"
-    n: tuple[float, ...] | None = None
-    T: tuple[tuple[float, ...], ...] | None = None
-    n_ij: dict[str, tuple[float, ...]] = field(default_factory=dict)
-
-
-@dataclass(frozen=True)
 class MechanismSimulation:
     """``[simulation]``: duration and step (s; efforts held over each step), Baumgarte lambda
     (1/s, eq 129), integrator (any name of ``freefloat.dynamics.integrators.INTEGRATORS``; ``rk4``
@@ -121,19 +112,21 @@ class MetricsSection:
 
 
 @dataclass(frozen=True)
-class MechanismScene:
-    """A validated mechanism scene. ``source`` is the file it came from."""
+class MechanismScene(PluginsFirst):
+    """A validated mechanism scene. ``source`` is the file it came from; ``plugins`` the modules
+    it imported first (files as absolute paths, or module names)."""
 
     name: str
     mechanism: MechanismSection
     trajectory: TrajectorySection
-    controller: PlatformControllerSection
+    controller: EntrySection
     simulation: MechanismSimulation
     description: str = ""
     initial: PlatformStart = PlatformStart()
     metrics: MetricsSection = MetricsSection()
     output: OutputSection = OutputSection()
     source: Path | None = None
+    plugins: tuple[str, ...] = ()
 
     #: The experiment kind that runs this scene.
     kind = "mechanism"
@@ -147,14 +140,13 @@ ALIASES = {"rk4": "rkmk4"}
 BASE_KEYS = {"kind": "base", "mass": "base_mass", "inertia": "base_inertia", "com": "base_com", "gravity": "gravity"}
 
 SECTIONS = {"mechanism": MechanismSection, "initial": PlatformStart, "trajectory": TrajectorySection,
-            "controller": PlatformControllerSection, "simulation": MechanismSimulation,
+            "simulation": MechanismSimulation,
             "metrics": MetricsSection, "output": OutputSection}
 RULES = Rules(
-    choices={("mechanism", "name"): tuple(REGISTRY), ("mechanism", "base"): BASES,
-             ("mechanism", "dynamics"): ("auto", "coupled_chain", "constraint_dynamics", "closed_tree"), ("trajectory", "kind"): ("circle",),
-             ("controller", "kind"): ("computed_torque", "sliding_mode"),
-             ("controller", "saturation"): ("tanh", "sign"), ("simulation", "integrator"): lambda: (*ALIASES, *INTEGRATORS)},
-    positive={("mechanism", "base_mass"), ("simulation", "duration"), ("simulation", "step"), ("simulation", "rtol"), ("simulation", "atol"), ("controller", "lam"), ("output", "html_fps")},
+    choices={("mechanism", "name"): lambda: tuple(REGISTRY), ("mechanism", "base"): BASES,
+             ("mechanism", "dynamics"): lambda: ("auto", *(name for name, spec in PLANTS.items() if spec.closed)), ("trajectory", "kind"): ("circle",),
+             ("simulation", "integrator"): lambda: (*ALIASES, *INTEGRATORS)},
+    positive={("mechanism", "base_mass"), ("simulation", "duration"), ("simulation", "step"), ("simulation", "rtol"), ("simulation", "atol"), ("output", "html_fps")},
     non_negative={("simulation", "baumgarte"), ("metrics", "reaching_phase"), ("trajectory", "radius")},
 )
 
@@ -169,11 +161,13 @@ def parse_mechanism_scene(raw: dict[str, Any], source: Path | None = None) -> Me
             longer than the duration.
     """
     where = f"{source}: " if source else "scene: "
-    reject_unknown(where, "", raw, {"name", "description", *SECTIONS})
+    reject_unknown(where, "", raw, {"name", "description", "plugins", "controller", *SECTIONS})
     missing = [s for s in ("name", "trajectory", "controller", "simulation") if s not in raw]
     if missing:
         raise SceneError(f"{where}a mechanism scene needs '{missing[0]}'")
     sections = {s: parse_section(where, s, cls, raw[s], RULES) for s, cls in SECTIONS.items() if s in raw}
+    sections["controller"] = parse_entry(where, "controller", raw["controller"], controllers.serving("mechanism"),
+                                         None, RULES)
     scene = MechanismScene(name=typed(where, "name", raw["name"], str),
                            description=typed(where, "description", raw.get("description", ""), str),
                            source=source, **sections)

@@ -20,15 +20,19 @@ from ...errors import InvalidArgument, SceneError
 from ...robot.loading import INERTIAS
 from .fields import (
     MAX_HTML_FPS,
+    EntrySection,
     OutputSection,
+    PluginsFirst,
     Rules,
     at_most,
     choice,
+    parse_entry,
     parse_section,
     reject_unknown,
     typed,
     whole_number_of,
 )
+from .. import controllers, environments  # registries read when a scene is parsed (they may still be loading now)
 
 
 @dataclass(frozen=True)
@@ -77,19 +81,6 @@ class TaskSection:
     mission_joints: tuple[str, ...] | None = None
     method: str = "min_norm"
     start: float = 0.0
-
-
-@dataclass(frozen=True)
-class WrenchSection:
-    """``[[wrenches]]``: a wrench on ``link`` at its CoM (inertial frame, N and N m), from
-    ``start`` to ``end`` s, rising linearly over ``rise`` s (the dissertation's capture model)."""
-
-    link: str
-    force: tuple[float, float, float] = (0.0, 0.0, 0.0)
-    torque: tuple[float, float, float] = (0.0, 0.0, 0.0)
-    start: float = 0.0
-    end: float = 1e9
-    rise: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -188,20 +179,6 @@ class ApproachSection:
 
 
 @dataclass(frozen=True)
-class ControllerSection:
-    """``[controller]``: ``kind = "none"`` or ``"computed_torque"`` with scalar gains Kp, Kd and
-    the dynamics model it uses; for a two-hand capture, the ``squeeze`` between the hands (N) and
-    a ``torque_limit`` per joint (N m; none when absent)."""
-
-    kind: str = "none"
-    model: str = "exact"
-    kp: float = 10.0
-    kd: float = 100.0
-    squeeze: float = 0.0
-    torque_limit: float | None = None
-
-
-@dataclass(frozen=True)
 class SimulationSection:
     """``[simulation]``: duration and control period (s), plant model (a registry name, or
     ``"auto"``: the cheapest whose predicted state error over the run stays under ``tolerance``,
@@ -232,8 +209,9 @@ class SimulationSection:
 
 
 @dataclass(frozen=True)
-class Scene:
-    """A validated scene. ``source`` is the file it came from (None for one built in code)."""
+class Scene(PluginsFirst):
+    """A validated scene. ``source`` is the file it came from (None for one built in code);
+    ``plugins`` the modules it imported first (files as absolute paths, or module names)."""
 
     name: str
     robot: RobotSection
@@ -241,16 +219,23 @@ class Scene:
     angle_unit: str = "deg"
     initial: InitialSection = InitialSection()
     task: TaskSection = TaskSection()
-    controller: ControllerSection = ControllerSection()
+    controller: EntrySection = field(default_factory=lambda: no_controller())
     simulation: SimulationSection = SimulationSection()
     output: OutputSection = OutputSection()
-    wrenches: tuple[WrenchSection, ...] = ()
+    environment: tuple[EntrySection, ...] = ()
     target: TargetSection | None = None
     closures: tuple[ClosureSection, ...] = ()
     approach: ApproachSection | None = None
     wheels: tuple[WheelSection, ...] = ()
     attitude: AttitudeSection | None = None
     source: Path | None = None
+    plugins: tuple[str, ...] = ()
+
+    @property
+    def wrenches(self) -> tuple[Any, ...]:
+        """The settings (:class:`~freefloat.app.environments.WrenchProfile`) of the
+        ``wrench_profile`` fields: ``[[wrenches]]`` tables and ``[[environment]]`` of that kind."""
+        return tuple(e.settings for e in self.environment if e.kind == "wrench_profile")
 
     @property
     def kind(self) -> str:
@@ -267,9 +252,14 @@ class Scene:
         return math.pi / 180.0 if self.angle_unit == "deg" else 1.0
 
 
+def no_controller() -> EntrySection:
+    """``[controller] kind = "none"`` with the default gains (a scene without the section)."""
+    return EntrySection("none", controllers.CONTROLLERS["none"].settings())
+
+
 SECTIONS = {
     "robot": RobotSection, "initial": InitialSection, "task": TaskSection,
-    "controller": ControllerSection, "simulation": SimulationSection, "output": OutputSection,
+    "simulation": SimulationSection, "output": OutputSection,
     "target": TargetSection, "approach": ApproachSection, "attitude": AttitudeSection,
 }
 CHOICES = {
@@ -277,8 +267,6 @@ CHOICES = {
     ("robot", "inertias"): INERTIAS,
     ("task", "kind"): ("none", "joint_quintic", "detumble"),
     ("task", "method"): ("min_norm", "single", "null_space", "least_squares"),
-    ("controller", "kind"): ("none", "computed_torque"),
-    ("controller", "model"): lambda: tuple(MODELS),
     ("simulation", "model"): lambda: ("auto", *MODELS),
     ("simulation", "integrator"): lambda: tuple(INTEGRATORS),
     ("simulation", "lock"): ("none", "auto"),
@@ -293,12 +281,12 @@ POSITIVE = {
     ("task", "duration"), ("simulation", "duration"), ("simulation", "control_period"),
     ("simulation", "substeps"), ("simulation", "rtol"), ("simulation", "atol"), ("simulation", "tolerance"),
     ("simulation", "record_every"), ("output", "html_fps"), ("target", "mass"), ("target", "contact_time"),
-    ("target", "tolerance"), ("controller", "torque_limit"),
+    ("target", "tolerance"),
     ("approach", "max_joint_rate"), ("approach", "max_torque"), ("approach", "steps"),
     ("wheels", "max_momentum"), ("wheels", "max_torque"), ("wheels", "mass"), ("wheels", "inertia"),
     ("wheels", "transverse_inertia"),
 }
-NON_NEGATIVE = {("controller", "kp"), ("controller", "kd"), ("task", "start"), ("wrenches", "start"),
+NON_NEGATIVE = {("task", "start"), ("wrenches", "start"),
                 ("attitude", "kp"), ("attitude", "kd"),
                 ("wrenches", "rise"), ("simulation", "baumgarte"), ("approach", "start")}
 RULES = Rules(CHOICES, POSITIVE, NON_NEGATIVE)
@@ -307,7 +295,8 @@ RULES = Rules(CHOICES, POSITIVE, NON_NEGATIVE)
 def parse_robot_scene(raw: dict[str, Any], source: Path | None = None) -> Scene:
     """Validate a robot scene given as a dict (the parsed TOML)."""
     where = f"{source}: " if source else "scene: "
-    top = {"name", "description", "angle_unit", "wrenches", "closures", "wheels", *SECTIONS}
+    top = {"name", "description", "angle_unit", "plugins", "controller", "wrenches", "environment", "closures",
+           "wheels", *SECTIONS}
     reject_unknown(where, "", raw, top)
     if "name" not in raw or "robot" not in raw:
         raise SceneError(f"{where}'name' and [robot] are required")
@@ -319,10 +308,12 @@ def parse_robot_scene(raw: dict[str, Any], source: Path | None = None) -> Scene:
     for section, cls in SECTIONS.items():
         if section in raw:
             kwargs[section] = parse_section(where, section, cls, raw[section], RULES)
+    kwargs["controller"] = parse_entry(where, "controller", raw.get("controller", {}), controllers.serving("robot"),
+                                       "none", RULES, "controllers of robot scenes")
     wrenches = raw.get("wrenches", [])
     if not isinstance(wrenches, list):
         raise SceneError(f"{where}'wrenches' must be an array of tables ([[wrenches]]), got {wrenches!r}")
-    kwargs["wrenches"] = tuple(parse_section(where, "wrenches", WrenchSection, w, RULES) for w in wrenches)
+    kwargs["environment"] = parse_environment(where, raw, wrenches)
     closures = raw.get("closures", [])
     if not isinstance(closures, list):
         raise SceneError(f"{where}'closures' must be an array of tables ([[closures]]), got {closures!r}")
@@ -343,13 +334,32 @@ def parse_robot_scene(raw: dict[str, Any], source: Path | None = None) -> Scene:
         check_settings(sim.substeps, sim.rtol, sim.atol)
     except InvalidArgument as exc:  # "'substeps' must be ..." -> "'simulation.substeps' must be ..."
         raise SceneError(f"{where}{str(exc).replace(chr(39), chr(39) + 'simulation.', 1)}") from None
-    if sim.project_momentum and (scene.wrenches or any(scene.robot.gravity)):
+    if sim.project_momentum and (scene.environment or any(scene.robot.gravity)):
         raise SceneError(f"{where}'simulation.project_momentum' holds the momentum constant, but this scene's "
-                         f"{'[[wrenches]]' if scene.wrenches else 'robot.gravity'} change it; remove one of them")
+                         f"{'[[wrenches]]' if scene.wrenches else '[[environment]]' if scene.environment else 'robot.gravity'} "
+                         "change it; remove one of them")
     at_most(where, scene.output.html_fps, MAX_HTML_FPS, "output.html_fps")
     return scene
 
 
+
+
+def parse_environment(where: str, raw: dict[str, Any], wrenches: list) -> tuple[EntrySection, ...]:
+    """The scene's fields: its ``[[wrenches]]`` (``wrench_profile`` fields, the old spelling),
+    then its ``[[environment]]`` tables, each naming a kind of
+    :data:`freefloat.app.environments.ENVIRONMENTS` with that entry's keys.
+
+    Raises:
+        SceneError: naming ``environment`` when it is not an array of tables, an unknown kind
+            (with the nearest), or the entry's key that is wrong.
+    """
+    profile = environments.ENVIRONMENTS["wrench_profile"].settings
+    old = tuple(EntrySection("wrench_profile", parse_section(where, "wrenches", profile, w, RULES)) for w in wrenches)
+    tables = raw.get("environment", [])
+    if not isinstance(tables, list):
+        raise SceneError(f"{where}'environment' must be an array of tables ([[environment]]), got {tables!r}")
+    return old + tuple(parse_entry(where, "environment", table, environments.ENVIRONMENTS, None, RULES,
+                                   "environment fields") for table in tables)
 
 
 def parse_wheels(where: str, raw: dict[str, Any]) -> tuple[WheelSection, ...]:

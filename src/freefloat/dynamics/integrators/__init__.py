@@ -16,6 +16,7 @@ import pinocchio as pin
 
 from ...arguments import an_object, real_number, whole_number
 from ...errors import UnknownName
+from ...registry import Registry
 from .adaptive import BogackiShampine32, DormandPrince45
 from .base import Acceleration, Integrator, Velocity
 from .dop853 import DormandPrince853
@@ -56,13 +57,12 @@ class IntegratorSpec:
 
 
 #: Registry: name -> :class:`IntegratorSpec`.
-INTEGRATORS: dict[str, IntegratorSpec] = {}
+INTEGRATORS: Registry[IntegratorSpec] = Registry("integrator")
 
 
 def register(spec: IntegratorSpec) -> IntegratorSpec:
     """Add ``spec`` to :data:`INTEGRATORS` (a name already there is replaced)."""
-    INTEGRATORS[spec.name] = spec
-    return spec
+    return INTEGRATORS.register(spec, replace=True)
 
 
 for _spec in (

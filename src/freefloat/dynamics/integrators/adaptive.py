@@ -95,7 +95,8 @@ class EmbeddedRKMK:
             a0 = Acc[0]
             theta, v_new = h_try * (b @ K), v + h_try * (b @ Acc)
             err = self._error(h_try * (b_error @ K), h_try * (b_error @ Acc), theta, v, v_new)
-            factor = 0.9 * err ** self._EXPONENT if err > 0.0 else 5.0
+            # err NaN (a stage left the dynamics' domain: the step was far too long): shrink 10x
+            factor = 0.9 * err ** self._EXPONENT if err > 0.0 else (5.0 if err == 0.0 else 0.1)
             if err <= 1.0:
                 q_new = pin.integrate(self.model, q, theta)
                 yield t, h_try, q_new, v_new, (q, v, theta, K, Acc)

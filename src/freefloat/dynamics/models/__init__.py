@@ -13,6 +13,7 @@ from dataclasses import dataclass
 
 from ...arguments import an_object
 from ...errors import UnknownName
+from ...registry import Registry
 from ...robot.robot import Robot
 from .base import DynamicsModel
 from .exact import ExactModel
@@ -40,13 +41,12 @@ class ModelSpec:
 
 
 #: Registry: name -> :class:`ModelSpec`.
-MODELS: dict[str, ModelSpec] = {}
+MODELS: Registry[ModelSpec] = Registry("dynamics model")
 
 
 def register(spec: ModelSpec) -> ModelSpec:
     """Add ``spec`` to :data:`MODELS` (a name already there is replaced)."""
-    MODELS[spec.name] = spec
-    return spec
+    return MODELS.register(spec, replace=True)
 
 
 def _underactuated(full_hdot: bool, corrected_c0: bool) -> Build:
@@ -107,7 +107,7 @@ def make_model(name: str, robot: Robot, backend: str = "compiled") -> DynamicsMo
         UnknownName: for an unknown name, listing the valid ones.
         InvalidArgument: for ``robot`` not a :class:`~freefloat.robot.robot.Robot`.
     """
-    spec = MODELS.get(name) if isinstance(name, str) else None
+    spec = MODELS.get(name, None) if isinstance(name, str) else None
     if spec is None:
         raise UnknownName("dynamics model", name, MODELS)
     an_object("robot", robot, "a Robot (freefloat.load_robot)", (Robot,))

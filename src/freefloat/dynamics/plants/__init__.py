@@ -12,6 +12,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from ...registry import Registry
 from .base import Plant
 from .closed_tree import ClosedTreePlant
 from .constraint_dynamics import ConstraintDynamicsPlant
@@ -37,7 +38,8 @@ class PlantSpec:
 
 
 #: Registry of plant kinds: name -> :class:`PlantSpec`.
-PLANTS: dict[str, PlantSpec] = {spec.name: spec for spec in (
+PLANTS: Registry[PlantSpec] = Registry("plant")
+for _spec in (
     PlantSpec("tree", "a floating- or fixed-base tree: Pinocchio's ABA or a hand-built GJM model (models.MODELS)",
               False, True),
     PlantSpec(CoupledChainPlant.name, "a closed chain by Orsino's subsystem coupling, eq 129, Baumgarte-stabilised",
@@ -46,7 +48,8 @@ PLANTS: dict[str, PlantSpec] = {spec.name: spec for spec in (
               "(the reference; a revolute closure as two point contacts on its hinge)", True, False),
     PlantSpec(ClosedTreePlant.name, "a closed chain by freefloat's constrained dynamics on its spanning tree: point, "
               "revolute and weld closures, redundant rows allowed (freefloat.dynamics.closures)", True, False),
-)}
+):
+    PLANTS.register(_spec)
 
 __all__ = ["PLANTS", "ClosedTreePlant", "ConstraintDynamicsPlant", "CoupledChainPlant", "Plant", "PlantSpec", "vector_space"]
 

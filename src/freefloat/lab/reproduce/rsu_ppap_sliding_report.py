@@ -44,9 +44,9 @@ def variant(scene: MechanismScene, plant: str, gains: SlidingModeGains | None,
     torque with the same lambda; ``duration`` (s) shortens the run."""
     ctrl = scene.controller
     if gains is None:
-        ctrl = replace(ctrl, kind="computed_torque", n=None, T=None, n_ij={})
+        ctrl = ctrl.with_settings("computed_torque", n=None, T=None, n_ij={})
     else:
-        ctrl = replace(ctrl, kind="sliding_mode", n=tuple(gains.n), T=tuple(map(tuple, gains.T)),
+        ctrl = ctrl.with_settings("sliding_mode", n=tuple(gains.n), T=tuple(map(tuple, gains.T)),
                        n_ij={f"{i},{j}": tuple(v) for (i, j), v in gains.n_ij.items()})
     sim = scene.simulation if duration is None else replace(scene.simulation, duration=duration)
     return replace(scene, mechanism=replace(scene.mechanism, plant=plant), controller=ctrl, simulation=sim)

@@ -47,7 +47,7 @@ def chapter_four_scene(plant: str, controller: str, integrator: str, duration: f
     scene = find_scene(DEFAULT_SCENE)
     return dataclasses.replace(
         scene,
-        controller=dataclasses.replace(scene.controller, model=controller),
+        controller=scene.controller.with_settings(model=controller),
         simulation=dataclasses.replace(scene.simulation, model=plant, integrator=integrator, duration=duration),
         task=dataclasses.replace(scene.task, duration=min(scene.task.duration, duration)),
         output=dataclasses.replace(scene.output, html=False, figures=False),

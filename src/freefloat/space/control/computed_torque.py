@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+from typing import Any, ClassVar
+
 import numpy as np
 
 from ...robot.joints import JointCoordinates
@@ -38,6 +41,32 @@ class ControllerDynamics:
         return self.model.joint_space_at(q, v)
 
 
+@dataclass(frozen=True)
+class QuinticComputedTorqueLaw:
+    """:class:`ComputedTorque` on a :class:`QuinticTrajectory` as the compiled loop runs it (the
+    exact ``H*``, ``c*``; ``_sim.Simulation.set_computed_torque``).
+
+    Attributes:
+        start: the quintic's start, joint positions (n,), rad or m.
+        delta: goal minus start (n,).
+        duration: the quintic's duration, s.
+        kp: proportional gain, 1/s^2.
+        kd: derivative gain, 1/s.
+    """
+
+    start: np.ndarray
+    delta: np.ndarray
+    duration: float
+    kp: float
+    kd: float
+
+    kind: ClassVar[str] = "quintic_computed_torque"
+
+    def install(self, simulation: Any, robot: Robot) -> None:
+        """Hand this law to the compiled loop."""
+        simulation.set_computed_torque(self.start, self.delta, self.duration, self.kp, self.kd)
+
+
 class ComputedTorque:
     """Computed torque ``tau = H(q) tau' + c(q, v)``, ``tau' = qddot_d + Kp e + Kd edot``,
     ``e = q_d - q`` (eqs 136-137), with ``(H, c)`` from a dynamics model's joint-space form.
@@ -57,14 +86,13 @@ class ComputedTorque:
         self.dynamics = ControllerDynamics(robot, model)
         self.joints = JointCoordinates(robot)
 
-    def compiled_law(self) -> tuple[np.ndarray, np.ndarray, float, float, float] | None:
-        """``(start, delta, duration, kp, kd)`` of this law for the compiled loop
-        (:mod:`freefloat.dynamics.compiled`), which has it with the exact ``H*`` and ``c*`` only:
-        None for another controller model."""
+    def compiled_law(self) -> QuinticComputedTorqueLaw | None:
+        """This law for the compiled loop (:mod:`freefloat.dynamics.compiled`), which has it with
+        the exact ``H*`` and ``c*`` only: None for another controller model."""
         if self.dynamics.model.name != "exact":
             return None
         trajectory = self.trajectory
-        return trajectory.start, trajectory.delta, trajectory.duration, self.kp, self.kd
+        return QuinticComputedTorqueLaw(trajectory.start, trajectory.delta, trajectory.duration, self.kp, self.kd)
 
     def reference(self, t: float) -> np.ndarray:
         """Reference joint positions q_d(t) (n,)."""

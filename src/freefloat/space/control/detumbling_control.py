@@ -13,14 +13,65 @@ model's joint-space form. With the exact model the compiled loop runs the same l
 
 from __future__ import annotations
 
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any, ClassVar
+
 import numpy as np
 
 from ...dynamics import gjm
-from ...dynamics.compiled import DetumblingLaw
 from ...robot.joints import JointCoordinates
 from ...robot.robot import Robot
 from ..detumbling import check_task, solve
 from .computed_torque import ControllerDynamics
+
+
+@dataclass
+class DetumblingLaw:
+    """The detumbling controller (``DetumblingController``, dissertation sec 3.8, eq 134) as the
+    compiled loop runs it, with the exact ``H*``, ``c*`` and the detumbling solve of
+    ``freefloat.space.detumbling.solve`` on Pinocchio's Jacobians.
+
+    Attributes:
+        rows: stacked end-effector rows to stop (r,), into the 6k rows ``[v_E; w_E]``.
+        joints: mission joint indices (s,).
+        method: ``single``, ``min_norm``, ``null_space`` or ``least_squares``.
+        secondary: ``null_space``'s objective, ``base_angular_velocity`` or ``base_twist``.
+        rcond: the solver's pseudo-inverse cut (singular values not above ``rcond`` times the largest).
+        start: time the detumbling starts, s (before it: hold the posture).
+        kp, kd: gains, 1/s^2 and 1/s.
+        period: the backward-difference period of ``qddot_d``, s.
+        hold: the held joint positions (n,), or None for those at the first period.
+        previous: the previous detumbling period's ``qdot_d`` (n,), or None.
+        report: called after each compiled chunk with ``(hold, previous, residuals)``, the
+            residuals the max ``|residual|`` of each detumbling period of the chunk (the
+            controller keeps its state current through it).
+    """
+
+    rows: np.ndarray
+    joints: np.ndarray
+    method: str
+    secondary: str
+    rcond: float
+    start: float
+    kp: float
+    kd: float
+    period: float
+    hold: np.ndarray | None
+    previous: np.ndarray | None
+    report: Callable[[np.ndarray | None, np.ndarray | None, np.ndarray], None]
+
+    kind: ClassVar[str] = "detumbling"
+
+    def install(self, simulation: Any, robot: Robot) -> None:
+        """Hand this law to the compiled loop (``_sim.Simulation.set_detumbling``)."""
+        simulation.set_detumbling([int(r) for r in self.rows], [int(j) for j in self.joints], self.method,
+                                  self.secondary, self.rcond, self.start, self.kp, self.kd, self.period, self.hold,
+                                  self.previous)
+
+    def collect(self, simulation: Any) -> None:
+        """Hand the state the compiled loop kept over a chunk to :attr:`report`."""
+        self.report(*simulation.take_detumbling_state())
 
 
 class DetumblingController:

@@ -30,14 +30,16 @@ class stays the readable reference.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import Any, ClassVar
 
 import numpy as np
 import pinocchio as pin
 
 from ...dynamics import gjm
 from ...dynamics.closures import Closure, frame_motion, kinematics, stacked
-from ...dynamics.compiled import LoopDetumblingLaw
+from ...dynamics.compiled import closure_arrays
 from ...robot.robot import Robot
 from ..detumbling import check_task
 
@@ -55,6 +57,64 @@ class LoopLog:
     t: list[float] = field(default_factory=list)
     rows_residual: list[float] = field(default_factory=list)
     saturated: list[bool] = field(default_factory=list)
+
+
+@dataclass
+class LoopDetumblingLaw:
+    """The two-hand detumbling law (``LoopDetumblingController``, steps 1-4 of its module
+    docstring) as the compiled loop runs it (``cpp/sim/loop_detumbling_law.hpp``).
+
+    Attributes:
+        rows: stacked end-effector rows to stop (r,), into the 6k rows ``[v_E; w_E]``.
+        joints: mission joint indices (s,).
+        kd: rate gain, 1/s.
+        period: T, the backward-difference period, s.
+        baumgarte: the closure's Baumgarte rate beta, 1/s.
+        squeeze: s, N.
+        torque_limit: N m per joint; 0: none.
+        closure: the weld between the second hand (frame 1) and its grasp on the target.
+        target_joint, target_placement: the frame at the target's CoM (principal axes).
+        mass, inertia: the target's mass (kg) and principal moments (3,), kg m^2.
+        first_joint, first_placement: the first hand's frame.
+        previous: the previous period's ``qdot_d`` (n,), or None.
+        force: the previous period's closure force lambda (6,).
+        report: called after each compiled chunk with ``(previous, force, t, rows_residual,
+            saturated)``, the last three the log entries of the chunk's periods (lists).
+    """
+
+    rows: np.ndarray
+    joints: np.ndarray
+    kd: float
+    period: float
+    baumgarte: float
+    squeeze: float
+    torque_limit: float
+    closure: Any
+    target_joint: int
+    target_placement: pin.SE3
+    mass: float
+    inertia: np.ndarray
+    first_joint: int
+    first_placement: pin.SE3
+    previous: np.ndarray | None
+    force: np.ndarray
+    report: Callable[[np.ndarray | None, np.ndarray, list, list, list], None]
+
+    kind: ClassVar[str] = "loop_detumbling"
+    #: It works on the plant's closures: never on a robot of the controller's own.
+    plant_bound: ClassVar[bool] = True
+
+    def install(self, simulation: Any, robot: Robot) -> None:
+        """Hand this law to the compiled loop (``_sim.Simulation.set_loop_detumbling``)."""
+        simulation.set_loop_detumbling(
+            [int(r) for r in self.rows], [int(j) for j in self.joints], self.kd, self.period, self.baumgarte,
+            self.squeeze, self.torque_limit, closure_arrays(self.closure), int(self.target_joint),
+            self.target_placement.homogeneous, self.mass, np.asarray(self.inertia, float), int(self.first_joint),
+            self.first_placement.homogeneous, self.previous, np.asarray(self.force, float))
+
+    def collect(self, simulation: Any) -> None:
+        """Hand the state and log the compiled loop kept over a chunk to :attr:`report`."""
+        self.report(*simulation.take_loop_detumbling_state())
 
 
 class LoopDetumblingController:

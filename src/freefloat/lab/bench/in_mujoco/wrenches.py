@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 
-from ....dynamics.wrenches import ExternalWrench, WrenchField
+from ....dynamics.wrenches import ExternalWrench, WrenchProfiles
 from ....robot.robot import Robot
 
 
@@ -26,7 +26,7 @@ class MujocoWrenches:
     """
 
     def __init__(self, robot: Robot, wrenches: tuple[ExternalWrench, ...], body_of):
-        self.field = WrenchField(robot, wrenches)
+        self.field = WrenchProfiles(robot, wrenches)
         self.model, self.data = robot.model, robot.model.createData()
         self.body_of = body_of
 

@@ -1,0 +1,78 @@
+"""Fields of the environment a scene names: ``[[environment]] kind = "..."`` plus the entry's keys,
+one entry of :data:`ENVIRONMENTS` per kind, built-in or a user's.
+
+An entry (:class:`EnvironmentSpec`) carries what a scene may set (``settings``, a frozen
+dataclass, checked by the scene schema with the entry's ``rules``) and builds, on the robot, a
+:class:`~freefloat.dynamics.wrenches.WrenchField` (wrenches that may depend on time and state,
+evaluated by the Python loop at every integrator stage) or an
+:class:`~freefloat.dynamics.wrenches.ExternalWrench` (a profile on one link, which the compiled
+loop applies too). The built-in ``wrench_profile`` is the old ``[[wrenches]]`` table (that
+spelling is kept). A user's module registers its own::
+
+    ENVIRONMENTS.register(EnvironmentSpec("constant_wrench", "a constant inertial wrench on a link",
+                                          ConstantWrenchSettings, ConstantWrench))
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any, Callable
+
+from ..dynamics.wrenches import ExternalWrench, WrenchField
+from ..errors import InvalidArgument
+from ..registry import Registry
+from ..robot.robot import Robot
+from .scenes.fields import NO_RULES, Rules, check_settings
+
+
+@dataclass(frozen=True)
+class EnvironmentSpec:
+    """One kind of environment field.
+
+    Attributes:
+        name: the ``[[environment]] kind`` that names it.
+        description: one line for listings.
+        settings: a frozen dataclass: its fields are the table's keys besides ``kind`` (defaults;
+            the docstring gives each key's unit and meaning).
+        build: ``build(robot, settings) -> WrenchField | ExternalWrench`` on the robot the loop
+            simulates; raises :class:`~freefloat.errors.SceneError` or
+            :class:`~freefloat.errors.InvalidArgument` naming what the scene got wrong.
+        rules: choices and ranges of its settings, keyed ``("environment", key)``.
+    """
+
+    name: str
+    description: str
+    settings: type
+    build: Callable[[Robot, Any], WrenchField | ExternalWrench]
+    rules: Rules = NO_RULES
+
+    def __post_init__(self) -> None:
+        check_settings("environment", self.name, self.settings)
+        if not callable(self.build):
+            raise InvalidArgument(f"environment '{self.name}': build must be callable, got {self.build!r}")
+
+
+#: Every environment field kind by name.
+ENVIRONMENTS: Registry[EnvironmentSpec] = Registry("environment")
+
+
+@dataclass(frozen=True)
+class WrenchProfile:
+    """A wrench on ``link`` at its CoM (inertial frame, N and N m), from ``start`` to ``end`` s,
+    rising linearly over ``rise`` s (the dissertation's capture model; sampled at the start of
+    each control period)."""
+
+    link: str
+    force: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    torque: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    start: float = 0.0
+    end: float = 1e9
+    rise: float = 0.0
+
+
+ENVIRONMENTS.register(EnvironmentSpec(
+    "wrench_profile", "a wrench on a link's CoM, inertial frame, switched on and off with a linear rise",
+    WrenchProfile, lambda robot, w: ExternalWrench(w.link, w.force, w.torque, w.start, w.end, w.rise),
+    Rules({}, set(), {("environment", "start"), ("environment", "rise")})))
+
+__all__ = ["ENVIRONMENTS", "EnvironmentSpec", "WrenchProfile"]
