@@ -244,8 +244,10 @@ def gains_from_worst_case(worst: WorstCase, eta: float, points: np.ndarray) -> S
     """Eqs 168-170 from the worst cases, for the reaching rate ``eta``.
 
     Raises:
-        InvalidArgument: for ``eta`` not a finite number > 0 (:func:`~freefloat.arguments.real_number`); when ``(1 - |Delta|_max)^-1`` does not exist or has negative entries
-            (spectral radius of ``|Delta|_max`` >= 1): eq 161 has no solution.
+        InvalidArgument: for ``eta`` not a finite number > 0
+            (:func:`~freefloat.arguments.real_number`); when ``(1 - |Delta|_max)^-1`` does not
+            exist or has negative entries (spectral radius of ``|Delta|_max`` >= 1): eq 161 has
+            no solution.
     """
     eta = real_number("eta", eta, above=0.0)  # the reaching rate of eq 168, 1/s
     Dmax, d0max = worst.Delta, worst.delta0

@@ -172,9 +172,10 @@ def mount_wheels(robot: Robot, specs: list[WheelSpec] | tuple[WheelSpec, ...]) -
 
     Raises:
         RobotModelError: naming the spec's key and the joint: no such joint, a joint that is not
-            continuous, not on the base or not a leaf, a name already taken, an axis of zero length or
-            not three numbers, or (on a planar base) not along z, a mass or inertia that is no rotor's (the inertia must be positive
-            and the transverse inertia at least half the axial one), or a limit that is not positive.
+            continuous, not on the base or not a leaf, a name already taken, an axis of zero length,
+            not three numbers or (on a planar base) not along z, a mass or inertia that is no
+            rotor's (the inertia must be positive and the transverse inertia at least half the
+            axial one), or a limit that is not positive.
     """
     if not specs:
         raise RobotModelError(f"{robot.urdf_path.name}: no wheel to mount")

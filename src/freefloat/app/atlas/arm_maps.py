@@ -136,8 +136,8 @@ def _posture(robot: Robot, target: str, given: tuple[tuple[str, float], ...] | N
         if name not in joints:
             raise UnknownName(f"joint of {target} (--posture)", name, joints)
         if name in axes:
-            raise InvalidArgument(f"--posture {name}={value}: '{name}' is an axis of the map (--axes: {', '.join(axes)}), "
-                                  "which sweeps its range; --posture sets the joints held fixed")
+            raise InvalidArgument(f"--posture {name}={value}: '{name}' is an axis of the map (--axes: "
+                                  f"{', '.join(axes)}), which sweeps its range; --posture sets the joints held fixed")
         if not np.isfinite(value):
             raise InvalidArgument(f"--posture {name}={value}: needs a finite value")
         revolute = gjm.model_of(robot).tree.revolute[joints.index(name)]
@@ -201,7 +201,8 @@ def _momentum(values: tuple[float, ...] | None, base: str) -> tuple[float, ...] 
                               f"(N s, N m s, about the system CoM) of magnitude at most {MAX_MAGNITUDE:g}, "
                               f"got {list(values)}")
     if base == "planar" and (out := [name for name, x in zip(("Pz", "Lx", "Ly"), m[[2, 3, 4]]) if x != 0]):
-        raise InvalidArgument(f"--momentum gives {', '.join(out)} = {', '.join(f'{x:g}' for x in m[[2, 3, 4]] if x != 0)}"
+        given = ", ".join(f"{x:g}" for x in m[[2, 3, 4]] if x != 0)
+        raise InvalidArgument(f"--momentum gives {', '.join(out)} = {given}"
                               " on a planar base, which moves in its plane: the map takes Px, Py, Lz only (give "
                               "those three, or --base free)")
     return tuple(m) if np.any(m) else None

@@ -153,8 +153,9 @@ def make_integrator(
 
     Raises:
         UnknownName: for an unknown name, listing the valid ones.
-        InvalidArgument: for ``model`` not a ``pinocchio.Model``, ``substeps`` not an integer from 1 to :data:`MAX_SUBSTEPS`,
-            ``rtol`` outside [:data:`MIN_RTOL`, 1] or ``atol`` not > 0 (each named).
+        InvalidArgument: for ``model`` not a ``pinocchio.Model``, ``substeps`` not an integer
+            from 1 to :data:`MAX_SUBSTEPS`, ``rtol`` outside [:data:`MIN_RTOL`, 1] or ``atol``
+            not > 0 (each named).
     """
     spec = integrator_spec(name)
     an_object("model", model, "a pinocchio.Model (a robot's: robot.model)", (pin.Model,))
