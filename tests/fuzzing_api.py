@@ -142,8 +142,56 @@ def _telemetry_files(rng: random.Random):
     return f"Telemetry.load(a {kind} file)", kind != "flipped", load
 
 
+#: What a caller might hand where an object or a path belongs (issue 41).
+NOT_OBJECTS = [("None", None), ("a string", "nosuch"), ("a dict", {"a": 1}), ("a number", 3)]
+
+
+def _objects(rng: random.Random):
+    from freefloat import make_integrator, make_model, run, simulate
+
+    robot = _robot()
+    what, value = rng.choice(NOT_OBJECTS)
+    start = (robot.neutral(), np.zeros(robot.model.nv), 0.01, 0.001)
+    calls = {
+        "make_integrator(model)": lambda: make_integrator("rkmk4", value),
+        "make_model(robot)": lambda: make_model("exact", value),
+        "run(system)": lambda: run(value, *start),
+        "run(integrator)": lambda: run(robot, *start, integrator=value),
+        "run(model)": lambda: run(robot, *start, model=value),
+        "run(controller)": lambda: run(robot, *start, controller=value),
+        "simulate(scene)": lambda: simulate(value),
+    }
+    call = rng.choice(sorted(calls))
+    wrong = not (call in ("run(model)", "run(controller)") and what == "None")  # None: their defaults
+    return f"{call}: {what}", wrong and not (call == "simulate(scene)" and what == "a string"), calls[call]
+
+
+def _gain_design(rng: random.Random):
+    from dataclasses import replace
+
+    from freefloat.parallel.five_bar import FiveBarParameters, five_bar
+    from freefloat.parallel.sliding_mode import design_gains
+
+    what, value, wrong = rng.choice(BAD_NUMBERS)
+    point = np.array([[0.0, 0.2]])
+    calls = {
+        "design_gains(eta)": lambda: design_gains(FiveBarParameters(), point, eta=value),
+        "design_gains(points: one flat)": lambda: design_gains(FiveBarParameters(), [0.0, 0.2]),
+        "design_gains(uncertainty: a key)": lambda: design_gains(FiveBarParameters(), point, uncertainty={"l11": 0.01}),
+        "design_gains(uncertainty: a width)": lambda: design_gains(FiveBarParameters(), point, uncertainty={"l1": value}),
+        "five_bar(l1)": lambda: five_bar(replace(FiveBarParameters(), l1=value)),
+    }
+    call = rng.choice(sorted(calls))
+    if call.startswith("design_gains(points") or call.endswith("a key)"):
+        wrong = True
+    elif call.endswith("a width)") or call == "five_bar(l1)":
+        wrong = wrong and what not in ("huge", "10**12", "tiny") or (call == "five_bar(l1)" and what == "zero")
+        wrong = wrong and not (call.endswith("a width)") and what == "zero")
+    return f"{call}: {what}", wrong, calls[call]
+
+
 MAKERS: list[Callable[[random.Random], tuple[str, bool, Callable]]] = [
-    _acceleration, _acceleration, _run, _run, _factories, _checks, _telemetry_files]
+    _acceleration, _acceleration, _run, _run, _factories, _checks, _telemetry_files, _objects, _gain_design]
 
 
 @dataclass

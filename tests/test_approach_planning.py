@@ -12,7 +12,7 @@ import pytest
 from hypothesis import given, settings
 
 from freefloat import load_robot
-from freefloat.errors import InfeasiblePlan, SceneError
+from freefloat.errors import InfeasiblePlan, InvalidArgument, SceneError
 from freefloat.robot.joints import JointCoordinates
 from freefloat.space.capture import Target, TargetBody
 from freefloat.space.planning import (
@@ -504,3 +504,44 @@ def test_a_diverging_plan_is_refused_not_returned(planar, monkeypatch):
         with pytest.raises(InfeasiblePlan, match="out of reach: the plan diverged") as caught:
             plan_approach(req, "null_space")
         assert caught.value.reason == "reach"
+
+
+def test_a_planning_grid_beyond_its_bound_is_refused_before_planning(planar):
+    """steps of 200,000,000 is refused naming 'steps' and the bound, before any planning."""
+    robot, q0, v0 = planar
+    with pytest.raises(InvalidArgument, match="'steps' must be an integer from 4 to 100,000"):
+        dataclasses.replace(request_for(robot, q0, v0, "arm1_ee", (0.3, 0.4, 0.0), 1.0), steps=200_000_000)
+
+
+def test_a_mission_joint_given_twice_is_refused_naming_it(planar):
+    """A duplicate mission joint is refused as such (naming the joint), not as a grasp out of reach."""
+    robot, q0, v0 = planar
+    with pytest.raises(InvalidArgument, match=f"mission joint\\(s\\) '{robot.joint_names[1]}' given twice"):
+        request_for(robot, q0, v0, "arm1_ee", (0.3, 0.4, 0.0), 1.0, joints=np.array([0, 1, 1]))
+
+
+def test_a_turn_under_position_matching_is_refused_naming_it(tmp_path):
+    """approach.turn with match = "position" (which plans no orientation) is refused naming 'turn'."""
+    from freefloat.app.runner import prepare
+
+    scene = quiet_scene(tmp_path, "capture_planned_planar", approach={"turn": [0.0, 0.0, 20.0]})
+    with pytest.raises(SceneError, match=r"\[approach\] 'turn' \[0.0, 0.0, 20.0\] turns the hand's handle"):
+        prepare(scene)
+
+
+def test_a_planned_capture_without_a_controller_is_refused(tmp_path):
+    """A planned approach with controller.kind = "none" (which would still track the plan) is refused naming the key."""
+    from freefloat.app.runner import prepare
+
+    scene = quiet_scene(tmp_path, "capture_planned_planar", controller={"kind": "none"})
+    with pytest.raises(SceneError, match=r"'controller.kind' is \"none\""):
+        prepare(scene)
+
+
+def test_a_scene_planning_grid_beyond_its_bound_is_refused_naming_the_file_and_key(tmp_path):
+    """[approach] steps = 200000000 in a scene file is refused before planning, naming the file, [approach] and 'steps'."""
+    from freefloat.app.runner import prepare
+
+    scene = quiet_scene(tmp_path, "capture_planned_planar", approach={"steps": 200_000_000})
+    with pytest.raises(SceneError, match=r"s.toml: \[approach\] 'steps' must be an integer from 4 to 100,000"):
+        prepare(scene)

@@ -71,3 +71,15 @@ def test_a_scene_without_an_approach_or_bad_axes_is_refused(tmp_path):
         run_atlas("capture_envelope", "capture_planar", Options(grid=3), tmp_path / "a")
     with pytest.raises(InvalidArgument, match="two distinct coordinates"):
         run_atlas("capture_envelope", "capture_planned_planar", Options(grid=3, axes=("x", "w")), tmp_path / "b")
+
+
+def test_the_default_envelope_is_journaled_in_chunks_of_a_few_plans():
+    """The 11 x 11 envelope is cut into chunks of at most 16 points on one worker (a few seconds of
+    plans each), not one chunk of 121 that an interrupt would lose whole."""
+    from freefloat.app.atlas import capture_envelope
+    from freefloat.app.atlas.engine import chunk_size
+    from freefloat.app.atlas.grid import Axis, Grid
+
+    grid = Grid((Axis("x", -1, 1, capture_envelope.POINTS, "m"), Axis("y", -1, 1, capture_envelope.POINTS, "m")))
+    size = chunk_size(grid, 1, capture_envelope.MIN_CHUNK)
+    assert size <= 16 and len(grid.chunks(size)) >= 8

@@ -40,3 +40,16 @@ def test_a_bad_count_is_refused_naming_it(value):
     """A count that is a float, a bool or out of range is refused (a comparison's TypeError before)."""
     with pytest.raises(InvalidArgument, match="'n' must be"):
         whole_number("n", value, 1, 10)
+
+
+def test_an_object_of_the_wrong_kind_is_refused_naming_the_argument_and_what_it_takes():
+    """an_object passes an instance or an object with the methods, and refuses another, naming
+    the argument, what it takes and what was given."""
+    from freefloat.arguments import an_object
+
+    assert an_object("out", "runs/x", "a path", (str,)) == "runs/x"
+    assert an_object("controller", np.zeros(1), "a controller", methods=("copy",)) is not None
+    with pytest.raises(InvalidArgument, match=r"'controller' takes a controller, got a dict"):
+        an_object("controller", {"torque": 1}, "a controller", methods=("torque",))
+    with pytest.raises(InvalidArgument, match=r"'scene' takes a scene, got None"):
+        an_object("scene", None, "a scene", (str,))

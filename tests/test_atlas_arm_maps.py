@@ -16,7 +16,7 @@ from freefloat.app.atlas.grid import Axis, Grid
 from freefloat.app.atlas.kinds import Options
 from freefloat.app.cli import main
 from freefloat.app.atlas.reach_check import drive_to
-from freefloat.errors import UnknownName
+from freefloat.errors import InvalidArgument, UnknownName
 from freefloat.robot.joints import JointCoordinates
 
 from .conftest import random_robots
@@ -260,3 +260,24 @@ def test_posture_moves_the_held_joints(tmp_path):
         singularities.prepare("ur5", Options(posture=(("wrist", 1.0),)))
     assert main(["atlas", "singularities", "ur5", "--posture", "wrist_2_joint:60", "--quiet",
                  "--out", str(tmp_path / "out")]) == 2
+
+
+def test_posture_of_a_mapped_axis_is_refused_naming_it():
+    """--posture on a joint the map sweeps (an axis) is refused naming the joint and the axes."""
+    with pytest.raises(InvalidArgument, match="'elbow_joint' is an axis of the map"):
+        singularities.prepare("ur5", Options(axes=("shoulder_lift_joint", "elbow_joint"),
+                                             posture=(("elbow_joint", 30.0),)))
+
+
+@pytest.mark.parametrize("momentum", [(1e300, 0, 0), (0, 0, float("inf"))])
+def test_a_momentum_beyond_any_robot_s_or_not_finite_is_refused(momentum):
+    """A momentum component that is not finite or beyond MAX_MOMENTUM is refused, not mapped into infinities."""
+    with pytest.raises(InvalidArgument, match="--momentum takes .* at most 1e\\+15"):
+        workspace.prepare("four_arm_planar", Options(momentum=momentum))
+
+
+def test_out_of_plane_momentum_on_a_planar_base_is_refused_naming_the_components():
+    """On a planar base, a 6-vector momentum with Pz or Lx is refused naming them, not dropped."""
+    with pytest.raises(InvalidArgument, match="gives Pz, Lx = 5, 1 on a planar base"):
+        workspace.prepare("four_arm_planar", Options(momentum=(0, 0, 5, 1, 0, 0)))
+

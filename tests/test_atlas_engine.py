@@ -16,7 +16,7 @@ from freefloat.app.atlas.grid import Axis, Grid, check_memory
 from freefloat.app.atlas.kinds import KINDS, AtlasKind, Options
 from freefloat.app.batch import Workers
 from freefloat.app.cli import main
-from freefloat.errors import InvalidArgument, UnknownName
+from freefloat.errors import FreefloatError, InvalidArgument, UnknownName
 
 
 @pytest.fixture(autouse=True)
@@ -149,3 +149,88 @@ def test_dask_local_cluster_gives_the_serial_map(tmp_path):
     pytest.importorskip("distributed")
     done = run_atlas("toy", "t", Options(grid=9), tmp_path / "out", Workers(2, dask=True))
     assert np.array_equal(done.result["f"], expected(9))
+
+
+def interrupted(out, chunks: int = 2) -> None:
+    """A toy map into ``out`` stopped by Ctrl-C once ``chunks`` chunks of 8 points are journaled."""
+    def stop(done, total):
+        if done >= 8 * chunks:
+            raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        run_atlas("toy", "t", Options(), out, progress=stop)
+
+
+@pytest.mark.parametrize("overwrite", [False, True])
+def test_a_chunk_folder_replaced_by_a_link_is_neither_followed_nor_cleared(tmp_path, overwrite):
+    """A resumed (or overwritten) map whose chunks/ is now a link to a user's folder is refused,
+    naming the link; nothing in the user's folder is written or removed."""
+    interrupted(tmp_path / "out")
+    mine = tmp_path / "mine"
+    mine.mkdir()
+    (mine / "chunk-00000.npz").write_text("precious")
+    (tmp_path / "out" / engine.CHUNKS).rename(tmp_path / "moved")
+    (tmp_path / "out" / engine.CHUNKS).symlink_to(mine)
+    with pytest.raises(FreefloatError, match=r"chunks' is a symbolic link"):
+        run_atlas("toy", "t", Options(), tmp_path / "out", overwrite=overwrite)
+    assert sorted(p.name for p in mine.iterdir()) == ["chunk-00000.npz"]
+    assert (mine / "chunk-00000.npz").read_text() == "precious"
+
+
+def swap(out) -> None:
+    """Chunk files 0 and 1 exchanged."""
+    a, b = (out / engine.CHUNKS / f"chunk-0000{i}.npz" for i in (0, 1))
+    a.rename(out / "t.npz"), b.rename(a), (out / "t.npz").rename(b)
+
+
+def edit_journal(out, change) -> None:
+    """The journal's lines (parsed) changed by ``change`` and written back."""
+    path = out / engine.JOURNAL
+    lines = [json.loads(line) for line in path.read_text().splitlines()]
+    path.write_text("".join(json.dumps(line) + "\n" for line in change(lines)))
+
+
+@pytest.mark.parametrize("tamper, message", [
+    (lambda out: (out / engine.JOURNAL).write_text("{not json\n"), "line 1 is not a JSON object"),
+    (lambda out: edit_journal(out, lambda ls: ls + [{"chunk": 99, "start": 792, "stop": 800}]), "names chunk 99"),
+    (lambda out: edit_journal(out, lambda ls: [{"settings": {**ls[0]["settings"], "chunk_size": "8"}}] + ls[1:]),
+     "chunk size of '8'"),
+    (lambda out: edit_journal(out, lambda ls: [{"settings": {**ls[0]["settings"], "chunk_size": -5}}] + ls[1:]),
+     "chunk size of -5"),
+    (lambda out: (out / engine.CHUNKS / "chunk-00001.npz").write_bytes(
+        (out / engine.CHUNKS / "chunk-00001.npz").read_bytes()[:100]), "not a readable chunk file"),
+    (lambda out: (out / engine.CHUNKS / "chunk-00001.npz").write_text("a user's notes"), "not a readable chunk file"),
+    (swap, "not this map's chunk 0 of points 0 to 8 \\(it holds points \\[8, 16\\]"),
+])
+def test_a_tampered_journal_or_chunk_is_refused_not_read(tmp_path, tamper, message):
+    """A journal line that does not parse or names a chunk the map lacks, a chunk size that is
+    not a positive integer, and a chunk file truncated, foreign or of another span (swapped) are
+    refused, naming the file, before any chunk is evaluated or read as data."""
+    interrupted(tmp_path / "out")
+    tamper(tmp_path / "out")
+    with pytest.raises(FreefloatError, match=message):
+        run_atlas("toy", "t", Options(), tmp_path / "out")
+
+
+def test_a_grid_whose_point_count_passes_2_to_the_64_is_refused_by_the_memory_check():
+    """The point count is an exact integer: a grid of 2^64 points does not wrap around to 0 and pass."""
+    with pytest.raises(InvalidArgument, match="grid too large for memory"):
+        check_memory(Grid((Axis("a", 0, 1, 2**32), Axis("b", 0, 1, 2**32))), 8, available=2**30)
+
+
+def test_a_grid_past_2_to_the_63_points_is_refused_before_it_is_indexed(tmp_path):
+    """A map of 2^64 points is refused by the memory check, not by numpy's indexing."""
+    with pytest.raises(InvalidArgument, match="grid too large for memory: 4294967296 x 4294967297"):
+        run_atlas("toy", "t", Options(grid=2**32), tmp_path / "out")
+
+
+def test_cli_workers_0_is_refused_as_batch_refuses_it(tmp_path, capsys):
+    """atlas --workers 0 exits 2 naming --workers, not a serial map."""
+    assert main(["atlas", "toy", "t", "--workers", "0", "--out", str(tmp_path / "out"), "--quiet"]) == 2
+    assert "--workers must be an integer >= 1, got 0" in capsys.readouterr().err and not (tmp_path / "out").exists()
+
+
+def test_grid_below_one_point_per_axis_is_refused():
+    """--grid 0 is refused naming --grid, not replaced by the kind's default."""
+    with pytest.raises(InvalidArgument, match="grid.*must be an integer >= 1, got 0"):
+        Options(grid=0)

@@ -197,7 +197,7 @@ def test_sigterm_keeps_the_finished_rows(tmp_path, where):
     (["--runs", "0"], "--runs must be from 1 to 100000, got 0"),
     (["--vary", "wobble=1"], "--vary 'wobble=1': unknown key 'wobble'"),
     (["--vary", "mass=2"], "--vary 'mass=2'"),
-    (["--workers", "0"], "--workers must be >= 1, got 0"),
+    (["--workers", "0"], "--workers must be an integer >= 1, got 0"),
     (["--threads", "0"], "--threads must be from 1 to 256, got 0"),
     (["--threads", "300"], "--threads must be from 1 to 256, got 300"),
     (["--threads", "2", "--workers", "2"], "--threads 2 with --workers 2: choose"),
@@ -333,3 +333,14 @@ def test_pool_and_dask_tasks_hold_consecutive_runs(runs, workers, sizes):
     plans = list(range(runs))
     groups = task_groups(plans, workers)  # type: ignore[arg-type]  # any items group alike
     assert [len(g) for g in groups] == sizes and [p for g in groups for p in g] == plans
+
+
+def test_more_local_workers_than_the_machine_takes_are_refused_before_any_start():
+    """Workers beyond the cores (at least 4) are refused naming --workers and the cores; a
+    scheduler's workers are not capped."""
+    from freefloat.app.batch.executors import local_limit
+
+    with pytest.raises(FreefloatError, match=r"count 200 is more processes .* cores"):
+        Workers(200)
+    Workers(local_limit())
+    Workers(200, dask=True, scheduler="tcp://nowhere:8786")

@@ -191,3 +191,14 @@ def test_a_batch_of_a_trillion_runs_is_refused_up_front(tumbling):
     scene, nominal = tumbling
     with pytest.raises(FreefloatError, match=f"runs must be from 1 to {MAX_RUNS}, got 1000000000000"):
         plan_runs(scene, nominal, [], 10**12, 0)
+
+
+def test_mass_on_a_scene_with_wheels_is_refused():
+    """--vary mass on a scene with [[wheels]] is refused naming the band and the wheels."""
+    from freefloat.app.batch import Band
+    from freefloat.app.batch.variations import check_bands
+    from freefloat.app.scenes import find_scene
+    from freefloat.errors import InvalidArgument
+
+    with pytest.raises(InvalidArgument, match=r"mass: scene 'satellite_wheels' has \[\[wheels\]\]"):
+        check_bands(find_scene("satellite_wheels"), [Band("mass", 0.1)])

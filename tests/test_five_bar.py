@@ -137,3 +137,16 @@ def drift(run) -> np.ndarray:
     """The loop-closure residual of every recorded step of a completed run, m."""
     assert run.status == "completed", run.message
     return run.telemetry.drift
+
+
+@pytest.mark.parametrize("field, value, message", [("l1", -0.12, "l1' must be > 0"),
+                                                   ("m2", -0.1, "m2' must be >= 0"),
+                                                   ("lg1", float("nan"), "lg1' must be finite")])
+def test_parameters_no_mechanism_has_are_refused_naming_the_field(field, value, message):
+    """A negative length or mass, or a NaN, in FiveBarParameters is refused naming the field."""
+    from dataclasses import replace
+
+    from freefloat.errors import InvalidArgument
+
+    with pytest.raises(InvalidArgument, match=f"FiveBarParameters.{message}"):
+        five_bar(replace(FiveBarParameters(), **{field: value}))

@@ -20,7 +20,7 @@ from .fuzzing import urdf_case
 SLICES = {"urdf": (range(10_000, 10_150), {"refused", "completed"}),
           "scene": (range(10_000, 10_150), {"refused", "completed"}),
           "folders": (range(10_000, 10_012), {"refused", "completed"}),
-          "links": (range(10_000, 10_012), {"refused", "completed"}),
+          "links": (range(10_000, 10_012), {"refused"}),  # a link where freefloat writes is never taken (issue 41)
           "textures": (range(10_000, 10_006), {"completed"}),
           "signals": (range(10_000, 10_002), {"stopped"}),
           "api": (range(10_000, 10_060), {"refused", "completed"})}

@@ -161,3 +161,26 @@ def test_sliding_condition_holds_on_the_2rsu_ppap(rsu):
             H, v, g, B = platform_dynamics(with_masses(rsu.mechanism, rsu.data, dict(zip(rsu.names, theta))), q, rates)
             sdot = np.linalg.solve(H, B @ tau - v - g) - (qdd_d + lam * edot)
             assert s @ sdot <= -gains.eta * np.abs(s).sum() + 1e-9
+
+
+@pytest.mark.parametrize("eta", [float("nan"), -20.0, 0.0, float("inf")])
+def test_a_reaching_rate_not_finite_and_positive_is_refused(eta):
+    """eta NaN, negative, zero or infinite is refused naming eta, not turned into NaN or negative gains."""
+    with pytest.raises(InvalidArgument, match="'eta' must be"):
+        design_gains(FiveBarParameters(), np.array([[0.0, 0.2]]), eta=eta)
+
+
+def test_one_point_as_a_flat_list_is_refused_with_the_shape_expected():
+    """A single point given flat, [x, y], is refused as a BadShape naming (N, 2) and the nesting that works."""
+    from freefloat.errors import BadShape
+
+    with pytest.raises(BadShape, match=r"array \(N, 2\).*got shape \(2,\) \(one point is \[\[\.\.\., \.\.\.\]\]\)"):
+        design_gains(FiveBarParameters(), [0.0, 0.2])
+
+
+def test_an_unknown_uncertain_parameter_is_refused_with_the_nearest_name():
+    """An uncertainty key that is not a FiveBarParameters field is an UnknownName with a did-you-mean."""
+    from freefloat.errors import UnknownName
+
+    with pytest.raises(UnknownName, match="unknown uncertain parameter .* 'l11'; did you mean 'l1'"):
+        design_gains(FiveBarParameters(), np.array([[0.0, 0.2]]), uncertainty={"l11": 0.01})

@@ -251,3 +251,12 @@ def test_bad_integrator_settings_are_refused_naming_them(options, named):
 
     with pytest.raises(InvalidArgument, match=f"'{named}' must be"):
         make_integrator("dopri5" if "tol" in named else "rkmk4", pin.buildSampleModelHumanoidRandom(), **options)
+
+
+@pytest.mark.parametrize("space", [None, "ur5", {}])
+def test_make_integrator_refuses_a_space_that_is_not_a_pinocchio_model(space):
+    """An integrator on None, a robot's name or a dict is refused naming 'model' and what it takes."""
+    from freefloat.errors import InvalidArgument
+
+    with pytest.raises(InvalidArgument, match="'model' takes a pinocchio.Model"):
+        make_integrator("rkmk4", space)

@@ -268,3 +268,20 @@ def test_load_robot_refuses_a_path_or_gravity_that_is_none(path, gravity, messag
     with pytest.raises(InvalidArgument, match=message):
         load_robot(path, gravity=gravity, visuals=False)
 
+
+
+def test_a_mimic_joint_is_loaded_with_a_note_that_it_is_not_enforced(tmp_path):
+    """A <mimic> joint is loaded as an independent joint, and the loader says so naming it."""
+    link = ('<link name="{0}"><inertial><mass value="1"/><inertia ixx="0.1" iyy="0.1" izz="0.1" ixy="0" ixz="0" '
+            'iyz="0"/></inertial></link>')
+    joint = ('<joint name="{0}" type="revolute"><parent link="{1}"/><child link="{2}"/><axis xyz="0 0 1"/>'
+             '<limit lower="-1" upper="1" effort="1" velocity="1"/>{3}</joint>')
+    text = ('<robot name="m">' + "".join(link.format(n) for n in ("base", "a", "b"))
+            + joint.format("j1", "base", "a", "") + joint.format("j2", "a", "b", '<mimic joint="j1"/>') + "</robot>")
+    (tmp_path / "m.urdf").write_text(text)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        robot = load_robot(tmp_path / "m.urdf")
+    notes = [str(w.message) for w in caught if issubclass(w.category, FreefloatWarning)]
+    assert robot.n_joints == 2
+    assert any("'j2' (<mimic joint=\"j1\">) are loaded as independent joints" in n for n in notes), notes

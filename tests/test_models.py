@@ -316,3 +316,12 @@ def test_tree_sparse_models_equal_the_dense_reference_and_aba_on_large_trees(tmp
         assert np.abs(a - b).max() <= tolerance * max(1.0, np.abs(b).max()), name
         if name == "standard_corrected":
             assert np.abs(a - exact).max() <= tolerance * max(1.0, np.abs(exact).max())
+
+
+@pytest.mark.parametrize("robot", [None, "four_arm_planar", {}])
+def test_make_model_refuses_a_robot_that_is_not_a_robot(robot):
+    """A model of None, a robot's name or a dict is refused naming 'robot' and freefloat.load_robot."""
+    from freefloat.errors import InvalidArgument
+
+    with pytest.raises(InvalidArgument, match=r"'robot' takes a Robot \(freefloat.load_robot\)"):
+        make_model("standard", robot)

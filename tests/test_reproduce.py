@@ -148,3 +148,23 @@ def test_robustness_stopped_by_sigterm_prints_no_dask_log(tmp_path):
         _, stderr = process.communicate(timeout=120)
     assert process.returncode == 1, stderr
     assert "interrupted" in stderr and "Traceback" not in stderr and "distributed." not in stderr, stderr
+
+
+def test_robustness_quick_keeps_the_runs_asked_for(tmp_path, monkeypatch):
+    """--quick shortens the default sample count, never an explicit --runs: quick with runs 7 runs 7."""
+    import contextlib
+
+    from freefloat.lab.reproduce.five_bar_report import reproduce_robustness
+    from freefloat.parallel import sweeps
+
+    asked = []
+
+    def fake_monte_carlo(dask_client, gains, runs, **kwargs):
+        asked.append(runs)
+        return [{"sample": i, "status": "ok", "error_mm": [0.0, 0.0], "parameters": {}} for i in range(runs)]
+
+    monkeypatch.setattr(sweeps, "client", lambda scheduler: contextlib.nullcontext())
+    monkeypatch.setattr(sweeps, "design_gains_distributed", lambda *a, **k: type("G", (), {"n": np.zeros(1), "T": np.zeros(1)}))
+    monkeypatch.setattr(sweeps, "monte_carlo", fake_monte_carlo)
+    assert reproduce_robustness(tmp_path / "a", quick=True, runs=7)["settings"]["runs"] == 7
+    assert reproduce_robustness(tmp_path / "b", quick=True)["settings"]["runs"] == 2 and asked == [7, 2]

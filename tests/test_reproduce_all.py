@@ -499,3 +499,32 @@ def test_identified_intervals_hold_the_true_values(report):
     loops = study["five_bar"]["closed_loop"]
     assert max(loops["identified_model_identified_gains"]["tracking_error_max_m"]) < max(
         loops["identified_model_thesis_gains"]["tracking_error_max_m"])
+
+
+@pytest.mark.parametrize("overwrite", [False, True])
+def test_a_study_folder_replaced_by_a_link_is_not_written_through(tmp_path, monkeypatch, overwrite):
+    """A resumed (or overwritten) ``all`` whose recorded study folder is now a link to a user's
+    folder is refused, naming the link; nothing is written into the user's folder."""
+    from freefloat.errors import FreefloatError
+
+    def fake_study(name, out, overwrite, quick, options):
+        from freefloat.app.run_folder import RunFolder
+
+        with RunFolder(out, overwrite, keep_foreign=False, resume=True) as folder:
+            if name == "five_bar":
+                raise KeyboardInterrupt("SIGTERM")
+            folder.write_text("report.json", json.dumps({"settings": {"quick": quick}, "wall_time_s": 0.0}))
+        return {}
+
+    monkeypatch.setattr(folders_module, "run_study", fake_study)
+    names = ("task_space", "five_bar")
+    with pytest.raises(KeyboardInterrupt):
+        folders_module.run_all(tmp_path / "out", False, True, {}, say=lambda line: None, names=names)
+    (tmp_path / "mine").mkdir()
+    for name in names:
+        if (tmp_path / "out" / name).exists():  # five_bar's, left empty by the interrupt, is gone
+            (tmp_path / "out" / name).rename(tmp_path / f"moved-{name}")
+        (tmp_path / "out" / name).symlink_to(tmp_path / "mine")
+    with pytest.raises(FreefloatError, match="task_space' is a symbolic link"):
+        folders_module.run_all(tmp_path / "out", overwrite, True, {}, say=lambda line: None, names=names)
+    assert list((tmp_path / "mine").iterdir()) == []

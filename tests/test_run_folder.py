@@ -237,3 +237,50 @@ def test_a_name_freefloat_removed_is_no_longer_its_own(tmp_path):
         pass
     assert (out / PARTS / "part-00000.npz").read_text() == "mine" and (out / ".telemetry.npz.partial").is_symlink()
     assert not (out / "telemetry.npz").exists()
+
+
+def test_a_recorded_subfolder_replaced_by_a_link_is_neither_cleared_nor_written_through(tmp_path):
+    """A link where the record names a subfolder of freefloat's refuses --overwrite and resuming,
+    naming it, and a claim through a link that appears mid-run is refused; the user's files the
+    link points to stay as they were."""
+    mine = tmp_path / "mine"
+    mine.mkdir()
+    (mine / "part-00000.npz").write_text("precious")
+    previous_run(tmp_path / "out", "summary.json")
+    (tmp_path / "out" / PARTS).rename(tmp_path / "moved")
+    (tmp_path / "out" / PARTS).symlink_to(mine)
+    for options in ({"overwrite": True}, {"resume": True}):
+        with pytest.raises(FreefloatError, match=f"{PARTS}' is a symbolic link"):
+            RunFolder(tmp_path / "out", **options)
+    (tmp_path / "out" / PARTS).unlink()
+    with RunFolder(tmp_path / "new") as folder:
+        (tmp_path / "new" / "sub").symlink_to(mine)
+        with pytest.raises(FreefloatError, match="sub' is a symbolic link"):
+            folder.write_text("sub/part-00000.npz", "mine")
+    assert [p.name for p in mine.iterdir()] == ["part-00000.npz"] and (mine / "part-00000.npz").read_text() == "precious"
+
+
+def test_a_folder_a_refused_run_made_and_left_empty_is_removed(tmp_path):
+    """A run that made its folder and wrote nothing (refused after opening it) leaves no folder;
+    a folder that existed before stays, and so does one the run wrote into."""
+    RunFolder(tmp_path / "new").close()
+    assert not (tmp_path / "new").exists()
+    (tmp_path / "mine").mkdir()
+    RunFolder(tmp_path / "mine").close()
+    assert (tmp_path / "mine").is_dir() and list((tmp_path / "mine").iterdir()) == []
+    with RunFolder(tmp_path / "written") as folder:
+        folder.write_text("summary.json", "{}")
+    assert (tmp_path / "written" / "summary.json").read_text() == "{}"
+
+
+def test_journal_entries_drop_a_cut_last_line_and_refuse_a_bad_one(tmp_path):
+    """journal_entries reads what Journal appended, drops a last line a kill cut short, and
+    refuses a whole line that is not a JSON object, naming the file and the line."""
+    from freefloat.app.run_folder import journal_entries
+
+    path = tmp_path / "j.jsonl"
+    path.write_text('{"a": 1}\n\n{"b": 2}\n{"c"')
+    assert journal_entries(path, "start again") == [(1, {"a": 1}), (3, {"b": 2})]
+    path.write_text('{"a": 1}\n[2]\n')
+    with pytest.raises(FreefloatError, match=r"j.jsonl' line 2 is not a JSON object; not resuming from it \(start again\)"):
+        journal_entries(path, "start again")

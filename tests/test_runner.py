@@ -262,3 +262,13 @@ def test_a_run_that_draws_nothing_imports_no_drawing_library(tmp_path, scene):
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300, cwd=tmp_path)
     assert done.returncode == 0, done.stderr
     assert done.stdout.strip().splitlines()[-1] == "[]"
+
+
+@pytest.mark.parametrize("scene, out", [(None, None), ({}, None), (3, None), ("four_arm_joint_space", 3)])
+def test_simulate_refuses_a_scene_or_folder_of_the_wrong_kind(scene, out):
+    """simulate with None, a dict or a number for the scene (or a number for out) is refused
+    naming the argument, not a TypeError from pathlib."""
+    from freefloat.errors import InvalidArgument
+
+    with pytest.raises(InvalidArgument, match=f"'{'scene' if out is None else 'out'}' takes "):
+        runner.simulate(scene, out=out)

@@ -296,3 +296,34 @@ def test_an_argument_a_plant_does_not_take_is_named(given, named):
 
     with pytest.raises(InvalidArgument, match=f"^{named}: "):
         run(Still(), np.zeros(1), np.zeros(1), 0.01, 1e-3, **given)
+
+
+@pytest.mark.parametrize("argument, value", [("integrator", None), ("integrator", {}), ("model", {}),
+                                             ("controller", "pd")])
+def test_run_refuses_an_integrator_model_or_controller_that_is_not_one(argument, value):
+    """run with None, a dict or a string where an integrator, a model or a controller belongs is
+    refused naming the argument, before any step."""
+    from freefloat import load_robot
+    from freefloat.errors import InvalidArgument
+
+    robot = load_robot("two_arm_planar", visuals=False)
+    with pytest.raises(InvalidArgument, match=f"'{argument}' takes "):
+        run(robot, robot.neutral(), np.zeros(robot.model.nv), 0.1, 0.01, **{argument: value})
+
+
+@BOTH
+def test_a_controller_giving_the_wrong_number_of_torques_is_an_error_not_a_divergence(backend):
+    """A torque vector of the wrong length raises BadShape naming both lengths, instead of a run 'diverged'."""
+    from freefloat import load_robot
+    from freefloat.errors import BadShape
+
+    class ThreeTorques:
+        def torque(self, t, q, v):
+            return np.zeros(3)
+
+        def reference(self, t):
+            return None
+
+    robot = load_robot("two_arm_planar", visuals=False)
+    with pytest.raises(BadShape, match=r"torque\(t, q, v\) gave \(3,\) at t = 0 s; the robot takes \(8,\)"):
+        run(robot, robot.neutral(), np.zeros(robot.model.nv), 0.1, 0.01, controller=ThreeTorques(), backend=backend)

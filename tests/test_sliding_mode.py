@@ -124,3 +124,12 @@ def test_chattering_needs_two_updates_in_the_window():
     t = np.linspace(0.0, 1.0, 101)
     with pytest.raises(FreefloatError, match="after t = 0.5 s"):
         chattering(t, np.zeros((2, 1)), np.zeros((101, 1)), 0.5, effort_times=np.array([0.0, 0.6]))
+
+
+@pytest.mark.parametrize("lam", [float("nan"), -40.0, float("inf")])
+def test_a_lambda_not_finite_and_non_negative_is_refused_naming_it(lam):
+    """lam NaN, negative or infinite is refused naming lambda, not reported later as a singular pose."""
+    from freefloat.errors import InvalidArgument
+
+    with pytest.raises(InvalidArgument, match=r"'lam' must be"):
+        PlatformControl(five_bar(), circle_reference, lam)

@@ -105,3 +105,13 @@ def test_a_real_scheduler_with_worker_processes_runs_the_sweep():
             results = monte_carlo(remote, None, runs=2, relative_error=0.1, seed=3, duration=0.02, step=1e-3,
                                   settle=0.0, timeout=120.0)
     assert [r["status"] for r in results] == ["ok", "ok"]
+
+
+@pytest.mark.parametrize("runs", [0, 10**9, 2.5])
+def test_monte_carlo_refuses_a_run_count_outside_its_bound_before_any_work(runs):
+    """runs outside [1, MAX_RUNS] (or not an integer) is refused naming runs and the bound, before
+    a plant is drawn or a sample submitted (no client is needed to refuse)."""
+    from freefloat.errors import InvalidArgument
+
+    with pytest.raises(InvalidArgument, match="runs must be an integer from 1 to 10,000"):
+        monte_carlo(None, None, runs=runs, relative_error=0.1)

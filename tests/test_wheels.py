@@ -220,10 +220,11 @@ def test_attitude_without_wheels_is_refused(tmp_path):
     ({"simulation": {"lock": "auto"}}, r"'robot.locked_joints' and 'simulation.lock' are not available with \[\[wheels\]\]"),
     ({"task": {"kind": "detumble", "rows": ["left_tool0:wz"]}}, r"'task.mission_joints' must list the arm joints"),
     ({"target": {"end_effector": "left_tool0"}}, r"\[target\] \(a capture\) is not available with \[\[wheels\]\]"),
+    ({"simulation": {"model": "standard"}}, r"'simulation.model' = 'standard': a scene with \[\[wheels\]\] simulates"),
 ])
 def test_what_wheels_cannot_go_with_is_refused(tmp_path, sections, message):
     """Wheels with joint locking, with a detumbling task that would count the wheels among its
-    mission joints, or in a capture scene are refused, naming the key."""
+    mission joints, in a capture scene or on a GJM plant are refused, naming the key."""
     from .conftest import quiet_scene
 
     with pytest.raises(SceneError, match=message):
@@ -255,3 +256,50 @@ def test_declared_wheels_hold_the_base_in_a_scene(tmp_path):
     momentum, stored = outcome.telemetry.momentum, outcome.extra_telemetry["wheels"].stored
     drift = np.abs(momentum - momentum[0]).max()
     assert outcome.summary["wheel_momentum_balance_max"] <= 2.0 * drift + 1e-13 * np.abs(stored).max()
+
+
+def test_a_wheel_out_of_a_planar_base_s_plane_is_refused_naming_its_key():
+    """On a planar base a wheel must spin about z: one about x is refused naming wheels[0].axis."""
+    from freefloat import load_robot
+
+    robot = load_robot("two_arm_planar", base="planar", visuals=False)
+    mount_wheels(robot, [WheelSpec("wz", 1.0, 1.0, axis=(0.0, 0.0, 2.0), key="wheels[0]")])
+    with pytest.raises(RobotModelError, match=r"wheels\[0\]\.axis: wheel 'wx' spins about \[1.0, 0.0, 0.0\].*out of a "
+                                              "planar base's plane"):
+        mount_wheels(robot, [WheelSpec("wx", 1.0, 1.0, axis=(1.0, 0.0, 0.0), key="wheels[0]")])
+
+
+def test_a_roll_attitude_on_a_planar_base_is_refused(tmp_path):
+    """[attitude] rpy with a roll on a planar base (wheel about z) is refused naming attitude.rpy."""
+    import tomllib
+
+    from freefloat.app.scenes import load_scene
+
+    from .conftest import scene_variant, toml_text
+
+    path = scene_variant(tmp_path / "w.toml", "satellite_wheels", robot={"base": "planar"},
+                         attitude={"rpy": [10.0, 0.0, 0.0]}, output={"figures": False, "html": False})
+    raw = tomllib.loads(path.read_text())
+    raw["wheels"] = [wheel_table()]
+    path.write_text(toml_text(raw))
+    with pytest.raises(SceneError, match=r"'attitude.rpy' = \[10.0, 0.0, 0.0\] rolls or pitches a planar base"):
+        prepare(load_scene(path))
+
+
+def test_a_rotor_above_a_planar_base_s_plane_keeps_the_planar_balance():
+    """A wheel about z 0.1 m above a planar base's plane: the torque-free run's wheel balance (its
+    z component, all the planar joint conserves) and momentum drift stay at round-off, though the
+    joint's reactions change Lx and Ly."""
+    from freefloat import load_robot
+    from freefloat.app.experiments.wheel_run import wheel_telemetry
+    from freefloat.dynamics.metrics import conservation
+    from freefloat.dynamics.simulation import run
+
+    robot = load_robot("two_arm_planar", base="planar", visuals=False)
+    wheels = mount_wheels(robot, [WheelSpec("wz", 1.0, 1.0, axis=(0.0, 0.0, 1.0), position=(0.0, 0.0, 0.1), mass=2.0,
+                                            inertia=0.05, key="wheels[0]")])
+    v0 = np.random.default_rng(1).uniform(-1.0, 1.0, wheels.robot.model.nv)
+    tel = run(wheels.robot, wheels.robot.neutral(), v0, 0.5, 0.005, substeps=4).telemetry
+    rows = wheel_telemetry(wheels, tel, (), 0.005)
+    assert np.abs(rows.rest[:, :2] - rows.rest[0, :2]).max() > 1e-4  # the reactions do change Lx, Ly
+    assert np.abs(rows.balance).max() < 1e-8 and conservation(tel, wheels.robot)["momentum_drift_max"] < 1e-8

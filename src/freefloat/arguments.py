@@ -100,6 +100,22 @@ def whole_number(name: str, value: Any, low: int = 1, high: int | None = None) -
     return int(value)
 
 
+def an_object(name: str, value: Any, what: str, kinds: tuple[type, ...] = (), methods: tuple[str, ...] = ()) -> Any:
+    """``value``, refused unless it is one of ``kinds`` or has every one of ``methods`` (an object
+    where freefloat takes one: a robot, a model, an integrator, a controller, a path).
+
+    Args:
+        what: what is expected, for the message (``"a Robot (freefloat.load_robot)"``).
+
+    Raises:
+        InvalidArgument: naming ``name``, what it takes and the type given.
+    """
+    if (kinds and isinstance(value, kinds)) or (methods and all(callable(getattr(value, m, None)) for m in methods)):
+        return value
+    given = repr(value) if isinstance(value, (str, numbers.Number)) or value is None else f"a {type(value).__name__}"
+    raise InvalidArgument(f"'{name}' takes {what}, got {given}")
+
+
 def _kind(array: np.ndarray) -> str:
     """What an array of the wrong kind holds, for a message."""
     return {"c": "complex numbers", "U": "strings", "S": "bytes", "O": "objects"}.get(array.dtype.kind,

@@ -197,7 +197,8 @@ def _atlas(args: argparse.Namespace) -> int:
         require("dask", "freefloat atlas --dask")
     if args.scheduler is not None and args.workers is not None:
         raise InvalidArgument("--workers sets the size of a local cluster; with --scheduler the scheduler's workers run")
-    workers = Workers(args.workers or (2 if args.dask else 1), args.dask or args.scheduler is not None, args.scheduler)
+    workers = Workers((2 if args.dask else 1) if args.workers is None else args.workers,
+                      args.dask or args.scheduler is not None, args.scheduler)
     options = Options(grid=args.grid, axes=tuple(args.axes.split(",")) if args.axes else None,
                       end_effector=args.end_effector, momentum=tuple(args.momentum) if args.momentum else None,
                       tolerance=args.tolerance, base=args.base, posture=_pairs(args.posture))

@@ -11,6 +11,7 @@ from __future__ import annotations
 import contextlib
 import errno
 import fcntl
+import json
 import os
 import shutil
 import secrets
@@ -84,6 +85,7 @@ class RunFolder:
         self._last_part: tuple[Arrays | None, int] = (None, -1)
         self._mine: set[str] = set()
         self._taken = False
+        self._made = not os.path.lexists(self.path)  # removed again by close() if it stays empty
         try:
             self.path.mkdir(parents=True, exist_ok=True)
         except OSError as exc:
@@ -128,6 +130,7 @@ class RunFolder:
         held = [p for p in self.path.iterdir() if p.name not in (LOCK, RECORD)]
         if not held:
             return
+        self._refuse_links(self.owned())
         if resume and not overwrite:
             owned = self.owned()
             foreign = sorted(p.name for p in held if p.name not in {n.split("/")[0] for n in owned})
@@ -162,16 +165,41 @@ class RunFolder:
             warnings.warn(f"{spelled('overwrite=True', '--overwrite')} kept {len(kept)} file(s) in '{self.path}' that "
                           f"freefloat did not write: {', '.join(kept)}", stacklevel=2)
 
+    def _refuse_links(self, names: list[str]) -> None:
+        """Refuse the folder when a recorded name, or the folder it sits in, is a symbolic link:
+        freefloat never makes one, so it is not freefloat's, and neither resuming (reading and
+        writing through it) nor overwriting (removing it or what it points to) may touch it.
+
+        Raises:
+            RunFolderError: naming the first such link.
+        """
+        for name in names:
+            self._no_link(name)
+
+    def _no_link(self, name: str) -> None:
+        """Raise :class:`RunFolderError` when ``name`` (relative, ``/``-separated) or one of the
+        folders it sits in inside :attr:`path` is a symbolic link."""
+        parts = PurePosixPath(name.rstrip("/")).parts
+        for depth in range(1, len(parts) + 1):
+            path = self.path.joinpath(*parts[:depth])
+            if path.is_symlink():
+                raise RunFolderError(f"'{path}' is a symbolic link where freefloat keeps its own "
+                                     f"{'file' if depth == len(parts) and not name.endswith('/') else 'folder'}; "
+                                     "freefloat neither follows nor removes links it did not create (remove it, "
+                                     f"or choose another {spelled('out=', '--out')})")
+
     def claim(self, name: str) -> Path:
         """Record ``name`` (relative to the folder; a folder ends with ``/``) as freefloat's before
         it is created, and return its path.
 
         Raises:
             RunFolderError: naming the file when it exists and is not freefloat's (not written by
-                this run), or when the record cannot be written.
+                this run), or when the record cannot be written; naming the link when ``name``'s
+                folder, or a folder ``name`` itself, is a symbolic link (even one the record names).
         """
         bare = name.rstrip("/")
         path = self.path / bare
+        self._no_link(name if name.endswith("/") else str(PurePosixPath(bare).parent))
         if bare not in self._mine:
             reusable = name.endswith("/") and path.is_dir() and not path.is_symlink()  # its files are claimed one by one
             if os.path.lexists(path) and not reusable:
@@ -199,14 +227,20 @@ class RunFolder:
 
     def close(self) -> None:
         """Release the lock, once the record of a folder this run took lists only the names still
-        there (:meth:`prune`)."""
+        there (:meth:`prune`); a folder this run made and left with nothing in its record (a run
+        refused before it wrote anything) is removed again."""
         if self._taken:
             with contextlib.suppress(OSError, FreefloatError):
                 self.prune()
+                if not self.owned():
+                    (self.path / RECORD).unlink(missing_ok=True)
         with contextlib.suppress(OSError):
             (self.path / LOCK).unlink()
         with contextlib.suppress(OSError):
             os.close(self._lock)
+        if self._made:
+            with contextlib.suppress(OSError):
+                self.path.rmdir()  # only when empty
 
     def prune(self) -> None:
         """Drop from the record the names no longer in the folder (temporary files renamed into
@@ -277,6 +311,21 @@ class RunFolder:
             raise RunFolderError(f"could not write '{final}': {exc.strerror or exc}") from exc
         return final
 
+    def subfolder(self, name: str) -> Path:
+        """The subfolder ``name`` of freefloat's, claimed and created (or reopened, on a resume),
+        never through a symbolic link.
+
+        Raises:
+            RunFolderError: naming it when it is a symbolic link or a file.
+        """
+        path = self.claim(f"{name}/")
+        try:
+            path.mkdir(exist_ok=True)
+        except OSError as exc:
+            raise RunFolderError(f"'{path}' cannot be made a folder: {exc.strerror or exc}") from exc
+        self._no_link(f"{name}/")  # made between the check and mkdir
+        return path
+
     def private_dir(self) -> Path:
         """A new, uniquely named hidden subfolder of freefloat's (for files made out of sight and
         then :meth:`place`-d: a file appears in the folder only whole, and whatever a kill leaves
@@ -295,10 +344,7 @@ class RunFolder:
         """Save the next chunk of a running run's telemetry under :data:`PARTS`; the same chunk
         object again (its hand-over was interrupted, see ``Chunks``) replaces its own part, so no
         row is ever saved twice."""
-        parts = self.claim(f"{PARTS}/")
-        if parts.is_symlink():
-            raise RunFolderError(f"'{parts}' is a symbolic link; freefloat does not follow links for its own files")
-        parts.mkdir(exist_ok=True)
+        self.subfolder(PARTS)
         last, index = self._last_part
         index = index if chunk is last else index + 1
         self.save(f"{PARTS}/part-{index:05d}.npz", chunk, compressed=False)  # removed when the run ends
@@ -315,6 +361,31 @@ class RunFolder:
                 part.unlink()
         with contextlib.suppress(OSError):
             parts.rmdir()
+
+
+def journal_entries(path: Path, again: str) -> list[tuple[int, dict]]:
+    """The entries of the journal ``path`` (one JSON object a line, as :class:`Journal` appends
+    them), with their line numbers; none when there is no such file. A last line without its
+    newline (a kill during the append) is dropped; ``again`` says how to start over, for the
+    message.
+
+    Raises:
+        RunFolderError: naming the file and the line for a line that is not a JSON object.
+    """
+    if not path.is_file():
+        return []
+    text = path.read_text(errors="replace")
+    entries = []
+    for number, line in enumerate(text.splitlines()[:None if text.endswith("\n") else -1], 1):
+        try:
+            entry = json.loads(line) if line.strip() else {}
+        except json.JSONDecodeError:
+            entry = None
+        if not isinstance(entry, dict):
+            raise RunFolderError(f"'{path}' line {number} is not a JSON object; not resuming from it ({again})")
+        if entry:
+            entries.append((number, entry))
+    return entries
 
 
 class Journal:

@@ -17,9 +17,11 @@ The runner owns a run's life cycle:
 from __future__ import annotations
 
 import math
+import os
 from pathlib import Path
 from typing import Any, Callable
 
+from ..arguments import an_object
 from ..robot.loading import remembered_loads
 from .experiments import Outcome, Progress, experiment_for
 from .experiments.model_choice import describe, resolve, with_plant
@@ -125,7 +127,7 @@ def simulate(scene: Scene | MechanismScene | str | Path = DEFAULT_SCENE, *, out:
         with signals_raise_keyboard_interrupt():
             outcome = experiment_for(scene).run(setup, progress, checkpoint)
         return fail_if_not_finite(note_model_choice(outcome, setup))
-    folder = Path(out)
+    folder = Path(an_object("out", out, "None or a folder's path", (str, os.PathLike)))
     setup = prepare(scene) if setup is None else setup
     if scene.output.figures:
         from .viz import rendering
@@ -148,7 +150,10 @@ def simulate(scene: Scene | MechanismScene | str | Path = DEFAULT_SCENE, *, out:
 
 def _scene(scene: Scene | MechanismScene | str | Path) -> Scene | MechanismScene:
     """``scene``, or the scene a built-in name or a file names (:func:`~.scenes.find_scene`)."""
-    return scene if isinstance(scene, (Scene, MechanismScene)) else find_scene(scene)
+    if isinstance(scene, (Scene, MechanismScene)):
+        return scene
+    return find_scene(an_object("scene", scene, "a Scene, a built-in scene's name or a scene file's path",
+                                (str, os.PathLike)))
 
 
 def _stop_at_first_report(done: int) -> None:

@@ -10,6 +10,7 @@ import pinocchio as pin
 
 from ..robot.robot import Robot
 from .balance import balance, free_com_motion
+from .sensors.momentum import CONSERVED
 from .telemetry import Telemetry
 from .wrenches import ExternalWrench, WrenchField
 
@@ -67,13 +68,24 @@ def rotation_angle(quaternions: np.ndarray, reference: np.ndarray) -> np.ndarray
     return 2.0 * np.arctan2(perp, np.abs(dot))
 
 
-def momentum_drift(momentum: np.ndarray) -> float:
-    """Largest change from sample 0 of the linear or the angular momentum, as a vector norm.
+def momentum_change(momentum: np.ndarray, base: str = "free") -> np.ndarray:
+    """The change from sample 0 of the components of the momentum that a ``base`` of that kind
+    conserves (:data:`~.sensors.momentum.CONSERVED`: all six on a free base; Px, Py, Lz on a planar
+    one, whose joint's reactions change the others), the rest zero (N, 6)."""
+    change = np.zeros_like(momentum)
+    rows = CONSERVED[base]
+    change[:, rows] = momentum[:, rows] - momentum[0, rows]
+    return change
+
+
+def momentum_drift(momentum: np.ndarray, base: str = "free") -> float:
+    """Largest change from sample 0 of the linear or the angular momentum, as a vector norm, over
+    the components a ``base`` of that kind conserves (:func:`momentum_change`).
 
     Args:
         momentum: ``[P; L about the inertial origin]`` per sample (N, 6), kg m/s and kg m^2/s.
     """
-    change = momentum - momentum[0]
+    change = momentum_change(momentum, base)
     return float(max(np.linalg.norm(change[:, :3], axis=1).max(), np.linalg.norm(change[:, 3:], axis=1).max()))
 
 
@@ -133,7 +145,8 @@ def conservation(telemetry: Telemetry, robot: Robot, wrenches: tuple[ExternalWre
 
     Without external wrenches, drifts: ``com_drift_max`` (m, from :func:`free_com_motion`),
     ``linear_momentum_drift_max``, ``angular_momentum_drift_max``, ``momentum_drift_max`` (their
-    max, see :func:`momentum_drift`; kg m/s, kg m^2/s about the inertial origin) and
+    max, see :func:`momentum_drift`; kg m/s, kg m^2/s about the inertial origin; on a planar base
+    of Px, Py, Lz only, which its joint's reactions do not change) and
     ``energy_drift_max`` (``max |E - E(0) - W_tau|``, J). With wrenches (profiles, or fields of the
     ``environment``) the momentum and energy
     change by what they apply, so none of that is a drift: balances instead
@@ -148,12 +161,12 @@ def conservation(telemetry: Telemetry, robot: Robot, wrenches: tuple[ExternalWre
     """
     tel = telemetry
     if not wrenches and not environment:
-        change = tel.momentum - tel.momentum[0]
+        change = momentum_change(tel.momentum, robot.base)
         return {
             "com_drift_max": float(np.linalg.norm(tel.com - free_com_motion(tel, robot), axis=1).max()),
             "linear_momentum_drift_max": float(np.linalg.norm(change[:, :3], axis=1).max()),
             "angular_momentum_drift_max": float(np.linalg.norm(change[:, 3:], axis=1).max()),
-            "momentum_drift_max": momentum_drift(tel.momentum),
+            "momentum_drift_max": momentum_drift(tel.momentum, robot.base),
             "energy_drift_max": float(np.abs(tel.energy - tel.energy[0] - tel.work).max()),
         }
     if control_period is None:

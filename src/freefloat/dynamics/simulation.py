@@ -10,8 +10,8 @@ from typing import Callable, Protocol
 import numpy as np
 import pinocchio as pin
 
-from ..arguments import real_number, reals, whole_number
-from ..errors import InvalidArgument, SimulationDiverged
+from ..arguments import an_object, real_number, reals, whole_number
+from ..errors import BadShape, InvalidArgument, SimulationDiverged
 from ..robot.conventions import momentum_about_origin
 from ..robot.joints import JointCoordinates
 from ..robot.loading import BASE_COM_FRAME
@@ -166,8 +166,9 @@ def run(
     Raises:
         InvalidArgument: for a state of the wrong size or not finite, a non-unit base quaternion,
             a duration that is not a positive whole number of control periods, an unknown
-            backend, an argument the system does not take (naming it), or ``"compiled"`` for a
-            run it cannot do (with the reason).
+            backend, an argument the system does not take (naming it), an ``integrator``,
+            ``model`` or ``controller`` that is not one, or ``"compiled"`` for a run it cannot do
+            (with the reason).
         UnknownName: for an unknown integrator or model name.
     """
     steps = control_periods(duration, control_period)
@@ -185,6 +186,10 @@ def run(
     integrator = _integrator(integrator, robot.model, substeps, rtol, atol)
     if model is None or isinstance(model, str):
         model = make_model(model or "exact", robot)
+    an_object("model", model, "a name of freefloat.MODELS or a model (freefloat.make_model)", methods=("acceleration",))
+    if controller is not None:
+        an_object("controller", controller, "None or a controller (torque(t, q, v) and reference(t))",
+                  methods=("torque", "reference"))
     check_state(robot, q0, reals("v0", v0))
     record_every = min(whole_number("record_every", record_every), steps)  # more records as many rows
     if backend not in BACKENDS:
@@ -225,6 +230,8 @@ def _integrator(integrator: str | Integrator, space: pin.Model, substeps: int, r
     """``integrator`` built on ``space`` when it is a name; refused settings for one already built."""
     if isinstance(integrator, str):
         return make_integrator(integrator, space, substeps, rtol, atol)
+    an_object("integrator", integrator, "a name of freefloat.INTEGRATORS or an integrator (freefloat.make_integrator)",
+              methods=("advance",))
     if (substeps, rtol, atol) != (1, 1e-10, 1e-12):
         raise InvalidArgument(f"substeps, rtol, atol: settings of an integrator given by name; '{integrator.name}' "
                               "is built already (pass its name, or build it with them)")
@@ -464,6 +471,7 @@ def _run_periods(engine: PythonPeriods | compiled.CompiledLoop, steps: int, cont
     event here, each period's telemetry row and integration by ``engine`` (this module's Python,
     or the compiled loop); a stop request (:mod:`.stop_request`) or Ctrl-C interrupts it between periods."""
     reference = controller.reference if controller is not None else (lambda t: None)
+    efforts = (engine.plant.n_efforts,) if isinstance(engine, PlantPeriods) else (engine.robot.n_joints,)
     report_every = max(1, steps // 200)
     status, message, k = "completed", "", 0
     bound: list[Telemetry] = []
@@ -484,7 +492,11 @@ def _run_periods(engine: PythonPeriods | compiled.CompiledLoop, steps: int, cont
             stop_request.check()
             t = start_time + k * control_period
             if controller is not None:
-                engine.hold(controller.torque(t, *engine.state))
+                tau = controller.torque(t, *engine.state)
+                if np.shape(tau) != efforts:
+                    raise BadShape(f"controller: torque(t, q, v) gave {np.shape(tau)} at t = {t:.6g} s; the "
+                                   f"{'plant' if isinstance(engine, PlantPeriods) else 'robot'} takes {efforts}")
+                engine.hold(tau)
             if field is not None:
                 engine.set_wrenches(field if field.activate(t) else None)
             if k % record_every == 0:
@@ -498,6 +510,8 @@ def _run_periods(engine: PythonPeriods | compiled.CompiledLoop, steps: int, cont
                 break
         else:
             k = steps
+    except BadShape:  # the controller's mistake, not the run's: an error, not a status
+        raise
     except ENDINGS as cause:
         status, message = ended_by(cause, start_time + k * control_period)
     else:

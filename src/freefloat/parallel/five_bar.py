@@ -13,6 +13,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from ..arguments import real_number
 from ..errors import NotAssembled
 from .mechanism import ParallelMechanism
 from .redundancy import EffortDistribution
@@ -42,6 +43,17 @@ TRUE_PARAMETERS = FiveBarParameters(lg1=0.051, lg2=0.086, m1=0.1645, m2=0.1967, 
 TRUE_PARAMETERS_50 = FiveBarParameters(lg1=0.03, lg2=0.1125, m1=0.2145, m2=0.2565, Jz1=257.4e-6, Jz2=480.9e-6)
 
 
+#: The fields of :class:`FiveBarParameters` that are lengths (> 0) and masses or inertias (>= 0).
+LENGTHS, MASSES = ("l0", "l1", "l2"), ("m1", "m2", "Jz1", "Jz2")
+
+
+def check_parameters(p: FiveBarParameters) -> None:
+    """Refuse 5R data no mechanism has (see :func:`five_bar`'s Raises)."""
+    for name, value in vars(p).items():
+        real_number(f"FiveBarParameters.{name}", value, above=0.0 if name in LENGTHS else None,
+                    low=0.0 if name in MASSES else None)
+
+
 def chain(p: FiveBarParameters, side: int) -> SerialChain:
     """Chain 1 (side +1, base at +l0) or chain 2 (side -1, base at -l0, mirrored)."""
     base = np.eye(4)
@@ -56,7 +68,13 @@ def chain(p: FiveBarParameters, side: int) -> SerialChain:
 
 
 def five_bar(p: FiveBarParameters = FiveBarParameters()) -> ParallelMechanism:
-    """The 5R as a :class:`ParallelMechanism`: q = [x, y, q11, q12, q21, q22]."""
+    """The 5R as a :class:`ParallelMechanism`: q = [x, y, q11, q12, q21, q22].
+
+    Raises:
+        InvalidArgument: naming the field of ``p`` that is not a finite number, a length
+            (l0, l1, l2) that is not > 0, or a mass or inertia below 0.
+    """
+    check_parameters(p)
     E = np.zeros((4, 6))
     E[0, 0] = E[1, 1] = E[2, 3] = E[3, 4] = 1.0   # x, y of each tip
     return ParallelMechanism(chains=(chain(p, +1), chain(p, -1)), platform_mass=np.zeros((2, 2)),

@@ -43,7 +43,8 @@ from typing import Any, Protocol
 
 import numpy as np
 
-from ..errors import InvalidArgument, NotAssembled
+from ..arguments import real_number
+from ..errors import BadShape, InvalidArgument, NotAssembled
 
 #: Most vertices (2^r) the design evaluates exhaustively (r = 12 parameters).
 MAX_VERTICES = 4096
@@ -187,20 +188,43 @@ def box_grid(center: np.ndarray, half_width: float, spacing: float) -> np.ndarra
     return np.stack([a.ravel() for a in axes], axis=-1)
 
 
+def design_points(model: LinearParameterModel, points: object) -> np.ndarray:
+    """``points`` as an array (N, p) of finite platform coordinates of ``model`` (p of them).
+
+    Raises:
+        BadShape: naming the shape expected and given (one point as a flat list among them).
+        InvalidArgument: for no points, or a point that is not finite.
+    """
+    try:
+        array = np.asarray(points, float)
+    except (TypeError, ValueError):
+        raise BadShape(f"gain design: points must be an array (N, {model.p}) of platform coordinates, got "
+                       f"{type(points).__name__}") from None
+    if array.ndim != 2 or array.shape[1] != model.p:
+        one = f" (one point is [[{', '.join(['...'] * model.p)}]])" if array.ndim == 1 else ""
+        raise BadShape(f"gain design: points must be an array (N, {model.p}) of platform coordinates, got shape "
+                       f"{array.shape}{one}")
+    if len(array) == 0:
+        raise InvalidArgument("gain design: no workspace points")
+    if not np.all(np.isfinite(array)):
+        raise InvalidArgument(f"gain design: point {int(np.flatnonzero(~np.isfinite(array).all(axis=1))[0])} is not "
+                              "finite")
+    return array
+
+
 def worst_case(model: LinearParameterModel, points: np.ndarray, sample: int | None = None, seed: int = 0,
                at: Callable[[Any, np.ndarray, np.ndarray], WorstCase] | None = None) -> WorstCase:
     """The worst cases over ``points`` (N, p) and the :func:`vertices` of the parameter box, each
     point's by ``at(model, q, vertices)`` (default :func:`point_worst_case`).
 
     Raises:
-        InvalidArgument: for no points.
+        BadShape, InvalidArgument: for points that :func:`design_points` refuses.
         NotAssembled: for a point where the mechanism does not assemble (named).
     """
-    if len(points) == 0:
-        raise InvalidArgument("gain design: no workspace points")
+    points = design_points(model, points)
     extremes = vertices(model, sample, seed)
     out = None
-    for point in np.asarray(points, float):
+    for point in points:
         try:
             q = model.assemble(point)
         except NotAssembled as exc:
@@ -220,9 +244,12 @@ def gains_from_worst_case(worst: WorstCase, eta: float, points: np.ndarray) -> S
     """Eqs 168-170 from the worst cases, for the reaching rate ``eta``.
 
     Raises:
-        InvalidArgument: when ``(1 - |Delta|_max)^-1`` does not exist or has negative entries
-            (spectral radius of ``|Delta|_max`` >= 1): eq 161 has no solution.
+        InvalidArgument: for ``eta`` not a finite number > 0
+            (:func:`~freefloat.arguments.real_number`); when ``(1 - |Delta|_max)^-1`` does not
+            exist or has negative entries (spectral radius of ``|Delta|_max`` >= 1): eq 161 has
+            no solution.
     """
+    eta = real_number("eta", eta, above=0.0)  # the reaching rate of eq 168, 1/s
     Dmax, d0max = worst.Delta, worst.delta0
     radius = spectral_radius(Dmax)
     if radius >= 1.0:

@@ -19,9 +19,10 @@ from typing import Any, Callable, ClassVar
 
 import numpy as np
 
+from ..arguments import real_number
 from ..dynamics.compiled_chain import CompiledChainLoop
 from ..dynamics.plants import CoupledChainPlant
-from ..errors import InvalidArgument
+from ..errors import InvalidArgument, UnknownName
 from . import gain_design
 from .five_bar import FiveBarParameters, elbow_guess, five_bar
 from .gain_design import SlidingModeGains, WorstCase
@@ -98,6 +99,13 @@ class FiveBarModel:
     params: FiveBarParameters
     uncertainty_of: dict[str, float] = field(default_factory=lambda: dict(UNCERTAINTY))
     p: int = 2
+
+    def __post_init__(self) -> None:
+        fields = [f for f in FiveBarParameters.__dataclass_fields__]
+        for name, width in self.uncertainty_of.items():
+            if name not in fields:
+                raise UnknownName("uncertain parameter of the 5R (a FiveBarParameters field)", name, fields)
+            real_number(f"uncertainty['{name}']", width, low=0.0)  # a half-width
 
     @property
     def names(self) -> tuple[str, ...]:
@@ -208,6 +216,7 @@ class PlatformControl:
     saturation: str = "tanh"
 
     def __post_init__(self) -> None:
+        real_number("lam", self.lam, low=0.0)  # lambda, 1/s
         if self.saturation not in SWITCHES:
             raise InvalidArgument(f"sliding mode: saturation must be one of {SWITCHES}, got '{self.saturation}'")
 

@@ -20,7 +20,7 @@ from typing import Callable
 import numpy as np
 
 from ..distributed import client, settle_futures
-from ..errors import FreefloatError, InvalidArgument
+from ..errors import FreefloatError, InvalidArgument, spelled
 from .closed_loop import track_five_bar
 from .five_bar import FiveBarParameters, five_bar
 from .gain_design import LinearParameterModel, SlidingModeGains, WorstCase, gains_from_worst_case, worst_case
@@ -56,6 +56,28 @@ def design_gains_distributed(dask_client, model: LinearParameterModel | FiveBarP
     return gains_from_worst_case(worst, eta, points)
 
 
+#: Most Monte-Carlo samples one call takes: each is a closed loop of about a second here, and
+#: every sample's plant and task are made before the first runs (10 000 is about three hours on
+#: two workers).
+MAX_RUNS = 10_000
+
+
+def check_monte_carlo(runs: object, relative_error: object) -> None:
+    """Refuse a Monte-Carlo before any work: ``runs`` must be an integer in [1, :data:`MAX_RUNS`]
+    and ``relative_error`` in [0, 1) (the drawn parameters stay positive).
+
+    Raises:
+        InvalidArgument: naming the argument as the caller spells it (:func:`~freefloat.errors.spelled`).
+    """
+    if isinstance(runs, bool) or not isinstance(runs, (int, np.integer)) or not 1 <= runs <= MAX_RUNS:
+        raise InvalidArgument(f"{spelled('runs', '--runs')} must be an integer from 1 to {MAX_RUNS:,} (each sample "
+                              f"is a closed loop of about a second), got {runs!r}")
+    if isinstance(relative_error, bool) or not isinstance(relative_error, (int, float)) \
+            or not 0.0 <= relative_error < 1.0:
+        raise InvalidArgument(f"{spelled('relative_error', '--error')} must be in [0, 1) (the drawn parameters stay "
+                              f"positive), got {relative_error!r}")
+
+
 def _robustness_run(gains: SlidingModeGains | None, plant: FiveBarParameters, duration: float, step: float,
                     settle: float) -> dict:
     """One closed loop: the tracking error after ``settle`` s (mm) and the peak torques."""
@@ -77,12 +99,9 @@ def monte_carlo(dask_client, gains: SlidingModeGains | None, runs: int, relative
     called as each new one finishes.
 
     Raises:
-        FreefloatError: for ``runs`` < 1 or ``relative_error`` outside [0, 1).
+        InvalidArgument: for ``runs`` or ``relative_error`` that :func:`check_monte_carlo` refuses.
     """
-    if runs < 1:
-        raise InvalidArgument(f"runs must be >= 1, got {runs}")
-    if not 0.0 <= relative_error < 1.0:
-        raise InvalidArgument(f"relative_error must be in [0, 1) (parameters stay positive), got {relative_error}")
+    check_monte_carlo(runs, relative_error)
     rng = np.random.default_rng(seed)
     nominal = FiveBarParameters()
     plants = [replace(nominal, **{n: getattr(nominal, n) * (1 + rng.uniform(-relative_error, relative_error)) for n in UNCERTAINTY})

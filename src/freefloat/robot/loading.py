@@ -154,6 +154,10 @@ def _load(path: Path, base: str, end_effectors: list[str] | tuple[str, ...] | No
     _check_inertias(path, urdf, root, notes)
     physics, facts = physics_notes(path, urdf, triangle=inertias == "as_given")
     notes += physics
+    mimics = [f"'{j.name}' (<mimic joint=\"{j.mimic.joint}\">)" for j in urdf.joints if j.mimic is not None]
+    if mimics:
+        notes.append(f"{path.name}: joint(s) {', '.join(mimics)} are loaded as independent joints: freefloat does not "
+                     "enforce <mimic> (drive them together yourself, or remove the tag)")
     xml, unlimited = _pinocchio_xml(tree)
     if unlimited:
         notes.append(

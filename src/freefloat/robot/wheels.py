@@ -172,9 +172,10 @@ def mount_wheels(robot: Robot, specs: list[WheelSpec] | tuple[WheelSpec, ...]) -
 
     Raises:
         RobotModelError: naming the spec's key and the joint: no such joint, a joint that is not
-            continuous, not on the base or not a leaf, a name already taken, an axis of zero length or
-            not three numbers, a mass or inertia that is no rotor's (the inertia must be positive
-            and the transverse inertia at least half the axial one), or a limit that is not positive.
+            continuous, not on the base or not a leaf, a name already taken, an axis of zero length,
+            not three numbers or (on a planar base) not along z, a mass or inertia that is no
+            rotor's (the inertia must be positive and the transverse inertia at least half the
+            axial one), or a limit that is not positive.
     """
     if not specs:
         raise RobotModelError(f"{robot.urdf_path.name}: no wheel to mount")
@@ -199,7 +200,15 @@ def mount_wheels(robot: Robot, specs: list[WheelSpec] | tuple[WheelSpec, ...]) -
                                   arms=tuple(a for a in robot.arms if a.end_effector in end_effectors))
     if mounted.model.nq != robot.model.nq and mounted.visual_model is not None:
         mounted = dataclasses.replace(mounted, visual_model=_with_rotors(mounted, specs))
-    return Wheels(mounted, tuple(_wheel(mounted, spec) for spec in specs))
+    wheels = tuple(_wheel(mounted, spec) for spec in specs)
+    if robot.base == "planar":
+        for spec, wheel in zip(specs, wheels):
+            if np.linalg.norm(wheel.axis[:2]) > AXIS_TOLERANCE:
+                raise RobotModelError(f"{spec.key}.{'joint' if spec.axis is None else 'axis'}: wheel '{spec.name}' spins "
+                                      f"about {np.round(wheel.axis, 6).tolist()} in the base-link frame, out of a planar "
+                                      "base's plane; the planar joint turns about z only, so a wheel there must spin "
+                                      "about z (or give the robot a free base)")
+    return Wheels(mounted, wheels)
 
 
 def _check_declared(robot: Robot, model: pin.Model, spec: WheelSpec) -> str:

@@ -40,7 +40,10 @@ The contract of a kind (adding one is one module here plus one ``KINDS.register`
 - ``summarise(context, grid, result) -> dict``: the headline numbers (JSON-able), ``result``
   holding every array with its rows in flat grid order (C order over the axes);
 - ``figures(context, grid, result, out: Path) -> list[Path]``: the figures (PNG, and a meshcat
-  page for 3-D point clouds), written into ``out``; import matplotlib and meshcat inside it.
+  page for 3-D point clouds), written into ``out``; import matplotlib and meshcat inside it;
+- optionally ``MIN_CHUNK: int``: the fewest points per chunk, for a kind whose points take long
+  each (the engine's default amortises a fast kind's per-call overhead, and would make a slow
+  kind's chunks, and what an interrupt loses, minutes long).
 
 The output folder holds ``atlas.npz`` (the axes as ``axis_<name>`` plus every array, rows in flat
 grid order), ``summary.json`` (settings, grid, versions, wall time and the kind's summary),

@@ -29,6 +29,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ...arguments import MAX_MAGNITUDE
 from ...documents import start_angles
 from ...dynamics import gjm
 from ...dynamics.gjm import GJMState
@@ -120,19 +121,23 @@ def joint_limits(robot: Robot) -> tuple[np.ndarray, np.ndarray]:
     return low, high
 
 
-def _posture(robot: Robot, target: str, given: tuple[tuple[str, float], ...] | None) -> np.ndarray:
+def _posture(robot: Robot, target: str, given: tuple[tuple[str, float], ...] | None,
+             axes: tuple[str, ...]) -> np.ndarray:
     """The reference posture with the ``--posture`` values (deg for revolute joints, m for
-    prismatic ones) put in.
+    prismatic ones) put in; ``axes`` are the map's axes, which ``--posture`` may not set.
 
     Raises:
         UnknownName: a joint that is not the robot's, listing its joints.
-        InvalidArgument: a value that is not finite.
+        InvalidArgument: a value that is not finite, or a joint that is an axis of the map.
     """
     posture = reference_posture(robot, target)
     joints = robot.joint_names
     for name, value in given or ():
         if name not in joints:
             raise UnknownName(f"joint of {target} (--posture)", name, joints)
+        if name in axes:
+            raise InvalidArgument(f"--posture {name}={value}: '{name}' is an axis of the map (--axes: "
+                                  f"{', '.join(axes)}), which sweeps its range; --posture sets the joints held fixed")
         if not np.isfinite(value):
             raise InvalidArgument(f"--posture {name}={value}: needs a finite value")
         revolute = gjm.model_of(robot).tree.revolute[joints.index(name)]
@@ -174,7 +179,7 @@ def prepare(target: str, options: Options, all_arm_joints: bool) -> ArmMap:
     return ArmMap(target=str(target), base=base, end_effector=name, index=index, arm_joints=arm.joints,
                   columns=tuple(int(i) for i in arm.v_indices - robot.n_base), axes=tuple(axes),
                   axis_index=axis_index, limits=tuple((float(low[i]), float(high[i])) for i in axis_index),
-                  posture=tuple(float(x) for x in _posture(robot, target, options.posture)),
+                  posture=tuple(float(x) for x in _posture(robot, target, options.posture, tuple(axes))),
                   momentum=_momentum(options.momentum, base), tolerance=tolerance, rows=ROWS[base])
 
 
@@ -182,17 +187,24 @@ def _momentum(values: tuple[float, ...] | None, base: str) -> tuple[float, ...] 
     """[P; L] (6,) from the 6 numbers given, or the planar [Px, Py, Lz]; None for none or zero.
 
     Raises:
-        InvalidArgument: for another count or a value that is not finite.
+        InvalidArgument: for another count, a value that is not finite or beyond
+            :data:`~freefloat.arguments.MAX_MAGNITUDE`, or out-of-plane components (Pz, Lx, Ly) on a planar base.
     """
     if values is None:
         return None
     m = np.asarray(values, dtype=float)
     if base == "planar" and m.size == 3:
         m = np.array([m[0], m[1], 0.0, 0.0, 0.0, m[2]])
-    if m.size != 6 or not np.all(np.isfinite(m)):
+    if m.size != 6 or not np.all(np.isfinite(m)) or np.any(np.abs(m) > MAX_MAGNITUDE):
         planar = " or 3 [Px Py Lz]" if base == "planar" else ""
         raise InvalidArgument(f"--momentum takes 6 finite numbers [Px Py Pz Lx Ly Lz]{planar} "
-                              f"(N s, N m s, about the system CoM), got {list(values)}")
+                              f"(N s, N m s, about the system CoM) of magnitude at most {MAX_MAGNITUDE:g}, "
+                              f"got {list(values)}")
+    if base == "planar" and (out := [name for name, x in zip(("Pz", "Lx", "Ly"), m[[2, 3, 4]]) if x != 0]):
+        given = ", ".join(f"{x:g}" for x in m[[2, 3, 4]] if x != 0)
+        raise InvalidArgument(f"--momentum gives {', '.join(out)} = {given}"
+                              " on a planar base, which moves in its plane: the map takes Px, Py, Lz only (give "
+                              "those three, or --base free)")
     return tuple(m) if np.any(m) else None
 
 

@@ -32,6 +32,9 @@ OUTCOMES = ("graspable", *InfeasiblePlan.REASONS)
 COORDINATES = ("x", "y", "z")
 #: Points per axis of the default grid.
 POINTS = 11
+#: Fewest points per chunk (the engine's contract): a point is a whole plan, about 0.3 s, so
+#: chunks stay a few seconds long and an interrupt loses no more.
+MIN_CHUNK = 4
 
 
 @dataclass(frozen=True)

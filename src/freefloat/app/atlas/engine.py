@@ -15,9 +15,11 @@ writes the data, the summary and the figures, and the chunks and the journal are
 from __future__ import annotations
 
 import contextlib
+import hashlib
 import json
 import math
 import time
+import zipfile
 from concurrent.futures import FIRST_COMPLETED, Future, wait
 from dataclasses import dataclass
 from pathlib import Path
@@ -26,9 +28,9 @@ from typing import Any, Callable
 import numpy as np
 
 from ...distributed import client, process_pool, settle_futures, terminate
-from ...errors import FreefloatError
+from ...errors import FreefloatError, RunFolderError
 from ..batch import Workers
-from ..run_folder import RunFolder
+from ..run_folder import RunFolder, journal_entries
 from .grid import Grid, check_memory
 from .kinds import KINDS, AtlasKind, Options
 from .writer import write_outputs
@@ -44,6 +46,8 @@ MIN_CHUNK, MAX_CHUNK = 256, 20_000
 IN_FLIGHT = 2
 #: With Dask, the map ends when no chunk finishes within this many seconds.
 DASK_TIMEOUT = 600.0
+#: Names of a chunk file's own arrays besides the kind's: the map's settings digest and the chunk's span.
+_RUN, _SPAN = "_atlas_run", "_atlas_span"
 
 
 @dataclass(frozen=True)
@@ -71,10 +75,12 @@ def evaluate_chunk(kind: AtlasKind, context: Any, grid: Grid, start: int, stop: 
     return kind.load().evaluate(context, grid.points(start, stop))
 
 
-def chunk_size(grid: Grid, workers: int) -> int:
+def chunk_size(grid: Grid, workers: int, minimum: int | None = None) -> int:
     """Points per chunk: about :data:`CHUNKS_PER_WORKER` chunks per worker, within
-    [:data:`MIN_CHUNK`, :data:`MAX_CHUNK`]."""
-    return int(min(MAX_CHUNK, max(MIN_CHUNK, math.ceil(grid.size / (CHUNKS_PER_WORKER * workers)))))
+    [``minimum``, :data:`MAX_CHUNK`] (``minimum``: a kind's own ``MIN_CHUNK``, for points that
+    take long each; default :data:`MIN_CHUNK`)."""
+    minimum = MIN_CHUNK if minimum is None else minimum
+    return int(min(MAX_CHUNK, max(minimum, math.ceil(grid.size / (CHUNKS_PER_WORKER * workers)))))
 
 
 def run_atlas(kind: str, target: str, options: Options, out: Path, workers: Workers = Workers(),
@@ -102,23 +108,25 @@ def run_atlas(kind: str, target: str, options: Options, out: Path, workers: Work
     module = entry.check_options(options)
     context = module.prepare(target, options)
     grid = module.grid(context, options)
+    check_memory(grid, 1)  # a byte a point at least, before the probe indexes a grid of 2^63 points or more
     probe = module.evaluate(context, grid.points(0, 1))
     check_memory(grid, sum(a.nbytes for a in probe.values()))
     settings = {"kind": kind, "target": target, "options": options.as_dict(), "grid": grid.describe()}
     with RunFolder(out, overwrite, keep_foreign=False, resume=True) as folder:
-        size, done = _resumed(folder.path, settings, chunk_size(grid, workers.count))
+        size, done = _resumed(folder, settings, chunk_size(grid, workers.count, getattr(module, "MIN_CHUNK", None)),
+                               grid.size)
         settings["chunk_size"] = size
         spans = grid.chunks(size)
-        parts: dict[int, dict[str, np.ndarray]] = {i: _load_chunk(folder.path, i) for i in done}
-        chunks_dir = folder.claim(f"{CHUNKS}/")
-        chunks_dir.mkdir(exist_ok=True)
+        run_id = _run_id(settings)
+        parts = {i: _load_chunk(folder.path, i, spans[i], run_id, probe) for i in done}
+        chunks_dir = folder.subfolder(CHUNKS)
         with folder.journal(JOURNAL) as journal:
             if not done:
                 journal.append(json.dumps({"settings": settings}))
 
             def finished(i: int, arrays: dict[str, np.ndarray]) -> None:
                 with folder.atomic(f"{CHUNKS}/chunk-{i:05d}.npz") as partial, open(partial, "wb") as file:
-                    np.savez(file, **arrays)
+                    np.savez(file, **arrays, **{_RUN: np.array(run_id), _SPAN: np.array(spans[i])})
                 journal.append(json.dumps({"chunk": i, "start": spans[i][0], "stop": spans[i][1]}))
                 parts[i] = arrays
                 if progress is not None:
@@ -148,30 +156,77 @@ def run_atlas(kind: str, target: str, options: Options, out: Path, workers: Work
     return AtlasRun(folder.path, grid, result, json.loads((folder.path / "summary.json").read_text()), written)
 
 
-def _resumed(folder: Path, settings: dict, size: int) -> tuple[int, list[int]]:
+def _resumed(folder: RunFolder, settings: dict, size: int, points: int) -> tuple[int, list[int]]:
     """The chunk size and the chunks a previous run of the same atlas journaled in ``folder``
     (``size`` and none when it has no journal; its own chunk size when it has, whatever the
-    number of workers now).
+    number of workers now). Every line is checked before any is used: the journal is data from
+    a file anyone could have edited.
 
     Raises:
-        FreefloatError: when the journal is of another atlas (kind, target, options or grid).
+        RunFolderError: naming the journal and its line when a line does not parse, the journal
+            is of another atlas (kind, target, options or grid), its chunk size is not an integer
+            in [1, :data:`MAX_CHUNK`], or a chunk line names a chunk or span this grid does not
+            have (``points`` points in chunks of the journal's size).
     """
-    path = folder / JOURNAL
+    path = folder.path / JOURNAL
     if not path.is_file():
         return size, []
-    lines = [json.loads(line) for line in path.read_text().splitlines() if line.strip().endswith("}")]
-    before = dict(lines[0].get("settings", {})) if lines else {}
+    lines = journal_entries(path, "pass --overwrite to start the map again")
+    before = dict(lines[0][1].get("settings", {})) if lines else {}
     size = before.pop("chunk_size", size)
     if before != json.loads(json.dumps(settings)):
-        raise FreefloatError(f"output folder '{folder}' holds the journal of another atlas "
+        raise RunFolderError(f"output folder '{folder.path}' holds the journal of another atlas "
                              f"({before or 'unreadable'}); pass --overwrite or choose another --out")
-    return size, sorted({line["chunk"] for line in lines[1:]
-                         if "chunk" in line and (folder / CHUNKS / f"chunk-{line['chunk']:05d}.npz").is_file()})
+    if isinstance(size, bool) or not isinstance(size, int) or not 1 <= size <= MAX_CHUNK:
+        raise RunFolderError(f"'{path}' gives a chunk size of {size!r}; an atlas journal's is an integer in "
+                             f"[1, {MAX_CHUNK}]: not resuming from it (pass --overwrite to start the map again)")
+    count, owned = -(-points // size), set(folder.owned())
+    done = set()
+    for number, line in lines[1:]:
+        i = line.get("chunk")
+        if isinstance(i, bool) or not isinstance(i, int) or not 0 <= i < count \
+                or [line.get("start"), line.get("stop")] != [i * size, min((i + 1) * size, points)]:
+            raise RunFolderError(f"'{path}' line {number} names chunk {i!r} of points {line.get('start')!r} to "
+                                 f"{line.get('stop')!r}, which this map of {points} points in chunks of {size} does "
+                                 "not have; not resuming from it (pass --overwrite to start the map again)")
+        if f"{CHUNKS}/chunk-{i:05d}.npz" in owned and (folder.path / CHUNKS / f"chunk-{i:05d}.npz").is_file():
+            done.add(i)
+    return size, sorted(done)
 
 
-def _load_chunk(folder: Path, i: int) -> dict[str, np.ndarray]:
-    with np.load(folder / CHUNKS / f"chunk-{i:05d}.npz") as data:
-        return {key: data[key] for key in data.files}
+def _run_id(settings: dict) -> str:
+    """A digest of the atlas's settings (chunk size included), saved in each chunk file."""
+    return hashlib.sha256(json.dumps(settings, sort_keys=True).encode()).hexdigest()[:16]
+
+
+def _load_chunk(folder: Path, i: int, span: tuple[int, int], run_id: str,
+                probe: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+    """The arrays of chunk ``i``, once its file is checked to be this map's chunk of points
+    ``span`` (its run digest and span, and arrays of ``probe``'s names, shapes and kinds).
+
+    Raises:
+        RunFolderError: naming the file when it does not parse or is not that chunk.
+    """
+    path = folder / CHUNKS / f"chunk-{i:05d}.npz"
+    again = "not resuming from it (pass --overwrite to start the map again)"
+    try:
+        with np.load(path) as data:
+            arrays = {key: data[key] for key in data.files}
+    except (OSError, ValueError, EOFError, zipfile.BadZipFile) as exc:
+        raise RunFolderError(f"'{path}' is not a readable chunk file ({exc}); {again}") from None
+    run, held = arrays.pop(_RUN, None), arrays.pop(_SPAN, None)
+    if run is None or str(run) != run_id or held is None or held.tolist() != list(span):
+        raise RunFolderError(f"'{path}' is not this map's chunk {i} of points {span[0]} to {span[1]} "
+                             f"(it holds {'points ' + str(held.tolist()) if held is not None else 'no span'} "
+                             f"of {'this' if run is not None and str(run) == run_id else 'another'} map); {again}")
+    rows = span[1] - span[0]
+    for key, like in probe.items():
+        got = arrays.get(key)
+        if got is None or got.shape != (rows, *like.shape[1:]) or got.dtype.kind != like.dtype.kind:
+            raise RunFolderError(f"'{path}': array '{key}' is "
+                                 f"{'missing' if got is None else f'{got.shape} of {got.dtype}'} where chunk {i} has "
+                                 f"{(rows, *like.shape[1:])} of {like.dtype}; {again}")
+    return {key: arrays[key] for key in probe}
 
 
 def _execute(workers: Workers, kind: AtlasKind, context: Any, grid: Grid, spans: list[tuple[int, int]], todo: list[int],

@@ -3,6 +3,7 @@ the axes), its chunks, and the check that a grid's results fit in this machine's
 
 from __future__ import annotations
 
+import math
 import os
 from dataclasses import dataclass
 
@@ -61,8 +62,8 @@ class Grid:
 
     @property
     def size(self) -> int:
-        """Number of points."""
-        return int(np.prod(self.shape, dtype=np.int64))
+        """Number of points (an exact integer: a product past 2^63 does not wrap around)."""
+        return math.prod(int(n) for n in self.shape)
 
     def points(self, start: int = 0, stop: int | None = None) -> np.ndarray:
         """Points ``start`` to ``stop`` (exclusive; default the last) as rows (m, len(axes))."""

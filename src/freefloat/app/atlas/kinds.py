@@ -12,7 +12,7 @@ import importlib
 from dataclasses import dataclass
 from types import ModuleType
 
-from ...errors import InvalidArgument
+from ...errors import InvalidArgument, spelled
 from ...registry import Registry
 
 
@@ -41,6 +41,11 @@ class Options:
     tolerance: float | None = None
     base: str | None = None
     posture: tuple[tuple[str, float], ...] | None = None
+
+    def __post_init__(self) -> None:
+        if self.grid is not None and (isinstance(self.grid, bool) or not isinstance(self.grid, int) or self.grid < 1):
+            raise InvalidArgument(f"{spelled('grid', '--grid')} (points per axis) must be an integer >= 1, "
+                                  f"got {self.grid!r}")
 
     def given(self) -> list[str]:
         """Names of the fields set (not None)."""

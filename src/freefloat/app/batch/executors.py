@@ -17,6 +17,8 @@ Dask's pending tasks cancelled, threads' runs stopped at their next chunk by
 from __future__ import annotations
 
 import contextlib
+import numbers
+import os
 from concurrent.futures import FIRST_COMPLETED, Future, ThreadPoolExecutor, wait
 from dataclasses import dataclass
 from typing import Any, Callable, Iterator
@@ -38,6 +40,11 @@ Execute = Callable[[list[RunPlan], OnRow], None]
 DASK_TIMEOUT = 600.0
 
 
+def local_limit() -> int:
+    """Most worker processes a local pool or cluster may start: the cores, and at least 4."""
+    return max(4, os.cpu_count() or 1)
+
+
 @dataclass(frozen=True)
 class Workers:
     """Where the runs go: ``count`` processes (1 and not ``dask``: this process, one after
@@ -45,7 +52,8 @@ class Workers:
     workers of ``threads`` threads each, or ``scheduler``'s).
 
     Raises:
-        InvalidArgument: naming ``count`` (``--workers``) below 1 or ``threads`` outside [1,
+        InvalidArgument: naming ``count`` (``--workers``) below 1 or above :func:`local_limit`
+            (without ``scheduler``), or ``threads`` outside [1,
             :data:`~freefloat.dynamics.many_runs.MAX_THREADS`], ``scheduler`` without ``dask``,
             ``threads`` with a process pool (``count`` > 1 without ``dask``) or with ``scheduler``
             (its workers have their own threads), as the caller spells them
@@ -60,8 +68,13 @@ class Workers:
     def __post_init__(self) -> None:
         count, threads = spelled("count", "--workers"), spelled("threads", "--threads")
         scheduler, dask = spelled("scheduler", "--scheduler"), spelled("dask=True", "--dask")
-        if self.count < 1:
-            raise InvalidArgument(f"{count} must be >= 1, got {self.count}")
+        if isinstance(self.count, bool) or not isinstance(self.count, numbers.Integral) or self.count < 1:
+            raise InvalidArgument(f"{count} must be an integer >= 1, got {self.count!r}")
+        if self.scheduler is None and self.count > local_limit():
+            raise InvalidArgument(f"{count} {self.count} is more processes than this machine can run at once: it has "
+                                  f"{os.cpu_count() or 1} cores and takes up to {local_limit()} (each process an "
+                                  f"interpreter of its own; more only take turns); give {spelled('scheduler', '--scheduler')} "
+                                  "for a cluster's workers")
         if not 1 <= self.threads <= MAX_THREADS:
             raise InvalidArgument(f"{threads} must be from 1 to {MAX_THREADS}, got {self.threads}")
         if self.scheduler is not None and not self.dask:

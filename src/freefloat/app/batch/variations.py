@@ -60,7 +60,8 @@ def check_bands(scene: Scene | MechanismScene, bands: list[Band]) -> None:
 
     Raises:
         InvalidArgument: naming ``bands`` (``--vary``) and the key for a key given twice, a robot
-            key on a mechanism scene (or the reverse), or ``mass`` on a capture scene.
+            key on a mechanism scene (or the reverse), or ``mass`` on a capture scene or a scene
+            with wheels.
     """
     seen: set[str] = set()
     vary = spelled("band", "--vary")
@@ -75,6 +76,9 @@ def check_bands(scene: Scene | MechanismScene, bands: list[Band]) -> None:
         if band.key == "mass" and scene.kind == "capture":
             raise InvalidArgument(f"{vary} mass: scene '{scene.name}' is a capture scene (its robot changes at the "
                                   "grasp); mass varies joint-space and detumbling scenes")
+        if band.key == "mass" and getattr(scene, "wheels", None):
+            raise InvalidArgument(f"{vary} mass: scene '{scene.name}' has [[wheels]], whose momentum balance is "
+                                  "computed on the nominal robot; mass varies scenes without wheels")
 
 
 def plan_runs(scene: Scene | MechanismScene, nominal: Any, bands: list[Band], runs: int, seed: int) -> list[RunPlan]:

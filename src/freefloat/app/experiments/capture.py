@@ -88,6 +88,11 @@ def scene_target(scene: Scene, setup, reach) -> Target:
         raise SceneError(f"scene '{scene.name}': [target] {exc}") from exc
 
 
+def approach_key(scene: Scene) -> str:
+    """Where a message about ``[approach]`` points: the scene's file (or its name) and the table."""
+    return f"{scene.source or f'scene {scene.name!r}'}: [approach]"
+
+
 def approach_request(scene: Scene, setup, hands: tuple[str, ...], grasps: tuple[GraspMotion, ...]) -> ApproachRequest:
     """The request of the scene's ``[approach]`` for ``hands`` onto ``grasps`` (flights in scene
     time): from ``approach.start`` (the initial posture, at rest when later than 0) to
@@ -96,18 +101,25 @@ def approach_request(scene: Scene, setup, hands: tuple[str, ...], grasps: tuple[
 
     Raises:
         SceneError: naming ``[approach]`` for a bad limit, an unknown ``approach.mission_joints``,
-            a start not before the contact or a late start from a moving robot.
+            a start not before the contact, a late start from a moving robot, a ``turn`` without
+            ``match = "pose"``, or ``controller.kind = "none"`` (the plan is tracked by computed torque).
     """
     ap, robot = scene.approach, setup.robot
     joints = None if ap.mission_joints is None else mission_joint_indices(robot, ap.mission_joints)
     rate = None if ap.max_joint_rate is None else ap.max_joint_rate * scene.angle_scale
-    where = f"scene '{scene.name}': [approach]"
+    where = approach_key(scene)
     if ap.start >= scene.target.contact_time:
         raise SceneError(f"{where} 'start' {ap.start} s must come before 'target.contact_time' "
                          f"{scene.target.contact_time} s")
     if ap.start > 0.0 and np.abs(setup.v0).max() > 0.0:
         raise SceneError(f"{where} 'start' {ap.start} s plans from the initial posture held at rest: the [initial] "
                          "velocities must be zero (or start at 0)")
+    if ap.match == "position" and any(ap.turn):
+        raise SceneError(f"{where} 'turn' {list(ap.turn)} turns the hand's handle, which only 'match' = \"pose\" "
+                         "plans; with \"position\" remove it (or set match = \"pose\")")
+    if scene.controller.kind == "none":
+        raise SceneError(f"{where} is tracked by computed torque on the plan, but 'controller.kind' is \"none\"; "
+                         "set it to \"computed_torque\" (its gains and model track the plan), or remove [approach]")
     if ap.match == "pose":
         grasps = handles(scene, setup, hands, grasps)
     try:
@@ -115,7 +127,7 @@ def approach_request(scene: Scene, setup, hands: tuple[str, ...], grasps: tuple[
                                scene.target.contact_time - ap.start, Limits.of(robot, rate, ap.max_torque), joints,
                                ap.steps, tolerance=0.1 * scene.target.tolerance, match=ap.match)
     except FreefloatError as exc:
-        raise SceneError(f"scene '{scene.name}': [approach] {exc}") from exc
+        raise SceneError(f"{approach_key(scene)} {str(exc).removeprefix('approach: ')}") from exc
 
 
 def handles(scene: Scene, setup, hands: tuple[str, ...], grasps: tuple[GraspMotion, ...]) -> tuple[GraspMotion, ...]:
@@ -147,7 +159,7 @@ def planned(scene: Scene, setup, hands: tuple[str, ...], grasps: tuple[GraspMoti
     try:
         plan = plan_approach(request, scene.approach.method)
     except FreefloatError as exc:
-        raise SceneError(f"scene '{scene.name}': [approach] {exc}") from exc
+        raise SceneError(f"{approach_key(scene)} {str(exc).removeprefix('approach: ')}") from exc
     compared = None
     if scene.approach.compare:
         try:

@@ -95,13 +95,36 @@ class RobotSetup:
         return values if self.lock is None else values[self.lock.free_joints]
 
 
+def refuse_two_hand_keys(scene: Scene) -> None:
+    """Refuse the keys only a two-hand capture reads (``controller.torque_limit``,
+    ``controller.squeeze``, ``target.second_grasp``) in a scene of another kind, which would
+    ignore them.
+
+    Raises:
+        SceneError: naming the key, the scene's kind and what reads it.
+    """
+    if scene.kind == "two_hand_capture":
+        return
+    where = f"{scene.source}: " if scene.source else f"scene '{scene.name}': "
+    ctrl, target = scene.controller, scene.target
+    given = [key for key, value in (("controller.torque_limit", ctrl.torque_limit is not None),
+                                    ("controller.squeeze", ctrl.squeeze != 0.0),
+                                    ("target.second_grasp", target is not None and target.second_grasp is not None))
+             if value]
+    if given:
+        raise SceneError(f"{where}'{given[0]}' is read by two-hand captures only ([target] second_end_effector); this "
+                         f"{scene.kind.replace('_', '-')} scene would ignore it: remove it")
+
+
 def prepare_robot(scene: Scene) -> RobotSetup:
     """Load the scene's robot and build its initial state, plant model, integrator and wrenches
     (no controller).
 
     Raises:
-        SceneError: naming the key for an unknown file, joint or end-effector, or a bad start.
+        SceneError: naming the key for an unknown file, joint or end-effector, a bad start, or a
+            key of two-hand captures (:func:`refuse_two_hand_keys`).
     """
+    refuse_two_hand_keys(scene)
     robot = load_robot(
         _urdf_of(scene), base=scene.robot.base,
         end_effectors=scene.robot.end_effectors, gravity=scene.robot.gravity, visuals=scene.output.html,

@@ -11,6 +11,7 @@ import numpy as np
 import pinocchio as pin
 
 from ...dynamics.balance import applied
+from ...dynamics.sensors.momentum import CONSERVED
 from ...dynamics.simulation import Controller
 from ...dynamics.telemetry import Arrays, Telemetry
 from ...dynamics.wrenches import ExternalWrench
@@ -47,7 +48,8 @@ class WheelTelemetry(Arrays):
         rest: angular momentum of everything else (the robot with its wheels not spinning
             relative to the base, from Pinocchio) about the inertial origin, N m s (N, 3).
         balance: ``stored + rest`` minus its start value minus the external angular impulse
-            about the origin (round-off when the wheels' momentum is the arm's reaction), N m s (N, 3).
+            about the origin (round-off when the wheels' momentum is the arm's reaction), N m s
+            (N, 3); on a planar base its z component only (the joint's reaction torques change x, y).
     """
 
     t: np.ndarray
@@ -64,7 +66,8 @@ def scene_wheels(scene: Scene, robot: Robot) -> Wheels | None:
 
     Raises:
         SceneError: naming the file and ``wheels[i]`` key for a wheel that cannot be mounted, and
-            the keys wheels cannot be used with (closures, a capture target, locked joints, a
+            the keys wheels cannot be used with (closures, a capture target, a plant model other
+            than the exact one, a roll or pitch attitude on a planar base, locked joints, a
             detumbling task whose mission joints include a wheel or default to all joints).
     """
     if not scene.wheels:
@@ -83,6 +86,14 @@ def scene_wheels(scene: Scene, robot: Robot) -> Wheels | None:
     if scene.target is not None:
         raise SceneError(f"{where}[target] (a capture) is not available with [[wheels]] yet: the capture's phases "
                          "do not run the attitude law; detumble an impulse instead (detumble_impulse_wheel)")
+    if scene.simulation.model not in ("exact", "auto"):
+        raise SceneError(f"{where}'simulation.model' = {scene.simulation.model!r}: a scene with [[wheels]] simulates "
+                         "the exact plant (the GJM models do not carry the rotors' momentum); set it to \"exact\" "
+                         "or \"auto\"")
+    if robot.base == "planar" and scene.attitude is not None and scene.attitude.rpy is not None \
+            and len(scene.attitude.rpy) == 3 and any(scene.attitude.rpy[:2]):
+        raise SceneError(f"{where}'attitude.rpy' = {list(scene.attitude.rpy)} rolls or pitches a planar base, which "
+                         "turns about z only; give [0, 0, yaw]")
     if scene.robot.locked_joints or scene.simulation.lock != "none":
         raise SceneError(f"{where}'robot.locked_joints' and 'simulation.lock' are not available with [[wheels]]")
     names = {w.name for w in wheels.wheels}
@@ -125,8 +136,11 @@ def wheel_telemetry(wheels: Wheels, telemetry: Telemetry, wrenches: tuple[Extern
     rest = np.array([momentum_about_origin(model, data, q, wheels.without_rates(v))[3:] for q, v in zip(tel.q, tel.v)])
     impulse = applied(robot, tel, wrenches, control_period).impulse[:, 3:] if wrenches else np.zeros_like(stored)
     total = stored + rest
+    balance = np.zeros_like(total)
+    kept = CONSERVED[robot.base][CONSERVED[robot.base] >= 3] - 3  # L components the base's joint does not react
+    balance[:, kept] = (total - total[0] - impulse)[:, kept]
     return WheelTelemetry(t=tel.t, speed=wheels.speeds(tel.v), momentum=momentum, torque=tel.tau[:, wheels.columns],
-                          stored=stored, rest=rest, balance=total - total[0] - impulse)
+                          stored=stored, rest=rest, balance=balance)
 
 
 def wheel_summary(wheels: Wheels, control: Controller | None, rows: WheelTelemetry,

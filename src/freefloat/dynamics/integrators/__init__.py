@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import pinocchio as pin
 
-from ...arguments import real_number, whole_number
+from ...arguments import an_object, real_number, whole_number
 from ...errors import UnknownName
 from ...registry import Registry
 from .adaptive import BogackiShampine32, DormandPrince45
@@ -153,10 +153,12 @@ def make_integrator(
 
     Raises:
         UnknownName: for an unknown name, listing the valid ones.
-        InvalidArgument: for ``substeps`` not an integer from 1 to :data:`MAX_SUBSTEPS`,
-            ``rtol`` outside [:data:`MIN_RTOL`, 1] or ``atol`` not > 0 (each named).
+        InvalidArgument: for ``model`` not a ``pinocchio.Model``, ``substeps`` not an integer
+            from 1 to :data:`MAX_SUBSTEPS`, ``rtol`` outside [:data:`MIN_RTOL`, 1] or ``atol``
+            not > 0 (each named).
     """
     spec = integrator_spec(name)
+    an_object("model", model, "a pinocchio.Model (a robot's: robot.model)", (pin.Model,))
     substeps, rtol, atol = check_settings(substeps, rtol, atol)
     if project_momentum:
         return MomentumProjection(spec.build(model, substeps, rtol, atol), model)

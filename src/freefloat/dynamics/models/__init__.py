@@ -11,6 +11,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass
 
+from ...arguments import an_object
 from ...errors import UnknownName
 from ...registry import Registry
 from ...robot.robot import Robot
@@ -104,10 +105,12 @@ def make_model(name: str, robot: Robot, backend: str = "compiled") -> DynamicsMo
 
     Raises:
         UnknownName: for an unknown name, listing the valid ones.
+        InvalidArgument: for ``robot`` not a :class:`~freefloat.robot.robot.Robot`.
     """
     spec = MODELS.get(name, None) if isinstance(name, str) else None
     if spec is None:
         raise UnknownName("dynamics model", name, MODELS)
+    an_object("robot", robot, "a Robot (freefloat.load_robot)", (Robot,))
     return spec.build(robot, backend)
 
 

@@ -23,7 +23,8 @@ def arguments(parser: argparse.ArgumentParser) -> None:
                              "folder holding other files is refused)")
     parser.add_argument("--quick", action="store_true", help="short runs and few samples (a smoke test)")
     parser.add_argument("--workers", type=int, default=2, help="parallel processes (default 2)")
-    parser.add_argument("--runs", type=int, default=20, help="robustness: Monte-Carlo runs (default 20)")
+    parser.add_argument("--runs", type=int, default=None,
+                        help="robustness: Monte-Carlo runs (default 20, 2 with --quick)")
     parser.add_argument("--error", type=float, default=0.5,
                         help="robustness: parameter error band (default 0.5 = 50 %%)")
     parser.add_argument("--scheduler", default=None,

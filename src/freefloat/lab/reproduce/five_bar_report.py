@@ -14,6 +14,7 @@
 from __future__ import annotations
 
 import json
+import math
 import time
 from pathlib import Path
 
@@ -26,6 +27,7 @@ from ...parallel.five_bar import TRUE_PARAMETERS, TRUE_PARAMETERS_50, FiveBarPar
 from ...parallel.sliding_mode import PlatformControl, circle_reference, design_gains, printed_gains, workspace_grid
 from .interrupts import finished
 from .printed import EQ_187, START
+from .study_journal import entries
 
 def eq_187_gains():
     """Eq 187's printed sliding-mode gains."""
@@ -241,40 +243,48 @@ def reproduce_stability(out: Path, quick: bool = False) -> dict:
 
 
 def _resumable(journal: Path, settings: dict) -> dict[int, dict]:
-    """Samples of an earlier run into the same folder with the same settings, by index."""
-    if not journal.is_file():
-        return {}
-    done = {}
-    for line in journal.read_text().splitlines():
-        try:
-            record = json.loads(line)
-        except json.JSONDecodeError:
-            continue  # a line cut by a kill
-        if record.pop("settings", None) == settings:
-            done[record["sample"]] = record
-    return done
+    """Samples of an earlier run into the same folder with the same settings, by index.
+
+    Raises:
+        RunFolderError: naming the journal's line that is not a sample of these settings
+            (:func:`~.study_journal.entries`).
+    """
+    return {record["sample"]: record for record in entries(journal, settings, lambda r: _not_a_sample(r, settings))}
 
 
-def reproduce_robustness(out: Path, quick: bool = False, runs: int = 20, relative_error: float = 0.5,
+def _not_a_sample(record: dict, settings: dict) -> str | None:
+    """What is wrong with a journaled sample of a run of ``settings`` (None: nothing)."""
+    sample = record.get("sample")
+    if isinstance(sample, bool) or not isinstance(sample, int) or not 0 <= sample < settings["runs"]:
+        return f"names sample {sample!r}, which a run of {settings['runs']} samples does not have"
+    if record.get("status") not in ("ok", "failed"):
+        return f"gives sample {sample} the status {record.get('status')!r} (ok or failed)"
+    errors = record.get("error_mm")
+    if record["status"] == "ok" and not (isinstance(errors, list) and len(errors) == 2
+                                         and all(isinstance(x, (int, float)) and math.isfinite(x) for x in errors)):
+        return f"gives sample {sample} an error_mm of {errors!r} (two finite numbers)"
+    return None
+
+
+def reproduce_robustness(out: Path, quick: bool = False, runs: int | None = None, relative_error: float = 0.5,
                          scheduler: str | None = None, journal: Path | None = None) -> dict:
     """``freefloat reproduce robustness``: gains designed across Dask workers over the grid, then
-    ``runs`` closed loops on plants drawn within ``relative_error`` of the nominal parameters.
+    ``runs`` closed loops (default 20, 2 when ``quick``) on plants drawn within ``relative_error``
+    of the nominal parameters.
 
     Each finished sample is appended to ``journal`` (default ``samples.jsonl`` in ``out``) as it
     comes in; rerun with the same journal and settings, the study resumes from them. Failed
     samples are kept as failures with their reason; the statistics are over the samples that ran.
 
     Raises:
-        FreefloatError: for ``runs`` < 1, ``relative_error`` outside [0, 1), a scheduler that
-            does not answer, or a gain design that fails.
+        FreefloatError: for ``runs`` or ``relative_error`` that
+            :func:`~freefloat.parallel.sweeps.check_monte_carlo` refuses, a scheduler that does
+            not answer, or a gain design that fails.
     """
-    from ...parallel.sweeps import client, design_gains_distributed, monte_carlo
+    from ...parallel.sweeps import check_monte_carlo, client, design_gains_distributed, monte_carlo
 
-    runs = 2 if quick else runs
-    if runs < 1:
-        raise FreefloatError(f"--runs must be >= 1, got {runs}")
-    if not 0.0 <= relative_error < 1.0:
-        raise FreefloatError(f"--error must be in [0, 1) (the parameters must stay positive), got {relative_error}")
+    runs = (2 if quick else 20) if runs is None else runs
+    check_monte_carlo(runs, relative_error)  # before the cluster starts
     out.mkdir(parents=True, exist_ok=True)
     start = time.perf_counter()
     nominal = FiveBarParameters()

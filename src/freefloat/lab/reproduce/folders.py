@@ -20,7 +20,7 @@ from typing import Callable
 
 from ...app.outputs import versions
 from ...app.run_folder import LOCK, RECORD, RunFolder
-from ...errors import FreefloatError, MissingExtra
+from ...errors import FreefloatError, MissingExtra, RunFolderError
 from ...extras import require
 from . import STUDIES
 
@@ -101,6 +101,9 @@ def run_all(out: Path, overwrite: bool, quick: bool, options: dict, say: Callabl
     names = list(STUDIES if names is None else names)
     if overwrite:  # each study's folder cleared by its own record first, so the folders empty out
         held = [out / name for name in names if (out / name).is_dir()]
+        if links := [folder for folder in held if folder.is_symlink()]:
+            raise RunFolderError(f"'{links[0]}' is a symbolic link where freefloat keeps a study's folder; freefloat "
+                                 "neither follows nor removes links it did not create (remove it, or choose another --out)")
         for folder in held:  # all checked before any is cleared
             if foreign := foreign_files(folder):
                 raise FreefloatError(f"output folder '{folder}' holds files freefloat did not write ({', '.join(foreign)}); "

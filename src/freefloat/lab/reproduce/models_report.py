@@ -39,6 +39,7 @@ from .models_cases import EXACT_PLANT_CONTROLLERS, GRID_MODELS, REGIMES, TUMBLIN
 from .models_output import figures, markdown
 from .series_report import chapter_four_scene
 from .states import state_with_momentum
+from .study_journal import entries
 
 
 def robot_notes_silenced() -> None:
@@ -141,18 +142,18 @@ JOURNAL = "parts.jsonl"
 
 
 def _journaled(path: Path, settings: dict) -> dict[str, dict]:
-    """The parts an earlier run into the same folder journaled with the same settings, by part."""
-    if not path.is_file():
-        return {}
-    done = {}
-    for line in path.read_text().splitlines():
-        try:
-            record = json.loads(line)
-        except json.JSONDecodeError:
-            continue  # a line cut by a kill
-        if isinstance(record, dict) and record.get("settings") == settings and "part" in record:
-            done[json.dumps(record["part"])] = record["result"]
-    return done
+    """The parts an earlier run into the same folder journaled with the same settings, by part.
+
+    Raises:
+        RunFolderError: naming the journal's line that is not a part of these settings
+            (:func:`~.study_journal.entries`).
+    """
+    def wrong(record: dict) -> str | None:
+        if not isinstance(record.get("part"), list) or not isinstance(record.get("result"), dict):
+            return "is not a part of this study (a 'part' list and a 'result' table)"
+        return None
+
+    return {json.dumps(record["part"]): record["result"] for record in entries(path, settings, wrong)}
 
 
 def reproduce(out: Path, quick: bool = False, workers: int = 2, seed: int = 0, journal: Path | None = None) -> dict:

@@ -44,6 +44,11 @@ class Limits:
         return cls(np.array(rate, float), np.array(effort, float))
 
 
+#: Most intervals of a planning grid: a plan keeps each step's state and Jacobians (about a
+#: kilobyte a joint a step), and a minute of approach at 1 ms is 60,000.
+MAX_STEPS = 100_000
+
+
 @dataclass(frozen=True)
 class ApproachRequest:
     """A pre-capture approach: bring each of ``end_effectors`` onto its grasp point at
@@ -57,7 +62,7 @@ class ApproachRequest:
         duration: the grasp instant T, s (the deadline).
         limits: joint-rate and torque limits.
         joints: the mission joints, indices into the actuated joints (None: all).
-        steps: intervals of the planning grid over [0, T].
+        steps: intervals of the planning grid over [0, T] (4 to :data:`MAX_STEPS`).
         gain: closed-loop gain of the resolved-rate laws on the task position error, 1/s.
         tolerance: largest grasp-point position mismatch at T the plan may leave (each hand), m.
         velocity_tolerance: largest grasp-point velocity mismatch at T (each hand), m/s.
@@ -95,8 +100,20 @@ class ApproachRequest:
                                   f"{list(self.end_effectors)} and {len(self.grasps)} grasp points")
         if not self.duration > 0.0:
             raise InvalidArgument(f"approach: the grasp instant must be > 0 s after the start, got {self.duration}")
-        if self.steps < 4:
-            raise InvalidArgument(f"approach: 'steps' must be >= 4, got {self.steps}")
+        if isinstance(self.steps, bool) or not isinstance(self.steps, (int, np.integer)) \
+                or not 4 <= self.steps <= MAX_STEPS:
+            raise InvalidArgument(f"approach: 'steps' must be an integer from 4 to {MAX_STEPS:,} (the plan keeps every "
+                                  f"step's state and Jacobians), got {self.steps!r}")
+        if self.joints is not None:
+            joints = np.asarray(self.joints)
+            names = self.robot.joint_names
+            if joints.ndim != 1 or joints.dtype.kind not in "iu" or not np.all((0 <= joints) & (joints < len(names))):
+                raise InvalidArgument(f"approach: the mission joints must be indices into the {len(names)} actuated "
+                                      f"joints, got {self.joints!r}")
+            twice = sorted({names[j] for j in joints if np.count_nonzero(joints == j) > 1})
+            if twice:
+                raise InvalidArgument(f"approach: mission joint(s) {', '.join(repr(n) for n in twice)} given twice; "
+                                      "name each joint once")
 
     @property
     def times(self) -> np.ndarray:
