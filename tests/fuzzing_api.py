@@ -14,13 +14,15 @@ import random
 import resource
 import signal
 import warnings
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Callable
+from typing import Any
 
 import numpy as np
 
 from .fuzzing import TIME_BOUND
+
 
 #: Wrong values for an array argument of ``n`` numbers: (what, value, plainly wrong).
 def _bad_arrays(n: int) -> list[tuple[str, Any, bool]]:

@@ -14,8 +14,8 @@ from freefloat.app.atlas.arm_maps import evaluate, robot_of
 from freefloat.app.atlas.engine import run_atlas
 from freefloat.app.atlas.grid import Axis, Grid
 from freefloat.app.atlas.kinds import Options
-from freefloat.app.cli import main
 from freefloat.app.atlas.reach_check import drive_to
+from freefloat.app.cli import main
 from freefloat.errors import InvalidArgument, UnknownName
 from freefloat.robot.joints import JointCoordinates
 

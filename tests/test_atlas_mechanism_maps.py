@@ -13,8 +13,8 @@ import pytest
 
 from freefloat.app.atlas.engine import run_atlas
 from freefloat.app.atlas.kinds import KINDS, Options
-from freefloat.app.atlas.mechanism_targets import scene_of, setup_of
 from freefloat.app.atlas.mechanism_reach import drive_to, targets
+from freefloat.app.atlas.mechanism_targets import scene_of, setup_of
 from freefloat.errors import InvalidArgument, UnknownName
 from freefloat.parallel.five_bar import FiveBarParameters, elbow_guess, five_bar
 from freefloat.parallel.maps import five_bar_exact

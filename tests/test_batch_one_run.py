@@ -9,8 +9,8 @@ import pinocchio as pin
 import pytest
 
 from freefloat.app import runner
-from freefloat.app.batch.one_run import flatten, run_one, with_plant_masses
 from freefloat.app.batch.bands import Band
+from freefloat.app.batch.one_run import flatten, run_one, with_plant_masses
 from freefloat.app.batch.variations import plan_runs
 from freefloat.app.scenes import load_scene
 

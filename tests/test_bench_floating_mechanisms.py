@@ -10,10 +10,10 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
-from freefloat.lab.bench.scenes.floating_mechanisms import FLOATING_SCENES, floating_mechanism_scene
+from freefloat.errors import InvalidArgument
 from freefloat.lab.bench.in_mujoco.mechanism import MujocoMechanism
 from freefloat.lab.bench.race.scene import Method
-from freefloat.errors import InvalidArgument
+from freefloat.lab.bench.scenes.floating_mechanisms import FLOATING_SCENES, floating_mechanism_scene
 
 mujoco = pytest.importorskip("mujoco")
 

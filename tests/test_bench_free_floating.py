@@ -8,9 +8,9 @@ import warnings
 
 import pytest
 
-from freefloat.lab.bench.scenes.free_floating import free_floating_scene
 from freefloat.lab.bench.race.scene import Method
 from freefloat.lab.bench.race.sweep import measure
+from freefloat.lab.bench.scenes.free_floating import free_floating_scene
 
 
 @pytest.fixture(scope="module")

@@ -9,11 +9,11 @@ import math
 import numpy as np
 import pytest
 
-from freefloat.lab.bench.scenes.mechanism_plants import constraint_dynamics_plant
-from freefloat.lab.bench.scenes.mechanisms import MECHANISM_SCENES, held_run, mechanism_scene
-from freefloat.lab.bench.race.scene import Method
 from freefloat.dynamics.plants import CoupledChainPlant
 from freefloat.errors import InvalidArgument
+from freefloat.lab.bench.race.scene import Method
+from freefloat.lab.bench.scenes.mechanism_plants import constraint_dynamics_plant
+from freefloat.lab.bench.scenes.mechanisms import MECHANISM_SCENES, held_run, mechanism_scene
 
 STABILISED = "orsino baumgarte 100"
 

@@ -10,14 +10,14 @@ import warnings
 import numpy as np
 import pytest
 
-from freefloat.lab.bench.scenes.controlled import controlled_scene, mujoco_law
-from freefloat.lab.bench.scenes.free_floating import FreeFloatingBench
-from freefloat.lab.bench.scenes.methods import methods, reference
 from freefloat.lab.bench.in_mujoco.mjcf import mjcf_from_model
 from freefloat.lab.bench.in_mujoco.state import to_mujoco
 from freefloat.lab.bench.race.scene import Method
-from freefloat.lab.bench.scenes.tumbling import tumbling_scene
 from freefloat.lab.bench.race.sweep import measure as measure_point
+from freefloat.lab.bench.scenes.controlled import controlled_scene, mujoco_law
+from freefloat.lab.bench.scenes.free_floating import FreeFloatingBench
+from freefloat.lab.bench.scenes.methods import methods, reference
+from freefloat.lab.bench.scenes.tumbling import tumbling_scene
 
 
 def measure(scene, method, ref, repeats):

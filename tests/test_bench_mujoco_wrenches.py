@@ -10,11 +10,11 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
-from freefloat.lab.bench.scenes.detumbling import detumbling_scene
+from freefloat.dynamics.wrenches import ExternalWrench, WrenchProfiles
 from freefloat.lab.bench.in_mujoco.mjcf import mjcf_from_model
 from freefloat.lab.bench.in_mujoco.state import to_mujoco, velocity_map
 from freefloat.lab.bench.in_mujoco.wrenches import MujocoWrenches
-from freefloat.dynamics.wrenches import ExternalWrench, WrenchProfiles
+from freefloat.lab.bench.scenes.detumbling import detumbling_scene
 
 
 @pytest.fixture(scope="module")

@@ -10,11 +10,11 @@ import time
 
 import pytest
 
-from freefloat.lab.bench.scenes.free_floating import free_floating_scene
-from freefloat.lab.bench.options import SMOKE
-from freefloat.lab.bench.race.summary import BANDS
 from freefloat.app.cli import main
 from freefloat.app.run_folder import RECORD
+from freefloat.lab.bench.options import SMOKE
+from freefloat.lab.bench.race.summary import BANDS
+from freefloat.lab.bench.scenes.free_floating import free_floating_scene
 
 from .conftest import cli_process
 

@@ -10,13 +10,13 @@ import sys
 import numpy as np
 import pytest
 
+from freefloat.app.cli import main
+from freefloat.app.run_folder import RECORD
 from freefloat.lab.bench.options import SMOKE
 from freefloat.lab.bench.suites import ALL, DEFAULT, SUITES, Suite, named
 from freefloat.lab.bench.suites.growth import exponent
 from freefloat.lab.bench.suites.locking import SCENES as LOCKING_SCENES
 from freefloat.lab.bench.suites.robots import robot_names
-from freefloat.app.cli import main
-from freefloat.app.run_folder import RECORD
 
 from . import toy_suite
 

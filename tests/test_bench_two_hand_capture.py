@@ -9,12 +9,12 @@ import math
 import numpy as np
 import pytest
 
-from freefloat.lab.bench.scenes.mechanisms import MechanismResult
-from freefloat.lab.bench.race.scene import Method
-from freefloat.lab.bench.race.sweep import sweep
-from freefloat.lab.bench.scenes.two_hand_capture import two_hand_capture_scene
 from freefloat.dynamics.closures import closure_drift, kinematics, stacked
 from freefloat.errors import InvalidArgument
+from freefloat.lab.bench.race.scene import Method
+from freefloat.lab.bench.race.sweep import sweep
+from freefloat.lab.bench.scenes.mechanisms import MechanismResult
+from freefloat.lab.bench.scenes.two_hand_capture import two_hand_capture_scene
 
 mujoco = pytest.importorskip("mujoco")
 from freefloat.lab.bench.in_mujoco.mechanism import MujocoMechanism  # noqa: E402  (needs mujoco)

@@ -181,7 +181,7 @@ def test_the_target_flies_in_the_engine_as_it_flew_beside_it():
     flight = run(body, q0, v0, 0.5, 1e-3, "rkmk4")
     assert flight.status == "completed" and flight.telemetry.q.shape == (501, 7)
     step, q, v = make_integrator("rkmk4", body.model), q0, v0
-    for k in range(500):  # the former per-period integration inside the approach's stop event
+    for _ in range(500):  # the former per-period integration inside the approach's stop event
         q, v = step.advance(lambda qs, vs: pin.aba(body.model, body.data, qs, vs, np.zeros(6)), q, v, 1e-3)
     np.testing.assert_allclose(flight.telemetry.q[-1], q, rtol=0, atol=1e-15)
     np.testing.assert_allclose(flight.telemetry.v[-1], v, rtol=0, atol=1e-15)

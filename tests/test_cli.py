@@ -15,8 +15,8 @@ import pytest
 from freefloat.app import shown_warnings
 from freefloat.app.cli import main
 from freefloat.app.progress_bar import LoopBar
-from freefloat.app.scenes import DEFAULT_SCENE, builtin_scenes
 from freefloat.app.run_folder import RECORD
+from freefloat.app.scenes import DEFAULT_SCENE, builtin_scenes
 from freefloat.dynamics.telemetry import Telemetry
 from freefloat.paths import URDF_DIR
 

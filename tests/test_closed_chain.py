@@ -9,10 +9,10 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from freefloat import FreefloatError
-from freefloat.parallel.closed_chain import chain_from_tree, load_closed_chain
-from freefloat.parallel.five_bar import FiveBarParameters, elbow_guess, five_bar, five_bar_spec
 from freefloat.dynamics.plants import ConstraintDynamicsPlant
 from freefloat.dynamics.simulation import run_plant
+from freefloat.parallel.closed_chain import chain_from_tree, load_closed_chain
+from freefloat.parallel.five_bar import FiveBarParameters, elbow_guess, five_bar, five_bar_spec
 from freefloat.robot.builders import build_urdf, urdf_xml
 
 from .conftest import REPO

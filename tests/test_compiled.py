@@ -14,6 +14,7 @@ import pytest
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
+from freefloat import load_robot
 from freefloat.dynamics import gjm
 from freefloat.dynamics.compiled import COMPILED_INTEGRATORS, CompiledLoop, law_and_robot, law_of, law_robot
 from freefloat.dynamics.integrators import make_integrator
@@ -24,8 +25,6 @@ from freefloat.dynamics.wrenches import ExternalWrench
 from freefloat.errors import InvalidArgument
 from freefloat.paths import URDF_DIR
 from freefloat.space.detumbling import METHODS, SECONDARY, solve
-
-from freefloat import load_robot
 
 from .conftest import random_robots, random_state, robot_from_case
 
@@ -447,7 +446,6 @@ def test_the_kernel_plant_runs_as_pinocchios_aba(monkeypatch, base):
 def test_random_trees_tumble_alike_on_the_kernel_and_pinocchio(tmp_path_factory, case):
     """Torque-free tumbling of random trees (free and planar bases) on the kernel and on Pinocchio's
     ABA, compiled: the same telemetry to round-off."""
-    from freefloat.dynamics import compiled
 
     seed, _ = case
     robot, rng = robot_from_case(tmp_path_factory, case, base="planar" if seed % 2 else "free")

@@ -14,13 +14,12 @@ from hypothesis import example, given, settings
 from freefloat import load_robot
 from freefloat.dynamics.closures import KINDS, ClosedModel, Closure, solve, stacked
 from freefloat.dynamics.compiled import CompiledLoop, unsupported
-from freefloat.space.control.loop_detumbling import LoopDetumblingLaw
 from freefloat.dynamics.integrators import make_integrator
 from freefloat.dynamics.simulation import run
 from freefloat.dynamics.wrenches import ExternalWrench
 from freefloat.paths import SCENES_DIR, URDF_DIR
 from freefloat.space.capture import TARGET_FRAME
-from freefloat.space.control.loop_detumbling import LoopDetumblingController
+from freefloat.space.control.loop_detumbling import LoopDetumblingController, LoopDetumblingLaw
 
 from .conftest import REPO, random_robots
 from .test_closures import (

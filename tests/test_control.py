@@ -8,8 +8,8 @@ import pytest
 from hypothesis import given, settings
 
 from freefloat import load_robot
-from freefloat.lab.reproduce.states import state_with_momentum
 from freefloat.dynamics.models import make_model
+from freefloat.lab.reproduce.states import state_with_momentum
 from freefloat.space.control import ComputedTorque, QuinticTrajectory, joint_space_dynamics
 from freefloat.space.control.detumbling_control import DetumblingController
 from freefloat.space.control.inverse_egjm import InverseEGJM

@@ -14,10 +14,10 @@ from hypothesis import strategies as st
 
 from freefloat import FreefloatError, InvalidArgument
 from freefloat.dynamics.closures import closure_drift
-from freefloat.parallel.closed_chain import read_closures
-from freefloat.parallel.five_bar import TRUE_PARAMETERS, five_bar
 from freefloat.dynamics.plants import ConstraintDynamicsPlant
 from freefloat.dynamics.simulation import run_plant
+from freefloat.parallel.closed_chain import read_closures
+from freefloat.parallel.five_bar import TRUE_PARAMETERS, five_bar
 from freefloat.parallel.free_base import BaseBody, BaseFrameControl, FloatingMechanism, track
 from freefloat.parallel.platform_control import CircleReference
 from freefloat.parallel.registry import REGISTRY
@@ -263,7 +263,7 @@ def test_compiled_loop_refuses_what_it_cannot_run():
     ground = floating("five_bar", "fixed", **{"mass": None, "inertia": None, "com": None})
     assert ground.compiled("closed_tree", "rkmk4") == "the mechanism is on a fixed base"
     with pytest.raises(FreefloatError, match="fixed base is no robot"):
-        ground.robot
+        _ = ground.robot
 
 
 def test_true_5r_inertias_give_the_true_5r_on_the_ground():

@@ -6,7 +6,6 @@ from __future__ import annotations
 import warnings
 
 import numpy as np
-import pinocchio as pin
 import pytest
 
 from freefloat import InvalidArgument, load_robot

@@ -203,8 +203,8 @@ def test_a_registered_integrator_runs_in_simulate_batch_and_bench(toy_heun, tmp_
     through the one loop in Python), runs every run of a batch, and is swept by freefloat bench."""
     from freefloat.app import runner
     from freefloat.app.batch import run_batch
-    from freefloat.lab.bench.scenes.methods import methods
     from freefloat.app.scenes import load_scene
+    from freefloat.lab.bench.scenes.methods import methods
 
     from .conftest import scene_variant
 

@@ -4,9 +4,8 @@ linkage drawn bar by bar between the joint centres, the closure points and the p
 from __future__ import annotations
 
 import numpy as np
-import pytest
-
 import pinocchio as pin
+import pytest
 
 from freefloat.app.viz.mechanism import (
     closure_markers,

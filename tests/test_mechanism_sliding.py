@@ -56,8 +56,8 @@ def test_s_is_saved_and_drawn(tmp_path):
 @pytest.fixture(scope="module")
 def rsu_ppap_study():
     """The study's design (2 cm grid of home +- 4 cm) and the built-in 2RSU+PPaP scene."""
-    from freefloat.lab.reproduce.rsu_ppap_sliding_report import SCENE, design
     from freefloat.app.scenes import builtin_scenes
+    from freefloat.lab.reproduce.rsu_ppap_sliding_report import SCENE, design
 
     return design(), load_scene(builtin_scenes()[SCENE])
 

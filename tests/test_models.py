@@ -11,8 +11,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from freefloat import gjm, load_robot
-from freefloat.lab.reproduce.states import state_with_momentum
 from freefloat.dynamics.models import MODELS, make_model
+from freefloat.lab.reproduce.states import state_with_momentum
 from freefloat.robot.conventions import base_state, state_from_base
 from freefloat.robot.joints import JointCoordinates
 

@@ -314,11 +314,11 @@ def test_runs_start_at_table_4s_printed_angles(report):
 def test_a_run_the_user_stops_stops_the_study():
     """The loop returns an interrupted run (``simulate`` keeps its rows); a study's ``finished``
     turns it back into KeyboardInterrupt, and passes a completed run through."""
-    from freefloat.lab.reproduce.interrupts import finished
-    from freefloat.lab.reproduce.task_space_report import load_robot
     from freefloat.dynamics.integrators import make_integrator
     from freefloat.dynamics.models import ExactModel
     from freefloat.dynamics.simulation import run
+    from freefloat.lab.reproduce.interrupts import finished
+    from freefloat.lab.reproduce.task_space_report import load_robot
     from freefloat.paths import URDF_DIR
 
     robot = load_robot(URDF_DIR / "two_arm_planar.urdf", base="planar", visuals=False)
@@ -341,10 +341,9 @@ def test_workspace_grid_agrees_with_the_closed_form_workspace(report):
     """Thesis fig 8: the area of the grid cells where the 5R assembles (doubled: the grid covers
     y > 0) is the closed-form area of the two annuli's intersection within 10 % at the quick 3 cm
     grid, and the reference circle lies inside the closed-form workspace."""
+    from freefloat.lab.reproduce.report.checks import CIRCLE
     from freefloat.parallel.five_bar import FiveBarParameters
     from freefloat.parallel.maps import five_bar_exact
-
-    from freefloat.lab.reproduce.report.checks import CIRCLE
 
     out, entries, _, _ = report
     (area_row,) = [r for r in entries[(THESIS, "Fig 8")]["rows"] if r["quantity"].startswith("workspace area")]

@@ -73,7 +73,7 @@ def test_sigint_sigterm_and_sighup_keep_what_was_computed(tmp_path, signum):
     assert 1 < len(Telemetry.load(out / "telemetry.npz").t) < 500_001
 
 
-def _start(tmp_path, duration: float) -> tuple[subprocess.Popen, "os.PathLike"]:
+def _start(tmp_path, duration: float) -> tuple[subprocess.Popen, os.PathLike]:
     """``python -m freefloat simulate`` on a long default-scene variant, once its loop runs."""
     scene = scene_variant(tmp_path / "s.toml", "four_arm_joint_space", simulation={"duration": duration},
                           output={"figures": False, "html": False})

@@ -16,7 +16,6 @@ from freefloat.robot.conventions import base_state
 
 from .conftest import random_robots, random_state, robot_from_case
 
-
 BOTH = pytest.mark.parametrize("backend", ["python", "compiled"])
 
 

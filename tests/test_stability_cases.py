@@ -5,9 +5,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from freefloat.lab.reproduce.stability_cases import ClosedChain, Detumbling, Tumbling, whole_steps
 from freefloat.dynamics.stability import largest_stable_step
 from freefloat.errors import FreefloatError
+from freefloat.lab.reproduce.stability_cases import ClosedChain, Detumbling, Tumbling, whole_steps
 
 
 def test_tumbling_limit_separates_stable_from_unstable_steps():

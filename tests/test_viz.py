@@ -489,7 +489,7 @@ def test_torque_curves_are_held_steps_of_tau(iiwa2):
     """Each arm's panel plots its joints' torques as steps held from each sample."""
     tel = _telemetry(iiwa2)
     figure = torque_figure(iiwa2, tel)
-    for ax, arm in zip(figure.axes, iiwa2.arms):
+    for ax, _arm in zip(figure.axes, iiwa2.arms):
         for line in ax.get_lines():
             column = iiwa2.joint_names.index(line.get_label())
             assert line.get_drawstyle() == "steps-post"

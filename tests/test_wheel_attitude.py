@@ -13,11 +13,10 @@ import pytest
 
 from freefloat.app.experiments.joint_space import prepare
 from freefloat.app.runner import simulate
+from freefloat.app.scenes import load_scene
 from freefloat.dynamics.metrics import rotation_angle
 from freefloat.robot.wheels import Wheels
 from freefloat.space.control.wheel_attitude import WheelAttitudeControl
-
-from freefloat.app.scenes import load_scene
 
 from .conftest import random_state, scene_variant, toml_text
 
@@ -138,7 +137,7 @@ def test_detumbling_with_a_wheel_leaves_the_capture_in_the_wheel(tmp_path):
     held = simulate(short_scene(tmp_path / "h", "detumble_impulse_wheel", simulation={"duration": 0.5}))
     free = simulate(short_scene(tmp_path / "f", "detumble_impulse_wheel", simulation={"duration": 0.5},
                                 attitude={"kind": "none"}))
-    s, f = held.summary, free.summary
+    s = held.summary
     turned = rotation_angle(held.telemetry.base_quaternion, held.telemetry.base_quaternion[0])[-1]
     assert turned < rotation_angle(free.telemetry.base_quaternion, free.telemetry.base_quaternion[0])[-1]
     assert s["detumbled_rows_speed_final"] < 1e-6 * s["detumbled_rows_speed_max"]

@@ -11,12 +11,13 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from .conftest import load_text, quiet_scene, random_robots, random_state, random_urdf
 from freefloat import RobotModelError, SceneError
 from freefloat.app.experiments.joint_space import prepare
 from freefloat.dynamics import gjm
 from freefloat.robot.locking import lock_joints
 from freefloat.robot.wheels import WheelSpec, mount_wheels
+
+from .conftest import load_text, quiet_scene, random_robots, random_state, random_urdf
 
 unit_vectors = st.lists(st.floats(-1.0, 1.0), min_size=3, max_size=3).filter(lambda a: np.linalg.norm(a) > 0.1)
 
@@ -156,8 +157,9 @@ def wheel_table(**keys) -> dict:
 
 def scene_with(tmp_path, *wheels: dict):
     """The satellite wheel scene with the given ``[[wheels]]`` tables instead of its own."""
-    from .conftest import scene_variant, toml_text
     import tomllib
+
+    from .conftest import scene_variant, toml_text
 
     path = scene_variant(tmp_path / "w.toml", "satellite_wheels")
     raw = tomllib.loads(path.read_text())

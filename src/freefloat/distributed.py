@@ -10,21 +10,20 @@ Shared by the 5R sweeps (:mod:`freefloat.parallel.sweeps`) and the batches of ru
 from __future__ import annotations
 
 import logging
-
 import multiprocessing
 import os
 import signal
 import socket
 import threading
 import time
+from collections.abc import Callable
 from concurrent.futures import Future, ProcessPoolExecutor
-from typing import Any, Callable
+from typing import Any
 
 from tqdm import tqdm
 
 from .errors import InvalidArgument, spelled
 from .extras import require
-
 
 tqdm.monitor_interval = 0  # no monitor thread: a signal at exit made its atexit hook print a traceback
 

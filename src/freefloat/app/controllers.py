@@ -20,8 +20,9 @@ and a scene names it (``plugins = ["my_pd.py"]``, then ``[controller] kind = "pd
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any, Callable, NamedTuple
+from typing import Any, NamedTuple
 
 import numpy as np
 

@@ -15,8 +15,9 @@ spelling is kept). A user's module registers its own::
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any, Callable
+from typing import Any
 
 from ..dynamics.wrenches import ExternalWrench, WrenchField
 from ..errors import InvalidArgument

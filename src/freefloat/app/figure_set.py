@@ -15,7 +15,7 @@ written as: ``["png"]`` by default, ``["png", "pdf"]`` adds the vector copy to p
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import Any, NamedTuple, Union
+from typing import Any, NamedTuple
 
 from ..errors import FreefloatError, did_you_mean
 
@@ -90,7 +90,7 @@ ALL = "all"
 FORMATS = ("png", "pdf")
 
 #: ``[output] figures``: True (the default set), False (none), or names.
-FigureChoice = Union[bool, tuple[str, ...]]
+FigureChoice = bool | tuple[str, ...]
 #: ``[output] figure_formats``: one or more of :data:`FORMATS`.
 FigureFormats = tuple[str, ...]
 

@@ -10,9 +10,9 @@ import platform
 import shutil
 import sys
 import time
+from collections.abc import Callable
 from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
-from typing import Callable
 
 from ..errors import FreefloatError, RunFolderError
 from . import figure_set

@@ -13,11 +13,11 @@ import errno
 import fcntl
 import json
 import os
-import shutil
 import secrets
+import shutil
 import warnings
+from collections.abc import Iterator
 from pathlib import Path, PurePosixPath
-from typing import Iterator
 
 from ..dynamics.telemetry import Arrays
 from ..errors import LISTED, FreefloatError, RunFolderError, few, spelled

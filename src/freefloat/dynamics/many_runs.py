@@ -25,9 +25,9 @@ kernel gives a state in a lane the numbers it gives it alone.
 
 from __future__ import annotations
 
+import dataclasses
 import os
 from collections.abc import Callable, Sequence
-import dataclasses
 from dataclasses import fields
 from typing import Any
 

@@ -3,9 +3,9 @@
 from __future__ import annotations
 
 import time
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import fields
-from typing import Callable, Protocol
+from typing import Protocol
 
 import numpy as np
 import pinocchio as pin

@@ -6,9 +6,10 @@ from __future__ import annotations
 import os
 import zipfile
 import zlib
+from collections.abc import Callable
 from dataclasses import dataclass, fields
 from pathlib import Path
-from typing import Callable, Generic, TypeVar
+from typing import Generic, TypeVar
 
 import numpy as np
 
@@ -220,7 +221,7 @@ class Telemetry(Arrays):
     work: np.ndarray
 
     @classmethod
-    def allocate(cls, rows: int, nq: int, nv: int, n_joints: int, n_ee: int) -> "Telemetry":
+    def allocate(cls, rows: int, nq: int, nv: int, n_joints: int, n_ee: int) -> Telemetry:
         """Zero-filled buffers for ``rows`` samples (references NaN)."""
         z = np.zeros
         return cls(
@@ -287,7 +288,7 @@ class PlantTelemetry(Arrays):
     orientation_drift: np.ndarray
 
     @classmethod
-    def allocate(cls, rows: int, nq: int, nv: int, n_efforts: int, n_reference: int) -> "PlantTelemetry":
+    def allocate(cls, rows: int, nq: int, nv: int, n_efforts: int, n_reference: int) -> PlantTelemetry:
         """Zero-filled buffers for ``rows`` samples (references NaN)."""
         z = np.zeros
         return cls(t=z(rows), q=z((rows, nq)), v=z((rows, nv)), efforts=z((rows, n_efforts)),

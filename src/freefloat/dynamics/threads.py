@@ -27,7 +27,8 @@ import functools
 import sys
 import threading
 from collections.abc import Callable
-from typing import Any, ContextManager, TypeVar
+from contextlib import AbstractContextManager
+from typing import Any, TypeVar
 
 from threadpoolctl import ThreadpoolController
 
@@ -41,11 +42,11 @@ class Shared:
     manager whose first entrant (of all threads, nested or not) enters ``make()`` and whose last
     leaver exits it, the count and the setting changed under one lock. Re-entrant."""
 
-    def __init__(self, make: Callable[[], ContextManager[Any]]):
+    def __init__(self, make: Callable[[], AbstractContextManager[Any]]):
         self._make = make
         self._lock = threading.Lock()
         self._holders = 0
-        self._held: ContextManager[Any] | None = None
+        self._held: AbstractContextManager[Any] | None = None
 
     @property
     def holders(self) -> int:

@@ -10,7 +10,6 @@ from dataclasses import dataclass
 import numpy as np
 
 
-
 @dataclass(frozen=True)
 class CircleReference:
     """``q#_d(t) = center + radius (cos(rate t) e_a + sin(rate t) e_b)``, ``(a, b) = axes``;

@@ -104,7 +104,7 @@ class SerialChain:
         return self.friction.force(qd) if self.friction else np.zeros_like(qd)
 
     @classmethod
-    def from_dh(cls, a, alpha, d, theta, prismatic, mass, com, inertia, base=None, gravity=None) -> "SerialChain":
+    def from_dh(cls, a, alpha, d, theta, prismatic, mass, com, inertia, base=None, gravity=None) -> SerialChain:
         """A chain from standard DH rows (theta or d is the offset added to the joint coordinate)."""
         n = len(a)
         return cls(placement=np.tile(np.eye(4), (n, 1, 1)),

@@ -14,8 +14,8 @@ sample so that a rerun resumes (``done``).
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import replace
-from typing import Callable
 
 import numpy as np
 

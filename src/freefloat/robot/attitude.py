@@ -17,7 +17,7 @@ order (z, y, x) and has ``cos theta`` and ``-sin theta`` where ``cos phi`` and `
 
 from __future__ import annotations
 
-from typing import Callable
+from collections.abc import Callable
 
 import numpy as np
 import pinocchio as pin

@@ -73,7 +73,7 @@ class Target:
 
     @classmethod
     def meeting(cls, point, time: float, mass: float, inertia, grasp, velocity, angular_velocity,
-                rpy_at_contact=(0.0, 0.0, 0.0), size=(0.3, 0.3, 0.3)) -> "Target":
+                rpy_at_contact=(0.0, 0.0, 0.0), size=(0.3, 0.3, 0.3)) -> Target:
         """The target whose grasp point is at ``point`` (inertial) at ``time`` s, moving freely.
 
         Back-propagates torque-free motion, exact when the spin lies along a principal axis

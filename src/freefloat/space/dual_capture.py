@@ -14,7 +14,6 @@ constrained dynamics and detumbled by :class:`~freefloat.space.control.loop_detu
 
 from __future__ import annotations
 
-import dataclasses
 from dataclasses import dataclass
 from typing import Any
 

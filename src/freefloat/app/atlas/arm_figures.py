@@ -12,6 +12,7 @@ from ...robot.joints import JointCoordinates
 from .arm_maps import ArmMap, robot_of
 from .grid import Grid
 
+
 def joint_slice(context: ArmMap, grid: Grid, values: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The first two axes' values (n0,), (n1,) and ``values`` (rows in flat grid order) on that
     plane (n0, n1), the other axes at the grid value nearest their reference posture."""

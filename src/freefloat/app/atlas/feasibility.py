@@ -13,9 +13,9 @@ its seven masses, +-15 %).
 from __future__ import annotations
 
 import functools
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Callable
 
 import numpy as np
 
@@ -70,7 +70,7 @@ class FeasibilityContext:
     axes: tuple[int, int]
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def model_of(mechanism: str):
     """The mechanism's gain model, built once per process."""
     return MECHANISMS[mechanism].build()

@@ -56,7 +56,7 @@ class MechanismMapContext:
     names: tuple[str, ...]
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def setup_of(mechanism: str):
     """The mechanism's :class:`~freefloat.parallel.registry.MechanismSetup` (nominal plant), built
     once per process."""
@@ -65,7 +65,7 @@ def setup_of(mechanism: str):
     return REGISTRY[mechanism].build(URDF_DIR / f"{mechanism}.closure.toml", "nominal")
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def scene_of(mechanism: str) -> tuple[np.ndarray, np.ndarray, dict]:
     """The built-in scene's start: platform point (p,), its assembled coordinates (n_q,) and the
     scene's trajectory table."""

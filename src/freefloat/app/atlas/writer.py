@@ -9,8 +9,8 @@ import csv
 import io
 import shutil
 import time
+from collections.abc import Callable
 from pathlib import Path
-from typing import Callable
 
 import numpy as np
 

@@ -16,17 +16,18 @@ import io
 import json
 import statistics
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Callable
+from typing import Any
 
 from ..outputs import strict_json, versions
 from ..run_folder import RunFolder
 from ..runner import prepare, signals_deferred, signals_raise_keyboard_interrupt
 from ..scenes import MechanismScene, Scene
 from ..scenes.as_run import scene_as_run, scene_table
-from .executors import Workers, executor
 from .bands import Band
+from .executors import Workers, executor
 from .variations import plan_runs
 
 PARTIAL = "runs-partial.jsonl"

@@ -19,9 +19,10 @@ from __future__ import annotations
 import contextlib
 import numbers
 import os
+from collections.abc import Callable, Iterator
 from concurrent.futures import FIRST_COMPLETED, Future, ThreadPoolExecutor, wait
 from dataclasses import dataclass
-from typing import Any, Callable, Iterator
+from typing import Any
 
 from ...distributed import client, process_pool, settle_futures, terminate
 from ...dynamics import stop_request

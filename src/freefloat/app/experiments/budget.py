@@ -4,7 +4,7 @@ take more than a day is refused with the estimate and the scene keys that set it
 from __future__ import annotations
 
 import time
-from typing import Callable
+from collections.abc import Callable
 
 from ...errors import SceneError
 from ...robot.urdf_checks import MEMORY_SHARE, usable_memory

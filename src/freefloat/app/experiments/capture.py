@@ -25,9 +25,16 @@ from ..controllers import JointGains
 from ..scenes import Scene
 from .base import Checkpoint, Experiment, Outcome, Progress
 from .detumbling import detumble_task, mission_joints, rows_spec
-from .robot_run import APPROACH_MARGIN, SPIN_HEADLINE, RobotSetup, control_steps, headline_of, prepare_robot
+from .robot_run import (
+    APPROACH_MARGIN,
+    SPIN_HEADLINE,
+    RobotSetup,
+    control_steps,
+    headline_of,
+    prepare_robot,
+    robot_outcome,
+)
 from .robot_run import UNITS as ROBOT_UNITS
-from .robot_run import robot_outcome
 
 #: How the page draws the target: orange (0xRRGGBB), apart from the robot's greys and blues.
 TARGET_COLOR = 0xE07000

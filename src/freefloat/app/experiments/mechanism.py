@@ -19,13 +19,13 @@ from pathlib import Path
 
 import numpy as np
 
+from ...dynamics.integrators import INTEGRATORS
 from ...dynamics.metrics import rms
 from ...dynamics.result import Result
-from ...dynamics.integrators import INTEGRATORS
 from ...dynamics.telemetry import MechanismTelemetry, PlantTelemetry
 from ...errors import FreefloatError, SceneError
-from ...parallel.closed_chain import ClosedChain
 from ...parallel import free_base
+from ...parallel.closed_chain import ClosedChain
 from ...parallel.closed_loop import track
 from ...parallel.platform_control import CircleReference
 from ...parallel.registry import REGISTRY, MechanismSetup

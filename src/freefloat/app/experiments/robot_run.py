@@ -107,8 +107,8 @@ def refuse_two_hand_keys(scene: Scene) -> None:
         return
     where = f"{scene.source}: " if scene.source else f"scene '{scene.name}': "
     ctrl, target = scene.controller, scene.target
-    given = [key for key, value in (("controller.torque_limit", ctrl.torque_limit is not None),
-                                    ("controller.squeeze", ctrl.squeeze != 0.0),
+    given = [key for key, value in (("controller.torque_limit", getattr(ctrl, "torque_limit", None) is not None),
+                                    ("controller.squeeze", getattr(ctrl, "squeeze", 0.0) != 0.0),
                                     ("target.second_grasp", target is not None and target.second_grasp is not None))
              if value]
     if given:

@@ -15,18 +15,18 @@ import pinocchio as pin
 from ...dynamics.metrics import momentum_drift, settling_time, spin_summary, summarize
 from ...dynamics.result import Result
 from ...errors import FreefloatError, SceneError, did_you_mean
-from ...robot.loading import FreefloatWarning
 from ...robot.conventions import momentum_about_origin
+from ...robot.loading import FreefloatWarning
 from ...space.capture import SUMMARY_UNITS as CAPTURE_UNITS
-from ...space.capture import TARGET_FRAME, target_angular_speed
+from ...space.capture import target_angular_speed
 from ...space.dual_capture import capture_with_two_hands, loop_conditioning, loop_history, second_grasp_at_contact
 from ...space.planning import GraspMotion
 from ...space.planning.plan import SUMMARY_UNITS as PLAN_UNITS
 from ..scenes import Scene
 from .base import Checkpoint, Experiment, Outcome, Progress
+from .capture import TARGET_COLOR, CaptureSetup, approach_summary, grasp_time, plan_tracking, planned
 from .capture import TASK_HEADLINE as CAPTURE_HEADLINE
 from .capture import UNITS as APPROACH_UNITS
-from .capture import TARGET_COLOR, CaptureSetup, approach_summary, grasp_time, plan_tracking, planned
 from .capture import prepare as prepare_one_hand
 from .detumbling import mission_joints, rows_spec
 from .robot_run import APPROACH_MARGIN, control_steps, headline_of, robot_outcome

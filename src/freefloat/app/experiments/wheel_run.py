@@ -174,5 +174,5 @@ def wheel_summary(wheels: Wheels, control: Controller | None, rows: WheelTelemet
     return out
 
 
-__all__ = ["HEADLINE", "WheelTelemetry", "attitude_control", "mount", "target_rotation",
+__all__ = ["HEADLINE", "UNITS", "WheelTelemetry", "scene_wheels", "target_rotation", "wheel_attitude_control",
            "wheel_summary", "wheel_telemetry"]

@@ -6,8 +6,8 @@ from __future__ import annotations
 import dataclasses
 import math
 import pickle
-from dataclasses import MISSING, dataclass, field
 from collections.abc import Callable, Mapping
+from dataclasses import MISSING, dataclass, field
 from typing import Any, NamedTuple
 
 from ... import inputs

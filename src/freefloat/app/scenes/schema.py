@@ -14,10 +14,11 @@ from typing import Any
 
 from ...dynamics.closures.kinds import ALIASES, KINDS
 from ...dynamics.integrators import INTEGRATORS, check_settings
-from ...dynamics.simulation import BACKENDS
 from ...dynamics.models import MODELS
+from ...dynamics.simulation import BACKENDS
 from ...errors import InvalidArgument, SceneError
 from ...robot.loading import INERTIAS
+from .. import controllers, environments  # registries read when a scene is parsed (they may still be loading now)
 from .fields import (
     MAX_HTML_FPS,
     EntrySection,
@@ -32,7 +33,6 @@ from .fields import (
     typed,
     whole_number_of,
 )
-from .. import controllers, environments  # registries read when a scene is parsed (they may still be loading now)
 
 
 @dataclass(frozen=True)

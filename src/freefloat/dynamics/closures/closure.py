@@ -59,7 +59,7 @@ class Closure:
         return self.kind.size
 
     @classmethod
-    def between(cls, model: pin.Model, frame1: str, frame2: str, kind: ClosureKind, name: str = "") -> "Closure":
+    def between(cls, model: pin.Model, frame1: str, frame2: str, kind: ClosureKind, name: str = "") -> Closure:
         """The closure between two frames of ``model`` (names it knows)."""
         f1, f2 = (model.frames[model.getFrameId(f)] for f in (frame1, frame2))
         return cls(name or f"{frame1}-{frame2}", kind, f1.parentJoint, f1.placement, f2.parentJoint, f2.placement,

@@ -52,7 +52,7 @@ class TreeStructure:
     ancestor: np.ndarray
 
     @classmethod
-    def of(cls, robot: Robot) -> "TreeStructure":
+    def of(cls, robot: Robot) -> TreeStructure:
         """Read the structure of ``robot``'s model (joint 1 floating, joints 2.. 1-DOF)."""
         model = robot.model
         data = model.createData()

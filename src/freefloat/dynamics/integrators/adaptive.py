@@ -142,7 +142,7 @@ class DormandPrince45(EmbeddedRKMK):
         i, q_new, v_new = 0, q, v
         while i < times.size and times[i] == 0.0:
             Q[i], V[i], i = q, v, i + 1
-        for t, h, q_new, v_new, (q0, v0, theta, K, Acc) in self._steps(f, q, v, float(times[-1])):
+        for t, h, _q_new, v_new, (q0, v0, theta, K, Acc) in self._steps(f, q, v, float(times[-1])):
             while i < times.size and times[i] <= t + h:
                 s = min(1.0, (times[i] - t) / h)
                 Q[i] = pin.integrate(self.model, q0, _interpolate(np.zeros_like(theta), theta, K, h, s))

@@ -29,6 +29,7 @@ from .interrupts import finished
 from .printed import EQ_187, START
 from .study_journal import entries
 
+
 def eq_187_gains():
     """Eq 187's printed sliding-mode gains."""
     return printed_gains(EQ_187["n"], EQ_187["T"],
@@ -149,9 +150,9 @@ def animate(t: np.ndarray, qs: np.ndarray, path: Path) -> Path:
     the chains' joints from Orsino's coordinates ``[x, y, q11, q12, q21, q22]``."""
     import warnings
 
+    from ...app.viz import write_trajectory_html
     from ...paths import URDF_DIR
     from ...robot.loading import load_robot
-    from ...app.viz import write_trajectory_html
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")

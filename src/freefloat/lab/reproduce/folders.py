@@ -15,8 +15,8 @@ import json
 import shutil
 import time
 import warnings
+from collections.abc import Callable
 from pathlib import Path
-from typing import Callable
 
 from ...app.outputs import versions
 from ...app.run_folder import LOCK, RECORD, RunFolder

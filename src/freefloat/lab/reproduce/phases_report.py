@@ -48,7 +48,7 @@ def run_schedule(robot, models: tuple[str, str, str], duration: float, dt: float
     ctrl = DetumblingController(robot, rows, joint_indices(robot, None), start=0.015, control_period=dt)
     q, v = robot.neutral(), np.zeros(robot.model.nv)
     ends, walls, evaluations = [], [], []
-    for (phase, t0, t1), name in zip(PHASES, models):
+    for (_phase, t0, t1), name in zip(PHASES, models):
         t1 = duration if t1 is None else t1
         res = finished(run(robot, q, v, round((t1 - t0) / dt) * dt, dt, make_integrator("rkmk4", robot.model, substeps=10),
                            make_model(name, robot), ctrl, wrenches=(impulse,), start_time=t0))

@@ -9,8 +9,8 @@ else is refused, naming the file and the line, never read as a result.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from pathlib import Path
-from typing import Callable
 
 from ...app.run_folder import journal_entries
 from ...errors import RunFolderError

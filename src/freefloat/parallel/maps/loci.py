@@ -15,7 +15,8 @@ decides; for an end, whether Newton converges in the same mode.
 
 from __future__ import annotations
 
-from typing import Callable, NamedTuple
+from collections.abc import Callable
+from typing import NamedTuple
 
 import numpy as np
 

@@ -21,7 +21,7 @@ Then the joint-space computed-torque law (eqs 136-137) on the chosen model.
 
 from __future__ import annotations
 
-from typing import Callable
+from collections.abc import Callable
 
 import numpy as np
 

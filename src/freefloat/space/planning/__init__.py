@@ -13,7 +13,7 @@ name to its planner; :func:`plan_approach` runs one and checks the result.
 
 from __future__ import annotations
 
-from typing import Callable
+from collections.abc import Callable
 
 import numpy as np
 

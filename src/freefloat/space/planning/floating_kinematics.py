@@ -14,7 +14,7 @@ on this first-order system) to know where the base, and so the end-effector, wil
 
 from __future__ import annotations
 
-from typing import Callable
+from collections.abc import Callable
 
 import numpy as np
 import pinocchio as pin
@@ -47,7 +47,7 @@ class FloatingKinematics:
         self._rows = np.arange(6) if robot.base == "free" else PLANAR_ROWS
 
     @classmethod
-    def at_state(cls, robot: Robot, q: np.ndarray, v: np.ndarray) -> "FloatingKinematics":
+    def at_state(cls, robot: Robot, q: np.ndarray, v: np.ndarray) -> FloatingKinematics:
         """The kinematics with the momentum of the state (q, v) (Pinocchio's centroidal momentum)."""
         return cls(robot, momentum_about_origin(robot.model, robot.model.createData(), q, v))
 

@@ -36,7 +36,7 @@ class GraspMotion:
     handle: np.ndarray = field(default_factory=lambda: np.eye(3))
 
     @classmethod
-    def of(cls, target: Target) -> "GraspMotion":
+    def of(cls, target: Target) -> GraspMotion:
         """The grasp-point flight of ``target`` from its state at t = 0.
 
         Raises:
@@ -53,7 +53,7 @@ class GraspMotion:
         return cls(np.asarray(target.position, float), np.asarray(target.velocity, float), w, R,
                    np.asarray(target.grasp, float))
 
-    def shifted(self, start: float) -> "GraspMotion":
+    def shifted(self, start: float) -> GraspMotion:
         """The same flight with its time origin at ``start`` s (``shifted(s).at(t) == at(s + t)``)."""
         rotation = pin.exp3(self.angular_velocity * start) @ self.rotation
         return GraspMotion(self.com + self.velocity * start, self.velocity, self.angular_velocity, rotation, self.grasp,

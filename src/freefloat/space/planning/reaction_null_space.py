@@ -21,8 +21,8 @@ With total momentum ``M`` (about the base CoM, inertial frame) the end-effector 
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Callable
 
 import numpy as np
 
@@ -51,7 +51,7 @@ class TaskRows:
 
     @classmethod
     def position(cls, robot: Robot, end_effectors: tuple[str, ...], joints: np.ndarray | None = None,
-                 angular: tuple[int, ...] | np.ndarray = ()) -> "TaskRows":
+                 angular: tuple[int, ...] | np.ndarray = ()) -> TaskRows:
         """The end-effectors' linear rows (vx, vy, vz; vx, vy on a planar base) and then their
         ``angular`` components (indices into wx, wy, wz), hand after hand, and the base's attitude
         rows, with ``joints`` (default all)."""

@@ -26,7 +26,7 @@ class Limits:
     torque: np.ndarray
 
     @classmethod
-    def of(cls, robot: Robot, joint_rate: float | None = None, torque: float | None = None) -> "Limits":
+    def of(cls, robot: Robot, joint_rate: float | None = None, torque: float | None = None) -> Limits:
         """``joint_rate`` and ``torque`` for every joint, or where None the URDF's ``<limit
         velocity effort>`` (Pinocchio's ``velocityLimit``, ``effortLimit``).
 

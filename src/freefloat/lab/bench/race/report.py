@@ -7,9 +7,9 @@ import csv
 import functools
 import json
 import platform
+from collections.abc import Callable
 from importlib.metadata import version
 from pathlib import Path
-from typing import Callable
 
 from ....app.run_folder import Journal, RunFolder
 from ....app.signals import signals_deferred, signals_held, signals_raise_keyboard_interrupt

@@ -8,8 +8,9 @@ writes the folder, neither knowing what a scene simulates.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any, Callable, Protocol
+from typing import Any, Protocol
 
 #: A run of one method: built once, then each call simulates the scene from its initial state and
 #: returns its result (whatever the scene's ``errors`` reads). A run that blows up raises an

@@ -13,8 +13,9 @@ feedback law computed in Python (``mujoco.rollout`` takes open-loop controls onl
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, replace
-from typing import Any, Callable
+from typing import Any
 
 import numpy as np
 import pinocchio as pin

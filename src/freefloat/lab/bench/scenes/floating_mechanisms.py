@@ -37,8 +37,7 @@ from ....parallel.free_base import BaseFrameControl, run_compiled
 from ..in_mujoco.mechanism_mjcf import SOLIMP, TIMECONST_STEPS
 from ..race.scene import Method, Run
 from . import notes
-from .mechanisms import (MUJOCO, MUJOCO_MODEL, REFERENCE_TOL, MechanismResult, held_run, scene_duration,
-                         whole_periods)
+from .mechanisms import MUJOCO, MUJOCO_MODEL, REFERENCE_TOL, MechanismResult, held_run, scene_duration, whole_periods
 
 #: Bench scene name (the scene file's) -> note (what runs).
 FLOATING_SCENES = notes("floating_mechanisms")

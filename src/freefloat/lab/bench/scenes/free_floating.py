@@ -10,8 +10,8 @@ about the inertial origin, the kinetic energy.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field, replace
-from typing import Callable
 
 import numpy as np
 import pinocchio as pin
@@ -23,8 +23,7 @@ from ..race.scene import Method, Run
 from . import notes
 from .controlled import controlled_scene
 from .detumbling import detumbling_scene
-from .methods import (MUJOCO, REFERENCE_ATOL, REFERENCE_RTOL, Scene,
-                      controlled_methods, method_run, methods, reference)
+from .methods import MUJOCO, REFERENCE_ATOL, REFERENCE_RTOL, Scene, controlled_methods, method_run, methods, reference
 from .tumbling import ROBOTS, tumbling_scene
 
 State = tuple[np.ndarray, np.ndarray]

@@ -36,7 +36,7 @@ from ....app.experiments.robot_run import APPROACH_MARGIN
 from ....app.experiments.two_hand_capture import _joints, _rows
 from ....app.runner import prepare
 from ....app.scenes import find_scene
-from ....dynamics.closures import Closure, ClosedModel
+from ....dynamics.closures import ClosedModel, Closure
 from ....dynamics.integrators import INTEGRATORS, make_integrator, swept
 from ....dynamics.simulation import run
 from ....errors import InvalidArgument

@@ -19,9 +19,10 @@ from __future__ import annotations
 import functools
 import importlib
 import importlib.util
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Callable, ClassVar
+from typing import TYPE_CHECKING, ClassVar
 
 from ....app.signals import signals_raise_keyboard_interrupt
 from ....errors import FreefloatError, InvalidArgument, UnknownName

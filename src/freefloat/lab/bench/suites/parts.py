@@ -7,8 +7,9 @@ after each part, so Ctrl-C, SIGTERM, SIGHUP or a kill keeps every part measured;
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from types import ModuleType
-from typing import Callable, NamedTuple
+from typing import NamedTuple
 
 from ....app.outputs import strict_json, versions
 from ....app.run_folder import RunFolder

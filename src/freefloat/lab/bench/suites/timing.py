@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import math
 import time
-from typing import Callable
+from collections.abc import Callable
 
 
 def side_by_side(fns: dict[str, tuple[Callable[[], object], int]], repeats: int,

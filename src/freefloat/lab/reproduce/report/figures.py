@@ -9,7 +9,7 @@ end-effector poses (N, k, 3) as x, y in m and the z-rotation in deg, inertial fr
 
 from __future__ import annotations
 
-from typing import Sequence
+from collections.abc import Sequence
 
 import numpy as np
 from matplotlib.figure import Figure

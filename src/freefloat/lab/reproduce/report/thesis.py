@@ -14,8 +14,16 @@ import numpy as np
 
 from .. import printed
 from . import figures as rf
-from .checks import (CIRCLE, dh_entry_1_3, distance, five_bar_points, link_lengths, s_x_with_printed_error,
-                     saturation, saturation_slope_at_zero)
+from .checks import (
+    CIRCLE,
+    dh_entry_1_3,
+    distance,
+    five_bar_points,
+    link_lengths,
+    s_x_with_printed_error,
+    saturation,
+    saturation_slope_at_zero,
+)
 from .entry import THESIS, Entry, Row, row
 from .results import Results
 
