@@ -27,7 +27,12 @@ from freefloat.space.orbit import (
     in_lvlh,
     orbit_field,
 )
-from freefloat.space.orbit.libration import libration_period, measure_libration, rigid_satellite, rigid_satellite_urdf
+from freefloat.space.orbit.libration import (
+    libration_period,
+    measure_libration,
+    rigid_satellite,
+    rigid_satellite_urdf,
+)
 from freefloat.space.orbit.lvlh import root_in_lvlh
 from freefloat.space.orbit.propagation import propagate
 from freefloat.space.orbit.summary import SUMMARY_UNITS, orbit_summary
