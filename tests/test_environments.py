@@ -14,7 +14,7 @@ import pytest
 
 import freefloat
 from freefloat import SceneError
-from freefloat.app.environments import ENVIRONMENTS
+from freefloat.app.environments import ENVIRONMENTS, EnvironmentSpec
 from freefloat.app.experiments import summary_units
 from freefloat.app.scenes import builtin_scenes, find_scene, parse_scene
 from freefloat.dynamics.metrics import summarize
@@ -98,3 +98,11 @@ def test_the_orbit_entry_refuses_bad_keys_by_name(keys, message):
     raw["environment"] = [{"kind": "orbit", **keys}]
     with pytest.raises(SceneError, match=re.escape(message)):
         parse_scene(raw)
+
+
+def test_an_entry_that_summarises_must_give_its_units():
+    """An environment entry with a summarise but no units for its keys is refused at registration
+    time, naming the entry."""
+    spec = ENVIRONMENTS["orbit"]
+    with pytest.raises(freefloat.InvalidArgument, match="environment 'my_orbit': a summarise needs the units"):
+        EnvironmentSpec("my_orbit", "", spec.settings, spec.build, spec.rules, spec.summarise)
