@@ -65,9 +65,9 @@ class RobotSetup:
     the plant (None: the scene named it), and the reaction wheels (None: none) with the
     controller the loop ran (``[attitude]`` composed with ``controller``), and the fields of the
     ``environment`` besides the wrench profiles (:mod:`freefloat.app.environments`) and what their
-    entries measure from the run (``environment_summaries``: ``summarise(telemetry) -> dict``). With locked joints the model,
-    integrator and controller are built on :attr:`plant` (the reduced robot); ``robot``, ``q0``
-    and ``v0`` stay the full robot's, as the outputs show it."""
+    entries measure from the run (``environment_summaries``: ``summarise(telemetry) -> dict``).
+    With locked joints the model, integrator and controller are built on :attr:`plant` (the
+    reduced robot); ``robot``, ``q0`` and ``v0`` stay the full robot's, as the outputs show it."""
 
     scene: Scene
     robot: Robot
