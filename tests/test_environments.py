@@ -1,18 +1,26 @@
-"""Environment fields by name: the built-in wrench profile in both scene spellings, and a field
+"""Environment fields by name: the built-in wrench profile in both scene spellings, a field
 (the example's constant wrench, a WrenchField evaluated at every stage) against the same wrench
-as a profile (applied by the loop's own profile path)."""
+as a profile (applied by the loop's own profile path), and the built-in orbit: its keys' checks
+and its scene's measured libration period."""
 
 from __future__ import annotations
 
+import dataclasses
+import re
 import tomllib
 
 import numpy as np
+import pytest
 
 import freefloat
-from freefloat.app.environments import ENVIRONMENTS
-from freefloat.app.scenes import builtin_scenes, parse_scene
+from freefloat import SceneError
+from freefloat.app.environments import ENVIRONMENTS, EnvironmentSpec
+from freefloat.app.experiments import summary_units
+from freefloat.app.scenes import builtin_scenes, find_scene, parse_scene
 from freefloat.dynamics.metrics import summarize
 from freefloat.dynamics.wrenches import ExternalWrench
+from freefloat.paths import URDF_DIR
+from freefloat.space.orbit.libration import pendulum_period
 
 from .conftest import REPO
 
@@ -50,3 +58,51 @@ def test_a_field_applies_what_the_same_profile_applies():
     np.testing.assert_allclose(by_field["external_impulse"], by_profile["external_impulse"], rtol=0, atol=1e-6)
     assert abs(by_field["external_work"] - by_profile["external_work"]) < 1e-6
     assert by_field["momentum_balance_max"] < 1e-6 and by_field["energy_balance_max"] < 1e-6
+
+
+@pytest.mark.slow
+def test_the_orbit_libration_scene_measures_the_closed_form_period():
+    """The built-in orbit_libration scene, run as a user runs it, reports a libration period
+    within 0.5 % of n sqrt(3 (Iy - Ix) / Iz) (the aerospace axes' n sqrt(3 (Ix - Iz) / Iy)) and
+    of the 5 deg pendulum's elliptic-integral value, and ends with its CoM on the reference point."""
+    scene = find_scene("orbit_libration")
+    outcome = freefloat.simulate(dataclasses.replace(scene, output=dataclasses.replace(scene.output, figures=False,
+                                                                                         html=False)))
+    orbit = scene.environment[0].settings.orbit()
+    inertia = freefloat.load_robot(URDF_DIR / scene.robot.urdf, end_effectors=(), visuals=False).model.inertias[1].inertia
+    ix, iy, iz = np.diag(inertia)
+    closed = 2.0 * np.pi / (orbit.mean_motion * np.sqrt(3.0 * (iy - ix) / iz))
+    pendulum = pendulum_period(orbit, (ix, iy, iz), np.radians(scene.initial.base_rpy[2]))
+    measured = outcome.summary["libration_period"]
+    assert abs(measured / closed - 1.0) < 5e-3 and abs(measured / pendulum - 1.0) < 5e-3
+    assert np.linalg.norm(outcome.summary["base_lvlh_position_final"]) < 1e-3  # m; the tidal force is zero there
+    assert summary_units(scene)["libration_period"] == "s"
+
+
+@pytest.mark.parametrize(
+    ("keys", "message"),
+    [
+        ({"altitude": 400e3, "mean_motion": 1e-3}, "give exactly one of 'altitude' (m) and 'mean_motion'"),
+        ({"phase": 0.5}, "give exactly one of 'altitude' (m) and 'mean_motion'"),
+        ({"altitude": 0.0}, "'environment.altitude' must be > 0"),
+        ({"altitude": float("inf")}, "'environment.altitude' must be finite"),
+        ({"mean_motion": float("nan")}, "'environment.mean_motion' must be finite"),
+        ({"mean_motion": 1.0}, "'mean_motion' 1.0 rad/s gives a radius"),
+        ({"altitud": 400e3}, "did you mean 'altitude'?"),
+    ],
+)
+def test_the_orbit_entry_refuses_bad_keys_by_name(keys, message):
+    """Both or neither of altitude and mean_motion, a non-finite or non-positive value, an orbit
+    inside the Earth and a misspelled key are refused when the scene is read, naming the key."""
+    raw = tomllib.loads(builtin_scenes()["orbit_libration"].read_text())
+    raw["environment"] = [{"kind": "orbit", **keys}]
+    with pytest.raises(SceneError, match=re.escape(message)):
+        parse_scene(raw)
+
+
+def test_an_entry_that_summarises_must_give_its_units():
+    """An environment entry with a summarise but no units for its keys is refused at registration
+    time, naming the entry."""
+    spec = ENVIRONMENTS["orbit"]
+    with pytest.raises(freefloat.InvalidArgument, match="environment 'my_orbit': a summarise needs the units"):
+        EnvironmentSpec("my_orbit", "", spec.settings, spec.build, spec.rules, spec.summarise)

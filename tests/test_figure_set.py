@@ -122,7 +122,7 @@ CALLED_FOR = {
     "four_arm_joint_space": JOINT_SPACE, "satellite_dual_arm": JOINT_SPACE,
     "satellite_wheels": JOINT_SPACE | {"reaction_wheels"},
     "satellite_hands_joined": MOTION | {"com_drift", "closed_loop"},
-    "tumbling": MOTION | {"com_drift"},
+    "tumbling": MOTION | {"com_drift"}, "orbit_libration": MOTION | {"com_drift"},
 }
 
 

@@ -27,9 +27,15 @@ from freefloat.space.orbit import (
     in_lvlh,
     orbit_field,
 )
-from freefloat.space.orbit.libration import libration_period, measure_libration, rigid_satellite
+from freefloat.space.orbit.libration import (
+    libration_period,
+    measure_libration,
+    rigid_satellite,
+    rigid_satellite_urdf,
+)
 from freefloat.space.orbit.lvlh import root_in_lvlh
 from freefloat.space.orbit.propagation import propagate
+from freefloat.space.orbit.summary import SUMMARY_UNITS, orbit_summary
 
 ORBIT = CircularOrbit(altitude=400e3, phase=0.7)
 
@@ -270,6 +276,25 @@ def test_the_pitch_libration_period_is_the_closed_form():
     run = measure_libration(amplitude=math.radians(5.0))
     assert abs(run.period / run.closed_form - 1.0) < 5e-3
     assert run.closed_form == pytest.approx(libration_period(CircularOrbit(altitude=400e3), (20.0, 60.0, 70.0)))
+
+
+def test_the_built_in_satellite_file_is_the_generators_text():
+    """urdf/rigid_satellite.urdf (the orbit_libration scene's robot) is rigid_satellite_urdf()'s
+    text after its comment line: one source of the satellite's mass and inertia."""
+    text = (URDF_DIR / "rigid_satellite.urdf").read_text().splitlines()
+    assert text[0].startswith("<!--") and text[1:] == [rigid_satellite_urdf()]
+
+
+def test_a_run_too_short_for_two_crossings_reports_no_libration_period():
+    """A one-body run that has not crossed its equilibrium upward twice reports no period (None)
+    but its final LVLH pose: the satellite released on the reference point stays on it."""
+    robot = load_robot(URDF_DIR / "rigid_satellite.urdf", end_effectors=(), visuals=False)
+    field = OrbitField(robot, ORBIT)
+    q0, v0 = free_flyer_state(ORBIT, 0.0, np.zeros(3), np.zeros(3), pin.utils.rotate("z", 0.1))
+    summary = orbit_summary(field, robot, run(robot, q0, v0, 100.0, 10.0, environment=(field,)).telemetry)
+    assert summary["libration_period"] is None
+    assert np.linalg.norm(summary["base_lvlh_position_final"]) < 1e-6
+    assert set(summary) == set(SUMMARY_UNITS)
 
 
 def test_the_pitch_libration_period_is_the_pendulum_period():

@@ -247,7 +247,7 @@ def _varies() -> dict[str, str]:
 def _batch(args: argparse.Namespace) -> int:
     from ..extras import require
     from .batch import Workers, parse_band, run_batch
-    from .experiments import experiment_for
+    from .experiments import summary_units
     from .scenes import DEFAULT_SCENE, find_scene
     from .summary_text import shown
 
@@ -281,7 +281,7 @@ def _batch(args: argparse.Namespace) -> int:
     print(f"{summary['status']}: {summary['by_status'].get('completed', 0)} of {summary['runs']} runs completed "
           f"({counts or 'none run'}) in "
           f"{summary['wall_time_s']:.2f} s, {summary['runs_per_second'] or 0:.2f} runs/s ({workers.label}) -> {out}")
-    units = experiment_for(scene).units
+    units = summary_units(scene)
     for key, spread in summary["spread"].items():
         print(f"  {key}: min {shown(spread['min'])}, median {shown(spread['median'])}, max "
               f"{shown(spread['max'], units.get(key.split('[')[0], ''))}")
@@ -359,7 +359,7 @@ def _verify(args: argparse.Namespace) -> int:
 def _simulate(args: argparse.Namespace) -> int:
     import dataclasses
 
-    from .experiments import experiment_for
+    from .experiments import summary_units
     from .scenes import DEFAULT_SCENE, ROBOT_SCENE, find_scene, with_robot
 
     scene = find_scene(args.scene or (ROBOT_SCENE if args.robot else DEFAULT_SCENE))
@@ -394,7 +394,7 @@ def _simulate(args: argparse.Namespace) -> int:
             done = simulate(scene, out=out, overwrite=args.overwrite, progress=stages.bar, setup=setup,
                             checkpoint=live.show if live else None, stage=stages)
             stages.finish()
-            status = _report(done, experiment_for(scene).units)
+            status = _report(done, summary_units(scene))
             if live is not None:
                 tel = done.telemetry
                 print("replaying the run in the live viewer")

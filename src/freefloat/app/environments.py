@@ -6,8 +6,10 @@ dataclass, checked by the scene schema with the entry's ``rules``) and builds, o
 :class:`~freefloat.dynamics.wrenches.WrenchField` (wrenches that may depend on time and state,
 evaluated by the Python loop at every integrator stage) or an
 :class:`~freefloat.dynamics.wrenches.ExternalWrench` (a profile on one link, which the compiled
-loop applies too). The built-in ``wrench_profile`` is the old ``[[wrenches]]`` table (that
-spelling is kept). A user's module registers its own::
+loop applies too). An entry may also add summary keys measured from the run (``summarise``, with
+their ``units``). The built-in ``wrench_profile`` is the old ``[[wrenches]]`` table (that
+spelling is kept); the built-in ``orbit`` is the tidal gravity of a circular orbit
+(:mod:`freefloat.space.orbit`, docs/orbit.md). A user's module registers its own::
 
     ENVIRONMENTS.register(EnvironmentSpec("constant_wrench", "a constant inertial wrench on a link",
                                           ConstantWrenchSettings, ConstantWrench))
@@ -16,13 +18,17 @@ spelling is kept). A user's module registers its own::
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 from ..dynamics.wrenches import ExternalWrench, WrenchField
 from ..errors import InvalidArgument
 from ..registry import Registry
 from ..robot.robot import Robot
+from ..space.orbit.field import orbit_field
+from ..space.orbit.reference import OrbitSettings
+from ..space.orbit.summary import SUMMARY_UNITS as ORBIT_UNITS
+from ..space.orbit.summary import orbit_summary
 from .scenes.fields import NO_RULES, Rules, check_settings
 
 
@@ -39,6 +45,11 @@ class EnvironmentSpec:
             simulates; raises :class:`~freefloat.errors.SceneError` or
             :class:`~freefloat.errors.InvalidArgument` naming what the scene got wrong.
         rules: choices and ranges of its settings, keyed ``("environment", key)``.
+        summarise: None, or ``summarise(field, robot, telemetry) -> dict``: summary keys measured
+            from a finished run (its :class:`~freefloat.dynamics.telemetry.Telemetry`, on the
+            ``robot`` the field was built on), added to the run's ``summary.json`` and printed.
+        units: the unit of each key ``summarise`` returns ("" for a pure number or a text), as an
+            experiment declares its summary's (:attr:`~freefloat.app.experiments.Experiment.units`).
     """
 
     name: str
@@ -46,11 +57,17 @@ class EnvironmentSpec:
     settings: type
     build: Callable[[Robot, Any], WrenchField | ExternalWrench]
     rules: Rules = NO_RULES
+    summarise: Callable[[Any, Robot, Any], dict[str, Any]] | None = None
+    units: dict[str, str] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         check_settings("environment", self.name, self.settings)
         if not callable(self.build):
             raise InvalidArgument(f"environment '{self.name}': build must be callable, got {self.build!r}")
+        if self.summarise is not None and not callable(self.summarise):
+            raise InvalidArgument(f"environment '{self.name}': summarise must be callable, got {self.summarise!r}")
+        if self.summarise is not None and not self.units:
+            raise InvalidArgument(f"environment '{self.name}': a summarise needs the units of its keys (units)")
 
 
 #: Every environment field kind by name.
@@ -76,4 +93,16 @@ ENVIRONMENTS.register(EnvironmentSpec(
     WrenchProfile, lambda robot, w: ExternalWrench(w.link, w.force, w.torque, w.start, w.end, w.rise),
     Rules({}, set(), {("environment", "start"), ("environment", "rise")})))
 
-__all__ = ["ENVIRONMENTS", "EnvironmentSpec", "WrenchProfile"]
+ENVIRONMENTS.register(EnvironmentSpec(
+    "orbit", "tidal gravity and gravity-gradient torque of a circular orbit (altitude m or mean_motion rad/s, phase rad)",
+    OrbitSettings, orbit_field, Rules({}, {("environment", "altitude"), ("environment", "mean_motion")}, set()),
+    orbit_summary, ORBIT_UNITS))
+
+
+def environment_units(entries: Any) -> dict[str, str]:
+    """The units of the summary keys the environment ``entries`` (a scene's ``environment``:
+    sections with a ``kind``) add to a run's summary."""
+    return {key: unit for e in entries for key, unit in ENVIRONMENTS[e.kind].units.items()}
+
+
+__all__ = ["ENVIRONMENTS", "EnvironmentSpec", "WrenchProfile", "environment_units"]

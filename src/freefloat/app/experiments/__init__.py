@@ -9,6 +9,7 @@ new module and one line in :data:`EXPERIMENTS`.
 from __future__ import annotations
 
 from ...errors import SceneError, did_you_mean
+from ..environments import environment_units
 from . import capture, detumbling, joint_space, mechanism, two_hand_capture
 from .base import Experiment, Outcome, Progress
 
@@ -32,7 +33,13 @@ def experiment_for(scene) -> Experiment:
                          f"{did_you_mean(scene.kind, EXPERIMENTS, 'kinds')}") from None
 
 
-__all__ = ["EXPERIMENTS", "Experiment", "Outcome", "Progress", "experiment_for"]
+def summary_units(scene) -> dict[str, str]:
+    """The unit of each summary key a run of ``scene`` may have: its experiment's
+    (:attr:`Experiment.units`) and its environment entries' (``EnvironmentSpec.units``)."""
+    return {**experiment_for(scene).units, **environment_units(getattr(scene, "environment", ()))}
+
+
+__all__ = ["EXPERIMENTS", "Experiment", "Outcome", "Progress", "experiment_for", "summary_units"]
 
 from ...lazy import lazy_modules  # noqa: E402
 

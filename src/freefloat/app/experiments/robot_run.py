@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
+from functools import partial
 from pathlib import Path
 from typing import Any
 
@@ -27,7 +28,7 @@ from ...robot.loading import load_robot
 from ...robot.locking import LockedJoints
 from ...robot.robot import Robot
 from ...robot.wheels import Wheels
-from ..environments import ENVIRONMENTS
+from ..environments import ENVIRONMENTS, environment_units
 from ..scenes import Scene, resolve_file
 from .base import Checkpoint, Outcome, Progress
 from .budget import check_budget, seconds_per_call
@@ -63,9 +64,10 @@ class RobotSetup:
     external wrenches, the locked joints (None: none), how ``simulation.model = "auto"`` chose
     the plant (None: the scene named it), and the reaction wheels (None: none) with the
     controller the loop ran (``[attitude]`` composed with ``controller``), and the fields of the
-    ``environment`` besides the wrench profiles (:mod:`freefloat.app.environments`). With locked joints the model,
-    integrator and controller are built on :attr:`plant` (the reduced robot); ``robot``, ``q0``
-    and ``v0`` stay the full robot's, as the outputs show it."""
+    ``environment`` besides the wrench profiles (:mod:`freefloat.app.environments`) and what their
+    entries measure from the run (``environment_summaries``: ``summarise(telemetry) -> dict``).
+    With locked joints the model, integrator and controller are built on :attr:`plant` (the
+    reduced robot); ``robot``, ``q0`` and ``v0`` stay the full robot's, as the outputs show it."""
 
     scene: Scene
     robot: Robot
@@ -80,6 +82,7 @@ class RobotSetup:
     wheels: Wheels | None = None
     wheel_control: Controller | None = None
     environment: tuple[WrenchField, ...] = ()
+    environment_summaries: tuple[Callable[[Telemetry], dict[str, Any]], ...] = ()
 
     @property
     def plant(self) -> Robot:
@@ -159,7 +162,8 @@ def prepare_robot(scene: Scene) -> RobotSetup:
         q0, v0 = assemble(scene, robot, closures, q0, v0)
     lock = None if closures else lock_for(scene, robot, q0, v0, displacement, explicit)
     plant = robot if lock is None else lock.robot
-    fields = [ENVIRONMENTS[e.kind].build(plant, e.settings) for e in scene.environment]
+    specs = [ENVIRONMENTS[e.kind] for e in scene.environment]
+    fields = [spec.build(plant, e.settings) for spec, e in zip(specs, scene.environment)]
     wrenches = tuple(f for f in fields if isinstance(f, ExternalWrench))
     if lock is not None and len(wrenches) < len(fields):
         raise SceneError(f"scene '{scene.name}': [[environment]] fields other than 'wrench_profile' are not available "
@@ -170,6 +174,8 @@ def prepare_robot(scene: Scene) -> RobotSetup:
         integrator=make_integrator(sim.integrator, plant.model, sim.substeps, sim.rtol, sim.atol,
                                    project_momentum=sim.project_momentum),
         wrenches=wrenches, environment=tuple(f for f in fields if not isinstance(f, ExternalWrench)),
+        environment_summaries=tuple(partial(spec.summarise, f, plant) for spec, f in zip(specs, fields)
+                                    if spec.summarise is not None),
         lock=lock, wheels=wheels,
     )
     check_run_size(setup)
@@ -309,11 +315,14 @@ def run_loop(setup: RobotSetup, progress: Progress | None, checkpoint: Checkpoin
 
 def summary_of(setup: RobotSetup, result: Result, **task: Any) -> dict[str, Any]:
     """The run's figures of merit (:func:`freefloat.dynamics.metrics.summarize`: with the scene's
-    external wrenches, balances against what they applied instead of drifts), then the task's
-    own, then status, steps, wall time and model evaluations."""
+    external wrenches, balances against what they applied instead of drifts), then what the
+    environment's entries measure (``summarise``), then the task's own, then status, steps, wall
+    time and model evaluations."""
     tel = result.telemetry
     summary = summarize(tel, setup.robot, setup.wrenches, setup.scene.simulation.control_period,
                         setup.environment) if len(tel.t) else {}
+    for measured in setup.environment_summaries if len(tel.t) else ():
+        summary.update(measured(tel))
     summary.update(task)
     if isinstance(setup.model, ClosedModel) and len(tel.t):
         position, rotation = closure_drifts(setup.model, tel.q)
@@ -368,7 +377,7 @@ def robot_outcome(setup: RobotSetup, robot: Robot, telemetry: Telemetry, result:
                          "control_period": sim.control_period,
                          "locked_joints": [] if setup.lock is None else list(setup.lock.names)},
         },
-        headline=headline_of(task_headline, wheels is not None),
+        headline=headline_of(task_headline + tuple(environment_units(setup.scene.environment)), wheels is not None),
         extra_telemetry=extra_telemetry,
         figures=RobotFigures(
             robot, telemetry, wrenches, sim.control_period, spin, settle_threshold,

@@ -166,7 +166,10 @@ def parse_section(where: str, section: str, cls: type, raw: Any, rules: Rules) -
                            for k, v in typed(where, name, value, dict).items()}
         else:
             values[key] = table(where, name, value)
-    return cls(**values)
+    try:
+        return cls(**values)
+    except InvalidArgument as exc:  # a check across keys, in the settings' constructor
+        raise SceneError(f"{where}[{section}] {exc}") from exc
 
 
 def annotation(kind: Any) -> str:

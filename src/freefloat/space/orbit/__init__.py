@@ -5,8 +5,9 @@ item 1).
 Clohessy-Wiltshire closed form), ``field`` (:class:`OrbitField`: the exact tidal gravity on every
 body and the gravity-gradient torque on its inertia, a wrench field ``forces(t, q, v)`` /
 ``wrench(t, q, v)``), ``lvlh`` (a run reported in the LVLH frame), ``propagation`` (time-dependent
-fields integrated with their exact stage times) and ``libration`` (a rigid satellite's pitch
-libration, closed form and measured). Equations, frames and measured numbers: docs/orbit.md.
+fields integrated with their exact stage times), ``libration`` (a rigid satellite's pitch
+libration, closed form and measured) and ``summary`` (what a run in orbit adds to its summary: the
+``orbit`` environment's ``summarise``). Equations, frames and measured numbers: docs/orbit.md.
 """
 
 from .field import OrbitField, orbit_field

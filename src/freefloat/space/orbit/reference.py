@@ -133,11 +133,19 @@ class CircularOrbit:
 class OrbitSettings:
     """What a scene says of the orbit (the keys of an ``[orbit]`` or ``[[environment]]`` table):
     ``altitude`` (m above the Earth's surface) or ``mean_motion`` (rad/s), exactly one, and
-    ``phase`` (rad: the reference point's angle from ECI +x at t = 0)."""
+    ``phase`` (rad: the reference point's angle from ECI +x at t = 0).
+
+    Raises:
+        InvalidArgument: as :class:`CircularOrbit` does (neither or both keys, a non-finite or
+            non-positive one, an orbit inside the Earth), naming the key, when made.
+    """
 
     altitude: float | None = None
     mean_motion: float | None = None
     phase: float = 0.0
+
+    def __post_init__(self) -> None:
+        self.orbit()
 
     def orbit(self) -> CircularOrbit:
         """The :class:`CircularOrbit` (its checks name the key that is wrong)."""
