@@ -116,6 +116,14 @@ def test_com_stays_put_and_base_moves_on_the_bisector_on_the_exact_plant(report)
 
 
 @pytest.mark.slow
+def test_table_1_shows_the_printed_236_fold_gap_beside_freefloats_ratio(report):
+    """Table 1's ratio row keeps the document's 236 as printed and shows freefloat's, within 1.5x of 1."""
+    _, entries, _, _ = report
+    (match,) = [r for r in entries[(DISSERTATION, "Table 1")]["rows"] if r["quantity"] == "FM-ST-A / FM-NIC-A, overall"]
+    assert float(match["printed"]) == 236 and 1 / 1.5 < float(match["ours"]) < 1.5
+
+
+@pytest.mark.slow
 def test_eq_140_sample_count_is_duration_over_step_plus_one(report):
     """Eq 140's erratum: the run has duration / dt + 1 samples (5001 for 5 s at 1 ms, printed 500)."""
     _, entries, record, _ = report
@@ -159,6 +167,18 @@ def test_baseline_joints_return_to_their_start(report):
     """Fig 42: the held joints come back to the start after the impulse (within 0.05 deg)."""
     _, entries, _, _ = report
     assert ours(entries[(DISSERTATION, "Fig 42")], "largest |joint - start| at the end (deg)")[0] < 0.05
+
+
+@pytest.mark.slow
+def test_baseline_with_the_documents_gains_is_shown_beside_the_scenes(report):
+    """Figs 42-44: the baseline held with Kp = 10, Kd = 100 ends more than 10 deg off its start
+    (the scene's kp = 2500 within 0.05 deg) and its rows sit beside the scene's."""
+    _, entries, _, _ = report
+    fig_42 = entries[(DISSERTATION, "Fig 42")]
+    assert ours(fig_42, "largest |joint - start| at the end (deg), document's gains")[0] > 10.0
+    assert ours(fig_42, "largest |joint - start| at the end (deg)")[0] < 0.05
+    assert ours(entries[(DISSERTATION, "Fig 43")], "peak joint torque (N m), document's gains")[0] > 0.0
+    assert len(ours(entries[(DISSERTATION, "Fig 44")], "arm1_ee final angular rate (rad/s), document's gains")) == 1
 
 
 @pytest.mark.slow
