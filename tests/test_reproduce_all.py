@@ -408,6 +408,15 @@ def test_eq_182_as_printed_misses_the_momentum_and_the_corrected_form_does_not(r
     assert printed > 0.1 and corrected < 1e-12
 
 
+@pytest.mark.slow
+def test_summed_multi_arm_form_misses_aba_while_aba_satisfies_the_sum(report):
+    """Eqs 109-115's erratum: the summed form is off ABA by more than 0.5 relative, ABA satisfies the sum to 1e-12."""
+    _, entries, _, _ = report
+    (match,) = entries[(DISSERTATION, "Eqs 109-115")]["rows"]
+    error, residual = (float(x) for x in match["ours"].split(" / "))
+    assert error > 0.5 and residual < 1e-12
+
+
 def test_a_study_finished_with_the_other_quick_setting_is_made_again(tmp_path, monkeypatch):
     """A rerun without --quick into a folder of --quick studies runs them again (with
     --overwrite of their folders); with the same setting it keeps them."""

@@ -16,7 +16,7 @@ from ....documents import DIRECTION, FIGS_38_40_OFFSET_DEG, TASK_DEG
 from .. import printed
 from ..series_report import BASELINE_DOCUMENT_GAINS, DOCUMENT
 from . import figures as rf
-from .checks import momentum_eq_182
+from .checks import momentum_eq_182, summed_arms_eqs_109_115
 from .entry import DISSERTATION, Entry, Row, row
 from .results import Results
 
@@ -445,6 +445,15 @@ ENTRIES: tuple[Entry, ...] = (
                                "printed {:.3g} / corrected {:.3g}".format(*momentum_eq_182()))],
           "The derivation at eq 180 treats skew matrices as anticommuting; the corrected form (L_O = L_base + r0 x P) "
           "matches Pinocchio's centroidal momentum moved to the origin to round-off.", erratum=True),
+    Entry(DISSERTATION, "Eqs 109-115", "Multi-arm numerical model: every arm's joint equations summed (operator I_n) "
+          "and the summed matrix inverted.", "",
+          None, lambda r: [row("max relative error against ABA / ABA's residual in the summed equations, four-arm "
+                               "robot, 5 random states with wrenches", None,
+                               "{:.3g} / {:.3g}".format(*summed_arms_eqs_109_115()))],
+          "The sum holds for the exact accelerations but gives m equations for the N = n m joint accelerations (n arms "
+          "of m joints): the printed inverse of an m x N matrix does not exist. freefloat keeps each arm's equations "
+          "(eq 113 stacked); the printed form is freefloat.dynamics.models.summed_arms (its inverse read as the "
+          "pseudo-inverse), exact with one arm only (docs/models.md).", erratum=True),
     Entry(DISSERTATION, "Sec 3.5", "Claim that the base rows carry no non-inertial term (c0 = 0).", "models", None,
           lambda r: [row(f"max relative acceleration error, c0 = 0 / c0 = [0; v0 x P], {regime}", None,
                          f"{errors['standard_full_hdot']:.3g} / {errors['standard_corrected']:.3g}")
