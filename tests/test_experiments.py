@@ -11,8 +11,9 @@ import pytest
 import freefloat
 from freefloat import InvalidArgument, SceneError
 from freefloat.app.experiments import EXPERIMENTS, experiment_for
-from freefloat.app.scenes import MechanismScene, builtin_scenes, load_scene
+from freefloat.app.scenes import MechanismScene, builtin_scenes, kinds, load_scene
 from freefloat.inputs import toml_text
+from freefloat.registry import Registry
 
 from . import toy_experiment
 from .conftest import scene_variant
@@ -102,11 +103,23 @@ def test_a_kind_that_does_not_take_the_scene_says_why(tmp_path):
 
 def test_a_scene_no_experiment_takes_lists_the_kinds(tmp_path, monkeypatch):
     """Without the experiment that takes it, a scene is refused, naming it and the kinds."""
-    scene = kind_scene(tmp_path)
-    monkeypatch.delitem(EXPERIMENTS, "joint_space")
+    scene, others = kind_scene(tmp_path), Registry("experiment kind")
+    for experiment in EXPERIMENTS.values():
+        if experiment.name != "joint_space":
+            others.register(experiment)
+    monkeypatch.setattr(kinds, "EXPERIMENTS", others)
     with pytest.raises(SceneError, match="no experiment kind takes this scene; experiment kinds: detumbling, "
                                          "capture, two_hand_capture, mechanism"):
         experiment_for(scene)
+
+
+def test_a_scene_read_before_any_kind_is_registered_says_what_registers_them(tmp_path, monkeypatch):
+    """With no experiment kind registered (the scenes imported alone), a scene's kind is refused,
+    naming the module that registers the built-in kinds."""
+    scene = kind_scene(tmp_path)
+    monkeypatch.setattr(kinds, "EXPERIMENTS", Registry("experiment kind"))
+    with pytest.raises(SceneError, match="no experiment kind is registered yet: importing freefloat.app.experiments"):
+        scene.kind  # noqa: B018
 
 
 def test_two_experiments_taking_one_scene_is_a_programming_error(tmp_path, monkeypatch):
