@@ -3,6 +3,7 @@ registered experiment that takes it, or the one its top-level ``kind`` names).""
 
 from __future__ import annotations
 
+import csv
 import dataclasses
 import tomllib
 
@@ -134,11 +135,14 @@ def test_two_experiments_taking_one_scene_is_a_programming_error(tmp_path, monke
 
 def test_a_users_kind_runs_from_its_own_section(tmp_path, monkeypatch):
     """A user's experiment registered from outside freefloat takes the scene with its own section
-    (which no built-in reads) and runs it through freefloat.simulate: its summary has the
-    section's label and its telemetry is joint_space's on the same scene."""
+    (which no built-in reads; kept in the scene as run) and runs it through freefloat.simulate:
+    its summary has the section's label and its telemetry is joint_space's on the same scene."""
+    from freefloat.app.scenes.as_run import scene_as_run
+
     monkeypatch.setitem(EXPERIMENTS, "coast", toy_experiment.EXPERIMENT)
     scene = kind_scene(tmp_path, coast={"label": "adrift"})
     assert scene.kind == "coast" and scene.sections["coast"] == toy_experiment.CoastSettings("adrift")
+    assert tomllib.loads(scene_as_run(scene))["coast"] == {"label": "adrift"}  # the run folder's scene reruns it
     result = freefloat.simulate(scene)
     plain = freefloat.simulate(dataclasses.replace(scene, sections={}, named_kind="joint_space"))
     assert result.status == "completed" and result.summary["coast_label"] == "adrift"
@@ -161,3 +165,16 @@ def test_a_users_section_is_checked_as_a_builtin(tmp_path, monkeypatch):
     monkeypatch.setitem(EXPERIMENTS, "coast", toy_experiment.EXPERIMENT)
     with pytest.raises(SceneError, match="did you mean 'label'"):
         kind_scene(tmp_path, coast={"lable": "adrift"})
+
+
+def test_a_users_kind_runs_in_a_batch(tmp_path, monkeypatch):
+    """freefloat batch on a scene with the user's section runs the user's kind in every run (in
+    this process: the kind registered here)."""
+    from freefloat.app.cli import main
+
+    monkeypatch.setitem(EXPERIMENTS, "coast", toy_experiment.EXPERIMENT)
+    scene = kind_scene(tmp_path, coast={"label": "adrift"})
+    out = tmp_path / "batch"
+    assert main(["batch", str(scene.source), "--runs", "2", "--workers", "1", "--quiet", "--out", str(out)]) == 0
+    rows = list(csv.DictReader((out / "runs.csv").open()))
+    assert [(r["status"], r["coast_label"]) for r in rows] == [("completed", "adrift")] * 2
