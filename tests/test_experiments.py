@@ -178,3 +178,12 @@ def test_a_users_kind_runs_in_a_batch(tmp_path, monkeypatch):
     assert main(["batch", str(scene.source), "--runs", "2", "--workers", "1", "--quiet", "--out", str(out)]) == 0
     rows = list(csv.DictReader((out / "runs.csv").open()))
     assert [(r["status"], r["coast_label"]) for r in rows] == [("completed", "adrift")] * 2
+
+
+def test_a_kind_declaring_a_builtin_section_is_refused(tmp_path, monkeypatch):
+    """An experiment kind whose section is a built-in key of the scene is named when a scene is
+    read (it would otherwise keep every built-in kind from that scene)."""
+    clash = dataclasses.replace(toy_experiment.EXPERIMENT, sections={"robot": toy_experiment.CoastSettings})
+    monkeypatch.setitem(EXPERIMENTS, "coast", clash)
+    with pytest.raises(InvalidArgument, match="experiment kind 'coast' declares the section 'robot'"):
+        kind_scene(tmp_path)

@@ -87,13 +87,21 @@ def kind_sections() -> dict[str, type]:
     return {name: cls for kind in EXPERIMENTS.values() for name, cls in kind.sections.items()}
 
 
-def parse_kind_sections(where: str, raw: dict[str, Any], rules: Rules) -> dict[str, Any]:
+def parse_kind_sections(where: str, raw: dict[str, Any], rules: Rules, builtin: set[str]) -> dict[str, Any]:
     """The tables of ``raw`` (a scene file's top level) that a registered experiment kind
     declares, each parsed into its settings dataclass (unknown key, type, ``rules``).
 
+    Args:
+        builtin: the scene's own top-level keys, which no kind may declare.
+
     Raises:
         SceneError: naming the section's key that is wrong.
+        InvalidArgument: a kind declares a built-in key as its section (naming both).
     """
+    for kind in EXPERIMENTS.values():
+        for name in set(kind.sections) & builtin:
+            raise InvalidArgument(f"experiment kind '{kind.name}' declares the section '{name}', a built-in key of "
+                                  "the scene; rename its section")
     return {name: parse_section(where, name, cls, raw[name], rules) for name, cls in kind_sections().items()
             if name in raw}
 

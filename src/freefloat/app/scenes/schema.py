@@ -293,8 +293,8 @@ def parse_robot_scene(raw: dict[str, Any], source: Path | None = None) -> Scene:
     """Validate a robot scene given as a dict (the parsed TOML)."""
     where = f"{source}: " if source else "scene: "
     top = {"name", "kind", "description", "angle_unit", "plugins", "controller", "wrenches", "environment", "closures",
-           "wheels", *SECTIONS, *kind_sections()}
-    reject_unknown(where, "", raw, top)
+           "wheels", *SECTIONS}
+    reject_unknown(where, "", raw, top | set(kind_sections()))
     if "name" not in raw or "robot" not in raw:
         raise SceneError(f"{where}'name' and [robot] are required")
     kwargs: dict[str, Any] = {
@@ -306,7 +306,7 @@ def parse_robot_scene(raw: dict[str, Any], source: Path | None = None) -> Scene:
     for section, cls in SECTIONS.items():
         if section in raw:
             kwargs[section] = parse_section(where, section, cls, raw[section], RULES)
-    kwargs["sections"] = parse_kind_sections(where, raw, RULES)
+    kwargs["sections"] = parse_kind_sections(where, raw, RULES, top)
     kwargs["controller"] = parse_entry(where, "controller", raw.get("controller", {}), controllers.serving("robot"),
                                        "none", RULES, "controllers of robot scenes")
     wrenches = raw.get("wrenches", [])
