@@ -68,10 +68,11 @@ _PUBLIC = {
     # scenes, runs, bench
     "load_scene": "freefloat.app.scenes", "find_scene": "freefloat.app.scenes",
     "simulate": "freefloat.app.runner",
-    # extension points: a user's controller or environment, registered by name
+    # extension points: a user's controller, environment or experiment kind, registered by name
     "CONTROLLERS": "freefloat.app.controllers", "ControllerSpec": "freefloat.app.controllers",
     "ControlContext": "freefloat.app.controllers", "Rules": "freefloat.app.scenes.fields",
     "ENVIRONMENTS": "freefloat.app.environments", "EnvironmentSpec": "freefloat.app.environments",
+    "EXPERIMENTS": "freefloat.app.experiments", "Experiment": "freefloat.app.experiments",
     "WrenchField": "freefloat.dynamics.wrenches", "ExternalWrench": "freefloat.dynamics.wrenches",
     "use": "freefloat.registry",
 }

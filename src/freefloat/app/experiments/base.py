@@ -51,11 +51,19 @@ class Outcome(Result):
 
 @dataclass(frozen=True)
 class Experiment:
-    """One kind of experiment: how a scene of that kind is prepared and run.
+    """One kind of experiment: which scenes it takes, and how one is prepared and run.
 
     Attributes:
-        kind: the scene kind it runs (``scene.kind``).
+        name: the kind (``scene.kind`` of the scenes it runs).
         description: one line for listings.
+        scenes: which scenes it takes, in words (the message refusing a scene's ``kind``).
+        takes: ``takes(scene) -> bool``: whether it runs ``scene``, from the scene's sections
+            (never from its ``kind``): exactly one registered experiment takes a scene that does
+            not name its ``kind`` (:func:`freefloat.app.scenes.kinds.kind_of`).
+        sections: scene sections it reads besides the built-in ones (a plug-in's own tables):
+            name -> frozen dataclass whose fields are the section's keys (defaults; units in its
+            docstring), validated as a built-in section is; the parsed settings are
+            ``scene.sections[name]``. It never takes a scene with a section it does not read.
         prepare: ``prepare(scene) -> setup``: everything resolved before the loop (files,
             robot or mechanism, initial state, controller); raises ``SceneError`` naming the key.
         steps: ``steps(scene) -> int``: how many steps ``progress`` counts to.
@@ -67,10 +75,13 @@ class Experiment:
             from the modules that compute them; the command line prints it beside the value.
     """
 
-    kind: str
+    name: str
     description: str
+    scenes: str
+    takes: Callable[[Any], bool]
     prepare: Callable[[Any], Any]
     steps: Callable[[Any], int]
     run: Callable[[Any, Progress | None, Checkpoint | None], Outcome]
     headline: tuple[str, ...] = ()
     units: dict[str, str] = field(default_factory=dict)
+    sections: dict[str, type] = field(default_factory=dict)

@@ -51,6 +51,11 @@ class CaptureSetup(RobotSetup):
     min_norm: Plan | None = None
 
 
+def takes(scene: object) -> bool:
+    """A robot scene whose ``[target]`` one hand grasps (no ``second_end_effector``)."""
+    return isinstance(scene, Scene) and scene.target is not None and not scene.target.second_end_effector
+
+
 def prepare(scene: Scene) -> CaptureSetup:
     """The robot, its start, the detumble task checked on it, and the target placed so that its
     grasp point meets the end-effector at ``target.contact_time`` (``approach.reach`` from where
@@ -264,5 +269,6 @@ def target_box(size: tuple[float, float, float]) -> object:
 
 
 EXPERIMENT = Experiment("capture", "a robot grasps a tumbling target and detumbles it",
+                        "robot scenes with a [target] grasped by one hand", takes,
                         prepare, control_steps, run, headline_of(TASK_HEADLINE),
                         {**ROBOT_UNITS, **CAPTURE_UNITS, **PLAN_UNITS, **UNITS})

@@ -30,6 +30,11 @@ from .robot_run import (
 from .robot_run import UNITS as ROBOT_UNITS
 
 
+def takes(scene: object) -> bool:
+    """A robot scene without a ``[target]`` whose task is ``"detumble"``."""
+    return isinstance(scene, Scene) and scene.target is None and scene.task.kind == "detumble"
+
+
 def prepare(scene: Scene) -> RobotSetup:
     """The robot, its start and the scene's controller on the detumble task (``controller.kind =
     "detumbling"``, or its old spelling ``"computed_torque"``: the detumbling controller).
@@ -105,5 +110,6 @@ def detumble_summary(robot: Robot, telemetry: Telemetry, rows: np.ndarray, thres
             "settling_time": settled, "settle_threshold": threshold, **spin_summary(robot, telemetry)}
 
 
-EXPERIMENT = Experiment("detumbling", "a robot stops end-effector velocity rows after an impulse", prepare,
+EXPERIMENT = Experiment("detumbling", "a robot stops end-effector velocity rows after an impulse",
+                        "robot scenes without a [target] whose task.kind is \"detumble\"", takes, prepare,
                         control_steps, run, headline_of(SPIN_HEADLINE), {**ROBOT_UNITS, **UNITS})

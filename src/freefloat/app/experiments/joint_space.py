@@ -22,6 +22,12 @@ from .robot_run import (
 )
 
 
+def takes(scene: object) -> bool:
+    """A robot scene without a ``[target]`` whose task is not ``"detumble"`` (a joint quintic or
+    none: torque-free)."""
+    return isinstance(scene, Scene) and scene.target is None and scene.task.kind != "detumble"
+
+
 def prepare(scene: Scene) -> RobotSetup:
     """The robot, its start, and the scene's controller (:data:`freefloat.app.controllers.CONTROLLERS`)
     on the joint quintic reference (None without a ``joint_quintic`` task).
@@ -53,5 +59,7 @@ def outcome_of(setup: RobotSetup, result: Result) -> Outcome:
     return robot_outcome(setup, setup.robot, result.telemetry, result, summary_of(setup, result))
 
 
-EXPERIMENT = Experiment("joint_space", "joint-space task or torque-free motion of a robot", prepare, control_steps, run,
+EXPERIMENT = Experiment("joint_space", "joint-space task or torque-free motion of a robot",
+                        "robot scenes without a [target] whose task.kind is not \"detumble\"", takes, prepare,
+                        control_steps, run,
                         headline_of(()), UNITS)

@@ -51,6 +51,11 @@ class PreparedMechanism:
     floating: free_base.FloatingMechanism | None = None
 
 
+def takes(scene: object) -> bool:
+    """A mechanism scene (``[mechanism]``)."""
+    return isinstance(scene, MechanismScene)
+
+
 def prepare(scene: MechanismScene) -> PreparedMechanism:
     """Load the mechanism, check the scene's sizes against its p platform coordinates, build the
     reference and controller, assemble the plant at the start.
@@ -317,5 +322,6 @@ UNITS = {
     "status": "", "message": "", "steps": "", "sim_wall_time_s": "s", "loop": "",
 }
 
-EXPERIMENT = Experiment("mechanism", "a closed-chain mechanism tracks a platform reference", prepare, integration_steps, run,
+EXPERIMENT = Experiment("mechanism", "a closed-chain mechanism tracks a platform reference",
+                        "mechanism scenes ([mechanism])", takes, prepare, integration_steps, run,
                         HEADLINE + BASE_HEADLINE, UNITS)

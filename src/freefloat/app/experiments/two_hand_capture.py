@@ -66,6 +66,11 @@ class TwoHandSetup(CaptureSetup):
     second_grasp: np.ndarray
 
 
+def takes(scene: object) -> bool:
+    """A robot scene whose ``[target]`` both hands grasp (``target.second_end_effector``)."""
+    return isinstance(scene, Scene) and scene.target is not None and bool(scene.target.second_end_effector)
+
+
 def prepare(scene: Scene) -> TwoHandSetup:
     """The one-hand capture's setup (:func:`.capture.prepare`), the second hand checked, and the
     second grasp point checked against where that hand is at contact.
@@ -234,5 +239,6 @@ def _page_bodies(size, target_poses: np.ndarray, grasp_poses: np.ndarray) -> lis
 
 
 EXPERIMENT = Experiment("two_hand_capture", "both hands grasp one tumbling target at once and detumble it "
-                        "through the closed loop", prepare, control_steps, run, headline_of(TASK_HEADLINE),
+                        "through the closed loop", "robot scenes with a [target] grasped by both hands (target.second_end_effector)",
+                        takes, prepare, control_steps, run, headline_of(TASK_HEADLINE),
                         {**ROBOT_UNITS, **CAPTURE_UNITS, **PLAN_UNITS, **APPROACH_UNITS, **UNITS})

@@ -37,7 +37,8 @@ def scene_as_run(scene: Scene | MechanismScene, model_choice: dict[str, Any] | N
 def scene_table(scene: Scene | MechanismScene) -> dict[str, Any]:
     """``scene`` as the tables of its file (``dataclasses.asdict``, in field order, with each
     entry's ``kind`` and settings in one table): ``[controller]``, the ``wrench_profile`` fields
-    as ``[[wrenches]]``, the other fields as ``[[environment]]``, ``plugins`` when there are any."""
+    as ``[[wrenches]]``, the other fields as ``[[environment]]``, ``plugins`` and ``kind`` when
+    the scene has them, and the sections of experiment kinds as their own tables."""
     table: dict[str, Any] = {}
     for f in dataclasses.fields(scene):
         value = getattr(scene, f.name)
@@ -48,6 +49,11 @@ def scene_table(scene: Scene | MechanismScene) -> dict[str, Any]:
             others = [_entry(e) for e in value if e.kind != "wrench_profile"]
             if others:
                 table["environment"] = others
+        elif f.name == "named_kind":
+            if value:
+                table["kind"] = value
+        elif f.name == "sections":
+            table.update({name: dataclasses.asdict(settings) for name, settings in value.items()})
         elif f.name != "plugins" or value:
             table[f.name] = _plain(value)
     return table

@@ -32,6 +32,7 @@ from .fields import (
     typed,
     whole_number_of,
 )
+from .kinds import Kinded
 
 
 @dataclass(frozen=True)
@@ -112,9 +113,10 @@ class MetricsSection:
 
 
 @dataclass(frozen=True)
-class MechanismScene(PluginsFirst):
+class MechanismScene(PluginsFirst, Kinded):
     """A validated mechanism scene. ``source`` is the file it came from; ``plugins`` the modules
-    it imported first (files as absolute paths, or module names)."""
+    it imported first (files as absolute paths, or module names); ``named_kind`` its top-level
+    ``kind`` (see :class:`~freefloat.app.scenes.schema.Scene`)."""
 
     name: str
     mechanism: MechanismSection
@@ -127,9 +129,7 @@ class MechanismScene(PluginsFirst):
     output: OutputSection = OutputSection()
     source: Path | None = None
     plugins: tuple[str, ...] = ()
-
-    #: The experiment kind that runs this scene.
-    kind = "mechanism"
+    named_kind: str = ""
 
 
 #: Integrator names a mechanism scene may use besides the registry's: ``rk4`` (the thesis's
@@ -161,7 +161,7 @@ def parse_mechanism_scene(raw: dict[str, Any], source: Path | None = None) -> Me
             longer than the duration.
     """
     where = f"{source}: " if source else "scene: "
-    reject_unknown(where, "", raw, {"name", "description", "plugins", "controller", *SECTIONS})
+    reject_unknown(where, "", raw, {"name", "kind", "description", "plugins", "controller", *SECTIONS})
     missing = [s for s in ("name", "trajectory", "controller", "simulation") if s not in raw]
     if missing:
         raise SceneError(f"{where}a mechanism scene needs '{missing[0]}'")
@@ -169,6 +169,7 @@ def parse_mechanism_scene(raw: dict[str, Any], source: Path | None = None) -> Me
     sections["controller"] = parse_entry(where, "controller", raw["controller"], controllers.serving("mechanism"),
                                          None, RULES)
     scene = MechanismScene(name=typed(where, "name", raw["name"], str),
+                           named_kind=typed(where, "kind", raw.get("kind", ""), str),
                            description=typed(where, "description", raw.get("description", ""), str),
                            source=source, **sections)
     plants = REGISTRY[scene.mechanism.name].plants

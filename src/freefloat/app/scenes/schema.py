@@ -33,6 +33,7 @@ from .fields import (
     typed,
     whole_number_of,
 )
+from .kinds import Kinded, kind_sections, parse_kind_sections
 
 
 @dataclass(frozen=True)
@@ -209,9 +210,12 @@ class SimulationSection:
 
 
 @dataclass(frozen=True)
-class Scene(PluginsFirst):
+class Scene(PluginsFirst, Kinded):
     """A validated scene. ``source`` is the file it came from (None for one built in code);
-    ``plugins`` the modules it imported first (files as absolute paths, or module names)."""
+    ``plugins`` the modules it imported first (files as absolute paths, or module names);
+    ``named_kind`` its top-level ``kind`` ("": its ``kind`` is the experiment kind that takes it,
+    :func:`~freefloat.app.scenes.kinds.kind_of`); ``sections`` the tables that registered
+    experiment kinds declare (name -> settings)."""
 
     name: str
     robot: RobotSection
@@ -230,21 +234,14 @@ class Scene(PluginsFirst):
     attitude: AttitudeSection | None = None
     source: Path | None = None
     plugins: tuple[str, ...] = ()
+    named_kind: str = ""
+    sections: dict[str, Any] = field(default_factory=dict)
 
     @property
     def wrenches(self) -> tuple[Any, ...]:
         """The settings (:class:`~freefloat.app.environments.WrenchProfile`) of the
         ``wrench_profile`` fields: ``[[wrenches]]`` tables and ``[[environment]]`` of that kind."""
         return tuple(e.settings for e in self.environment if e.kind == "wrench_profile")
-
-    @property
-    def kind(self) -> str:
-        """The experiment kind that runs this scene: ``"two_hand_capture"`` (a ``[target]`` with
-        a second end-effector), ``"capture"`` (a ``[target]``), ``"detumbling"``
-        (``task.kind = "detumble"``) or ``"joint_space"``."""
-        if self.target is not None:
-            return "two_hand_capture" if self.target.second_end_effector else "capture"
-        return "detumbling" if self.task.kind == "detumble" else "joint_space"
 
     @property
     def angle_scale(self) -> float:
@@ -295,19 +292,21 @@ RULES = Rules(CHOICES, POSITIVE, NON_NEGATIVE)
 def parse_robot_scene(raw: dict[str, Any], source: Path | None = None) -> Scene:
     """Validate a robot scene given as a dict (the parsed TOML)."""
     where = f"{source}: " if source else "scene: "
-    top = {"name", "description", "angle_unit", "plugins", "controller", "wrenches", "environment", "closures",
+    top = {"name", "kind", "description", "angle_unit", "plugins", "controller", "wrenches", "environment", "closures",
            "wheels", *SECTIONS}
-    reject_unknown(where, "", raw, top)
+    reject_unknown(where, "", raw, top | set(kind_sections()))
     if "name" not in raw or "robot" not in raw:
         raise SceneError(f"{where}'name' and [robot] are required")
     kwargs: dict[str, Any] = {
         "name": typed(where, "name", raw["name"], str),
+        "named_kind": typed(where, "kind", raw.get("kind", ""), str),
         "description": typed(where, "description", raw.get("description", ""), str),
         "angle_unit": choice(where, "", "angle_unit", raw.get("angle_unit", "deg"), RULES),
     }
     for section, cls in SECTIONS.items():
         if section in raw:
             kwargs[section] = parse_section(where, section, cls, raw[section], RULES)
+    kwargs["sections"] = parse_kind_sections(where, raw, RULES, top)
     kwargs["controller"] = parse_entry(where, "controller", raw.get("controller", {}), controllers.serving("robot"),
                                        "none", RULES, "controllers of robot scenes")
     wrenches = raw.get("wrenches", [])
