@@ -77,14 +77,19 @@ class ContactField:
     def contact(self, q: np.ndarray, v: np.ndarray) -> tuple[Proximity, np.ndarray] | None:
         """Where the shapes touch at ``(q, v)`` and the force on the second body there (inertial
         frame, N (3,)), or None while they are apart; runs the forward kinematics."""
+        near, velocity = self.nearest(q, v)
+        if near.depth <= 0.0:
+            return None
+        return near, self.law.force(near.depth, near.normal, velocity)
+
+    def nearest(self, q: np.ndarray, v: np.ndarray) -> tuple[Proximity, np.ndarray]:
+        """Where the shapes are closest at ``(q, v)`` (touching or not), and the second body's
+        material velocity relative to the first's at that point, inertial frame, m/s (3,)."""
         pin.forwardKinematics(self.model, self.data, q, v)
         oMi = self.data.oMi
         a, b = self.joints
         near = proximity(self.geometries[0], oMi[a] * self.placements[0], self.geometries[1], oMi[b] * self.placements[1])
-        if near.depth <= 0.0:
-            return None
-        velocity = self._point_velocity(b, near.point) - self._point_velocity(a, near.point)
-        return near, self.law.force(near.depth, near.normal, velocity)
+        return near, self._point_velocity(b, near.point) - self._point_velocity(a, near.point)
 
     def _point_velocity(self, joint: int, point: np.ndarray) -> np.ndarray:
         """Velocity of ``joint``'s body's material point at ``point`` (inertial), inertial frame (3,)."""
