@@ -163,6 +163,7 @@ def contact_scene(**keys) -> dict:
     return raw
 
 
+@pytest.mark.slow
 def test_the_contact_entry_reports_a_rebound(tmp_path):
     """A satellite bouncing off a fixed sphere, run as a user runs a scene: the summary says
     "rebound", it leaves at the exact Hunt-Crossley restitution times its approach speed (to
