@@ -1,7 +1,7 @@
 """Tests of freefloat.space.contact: coal's signed distance against the closed forms of the
 primitives, a head-on rebound against Hunt-Crossley's exact restitution, robot + target momentum
-kept by the contact forces, and the velocity jump converging to Newton's rigid impulse as the
-stiffness grows."""
+kept by the contact forces, the velocity jump converging to Newton's rigid impulse as the
+stiffness grows, and the latch closing the weld on a held contact."""
 
 from __future__ import annotations
 
@@ -12,8 +12,9 @@ import pytest
 from freefloat import load_robot, run
 from freefloat.errors import InvalidArgument
 from freefloat.paths import URDF_DIR
-from freefloat.robot.conventions import skew
+from freefloat.robot.conventions import momentum_about_origin, skew
 from freefloat.space.contact import ContactLaw, ContactSettings, Shape, contact_field, proximity, restitution
+from freefloat.space.contact.latch import Latch, LatchWatch, close_weld
 from freefloat.space.contact.target import target_state, with_free_target
 from freefloat.space.orbit.libration import rigid_satellite_urdf
 
@@ -102,12 +103,17 @@ def robot_and_target():
     return robot, with_free_target(robot, 5.0, (0.05, 0.05, 0.05))
 
 
-def hand_strike(robot, merged, stiffness: float, friction: float = 0.0):
+#: The target's start and touching y (m): its centre 0.3001 m, then 0.3 m (the radii's sum) from the
+#: hand's, 0.05 m off the arm's axis.
+START_Y, TOUCH_Y = np.sqrt(0.3001**2 - 0.05**2), np.sqrt(0.3**2 - 0.05**2)
+
+
+def hand_strike(robot, merged, stiffness: float, friction: float = 0.0, damping_ratio: float = 0.5):
     """The field and state of a target sphere striking the still first hand sideways, 0.05 m off
-    the arm's axis, 0.1 mm before contact at 0.1 m/s."""
+    the arm's axis, 0.1 mm before contact at 0.1 m/s (c / k = ``damping_ratio`` s/m)."""
     settings = ContactSettings("arm1_ee", "target", first_size=(0.1,), second_size=(0.2,), stiffness=stiffness,
-                               damping=0.5 * stiffness, friction=friction)
-    qt, vt = target_state((7.8, 0.3001, 0.0), (0.0, -0.1, 0.0))
+                               damping=damping_ratio * stiffness, friction=friction)
+    qt, vt = target_state((7.8, START_Y, 0.0), (0.0, -0.1, 0.0))
     return settings, contact_field(merged, settings), np.concatenate((robot.neutral(), qt)), \
         np.concatenate((np.zeros(robot.model.nv), vt))
 
@@ -157,7 +163,7 @@ def test_velocity_jump_converges_to_rigid_impulse(robot_and_target):
     for stiffness in (1e4, 1e7):
         settings, field, q0, v0 = hand_strike(robot, merged, stiffness)
         touching = q0.copy()
-        touching[-6:-3] += (0.0, -1e-4, 0.0)
+        touching[-5] = TOUCH_Y
         rigid = newton_jump(merged, field, settings, touching, v0)
         seen: list[float] = []
 
@@ -187,3 +193,30 @@ def test_bad_shape_is_refused():
         ContactSettings("a", "b", first_shape="box", first_size=(0.1,))
     with pytest.raises(InvalidArgument, match="sphere"):
         ContactSettings("a", "b", first_shape="spere")
+
+
+@pytest.mark.parametrize(("damping_ratio", "closes"), [(20.0, True), (0.0, False)])
+def test_latch_closes_the_weld_on_a_held_contact(robot_and_target, damping_ratio, closes):
+    """A damped strike (c / k = 20 s/m) is held below 0.05 m/s for 0.05 s and latches; the weld's
+    impulse then stops the hand-target relative twist (to 1e-12) and keeps robot + target momentum
+    (to 1e-12 N s). An elastic strike bounces off before the hold time and never latches."""
+    robot, merged = robot_and_target
+    _, field, q0, v0 = hand_strike(robot, merged, 1e4, friction=0.5, damping_ratio=damping_ratio)
+    watch = LatchWatch(field, Latch(0.05, 0.05))
+    result = run(merged, q0, v0, 0.4, 1e-3, integrator="dop853", rtol=1e-10, atol=1e-12, environment=[field],
+                 stop=watch)
+    assert (watch.closed_at is not None) == closes and (result.status == "stopped") == closes
+    if closes:
+        q, v = result.telemetry.q[-1], result.telemetry.v[-1]
+        hit = close_weld(merged.model, "arm1_ee", q, v)
+        assert hit.gap_speed_before > 0.1
+        assert close_weld(merged.model, "arm1_ee", q, hit.v_after).gap_speed_before < 1e-12
+        data = merged.model.createData()
+        before, after = (momentum_about_origin(merged.model, data, q, u) for u in (v, hit.v_after))
+        assert np.abs(after - before).max() < 1e-12
+
+
+def test_latch_refuses_a_bad_setting():
+    """A hold time or speed that is not positive is refused naming it."""
+    with pytest.raises(InvalidArgument, match="hold_time"):
+        Latch(0.0, 0.01)
