@@ -40,7 +40,7 @@ class Latch:
 class LatchWatch:
     """``stop(t, q, v)`` for the engine's run: True at the first period end at which the field's
     shapes have touched at ``latch.speed`` or slower at every period end of the last
-    ``latch.hold_time`` s.
+    ``latch.hold_time`` s (one watch per run: it keeps the time the hold began).
 
     Attributes:
         closed_at: the time it fired, s, or None.
