@@ -20,6 +20,7 @@ from freefloat.app.scenes import builtin_scenes, find_scene, parse_scene
 from freefloat.dynamics.metrics import summarize
 from freefloat.dynamics.wrenches import ExternalWrench
 from freefloat.paths import URDF_DIR
+from freefloat.space.contact import restitution
 from freefloat.space.orbit.libration import pendulum_period
 
 from .conftest import REPO
@@ -147,3 +148,52 @@ def test_an_entry_that_summarises_must_give_its_units():
     spec = ENVIRONMENTS["orbit"]
     with pytest.raises(freefloat.InvalidArgument, match="environment 'my_orbit': a summarise needs the units"):
         EnvironmentSpec("my_orbit", "", spec.settings, spec.build, spec.rules, spec.summarise)
+
+
+def contact_scene(**keys) -> dict:
+    """The orbit_libration satellite (100 kg, link ``satellite``) out of orbit, drifting at
+    0.2 m/s along x into a fixed world sphere 0.5 m ahead of its CoM, for 1 s."""
+    raw = tomllib.loads(builtin_scenes()["orbit_libration"].read_text())
+    raw["initial"] = {"base_linear_velocity": [0.2, 0.0, 0.0]}
+    raw["environment"] = [{"kind": "contact", "first": "world", "first_offset": [0.5, 0.0, 0.0],
+                           "first_size": [0.1], "second": "satellite", "second_shape": "box",
+                           "second_size": [0.6, 0.6, 0.6], "stiffness": 1e6, "damping": 2e6, **keys}]
+    raw["simulation"] = {"duration": 1.0, "control_period": 1e-3, "integrator": "dop853", "rtol": 1e-11,
+                         "atol": 1e-13, "model": "exact"}
+    return raw
+
+
+@pytest.mark.slow
+def test_the_contact_entry_reports_a_rebound(tmp_path):
+    """A satellite bouncing off a fixed sphere, run as a user runs a scene: the summary says
+    "rebound", it leaves at the exact Hunt-Crossley restitution times its approach speed (to
+    1e-6 m/s), and the momentum balances against the world's push."""
+    scene = parse_scene(contact_scene())
+    outcome = freefloat.simulate(dataclasses.replace(scene, output=dataclasses.replace(
+        scene.output, figures=False, html=False)), out=tmp_path)
+    law = scene.environment[0].settings.law()
+    summary = outcome.summary
+    assert summary["contact_outcome"] == "rebound"
+    assert summary["contact_final_normal_speed"] == pytest.approx(0.2 * restitution(law, 0.2), abs=1e-6)
+    assert 0.0 < summary["contact_start"] < summary["contact_end"] < 1.0
+    assert summary["contact_max_penetration"] > 0.0 and summary["contact_peak_force"] > 0.0
+    assert summary["momentum_balance_relative"] < 1e-4
+    assert summary_units(scene)["contact_peak_force"] == "N"
+
+
+@pytest.mark.parametrize(
+    ("keys", "message"),
+    [
+        ({"second": "satelite"}, "did you mean 'satellite'?"),
+        ({"first_shape": "ball"}, "'environment.first_shape'"),
+        ({"second_size": [0.6]}, "a box takes 3 positive size(s)"),
+        ({"stiffness": -1.0}, "'environment.stiffness' must be > 0"),
+        ({"friction": -0.1}, "'environment.friction' must be >= 0"),
+    ],
+)
+def test_the_contact_entry_refuses_bad_keys_by_name(keys, message):
+    """A misspelled link, an unknown shape, sizes that do not fit the shape and a negative
+    stiffness or friction are refused when the scene is read or built, naming the key."""
+    with pytest.raises((SceneError, freefloat.InvalidArgument), match=re.escape(message)):
+        scene = parse_scene(contact_scene(**keys))
+        freefloat.simulate(scene)

@@ -9,7 +9,8 @@ evaluated by the Python loop at every integrator stage) or an
 loop applies too). An entry may also add summary keys measured from the run (``summarise``, with
 their ``units``). The built-in ``wrench_profile`` is the old ``[[wrenches]]`` table (that
 spelling is kept); the built-in ``orbit`` is the tidal gravity of a circular orbit
-(:mod:`freefloat.space.orbit`, docs/orbit.md). A user's module registers its own::
+(:mod:`freefloat.space.orbit`, docs/orbit.md); the built-in ``contact`` a compliant contact between two
+links (:mod:`freefloat.space.contact`, docs/contact.md). A user's module registers its own::
 
     ENVIRONMENTS.register(EnvironmentSpec("constant_wrench", "a constant inertial wrench on a link",
                                           ConstantWrenchSettings, ConstantWrench))
@@ -25,6 +26,10 @@ from ..dynamics.wrenches import ExternalWrench, WrenchField
 from ..errors import InvalidArgument
 from ..registry import Registry
 from ..robot.robot import Robot
+from ..space.contact.field import ContactSettings, contact_field
+from ..space.contact.shapes import SHAPES
+from ..space.contact.summary import SUMMARY_UNITS as CONTACT_UNITS
+from ..space.contact.summary import contact_summary
 from ..space.orbit.field import orbit_field
 from ..space.orbit.reference import OrbitSettings
 from ..space.orbit.summary import SUMMARY_UNITS as ORBIT_UNITS
@@ -97,6 +102,14 @@ ENVIRONMENTS.register(EnvironmentSpec(
     "orbit", "tidal gravity and gravity-gradient torque of a circular orbit (altitude m or mean_motion rad/s, phase rad)",
     OrbitSettings, orbit_field, Rules({}, {("environment", "altitude"), ("environment", "mean_motion")}, set()),
     orbit_summary, ORBIT_UNITS))
+
+ENVIRONMENTS.register(EnvironmentSpec(
+    "contact", "compliant contact (Hunt-Crossley, regularised Coulomb friction) between shapes on two links (or a link and the world)",
+    ContactSettings, contact_field,
+    Rules({("environment", "first_shape"): tuple(SHAPES), ("environment", "second_shape"): tuple(SHAPES)},
+          {("environment", "stiffness"), ("environment", "exponent"), ("environment", "slip_speed")},
+          {("environment", "damping"), ("environment", "friction")}),
+    contact_summary, CONTACT_UNITS))
 
 
 def environment_units(entries: Any) -> dict[str, str]:
