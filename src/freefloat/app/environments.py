@@ -9,7 +9,8 @@ evaluated by the Python loop at every integrator stage) or an
 loop applies too). An entry may also add summary keys measured from the run (``summarise``, with
 their ``units``). The built-in ``wrench_profile`` is the old ``[[wrenches]]`` table (that
 spelling is kept); the built-in ``orbit`` is the tidal gravity of a circular orbit
-(:mod:`freefloat.space.orbit`, docs/orbit.md). A user's module registers its own::
+(:mod:`freefloat.space.orbit`, docs/orbit.md); the built-in ``thrusters`` are thrusters on the base
+that a thruster controller commands (:mod:`freefloat.space.thrusters`, docs/thrusters.md). A user's module registers its own::
 
     ENVIRONMENTS.register(EnvironmentSpec("constant_wrench", "a constant inertial wrench on a link",
                                           ConstantWrenchSettings, ConstantWrench))
@@ -29,6 +30,8 @@ from ..space.orbit.field import orbit_field
 from ..space.orbit.reference import OrbitSettings
 from ..space.orbit.summary import SUMMARY_UNITS as ORBIT_UNITS
 from ..space.orbit.summary import orbit_summary
+from ..space.thrusters import SUMMARY_UNITS as THRUSTER_UNITS
+from ..space.thrusters import ThrusterSet, ThrusterSettings, thruster_summary
 from .scenes.fields import NO_RULES, Rules, check_settings
 
 
@@ -97,6 +100,13 @@ ENVIRONMENTS.register(EnvironmentSpec(
     "orbit", "tidal gravity and gravity-gradient torque of a circular orbit (altitude m or mean_motion rad/s, phase rad)",
     OrbitSettings, orbit_field, Rules({}, {("environment", "altitude"), ("environment", "mean_motion")}, set()),
     orbit_summary, ORBIT_UNITS))
+
+ENVIRONMENTS.register(EnvironmentSpec(
+    "thrusters", "thrusters on a free base (positions, directions, max_thrust N, min_impulse_bit N s, "
+    "specific_impulse s), commanded by a thruster controller", ThrusterSettings, ThrusterSet,
+    Rules({}, {("environment", "arm"), ("environment", "max_thrust"), ("environment", "specific_impulse")},
+          {("environment", "min_impulse_bit")}),
+    thruster_summary, THRUSTER_UNITS))
 
 
 def environment_units(entries: Any) -> dict[str, str]:

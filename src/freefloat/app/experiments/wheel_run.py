@@ -117,7 +117,10 @@ def target_rotation(scene: Scene, robot: Robot, q0: np.ndarray) -> np.ndarray:
 def wheel_attitude_control(scene: Scene, wheels: Wheels, arm: Controller | None, q0: np.ndarray) -> Controller | None:
     """The controller of a scene with wheels: the attitude law composed with the arm's controller
     (``[attitude] kind = "hold"``, the default), or free wheels under the arm's controller
-    (``"none"``: no wheel torque)."""
+    (``"none"``: no wheel torque); a controller that drives the wheels itself (``drives_wheels``,
+    as momentum dumping does) runs alone."""
+    if getattr(arm, "drives_wheels", False):
+        return arm
     attitude = scene.attitude or AttitudeSection()
     if attitude.kind == "none":
         return WheelAttitudeControl(wheels, arm, None)
