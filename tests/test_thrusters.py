@@ -5,12 +5,19 @@ impulse, the pose hold and the wheels' momentum dump."""
 
 from __future__ import annotations
 
+import dataclasses
+import re
+import tomllib
+
 import numpy as np
 import pinocchio as pin
 import pytest
 
 import freefloat
-from freefloat import InvalidArgument
+from freefloat import InvalidArgument, SceneError
+from freefloat.app.experiments import summary_units
+from freefloat.app.scenes import builtin_scenes, find_scene, parse_scene
+from freefloat.dynamics.metrics import summarize
 from freefloat.paths import URDF_DIR
 from freefloat.robot.wheels import WheelSpec, mount_wheels
 from freefloat.space.control.thruster_control import ThrusterHold
@@ -116,9 +123,10 @@ def test_propellant_and_delta_v_follow_the_closed_form(satellite):
     assert summary["thruster_impulse_total"] == pytest.approx(impulse, rel=1e-12)
     assert summary["propellant_mass"] == pytest.approx(impulse / (230.0 * G0), rel=1e-12)
     assert summary["thruster_delta_v"] == pytest.approx(impulse / pin.computeTotalMass(satellite.model), rel=1e-12)
-    assert summary["thruster_momentum_balance_max"] < 1e-10
+    assert summarize(tel, satellite, (), PERIOD, (thrusters,))["momentum_balance_max"] < 1e-10
 
 
+@pytest.mark.slow
 def test_hold_brings_a_perturbed_base_back(satellite):
     """A base pushed off its pose (linear and angular velocity) is brought back: the attitude error
     falls to a tenth of its largest, the momentum balance with the thrusters' impulse closes."""
@@ -131,11 +139,12 @@ def test_hold_brings_a_perturbed_base_back(satellite):
     errors = np.array([attitude_error(q) for q in tel.q])
     assert errors[-1] < 0.1 * errors.max()
     assert np.linalg.norm(tel.q[-1, :3]) < 0.2 * np.linalg.norm(tel.q[:, :3], axis=1).max()
-    summary = thruster_summary(thrusters, satellite, tel)
-    assert summary["thruster_momentum_balance_max"] < 1e-10
-    np.testing.assert_allclose(summary["thruster_impulse"], tel.momentum[-1] - tel.momentum[0], rtol=0, atol=1e-10)
+    assert summarize(tel, satellite, (), PERIOD, (thrusters,))["momentum_balance_max"] < 1e-10
+    impulse = thruster_summary(thrusters, satellite, tel)["thruster_impulse"]
+    np.testing.assert_allclose(impulse, tel.momentum[-1] - tel.momentum[0], rtol=0, atol=1e-10)
 
 
+@pytest.mark.slow
 def test_dump_moves_the_wheels_momentum_out_through_the_thrusters(with_wheels):
     """Wheels spinning with 3 N m s are braked to under 1 % of it while the base stays within 2 mrad
     of its attitude; the system's angular momentum changes by the thrusters' angular impulse."""
@@ -150,8 +159,50 @@ def test_dump_moves_the_wheels_momentum_out_through_the_thrusters(with_wheels):
     left = with_wheels.momenta(tel.v[-1])
     assert np.abs(left).max() < 0.01 * np.abs(stored).max()
     assert max(attitude_error(q) for q in tel.q) < 2e-3
-    summary = thruster_summary(thrusters, robot, tel)
-    assert summary["thruster_momentum_balance_max"] < 1e-9
-    np.testing.assert_allclose(summary["thruster_impulse"][3:], tel.momentum[-1, 3:] - tel.momentum[0, 3:],
+    assert summarize(tel, robot, (), PERIOD, (thrusters,))["momentum_balance_max"] < 1e-9
+    np.testing.assert_allclose(thruster_summary(thrusters, robot, tel)["thruster_impulse"][3:], tel.momentum[-1, 3:] - tel.momentum[0, 3:],
                                rtol=0, atol=1e-9)
     np.testing.assert_allclose(tel.momentum[-1, 3:], 0.0, atol=0.01 * np.abs(stored).max())
+
+
+@pytest.mark.slow
+def test_the_dump_scene_empties_the_wheels_through_the_thrusters():
+    """The built-in satellite_momentum_dump, run as a user runs it (3 s of its 12), brakes the
+    wheels' stored momentum, holds the base within 1 mrad, balances the momentum against the
+    thrusters' impulse and reports the propellant of its closed form, with units."""
+    scene = find_scene("satellite_momentum_dump")
+    short = dataclasses.replace(scene, output=dataclasses.replace(scene.output, figures=False, html=False),
+                                simulation=dataclasses.replace(scene.simulation, duration=3.0))
+    summary = freefloat.simulate(short).summary
+    stored = np.abs(list(summary["wheel_momentum_max"].values()))
+    final = np.abs(list(summary["wheel_momentum_final"].values()))
+    assert (final < 0.5 * stored).all()
+    assert summary["base_rotation_max"] < 1e-3 and summary["momentum_balance_max"] < 1e-10
+    settings = scene.environment[0].settings
+    assert summary["propellant_mass"] == pytest.approx(
+        summary["thruster_impulse_total"] / (settings.specific_impulse * G0), rel=1e-12)
+    units = summary_units(scene)
+    assert units["propellant_mass"] == "kg" and units["thruster_delta_v"] == "m/s"
+
+
+@pytest.mark.parametrize(
+    ("change", "message"),
+    [
+        ({"wheels": None}, "controller 'momentum_dump' dumps the momentum of reaction wheels: give [[wheels]]"),
+        ({"environment": None}, "give exactly one [[environment]] kind = \"thrusters\", got 0"),
+        ({"thrusters": {"max_thrust": 0.0}}, "'environment.max_thrust' must be > 0"),
+        ({"thrusters": {"directions": [[0.0, 0.0, 2.0]], "positions": [[1.0, 0.0, 0.0]]}}, "directions[0]"),
+    ],
+)
+def test_a_thruster_scene_refuses_what_it_cannot_run(change, message):
+    """A dump without wheels, a thruster law without thrusters, a thrust that is not positive and a
+    direction that is not a unit vector are refused by name before anything runs."""
+    raw = tomllib.loads(builtin_scenes()["satellite_momentum_dump"].read_text())
+    for key, value in change.items():
+        if key == "thrusters":
+            raw["environment"][0].update(value)
+        elif value is None:
+            raw.pop(key)
+            raw["initial"].pop("joint_velocities")
+    with pytest.raises(SceneError, match=re.escape(message)):
+        freefloat.app.runner.prepare(parse_scene(raw))

@@ -29,7 +29,9 @@ between two rows split evenly over their periods.
 A field of the environment (:class:`~.wrenches.WrenchField`, state-dependent) is integrated from
 the recorded rows by the trapezoidal rule: its total ``wrench`` for the impulse, the power of its
 joint ``forces`` at the joints' velocities for the work (second order in the row spacing; exact
-for the linear impulse of a constant force).
+for the linear impulse of a constant force). A field whose wrench the rule would integrate badly
+(thrusts that switch at every period) gives its own impulse from the rows, ``impulse(t, q, v)`` ->
+(N, 6) (:meth:`freefloat.space.thrusters.ThrusterSet.impulse`), which replaces the rule's.
 """
 
 from __future__ import annotations
@@ -122,6 +124,7 @@ def field_applied(robot: Robot, telemetry: Telemetry, environment: Sequence[Wren
     tel, model = telemetry, robot.model
     data = model.createData()
     rows = len(tel.t)
+    own = [f for f in environment if hasattr(f, "impulse")]
     total, power = np.zeros((rows, 6)), np.zeros(rows)
     for row in range(rows):
         t = tel.t[0] + np.floor((tel.t[row] - tel.t[0]) / control_period + 1e-9) * control_period
@@ -130,10 +133,13 @@ def field_applied(robot: Robot, telemetry: Telemetry, environment: Sequence[Wren
         for field in environment:
             forces = field.forces(t, q, v)
             if forces is not None:
-                total[row] += field.wrench(t, q, v)
+                if field not in own:
+                    total[row] += field.wrench(t, q, v)
                 power[row] += field_power(model, data, forces)
     gaps = np.diff(tel.t)[:, None]
     impulse = np.vstack((np.zeros(6), np.cumsum(0.5 * gaps * (total[1:] + total[:-1]), axis=0)))
+    for field in own:
+        impulse += field.impulse(tel.t, tel.q, tel.v)
     work = np.concatenate(([0.0], np.cumsum(0.5 * gaps[:, 0] * (power[1:] + power[:-1]))))
     linear = impulse[:, :3]
     shift = np.vstack((np.zeros(3), np.cumsum(0.5 * gaps * (linear[1:] + linear[:-1]), axis=0)))

@@ -20,7 +20,12 @@ from ..robot.robot import Robot
 class WrenchField(Protocol):
     """Wrenches the environment applies to a robot, at time ``t`` (s; the start of the control
     period: held over it, as the profiles are) and state ``q`` (nq,), ``v`` (nv,) (Pinocchio's),
-    evaluated by the loop at every integrator stage; several fields add up."""
+    evaluated by the loop at every integrator stage; several fields add up.
+
+    A field may also give its own impulse over a run, ``impulse(t, q, v)``: from the recorded rows
+    (N,), (N, nq), (N, nv), ``[N s; N m s about the origin]`` from the first row to each (N, 6),
+    which the balances use instead of the trapezoidal rule over :meth:`wrench` (:mod:`.balance`;
+    the thrusters' switch at every period, where the rule errs by half a period's impulse)."""
 
     def forces(self, t: float, q: np.ndarray, v: np.ndarray) -> list[pin.Force] | None:
         """One ``pin.Force`` [f; n] per joint (``model.njoints``): joint-frame axes, moment about
