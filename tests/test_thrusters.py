@@ -83,6 +83,21 @@ def test_pulses_round_below_the_minimum_impulse_bit(satellite):
         thrusters.pulses(asked, 1e-4)
 
 
+def test_commands_are_held_until_the_next_and_a_restart_forgets_later_ones(satellite):
+    """A command holds from its time to the next one's, nothing fires before the first, and a
+    command at an earlier time (a run started again) drops the commands after it."""
+    thrusters = ThrusterSet(satellite, ThrusterSettings())
+    one, two = np.full(thrusters.count, 1.0), np.full(thrusters.count, 2.0)
+    for t, thrusts in ((0.0, one), (PERIOD, two), (2 * PERIOD, one)):
+        thrusters.command(t, thrusts, PERIOD)
+    assert not thrusters.thrust(-PERIOD).any()
+    np.testing.assert_array_equal(thrusters.thrust(1.5 * PERIOD), two)
+    np.testing.assert_array_equal(thrusters.total_impulse(3 * PERIOD), np.full(thrusters.count, 4 * PERIOD))
+    thrusters.command(PERIOD, one, PERIOD)
+    assert thrusters.times == [0.0, PERIOD]
+    np.testing.assert_array_equal(thrusters.thrust(5 * PERIOD), one)
+
+
 def test_settings_refuse_what_is_no_thruster(satellite):
     """Directions that are not unit vectors, positions without directions and a planar base are refused."""
     with pytest.raises(InvalidArgument, match=r"directions\[0\]"):
@@ -178,6 +193,7 @@ def test_the_dump_scene_empties_the_wheels_through_the_thrusters():
     final = np.abs(list(summary["wheel_momentum_final"].values()))
     assert (final < 0.5 * stored).all()
     assert summary["base_rotation_max"] < 1e-3 and summary["momentum_balance_max"] < 1e-10
+    assert summary["wheel_momentum_balance_max"] < 1e-10  # the wheels' balance counts the thrusters' impulse
     settings = scene.environment[0].settings
     assert summary["propellant_mass"] == pytest.approx(
         summary["thruster_impulse_total"] / (settings.specific_impulse * G0), rel=1e-12)

@@ -38,6 +38,7 @@ rule's error (``O(h^4)`` per period); the run's balances take it (:mod:`freefloa
 
 from __future__ import annotations
 
+from bisect import bisect_right
 from dataclasses import dataclass
 from typing import Any
 
@@ -190,7 +191,7 @@ class ThrusterSet:
 
     def thrust(self, t: float) -> np.ndarray:
         """The thrusts held at ``t`` (k,), N (zero before the first command)."""
-        i = int(np.searchsorted(self.times, t + 1e-12, side="right")) - 1
+        i = bisect_right(self.times, t + 1e-12) - 1  # the list as it is: no array built per stage
         return self.thrusts[i] if i >= 0 else self._zero
 
     def forces(self, t: float, q: np.ndarray, v: np.ndarray) -> list[pin.Force] | None:
