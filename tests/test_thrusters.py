@@ -208,11 +208,13 @@ def test_the_dump_scene_empties_the_wheels_through_the_thrusters():
         ({"environment": None}, "give exactly one [[environment]] kind = \"thrusters\", got 0"),
         ({"thrusters": {"max_thrust": 0.0}}, "'environment.max_thrust' must be > 0"),
         ({"thrusters": {"directions": [[0.0, 0.0, 2.0]], "positions": [[1.0, 0.0, 0.0]]}}, "directions[0]"),
+        ({"thrusters": {"min_impulse_bit": 0.05}}, "'min_impulse_bit' 0.05 N s exceeds the most one control period"),
     ],
 )
 def test_a_thruster_scene_refuses_what_it_cannot_run(change, message):
-    """A dump without wheels, a thruster law without thrusters, a thrust that is not positive and a
-    direction that is not a unit vector are refused by name before anything runs."""
+    """A dump without wheels, a thruster law without thrusters, a thrust that is not positive, a
+    direction that is not a unit vector and a bit no period can give are refused by name before
+    anything runs."""
     raw = tomllib.loads(builtin_scenes()["satellite_momentum_dump"].read_text())
     for key, value in change.items():
         if key == "thrusters":

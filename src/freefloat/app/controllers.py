@@ -247,12 +247,17 @@ def _thrusters(context: ControlContext) -> ThrusterSet:
     """The scene's thrusters.
 
     Raises:
-        SceneError: when the scene has none, or more than one set.
+        SceneError: when the scene has none, more than one set, or a minimum impulse bit that one
+            control period cannot give.
     """
     found = [f for f in context.environment if isinstance(f, ThrusterSet)]
     if len(found) != 1:
         raise SceneError(f"{context.where}controller '{context.scene.controller.kind}' commands thrusters: give "
                          f"exactly one [[environment]] kind = \"thrusters\", got {len(found)}")
+    try:
+        found[0].check_period(context.control_period)
+    except InvalidArgument as exc:
+        raise SceneError(f"{context.where}{exc}") from exc
     return found[0]
 
 

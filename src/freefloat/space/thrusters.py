@@ -169,14 +169,22 @@ class ThrusterSet:
         Raises:
             InvalidArgument: when the minimum impulse bit exceeds ``max_thrust * period``.
         """
-        if self.min_impulse_bit > self.max_thrust * period:
-            raise InvalidArgument(f"thrusters: 'min_impulse_bit' {self.min_impulse_bit:g} N s exceeds the most one "
-                                  f"control period of {period:g} s can give, max_thrust x period = "
-                                  f"{self.max_thrust * period:g} N s")
+        self.check_period(period)
         thrusts = np.clip(np.asarray(thrusts, float), 0.0, self.max_thrust)
         bit = self.min_impulse_bit / period
         small = thrusts < bit
         return np.where(small, np.where(thrusts >= 0.5 * bit, bit, 0.0), thrusts)
+
+    def check_period(self, period: float) -> None:
+        """Check that a control period of ``period`` s can give the minimum impulse bit.
+
+        Raises:
+            InvalidArgument: when the minimum impulse bit exceeds ``max_thrust * period``.
+        """
+        if self.min_impulse_bit > self.max_thrust * period:
+            raise InvalidArgument(f"thrusters: 'min_impulse_bit' {self.min_impulse_bit:g} N s exceeds the most one "
+                                  f"control period of {period:g} s can give, max_thrust x period = "
+                                  f"{self.max_thrust * period:g} N s")
 
     def command(self, t: float, thrusts: np.ndarray, period: float) -> np.ndarray:
         """Hold ``thrusts`` (k,), N, from ``t`` s on (after :meth:`pulses`); a command at or before
