@@ -144,7 +144,8 @@ def test_propellant_and_delta_v_follow_the_closed_form(satellite):
 @pytest.mark.slow
 def test_hold_brings_a_perturbed_base_back(satellite):
     """A base pushed off its pose (linear and angular velocity) is brought back: the attitude error
-    falls to a tenth of its largest, the momentum balance with the thrusters' impulse closes."""
+    falls to a tenth of its largest; the momentum and energy balances with the thrusters' own
+    impulse and work close."""
     thrusters = ThrusterSet(satellite, ThrusterSettings())
     law = ThrusterHold(satellite, thrusters, PERIOD, kp=4.0, kd=4.0)
     v0 = np.zeros(satellite.model.nv)
@@ -154,7 +155,8 @@ def test_hold_brings_a_perturbed_base_back(satellite):
     errors = np.array([attitude_error(q) for q in tel.q])
     assert errors[-1] < 0.1 * errors.max()
     assert np.linalg.norm(tel.q[-1, :3]) < 0.2 * np.linalg.norm(tel.q[:, :3], axis=1).max()
-    assert summarize(tel, satellite, (), PERIOD, (thrusters,))["momentum_balance_max"] < 1e-10
+    balances = summarize(tel, satellite, (), PERIOD, (thrusters,))
+    assert balances["momentum_balance_max"] < 1e-10 and balances["energy_balance_max"] < 1e-8
     impulse = thruster_summary(thrusters, satellite, tel)["thruster_impulse"]
     np.testing.assert_allclose(impulse, tel.momentum[-1] - tel.momentum[0], rtol=0, atol=1e-10)
 

@@ -30,8 +30,9 @@ A field of the environment (:class:`~.wrenches.WrenchField`, state-dependent) is
 the recorded rows by the trapezoidal rule: its total ``wrench`` for the impulse, the power of its
 joint ``forces`` at the joints' velocities for the work (second order in the row spacing; exact
 for the linear impulse of a constant force). A field whose wrench the rule would integrate badly
-(thrusts that switch at every period) gives its own impulse from the rows, ``impulse(t, q, v)`` ->
-(N, 6) (:meth:`freefloat.space.thrusters.ThrusterSet.impulse`), which replaces the rule's.
+(thrusts that switch at every period) gives its own impulse and work from the rows,
+``impulse(t, q, v)`` -> (N, 6) and ``work(t, q, v)`` -> (N,)
+(:meth:`freefloat.space.thrusters.ThrusterSet.impulse`), which replace the rule's.
 """
 
 from __future__ import annotations
@@ -125,22 +126,23 @@ def field_applied(robot: Robot, telemetry: Telemetry, environment: Sequence[Wren
     data = model.createData()
     rows = len(tel.t)
     own = [f for f in environment if hasattr(f, "impulse")]
+    ruled = [f for f in environment if not hasattr(f, "impulse")]
     total, power = np.zeros((rows, 6)), np.zeros(rows)
-    for row in range(rows):
+    for row in range(rows if ruled else 0):
         t = tel.t[0] + np.floor((tel.t[row] - tel.t[0]) / control_period + 1e-9) * control_period
         q, v = tel.q[row], tel.v[row]
         pin.forwardKinematics(model, data, q, v)
-        for field in environment:
+        for field in ruled:
             forces = field.forces(t, q, v)
             if forces is not None:
-                if field not in own:
-                    total[row] += field.wrench(t, q, v)
+                total[row] += field.wrench(t, q, v)
                 power[row] += field_power(model, data, forces)
     gaps = np.diff(tel.t)[:, None]
     impulse = np.vstack((np.zeros(6), np.cumsum(0.5 * gaps * (total[1:] + total[:-1]), axis=0)))
+    work = np.concatenate(([0.0], np.cumsum(0.5 * gaps[:, 0] * (power[1:] + power[:-1]))))
     for field in own:
         impulse += field.impulse(tel.t, tel.q, tel.v)
-    work = np.concatenate(([0.0], np.cumsum(0.5 * gaps[:, 0] * (power[1:] + power[:-1]))))
+        work += field.work(tel.t, tel.q, tel.v)
     linear = impulse[:, :3]
     shift = np.vstack((np.zeros(3), np.cumsum(0.5 * gaps * (linear[1:] + linear[:-1]), axis=0)))
     return Applied(impulse, work, shift / pin.computeTotalMass(model))

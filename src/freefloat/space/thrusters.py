@@ -238,6 +238,20 @@ class ThrusterSet:
             out[row + 1] = total
         return out
 
+    def work(self, t: np.ndarray, q: np.ndarray, v: np.ndarray) -> np.ndarray:
+        """The work (J) done from ``t[0]`` to each row (N,), from the rows as :meth:`impulse` takes
+        them: per period, the held base wrench times the base joint's displacement in its own frame,
+        ``w_b . log6(M_k^-1 M_k+1)`` (exact for a constant body twist over the period)."""
+        out = np.zeros(len(t))
+        for row in range(len(t) - 1):
+            thrusts = self.thrust(t[row])
+            step = 0.0
+            if thrusts.any():
+                ends = [pin.XYZQUATToSE3(q[r][:7]) for r in (row, row + 1)]
+                step = float(self.B @ thrusts @ pin.log6(ends[0].actInv(ends[1])).vector)
+            out[row + 1] = out[row] + step
+        return out
+
     def total_impulse(self, end: float) -> np.ndarray:
         """``int F_i dt`` of each thruster from the first command to ``end`` s (k,), N s."""
         if not self.times:
