@@ -272,7 +272,7 @@ def test_posture_of_a_mapped_axis_is_refused_naming_it():
 @pytest.mark.parametrize("momentum", [(1e300, 0, 0), (0, 0, float("inf"))])
 def test_a_momentum_beyond_any_robot_s_or_not_finite_is_refused(momentum):
     """A momentum component that is not finite or beyond MAX_MOMENTUM is refused, not mapped into infinities."""
-    with pytest.raises(InvalidArgument, match="--momentum takes .* at most 1e\\+15"):
+    with pytest.raises(InvalidArgument, match="momentum= takes .* at most 1e\\+15"):
         workspace.prepare("four_arm_planar", Options(momentum=momentum))
 
 

@@ -101,7 +101,7 @@ def test_the_mujoco_suite_refuses_to_start_without_mujoco(tmp_path, monkeypatch,
     """Without MuJoCo the default suite exits 2 naming the extra to install, before any folder is made."""
     monkeypatch.setitem(sys.modules, "mujoco", None)
     assert main(["bench", "--quick", "--out", str(tmp_path / "o")]) == 2
-    assert f'--suite {DEFAULT} needs mujoco: python3 -m pip install -e ".[bench]"' in capsys.readouterr().err
+    assert f'the bench suite {DEFAULT} needs mujoco: python3 -m pip install -e ".[bench]"' in capsys.readouterr().err
     assert not (tmp_path / "o").exists()
 
 

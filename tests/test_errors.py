@@ -41,8 +41,8 @@ def test_a_message_names_the_argument_as_the_caller_spells_it():
     assert spelled("overwrite=True", "--overwrite") == "overwrite=True"
 
 
-#: Folders whose messages and raises other work owns (the lab, beside the product, and the atlas).
-ELSEWHERE = ("lab/", "app/atlas/")
+#: Folders whose messages and raises the two scans leave out (none: the lab and the atlas are held to them too).
+ELSEWHERE: tuple[str, ...] = ()
 #: Where a message may name a command-line option as such: the command line itself and the parser
 #: of its ``--vary`` text.
 OPTIONS_SPOKEN = ("app/cli.py", "app/batch/bands.py")

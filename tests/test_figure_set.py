@@ -120,10 +120,11 @@ CALLED_FOR = {
     "five_bar_free_base": MECHANISM | {"sliding_variables", "base_attitude", "momentum"},
     "rsu_ppap_free_base": MECHANISM | {"base_attitude", "momentum"},
     "four_arm_joint_space": JOINT_SPACE, "satellite_dual_arm": JOINT_SPACE,
-    "satellite_wheels": JOINT_SPACE | {"reaction_wheels"}, "satellite_momentum_dump": JOINT_SPACE | {"reaction_wheels"},
-    "satellite_thruster_hold": JOINT_SPACE,
+    "satellite_wheels": JOINT_SPACE | {"reaction_wheels"},
+    "satellite_momentum_dump": JOINT_SPACE - {"com_drift"} | {"conservation_balance", "reaction_wheels"},
+    "satellite_thruster_hold": JOINT_SPACE - {"com_drift"} | {"conservation_balance"},
     "satellite_hands_joined": MOTION | {"com_drift", "closed_loop"},
-    "tumbling": MOTION | {"com_drift"}, "orbit_libration": MOTION | {"com_drift"},
+    "tumbling": MOTION | {"com_drift"}, "orbit_libration": MOTION | {"conservation_balance"},
 }
 
 
@@ -139,12 +140,13 @@ def test_every_builtin_scene_calls_for_the_figures_of_its_task_and_controller():
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("name", ["rsu_ppap_computed_torque", "five_bar_free_base", "tumbling"])
-def test_a_run_writes_the_figures_its_task_calls_for(tmp_path, name):
+@pytest.mark.parametrize(("name", "duration"), [("rsu_ppap_computed_torque", 0.05), ("five_bar_free_base", 0.05),
+                                              ("tumbling", 0.05), ("orbit_libration", 50.0)])
+def test_a_run_writes_the_figures_its_task_calls_for(tmp_path, name, duration):
     """With every figure chosen, a short run writes those its scene calls for, less those the
     summary names as not drawn (data identically zero): a computed-torque mechanism no
-    sliding_variables."""
-    scene = scene_variant(tmp_path / "scene.toml", name, simulation={"duration": 0.05},
+    sliding_variables, a run in orbit (a field of the environment) its conservation_balance."""
+    scene = scene_variant(tmp_path / "scene.toml", name, simulation={"duration": duration},
                           output={"html": False, "figures": ["all"]})
     out = tmp_path / "out"
     assert main(["simulate", str(scene), "--out", str(out), "--quiet"]) == 0

@@ -12,6 +12,7 @@ from hypothesis import strategies as st
 
 from freefloat import gjm, load_robot
 from freefloat.dynamics.models import MODELS, make_model
+from freefloat.dynamics.models.selection import ZERO_MOMENTUM, regime_models
 from freefloat.lab.reproduce.states import state_with_momentum
 from freefloat.robot.conventions import base_state, state_from_base
 from freefloat.robot.joints import JointCoordinates
@@ -214,6 +215,33 @@ def with_gravity_and_wrenches(robot, rng):
 
     robot.model.gravity.linear[:] = rng.normal(size=3)
     return [pin.Force(rng.normal(size=6)) for _ in range(robot.model.njoints)]
+
+
+@settings(max_examples=10, deadline=None)
+@given(random_robots(max_links=6))
+def test_models_auto_treats_as_exact_match_aba_with_gravity_or_wrenches(tmp_path_factory, case):
+    """With gravity or a wrench on every joint (eqs 95-99), the models ``regime_models(None)`` keeps
+    match ABA with the same forces to 1e-10; those that assume conserved momentum are off by > 1e-4."""
+    robot, rng = robot_from_case(tmp_path_factory, case)
+    for forces in ("gravity", "wrenches"):
+        fext = with_gravity_and_wrenches(robot, rng)
+        if forces == "gravity":
+            fext = None
+        else:
+            robot.model.gravity.linear[:] = 0.0
+        models = {name: make_model(name, robot) for name in MODELS}  # built after gravity is set
+        for state in ("zero momentum", "random"):
+            q, v = state_with_momentum(robot, rng) if state == "zero momentum" else random_state(robot, rng)
+            tau = np.concatenate((np.zeros(6), rng.normal(size=robot.n_joints)))
+            exact = models["exact"].acceleration(q, v, tau, fext)
+            err = {n: np.abs(models[n].acceleration(q, v, tau, fext) - exact).max() / max(1.0, np.abs(exact).max())
+                   for n in MODELS}
+            assert all(err[n] < 1e-10 for n in regime_models(None)), (forces, state, err)
+            if state == "zero momentum":  # exact at this instant, but the forces change P
+                assert err["standard_full_hdot"] < 1e-10, (forces, err)
+                assert min(err[n] for n in (*ZERO_MOMENTUM, "momentum_routh")) > 1e-4, (forces, err)
+            else:
+                assert err["standard_full_hdot"] > 1e-4, (forces, err)
 
 
 @pytest.mark.slow

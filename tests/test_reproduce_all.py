@@ -116,6 +116,14 @@ def test_com_stays_put_and_base_moves_on_the_bisector_on_the_exact_plant(report)
 
 
 @pytest.mark.slow
+def test_table_1_shows_the_printed_236_fold_gap_beside_freefloats_ratio(report):
+    """Table 1's ratio row keeps the document's 236 as printed and shows freefloat's, within 1.5x of 1."""
+    _, entries, _, _ = report
+    (match,) = [r for r in entries[(DISSERTATION, "Table 1")]["rows"] if r["quantity"] == "FM-ST-A / FM-NIC-A, overall"]
+    assert float(match["printed"]) == 236 and 1 / 1.5 < float(match["ours"]) < 1.5
+
+
+@pytest.mark.slow
 def test_eq_140_sample_count_is_duration_over_step_plus_one(report):
     """Eq 140's erratum: the run has duration / dt + 1 samples (5001 for 5 s at 1 ms, printed 500)."""
     _, entries, record, _ = report
@@ -159,6 +167,18 @@ def test_baseline_joints_return_to_their_start(report):
     """Fig 42: the held joints come back to the start after the impulse (within 0.05 deg)."""
     _, entries, _, _ = report
     assert ours(entries[(DISSERTATION, "Fig 42")], "largest |joint - start| at the end (deg)")[0] < 0.05
+
+
+@pytest.mark.slow
+def test_baseline_with_the_documents_gains_is_shown_beside_the_scenes(report):
+    """Figs 42-44: the baseline held with Kp = 10, Kd = 100 ends more than 10 deg off its start
+    (the scene's kp = 2500 within 0.05 deg) and its rows sit beside the scene's."""
+    _, entries, _, _ = report
+    fig_42 = entries[(DISSERTATION, "Fig 42")]
+    assert ours(fig_42, "largest |joint - start| at the end (deg), document's gains")[0] > 10.0
+    assert ours(fig_42, "largest |joint - start| at the end (deg)")[0] < 0.05
+    assert ours(entries[(DISSERTATION, "Fig 43")], "peak joint torque (N m), document's gains")[0] > 0.0
+    assert len(ours(entries[(DISSERTATION, "Fig 44")], "arm1_ee final angular rate (rad/s), document's gains")) == 1
 
 
 @pytest.mark.slow
@@ -386,6 +406,26 @@ def test_eq_182_as_printed_misses_the_momentum_and_the_corrected_form_does_not(r
     (r,) = entries[(DISSERTATION, "Eq 182 (appendix B)")]["rows"]
     printed, corrected = (float(x) for x in re.findall(r"[-+]?\d*\.?\d+(?:e[-+]?\d+)?", r["ours"]))
     assert printed > 0.1 and corrected < 1e-12
+
+
+@pytest.mark.slow
+def test_with_external_forces_only_the_corrected_model_matches_aba(report):
+    """Eqs 95-99: with gravity and wrenches standard_corrected matches ABA to 1e-10 at every state, the
+    stand-alone model is off by more than 1e-3 even at zero momentum."""
+    _, entries, _, _ = report
+    entry = entries[(DISSERTATION, "Eqs 95-99")]
+    quantity = "{}: max relative acceleration error against ABA, zero momentum / random state"
+    assert max(ours(entry, quantity.format("standard_corrected"))) < 1e-10
+    assert ours(entry, quantity.format("reduced"))[0] > 1e-3
+
+
+@pytest.mark.slow
+def test_summed_multi_arm_form_misses_aba_while_aba_satisfies_the_sum(report):
+    """Eqs 109-115's erratum: the summed form is off ABA by more than 0.5 relative, ABA satisfies the sum to 1e-12."""
+    _, entries, _, _ = report
+    (match,) = entries[(DISSERTATION, "Eqs 109-115")]["rows"]
+    error, residual = (float(x) for x in match["ours"].split(" / "))
+    assert error > 0.5 and residual < 1e-12
 
 
 def test_a_study_finished_with_the_other_quick_setting_is_made_again(tmp_path, monkeypatch):

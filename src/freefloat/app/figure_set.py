@@ -6,7 +6,8 @@ matplotlib), so scenes are checked and the command line parses without it.
 ``[output] figures`` is ``true`` (the default set, :data:`DEFAULT`), ``false`` or ``[]`` (none),
 or a list of names from :data:`FIGURES`, ``"all"`` standing for every one. A run draws the chosen
 figures its task and controller call for (:func:`called_for`: a torque-free run has no
-``torques``, a robot run no ``platform_tracking``, a computed-torque law no
+``torques``, a robot run no ``platform_tracking``, a run with wrench profiles or fields of the
+environment ``conservation_balance`` instead of ``com_drift``, a computed-torque law no
 ``sliding_variables``), less those whose data is identically zero (the summary's
 ``figures_not_drawn`` says why). ``[output] figure_formats`` lists the files each figure is
 written as: ``["png"]`` by default, ``["png", "pdf"]`` adds the vector copy to print.
@@ -58,10 +59,10 @@ FIGURES: dict[str, Figure] = {
     "end_effector_paths": Figure("the robot at start and end with the end-effector and base CoM paths",
                                  _robot(lambda s: True)),
     "end_effector_displacement": Figure("each end-effector's displacement from its start", _robot(lambda s: True)),
-    "com_drift": Figure("CoM and momentum drift from their free motion (runs without external wrenches)",
-                        _robot(lambda s: not s.wrenches or s.kind not in TRACKING)),
-    "conservation_balance": Figure("momentum and energy against what the external wrenches applied",
-                                   _robot(lambda s: bool(s.wrenches) and s.kind in TRACKING)),
+    "com_drift": Figure("CoM and momentum drift from their free motion (runs without external wrenches or fields)",
+                        _robot(lambda s: not s.environment or s.kind not in TRACKING)),
+    "conservation_balance": Figure("momentum and energy against what the external wrenches and fields applied",
+                                   _robot(lambda s: bool(s.environment) and s.kind in TRACKING)),
     "angular_rates": Figure("base and end-effector spin decaying (capture and detumbling runs)",
                             _robot(lambda s: s.kind in SPINNING)),
     "angular_momentum": Figure("L(t) about the CoM and the origin (capture and detumbling runs)",

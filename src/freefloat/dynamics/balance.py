@@ -26,8 +26,8 @@ dt`` with ``int w dt = log(R_{j+1} R_j^T) + h^2 / 12 w_j x w_{j+1}`` (Magnus' ex
 third order; exact for a rotation about a fixed axis, as on planar robots), the rotation
 between two rows split evenly over their periods.
 
-A field of the environment (:class:`~.wrenches.WrenchField`, state-dependent) is integrated from
-the recorded rows by the trapezoidal rule: its total ``wrench`` for the impulse, the power of its
+A field of the environment (:class:`~.wrenches.WrenchField`, of time and state, which the loop
+evaluates at every stage's own time) is integrated from the recorded rows by the trapezoidal rule: its total ``wrench`` for the impulse, the power of its
 joint ``forces`` at the joints' velocities for the work (second order in the row spacing; exact
 for the linear impulse of a constant force). A field whose wrench the rule would integrate badly
 (thrusts that switch at every period) gives its own impulse and work from the rows,
@@ -113,15 +113,14 @@ def applied(robot: Robot, telemetry: Telemetry, wrenches: tuple[ExternalWrench, 
     done = _profiles_applied(robot, telemetry, wrenches, control_period)
     if not environment or len(telemetry.t) == 0:
         return done
-    more = field_applied(robot, telemetry, environment, control_period)
+    more = field_applied(robot, telemetry, environment)
     return Applied(*(a + b for a, b in zip(done, more)))
 
 
-def field_applied(robot: Robot, telemetry: Telemetry, environment: Sequence[WrenchField],
-                  control_period: float) -> Applied:
+def field_applied(robot: Robot, telemetry: Telemetry, environment: Sequence[WrenchField]) -> Applied:
     """The impulse, work and CoM shift of wrench fields over a run (trapezoidal rule over the
-    rows: module docstring), each field evaluated at a row's time rounded down to its control
-    period, as the loop does."""
+    rows: module docstring), each field evaluated at a row's own time and state, as the loop's
+    integrator stages see it."""
     tel, model = telemetry, robot.model
     data = model.createData()
     rows = len(tel.t)
@@ -129,8 +128,7 @@ def field_applied(robot: Robot, telemetry: Telemetry, environment: Sequence[Wren
     ruled = [f for f in environment if not hasattr(f, "impulse")]
     total, power = np.zeros((rows, 6)), np.zeros(rows)
     for row in range(rows if ruled else 0):
-        t = tel.t[0] + np.floor((tel.t[row] - tel.t[0]) / control_period + 1e-9) * control_period
-        q, v = tel.q[row], tel.v[row]
+        t, q, v = tel.t[row], tel.q[row], tel.v[row]
         pin.forwardKinematics(model, data, q, v)
         for field in ruled:
             forces = field.forces(t, q, v)

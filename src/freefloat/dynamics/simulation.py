@@ -19,7 +19,7 @@ from ..robot.robot import Robot
 from ..robot.state import check_state
 from ..robot.urdf_checks import usable_memory
 from . import compiled, compiled_chain, stop_request
-from .integrators import Integrator, make_integrator
+from .integrators import Integrator, TimeVarying, make_integrator
 from .models import DynamicsModel, make_model
 from .plant_periods import PlantPeriods
 from .plants import Plant
@@ -142,8 +142,8 @@ def run(
             ``reference(t)``, or None for a torque-free run.
         wrenches: (robots) external wrenches on links (profiles; the compiled loop applies them).
         environment: (robots) fields of the environment that apply wrenches depending on time
-            and state (:class:`~.wrenches.WrenchField`), evaluated at every integrator stage with
-            the period's start time; a run with any runs in the Python loop (they have no
+            and state (:class:`~.wrenches.WrenchField`), evaluated at every integrator stage at
+            the stage's own time and state; a run with any runs in the Python loop (they have no
             compiled twin).
         record_every: record one telemetry row every this many periods (and the last one).
         progress: called with the number of periods done: 0 as the loop starts (when its wall time
@@ -353,7 +353,9 @@ class PythonPeriods:
         model: gives the accelerations.
         control_period: zero-order-hold period, s.
         start_time: time of period 0, s.
-        environment: wrench fields evaluated at every stage (:class:`~.wrenches.WrenchField`).
+        environment: wrench fields evaluated at every stage, at its own time
+            (:class:`~.wrenches.WrenchField`; the integrator is handed a
+            :class:`~freefloat.dynamics.integrators.TimeVarying` acceleration).
     """
 
     backend = "python"
@@ -370,6 +372,7 @@ class PythonPeriods:
         self.end_period = getattr(model, "end_period", None)
         self.periods_done, self.work = 0, 0.0
         self.q, self.v = robot.neutral(), np.zeros(robot.model.nv)
+        self._f = TimeVarying(self._acceleration)
 
     def start(self, q: np.ndarray, v: np.ndarray) -> None:
         """Set the state at period 0."""
@@ -398,10 +401,12 @@ class PythonPeriods:
         t = self.start_time + self.periods_done * self.control_period
         self.recorder.record(row, t, self.q, self.v, self.tau, reference, self.work)
 
-    def _acceleration(self, q: np.ndarray, v: np.ndarray) -> np.ndarray:
+    def _acceleration(self, s: float, q: np.ndarray, v: np.ndarray) -> np.ndarray:
+        """Accelerations (nv,) at ``s`` s into the current period (the fields' time: the
+        stage's own), under the held torques and the active profiles."""
         forces = None if self.field is None else self.field.forces(q)
         if self.environment:
-            t = self.start_time + self.periods_done * self.control_period
+            t = self.start_time + self.periods_done * self.control_period + s
             forces = field_forces(self.environment, t, q, v, forces)
         return self.model.acceleration(q, v, self.tau_full, forces)
 
@@ -413,7 +418,7 @@ class PythonPeriods:
         """
         q, v, k = self.q, self.v, self.periods_done
         t_end = self.start_time + (k + 1) * self.control_period
-        q_next, v_next = self.integrator.advance(self._acceleration, q, v, self.control_period)
+        q_next, v_next = self.integrator.advance(self._f, q, v, self.control_period)
         if not np.abs(v_next).max() < MAX_SPEED:  # also false for NaN
             raise SimulationDiverged(f"state blew up at t = {t_end:.6g} s (step {k + 1}): "
                                      f"max |v| = {np.abs(v_next).max():.3g} (limit {MAX_SPEED:g})")

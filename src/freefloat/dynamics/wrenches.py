@@ -1,7 +1,7 @@
 """External wrenches: profiles on links (given in the inertial frame, applied at the link's CoM,
 which the compiled loop applies natively), and any field of the environment that applies
 wrenches depending on time and state (:class:`WrenchField`: orbit, thrusters, contact, a user's),
-which the Python loop evaluates at every integrator stage."""
+which the Python loop evaluates at every integrator stage, at the stage's own time."""
 
 from __future__ import annotations
 
@@ -18,9 +18,10 @@ from ..robot.robot import Robot
 
 
 class WrenchField(Protocol):
-    """Wrenches the environment applies to a robot, at time ``t`` (s; the start of the control
-    period: held over it, as the profiles are) and state ``q`` (nq,), ``v`` (nv,) (Pinocchio's),
-    evaluated by the loop at every integrator stage; several fields add up.
+    """Wrenches the environment applies to a robot, at time ``t`` (s) and state ``q`` (nq,), ``v``
+    (nv,) (Pinocchio's), evaluated by the loop at every integrator stage with the stage's own
+    time and state (``t0 + c_i h`` of a Runge-Kutta stage, an adaptive step's trial times: not
+    held over the control period, as the profiles are); several fields add up.
 
     A field may also give its own impulse and work over a run, ``impulse(t, q, v)`` and
     ``work(t, q, v)``: from the recorded rows (N,), (N, nq), (N, nv), ``[N s; N m s about the

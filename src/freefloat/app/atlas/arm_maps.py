@@ -34,7 +34,7 @@ from ...documents import start_angles
 from ...dynamics import gjm
 from ...dynamics.gjm import GJMState
 from ...dynamics.gjm.kinematics import BodyKinematics
-from ...errors import InvalidArgument, RobotModelError, UnknownName
+from ...errors import InvalidArgument, RobotModelError, UnknownName, spelled
 from ...robot.joints import JointCoordinates
 from ...robot.loading import load_robot
 from ...robot.robot import Robot
@@ -134,12 +134,12 @@ def _posture(robot: Robot, target: str, given: tuple[tuple[str, float], ...] | N
     joints = robot.joint_names
     for name, value in given or ():
         if name not in joints:
-            raise UnknownName(f"joint of {target} (--posture)", name, joints)
+            raise UnknownName(f"joint of {target} ({spelled('posture=', '--posture')})", name, joints)
         if name in axes:
-            raise InvalidArgument(f"--posture {name}={value}: '{name}' is an axis of the map (--axes: "
-                                  f"{', '.join(axes)}), which sweeps its range; --posture sets the joints held fixed")
+            raise InvalidArgument(f"{spelled('posture=', '--posture')} {name}={value}: '{name}' is an axis of the map ({spelled('axes=', '--axes')}: "
+                                  f"{', '.join(axes)}), which sweeps its range; {spelled('posture', '--posture')} sets the joints held fixed")
         if not np.isfinite(value):
-            raise InvalidArgument(f"--posture {name}={value}: needs a finite value")
+            raise InvalidArgument(f"{spelled('posture=', '--posture')} {name}={value}: needs a finite value")
         revolute = gjm.model_of(robot).tree.revolute[joints.index(name)]
         posture[joints.index(name)] = np.radians(value) if revolute else value
     return posture
@@ -168,14 +168,14 @@ def prepare(target: str, options: Options, all_arm_joints: bool) -> ArmMap:
     axes = options.axes or (arm.joints if all_arm_joints else arm.joints[:2])
     for axis in axes:
         if axis not in joints:
-            raise UnknownName(f"joint of {target} (--axes)", axis, arm.joints)
+            raise UnknownName(f"joint of {target} ({spelled('axes=', '--axes')})", axis, arm.joints)
     if len(set(axes)) != len(axes):
-        raise InvalidArgument(f"--axes names a joint twice: {', '.join(axes)}")
+        raise InvalidArgument(f"{spelled('axes=', '--axes')} names a joint twice: {', '.join(axes)}")
     low, high = joint_limits(robot)
     axis_index = tuple(joints.index(a) for a in axes)
     tolerance = TOLERANCE if options.tolerance is None else options.tolerance
     if not 0 < tolerance < 1:
-        raise InvalidArgument(f"--tolerance must be in (0, 1), got {tolerance}")
+        raise InvalidArgument(f"{spelled('tolerance=', '--tolerance')} must be in (0, 1), got {tolerance}")
     return ArmMap(target=str(target), base=base, end_effector=name, index=index, arm_joints=arm.joints,
                   columns=tuple(int(i) for i in arm.v_indices - robot.n_base), axes=tuple(axes),
                   axis_index=axis_index, limits=tuple((float(low[i]), float(high[i])) for i in axis_index),
@@ -197,14 +197,14 @@ def _momentum(values: tuple[float, ...] | None, base: str) -> tuple[float, ...] 
         m = np.array([m[0], m[1], 0.0, 0.0, 0.0, m[2]])
     if m.size != 6 or not np.all(np.isfinite(m)) or np.any(np.abs(m) > MAX_MAGNITUDE):
         planar = " or 3 [Px Py Lz]" if base == "planar" else ""
-        raise InvalidArgument(f"--momentum takes 6 finite numbers [Px Py Pz Lx Ly Lz]{planar} "
+        raise InvalidArgument(f"{spelled('momentum=', '--momentum')} takes 6 finite numbers [Px Py Pz Lx Ly Lz]{planar} "
                               f"(N s, N m s, about the system CoM) of magnitude at most {MAX_MAGNITUDE:g}, "
                               f"got {list(values)}")
     if base == "planar" and (out := [name for name, x in zip(("Pz", "Lx", "Ly"), m[[2, 3, 4]]) if x != 0]):
         given = ", ".join(f"{x:g}" for x in m[[2, 3, 4]] if x != 0)
-        raise InvalidArgument(f"--momentum gives {', '.join(out)} = {given}"
+        raise InvalidArgument(f"{spelled('momentum=', '--momentum')} gives {', '.join(out)} = {given}"
                               " on a planar base, which moves in its plane: the map takes Px, Py, Lz only (give "
-                              "those three, or --base free)")
+                              f"those three, or {spelled('base=' + repr('free'), '--base free')})")
     return tuple(m) if np.any(m) else None
 
 

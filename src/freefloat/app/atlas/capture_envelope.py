@@ -22,7 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ...errors import InfeasiblePlan, InvalidArgument, SceneError
+from ...errors import InfeasiblePlan, InvalidArgument, SceneError, spelled
 from .grid import Axis, Grid
 from .kinds import Options
 
@@ -78,7 +78,7 @@ def prepare(target: str, options: Options) -> EnvelopeContext:
     scene, setup = _setup(target)
     names = options.axes or ("x", "y")
     if len(names) != 2 or len(set(names)) != 2 or not set(names) <= set(COORDINATES):
-        raise InvalidArgument(f"atlas capture_envelope {target}: --axes must be two distinct coordinates of x, y, z, "
+        raise InvalidArgument(f"atlas capture_envelope {target}: {spelled('axes=', '--axes')} must be two distinct coordinates of x, y, z, "
                               f"got {', '.join(names)}")
     return EnvelopeContext(target, tuple(COORDINATES.index(n) for n in names), tuple(scene.approach.reach),
                            arm_reach(setup.robot, setup.q0, scene.target.end_effector)[1])

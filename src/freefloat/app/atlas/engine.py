@@ -29,7 +29,7 @@ from typing import Any
 import numpy as np
 
 from ...distributed import client, process_pool, settle_futures, terminate
-from ...errors import FreefloatError, RunFolderError
+from ...errors import FreefloatError, RunFolderError, spelled
 from ..batch import Workers
 from ..run_folder import RunFolder, journal_entries
 from .grid import Grid, check_memory
@@ -68,6 +68,11 @@ class AtlasRun:
     result: dict[str, np.ndarray]
     summary: dict
     written: list[Path]
+
+
+def _restart() -> str:
+    """How the caller starts a map again over a journal it cannot resume from."""
+    return f"pass {spelled('overwrite=True', '--overwrite')} to start the map again"
 
 
 def evaluate_chunk(kind: AtlasKind, context: Any, grid: Grid, start: int, stop: int) -> dict[str, np.ndarray]:
@@ -172,15 +177,16 @@ def _resumed(folder: RunFolder, settings: dict, size: int, points: int) -> tuple
     path = folder.path / JOURNAL
     if not path.is_file():
         return size, []
-    lines = journal_entries(path, "pass --overwrite to start the map again")
+    lines = journal_entries(path, _restart())
     before = dict(lines[0][1].get("settings", {})) if lines else {}
     size = before.pop("chunk_size", size)
     if before != json.loads(json.dumps(settings)):
         raise RunFolderError(f"output folder '{folder.path}' holds the journal of another atlas "
-                             f"({before or 'unreadable'}); pass --overwrite or choose another --out")
+                             f"({before or 'unreadable'}); pass {spelled('overwrite=True', '--overwrite')} or choose another "
+                             f"{spelled('out=', '--out')}")
     if isinstance(size, bool) or not isinstance(size, int) or not 1 <= size <= MAX_CHUNK:
         raise RunFolderError(f"'{path}' gives a chunk size of {size!r}; an atlas journal's is an integer in "
-                             f"[1, {MAX_CHUNK}]: not resuming from it (pass --overwrite to start the map again)")
+                             f"[1, {MAX_CHUNK}]: not resuming from it ({_restart()})")
     count, owned = -(-points // size), set(folder.owned())
     done = set()
     for number, line in lines[1:]:
@@ -189,7 +195,7 @@ def _resumed(folder: RunFolder, settings: dict, size: int, points: int) -> tuple
                 or [line.get("start"), line.get("stop")] != [i * size, min((i + 1) * size, points)]:
             raise RunFolderError(f"'{path}' line {number} names chunk {i!r} of points {line.get('start')!r} to "
                                  f"{line.get('stop')!r}, which this map of {points} points in chunks of {size} does "
-                                 "not have; not resuming from it (pass --overwrite to start the map again)")
+                                 f"not have; not resuming from it ({_restart()})")
         if f"{CHUNKS}/chunk-{i:05d}.npz" in owned and (folder.path / CHUNKS / f"chunk-{i:05d}.npz").is_file():
             done.add(i)
     return size, sorted(done)
@@ -209,7 +215,7 @@ def _load_chunk(folder: Path, i: int, span: tuple[int, int], run_id: str,
         RunFolderError: naming the file when it does not parse or is not that chunk.
     """
     path = folder / CHUNKS / f"chunk-{i:05d}.npz"
-    again = "not resuming from it (pass --overwrite to start the map again)"
+    again = f"not resuming from it ({_restart()})"
     try:
         with np.load(path) as data:
             arrays = {key: data[key] for key in data.files}
@@ -244,6 +250,7 @@ def _execute(workers: Workers, kind: AtlasKind, context: Any, grid: Grid, spans:
             settled = settle_futures(futures, "atlas", True, DASK_TIMEOUT, lambda i, r: _take(i, r, finished))
             missing = [i for i in todo if i not in settled]
             if missing:
+                # base class: a cluster that did not answer
                 raise FreefloatError(f"no Dask worker finished chunk {missing[0]} within {DASK_TIMEOUT:g} s")
     elif workers.count > 1 and len(todo) > 1:
         pool = process_pool(workers.count - 1)  # this process is the last worker
@@ -285,6 +292,7 @@ def _started(future: Future) -> bool:
     if not future.done():
         return False
     if future.exception() is not None:
+        # base class: a worker that could not start, whatever its cause
         raise FreefloatError(f"an atlas worker process could not start: {future.exception()}")
     return True
 
@@ -306,5 +314,6 @@ def _take(i: int, result: object, finished: Callable[[int, dict], None]) -> None
     if isinstance(result, FreefloatError):
         raise result
     if isinstance(result, BaseException):
+        # base class: the worker's error, of any kind, carried over
         raise FreefloatError(f"atlas chunk {i} failed in its worker: {type(result).__name__}: {result}") from result
     finished(i, result)

@@ -19,7 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ...errors import InvalidArgument, UnknownName
+from ...errors import InvalidArgument, UnknownName, spelled
 from .grid import Axis, Grid
 from .kinds import Options
 
@@ -88,7 +88,7 @@ def prepare(target: str, options: Options) -> FeasibilityContext:
     plane = MECHANISMS[target]
     names = options.axes or plane.axes
     if len(names) != 2 or len(set(names)) != 2 or not set(names) <= set(plane.coordinates):
-        raise InvalidArgument(f"atlas feasibility {target}: --axes must be two distinct platform coordinates of "
+        raise InvalidArgument(f"atlas feasibility {target}: {spelled('axes=', '--axes')} must be two distinct platform coordinates of "
                               f"{', '.join(plane.coordinates)}, got {', '.join(names)}")
     return FeasibilityContext(target, tuple(plane.coordinates.index(n) for n in names))
 

@@ -9,7 +9,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ...errors import InvalidArgument
+from ...errors import InvalidArgument, spelled
 
 #: Share of the available memory a grid's results may take (the rest for the chunks in flight,
 #: the figures and the rest of the machine).
@@ -106,4 +106,4 @@ def check_memory(grid: Grid, bytes_per_point: int, available: int | None = None)
         raise InvalidArgument(
             f"grid too large for memory: {' x '.join(map(str, grid.shape))} = {grid.size:,} points at "
             f"{bytes_per_point} bytes each need {need / 2**30:.3g} GiB; {available / 2**30:.3g} GiB are available "
-            f"and a map may take {MEMORY_SHARE:.0%}; use a smaller --grid")
+            f"and a map may take {MEMORY_SHARE:.0%}; use a smaller {spelled('grid=', '--grid')}")

@@ -21,7 +21,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ...errors import InvalidArgument, UnknownName
+from ...errors import InvalidArgument, UnknownName, spelled
 from .grid import Axis, Grid
 from .kinds import Options
 from .mechanism_targets import (
@@ -56,7 +56,7 @@ def prepare(target: str, options: Options) -> MechanismMapContext:
     for kind, pool in (("task", space.coordinates), ("joint", joints)):
         if set(names) <= set(pool) and len(set(names)) == len(names) and 2 <= len(names) <= 3:
             return MechanismMapContext(target, kind, tuple(pool.index(n) for n in names), names)
-    raise InvalidArgument(f"atlas mechanism {target}: --axes must be two or three distinct platform coordinates "
+    raise InvalidArgument(f"atlas mechanism {target}: {spelled('axes=', '--axes')} must be two or three distinct platform coordinates "
                           f"({', '.join(space.coordinates)}) or actuated joints ({', '.join(joints)}), got {', '.join(names)}")
 
 

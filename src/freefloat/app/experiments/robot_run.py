@@ -12,6 +12,7 @@ from typing import Any
 import numpy as np
 import pinocchio as pin
 
+from ...dynamics.balance import balance
 from ...dynamics.closures import ClosedModel
 from ...dynamics.integrators import INTEGRATORS, Integrator, make_integrator
 from ...dynamics.metrics import UNITS as METRIC_UNITS
@@ -29,6 +30,7 @@ from ...robot.locking import LockedJoints
 from ...robot.robot import Robot
 from ...robot.wheels import Wheels
 from ..environments import ENVIRONMENTS, environment_units
+from ..figure_set import drawn
 from ..scenes import Scene, resolve_file
 from .base import Checkpoint, Outcome, Progress
 from .budget import check_budget, seconds_per_call
@@ -341,7 +343,8 @@ def robot_outcome(setup: RobotSetup, robot: Robot, telemetry: Telemetry, result:
     telemetry named by its joints and end-effectors, provenance, the figures as one picklable job
     (:class:`~freefloat.app.viz.figure_job.RobotFigures`, which the figure helper draws while the
     run writes the rest: :func:`~freefloat.app.viz.figures.write_figures`, the conservation
-    balance when the run has ``wrenches``, default the scene's; the angular rates with ``spin``,
+    balance when the run has ``wrenches``, default the scene's, or fields of the environment
+    (their balance computed here, where the fields are); the angular rates with ``spin``,
     against ``settle_threshold``; the closures' drift) and the animation of ``animation = (t, q)`` (default: the telemetry)
     with the bodies ``extra_bodies()`` lists (called when the page is drawn: (name, meshcat object, (n, 4, 4)
     poses)) and the named moments ``events`` ((time s, label)); with ``approach``
@@ -361,6 +364,9 @@ def robot_outcome(setup: RobotSetup, robot: Robot, telemetry: Telemetry, result:
         wheel_rows = extra_telemetry["wheels"] = wheel_telemetry(wheels, telemetry, wrenches, sim.control_period,
                                                                    setup.environment)
         summary = {**summary, **wheel_summary(wheels, setup.wheel_control, wheel_rows, telemetry)}
+    residuals = None
+    if setup.environment and len(telemetry.t) >= 2 and "conservation_balance" in drawn(setup.scene):
+        residuals = balance(robot, telemetry, wrenches, sim.control_period, setup.environment)
     if setup.scene.output.figures and len(telemetry.t) >= 2:
         left_out = empty_figures(robot, telemetry, spin)
         if approach is not None and "joint_errors" in left_out:
@@ -386,7 +392,8 @@ def robot_outcome(setup: RobotSetup, robot: Robot, telemetry: Telemetry, result:
             approach=approach, approach_robot=setup.robot,
             wheels=None if wheels is None else WheelRows(wheel_rows.t, [w.name for w in wheels.wheels],
                                                             wheel_rows.momentum, wheels.max_momenta,
-                                                            wheel_rows.torque, wheels.max_torques)),
+                                                            wheel_rows.torque, wheels.max_torques),
+            residuals=residuals),
         page=lambda path, fps: _write_page(robot, t, q, path, fps, extra_bodies, events),
     )
 

@@ -15,6 +15,7 @@ from typing import TYPE_CHECKING, NamedTuple
 import numpy as np
 
 if TYPE_CHECKING:
+    from ...dynamics.balance import Balance
     from ...dynamics.telemetry import Telemetry
     from ...dynamics.wrenches import ExternalWrench
     from ...robot.robot import Robot
@@ -48,8 +49,9 @@ class WheelRows(NamedTuple):
 class RobotFigures:
     """Every figure of a robot run, drawn by calling the job with the folder to write into (those
     chosen, :func:`.plotting.choose`): :func:`~.figures.write_figures` of ``robot`` and
-    ``telemetry`` (with the run's ``wrenches``, ``control_period``, ``spin`` and
-    ``settle_threshold``), the ``closed_loop`` figure of ``loop``, a planned capture's approach
+    ``telemetry`` (with the run's ``wrenches``, ``control_period``, ``spin``,
+    ``settle_threshold`` and, for a run with fields of the environment, its balance
+    ``residuals``, computed by the run where the fields are), the ``closed_loop`` figure of ``loop``, a planned capture's approach
     tracking (``approach`` on ``approach_robot``) and the ``reaction_wheels`` figure of ``wheels``,
     each when given."""
 
@@ -63,6 +65,7 @@ class RobotFigures:
     approach: Telemetry | None = None
     approach_robot: Robot | None = None
     wheels: WheelRows | None = None
+    residuals: Balance | None = None
 
     def __call__(self, folder: Path) -> list[Path]:
         """Draw and write the chosen figures into ``folder``; returns the paths."""
@@ -72,7 +75,7 @@ class RobotFigures:
         from .wheel_figures import wheel_figure
 
         paths = write_figures(self.robot, self.telemetry, folder, self.wrenches, self.control_period, self.spin,
-                              self.settle_threshold)
+                              self.settle_threshold, self.residuals)
         if self.loop is not None and len(self.loop.t) >= 2:
             paths += save_all({"closed_loop": lambda: loop_figure(*self.loop)}, folder)
         if self.approach is not None:

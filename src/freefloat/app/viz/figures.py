@@ -48,7 +48,8 @@ START_COLOR, END_COLOR = "#b0b0b0", "#303030"
 
 def write_figures(robot: Robot, telemetry: Telemetry, out_dir: str | Path,
                   wrenches: tuple[ExternalWrench, ...] = (), control_period: float | None = None,
-                  spin: bool = False, settle_threshold: float | None = None) -> list[Path]:
+                  spin: bool = False, settle_threshold: float | None = None,
+                  residuals: Balance | None = None) -> list[Path]:
     """Write the figures of a run that its writer chose (:func:`.plotting.choose`; default: every
     one, as PNG), each drawn only when chosen.
 
@@ -62,6 +63,9 @@ def write_figures(robot: Robot, telemetry: Telemetry, out_dir: str | Path,
         spin: also draw ``angular_rates`` (base and end-effector spin decaying: detumbling and
             capture runs), with the ``settle_threshold`` (rad/s) if given, and
             ``angular_momentum`` (L(t) itself, dissertation fig 41).
+        residuals: the run's balance when it has fields of the environment (computed where
+            they are, by the run: :func:`~freefloat.dynamics.balance.balance`); given, it is
+            drawn as ``conservation_balance`` in place of ``com_drift``.
 
     Returns:
         The written files: ``joint_errors`` (only when the run has joint references),
@@ -81,7 +85,9 @@ def write_figures(robot: Robot, telemetry: Telemetry, out_dir: str | Path,
         "end_effector_paths": lambda: end_effector_paths_figure(robot, telemetry),
         "end_effector_displacement": lambda: end_effector_displacement_figure(robot, telemetry),
     }
-    if wrenches:
+    if residuals is not None:
+        figures["conservation_balance"] = lambda: balance_figure(telemetry, residuals)
+    elif wrenches:
         if control_period is None:
             raise ValueError("write_figures: a run with external wrenches needs its control_period")
         figures["conservation_balance"] = lambda: balance_figure(

@@ -18,7 +18,7 @@ from ...arguments import an_object, real_number, whole_number
 from ...errors import UnknownName
 from ...registry import Registry
 from .adaptive import BogackiShampine32, DormandPrince45
-from .base import Acceleration, Integrator, Velocity
+from .base import Acceleration, Integrator, StageAcceleration, TimeVarying, Velocity, at_stage_time
 from .dop853 import DormandPrince853
 from .explicit_rkmk import RungeKuttaMuntheKaas3, RungeKuttaMuntheKaas6, RungeKuttaMuntheKaas8
 from .fixed_step import ExplicitEuler, RungeKutta4, SemiImplicitEuler
@@ -182,7 +182,10 @@ __all__ = [
     "RungeKuttaMuntheKaas6",
     "RungeKuttaMuntheKaas8",
     "SemiImplicitEuler",
+    "StageAcceleration",
+    "TimeVarying",
     "Velocity",
+    "at_stage_time",
     "check_settings",
     "integrator_spec",
     "make_integrator",

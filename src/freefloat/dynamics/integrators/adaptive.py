@@ -10,7 +10,7 @@ import numpy as np
 import pinocchio as pin
 
 from ...errors import SimulationDiverged
-from .base import Acceleration
+from .base import Acceleration, TimeVarying, at_stage_time
 from .stages import chart_velocity, rkmk_stages
 
 # Dormand-Prince 5(4) tableau (Hairer, Norsett & Wanner, Table II.5.2).
@@ -47,7 +47,8 @@ class EmbeddedRKMK:
     ``atol + rtol * |x|``, and the next step is ``0.9 err^(-1 / (low order + 1))`` times this one
     (between 0.2x and 5x; a rejected step shrinks by at most 10x). The last stage is evaluated at
     the new state, so within one call it is the next step's first. The step size carries over
-    between calls.
+    between calls. A trial step from time t (s, of the call) evaluates a
+    :class:`~.base.TimeVarying` acceleration at ``t + c_i h`` (``c_i``: :attr:`nodes`).
 
     Args:
         model: Pinocchio model.
@@ -70,27 +71,30 @@ class EmbeddedRKMK:
         self._dexpinv = chart_velocity(model)
         self._h: float | None = None
         self._calls = 0
+        #: The stage times of one step as fractions of it, ``c_i`` (the row sums of ``_ROWS``).
+        self.nodes = tuple(float(row.sum()) for row in self._ROWS)
         self.accepted = 0
         self.rejected = 0
 
     def evaluations(self) -> int:
         return self._calls
 
-    def advance(self, f: Acceleration, q: np.ndarray, v: np.ndarray, duration: float):
+    def advance(self, f: Acceleration | TimeVarying, q: np.ndarray, v: np.ndarray, duration: float):
         end = q, v
         for _t, _h, q_new, v_new, _step in self._steps(f, q, v, duration):
             end = q_new, v_new
         return end
 
-    def _steps(self, f: Acceleration, q: np.ndarray, v: np.ndarray, duration: float) -> Iterator[tuple]:
+    def _steps(self, f: Acceleration | TimeVarying, q: np.ndarray, v: np.ndarray,
+               duration: float) -> Iterator[tuple]:
         """Accepted steps: ``(t, h, q_new, v_new, (q, v, theta, K, Acc))``, t the step's start."""
-        t, h, a0 = 0.0, self._h or duration, None
+        t, h, a0, at = 0.0, self._h or duration, None, at_stage_time(f)
         rows, b, b_error = self._ROWS, self._B, self._B - self._B_LOW
         for _ in range(self.max_steps):
             if t >= duration * (1.0 - 1e-12):
                 return
             h_try = min(h, duration - t)
-            K, Acc = rkmk_stages(f, self.model, self._dexpinv, q, v, h_try, rows, a0)
+            K, Acc = rkmk_stages(at, self.model, self._dexpinv, q, v, t, h_try, rows, self.nodes, a0)
             self._calls += len(rows) - (a0 is not None)
             a0 = Acc[0]
             theta, v_new = h_try * (b @ K), v + h_try * (b @ Acc)
@@ -128,11 +132,12 @@ class DormandPrince45(EmbeddedRKMK):
     _ROWS, _B, _B_LOW, _EXPONENT = _ROWS, _B, _B_LOW, -0.2
 
     def solve(
-        self, f: Acceleration, q: np.ndarray, v: np.ndarray, times: np.ndarray
+        self, f: Acceleration | TimeVarying, q: np.ndarray, v: np.ndarray, times: np.ndarray
     ) -> tuple[np.ndarray, np.ndarray]:
         """States at ``times`` (s, increasing, from 0): q (len(times), nq), v (len(times), nv).
 
-        One adaptive run to ``times[-1]``; the states in between come from the dense output
+        One adaptive run to ``times[-1]`` (a :class:`~.base.TimeVarying` ``f`` sees the time from
+        ``times[0] = 0``); the states in between come from the dense output
         ``q0 * exp(theta(s))``, ``v(s)`` of the step that contains them (local frame of q0).
         """
         times = np.asarray(times, dtype=float)

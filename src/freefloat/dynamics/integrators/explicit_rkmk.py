@@ -25,8 +25,8 @@ class ExplicitRKMK(FixedStep):
         super().__init__(model, substeps)
         self._dexpinv = chart_velocity(model, degree=max(4, self.order - 2))
 
-    def step(self, f, q, v, h):
-        K, Acc = rkmk_stages(f, self.model, self._dexpinv, q, v, h, self._ROWS)
+    def step(self, at, q, v, h, t):
+        K, Acc = rkmk_stages(at, self.model, self._dexpinv, q, v, t, h, self._ROWS, self.nodes)
         self._calls += len(self._ROWS)
         return pin.integrate(self.model, q, h * (self._B @ K)), v + h * (self._B @ Acc)
 

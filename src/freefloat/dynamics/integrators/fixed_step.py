@@ -1,12 +1,13 @@
-"""Fixed-step integrators: semi-implicit Euler and Runge-Kutta 4 on the Lie group; each also
-steps a first-order system ``q' = V(t, q)`` with its tableau (:meth:`FixedStep.flow`)."""
+"""Fixed-step integrators: semi-implicit Euler and Runge-Kutta 4 on the Lie group, each stage
+evaluated at its own time ``t + c_i h``; each also steps a first-order system ``q' = V(t, q)``
+with its tableau (:meth:`FixedStep.flow`)."""
 
 from __future__ import annotations
 
 import numpy as np
 import pinocchio as pin
 
-from .base import Acceleration, Velocity
+from .base import Acceleration, StageAcceleration, TimeVarying, Velocity, at_stage_time
 from .lie import ChartCorrection
 from .stages import rkmk_flow_step
 
@@ -15,7 +16,8 @@ _EULER_ROWS, _EULER_B = (np.zeros(0),), np.ones(1)
 
 
 class FixedStep:
-    """Shared stepping loop: ``substeps`` equal steps per :meth:`advance` call; its tableau
+    """Shared stepping loop: ``substeps`` equal steps per :meth:`advance` call, step k from time
+    ``k h`` of the call (a :class:`~.base.TimeVarying` acceleration sees it); its tableau
     (``_ROWS``, ``_B``) also steps first-order systems (:meth:`flow`)."""
 
     name = ""
@@ -30,22 +32,25 @@ class FixedStep:
         self.model = model
         self.substeps = substeps
         self._calls = 0
-        #: The stage times of one step as fractions of it, ``c_i`` (:meth:`flow` asks the
-        #: velocity at ``t + c_i h``).
+        #: The stage times of one step as fractions of it, ``c_i`` (:meth:`step` asks the
+        #: acceleration, :meth:`flow` the velocity, at ``t + c_i h``).
         self.nodes = tuple(float(row.sum()) for row in self._ROWS)
 
     def advance(
-        self, f: Acceleration, q: np.ndarray, v: np.ndarray, duration: float
+        self, f: Acceleration | TimeVarying, q: np.ndarray, v: np.ndarray, duration: float
     ) -> tuple[np.ndarray, np.ndarray]:
-        h = duration / self.substeps
-        for _ in range(self.substeps):
-            q, v = self.step(f, q, v, h)
+        h, at = duration / self.substeps, at_stage_time(f)
+        for k in range(self.substeps):
+            q, v = self.step(at, q, v, h, k * h)
         return q, v
 
     def evaluations(self) -> int:
         return self._calls
 
-    def step(self, f: Acceleration, q: np.ndarray, v: np.ndarray, h: float) -> tuple[np.ndarray, np.ndarray]:
+    def step(self, at: StageAcceleration, q: np.ndarray, v: np.ndarray, h: float,
+             t: float) -> tuple[np.ndarray, np.ndarray]:
+        """``(q, v)`` one step of ``h`` s after the state ``(q, v)`` at time ``t`` s (of the
+        :meth:`advance` call), the accelerations ``at(t + c_i h, q_i, v_i)`` of its stages."""
         raise NotImplementedError
 
     def flow(self, velocity: Velocity, q: np.ndarray, t: float, duration: float,
@@ -73,9 +78,9 @@ class SemiImplicitEuler(FixedStep):
     name = "euler"
     order = 1
 
-    def step(self, f, q, v, h):
+    def step(self, at, q, v, h, t):
         self._calls += 1
-        v_next = v + h * f(q, v)
+        v_next = v + h * at(t, q, v)
         return pin.integrate(self.model, q, h * v_next), v_next
 
 
@@ -89,9 +94,9 @@ class ExplicitEuler(FixedStep):
     name = "explicit_euler"
     order = 1
 
-    def step(self, f, q, v, h):
+    def step(self, at, q, v, h, t):
         self._calls += 1
-        return pin.integrate(self.model, q, h * v), v + h * f(q, v)
+        return pin.integrate(self.model, q, h * v), v + h * at(t, q, v)
 
 
 class RungeKutta4(FixedStep):
@@ -114,22 +119,22 @@ class RungeKutta4(FixedStep):
         if not lie_correction:
             self.name, self.order = "rk4_naive", 2
 
-    def step(self, f, q, v, h):
+    def step(self, at, q, v, h, t):
         model, dexpinv = self.model, self._dexpinv
         self._calls += 4
-        a1 = f(q, v)
+        a1 = at(t, q, v)
         k1 = v
         v2 = v + 0.5 * h * a1
         th2 = 0.5 * h * k1
-        a2 = f(pin.integrate(model, q, th2), v2)
+        a2 = at(t + 0.5 * h, pin.integrate(model, q, th2), v2)
         k2 = v2 if dexpinv is None else dexpinv(th2, v2)
         v3 = v + 0.5 * h * a2
         th3 = 0.5 * h * k2
-        a3 = f(pin.integrate(model, q, th3), v3)
+        a3 = at(t + 0.5 * h, pin.integrate(model, q, th3), v3)
         k3 = v3 if dexpinv is None else dexpinv(th3, v3)
         v4 = v + h * a3
         th4 = h * k3
-        a4 = f(pin.integrate(model, q, th4), v4)
+        a4 = at(t + h, pin.integrate(model, q, th4), v4)
         k4 = v4 if dexpinv is None else dexpinv(th4, v4)
         theta = (h / 6.0) * (k1 + 2.0 * (k2 + k3) + k4)
         return pin.integrate(model, q, theta), v + (h / 6.0) * (a1 + 2.0 * (a2 + a3) + a4)

@@ -19,7 +19,7 @@ import numpy as np
 import pinocchio as pin
 
 from ...robot.conventions import PLANAR_ROWS, skew
-from .base import Acceleration, Integrator
+from .base import Acceleration, Integrator, TimeVarying
 
 #: Rows of ``[P; L]`` that no reaction of the root joint can change, per root-joint kind.
 CONSERVED_ROWS = {"JointModelFreeFlyer": np.arange(6), "JointModelPlanar": PLANAR_ROWS}
@@ -58,7 +58,7 @@ class MomentumProjection:
         return A[self._rows]
 
     def advance(
-        self, f: Acceleration, q: np.ndarray, v: np.ndarray, duration: float
+        self, f: Acceleration | TimeVarying, q: np.ndarray, v: np.ndarray, duration: float
     ) -> tuple[np.ndarray, np.ndarray]:
         h0 = self.momentum_map(q) @ v
         q, v = self.inner.advance(f, q, v, duration)

@@ -7,7 +7,7 @@ from collections.abc import Callable, Sequence
 import numpy as np
 import pinocchio as pin
 
-from .base import Acceleration, Velocity
+from .base import StageAcceleration, Velocity
 from .lie import ChartCorrection
 
 #: ``dexp^{-1}_{-theta}(velocity)`` (nv,) from theta (nv,) and a local velocity (nv,).
@@ -21,31 +21,35 @@ def chart_velocity(model: pin.Model, degree: int = 4) -> ChartVelocity:
 
 
 def rkmk_stages(
-    f: Acceleration,
+    at: StageAcceleration,
     model: pin.Model,
     dexpinv: ChartVelocity,
     q: np.ndarray,
     v: np.ndarray,
+    t: float,
     h: float,
     rows: Sequence[np.ndarray],
+    nodes: Sequence[float],
     a0: np.ndarray | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Chart velocities ``K`` and accelerations ``Acc`` (both (s, nv)) of an s-stage explicit tableau.
 
     Stage i sits at ``q * exp(theta_i)``, ``theta_i = h sum_j rows[i][j] K[j]`` (local frame of q),
-    with velocity ``v_i = v + h sum_j rows[i][j] Acc[j]``; ``K[i] = dexp^{-1}_{-theta_i}(v_i)`` and
-    ``Acc[i] = f(q * exp(theta_i), v_i)``. ``rows[0]`` is empty; ``a0`` is ``f(q, v)`` when already
-    known (first stage same as the last of the previous step), so that it costs no call.
+    with velocity ``v_i = v + h sum_j rows[i][j] Acc[j]``, at time ``t + nodes[i] h``
+    (``nodes[i] = sum_j rows[i][j]``); ``K[i] = dexp^{-1}_{-theta_i}(v_i)`` and
+    ``Acc[i] = at(t + nodes[i] h, q * exp(theta_i), v_i)``. ``rows[0]`` is empty; ``a0`` is
+    ``at(t, q, v)`` when already known (first stage same as the last of the previous step), so
+    that it costs no call.
     """
     nv = v.size
     KA = np.empty((len(rows), 2 * nv))  # [K | Acc], one product per stage for both
     KA[0, :nv] = v
-    KA[0, nv:] = f(q, v) if a0 is None else a0
+    KA[0, nv:] = at(t, q, v) if a0 is None else a0
     for i in range(1, len(rows)):
         increment = h * (rows[i] @ KA[:i])
         theta, vel = increment[:nv], v + increment[nv:]
         KA[i, :nv] = dexpinv(theta, vel)
-        KA[i, nv:] = f(pin.integrate(model, q, theta), vel)
+        KA[i, nv:] = at(t + nodes[i] * h, pin.integrate(model, q, theta), vel)
     return KA[:, :nv], KA[:, nv:]
 
 

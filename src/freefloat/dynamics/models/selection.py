@@ -39,7 +39,8 @@ ZERO = 1e-12
 def regime_models(momentum: np.ndarray | None) -> tuple[str, ...]:
     """The registry models that match the exact dynamics for a run that conserves ``momentum``
     (``[P; L]``, (6,), about the inertial origin); None: the momentum is not conserved (gravity or
-    external wrenches), where only the exact models do."""
+    external wrenches), where only the exact models do (``standard_corrected`` matches ABA with the
+    same gravity and wrenches to 1e-13: docs/models.md, tests/test_models.py)."""
     if momentum is None:
         return ALWAYS
     names = ALWAYS

@@ -306,6 +306,7 @@ def reproduce_robustness(out: Path, quick: bool = False, runs: int | None = None
                                   quiet=False, done=done, on_result=keep)
     ran = [r for r in results if r["status"] == "ok"]
     if not ran:
+        # base class: every sample's failure, of any kind
         raise FreefloatError(f"robustness: every one of the {runs} samples failed, e.g. {results[0]['reason']}")
     errors = np.array([r["error_mm"] for r in ran])
     report = {"settings": {**settings, "scheduler": scheduler or "local cluster", "resumed": len(done)},

@@ -20,7 +20,7 @@ from pathlib import Path
 
 from ...app.outputs import versions
 from ...app.run_folder import LOCK, RECORD, RunFolder
-from ...errors import FreefloatError, MissingExtra, RunFolderError
+from ...errors import MissingExtra, RunFolderError, spelled
 from ...extras import require
 from . import STUDIES
 
@@ -103,11 +103,12 @@ def run_all(out: Path, overwrite: bool, quick: bool, options: dict, say: Callabl
         held = [out / name for name in names if (out / name).is_dir()]
         if links := [folder for folder in held if folder.is_symlink()]:
             raise RunFolderError(f"'{links[0]}' is a symbolic link where freefloat keeps a study's folder; freefloat "
-                                 "neither follows nor removes links it did not create (remove it, or choose another --out)")
+                                 f"neither follows nor removes links it did not create (remove it, or choose another {spelled('out=', '--out')})")
         for folder in held:  # all checked before any is cleared
             if foreign := foreign_files(folder):
-                raise FreefloatError(f"output folder '{folder}' holds files freefloat did not write ({', '.join(foreign)}); "
-                                     "not clearing it or any other study's folder (move them away or choose another --out)")
+                raise RunFolderError(f"output folder '{folder}' holds files freefloat did not write ({', '.join(foreign)}); "
+                                     "not clearing it or any other study's folder (move them away or choose another "
+                                     f"{spelled('out=', '--out')})")
         for folder in held:
             RunFolder(folder, overwrite=True, keep_foreign=False).close()
     done: dict[str, dict] = {}

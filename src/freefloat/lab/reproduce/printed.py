@@ -11,6 +11,8 @@ from __future__ import annotations
 #: by the controller's model: FM-NIC-A (``nidc``) and FM-ST-A (``standard``).
 TABLE_1 = {"nidc": [4.91e-7, 4.91e-7, 4.91e-7, 4.91e-7, 4.91e-7],
            "standard": [1.18e-4, 1.18e-4, 1.13e-4, 1.13e-4, 1.16e-4]}
+#: Sec 5.1: FM-ST-A's overall Table 1 error over FM-NIC-A's, "236 times worse".
+TABLE_1_RATIO = 236.0
 #: Table 2: RMS of the task-space end-effector pose error per arm 1-4 (x, y in m, z-rotation in deg).
 TABLE_2 = {"x": [1.09e-5, 2.84e-5, 2.24e-6, 2.84e-5], "y": [2.84e-5, 1.09e-5, 2.84e-5, 2.24e-6],
            "z_deg": [5.3e-4] * 4, "overall": [3.1e-4] * 4}
@@ -33,6 +35,9 @@ ARM_4_PIVOT = "[-1, 75, 0, 0]"
 EQ_140_SAMPLES = 500
 #: Sec 5.3: the detumbling scenes' sampling period.
 SEC_5_3_SAMPLING = "0.001 ms"
+#: Sec 4.3 (eq 137), the gains of every run of chapters 4-5, figs 42-44's baseline included:
+#: Kp = 10 I (1/s^2), Kd = 100 I (1/s).
+COMPUTED_TORQUE_GAINS = {"kp": 10.0, "kd": 100.0}
 #: Sec 5.3 (fig 45): the change of arm 1's end-effector angle during the capture (mdeg).
 CAPTURE_ANGLE_CHANGE_MDEG = 0.02
 

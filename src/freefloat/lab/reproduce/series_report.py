@@ -7,7 +7,9 @@
    plant FM-NIC-A with its semi-implicit Euler.
 2. Sec 5.3 (figs 41-56): the built-in scenes ``detumble_impulse_baseline`` (joints held, figs
    42-44) and the four detumbling scenarios (figs 45-56), on the exact plant and on the
-   dissertation's own (FM-NIC-A, semi-implicit Euler at 1 ms: ``<scene>_fm_nic_a``).
+   dissertation's own (FM-NIC-A, semi-implicit Euler at 1 ms: ``<scene>_fm_nic_a``); and the
+   baseline held with the document's gains Kp = 10, Kd = 100 instead of the scene's kp = 2500
+   (``detumble_impulse_baseline_document_gains``, exact plant).
 
 Each run is saved as ``<run>.npz`` (:func:`series_arrays`); ``report.json`` holds each run's
 summary numbers (nested RMS per arm, CoM drift, end-effector spin).
@@ -28,6 +30,7 @@ from ...app.scenes import DEFAULT_SCENE, find_scene
 from ...app.viz.figures import angular_momentum_about_com, base_attitude, skeleton
 from ...dynamics.telemetry import Telemetry
 from ...robot.robot import Robot
+from . import printed
 from .interrupts import finished
 
 #: Sec 5.1's runs: name -> (plant, controller model, integrator).
@@ -39,6 +42,13 @@ DOCUMENT = "_fm_nic_a"
 #: Sec 5.3's scenes, in the figures' order (baseline, then scenarios 1-4).
 SEC_53 = ("detumble_impulse_baseline", "detumble_impulse_arm1_joint4", "detumble_impulse_arm1_joint3",
           "detumble_impulse_arm2_joint4", "detumble_impulse_both_arms")
+#: The baseline of figs 42-44 held with the dissertation's gains (:data:`~.printed.COMPUTED_TORQUE_GAINS`).
+BASELINE_DOCUMENT_GAINS = "detumble_impulse_baseline_document_gains"
+
+
+def with_document_gains(scene):
+    """``scene`` with its computed-torque gains set to the dissertation's Kp = 10, Kd = 100."""
+    return dataclasses.replace(scene, controller=scene.controller.with_settings(**printed.COMPUTED_TORQUE_GAINS))
 
 
 def chapter_four_scene(plant: str, controller: str, integrator: str, duration: float):
@@ -108,6 +118,8 @@ def reproduce(out: Path, quick: bool = False) -> dict:
         runs[name] = run_and_save(scene, out, name)
         runs[f"{name}{DOCUMENT}"] = run_and_save(dataclasses.replace(scene, simulation=dataclasses.replace(
             scene.simulation, model="nidc", integrator="euler", substeps=1)), out, f"{name}{DOCUMENT}")
+        if name == SEC_53[0]:
+            runs[BASELINE_DOCUMENT_GAINS] = run_and_save(with_document_gains(scene), out, BASELINE_DOCUMENT_GAINS)
     report = {"settings": {"quick": quick, "sec51_duration_s": duration, "sec51": SEC_51, "sec53": list(SEC_53)},
               "runs": runs}
     return write_report(out, report, markdown, start)

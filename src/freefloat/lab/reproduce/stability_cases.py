@@ -33,7 +33,7 @@ from ...dynamics.integrators import INTEGRATORS, make_integrator
 from ...dynamics.models import make_model
 from ...dynamics.simulation import run
 from ...dynamics.wrenches import ExternalWrench
-from ...errors import FreefloatError, InvalidArgument
+from ...errors import InvalidArgument, SceneError
 from ...robot.conventions import state_from_base
 from ...robot.loading import load_robot
 from .interrupts import finished
@@ -147,7 +147,7 @@ class Detumbling(Case):
         self._scene = find_scene(self.scene)
         self._wrenches = [ExternalWrench(w.link, w.force, w.torque, w.start, w.end, w.rise) for w in self._scene.wrenches]
         if not self._wrenches or any(np.any(w.force) for w in self._wrenches):
-            raise FreefloatError(f"stability: scene '{self.scene}' needs impulses that are pure torques "
+            raise SceneError(f"stability: scene '{self.scene}' needs impulses that are pure torques "
                                  "(the exact momentum they give is then known)")
         self._after = max(w.end for w in self._wrenches)
 

@@ -1,10 +1,11 @@
 """Time-dependent fields integrated with their exact stage times, on freefloat's adaptive
 Dormand-Prince 5(4) in the Munthe-Kaas chart.
 
-The integrators take an autonomous ``f(q, v)``; a field of time and state such as
-:class:`.field.OrbitField` needs t at every stage. The time is carried as one more coordinate:
-the model gains a prismatic "clock" joint whose velocity is 1 and acceleration 0, so its
-coordinate is t exactly at every stage (the chart is a vector space along it).
+A field of time and state such as :class:`.field.OrbitField` needs t at every stage. Here the
+time is carried as one more coordinate: the model gains a prismatic "clock" joint whose velocity
+is 1 and acceleration 0, so its coordinate is t exactly at every stage (the chart is a vector
+space along it). The engine's loop gives its stages the same times through a
+:class:`~freefloat.dynamics.integrators.TimeVarying` acceleration instead.
 """
 
 from __future__ import annotations

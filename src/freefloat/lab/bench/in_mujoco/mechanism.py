@@ -185,6 +185,7 @@ class MujocoMechanism:
         """Raises FreefloatError when MuJoCo's mass matrix differs from Pinocchio's at ``q``."""
         gap = self.mass_matrix_gap(q)
         if gap > MASS_MATRIX_TOL:
+            # base class: a failed cross-check of the two engines
             raise FreefloatError(f"MuJoCo's mass matrix of the {self.tree.model.name} tree differs from Pinocchio's by "
                                  f"{gap:.3g} (relative): the MJCF does not carry the same inertias")
 

@@ -25,7 +25,7 @@ import numpy as np
 import pinocchio as pin
 
 from ....dynamics.plants import ConstraintDynamicsPlant
-from ....errors import FreefloatError
+from ....errors import InvalidArgument
 from ....parallel.closed_chain import AXES, ClosedChain
 from ....parallel.five_bar import five_bar_spec
 from ....parallel.registry import FIVE_BAR_PLANTS
@@ -117,7 +117,7 @@ def plant_model(chain: ClosedChain, mechanism: str, plant: str) -> pin.Model:
     if plant == "nominal":
         return chain.model
     if mechanism != "five_bar" or plant not in FIVE_BAR_PLANTS:
-        raise FreefloatError(f"bench: no Pinocchio tree for mechanism '{mechanism}' with plant '{plant}'")
+        raise InvalidArgument(f"bench: no Pinocchio tree for mechanism '{mechanism}' with plant '{plant}'")
     true = pin.buildModelFromXML(urdf_xml(build_urdf(five_bar_spec(FIVE_BAR_PLANTS[plant]))))
     model = pin.Model(chain.model)
     for j in range(1, model.njoints):

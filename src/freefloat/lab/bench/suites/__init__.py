@@ -25,7 +25,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, ClassVar
 
 from ....app.signals import signals_raise_keyboard_interrupt
-from ....errors import FreefloatError, InvalidArgument, UnknownName
+from ....errors import InvalidArgument, MissingExtra, UnknownName, spelled
 from ....registry import Registry
 from ..options import Options
 
@@ -57,11 +57,10 @@ class Suite:
     takes_scenes: ClassVar[bool] = False
 
     def check_needs(self) -> None:
-        """Raise ``FreefloatError`` naming the extra to install when a needed package is missing."""
+        """Raise ``MissingExtra`` naming the extra to install when a needed package is missing."""
         for module, extra in self.needs:
             if importlib.util.find_spec(module) is None:
-                raise FreefloatError(f'freefloat bench --suite {self.name} needs {module}: '
-                                     f'python3 -m pip install -e ".[{extra}]"')
+                raise MissingExtra(f'the bench suite {self.name} needs {module}: python3 -m pip install -e ".[{extra}]"')
 
     def prepare(self, options: Options) -> Measurement:
         """Checked and imported before any folder is made; the measurement of :func:`.parts.run_parts`."""
@@ -166,7 +165,7 @@ def run_suites(out: Path, names: list[str], options: Options, progress: Callable
     suites = named(names)
     if options.scenes and not any(suite.takes_scenes for suite in suites):
         raise InvalidArgument(f"bench scenes ({', '.join(options.scenes)}) belong to the {DEFAULT} suite, which "
-                              "--suite leaves out")
+                              f"{spelled('suites=', '--suite')} leaves out")
     measurements = [suite.prepare(options) for suite in suites]
     ended: list[Ended] = []
     with RunFolder(out) as folder, signals_raise_keyboard_interrupt():

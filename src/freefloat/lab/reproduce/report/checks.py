@@ -35,6 +35,68 @@ def momentum_eq_182(samples: int = 5, seed: int = 0) -> tuple[float, float]:
     return worst[0], worst[1]
 
 
+def external_forces_eqs_95_99(samples: int = 5, seed: int = 0) -> dict[str, tuple[float, float]]:
+    """Per GJM model, the largest relative acceleration error against ABA with the same forces, at
+    ``samples`` zero-momentum and ``samples`` random states of the four-arm robot (free-flyer base)
+    with gravity N(0, 1) m/s^2 and a N(0, 1) wrench on every joint: (zero momentum, random)."""
+    import pinocchio as pin
+
+    from ....dynamics.models import MODELS, make_model
+    from ....dynamics.verify import random_state
+    from ....paths import URDF_DIR
+    from ....robot.joints import JointCoordinates
+    from ....robot.loading import load_robot
+    from ..states import state_with_momentum
+
+    robot = load_robot(URDF_DIR / "four_arm_planar.urdf", visuals=False)
+    rng, coords = np.random.default_rng(seed), JointCoordinates(robot)
+    robot.model.gravity.linear[:] = rng.normal(size=3)
+    models = {name: make_model(name, robot) for name in MODELS}
+    worst = {name: [0.0, 0.0] for name in MODELS if name != "exact"}
+    for k, draw in enumerate((lambda: state_with_momentum(robot, rng), lambda: random_state(robot, rng, coords))):
+        for _ in range(samples):
+            q, v = draw()
+            tau = np.concatenate((np.zeros(robot.n_base), rng.normal(size=robot.n_joints)))
+            fext = [pin.Force(rng.normal(size=6)) for _ in range(robot.model.njoints)]
+            exact = models["exact"].acceleration(q, v, tau, fext)
+            for name, errors in worst.items():
+                a = models[name].acceleration(q, v, tau, fext)
+                errors[k] = max(errors[k], float(np.abs(a - exact).max() / np.abs(exact).max()))
+    return {name: (e[0], e[1]) for name, e in worst.items()}
+
+
+def summed_arms_eqs_109_115(samples: int = 5, seed: int = 0) -> tuple[float, float]:
+    """Largest relative acceleration error of the printed multi-arm form that sums the arms' joint
+    equations (eqs 109-115) against ABA, and the largest relative residual of ABA's accelerations in
+    those summed equations, at ``samples`` random states of the four-arm robot (free-flyer base)
+    with random joint torques and a random wrench on every joint."""
+    import pinocchio as pin
+
+    from ....dynamics.models import make_model
+    from ....dynamics.models.summed_arms import summed_arms_acceleration, summing_operator
+    from ....dynamics.models.underactuated import UnderactuatedGJM
+    from ....dynamics.verify import random_state
+    from ....paths import URDF_DIR
+    from ....robot.joints import JointCoordinates
+    from ....robot.loading import load_robot
+
+    robot = load_robot(URDF_DIR / "four_arm_planar.urdf", visuals=False)
+    rng, coords, worst = np.random.default_rng(seed), JointCoordinates(robot), [0.0, 0.0]
+    S, nb = summing_operator(robot), robot.n_base
+    exact_model, terms_model = make_model("exact", robot), UnderactuatedGJM(robot, True, True, backend="numpy")
+    for _ in range(samples):
+        q, v = random_state(robot, rng, coords)
+        tau = np.concatenate((np.zeros(nb), rng.normal(size=robot.n_joints)))
+        fext = [pin.Force(rng.normal(size=6)) for _ in range(robot.model.njoints)]
+        exact = exact_model.acceleration(q, v, tau, fext)
+        terms = terms_model.terms(q, v, fext)
+        H, c = terms_model.joint_space(terms)
+        rhs = S @ (tau[nb:] + terms.Q_q - c)
+        worst[0] = max(worst[0], np.abs(summed_arms_acceleration(robot, q, v, tau, fext) - exact).max() / np.abs(exact).max())
+        worst[1] = max(worst[1], np.abs(S @ H @ exact[nb:] - rhs).max() / np.abs(rhs).max())
+    return worst[0], worst[1]
+
+
 def five_bar_points() -> list[np.ndarray]:
     """The 5R at its start :data:`~..printed.START`: each chain's base joint, elbow and tip (3, 2), m."""
     from ....parallel.five_bar import FiveBarParameters, elbow_guess, five_bar

@@ -14,9 +14,9 @@ import numpy as np
 
 from ....documents import DIRECTION, FIGS_38_40_OFFSET_DEG, TASK_DEG
 from .. import printed
-from ..series_report import DOCUMENT
+from ..series_report import BASELINE_DOCUMENT_GAINS, DOCUMENT
 from . import figures as rf
-from .checks import momentum_eq_182
+from .checks import external_forces_eqs_95_99, momentum_eq_182, summed_arms_eqs_109_115
 from .entry import DISSERTATION, Entry, Row, row
 from .results import Results
 
@@ -67,8 +67,10 @@ def _table_1_rows(res: Results) -> list[Row]:
         run = _summary(res, SEC51[controller][1])
         return run["tracking_rms_overall"] if k == 4 else list(run["tracking_rms_per_arm"].values())[k]
 
-    return [row(f"{c}, {'overall' if k == 4 else f'arm {k + 1}'}", printed.TABLE_1[m][k], ours(c, k))
-            for c, m in CONTROLLER_MODELS.items() for k in range(5)] + _sec51_rms_rows(res, "FM-NIC-A")[:1]
+    return ([row(f"{c}, {'overall' if k == 4 else f'arm {k + 1}'}", printed.TABLE_1[m][k], ours(c, k))
+             for c, m in CONTROLLER_MODELS.items() for k in range(5)]
+            + [row("FM-ST-A / FM-NIC-A, overall", printed.TABLE_1_RATIO, ours("FM-ST-A", 4) / ours("FM-NIC-A", 4))]
+            + _sec51_rms_rows(res, "FM-NIC-A")[:1])
 
 
 def _torque_rows(res: Results, controller: str) -> list[Row]:
@@ -237,6 +239,17 @@ def _moved(r: Results, scene: str) -> np.ndarray:
     return joints - joints[0]
 
 
+def _baseline_joint_rows(r: Results) -> list[Row]:
+    """Fig 42: the largest joint excursion during the run and at its end, held with kp = 2500 (the
+    scene) and with the document's Kp = 10, Kd = 100."""
+    rows = []
+    for scene, gains in ((BASELINE, ""), (BASELINE_DOCUMENT_GAINS, ", document's gains")):
+        moved = np.degrees(np.abs(_moved(r, scene)))
+        rows += [row(f"largest |joint - start| during the run (deg){gains}", "near 0", float(moved.max())),
+                 row(f"largest |joint - start| at the end (deg){gains}", "near 0", float(moved[-1].max()))]
+    return rows
+
+
 def _spin_rows(r: Results, scene: str) -> list[Row]:
     """Final end-effector rates on the exact plant and on the document's (FM-NIC-A, Euler at 1 ms),
     and how well the latter keeps the momentum the impulse gave."""
@@ -383,26 +396,30 @@ ENTRIES: tuple[Entry, ...] = (
           "each 1 ms period) sets L_z, which stays constant after it (balance column)."),
     Entry(DISSERTATION, "Fig 42", "Joint angles and rates without detumbling (joints held at zero).", "series",
           lambda r: rf.angles_and_rates(r.arrays("series", BASELINE), "Dissertation fig 42: joints, no detumbling", True),
-          lambda r: [row("largest |joint - start| during the capture (deg)", "near 0",
-                         float(np.degrees(np.abs(_moved(r, BASELINE)).max()))),
-                     row("largest |joint - start| at the end (deg)", "near 0",
-                         float(np.degrees(np.abs(_moved(r, BASELINE)[-1]).max())))],
+          _baseline_joint_rows,
           "Built-in scene detumble_impulse_baseline (kp 2500, critically damped, so the posture comes back). freefloat "
           "applies the 500 N m to arm 1's last link, which it swings during the 10 ms impulse; the document applies the "
           "resultant to the system's momentum only (sec 5.3: 'the formulation does not consider the point of "
-          "application')."),
+          "application'). With the document's own gains (Kp = 10, Kd = 100: a pole near kp/kd = 0.1 1/s) the swung "
+          "joints stay tens of degrees away at the end (rows 'document's gains')."),
     Entry(DISSERTATION, "Fig 43", "Joint torques without detumbling.", "series",
           lambda r: rf.per_arm({"held": r.arrays("series", BASELINE)}, "tau",
                                "Dissertation fig 43: joint torques, no detumbling", "tau (N m)"),
-          lambda r: [row("peak joint torque (N m)", None, _summary(r, BASELINE)["peak_joint_torque"])],
+          lambda r: [row("peak joint torque (N m)", None, _summary(r, BASELINE)["peak_joint_torque"]),
+                     row("peak joint torque (N m), document's gains", None,
+                         _summary(r, BASELINE_DOCUMENT_GAINS)["peak_joint_torque"])],
           "freefloat holds the joints with stiffer gains (kp 2500, critically damped) than the document's Kp = 10, "
-          "Kd = 100."),
+          "Kd = 100; the second row is the same run with the document's gains."),
     Entry(DISSERTATION, "Fig 44", "End-effector angles and rates without detumbling: both keep rotating together.",
           "series",
           lambda r: rf.angles_and_rates(r.arrays("series", BASELINE), "Dissertation fig 44: end-effectors, no detumbling",
                                         False),
-          partial(_spin_rows, scene=BASELINE), "The robot turns rigidly: both end-effectors keep the same constant rate "
-          "(rows 'FM-NIC-A plant': the dissertation's own model and integrator)."),
+          lambda r: _spin_rows(r, BASELINE) + [
+              row(f"{ee} final angular rate (rad/s), document's gains", None, w)
+              for ee, w in _summary(r, BASELINE_DOCUMENT_GAINS)["end_effector_angular_velocity_final"].items()],
+          "The robot turns rigidly: both end-effectors keep the same constant rate (rows 'FM-NIC-A plant': the "
+          "dissertation's own model and integrator). With the document's gains (Kp = 10, Kd = 100) arm 1's joints are "
+          "still returning at the end, so its end-effector's rate differs from arm 2's (rows 'document's gains')."),
     *(entry for first, (scene, label) in SCENARIOS.items() for entry in detumbling_figures(first, scene, label)),
     # errata
     Entry(DISSERTATION, "Eq 140", "Nested RMS metric: n_T printed as 500 samples.", "series", None,
@@ -428,6 +445,25 @@ ENTRIES: tuple[Entry, ...] = (
                                "printed {:.3g} / corrected {:.3g}".format(*momentum_eq_182()))],
           "The derivation at eq 180 treats skew matrices as anticommuting; the corrected form (L_O = L_base + r0 x P) "
           "matches Pinocchio's centroidal momentum moved to the origin to round-off.", erratum=True),
+    Entry(DISSERTATION, "Eqs 95-99", "The GJM models with external forces and gravity (sec 3.7: the under-actuated "
+          "model 'stays valid with external forces applied').", "",
+          None, lambda r: [row(f"{name}: max relative acceleration error against ABA, zero momentum / random state", None,
+                               f"{zero:.3g} / {any_:.3g}")
+                           for name, (zero, any_) in external_forces_eqs_95_99().items()],
+          "Four-arm robot with gravity and a wrench on every joint, 5 states each, against ABA with the same forces: "
+          "only standard_corrected (full Hdot, c0 = [0; v0 x P]) is exact, which is the one model = 'auto' keeps "
+          "besides exact when the momentum is not conserved; standard_full_hdot is exact only at zero linear momentum, "
+          "the stand-alone and momentum forms drop the base rows' force even at zero momentum (docs/models.md).",
+          erratum=True),
+    Entry(DISSERTATION, "Eqs 109-115", "Multi-arm numerical model: every arm's joint equations summed (operator I_n) "
+          "and the summed matrix inverted.", "",
+          None, lambda r: [row("max relative error against ABA / ABA's residual in the summed equations, four-arm "
+                               "robot, 5 random states with wrenches", None,
+                               "{:.3g} / {:.3g}".format(*summed_arms_eqs_109_115()))],
+          "The sum holds for the exact accelerations but gives m equations for the N = n m joint accelerations (n arms "
+          "of m joints): the printed inverse of an m x N matrix does not exist. freefloat keeps each arm's equations "
+          "(eq 113 stacked); the printed form is freefloat.dynamics.models.summed_arms (its inverse read as the "
+          "pseudo-inverse), exact with one arm only (docs/models.md).", erratum=True),
     Entry(DISSERTATION, "Sec 3.5", "Claim that the base rows carry no non-inertial term (c0 = 0).", "models", None,
           lambda r: [row(f"max relative acceleration error, c0 = 0 / c0 = [0; v0 x P], {regime}", None,
                          f"{errors['standard_full_hdot']:.3g} / {errors['standard_corrected']:.3g}")

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ....errors import FreefloatError
+from ....errors import FreefloatError, spelled
 from ....paths import PACKAGE_DIR
 
 
@@ -52,7 +52,7 @@ class Results:
             path = self.root / study / f"{name}.npz"
             if not path.is_file():
                 raise MissingStudy(f"'{path}' is missing (study '{study}' not run, interrupted, or from an older "
-                                   "freefloat); rerun with --overwrite to remake it")
+                                   f"freefloat); rerun with {spelled('overwrite=True', '--overwrite')} to remake it")
             with np.load(path) as data:
                 self._cache[key] = {k: data[k] for k in data.files}
         return self._cache[key]
