@@ -32,6 +32,8 @@ from ..parallel.sliding_mode import PlatformControl, printed_gains
 from ..registry import Registry
 from ..space.control import ComputedTorque
 from ..space.control.detumbling_control import DetumblingController
+from ..space.control.thruster_control import ThrusterHold
+from ..space.thrusters import ThrusterSet
 from .scenes.fields import NO_RULES, Rules, check_settings
 
 #: Plant kinds a controller may serve: robot scenes (``[robot]``) and mechanism scenes (``[mechanism]``).
@@ -63,6 +65,9 @@ class ControlContext:
             mechanism scene, or None (no task).
         control_period: the zero-order-hold period, s.
         angle_scale: factor from the scene's angle unit to rad (1 for mechanism scenes).
+        environment: the fields of the scene's ``[[environment]]`` built on the plant (a law that
+            commands one, as the thruster laws command the thrusters, finds it here).
+        wheels: the plant's reaction wheels (:class:`~freefloat.robot.wheels.Wheels`), or None.
     """
 
     scene: Any
@@ -70,6 +75,8 @@ class ControlContext:
     reference: Any
     control_period: float
     angle_scale: float = 1.0
+    environment: tuple[Any, ...] = ()
+    wheels: Any = None
 
     @property
     def where(self) -> str:
@@ -216,6 +223,62 @@ def _sliding_mode(context: ControlContext, gains: PlatformGains) -> PlatformCont
     return PlatformControl(mechanism, context.reference, gains.lam, law, gains.saturation)
 
 
+@dataclass(frozen=True)
+class ThrusterGains:
+    """Thrusters holding the base pose: ``kp`` (1/s^2) and ``kd`` (1/s), on the attitude and the
+    position alike."""
+
+    kp: float = 1.0
+    kd: float = 2.0
+
+
+@dataclass(frozen=True)
+class DumpGains(ThrusterGains):
+    """Momentum dumping: the hold's ``kp`` (1/s^2) and ``kd`` (1/s), and ``dump_rate`` (1/s), the
+    rate at which the wheels' stored momentum is braked."""
+
+    dump_rate: float = 0.5
+
+
+THRUSTER_RULES = Rules({}, {("controller", "dump_rate")}, {("controller", "kp"), ("controller", "kd")})
+
+
+def _thrusters(context: ControlContext) -> ThrusterSet:
+    """The scene's thrusters.
+
+    Raises:
+        SceneError: when the scene has none, more than one set, or a minimum impulse bit that one
+            control period cannot give.
+    """
+    found = [f for f in context.environment if isinstance(f, ThrusterSet)]
+    if len(found) != 1:
+        raise SceneError(f"{context.where}controller '{context.scene.controller.kind}' commands thrusters: give "
+                         f"exactly one [[environment]] kind = \"thrusters\", got {len(found)}")
+    try:
+        found[0].check_period(context.control_period)
+    except InvalidArgument as exc:
+        raise SceneError(f"{context.where}{exc}") from exc
+    return found[0]
+
+
+def _thruster_hold(context: ControlContext, gains: ThrusterGains) -> ThrusterHold:
+    """Thrusters hold the base pose it starts from (:mod:`freefloat.space.control.thruster_control`)."""
+    return ThrusterHold(context.plant, _thrusters(context), context.control_period, gains.kp, gains.kd)
+
+
+def _momentum_dump(context: ControlContext, gains: DumpGains) -> ThrusterHold:
+    """The wheels braked to zero stored momentum while the thrusters hold the base.
+
+    Raises:
+        SceneError: without ``[[wheels]]`` or thrusters.
+    """
+    if context.wheels is None:
+        raise SceneError(f"{context.where}controller 'momentum_dump' dumps the momentum of reaction wheels: give "
+                         "[[wheels]]")
+    return ThrusterHold(context.plant, _thrusters(context), context.control_period, gains.kp, gains.kd,
+                        context.wheels, gains.dump_rate)
+
+
 def _pair(where: str, key: str, p: int) -> tuple[int, int]:
     """``"i,j"`` -> (i, j) with 0 <= j <= i < p.
 
@@ -245,6 +308,12 @@ CONTROLLERS.register(ControllerSpec(
 CONTROLLERS.register(ControllerSpec(
     "sliding_mode", "sliding mode in platform coordinates (eq 153, eq 167's gains)", PlatformGains, _sliding_mode,
     plants=("mechanism",), rules=PLATFORM_RULES))
+CONTROLLERS.register(ControllerSpec(
+    "thruster_hold", "thrusters hold the base's attitude and position (PD on the locked robot, NNLS allocation)",
+    ThrusterGains, _thruster_hold, tasks=("none",), rules=THRUSTER_RULES))
+CONTROLLERS.register(ControllerSpec(
+    "momentum_dump", "wheels braked to zero stored momentum while thrusters hold the base and take the momentum out",
+    DumpGains, _momentum_dump, tasks=("none",), rules=THRUSTER_RULES))
 
 __all__ = ["CONTROLLERS", "PLANT_KINDS", "ControlContext", "ControllerSpec", "DetumbleTask", "JointGains",
-           "PlatformGains", "build_controller", "serving"]
+           "DumpGains", "PlatformGains", "ThrusterGains", "build_controller", "serving"]

@@ -10,7 +10,9 @@ loop applies too). An entry may also add summary keys measured from the run (``s
 their ``units``). The built-in ``wrench_profile`` is the old ``[[wrenches]]`` table (that
 spelling is kept); the built-in ``orbit`` is the tidal gravity of a circular orbit
 (:mod:`freefloat.space.orbit`, docs/orbit.md); the built-in ``contact`` a compliant contact between two
-links (:mod:`freefloat.space.contact`, docs/contact.md). A user's module registers its own::
+links (:mod:`freefloat.space.contact`, docs/contact.md); the built-in ``thrusters`` are thrusters on the
+base that a thruster controller commands (:mod:`freefloat.space.thrusters`, docs/thrusters.md). A user's
+module registers its own::
 
     ENVIRONMENTS.register(EnvironmentSpec("constant_wrench", "a constant inertial wrench on a link",
                                           ConstantWrenchSettings, ConstantWrench))
@@ -34,6 +36,8 @@ from ..space.orbit.field import orbit_field
 from ..space.orbit.reference import OrbitSettings
 from ..space.orbit.summary import SUMMARY_UNITS as ORBIT_UNITS
 from ..space.orbit.summary import orbit_summary
+from ..space.thrusters import SUMMARY_UNITS as THRUSTER_UNITS
+from ..space.thrusters import ThrusterSet, ThrusterSettings, thruster_summary
 from .scenes.fields import NO_RULES, Rules, check_settings
 
 
@@ -110,6 +114,13 @@ ENVIRONMENTS.register(EnvironmentSpec(
           {("environment", "stiffness"), ("environment", "exponent"), ("environment", "slip_speed")},
           {("environment", "damping"), ("environment", "friction")}),
     contact_summary, CONTACT_UNITS))
+
+ENVIRONMENTS.register(EnvironmentSpec(
+    "thrusters", "thrusters on a free base (positions, directions, max_thrust N, min_impulse_bit N s, "
+    "specific_impulse s), commanded by a thruster controller", ThrusterSettings, ThrusterSet,
+    Rules({}, {("environment", "arm"), ("environment", "max_thrust"), ("environment", "specific_impulse")},
+          {("environment", "min_impulse_bit")}),
+    thruster_summary, THRUSTER_UNITS))
 
 
 def environment_units(entries: Any) -> dict[str, str]:

@@ -29,7 +29,10 @@ between two rows split evenly over their periods.
 A field of the environment (:class:`~.wrenches.WrenchField`, of time and state, which the loop
 evaluates at every stage's own time) is integrated from the recorded rows by the trapezoidal rule: its total ``wrench`` for the impulse, the power of its
 joint ``forces`` at the joints' velocities for the work (second order in the row spacing; exact
-for the linear impulse of a constant force).
+for the linear impulse of a constant force). A field whose wrench the rule would integrate badly
+(thrusts that switch at every period) gives its own impulse and work from the rows,
+``impulse(t, q, v)`` -> (N, 6) and ``work(t, q, v)`` -> (N,)
+(:meth:`freefloat.space.thrusters.ThrusterSet.impulse`), which replace the rule's.
 """
 
 from __future__ import annotations
@@ -121,11 +124,13 @@ def field_applied(robot: Robot, telemetry: Telemetry, environment: Sequence[Wren
     tel, model = telemetry, robot.model
     data = model.createData()
     rows = len(tel.t)
+    own = [f for f in environment if hasattr(f, "impulse")]
+    ruled = [f for f in environment if not hasattr(f, "impulse")]
     total, power = np.zeros((rows, 6)), np.zeros(rows)
-    for row in range(rows):
+    for row in range(rows if ruled else 0):
         t, q, v = tel.t[row], tel.q[row], tel.v[row]
         pin.forwardKinematics(model, data, q, v)
-        for field in environment:
+        for field in ruled:
             forces = field.forces(t, q, v)
             if forces is not None:
                 total[row] += field.wrench(t, q, v)
@@ -133,6 +138,9 @@ def field_applied(robot: Robot, telemetry: Telemetry, environment: Sequence[Wren
     gaps = np.diff(tel.t)[:, None]
     impulse = np.vstack((np.zeros(6), np.cumsum(0.5 * gaps * (total[1:] + total[:-1]), axis=0)))
     work = np.concatenate(([0.0], np.cumsum(0.5 * gaps[:, 0] * (power[1:] + power[:-1]))))
+    for field in own:
+        impulse += field.impulse(tel.t, tel.q, tel.v)
+        work += field.work(tel.t, tel.q, tel.v)
     linear = impulse[:, :3]
     shift = np.vstack((np.zeros(3), np.cumsum(0.5 * gaps * (linear[1:] + linear[:-1]), axis=0)))
     return Applied(impulse, work, shift / pin.computeTotalMass(model))

@@ -21,7 +21,13 @@ class WrenchField(Protocol):
     """Wrenches the environment applies to a robot, at time ``t`` (s) and state ``q`` (nq,), ``v``
     (nv,) (Pinocchio's), evaluated by the loop at every integrator stage with the stage's own
     time and state (``t0 + c_i h`` of a Runge-Kutta stage, an adaptive step's trial times: not
-    held over the control period, as the profiles are); several fields add up."""
+    held over the control period, as the profiles are); several fields add up.
+
+    A field may also give its own impulse and work over a run, ``impulse(t, q, v)`` and
+    ``work(t, q, v)``: from the recorded rows (N,), (N, nq), (N, nv), ``[N s; N m s about the
+    origin]`` (N, 6) and J (N,) from the first row to each, which the balances use instead of the
+    trapezoidal rule over :meth:`wrench` and the power of :meth:`forces` (:mod:`.balance`; the
+    thrusters' switch at every period, where the rule errs by half a period's impulse)."""
 
     def forces(self, t: float, q: np.ndarray, v: np.ndarray) -> list[pin.Force] | None:
         """One ``pin.Force`` [f; n] per joint (``model.njoints``): joint-frame axes, moment about

@@ -361,7 +361,8 @@ def robot_outcome(setup: RobotSetup, robot: Robot, telemetry: Telemetry, result:
     wheels = setup.wheels if robot is setup.robot and len(telemetry.t) else None
     extra_telemetry = dict(extra_telemetry or {})
     if wheels is not None:
-        wheel_rows = extra_telemetry["wheels"] = wheel_telemetry(wheels, telemetry, wrenches, sim.control_period)
+        wheel_rows = extra_telemetry["wheels"] = wheel_telemetry(wheels, telemetry, wrenches, sim.control_period,
+                                                                   setup.environment)
         summary = {**summary, **wheel_summary(wheels, setup.wheel_control, wheel_rows, telemetry)}
     residuals = None
     if setup.environment and len(telemetry.t) >= 2 and "conservation_balance" in drawn(setup.scene):

@@ -14,7 +14,7 @@ from ...dynamics.balance import applied
 from ...dynamics.sensors.momentum import CONSERVED
 from ...dynamics.simulation import Controller
 from ...dynamics.telemetry import Arrays, Telemetry
-from ...dynamics.wrenches import ExternalWrench
+from ...dynamics.wrenches import ExternalWrench, WrenchField
 from ...errors import RobotModelError, SceneError
 from ...robot.conventions import base_link_placement, momentum_about_origin
 from ...robot.robot import Robot
@@ -117,7 +117,10 @@ def target_rotation(scene: Scene, robot: Robot, q0: np.ndarray) -> np.ndarray:
 def wheel_attitude_control(scene: Scene, wheels: Wheels, arm: Controller | None, q0: np.ndarray) -> Controller | None:
     """The controller of a scene with wheels: the attitude law composed with the arm's controller
     (``[attitude] kind = "hold"``, the default), or free wheels under the arm's controller
-    (``"none"``: no wheel torque)."""
+    (``"none"``: no wheel torque); a controller that drives the wheels itself (``drives_wheels``,
+    as momentum dumping does) runs alone."""
+    if getattr(arm, "drives_wheels", False):
+        return arm
     attitude = scene.attitude or AttitudeSection()
     if attitude.kind == "none":
         return WheelAttitudeControl(wheels, arm, None)
@@ -125,8 +128,9 @@ def wheel_attitude_control(scene: Scene, wheels: Wheels, arm: Controller | None,
 
 
 def wheel_telemetry(wheels: Wheels, telemetry: Telemetry, wrenches: tuple[ExternalWrench, ...],
-                    control_period: float) -> WheelTelemetry:
-    """The wheels' rows of a run (:class:`WheelTelemetry`)."""
+                    control_period: float, environment: tuple[WrenchField, ...] = ()) -> WheelTelemetry:
+    """The wheels' rows of a run (:class:`WheelTelemetry`), balanced against the impulse of the
+    ``wrenches`` and of the ``environment``'s fields."""
     robot, tel = wheels.robot, telemetry
     model = robot.model
     data = model.createData()
@@ -134,7 +138,8 @@ def wheel_telemetry(wheels: Wheels, telemetry: Telemetry, wrenches: tuple[Extern
     momentum = wheels.momenta(tel.v)
     stored = np.array([base_link_placement(robot, q).rotation @ axes @ h for q, h in zip(tel.q, momentum)])
     rest = np.array([momentum_about_origin(model, data, q, wheels.without_rates(v))[3:] for q, v in zip(tel.q, tel.v)])
-    impulse = applied(robot, tel, wrenches, control_period).impulse[:, 3:] if wrenches else np.zeros_like(stored)
+    impulse = (applied(robot, tel, wrenches, control_period, environment).impulse[:, 3:] if wrenches or environment
+               else np.zeros_like(stored))
     total = stored + rest
     balance = np.zeros_like(total)
     kept = CONSERVED[robot.base][CONSERVED[robot.base] >= 3] - 3  # L components the base's joint does not react
