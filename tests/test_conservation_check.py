@@ -1,0 +1,97 @@
+"""The conservation oracle: a run that breaks a conservation law its scene promises is failed,
+naming the quantity, its value and its bound; the built-in scenes of every kind pass."""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+
+import numpy as np
+import pytest
+
+from freefloat.app import runner
+from freefloat.app.cli import main
+from freefloat.app.conservation_check import TOLERANCE_FLOOR, check, checked, tolerance
+from freefloat.app.scenes import load_scene
+from freefloat.dynamics import metrics
+
+from .conftest import scene_variant
+
+#: A spurious torque (N m) about z: far below anything a scene applies, far above round-off.
+SPURIOUS_TORQUE = 1e-3
+
+
+@pytest.fixture
+def spurious_torque(monkeypatch):
+    """Every robot run's recorded momentum gains the angular impulse of :data:`SPURIOUS_TORQUE`
+    about z, as if its plant applied a torque nothing in the scene accounts for."""
+    original = metrics.conservation
+
+    def leaking(telemetry, *args, **kwargs):
+        momentum = telemetry.momentum.copy()
+        momentum[:, 5] += SPURIOUS_TORQUE * (telemetry.t - telemetry.t[0])
+        return original(dataclasses.replace(telemetry, momentum=momentum), *args, **kwargs)
+
+    monkeypatch.setattr(metrics, "conservation", leaking)
+
+
+def test_the_tolerance_follows_the_integrators_order_and_step():
+    """``(h / 0.1 s)^p``, never below the floor: Euler at 1 ms 1e-2, RK4 at 1 ms the floor."""
+    assert tolerance(1, 1e-3) == pytest.approx(1e-2)
+    assert tolerance(2, 1e-3) == pytest.approx(1e-4)
+    assert tolerance(4, 1e-3) == TOLERANCE_FLOOR
+    assert tolerance(1, 1.0) == 0.5
+
+
+def test_a_spurious_torque_fails_a_torque_free_run_naming_the_quantity(spurious_torque):
+    """``tumbling`` with a leak of 1e-3 N m is failed: the message names momentum_drift_max,
+    its value (the leak's impulse) and its bound."""
+    outcome = runner.simulate("tumbling")
+    drift = outcome.summary["momentum_drift_max"]
+    assert drift == pytest.approx(SPURIOUS_TORQUE * outcome.summary["duration"], rel=1e-3)
+    bound = next(c.bound for c in checked(outcome.summary) if c.quantity == "momentum_drift_max")
+    assert outcome.status == "failed" and outcome.summary["status"] == "failed"
+    assert f"momentum_drift_max {drift:.3g} exceeds its bound {bound:.3g}" in outcome.message
+
+
+def test_the_command_line_exits_1_for_a_failed_run(tmp_path, spurious_torque, capsys):
+    """``freefloat simulate`` of a run that breaks its balance exits 1, says it failed and why,
+    and its summary.json says ``failed``."""
+    status = main(["simulate", "tumbling", "--out", str(tmp_path / "out"), "--quiet", "--no-figures", "--no-html"])
+    assert status == 1
+    assert "run failed: conservation violated: momentum_drift_max" in capsys.readouterr().err
+    assert json.loads((tmp_path / "out" / "summary.json").read_text())["status"] == "failed"
+
+
+def test_a_wheel_balance_off_by_the_issues_amount_is_a_violation():
+    """The wheel balance of 0.18 N m s that a standard-model plant gave (issue 41) fails against
+    the wheel scene's own scale; the same summary with its measured balance passes."""
+    outcome = runner.simulate(load_scene(scene_variant_path("satellite_wheels")))
+    assert outcome.status == "completed" and check(outcome.summary) is None
+    broken = {**outcome.summary, "wheel_momentum_balance_max": 0.18}
+    assert check(broken).startswith("conservation violated: wheel_momentum_balance_max 0.18 exceeds its bound")
+
+
+def scene_variant_path(name: str):
+    """The built-in scene ``name`` as a path (``load_scene`` takes names too)."""
+    from freefloat.app.scenes import builtin_scenes
+
+    return builtin_scenes()[name]
+
+
+@pytest.mark.parametrize("scene, quantity", [
+    ("tumbling", "momentum_drift_max"),                     # torque-free
+    ("detumble_impulse_baseline", "momentum_balance_max"),  # an external wrench
+    ("capture_planar", "momentum_balance_error"),           # through a grasp
+    ("satellite_hands_joined", "closure_drift_max"),        # a loop closure
+    ("five_bar_free_base", "loop_closure_drift_max"),       # a mechanism on a free base
+])
+def test_a_built_in_scene_of_each_kind_passes_with_its_margin(tmp_path, scene, quantity):
+    """The built-in scene completes, its quantity is checked, and the largest value over bound
+    (``conservation_margin``) is below 1."""
+    short = {"satellite_hands_joined": {"duration": 0.2}, "five_bar_free_base": {"duration": 0.2}}.get(scene, {})
+    outcome = runner.simulate(load_scene(scene_variant(tmp_path / "s.toml", scene, simulation=short)))
+    assert outcome.status == "completed", outcome.message
+    margins = {c.quantity: c.margin for c in checked(outcome.summary)}
+    assert quantity in margins and np.isfinite(margins[quantity])
+    assert outcome.summary["conservation_margin"] == max(margins.values()) < 1.0
