@@ -24,8 +24,8 @@ from pathlib import Path
 from typing import Any
 
 from ..arguments import an_object
-from ..robot.loading import remembered_loads
 from ..dynamics.integrators import integrator_spec
+from ..robot.loading import remembered_loads
 from .conservation_check import check, checked
 from .experiments import Outcome, Progress, experiment_for
 from .experiments.model_choice import describe, resolve, with_plant
@@ -35,8 +35,8 @@ from .scenes import DEFAULT_SCENE, MechanismScene, Scene, find_scene
 from .scenes.mechanism_schema import ALIASES as MECHANISM_INTEGRATORS
 from .signals import STOP_SIGNALS, signals_deferred, signals_raise_keyboard_interrupt, stop_once
 
-__all__ = ["STOP_SIGNALS", "choose_plant", "fail_if_not_finite", "fail_if_unbalanced", "note_model_choice", "prepare", "resolved_setup",
-           "signals_deferred", "signals_raise_keyboard_interrupt", "simulate", "total_steps"]
+__all__ = ["STOP_SIGNALS", "choose_plant", "fail_if_not_finite", "fail_if_unbalanced", "note_model_choice", "prepare",
+           "resolved_setup", "signals_deferred", "signals_raise_keyboard_interrupt", "simulate", "total_steps"]
 
 
 
