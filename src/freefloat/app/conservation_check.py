@@ -13,8 +13,9 @@ The quantities are read from the run's summary, never recomputed (:mod:`freefloa
   ``loop_closure_drift_max`` (a mechanism).
 
 Each is held to ``tolerance * scale``. The tolerance follows the integrator's global order ``p``
-and step ``h`` (:func:`tolerance`): ``max(1e-6, (h / 0.1 s)^p)`` (1e-6 for RK4 at 1 ms, 1e-2
-for Euler at 1 ms). The scale is the run's own: for momentum the largest of the momentum the
+and step ``h`` (:func:`tolerance`): ``max(1e-6, (h / 0.1 s)^p)``, at most 0.5 (1e-6 for RK4 at
+1 ms, 1e-2 for Euler at 1 ms); a momentum balance against fields, summed over the recorded rows,
+also takes the second-order tolerance of the rows' spacing. The scale is the run's own: for momentum the largest of the momentum the
 run carried (``momentum_scale``), the external impulse applied, the capture's momentum before the
 grasp, the wheels' largest stored momentum and the internal impulse ``peak_joint_torque *
 duration`` (a mechanism's ``peak_efforts``) the joints could exchange; for closures the length :data:`LENGTH_SCALE`. Energy
@@ -42,7 +43,7 @@ MOMENTUM_KEYS = ("momentum_drift_max", "momentum_balance_max", "wheel_momentum_b
                  "momentum_balance_error", "momentum_drift_after_impact")
 CLOSURE_KEYS = ("closure_drift_max", "loop_closure_drift_max")
 #: The unit of each summary key the runner adds for this check.
-UNITS = {"integrator_order": "", "integrator_step": "s", "duration": "s", "conservation_margin": ""}
+UNITS = {"integrator_order": "", "integrator_step": "s", "record_step": "s", "duration": "s", "conservation_margin": ""}
 
 
 class Checked(NamedTuple):
@@ -83,15 +84,25 @@ def checked(summary: Mapping[str, Any]) -> list[Checked]:
     order, step = summary.get("integrator_order"), summary.get("integrator_step")
     if not isinstance(order, int) or not isinstance(step, float):
         return []
-    tol = tolerance(order, step)
     scales = {key: momentum_scale(summary) for key in MOMENTUM_KEYS} | {key: LENGTH_SCALE for key in CLOSURE_KEYS}
     out = []
     for key, scale in scales.items():
         value = summary.get(key)
         if isinstance(value, (int, float)) and not isinstance(value, bool):
-            bound = tol * scale if scale > 0.0 else TOLERANCE_FLOOR
+            bound = _tolerance(summary, key) * scale if scale > 0.0 else TOLERANCE_FLOOR
             out.append(Checked(key, float(value), bound, float(value) / bound))
     return out
+
+
+def _tolerance(summary: Mapping[str, Any], key: str) -> float:
+    """The tolerance of ``key`` in ``summary``: the integrator's (:func:`tolerance`); for
+    ``momentum_balance_max``, whose fields' impulse is a trapezoidal sum over the recorded rows,
+    at least that of a second-order rule at the rows' spacing ``record_step``."""
+    tol = tolerance(summary["integrator_order"], summary["integrator_step"])
+    rows = summary.get("record_step")
+    if key == "momentum_balance_max" and isinstance(rows, float):
+        tol = max(tol, tolerance(2, rows))
+    return tol
 
 
 def check(summary: Mapping[str, Any]) -> str | None:
@@ -101,8 +112,7 @@ def check(summary: Mapping[str, Any]) -> str | None:
     if worst is None or worst.margin <= 1.0:
         return None
     return (f"conservation violated: {worst.quantity} {worst.value:.3g} exceeds its bound {worst.bound:.3g} "
-            f"(margin {worst.margin:.3g}; tolerance {tolerance(summary['integrator_order'], summary['integrator_step']):.3g} "
-            "of the run's scale)")
+            f"(margin {worst.margin:.3g}; tolerance {_tolerance(summary, worst.quantity):.3g} of the run's scale)")
 
 
 def _number(value: object) -> float:

@@ -180,19 +180,20 @@ def fail_if_not_finite(outcome: Outcome) -> Outcome:
 
 
 def fail_if_unbalanced(outcome: Outcome, scene: Scene | MechanismScene) -> Outcome:
-    """``outcome`` with the integrator's order and step and the scene's duration in its summary
-    (``integrator_order``, ``integrator_step`` s, ``duration`` s), the largest value over bound of
+    """``outcome`` with the integrator's order and step, the recorded rows' spacing and the scene's
+    duration in its summary (``integrator_order``, ``integrator_step`` s, ``record_step`` s,
+    ``duration`` s), the largest value over bound of
     its conserved quantities (``conservation_margin``), and marked ``"failed"`` when a completed run
     breaks one (:func:`~.conservation_check.check`: the message names the quantity, its value and
     its bound)."""
     sim = scene.simulation
     if isinstance(scene, MechanismScene):
-        step, integrator = sim.step, MECHANISM_INTEGRATORS.get(sim.integrator, sim.integrator)
+        step, rows, integrator = sim.step, sim.step, MECHANISM_INTEGRATORS.get(sim.integrator, sim.integrator)
     else:
-        step, integrator = sim.control_period / sim.substeps, sim.integrator
+        step, rows, integrator = sim.control_period / sim.substeps, sim.control_period * sim.record_every, sim.integrator
     summary = outcome.summary
     summary.update(integrator_order=integrator_spec(integrator).order, integrator_step=float(step),
-                   duration=float(sim.duration))
+                   record_step=float(rows), duration=float(sim.duration))
     margins = checked(summary)
     if margins:
         summary["conservation_margin"] = max(c.margin for c in margins)
