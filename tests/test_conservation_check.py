@@ -3,7 +3,6 @@ naming the quantity, its value and its bound; the built-in scenes of every kind 
 
 from __future__ import annotations
 
-import dataclasses
 import json
 
 import numpy as np
@@ -13,9 +12,8 @@ from freefloat.app import runner
 from freefloat.app.cli import main
 from freefloat.app.conservation_check import TOLERANCE_FLOOR, check, checked, tolerance
 from freefloat.app.scenes import load_scene
-from freefloat.dynamics import metrics
 
-from .conftest import scene_variant
+from .conftest import leak_momentum, scene_variant
 
 #: A spurious torque (N m) about z: far below anything a scene applies, far above round-off.
 SPURIOUS_TORQUE = 1e-3
@@ -23,16 +21,8 @@ SPURIOUS_TORQUE = 1e-3
 
 @pytest.fixture
 def spurious_torque(monkeypatch):
-    """Every robot run's recorded momentum gains the angular impulse of :data:`SPURIOUS_TORQUE`
-    about z, as if its plant applied a torque nothing in the scene accounts for."""
-    original = metrics.conservation
-
-    def leaking(telemetry, *args, **kwargs):
-        momentum = telemetry.momentum.copy()
-        momentum[:, 5] += SPURIOUS_TORQUE * (telemetry.t - telemetry.t[0])
-        return original(dataclasses.replace(telemetry, momentum=momentum), *args, **kwargs)
-
-    monkeypatch.setattr(metrics, "conservation", leaking)
+    """Every robot run leaks :data:`SPURIOUS_TORQUE` about z into its recorded momentum."""
+    leak_momentum(monkeypatch, SPURIOUS_TORQUE)
 
 
 def test_the_tolerance_follows_the_integrators_order_and_step():
@@ -66,17 +56,10 @@ def test_the_command_line_exits_1_for_a_failed_run(tmp_path, spurious_torque, ca
 def test_a_wheel_balance_off_by_the_issues_amount_is_a_violation():
     """The wheel balance of 0.18 N m s that a standard-model plant gave (issue 41) fails against
     the wheel scene's own scale; the same summary with its measured balance passes."""
-    outcome = runner.simulate(load_scene(scene_variant_path("satellite_wheels")))
+    outcome = runner.simulate("satellite_wheels")
     assert outcome.status == "completed" and check(outcome.summary) is None
     broken = {**outcome.summary, "wheel_momentum_balance_max": 0.18}
     assert check(broken).startswith("conservation violated: wheel_momentum_balance_max 0.18 exceeds its bound")
-
-
-def scene_variant_path(name: str):
-    """The built-in scene ``name`` as a path (``load_scene`` takes names too)."""
-    from freefloat.app.scenes import builtin_scenes
-
-    return builtin_scenes()[name]
 
 
 @pytest.mark.parametrize("scene, quantity", [

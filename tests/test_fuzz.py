@@ -107,21 +107,12 @@ def test_the_oracle_reports_a_broken_balance_that_a_run_called_completed(tmp_pat
     """With the runner's conservation check made to let everything pass and a spurious torque in the recorded
     momentum, the harness itself reports ``violated``, naming the quantity (the fuzzer's oracle
     is the runner's function, not a copy)."""
-    import dataclasses
-
     from freefloat.app import runner
-    from freefloat.dynamics import metrics
 
+    from .conftest import leak_momentum
     from .fuzzing import Case, run_case
 
-    original = metrics.conservation
-
-    def leaking(telemetry, *args, **kwargs):
-        momentum = telemetry.momentum.copy()
-        momentum[:, 5] += 1e-3 * (telemetry.t - telemetry.t[0])
-        return original(dataclasses.replace(telemetry, momentum=momentum), *args, **kwargs)
-
-    monkeypatch.setattr(metrics, "conservation", leaking)
+    leak_momentum(monkeypatch)
     monkeypatch.setattr(runner, "check", lambda summary: None)  # the runner lets it pass
     outcome, detail = run_case(Case("scene", 0, {}, "tumbling", "planted leak"), tmp_path)
     assert outcome == "violated" and "momentum_drift_max" in detail
