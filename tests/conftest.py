@@ -225,3 +225,21 @@ def box_held_in_both_hands(seed: int):
     J = stacked([closure], merged.model, data, drift=False)[1]
     v = rng.normal(size=merged.model.nv) * 0.2
     return merged, closure, q, v - np.linalg.pinv(J) @ (J @ v)
+
+
+def leak_momentum(monkeypatch, torque: float = 1e-3) -> None:
+    """Make every robot run's recorded momentum gain the angular impulse of a spurious ``torque``
+    (N m) about z before its summary is taken, as if its plant applied a torque nothing in the
+    scene accounts for (a conservation law broken on purpose)."""
+    import dataclasses
+
+    from freefloat.dynamics import metrics
+
+    original = metrics.conservation
+
+    def leaking(telemetry, *args, **kwargs):
+        momentum = telemetry.momentum.copy()
+        momentum[:, 5] += torque * (telemetry.t - telemetry.t[0])
+        return original(dataclasses.replace(telemetry, momentum=momentum), *args, **kwargs)
+
+    monkeypatch.setattr(metrics, "conservation", leaking)

@@ -21,6 +21,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from freefloat.app.cli import main
+from freefloat.app.conservation_check import check
 from freefloat.app.scenes import builtin_scenes
 from freefloat.paths import URDF_DIR
 
@@ -236,7 +237,7 @@ def verdict(status: int, err: str) -> tuple[str, str]:
 def run_case(case: Case, folder: Path) -> tuple[str, str]:
     """Run ``case`` in ``folder`` (its working directory): the outcome (``completed``,
     ``stopped``, ``refused``, or a failure: ``traceback``, ``hang``, ``non-finite``,
-    ``escaped``) and a detail."""
+    ``escaped``, ``violated``: a conservation law broken in a run reported completed) and a detail."""
     import os
 
     folder.mkdir(parents=True, exist_ok=True)
@@ -261,7 +262,8 @@ def run_case(case: Case, folder: Path) -> tuple[str, str]:
     except (OSError, ValueError) as exc:
         return "non-finite", f"summary.json: {exc}"
     if status == 0 and summary.get("status") == "completed":
-        return "completed", ""
+        violation = check(summary)  # the runner's own oracle: a broken conservation law is no success
+        return ("violated", violation) if violation else ("completed", "")
     if status == 1 and summary.get("status") != "completed":
         return "stopped", summary.get("message", "")
     return "traceback", f"exit {status} with status {summary.get('status')}"
@@ -272,5 +274,6 @@ def run_case(case: Case, folder: Path) -> tuple[str, str]:
 #: ``non-finite``, ``escaped`` (a file outside the run folder), ``touched`` (a user's file
 #: changed), ``followed`` (a link's target changed), ``network`` (a page names a URL's host),
 #: ``corrupted`` (a file cut short, a telemetry row lost or repeated), ``not-resumable``,
-#: ``accepted`` (a plainly wrong argument taken).
+#: ``accepted`` (a plainly wrong argument taken), ``violated`` (a completed run that breaks a
+#: conservation law its scene promises: :func:`freefloat.app.conservation_check.check`).
 GOOD = ("completed", "stopped", "refused")

@@ -340,7 +340,42 @@ def test_more_local_workers_than_the_machine_takes_are_refused_before_any_start(
     scheduler's workers are not capped."""
     from freefloat.app.batch.executors import local_limit
 
-    with pytest.raises(FreefloatError, match=r"count 200 is more processes .* cores"):
+    with pytest.raises(FreefloatError, match=rf"count 200 is more processes .* cores and takes up to {local_limit()} .*force=True"):
         Workers(200)
     Workers(local_limit())
     Workers(200, dask=True, scheduler="tcp://nowhere:8786")
+
+
+def test_forced_workers_beyond_the_cores_are_honoured():
+    """``force=True`` (``--force-workers``) keeps a count above the cap; counts below 1 stay refused."""
+    from freefloat.app.batch.executors import local_limit
+
+    assert Workers(local_limit() + 3, force=True).count == local_limit() + 3
+    with pytest.raises(FreefloatError, match="count must be an integer >= 1"):
+        Workers(0, force=True)
+
+
+@pytest.mark.parametrize("command", [["batch", "tumbling"], ["atlas", "workspace", "four_arm_planar"]])
+def test_the_command_line_caps_workers_unless_forced(tmp_path, monkeypatch, capsys, command):
+    """``--workers`` above the cap exits 2 naming the cap and ``--force-workers``; with
+    ``--force-workers`` the count reaches the command as asked (stopped there, before any process)."""
+    from freefloat.app import batch
+    from freefloat.app.atlas import engine
+    from freefloat.app.batch.executors import local_limit
+    from freefloat.app.cli import main
+
+    asked = local_limit() + 1
+    seen = []
+
+    def record(*args, **kwargs):
+        seen.append(next(a for a in (*args, *kwargs.values()) if isinstance(a, Workers)))
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(batch, "run_batch", record)
+    monkeypatch.setattr(engine, "run_atlas", record)
+    argv = [*command, "--workers", str(asked), "--out", str(tmp_path / "out"), "--quiet"]
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert f"--workers {asked} is more processes" in err and f"takes up to {local_limit()}" in err
+    assert "--force-workers" in err
+    assert main([*argv, "--force-workers"]) == 1 and seen[0].count == asked

@@ -14,7 +14,7 @@ from freefloat.app.batch.one_run import flatten, run_one, with_plant_masses
 from freefloat.app.batch.variations import plan_runs
 from freefloat.app.scenes import load_scene
 
-from .conftest import scene_variant
+from .conftest import leak_momentum, scene_variant
 
 
 @pytest.fixture
@@ -171,3 +171,13 @@ def test_the_quiet_section_holds_until_the_last_thread_leaves_and_restores_the_f
     for t in threads:
         t.join(20)
     assert caught == [0] and warnings.filters == before
+
+
+def test_a_run_that_breaks_its_conservation_law_is_a_failed_row(short_task, monkeypatch):
+    """A run whose recorded momentum gains a spurious 1e-3 N m torque's impulse is a failed row
+    naming momentum_drift_max, as ``freefloat simulate`` fails it (one check for both)."""
+    plan = plan_runs(short_task, prepared(short_task), [Band("joint_rate", 1.0)], 1, seed=0)[0]
+    assert run_one(plan)["status"] == "completed"
+    leak_momentum(monkeypatch)
+    row = run_one(plan)
+    assert row["status"] == "failed" and row["message"].startswith("conservation violated: momentum_drift_max")

@@ -101,3 +101,18 @@ def test_the_api_class_reports_what_escapes(tmp_path, monkeypatch, call, outcome
 
     monkeypatch.setattr(fuzzing_api, "MAKERS", [lambda rng: ("planted", True, call)])
     assert CLASSES["api"](0).run(tmp_path)[0] == outcome
+
+
+def test_the_oracle_reports_a_broken_balance_that_a_run_called_completed(tmp_path, monkeypatch):
+    """With the runner's conservation check made to let everything pass and a spurious torque in the recorded
+    momentum, the harness itself reports ``violated``, naming the quantity (the fuzzer's oracle
+    is the runner's function, not a copy)."""
+    from freefloat.app import runner
+
+    from .conftest import leak_momentum
+    from .fuzzing import Case, run_case
+
+    leak_momentum(monkeypatch)
+    monkeypatch.setattr(runner, "check", lambda summary: None)  # the runner lets it pass
+    outcome, detail = run_case(Case("scene", 0, {}, "tumbling", "planted leak"), tmp_path)
+    assert outcome == "violated" and "momentum_drift_max" in detail

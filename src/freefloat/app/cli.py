@@ -85,6 +85,8 @@ def main(argv: list[str] | None = None) -> int:
                           + "; ".join(f"{k}: {d}" for k, d in _varies().items()).replace("%", "%%"))
     bat.add_argument("--workers", type=int, default=None,
                      help="worker processes (default 1: one run after another in this process)")
+    bat.add_argument("--force-workers", action="store_true",
+                     help="start --workers processes even beyond the cores (capped at the cores, at least 4, without)")
     bat.add_argument("--dask", action="store_true", help="run on Dask: a local cluster of --workers (default 2) "
                                                          "processes, or --scheduler's workers")
     bat.add_argument("--scheduler", default=None, help="with --dask: a Dask scheduler's address (tcp://host:8786)")
@@ -175,6 +177,8 @@ def _atlas_parser(commands: Any, listed: bool) -> None:
                           "(default: the four-arm robot's Table 4 start, mid-range for other robots)")
     atl.add_argument("--workers", type=int, default=None,
                      help="processes evaluating the map, this one included (default 1: this process alone)")
+    atl.add_argument("--force-workers", action="store_true",
+                     help="start --workers processes even beyond the cores (capped at the cores, at least 4, without)")
     atl.add_argument("--dask", action="store_true", help="evaluate on Dask: a local cluster of --workers (default 2) "
                                                          "processes, or --scheduler's workers")
     atl.add_argument("--scheduler", default=None, help="with --dask: a Dask scheduler's address (tcp://host:8786)")
@@ -198,7 +202,7 @@ def _atlas(args: argparse.Namespace) -> int:
     if args.scheduler is not None and args.workers is not None:
         raise InvalidArgument("--workers sets the size of a local cluster; with --scheduler the scheduler's workers run")
     workers = Workers((2 if args.dask else 1) if args.workers is None else args.workers,
-                      args.dask or args.scheduler is not None, args.scheduler)
+                      args.dask or args.scheduler is not None, args.scheduler, force=args.force_workers)
     options = Options(grid=args.grid, axes=tuple(args.axes.split(",")) if args.axes else None,
                       end_effector=args.end_effector, momentum=tuple(args.momentum) if args.momentum else None,
                       tolerance=args.tolerance, base=args.base, posture=_pairs(args.posture))
@@ -257,7 +261,7 @@ def _batch(args: argparse.Namespace) -> int:
         raise InvalidArgument("--workers sets the size of a local cluster; with --scheduler the scheduler's workers run")
     default = 2 if args.dask or args.scheduler else 1
     workers = Workers(default if args.workers is None else args.workers, args.dask or args.scheduler is not None,
-                      args.scheduler, args.threads)
+                      args.scheduler, args.threads, args.force_workers)
     bands = [parse_band(text) for text in args.vary]
     scene = find_scene(args.scene or DEFAULT_SCENE)
     out = args.out or default_folder(f"batch-{scene.name}")
@@ -475,7 +479,8 @@ def _report(outcome: Outcome, units: dict[str, str]) -> int:
     if outcome.skipped:
         print(f"  skipped: {', '.join(outcome.skipped)}")
     if not outcome.completed:
-        print(f"freefloat: run stopped early: {outcome.message} (partial results kept in {out})", file=sys.stderr)
+        what, kept = ("failed", "results") if outcome.status == "failed" else ("stopped early", "partial results")
+        print(f"freefloat: run {what}: {outcome.message} ({kept} kept in {out})", file=sys.stderr)
         return 1
     if outcome.interrupted_writing:
         print(f"freefloat: interrupted while writing {out}: the data are whole, the drawings listed as skipped are "

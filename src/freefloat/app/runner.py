@@ -8,7 +8,8 @@ The runner owns a run's life cycle:
 - while the loop runs, telemetry is checkpointed into the folder chunk by chunk, and SIGTERM and
   SIGHUP (what ``timeout``, batch schedulers and container stops send) interrupt it as Ctrl-C
   does: the loop ends with the status and message it gives and keeps every computed sample;
-- a run whose summary is not finite is a failure, whatever its loop said;
+- a run whose summary is not finite is a failure, whatever its loop said, and so is a completed
+  run that breaks a conservation law its scene promises (:mod:`.conservation_check`);
 - only the first interrupt stops the run (:func:`~freefloat.app.signals.stop_once`); a second
   one, or any that comes after the loop, skips the drawings still to come instead of losing the
   telemetry and summary.
@@ -23,16 +24,19 @@ from pathlib import Path
 from typing import Any
 
 from ..arguments import an_object
+from ..dynamics.integrators import integrator_spec
 from ..robot.loading import remembered_loads
+from .conservation_check import check, checked
 from .experiments import Outcome, Progress, experiment_for
 from .experiments.model_choice import describe, resolve, with_plant
 from .outputs import write_run
 from .run_folder import RunFolder
 from .scenes import DEFAULT_SCENE, MechanismScene, Scene, find_scene
+from .scenes.mechanism_schema import ALIASES as MECHANISM_INTEGRATORS
 from .signals import STOP_SIGNALS, signals_deferred, signals_raise_keyboard_interrupt, stop_once
 
-__all__ = ["STOP_SIGNALS", "choose_plant", "fail_if_not_finite", "note_model_choice", "prepare", "resolved_setup",
-           "signals_deferred", "signals_raise_keyboard_interrupt", "simulate", "total_steps"]
+__all__ = ["STOP_SIGNALS", "choose_plant", "fail_if_not_finite", "fail_if_unbalanced", "note_model_choice", "prepare",
+           "resolved_setup", "signals_deferred", "signals_raise_keyboard_interrupt", "simulate", "total_steps"]
 
 
 
@@ -127,7 +131,7 @@ def simulate(scene: Scene | MechanismScene | str | Path = DEFAULT_SCENE, *, out:
         setup = resolved_setup(scene) if setup is None else choose_plant(scene, setup)
         with signals_raise_keyboard_interrupt():
             outcome = experiment_for(scene).run(setup, progress, checkpoint)
-        return fail_if_not_finite(note_model_choice(outcome, setup))
+        return fail_if_unbalanced(fail_if_not_finite(note_model_choice(outcome, setup)), scene)
     folder = Path(an_object("out", out, "None or a folder's path", (str, os.PathLike)))
     setup = prepare(scene) if setup is None else setup
     if scene.output.figures:
@@ -142,7 +146,7 @@ def simulate(scene: Scene | MechanismScene | str | Path = DEFAULT_SCENE, *, out:
         save = written.checkpoint if checkpoint is None else lambda chunk: (written.checkpoint(chunk), checkpoint(chunk))
         outcome = experiment_for(scene).run(setup, progress, save)
         seen = interrupts.defer()  # from here on an interrupt only skips the drawings, as a second one does
-        outcome = fail_if_not_finite(note_model_choice(outcome, setup))
+        outcome = fail_if_unbalanced(fail_if_not_finite(note_model_choice(outcome, setup)), scene)
         interrupted = lambda: interrupts.count >= 2 or interrupts.count > seen  # noqa: E731
         outcome.written, outcome.skipped = write_run(written, scene, outcome, interrupted, stage)
     outcome.folder, outcome.interrupted_writing = folder, interrupted()
@@ -172,6 +176,31 @@ def fail_if_not_finite(outcome: Outcome) -> Outcome:
         outcome.status = "diverged"
         outcome.message = f"non-finite results: {', '.join(bad)}"
         outcome.summary.update(status=outcome.status, message=outcome.message)
+    return outcome
+
+
+def fail_if_unbalanced(outcome: Outcome, scene: Scene | MechanismScene) -> Outcome:
+    """``outcome`` with the integrator's order and step, the recorded rows' spacing and the scene's
+    duration in its summary (``integrator_order``, ``integrator_step`` s, ``record_step`` s,
+    ``duration`` s), the largest value over bound of
+    its conserved quantities (``conservation_margin``), and marked ``"failed"`` when a completed run
+    breaks one (:func:`~.conservation_check.check`: the message names the quantity, its value and
+    its bound)."""
+    sim = scene.simulation
+    if isinstance(scene, MechanismScene):
+        step, rows, integrator = sim.step, sim.step, MECHANISM_INTEGRATORS.get(sim.integrator, sim.integrator)
+    else:
+        step, rows, integrator = sim.control_period / sim.substeps, sim.control_period * sim.record_every, sim.integrator
+    summary = outcome.summary
+    summary.update(integrator_order=integrator_spec(integrator).order, integrator_step=float(step),
+                   record_step=float(rows), duration=float(sim.duration))
+    margins = checked(summary)
+    if margins:
+        summary["conservation_margin"] = max(c.margin for c in margins)
+    message = check(summary)
+    if message is not None and outcome.status == "completed":
+        outcome.status, outcome.message = "failed", message
+        summary.update(status=outcome.status, message=outcome.message)
     return outcome
 
 

@@ -27,7 +27,7 @@ UNITS = {
     "momentum_drift_max": "N s or N m s", "energy_drift_max": "J",
     "com_balance_max": "m", "linear_momentum_balance_max": "N s", "angular_momentum_balance_max": "N m s",
     "momentum_balance_max": "N s or N m s", "momentum_balance_relative": "", "energy_balance_max": "J",
-    "external_impulse": "N s, N m s", "external_work": "J",
+    "external_impulse": "N s, N m s", "external_work": "J", "momentum_scale": "N s or N m s",
     "base_displacement": "m", "base_rotation_max": "rad", "end_effectors_start": "m", "end_effectors_end": "m",
     "peak_joint_torque": "N m", "tracking_rms_overall": "rad", "tracking_rms_per_arm": "rad",
     "tracking_error_max": "rad",
@@ -156,10 +156,14 @@ def conservation(telemetry: Telemetry, robot: Robot, wrenches: tuple[ExternalWre
     largest applied impulse), ``external_impulse`` (``[linear; angular about the origin]`` at the
     end, N s and N m s, gravity included) and ``external_work`` (J).
 
+    Both carry ``momentum_scale``: the largest linear or angular momentum of the run (norm, as
+    :func:`momentum_drift`), the scale against which the run's drifts and balances are bounded.
+
     Raises:
         ValueError: when wrenches are given without ``control_period``.
     """
     tel = telemetry
+    scale = float(max(np.linalg.norm(tel.momentum[:, :3], axis=1).max(), np.linalg.norm(tel.momentum[:, 3:], axis=1).max()))
     if not wrenches and not environment:
         change = momentum_change(tel.momentum, robot.base)
         return {
@@ -168,6 +172,7 @@ def conservation(telemetry: Telemetry, robot: Robot, wrenches: tuple[ExternalWre
             "angular_momentum_drift_max": float(np.linalg.norm(change[:, 3:], axis=1).max()),
             "momentum_drift_max": momentum_drift(tel.momentum, robot.base),
             "energy_drift_max": float(np.abs(tel.energy - tel.energy[0] - tel.work).max()),
+            "momentum_scale": scale,
         }
     if control_period is None:
         raise ValueError("conservation: a run with external wrenches needs its control_period")
@@ -182,6 +187,7 @@ def conservation(telemetry: Telemetry, robot: Robot, wrenches: tuple[ExternalWre
         "momentum_balance_relative": max(linear, angular) / float(largest) if largest > 0.0 else None,
         "energy_balance_max": float(np.abs(res.energy).max()),
         "external_impulse": applied[-1].tolist(), "external_work": float(res.applied.work[-1]),
+        "momentum_scale": scale,
     }
 
 

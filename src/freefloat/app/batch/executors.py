@@ -50,11 +50,12 @@ def local_limit() -> int:
 class Workers:
     """Where the runs go: ``count`` processes (1 and not ``dask``: this process, one after
     another, or on ``threads`` threads), through Dask when ``dask`` (a local cluster of ``count``
-    workers of ``threads`` threads each, or ``scheduler``'s).
+    workers of ``threads`` threads each, or ``scheduler``'s). ``force`` (``--force-workers``)
+    lets ``count`` exceed :func:`local_limit`: the processes then take turns on the cores.
 
     Raises:
         InvalidArgument: naming ``count`` (``--workers``) below 1 or above :func:`local_limit`
-            (without ``scheduler``), or ``threads`` outside [1,
+            (without ``scheduler`` or ``force``), or ``threads`` outside [1,
             :data:`~freefloat.dynamics.many_runs.MAX_THREADS`], ``scheduler`` without ``dask``,
             ``threads`` with a process pool (``count`` > 1 without ``dask``) or with ``scheduler``
             (its workers have their own threads), as the caller spells them
@@ -65,17 +66,19 @@ class Workers:
     dask: bool = False
     scheduler: str | None = None
     threads: int = 1
+    force: bool = False
 
     def __post_init__(self) -> None:
         count, threads = spelled("count", "--workers"), spelled("threads", "--threads")
         scheduler, dask = spelled("scheduler", "--scheduler"), spelled("dask=True", "--dask")
         if isinstance(self.count, bool) or not isinstance(self.count, numbers.Integral) or self.count < 1:
             raise InvalidArgument(f"{count} must be an integer >= 1, got {self.count!r}")
-        if self.scheduler is None and self.count > local_limit():
+        if self.scheduler is None and self.count > local_limit() and not self.force:
             raise InvalidArgument(f"{count} {self.count} is more processes than this machine can run at once: it has "
                                   f"{os.cpu_count() or 1} cores and takes up to {local_limit()} (each process an "
                                   f"interpreter of its own; more only take turns); give {spelled('scheduler', '--scheduler')} "
-                                  "for a cluster's workers")
+                                  f"for a cluster's workers, or {spelled('force=True', '--force-workers')} to start "
+                                  f"{self.count} all the same")
         if not 1 <= self.threads <= MAX_THREADS:
             raise InvalidArgument(f"{threads} must be from 1 to {MAX_THREADS}, got {self.threads}")
         if self.scheduler is not None and not self.dask:

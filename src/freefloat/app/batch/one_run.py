@@ -26,7 +26,7 @@ from ...dynamics.threads import Shared, single_blas_thread
 from ...robot.loading import remembered_loads
 from ..experiments import Outcome, experiment_for
 from ..experiments.robot_run import RobotSetup
-from ..runner import fail_if_not_finite, note_model_choice, resolved_setup
+from ..runner import fail_if_not_finite, fail_if_unbalanced, note_model_choice, resolved_setup
 from .variations import RunPlan
 
 #: Row keys that vary from one execution of the same run to the next (not results).
@@ -95,8 +95,8 @@ def prepared(plan: RunPlan) -> Any:
 
 def fill_row(row: dict[str, Any], outcome: Outcome, setup: Any) -> None:
     """``row`` with the outcome's summary flattened, its status and message (non-finite
-    results make it ``diverged``) and the plant choice of ``setup``."""
-    outcome = fail_if_not_finite(note_model_choice(outcome, setup))
+    results make it ``diverged``, a broken conservation law ``failed``) and the plant choice of ``setup``."""
+    outcome = fail_if_unbalanced(fail_if_not_finite(note_model_choice(outcome, setup)), setup.scene)
     row.update(flatten(outcome.summary))
     row.update(status=outcome.status, message=outcome.message)
 

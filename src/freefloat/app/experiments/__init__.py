@@ -43,8 +43,11 @@ def experiment_for(scene) -> Experiment:
 
 def summary_units(scene) -> dict[str, str]:
     """The unit of each summary key a run of ``scene`` may have: its experiment's
-    (:attr:`Experiment.units`) and its environment entries' (``EnvironmentSpec.units``)."""
-    return {**experiment_for(scene).units, **environment_units(getattr(scene, "environment", ()))}
+    (:attr:`Experiment.units`), its environment entries' (``EnvironmentSpec.units``) and the
+    conservation check's (:mod:`..conservation_check`)."""
+    from ..conservation_check import UNITS
+
+    return {**experiment_for(scene).units, **environment_units(getattr(scene, "environment", ())), **UNITS}
 
 
 __all__ = ["EXPERIMENTS", "Experiment", "Outcome", "Progress", "experiment_for", "summary_units"]

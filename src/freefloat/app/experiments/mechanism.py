@@ -207,6 +207,8 @@ def summarize_base(floating: free_base.FloatingMechanism, base: free_base.BaseTe
             "base_rotation_max": float(np.linalg.norm(tel.base_rotation, axis=1).max()),
             "base_displacement_max": float(np.linalg.norm(tel.base_position - tel.base_position[0], axis=1).max()),
             "momentum_drift_max": float(floating.momentum_drift(tel).max()),
+            "momentum_scale": float(max(np.linalg.norm(tel.momentum[:, :3], axis=1).max(),
+                                        np.linalg.norm(tel.momentum[:, 3:], axis=1).max())),
             "momentum_components": list(floating.conserved),
             "com_drift_max": float(np.linalg.norm(tel.com - free_motion, axis=1).max())}
 
@@ -317,7 +319,7 @@ BASE_HEADLINE = ("base_rotation_max", "base_displacement_max", "momentum_drift_m
 UNITS = {
     "reaching_phase": "s", "tracking_error_max": "m or rad", "tracking_error_rms": "m or rad",
     "loop_closure_drift_max": "m", "orientation_drift_max": "rad", "peak_efforts": "N or N m",
-    "base": "", "base_rotation_max": "rad", "base_displacement_max": "m", "momentum_drift_max": "N s or N m s",
+    "base": "", "base_rotation_max": "rad", "base_displacement_max": "m", "momentum_drift_max": "N s or N m s", "momentum_scale": "N s or N m s",
     "momentum_components": "", "com_drift_max": "m",
     "status": "", "message": "", "steps": "", "sim_wall_time_s": "s", "loop": "",
 }
