@@ -44,7 +44,6 @@ from typing import Any
 
 import numpy as np
 import pinocchio as pin
-from scipy.optimize import nnls
 
 from ..arguments import real_number
 from ..errors import InvalidArgument
@@ -157,6 +156,8 @@ class ThrusterSet:
         """Thrusts (k,), N, ``>= 0``, for the base wrench ``wrench`` = [force; torque about the base
         joint's origin], base frame (6,): non-negative least squares on ``B``, then scaled down
         together when one exceeds ``max_thrust`` (module docstring)."""
+        from scipy.optimize import nnls  # here: scipy costs every run's start 0.6 s
+
         thrusts, _ = nnls(self.B, np.asarray(wrench, float))
         largest = float(thrusts.max(initial=0.0))
         return thrusts * (self.max_thrust / largest) if largest > self.max_thrust else thrusts

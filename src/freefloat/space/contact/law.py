@@ -32,7 +32,6 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import brentq
 
 from ...errors import InvalidArgument
 
@@ -84,5 +83,7 @@ def restitution(law: ContactLaw, speed: float) -> float:
     if alpha == 0.0:
         return 1.0
     balance = alpha - math.log1p(alpha)
+    from scipy.optimize import brentq  # here: scipy costs every run's start 0.6 s
+
     return brentq(lambda e: -alpha * e - math.log1p(-alpha * e) - balance, 0.0, min(1.0, (1.0 - 1e-15) / alpha),
                   xtol=1e-15, rtol=1e-14)

@@ -23,7 +23,6 @@ from typing import NamedTuple
 
 import numpy as np
 import pinocchio as pin
-from scipy.special import ellipk
 
 from ...errors import InvalidArgument
 from .field import OrbitField
@@ -72,6 +71,8 @@ def libration_period(orbit: CircularOrbit, inertia: tuple[float, float, float]) 
 def pendulum_period(orbit: CircularOrbit, inertia: tuple[float, float, float], amplitude: float) -> float:
     """The pitch period at a finite ``amplitude`` (rad, released at rest relative to LVLH):
     ``libration_period * (2 / pi) K(sin^2 amplitude)``, s (module docstring)."""
+    from scipy.special import ellipk  # here: scipy costs every run's start 0.6 s
+
     return libration_period(orbit, inertia) * 2.0 / math.pi * float(ellipk(math.sin(amplitude) ** 2))
 
 
