@@ -136,6 +136,20 @@ def test_table_2_shows_the_documents_setting_beside_the_printed_value(report):
 
 
 @pytest.mark.slow
+def test_table_2_shows_position_feedback_tracking_closer_than_eq_139_open_loop(report):
+    """Table 2's position-feedback rows (K_x = 20 1/s) are below half the open-loop rows per arm, and
+    the end-effectors end nearer the joint-space path."""
+    _, entries, _, _ = report
+    e = entries[(DISSERTATION, "Table 2")]
+    for k in range(4):
+        closed = ours(e, f"overall, arm {k + 1}, position feedback (K_x = 20 1/s)")[0]
+        assert 0.0 < closed < 0.5 * ours(e, f"RMS error overall, arm {k + 1}")[0]
+    open_loop, closed = ours(e, "end-effector distance from the JSC path at the end (m), eq 139 open loop / position "
+                                "feedback")
+    assert closed < open_loop
+
+
+@pytest.mark.slow
 def test_fig_45_shows_the_capture_on_the_base_turning_the_end_effector_less(report):
     """Fig 45: with the couple on the base (the document's resultant) arm 1's end-effector turns
     less than a tenth of its turn with the couple on the last link, the printed 0.02 mdeg kept."""
