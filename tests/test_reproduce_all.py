@@ -124,6 +124,44 @@ def test_table_1_shows_the_printed_236_fold_gap_beside_freefloats_ratio(report):
 
 
 @pytest.mark.slow
+def test_table_2_shows_the_documents_setting_beside_the_printed_value(report):
+    """Table 2's document-setting rows keep the printed 3.1e-4 and show freefloat's run in that
+    setting (FM-NIC-A plant, Euler, FM-ST-A laws), within 2x of the exact plant's at --quick."""
+    _, entries, _, _ = report
+    e = entries[(DISSERTATION, "Table 2")]
+    for k in range(4):
+        (match,) = [r for r in e["rows"] if r["quantity"] == f"overall, arm {k + 1}, document's setting"]
+        exact = ours(e, f"RMS error overall, arm {k + 1}")[0]
+        assert float(match["printed"]) == pytest.approx(3.1e-4) and 0.5 < float(match["ours"]) / exact < 2.0
+
+
+@pytest.mark.slow
+def test_table_2_shows_position_feedback_tracking_closer_than_eq_139_open_loop(report):
+    """Table 2's position-feedback rows (K_x = 20 1/s) are below half the open-loop rows per arm, and
+    the end-effectors end nearer the joint-space path."""
+    _, entries, _, _ = report
+    e = entries[(DISSERTATION, "Table 2")]
+    for k in range(4):
+        closed = ours(e, f"overall, arm {k + 1}, position feedback (K_x = 20 1/s)")[0]
+        assert 0.0 < closed < 0.5 * ours(e, f"RMS error overall, arm {k + 1}")[0]
+    open_loop, closed = ours(e, "end-effector distance from the JSC path at the end (m), eq 139 open loop / position "
+                                "feedback")
+    assert closed < open_loop
+
+
+@pytest.mark.slow
+def test_fig_45_shows_the_capture_on_the_base_turning_the_end_effector_less(report):
+    """Fig 45: with the couple on the base (the document's resultant) arm 1's end-effector turns
+    less than a tenth of its turn with the couple on the last link, the printed 0.02 mdeg kept."""
+    _, entries, _, _ = report
+    e = entries[(DISSERTATION, "Fig 45")]
+    label = "arm 1 end-effector angle change during capture (mdeg)"
+    (resultant,) = [r for r in e["rows"] if r["quantity"].startswith(label + ", couple on the base")]
+    assert float(resultant["printed"]) == 0.02
+    assert 0.0 < float(resultant["ours"]) < 0.1 * ours(e, label)[0]
+
+
+@pytest.mark.slow
 def test_eq_140_sample_count_is_duration_over_step_plus_one(report):
     """Eq 140's erratum: the run has duration / dt + 1 samples (5001 for 5 s at 1 ms, printed 500)."""
     _, entries, record, _ = report

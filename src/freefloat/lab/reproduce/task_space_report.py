@@ -6,7 +6,10 @@
    references, joint references by the inverse E-GJM (eqs 138-139), same plant and step, with
    qddot_d by the dissertation's backward difference; and the same run with the analytic
    qddot_d (the derivative of eq 138 with dJ*/dt from ``gjm.jacobian_rates`` and the JSC's exact
-   end-effector accelerations), its Table 2 and its distance from the first.
+   end-effector accelerations), its Table 2 and its distance from the first; and both runs again
+   in the dissertation's own setting (:data:`DOCUMENT`: plant FM-NIC-A with its semi-implicit
+   Euler, both laws on FM-ST-A), its Table 2 beside the exact plant's; and the TSC run with
+   position feedback on the end-effector poses (:data:`POSITION_GAIN`) beside eq 139's open loop.
 3. Table 2: RMS of the TSC end-effector pose error against the JSC path (x, y in m, z-rotation in
    deg), per arm, overall = RMS of the three; Table 3: KJC of the TSC run (E-GJM rates against
    central differences of the simulated motion; m/s and deg/s); Tables 4-5: joint and end-effector
@@ -23,6 +26,7 @@ from __future__ import annotations
 import time
 import warnings
 from pathlib import Path
+from typing import NamedTuple
 
 import numpy as np
 import pinocchio as pin
@@ -33,7 +37,7 @@ from ...documents import DIRECTION, FIGS_38_40_OFFSET_DEG, TABLE_4_OFFSET_DEG, T
 from ...dynamics import gjm
 from ...dynamics.integrators import make_integrator
 from ...dynamics.metrics import rms
-from ...dynamics.models import ExactModel
+from ...dynamics.models import make_model
 from ...dynamics.simulation import run
 from ...errors import SingularityError
 from ...paths import URDF_DIR
@@ -50,15 +54,32 @@ from .series_report import series_arrays
 ROWS = [(f"arm{i}_ee", c) for i in range(1, 5) for c in ("vx", "vy", "wz")]
 
 
-def joint_space_run(robot, offset_deg: float, duration: float, dt: float, record_every: int):
-    """The chapter-4 quintic task from ``start_angles(offset_deg)``, exact plant, RKMK4."""
+class Setting(NamedTuple):
+    """Where a run of sec 5.2 happens: the plant's model, its integrator, the controllers' model
+    (names of :data:`~freefloat.dynamics.models.MODELS` and of the integrators' registry)."""
+
+    plant: str
+    integrator: str
+    controller: str
+
+
+#: freefloat's setting: the exact plant (Pinocchio's ABA), RKMK4, exact computed torque.
+EXACT = Setting("exact", "rkmk4", "exact")
+#: The dissertation's own (sec 5.1.3, chapter 5): plant FM-NIC-A with its sequential base/joint
+#: update (semi-implicit Euler), both laws on FM-ST-A.
+DOCUMENT = Setting("nidc", "euler", "standard")
+
+
+def joint_space_run(robot, offset_deg: float, duration: float, dt: float, record_every: int,
+                    setting: Setting = EXACT):
+    """The chapter-4 quintic task from ``start_angles(offset_deg)`` in ``setting``."""
     start = start_angles(offset_deg)
     q0 = robot.neutral()
     JointCoordinates(robot).set(q0, start)
     end = start + np.radians(TASK_DEG) * np.array(DIRECTION)
-    ctrl = ComputedTorque(robot, QuinticTrajectory(start, end, TASK_S), 10.0, 100.0)
-    return finished(run(robot, q0, np.zeros(robot.model.nv), duration, dt, make_integrator("rkmk4", robot.model),
-                        ExactModel(robot), ctrl, record_every=record_every)).telemetry
+    ctrl = ComputedTorque(robot, QuinticTrajectory(start, end, TASK_S), 10.0, 100.0, model=setting.controller)
+    return finished(run(robot, q0, np.zeros(robot.model.nv), duration, dt, make_integrator(setting.integrator, robot.model),
+                        make_model(setting.plant, robot), ctrl, record_every=record_every)).telemetry
 
 
 def end_effector_rates(robot, tel, rows: np.ndarray) -> np.ndarray:
@@ -91,13 +112,28 @@ def interpolated(t_samples: np.ndarray, values: np.ndarray):
     return lambda t: np.array([np.interp(t, t_samples, values[:, i]) for i in range(values.shape[1])])
 
 
-def task_space_run(robot, jsc, rows, dt: float, duration: float, record_every: int, qddot: str, acceleration=None):
-    """The TSC run tracking the JSC end-effector rates, with the given qddot_d method."""
+def interpolated_poses(tel):
+    """``t -> [M_d]``: the end-effectors' placements along ``tel`` (pin.SE3 per end-effector),
+    positions linear and quaternions normalised-linear between samples."""
+    def poses(t: float) -> list[pin.SE3]:
+        k = int(np.clip(np.searchsorted(tel.t, t) - 1, 0, len(tel.t) - 2))
+        s = float(np.clip((t - tel.t[k]) / (tel.t[k + 1] - tel.t[k]), 0.0, 1.0))
+        p = (1 - s) * tel.ee_position[k] + s * tel.ee_position[k + 1]
+        quat = (1 - s) * tel.ee_quaternion[k] + s * tel.ee_quaternion[k + 1]
+        return [pin.SE3(pin.Quaternion(*(x / np.linalg.norm(x))[[3, 0, 1, 2]]).matrix(), y) for x, y in zip(quat, p)]
+    return poses
+
+
+def task_space_run(robot, jsc, rows, dt: float, duration: float, record_every: int, qddot: str, acceleration=None,
+                   setting: Setting = EXACT, kx: float = 0.0):
+    """The TSC run tracking the JSC end-effector rates, with the given qddot_d method, in ``setting``;
+    with ``kx`` > 0 (1/s) also the JSC end-effector poses by position feedback."""
     reference = interpolated(jsc.t, end_effector_rates(robot, jsc, rows))
+    feedback = {"pose_reference": interpolated_poses(jsc), "kx": kx} if kx > 0.0 else {}
     ctrl = TaskSpaceComputedTorque(robot, InverseEGJM(rows), reference, jsc.joint_positions[0], dt,
-                                   qddot=qddot, acceleration=acceleration)
-    tel = finished(run(robot, jsc.q[0], jsc.v[0], duration, dt, make_integrator("rkmk4", robot.model),
-                       ExactModel(robot), ctrl, record_every=record_every)).telemetry
+                                   model=setting.controller, qddot=qddot, acceleration=acceleration, **feedback)
+    tel = finished(run(robot, jsc.q[0], jsc.v[0], duration, dt, make_integrator(setting.integrator, robot.model),
+                       make_model(setting.plant, robot), ctrl, record_every=record_every)).telemetry
     return ctrl, tel
 
 
@@ -117,6 +153,29 @@ def qddot_comparison(robot, jsc, tsc, rows, dt: float, duration: float, record_e
             "position_difference_max_m": float(np.abs(difference[..., :2]).max()),
             "angle_difference_max_deg": float(np.abs(difference[..., 2]).max()),
             "joint_difference_max_deg": float(np.degrees(np.abs(analytic.joint_positions - tsc.joint_positions).max()))}
+
+
+#: K_x of the position-feedback run, 1/s.
+POSITION_GAIN = 20.0
+
+
+def position_feedback(robot, jsc, tsc, rows, dt: float, duration: float, record_every: int) -> dict:
+    """The TSC run again with position feedback (:data:`POSITION_GAIN`): its Table 2 and both runs'
+    end-effector distance from the JSC path at the end, m."""
+    _, closed = task_space_run(robot, jsc, rows, dt, duration, record_every, "backward_difference", kx=POSITION_GAIN)
+    final = {name: float(np.linalg.norm(tel.ee_position[-1] - jsc.ee_position[-1], axis=1).max())
+             for name, tel in (("open_loop", tsc), ("position_feedback", closed))}
+    return {"kx": POSITION_GAIN, "table2": table2(closed, jsc), "final_distance_m": final}
+
+
+def document_setting(robot, exact_jsc, dt: float, duration: float, record_every: int) -> dict:
+    """Both runs again in the dissertation's own setting (:data:`DOCUMENT`): its Table 2 and the
+    largest distance (m) of its JSC end-effector path from ``exact_jsc``'s."""
+    jsc = joint_space_run(robot, TABLE_4_OFFSET_DEG, duration, dt, record_every, DOCUMENT)
+    _, tsc = task_space_run(robot, jsc, task_rows(robot, ROWS), dt, duration, record_every, "backward_difference",
+                            setting=DOCUMENT)
+    distance = np.abs(planar_pose(jsc)[..., :2] - planar_pose(exact_jsc)[..., :2]).max()
+    return {"setting": DOCUMENT._asdict(), "table2": table2(tsc, jsc), "jsc_distance_from_exact_max_m": float(distance)}
 
 
 def planar_pose(tel) -> np.ndarray:
@@ -183,8 +242,11 @@ def reproduce(out: Path, quick: bool = False) -> dict:
         np.savez_compressed(out / f"{name}.npz", **series_arrays(robot, tel))
     np.savez_compressed(out / "kjc.npz", **kjc)
     report = {
-        "settings": {"dt": dt, "duration": duration, "record_every": record_every, "quick": quick},
+        "settings": {"dt": dt, "duration": duration, "record_every": record_every, "quick": quick,
+                     "plant": EXACT._asdict()},
         "table2": table2(tsc, jsc),
+        "table2_document_setting": document_setting(robot, jsc, dt, duration, record_every),
+        "table2_position_feedback": position_feedback(robot, jsc, tsc, rows, dt, duration, record_every),
         "qddot_analytic": qddot_comparison(robot, jsc, tsc, rows, dt, duration, record_every),
         "table3": kjc_table(kjc),
         "table4": {run_name: {"start_deg": np.degrees(tel.joint_positions[0]).round(4).tolist(),
@@ -209,6 +271,19 @@ def markdown(report: dict) -> str:
     for key, label in (("x", "x (m)"), ("y", "y (m)"), ("z_deg", "z-rotation (deg)"), ("overall", "overall")):
         lines.append(f"| {label}, freefloat | " + " | ".join(f(x) for x in report["table2"][key]) + " |")
         lines.append(f"| {label}, dissertation | " + " | ".join(f(x) for x in TABLE_2[key]) + " |")
+    ds = report["table2_document_setting"]
+    lines += ["", f"## Table 2 in the dissertation's own setting {ds['setting']} (backward difference)", "",
+              "| | arm 1 | arm 2 | arm 3 | arm 4 |", "|---|---|---|---|---|"]
+    for key, label in (("x", "x (m)"), ("y", "y (m)"), ("z_deg", "z-rotation (deg)"), ("overall", "overall")):
+        lines.append(f"| {label}, document setting | " + " | ".join(f(x) for x in ds["table2"][key]) + " |")
+    lines += ["", f"Its JSC end-effector path from the exact one's, max: {ds['jsc_distance_from_exact_max_m']:.2e} m."]
+    pf = report["table2_position_feedback"]
+    lines += ["", f"## Table 2 with position feedback (K_x = {pf['kx']:g} 1/s on the end-effector pose error)", "",
+              "| | arm 1 | arm 2 | arm 3 | arm 4 |", "|---|---|---|---|---|"]
+    for key, label in (("x", "x (m)"), ("y", "y (m)"), ("z_deg", "z-rotation (deg)"), ("overall", "overall")):
+        lines.append(f"| {label}, position feedback | " + " | ".join(f(x) for x in pf["table2"][key]) + " |")
+    lines += ["", "End-effector distance from the JSC path at the end (m), eq 139 open loop / position feedback: "
+              f"{pf['final_distance_m']['open_loop']:.2e} / {pf['final_distance_m']['position_feedback']:.2e}."]
     qa = report["qddot_analytic"]
     lines += ["", "## Table 2 with the analytic qddot_d (dJ*/dt in place of the backward difference)", "",
               "| | arm 1 | arm 2 | arm 3 | arm 4 |", "|---|---|---|---|---|"]

@@ -16,14 +16,28 @@ guarded by :class:`~freefloat.space.control.inverse_egjm.InverseEGJM`),
   ``J^T (J J^T + lambda^2 I)^-1 (xdot_d - b)`` instead);
 - ``"backward_difference"``: ``(qdot_d(k) - qdot_d(k-1)) / T``, the dissertation's own method.
 
+Eq 139 integrates the rates open loop (:data:`OPEN_LOOP`, the printed form): any drift of the
+end-effectors from their path stays. Given a pose reference and a gain ``kx`` > 0
+(:data:`POSITION_FEEDBACK`, the closed-loop inverse kinematics that sec 4.4's "position-level IK"
+points to), the rates are corrected by the measured pose error before the inversion:
+
+.. math::
+    \dot q_d = J^{*+}_{\{k\}} (\dot x_d + K_x e_x - b),\quad
+    e_x = \begin{bmatrix} p_d - p \\ \log_3(R_d R^T) \end{bmatrix}_{\{k\}}
+
+per end-effector (inertial axes, the rows of its twist ``[v; w]``), ``p, R`` from Pinocchio's
+forward kinematics at the measured configuration. With a perfect inner loop the task error then
+obeys ``de_x/dt = -K_x e_x``.
+
 Then the joint-space computed-torque law (eqs 136-137) on the chosen model.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 
 import numpy as np
+import pinocchio as pin
 
 from ...dynamics import gjm
 from ...errors import UnknownName
@@ -34,6 +48,13 @@ from .inverse_egjm import InverseEGJM
 
 #: ``reference(t) -> xdot_d``: end-effector rates of the task rows (len(rows),), inertial frame.
 RateReference = Callable[[float], np.ndarray]
+
+#: ``pose_reference(t) -> [M_d]``: the end-effectors' desired placements (pin.SE3, one per
+#: end-effector in ``robot.end_effector_frame_ids`` order), inertial frame.
+PoseReference = Callable[[float], Sequence[pin.SE3]]
+
+#: The two forms of the joint reference: eq 139 as printed, and with task-space position feedback.
+OPEN_LOOP, POSITION_FEEDBACK = "open_loop", "position_feedback"
 
 #: How the law obtains the joint acceleration reference ``qddot_d``.
 QDDOT_METHODS = ("analytic", "backward_difference")
@@ -76,16 +97,27 @@ class TaskSpaceComputedTorque:
         qddot: one of :data:`QDDOT_METHODS`.
         acceleration: ``t -> xddot_d`` (len(rows),), the reference's time derivative, for
             ``"analytic"``; None: the reference's backward difference over the period.
+        pose_reference: the end-effectors' desired placements for position feedback; None:
+            eq 139 open loop (:data:`OPEN_LOOP`).
+        kx: position feedback gain K_x, 1/s (> 0 with ``pose_reference``).
 
     Raises:
         UnknownName: for a ``qddot`` method not in :data:`QDDOT_METHODS`.
+        ValueError: for ``kx`` <= 0 with a pose reference, or ``kx`` without one.
     """
 
     def __init__(self, robot: Robot, inverse: InverseEGJM, reference: RateReference, q_d0: np.ndarray,
                  control_period: float, kp: float = 10.0, kd: float = 100.0, model: str = "exact",
-                 qddot: str = "analytic", acceleration: RateReference | None = None):
+                 qddot: str = "analytic", acceleration: RateReference | None = None,
+                 pose_reference: PoseReference | None = None, kx: float = 0.0):
         if qddot not in QDDOT_METHODS:
             raise UnknownName("qddot method", qddot, QDDOT_METHODS)
+        if (pose_reference is None) != (kx == 0.0) or kx < 0.0:
+            raise ValueError(f"position feedback needs both a pose reference and a gain kx > 0 (1/s), got "
+                             f"kx={kx} and {'a' if pose_reference is not None else 'no'} pose reference")
+        self.pose_reference, self.kx = pose_reference, kx
+        self.form = OPEN_LOOP if pose_reference is None else POSITION_FEEDBACK
+        self._data = robot.model.createData()
         self.robot, self.inverse, self.rate_reference = robot, inverse, reference
         self.T, self.kp, self.kd = control_period, kp, kd
         self.qddot_method, self.acceleration = qddot, acceleration
@@ -101,9 +133,21 @@ class TaskSpaceComputedTorque:
             return np.asarray(self.acceleration(t), dtype=float)
         return (xdot - self.rate_reference(t - self.T)) / self.T if t > 0.0 else np.zeros_like(xdot)
 
+    def pose_error(self, t: float, q: np.ndarray) -> np.ndarray:
+        """``e_x`` of the task rows (len(rows),): desired minus measured pose of each end-effector,
+        ``[p_d - p; log3(R_d R^T)]`` in inertial axes (m, rad), Pinocchio's forward kinematics at ``q``."""
+        model, data = self.robot.model, self._data
+        pin.framesForwardKinematics(model, data, q)
+        errors = []
+        for fid, desired in zip(self.robot.end_effector_frame_ids, self.pose_reference(t)):
+            M = data.oMf[fid]
+            errors += [desired.translation - M.translation, pin.log3(desired.rotation @ M.rotation.T)]
+        return np.concatenate(errors)[self.inverse.rows]
+
     def reference_joint(self, t: float, q: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Advance eq 139 by one period and return ``(q_d, qdot_d, qddot_d)`` (each (n,))."""
-        xdot = self.rate_reference(t)
+        xdot_ref = self.rate_reference(t)
+        xdot = xdot_ref if self.pose_reference is None else xdot_ref + self.kx * self.pose_error(t, q)
         rows = self.inverse.rows
         if self.qddot_method == "analytic":
             state, rates = gjm.state_and_rates(self.robot, q, v)
@@ -113,7 +157,10 @@ class TaskSpaceComputedTorque:
         qdot_d = self.inverse.joint_rates(state, xdot)
         if self.qddot_method == "analytic":
             rate = pinv_rate(state.Jstar[rows], rates.Jstar_dot[rows], self.inverse.damping)
-            qddot_d = rate(xdot - rates.drift[rows], self.reference_acceleration(t, xdot) - rates.drift_dot[rows])
+            xddot = self.reference_acceleration(t, xdot_ref)
+            if self.pose_reference is not None:  # d/dt of K_x e_x: K_x (xdot_d - the measured task rates)
+                xddot = xddot + self.kx * (xdot_ref - state.end_effector_velocity()[rows])
+            qddot_d = rate(xdot - rates.drift[rows], xddot - rates.drift_dot[rows])
         else:
             qddot_d = np.zeros_like(qdot_d) if self._qdot_prev is None else (qdot_d - self._qdot_prev) / self.T
         if self._qdot_prev is not None:
