@@ -105,14 +105,14 @@ CAPTURE = MOTION | SPIN | {"torques", "com_drift"}
 DETUMBLING = MOTION | SPIN | {"joint_errors", "torques", "conservation_balance"}
 #: The figures each built-in scene's task and controller call for.
 CALLED_FOR = {
-    "capture_planar": CAPTURE, "capture_satellite": CAPTURE,
+    "capture_planar": CAPTURE, "capture_satellite": CAPTURE, "capture_identified": CAPTURE,
     **dict.fromkeys(("capture_planned_planar", "capture_planned_planar_pose", "capture_planned_satellite"),
                     CAPTURE | {"approach_joint_errors"}),
     **dict.fromkeys(("capture_two_hands_planar", "capture_two_hands_satellite"), CAPTURE | {"closed_loop"}),
     **dict.fromkeys(("capture_planned_two_hands_planar", "capture_planned_two_hands_satellite"),
                     CAPTURE | {"closed_loop", "approach_joint_errors"}),
     **dict.fromkeys(("detumble_impulse_arm1_joint3", "detumble_impulse_arm1_joint4", "detumble_impulse_arm2_joint4",
-                     "detumble_impulse_baseline", "detumble_impulse_both_arms"), DETUMBLING),
+                     "detumble_impulse_baseline", "detumble_impulse_both_arms", "detumble_sensed"), DETUMBLING),
     "detumble_impulse_wheel": DETUMBLING | {"reaction_wheels"},
     "five_bar_computed_torque": MECHANISM, "rsu_ppap_computed_torque": MECHANISM,
     "five_bar_sliding_mode": MECHANISM | {"sliding_variables"}, "five_bar_revolute": MECHANISM | {"sliding_variables"},

@@ -27,6 +27,7 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from ..dynamics.models import MODELS
+from ..dynamics.sensors import Sensed, Sensors
 from ..errors import InvalidArgument, SceneError
 from ..parallel.sliding_mode import PlatformControl, printed_gains
 from ..registry import Registry
@@ -134,11 +135,14 @@ def serving(plant: str) -> dict[str, ControllerSpec]:
 
 
 def build_controller(context: ControlContext, plant: str = "robot") -> Any:
-    """The law the scene's ``[controller]`` names, built on ``context``.
+    """The law the scene's ``[controller]`` names, built on ``context``; with the scene's
+    ``[sensors]`` (robot scenes), that law reading them: ``Sensed(law, sensors)``
+    (:mod:`freefloat.dynamics.sensors`; with every sensor ideal the run is the law's own).
 
     Raises:
-        SceneError: a robot scene whose ``task.kind`` the controller does not serve, or what
-            the entry's builder refuses.
+        SceneError: a robot scene whose ``task.kind`` the controller does not serve, what
+            the entry's builder refuses, or a ``[sensors]`` group's ``noise`` or ``bias`` whose
+            count is neither 1 nor its components'.
     """
     scene = context.scene
     entry = CONTROLLERS[scene.controller.kind].on(plant)
@@ -146,7 +150,14 @@ def build_controller(context: ControlContext, plant: str = "robot") -> Any:
     if entry.tasks and task is not None and task.kind not in entry.tasks:
         raise SceneError(f"scene '{scene.name}': controller '{entry.name}' needs task.kind "
                          f"{' or '.join(repr(k) for k in entry.tasks)}")
-    return entry.build(context, scene.controller.settings)
+    law = entry.build(context, scene.controller.settings)
+    settings = getattr(scene, "sensors", None)
+    if law is None or settings is None:
+        return law
+    try:
+        return Sensed(law, Sensors(context.plant, settings, context.control_period))
+    except InvalidArgument as exc:
+        raise SceneError(f"{context.where}[sensors] {exc}") from exc
 
 
 @dataclass(frozen=True)

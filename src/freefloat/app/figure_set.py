@@ -21,7 +21,7 @@ from typing import Any, NamedTuple
 from ..errors import FreefloatError, did_you_mean
 
 #: Scene kinds of the robot runs that capture or detumble (their spin is drawn).
-SPINNING = ("detumbling", "capture", "two_hand_capture")
+SPINNING = ("detumbling", "capture", "capture_identification", "two_hand_capture")
 #: Scene kinds of the robot runs that track joint references throughout.
 TRACKING = ("joint_space", "detumbling")
 

@@ -39,7 +39,7 @@ import numpy as np
 import pinocchio as pin
 
 from ..dynamics.identification.least_squares import Estimate, fit
-from ..dynamics.identification.measurements import smooth, smooth_configurations
+from ..dynamics.identification.measurements import noisy, noisy_configurations, smooth, smooth_configurations
 from ..dynamics.identification.parameters import PARAMETER_NAMES, about_com, body_parameters
 from ..dynamics.identification.regressors import body_momentum_regressor
 from ..errors import BadShape, InvalidArgument, UnknownName
@@ -106,6 +106,14 @@ class TargetEstimate:
         std = np.sqrt(np.diag(J @ self.covariance @ J.T))
         return float(std[0]), std[1:4], std[4:].reshape(3, 3)
 
+    def physical_half_width(self, level: float = 0.95) -> tuple[float, np.ndarray, np.ndarray]:
+        """Half-widths of the ``level`` intervals of :meth:`physical`'s ``(m, c, I_C)``: each
+        standard deviation of :meth:`physical_std` times Student's t at the estimate's degrees
+        of freedom (as :meth:`~freefloat.dynamics.identification.least_squares.Estimate.half_width`)."""
+        scale = self.estimate.half_width(level)[0] / self.estimate.std[0]
+        m, c, inertia = self.physical_std()
+        return scale * m, scale * c, scale * inertia
+
 
 def identify_target(robot: Robot, end_effector: str, q: np.ndarray, v: np.ndarray, window: int = 1,
                     weighting: str = "block") -> TargetEstimate:
@@ -138,6 +146,16 @@ def identify_target(robot: Robot, end_effector: str, q: np.ndarray, v: np.ndarra
         q, v = smooth_configurations(robot.model, q, window)[1], smooth(v, window)[1]
     A, b = momentum_rows(robot, end_effector, q, v)
     return TargetEstimate(fit(A, b, 6, UNKNOWNS, weighting), end_effector)
+
+
+def identify_measured(robot: Robot, end_effector: str, q: np.ndarray, v: np.ndarray, noise: float,
+                      rng: np.random.Generator, window: int = 101) -> TargetEstimate:
+    """:func:`identify_target` on the record (q (N, nq), v (N, nv)) read through seeded sensor
+    noise: each tangent coordinate of q and each coordinate of v perturbed by ``noise`` (a
+    fraction) of its size over the record (:func:`~freefloat.dynamics.identification.measurements.noisy_configurations`,
+    :func:`~freefloat.dynamics.identification.measurements.noisy`), then smoothed over ``window`` samples."""
+    return identify_target(robot, end_effector, noisy_configurations(robot.model, q, noise, rng),
+                           noisy(v, noise, rng), window=window)
 
 
 def held_parameters(merged: Robot, robot: Robot, end_effector: str) -> np.ndarray:

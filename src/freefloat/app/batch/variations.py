@@ -73,7 +73,7 @@ def check_bands(scene: Scene | MechanismScene, bands: list[Band]) -> None:
         if band.key not in valid:
             raise InvalidArgument(f"{vary} {band.key}: not a key of {scene.kind} scene '{scene.name}'"
                                   f"{did_you_mean(band.key, valid)}")
-        if band.key == "mass" and scene.kind == "capture":
+        if band.key == "mass" and scene.kind in ("capture", "capture_identification"):
             raise InvalidArgument(f"{vary} mass: scene '{scene.name}' is a capture scene (its robot changes at the "
                                   "grasp); mass varies joint-space and detumbling scenes")
         if band.key == "mass" and getattr(scene, "wheels", None):

@@ -63,7 +63,7 @@ def resolve(scene: Scene, models: tuple[str, ...] | None = None) -> tuple[Scene,
     sim = scene.simulation
     if sim.model != "auto":
         return scene, None
-    if scene.kind in ("capture", "two_hand_capture") or scene.closures or scene.wheels:
+    if scene.kind in ("capture", "capture_identification", "two_hand_capture") or scene.closures or scene.wheels:
         return with_plant(scene, "exact", sim.lock), {"model": "exact", "lock": sim.lock,
                                                       "reason": "capture scenes, closed loops and reaction wheels "
                                                                 "simulate the exact plant"}

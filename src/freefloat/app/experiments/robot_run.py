@@ -36,13 +36,16 @@ from .base import Checkpoint, Outcome, Progress
 from .budget import check_budget, seconds_per_call
 from .locked_run import full_telemetry, lock_for
 from .scene_closures import assemble, scene_closures
+from .sensor_summary import HEADLINE as SENSOR_HEADLINE
+from .sensor_summary import UNITS as SENSOR_UNITS
+from .sensor_summary import sensor_summary
 from .wheel_run import HEADLINE as WHEEL_HEADLINE
 from .wheel_run import UNITS as WHEEL_UNITS
 from .wheel_run import scene_wheels, wheel_attitude_control, wheel_summary, wheel_telemetry
 
 #: Summary keys the command line prints for every robot run (those it has: drifts without
 #: external wrenches, balances with them), then those of its task (``task_headline`` of
-#: :func:`robot_outcome`), the wheels' and :data:`LAST_HEADLINE`.
+#: :func:`robot_outcome`), the wheels', the sensors' and :data:`LAST_HEADLINE`.
 HEADLINE = ("model_auto", "tracking_rms_overall", "com_drift_max", "momentum_drift_max", "energy_drift_max",
             "momentum_balance_max", "momentum_balance_relative", "energy_balance_max", "external_work",
             "base_displacement", "closure_drift_max")
@@ -53,7 +56,7 @@ LAST_HEADLINE = ("figures_not_drawn",)
 #: The unit of each key of a robot run's summary, every kind's (the metrics, the wheels', the
 #: closures', the run's own; "" for a pure number or a text): each kind adds its task's.
 UNITS = {
-    **METRIC_UNITS, **WHEEL_UNITS, "closure_drift_max": "m", "closure_rotation_drift_max": "rad",
+    **METRIC_UNITS, **WHEEL_UNITS, **SENSOR_UNITS, "closure_drift_max": "m", "closure_rotation_drift_max": "rad",
     "model_auto": "", "model_choice": "", "figures_not_drawn": "", "status": "", "message": "", "steps": "",
     "sim_wall_time_s": "s", "model_evaluations": "", "loop": "",
 }
@@ -318,7 +321,8 @@ def run_loop(setup: RobotSetup, progress: Progress | None, checkpoint: Checkpoin
 def summary_of(setup: RobotSetup, result: Result, **task: Any) -> dict[str, Any]:
     """The run's figures of merit (:func:`freefloat.dynamics.metrics.summarize`: with the scene's
     external wrenches, balances against what they applied instead of drifts), then what the
-    environment's entries measure (``summarise``), then the task's own, then status, steps, wall
+    environment's entries measure (``summarise``), then the task's own, then the sensors'
+    (:func:`~freefloat.app.experiments.sensor_summary.sensor_summary`), then status, steps, wall
     time and model evaluations."""
     tel = result.telemetry
     summary = summarize(tel, setup.robot, setup.wrenches, setup.scene.simulation.control_period,
@@ -326,6 +330,7 @@ def summary_of(setup: RobotSetup, result: Result, **task: Any) -> dict[str, Any]
     for measured in setup.environment_summaries if len(tel.t) else ():
         summary.update(measured(tel))
     summary.update(task)
+    summary.update(sensor_summary(setup.controller, tel, setup.scene.simulation.control_period))
     if isinstance(setup.model, ClosedModel) and len(tel.t):
         position, rotation = closure_drifts(setup.model, tel.q)
         summary.update(closure_drift_max=float(position.max()), closure_rotation_drift_max=float(rotation.max()))
@@ -410,7 +415,7 @@ def _write_page(robot: Robot, t: np.ndarray, q: np.ndarray, path: Path, fps: flo
 def headline_of(task_headline: tuple[str, ...], wheels: bool = True) -> tuple[str, ...]:
     """The headline keys of a robot run whose task adds ``task_headline`` (with ``wheels``: the
     wheels' too)."""
-    return HEADLINE + task_headline + (WHEEL_HEADLINE if wheels else ()) + LAST_HEADLINE
+    return HEADLINE + task_headline + (WHEEL_HEADLINE if wheels else ()) + SENSOR_HEADLINE + LAST_HEADLINE
 
 
 def closure_drifts(model: ClosedModel, qs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -15,6 +15,7 @@ from typing import Any
 from ...dynamics.closures.kinds import ALIASES, KINDS
 from ...dynamics.integrators import INTEGRATORS, check_settings
 from ...dynamics.models import MODELS
+from ...dynamics.sensors import SensorSettings
 from ...dynamics.simulation import BACKENDS
 from ...errors import InvalidArgument, SceneError
 from ...robot.loading import INERTIAS
@@ -34,6 +35,7 @@ from .fields import (
     whole_number_of,
 )
 from .kinds import Kinded, kind_sections, parse_kind_sections
+from .sensor_section import parse_sensors
 
 
 @dataclass(frozen=True)
@@ -232,6 +234,7 @@ class Scene(PluginsFirst, Kinded):
     approach: ApproachSection | None = None
     wheels: tuple[WheelSection, ...] = ()
     attitude: AttitudeSection | None = None
+    sensors: SensorSettings | None = None
     source: Path | None = None
     plugins: tuple[str, ...] = ()
     named_kind: str = ""
@@ -293,7 +296,7 @@ def parse_robot_scene(raw: dict[str, Any], source: Path | None = None) -> Scene:
     """Validate a robot scene given as a dict (the parsed TOML)."""
     where = f"{source}: " if source else "scene: "
     top = {"name", "kind", "description", "angle_unit", "plugins", "controller", "wrenches", "environment", "closures",
-           "wheels", *SECTIONS}
+           "wheels", "sensors", *SECTIONS}
     reject_unknown(where, "", raw, top | set(kind_sections()))
     if "name" not in raw or "robot" not in raw:
         raise SceneError(f"{where}'name' and [robot] are required")
@@ -326,6 +329,8 @@ def parse_robot_scene(raw: dict[str, Any], source: Path | None = None) -> Scene:
         raise SceneError(f"{where}[attitude] drives the reaction wheels: add [[wheels]] or remove it")
     if "approach" in kwargs and "target" not in kwargs:
         raise SceneError(f"{where}[approach] plans the approach to a [target]: add one")
+    if "sensors" in raw:
+        kwargs["sensors"] = parse_sensors(where, raw["sensors"])
     scene = Scene(**kwargs, source=source)
     sim = scene.simulation
     whole_number_of(where, sim.duration, sim.control_period, "simulation.duration", "simulation.control_period")
@@ -338,6 +343,10 @@ def parse_robot_scene(raw: dict[str, Any], source: Path | None = None) -> Scene:
                          f"{'[[wrenches]]' if scene.wrenches else '[[environment]]' if scene.environment else 'robot.gravity'} "
                          "change it; remove one of them")
     at_most(where, scene.output.html_fps, MAX_HTML_FPS, "output.html_fps")
+    if scene.sensors is not None and (scene.controller.kind == "none" or scene.target is not None):
+        raise SceneError(f"{where}[sensors] feed the [controller] of a joint-space or detumbling scene; this scene "
+                         f"{'has no controller' if scene.controller.kind == 'none' else 'is a capture'}: remove "
+                         "[sensors]")
     return scene
 
 

@@ -1,6 +1,6 @@
 """What a robot's sensors are: one :class:`Channel` per channel group (noise, bias, delay, sampling)
-and the momentum estimator's settings, as frozen records whose fields are the keys a scene's
-``[sensors]`` section would give."""
+and the momentum estimator's settings, as frozen records whose fields are the keys of a scene's
+``[sensors]`` section (:mod:`freefloat.app.scenes.sensor_section`)."""
 
 from __future__ import annotations
 

@@ -45,7 +45,7 @@ from ...robot.catalog import find_robot
 from ...robot.loading import load_robot
 from ...space.after_capture import detumble, manoeuvre
 from ...space.capture import Target, grasp
-from ...space.target_identification import held_parameters, identify_target, with_target
+from ...space.target_identification import held_parameters, identify_measured, identify_target, with_target
 from .interrupts import finished
 
 #: The measurement noise: 1 % of each channel's size.
@@ -171,8 +171,7 @@ def target_part(draws: int) -> dict:
     m, c, I_C = about_com(truth)
 
     def noisy_estimate(rng, window=101):
-        return identify_target(robot, "left_tool0", measurements.noisy_configurations(robot.model, tel.q, NOISE, rng),
-                               measurements.noisy(tel.v, NOISE, rng), window=window)
+        return identify_measured(robot, "left_tool0", tel.q, tel.v, NOISE, rng, window)
 
     exact = identify_target(robot, "left_tool0", tel.q, tel.v)
     rows = {}
