@@ -168,3 +168,27 @@ def test_robustness_quick_keeps_the_runs_asked_for(tmp_path, monkeypatch):
     monkeypatch.setattr(sweeps, "monte_carlo", fake_monte_carlo)
     assert reproduce_robustness(tmp_path / "a", quick=True, runs=7)["settings"]["runs"] == 7
     assert reproduce_robustness(tmp_path / "b", quick=True)["settings"]["runs"] == 2 and asked == [7, 2]
+
+
+@pytest.mark.parametrize("workers, forced", [(0, False), (None, False), (None, True)])
+def test_reproduce_checks_its_workers_as_batch_does(tmp_path, monkeypatch, capsys, workers, forced):
+    """``reproduce --workers`` below 1 or beyond the cores is refused (exit 2, naming the option
+    and --force-workers), not silently changed; with --force-workers the count reaches the study."""
+    from freefloat.app.batch.executors import local_limit
+    from freefloat.app.cli import main
+    from freefloat.lab.reproduce import folders
+
+    asked = local_limit() + 1 if workers is None else workers
+    seen = []
+
+    def record(name, out, overwrite, quick, options):
+        seen.append(options)
+        raise KeyboardInterrupt  # stopped there, before any study runs
+
+    monkeypatch.setattr(folders, "run_study", record)
+    argv = ["reproduce", "jerk", "--workers", str(asked), "--out", str(tmp_path / "out"), *(["--force-workers"] if forced else [])]
+    code = main(argv)
+    if forced:
+        assert seen and seen[0]["workers"] == asked
+    else:
+        assert code == 2 and not seen and "--workers" in capsys.readouterr().err

@@ -22,7 +22,10 @@ def arguments(parser: argparse.ArgumentParser) -> None:
                         help="replace the study freefloat wrote in --out (default: continue it from its journal; a "
                              "folder holding other files is refused)")
     parser.add_argument("--quick", action="store_true", help="short runs and few samples (a smoke test)")
-    parser.add_argument("--workers", type=int, default=2, help="parallel processes (default 2)")
+    parser.add_argument("--workers", type=int, default=2,
+                        help="parallel processes (default 2; at most the machine's cores, see --force-workers)")
+    parser.add_argument("--force-workers", action="store_true",
+                        help="start --workers processes even beyond the cores (they take turns)")
     parser.add_argument("--runs", type=int, default=None,
                         help="robustness: Monte-Carlo runs (default 20, 2 with --quick)")
     parser.add_argument("--error", type=float, default=0.5,
@@ -34,9 +37,12 @@ def arguments(parser: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     """One study into its folder, or ``all`` of them into one folder each plus the report
     (:mod:`~.folders`)."""
+    from ...app.batch.executors import Workers
     from .folders import run_all, run_study
 
-    options = {"workers": max(1, args.workers), "runs": args.runs, "relative_error": args.error,
+    workers = Workers(args.workers, dask=args.scheduler is not None, scheduler=args.scheduler,
+                      force=args.force_workers)  # refused as batch refuses it
+    options = {"workers": workers.count, "runs": args.runs, "relative_error": args.error,
                "scheduler": args.scheduler}
     out = args.out or Path("runs") / f"reproduce-{args.study}-{time.strftime('%Y%m%d-%H%M%S')}"
     if args.study == ALL_STUDIES:
