@@ -15,15 +15,11 @@ from typing import Any
 import numpy as np
 
 from ...arguments import real_number, whole_number
-from ...dynamics.identification.excitation import random_trajectory
-from ...dynamics.identification.parameters import about_com
 from ...dynamics.metrics import spin_summary, summarize
 from ...dynamics.result import Result
 from ...errors import InvalidArgument, SceneError, did_you_mean
-from ...space.after_capture import detumble, manoeuvre
 from ...space.capture import SUMMARY_UNITS as CAPTURE_UNITS
 from ...space.capture import grasp
-from ...space.target_identification import held_parameters, identify_measured, with_target
 from ..scenes import Scene
 from . import capture
 from .base import Checkpoint, Experiment, Outcome, Progress
@@ -111,6 +107,11 @@ def run(setup: capture.CaptureSetup, progress: Progress | None = None,
     """Grasp, manoeuvre, identification, detumbling on the identified model; the summary of the
     detumbling run with the identification's estimates, intervals and true values. (One call: no
     progress report nor checkpoints.)"""
+    # here, not at the module's top: identification brings scipy (0.9 s) into every scene's start
+    from ...dynamics.identification.excitation import random_trajectory
+    from ...space.after_capture import detumble, manoeuvre
+    from ...space.target_identification import held_parameters, identify_measured, with_target
+
     scene, robot = setup.scene, setup.robot
     tg, sim, ctrl, ident = scene.target, scene.simulation, scene.controller, scene.sections["identification"]
     start = time.perf_counter()
@@ -151,6 +152,8 @@ def identification_summary(estimate: Any, truth: np.ndarray) -> dict[str, Any]:
     (kg m^2, its axes) identified (``_estimate``), with their 95 % half-widths (``_half_width``),
     the true values (``_true``) and the errors: relative for the mass, largest component for
     the CoM, relative Frobenius norm for the inertia; the fit's condition number."""
+    from ...dynamics.identification.parameters import about_com
+
     m, c, inertia = estimate.physical()
     dm, dc, dinertia = estimate.physical_half_width(0.95)
     m_true, c_true, inertia_true = about_com(truth)
