@@ -427,6 +427,7 @@ def test_help_texts_are_plain(command, capsys):
     assert "usage: freefloat" in text and "``" not in text and not re.search(r":(func|class|mod|data|meth):", text)
 
 
+@pytest.mark.slow
 def test_a_warning_is_shown_once_per_run(tmp_path):
     """The detumble scene loads its robot for the plant and for the controller: the inertia note
     is printed once (it was printed twice), on one line (it took two), as a note: the built-in

@@ -53,6 +53,7 @@ def test_the_command_line_exits_1_for_a_failed_run(tmp_path, spurious_torque, ca
     assert json.loads((tmp_path / "out" / "summary.json").read_text())["status"] == "failed"
 
 
+@pytest.mark.slow
 def test_a_wheel_scene_whose_balance_forgets_the_wheels_is_failed(monkeypatch):
     """``satellite_wheels`` passes; with the wheels' stored momentum left out of its balance (as a
     plant that ignores the wheels would leave it) the run is failed naming

@@ -63,6 +63,7 @@ def _numbers(text: str) -> list[float]:
     return [float(x) for x in re.findall(r"-?\d+(?:\.\d+)?(?:e[-+]?\d+)?", text)]
 
 
+@pytest.mark.slow
 def test_the_page_prints_the_run_s_warning_bar_and_stages(run):
     """The warning lines as the run prints them, a progress bar over the 5000 periods (the run
     shows it when its loop outlasts LoopBar.DELAY), and the writing stages in the run's order."""

@@ -102,6 +102,7 @@ def test_the_lab_comes_in_through_its_entry_point(installed, tmp_path):
     assert done.returncode == 0 and (tmp_path / "out" / "report.json").is_file(), done.stderr
 
 
+@pytest.mark.slow
 def test_a_command_past_its_timeout_leaves_no_process_behind(tmp_path):
     """A command killed at its timeout takes the processes it started with it (as a wheel build's
     compilers would be)."""

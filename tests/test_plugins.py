@@ -43,6 +43,7 @@ def test_a_pd_controller_of_a_users_module_runs_from_a_scene_file():
     assert error[-1] < 0.3 * error[0] and (np.diff(error[::250]) < 0).all()
 
 
+@pytest.mark.slow
 def test_the_pd_controller_runs_in_a_batch_of_spawned_workers(tmp_path):
     """freefloat batch on the PD scene with two worker processes (spawned: they import the
     plug-in from the scene) gives the rows simulate gives."""

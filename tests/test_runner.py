@@ -252,6 +252,7 @@ def test_an_interrupt_while_writing_exits_1_with_the_data_whole(tmp_path):
     assert len(Telemetry.load(tmp_path / "out" / "telemetry.npz").t) == 51
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("scene", ["capture_planar", "five_bar_sliding_mode"])
 def test_a_run_that_draws_nothing_imports_no_drawing_library(tmp_path, scene):
     """A scene run without figures or page (a capture, a mechanism) imports neither matplotlib nor

@@ -113,6 +113,7 @@ def test_document_setting_tracks_like_the_exact_plant_and_stays_near_its_path(qu
     assert 0.0 < document["jsc_distance_from_exact_max_m"] < 1e-2 * travel
 
 
+@pytest.mark.slow
 def test_position_feedback_removes_a_start_offset_at_its_gain_where_eq_139_keeps_it(joint_space_run):
     """Each arm turned 0.3 deg about its pivot off the joint-space run's start: with position
     feedback (K_x = 5 1/s) the end-effectors' distance from the run's path (Pinocchio's forward
