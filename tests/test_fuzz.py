@@ -116,3 +116,19 @@ def test_the_oracle_reports_a_broken_balance_that_a_run_called_completed(tmp_pat
     monkeypatch.setattr(runner, "check", lambda summary: None)  # the runner lets it pass
     outcome, detail = run_case(Case("scene", 0, {}, "tumbling", "planted leak"), tmp_path)
     assert outcome == "violated" and "momentum_drift_max" in detail
+
+
+def test_a_mesh_url_on_a_link_named_base_still_writes_the_page(tmp_path):
+    """Texture seed 1 (a mesh URL on the link 'base', which shares its name with another frame):
+    the link is drawn as a stick and the page is written (the page writer looked the link up by
+    name alone, and Pinocchio refused the ambiguous name)."""
+    case = CLASSES["textures"](1)
+    assert case.mesh_url
+    assert case.run(tmp_path)[0] == "completed"
+
+
+def test_a_flipped_telemetry_file_is_refused_as_damaged(tmp_path):
+    """API seed 132 (Telemetry.load of a file with a flipped byte that zipfile reads as an unknown
+    zip version): a TelemetryFileError, not zipfile's NotImplementedError."""
+    outcome, detail = CLASSES["api"](132).run(tmp_path)
+    assert outcome == "refused", detail

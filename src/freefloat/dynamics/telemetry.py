@@ -86,7 +86,7 @@ class Arrays:
             raise
         except FileNotFoundError:
             raise TelemetryFileError(f"'{path}' does not exist") from None
-        except (OSError, ValueError, EOFError, KeyError, zipfile.BadZipFile, zlib.error) as exc:
+        except (OSError, ValueError, EOFError, KeyError, NotImplementedError, zipfile.BadZipFile, zlib.error) as exc:
             raise TelemetryFileError(f"'{path}' is damaged or not a telemetry file: {type(exc).__name__}: "
                                      f"{exc}") from None
         lengths = {n: len(a) if a.ndim else None for n, a in arrays.items()}

@@ -355,8 +355,8 @@ def _robot_objects(robot: Robot, table: AssetTable,
         return objects
     if not objects:
         return _stick_figure(robot)
-    bare |= {model.frames[model.getFrameId(link)].parentJoint for link, _ in robot.missing_meshes
-             if model.existFrame(link)}
+    bare |= {model.frames[model.getFrameId(link, pin.FrameType.BODY)].parentJoint for link, _ in robot.missing_meshes
+             if model.existFrame(link, pin.FrameType.BODY)}  # a link's body frame (a joint may share its name)
     return objects + [piece for piece in _stick_figure(robot) if piece[0] in bare]
 
 
