@@ -163,9 +163,10 @@ def test_sliding_condition_holds_on_the_2rsu_ppap(rsu):
             assert s @ sdot <= -gains.eta * np.abs(s).sum() + 1e-9
 
 
-@pytest.mark.parametrize("eta", [float("nan"), -20.0, 0.0, float("inf")])
+@pytest.mark.parametrize("eta", [float("nan"), -20.0, 0.0, 1e-300, float("inf")])
 def test_a_reaching_rate_not_finite_and_positive_is_refused(eta):
-    """eta NaN, negative, zero or infinite is refused naming eta, not turned into NaN or negative gains."""
+    """eta NaN, negative, zero, below MIN_REACHING_RATE or infinite is refused naming eta, not turned
+    into NaN, negative or meaningless gains."""
     with pytest.raises(InvalidArgument, match="'eta' must be"):
         design_gains(FiveBarParameters(), np.array([[0.0, 0.2]]), eta=eta)
 

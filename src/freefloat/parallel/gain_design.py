@@ -240,16 +240,21 @@ def spectral_radius(Delta: np.ndarray) -> float:
     return float(np.max(np.abs(np.linalg.eigvals(Delta))))
 
 
+#: The slowest reaching rate a design takes, 1/s: below it the sliding surface is reached after
+#: 1e9 s or more, no design a mechanism can use (1e-300 was accepted and gave gains of no meaning).
+MIN_REACHING_RATE = 1e-9
+
+
 def gains_from_worst_case(worst: WorstCase, eta: float, points: np.ndarray) -> SlidingModeGains:
     """Eqs 168-170 from the worst cases, for the reaching rate ``eta``.
 
     Raises:
-        InvalidArgument: for ``eta`` not a finite number > 0
+        InvalidArgument: for ``eta`` not a finite number >= :data:`MIN_REACHING_RATE`
             (:func:`~freefloat.arguments.real_number`); when ``(1 - |Delta|_max)^-1`` does not
             exist or has negative entries (spectral radius of ``|Delta|_max`` >= 1): eq 161 has
             no solution.
     """
-    eta = real_number("eta", eta, above=0.0)  # the reaching rate of eq 168, 1/s
+    eta = real_number("eta", eta, low=MIN_REACHING_RATE)  # the reaching rate of eq 168, 1/s
     Dmax, d0max = worst.Delta, worst.delta0
     radius = spectral_radius(Dmax)
     if radius >= 1.0:
