@@ -14,6 +14,16 @@ from hypothesis import strategies as st
 from freefloat import load_robot
 from freefloat.inputs import toml_text  # noqa: F401  (the tests write scene files with it)
 
+
+@pytest.fixture(autouse=True)
+def pinocchio_seeded():
+    """Pinocchio's own generator (``pin.randomConfiguration``, ``pin.SE3.Random``) seeded before
+    every test, so a test that draws from it draws the same numbers in every run and order."""
+    import pinocchio as pin
+
+    pin.seed(0)
+
+
 REPO = Path(__file__).resolve().parents[1]
 SPART = REPO / "tests" / "data" / "spart"  # SPART reference values, copied from shared/reference/spart
 
