@@ -42,7 +42,8 @@ def test_unknown_names_suggest_the_nearest_ones():
 def test_an_alias_says_which_file_it_picked():
     """'talos' names one of several TALOS files: a note says which, and names the others."""
     with pytest.warns(FreefloatNote, match=r"robot 'talos' is talos_reduced\.urdf \(others: .*talos_full_v2"):
-        find_robot("talos")
+        picked = find_robot("talos")
+    assert picked.name == "talos_reduced.urdf"
 
 
 def test_paths_are_not_names():

@@ -21,8 +21,10 @@ from ...errors import InvalidArgument, SceneError, did_you_mean
 from ...space.capture import SUMMARY_UNITS as CAPTURE_UNITS
 from ...space.capture import grasp
 from ..scenes import Scene
-from . import capture
 from .base import Checkpoint, Experiment, Outcome, Progress
+from .capture import CaptureSetup, grasp_time, plan_tracking
+from .capture import prepare as prepare_capture
+from .capture import takes as takes_capture
 from .detumbling import mission_joints, rows_spec
 from .robot_run import APPROACH_MARGIN, SPIN_HEADLINE, control_steps, headline_of, robot_outcome
 from .robot_run import UNITS as ROBOT_UNITS
@@ -69,10 +71,10 @@ class IdentificationSection:
 
 def takes(scene: object) -> bool:
     """A capture scene (one hand grasps its ``[target]``) with ``[identification]``."""
-    return capture.takes(scene) and "identification" in scene.sections
+    return takes_capture(scene) and "identification" in scene.sections
 
 
-def prepare(scene: Scene) -> capture.CaptureSetup:
+def prepare(scene: Scene) -> CaptureSetup:
     """The capture's setup (:func:`freefloat.app.experiments.capture.prepare`), the
     ``[identification]`` checked on its robot.
 
@@ -81,7 +83,7 @@ def prepare(scene: Scene) -> capture.CaptureSetup:
             the whole momentum the identification reads) or an unknown ``identification.joints``
             name; or what the capture refuses.
     """
-    setup = capture.prepare(scene)
+    setup = prepare_capture(scene)
     where = f"{scene.source}: " if scene.source else f"scene '{scene.name}': "
     if setup.robot.base != "free":
         raise SceneError(f"{where}[identification] needs 'robot.base = \"free\"' (a planar base conserves only its "
@@ -102,7 +104,7 @@ def manoeuvre_joints(scene: Scene, robot: Any) -> list[str]:
     return [robot.joint_names[i - robot.n_base] for i in arm.v_indices]
 
 
-def run(setup: capture.CaptureSetup, progress: Progress | None = None,
+def run(setup: CaptureSetup, progress: Progress | None = None,
         checkpoint: Checkpoint | None = None) -> Outcome:
     """Grasp, manoeuvre, identification, detumbling on the identified model; the summary of the
     detumbling run with the identification's estimates, intervals and true values. (One call: no
@@ -117,7 +119,7 @@ def run(setup: capture.CaptureSetup, progress: Progress | None = None,
     start = time.perf_counter()
     held = grasp(robot, setup.target, tg.end_effector, sim.control_period, tg.contact_time + APPROACH_MARGIN,
                  tg.tolerance, sim.integrator, setup.q0, setup.v0, ctrl.kp, ctrl.kd, ctrl.model,
-                 capture.plan_tracking(setup), capture.grasp_time(setup))
+                 plan_tracking(setup), grasp_time(setup))
     joints = manoeuvre_joints(scene, robot)
     s = scene.angle_scale
     trajectory = random_trajectory(
