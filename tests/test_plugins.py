@@ -14,6 +14,7 @@ import freefloat
 from freefloat.app.cli import main
 from freefloat.app.scenes import parse_scene
 from freefloat.errors import InvalidArgument, SceneError, UnknownName
+from freefloat.inputs import toml_text
 
 from .conftest import REPO
 
@@ -186,6 +187,23 @@ def test_a_dynamics_model_of_a_users_module_is_the_plant_of_a_scene(tmp_path):
     assert toy.summary["loop"] == "python" and toy.summary["model_evaluations"] == 4 * 50
     assert module.CALLS[0] - before >= 4 * 50  # the loop's, and the run-size check's few
     np.testing.assert_allclose(toy.telemetry.v[-1], exact.telemetry.v[-1], rtol=0, atol=1e-12)
+
+
+@pytest.mark.slow
+def test_a_dynamics_model_of_a_users_module_is_the_plant_of_a_batch(tmp_path):
+    """freefloat batch on a scene whose plug-in registers the plant model runs it in its worker
+    (the rows complete on the Python loop with rkmk4's 4 evaluations a period)."""
+    (tmp_path / "toy_counted_model.py").write_text(TOY_MODEL)
+    raw = tomllib.loads((REPO / "src" / "freefloat" / "app" / "scenes" / "tumbling.toml").read_text())
+    raw["robot"]["urdf"] = str(REPO / "src" / "freefloat" / "urdf" / "four_arm_planar.urdf")
+    raw["simulation"].update(duration=0.05, model="counted_exact")
+    raw.update(plugins=["toy_counted_model.py"], output={"figures": False, "html": False})
+    (tmp_path / "toy.toml").write_text(toml_text(raw))
+    out = tmp_path / "batch"
+    assert main(["batch", str(tmp_path / "toy.toml"), "--runs", "2", "--workers", "2", "--quiet", "--out", str(out)]) == 0
+    rows = list(csv.DictReader((out / "runs.csv").open()))
+    assert [r["status"] for r in rows] == ["completed", "completed"]
+    assert {r["model_evaluations"] for r in rows} == {str(4 * 50)}
 
 
 def test_a_run_folder_of_a_plugin_scene_reruns_it(tmp_path):
