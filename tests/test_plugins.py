@@ -193,11 +193,12 @@ def test_a_dynamics_model_of_a_users_module_is_the_plant_of_a_scene(tmp_path):
 def test_a_dynamics_model_of_a_users_module_is_the_plant_of_a_batch(tmp_path):
     """freefloat batch on a scene whose plug-in registers the plant model runs it in its worker
     (the rows complete on the Python loop with rkmk4's 4 evaluations a period)."""
-    (tmp_path / "toy_counted_model.py").write_text(TOY_MODEL)
+    # its own name: the simulate test's module may be registered in this process already
+    (tmp_path / "toy_batch_model.py").write_text(TOY_MODEL.replace("counted_exact", "counted_in_batch"))
     raw = tomllib.loads((REPO / "src" / "freefloat" / "app" / "scenes" / "tumbling.toml").read_text())
     raw["robot"]["urdf"] = str(REPO / "src" / "freefloat" / "urdf" / "four_arm_planar.urdf")
-    raw["simulation"].update(duration=0.05, model="counted_exact")
-    raw.update(plugins=["toy_counted_model.py"], output={"figures": False, "html": False})
+    raw["simulation"].update(duration=0.05, model="counted_in_batch")
+    raw.update(plugins=["toy_batch_model.py"], output={"figures": False, "html": False})
     (tmp_path / "toy.toml").write_text(toml_text(raw))
     out = tmp_path / "batch"
     assert main(["batch", str(tmp_path / "toy.toml"), "--runs", "2", "--workers", "2", "--quiet", "--out", str(out)]) == 0
