@@ -4,10 +4,18 @@ from __future__ import annotations
 
 import os
 import signal
+import sys
 
 import pytest
 
-from freefloat.app.signals import signals_deferred, signals_held, stop_once
+from freefloat.app.signals import (
+    cut_by_interrupt,
+    imported_whole,
+    signals_deferred,
+    signals_held,
+    signals_raise_keyboard_interrupt,
+    stop_once,
+)
 
 
 def test_only_the_first_interrupt_raises():
@@ -46,3 +54,28 @@ def test_held_signals_raise_when_the_block_ends():
             os.kill(os.getpid(), signal.SIGINT)
             finished = True
     assert finished
+
+
+def test_an_import_cut_by_sigterm_finishes_before_the_interrupt(tmp_path, monkeypatch):
+    """A SIGTERM arriving while imported_whole imports a module lets the import finish (the
+    module is whole in sys.modules), then raises KeyboardInterrupt naming it."""
+    (tmp_path / "signalled_module.py").write_text(
+        "import os, signal\nos.kill(os.getpid(), signal.SIGTERM)\nAFTER_THE_SIGNAL = True\n")
+    monkeypatch.syspath_prepend(str(tmp_path))
+    monkeypatch.delitem(sys.modules, "signalled_module", raising=False)
+    with signals_raise_keyboard_interrupt(), pytest.raises(KeyboardInterrupt, match="SIGTERM"):
+        imported_whole("signalled_module")
+    assert sys.modules["signalled_module"].AFTER_THE_SIGNAL
+
+
+def test_an_import_error_raised_from_an_interrupt_is_told_as_the_interrupt():
+    """cut_by_interrupt finds the KeyboardInterrupt under an ImportError (what a compiled
+    module's initialisation raises when an interrupt cuts it), and nothing under a plain one."""
+    try:
+        try:
+            raise KeyboardInterrupt("SIGTERM")
+        except KeyboardInterrupt as stop:
+            raise ImportError("initialization failed") from stop
+    except ImportError as exc:
+        assert str(cut_by_interrupt(exc)) == "SIGTERM"
+    assert cut_by_interrupt(ImportError("no module named 'mujoco'")) is None

@@ -20,7 +20,7 @@ from .commands import COMMANDS, Command
 from .folder_names import default_folder
 from .progress_bar import LoopBar
 from .shown_warnings import HeldWarnings, shown_warnings
-from .signals import arrived_before_main, signals_deferred, signals_raise_keyboard_interrupt
+from .signals import arrived_before_main, cut_by_interrupt, signals_deferred, signals_raise_keyboard_interrupt
 
 if TYPE_CHECKING:
     from .experiments import Outcome
@@ -125,7 +125,10 @@ def main(argv: list[str] | None = None) -> int:
         if early.is_set() or early_too:
             raise KeyboardInterrupt("while starting; nothing was written")
         with signals_raise_keyboard_interrupt(), command_line():  # SIGTERM, SIGHUP: Ctrl-C; messages name options
-            return commands_run[args.command](args)
+            try:
+                return commands_run[args.command](args)
+            except ImportError as exc:  # an interrupt inside a compiled module's import: still an interrupt
+                raise (cut_by_interrupt(exc) or exc) from None
     except FreefloatError as exc:
         print(f"freefloat: error: {exc}", file=sys.stderr)
         return 2

@@ -12,10 +12,12 @@ the command line can take them over before it imports anything heavy.
 from __future__ import annotations
 
 import contextlib
+import importlib
 import signal
 import sys
 import threading
 from collections.abc import Callable, Iterator
+from types import ModuleType
 
 #: Signals that stop a run as Ctrl-C (SIGINT) does.
 STOP_SIGNALS = tuple(getattr(signal, name) for name in ("SIGTERM", "SIGHUP") if hasattr(signal, name))
@@ -107,6 +109,27 @@ def signals_held() -> Iterator[None]:
         yield
     if arrived:
         raise KeyboardInterrupt(signal.Signals(arrived[0]).name)
+
+
+def imported_whole(name: str) -> ModuleType:
+    """``import name`` with Ctrl-C, SIGTERM and SIGHUP held until it is done (see
+    :func:`signals_held`): a compiled extension whose initialisation a ``KeyboardInterrupt`` cuts
+    fails with ``ImportError: initialization failed`` instead (mujoco does) and stays unusable."""
+    with signals_held():
+        return importlib.import_module(name)
+
+
+def cut_by_interrupt(exc: BaseException) -> KeyboardInterrupt | None:
+    """The ``KeyboardInterrupt`` among ``exc``'s causes, if any: an import an interrupt cut short
+    raises ``ImportError`` from it."""
+    seen: set[int] = set()
+    cause: BaseException | None = exc
+    while cause is not None and id(cause) not in seen:
+        if isinstance(cause, KeyboardInterrupt):
+            return cause
+        seen.add(id(cause))
+        cause = cause.__cause__ or cause.__context__
+    return None
 
 
 @contextlib.contextmanager

@@ -12,7 +12,7 @@ from importlib.metadata import version
 from pathlib import Path
 
 from ....app.run_folder import Journal, RunFolder
-from ....app.signals import signals_deferred, signals_held, signals_raise_keyboard_interrupt
+from ....app.signals import imported_whole, signals_deferred, signals_held, signals_raise_keyboard_interrupt
 from ....dynamics.threads import single_blas_thread
 from ..options import SMOKE, Options
 from ..scenes import SCENES
@@ -79,7 +79,7 @@ def _into(built: list[BenchScene], repeats: int, quick: bool, seed: int, out: Ru
 def _measure(out: RunFolder, journal: Journal, built: list[BenchScene], repeats: int, quick: bool, seed: int,
              progress) -> dict:
     """The sweeps of :func:`bench` into the held folder ``out``, each point journaled as measured."""
-    import mujoco  # the bench extra, checked before any work (suites.Suite.needs)
+    mujoco = imported_whole("mujoco")  # the bench extra, checked before any work (suites.Suite.needs)
 
     report = {**({"smoke_test": SMOKE} if quick else {}), "settings": {"repeats": repeats, "quick": quick, "seed": seed},
               "versions": {"freefloat": version("freefloat"), "pin": version("pin"), "mujoco": mujoco.__version__,

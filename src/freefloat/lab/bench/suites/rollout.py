@@ -47,6 +47,7 @@ import numpy as np
 from ....app.batch import TIMINGS, Band, Workers, plan_runs, run_batch
 from ....app.runner import prepare, resolved_setup
 from ....app.scenes import find_scene
+from ....app.signals import imported_whole
 from ....dynamics.many_runs import run_many
 from ....dynamics.simulation import run
 from ..in_mujoco.mjcf import mjcf_from_model
@@ -89,8 +90,7 @@ def measure(settings: dict) -> Iterator[tuple[str, dict]]:
 def compare(settings: dict) -> dict:
     """Times (s) per way and threads, turn by turn; best runs/s; ratios and scaling (see the
     module docstring); whether the batch rows agree; the final-state gap; ceilings and load."""
-    import mujoco
-    from mujoco import rollout
+    mujoco, rollout = imported_whole("mujoco"), imported_whole("mujoco.rollout")
 
     tumbling, runs = scene(settings), settings["runs"]
     with warnings.catch_warnings():
