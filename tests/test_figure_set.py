@@ -121,10 +121,10 @@ CALLED_FOR = {
     "rsu_ppap_free_base": MECHANISM | {"base_attitude", "momentum"},
     "four_arm_joint_space": JOINT_SPACE, "satellite_dual_arm": JOINT_SPACE,
     "satellite_wheels": JOINT_SPACE | {"reaction_wheels"},
-    "satellite_momentum_dump": JOINT_SPACE - {"com_drift"} | {"conservation_balance", "reaction_wheels"},
-    "satellite_thruster_hold": JOINT_SPACE - {"com_drift"} | {"conservation_balance"},
+    "satellite_momentum_dump": JOINT_SPACE - {"com_drift"} | {"conservation_balance", "reaction_wheels", "thrusters"},
+    "satellite_thruster_hold": JOINT_SPACE - {"com_drift"} | {"conservation_balance", "thrusters"},
     "satellite_hands_joined": MOTION | {"com_drift", "closed_loop"},
-    "tumbling": MOTION | {"com_drift"}, "orbit_libration": MOTION | {"conservation_balance"},
+    "tumbling": MOTION | {"com_drift"}, "orbit_libration": MOTION | {"conservation_balance", "relative_orbit"},
 }
 
 

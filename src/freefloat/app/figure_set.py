@@ -71,6 +71,10 @@ FIGURES: dict[str, Figure] = {
                           _robot(lambda s: bool(s.closures) or s.kind == "two_hand_capture")),
     "reaction_wheels": Figure("reaction wheels' stored momentum and torque against their limits (runs with [[wheels]])",
                               _robot(lambda s: bool(s.wheels))),
+    "thrusters": Figure("thrust per thruster and propellant burnt (runs with thrusters)",
+                        _robot(lambda s: any(e.kind == "thrusters" for e in s.environment))),
+    "relative_orbit": Figure("the base (and a capture's target) in the LVLH frame: the relative orbit (runs in orbit)",
+                             _robot(lambda s: any(e.kind == "orbit" for e in s.environment))),
     "platform_tracking": Figure("mechanism platform path and tracking error", _mechanism(lambda s: True)),
     "efforts": Figure("mechanism actuator efforts", _mechanism(lambda s: True)),
     "loop_closure_drift": Figure("mechanism loop closure drift", _mechanism(lambda s: True)),
@@ -83,7 +87,7 @@ FIGURES: dict[str, Figure] = {
 #: The lean set a scene draws unless it says otherwise: each kind of run's own figures, less the
 #: robot's motion (base trajectory, end-effector paths and displacement), which the page shows.
 DEFAULT = ("joint_errors", "approach_joint_errors", "torques", "com_drift", "conservation_balance", "angular_rates", "angular_momentum",
-           "closed_loop", "reaction_wheels", "platform_tracking", "efforts", "loop_closure_drift", "sliding_variables",
+           "closed_loop", "reaction_wheels", "thrusters", "relative_orbit", "platform_tracking", "efforts", "loop_closure_drift", "sliding_variables",
            "base_attitude", "momentum")
 #: The name that stands for every figure.
 ALL = "all"
