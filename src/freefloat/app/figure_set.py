@@ -24,6 +24,9 @@ from ..errors import FreefloatError, did_you_mean
 SPINNING = ("detumbling", "capture", "capture_identification", "two_hand_capture")
 #: Scene kinds of the robot runs that track joint references throughout.
 TRACKING = ("joint_space", "detumbling")
+#: Scene kinds of the robot runs that fly in the fields of their ``[[environment]]`` (a one-hand
+#: capture: in an orbit).
+IN_FIELDS = (*TRACKING, "capture")
 
 
 class Figure(NamedTuple):
@@ -60,9 +63,9 @@ FIGURES: dict[str, Figure] = {
                                  _robot(lambda s: True)),
     "end_effector_displacement": Figure("each end-effector's displacement from its start", _robot(lambda s: True)),
     "com_drift": Figure("CoM and momentum drift from their free motion (runs without external wrenches or fields)",
-                        _robot(lambda s: not s.environment or s.kind not in TRACKING)),
+                        _robot(lambda s: not s.environment or s.kind not in IN_FIELDS)),
     "conservation_balance": Figure("momentum and energy against what the external wrenches and fields applied",
-                                   _robot(lambda s: bool(s.environment) and s.kind in TRACKING)),
+                                   _robot(lambda s: bool(s.environment) and s.kind in IN_FIELDS)),
     "angular_rates": Figure("base and end-effector spin decaying (capture and detumbling runs)",
                             _robot(lambda s: s.kind in SPINNING)),
     "angular_momentum": Figure("L(t) about the CoM and the origin (capture and detumbling runs)",

@@ -346,7 +346,8 @@ def robot_outcome(setup: RobotSetup, robot: Robot, telemetry: Telemetry, result:
                   extra_bodies: Callable[[], list] | None = None, extra_telemetry: dict[str, Telemetry] | None = None,
                   events: list[tuple[float, str]] | None = None, wrenches: tuple[ExternalWrench, ...] | None = None,
                   spin: bool = False, settle_threshold: float | None = None, task_headline: tuple[str, ...] = (),
-                  approach: Telemetry | None = None, lvlh: Any = None) -> Outcome:
+                  approach: Telemetry | None = None, lvlh: Any = None,
+                  environment: tuple[WrenchField, ...] | None = None) -> Outcome:
     """The outcome of a robot run on ``robot`` (the scene's, or the merged one after a capture):
     telemetry named by its joints and end-effectors, provenance, the figures as one picklable job
     (:class:`~freefloat.app.viz.figure_job.RobotFigures`, which the figure helper draws while the
@@ -359,6 +360,7 @@ def robot_outcome(setup: RobotSetup, robot: Robot, telemetry: Telemetry, result:
     (a planned capture's pre-capture phase on the scene's robot) also its joint tracking against the
     plan; with thrusters, their thrust and propellant; in orbit, the relative orbit of ``lvlh``
     (:class:`~freefloat.app.viz.figure_job.LvlhRows`; default: the base CoM's, from the telemetry).
+    ``environment``: the fields ``robot`` flew in over ``telemetry`` (default: the scene's, on its robot).
     The figures left out because their data is identically zero are named in the summary's
     ``figures_not_drawn``."""
     from ..viz.figure_data import empty_figures
@@ -374,13 +376,14 @@ def robot_outcome(setup: RobotSetup, robot: Robot, telemetry: Telemetry, result:
         wheel_rows = extra_telemetry["wheels"] = wheel_telemetry(wheels, telemetry, wrenches, sim.control_period,
                                                                    setup.environment)
         summary = {**summary, **wheel_summary(wheels, setup.wheel_control, wheel_rows, telemetry)}
-    thrusters = next((f for f in setup.environment if isinstance(f, ThrusterSet)), None)
-    orbit = next((f.orbit for f in setup.environment if isinstance(f, OrbitField)), None)
+    fields = setup.environment if environment is None else environment
+    thrusters = next((f for f in fields if isinstance(f, ThrusterSet)), None)
+    orbit = next((f.orbit for f in fields if isinstance(f, OrbitField)), None)
     if lvlh is None and orbit is not None:
         lvlh = LvlhRows(telemetry.t, ["base CoM"], base_in_lvlh(orbit, telemetry).position[:, None, :])
     residuals = None
-    if setup.environment and len(telemetry.t) >= 2 and "conservation_balance" in drawn(setup.scene):
-        residuals = balance(robot, telemetry, wrenches, sim.control_period, setup.environment)
+    if fields and len(telemetry.t) >= 2 and "conservation_balance" in drawn(setup.scene):
+        residuals = balance(robot, telemetry, wrenches, sim.control_period, fields)
     if setup.scene.output.figures and len(telemetry.t) >= 2:
         left_out = empty_figures(robot, telemetry, spin)
         if approach is not None and "joint_errors" in left_out:

@@ -28,6 +28,7 @@ def lvlh_figure(t: np.ndarray, names: list[str], positions: np.ndarray) -> Figur
         line, = plane.plot(positions[shown, k, 1], positions[shown, k, 0], label=name)
         first = np.flatnonzero(np.isfinite(positions[:, k, 0]))
         if len(first):
-            plane.plot(positions[first[0], k, 1], positions[first[0], k, 0], "o", color=line.get_color(), label="_")
+            plane.plot(positions[first[0], k, 1], positions[first[0], k, 0], marker="o", color=line.get_color(),
+                       linestyle="none", linewidth=line.get_linewidth(), label="_")  # all cycled keys: the cycle stays
     finish(plane, "y along-track (m)", "x radial (m)", "path in the orbit plane, o start")
     return fig
