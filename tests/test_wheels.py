@@ -219,14 +219,17 @@ def test_attitude_without_wheels_is_refused(tmp_path):
 
 
 @pytest.mark.parametrize(("sections", "message"), [
-    ({"simulation": {"lock": "auto"}}, r"'robot.locked_joints' and 'simulation.lock' are not available with \[\[wheels\]\]"),
+    ({"robot": {"locked_joints": ["wheel_y", "left_wrist_3_joint"]}},
+     r"'robot.locked_joints' names the reaction wheel wheel_y, which \[attitude\] drives"),
     ({"task": {"kind": "detumble", "rows": ["left_tool0:wz"]}}, r"'task.mission_joints' must list the arm joints"),
-    ({"target": {"end_effector": "left_tool0"}}, r"\[target\] \(a capture\) is not available with \[\[wheels\]\]"),
+    ({"target": {"end_effector": "left_tool0", "second_end_effector": "right_tool0"}},
+     r"\[\[wheels\]\] run in joint_space, detumbling, capture scenes; this two_hand_capture scene"),
     ({"simulation": {"model": "standard"}}, r"'simulation.model' = 'standard': a scene with \[\[wheels\]\] simulates"),
 ])
 def test_what_wheels_cannot_go_with_is_refused(tmp_path, sections, message):
-    """Wheels with joint locking, with a detumbling task that would count the wheels among its
-    mission joints, in a capture scene or on a GJM plant are refused, naming the key."""
+    """A locked wheel, a detumbling task that would count the wheels among its mission joints, a
+    two-hand capture (its loop's squeeze law knows no wheels) or a GJM plant are refused with
+    wheels, naming the key."""
     from .conftest import quiet_scene
 
     with pytest.raises(SceneError, match=message):
