@@ -166,8 +166,8 @@ class Wheels:
         model, moved = robot.model, []
         for w in self.wheels:
             if not model.existJointName(w.name):
-                raise RobotModelError(f"{robot.urdf_path.name}: the reduced model has no joint '{w.name}' (a reaction "
-                                      "wheel cannot be locked)")
+                raise RobotModelError(f"{robot.urdf_path.name}: no joint '{w.name}' to carry the reaction wheel (a wheel "
+                                      "cannot be locked)")
             j = model.getJointId(w.name)
             moved.append(dataclasses.replace(w, joint_id=j, v_index=int(model.idx_vs[j]),
                                              column=int(model.idx_vs[j]) - robot.n_base))
