@@ -65,7 +65,8 @@ def test_a_capture_with_wheels_keeps_the_balance_across_the_grasp(tmp_path):
     """Through the approach, the grasp's impulse and the detumbling, the wheels' stored momentum
     plus the rest of robot and target is the start value to the integrator's error: the balance is
     no more than the total momentum's drift (Pinocchio's centroidal momentum of the robot and the
-    free target, then of the merged robot), which the grasp itself does not move (round-off)."""
+    free target, then of the merged robot), which the grasp itself does not move (round-off); the
+    wheels' saturations after the grasp are told on the scene's clock."""
     scene = variant(tmp_path, "capture_wheels", **SHORT_CAPTURE)
     setup = prepare(scene)
     outcome = simulate(scene)
@@ -83,6 +84,8 @@ def test_a_capture_with_wheels_keeps_the_balance_across_the_grasp(tmp_path):
     assert abs(drift[grasp] - drift[grasp - 1]) < 1e-13 * np.abs(total).max()  # the impulse is internal
     assert scale > 1.0 and outcome.summary["wheel_momentum_balance_max"] == balance
     assert balance <= 2.0 * drift.max() + 1e-13 * scale
+    events = outcome.summary["wheel_saturation_events"]  # on the scene's clock: the grasp's torque peak
+    assert events and min(e["t"] for e in events) >= outcome.summary["impact_time"] > 0.2
     assert np.allclose(rows.stored + rows.rest, total, rtol=0.0, atol=2.0 * drift.max() + 1e-13 * np.abs(total).max())
 
 

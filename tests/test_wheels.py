@@ -308,3 +308,22 @@ def test_a_rotor_above_a_planar_base_s_plane_keeps_the_planar_balance():
     rows = wheel_telemetry(wheels, tel, (), 0.005)
     assert np.abs(rows.rest[:, :2] - rows.rest[0, :2]).max() > 1e-4  # the reactions do change Lx, Ly
     assert np.abs(rows.balance).max() < 1e-8 and conservation(tel, wheels.robot)["momentum_drift_max"] < 1e-8
+
+
+def test_wheels_moved_to_a_reduced_robot_keep_their_joints_and_a_locked_wheel_is_refused():
+    """``Wheels.on`` a robot with an arm joint locked reads each wheel's indices from the reduced
+    model (the rate of the same joint, by name); on one with a wheel locked it is refused naming the
+    wheel."""
+    from freefloat import load_robot
+
+    robot = load_robot("two_arm_planar", base="planar", visuals=False)
+    wheels = mount_wheels(robot, [WheelSpec("wz", 1.0, 1.0, axis=(0.0, 0.0, 1.0), key="wheels[0]")])
+    full = wheels.robot
+    q = full.neutral()
+    reduced = lock_joints(full, [full.joint_names[0]], q).robot
+    moved = wheels.on(reduced)
+    wheel = moved.wheels[0]
+    assert reduced.model.names[wheel.joint_id] == "wz" and wheel.v_index == reduced.model.idx_vs[wheel.joint_id]
+    assert wheel.column == wheels.wheels[0].column - 1 and wheel.inertia == wheels.wheels[0].inertia
+    with pytest.raises(RobotModelError, match=r"no joint 'wz' to carry the reaction wheel"):
+        wheels.on(lock_joints(full, ["wz"], q).robot)
