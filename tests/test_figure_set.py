@@ -107,6 +107,7 @@ DETUMBLING = MOTION | SPIN | {"joint_errors", "torques", "conservation_balance"}
 CALLED_FOR = {
     "capture_planar": CAPTURE, "capture_satellite": CAPTURE, "capture_identified": CAPTURE,
     "capture_in_orbit": CAPTURE - {"com_drift"} | {"conservation_balance", "relative_orbit"},
+    "capture_wheels": CAPTURE | {"reaction_wheels"},
     **dict.fromkeys(("capture_planned_planar", "capture_planned_planar_pose", "capture_planned_satellite"),
                     CAPTURE | {"approach_joint_errors"}),
     **dict.fromkeys(("capture_two_hands_planar", "capture_two_hands_satellite"), CAPTURE | {"closed_loop"}),
