@@ -4,6 +4,7 @@ entry or an unusable folder is never an error nor a different model."""
 
 from __future__ import annotations
 
+import os
 import warnings
 from pathlib import Path
 
@@ -291,3 +292,23 @@ def test_the_tests_never_use_the_users_cache():
 
     assert load_cache.cache_folder() == Path(CACHE_DIR) / "robots"
     assert not Path(CACHE_DIR).is_relative_to(Path.home() / ".cache")
+
+
+def test_the_least_recently_used_entries_beyond_the_limit_are_removed(tmp_path, cache, checks, monkeypatch):
+    """Beyond MAX_ENTRIES the entry used longest ago goes (a hit counts as a use); files that are
+    not entries stay."""
+    monkeypatch.setattr(load_cache, "MAX_ENTRIES", 2)
+    entries = {}
+    for name in ("a", "b"):
+        before = set(cache.glob("*.json"))
+        loaded(write(tmp_path / name, URDF.replace('mass value="2"', f'mass value="{len(entries) + 3}"')))
+        (entries[name],) = set(cache.glob("*.json")) - before
+    for age, name in enumerate(("a", "b")):
+        os.utime(entries[name], ns=(10**18 + age, 10**18 + age))
+    keep = [cache / "notes.txt", cache / ("0" * 64 + ".bin")]
+    for path in keep:
+        path.write_text("a user's file")
+    loaded(tmp_path / "a" / "c.urdf")  # a hit: "a" is now the most recently used
+    loaded(write(tmp_path / "c", URDF))
+    assert len(checks) == 3 and entries["a"].exists() and not entries["b"].exists()
+    assert len(list(cache.glob("*.json"))) == 2 and all(path.read_text() == "a user's file" for path in keep)

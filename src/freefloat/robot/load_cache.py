@@ -15,8 +15,9 @@ Pinocchio's and numpy's). Gravity is no part of the key: it is set on the model 
 An entry is one file, ``<key>.json``, whose first line is the sha256 of the rest: an entry
 freefloat did not write whole (cut short, edited, another format) is ignored and written again,
 never an error and never a different model. It is written to a temporary file and renamed, so
-another process reads the old entry or the new one; an unwritable folder means no cache. No
-entry is ever executed (JSON, and Pinocchio's text archive of the model, never pickle).
+another process reads the old entry or the new one; an unwritable folder means no cache. A folder
+keeps the :data:`MAX_ENTRIES` most recently used entries. No entry is ever executed (JSON, and
+Pinocchio's text archive of the model, never pickle).
 
 Where: ``$FREEFLOAT_CACHE_DIR/robots`` (empty: no cache), else ``$XDG_CACHE_HOME/freefloat/robots``,
 else ``~/.cache/freefloat/robots``. Deleting the folder at any time is safe.
@@ -29,6 +30,7 @@ import functools
 import hashlib
 import json
 import os
+import re
 import tempfile
 from dataclasses import dataclass
 from importlib.metadata import PackageNotFoundError, version
@@ -44,6 +46,11 @@ from .visuals import MissingMesh
 FORMAT = 1
 #: The environment variable naming the cache folder (empty: no cache).
 CACHE_DIR_VARIABLE = "FREEFLOAT_CACHE_DIR"
+#: Entries a folder keeps; writing one more removes the least recently used (about 2.5 kB per joint
+#: each: 470 kB for 192 joints).
+MAX_ENTRIES = 200
+#: The name of an entry file: the sha256 of its inputs (the only files the cache reads or removes).
+ENTRY_NAME = re.compile(r"[0-9a-f]{64}\.json")
 
 
 @dataclass
@@ -103,8 +110,9 @@ def entry_inputs(raw: bytes, path: Path, base: str, end_effectors: list[str] | t
 def read(folder: Path, inputs: dict) -> CheckedLoad | None:
     """The entry of ``inputs`` in ``folder``; None when there is none or it is not one freefloat
     wrote whole for these inputs."""
+    entry_file = folder / _file_name(inputs)
     try:
-        digest, _, body = (folder / _file_name(inputs)).read_bytes().partition(b"\n")
+        digest, _, body = entry_file.read_bytes().partition(b"\n")
         if hashlib.sha256(body).hexdigest().encode() != digest:
             return None
         entry = json.loads(body)
@@ -112,6 +120,8 @@ def read(folder: Path, inputs: dict) -> CheckedLoad | None:
             return None
         model = pin.Model()
         model.loadFromString(entry["model"])
+        with contextlib.suppress(OSError):  # recently used (a read-only folder keeps its times)
+            os.utime(entry_file)
         return CheckedLoad(
             model=model, base_link=str(entry["base_link"]), base_com=np.array(entry["base_com"], dtype=float),
             base_com_rotation=np.array(entry["base_com_rotation"], dtype=float),
@@ -144,8 +154,22 @@ def write(folder: Path, inputs: dict, checked: CheckedLoad) -> None:
             with contextlib.suppress(OSError):
                 os.unlink(temporary)
             raise
+        _forget_the_oldest(folder)
     except OSError:
         return
+
+
+def _forget_the_oldest(folder: Path) -> None:
+    """Remove the least recently used entries of ``folder`` beyond :data:`MAX_ENTRIES` (entry
+    files only: :data:`ENTRY_NAME`)."""
+    entries = []
+    for entry in os.scandir(folder):
+        if ENTRY_NAME.fullmatch(entry.name):
+            with contextlib.suppress(OSError):  # removed meanwhile by another process
+                entries.append((entry.stat().st_mtime_ns, entry.path))
+    for _, path in sorted(entries)[:max(0, len(entries) - MAX_ENTRIES)]:
+        with contextlib.suppress(OSError):
+            os.unlink(path)
 
 
 def _file_name(inputs: dict) -> str:
