@@ -40,6 +40,7 @@ def origin_momentum(model: pin.Model, q: np.ndarray, v: np.ndarray) -> np.ndarra
     return np.concatenate((h.linear, h.angular + np.cross(com, h.linear)))
 
 
+@pytest.mark.slow
 def test_slow_approach_latches_and_keeps_momentum(latched):
     """At 0.01 m/s the hand holds the target below the latch speed for the hold time: captured,
     no rebound, the run going on welded to the end; robot + target [P; L] (Pinocchio's centroidal
@@ -63,6 +64,7 @@ def test_slow_approach_latches_and_keeps_momentum(latched):
     assert np.linalg.norm(relative) < 1e-6
 
 
+@pytest.mark.slow
 def test_fast_approach_rebounds():
     """At 0.2 m/s (contact_rebound_fast) the relative speed is below the latch speed only about
     the deepest point, for less than the hold time: no latch, the target leaves the hand."""
@@ -90,6 +92,7 @@ def test_at_approach_scales_speed_and_stiffness():
     assert contact.stiffness == 1e5 and contact.damping / contact.stiffness == pytest.approx(5.0)
 
 
+@pytest.mark.slow
 def test_until_decided_ends_at_the_latch_or_the_separation():
     """The atlas's short run ends at the latch (slow) or once apart and separating (fast), with
     the outcome of the whole run."""
@@ -131,6 +134,7 @@ def test_bad_scenes_are_refused_naming_the_key(edits, message):
         prepare(parse_scene(raw_scene(**edits)))
 
 
+@pytest.mark.slow
 def test_the_cli_writes_the_contact_figure(tmp_path):
     """``freefloat simulate contact_rebound_fast`` writes the ``contact`` figure."""
     from freefloat.app.cli import main
