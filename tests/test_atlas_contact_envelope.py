@@ -56,6 +56,17 @@ def test_a_point_agrees_with_the_scene_run_at_its_settings(envelope, index):
     assert summary["contact_peak_force"] == pytest.approx(envelope.result["peak_force"][index], rel=1e-9)
 
 
+def test_an_interrupted_point_interrupts_the_chunk():
+    """A stop request (Ctrl-C, SIGTERM) during a point raises KeyboardInterrupt instead of
+    recording the cut run's outcome, so the engine journals no unfinished chunk."""
+    from freefloat.app.atlas import contact_envelope
+    from freefloat.dynamics.stop_request import stopping
+
+    context = contact_envelope.prepare("contact_capture", Options())
+    with stopping(), pytest.raises(KeyboardInterrupt):
+        contact_envelope.evaluate(context, np.array([[0.01, 4.0]]))
+
+
 def test_a_scene_without_a_latch_is_refused():
     """A scene that is not a capture by contact is refused naming it."""
     with pytest.raises(SceneError, match="'tumbling' is not a capture by contact"):

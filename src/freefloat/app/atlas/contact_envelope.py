@@ -22,7 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ...errors import SceneError
+from ...errors import SceneError, SimulationDiverged
 from .grid import Axis, Grid
 from .kinds import Options
 
@@ -91,7 +91,12 @@ def grid(context: ContactEnvelopeContext, options: Options) -> Grid:
 def evaluate(context: ContactEnvelopeContext, points: np.ndarray) -> dict[str, np.ndarray]:
     """Per point (m, 2) of (speed m/s, log10 stiffness): ``outcome`` (m,) int (index into
     :data:`~..experiments.contact_capture.OUTCOMES`), ``peak_force`` (N), ``max_penetration`` (m),
-    ``latch_time`` (s, NaN without a latch) (m,)."""
+    ``latch_time`` (s, NaN without a latch) (m,).
+
+    Raises:
+        KeyboardInterrupt: a run interrupted (Ctrl-C, SIGTERM: the engine keeps the chunks journaled before).
+        SimulationDiverged: a run that diverged, naming its point.
+    """
     from ..experiments.contact_capture import OUTCOMES, at_approach, capture, contact_rows
     from ..experiments.contact_capture import prepare as prepare_scene
 
@@ -101,6 +106,11 @@ def evaluate(context: ContactEnvelopeContext, points: np.ndarray) -> dict[str, n
     for k, (speed, log_stiffness) in enumerate(points):
         setup = prepare_scene(at_approach(scene, float(speed), 10.0 ** float(log_stiffness)))
         done = capture(setup, until_decided=True)
+        if done.result.status == "interrupted":  # Ctrl-C or SIGTERM: the chunk is not finished, nothing journaled
+            raise KeyboardInterrupt
+        if done.result.status == "diverged":
+            raise SimulationDiverged(f"atlas contact_envelope {context.scene}: the run at {speed:g} m/s, stiffness "
+                                     f"{10.0 ** log_stiffness:g} diverged: {done.result.message}")
         rows = contact_rows(setup.field, done.result.telemetry, done.latch_time)
         out["outcome"][k] = OUTCOMES.index(done.outcome)
         out["peak_force"][k], out["max_penetration"][k] = rows.force.max(), rows.depth.max()
