@@ -25,6 +25,7 @@ import numpy as np
 from ...errors import SceneError, SimulationDiverged
 from .grid import Axis, Grid
 from .kinds import Options
+from .outcome_maps import cell_extent, outcome_panel, write_map
 
 OPTIONS = frozenset({"grid"})
 #: Points per axis of the default grid.
@@ -141,30 +142,19 @@ def figures(context: ContactEnvelopeContext, grid: Grid, result: dict[str, np.nd
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    from matplotlib.colors import ListedColormap
 
     from ..experiments.contact_capture import OUTCOMES
 
     a, b = grid.axes
-    half = [(axis.high - axis.low) / max(axis.n - 1, 1) / 2 for axis in (a, b)]
-    extent = (a.low - half[0], a.high + half[0], b.low - half[1], b.high + half[1])
     fig, axes = plt.subplots(1, 2, figsize=(11, 4.5))
-    image = axes[0].imshow(result["outcome"].reshape(grid.shape).T, origin="lower", extent=extent, aspect="auto",
-                           cmap=ListedColormap(["#2a9d8f", "#e76f51", "#8d99ae"]), vmin=-0.5,
-                           vmax=len(OUTCOMES) - 0.5)
-    bar = fig.colorbar(image, ax=axes[0], ticks=range(len(OUTCOMES)), shrink=0.8)
-    bar.ax.set_yticklabels(OUTCOMES, fontsize=8)
-    axes[0].set_title("outcome of the contact", fontsize=9)
+    outcome_panel(fig, axes[0], grid, result["outcome"], OUTCOMES, ["#2a9d8f", "#e76f51", "#8d99ae"],
+                  "outcome of the contact", "auto")
     force = np.log10(np.maximum(result["peak_force"], 1e-16)).reshape(grid.shape).T
-    image = axes[1].imshow(np.ma.masked_invalid(force), origin="lower", extent=extent, aspect="auto", cmap="viridis")
+    image = axes[1].imshow(np.ma.masked_invalid(force), origin="lower", extent=cell_extent(grid), aspect="auto",
+                           cmap="viridis")
     fig.colorbar(image, ax=axes[1], shrink=0.8)
     axes[1].set_title("log10 peak contact force (N)", fontsize=9)
     for ax in axes:
         ax.set_xlabel(f"approach speed ({a.unit})")
         ax.set_ylabel(f"stiffness, {b.unit}")
-    fig.suptitle(f"contact envelope: {context.scene}", fontsize=10)
-    fig.tight_layout()
-    path = out / "contact_envelope.png"
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return [path]
+    return write_map(fig, f"contact envelope: {context.scene}", out / "contact_envelope.png")
