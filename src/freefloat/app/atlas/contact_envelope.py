@@ -10,7 +10,7 @@ short simulation (:func:`~..experiments.contact_capture.capture` with ``until_de
 at the latch, or once the shapes are apart and separating after touching, or at the scene's
 duration). The map holds, per point, the outcome (0 latched, 1 rebound, 2 neither: no latch nor
 separation within the duration), the peak contact force (N) and penetration (m) seen at a
-period end, and the latch time (s, NaN without a latch). ``--grid`` points per axis (default 4).
+period end, and the latch time (s, NaN without a latch). ``--grid`` points per axis (default 3).
 """
 
 from __future__ import annotations
@@ -29,7 +29,7 @@ from .outcome_maps import cell_extent, outcome_panel, write_map
 
 OPTIONS = frozenset({"grid"})
 #: Points per axis of the default grid.
-POINTS = 4
+POINTS = 3
 #: The speed axis's ends, times the scene's latch speed.
 SPEEDS = (0.5, 10.0)
 #: The stiffness axis's ends, times the scene's stiffness.
