@@ -36,6 +36,7 @@ from ...dynamics.wrenches import ExternalWrench
 from ...errors import InvalidArgument, SceneError
 from ...space.contact.field import WORLD, ContactField, ContactSettings
 from ...space.contact.latch import Latch, LatchWatch, close_weld
+from ...space.contact.summary import contact_summary
 from ...space.contact.target import TARGET, target_state, with_free_target
 from ...space.dual_capture import grasp_welds
 from ..environments import ENVIRONMENTS
@@ -137,6 +138,7 @@ def prepare(scene: Scene) -> ContactCaptureSetup:
         raise SceneError(f"{where}[[environment]] {exc}") from exc
     settings = contacts[0]
     field = next(f for f, e in zip(fields, scene.environment) if e.settings is settings)
+    hand = settings.second if settings.first == TARGET else settings.first
     sim = scene.simulation
     return ContactCaptureSetup(
         scene=scene, robot=robot, q0=np.concatenate((base.q0, qt)), v0=np.concatenate((base.v0, vt)),
@@ -146,7 +148,7 @@ def prepare(scene: Scene) -> ContactCaptureSetup:
         environment=tuple(f for f in fields if not isinstance(f, ExternalWrench)),
         environment_summaries=tuple(partial(spec.summarise, f, robot) for spec, f in zip(specs, fields)
                                     if spec.summarise is not None),
-        settings=settings, field=field, hand=settings.second if settings.first == TARGET else settings.first,
+        settings=settings, field=field, hand=hand,
         latch=scene.sections.get("latch"))
 
 
@@ -204,7 +206,8 @@ def capture(setup: ContactCaptureSetup, progress: Progress | None = None, checkp
     result = engine(setup.q0, setup.v0, sim.duration, setup.model, 0.0, 0,
                     None if watch is None and not until_decided else stop)
     if watch is None or watch.closed_at is None:
-        rebound = result.status == "stopped" if until_decided else _rebounded(field, result.telemetry)
+        rebound = (result.status == "stopped" if until_decided
+                   else contact_summary(field, setup.robot, result.telemetry)["contact_outcome"] == "rebound")
         return Capture(result, None, None, "rebound" if rebound else "neither")
     latched = watch.closed_at
     q, v = result.telemetry.q[-1], result.telemetry.v[-1]
@@ -220,13 +223,6 @@ def capture(setup: ContactCaptureSetup, progress: Progress | None = None, checkp
                   result.steps + after.steps, result.wall_time_s + after.wall_time_s,
                   result.evaluations + after.evaluations, after.backend)
     return Capture(both, latched, hit.gap_speed_before, "latched")
-
-
-def _rebounded(field: ContactField, telemetry: Telemetry) -> bool:
-    """Whether the shapes touched at some row and are apart and separating at the last."""
-    touched = any(field.contact(q, v) is not None for q, v in zip(telemetry.q, telemetry.v))
-    near, velocity = field.nearest(telemetry.q[-1], telemetry.v[-1])
-    return touched and near.depth <= 0.0 and float(near.normal @ velocity) > 0.0
 
 
 class ContactRows(NamedTuple):
