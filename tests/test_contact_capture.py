@@ -45,7 +45,8 @@ def test_slow_approach_latches_and_keeps_momentum(latched):
     """At 0.01 m/s the hand holds the target below the latch speed for the hold time: captured,
     no rebound, the run going on welded to the end; robot + target [P; L] (Pinocchio's centroidal
     momentum moved to the origin, every row, the rows before and after the weld's impulse
-    included) changes by < 1e-9 N s (the issue's aim; the contact and the weld are internal)."""
+    included) changes by < 1e-9 N s (the issue's aim; the contact and the weld are internal), and
+    the weld takes the kinetic energy of the velocity jump it makes."""
     scene, outcome = latched
     s = outcome.summary
     assert s["captured"] is True and s["rebound"] is False and outcome.status == "completed"
@@ -60,6 +61,13 @@ def test_slow_approach_latches_and_keeps_momentum(latched):
     assert np.abs(momenta[0, :3] - 5.0 * np.array(scene.sections["free_target"].velocity)).max() < 1e-15
     assert abs(momenta[0, 5]) > 1e-3  # an eccentric approach: the angular momentum about the origin is not zero
     assert s["capture_momentum_drift"] < 1e-9
+    # the weld's impulse is perfectly inelastic: it takes the kinetic energy of the velocity change it
+    # makes, 0.5 dv^T M dv (Carnot's theorem), read from the two rows at the latch's time
+    k = int(np.flatnonzero(tel.t == s["latch_time"])[0])
+    dv = tel.v[k + 1] - tel.v[k]
+    mass = pin.crba(setup.robot.model, setup.robot.model.createData(), tel.q[k])
+    mass = np.triu(mass) + np.triu(mass, 1).T
+    assert s["latch_energy_loss"] == pytest.approx(0.5 * dv @ mass @ dv, rel=1e-9)
     # after the latch the hand and the target move as one: their relative speed at the contact is gone
     near, relative = setup.field.nearest(tel.q[-1], tel.v[-1])
     assert np.linalg.norm(relative) < 1e-6

@@ -89,12 +89,15 @@ class Capture(NamedTuple):
         gap_speed: the hand-target relative twist the weld's impulse removed (m/s and rad/s rows
             together; None without a latch).
         outcome: an entry of :data:`OUTCOMES`.
+        energy_loss: the kinetic energy the weld's impulse took (J, >= 0: a perfectly inelastic
+            closure; None without a latch).
     """
 
     result: Result
     latch_time: float | None
     gap_speed: float | None
     outcome: str
+    energy_loss: float | None = None
 
 
 def takes(scene: object) -> bool:
@@ -212,17 +215,19 @@ def capture(setup: ContactCaptureSetup, progress: Progress | None = None, checkp
     latched = watch.closed_at
     q, v = result.telemetry.q[-1], result.telemetry.v[-1]
     hit = close_weld(setup.robot.model, setup.hand, q, v)
+    data = setup.robot.model.createData()
+    loss = pin.computeKineticEnergy(setup.robot.model, data, q, v) - pin.computeKineticEnergy(
+        setup.robot.model, data, q, hit.v_after)
     left = control_steps(scene) - round(latched / sim.control_period)
     if until_decided or left <= 0:
-        return Capture(result, latched, hit.gap_speed_before, "latched")
-    data = setup.robot.model.createData()
+        return Capture(result, latched, hit.gap_speed_before, "latched", loss)
     pin.forwardKinematics(setup.robot.model, data, q)
     welded = ClosedModel(setup.robot, grasp_welds(setup.robot.model, data, (setup.hand,)), sim.baumgarte)
     after = engine(q, hit.v_after, left * sim.control_period, welded, latched, result.steps, None)
     both = Result(Telemetry.concatenate([result.telemetry, after.telemetry]), after.status, after.message,
                   result.steps + after.steps, result.wall_time_s + after.wall_time_s,
                   result.evaluations + after.evaluations, after.backend)
-    return Capture(both, latched, hit.gap_speed_before, "latched")
+    return Capture(both, latched, hit.gap_speed_before, "latched", loss)
 
 
 class ContactRows(NamedTuple):
@@ -256,6 +261,7 @@ def run(setup: ContactCaptureSetup, progress: Progress | None = None, checkpoint
     momentum = tel.momentum - tel.momentum[0]
     summary = summary_of(setup, done.result, captured=done.latch_time is not None, latch_time=done.latch_time,
                          rebound=done.outcome == "rebound", latch_gap_speed=done.gap_speed,
+                         latch_energy_loss=done.energy_loss,
                          capture_momentum_drift=float(np.abs(momentum).max()),
                          capture_wall_time_s=time.perf_counter() - start)
     outcome = robot_outcome(setup, setup.robot, tel, done.result, summary, task_headline=TASK_HEADLINE,
@@ -266,9 +272,10 @@ def run(setup: ContactCaptureSetup, progress: Progress | None = None, checkpoint
 
 
 #: The headline keys: the capture's outcome, then the contact's.
-TASK_HEADLINE = ("captured", "latch_time", "rebound", "capture_momentum_drift")
+TASK_HEADLINE = ("captured", "latch_time", "rebound", "latch_energy_loss", "capture_momentum_drift")
 #: The unit of each key this kind adds.
 UNITS = {"captured": "", "latch_time": "s", "rebound": "", "latch_gap_speed": "m/s or rad/s",
+         "latch_energy_loss": "J",
          "capture_momentum_drift": "N s or N m s", "capture_wall_time_s": "s"}
 
 EXPERIMENT = Experiment("contact_capture", "a free target drifts into a hand: contact, then a latch closes the weld "
