@@ -127,6 +127,7 @@ CALLED_FOR = {
     "satellite_thruster_hold": JOINT_SPACE - {"com_drift"} | {"conservation_balance", "thrusters"},
     "satellite_hands_joined": MOTION | {"com_drift", "closed_loop"},
     "tumbling": MOTION | {"com_drift"}, "orbit_libration": MOTION | {"conservation_balance", "relative_orbit"},
+    **dict.fromkeys(("contact_capture", "contact_rebound_fast"), MOTION | {"com_drift", "contact"}),
 }
 
 
