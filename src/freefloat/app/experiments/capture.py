@@ -88,6 +88,19 @@ def prepare(scene: Scene) -> CaptureSetup:
                         **planned(scene, setup, (tg.end_effector,), (GraspMotion.of(target),)))
 
 
+def refuse_environment(scene: Scene, what: str) -> None:
+    """Refuse a scene with an ``[[environment]]`` for a capture that flies in none (``what``
+    names it: "a two-hand capture"), instead of running it as if the entry were not there.
+
+    Raises:
+        SceneError: naming the first entry's kind.
+    """
+    if scene.environment:
+        raise SceneError(f"{scene.source or f'scene {scene.name!r}'}: [[environment]] kind "
+                         f"'{scene.environment[0].kind}' is not applied by {what} (only the one-hand capture flies "
+                         "in an 'orbit'): remove it")
+
+
 def capture_fields(setup) -> Environment | None:
     """The fields a capture flies in: those of the scene's orbits (``[[environment]] kind =
     "orbit"``) on any robot or body, ``fields(model, start)`` for a run starting at ``start`` s
