@@ -353,3 +353,19 @@ def test_make_model_refuses_a_robot_that_is_not_a_robot(robot):
 
     with pytest.raises(InvalidArgument, match=r"'robot' takes a Robot \(freefloat.load_robot\)"):
         make_model("standard", robot)
+
+
+def test_the_exact_model_allocates_its_data_on_first_use(four_arm):
+    """ExactModel builds its pin.Data only when an evaluation needs it (a compiled run never
+    does), and then gives Pinocchio's ABA."""
+    import pinocchio as pin
+
+    from freefloat.dynamics.models.exact import ExactModel
+
+    model = ExactModel(four_arm)
+    assert "data" not in vars(model)
+    q, v = random_state(four_arm, np.random.default_rng(0))
+    tau = np.zeros(four_arm.model.nv)
+    a = model.acceleration(q, v, tau)
+    assert "data" in vars(model)
+    np.testing.assert_allclose(a, pin.aba(four_arm.model, four_arm.model.createData(), q, v, tau), rtol=0, atol=1e-12)

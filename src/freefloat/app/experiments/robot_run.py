@@ -36,7 +36,7 @@ from ..environments import ENVIRONMENTS, environment_units
 from ..figure_set import drawn
 from ..scenes import Scene, resolve_file
 from .base import Checkpoint, Outcome, Progress
-from .budget import check_budget, seconds_per_call
+from .budget import check_budget, seconds_per_call_once
 from .locked_run import full_telemetry, lock_for
 from .scene_closures import assemble, scene_closures
 from .sensor_summary import HEADLINE as SENSOR_HEADLINE
@@ -230,7 +230,8 @@ def check_run_size(setup: RobotSetup) -> None:
     memory = 2 * (steps // sim.record_every + 2) * row  # the chunks, then their concatenation
     q0, v0 = setup.plant_state()
     tau = np.zeros(len(v0))
-    per_call = seconds_per_call(lambda: setup.model.acceleration(q0, v0, tau))
+    structure = (type(setup.model).__name__, getattr(setup.model, "name", ""), model.nq, model.nv, tuple(model.names))
+    per_call = seconds_per_call_once(structure, lambda: setup.model.acceleration(q0, v0, tau))
     calls = steps * sim.substeps * INTEGRATORS[sim.integrator].stages
     keys = "'simulation.duration', 'control_period', 'substeps'" + (", 'record_every' and 'target.contact_time'"
                                                                    if scene.target else " and 'record_every'")
