@@ -453,6 +453,19 @@ def _short(tmp_path: Path) -> Path:
                          output={"figures": False, "html": False})
 
 
+def test_a_scene_without_figures_leaves_no_figure_helper(tmp_path, monkeypatch):
+    """simulate starts the figure helper before its imports, and ends it once the scene turns
+    out to draw no figure."""
+    from freefloat.app.viz import rendering
+
+    started = []
+    monkeypatch.setattr(rendering, "_helper", None)
+    real = rendering.warm_up
+    monkeypatch.setattr(rendering, "warm_up", lambda: (real(), started.append(rendering._helper)))
+    assert main(["simulate", str(_short(tmp_path)), "--out", str(tmp_path / "out"), "--quiet"]) == 0
+    assert started and started[0].poll() is not None and rendering._helper is None
+
+
 def test_a_warning_is_shown_once_per_process(tmp_path, capsys, fresh_warnings):
     """Two runs in one process (a script calling main twice) show the robot's note once."""
     for out in ("a", "b"):

@@ -120,6 +120,10 @@ def main(argv: list[str] | None = None) -> int:
     try:
         early_too = arrived_before_main()
         with signals_deferred() as early:  # Ctrl-C while importing: trimesh would swallow it
+            if args.command == "simulate" and not args.no_figures and args.figures != "":
+                from .viz import rendering
+
+                rendering.warm_up()  # its imports overlap this process's (the scene may still want none)
             if args.command in heavy:
                 importlib.import_module(heavy[args.command], __package__)
         if early.is_set() or early_too:
@@ -381,10 +385,12 @@ def _simulate(args: argparse.Namespace) -> int:
         output = dataclasses.replace(scene.output, figures=scene.output.figures and not args.no_figures,
                                      html=scene.output.html and not args.no_html)
         scene = dataclasses.replace(scene, output=output)
-    if scene.output.figures:
-        from .viz import rendering
+    from .viz import rendering
 
-        rendering.warm_up()  # the figure helper starts while this process imports, prepares and simulates
+    if scene.output.figures:
+        rendering.warm_up()  # started by main() already, before the imports
+    else:
+        rendering.cool_down()  # a scene without figures: its helper's imports would only slow the run
     from .runner import prepare, simulate, total_steps
 
     out = args.out or default_folder(scene.name)

@@ -60,6 +60,15 @@ def warm_up() -> None:
         atexit.register(_stop, _helper)
 
 
+def cool_down() -> None:
+    """End the helper :func:`warm_up` started, before any job was sent to it (the command has
+    nothing to draw after all); the next :func:`warm_up` starts another."""
+    global _helper
+    if _helper is not None:
+        _stop(_helper)
+        _helper = None
+
+
 def in_helper() -> bool:
     """Whether this process is the figure helper."""
     return _in_helper
