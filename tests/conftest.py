@@ -2,8 +2,11 @@
 
 from __future__ import annotations
 
+import os
+import shutil
 import subprocess
 import sys
+import tempfile
 import warnings
 from pathlib import Path
 
@@ -22,6 +25,17 @@ def pinocchio_seeded():
     import pinocchio as pin
 
     pin.seed(0)
+
+
+#: freefloat's on-disk cache of robot loads for this session (``FREEFLOAT_CACHE_DIR``), for the tests and the
+#: commands they start, set before any test module is imported: never the user's own cache.
+CACHE_DIR = tempfile.mkdtemp(prefix="freefloat-test-cache-")
+os.environ["FREEFLOAT_CACHE_DIR"] = CACHE_DIR
+
+
+def pytest_unconfigure(config):
+    """The session's cache folder removed at its end."""
+    shutil.rmtree(CACHE_DIR, ignore_errors=True)
 
 
 REPO = Path(__file__).resolve().parents[1]

@@ -31,6 +31,8 @@ def old_kind(scene) -> str:
     """The kind as the scene schema hand-listed it before the experiments declared what they take."""
     if isinstance(scene, MechanismScene):
         return "mechanism"
+    if "free_target" in scene.sections:
+        return "contact_capture"
     if scene.target is not None:
         if scene.target.second_end_effector:
             return "two_hand_capture"

@@ -106,6 +106,7 @@ DETUMBLING = MOTION | SPIN | {"joint_errors", "torques", "conservation_balance"}
 #: The figures each built-in scene's task and controller call for.
 CALLED_FOR = {
     "capture_planar": CAPTURE, "capture_satellite": CAPTURE, "capture_identified": CAPTURE,
+    "capture_wheels": CAPTURE | {"reaction_wheels"},
     **dict.fromkeys(("capture_planned_planar", "capture_planned_planar_pose", "capture_planned_satellite"),
                     CAPTURE | {"approach_joint_errors"}),
     **dict.fromkeys(("capture_two_hands_planar", "capture_two_hands_satellite"), CAPTURE | {"closed_loop"}),
@@ -125,6 +126,7 @@ CALLED_FOR = {
     "satellite_thruster_hold": JOINT_SPACE - {"com_drift"} | {"conservation_balance"},
     "satellite_hands_joined": MOTION | {"com_drift", "closed_loop"},
     "tumbling": MOTION | {"com_drift"}, "orbit_libration": MOTION | {"conservation_balance"},
+    **dict.fromkeys(("contact_capture", "contact_rebound_fast"), MOTION | {"com_drift", "contact"}),
 }
 
 

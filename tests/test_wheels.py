@@ -219,14 +219,17 @@ def test_attitude_without_wheels_is_refused(tmp_path):
 
 
 @pytest.mark.parametrize(("sections", "message"), [
-    ({"simulation": {"lock": "auto"}}, r"'robot.locked_joints' and 'simulation.lock' are not available with \[\[wheels\]\]"),
+    ({"robot": {"locked_joints": ["wheel_y", "left_wrist_3_joint"]}},
+     r"'robot.locked_joints' names the reaction wheel wheel_y, which \[attitude\] drives"),
     ({"task": {"kind": "detumble", "rows": ["left_tool0:wz"]}}, r"'task.mission_joints' must list the arm joints"),
-    ({"target": {"end_effector": "left_tool0"}}, r"\[target\] \(a capture\) is not available with \[\[wheels\]\]"),
+    ({"target": {"end_effector": "left_tool0", "second_end_effector": "right_tool0"}},
+     r"\[\[wheels\]\] run in joint_space, detumbling, capture scenes; this two_hand_capture scene"),
     ({"simulation": {"model": "standard"}}, r"'simulation.model' = 'standard': a scene with \[\[wheels\]\] simulates"),
 ])
 def test_what_wheels_cannot_go_with_is_refused(tmp_path, sections, message):
-    """Wheels with joint locking, with a detumbling task that would count the wheels among its
-    mission joints, in a capture scene or on a GJM plant are refused, naming the key."""
+    """A locked wheel, a detumbling task that would count the wheels among its mission joints, a
+    two-hand capture (its loop's squeeze law knows no wheels) or a GJM plant are refused with
+    wheels, naming the key."""
     from .conftest import quiet_scene
 
     with pytest.raises(SceneError, match=message):
@@ -305,3 +308,22 @@ def test_a_rotor_above_a_planar_base_s_plane_keeps_the_planar_balance():
     rows = wheel_telemetry(wheels, tel, (), 0.005)
     assert np.abs(rows.rest[:, :2] - rows.rest[0, :2]).max() > 1e-4  # the reactions do change Lx, Ly
     assert np.abs(rows.balance).max() < 1e-8 and conservation(tel, wheels.robot)["momentum_drift_max"] < 1e-8
+
+
+def test_wheels_moved_to_a_reduced_robot_keep_their_joints_and_a_locked_wheel_is_refused():
+    """``Wheels.on`` a robot with an arm joint locked reads each wheel's indices from the reduced
+    model (the rate of the same joint, by name); on one with a wheel locked it is refused naming the
+    wheel."""
+    from freefloat import load_robot
+
+    robot = load_robot("two_arm_planar", base="planar", visuals=False)
+    wheels = mount_wheels(robot, [WheelSpec("wz", 1.0, 1.0, axis=(0.0, 0.0, 1.0), key="wheels[0]")])
+    full = wheels.robot
+    q = full.neutral()
+    reduced = lock_joints(full, [full.joint_names[0]], q).robot
+    moved = wheels.on(reduced)
+    wheel = moved.wheels[0]
+    assert reduced.model.names[wheel.joint_id] == "wz" and wheel.v_index == reduced.model.idx_vs[wheel.joint_id]
+    assert wheel.column == wheels.wheels[0].column - 1 and wheel.inertia == wheels.wheels[0].inertia
+    with pytest.raises(RobotModelError, match=r"no joint 'wz' to carry the reaction wheel"):
+        wheels.on(lock_joints(full, ["wz"], q).robot)

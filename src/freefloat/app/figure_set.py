@@ -71,6 +71,8 @@ FIGURES: dict[str, Figure] = {
                           _robot(lambda s: bool(s.closures) or s.kind == "two_hand_capture")),
     "reaction_wheels": Figure("reaction wheels' stored momentum and torque against their limits (runs with [[wheels]])",
                               _robot(lambda s: bool(s.wheels))),
+    "contact": Figure("contact force and penetration over time (capture-by-contact runs)",
+                      _robot(lambda s: s.kind == "contact_capture")),
     "platform_tracking": Figure("mechanism platform path and tracking error", _mechanism(lambda s: True)),
     "efforts": Figure("mechanism actuator efforts", _mechanism(lambda s: True)),
     "loop_closure_drift": Figure("mechanism loop closure drift", _mechanism(lambda s: True)),
@@ -83,7 +85,7 @@ FIGURES: dict[str, Figure] = {
 #: The lean set a scene draws unless it says otherwise: each kind of run's own figures, less the
 #: robot's motion (base trajectory, end-effector paths and displacement), which the page shows.
 DEFAULT = ("joint_errors", "approach_joint_errors", "torques", "com_drift", "conservation_balance", "angular_rates", "angular_momentum",
-           "closed_loop", "reaction_wheels", "platform_tracking", "efforts", "loop_closure_drift", "sliding_variables",
+           "closed_loop", "reaction_wheels", "contact", "platform_tracking", "efforts", "loop_closure_drift", "sliding_variables",
            "base_attitude", "momentum")
 #: The name that stands for every figure.
 ALL = "all"

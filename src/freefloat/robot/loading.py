@@ -23,12 +23,14 @@ import pinocchio as pin
 
 from ..arguments import MAX_MAGNITUDE, real_array
 from ..errors import FreefloatNote, FreefloatWarning, InvalidArgument, RobotModelError, did_you_mean
+from . import load_cache
 from .catalog import example_robot_data_share, find_robot, is_name  # noqa: F401  (the share: imported from here)
 from .inertias import balanced
 from .robot import BASE_DOFS, Arm, Robot
 from .urdf_checks import (
     check_joints,
     check_mass_matrix,
+    check_memory,
     check_numbers,
     compare_friction,
     compare_parses,
@@ -36,7 +38,7 @@ from .urdf_checks import (
     read_urdf,
 )
 from .urdf_model import Joint, UrdfModel, parse_urdf
-from .visuals import missing_meshes, missing_note
+from .visuals import missing_meshes, missing_note, visual_meshes
 from .visuals import visual_model as build_visuals
 
 MOVABLE = {"revolute", "continuous", "prismatic"}
@@ -76,6 +78,7 @@ def load_robot(
     gravity: tuple[float, float, float] | np.ndarray = (0.0, 0.0, 0.0),
     visuals: bool = True,
     inertias: str = "as_given",
+    cache: bool = True,
 ) -> Robot:
     """Load a URDF as a free-floating robot.
 
@@ -93,6 +96,9 @@ def load_robot(
         inertias: ``"as_given"``, or ``"balanced"``: every body's least principal moments raised
             until ``I1 + I2 >= I3`` holds, mass and CoM kept (a physical copy of a URDF whose
             inertias no rigid body has, :func:`freefloat.robot.inertias.balanced`).
+        cache: read and write the on-disk cache of checked loads (:mod:`.load_cache`, keyed by the
+            file's content): a process that loads an unchanged file again skips the parse, the
+            checks and the model build, and warns the same. Off also with ``FREEFLOAT_CACHE_DIR=""``.
 
     Returns:
         The :class:`~freefloat.robot.Robot`.
@@ -135,16 +141,65 @@ def load_robot(
             for note in robot.notes:
                 warnings.warn(note, FreefloatNote, stacklevel=2)
             return dataclasses.replace(robot, model=pin.Model(robot.model))
-    robot = _load(path, base, end_effectors, gravity, visuals, inertias)
+    robot = _load(path, base, end_effectors, gravity, visuals, inertias, cache)
     if store is not None:
         store[key] = dataclasses.replace(robot, model=pin.Model(robot.model))
     return robot
 
 
 def _load(path: Path, base: str, end_effectors: list[str] | tuple[str, ...] | None, gravity: np.ndarray, visuals: bool,
-          inertias: str) -> Robot:
-    """:func:`load_robot` of a checked path and arguments."""
-    tree = read_urdf(path)
+          inertias: str, cache: bool) -> Robot:
+    """:func:`load_robot` of a checked path and arguments: the checked model from the on-disk cache
+    (:mod:`.load_cache`) or from the file, then what depends on other files (meshes)."""
+    raw = path.read_bytes()
+    folder = load_cache.cache_folder() if cache else None
+    inputs = load_cache.entry_inputs(raw, path, base, end_effectors, inertias) if folder is not None else {}
+    checked = load_cache.read(folder, inputs) if folder is not None else None
+    xml = None
+    if checked is None:
+        checked, xml = _check(path, raw, base, end_effectors, inertias)
+        if folder is not None:
+            load_cache.write(folder, inputs, checked)
+    else:
+        check_memory(path, checked.model.nv - BASE_DOFS[base])
+    model = checked.model
+    model.gravity = pin.Motion(np.asarray(gravity, dtype=float), np.zeros(3))
+
+    notes = list(checked.warnings)
+    missing = missing_meshes(path, list(checked.meshes))
+    if missing:
+        notes.append(missing_note(path, missing))
+    if visuals:
+        xml = xml if xml is not None else _pinocchio_xml(read_urdf(path, raw))[0]
+        visual_model = build_visuals(path, model, ET.fromstring(xml), missing, notes)
+    else:
+        visual_model = None
+    for note in notes:
+        warnings.warn(note, FreefloatWarning, stacklevel=3)
+    for note in checked.notes:
+        warnings.warn(note, FreefloatNote, stacklevel=3)
+    return Robot(
+        model=model,
+        visual_model=visual_model,
+        urdf_path=path,
+        base_link=checked.base_link,
+        base=base,
+        base_com=checked.base_com,
+        base_com_rotation=checked.base_com_rotation,
+        end_effectors=checked.end_effectors,
+        arms=tuple(arm_of(model, name) for name in checked.end_effectors),
+        link_coms=checked.link_coms,
+        warnings=tuple(notes),
+        notes=checked.notes,
+        missing_meshes=tuple(missing),
+    )
+
+
+def _check(path: Path, raw: bytes, base: str, end_effectors: list[str] | tuple[str, ...] | None,
+           inertias: str) -> tuple[load_cache.CheckedLoad, str]:
+    """Parse, check and build the URDF ``raw`` (the bytes of ``path``): what the cache keeps, and
+    the URDF text given to Pinocchio (for the visual geometry)."""
+    tree = read_urdf(path, raw)
     check_numbers(path, tree)
     check_joints(path, tree)
     urdf = parse_urdf(path, tree)
@@ -174,42 +229,26 @@ def _load(path: Path, base: str, end_effectors: list[str] | tuple[str, ...] | No
     notes += check_mass_matrix(path, model)
     if inertias == "balanced":
         model = balanced(model)[0]
-    model.gravity = pin.Motion(np.asarray(gravity, dtype=float), np.zeros(3))
 
     base_inertial = urdf.link_map[root].inertial
     com_pose = np.eye(4) if base_inertial is None else base_inertial.origin
     model.addFrame(
         pin.Frame(BASE_COM_FRAME, 1, 0, pin.SE3(com_pose[:3, :3], com_pose[:3, 3]), pin.FrameType.OP_FRAME)
     )
-
-    missing = missing_meshes(path, tree)
-    if missing:
-        notes.append(missing_note(path, missing))
-    visual_model = build_visuals(path, model, ET.fromstring(xml), missing, notes) if visuals else None
-    for note in notes:
-        warnings.warn(note, FreefloatWarning, stacklevel=3)
-    for note in facts:
-        warnings.warn(note, FreefloatNote, stacklevel=3)
-
-    ee_names = _end_effectors(path, model, urdf, end_effectors)
-    return Robot(
+    return load_cache.CheckedLoad(
         model=model,
-        visual_model=visual_model,
-        urdf_path=path,
         base_link=root,
-        base=base,
         base_com=com_pose[:3, 3].copy(),
         base_com_rotation=com_pose[:3, :3].copy(),
-        end_effectors=ee_names,
-        arms=tuple(arm_of(model, name) for name in ee_names),
+        end_effectors=_end_effectors(path, model, urdf, end_effectors),
         link_coms={
             link.name: link.inertial.origin[:3, 3].copy() if link.inertial is not None else np.zeros(3)
             for link in urdf.links
         },
         warnings=tuple(notes),
         notes=tuple(facts),
-        missing_meshes=tuple(missing),
-    )
+        meshes=tuple(visual_meshes(tree)),
+    ), xml
 
 
 def _check_tree(path: Path, robot: UrdfModel) -> str:

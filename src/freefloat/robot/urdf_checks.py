@@ -35,14 +35,18 @@ MAX_NAME = 256
 MEMORY_SHARE = 0.5
 
 
-def read_urdf(path: Path) -> ET.Element:
+def read_urdf(path: Path, raw: bytes | None = None) -> ET.Element:
     """The URDF's XML root, parsed by the standard library after refusing any DTD.
+
+    Args:
+        path: the file, named in every error.
+        raw: its bytes when already read (the loader hashes exactly what it checks); None: read.
 
     Raises:
         RobotModelError: naming the file when it is not UTF-8, declares a DTD or entities, is
             not well-formed XML (with the line and column) or is nested absurdly deep.
     """
-    raw = path.read_bytes()
+    raw = path.read_bytes() if raw is None else raw
     try:
         text = raw.decode("utf-8")
     except UnicodeDecodeError as exc:
@@ -115,12 +119,22 @@ def check_joints(path: Path, root: ET.Element) -> None:
             if mimic.get("joint") not in counts:
                 raise RobotModelError(f"{path}: joint '{joint.get('name')}' <mimic joint=\"{mimic.get('joint')}\">: "
                                       f"no joint of that name{did_you_mean(mimic.get('joint'), counts, 'joints')}")
-    nv = 6 + sum(joint.get("type") in ("revolute", "continuous", "prismatic") for joint in root.findall("joint"))
+    check_memory(path, sum(joint.get("type") in ("revolute", "continuous", "prismatic") for joint in root.findall("joint")))
+
+
+def check_memory(path: Path, joints: int) -> None:
+    """A robot of ``joints`` movable joints on a free-flyer base fits in this machine's memory
+    (:func:`usable_memory`; checked on every load, the cached ones too: the machine may change).
+
+    Raises:
+        RobotModelError: naming the file, the joint count and the memory estimate.
+    """
+    nv = 6 + joints
     need = DATA_PER_RUN * DATA_BYTES_PER_NV3 * nv**3
     have = usable_memory()
     if need > have:
         raise RobotModelError(
-            f"{path}: {nv - 6} movable joints: a simulation would need about {need / 1e9:.1f} GB "
+            f"{path}: {joints} movable joints: a simulation would need about {need / 1e9:.1f} GB "
             f"(Pinocchio's Data grows as nv^3, ~{DATA_BYTES_PER_NV3 * nv**3 / 1e9:.1f} GB each), more than "
             f"{have / 1e9:.1f} GB ({MEMORY_SHARE:.0%} of this machine's memory)")
 
@@ -128,6 +142,12 @@ def check_joints(path: Path, root: ET.Element) -> None:
 def usable_memory() -> float:
     """Bytes a robot or a run may take: :data:`MEMORY_SHARE` of this machine's memory."""
     return MEMORY_SHARE * os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
+
+
+def is_built_in(path: Path) -> bool:
+    """Whether ``path`` is one of freefloat's own robots (in :data:`~freefloat.paths.URDF_DIR`),
+    whose inertias break the triangle inequality on purpose."""
+    return path.resolve().parent == URDF_DIR.resolve()
 
 
 def physics_notes(path: Path, robot: UrdfModel, triangle: bool = True) -> tuple[list[str], list[str]]:
@@ -151,7 +171,7 @@ def physics_notes(path: Path, robot: UrdfModel, triangle: bool = True) -> tuple[
     if broken:
         worst = max(broken, key=lambda name: broken[name][2] / (broken[name][0] + broken[name][1] + 1e-300))
         m = broken[worst]
-        if path.resolve().parent == URDF_DIR.resolve():
+        if is_built_in(path):
             facts.append(f"{path.name}: {len(broken)} links' inertias break I1 + I2 >= I3 as the dissertation prints "
                          'them, kept to reproduce its numbers (a physical copy: [robot] inertias = "balanced")')
         else:

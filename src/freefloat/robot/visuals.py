@@ -22,7 +22,8 @@ NAMED = 3
 
 
 class MissingMesh(NamedTuple):
-    """A ``<mesh>`` a URDF names that no file answers: its link and the filename as written."""
+    """A visual ``<mesh>`` a URDF names (missing: no file answers it): its link and the filename as
+    written."""
 
     link: str
     filename: str
@@ -37,13 +38,18 @@ def package_dirs(path: Path) -> list[str]:
     return dirs
 
 
-def missing_meshes(path: Path, tree: ET.Element) -> list[MissingMesh]:
-    """The visual meshes of the URDF ``tree`` (read from ``path``) whose files are not found, in
-    file order (collision meshes are not drawn, so not looked for)."""
-    dirs = package_dirs(path)
+def visual_meshes(tree: ET.Element) -> list[MissingMesh]:
+    """Every visual mesh the URDF ``tree`` names, as (link, filename as written), in file order
+    (collision meshes are not drawn, so not looked for)."""
     return [MissingMesh(link.get("name", "?"), mesh.get("filename", ""))
-            for link in tree.iter("link") for visual in link.findall("visual") for mesh in visual.iter("mesh")
-            if _resolve_mesh(mesh.get("filename", ""), path.parent, dirs) is None]
+            for link in tree.iter("link") for visual in link.findall("visual") for mesh in visual.iter("mesh")]
+
+
+def missing_meshes(path: Path, meshes: list[MissingMesh]) -> list[MissingMesh]:
+    """Those of ``meshes`` (:func:`visual_meshes` of the URDF ``path``) whose files are not found,
+    in the same order (looked for on every load: they are other files than the URDF)."""
+    dirs = package_dirs(path)
+    return [mesh for mesh in meshes if _resolve_mesh(mesh.filename, path.parent, dirs) is None]
 
 
 def missing_note(path: Path, missing: list[MissingMesh]) -> str:

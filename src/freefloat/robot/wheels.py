@@ -155,6 +155,24 @@ class Wheels:
         out[self.v_indices] = 0.0
         return out
 
+    def on(self, robot: Robot) -> Wheels:
+        """The same wheels on ``robot``, a model that keeps their joints and rotors (the robot with
+        joints locked, or with a captured target attached): their indices read from its model,
+        their axes, inertias and limits kept.
+
+        Raises:
+            RobotModelError: naming the wheel whose joint ``robot`` does not have.
+        """
+        model, moved = robot.model, []
+        for w in self.wheels:
+            if not model.existJointName(w.name):
+                raise RobotModelError(f"{robot.urdf_path.name}: no joint '{w.name}' to carry the reaction wheel (a wheel "
+                                      "cannot be locked)")
+            j = model.getJointId(w.name)
+            moved.append(dataclasses.replace(w, joint_id=j, v_index=int(model.idx_vs[j]),
+                                             column=int(model.idx_vs[j]) - robot.n_base))
+        return Wheels(robot, tuple(moved))
+
     def stored_momentum(self, q: np.ndarray, v: np.ndarray, data: pin.Data | None = None) -> np.ndarray:
         """The part of the centroidal momentum the wheel rates carry, ``A_g[:, w] Omega``
         ([linear; angular about the system CoM], inertial frame, (6,)), from Pinocchio's

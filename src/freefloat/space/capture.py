@@ -18,6 +18,7 @@ merged robot continues with the robot part of ``v+``.
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
@@ -30,6 +31,10 @@ from ..robot.conventions import momentum_about_origin, skew
 from ..robot.robot import Robot
 
 TARGET_FRAME = "captured_target"
+#: ``compose(robot, law, t0) -> controller``: what a capture's phase runs on ``robot`` in place of
+#: its own ``law`` (the hold or approach from 0 s, the detumbling on the merged robot from the
+#: impact time ``t0`` s), e.g. reaction wheels holding the base attitude around it.
+Compose = Callable[[Robot, Any, float], Any]
 #: The unit of each key of a capture's summary (:func:`capture_and_detumble`; "" for a pure number
 #: or a text); momenta ``[P; L about the origin]`` in N s and N m s.
 SUMMARY_UNITS = {
@@ -239,12 +244,13 @@ class FlyingTarget:
 def approach(robot: Robot, body: TargetBody, end_effectors: tuple[str, ...], control_period: float,
              duration: float, tolerance: float, integrator: str, q0: np.ndarray | None, v0: np.ndarray | None,
              kp: float, kd: float, model: str, controller: Any = None,
-             not_before: float = 0.0) -> tuple[Any, FlyingTarget]:
+             not_before: float = 0.0, compose: Compose | None = None) -> tuple[Any, FlyingTarget]:
     """The robot holds its posture (computed torque on its joints), or follows ``controller`` (e.g.
     a planned approach, :mod:`freefloat.space.planning`), while the target flies freely, until
     every grasp point ``k`` of ``body`` is within ``tolerance`` of ``end_effectors[k]``'s frame
     origin: the run's result (status ``"stopped"`` there) and the target's flight. A planned
-    grasp closes the hand at its instant: no contact is declared before ``not_before`` s.
+    grasp closes the hand at its instant: no contact is declared before ``not_before`` s. With
+    ``compose``, the robot runs ``compose(robot, law, 0.0)`` (:data:`Compose`) instead of the law.
 
     Both fly in the engine: nothing touches the target before contact, so its free flight over
     ``duration`` is one run of its own (:class:`TargetBody` as a plant, the robot's integrator and
@@ -284,6 +290,7 @@ def approach(robot: Robot, body: TargetBody, end_effectors: tuple[str, ...], con
     hold = controller or DetumblingController(robot, task_rows(robot, [(end_effectors[0], "angular")]),
                                               joint_indices(robot, None), start=np.inf,
                                               control_period=control_period, kp=kp, kd=kd, model=model)
+    hold = hold if compose is None else compose(robot, hold, 0.0)
     q0 = robot.neutral() if q0 is None else q0
     v0 = np.zeros(robot.model.nv) if v0 is None else v0
     pre = run(robot, q0, v0, duration, control_period, make_integrator(integrator, robot.model), ExactModel(robot),
@@ -327,17 +334,17 @@ class Grasp:
 def grasp(robot: Robot, target: Target, end_effector: str, control_period: float = 1e-3, approach_time: float = 1.0,
           tolerance: float = 1e-3, integrator: str = "rkmk4", q0: np.ndarray | None = None,
           v0: np.ndarray | None = None, kp: float = 10.0, kd: float = 100.0, model: str = "exact",
-          approach_controller: Any = None, grasp_time: float = 0.0) -> Grasp:
-    """Hold (or follow ``approach_controller``) until the target's grasp point reaches
-    ``end_effector`` (:func:`approach`), grasp it by the exact impulse (:func:`impact`) and merge
-    it into the robot (:func:`attach`).
+          approach_controller: Any = None, grasp_time: float = 0.0, compose: Compose | None = None) -> Grasp:
+    """Hold (or follow ``approach_controller``; either composed by ``compose``) until the target's
+    grasp point reaches ``end_effector`` (:func:`approach`), grasp it by the exact impulse
+    (:func:`impact`) and merge it into the robot (:func:`attach`).
 
     Raises:
         TargetMissed, SimulationDiverged: as :func:`approach`.
     """
     body = TargetBody(target)
     pre, flight = approach(robot, body, (end_effector,), control_period, approach_time, tolerance, integrator, q0, v0,
-                           kp, kd, model, approach_controller, grasp_time)
+                           kp, kd, model, approach_controller, grasp_time, compose)
     q, v = pre.telemetry.q[-1], pre.telemetry.v[-1]
     hit = impact(robot, end_effector, q, v, body, flight.q, flight.v)
     return Grasp(pre, body, flight, hit, attach(robot, end_effector, q, body, flight.q), q, hit.v_robot)
@@ -373,10 +380,13 @@ def capture_and_detumble(robot: Robot, target: Target, end_effector: str, rows_s
                          detumble_time: float = 1.0, tolerance: float = 1e-3, settle_below: float = 1e-6,
                          integrator: str = "rkmk4", q0: np.ndarray | None = None, v0: np.ndarray | None = None,
                          kp: float = 10.0, kd: float = 100.0, model: str = "exact",
-                         approach_controller: Any = None, grasp_time: float = 0.0) -> CaptureResult:
+                         approach_controller: Any = None, grasp_time: float = 0.0,
+                         compose: Compose | None = None) -> CaptureResult:
     """Hold (or follow ``approach_controller``) until the target's grasp point reaches
     ``end_effector``, grasp it (exact impulse), then detumble the merged robot by stopping the
-    end-effector rows ``rows_spec``; not before ``grasp_time`` s (a planned grasp instant). The
+    end-effector rows ``rows_spec``; not before ``grasp_time`` s (a planned grasp instant). With
+    ``compose`` (:data:`Compose`) each phase runs its law composed (the detumbling on the merged
+    robot, from the impact time). The
     summary has the approach's base attitude change (rad,
     start to contact) and the grasp mismatch at contact (:func:`grasp_mismatch`).
 
@@ -391,7 +401,7 @@ def capture_and_detumble(robot: Robot, target: Target, end_effector: str, rows_s
     from .detumbling import joint_indices, task_rows
 
     held = grasp(robot, target, end_effector, control_period, approach_time, tolerance, integrator, q0, v0, kp, kd,
-                 model, approach_controller, grasp_time)
+                 model, approach_controller, grasp_time, compose)
     pre, state, hit, merged, q = held.pre, held.flight, held.hit, held.merged, held.q
     t_hit = pre.telemetry.t[-1]
     gap, relative_speed, relative_spin = grasp_mismatch(robot, end_effector, q, pre.telemetry.v[-1], held.body,
@@ -400,7 +410,7 @@ def capture_and_detumble(robot: Robot, target: Target, end_effector: str, rows_s
     controller = DetumblingController(merged, task_rows(merged, rows_spec), joint_indices(merged, joints), start=0.0,
                                       control_period=control_period, method=method, kp=kp, kd=kd, model=model)
     post = run(merged, q, hit.v_robot, detumble_time, control_period, make_integrator(integrator, merged.model),
-               ExactModel(merged), controller)
+               ExactModel(merged), controller if compose is None else compose(merged, controller, float(t_hit)))
     tel = post.telemetry
     w = target_angular_speed(merged, tel.q, tel.v)
     settled = settling_time(tel.t, w, settle_below)

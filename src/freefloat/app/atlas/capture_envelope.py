@@ -25,6 +25,7 @@ import numpy as np
 from ...errors import InfeasiblePlan, InvalidArgument, SceneError, spelled
 from .grid import Axis, Grid
 from .kinds import Options
+from .outcome_maps import cell_extent, outcome_panel, write_map
 
 OPTIONS = frozenset({"grid", "axes"})
 #: The outcome codes of the map, by index: graspable, then :data:`InfeasiblePlan.REASONS`.
@@ -141,22 +142,15 @@ def figures(context: EnvelopeContext, grid: Grid, result: dict[str, np.ndarray],
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    from matplotlib.colors import ListedColormap
 
     a, b = grid.axes
-    half = [(axis.high - axis.low) / max(axis.n - 1, 1) / 2 for axis in (a, b)]
-    extent = (a.low - half[0], a.high + half[0], b.low - half[1], b.high + half[1])
     held = np.array(context.reach)[list(context.axes)]
     fig, axes = plt.subplots(1, 2, figsize=(11, 4.5))
-    colours = ListedColormap(["#2a9d8f", "#e76f51", "#f4a261", "#e9c46a", "#8d99ae"])
-    image = axes[0].imshow(result["outcome"].reshape(grid.shape).T, origin="lower", extent=extent, aspect="equal",
-                           cmap=colours, vmin=-0.5, vmax=len(OUTCOMES) - 0.5)
-    bar = fig.colorbar(image, ax=axes[0], ticks=range(len(OUTCOMES)), shrink=0.8)
-    bar.ax.set_yticklabels(OUTCOMES, fontsize=7)
-    axes[0].set_title("outcome of the planned approach", fontsize=9)
+    outcome_panel(fig, axes[0], grid, result["outcome"], OUTCOMES, ["#2a9d8f", "#e76f51", "#f4a261", "#e9c46a", "#8d99ae"],
+                  "outcome of the planned approach")
     graspable = np.where(result["outcome"] == 0, result["attitude_change"], np.nan)
     values = np.ma.masked_invalid(np.log10(np.maximum(graspable, 1e-16)).reshape(grid.shape).T)
-    image = axes[1].imshow(values, origin="lower", extent=extent, aspect="equal", cmap="viridis")
+    image = axes[1].imshow(values, origin="lower", extent=cell_extent(grid), aspect="equal", cmap="viridis")
     fig.colorbar(image, ax=axes[1], shrink=0.8)
     axes[1].set_title("log10 base attitude change at the grasp (rad)", fontsize=9)
     for ax in axes:
@@ -164,9 +158,4 @@ def figures(context: EnvelopeContext, grid: Grid, result: dict[str, np.ndarray],
         ax.set_xlabel(f"reach {a.name} (m)")
         ax.set_ylabel(f"reach {b.name} (m)")
         ax.legend(fontsize=7, loc="upper right")
-    fig.suptitle(f"capture envelope: {context.scene}", fontsize=10)
-    fig.tight_layout()
-    path = out / "capture_envelope.png"
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return [path]
+    return write_map(fig, f"capture envelope: {context.scene}", out / "capture_envelope.png")

@@ -106,3 +106,6 @@ KINDS.register(AtlasKind("mechanism", "a closed-chain mechanism's workspace, typ
 KINDS.register(AtlasKind("capture_envelope", "where a planned capture scene's target can be grasped within the limits "
                    "(meeting points over a plane of reach offsets, each planned and checked)",
                    "a one-hand capture scene with [approach]: name or file", ".capture_envelope"))
+KINDS.register(AtlasKind("contact_envelope", "where a capture by contact latches, rebounds or neither, by approach speed "
+                   "and contact stiffness (a short simulation each)", "a capture-by-contact scene with [latch]: name or "
+                   "file", ".contact_envelope"))

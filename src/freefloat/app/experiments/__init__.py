@@ -15,14 +15,14 @@ from ...errors import SceneError, UnknownName, did_you_mean
 from ...registry import Registry
 from ..environments import environment_units
 from ..scenes import kinds
-from . import capture, capture_identification, detumbling, joint_space, mechanism, two_hand_capture
+from . import capture, capture_identification, contact_capture, detumbling, joint_space, mechanism, two_hand_capture
 from .base import Experiment, Outcome, Progress
 
 #: Registry of experiment kinds: name -> :class:`Experiment` (``freefloat.EXPERIMENTS``; the one
 #: registry of :mod:`freefloat.app.scenes.kinds`, which a scene reads its kind from).
 EXPERIMENTS: Registry[Experiment] = kinds.EXPERIMENTS
 for _experiment in (joint_space.EXPERIMENT, detumbling.EXPERIMENT, capture.EXPERIMENT, capture_identification.EXPERIMENT,
-                    two_hand_capture.EXPERIMENT, mechanism.EXPERIMENT):
+                    two_hand_capture.EXPERIMENT, mechanism.EXPERIMENT, contact_capture.EXPERIMENT):
     EXPERIMENTS.register(_experiment)
 
 

@@ -35,6 +35,7 @@ from .robot_run import (
     robot_outcome,
 )
 from .robot_run import UNITS as ROBOT_UNITS
+from .wheel_run import CaptureWheels, capture_wheel_telemetry
 
 #: How the page draws the target: orange (0xRRGGBB), apart from the robot's greys and blues.
 TARGET_COLOR = 0xE07000
@@ -235,11 +236,12 @@ def run(setup: CaptureSetup, progress: Progress | None = None, checkpoint: Check
     scene, robot = setup.scene, setup.robot
     tg, sim, ctrl = scene.target, scene.simulation, scene.controller
     start = time.perf_counter()
+    wheels = None if setup.wheels is None else CaptureWheels(scene, setup.wheels, setup.q0)
     res = capture_and_detumble(robot, setup.target, tg.end_effector, rows_spec(scene), mission_joints(scene),
                                scene.task.method, sim.control_period, tg.contact_time + APPROACH_MARGIN, sim.duration,
                                tg.tolerance, integrator=sim.integrator, q0=setup.q0, v0=setup.v0,
                                kp=ctrl.kp, kd=ctrl.kd, model=ctrl.model,
-                               approach_controller=plan_tracking(setup), grasp_time=grasp_time(setup))
+                               approach_controller=plan_tracking(setup), grasp_time=grasp_time(setup), compose=wheels)
     wall = time.perf_counter() - start
     merged = dataclasses.replace(res.merged, visual_model=robot.visual_model)
     tel = res.post
@@ -252,11 +254,14 @@ def run(setup: CaptureSetup, progress: Progress | None = None, checkpoint: Check
     both_t = np.concatenate((res.pre.t, res.impact_time + tel.t[1:]))
     both_q = np.concatenate((res.pre.q, tel.q[1:]))
     poses = np.concatenate((res.target_poses[: len(res.pre.t)], res.target_poses[len(res.pre.t) + 1:]))
+    if wheels is not None:
+        setup.wheel_control = wheels.law
     return robot_outcome(setup, merged, tel, result, summary, animation=(both_t, both_q),
                          extra_bodies=lambda: [("target", target_box(tg.size), poses)],
                          extra_telemetry={"pre_capture": res.pre}, events=[(res.impact_time, "grasp")], wrenches=(),
                          spin=True, settle_threshold=res.summary["settle_threshold"],
-                         approach=None if setup.plan is None else res.pre, task_headline=TASK_HEADLINE)
+                         approach=None if setup.plan is None else res.pre, task_headline=TASK_HEADLINE,
+                         wheel_rows=None if wheels is None else capture_wheel_telemetry(setup.wheels, setup.target, res))
 
 
 

@@ -46,7 +46,7 @@ def prepare(scene: Scene) -> RobotSetup:
     rows, joints = detumble_task(setup.robot, scene)
     task = DetumbleTask(rows, joints, scene.task.start, scene.task.method)
     setup.controller = build_controller(ControlContext(scene, setup.robot, task, scene.simulation.control_period,
-                                                       scene.angle_scale, setup.environment, setup.wheels))
+                                                       scene.angle_scale, setup.environment, setup.plant_wheels))
     return setup
 
 

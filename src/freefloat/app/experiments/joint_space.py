@@ -44,7 +44,7 @@ def prepare(scene: Scene) -> RobotSetup:
         goal = start + joint_table(robot, task.displacement, s, "task.displacement")
         reference = QuinticTrajectory(setup.plant_joints(start), setup.plant_joints(goal), task.duration)
     setup.controller = build_controller(ControlContext(scene, setup.plant, reference, scene.simulation.control_period,
-                                                       scene.angle_scale, setup.environment, setup.wheels))
+                                                       scene.angle_scale, setup.environment, setup.plant_wheels))
     return setup
 
 

@@ -10,6 +10,7 @@ holding torque, so that figures, page and summary read as those of the full robo
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Sequence
 
 import numpy as np
 import pinocchio as pin
@@ -48,12 +49,14 @@ def never_moved(scene: Scene, displacement: np.ndarray, v0: np.ndarray, n_base: 
 
 
 def lock_for(scene: Scene, robot: Robot, q0: np.ndarray, v0: np.ndarray, displacement: np.ndarray,
-             explicit: np.ndarray) -> LockedJoints | None:
+             explicit: np.ndarray, driven: Sequence[int] | np.ndarray = ()) -> LockedJoints | None:
     """The scene's locked robot at the start ``q0`` (None when no joint is locked).
 
     Args:
         displacement: the task's displacement per joint column (n_joints,).
         explicit: ``True`` on the columns ``robot.locked_joints`` names (n_joints,).
+        driven: columns a law of their own moves whatever the task (reaction wheels), which
+            ``simulation.lock = "auto"`` never locks.
 
     Raises:
         SceneError: naming the key, when a joint named in ``robot.locked_joints`` has an initial
@@ -72,7 +75,9 @@ def lock_for(scene: Scene, robot: Robot, q0: np.ndarray, v0: np.ndarray, displac
                              "still at its initial position")
     locked = explicit.copy()
     if scene.simulation.lock == "auto":
-        locked |= never_moved(scene, displacement, v0, robot.n_base)
+        moved = never_moved(scene, displacement, v0, robot.n_base)
+        moved[np.asarray(driven, dtype=int)] = False
+        locked |= moved
     if not locked.any():
         return None
     try:

@@ -41,7 +41,7 @@ from .sensor_summary import UNITS as SENSOR_UNITS
 from .sensor_summary import sensor_summary
 from .wheel_run import HEADLINE as WHEEL_HEADLINE
 from .wheel_run import UNITS as WHEEL_UNITS
-from .wheel_run import scene_wheels, wheel_attitude_control, wheel_summary, wheel_telemetry
+from .wheel_run import WheelTelemetry, scene_wheels, wheel_attitude_control, wheel_summary, wheel_telemetry
 
 #: Summary keys the command line prints for every robot run (those it has: drifts without
 #: external wrenches, balances with them), then those of its task (``task_headline`` of
@@ -97,6 +97,12 @@ class RobotSetup:
     def plant_state(self) -> tuple[np.ndarray, np.ndarray]:
         """The initial state of :attr:`plant`: ``(q0, v0)``, reduced when joints are locked."""
         return (self.q0, self.v0) if self.lock is None else self.lock.reduce(self.q0, self.v0)
+
+    @property
+    def plant_wheels(self) -> Wheels | None:
+        """The wheels on :attr:`plant` (None without any): mounted on the reduced robot when joints
+        are locked."""
+        return self.wheels if self.wheels is None or self.lock is None else self.wheels.on(self.lock.robot)
 
     def plant_joints(self, values: np.ndarray) -> np.ndarray:
         """The columns of a full joint vector (n_joints,) that :attr:`plant` keeps."""
@@ -165,7 +171,8 @@ def prepare_robot(scene: Scene) -> RobotSetup:
     if closures:
         check_closed_scene(scene, explicit.any())
         q0, v0 = assemble(scene, robot, closures, q0, v0)
-    lock = None if closures else lock_for(scene, robot, q0, v0, displacement, explicit)
+    lock = None if closures else lock_for(scene, robot, q0, v0, displacement, explicit,
+                                          () if wheels is None else wheels.columns)
     plant = robot if lock is None else lock.robot
     specs = [ENVIRONMENTS[e.kind] for e in scene.environment]
     fields = [spec.build(plant, e.settings) for spec, e in zip(specs, scene.environment)]
@@ -304,7 +311,10 @@ def run_loop(setup: RobotSetup, progress: Progress | None, checkpoint: Checkpoin
     q0, v0 = setup.plant_state()
     controller = setup.controller
     if setup.wheels is not None:
-        controller = setup.wheel_control = wheel_attitude_control(setup.scene, setup.wheels, controller, q0)
+        closed = setup.model
+        closed = ClosedModel(closed.robot, closed.closures, closed.baumgarte) if isinstance(closed, ClosedModel) else None
+        controller = setup.wheel_control = wheel_attitude_control(setup.scene, setup.plant_wheels, controller, q0,
+                                                                  closed)
 
     def on_chunk(chunk: Telemetry) -> None:
         checkpoint(chunk if lock is None else full_telemetry(lock, chunk, setup.wrenches))
@@ -343,7 +353,7 @@ def robot_outcome(setup: RobotSetup, robot: Robot, telemetry: Telemetry, result:
                   extra_bodies: Callable[[], list] | None = None, extra_telemetry: dict[str, Telemetry] | None = None,
                   events: list[tuple[float, str]] | None = None, wrenches: tuple[ExternalWrench, ...] | None = None,
                   spin: bool = False, settle_threshold: float | None = None, task_headline: tuple[str, ...] = (),
-                  approach: Telemetry | None = None) -> Outcome:
+                  approach: Telemetry | None = None, wheel_rows: WheelTelemetry | None = None) -> Outcome:
     """The outcome of a robot run on ``robot`` (the scene's, or the merged one after a capture):
     telemetry named by its joints and end-effectors, provenance, the figures as one picklable job
     (:class:`~freefloat.app.viz.figure_job.RobotFigures`, which the figure helper draws while the
@@ -354,8 +364,9 @@ def robot_outcome(setup: RobotSetup, robot: Robot, telemetry: Telemetry, result:
     with the bodies ``extra_bodies()`` lists (called when the page is drawn: (name, meshcat object, (n, 4, 4)
     poses)) and the named moments ``events`` ((time s, label)); with ``approach``
     (a planned capture's pre-capture phase on the scene's robot) also its joint tracking against the
-    plan. The figures left out because their data is identically zero are named in the summary's
-    ``figures_not_drawn``."""
+    plan; with ``wheel_rows`` the wheels' rows of a run on another ``robot`` than the scene's (a
+    capture's phases) in place of those of ``telemetry``. The figures left out because their data is
+    identically zero are named in the summary's ``figures_not_drawn``."""
     from ..viz.figure_data import empty_figures
     from ..viz.figure_job import ClosedLoop, RobotFigures, WheelRows
 
@@ -363,11 +374,12 @@ def robot_outcome(setup: RobotSetup, robot: Robot, telemetry: Telemetry, result:
     sim = setup.scene.simulation
     wrenches = setup.wrenches if wrenches is None else wrenches
     closed = setup.model if isinstance(setup.model, ClosedModel) and robot is setup.robot else None
-    wheels = setup.wheels if robot is setup.robot and len(telemetry.t) else None
+    wheels = setup.wheels if (robot is setup.robot or wheel_rows is not None) and len(telemetry.t) else None
     extra_telemetry = dict(extra_telemetry or {})
     if wheels is not None:
-        wheel_rows = extra_telemetry["wheels"] = wheel_telemetry(wheels, telemetry, wrenches, sim.control_period,
-                                                                   setup.environment)
+        if wheel_rows is None:
+            wheel_rows = wheel_telemetry(wheels, telemetry, wrenches, sim.control_period, setup.environment)
+        extra_telemetry["wheels"] = wheel_rows
         summary = {**summary, **wheel_summary(wheels, setup.wheel_control, wheel_rows, telemetry)}
     residuals = None
     if setup.environment and len(telemetry.t) >= 2 and "conservation_balance" in drawn(setup.scene):

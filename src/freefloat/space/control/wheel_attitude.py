@@ -29,7 +29,10 @@ how the arm joints move; the wheels decide how the base turns. Each control peri
    whatever the wheels do.
 
 With three wheels whose axes span space (one about z on a planar base) and no limit reached,
-the base angular acceleration is ``alpha_d`` exactly.
+the base angular acceleration is ``alpha_d`` exactly. On a robot whose loops are closed
+(:class:`~freefloat.dynamics.closures.ClosedModel`, its arm joints passive) the affine map of step 2
+is read from the closed dynamics instead, ``a(tau) = a(0) + sum_i a(e_i) - a(0)`` over the
+wheel torques (their constraint forces included), so the base follows ``alpha_d`` there too.
 """
 
 from __future__ import annotations
@@ -39,7 +42,9 @@ from dataclasses import dataclass
 import numpy as np
 import pinocchio as pin
 
+from ...dynamics.models.base import DynamicsModel
 from ...dynamics.simulation import Controller
+from ...errors import InvalidArgument
 from ...robot.joints import JointCoordinates
 from ...robot.wheels import Wheels
 
@@ -110,6 +115,10 @@ class WheelAttitudeControl:
             torque (free wheels; the arm still moves as its law intends).
         kp: attitude stiffness, 1/s^2.
         kd: attitude damping, 1/s.
+        closed: the plant's forward dynamics when its loops are closed (a
+            :class:`~freefloat.dynamics.closures.ClosedModel` of its own, for the law alone: its
+            ``acceleration(q, v, tau)``), with ``arm`` None; None: the tree's.
+        t0: the time of the run's start on the clock the saturation events are told in, s.
 
     Attributes:
         events: each start of a saturation, in time order.
@@ -117,9 +126,12 @@ class WheelAttitudeControl:
     """
 
     def __init__(self, wheels: Wheels, arm: Controller | None, target: np.ndarray | None, kp: float = 0.0,
-                 kd: float = 0.0):
+                 kd: float = 0.0, closed: DynamicsModel | None = None, t0: float = 0.0):
+        if closed is not None and arm is not None:
+            raise InvalidArgument("WheelAttitudeControl: a closed loop's arm joints are passive (arm None)")
         robot = wheels.robot
-        self.wheels, self.arm, self.kp, self.kd = wheels, arm, kp, kd
+        self.wheels, self.arm, self.kp, self.kd, self.closed, self.t0 = wheels, arm, kp, kd, closed, t0
+        self.target = target
         self.model, self.data = robot.model, robot.model.createData()
         self.attitude = None if target is None else BaseAttitude(robot.base, target)
         self.coords = JointCoordinates(robot)
@@ -133,6 +145,14 @@ class WheelAttitudeControl:
         self.saturated_periods = np.zeros(len(wheels.wheels), dtype=int)
         self._saturated = np.zeros((2, len(wheels.wheels)), dtype=bool)  # rows: torque, momentum
         self._wheel_angles = np.zeros(len(wheels.wheels))
+
+    def continued(self, wheels: Wheels, arm: Controller | None, t0: float) -> WheelAttitudeControl:
+        """The same law (target, gains) on ``wheels`` (the same wheels on another robot: a capture's
+        merged robot) under the arm's controller ``arm``, for a run that starts at ``t0`` s of this
+        law's clock: its saturation record (events, periods) continues this one's."""
+        law = WheelAttitudeControl(wheels, arm, self.target, self.kp, self.kd, t0=self.t0 + t0)
+        law.events, law.saturated_periods, law._saturated = self.events, self.saturated_periods, self._saturated
+        return law
 
     def reference(self, t: float) -> np.ndarray | None:
         """The arm's reference (n_joints,), with the wheel rows at the wheels' measured angles of
@@ -161,13 +181,7 @@ class WheelAttitudeControl:
         attitude law within their limits."""
         a_P = self.arm_acceleration(t, q, v)
         model, data, P, F = self.model, self.data, self.prescribed, self.free
-        M = pin.crba(model, data, q)
-        M = np.triu(M) + np.triu(M, 1).T
-        b = pin.nonLinearEffects(model, data, q, v)
-        rhs = -b[F] - M[np.ix_(F, P)] @ a_P
-        unit = np.zeros((len(F), len(self.wheel_in_free)))
-        unit[self.wheel_in_free, np.arange(len(self.wheel_in_free))] = 1.0
-        X = np.linalg.solve(M[np.ix_(F, F)], np.column_stack((rhs, unit)))
+        X = self.closed_response(q, v) if self.closed is not None else self.tree_response(q, v, a_P)
         tau_w = np.zeros(len(self.wheel_in_free))
         if self.attitude is not None:
             alpha_d = self.kp * self.attitude.error(q) - self.kd * self.attitude.rate(v)
@@ -180,6 +194,31 @@ class WheelAttitudeControl:
         tau[self.wheels.v_indices] = tau_w
         self._wheel_angles = self.coords.get(q)[self.wheels.columns]
         return tau[self.nb:]
+
+    def tree_response(self, q: np.ndarray, v: np.ndarray, a_P: np.ndarray) -> np.ndarray:
+        """``X = [x0, Xw]`` (len(F), 1 + nw): the free coordinates' accelerations ``x0 + Xw tau_w``
+        of the tree with ``a_P`` prescribed (the base and wheel rows of ``M a + b = tau``)."""
+        model, data, P, F = self.model, self.data, self.prescribed, self.free
+        M = pin.crba(model, data, q)
+        M = np.triu(M) + np.triu(M, 1).T
+        b = pin.nonLinearEffects(model, data, q, v)
+        rhs = -b[F] - M[np.ix_(F, P)] @ a_P
+        unit = np.zeros((len(F), len(self.wheel_in_free)))
+        unit[self.wheel_in_free, np.arange(len(self.wheel_in_free))] = 1.0
+        return np.linalg.solve(M[np.ix_(F, F)], np.column_stack((rhs, unit)))
+
+    def closed_response(self, q: np.ndarray, v: np.ndarray) -> np.ndarray:
+        """``X = [x0, Xw]`` (nv, 1 + nw) of the closed loop (every coordinate free): its
+        accelerations without wheel torque, and their change per unit torque of each wheel (the
+        closed dynamics are affine in the torques)."""
+        tau = np.zeros(self.model.nv)
+        x0 = self.closed.acceleration(q, v, tau)
+        columns = [x0]
+        for i in self.wheels.v_indices:
+            tau[:] = 0.0
+            tau[i] = 1.0
+            columns.append(self.closed.acceleration(q, v, tau) - x0)
+        return np.column_stack(columns)
 
     def wheel_torques(self, t: float, X: np.ndarray, alpha_d: np.ndarray, speeds: np.ndarray) -> np.ndarray:
         """The wheel torques (nw,) for the base angular acceleration ``alpha_d`` within the limits.
@@ -211,7 +250,7 @@ class WheelAttitudeControl:
         clipped = np.clip(tau, -w.max_torques, w.max_torques)
         limited = np.array([clipped != tau, at_speed])
         for kind, i in zip(*np.nonzero(limited & ~self._saturated)):
-            self.events.append(SaturationEvent(t, w.wheels[i].name, ("torque", "momentum")[kind],
+            self.events.append(SaturationEvent(self.t0 + t, w.wheels[i].name, ("torque", "momentum")[kind],
                                                float((tau, asked)[kind][i])))
         self.saturated_periods += limited.any(axis=0)
         self._saturated = limited
