@@ -307,7 +307,9 @@ class ArmPanels:
     """One panel per arm plotting per-joint time series (``joint_errors``, ``torques``): the first
     :meth:`draw` makes the figure, each later one redraws the same figure, its lines given the new
     data, style and labels (a run's second per-arm figure costs its rendering only). A drawn
-    figure is the same as a fresh one's in every plotted datum (tested)."""
+    figure is the same as a fresh one's in every plotted datum (tested). One figure legend names
+    the joints of every panel when the arms name them alike (:func:`joint_suffixes`), else each
+    panel has its own."""
 
     def __init__(self, robot: Robot, t: np.ndarray):
         self.robot, self.t = robot, t
