@@ -1,8 +1,8 @@
 """Thrusters and momentum dumping (issue 39 item 2), measured: the built-in satellite_momentum_dump
 scene (the UR5 satellite's wheels braked while twelve thrusters hold the base) at three minimum
 impulse bits. Prints one table, writes runs/thrusters-<time>/thrusters.json and the figure
-docs/img/thrusters.png (thrust per thruster, propellant burnt, the wheels' stored momentum and
-the base's rotation, at the scene's bit); docs/thrusters.md quotes both.
+docs/img/thrusters.png (the runs' own ``thrusters`` figure: thrust per thruster and propellant
+burnt, at the scene's bit); docs/thrusters.md quotes both.
 
     python3 scripts/thrusters_dump.py
 """
@@ -21,7 +21,7 @@ from freefloat.app.experiments.robot_run import run_loop
 from freefloat.app.runner import prepare
 from freefloat.app.scenes import find_scene
 from freefloat.dynamics.metrics import summarize
-from freefloat.space.thrusters import G0, thruster_summary
+from freefloat.space.thrusters import thruster_summary
 
 BITS = (0.0, 2e-4, 2e-3)  # N s
 
@@ -38,9 +38,6 @@ def dump(bit: float) -> dict:
     wall = time.perf_counter() - start
     thrusters, wheels = setup.environment[0], setup.wheels
     rotation = np.array([np.linalg.norm(pin.log3(pin.Quaternion(q[3:7]).toRotationMatrix())) for q in tel.q])
-    thrust = np.array([thrusters.thrust(t) for t in tel.t])
-    spans = np.diff(tel.t, append=tel.t[-1])
-    burnt = np.concatenate(([0.0], np.cumsum(thrust.sum(axis=1) * spans)[:-1])) / (thrusters.specific_impulse * G0)
     numbers = {
         "min_impulse_bit": bit, "wall_s": wall, "base_rotation_max": float(rotation.max()),
         "wheel_momentum_final": wheels.momenta(tel.v[-1]).tolist(),
@@ -48,34 +45,15 @@ def dump(bit: float) -> dict:
                                           setup.environment)["momentum_balance_max"],
         **thruster_summary(thrusters, setup.plant, tel),
     }
-    return {"numbers": numbers, "isp": thrusters.specific_impulse, "t": tel.t, "thrust": thrust, "burnt": burnt, "rotation": rotation,
-            "stored": wheels.momenta(tel.v)}
+    return {"numbers": numbers, "figure": (tel.t, *thrusters.rows(tel.t), thrusters.specific_impulse)}
 
 
 def figure(run: dict) -> None:
-    """docs/img/thrusters.png: thrust per thruster, propellant, wheels' momentum, base rotation."""
-    import matplotlib
+    """docs/img/thrusters.png: the run's ``thrusters`` figure (thrust per thruster, propellant)."""
+    from freefloat.app.viz.plotting import save
+    from freefloat.app.viz.thruster_figures import thruster_figure
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    t = run["t"]
-    fig, axes = plt.subplots(2, 2, figsize=(11, 6.5), sharex=True)
-    for i, column in enumerate(run["thrust"].T):
-        if column.any():
-            axes[0, 0].plot(t, column, lw=0.8, label=f"thruster {i}")
-    axes[0, 0].set(ylabel="thrust held over the period (N)", title="Thrusters (pulses averaged per period)")
-    axes[0, 0].legend(fontsize=7)
-    axes[0, 1].plot(t, 1e3 * run["burnt"])
-    axes[0, 1].set(ylabel="propellant burnt (g)", title=f"Propellant (I_sp {run['isp']:g} s)")
-    for name, column in zip(("wheel_x", "wheel_y", "wheel_z"), run["stored"].T):
-        axes[1, 0].plot(t, column, label=name)
-    axes[1, 0].set(xlabel="t (s)", ylabel="stored momentum I Omega (N m s)", title="Reaction wheels dumped")
-    axes[1, 0].legend(fontsize=7)
-    axes[1, 1].plot(t, 1e3 * run["rotation"])
-    axes[1, 1].set(xlabel="t (s)", ylabel="base rotation (mrad)", title="Base attitude held")
-    fig.tight_layout()
-    fig.savefig(Path(__file__).resolve().parents[1] / "docs" / "img" / "thrusters.png", dpi=100)
+    save(thruster_figure(*run["figure"]), Path(__file__).resolve().parents[1] / "docs" / "img", "thrusters")
 
 
 def main() -> None:

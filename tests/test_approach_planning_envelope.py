@@ -83,3 +83,11 @@ def test_the_default_envelope_is_journaled_in_chunks_of_a_few_plans():
     grid = Grid((Axis("x", -1, 1, capture_envelope.POINTS, "m"), Axis("y", -1, 1, capture_envelope.POINTS, "m")))
     size = chunk_size(grid, 1, capture_envelope.MIN_CHUNK)
     assert size <= 16 and len(grid.chunks(size)) >= 8
+
+
+@pytest.mark.slow
+def test_every_unit_names_a_key_of_the_summary(envelope):
+    """SUMMARY_UNITS (what the terminal prints after a value) names keys the summary has."""
+    from freefloat.app.atlas import capture_envelope
+
+    assert set(capture_envelope.SUMMARY_UNITS) <= set(envelope[1].summary["summary"])

@@ -77,3 +77,11 @@ def test_an_option_it_does_not_take_is_refused():
     """``--axes`` is not an option of this kind."""
     with pytest.raises(InvalidArgument, match="does not take --axes"):
         run_atlas("contact_envelope", "contact_capture", Options(axes=("x", "y")), None)
+
+
+@pytest.mark.slow
+def test_every_unit_names_a_key_of_the_summary(envelope):
+    """SUMMARY_UNITS (what the terminal prints after a value) names keys the summary has."""
+    from freefloat.app.atlas import contact_envelope
+
+    assert set(contact_envelope.SUMMARY_UNITS) <= set(envelope.summary["summary"])

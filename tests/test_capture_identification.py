@@ -11,7 +11,7 @@ import pytest
 
 from freefloat import SceneError
 from freefloat.app.runner import prepare, simulate
-from freefloat.app.scenes import builtin_scenes, parse_scene
+from freefloat.app.scenes import builtin_scenes, load_scene, parse_scene
 
 SCENE = "capture_identified"
 
@@ -82,3 +82,13 @@ def test_identification_needs_a_target_and_a_free_base():
         prepare(scene_of("detumble_impulse_arm1_joint4", identification={}))
     with pytest.raises(SceneError, match="robot.base"):
         prepare(scene_of("capture_planar", identification={}))
+
+
+def test_an_environment_is_refused_naming_its_kind(tmp_path):
+    """A capture with [identification] flies in no environment: an [[environment]] is refused,
+    not ignored."""
+    path = tmp_path / "in_orbit.toml"
+    path.write_text(builtin_scenes()["capture_identified"].read_text()
+                    + '\n[[environment]]\nkind = "orbit"\naltitude = 400e3\n')
+    with pytest.raises(SceneError, match="kind 'orbit' is not applied by a capture with"):
+        prepare(load_scene(path))

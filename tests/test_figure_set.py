@@ -106,6 +106,7 @@ DETUMBLING = MOTION | SPIN | {"joint_errors", "torques", "conservation_balance"}
 #: The figures each built-in scene's task and controller call for.
 CALLED_FOR = {
     "capture_planar": CAPTURE, "capture_satellite": CAPTURE, "capture_identified": CAPTURE,
+    "capture_in_orbit": CAPTURE - {"com_drift"} | {"conservation_balance", "relative_orbit"},
     "capture_wheels": CAPTURE | {"reaction_wheels"},
     **dict.fromkeys(("capture_planned_planar", "capture_planned_planar_pose", "capture_planned_satellite"),
                     CAPTURE | {"approach_joint_errors"}),
@@ -122,10 +123,10 @@ CALLED_FOR = {
     "rsu_ppap_free_base": MECHANISM | {"base_attitude", "momentum"},
     "four_arm_joint_space": JOINT_SPACE, "satellite_dual_arm": JOINT_SPACE,
     "satellite_wheels": JOINT_SPACE | {"reaction_wheels"},
-    "satellite_momentum_dump": JOINT_SPACE - {"com_drift"} | {"conservation_balance", "reaction_wheels"},
-    "satellite_thruster_hold": JOINT_SPACE - {"com_drift"} | {"conservation_balance"},
+    "satellite_momentum_dump": JOINT_SPACE - {"com_drift"} | {"conservation_balance", "reaction_wheels", "thrusters"},
+    "satellite_thruster_hold": JOINT_SPACE - {"com_drift"} | {"conservation_balance", "thrusters"},
     "satellite_hands_joined": MOTION | {"com_drift", "closed_loop"},
-    "tumbling": MOTION | {"com_drift"}, "orbit_libration": MOTION | {"conservation_balance"},
+    "tumbling": MOTION | {"com_drift"}, "orbit_libration": MOTION | {"conservation_balance", "relative_orbit"},
     **dict.fromkeys(("contact_capture", "contact_rebound_fast"), MOTION | {"com_drift", "contact"}),
 }
 

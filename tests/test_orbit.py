@@ -100,6 +100,17 @@ def test_the_reference_point_moves_on_the_keplerian_circle():
                                rtol=1e-6, atol=1e-6)
 
 
+def test_an_orbit_started_later_is_the_same_orbit_further_on():
+    """``later(start)`` is the same circle on a clock started ``start`` s later: its R0(t), V0(t)
+    and LVLH axes are the original's at start + t."""
+    later = ORBIT.later(1234.5)
+    assert (later.radius, later.mean_motion) == (ORBIT.radius, ORBIT.mean_motion)
+    for t in (0.0, 77.0, 3000.0):
+        np.testing.assert_allclose(later.position(t), ORBIT.position(1234.5 + t), rtol=0, atol=1e-8)
+        np.testing.assert_allclose(later.velocity(t), ORBIT.velocity(1234.5 + t), rtol=0, atol=1e-11)
+        np.testing.assert_allclose(later.lvlh_rotation(t), ORBIT.lvlh_rotation(1234.5 + t), atol=1e-15)
+
+
 def test_lvlh_axes_are_radial_along_track_and_normal():
     """The LVLH rotation's columns are R0 / |R0|, V0 / |V0| and their cross product, at any time."""
     for t in (0.0, 800.0, 4000.0):

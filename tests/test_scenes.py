@@ -36,7 +36,7 @@ ROBOT_SCENES = sorted(name for name, path in builtin_scenes().items() if isinsta
 SLOW_TO_PREPARE = {"capture_planned_planar", "capture_planned_planar_pose", "capture_planned_satellite",
                    "capture_planned_two_hands_planar", "capture_planned_two_hands_satellite", "capture_satellite",
                    "capture_two_hands_satellite", "capture_wheels", "satellite_dual_arm", "satellite_hands_joined",
-                   "satellite_wheels", "satellite_momentum_dump", "satellite_thruster_hold"}
+                   "satellite_wheels", "satellite_momentum_dump", "satellite_thruster_hold", "capture_in_orbit"}
 
 
 @pytest.mark.parametrize("name", [pytest.param(n, marks=pytest.mark.slow) if n in SLOW_TO_PREPARE else n

@@ -6,6 +6,7 @@ impulse, the pose hold and the wheels' momentum dump."""
 from __future__ import annotations
 
 import dataclasses
+import math
 import re
 import tomllib
 
@@ -124,8 +125,8 @@ class ConstantThrust:
 
 
 def test_propellant_and_delta_v_follow_the_closed_form(satellite):
-    """Constant thrusts F_i over T s burn sum F_i T / (I_sp g0) kg and give sum F_i T / m of delta-v,
-    and the momentum changes by the thrusters' impulse."""
+    """Constant thrusts F_i over T s burn m_p = sum F_i T / (I_sp g0) kg and give Tsiolkovsky's
+    delta-v I_sp g0 ln(m0 / (m0 - m_p)), and the momentum changes by the thrusters' impulse."""
     thrusters = ThrusterSet(satellite, ThrusterSettings(specific_impulse=230.0))
     thrusts = np.zeros(thrusters.count)
     thrusts[[0, 5, 9]] = (3.0, 1.5, 0.5)
@@ -137,8 +138,39 @@ def test_propellant_and_delta_v_follow_the_closed_form(satellite):
     impulse = thrusts.sum() * duration
     assert summary["thruster_impulse_total"] == pytest.approx(impulse, rel=1e-12)
     assert summary["propellant_mass"] == pytest.approx(impulse / (230.0 * G0), rel=1e-12)
-    assert summary["thruster_delta_v"] == pytest.approx(impulse / pin.computeTotalMass(satellite.model), rel=1e-12)
+    m0 = pin.computeTotalMass(satellite.model)
+    assert summary["thruster_delta_v"] == pytest.approx(230.0 * G0 * math.log(m0 / (m0 - impulse / (230.0 * G0))),
+                                                        rel=1e-12)
     assert summarize(tel, satellite, (), PERIOD, (thrusters,))["momentum_balance_max"] < 1e-10
+
+
+def test_the_thrusters_figure_draws_the_propellant_integral(satellite):
+    """The ``thrusters`` figure of a run of the pose hold (pulses with a minimum impulse bit, rows
+    recorded every third period) draws the thrusts held and a propellant curve equal to the
+    rectangle-rule integral of sum |F_i| / (I_sp g0) over the control periods; its last point is the
+    summary's propellant_mass."""
+    from freefloat.app.viz.thruster_figures import thruster_figure
+
+    thrusters = ThrusterSet(satellite, ThrusterSettings(min_impulse_bit=5e-4, specific_impulse=230.0))
+    law = ThrusterHold(satellite, thrusters, PERIOD, kp=4.0, kd=4.0)
+    v0 = np.zeros(satellite.model.nv)
+    v0[:6] = (0.01, 0.0, -0.005, 0.02, -0.01, 0.03)
+    tel = freefloat.run(satellite, satellite.neutral(), v0, 0.3, PERIOD, controller=law, environment=(thrusters,),
+                        record_every=3, backend="python").telemetry
+    starts = np.arange(round(0.3 / PERIOD)) * PERIOD
+    burnt = np.cumsum([np.abs(thrusters.thrust(s)).sum() * PERIOD for s in starts]) / (230.0 * G0)
+    expected = np.interp(tel.t, starts + PERIOD, burnt, left=0.0)  # held thrusts: linear within a period
+    fig = thruster_figure(tel.t, *thrusters.rows(tel.t), thrusters.specific_impulse)
+    thrust_ax, propellant_ax = fig.axes
+    t, grams = propellant_ax.lines[0].get_data()
+    rows = np.searchsorted(tel.t, t)
+    np.testing.assert_allclose(grams / 1e3, expected[rows], rtol=1e-12, atol=1e-15)
+    assert grams[-1] / 1e3 == pytest.approx(thruster_summary(thrusters, satellite, tel)["propellant_mass"], rel=1e-12)
+    drawn = {line.get_label(): line.get_ydata() for line in thrust_ax.lines}
+    for i in range(thrusters.count):
+        held = np.array([thrusters.thrust(s)[i] for s in tel.t])
+        assert (f"thruster {i}" in drawn) == held.any()
+    assert burnt[-1] > 0.0
 
 
 @pytest.mark.slow

@@ -97,3 +97,14 @@ def test_the_grasp_posture_is_warned_exactly_when_the_loop_is_singular(tmp_path,
     assert bool(singular) == (rank < 6)
     if singular:
         assert "[initial.joint_positions]" in str(singular[0].message)
+
+
+def test_an_environment_is_refused_naming_its_kind(tmp_path):
+    """A two-hand capture flies in no environment: an [[environment]] is refused, not ignored."""
+    from freefloat.app.scenes import builtin_scenes, load_scene
+
+    path = tmp_path / "in_orbit.toml"
+    path.write_text(builtin_scenes()["capture_two_hands_planar"].read_text()
+                    + '\n[[environment]]\nkind = "orbit"\naltitude = 400e3\n')
+    with pytest.raises(SceneError, match="kind 'orbit' is not applied by a two-hand capture"):
+        runner.prepare(load_scene(path))

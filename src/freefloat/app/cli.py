@@ -224,9 +224,10 @@ def _atlas(args: argparse.Namespace) -> int:
     print(f"{args.kind} of {args.target}: {done.summary['points_mapped']} points in "  # the time the bar showed
           f"{done.summary['map_wall_time_s']:.2f} s ({workers.label}){f', {resumed} resumed' if resumed else ''} "
           f"-> {done.folder}")
+    units = getattr(ATLAS_KINDS.get(args.kind).load(), "SUMMARY_UNITS", {})
     for key, value in done.summary["summary"].items():
         if not isinstance(value, (dict, list)):
-            print(f"  {key}: {shown(value)}")
+            print(f"  {key}: {shown(value, units.get(key, ''))}")
     print(f"  wrote: {', '.join(p.name for p in done.written)}")
     return 0
 

@@ -24,6 +24,9 @@ from ..errors import FreefloatError, did_you_mean
 SPINNING = ("detumbling", "capture", "capture_identification", "two_hand_capture")
 #: Scene kinds of the robot runs that track joint references throughout.
 TRACKING = ("joint_space", "detumbling")
+#: Scene kinds of the robot runs that fly in the fields of their ``[[environment]]`` (a one-hand
+#: capture: in an orbit).
+IN_FIELDS = (*TRACKING, "capture")
 
 
 class Figure(NamedTuple):
@@ -60,9 +63,9 @@ FIGURES: dict[str, Figure] = {
                                  _robot(lambda s: True)),
     "end_effector_displacement": Figure("each end-effector's displacement from its start", _robot(lambda s: True)),
     "com_drift": Figure("CoM and momentum drift from their free motion (runs without external wrenches or fields)",
-                        _robot(lambda s: not s.environment or s.kind not in TRACKING)),
+                        _robot(lambda s: not s.environment or s.kind not in IN_FIELDS)),
     "conservation_balance": Figure("momentum and energy against what the external wrenches and fields applied",
-                                   _robot(lambda s: bool(s.environment) and s.kind in TRACKING)),
+                                   _robot(lambda s: bool(s.environment) and s.kind in IN_FIELDS)),
     "angular_rates": Figure("base and end-effector spin decaying (capture and detumbling runs)",
                             _robot(lambda s: s.kind in SPINNING)),
     "angular_momentum": Figure("L(t) about the CoM and the origin (capture and detumbling runs)",
@@ -71,6 +74,10 @@ FIGURES: dict[str, Figure] = {
                           _robot(lambda s: bool(s.closures) or s.kind == "two_hand_capture")),
     "reaction_wheels": Figure("reaction wheels' stored momentum and torque against their limits (runs with [[wheels]])",
                               _robot(lambda s: bool(s.wheels))),
+    "thrusters": Figure("thrust per thruster and propellant burnt (runs with thrusters)",
+                        _robot(lambda s: any(e.kind == "thrusters" for e in s.environment))),
+    "relative_orbit": Figure("the base (and a capture's target) in the LVLH frame: the relative orbit (runs in orbit)",
+                             _robot(lambda s: any(e.kind == "orbit" for e in s.environment))),
     "contact": Figure("contact force and penetration over time (capture-by-contact runs)",
                       _robot(lambda s: s.kind == "contact_capture")),
     "platform_tracking": Figure("mechanism platform path and tracking error", _mechanism(lambda s: True)),
@@ -85,7 +92,8 @@ FIGURES: dict[str, Figure] = {
 #: The lean set a scene draws unless it says otherwise: each kind of run's own figures, less the
 #: robot's motion (base trajectory, end-effector paths and displacement), which the page shows.
 DEFAULT = ("joint_errors", "approach_joint_errors", "torques", "com_drift", "conservation_balance", "angular_rates", "angular_momentum",
-           "closed_loop", "reaction_wheels", "contact", "platform_tracking", "efforts", "loop_closure_drift", "sliding_variables",
+           "closed_loop", "reaction_wheels", "thrusters", "relative_orbit", "contact", "platform_tracking", "efforts",
+           "loop_closure_drift", "sliding_variables",
            "base_attitude", "momentum")
 #: The name that stands for every figure.
 ALL = "all"

@@ -18,9 +18,9 @@ merged robot continues with the robot part of ``v+``.
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 import pinocchio as pin
@@ -225,6 +225,20 @@ def attach(robot: Robot, end_effector: str, q: np.ndarray, body: TargetBody, q_t
     return dataclasses.replace(robot, model=model, visual_model=None)
 
 
+#: The fields of an environment (:class:`~freefloat.dynamics.wrenches.WrenchField`: in orbit,
+#: say) on a robot or a body's Pinocchio model: ``environment(robot_or_model, start)``, for a run
+#: whose time 0 is ``start`` s of the capture's (the detumbling's run starts at the grasp).
+Environment = Callable[[Any, float], Sequence[Any]]
+
+
+class Flight(NamedTuple):
+    """The target's free flight in fields, one row per control period: poses (N, 7) and local
+    twists (N, 6)."""
+
+    q: np.ndarray
+    v: np.ndarray
+
+
 @dataclass
 class FlyingTarget:
     """The target's free flight during an approach.
@@ -244,7 +258,8 @@ class FlyingTarget:
 def approach(robot: Robot, body: TargetBody, end_effectors: tuple[str, ...], control_period: float,
              duration: float, tolerance: float, integrator: str, q0: np.ndarray | None, v0: np.ndarray | None,
              kp: float, kd: float, model: str, controller: Any = None,
-             not_before: float = 0.0, compose: Compose | None = None) -> tuple[Any, FlyingTarget]:
+             not_before: float = 0.0, compose: Compose | None = None,
+             environment: Environment | None = None) -> tuple[Any, FlyingTarget]:
     """The robot holds its posture (computed torque on its joints), or follows ``controller`` (e.g.
     a planned approach, :mod:`freefloat.space.planning`), while the target flies freely, until
     every grasp point ``k`` of ``body`` is within ``tolerance`` of ``end_effectors[k]``'s frame
@@ -254,7 +269,10 @@ def approach(robot: Robot, body: TargetBody, end_effectors: tuple[str, ...], con
 
     Both fly in the engine: nothing touches the target before contact, so its free flight over
     ``duration`` is one run of its own (:class:`TargetBody` as a plant, the robot's integrator and
-    control period), and the robot's run's stop event reads the target's pose at its period.
+    control period), and the robot's run's stop event reads the target's pose at its period. With
+    ``environment`` (in orbit, say) both fly in its fields, the target's flight then integrated
+    with its fields' stage times by :func:`~freefloat.space.orbit.propagation.propagate` (a plant
+    takes no fields).
 
     Raises:
         TargetMissed: when the grasp points do not all come within ``tolerance`` in ``duration`` s
@@ -268,12 +286,18 @@ def approach(robot: Robot, body: TargetBody, end_effectors: tuple[str, ...], con
     from .control.detumbling_control import DetumblingController
     from .detumbling import joint_indices, task_rows
 
-    free = run(body, *body.initial_state(), duration, control_period, integrator)  # the target alone
-    if free.status == "interrupted":  # Ctrl-C or SIGTERM during the approach stops the whole run
-        raise KeyboardInterrupt(free.message)
-    if free.status != "completed":
-        raise SimulationDiverged(f"the target's free flight {free.status}: {free.message}")
-    path = free.telemetry
+    if environment is None:
+        free = run(body, *body.initial_state(), duration, control_period, integrator)  # the target alone
+        if free.status == "interrupted":  # Ctrl-C or SIGTERM during the approach stops the whole run
+            raise KeyboardInterrupt(free.message)
+        if free.status != "completed":
+            raise SimulationDiverged(f"the target's free flight {free.status}: {free.message}")
+        path = free.telemetry
+    else:
+        from .orbit.propagation import propagate
+
+        times = control_period * np.arange(round(duration / control_period) + 1)
+        path = Flight(*propagate(body.model, environment(body.model, 0.0), *body.initial_state(), times))
     frames = [robot.model.getFrameId(name) for name in end_effectors]
     data = robot.model.createData()
     closest = [np.inf, 0.0]  # smallest largest gap (m) and when (s)
@@ -294,7 +318,7 @@ def approach(robot: Robot, body: TargetBody, end_effectors: tuple[str, ...], con
     q0 = robot.neutral() if q0 is None else q0
     v0 = np.zeros(robot.model.nv) if v0 is None else v0
     pre = run(robot, q0, v0, duration, control_period, make_integrator(integrator, robot.model), ExactModel(robot),
-              hold, stop=reached)
+              hold, stop=reached, environment=() if environment is None else environment(robot, 0.0))
     if pre.status == "interrupted":  # Ctrl-C or SIGTERM during the approach stops the whole run
         raise KeyboardInterrupt(pre.message)
     if pre.status != "stopped":
@@ -334,17 +358,18 @@ class Grasp:
 def grasp(robot: Robot, target: Target, end_effector: str, control_period: float = 1e-3, approach_time: float = 1.0,
           tolerance: float = 1e-3, integrator: str = "rkmk4", q0: np.ndarray | None = None,
           v0: np.ndarray | None = None, kp: float = 10.0, kd: float = 100.0, model: str = "exact",
-          approach_controller: Any = None, grasp_time: float = 0.0, compose: Compose | None = None) -> Grasp:
+          approach_controller: Any = None, grasp_time: float = 0.0, compose: Compose | None = None,
+          environment: Environment | None = None) -> Grasp:
     """Hold (or follow ``approach_controller``; either composed by ``compose``) until the target's
-    grasp point reaches ``end_effector`` (:func:`approach`), grasp it by the exact impulse
-    (:func:`impact`) and merge it into the robot (:func:`attach`).
+    grasp point reaches ``end_effector`` (:func:`approach`, in the fields of ``environment``), grasp
+    it by the exact impulse (:func:`impact`) and merge it into the robot (:func:`attach`).
 
     Raises:
         TargetMissed, SimulationDiverged: as :func:`approach`.
     """
     body = TargetBody(target)
     pre, flight = approach(robot, body, (end_effector,), control_period, approach_time, tolerance, integrator, q0, v0,
-                           kp, kd, model, approach_controller, grasp_time, compose)
+                           kp, kd, model, approach_controller, grasp_time, compose, environment)
     q, v = pre.telemetry.q[-1], pre.telemetry.v[-1]
     hit = impact(robot, end_effector, q, v, body, flight.q, flight.v)
     return Grasp(pre, body, flight, hit, attach(robot, end_effector, q, body, flight.q), q, hit.v_robot)
@@ -381,14 +406,15 @@ def capture_and_detumble(robot: Robot, target: Target, end_effector: str, rows_s
                          integrator: str = "rkmk4", q0: np.ndarray | None = None, v0: np.ndarray | None = None,
                          kp: float = 10.0, kd: float = 100.0, model: str = "exact",
                          approach_controller: Any = None, grasp_time: float = 0.0,
-                         compose: Compose | None = None) -> CaptureResult:
+                         compose: Compose | None = None, environment: Environment | None = None) -> CaptureResult:
     """Hold (or follow ``approach_controller``) until the target's grasp point reaches
     ``end_effector``, grasp it (exact impulse), then detumble the merged robot by stopping the
     end-effector rows ``rows_spec``; not before ``grasp_time`` s (a planned grasp instant). With
     ``compose`` (:data:`Compose`) each phase runs its law composed (the detumbling on the merged
-    robot, from the impact time). The
-    summary has the approach's base attitude change (rad,
-    start to contact) and the grasp mismatch at contact (:func:`grasp_mismatch`).
+    robot, from the impact time); with ``environment``, every phase in its fields (the
+    detumbling's, whose telemetry starts at 0, made with their clock started at the grasp). The
+    summary has the approach's base attitude change (rad, start to contact) and the grasp
+    mismatch at contact (:func:`grasp_mismatch`).
 
     Raises:
         TargetMissed: when the target does not come within ``tolerance`` of the end-effector
@@ -401,7 +427,7 @@ def capture_and_detumble(robot: Robot, target: Target, end_effector: str, rows_s
     from .detumbling import joint_indices, task_rows
 
     held = grasp(robot, target, end_effector, control_period, approach_time, tolerance, integrator, q0, v0, kp, kd,
-                 model, approach_controller, grasp_time, compose)
+                 model, approach_controller, grasp_time, compose, environment)
     pre, state, hit, merged, q = held.pre, held.flight, held.hit, held.merged, held.q
     t_hit = pre.telemetry.t[-1]
     gap, relative_speed, relative_spin = grasp_mismatch(robot, end_effector, q, pre.telemetry.v[-1], held.body,
@@ -410,7 +436,8 @@ def capture_and_detumble(robot: Robot, target: Target, end_effector: str, rows_s
     controller = DetumblingController(merged, task_rows(merged, rows_spec), joint_indices(merged, joints), start=0.0,
                                       control_period=control_period, method=method, kp=kp, kd=kd, model=model)
     post = run(merged, q, hit.v_robot, detumble_time, control_period, make_integrator(integrator, merged.model),
-               ExactModel(merged), controller if compose is None else compose(merged, controller, float(t_hit)))
+               ExactModel(merged), controller if compose is None else compose(merged, controller, float(t_hit)),
+               environment=() if environment is None else environment(merged, t_hit))
     tel = post.telemetry
     w = target_angular_speed(merged, tel.q, tel.v)
     settled = settling_time(tel.t, w, settle_below)

@@ -23,10 +23,11 @@ then ``I_min / h``.
 **Propellant.** The mass flow of a thruster is ``F / (I_sp g_0)``, so over a run
 
 .. math:: m_p = \frac{\sum_i \int F_i\,dt}{I_{sp}\, g_0}, \qquad
-          \Delta v = \frac{\sum_i \int F_i\,dt}{m},
+          \Delta v = I_{sp}\, g_0 \ln \frac{m_0}{m_0 - m_p},
 
-``m`` the robot's mass (the propellant burnt is taken as small against it: the rocket equation's
-first order, ``m_p / m = Delta v / (I_sp g_0)``).
+``m_0`` the robot's mass at the start (Tsiolkovsky's rocket equation; the dynamics keep the mass
+``m_0``: the propellant burnt is taken as small against it, ``Delta v`` differs from the first
+order ``sum_i int F_i dt / m_0`` by a part ``m_p / (2 m_0)``).
 
 **Impulse.** The field's inertial wrench about the origin, ``[R f_b; p x R f_b + R n_b]`` with the
 base pose ``(R, p)``, changes within a period as the base turns and moves. :meth:`ThrusterSet.impulse`
@@ -38,6 +39,7 @@ rule's error (``O(h^4)`` per period); the run's balances take it (:mod:`freefloa
 
 from __future__ import annotations
 
+import math
 from bisect import bisect_right
 from dataclasses import dataclass
 from typing import Any
@@ -255,11 +257,31 @@ class ThrusterSet:
 
     def total_impulse(self, end: float) -> np.ndarray:
         """``int F_i dt`` of each thruster from the first command to ``end`` s (k,), N s."""
+        return self.impulse_until(np.array([end]))[0]
+
+    def impulse_until(self, t: np.ndarray) -> np.ndarray:
+        """``int F_i dt`` of each thruster from the first command to each of the times ``t``
+        (N,), s: (N, k), N s, from the commands held (exact for any sampling of the run)."""
+        t = np.asarray(t, float)
         if not self.times:
-            return self._zero.copy()
-        starts = np.array(self.times)
-        spans = np.clip(np.diff(np.append(starts, max(end, starts[-1]))), 0.0, None)
-        return spans @ np.array(self.thrusts)
+            return np.zeros((len(t), self.count))
+        starts, held = np.array(self.times), np.array(self.thrusts)
+        before = np.vstack((np.zeros(self.count), np.cumsum(np.diff(starts)[:, None] * held[:-1], axis=0)))
+        last = np.searchsorted(starts, t, side="right") - 1  # the command held at each t (-1: none yet)
+        since = np.clip(t - starts[np.maximum(last, 0)], 0.0, None)[:, None]
+        return np.where((last >= 0)[:, None], before[np.maximum(last, 0)] + since * held[np.maximum(last, 0)], 0.0)
+
+    def delta_v(self, propellant: float) -> float:
+        """Tsiolkovsky's ``I_sp g_0 ln(m_0 / (m_0 - m_p))``, m/s, for ``propellant`` m_p kg burnt
+        from the robot's mass m_0 (:attr:`mass`; module docstring)."""
+        return -self.specific_impulse * G0 * math.log1p(-propellant / self.mass)
+
+    def rows(self, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """What a run's ``thrusters`` figure draws at the times ``t`` (N,), s: the thrusts held
+        (N, k), N, and the propellant burnt since the first command (N,), kg
+        (:meth:`impulse_until` over ``I_sp g_0``)."""
+        thrust = np.array([self.thrust(s) for s in t]).reshape(len(t), self.count)
+        return thrust, self.impulse_until(t).sum(axis=1) / (self.specific_impulse * G0)
 
 
 def _inertial(placement: pin.SE3, wrench: np.ndarray) -> np.ndarray:
@@ -288,8 +310,8 @@ SUMMARY_UNITS = {
 
 def thruster_summary(field: ThrusterSet, robot: Robot, telemetry: Any) -> dict[str, Any]:
     """What the thrusters did over a run (``telemetry`` of ``robot``): each thruster's impulse
-    ``int F_i dt`` and their sum (N s), the propellant mass (kg) and the delta-v (m/s) they cost
-    (module docstring), their net impulse ``[N s; N m s about the origin]`` (inertial, (6,), at the
+    ``int F_i dt`` and their sum (N s), the propellant mass (kg) and the delta-v (m/s, the rocket
+    equation) they cost (module docstring), their net impulse ``[N s; N m s about the origin]`` (inertial, (6,), at the
     end; the run's ``momentum_balance_max`` balances the momentum against it), and
     ``thruster_firings``: the (period, thruster) pairs with a non-zero thrust.
 
@@ -298,11 +320,12 @@ def thruster_summary(field: ThrusterSet, robot: Robot, telemetry: Any) -> dict[s
     tel = telemetry
     each = field.total_impulse(float(tel.t[-1]))
     total = float(each.sum())
+    propellant = total / (field.specific_impulse * G0)
     return {
         "thruster_impulse_total": total,
         "thruster_impulse_each": each.tolist(),
-        "propellant_mass": total / (field.specific_impulse * G0),
-        "thruster_delta_v": total / field.mass,
+        "propellant_mass": propellant,
+        "thruster_delta_v": field.delta_v(propellant),
         "thruster_impulse": field.impulse(tel.t, tel.q, tel.v)[-1].tolist(),
         "thruster_firings": int(sum(np.count_nonzero(f) for f in field.thrusts)),
     }

@@ -41,6 +41,8 @@ The contract of a kind (adding one is one module here plus one ``KINDS.register`
   holding every array with its rows in flat grid order (C order over the axes);
 - ``figures(context, grid, result, out: Path) -> list[Path]``: the figures (PNG, and a meshcat
   page for 3-D point clouds), written into ``out``; import matplotlib and meshcat inside it;
+- optionally ``SUMMARY_UNITS: dict[str, str]``: the unit of a summary key whose name does not
+  say it (``"m/s"``), printed after its value on the terminal;
 - optionally ``MIN_CHUNK: int``: the fewest points per chunk, for a kind whose points take long
   each (the engine's default amortises a fast kind's per-call overhead, and would make a slow
   kind's chunks, and what an interrupt loses, minutes long).

@@ -28,6 +28,9 @@ from .kinds import Options
 from .outcome_maps import cell_extent, outcome_panel, write_map
 
 OPTIONS = frozenset({"grid", "axes"})
+#: The unit of each summary key that has one (the terminal prints it).
+SUMMARY_UNITS = {"contact_time": "s", "held_reach": "m", "farthest_graspable": "m", "attitude_change_max": "rad",
+                 "attitude_change_median": "rad"}
 #: The outcome codes of the map, by index: graspable, then :data:`InfeasiblePlan.REASONS`.
 OUTCOMES = ("graspable", *InfeasiblePlan.REASONS)
 COORDINATES = ("x", "y", "z")

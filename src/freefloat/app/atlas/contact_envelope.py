@@ -28,6 +28,8 @@ from .kinds import Options
 from .outcome_maps import cell_extent, outcome_panel, write_map
 
 OPTIONS = frozenset({"grid"})
+#: The unit of each summary key that has one (the terminal prints it).
+SUMMARY_UNITS = {"fastest_latched": "m/s", "slowest_rebound": "m/s", "peak_force_max": "N", "max_penetration_max": "m"}
 #: Points per axis of the default grid.
 POINTS = 3
 #: The speed axis's ends, times the scene's latch speed.

@@ -9,6 +9,7 @@ from __future__ import annotations
 import dataclasses
 import time
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 import pinocchio as pin
@@ -17,12 +18,15 @@ from ...dynamics.metrics import spin_summary, summarize
 from ...dynamics.result import Result
 from ...errors import FreefloatError, InfeasiblePlan, SceneError, did_you_mean
 from ...space.capture import SUMMARY_UNITS as CAPTURE_UNITS
-from ...space.capture import Target, capture_and_detumble
+from ...space.capture import Environment, Target, capture_and_detumble
+from ...space.orbit.field import OrbitField
 from ...space.planning import ApproachRequest, GraspMotion, Limits, Plan, plan_approach, planned_path
 from ...space.planning.plan import SUMMARY_UNITS as PLAN_UNITS
 from ...space.planning.tracking import PlanTracking
 from ..controllers import JointGains
+from ..environments import ENVIRONMENTS
 from ..scenes import Scene
+from ..viz.figure_job import LvlhRows
 from .base import Checkpoint, Experiment, Outcome, Progress
 from .detumbling import detumble_task, mission_joints, rows_spec
 from .robot_run import (
@@ -77,10 +81,44 @@ def prepare(scene: Scene) -> CaptureSetup:
         raise SceneError(f"scene '{scene.name}': target.end_effector '{tg.end_effector}' is not an end-effector"
                          f"{did_you_mean(tg.end_effector, robot.end_effectors, 'end-effectors')}")
     target = scene_target(scene, setup, (0.0, 0.0, 0.0) if scene.approach is None else scene.approach.reach)
+    capture_fields(setup)
     if scene.approach is None or tg.second_end_effector:  # a two-hand plan is made once both grasps are known
         return CaptureSetup(**vars(setup), target=target)
     return CaptureSetup(**vars(setup), target=target,
                         **planned(scene, setup, (tg.end_effector,), (GraspMotion.of(target),)))
+
+
+def refuse_environment(scene: Scene, what: str) -> None:
+    """Refuse a scene with an ``[[environment]]`` for a capture that flies in none (``what``
+    names it: "a two-hand capture"), instead of running it as if the entry were not there.
+
+    Raises:
+        SceneError: naming the first entry's kind.
+    """
+    if scene.environment:
+        raise SceneError(f"{scene.source or f'scene {scene.name!r}'}: [[environment]] kind "
+                         f"'{scene.environment[0].kind}' is not applied by {what} (only the one-hand capture flies "
+                         "in an 'orbit'): remove it")
+
+
+def capture_fields(setup) -> Environment | None:
+    """The fields a capture flies in: those of the scene's orbits (``[[environment]] kind =
+    "orbit"``) on any robot or body, ``fields(model, start)`` for a run starting at ``start`` s
+    (:data:`~freefloat.space.capture.Environment`), or None out of orbit.
+
+    Raises:
+        SceneError: naming an ``[[environment]]`` entry of another kind, which a capture does not
+            apply (it would act on the scene's robot only, not on the target or the merged robot).
+    """
+    scene = setup.scene
+    others = [e.kind for e in scene.environment if e.kind != "orbit"]
+    if others:
+        raise SceneError(f"{scene.source or f'scene {scene.name!r}'}: [[environment]] kind '{others[0]}' is not "
+                         "applied by a capture (it flies in an 'orbit' only): remove it")
+    orbits = [f.orbit for f in setup.environment if isinstance(f, OrbitField)]
+    if not orbits:
+        return None
+    return lambda model, start: tuple(OrbitField(model, orbit.later(start)) for orbit in orbits)
 
 
 def scene_target(scene: Scene, setup, reach) -> Target:
@@ -214,7 +252,8 @@ def grasp_time(setup: CaptureSetup) -> float:
 TASK_HEADLINE = SPIN_HEADLINE + ("approach_base_attitude_change", "approach_attitude_ratio", "grasp_position_mismatch")
 #: The unit of each key :func:`approach_summary` adds to the plan's own
 #: (:data:`freefloat.space.planning.plan.SUMMARY_UNITS`).
-UNITS = {"approach_min_norm_attitude_change": "rad", "approach_attitude_ratio": ""}
+UNITS = {"approach_min_norm_attitude_change": "rad", "approach_attitude_ratio": "",
+         "target_lvlh_relative_grasp": "m", "target_lvlh_relative_final": "m"}
 
 
 def approach_summary(setup: CaptureSetup) -> dict:
@@ -235,20 +274,27 @@ def run(setup: CaptureSetup, progress: Progress | None = None, checkpoint: Check
     report nor checkpoints.)"""
     scene, robot = setup.scene, setup.robot
     tg, sim, ctrl = scene.target, scene.simulation, scene.controller
+    fields = capture_fields(setup)
     start = time.perf_counter()
     wheels = None if setup.wheels is None else CaptureWheels(scene, setup.wheels, setup.q0)
     res = capture_and_detumble(robot, setup.target, tg.end_effector, rows_spec(scene), mission_joints(scene),
                                scene.task.method, sim.control_period, tg.contact_time + APPROACH_MARGIN, sim.duration,
                                tg.tolerance, integrator=sim.integrator, q0=setup.q0, v0=setup.v0,
                                kp=ctrl.kp, kd=ctrl.kd, model=ctrl.model,
-                               approach_controller=plan_tracking(setup), grasp_time=grasp_time(setup), compose=wheels)
+                               approach_controller=plan_tracking(setup), grasp_time=grasp_time(setup), compose=wheels,
+                               environment=fields)
     wall = time.perf_counter() - start
     merged = dataclasses.replace(res.merged, visual_model=robot.visual_model)
     tel = res.post
     result = Result(tel, res.summary["status"], "", len(tel.t) - 1, wall, 0)
-    summary = summarize(tel, merged)  # after the grasp: no external wrench, so drifts
+    after = () if fields is None else fields(merged, res.impact_time)
+    summary = summarize(tel, merged, (), sim.control_period, after)  # after the grasp: balances in fields, else drifts
+    for field, entry in zip(after, [e for e in scene.environment if e.kind == "orbit"]):
+        summary.update(ENVIRONMENTS[entry.kind].summarise(field, merged, tel))
     summary.update(spin_summary(merged, tel))
     summary.update(res.summary, sim_wall_time_s=wall, steps=len(res.pre.t) + len(tel.t) - 2)
+    if after:  # in fields the momentum is not conserved: momentum_balance_max balances it against their impulse
+        del summary["momentum_drift_after_impact"]
     if setup.plan is not None:
         summary.update(approach_summary(setup))
     both_t = np.concatenate((res.pre.t, res.impact_time + tel.t[1:]))
@@ -256,12 +302,38 @@ def run(setup: CaptureSetup, progress: Progress | None = None, checkpoint: Check
     poses = np.concatenate((res.target_poses[: len(res.pre.t)], res.target_poses[len(res.pre.t) + 1:]))
     if wheels is not None:
         setup.wheel_control = wheels.law
+    lvlh = None
+    if fields is not None:
+        orbit = next(f.orbit for f in setup.environment if isinstance(f, OrbitField))
+        lvlh = relative_orbit(orbit, both_t, len(res.pre.t) - 1,
+                              np.concatenate((res.pre.base_position, tel.base_position[1:])), poses[:, :3, 3])
+        summary.update(target_lvlh_relative_grasp=lvlh.relative[0].tolist(),
+                       target_lvlh_relative_final=lvlh.relative[1].tolist())
+        lvlh = lvlh.rows
     return robot_outcome(setup, merged, tel, result, summary, animation=(both_t, both_q),
                          extra_bodies=lambda: [("target", target_box(tg.size), poses)],
                          extra_telemetry={"pre_capture": res.pre}, events=[(res.impact_time, "grasp")], wrenches=(),
                          spin=True, settle_threshold=res.summary["settle_threshold"],
                          approach=None if setup.plan is None else res.pre, task_headline=TASK_HEADLINE,
-                         wheel_rows=None if wheels is None else capture_wheel_telemetry(setup.wheels, setup.target, res))
+                         wheel_rows=None if wheels is None else capture_wheel_telemetry(setup.wheels, setup.target, res),
+                         lvlh=lvlh, environment=after)
+
+
+class RelativeOrbit(NamedTuple):
+    """A capture in orbit in the LVLH frame: the ``relative_orbit`` figure's rows, and the
+    target's CoM less the chaser base's CoM in LVLH axes at the grasp and at the end (2, 3), m."""
+
+    rows: LvlhRows
+    relative: np.ndarray
+
+
+def relative_orbit(orbit, t: np.ndarray, grasp_row: int, base: np.ndarray, target: np.ndarray) -> RelativeOrbit:
+    """The base and target CoMs (simulation frame, (N, 3) each, m) at the capture's times ``t``
+    (N,), s, of ``orbit`` (:class:`~freefloat.space.orbit.CircularOrbit`) in its LVLH frame, and
+    the target relative to the base there at row ``grasp_row`` and at the last."""
+    positions = np.stack([orbit.to_lvlh(t, points)[0] for points in (base, target)], axis=1)
+    return RelativeOrbit(LvlhRows(t, ["base CoM", "target CoM"], positions),
+                         positions[[grasp_row, -1], 1] - positions[[grasp_row, -1], 0])
 
 
 

@@ -22,7 +22,7 @@ from ...space.capture import SUMMARY_UNITS as CAPTURE_UNITS
 from ...space.capture import grasp
 from ..scenes import Scene
 from .base import Checkpoint, Experiment, Outcome, Progress
-from .capture import CaptureSetup, grasp_time, plan_tracking
+from .capture import CaptureSetup, grasp_time, plan_tracking, refuse_environment
 from .capture import prepare as prepare_capture
 from .capture import takes as takes_capture
 from .detumbling import mission_joints, rows_spec
@@ -81,8 +81,9 @@ def prepare(scene: Scene) -> CaptureSetup:
     Raises:
         SceneError: naming ``robot.base`` when it is not free (a planar base does not conserve
             the whole momentum the identification reads) or an unknown ``identification.joints``
-            name; or what the capture refuses.
+            name, an ``[[environment]]``; or what the capture refuses.
     """
+    refuse_environment(scene, "a capture with [identification]")
     setup = prepare_capture(scene)
     where = f"{scene.source}: " if scene.source else f"scene '{scene.name}': "
     if setup.robot.base != "free":

@@ -29,6 +29,9 @@ from ...robot.loading import load_robot
 from ...robot.locking import LockedJoints
 from ...robot.robot import Robot
 from ...robot.wheels import Wheels
+from ...space.orbit.field import OrbitField
+from ...space.orbit.lvlh import base_in_lvlh
+from ...space.thrusters import ThrusterSet
 from ..environments import ENVIRONMENTS, environment_units
 from ..figure_set import drawn
 from ..scenes import Scene, resolve_file
@@ -353,7 +356,8 @@ def robot_outcome(setup: RobotSetup, robot: Robot, telemetry: Telemetry, result:
                   extra_bodies: Callable[[], list] | None = None, extra_telemetry: dict[str, Telemetry] | None = None,
                   events: list[tuple[float, str]] | None = None, wrenches: tuple[ExternalWrench, ...] | None = None,
                   spin: bool = False, settle_threshold: float | None = None, task_headline: tuple[str, ...] = (),
-                  approach: Telemetry | None = None, wheel_rows: WheelTelemetry | None = None) -> Outcome:
+                  approach: Telemetry | None = None, wheel_rows: WheelTelemetry | None = None, lvlh: Any = None,
+                  environment: tuple[WrenchField, ...] | None = None) -> Outcome:
     """The outcome of a robot run on ``robot`` (the scene's, or the merged one after a capture):
     telemetry named by its joints and end-effectors, provenance, the figures as one picklable job
     (:class:`~freefloat.app.viz.figure_job.RobotFigures`, which the figure helper draws while the
@@ -365,10 +369,14 @@ def robot_outcome(setup: RobotSetup, robot: Robot, telemetry: Telemetry, result:
     poses)) and the named moments ``events`` ((time s, label)); with ``approach``
     (a planned capture's pre-capture phase on the scene's robot) also its joint tracking against the
     plan; with ``wheel_rows`` the wheels' rows of a run on another ``robot`` than the scene's (a
-    capture's phases) in place of those of ``telemetry``. The figures left out because their data is
-    identically zero are named in the summary's ``figures_not_drawn``."""
+    capture's phases) in place of those of ``telemetry``; with thrusters, their thrust and
+    propellant; in orbit, the relative orbit of ``lvlh``
+    (:class:`~freefloat.app.viz.figure_job.LvlhRows`; default: the base CoM's, from the telemetry).
+    ``environment``: the fields ``robot`` flew in over ``telemetry`` (default: the scene's, on its robot).
+    The figures left out because their data is identically zero are named in the summary's
+    ``figures_not_drawn``."""
     from ..viz.figure_data import empty_figures
-    from ..viz.figure_job import ClosedLoop, RobotFigures, WheelRows
+    from ..viz.figure_job import ClosedLoop, LvlhRows, RobotFigures, ThrusterRows, WheelRows
 
     t, q = animation or (telemetry.t, telemetry.q)
     sim = setup.scene.simulation
@@ -381,9 +389,14 @@ def robot_outcome(setup: RobotSetup, robot: Robot, telemetry: Telemetry, result:
             wheel_rows = wheel_telemetry(wheels, telemetry, wrenches, sim.control_period, setup.environment)
         extra_telemetry["wheels"] = wheel_rows
         summary = {**summary, **wheel_summary(wheels, setup.wheel_control, wheel_rows, telemetry)}
+    fields = setup.environment if environment is None else environment
+    thrusters = next((f for f in fields if isinstance(f, ThrusterSet)), None)
+    orbit = next((f.orbit for f in fields if isinstance(f, OrbitField)), None)
+    if lvlh is None and orbit is not None:
+        lvlh = LvlhRows(telemetry.t, ["base CoM"], base_in_lvlh(orbit, telemetry).position[:, None, :])
     residuals = None
-    if setup.environment and len(telemetry.t) >= 2 and "conservation_balance" in drawn(setup.scene):
-        residuals = balance(robot, telemetry, wrenches, sim.control_period, setup.environment)
+    if fields and len(telemetry.t) >= 2 and "conservation_balance" in drawn(setup.scene):
+        residuals = balance(robot, telemetry, wrenches, sim.control_period, fields)
     if setup.scene.output.figures and len(telemetry.t) >= 2:
         left_out = empty_figures(robot, telemetry, spin)
         if approach is not None and "joint_errors" in left_out:
@@ -410,7 +423,9 @@ def robot_outcome(setup: RobotSetup, robot: Robot, telemetry: Telemetry, result:
             wheels=None if wheels is None else WheelRows(wheel_rows.t, [w.name for w in wheels.wheels],
                                                             wheel_rows.momentum, wheels.max_momenta,
                                                             wheel_rows.torque, wheels.max_torques),
-            residuals=residuals),
+            residuals=residuals, lvlh=lvlh,
+            thrusters=None if thrusters is None else ThrusterRows(telemetry.t, *thrusters.rows(telemetry.t),
+                                                                  thrusters.specific_impulse)),
         page=lambda path, fps: _write_page(robot, t, q, path, fps, extra_bodies, events),
     )
 

@@ -24,7 +24,15 @@ from ...space.planning import GraspMotion
 from ...space.planning.plan import SUMMARY_UNITS as PLAN_UNITS
 from ..scenes import Scene
 from .base import Checkpoint, Experiment, Outcome, Progress
-from .capture import TARGET_COLOR, CaptureSetup, approach_summary, grasp_time, plan_tracking, planned
+from .capture import (
+    TARGET_COLOR,
+    CaptureSetup,
+    approach_summary,
+    grasp_time,
+    plan_tracking,
+    planned,
+    refuse_environment,
+)
 from .capture import TASK_HEADLINE as CAPTURE_HEADLINE
 from .capture import UNITS as APPROACH_UNITS
 from .capture import prepare as prepare_one_hand
@@ -77,8 +85,9 @@ def prepare(scene: Scene) -> TwoHandSetup:
 
     Raises:
         SceneError: naming ``target.second_end_effector``, ``target.second_grasp`` (with the point
-            that would meet the hand) or what the one-hand setup refuses.
+            that would meet the hand), an ``[[environment]]`` or what the one-hand setup refuses.
     """
+    refuse_environment(scene, "a two-hand capture")
     one = prepare_one_hand(scene)
     tg, robot = scene.target, one.robot
     where = f"{scene.source}: " if scene.source else f"scene '{scene.name}': "

@@ -40,6 +40,8 @@ def contact_figure(t: np.ndarray, depth: np.ndarray, force: np.ndarray, latch_ti
     for ax in axes:
         if latch_time is not None:
             ax.axvline(latch_time, color="k", linestyle="--", linewidth=0.8, label=f"latch at {latch_time:.3f} s")
-    finish(axes[0], "t (s)", "contact force (N)", "contact force (Hunt-Crossley and friction)")
-    finish(axes[1], "t (s)", "penetration (mm)", "penetration depth")
+    finish(axes[0], "t (s)", "contact force (N)", "contact force (Hunt-Crossley and friction)", legend=None)
+    finish(axes[1], "t (s)", "penetration (mm)", "penetration depth", legend=None)
+    for ax in axes:  # a latch holds the curves at their top right, a rebound's peak is mid-run
+        ax.legend(fontsize="small", loc="best")
     return fig

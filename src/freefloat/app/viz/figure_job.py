@@ -45,6 +45,28 @@ class WheelRows(NamedTuple):
     max_torques: np.ndarray
 
 
+class ThrusterRows(NamedTuple):
+    """What the ``thrusters`` figure draws: times (N,), s; the thrusts held (N, k), N; the
+    propellant burnt since the start (N,), kg; the specific impulse, s
+    (:meth:`freefloat.space.thrusters.ThrusterSet.rows`)."""
+
+    t: np.ndarray
+    thrust: np.ndarray
+    propellant: np.ndarray
+    specific_impulse: float
+
+
+class LvlhRows(NamedTuple):
+    """What the ``relative_orbit`` figure draws: times (N,), s; the names of the points tracked
+    (the base CoM, a capture's target CoM); their LVLH positions (N, m, 3), m (x radial, y
+    along-track, z orbit normal: :mod:`freefloat.space.orbit.lvlh`), NaN where a point is not
+    tracked (the target once grasped, when it moves with the hand)."""
+
+    t: np.ndarray
+    names: list[str]
+    positions: np.ndarray
+
+
 @dataclass(frozen=True)
 class RobotFigures:
     """Every figure of a robot run, drawn by calling the job with the folder to write into (those
@@ -52,8 +74,9 @@ class RobotFigures:
     ``telemetry`` (with the run's ``wrenches``, ``control_period``, ``spin``,
     ``settle_threshold`` and, for a run with fields of the environment, its balance
     ``residuals``, computed by the run where the fields are), the ``closed_loop`` figure of ``loop``, a planned capture's approach
-    tracking (``approach`` on ``approach_robot``) and the ``reaction_wheels`` figure of ``wheels``,
-    each when given."""
+    tracking (``approach`` on ``approach_robot``), the ``reaction_wheels`` figure of ``wheels``, the
+    ``thrusters`` figure of ``thrusters`` and the ``relative_orbit`` figure of ``lvlh``, each when
+    given."""
 
     robot: Robot
     telemetry: Telemetry
@@ -66,12 +89,16 @@ class RobotFigures:
     approach_robot: Robot | None = None
     wheels: WheelRows | None = None
     residuals: Balance | None = None
+    thrusters: ThrusterRows | None = None
+    lvlh: LvlhRows | None = None
 
     def __call__(self, folder: Path) -> list[Path]:
         """Draw and write the chosen figures into ``folder``; returns the paths."""
         from .figures import write_approach_figure, write_figures
         from .loop_figures import loop_figure
+        from .lvlh_figures import lvlh_figure
         from .plotting import save_all
+        from .thruster_figures import thruster_figure
         from .wheel_figures import wheel_figure
 
         paths = write_figures(self.robot, self.telemetry, folder, self.wrenches, self.control_period, self.spin,
@@ -82,6 +109,10 @@ class RobotFigures:
             paths += write_approach_figure(self.approach_robot or self.robot, self.approach, folder)
         if self.wheels is not None and len(self.wheels.t) >= 2:
             paths += save_all({"reaction_wheels": lambda: wheel_figure(*self.wheels)}, folder)
+        if self.thrusters is not None and len(self.thrusters.t) >= 2:
+            paths += save_all({"thrusters": lambda: thruster_figure(*self.thrusters)}, folder)
+        if self.lvlh is not None and len(self.lvlh.t) >= 2:
+            paths += save_all({"relative_orbit": lambda: lvlh_figure(*self.lvlh)}, folder)
         return paths
 
 

@@ -13,6 +13,7 @@ Frames (all right-handed, SI units):
 
 from __future__ import annotations
 
+import copy
 import math
 from dataclasses import dataclass
 
@@ -73,6 +74,14 @@ class CircularOrbit:
 
     def __repr__(self) -> str:
         return f"CircularOrbit(altitude={self.altitude:.6g}, mean_motion={self.mean_motion:.9g}, phase={self.phase:g})"
+
+    def later(self, start: float) -> CircularOrbit:
+        """This orbit on a clock started ``start`` s later: its ``R0(t)`` is this one's
+        ``R0(start + t)`` (its phase advanced by ``n start``; radius and mean motion the same), for
+        a run that begins at ``start`` s of another's time."""
+        out = copy.copy(self)
+        out.phase = self.phase + self.mean_motion * start
+        return out
 
     def angle(self, t: float | np.ndarray) -> float | np.ndarray:
         """Argument of latitude ``phase + n t``, rad (scalar or (k,) for (k,) times)."""
