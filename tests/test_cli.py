@@ -453,6 +453,32 @@ def _short(tmp_path: Path) -> Path:
                          output={"figures": False, "html": False})
 
 
+@pytest.mark.parametrize(("options", "output", "starts"), [
+    ((), {"figures": False}, False), (("--figures", ""), {"figures": True}, False),
+    (("--no-figures",), {"figures": True}, False), ((), {"figures": ["com_drift"]}, True),
+    (("--figures", "com_drift"), {"figures": False}, True)])
+def test_simulate_starts_the_figure_helper_only_for_figures(options, output, starts, tmp_path, monkeypatch):
+    """simulate starts the figure helper before its imports when its options and scene file may
+    draw a figure, and never for a scene file or options that turn them off."""
+    from freefloat.app.cli import _may_draw_figures, _Parser
+
+    scene = scene_variant(tmp_path / "s.toml", DEFAULT_SCENE, output=output)
+    parser = _Parser()
+    parser.add_argument("scene")
+    parser.add_argument("--figures", default=None)
+    parser.add_argument("--no-figures", action="store_true")
+    assert _may_draw_figures(parser.parse_args([str(scene), *options])) is starts
+
+
+def test_a_scene_that_draws_no_figure_leaves_no_figure_helper(tmp_path, monkeypatch):
+    """A scene file that turns figures off runs without a figure helper left running."""
+    from freefloat.app.viz import rendering
+
+    monkeypatch.setattr(rendering, "_helper", None)
+    assert main(["simulate", str(_short(tmp_path)), "--out", str(tmp_path / "out"), "--quiet"]) == 0
+    assert rendering._helper is None
+
+
 def test_a_warning_is_shown_once_per_process(tmp_path, capsys, fresh_warnings):
     """Two runs in one process (a script calling main twice) show the robot's note once."""
     for out in ("a", "b"):

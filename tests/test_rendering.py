@@ -74,3 +74,13 @@ def test_the_helper_knows_it_is_the_helper():
     helper = rendering.Renderer(rendering.in_helper)
     assert helper.send()
     assert helper.collect() == [True] and not rendering.in_helper()
+
+
+def test_cool_down_ends_the_helper_and_the_next_warm_up_starts_another():
+    """A helper started for nothing is ended by cool_down; warm_up then starts a new one."""
+    rendering.warm_up()
+    started = rendering._helper
+    rendering.cool_down()
+    assert started.poll() is not None and rendering._helper is None
+    rendering.warm_up()
+    assert rendering._helper is not started and rendering._helper.poll() is None

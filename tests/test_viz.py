@@ -713,9 +713,9 @@ def test_figures_rendered_in_two_processes_are_all_written(tmp_path, monkeypatch
 
 
 def _artists(fig) -> list:
-    """Every plotted datum of a figure: per axes its title, labels, limits, legend texts and per
-    line its label, style and data."""
-    out = [fig._suptitle.get_text()]
+    """Every plotted datum of a figure: its title and figure legends' texts, per axes its title,
+    labels, limits, legend texts and per line its label, style and data."""
+    out = [fig._suptitle.get_text(), [[text.get_text() for text in legend.get_texts()] for legend in fig.legends]]
     for ax in fig.axes:
         legend = ax.get_legend()
         out.append((ax.get_title(), ax.get_xlabel(), ax.get_ylabel(), ax.get_xlim(), ax.get_ylim(),
@@ -726,18 +726,63 @@ def _artists(fig) -> list:
     return out
 
 
-def test_a_redrawn_per_arm_figure_equals_a_fresh_one(iiwa2):
+@pytest.mark.parametrize("robot", ["iiwa2", "four_arm"])
+def test_a_redrawn_per_arm_figure_equals_a_fresh_one(robot, request):
     """torques drawn on the figure joint_errors drew first (one Figure redrawn) has the same
-    titles, labels, limits, legends, line styles and data as torques drawn on a fresh figure."""
+    titles, labels, limits, legends, line styles and data as torques drawn on a fresh figure
+    (with a legend per panel, and with one for all panels)."""
     from freefloat.app.viz.figures import ArmPanels
 
-    tel = _telemetry(iiwa2, n=3000)  # thinned curves: the redrawn lines change their sample count
+    robot = request.getfixturevalue(robot)
+    tel = _telemetry(robot, n=3000)  # thinned curves: the redrawn lines change their sample count
     tel.tau[:] = np.cumsum(tel.tau, axis=0)  # torques at another scale than the errors
-    panels = ArmPanels(iiwa2, tel.t)
-    errors = joint_error_figure(iiwa2, tel, panels)
+    panels = ArmPanels(robot, tel.t)
+    errors = joint_error_figure(robot, tel, panels)
     first = _artists(errors)
-    redrawn = torque_figure(iiwa2, tel, panels)
+    redrawn = torque_figure(robot, tel, panels)
     assert redrawn is errors
-    assert _artists(redrawn) == _artists(torque_figure(iiwa2, tel))
-    assert _artists(joint_error_figure(iiwa2, tel)) == first
+    assert _artists(redrawn) == _artists(torque_figure(robot, tel))
+    assert _artists(joint_error_figure(robot, tel)) == first
     assert _artists(redrawn) != first
+
+
+@pytest.fixture(scope="module")
+def four_arm():
+    """The default job's robot: four arms whose joints are named alike (arm1_joint1, ...)."""
+    from freefloat.paths import URDF_DIR
+
+    return _load(URDF_DIR / "four_arm_planar.urdf")
+
+
+def test_one_legend_names_the_joints_of_every_arm_panel(four_arm):
+    """When every arm names its joints alike, one figure legend serves all panels: its k-th
+    entry is the end of each arm's k-th joint name and has that joint's line style in every
+    panel, whose lines keep the full joint names and plot every sample of the error."""
+    tel = _telemetry(four_arm, n=200)
+    fig = joint_error_figure(four_arm, tel)
+    (legend,) = fig.legends
+    assert all(ax.get_legend() is None for ax in fig.axes)
+    entries = [text.get_text() for text in legend.get_texts()]
+    handles = legend.legend_handles
+    error = tel.joint_reference - tel.joint_positions
+    for ax, arm in zip(fig.axes, four_arm.arms):
+        assert [line.get_label() for line in ax.get_lines()] == list(arm.joints)
+        for line, joint, entry, handle, column in zip(ax.get_lines(), arm.joints, entries, handles,
+                                                      arm.v_indices - four_arm.n_base):
+            assert joint.endswith(entry) and len(entry) < len(joint)
+            assert (line.get_color(), line.get_linestyle(), line.get_linewidth()) == (
+                handle.get_color(), handle.get_linestyle(), handle.get_linewidth())
+            np.testing.assert_array_equal(line.get_ydata(), error[:, column])
+    assert len(entries) == len(set(entries)) == len(four_arm.arms[0].joints)
+
+
+def test_arms_named_apart_keep_a_legend_each(iiwa2):
+    """Arms whose joints' names differ beyond the arm's name (lbr_iiwa_joint_1, lbr_iiwa_joint_1_2)
+    get a legend per panel with the full names, and no figure legend."""
+    from freefloat.app.viz.figures import joint_suffixes
+
+    assert joint_suffixes(iiwa2) is None
+    fig = torque_figure(iiwa2, _telemetry(iiwa2))
+    assert not fig.legends
+    for ax, arm in zip(fig.axes, iiwa2.arms):
+        assert [text.get_text() for text in ax.get_legend().get_texts()] == list(arm.joints)

@@ -120,6 +120,10 @@ def main(argv: list[str] | None = None) -> int:
     try:
         early_too = arrived_before_main()
         with signals_deferred() as early:  # Ctrl-C while importing: trimesh would swallow it
+            if args.command == "simulate" and _may_draw_figures(args):
+                from .viz import rendering
+
+                rendering.warm_up()  # its imports (~0.7 s of CPU) overlap this process's
             if args.command in heavy:
                 importlib.import_module(heavy[args.command], __package__)
         if early.is_set() or early_too:
@@ -364,6 +368,27 @@ def _verify(args: argparse.Namespace) -> int:
     return 0 if report.passed else 1
 
 
+def _may_draw_figures(args: argparse.Namespace) -> bool:
+    """Whether ``simulate`` may draw figures, told before the imports that parse its scene: not
+    when the options or the scene file's ``[output] figures`` (read here as bare TOML) turn them
+    off. A guess on the safe side: the scene is parsed and checked later, and a figure helper
+    started for a scene that draws none is ended then (:func:`~.viz.rendering.cool_down`)."""
+    import tomllib
+
+    from ..paths import SCENES_DIR
+
+    if args.no_figures or args.figures is not None:
+        return not args.no_figures and bool(args.figures.strip(", "))
+    if args.scene is None:
+        return True  # the built-in default scenes draw figures
+    builtin = SCENES_DIR / f"{args.scene}.toml"
+    try:
+        output = tomllib.loads((builtin if builtin.is_file() else Path(args.scene)).read_text()).get("output")
+    except (OSError, ValueError):  # the scene's own parse names the problem
+        return False
+    return not isinstance(output, dict) or output.get("figures", True) not in (False, [])
+
+
 def _simulate(args: argparse.Namespace) -> int:
     import dataclasses
 
@@ -385,7 +410,11 @@ def _simulate(args: argparse.Namespace) -> int:
     if scene.output.figures:
         from .viz import rendering
 
-        rendering.warm_up()  # the figure helper starts while this process imports, prepares and simulates
+        rendering.warm_up()  # started by main() already, before the imports
+    elif _may_draw_figures(args):  # main() started the helper on a guess the scene overrules
+        from .viz import rendering
+
+        rendering.cool_down()  # its imports would only slow the run
     from .runner import prepare, simulate, total_steps
 
     out = args.out or default_folder(scene.name)

@@ -203,7 +203,8 @@ def com_drift_figure(robot: Robot, telemetry: Telemetry) -> Figure:
     t, momentum = telemetry.t, telemetry.momentum
     log_curve(com_ax, t, np.linalg.norm(telemetry.com - free_com_motion(telemetry, robot), axis=1),
               "|com - free motion|")
-    finish(com_ax, "t (s)", "CoM drift (m)", "system CoM against com(0) + t P(0)/m + g t^2/2")
+    finish(com_ax, "t (s)", "|com - free motion| (m)", "system CoM against com(0) + t P(0)/m + g t^2/2",
+           legend=None)  # one curve, named by its axis: a legend is a quarter of a panel's render
     log_curve(momentum_ax, t, np.linalg.norm(momentum[:, :3] - momentum[0, :3], axis=1), "|P - P(0)| (kg m/s)")
     log_curve(momentum_ax, t, np.linalg.norm(momentum[:, 3:] - momentum[0, 3:], axis=1), "|L - L(0)| (kg m^2/s)")
     finish(momentum_ax, "t (s)", "momentum drift", "linear and angular momentum (about the origin)")
@@ -306,7 +307,9 @@ class ArmPanels:
     """One panel per arm plotting per-joint time series (``joint_errors``, ``torques``): the first
     :meth:`draw` makes the figure, each later one redraws the same figure, its lines given the new
     data, style and labels (a run's second per-arm figure costs its rendering only). A drawn
-    figure is the same as a fresh one's in every plotted datum (tested)."""
+    figure is the same as a fresh one's in every plotted datum (tested). One figure legend names
+    the joints of every panel when the arms name them alike (:func:`joint_suffixes`), else each
+    panel has its own."""
 
     def __init__(self, robot: Robot, t: np.ndarray):
         self.robot, self.t = robot, t
@@ -319,8 +322,9 @@ class ArmPanels:
         robot, t = self.robot, self.t
         n = max(1, len(robot.arms))
         first = self.fig is None
+        shared = joint_suffixes(robot)
         if first:
-            self.fig, _ = figure(n, 1, (10.0, 2.6 * n + 0.8), title, right=0.78)
+            self.fig, _ = figure(n, 1, (10.0, 2.6 * n + 0.8), title, right=0.78 if shared is None else 0.85)
         else:
             self.fig.suptitle(title)
         prismatic = _prismatic(robot)
@@ -336,12 +340,33 @@ class ArmPanels:
                     ax.lines[i].set_drawstyle(style)
             label = ylabel[:-1] + f"; {prismatic_unit} prismatic)" if prismatic[columns].any() else ylabel
             if first:
-                finish(ax, "t (s)", label, f"{arm_name(arm, k)} (end-effector {arm.end_effector})", legend="outside")
+                finish(ax, "t (s)", label, f"{arm_name(arm, k)} (end-effector {arm.end_effector})",
+                       legend="outside" if shared is None else None)
             else:
                 ax.set_ylabel(label)
                 ax.relim()
                 ax.autoscale_view()
+        if first and shared is not None:  # one legend for all panels: a legend costs a quarter of a render
+            top = self.fig.axes[0]
+            self.fig.legend(top.lines, shared, title="each arm's", fontsize="small", title_fontsize="small",
+                            loc="upper left", bbox_to_anchor=(top.get_position().x1 + 0.01, top.get_position().y1))
         return self.fig
+
+
+def joint_suffixes(robot: Robot) -> list[str] | None:
+    """Each arm's joint names less the arm's name (:func:`arm_name`: ``arm1_joint2`` ->
+    ``joint2``) when every arm's list is the same and names them apart, so that one legend
+    serves every per-arm panel; else None (each panel has its own legend)."""
+    lists = set()
+    for k, arm in enumerate(robot.arms):
+        name = arm_name(arm, k)
+        if not all(joint.startswith(name) for joint in arm.joints):
+            return None
+        lists.add(tuple(joint[len(name):].lstrip("_- ") for joint in arm.joints))
+    if len(lists) != 1:
+        return None
+    (suffixes,) = lists
+    return list(suffixes) if all(suffixes) and len(set(suffixes)) == len(suffixes) else None
 
 
 def _prismatic(robot: Robot) -> np.ndarray:

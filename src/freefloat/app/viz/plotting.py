@@ -18,7 +18,7 @@ from cycler import cycler
 from matplotlib.axes import Axes
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
-from matplotlib.ticker import FuncFormatter, LogLocator, NullLocator
+from matplotlib.ticker import FuncFormatter, LogLocator, MaxNLocator, NullLocator
 
 from .rendering import Renderer, in_helper
 
@@ -40,6 +40,8 @@ LOG_RANGE = 1e-8
 #: Most samples a curve is drawn with; longer series keep each bucket's extremes
 #: (:func:`thin`): a figure is ~1000 px wide, and dense dashed curves dominated the cost.
 MAX_POINTS = 1600
+#: Most intervals between a linear y axis's labelled ticks.
+Y_TICKS = 5
 
 
 def figure(rows: int, cols: int, size: tuple[float, float], title: str, right: float = 0.97,
@@ -57,6 +59,8 @@ def figure(rows: int, cols: int, size: tuple[float, float], title: str, right: f
         axes.append(fig.add_subplot(rows, cols, i + 1, projection=kind, sharex=shared))
     for ax in axes:
         ax.set_prop_cycle(STYLES)
+        if ax.name == "rectilinear":  # the default's 7-9 labelled ticks on a short panel: each tick is 5 artists
+            ax.yaxis.set_major_locator(MaxNLocator(nbins=Y_TICKS, steps=[1, 2, 2.5, 5, 10]))
         if cols == 1 and ax is not axes[-1]:
             ax.tick_params(labelbottom=False)
     fig.suptitle(title)

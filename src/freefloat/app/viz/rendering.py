@@ -8,9 +8,10 @@ A job is a function and its arguments: a figure to render (:func:`.plotting.save
 whole set of figures to draw and render (:func:`.figure_job.draw_chosen` of a picklable figure job
 such as :class:`.figure_job.RobotFigures`), which spares the run importing matplotlib at all. Starting
 the helper costs an interpreter and the import of matplotlib and the figure modules
-(:data:`PRELOAD`, ~1 s of CPU), so a run starts it before it simulates (:func:`warm_up`) and the
-start overlaps the simulation. It ignores Ctrl-C (the run decides) and ends when this process
-closes the pipe or ends.
+(:data:`PRELOAD`, ~1 s of CPU), so a run starts it before it simulates (:func:`warm_up`; ``freefloat
+simulate`` before its own imports) and the start overlaps them and the simulation. It ignores
+Ctrl-C (the run decides) and ends when this process closes the pipe or ends (or
+:func:`cool_down`, when there is nothing to draw after all).
 """
 
 from __future__ import annotations
@@ -58,6 +59,15 @@ def warm_up() -> None:
         _helper = subprocess.Popen([sys.executable, "-m", __name__], stdin=subprocess.PIPE, stdout=subprocess.PIPE,
                                    stderr=subprocess.DEVNULL)
         atexit.register(_stop, _helper)
+
+
+def cool_down() -> None:
+    """End the helper :func:`warm_up` started, before any job was sent to it (the command has
+    nothing to draw after all); the next :func:`warm_up` starts another."""
+    global _helper
+    if _helper is not None:
+        _stop(_helper)
+        _helper = None
 
 
 def in_helper() -> bool:
