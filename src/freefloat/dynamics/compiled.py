@@ -39,6 +39,7 @@ from __future__ import annotations
 import hashlib
 import threading
 from collections import OrderedDict
+from collections.abc import Callable
 from dataclasses import fields
 from typing import Any, ClassVar, Protocol
 
@@ -314,7 +315,8 @@ class CompiledLoop(CompiledEngine):
         wrenches: external wrenches the loop selects by their profiles at each period of
             :meth:`run` (the per-period interface takes them through :meth:`set_wrenches` instead).
         data: a ``pin.Data`` of ``robot.model`` to check the rebuilt model with (e.g. the exact
-            plant's; default: a new one, which costs as much as the loop's own at large nv).
+            plant's; default: a new one, which costs as much as the loop's own at large nv), or a
+            function giving one or None, called only when the check runs (once per model).
         plant: the run's plant model; a ``ClosedModel`` (:data:`COMPILED_PLANTS`) hands its
             closures and Baumgarte rate to the loop, which then integrates the constrained dynamics.
         law_robot: the robot the computed-torque or detumbling ``law`` computes on when it is not
@@ -332,8 +334,8 @@ class CompiledLoop(CompiledEngine):
 
     def __init__(self, robot: Robot, integrator: Any, control_period: float, start_time: float = 0.0,
                  record_every: int = 1, law: CompiledLaw | None = None,
-                 wrenches: WrenchProfiles | None = None, data: pin.Data | None = None, plant: Any = None,
-                 law_robot: Robot | None = None, arrays: dict[str, Any] | None = None):
+                 wrenches: WrenchProfiles | None = None, data: pin.Data | Callable[[], pin.Data | None] | None = None,
+                 plant: Any = None, law_robot: Robot | None = None, arrays: dict[str, Any] | None = None):
         self.robot = robot
         self.law = law
         n_ee = len(robot.end_effectors)
@@ -413,6 +415,7 @@ class CompiledLoop(CompiledEngine):
         rng = np.random.default_rng(0)
         q = pin.randomConfiguration(model, -np.ones(model.nq), np.ones(model.nq))
         v, tau = rng.standard_normal(model.nv), rng.standard_normal(model.nv)
+        data = data() if callable(data) else data
         expected = pin.aba(model, model.createData() if data is None else data, q, v, tau)
         got = self.sim.acceleration(q, v, tau)
         error = np.abs(got - expected).max() / max(1.0, np.abs(expected).max())

@@ -26,10 +26,11 @@ class JointCoordinates:
 
     def __init__(self, robot: Robot):
         model = robot.model
-        scalar_q, scalar_pos, circle_q, circle_pos = [], [], [], []
+        idx_qs, idx_vs, nqs, nvs = list(model.idx_qs), list(model.idx_vs), list(model.nqs), list(model.nvs)  # a read
+        scalar_q, scalar_pos, circle_q, circle_pos = [], [], [], []  # of model.idx_qs copies it: once, not per joint
         for j in range(2, model.njoints):
-            iq, iv = model.idx_qs[j] , model.idx_vs[j] - robot.n_base
-            nq, nv = model.nqs[j], model.nvs[j]
+            iq, iv = idx_qs[j], idx_vs[j] - robot.n_base
+            nq, nv = nqs[j], nvs[j]
             if nq == nv:
                 scalar_q.extend(range(iq, iq + nq))
                 scalar_pos.extend(range(iv, iv + nv))
@@ -39,7 +40,7 @@ class JointCoordinates:
             else:
                 raise RobotModelError(f"joint '{model.names[j]}': nq={nq}, nv={nv} is not supported")
         self.n = robot.n_joints
-        nbq = model.nqs[1]
+        nbq = nqs[1]
         self._plain = not circle_q and scalar_q == list(range(nbq, model.nq))
         self._slice = slice(nbq, model.nq)
         self.scalar_q = np.array(scalar_q, dtype=int)

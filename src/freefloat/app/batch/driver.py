@@ -135,7 +135,7 @@ def _versions(workers: Workers) -> dict[str, str]:
 def _write_table(out: RunFolder, rows: list[dict[str, Any]]) -> None:
     """``runs.json`` (a list of rows) and ``runs.csv`` (columns: every key of any row, in the order
     first seen; a row without one leaves it empty)."""
-    out.write_text("runs.json", strict_json(rows))  # type: ignore[arg-type]  # a list is JSON too
+    out.write_text("runs.json", "[\n" + ",\n".join(strict_json(row, indent=None) for row in rows) + "\n]\n")  # a row a line
     columns: dict[str, None] = {}
     for row in rows:
         columns.update(dict.fromkeys(row))
