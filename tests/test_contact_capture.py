@@ -150,3 +150,22 @@ def test_the_cli_writes_the_contact_figure(tmp_path):
 
     assert main(["simulate", "contact_rebound_fast", "--out", str(tmp_path / "run"), "--quiet", "--no-html"]) == 0
     assert (tmp_path / "run" / "contact.png").stat().st_size > 10_000
+
+
+def test_the_page_draws_both_shapes_where_the_scene_puts_them():
+    """The page's contact bodies start where the scene puts them: the target's shape at the
+    [free_target] position, the hand's at the hand frame (Pinocchio's forward kinematics)."""
+    from freefloat.app.experiments.contact_capture import shape_bodies
+
+    scene = find_scene("contact_capture")
+    setup = prepare(quiet(scene))
+    q0, _ = setup.plant_state()
+    (first, _, hand_poses), (second, _, target_poses) = shape_bodies(setup, q0[None])
+    model = setup.robot.model
+    data = model.createData()
+    pin.framesForwardKinematics(model, data, q0)
+    hand = data.oMf[model.getFrameId(scene.environment[0].settings.first)].translation
+    written = tomllib.loads(builtin_scenes()["contact_capture"].read_text())["free_target"]["position"]
+    np.testing.assert_allclose(target_poses[0, :3, 3], written, atol=1e-12)
+    np.testing.assert_allclose(hand_poses[0, :3, 3], hand, atol=1e-12)
+    assert (first, second) == ("contact_first", "contact_second")

@@ -265,10 +265,54 @@ def run(setup: ContactCaptureSetup, progress: Progress | None = None, checkpoint
                          capture_momentum_drift=float(np.abs(momentum).max()),
                          capture_wall_time_s=time.perf_counter() - start)
     outcome = robot_outcome(setup, setup.robot, tel, done.result, summary, task_headline=TASK_HEADLINE,
-                            events=None if done.latch_time is None else [(done.latch_time, "latch")])
+                            events=None if done.latch_time is None else [(done.latch_time, "latch")],
+                            extra_bodies=lambda: shape_bodies(setup, tel.q))
     outcome.figures = ContactFigures(outcome.figures, contact_rows(setup.field, tel, done.latch_time))
-    outcome.page = None
     return outcome
+
+
+#: A quarter turn about x, taking a y-aligned body onto z (4, 4).
+_Y_TO_Z = np.array([[1.0, 0.0, 0.0, 0.0], [0.0, 0.0, -1.0, 0.0], [0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 0.0, 1.0]])
+
+
+def shape_bodies(setup: ContactCaptureSetup, qs: np.ndarray) -> list[tuple[str, object, np.ndarray]]:
+    """The page's two contact shapes (the target's in the capture's colour, the hand's
+    see-through), each (name, meshcat object, poses (N, 4, 4) in the inertial frame) over the
+    configurations ``qs`` (N, nq); meshcat imported here, as every page does."""
+    import meshcat.geometry as mg
+
+    from .capture import TARGET_COLOR
+
+    field, settings = setup.field, setup.settings
+    data = field.model.createData()
+    poses = np.empty((2, len(qs), 4, 4))
+    for k, q in enumerate(qs):
+        pin.forwardKinematics(field.model, data, q)
+        for side, (joint, placement) in enumerate(zip(field.joints, field.placements)):
+            poses[side, k] = (data.oMi[joint] * placement).homogeneous
+    bodies = []
+    for side, name in enumerate(("first", "second")):
+        if getattr(settings, f"{name}_shape") in ("capsule", "cylinder"):
+            poses[side] = poses[side] @ _Y_TO_Z  # meshcat's cylinder is along its y axis, coal's along z
+        target = getattr(settings, name) == TARGET
+        material = mg.MeshPhongMaterial(color=TARGET_COLOR if target else 0x4C72B0, opacity=1.0 if target else 0.4,
+                                        transparent=not target)
+        bodies.append((f"contact_{name}", mg.Mesh(_shape_geometry(getattr(settings, f"{name}_shape"),
+                                                                  getattr(settings, f"{name}_size")), material),
+                       poses[side]))
+    return bodies
+
+
+def _shape_geometry(shape: str, size: tuple[float, ...]) -> object:
+    """A contact shape (:data:`~freefloat.space.contact.shapes.SHAPES`) as meshcat geometry in its
+    shape frame (a capsule drawn as its cylinder: the page shows where, the figure how deep)."""
+    import meshcat.geometry as mg
+
+    if shape == "sphere":
+        return mg.Sphere(size[0])
+    if shape == "box":
+        return mg.Box(list(size))
+    return mg.Cylinder(size[1], size[0])  # along y: its poses turn it onto z (shape_bodies)
 
 
 #: The headline keys: the capture's outcome, then the contact's.
