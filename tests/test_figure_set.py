@@ -105,7 +105,7 @@ CAPTURE = MOTION | SPIN | {"torques", "com_drift"}
 DETUMBLING = MOTION | SPIN | {"joint_errors", "torques", "conservation_balance"}
 #: The figures each built-in scene's task and controller call for.
 CALLED_FOR = {
-    "capture_planar": CAPTURE, "capture_satellite": CAPTURE, "capture_identified": CAPTURE,
+    "capture_planar": CAPTURE, "capture_satellite": CAPTURE, "capture_identified": CAPTURE | {"identification"},
     "capture_in_orbit": CAPTURE - {"com_drift"} | {"conservation_balance", "relative_orbit"},
     "capture_wheels": CAPTURE | {"reaction_wheels"},
     **dict.fromkeys(("capture_planned_planar", "capture_planned_planar_pose", "capture_planned_satellite"),

@@ -80,6 +80,9 @@ FIGURES: dict[str, Figure] = {
                              _robot(lambda s: any(e.kind == "orbit" for e in s.environment))),
     "contact": Figure("contact force and penetration over time (capture-by-contact runs)",
                       _robot(lambda s: s.kind == "contact_capture")),
+    "identification": Figure("the captured target's mass, CoM and inertia identified, with 95 % intervals, against "
+                             "the truth (captures with [identification])",
+                             _robot(lambda s: s.kind == "capture_identification")),
     "platform_tracking": Figure("mechanism platform path and tracking error", _mechanism(lambda s: True)),
     "efforts": Figure("mechanism actuator efforts", _mechanism(lambda s: True)),
     "loop_closure_drift": Figure("mechanism loop closure drift", _mechanism(lambda s: True)),
@@ -92,7 +95,8 @@ FIGURES: dict[str, Figure] = {
 #: The lean set a scene draws unless it says otherwise: each kind of run's own figures, less the
 #: robot's motion (base trajectory, end-effector paths and displacement), which the page shows.
 DEFAULT = ("joint_errors", "approach_joint_errors", "torques", "com_drift", "conservation_balance", "angular_rates", "angular_momentum",
-           "closed_loop", "reaction_wheels", "thrusters", "relative_orbit", "contact", "platform_tracking", "efforts",
+           "closed_loop", "reaction_wheels", "thrusters", "relative_orbit", "contact", "identification", "platform_tracking",
+           "efforts",
            "loop_closure_drift", "sliding_variables",
            "base_attitude", "momentum")
 #: The name that stands for every figure.

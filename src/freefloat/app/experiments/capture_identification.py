@@ -114,6 +114,7 @@ def run(setup: CaptureSetup, progress: Progress | None = None,
     from ...dynamics.identification.excitation import random_trajectory
     from ...space.after_capture import detumble, manoeuvre
     from ...space.target_identification import held_parameters, identify_measured, with_target
+    from ..viz.identification_figures import IdentificationFigures, IdentifiedParameters
 
     scene, robot = setup.scene, setup.robot
     tg, sim, ctrl, ident = scene.target, scene.simulation, scene.controller, scene.sections["identification"]
@@ -145,9 +146,11 @@ def run(setup: CaptureSetup, progress: Progress | None = None,
                    settle_threshold=SETTLE_BELOW, peak_joint_torque=after.peak_torque, sim_wall_time_s=wall,
                    status=after.result.status)
     result = Result(tel, after.result.status, after.result.message, len(tel.t) - 1, wall, after.result.evaluations)
-    return robot_outcome(setup, held.merged, tel, result, summary, extra_telemetry={
+    outcome = robot_outcome(setup, held.merged, tel, result, summary, extra_telemetry={
         "pre_capture": held.pre.telemetry, "identification": record}, wrenches=(), spin=True,
         settle_threshold=SETTLE_BELOW, task_headline=TASK_HEADLINE)
+    outcome.figures = IdentificationFigures(outcome.figures, IdentifiedParameters.of(summary))
+    return outcome
 
 
 def identification_summary(estimate: Any, truth: np.ndarray) -> dict[str, Any]:
