@@ -23,9 +23,11 @@ import pinocchio as pin
 
 from ..arguments import MAX_MAGNITUDE, real_array
 from ..errors import FreefloatNote, FreefloatWarning, InvalidArgument, RobotModelError, did_you_mean
-from . import load_cache
 from .catalog import example_robot_data_share, find_robot, is_name  # noqa: F401  (the share: imported from here)
 from .inertias import balanced
+from .load_cache import CheckedLoad, cache_folder, entry_inputs
+from .load_cache import read as read_cached
+from .load_cache import write as write_cached
 from .robot import BASE_DOFS, Arm, Robot
 from .urdf_checks import (
     check_joints,
@@ -152,14 +154,14 @@ def _load(path: Path, base: str, end_effectors: list[str] | tuple[str, ...] | No
     """:func:`load_robot` of a checked path and arguments: the checked model from the on-disk cache
     (:mod:`.load_cache`) or from the file, then what depends on other files (meshes)."""
     raw = path.read_bytes()
-    folder = load_cache.cache_folder() if cache else None
-    inputs = load_cache.entry_inputs(raw, path, base, end_effectors, inertias) if folder is not None else {}
-    checked = load_cache.read(folder, inputs) if folder is not None else None
+    folder = cache_folder() if cache else None
+    inputs = entry_inputs(raw, path, base, end_effectors, inertias) if folder is not None else {}
+    checked = read_cached(folder, inputs) if folder is not None else None
     xml = None
     if checked is None:
         checked, xml = _check(path, raw, base, end_effectors, inertias)
         if folder is not None:
-            load_cache.write(folder, inputs, checked)
+            write_cached(folder, inputs, checked)
     else:
         check_memory(path, checked.model.nv - BASE_DOFS[base])
     model = checked.model
@@ -196,7 +198,7 @@ def _load(path: Path, base: str, end_effectors: list[str] | tuple[str, ...] | No
 
 
 def _check(path: Path, raw: bytes, base: str, end_effectors: list[str] | tuple[str, ...] | None,
-           inertias: str) -> tuple[load_cache.CheckedLoad, str]:
+           inertias: str) -> tuple[CheckedLoad, str]:
     """Parse, check and build the URDF ``raw`` (the bytes of ``path``): what the cache keeps, and
     the URDF text given to Pinocchio (for the visual geometry)."""
     tree = read_urdf(path, raw)
@@ -235,7 +237,7 @@ def _check(path: Path, raw: bytes, base: str, end_effectors: list[str] | tuple[s
     model.addFrame(
         pin.Frame(BASE_COM_FRAME, 1, 0, pin.SE3(com_pose[:3, :3], com_pose[:3, 3]), pin.FrameType.OP_FRAME)
     )
-    return load_cache.CheckedLoad(
+    return CheckedLoad(
         model=model,
         base_link=root,
         base_com=com_pose[:3, 3].copy(),
