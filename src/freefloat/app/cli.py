@@ -132,7 +132,10 @@ def main(argv: list[str] | None = None) -> int:
             try:
                 return commands_run[args.command](args)
             except ImportError as exc:  # an interrupt inside a compiled module's import: still an interrupt
-                raise (cut_by_interrupt(exc) or exc) from None
+                stop = cut_by_interrupt(exc)
+                if stop is None:
+                    raise  # a real ImportError keeps its traceback and context
+                raise stop from None
     except FreefloatError as exc:
         print(f"freefloat: error: {exc}", file=sys.stderr)
         return 2
