@@ -168,7 +168,8 @@ def test_mechanism_page_animates_the_5r_joints_where_orsino_puts_them(mechanism_
     from freefloat.dynamics.telemetry import MechanismTelemetry
     from freefloat.parallel.five_bar import TRUE_PARAMETERS, chain
 
-    from .test_viz import _animation, _packets
+    from .pages import animation as _animation
+    from .pages import packets as _packets
 
     out = mechanism_run[1]
     tracks = _animation(_packets(out / "trajectory.html"))

@@ -106,7 +106,8 @@ def test_five_bar_animation_places_the_joints_where_orsino_does(tmp_path):
     from freefloat.parallel.closed_loop import track_five_bar
     from freefloat.parallel.sliding_mode import PlatformControl, circle_reference
 
-    from .test_viz import _animation, _packets
+    from .pages import animation as _animation
+    from .pages import packets as _packets
 
     tel = track_five_bar(P, PlatformControl(five_bar(P), circle_reference, 40.0), 0.01, 1e-3).telemetry
     t, qs = tel.t, tel.q

@@ -13,7 +13,8 @@ from freefloat.app.runner import prepare
 from freefloat.app.scenes import builtin_scenes, parse_scene
 from freefloat.dynamics.telemetry import Telemetry
 
-from .test_viz import _animation, _packets
+from .pages import animation as _animation
+from .pages import packets as _packets
 
 
 def run_scene(name, tmp_path):

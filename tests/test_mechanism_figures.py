@@ -23,9 +23,9 @@ from freefloat.parallel.free_base import BaseTelemetry
 from freefloat.parallel.rsu_ppap import load_rsu_ppap
 
 from .conftest import REPO
+from .pages import animation as _animation
 from .pages import objects as _objects
 from .pages import packets as _packets
-from .test_viz import _animation
 
 ROOT = "/meshcat/freefloat"
 

@@ -15,7 +15,7 @@ from freefloat.app.view import run_page
 from freefloat.dynamics.telemetry import Telemetry
 from freefloat.errors import FreefloatError
 
-from .pages import packets
+from .pages import animation, packets
 
 
 def _run(folder, html: bool):
@@ -33,10 +33,8 @@ def test_missing_page_is_rebuilt_from_the_telemetry(tmp_path):
     assert not (folder / "trajectory.html").exists()
     page = run_page(folder, fps=100.0)
     telemetry = Telemetry.load(folder / "telemetry.npz")
-    (animation,) = [p for p in packets(page) if p["type"] == "set_animation"]
-    base = next(a for a in animation["animations"] if a["path"].endswith("/base"))
-    position = next(tr for tr in base["clip"]["tracks"] if tr["name"] == ".position")
-    np.testing.assert_allclose(position["keys"][-1]["value"][:2], telemetry.q[-1, :2], atol=1e-12)
+    base = next(tracks for path, tracks in animation(packets(page)).items() if path.endswith("/base"))
+    np.testing.assert_allclose(base[".position"][-1][1][:2], telemetry.q[-1, :2], atol=1e-12)
 
 
 def test_existing_page_is_returned_as_is(tmp_path):

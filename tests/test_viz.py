@@ -13,6 +13,9 @@ import meshcat.geometry as mg
 import numpy as np
 import pinocchio as pin
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from hypothesis.extra.numpy import arrays
 
 from freefloat.app.viz import frame_indices, write_figures, write_trajectory_html
 from freefloat.app.viz.camera import ASPECT, FIELD_OF_VIEW
@@ -28,12 +31,14 @@ from freefloat.app.viz.figures import (
     torque_figure,
     write_approach_figure,
 )
+from freefloat.app.viz.meshcat_html import quaternions
 from freefloat.app.viz.meshcat_html import read_settings as _settings
 from freefloat.dynamics.metrics import free_com_motion, summarize
 from freefloat.dynamics.telemetry import Telemetry
 from freefloat.robot.loading import load_robot
 
 from .conftest import SPART
+from .pages import animation as _animation
 from .pages import assets as _assets
 from .pages import objects as _objects
 from .pages import packets as _packets
@@ -92,17 +97,6 @@ def _configurations(model: pin.Model, n: int, seed: int = 0) -> np.ndarray:
     q[:, 3:7] = quaternions / np.linalg.norm(quaternions, axis=1, keepdims=True)
     q[:, 7:] += rng.uniform(-2.0, 2.0, size=(n, model.nq - 7))
     return q
-
-
-def _animation(packets: list[dict]) -> dict[str, dict[str, list]]:
-    """{node path: {track name: [(time, value), ...]}} of the page's animation."""
-    (animation,) = [p for p in packets if p["type"] == "set_animation"]
-    return {
-        a["path"]: {
-            tr["name"]: [(k["time"], k["value"]) for k in tr["keys"]] for tr in a["clip"]["tracks"]
-        }
-        for a in animation["animations"]
-    }
 
 
 def _node_pose(tracks: dict[str, list], frame: int) -> np.ndarray:
@@ -786,3 +780,16 @@ def test_arms_named_apart_keep_a_legend_each(iiwa2):
     assert not fig.legends
     for ax, arm in zip(fig.axes, iiwa2.arms):
         assert [text.get_text() for text in ax.get_legend().get_texts()] == list(arm.joints)
+
+
+@settings(max_examples=60, deadline=None)
+@given(arrays(np.float64, (8, 4), elements=st.floats(-1.0, 1.0)).filter(lambda a: np.linalg.norm(a, axis=1).min() > 1e-3))
+def test_page_quaternions_are_pinocchios_up_to_sign(raw):
+    """The page's vectorised rotation -> quaternion equals ``pin.Quaternion(R).coeffs()`` up to
+    sign, on random rotations and on the half-turns about each axis (where the trace is -1)."""
+    rotations = [pin.Quaternion(q / np.linalg.norm(q)).matrix() for q in raw]
+    rotations += [np.eye(3), np.diag([1.0, -1.0, -1.0]), np.diag([-1.0, 1.0, -1.0]), np.diag([-1.0, -1.0, 1.0])]
+    found = quaternions(np.array(rotations))
+    expected = np.array([pin.Quaternion(r).coeffs() for r in rotations])
+    np.testing.assert_allclose(np.abs(np.sum(found * expected, axis=1)), 1.0, atol=1e-12)
+    np.testing.assert_allclose(np.linalg.norm(found, axis=1), 1.0, atol=1e-12)

@@ -1,7 +1,8 @@
 """Self-contained meshcat animation pages of a run, written without a meshcat server.
 
 A page is meshcat's bundled viewer (``meshcat/viewer/dist/main.min.js``) followed by meshcat
-command packets (msgpack, base64) lowered here from ``meshcat.commands`` objects, and the
+command packets (msgpack, base64), objects lowered by ``meshcat.commands`` and the animation as
+three.js clips whose key times and values are typed arrays (:func:`_animated`), and the
 embedded mesh files (:mod:`.assets`: each once, gzipped, only from allowed folders). The page
 (:mod:`.page_template`) replays them in order, so it needs neither network nor server, frames
 the camera on the motion (:mod:`.camera`), draws a grid just under it (:mod:`.floor`, in place of
@@ -35,8 +36,7 @@ import meshcat.geometry as mg
 import numpy as np
 import pinocchio as pin
 import umsgpack
-from meshcat.animation import Animation, AnimationClip, AnimationTrack
-from meshcat.commands import SetAnimation, SetObject
+from meshcat.commands import SetObject
 from meshcat.path import Path as MeshcatPath
 
 from ...robot.robot import Robot
@@ -163,27 +163,27 @@ def write_trajectory_html(
     framing = frame_motion(visited, **({} if view is None else {"direction": view}))
     packets.append(SetObject(grid_object(floor(visited, framing)), path=GRID).lower())
 
-    animation = Animation(default_framerate=fps)
+    clips: list[dict] = []
     for j in range(1, model.njoints):
-        animation.clips[ROOT.append(model.names[j])] = _clip(keys, poses[:, j], fps)
+        clips.append(_clip(ROOT.append(model.names[j]), keys, poses[:, j], fps))
     for name, obj, body_poses in bodies:
         node = ROOT.append(f"extra/{name}")
         packets.append(SetObject(obj, path=node).lower())
-        animation.clips[node] = _clip(keys, body_poses, fps)
+        clips.append(_clip(node, keys, body_poses, fps))
     for marker in markers:
         packets += _marker_packets(marker, (_MARKER_SIZE if marker.trail else _JOINT_SIZE) * framing.radius)
         marker_poses = np.tile(np.eye(4), (len(shown), 1, 1))
         marker_poses[:, :3, 3] = marker.positions
-        animation.clips[ROOT.append(f"markers/{marker.name}")] = _clip(keys, marker_poses, fps)
+        clips.append(_clip(ROOT.append(f"markers/{marker.name}"), keys, marker_poses, fps))
     for bar in bars:
         node = ROOT.append(f"bars/{bar.name}")
         packets.append(SetObject(mg.Mesh(mg.Cylinder(1.0, _BAR_SIZE * framing.radius), _material(bar.color)),
                                  path=node).lower())
-        animation.clips[node] = _bar_clip(keys, bar, fps)
+        clips.append(_bar_clip(node, keys, bar, fps))
     for name, color, points in lines or []:
         packets.append(SetObject(_dashed(np.asarray(points, float), color), path=ROOT.append(f"lines/{name}")).lower())
-    packets.append(SetAnimation(animation, play=True).lower())
-    packets[-1]["options"]["repetitions"] = float("inf")  # loop until paused
+    packets.append({"type": "set_animation", "path": "", "animations": clips,
+                    "options": {"play": True, "repetitions": float("inf")}})  # loop until paused
 
     settings = {
         "duration": float(t[-1] - t[0]),
@@ -287,36 +287,65 @@ def _dashed(points: np.ndarray, color: int, dashes: int = 120) -> mg.LineSegment
     return mg.LineSegments(mg.PointsGeometry(ends.T.astype(np.float32)), mg.LineBasicMaterial(color=color))
 
 
-def _bar_clip(keys: np.ndarray, bar: Bar, fps: float) -> AnimationClip:
-    """Position (the middle), quaternion (the node's y axis onto the bar) and scale (y: the
-    length) tracks of a bar's unit cylinder; ``keys`` in frames."""
+def _bar_clip(node: MeshcatPath, keys: np.ndarray, bar: Bar, fps: float) -> dict:
+    """A bar's unit cylinder's animation at ``node``: position (the middle), quaternion (the
+    node's y axis onto the bar) and scale (y: the length) tracks; ``keys`` in frames (M,)."""
     axis = bar.end - bar.start
     length = np.linalg.norm(axis, axis=1)
     y = np.array([0.0, 1.0, 0.0])
-    quaternions = [pin.Quaternion.FromTwoVectors(y, a / n if n > 0.0 else y).coeffs().tolist()
-                   for a, n in zip(axis, length)]
-    frames = keys.tolist()
-    return AnimationClip(
-        tracks={
-            "position": AnimationTrack("position", "vector3", frames, (0.5 * (bar.start + bar.end)).tolist()),
-            "quaternion": AnimationTrack("quaternion", "quaternion", frames, quaternions),
-            "scale": AnimationTrack("scale", "vector3", frames, [[1.0, n, 1.0] for n in length.tolist()]),
-        },
-        fps=fps,
-    )
+    quaternions = np.array([pin.Quaternion.FromTwoVectors(y, a / n if n > 0.0 else y).coeffs()
+                            for a, n in zip(axis, length)])
+    scale = np.ones((len(length), 3))
+    scale[:, 1] = length
+    return _animated(node, keys, fps, [("position", "vector3", 0.5 * (bar.start + bar.end)),
+                                       ("quaternion", "quaternion", quaternions), ("scale", "vector3", scale)])
 
 
-def _clip(keys: np.ndarray, poses: np.ndarray, fps: float) -> AnimationClip:
-    """Position and quaternion ([x, y, z, w]) tracks of one node; ``keys`` in frames."""
-    positions = [p[:3, 3].tolist() for p in poses]
-    quaternions = [pin.Quaternion(p[:3, :3]).coeffs().tolist() for p in poses]
-    return AnimationClip(
-        tracks={
-            "position": AnimationTrack("position", "vector3", keys.tolist(), positions),
-            "quaternion": AnimationTrack("quaternion", "quaternion", keys.tolist(), quaternions),
-        },
-        fps=fps,
-    )
+def _clip(node: MeshcatPath, keys: np.ndarray, poses: np.ndarray, fps: float) -> dict:
+    """A node's animation: position and quaternion ([x, y, z, w]) tracks of ``poses`` (M, 4, 4);
+    ``keys`` in frames (M,)."""
+    return _animated(node, keys, fps, [("position", "vector3", poses[:, :3, 3]),
+                                       ("quaternion", "quaternion", quaternions(poses[:, :3, :3]))])
+
+
+def quaternions(rotations: np.ndarray) -> np.ndarray:
+    """Unit quaternions ``[x, y, z, w]`` (M, 4) of rotation matrices (M, 3, 3), each up to sign
+    (as ``pin.Quaternion(R).coeffs()``), vectorised: each row from its largest of 4w^2 = 1 + tr R
+    and 4x^2 = 1 + 2 R_00 - tr R (and y, z alike), the others from the sums and differences of
+    the off-diagonal terms (Shepperd's method)."""
+    r = np.asarray(rotations, dtype=float)
+    trace = np.trace(r, axis1=1, axis2=2)
+    candidates = np.stack([r[:, 0, 0], r[:, 1, 1], r[:, 2, 2], trace], axis=1)
+    largest = candidates.argmax(axis=1)
+    s = np.sqrt(np.maximum(1.0 + 2.0 * candidates[np.arange(len(r)), largest] - trace, 0.0))  # 2 |that term|
+    half = 0.5 / s
+    wx, wy, wz = r[:, 2, 1] - r[:, 1, 2], r[:, 0, 2] - r[:, 2, 0], r[:, 1, 0] - r[:, 0, 1]
+    xy, xz, yz = r[:, 0, 1] + r[:, 1, 0], r[:, 0, 2] + r[:, 2, 0], r[:, 1, 2] + r[:, 2, 1]
+    rows = {0: (0.5 * s, xy * half, xz * half, wx * half), 1: (xy * half, 0.5 * s, yz * half, wy * half),
+            2: (xz * half, yz * half, 0.5 * s, wz * half), 3: (wx * half, wy * half, wz * half, 0.5 * s)}
+    out = np.empty((len(r), 4))
+    for case, columns in rows.items():
+        chosen = largest == case
+        out[chosen] = np.stack(columns, axis=1)[chosen]
+    return out
+
+
+#: msgpack extension code of a Float64Array in meshcat's viewer (its own packer writes float32, 0x17).
+FLOAT64_ARRAY = 0x18
+
+
+def _animated(node: MeshcatPath, keys: np.ndarray, fps: float, tracks: list[tuple[str, str, np.ndarray]]) -> dict:
+    """One node's lowered animation: a three.js clip of ``fps`` whose tracks, each (property,
+    three.js type, values (M, k)), carry their key times (``keys``, frames) and values as
+    Float64Arrays, which three.js's ``KeyframeTrack.parse`` takes as they are. meshcat's own
+    ``AnimationTrack`` writes a map per key instead: packing those in pure Python was most of a
+    page's cost, and grew with the run's length."""
+    def typed(values: np.ndarray) -> umsgpack.Ext:
+        return umsgpack.Ext(FLOAT64_ARRAY, np.ascontiguousarray(values, dtype="<f8").tobytes())
+
+    return {"path": node.lower(), "clip": {"fps": fps, "name": "default", "tracks": [
+        {"name": f".{name}", "type": kind, "times": typed(keys), "values": typed(values)}
+        for name, kind, values in tracks]}}
 
 
 def _object_packet(node: MeshcatPath, obj: mg.Object | dict, placement: np.ndarray) -> dict:
