@@ -5,6 +5,8 @@ from __future__ import annotations
 
 import csv
 import dataclasses
+import subprocess
+import sys
 import tomllib
 
 import pytest
@@ -120,13 +122,14 @@ def test_a_scene_no_experiment_takes_lists_the_kinds(tmp_path, monkeypatch):
         experiment_for(scene)
 
 
-def test_a_scene_read_before_any_kind_is_registered_says_what_registers_them(tmp_path, monkeypatch):
-    """With no experiment kind registered (the scenes imported alone), a scene's kind is refused,
-    naming the module that registers the built-in kinds."""
-    scene = kind_scene(tmp_path)
-    monkeypatch.setattr(kinds, "EXPERIMENTS", Registry("experiment kind"))
-    with pytest.raises(SceneError, match="no experiment kind is registered yet: importing freefloat.app.experiments"):
-        scene.kind  # noqa: B018
+def test_a_scene_s_kind_is_known_in_a_process_that_imported_only_the_scenes():
+    """A scene's kind asked in a fresh process that imported the scenes alone: the first lookup
+    imports the experiments, which register the built-in kinds."""
+    code = ("import sys; from freefloat.app.scenes import find_scene; "
+            "print('freefloat.app.experiments' in sys.modules, find_scene('four_arm_joint_space').kind)")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.split() == ["False", "joint_space"]
 
 
 def test_two_experiments_taking_one_scene_is_a_programming_error(tmp_path, monkeypatch):

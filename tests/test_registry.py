@@ -220,3 +220,20 @@ def test_a_test_adds_and_removes_a_toy_by_item(monkeypatch):
         toys["pid"] = Toy("pd")
     with pytest.raises(UnknownName):
         del toys["pid"]
+
+
+def test_a_registry_s_builtins_module_is_imported_at_its_first_lookup(tmp_path, monkeypatch):
+    """A registry defined below the module that fills it imports that module at its first
+    lookup, not before, and sees what it registered."""
+    (tmp_path / "toy_home.py").write_text('from freefloat.registry import Registry\n'
+                                          'REGISTRY = Registry("toy", builtins="toy_builtins")\n')
+    (tmp_path / "toy_builtins.py").write_text('from types import SimpleNamespace\nimport toy_home\n'
+                                              'toy_home.REGISTRY.register(SimpleNamespace(name="built_in"))\n')
+    monkeypatch.syspath_prepend(str(tmp_path))
+    for name in ("toy_home", "toy_builtins"):
+        monkeypatch.delitem(sys.modules, name, raising=False)
+    import toy_home
+
+    assert "toy_builtins" not in sys.modules
+    assert toy_home.REGISTRY.names() == ("built_in",)
+    assert "toy_builtins" in sys.modules

@@ -47,11 +47,15 @@ class Registry(Mapping[str, Entry], Generic[Entry]):
 
     Args:
         family: what an entry is, for messages (``"integrator"``, ``"bench suite"``, ...).
+        builtins: the module (dotted name) whose import registers the built-in entries, imported
+            on the first lookup when the registry is defined below it (the scenes' experiment
+            kinds: a scene's kind is asked before anything imported the experiments).
     """
 
-    def __init__(self, family: str) -> None:
+    def __init__(self, family: str, builtins: str | None = None) -> None:
         self.family = family
         self._entries: dict[str, Entry] = {}
+        self._builtins = builtins
 
     @overload
     def register(self, entry: Entry, *, replace: bool = False) -> Entry: ...
@@ -85,7 +89,7 @@ class Registry(Mapping[str, Entry], Generic[Entry]):
         Raises:
             UnknownName: no such entry and no default; the message gives the nearest names.
         """
-        load_plugins()
+        self._load()
         if name in self._entries:
             return self._entries[name]
         if default is not _NO_DEFAULT:
@@ -94,7 +98,7 @@ class Registry(Mapping[str, Entry], Generic[Entry]):
 
     def names(self) -> tuple[str, ...]:
         """Every name, in registration order."""
-        load_plugins()
+        self._load()
         return tuple(self._entries)
 
     def __getitem__(self, name: str) -> Entry:
@@ -116,7 +120,7 @@ class Registry(Mapping[str, Entry], Generic[Entry]):
         del self._entries[self.get(name).name]
 
     def __contains__(self, name: object) -> bool:
-        load_plugins()
+        self._load()
         return name in self._entries
 
     def __iter__(self) -> Iterator[str]:
@@ -124,6 +128,14 @@ class Registry(Mapping[str, Entry], Generic[Entry]):
 
     def __len__(self) -> int:
         return len(self.names())
+
+    def _load(self) -> None:
+        """The plug-ins (:func:`load_plugins`) and, the first time, the :attr:`_builtins` module
+        (a lookup made while it is imported sees the entries registered so far)."""
+        load_plugins()
+        if self._builtins is not None:
+            module, self._builtins = self._builtins, None
+            importlib.import_module(module)
 
     def __repr__(self) -> str:
         return f"Registry({self.family!r}: {', '.join(self._entries)})"

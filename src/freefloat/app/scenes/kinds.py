@@ -38,9 +38,9 @@ class SceneKind(Protocol):
         ...
 
 
-#: Registry of experiment kinds: name -> experiment (filled by :mod:`freefloat.app.experiments`
-#: and by plug-ins; exported as ``freefloat.EXPERIMENTS``).
-EXPERIMENTS: Registry[Any] = Registry("experiment kind")
+#: Registry of experiment kinds: name -> experiment (filled by :mod:`freefloat.app.experiments`,
+#: imported at the first lookup, and by plug-ins; exported as ``freefloat.EXPERIMENTS``).
+EXPERIMENTS: Registry[Any] = Registry("experiment kind", builtins="freefloat.app.experiments")
 
 
 def kind_of(scene: Any) -> str:
@@ -51,8 +51,7 @@ def kind_of(scene: Any) -> str:
     Raises:
         SceneError: a named kind not registered (with the nearest), or one that does not take the
             scene (saying which scenes it takes and which kind does take this one); no kind takes
-            the scene (listing the kinds), or none is registered yet (the scenes alone imported:
-            the message says what registers the built-in kinds).
+            the scene (listing the kinds).
         InvalidArgument: two registered kinds take the scene (a programming error in one of
             them: each scene must be taken by exactly one), naming both.
     """
@@ -72,9 +71,6 @@ def kind_of(scene: Any) -> str:
         raise InvalidArgument(f"experiment kinds {' and '.join(repr(t) for t in takers)} both take scene "
                               f"'{scene.name}': each scene must be taken by exactly one kind (a programming error in "
                               "their takes); a scene may name its kind with a top-level kind = \"...\"")
-    if not EXPERIMENTS:
-        raise SceneError(f"{where}no experiment kind is registered yet: importing freefloat.app.experiments "
-                         "registers the built-in ones (freefloat.simulate, batch and the command line do)")
     if not takers:
         raise SceneError(f"{where}no experiment kind takes this scene"
                          f"{did_you_mean('', EXPERIMENTS, 'experiment kinds')}; name one with a top-level "
