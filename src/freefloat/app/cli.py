@@ -431,10 +431,12 @@ def _simulate(args: argparse.Namespace) -> int:
         stages.bar = LoopBar(total_steps(scene), scene.name, "step", args.quiet, started=held.release,
                              ended=lambda: stages.begin("summarising the run"))
         try:
+            units = summary_units(scene)
             done = simulate(scene, out=out, overwrite=args.overwrite, progress=stages.bar, setup=setup,
-                            checkpoint=live.show if live else None, stage=stages)
+                            checkpoint=live.show if live else None, stage=stages,
+                            summarised=lambda outcome: (stages.finish(), _summary(outcome, units, out)))
             stages.finish()
-            status = _report(done, summary_units(scene))
+            status = _report(done)
             if live is not None:
                 tel = done.telemetry
                 print("replaying the run in the live viewer")
@@ -501,16 +503,21 @@ def _live_view(scene, setup) -> LiveView | None:
     return live
 
 
-def _report(outcome: Outcome, units: dict[str, str]) -> int:
-    """Print a written run's outcome and its headline summary keys (:func:`~.summary_text.shown`,
-    in ``units``); the exit status (1 when it stopped early, or an interrupt cut its drawings short)."""
+def _summary(outcome: Outcome, units: dict[str, str], out: Path) -> None:
+    """Print a run's outcome and its headline summary keys (:func:`~.summary_text.shown`, in
+    ``units``), as soon as they are final: before the run folder ``out`` is written."""
     from .summary_text import shown
 
-    out = outcome.folder
-    print(f"{outcome.status}: {outcome.steps} steps in {outcome.wall_time_s:.2f} s -> {out}")
+    print(f"{outcome.status}: {outcome.steps} steps in {outcome.wall_time_s:.2f} s -> {out}", flush=True)
     for key in outcome.headline:
         if key in outcome.summary:
-            print(f"  {key}: {shown(outcome.summary[key], units.get(key, ''))}")
+            print(f"  {key}: {shown(outcome.summary[key], units.get(key, ''))}", flush=True)
+
+
+def _report(outcome: Outcome) -> int:
+    """Print what a written run wrote and skipped (its summary is printed already: :func:`_summary`);
+    the exit status (1 when it stopped early, or an interrupt cut its drawings short)."""
+    out = outcome.folder
     print(f"  wrote: {', '.join(p.name for p in outcome.written)}")
     if outcome.skipped:
         print(f"  skipped: {', '.join(outcome.skipped)}")

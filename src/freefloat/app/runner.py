@@ -100,7 +100,8 @@ def total_steps(scene: Scene | MechanismScene) -> int:
 def simulate(scene: Scene | MechanismScene | str | Path = DEFAULT_SCENE, *, out: str | Path | None = None,
              overwrite: bool = False, progress: Progress | None = None,
              checkpoint: Callable[[Any], None] | None = None, setup: Any = None,
-             stage: Callable[[str], None] = lambda name: None) -> Outcome:
+             stage: Callable[[str], None] = lambda name: None,
+             summarised: Callable[[Outcome], None] = lambda outcome: None) -> Outcome:
     """Prepare and run ``scene``: the one way to run a scene, from Python as from
     ``freefloat simulate``. Nothing is written unless ``out`` is given; then ``out`` receives
     the run folder (telemetry, summary, the scene as run, figures, page), whatever the run's
@@ -116,6 +117,9 @@ def simulate(scene: Scene | MechanismScene | str | Path = DEFAULT_SCENE, *, out:
         setup: the scene already prepared (:func:`prepare`), or None to prepare it here.
         stage: with ``out``, called as each writing stage starts (:data:`~.outputs.STAGES`), the
             first one when the simulation has ended.
+        summarised: with ``out``, called with the outcome once its summary and status are final,
+            before anything is written (``freefloat simulate`` prints the summary then, so that
+            neither the files nor the figures hold it up).
 
     Returns:
         The :class:`~freefloat.dynamics.result.Result` (an :class:`~.experiments.Outcome`):
@@ -148,6 +152,7 @@ def simulate(scene: Scene | MechanismScene | str | Path = DEFAULT_SCENE, *, out:
         seen = interrupts.defer()  # from here on an interrupt only skips the drawings, as a second one does
         outcome = fail_if_unbalanced(fail_if_not_finite(note_model_choice(outcome, setup)), scene)
         interrupted = lambda: interrupts.count >= 2 or interrupts.count > seen  # noqa: E731
+        summarised(outcome)
         outcome.written, outcome.skipped = write_run(written, scene, outcome, interrupted, stage)
     outcome.folder, outcome.interrupted_writing = folder, interrupted()
     return outcome
