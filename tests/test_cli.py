@@ -646,3 +646,21 @@ def test_a_plugin_that_fails_or_takes_a_built_in_name_is_refused(plugin_points, 
     assert main(["bench"]) == 2
     assert "plug-in 'broken' (no_such_plugin_module, entry point of group freefloat.plugins) failed to import: " \
            "ModuleNotFoundError" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("closed", ["stdout", "stderr"])
+def test_a_closed_output_stream_costs_the_run_none_of_its_files(tmp_path, closed):
+    """``freefloat simulate | head`` (or ``2>&1 | head``): the reader gone before the summary or
+    the stage lines are printed, the run still writes its data and exits as it ran (a scene
+    that prints nothing before its loop ends, and a loop too short for a progress bar)."""
+    scene = scene_variant(tmp_path / "s.toml", "satellite_dual_arm", simulation={"duration": 0.05})
+    out = tmp_path / "run"
+    command = [sys.executable, "-m", "freefloat", "simulate", str(scene), "--out", str(out), "--no-figures",
+               "--no-html"]
+    process = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    getattr(process, closed).close()  # no reader: the first line printed there meets a broken pipe
+    kept = process.stderr if closed == "stdout" else process.stdout
+    printed = kept.read()
+    assert process.wait(timeout=300) == 0, printed
+    assert "Traceback" not in printed
+    assert {"telemetry.npz", "summary.json", "scene.toml"} <= {p.name for p in out.iterdir()}

@@ -7,12 +7,13 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import os
 import sys
 import time
 import warnings
 from importlib.metadata import version
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, TextIO
 
 from ..errors import FreefloatError, InvalidArgument, PluginError, SceneError, command_line, did_you_mean
 from .atlas.kinds import KINDS as ATLAS_KINDS
@@ -477,12 +478,12 @@ class _Stages:
         self.finish()
         self.started = time.perf_counter()
         if not self.quiet:
-            print(f"{label} ...", end="", file=sys.stderr, flush=True)
+            _said(f"{label} ...", sys.stderr, end="")
 
     def finish(self) -> None:
         """End the stage under way (its time on its line)."""
         if self.started is not None and not self.quiet:
-            print(f" {time.perf_counter() - self.started:.2f} s", file=sys.stderr, flush=True)
+            _said(f" {time.perf_counter() - self.started:.2f} s", sys.stderr)
         self.started = None
 
 
@@ -508,19 +509,32 @@ def _summary(outcome: Outcome, units: dict[str, str], out: Path) -> None:
     ``units``), as soon as they are final: before the run folder ``out`` is written."""
     from .summary_text import shown
 
-    print(f"{outcome.status}: {outcome.steps} steps in {outcome.wall_time_s:.2f} s -> {out}", flush=True)
+    _said(f"{outcome.status}: {outcome.steps} steps in {outcome.wall_time_s:.2f} s -> {out}")
     for key in outcome.headline:
         if key in outcome.summary:
-            print(f"  {key}: {shown(outcome.summary[key], units.get(key, ''))}", flush=True)
+            _said(f"  {key}: {shown(outcome.summary[key], units.get(key, ''))}")
+
+
+def _said(text: str, stream: TextIO | None = None, end: str = "\n") -> None:
+    """Print ``text`` on ``stream`` (default standard output), flushed. Once its reader is gone
+    (``| head`` closed the pipe), this and every later line go to the null device: the run goes
+    on writing its files."""
+    stream = stream or sys.stdout
+    try:
+        print(text, end=end, file=stream, flush=True)
+    except BrokenPipeError:
+        null = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(null, stream.fileno())
+        os.close(null)
 
 
 def _report(outcome: Outcome) -> int:
     """Print what a written run wrote and skipped (its summary is printed already: :func:`_summary`);
     the exit status (1 when it stopped early, or an interrupt cut its drawings short)."""
     out = outcome.folder
-    print(f"  wrote: {', '.join(p.name for p in outcome.written)}")
+    _said(f"  wrote: {', '.join(p.name for p in outcome.written)}")
     if outcome.skipped:
-        print(f"  skipped: {', '.join(outcome.skipped)}")
+        _said(f"  skipped: {', '.join(outcome.skipped)}")
     if not outcome.completed:
         what, kept = ("failed", "results") if outcome.status == "failed" else ("stopped early", "partial results")
         print(f"freefloat: run {what}: {outcome.message} ({kept} kept in {out})", file=sys.stderr)
