@@ -8,17 +8,18 @@ run writes its data and page, so that the run itself never imports the plotting 
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, fields, replace
 from pathlib import Path
 from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
 
+from ...robot.robot import Robot
+
 if TYPE_CHECKING:
     from ...dynamics.balance import Balance
     from ...dynamics.telemetry import Telemetry
     from ...dynamics.wrenches import ExternalWrench
-    from ...robot.robot import Robot
 
 
 class ClosedLoop(NamedTuple):
@@ -91,6 +92,13 @@ class RobotFigures:
     residuals: Balance | None = None
     thrusters: ThrusterRows | None = None
     lvlh: LvlhRows | None = None
+
+    def __reduce__(self) -> tuple:
+        """Pickled (for the figure helper) with its robots' visual geometry left out: no figure
+        draws it, and a mesh robot's pickles to hundreds of MB (the UR5 satellite's 353 MB: its
+        meshes' collision structures), past :data:`~freefloat.app.outputs.JOB_BYTES`."""
+        values = [getattr(self, f.name) for f in fields(self)]
+        return type(self), tuple(replace(v, visual_model=None) if isinstance(v, Robot) else v for v in values)
 
     def __call__(self, folder: Path) -> list[Path]:
         """Draw and write the chosen figures into ``folder``; returns the paths."""
