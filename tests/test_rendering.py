@@ -84,3 +84,19 @@ def test_cool_down_ends_the_helper_and_the_next_warm_up_starts_another():
     assert started.poll() is not None and rendering._helper is None
     rendering.warm_up()
     assert rendering._helper is not started and rendering._helper.poll() is None
+
+
+class _Refused:
+    """An object whose pickling raises a RuntimeError, as a Boost.Python type's does."""
+
+    def __reduce__(self):
+        raise RuntimeError('Pickling of "RigidConstraintModel" instances is not enabled')
+
+
+def test_a_job_whose_pickling_raises_anything_is_not_sent():
+    """A job that cannot be pickled, whatever the error, is refused (the run draws it itself)."""
+    renderer = rendering.Renderer(plotting.save)
+    try:
+        assert renderer.send(_Refused()) is False
+    finally:
+        renderer.close()

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from freefloat.app.viz import write_trajectory_html
-from freefloat.app.viz.mechanism import write_mechanism_html
+from freefloat.app.viz.mechanism_page import write_mechanism_html
 from freefloat.app.viz.screenshot import browser, changed, extent, look
 from freefloat.parallel.closed_chain import load_closed_chain
 from freefloat.robot.loading import load_robot

@@ -146,6 +146,14 @@ class ClosedChain:
     closures: list[Closure] = field(default_factory=list)
     friction: JointFriction | None = None
 
+    def actuators(self) -> list[tuple[str, str]]:
+        """Each actuated joint, in order: its name and its effort's unit (``"N"`` for a prismatic
+        joint, ``"N m"`` otherwise)."""
+        def unit(kind: str) -> str:
+            return "N" if "Prismatic" in kind or kind.startswith("JointModelP") else "N m"
+
+        return [(self.model.names[j], unit(self.model.joints[j].shortname())) for j in self.actuated]
+
     def pinocchio_q(self, q: np.ndarray) -> np.ndarray:
         """Pinocchio configuration (nq,) from Orsino's ``q`` (the platform coordinates dropped);
         also maps rates and accelerations (every joint has one coordinate)."""

@@ -153,7 +153,7 @@ def _page(context, grid: Grid, result: dict[str, np.ndarray], path: Path) -> Pat
     (direct block's sigma ratio least on the map: nearest type II) to green (largest)."""
     import meshcat.geometry as mg
 
-    from ..viz.mechanism import write_mechanism_html
+    from ..viz.mechanism_page import write_mechanism_html
 
     _, _, ratio, q = _scene_points(context, grid, result)
     points = q[:, :3]

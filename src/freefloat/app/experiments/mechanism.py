@@ -33,6 +33,7 @@ from ...parallel.sliding_mode import PlatformControl
 from ..controllers import ControlContext, build_controller
 from ..scenes import MechanismScene, resolve_file
 from ..scenes.mechanism_schema import ALIASES
+from ..viz.figure_job import MechanismFigures
 from .base import Checkpoint, Experiment, Outcome, Progress
 from .budget import check_budget, seconds_per_call
 
@@ -226,14 +227,8 @@ def outcome(prepared: PreparedMechanism, telemetry: MechanismTelemetry, result: 
     floating = prepared.floating
     poses = None if base is None else np.array([floating.base_placement(qk).homogeneous for qk in base.q])
 
-    def figures(folder: Path) -> list[Path]:
-        from ..viz.mechanism import write_base_figures, write_mechanism_figures
-
-        written = write_mechanism_figures(telemetry, folder, chain)
-        return written if base is None else written + write_base_figures(base, floating.momentum_drift(base), folder)
-
     def page(path: Path, fps: float) -> Path:
-        from ..viz.mechanism import write_mechanism_html
+        from ..viz.mechanism_page import write_mechanism_html
 
         return write_mechanism_html(chain, telemetry.t, q, path, fps, telemetry.platform_reference, base=poses)
 
@@ -255,7 +250,8 @@ def outcome(prepared: PreparedMechanism, telemetry: MechanismTelemetry, result: 
         },
         headline=HEADLINE if base is None else HEADLINE + BASE_HEADLINE,
         extra_telemetry={} if base is None else {"base": base},
-        figures=figures,
+        figures=MechanismFigures(telemetry, chain.actuators(), base,
+                                 None if base is None else floating.momentum_drift(base)),
         page=page,
     )
 

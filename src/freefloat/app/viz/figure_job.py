@@ -1,8 +1,9 @@
-"""A robot run's figures as one picklable job, and the function the figure helper runs it with.
+"""A run's figures as one picklable job, and the function the figure helper runs it with.
 
-Light (no matplotlib): a run hands its :class:`RobotFigures` to the figure helper
-(:mod:`.rendering`) as :func:`draw_chosen`'s argument; the helper draws and writes them while the
-run writes its data and page, so that the run itself never imports the plotting stack.
+Light (no matplotlib): a run hands its :class:`RobotFigures` or :class:`MechanismFigures` to the
+figure helper (:mod:`.rendering`) as :func:`draw_chosen`'s argument; the helper draws and writes
+them while the run writes its data and page, so that the run itself never imports the plotting
+stack.
 """
 
 from __future__ import annotations
@@ -18,8 +19,9 @@ from ...robot.robot import Robot
 
 if TYPE_CHECKING:
     from ...dynamics.balance import Balance
-    from ...dynamics.telemetry import Telemetry
+    from ...dynamics.telemetry import MechanismTelemetry, Telemetry
     from ...dynamics.wrenches import ExternalWrench
+    from ...parallel.free_base import BaseTelemetry
 
 
 class ClosedLoop(NamedTuple):
@@ -122,6 +124,30 @@ class RobotFigures:
         if self.lvlh is not None and len(self.lvlh.t) >= 2:
             paths += save_all({"relative_orbit": lambda: lvlh_figure(*self.lvlh)}, folder)
         return paths
+
+
+@dataclass(frozen=True)
+class MechanismFigures:
+    """Every figure of a mechanism run, drawn by calling the job with the folder to write into
+    (those chosen, :func:`.plotting.choose`): :func:`~.mechanism.write_mechanism_figures` of
+    ``telemetry`` (``actuated``: the actuators' names and units,
+    :meth:`~freefloat.parallel.closed_chain.ClosedChain.actuators`)
+    and, on a moving base, :func:`~.mechanism.write_base_figures` of ``base`` and its
+    ``momentum_drift`` (N,)."""
+
+    telemetry: MechanismTelemetry
+    actuated: list[tuple[str, str]]
+    base: BaseTelemetry | None = None
+    momentum_drift: np.ndarray | None = None
+
+    def __call__(self, folder: Path) -> list[Path]:
+        """Draw and write the chosen figures into ``folder``; returns the paths."""
+        from .mechanism import write_base_figures, write_mechanism_figures
+
+        written = write_mechanism_figures(self.telemetry, folder, self.actuated)
+        if self.base is None:
+            return written
+        return written + write_base_figures(self.base, self.momentum_drift, folder)
 
 
 def draw_chosen(figures: Callable[[Path], list[Path]], names: frozenset[str] | None, formats: tuple[str, ...],

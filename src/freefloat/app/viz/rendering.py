@@ -99,11 +99,12 @@ class Renderer:
 
     def send(self, *job: Any, max_bytes: int | None = None) -> bool:
         """Queue ``save(*job)`` for the helper; False (nothing queued) when the job cannot be
-        pickled, or pickles to more than ``max_bytes`` (a copy in each process, and one kept
-        here until collected)."""
+        pickled (whatever a type's pickling raises: Boost.Python's refusal is a RuntimeError), or
+        pickles to more than ``max_bytes`` (a copy in each process, and one kept here until
+        collected)."""
         try:
             data = pickle.dumps((self._save, *job), protocol=pickle.HIGHEST_PROTOCOL)
-        except (pickle.PicklingError, TypeError, AttributeError):
+        except Exception:  # the job is then drawn in this process
             return False
         if max_bytes is not None and len(data) > max_bytes:
             return False
