@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import pickle
+import subprocess
+import sys
 
 import freefloat
 from freefloat.app.outputs import JOB_BYTES
@@ -25,3 +27,20 @@ def test_a_figure_job_pickles_without_its_robots_visual_geometry(tmp_path):
     with choose(frozenset({"torques", "angular_momentum"}), ("png",)):
         drawn = [p.name for p in sent(tmp_path / "sent")]
         assert drawn == [p.name for p in job(tmp_path / "here")] and drawn
+
+
+def test_a_mechanism_run_s_figures_are_drawn_by_the_helper_not_in_its_process(tmp_path):
+    """A mechanism run sends its figures to the helper as one job (Pinocchio's constraint models,
+    which do not pickle, left out) and never imports matplotlib itself; the job, unpickled, draws
+    what it draws in place."""
+    scene = scene_variant(tmp_path / "s.toml", "five_bar_sliding_mode", simulation={"duration": 0.02})
+    code = ("import sys, pickle, freefloat\n"
+            f"done = freefloat.simulate({str(scene)!r}, out={str(tmp_path / 'run')!r})\n"
+            "print('matplotlib' in sys.modules, len(pickle.dumps(done.figures)) > 0)")
+    printed = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
+    assert printed.returncode == 0, printed.stderr
+    assert printed.stdout.split()[-2:] == ["False", "True"]
+    job = freefloat.simulate(scene).figures
+    with choose(frozenset({"efforts", "platform_tracking"}), ("png",)):
+        drawn = [p.name for p in pickle.loads(pickle.dumps(job))(tmp_path / "sent")]
+        assert drawn == [p.name for p in job(tmp_path / "here")] == ["platform_tracking.png", "efforts.png"]

@@ -22,8 +22,10 @@ def write_mechanism_figures(telemetry: MechanismTelemetry, out_dir: str | Path,
                             actuated: list[tuple[str, str]] | None = None) -> list[Path]:
     """Write ``platform_tracking``, ``efforts``, ``loop_closure_drift`` and ``sliding_variables``,
     those chosen (:func:`.plotting.choose`); ``actuated`` names the actuators and their units
-    (:meth:`~freefloat.parallel.closed_chain.ClosedChain.actuators`). Returns the paths."""
+    (:meth:`~freefloat.parallel.closed_chain.ClosedChain.actuators`), into ``out_dir`` (created if
+    missing). Returns the paths."""
     out_dir = Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
     figures = {"platform_tracking": lambda: tracking_figure(telemetry),
                "efforts": lambda: efforts_figure(telemetry, actuated),
                "loop_closure_drift": lambda: drift_figure(telemetry),
