@@ -1,10 +1,12 @@
-"""Tests of freefloat.app.viz.figure_job: a robot run's figures as one job for the figure helper."""
+"""Tests of freefloat.app.viz.figure_job: a run's figures as one job for the figure helper."""
 
 from __future__ import annotations
 
 import pickle
 import subprocess
 import sys
+
+import pytest
 
 import freefloat
 from freefloat.app.outputs import JOB_BYTES
@@ -29,6 +31,7 @@ def test_a_figure_job_pickles_without_its_robots_visual_geometry(tmp_path):
         assert drawn == [p.name for p in job(tmp_path / "here")] and drawn
 
 
+@pytest.mark.slow
 def test_a_mechanism_run_s_figures_are_drawn_by_the_helper_not_in_its_process(tmp_path):
     """A mechanism run sends its figures to the helper as one job (Pinocchio's constraint models,
     which do not pickle, left out) and never imports matplotlib itself; the job, unpickled, draws
