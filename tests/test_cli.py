@@ -664,3 +664,19 @@ def test_a_closed_output_stream_costs_the_run_none_of_its_files(tmp_path, closed
     assert process.wait(timeout=300) == 0, printed
     assert "Traceback" not in printed
     assert {"telemetry.npz", "summary.json", "scene.toml"} <= {p.name for p in out.iterdir()}
+
+
+@pytest.mark.parametrize("skipped", [[], ["figures"]])
+def test_an_interrupt_while_writing_says_what_it_cut_short(capsys, skipped):
+    """An interrupt during the writing exits 1; the message says the skipped drawings are missing,
+    or, when it came during the last wait and cut nothing, that every file listed was written."""
+    from types import SimpleNamespace
+
+    from freefloat.app.cli import _report
+
+    done = SimpleNamespace(folder=Path("out"), written=[Path("out/telemetry.npz")], skipped=skipped, completed=True,
+                           interrupted_writing=True)
+    assert _report(done) == 1
+    err = capsys.readouterr().err
+    expected = "the drawings listed as skipped are not there" if skipped else "every file listed was written"
+    assert f"interrupted while writing out: the data are whole, {expected}" in err

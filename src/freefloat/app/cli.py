@@ -539,9 +539,9 @@ def _report(outcome: Outcome) -> int:
         what, kept = ("failed", "results") if outcome.status == "failed" else ("stopped early", "partial results")
         print(f"freefloat: run {what}: {outcome.message} ({kept} kept in {out})", file=sys.stderr)
         return 1
-    if outcome.interrupted_writing:
-        print(f"freefloat: interrupted while writing {out}: the data are whole, the drawings listed as skipped are "
-              "not there", file=sys.stderr)
+    if outcome.interrupted_writing:  # exit 1 even when the interrupt came too late to cut anything short
+        left = "the drawings listed as skipped are not there" if outcome.skipped else "every file listed was written"
+        print(f"freefloat: interrupted while writing {out}: the data are whole, {left}", file=sys.stderr)
         return 1
     return 0
 
