@@ -530,7 +530,7 @@ def _said(text: str, stream: TextIO | None = None, end: str = "\n") -> None:
 
 def _report(outcome: Outcome) -> int:
     """Print what a written run wrote and skipped (its summary is printed already: :func:`_summary`);
-    the exit status (1 when it stopped early, or an interrupt cut its drawings short)."""
+    the exit status (1 when it stopped early, or an interrupt came while it was written)."""
     out = outcome.folder
     _said(f"  wrote: {', '.join(p.name for p in outcome.written)}")
     if outcome.skipped:
