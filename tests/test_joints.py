@@ -2,12 +2,15 @@
 
 from __future__ import annotations
 
+import xml.etree.ElementTree as ET
+
 import numpy as np
 import pinocchio as pin
+from hypothesis import given, settings
 
-from freefloat.robot.joints import JointCoordinates
+from freefloat.robot.joints import JointCoordinates, prismatic_columns, slides
 
-from .conftest import load_text
+from .conftest import load_text, random_trees
 
 URDF = """<robot name="c">
 <link name="base"><inertial><mass value="5"/><inertia ixx="1" iyy="1" izz="1" ixy="0" ixz="0" iyz="0"/></inertial></link>
@@ -35,3 +38,19 @@ def test_set_then_get_is_the_identity_within_pi(tmp_path):
     coords.set(q, np.array([-3.0, -0.7]))
     np.testing.assert_allclose(coords.get(q), [-3.0, -0.7], atol=1e-14)
     np.testing.assert_allclose(q[7:9], [np.cos(-3.0), np.sin(-3.0)])
+
+
+@settings(max_examples=25, deadline=None)
+@given(case=random_trees())
+def test_the_sliding_columns_are_the_urdf_s_prismatic_joints(tmp_path_factory, case):
+    """Each joint velocity column is marked sliding exactly when the URDF declares its joint
+    prismatic, on general axes (PrismaticUnaligned) and on the axes of its frame (PX, PY, PZ,
+    which the robot runs' angle scales once took for revolute)."""
+    _, text, base = case  # a robot's base floats: a drawn fixed base is taken free
+    robot = load_text(tmp_path_factory.mktemp("r"), text, base="planar" if base == "planar" else "free")
+    declared = {joint.get("name"): joint.get("type") for joint in ET.fromstring(text).iter("joint")}
+    model, mask = robot.model, prismatic_columns(robot)
+    for j in range(2, model.njoints):
+        start = model.idx_vs[j] - robot.n_base
+        assert mask[start:start + model.nvs[j]].all() == (declared[model.names[j]] == "prismatic")
+    assert slides(pin.JointModelPX()) and not slides(pin.JointModelPlanar()) and not slides(pin.JointModelRZ())

@@ -49,6 +49,7 @@ from ..dynamics.closures import ALIASES, KINDS, Closure, closure_kind
 from ..dynamics.friction import SLIP_SPEED, JointFriction
 from ..errors import ClosureFileError, RobotModelError, did_you_mean
 from ..inputs import read_toml, reject_unknown
+from ..robot.joints import slides
 from ..robot.urdf_checks import check_joints, check_numbers, read_urdf
 from .mechanism import AngularConstraints, ParallelMechanism
 from .serial import SerialChain
@@ -149,10 +150,7 @@ class ClosedChain:
     def actuators(self) -> list[tuple[str, str]]:
         """Each actuated joint, in order: its name and its effort's unit (``"N"`` for a prismatic
         joint, ``"N m"`` otherwise)."""
-        def unit(kind: str) -> str:
-            return "N" if "Prismatic" in kind or kind.startswith("JointModelP") else "N m"
-
-        return [(self.model.names[j], unit(self.model.joints[j].shortname())) for j in self.actuated]
+        return [(self.model.names[j], "N" if slides(self.model.joints[j]) else "N m") for j in self.actuated]
 
     def pinocchio_q(self, q: np.ndarray) -> np.ndarray:
         """Pinocchio configuration (nq,) from Orsino's ``q`` (the platform coordinates dropped);

@@ -25,7 +25,7 @@ from ...dynamics.wrenches import ExternalWrench, WrenchField
 from ...errors import RobotModelError, SceneError, did_you_mean
 from ...robot.catalog import find_robot, is_name
 from ...robot.conventions import state_from_base
-from ...robot.joints import JointCoordinates
+from ...robot.joints import JointCoordinates, prismatic_columns
 from ...robot.loading import load_robot
 from ...robot.locking import LockedJoints
 from ...robot.robot import Robot
@@ -290,7 +290,7 @@ def joint_table(robot: Robot, table: dict[str, float], angle_scale: float, key: 
 @functools.lru_cache(maxsize=16)
 def _named_columns(robot: Robot) -> dict[str, slice | np.ndarray]:
     """The joint velocity columns (of the n_joints) of each joint and of each end-effector's arm,
-    by name; kept for the last robots, as :func:`_prismatic`."""
+    by name; kept for the last robots, as :func:`~freefloat.robot.joints.prismatic_columns`."""
     model, nb = robot.model, robot.n_base
     idx_vs, nvs = list(model.idx_vs), list(model.nvs)  # each attribute read copies the whole vector
     named: dict[str, slice | np.ndarray] = {name: slice(idx_vs[j] - nb, idx_vs[j] + nvs[j] - nb)
@@ -301,23 +301,7 @@ def _named_columns(robot: Robot) -> dict[str, slice | np.ndarray]:
 
 def _angle_scales(robot: Robot, angle_scale: float) -> np.ndarray:
     """``angle_scale`` for revolute coordinates, 1 for prismatic ones (n_joints,)."""
-    return np.where(_prismatic(robot), 1.0, angle_scale)
-
-
-@functools.lru_cache(maxsize=16)
-def _prismatic(robot: Robot) -> np.ndarray:
-    """Whether each joint velocity coordinate is prismatic (n_joints,) bool, read-only; kept for
-    the last robots (a robot hashes by identity and its joints do not change): a scene's tables
-    ask five times per run, and reading the joints costs 0.2 ms at nv 134."""
-    model = robot.model
-    idx_vs, nvs = list(model.idx_vs), list(model.nvs)  # each attribute read copies the whole vector
-    mask = np.zeros(robot.n_joints, dtype=bool)
-    for j, joint in enumerate(model.joints):
-        if j >= 2 and "Prismatic" in joint.shortname():
-            start = idx_vs[j] - robot.n_base
-            mask[start:start + nvs[j]] = True
-    mask.flags.writeable = False
-    return mask
+    return np.where(prismatic_columns(robot), 1.0, angle_scale)
 
 
 def control_steps(scene: Scene) -> int:

@@ -24,6 +24,7 @@ from ...dynamics.balance import Balance, balance
 from ...dynamics.metrics import SETTLE_BAND, angular_speeds, band_settling_time, free_com_motion
 from ...dynamics.telemetry import Telemetry
 from ...dynamics.wrenches import ExternalWrench
+from ...robot.joints import prismatic_columns
 from ...robot.robot import Arm, Robot
 from .figure_data import base_attitude, empty_figures, why_no_joint_errors
 from .plotting import (
@@ -327,7 +328,7 @@ class ArmPanels:
             self.fig, _ = figure(n, 1, (10.0, 2.6 * n + 0.8), title, right=0.78 if shared is None else 0.85)
         else:
             self.fig.suptitle(title)
-        prismatic = _prismatic(robot)
+        prismatic = prismatic_columns(robot)
         style = "steps-post" if steps else "default"
         for k, (ax, arm) in enumerate(zip(self.fig.axes, robot.arms)):
             columns = arm.v_indices - robot.n_base
@@ -367,14 +368,3 @@ def joint_suffixes(robot: Robot) -> list[str] | None:
         return None
     (suffixes,) = lists
     return list(suffixes) if all(suffixes) and len(set(suffixes)) == len(suffixes) else None
-
-
-def _prismatic(robot: Robot) -> np.ndarray:
-    """Per joint column (n_joints,): whether the joint is prismatic."""
-    model = robot.model
-    out = np.zeros(robot.n_joints, dtype=bool)
-    for j in range(2, model.njoints):
-        kind = model.joints[j].shortname()
-        start = model.idx_vs[j] - robot.n_base
-        out[start:start + model.nvs[j]] = "Prismatic" in kind or kind.startswith("JointModelP")
-    return out

@@ -18,6 +18,7 @@ import numpy as np
 import pinocchio as pin
 
 from ...parallel.closed_chain import ClosedChain
+from ...robot.joints import slides
 from ...robot.loading import load_robot
 from .camera import PLANE_VIEW
 from .markers import PALETTE, Bar, Marker
@@ -96,12 +97,6 @@ def _joint_centres(chain: ClosedChain, tree_q: np.ndarray) -> np.ndarray:
     return out
 
 
-def _prismatic(model: pin.Model, j: int) -> bool:
-    """Whether tree joint ``j`` slides."""
-    kind = model.joints[j].shortname()
-    return "Prismatic" in kind or kind.startswith("JointModelP")
-
-
 def linkage_bars(chain: ClosedChain, tree_q: np.ndarray) -> list[Bar]:
     """The mechanism's links as bars at the spanning tree's configurations ``tree_q`` (N, nq),
     inertial frame, m: from each joint's parent joint centre to its centre (a link; telescopic
@@ -116,7 +111,7 @@ def linkage_bars(chain: ClosedChain, tree_q: np.ndarray) -> list[Bar]:
         parent = model.parents[j]
         if parent > 0:
             start = centres[:, parent]
-        elif _prismatic(model, j):
+        elif slides(model.joints[j]):
             start = np.tile(model.jointPlacements[j].translation, (len(tree_q), 1))
         else:
             continue
@@ -135,7 +130,7 @@ def joint_markers(chain: ClosedChain, tree_q: np.ndarray) -> list[Marker]:
     centres = _joint_centres(chain, tree_q)
     return [Marker(f"joint_{model.names[j]}", JOINT_COLOR, centres[:, j], trail=False)
             for j in range(1, model.njoints)
-            if model.parents[j] == 0 or _prismatic(model, j)
+            if model.parents[j] == 0 or slides(model.joints[j])
             or np.linalg.norm(model.jointPlacements[j].translation) > _APART]
 
 
