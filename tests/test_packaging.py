@@ -89,6 +89,7 @@ def test_mechanism_closure_file_is_found_from_an_empty_folder(installed, tmp_pat
     assert done.returncode == 0, done.stderr
 
 
+@pytest.mark.slow
 def test_the_lab_comes_in_through_its_entry_point(installed, tmp_path):
     """The wheel declares the lab's plug-in (entry point ``lab`` of group freefloat.plugins), and
     freefloat run from the wheel finds bench and reproduce through it and runs them."""
@@ -102,7 +103,6 @@ def test_the_lab_comes_in_through_its_entry_point(installed, tmp_path):
     assert done.returncode == 0 and (tmp_path / "out" / "report.json").is_file(), done.stderr
 
 
-@pytest.mark.slow
 def test_a_command_past_its_timeout_leaves_no_process_behind(tmp_path):
     """A command killed at its timeout takes the processes it started with it (as a wheel build's
     compilers would be)."""
